@@ -1,0 +1,130 @@
+// toolpoint beam: one free–free Timoshenko segment — natural frequencies and end receptances.
+#include <fmt/format.h>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "cli.hpp"
+#include "toolpoint/beam.hpp"
+#include "toolpoint/conventions.hpp"
+#include "toolpoint/error.hpp"
+#include "toolpoint/io.hpp"
+
+namespace toolpoint::cli {
+
+namespace {
+
+struct BeamOptions {
+  double length = 0.0, diameter = 0.0, inner_diameter = 0.0;
+  double youngs_modulus = 2.0e11, density = 7800.0, poisson = 0.3, loss_factor = 0.0, shear_modulus = 0.0;
+  double shear_coefficient = 0.0;
+  std::string shear_model = "hutchinson";
+  int modes = 0;
+  std::string frequencies, output, method = "exact", block = "11";
+  int modal_terms = 100;
+  bool static_residual = false, json = false;
+};
+
+void run_beam(const BeamOptions& o, const Globals& g) {
+  Material mat{"beam", o.youngs_modulus, o.poisson, o.shear_modulus, o.density, o.loss_factor};
+  Segment seg = Segment::tube(o.length, o.diameter, o.inner_diameter, mat);
+  seg.shear_model = o.shear_model == "cowper" ? ShearModel::Cowper : ShearModel::Hutchinson;
+  if (o.shear_coefficient != 0.0) seg.layers[0].shear_coefficient = o.shear_coefficient;
+  seg.check();
+  const SectionProperties sp = seg.properties();
+  const double kappa = seg.layers[0].shear_coefficient.value_or(
+      shear_coefficient(seg.shear_model, o.poisson, o.diameter, o.inner_diameter));
+
+  nlohmann::json out;
+  out["units"] = "SI: m, kg, N, Pa; frequencies in Hz";
+  out["section"] = {{"area_m2", seg.layers[0].area()},
+                    {"second_moment_m4", seg.layers[0].second_moment()},
+                    {"shear_coefficient", kappa},
+                    {"mass_per_length_kg_per_m", sp.rhoA},
+                    {"cutoff_frequency_hz", sp.cutoff_frequency_hz()}};
+
+  const int n_modes = o.modes > 0 ? o.modes : (o.frequencies.empty() ? 5 : 0);
+  if (n_modes > 0) {
+    ModalBeam modal(sp, o.length, ModalOptions{n_modes, false});
+    nlohmann::json list = nlohmann::json::array();
+    if (!o.json) {
+      std::cout << fmt::format("free–free Timoshenko beam: L = {} m, D = {} m, d = {} m, κ = {:.6f}, cut-off {:.3f} Hz\n",
+                               o.length, o.diameter, o.inner_diameter, kappa, sp.cutoff_frequency_hz());
+      std::cout << "mode  frequency_hz  branch\n";
+    }
+    int i = 1;
+    for (const FreeMode& m : modal.modes()) {
+      list.push_back({{"mode", i}, {"frequency_hz", m.frequency_hz}, {"above_cutoff", m.above_cutoff}});
+      if (!o.json)
+        std::cout << fmt::format("{:4d}  {:12.3f}  {}\n", i, m.frequency_hz, m.above_cutoff ? "above cut-off" : "below cut-off");
+      ++i;
+    }
+    out["natural_frequencies"] = list;
+  }
+
+  if (!o.frequencies.empty()) {
+    if (o.output.empty()) throw InvalidArgument("--frequencies needs --output FILE.csv", "add --output tip.csv");
+    const std::vector<double> f = parse_frequency_grid(o.frequencies, "--frequencies").values();
+    std::unique_ptr<ModalBeam> modal;
+    if (o.method == "modal") modal = std::make_unique<ModalBeam>(sp, o.length, ModalOptions{o.modal_terms, o.static_residual});
+    BlockSeries s;
+    s.frequency_hz = f;
+    s.blocks.reserve(f.size());
+    for (double fi : f) {
+      const TwoPort t = modal ? modal->receptance(fi) : exact_receptance(sp, o.length, fi);
+      s.blocks.push_back(o.block == "11" ? t.b11 : o.block == "12" ? t.b12 : o.block == "21" ? t.b21 : t.b22);
+    }
+    write_frf_csv(o.output, s,
+                  {fmt::format("free-free Timoshenko beam, block T{} (end 1 = x = L, the outer end), method {}", o.block,
+                               o.method == "modal" ? fmt::format("modal ({} modes{})", o.modal_terms,
+                                                                 o.static_residual ? " + static residual" : "")
+                                                   : "exact"),
+                   fmt::format("L = {} m, D = {} m, d = {} m, E = {} Pa, nu = {}, rho = {} kg/m^3, eta = {}, kappa = {}",
+                               o.length, o.diameter, o.inner_diameter, o.youngs_modulus, o.poisson, o.density,
+                               o.loss_factor, kappa)});
+    out["output"] = o.output;
+    out["points"] = f.size();
+    info(g, fmt::format("wrote {} ({} frequencies, block T{})", o.output, f.size(), o.block));
+  }
+  if (o.json) std::cout << out.dump(2) << '\n';
+}
+
+}  // namespace
+
+void add_beam_command(CLI::App& app, Globals& g) {
+  auto o = std::make_shared<BeamOptions>();
+  CLI::App* c = app.add_subcommand("beam", "Free–free Timoshenko beam: natural frequencies and end receptances (seed Eq. 9–14)");
+  c->add_option("--length", o->length, "Segment length L [m]")->required();
+  c->add_option("--diameter", o->diameter, "Outer diameter D [m]")->required();
+  c->add_option("--inner-diameter", o->inner_diameter, "Inner diameter d [m] (0: solid)")->capture_default_str();
+  c->add_option("--youngs-modulus", o->youngs_modulus, "Young's modulus E [Pa]")->capture_default_str();
+  c->add_option("--density", o->density, "Density ρ [kg/m³]")->capture_default_str();
+  c->add_option("--poisson", o->poisson, "Poisson's ratio ν, in (−1, 0.5)")->capture_default_str();
+  c->add_option("--shear-modulus", o->shear_modulus, "Shear modulus G [Pa] (default E/(2(1+ν)))");
+  c->add_option("--loss-factor", o->loss_factor, "Structural loss factor η ≥ 0 (complex moduli E(1+iη), G(1+iη))")
+      ->capture_default_str();
+  c->add_option("--shear-coefficient", o->shear_coefficient, "Shear coefficient κ (default from --shear-model)");
+  c->add_option("--shear-model", o->shear_model, "κ formula for circular sections: hutchinson or cowper")
+      ->check(CLI::IsMember({"hutchinson", "cowper"}))
+      ->capture_default_str();
+  c->add_option("--modes", o->modes, "Print the first N free–free natural frequencies [Hz]");
+  c->add_option("--frequencies", o->frequencies, "Frequency grid START:STOP:STEP [Hz] for the receptance output");
+  c->add_option("--output", o->output, "Write the receptance block here (FRF CSV)");
+  c->add_option("--block", o->block, "Which block to write: 11 (end 1 = outer end), 12, 21 or 22")
+      ->check(CLI::IsMember({"11", "12", "21", "22"}))
+      ->capture_default_str();
+  c->add_option("--method", o->method, "exact (closed form, default) or modal (seed Eq. 11–14 summation)")
+      ->check(CLI::IsMember({"exact", "modal"}))
+      ->capture_default_str();
+  c->add_option("--modal-terms", o->modal_terms, "Elastic modes summed by --method modal")->capture_default_str();
+  c->add_flag("--static-residual", o->static_residual, "--method modal: add the truncated modes' static flexibility");
+  c->add_flag("--json", o->json, "Machine-readable output on stdout");
+  c->footer(
+      "Example:\n"
+      "  toolpoint beam --length 0.1 --diameter 0.05 --modes 6\n"
+      "  toolpoint beam --length 0.123 --diameter 0.016 --youngs-modulus 5.8e11 --density 14500 \\\n"
+      "      --loss-factor 0.002 --frequencies 10:20000:10 --output tool_T11.csv");
+  c->callback([o, &g] { run_beam(*o, g); });
+}
+
+}  // namespace toolpoint::cli

@@ -1,0 +1,144 @@
+// toolpoint: free–free Timoshenko beam segments and their end receptances (seed Eq. 9–14).
+//
+// A segment is a uniform length of circular section: one annulus (solid or hollow) or several
+// concentric layers of different materials (a holder with the tool shank inside: EI, κGA, ρA and
+// ρI add). End 1 is the segment's outer end (larger x, towards the tool tip), end 2 its inner end;
+// see conventions.hpp. Units: SI (m, kg, Pa, N); frequencies in Hz.
+//
+// Damping: structural (hysteretic), as complex moduli E(1+iη) and G(1+iη). This is exactly the
+// seed's modal damping (1+iη)ω_r² per mode; note that it damps shear as well as bending.
+//
+// Two independent ways to the same receptances:
+//   * exact: the closed-form solution of the Timoshenko equations, no truncation (the default);
+//   * modal: the seed's Eq. (11)–(14) generalised to Timoshenko modes — rigid-body modes plus N
+//     elastic free–free modes from the exact frequency equation on both branches (below and
+//     above the cut-off frequency), mass-normalised with rotary inertia.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "toolpoint/receptance.hpp"
+
+namespace toolpoint {
+
+// An isotropic material. Units: Pa, kg/m³; η dimensionless.
+struct Material {
+  std::string name;
+  double youngs_modulus = 0.0;  // E [Pa]
+  double poisson = 0.3;         // ν, in (−1, 0.5)
+  double shear_modulus = 0.0;   // G [Pa]; 0 means E/(2(1+ν))
+  double density = 0.0;         // ρ [kg/m³]
+  double loss_factor = 0.0;     // η ≥ 0, applied to E and G
+
+  double G() const;  // the shear modulus used [Pa]
+  // Throws InvalidArgument naming the parameter and value (E ≤ 0, ρ ≤ 0, ν outside (−1, 0.5),
+  // η < 0, G ≤ 0, non-finite values).
+  void check() const;
+};
+
+// How κ is chosen for a circular annulus (outer radius a, inner radius b, m = b/a).
+enum class ShearModel {
+  Hutchinson,  // Hutchinson (2001): solid 6(1+ν)²/(7+12ν+4ν²); hollow
+               // 6(a²+b²)²(1+ν)² / [7a⁴+34a²b²+7b⁴ + ν(12a⁴+48a²b²+12b⁴) + ν²(4a⁴+16a²b²+4b⁴)]
+  Cowper,      // Cowper (1966): 6(1+ν)(1+m²)² / [(7+6ν)(1+m²)² + (20+12ν)m²]; solid 6(1+ν)/(7+6ν)
+};
+
+double shear_coefficient(ShearModel model, double poisson, double outer_diameter, double inner_diameter);
+
+// One concentric layer of a section. Diameters in m; inner 0 for a solid circle.
+struct Annulus {
+  double outer_diameter = 0.0;
+  double inner_diameter = 0.0;
+  Material material;
+  std::optional<double> shear_coefficient;  // κ override; default from the section's ShearModel
+
+  double area() const;           // m²
+  double second_moment() const;  // I [m⁴]
+  void check() const;            // throws InvalidArgument (non-positive outer, inner ≥ outer, …)
+};
+
+// Per-unit-length section properties the Timoshenko equations need.
+struct SectionProperties {
+  Complex EI;   // bending stiffness Σ E(1+iη) I [N·m²]
+  Complex kGA;  // shear stiffness Σ κ G(1+iη) A [N]
+  double rhoA;  // mass per length Σ ρA [kg/m]
+  double rhoI;  // rotary inertia per length Σ ρI [kg·m]
+
+  // Ω_c = sqrt(κGA/ρI) in Hz: above it the second ("shear") spectrum propagates.
+  double cutoff_frequency_hz() const;
+};
+
+// A uniform segment: length and concentric layers (outermost first or any order).
+struct Segment {
+  double length = 0.0;  // m
+  std::vector<Annulus> layers;
+  ShearModel shear_model = ShearModel::Hutchinson;
+
+  SectionProperties properties() const;
+  void check() const;  // throws InvalidArgument naming the value
+  // A one-layer segment.
+  static Segment tube(double length, double outer_diameter, double inner_diameter, const Material& material);
+};
+
+// ---- Exact (truncation-free) receptances -------------------------------------------------------
+
+// Free–free end receptances T11, T12, T21, T22 of a uniform Timoshenko segment at `frequency_hz`
+// (> 0), from the closed-form solution of
+//     κGA (w'' − ψ') = −ρAΩ² w,     EI ψ'' + κGA (w' − ψ) = −ρIΩ² ψ
+// with end loads. Solved in a symmetric/antisymmetric basis about mid-span, scaled by e^{−sL/2}
+// so that no term grows with frequency or length (stable for any sL), and entire in the
+// wavenumbers so the cut-off frequency (a zero wavenumber) needs no special case.
+// Throws NumericalError at an exact undamped natural frequency (η = 0), where the receptance is
+// unbounded.
+TwoPort exact_receptance(const SectionProperties& section, double length, double frequency_hz);
+TwoPort exact_receptance(const Segment& segment, double frequency_hz);
+
+// ---- Modal summation (seed Eq. 11–14) ---------------------------------------------------------
+
+struct ModalOptions {
+  int modes = 100;              // elastic free–free modes kept, N ≥ 1
+  bool static_residual = false; // add the truncated modes' quasi-static part (see below)
+  void check() const;
+};
+
+// A free–free mode, mass-normalised: ∫(ρA W² + ρI Ψ²) dx = 1. Values at the ends.
+struct FreeMode {
+  double frequency_hz;  // undamped natural frequency
+  double w1, psi1;      // W and Ψ at end 1 (x = L)
+  double w2, psi2;      // W and Ψ at end 2 (x = 0)
+  bool above_cutoff;    // root from the λ > α branch of the frequency equation
+};
+
+// The first `count` elastic free–free natural frequencies [Hz] from the exact frequency equation
+// (Han, Benaroya & Wei 1999, both branches), undamped.
+std::vector<double> free_free_frequencies(const SectionProperties& section, double length, int count);
+
+// Free–free modes of a segment: roots and mass-normalised end values, computed once.
+// The modal method needs one loss factor for the whole section (EI and κGA damped alike);
+// throws InvalidArgument otherwise.
+class ModalBeam {
+ public:
+  ModalBeam(const SectionProperties& section, double length, const ModalOptions& options = {});
+
+  // Receptances by modal summation: two rigid-body modes (translation, rotation about the
+  // centre of mass) plus the N elastic modes with denominators ω_r²(1+iη) − Ω². With
+  // static_residual, the truncated modes' static flexibility Σ_{r>N} φφ/(ω_r²(1+iη)) is added,
+  // taken from the exact solution near 0 Hz (so P converges like 1/N³ instead of 1/N).
+  TwoPort receptance(double frequency_hz) const;
+
+  const std::vector<FreeMode>& modes() const { return modes_; }
+  double loss_factor() const { return eta_; }
+
+ private:
+  SectionProperties props_;
+  double length_;
+  double eta_;
+  std::vector<FreeMode> modes_;
+  double w_trans_, w_rot1_, w_rot2_, psi_rot_;  // rigid-body mode values at the ends
+  bool has_residual_ = false;
+  TwoPort residual_{};
+};
+
+}  // namespace toolpoint

@@ -1,0 +1,60 @@
+// toolpoint: units and the one sign convention every substructure uses.
+//
+// Units: SI everywhere (m, kg, N, Pa, s, rad). Frequencies are in Hz at every interface (files,
+// options, results); formulas use Ω = 2πf in rad/s internally.
+//
+// Sign convention (see README "Conventions" for the sketch):
+//
+//        spindle rear                                                tool tip
+//        ──────────────[spindle]──[holder]──[tool]──────────────────────► x
+//                       end 2  end 1 end 2  end 1 end 2      end 1
+//
+//   * One global axis x along the assembly, pointing from the spindle towards the tool tip.
+//   * w: transverse displacement (m), positive along +y for every component.
+//   * θ: bending rotation of the cross section (rad), positive in the sense of dw/dx along +x
+//     (θ = ψ of Timoshenko theory; at a free end with no shear force it equals dw/dx).
+//   * f: transverse force (N) along +y; m: bending moment (N·m) in the sense of θ, so f·w and
+//     m·θ are work.
+//   * Every component's end 1 is its outer end (towards the tool tip, larger x) and end 2 its
+//     inner end. Segments are listed from end 1 inwards. The tool's end 1 is the tool tip, the
+//     holder's end 1 the holder tip, the spindle's end 1 the spindle nose.
+//
+// This is the seed paper's convention: the free–free tip receptances of Eq. (11)–(14) hold as
+// printed (rigid-body part of L11 = N11 = −6/(ρAL²Ω²) at the outer end), Duarte–Ewins finite
+// differences hold as printed with points spaced inwards from the tip, and the coupling
+// equations (1)–(5), (15), (17) hold as printed with A's end 2 joined to B's end 1.
+// A joint matrix K maps the relative displacement (w, θ) of the outer body's end 2 minus the
+// inner body's end 1 to the force and moment (f, m) acting on the inner body.
+#pragma once
+
+#include <numbers>
+#include <string>
+#include <vector>
+
+namespace toolpoint {
+
+inline constexpr double kPi = std::numbers::pi;
+
+// Ω = 2πf: rad/s from Hz.
+inline double omega_of(double frequency_hz) { return 2.0 * kPi * frequency_hz; }
+
+// An evenly spaced frequency grid START:STOP:STEP in Hz (both ends included when STOP is on the
+// grid).
+struct FrequencyGrid {
+  double start_hz = 0.0;
+  double stop_hz = 0.0;
+  double step_hz = 0.0;
+
+  // Throws InvalidArgument unless 0 < start ≤ stop, step > 0, all finite, and the grid has at
+  // most 10 million points.
+  void check() const;
+  std::vector<double> values() const;
+};
+
+// Parses "START:STOP:STEP" (Hz). Throws InvalidArgument naming `option` on malformed text.
+FrequencyGrid parse_frequency_grid(const std::string& text, const std::string& option);
+
+// Parses "A:B" into two numbers. Throws InvalidArgument naming `option`.
+std::pair<double, double> parse_range(const std::string& text, const std::string& option);
+
+}  // namespace toolpoint

@@ -1,0 +1,57 @@
+// toolpoint: files. Whole-file reads, atomic writes, and the FRF CSV format every command uses.
+//
+// FRF CSV (units: frequency in Hz; H in m/N, L in 1/N, N in rad/N, P in rad/(N·m)):
+//   # comment lines start with '#'; blank lines are ignored
+//   frequency_hz,H_re,H_im,L_re,L_im,N_re,N_im,P_re,P_im      <- a 2×2 receptance block
+//   frequency_hz,re,im                                         <- a single FRF
+// The first non-comment line is the header and decides the form. Numbers are read exactly as
+// written and written in shortest round-trip form, so write-then-read gives back the same data.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "toolpoint/receptance.hpp"
+
+namespace toolpoint {
+
+// Reads a whole file. Throws IoError naming the path.
+std::string read_text_file(const std::string& path);
+
+// Writes `content` whole or not at all: a temporary file in the same folder, then rename.
+// Creates missing parent folders. Throws IoError naming the path.
+void write_text_file(const std::string& path, const std::string& content);
+
+// What an FRF CSV file holds: a block series or a single FRF.
+struct FrfTable {
+  bool is_block = false;
+  BlockSeries block;  // when is_block
+  FrfSeries single;   // otherwise
+};
+
+// Parses FRF CSV text; `source` (a file name) appears in every error with the line number.
+// Throws InputError on a bad header, a malformed number, a wrong column count, NaN/Inf, a
+// non-increasing or non-positive frequency.
+FrfTable parse_frf_csv(const std::string& text, const std::string& source);
+FrfTable read_frf_csv(const std::string& path);
+
+// Reads a file that must hold a 2×2 block series (or a single FRF, for read_single_csv).
+BlockSeries read_block_csv(const std::string& path);
+FrfSeries read_single_csv(const std::string& path);
+
+// Formats FRF CSV text. `comments` become '#' lines after the standard units line.
+std::string format_frf_csv(const BlockSeries& series, const std::vector<std::string>& comments = {});
+std::string format_frf_csv(const FrfSeries& series, const std::vector<std::string>& comments = {});
+
+void write_frf_csv(const std::string& path, const BlockSeries& series, const std::vector<std::string>& comments = {});
+void write_frf_csv(const std::string& path, const FrfSeries& series, const std::vector<std::string>& comments = {});
+
+// A generic numeric table writer for other results (k(ω), lobes, …): header names carry units.
+struct Table {
+  std::vector<std::string> columns;
+  std::vector<std::vector<double>> rows;
+};
+std::string format_table_csv(const Table& table, const std::vector<std::string>& comments = {});
+void write_table_csv(const std::string& path, const Table& table, const std::vector<std::string>& comments = {});
+
+}  // namespace toolpoint

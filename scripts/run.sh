@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# toolpoint set-up on a fresh Debian 12 machine, as root: installs what is missing (Debian packages
+# only, via apt-get), configures and builds, then runs the requested job.
+#
+#   bash scripts/run.sh demo    # install, build, run `toolpoint demo` (the seed's case study)
+#   bash scripts/run.sh test    # install, build, run every test (ctest)
+#   bash scripts/run.sh build   # install and build only
+#   bash scripts/run.sh bench   # install, build, run the benchmarks
+#
+# Environment: BUILD_DIR (default build), JOBS (default: number of cores).
+set -euo pipefail
+
+job=${1:-demo}
+shift || true
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+cd "$here"
+build_dir=${BUILD_DIR:-build}
+jobs=${JOBS:-$(nproc 2>/dev/null || echo 2)}
+
+packages=(build-essential cmake pkg-config libeigen3-dev libcli11-dev libfmt-dev libtomlplusplus-dev
+          nlohmann-json3-dev libgtest-dev libbenchmark-dev gnuplot-nox)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "toolpoint: installing missing Debian packages: ${missing[*]}" >&2
+  if [ "$(id -u)" != 0 ]; then
+    echo "toolpoint: need root to run apt-get (run as root or install the packages above)" >&2
+    exit 1
+  fi
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -qq
+  apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$build_dir" -j "$jobs"
+
+case "$job" in
+  demo)  exec "$build_dir/toolpoint" demo "$@" ;;
+  test)  cd "$build_dir" && exec ctest --output-on-failure -j "$jobs" "$@" ;;
+  build) ;;
+  bench) exec "$build_dir/toolpoint_bench" "$@" ;;
+  *) echo "usage: bash scripts/run.sh demo|test|build|bench [args...]" >&2; exit 2 ;;
+esac

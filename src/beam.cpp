@@ -1,0 +1,488 @@
+// toolpoint: free–free Timoshenko beam segments, exact and modal end receptances.
+#include "toolpoint/beam.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <fmt/format.h>
+
+#include "toolpoint/conventions.hpp"
+#include "toolpoint/error.hpp"
+
+namespace toolpoint {
+
+// ---- Material, section --------------------------------------------------------------------------
+
+double Material::G() const { return shear_modulus > 0.0 ? shear_modulus : youngs_modulus / (2.0 * (1.0 + poisson)); }
+
+void Material::check() const {
+  const std::string who = name.empty() ? std::string("material") : fmt::format("material '{}'", name);
+  auto finite = [&](double v, const char* key) {
+    if (!std::isfinite(v)) throw InvalidArgument(fmt::format("{}: {} = {} is not finite", who, key, v));
+  };
+  finite(youngs_modulus, "youngs_modulus");
+  finite(poisson, "poisson");
+  finite(shear_modulus, "shear_modulus");
+  finite(density, "density");
+  finite(loss_factor, "loss_factor");
+  if (!(youngs_modulus > 0.0))
+    throw InvalidArgument(fmt::format("{}: youngs_modulus = {} Pa must be > 0", who, youngs_modulus), "steel is about 2.1e11 Pa");
+  if (!(density > 0.0))
+    throw InvalidArgument(fmt::format("{}: density = {} kg/m³ must be > 0", who, density), "steel is about 7800 kg/m³");
+  if (!(poisson > -1.0 && poisson < 0.5))
+    throw InvalidArgument(fmt::format("{}: poisson = {} must lie in (−1, 0.5)", who, poisson), "steel is about 0.3");
+  if (shear_modulus < 0.0) throw InvalidArgument(fmt::format("{}: shear_modulus = {} Pa must be > 0 (or 0 for E/(2(1+ν)))", who, shear_modulus));
+  if (loss_factor < 0.0) throw InvalidArgument(fmt::format("{}: loss_factor = {} must be ≥ 0", who, loss_factor));
+}
+
+double shear_coefficient(ShearModel model, double nu, double outer_diameter, double inner_diameter) {
+  const double a = outer_diameter / 2.0, b = inner_diameter / 2.0;
+  if (model == ShearModel::Cowper) {
+    const double m = b / a, m2 = m * m, q = (1.0 + m2) * (1.0 + m2);
+    return 6.0 * (1.0 + nu) * q / ((7.0 + 6.0 * nu) * q + (20.0 + 12.0 * nu) * m2);
+  }
+  const double a2 = a * a, b2 = b * b, a4 = a2 * a2, b4 = b2 * b2, ab = a2 * b2;
+  const double num = 6.0 * (a2 + b2) * (a2 + b2) * (1.0 + nu) * (1.0 + nu);
+  const double den = 7.0 * a4 + 34.0 * ab + 7.0 * b4 + nu * (12.0 * a4 + 48.0 * ab + 12.0 * b4) +
+                     nu * nu * (4.0 * a4 + 16.0 * ab + 4.0 * b4);
+  return num / den;
+}
+
+double Annulus::area() const {
+  return kPi / 4.0 * (outer_diameter * outer_diameter - inner_diameter * inner_diameter);
+}
+
+double Annulus::second_moment() const {
+  const double d4 = outer_diameter * outer_diameter * outer_diameter * outer_diameter;
+  const double i4 = inner_diameter * inner_diameter * inner_diameter * inner_diameter;
+  return kPi / 64.0 * (d4 - i4);
+}
+
+void Annulus::check() const {
+  if (!std::isfinite(outer_diameter) || !(outer_diameter > 0.0))
+    throw InvalidArgument(fmt::format("outer diameter {} m must be > 0", outer_diameter));
+  if (!std::isfinite(inner_diameter) || inner_diameter < 0.0)
+    throw InvalidArgument(fmt::format("inner diameter {} m must be ≥ 0", inner_diameter));
+  if (!(inner_diameter < outer_diameter))
+    throw InvalidArgument(fmt::format("inner diameter {} m must be below the outer diameter {} m", inner_diameter, outer_diameter));
+  if (shear_coefficient && !(*shear_coefficient > 0.0 && *shear_coefficient <= 1.5))
+    throw InvalidArgument(fmt::format("shear coefficient {} must lie in (0, 1.5]", *shear_coefficient),
+                          "circular sections have κ ≈ 0.5–0.9");
+  material.check();
+}
+
+double SectionProperties::cutoff_frequency_hz() const { return std::sqrt(kGA.real() / rhoI) / (2.0 * kPi); }
+
+SectionProperties Segment::properties() const {
+  SectionProperties p{{0.0, 0.0}, {0.0, 0.0}, 0.0, 0.0};
+  for (const Annulus& l : layers) {
+    const double A = l.area(), I = l.second_moment();
+    const double kappa = l.shear_coefficient ? *l.shear_coefficient
+                                             : shear_coefficient(shear_model, l.material.poisson, l.outer_diameter, l.inner_diameter);
+    const Complex damp(1.0, l.material.loss_factor);
+    p.EI += l.material.youngs_modulus * I * damp;
+    p.kGA += kappa * l.material.G() * A * damp;
+    p.rhoA += l.material.density * A;
+    p.rhoI += l.material.density * I;
+  }
+  return p;
+}
+
+void Segment::check() const {
+  if (!std::isfinite(length) || !(length > 0.0)) throw InvalidArgument(fmt::format("segment length {} m must be > 0", length));
+  if (layers.empty()) throw InvalidArgument("segment has no cross-section layer");
+  for (const Annulus& l : layers) l.check();
+}
+
+Segment Segment::tube(double length, double outer_diameter, double inner_diameter, const Material& material) {
+  Segment s;
+  s.length = length;
+  s.layers.push_back(Annulus{outer_diameter, inner_diameter, material, std::nullopt});
+  return s;
+}
+
+// ---- Exact receptances --------------------------------------------------------------------------
+
+namespace {
+
+// (1 − e^{−z})/z, accurate for small |z| (series) and any Re z ≥ 0.
+Complex one_minus_exp_over(Complex z) {
+  if (std::abs(z) < 0.25) {
+    Complex term(1.0, 0.0), sum(1.0, 0.0);
+    for (int k = 1; k < 14; ++k) {
+      term *= -z / static_cast<double>(k + 1);
+      sum += term;
+    }
+    return sum;
+  }
+  return (1.0 - std::exp(-z)) / z;
+}
+
+// Inverse of a 2×2 complex matrix; `ok` false when it is numerically singular.
+struct C2 {
+  Complex a, b, c, d;  // [[a, b], [c, d]]
+};
+
+inline C2 mul(const C2& x, const C2& y) {
+  return {x.a * y.a + x.b * y.c, x.a * y.b + x.b * y.d, x.c * y.a + x.d * y.c, x.c * y.b + x.d * y.d};
+}
+
+inline bool inv(const C2& m, C2& out) {
+  const Complex det = m.a * m.d - m.b * m.c;
+  const double scale = std::abs(m.a * m.d) + std::abs(m.b * m.c);
+  if (!(std::abs(det) > 1e-14 * scale)) return false;
+  const Complex r = 1.0 / det;
+  out = {m.d * r, -m.b * r, -m.c * r, m.a * r};
+  return true;
+}
+
+}  // namespace
+
+TwoPort exact_receptance(const SectionProperties& sp, double length, double frequency_hz) {
+  if (!(frequency_hz > 0.0) || !std::isfinite(frequency_hz))
+    throw InvalidArgument(fmt::format("frequency {} Hz must be > 0 (free–free receptances are unbounded at 0 Hz)", frequency_hz));
+  const double w2 = omega_of(frequency_hz) * omega_of(frequency_hz);
+  const Complex a = sp.kGA, b = sp.EI;
+  const double mA = sp.rhoA, mI = sp.rhoI;
+
+  // Wavenumbers: a b p² + (a ρI + b ρA) Ω² p − ρA Ω² (a − ρI Ω²) = 0, p = s².
+  const Complex B = (a * mI + b * mA) * w2;
+  const Complex C = mA * w2 * (a - mI * w2);
+  const Complex ab = a * b;
+  Complex sq = std::sqrt(B * B + 4.0 * ab * C);
+  if ((std::conj(B) * sq).real() < 0.0) sq = -sq;
+  const Complex q = -0.5 * (B + sq);
+  const Complex p[2] = {q / ab, -C / q};
+
+  // Symmetric basis φ = e^{−sL/2} cosh(s y), antisymmetric φ = e^{−sL/2} sinh(s y)/s, y from
+  // mid-span; fields w = a φ', ψ = (a p + ρAΩ²) φ, M = b (a p + ρAΩ²) φ', Q = −a ρA Ω² φ.
+  Complex c[2], S[2], pS[2], e[2];
+  for (int j = 0; j < 2; ++j) {
+    const Complex s = std::sqrt(p[j]);  // principal branch: Re s ≥ 0, so e^{−sL} is bounded
+    const Complex z = s * length;
+    c[j] = 0.5 * (1.0 + std::exp(-z));
+    S[j] = 0.5 * length * one_minus_exp_over(z);
+    pS[j] = p[j] * S[j];
+    e[j] = a * p[j] + mA * w2;
+  }
+  const Complex u = -a * mA * w2;
+  const C2 Ms{u * c[0], u * c[1], b * e[0] * pS[0], b * e[1] * pS[1]};
+  const C2 Rs{a * pS[0], a * pS[1], e[0] * c[0], e[1] * c[1]};
+  const C2 Ma{u * S[0], u * S[1], b * e[0] * c[0], b * e[1] * c[1]};
+  const C2 Ra{a * c[0], a * c[1], e[0] * S[0], e[1] * S[1]};
+  C2 Msi, Mai;
+  if (!inv(Ms, Msi) || !inv(Ma, Mai))
+    throw NumericalError(fmt::format("{} Hz is a natural frequency of an undamped free–free segment (L = {} m): "
+                                     "the receptance is unbounded there",
+                                     frequency_hz, length),
+                         "give the material a loss factor > 0 or move the frequency grid off the resonance");
+  // (w, ψ) at y = +L/2 from (Q, M) at y = +L/2, for the symmetric and antisymmetric parts.
+  const C2 gs = mul(Rs, Msi), ga = mul(Ra, Mai);
+
+  TwoPort t;
+  t.b11 = make_block(0.5 * (gs.a + ga.a), 0.5 * (gs.b + ga.b), 0.5 * (gs.c + ga.c), 0.5 * (gs.d + ga.d));
+  t.b12 = make_block(0.5 * (ga.a - gs.a), 0.5 * (gs.b - ga.b), 0.5 * (ga.c - gs.c), 0.5 * (gs.d - ga.d));
+  t.b21 = make_block(0.5 * (ga.a - gs.a), 0.5 * (ga.b - gs.b), 0.5 * (gs.c - ga.c), 0.5 * (gs.d - ga.d));
+  t.b22 = make_block(0.5 * (gs.a + ga.a), -0.5 * (gs.b + ga.b), -0.5 * (gs.c + ga.c), 0.5 * (gs.d + ga.d));
+  return t;
+}
+
+TwoPort exact_receptance(const Segment& segment, double frequency_hz) {
+  segment.check();
+  return exact_receptance(segment.properties(), segment.length, frequency_hz);
+}
+
+// ---- Modal summation ----------------------------------------------------------------------------
+
+void ModalOptions::check() const {
+  if (modes < 1 || modes > 20000) throw InvalidArgument(fmt::format("modal method: modes = {} must lie in 1..20000", modes));
+}
+
+namespace {
+
+// Dimensionless free–free frequency equation (Han, Benaroya & Wei 1999), with α = ρA L²/ρI,
+// γ = κGA ρI/(EI ρA) (= κG/E for one material) and λ = ρA Ω² L²/κGA:
+//   λ < α:  −[μ(λ+μ²)/(ω̂(λ−ω̂²)) − ω̂(λ−ω̂²)/(μ(λ+μ²))] sinh μ sin ω̂ + 2 cosh μ cos ω̂ − 2 = 0
+//   λ > α:  sin θ sin ω̂ [−θ(λ−θ²)/(2ω̂(λ−ω̂²)) − ω̂(λ−ω̂²)/(2θ(λ−θ²))] − cos θ cos ω̂ + 1 = 0
+// The first is divided by cosh μ, the second multiplied by −2; both written with sinh μ/μ and
+// sin θ/θ. Then the function is bounded, has no poles, and is continuous through the cut-off
+// λ = α (μ, θ → 0), so a sign change is a root on either branch.
+struct FreqEq {
+  double alpha, gamma;
+
+  struct Waves {
+    double omh;     // ω̂
+    double second;  // μ (below the cut-off) or θ (above)
+    bool above;
+  };
+
+  Waves waves(double lambda) const {
+    const double delta = 1.0 - 4.0 * gamma * (1.0 - alpha / lambda) / ((1.0 + gamma) * (1.0 + gamma));
+    const double rd = std::sqrt(std::max(delta, 0.0));
+    const double h = 0.5 * lambda * (1.0 + gamma);
+    Waves w;
+    w.omh = std::sqrt(h * (rd + 1.0));
+    w.above = lambda > alpha;
+    w.second = std::sqrt(std::max(w.above ? h * (1.0 - rd) : h * (rd - 1.0), 0.0));
+    return w;
+  }
+
+  double operator()(double lambda) const {
+    const Waves w = waves(lambda);
+    const double om = w.omh, om_t = om * (lambda - om * om);
+    if (!w.above) {
+      const double mu = w.second;
+      const double tanh_over = mu < 1e-4 ? 1.0 - mu * mu / 3.0 : std::tanh(mu) / mu;
+      const double sech = mu > 700.0 ? 0.0 : 1.0 / std::cosh(mu);
+      const double br = mu * mu * (lambda + mu * mu) / om_t - om_t / (lambda + mu * mu);
+      return -br * tanh_over * std::sin(om) + 2.0 * std::cos(om) - 2.0 * sech;
+    }
+    const double th = w.second;
+    const double sinc = th < 1e-4 ? 1.0 - th * th / 6.0 : std::sin(th) / th;
+    const double th_t = th * (lambda - th * th);
+    return std::sin(th) * std::sin(om) * th_t / om_t + om_t / (lambda - th * th) * sinc * std::sin(om) +
+           2.0 * std::cos(th) * std::cos(om) - 2.0;
+  }
+};
+
+struct Dimensionless {
+  double a, b, mA, mI, length;
+  FreqEq eq;
+  double lambda_of(double omega) const { return mA * omega * omega * length * length / a; }
+  double omega_of_lambda(double lambda) const { return std::sqrt(lambda * a / (mA * length * length)); }
+};
+
+Dimensionless make_dimensionless(const SectionProperties& sp, double length) {
+  Dimensionless d{sp.kGA.real(), sp.EI.real(), sp.rhoA, sp.rhoI, length, {0, 0}};
+  d.eq.alpha = d.mA * length * length / d.mI;
+  d.eq.gamma = d.a * d.mI / (d.b * d.mA);
+  return d;
+}
+
+void check_section(const SectionProperties& sp, double length) {
+  if (!(length > 0.0) || !std::isfinite(length)) throw InvalidArgument(fmt::format("segment length {} m must be > 0", length));
+  if (!(sp.EI.real() > 0.0 && sp.kGA.real() > 0.0 && sp.rhoA > 0.0 && sp.rhoI > 0.0))
+    throw InvalidArgument("section properties EI, κGA, ρA, ρI must be positive");
+}
+
+// Roots λ_r of the frequency equation, ascending, found by scanning with steps that keep the
+// change of ω̂ and of μ or θ below 0.05 rad (roots are ≳ π apart in one of them), then bisection.
+std::vector<double> frequency_roots(const Dimensionless& d, int count) {
+  const FreqEq& eq = d.eq;
+  std::vector<double> roots;
+  double lam = std::min(1.0 / (eq.gamma * eq.alpha), 0.1 * eq.alpha);
+  double g = eq(lam);
+  const double max_step_rad = 0.05;
+  int guard = 0;
+  while (static_cast<int>(roots.size()) < count) {
+    if (++guard > 50'000'000) throw NumericalError("free–free frequency equation: root scan did not finish");
+    const auto w0 = eq.waves(lam);
+    const double probe = lam * 1e-6;
+    const auto w1 = eq.waves(lam + probe);
+    const double rate = std::max(std::abs(w1.omh - w0.omh), std::abs(w1.second - w0.second)) / probe;
+    double step = rate > 0.0 ? max_step_rad / rate : lam * 0.01;
+    step = std::min(step, 0.05 * lam + 1e-12);
+    double next = lam + step;
+    // Land exactly on the cut-off so the branch change is one step of its own.
+    if (lam < eq.alpha && next > eq.alpha) next = eq.alpha * (1.0 + 1e-13);
+    const double gn = eq(next);
+    if (g == 0.0) {
+      roots.push_back(lam);
+    } else if ((g < 0.0) != (gn < 0.0)) {
+      double lo = lam, hi = next, glo = g;
+      for (int it = 0; it < 200 && hi - lo > 1e-15 * hi; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        const double gm = eq(mid);
+        if ((gm < 0.0) == (glo < 0.0)) {
+          lo = mid;
+          glo = gm;
+        } else {
+          hi = mid;
+        }
+      }
+      const double root = 0.5 * (lo + hi);
+      // The function has no poles, but keep the safeguard: a true root has a tiny residual.
+      if (std::abs(eq(root)) < 1e-6 * std::max(std::abs(g), std::abs(gn))) roots.push_back(root);
+    }
+    lam = next;
+    g = gn;
+  }
+  roots.resize(static_cast<std::size_t>(count));
+  return roots;
+}
+
+// Gauss–Legendre, 6 points on [−1, 1].
+constexpr std::array<double, 6> kGlX = {-0.9324695142031521, -0.6612093864662645, -0.2386191860831969,
+                                        0.2386191860831969,  0.6612093864662645,  0.9324695142031521};
+constexpr std::array<double, 6> kGlW = {0.1713244923791704, 0.3607615730481386, 0.4679139345726910,
+                                        0.4679139345726910, 0.3607615730481386, 0.1713244923791704};
+
+// Mode shape in the potential form: φ'' = p̂ φ for each wave, U = φ', Φ = (p̂ + λ) φ
+// (U = w/L, Φ = ψ, ζ = x/L). Free ends: shear U' − Φ = −λ φ = 0 and moment Φ' = (p̂+λ) φ' = 0.
+// Bases: μ-wave e^{−μζ}, e^{−μ(1−ζ)} (μ > 1) or cosh μζ, sinh(μζ)/μ; θ-wave cos θζ, sin(θζ)/θ;
+// ω̂-wave cos ω̂ζ, sin(ω̂ζ)/ω̂. All bounded and non-degenerate, so the null vector is clean.
+struct ModeShape {
+  double lambda, phat[2];  // p̂ of the second wave (μ² or −θ²) and of the ω̂ wave (−ω̂²)
+  double k2, k1;           // μ or θ, ω̂
+  bool above, expo;
+  Eigen::Vector4d coef;
+
+  // φ and φ' of basis function i at ζ.
+  void basis(int i, double z, double& phi, double& dphi) const {
+    if (i < 2) {
+      const double m = k2;
+      if (!above && expo) {
+        if (i == 0) { phi = std::exp(-m * z); dphi = -m * phi; }
+        else { phi = std::exp(-m * (1.0 - z)); dphi = m * phi; }
+      } else if (!above) {
+        if (i == 0) { phi = std::cosh(m * z); dphi = m * std::sinh(m * z); }
+        else { phi = m > 0.0 ? std::sinh(m * z) / m : z; dphi = std::cosh(m * z); }
+      } else {
+        if (i == 0) { phi = std::cos(m * z); dphi = -m * std::sin(m * z); }
+        else { phi = m > 0.0 ? std::sin(m * z) / m : z; dphi = std::cos(m * z); }
+      }
+    } else {
+      const double o = k1;
+      if (i == 2) { phi = std::cos(o * z); dphi = -o * std::sin(o * z); }
+      else { phi = std::sin(o * z) / o; dphi = std::cos(o * z); }
+    }
+  }
+  double ph(int i) const { return i < 2 ? phat[0] : phat[1]; }
+
+  void uphi(double z, double& U, double& Phi) const {
+    U = 0.0;
+    Phi = 0.0;
+    for (int i = 0; i < 4; ++i) {
+      double f, df;
+      basis(i, z, f, df);
+      U += coef[i] * df;
+      Phi += coef[i] * (ph(i) + lambda) * f;
+    }
+  }
+};
+
+ModeShape mode_shape(const FreqEq& eq, double lambda) {
+  const auto w = eq.waves(lambda);
+  ModeShape m;
+  m.lambda = lambda;
+  m.above = w.above;
+  m.k2 = w.second;
+  m.k1 = w.omh;
+  m.expo = !w.above && w.second > 1.0;
+  m.phat[0] = w.above ? -w.second * w.second : w.second * w.second;
+  m.phat[1] = -w.omh * w.omh;
+  Eigen::Matrix4d A;
+  for (int i = 0; i < 4; ++i) {
+    for (int end = 0; end < 2; ++end) {
+      double f, df;
+      m.basis(i, static_cast<double>(end), f, df);
+      A(2 * end, i) = f;                         // shear: −λ φ = 0
+      A(2 * end + 1, i) = (m.ph(i) + lambda) * df;  // moment: (p̂ + λ) φ' = 0
+    }
+  }
+  for (int r = 0; r < 4; ++r) {
+    const double s = A.row(r).cwiseAbs().maxCoeff();
+    if (s > 0.0) A.row(r) /= s;
+  }
+  Eigen::JacobiSVD<Eigen::Matrix4d> svd(A, Eigen::ComputeFullV);
+  m.coef = svd.matrixV().col(3);
+  return m;
+}
+
+}  // namespace
+
+std::vector<double> free_free_frequencies(const SectionProperties& sp, double length, int count) {
+  check_section(sp, length);
+  if (count < 1) return {};
+  const Dimensionless d = make_dimensionless(sp, length);
+  std::vector<double> f;
+  for (double lam : frequency_roots(d, count)) f.push_back(d.omega_of_lambda(lam) / (2.0 * kPi));
+  return f;
+}
+
+ModalBeam::ModalBeam(const SectionProperties& sp, double length, const ModalOptions& options) : props_(sp), length_(length) {
+  check_section(sp, length);
+  options.check();
+  const double eta_b = sp.EI.imag() / sp.EI.real(), eta_s = sp.kGA.imag() / sp.kGA.real();
+  if (std::abs(eta_b - eta_s) > 1e-12 * std::max(1.0, std::abs(eta_b)))
+    throw InvalidArgument(fmt::format("modal method needs one loss factor for the section; bending has η = {}, shear η = {}",
+                                      eta_b, eta_s),
+                          "use the exact method for layers with different loss factors");
+  eta_ = eta_b;
+  const Dimensionless d = make_dimensionless(sp, length);
+  const auto roots = frequency_roots(d, options.modes);
+  modes_.reserve(roots.size());
+  for (std::size_t r = 0; r < roots.size(); ++r) {
+    const ModeShape shape = mode_shape(d.eq, roots[r]);
+    // ∫₀ᴸ (ρA W² + ρI Ψ²) dx with W = L U, Ψ = Φ: composite Gauss–Legendre, a panel per half-wave.
+    const int panels = static_cast<int>(r) + 8;
+    double integral = 0.0;
+    for (int k = 0; k < panels; ++k) {
+      const double z0 = static_cast<double>(k) / panels, hw = 0.5 / panels;
+      for (std::size_t g = 0; g < kGlX.size(); ++g) {
+        double U, Phi;
+        shape.uphi(z0 + hw * (1.0 + kGlX[g]), U, Phi);
+        integral += kGlW[g] * hw * (d.mA * length * length * U * U + d.mI * Phi * Phi);
+      }
+    }
+    const double scale = 1.0 / std::sqrt(integral * length);
+    double U1, P1, U0, P0;
+    shape.uphi(1.0, U1, P1);
+    shape.uphi(0.0, U0, P0);
+    FreeMode m;
+    m.frequency_hz = d.omega_of_lambda(roots[r]) / (2.0 * kPi);
+    m.w1 = length * U1 * scale;
+    m.psi1 = P1 * scale;
+    m.w2 = length * U0 * scale;
+    m.psi2 = P0 * scale;
+    m.above_cutoff = shape.above;
+    modes_.push_back(m);
+  }
+  // Rigid-body modes: translation, and rotation about mid-span (the centre of mass).
+  w_trans_ = 1.0 / std::sqrt(sp.rhoA * length);
+  const double J = sp.rhoA * length * length * length / 12.0 + sp.rhoI * length;
+  psi_rot_ = 1.0 / std::sqrt(J);
+  w_rot1_ = 0.5 * length * psi_rot_;
+  w_rot2_ = -0.5 * length * psi_rot_;
+
+  if (options.static_residual) {
+    const double f0 = 1e-3 * modes_.front().frequency_hz;
+    const TwoPort exact = exact_receptance(sp, length, f0);
+    const TwoPort modal = receptance(f0);
+    residual_ = {exact.b11 - modal.b11, exact.b12 - modal.b12, exact.b21 - modal.b21, exact.b22 - modal.b22};
+    has_residual_ = true;
+  }
+}
+
+TwoPort ModalBeam::receptance(double frequency_hz) const {
+  if (!(frequency_hz > 0.0) || !std::isfinite(frequency_hz))
+    throw InvalidArgument(fmt::format("frequency {} Hz must be > 0 (free–free receptances are unbounded at 0 Hz)", frequency_hz));
+  const double W2 = omega_of(frequency_hz) * omega_of(frequency_hz);
+  // Accumulate Σ v_j v_kᵀ / d_r with v = (W, Ψ) at ends 1 and 2.
+  Eigen::Matrix4cd G = Eigen::Matrix4cd::Zero();
+  auto add = [&G](const Eigen::Vector4d& v, Complex factor) { G += factor * (v * v.transpose()).cast<Complex>(); };
+  add(Eigen::Vector4d(w_trans_, 0.0, w_trans_, 0.0), Complex(-1.0 / W2, 0.0));
+  add(Eigen::Vector4d(w_rot1_, psi_rot_, w_rot2_, psi_rot_), Complex(-1.0 / W2, 0.0));
+  Eigen::Matrix4d acc_re = Eigen::Matrix4d::Zero(), acc_im = Eigen::Matrix4d::Zero();
+  for (const FreeMode& m : modes_) {
+    const double wr2 = omega_of(m.frequency_hz) * omega_of(m.frequency_hz);
+    const Complex inv_d = 1.0 / Complex(wr2 - W2, wr2 * eta_);
+    const Eigen::Vector4d v(m.w1, m.psi1, m.w2, m.psi2);
+    const Eigen::Matrix4d vv = v * v.transpose();
+    acc_re += inv_d.real() * vv;
+    acc_im += inv_d.imag() * vv;
+  }
+  G.real() += acc_re;
+  G.imag() += acc_im;
+  TwoPort t{G.block<2, 2>(0, 0), G.block<2, 2>(0, 2), G.block<2, 2>(2, 0), G.block<2, 2>(2, 2)};
+  if (has_residual_) {
+    t.b11 += residual_.b11;
+    t.b12 += residual_.b12;
+    t.b21 += residual_.b21;
+    t.b22 += residual_.b22;
+  }
+  return t;
+}
+
+}  // namespace toolpoint

@@ -1,0 +1,74 @@
+// toolpoint: receptance series helpers.
+#include "toolpoint/receptance.hpp"
+
+#include <cmath>
+#include <fmt/format.h>
+
+#include "toolpoint/error.hpp"
+
+namespace toolpoint {
+
+FrfSeries entry(const BlockSeries& series, int index) {
+  if (index < 0 || index > 3) throw InvalidArgument(fmt::format("block entry index {} outside 0..3", index));
+  FrfSeries out;
+  out.frequency_hz = series.frequency_hz;
+  out.values.reserve(series.size());
+  for (const Block& b : series.blocks) out.values.push_back(b(index / 2, index % 2));
+  return out;
+}
+
+namespace {
+
+void validate_grid(const std::vector<double>& f, const std::string& what, std::size_t min_points) {
+  if (f.size() < min_points)
+    throw InputError(fmt::format("{}: {} frequency point(s), at least {} needed", what, f.size(), min_points));
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    if (!std::isfinite(f[i]) || f[i] <= 0.0)
+      throw InputError(fmt::format("{}: frequency {} at point {} is not a positive finite value in Hz", what, f[i], i + 1),
+                       "frequencies must be positive (Hz); drop the 0 Hz line of a measurement");
+    if (i > 0 && !(f[i] > f[i - 1]))
+      throw InputError(fmt::format("{}: frequencies not strictly increasing at point {} ({} Hz after {} Hz)", what, i + 1,
+                                   f[i], f[i - 1]));
+  }
+}
+
+bool finite(const Complex& z) { return std::isfinite(z.real()) && std::isfinite(z.imag()); }
+
+}  // namespace
+
+void validate(const BlockSeries& series, const std::string& what, std::size_t min_points) {
+  if (series.blocks.size() != series.frequency_hz.size())
+    throw InputError(fmt::format("{}: {} frequencies but {} blocks", what, series.frequency_hz.size(), series.blocks.size()));
+  validate_grid(series.frequency_hz, what, min_points);
+  static const char* names[] = {"H", "L", "N", "P"};
+  for (std::size_t i = 0; i < series.size(); ++i)
+    for (int k = 0; k < 4; ++k)
+      if (!finite(series.blocks[i](k / 2, k % 2)))
+        throw InputError(fmt::format("{}: {} at {} Hz (point {}) is not finite", what, names[k], series.frequency_hz[i], i + 1),
+                         "remove or repair the NaN/Inf values in the data");
+}
+
+void validate(const FrfSeries& series, const std::string& what, std::size_t min_points) {
+  if (series.values.size() != series.frequency_hz.size())
+    throw InputError(fmt::format("{}: {} frequencies but {} values", what, series.frequency_hz.size(), series.values.size()));
+  validate_grid(series.frequency_hz, what, min_points);
+  for (std::size_t i = 0; i < series.size(); ++i)
+    if (!finite(series.values[i]))
+      throw InputError(fmt::format("{}: value at {} Hz (point {}) is not finite", what, series.frequency_hz[i], i + 1),
+                       "remove or repair the NaN/Inf values in the data");
+}
+
+void require_same_grid(const std::vector<double>& a, const std::string& what_a, const std::vector<double>& b,
+                       const std::string& what_b) {
+  if (a.size() != b.size())
+    throw InputError(fmt::format("frequency grids differ: {} has {} points, {} has {}", what_a, a.size(), what_b, b.size()),
+                     "resample the FRFs onto one frequency grid");
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (std::abs(a[i] - b[i]) > 1e-9 * std::max(std::abs(a[i]), std::abs(b[i])))
+      throw InputError(fmt::format("frequency grids differ at point {}: {} has {} Hz, {} has {} Hz", i + 1, what_a, a[i],
+                                   what_b, b[i]),
+                       "resample the FRFs onto one frequency grid");
+  }
+}
+
+}  // namespace toolpoint
