@@ -90,13 +90,22 @@ SectionProperties Segment::properties() const {
 }
 
 void Segment::check() const {
-  if (!std::isfinite(length) || !(length > 0.0)) throw InvalidArgument(fmt::format("segment length {} m must be > 0", length));
-  if (layers.empty()) throw InvalidArgument("segment has no cross-section layer");
-  for (const Annulus& l : layers) l.check();
+  const std::string who = name.empty() ? std::string("segment") : name;
+  if (!std::isfinite(length) || !(length > 0.0)) throw InvalidArgument(fmt::format("{}: length {} m must be > 0", who, length));
+  if (layers.empty()) throw InvalidArgument(fmt::format("{}: no cross-section layer", who));
+  for (const Annulus& l : layers) {
+    try {
+      l.check();
+    } catch (const InvalidArgument& e) {
+      throw InvalidArgument(fmt::format("{}: {}", who, e.what()), e.hint());
+    }
+  }
 }
 
-Segment Segment::tube(double length, double outer_diameter, double inner_diameter, const Material& material) {
+Segment Segment::tube(double length, double outer_diameter, double inner_diameter, const Material& material,
+                      std::string name) {
   Segment s;
+  s.name = std::move(name);
   s.length = length;
   s.layers.push_back(Annulus{outer_diameter, inner_diameter, material, std::nullopt});
   return s;

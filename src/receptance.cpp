@@ -8,6 +8,13 @@
 
 namespace toolpoint {
 
+std::string format_complex(Complex z) { return fmt::format("{:.6g}{:+.6g}i", z.real(), z.imag()); }
+
+std::string format_block(const Block& b) {
+  return fmt::format("[[{}, {}], [{}, {}]]", format_complex(b(0, 0)), format_complex(b(0, 1)), format_complex(b(1, 0)),
+                     format_complex(b(1, 1)));
+}
+
 FrfSeries entry(const BlockSeries& series, int index) {
   if (index < 0 || index > 3) throw InvalidArgument(fmt::format("block entry index {} outside 0..3", index));
   FrfSeries out;

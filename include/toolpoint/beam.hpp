@@ -72,6 +72,7 @@ struct SectionProperties {
 
 // A uniform segment: length and concentric layers (outermost first or any order).
 struct Segment {
+  std::string name;     // where it came from, for messages ("holder.segment[2]"); may be empty
   double length = 0.0;  // m
   std::vector<Annulus> layers;
   ShearModel shear_model = ShearModel::Hutchinson;
@@ -79,7 +80,8 @@ struct Segment {
   SectionProperties properties() const;
   void check() const;  // throws InvalidArgument naming the value
   // A one-layer segment.
-  static Segment tube(double length, double outer_diameter, double inner_diameter, const Material& material);
+  static Segment tube(double length, double outer_diameter, double inner_diameter, const Material& material,
+                      std::string name = {});
 };
 
 // ---- Exact (truncation-free) receptances -------------------------------------------------------

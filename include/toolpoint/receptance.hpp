@@ -53,6 +53,11 @@ struct FrfSeries {
   std::size_t size() const { return frequency_hz.size(); }
 };
 
+// "re+imi" with 6 significant digits, for messages (fmt 9 has no std::complex formatter).
+std::string format_complex(Complex z);
+// "[[H, L], [N, P]]" with format_complex entries.
+std::string format_block(const Block& b);
+
 // One entry of every block (0: H, 1: L, 2: N, 3: P) as a single FRF.
 FrfSeries entry(const BlockSeries& series, int index);
 

@@ -1,0 +1,75 @@
+// toolpoint predict: the tool point FRF (SHT11) or the holder-tip FRF (SH11) of an assembly file.
+#include <fmt/format.h>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "cli.hpp"
+#include "toolpoint/assembly_file.hpp"
+#include "toolpoint/io.hpp"
+#include "toolpoint/peaks.hpp"
+
+namespace toolpoint::cli {
+
+namespace {
+
+struct PredictOptions {
+  std::string assembly, at = "tool", output, frequencies;
+  bool json = false;
+};
+
+void run_predict(const PredictOptions& o, const Globals& g) {
+  LoadedAssembly loaded = load_assembly(o.assembly);
+  warn_all(loaded.warnings);
+  if (!o.frequencies.empty()) loaded.assembly.grid = parse_frequency_grid(o.frequencies, "--frequencies");
+  const AssemblyModel model(loaded.assembly);
+  const bool tool = o.at == "tool";
+  auto at = [&](double f) { return tool ? model.tool_point(f) : model.holder_tip(f); };
+  const BlockSeries series = block_series(loaded.assembly.grid.values(), at);
+  const auto peaks = find_peaks(entry(series, 0), PeakOptions{}, [&](double f) { return std::abs(at(f)(0, 0)); });
+  const std::string what = tool ? "tool point SHT11" : "holder tip SH11 (tool outside the holder removed)";
+
+  if (!o.output.empty()) {
+    write_frf_csv(o.output, series,
+                  {fmt::format("{} of {}", what, o.assembly), fmt::format("assembly: {}", loaded.assembly.name)});
+    info(g, fmt::format("wrote {} ({} frequencies, {})", o.output, series.size(), what));
+  }
+  if (o.json) {
+    nlohmann::json j;
+    j["assembly"] = o.assembly;
+    j["receptance"] = tool ? "SHT11" : "SH11";
+    j["units"] = "frequency Hz, magnitude m/N";
+    j["points"] = series.size();
+    if (!o.output.empty()) j["output"] = o.output;
+    j["modes"] = nlohmann::json::array();
+    for (const Peak& p : peaks) j["modes"].push_back({{"peak_frequency_hz", p.frequency_hz}, {"peak_magnitude_m_per_n", p.magnitude}});
+    j["warnings"] = loaded.warnings;
+    std::cout << j.dump(2) << '\n';
+    return;
+  }
+  std::cout << fmt::format("{} — {}\n", what, loaded.assembly.name);
+  std::cout << fmt::format("{} to {} Hz, {} points; modes (peaks of |H|) below {} Hz:\n", series.frequency_hz.front(),
+                           series.frequency_hz.back(), series.size(), series.frequency_hz.back());
+  std::cout << "mode  peak_frequency_hz  peak_magnitude_m_per_n\n";
+  int i = 1;
+  for (const Peak& p : peaks) std::cout << fmt::format("{:4d}  {:17.2f}  {:22.4e}\n", i++, p.frequency_hz, p.magnitude);
+  if (peaks.empty()) std::cout << "  (no resonance peak in the frequency range)\n";
+}
+
+}  // namespace
+
+void add_predict_command(CLI::App& app, Globals& g) {
+  auto o = std::make_shared<PredictOptions>();
+  CLI::App* c = app.add_subcommand("predict", "Tool point FRF of an assembly by receptance coupling (seed Eq. 1–5)");
+  c->add_option("assembly", o->assembly, "Assembly file (TOML, SI units; see examples/)")->required()->check(CLI::ExistingFile);
+  c->add_option("--at", o->at, "tool: SHT11 at the tool tip; holder: SH11 at the holder tip, tool outside removed")
+      ->check(CLI::IsMember({"tool", "holder"}))
+      ->capture_default_str();
+  c->add_option("--output", o->output, "Write the 2×2 block [[H, L], [N, P]] per frequency here (FRF CSV; H m/N, L 1/N, N rad/N, P rad/(N m))");
+  c->add_option("--frequencies", o->frequencies, "Override the file's [analysis] grid: START:STOP:STEP [Hz]");
+  c->add_flag("--json", o->json, "Machine-readable output on stdout");
+  c->footer("Example:\n  toolpoint predict examples/bt40_shrinkfit_16mm.toml --output sht11.csv");
+  c->callback([o, &g] { run_predict(*o, g); });
+}
+
+}  // namespace toolpoint::cli

@@ -1,0 +1,160 @@
+// toolpoint: the spindle–holder–tool assembly (seed Section 2.1, after Ertürk et al. 2006).
+//
+// Components are chains of uniform Timoshenko segments joined by rigid receptance coupling,
+// listed from their end 1 (outer, towards the tool tip) inwards:
+//   spindle  S: from the spindle nose to the rear, with bearings (springs and dampers to ground,
+//               translational and optionally rotational) added by structural modification;
+//   holder   H: from the holder tip to its taper end; where the tool shank sits inside the bore
+//               the section is composite (holder sleeve + shank: EI, κGA, ρA, ρI add), so H is
+//               "the spindle–holder without the part of the cutting tool outside the holder";
+//   tool     T: the part of the tool outside the holder, from the tip: fluted part with an
+//               equivalent diameter, then shank.
+// Elastic coupling through the joints (seed Eq. 1–5):
+//   SH11  = H11 − H12 (H22 + K_sh⁻¹ + S11)⁻¹ H21        holder tip, tool outside removed
+//   SHT11 = T11 − T12 (T22 + K_ht⁻¹ + SH11)⁻¹ T21       tool point
+//   HT    = T coupled to H through K_ht (the holder–tool subassembly of Eq. 17)
+// Units: SI (m, kg, N, Pa, s); frequencies in Hz. Sign convention: conventions.hpp.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "toolpoint/beam.hpp"
+#include "toolpoint/conventions.hpp"
+#include "toolpoint/joint.hpp"
+#include "toolpoint/receptance.hpp"
+
+namespace toolpoint {
+
+// A bearing: springs and dampers to ground at `position` metres from the spindle nose.
+struct Bearing {
+  std::string name;                   // for messages ("spindle.bearing[2]")
+  double position = 0.0;              // m from the spindle nose, inwards
+  double stiffness = 0.0;             // N/m
+  double damping = 0.0;               // N·s/m
+  double rotational_stiffness = 0.0;  // N·m/rad
+  double rotational_damping = 0.0;    // N·m·s/rad
+
+  Block dynamic_stiffness(double frequency_hz) const;  // diag(k + iωc, k_θ + iωc_θ)
+  void check() const;
+};
+
+struct Spindle {
+  std::vector<Segment> segments;  // nose → rear
+  std::vector<Bearing> bearings;
+};
+
+// A solid end mill: fluted part (equivalent diameter) from the tip, then the shank.
+struct Tool {
+  Material material;
+  double length = 0.0;                // total length [m]
+  double overhang = 0.0;              // length outside the holder [m]
+  double diameter = 0.0;              // nominal (cutting) diameter [m]
+  double shank_diameter = 0.0;        // [m]; 0 means `diameter`
+  double flute_length = 0.0;          // fluted length from the tip [m]; 0: no flutes modelled
+  double flute_diameter_ratio = 0.8;  // equivalent fluted diameter / nominal (default 0.8, after
+                                      // Kivanç & Budak 2004 and Schmitz's RCSA papers)
+  std::optional<double> shear_coefficient;
+
+  void check() const;
+  // All tool segments from the tip (fluted part, shank).
+  std::vector<Segment> segments(ShearModel model) const;
+};
+
+enum class ReceptanceMethod { Exact, Modal };
+
+struct Assembly {
+  std::string name;
+  Spindle spindle;
+  std::vector<Segment> holder;  // holder tip → taper end, with its bore
+  Tool tool;
+  Joint spindle_holder;
+  Joint holder_tool;
+  ShearModel shear_model = ShearModel::Hutchinson;
+  ReceptanceMethod method = ReceptanceMethod::Exact;
+  int modal_terms = 100;  // elastic modes per segment for ReceptanceMethod::Modal
+  FrequencyGrid grid{10.0, 5000.0, 1.0};
+
+  // Throws InvalidArgument naming the offending item (a bearing outside the spindle, a tool
+  // longer than holder + overhang allows, a shank wider than the bore, non-positive sizes, …).
+  void check() const;
+};
+
+// A chain of segments from its end 1 inwards, with optional ground springs at the nodes between
+// them (node 0 = end 1, node n = end 2). Each segment's end receptances come from the exact
+// solution or the modal sum, prepared once.
+class Chain {
+ public:
+  Chain() = default;
+  Chain(std::vector<Segment> pieces, ReceptanceMethod method, int modal_terms);
+  void add_ground(std::size_t node, const Bearing& b);
+
+  TwoPort piece(std::size_t i, double frequency_hz) const;
+  // All four end blocks (rigid coupling of the pieces, ground springs by modification).
+  TwoPort two_port(double frequency_hz) const;
+  // Only the point receptance at end 1 (a sweep from end 2 outwards: cheaper).
+  Block point(double frequency_hz) const;
+  std::size_t size() const { return pieces_.size(); }
+  const std::vector<Segment>& segments() const { return pieces_; }
+  double length() const;
+
+ private:
+  std::vector<Segment> pieces_;
+  std::vector<SectionProperties> props_;
+  std::vector<std::shared_ptr<const ModalBeam>> modal_;
+  std::vector<std::vector<Bearing>> ground_;  // per node, size n + 1
+};
+
+// Splits a chain listed from end 1 at `distance` from end 1: (outer part, inner part).
+std::pair<std::vector<Segment>, std::vector<Segment>> split_segments(const std::vector<Segment>& segments, double distance);
+
+// The assembly's components, built once from an Assembly.
+class AssemblyModel {
+ public:
+  explicit AssemblyModel(const Assembly& assembly);
+
+  // Everything at one frequency.
+  struct Receptances {
+    Block S11;    // spindle nose, bearings included
+    TwoPort H;    // holder with the shank inside, free–free
+    TwoPort T;    // tool outside the holder, free–free
+    Block SH11;   // holder tip of spindle + holder (Eq. 1)
+    Block SHT11;  // tool point (Eq. 5)
+  };
+  Receptances evaluate(double frequency_hz) const;
+
+  Block tool_point(double frequency_hz) const;   // SHT11
+  Block holder_tip(double frequency_hz) const;   // SH11
+  Block spindle_nose(double frequency_hz) const; // S11
+  TwoPort holder(double frequency_hz) const;     // H
+  TwoPort tool(double frequency_hz) const;       // T
+  TwoPort holder_tool(double frequency_hz) const;  // HT = T ⊕ H through K_ht (Eq. 17's HT)
+
+  // Receptances between stations on the tool outside the holder, at `distances` from the tip
+  // (each in [0, overhang]), the rest of the assembly attached: a 2n×2n matrix of blocks,
+  // block (i, j) = response at station i to a load at station j. For finite-difference checks.
+  Eigen::MatrixXcd tool_stations(double frequency_hz, const std::vector<double>& distances) const;
+
+  const Assembly& assembly() const { return assembly_; }
+  const Chain& spindle_chain() const { return spindle_; }
+  const Chain& holder_chain() const { return holder_; }
+  const Chain& tool_chain() const { return tool_; }
+
+ private:
+  Assembly assembly_;
+  Chain spindle_, holder_, tool_;
+};
+
+// Series over a frequency grid (Hz) of any per-frequency block function of the model.
+BlockSeries block_series(const std::vector<double>& frequency_hz, const std::function<Block(double)>& at);
+
+// The holder segments with the inserted tool part as a core layer; `tool_inside` from the
+// holder tip inwards. Throws InvalidArgument if the tool does not fit the bore.
+std::vector<Segment> insert_tool(const std::vector<Segment>& holder, const std::vector<Segment>& tool_inside);
+
+}  // namespace toolpoint

@@ -1,0 +1,29 @@
+// toolpoint: the assembly file (TOML). Every key is documented in examples/bt40_shrinkfit_16mm.toml.
+//
+// Units: SI throughout — lengths and diameters in m, moduli in Pa, density in kg/m³, bearing and
+// joint stiffness in N/m, N, N/rad, N·m/rad, damping in N·s/m, N·s, N·s/rad, N·m·s/rad,
+// frequencies in Hz. Positions on the spindle are metres from the spindle nose, inwards.
+// Segments are listed from each component's outer end inwards (spindle: nose → rear; holder:
+// tip → taper end). Unknown or misspelt keys are errors (with a suggestion); values that look
+// like millimetres or MPa give warnings naming the key.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "toolpoint/assembly.hpp"
+
+namespace toolpoint {
+
+struct LoadedAssembly {
+  Assembly assembly;
+  std::vector<std::string> warnings;  // "file:line: key = value …" for implausible magnitudes
+};
+
+// Parses assembly TOML text; `source` names the file in errors ("file:line: key: what was
+// expected"). Throws InputError for syntax errors, missing or unknown keys, wrong types and
+// invalid values (the library's InvalidArgument re-thrown with the file and line).
+LoadedAssembly parse_assembly(const std::string& text, const std::string& source);
+LoadedAssembly load_assembly(const std::string& path);
+
+}  // namespace toolpoint

@@ -1,0 +1,51 @@
+// toolpoint: elastic joints — the 8 contact parameters of seed Eq. (8) and the complex stiffness K(ω).
+//
+//   K(ω) = [[k_yf + iω c_yf,  k_ym + iω c_ym],
+//           [k_θf + iω c_θf,  k_θm + iω c_θm]]
+// Units: k_yf N/m, c_yf N·s/m; k_ym N·m/m = N, c_ym N·s; k_θf N/rad, c_θf N·s/rad;
+// k_θm N·m/rad, c_θm N·m·s/rad. ω = 2πf in rad/s.
+// K maps the relative displacement and rotation (w, θ) of the outer body's end 2 minus the inner
+// body's end 1 to the force and moment (f, m) on the inner body (conventions.hpp). Reciprocity
+// asks k_ym = k_θf and c_ym = c_θf; the seed keeps all eight to absorb measurement error.
+// An indefinite K is legal (the seed's Table 1 has det ≈ −1.5e12).
+#pragma once
+
+#include <string>
+
+#include "toolpoint/receptance.hpp"
+
+namespace toolpoint {
+
+struct JointParameters {
+  double k_yf = 0.0, c_yf = 0.0;  // N/m, N·s/m
+  double k_ym = 0.0, c_ym = 0.0;  // N, N·s
+  double k_tf = 0.0, c_tf = 0.0;  // N/rad, N·s/rad   (θf)
+  double k_tm = 0.0, c_tm = 0.0;  // N·m/rad, N·m·s/rad (θm)
+
+  // Eq. (8) at `frequency_hz`.
+  Block stiffness(double frequency_hz) const;
+  // Throws InvalidArgument naming the parameter if any value is not finite.
+  void check() const;
+  // Value i in the order k_yf, c_yf, k_ym, c_ym, k_θf, c_θf, k_θm, c_θm.
+  double& operator[](int i);
+  double operator[](int i) const;
+  static const char* name(int i);  // "k_yf", …, with θ spelt "t": "k_tf"
+  static const char* unit(int i);  // SI unit of value i
+};
+
+// A joint between two components: elastic with parameters, or rigid (K⁻¹ = 0).
+struct Joint {
+  bool rigid = true;
+  JointParameters parameters;
+
+  static Joint make_rigid() { return {}; }
+  static Joint make_elastic(const JointParameters& p) { return {false, p}; }
+};
+
+// The seed's analytical case study, Table 1 (holder–tool joint).
+JointParameters seed_table1_joint();
+
+// Parameters from a complex stiffness at one frequency: k = Re K, c = Im K / ω (seed Section 3).
+JointParameters parameters_from_stiffness(const Block& K, double frequency_hz);
+
+}  // namespace toolpoint

@@ -1,0 +1,40 @@
+// toolpoint: resonance peaks of an FRF magnitude.
+//
+// Units: frequencies in Hz; magnitudes in the FRF's own units (m/N for receptance).
+#pragma once
+
+#include <functional>
+#include <vector>
+
+#include "toolpoint/receptance.hpp"
+
+namespace toolpoint {
+
+struct Peak {
+  std::size_t index = 0;      // grid index of the local maximum
+  double frequency_hz = 0.0;  // refined peak frequency
+  double magnitude = 0.0;     // refined |FRF| at the peak
+  double prominence = 0.0;    // peak height over the higher of the two surrounding minima, relative to the peak
+};
+
+struct PeakOptions {
+  // A local maximum counts as a peak when it rises at least this fraction of its height above
+  // the higher of the minima separating it from its higher neighbours (so ripple and noise on a
+  // flank are not modes).
+  double min_prominence = 0.02;
+  void check() const;
+};
+
+// Local maxima of |values| on the grid, ascending in frequency, each refined by a parabola
+// through log|H| at the three grid points around it.
+std::vector<Peak> find_peaks(const FrfSeries& frf, const PeakOptions& options = {});
+
+// The same, each peak then refined on the exact magnitude function (e.g. a model evaluated at
+// any frequency) between its grid neighbours.
+std::vector<Peak> find_peaks(const FrfSeries& frf, const PeakOptions& options, const std::function<double(double)>& magnitude);
+
+// Refines a peak of a magnitude function on [lo_hz, hi_hz] (it must be unimodal there) by
+// golden-section search to a relative frequency tolerance of 1e-9. Returns (frequency, magnitude).
+std::pair<double, double> refine_peak(const std::function<double(double)>& magnitude, double lo_hz, double hi_hz);
+
+}  // namespace toolpoint

@@ -1,0 +1,351 @@
+// toolpoint: spindle–holder–tool assembly by receptance coupling (seed Section 2.1).
+#include "toolpoint/assembly.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+
+#include "toolpoint/coupling.hpp"
+#include "toolpoint/error.hpp"
+
+namespace toolpoint {
+
+namespace {
+// Segment pieces shorter than this are rounding left-overs of a split, not geometry.
+constexpr double kLengthEps = 1e-9;  // m
+}  // namespace
+
+// ---- Bearing, tool, assembly checks -------------------------------------------------------------
+
+Block Bearing::dynamic_stiffness(double frequency_hz) const {
+  const double w = omega_of(frequency_hz);
+  return make_block({stiffness, w * damping}, 0.0, 0.0, {rotational_stiffness, w * rotational_damping});
+}
+
+void Bearing::check() const {
+  const std::string who = name.empty() ? std::string("bearing") : name;
+  const double v[5] = {position, stiffness, damping, rotational_stiffness, rotational_damping};
+  const char* keys[5] = {"position", "stiffness", "damping", "rotational_stiffness", "rotational_damping"};
+  for (int i = 0; i < 5; ++i) {
+    if (!std::isfinite(v[i])) throw InvalidArgument(fmt::format("{}: {} = {} is not finite", who, keys[i], v[i]));
+    if (v[i] < 0.0) throw InvalidArgument(fmt::format("{}: {} = {} must be ≥ 0", who, keys[i], v[i]));
+  }
+  if (stiffness == 0.0 && damping == 0.0 && rotational_stiffness == 0.0 && rotational_damping == 0.0)
+    throw InvalidArgument(fmt::format("{}: all stiffness and damping values are zero", who), "give at least `stiffness` in N/m");
+}
+
+void Tool::check() const {
+  material.check();
+  auto positive = [](double v, const char* key) {
+    if (!std::isfinite(v) || !(v > 0.0)) throw InvalidArgument(fmt::format("tool.{} = {} m must be > 0", key, v));
+  };
+  positive(length, "length");
+  positive(overhang, "overhang");
+  positive(diameter, "diameter");
+  if (shank_diameter < 0.0 || !std::isfinite(shank_diameter))
+    throw InvalidArgument(fmt::format("tool.shank_diameter = {} m must be > 0", shank_diameter));
+  if (flute_length < 0.0 || !std::isfinite(flute_length))
+    throw InvalidArgument(fmt::format("tool.flute_length = {} m must be ≥ 0", flute_length));
+  if (!(flute_diameter_ratio > 0.0 && flute_diameter_ratio <= 1.0))
+    throw InvalidArgument(fmt::format("tool.flute_diameter_ratio = {} must lie in (0, 1]", flute_diameter_ratio),
+                          "an equivalent fluted diameter is about 0.8 of the nominal one");
+  if (overhang > length + kLengthEps)
+    throw InvalidArgument(fmt::format("tool.overhang = {} m exceeds tool.length = {} m", overhang, length));
+  if (flute_length > length + kLengthEps)
+    throw InvalidArgument(fmt::format("tool.flute_length = {} m exceeds tool.length = {} m", flute_length, length));
+}
+
+std::vector<Segment> Tool::segments(ShearModel model) const {
+  std::vector<Segment> s;
+  const double fl = std::min(flute_length, length);
+  auto add = [&](double len, double d, const char* what) {
+    if (len <= kLengthEps) return;
+    Segment seg = Segment::tube(len, d, 0.0, material, fmt::format("tool {}", what));
+    seg.shear_model = model;
+    seg.layers[0].shear_coefficient = shear_coefficient;
+    s.push_back(std::move(seg));
+  };
+  add(fl, flute_diameter_ratio * diameter, "fluted part");
+  add(length - fl, shank_diameter > 0.0 ? shank_diameter : diameter, "shank");
+  return s;
+}
+
+namespace {
+
+double total_length(const std::vector<Segment>& s) {
+  double l = 0.0;
+  for (const auto& x : s) l += x.length;
+  return l;
+}
+
+}  // namespace
+
+void Assembly::check() const {
+  if (spindle.segments.empty()) throw InvalidArgument("spindle has no segments", "add [[spindle.segment]] tables");
+  if (holder.empty()) throw InvalidArgument("holder has no segments", "add [[holder.segment]] tables");
+  for (const auto& s : spindle.segments) s.check();
+  for (const auto& s : holder) s.check();
+  tool.check();
+  const double ls = total_length(spindle.segments);
+  for (const auto& b : spindle.bearings) {
+    b.check();
+    if (b.position > ls + kLengthEps)
+      throw InvalidArgument(fmt::format("{}: position {} m lies beyond the spindle's rear end at {} m from the nose",
+                                        b.name.empty() ? "bearing" : b.name, b.position, ls),
+                            "bearing positions are measured from the spindle nose, inwards, in metres");
+  }
+  const double insertion = tool.length - tool.overhang;
+  const double lh = total_length(holder);
+  if (insertion > lh + kLengthEps)
+    throw InvalidArgument(fmt::format("tool: {} m of the tool sits inside the holder (length − overhang) but the holder is only {} m long",
+                                      insertion, lh));
+  spindle_holder.parameters.check();
+  holder_tool.parameters.check();
+  if (method == ReceptanceMethod::Modal && (modal_terms < 1 || modal_terms > 20000))
+    throw InvalidArgument(fmt::format("model.modal_terms = {} must lie in 1..20000", modal_terms));
+  grid.check();
+  (void)insert_tool(holder, split_segments(tool.segments(shear_model), tool.overhang).second);
+}
+
+// ---- Segment chains -----------------------------------------------------------------------------
+
+std::pair<std::vector<Segment>, std::vector<Segment>> split_segments(const std::vector<Segment>& segments, double distance) {
+  std::vector<Segment> outer, inner;
+  double pos = 0.0;
+  for (const Segment& s : segments) {
+    const double start = pos, end = pos + s.length;
+    pos = end;
+    if (end <= distance + kLengthEps) {
+      outer.push_back(s);
+    } else if (start >= distance - kLengthEps) {
+      inner.push_back(s);
+    } else {
+      Segment a = s, b = s;
+      a.length = distance - start;
+      b.length = end - distance;
+      outer.push_back(std::move(a));
+      inner.push_back(std::move(b));
+    }
+  }
+  return {outer, inner};
+}
+
+std::vector<Segment> insert_tool(const std::vector<Segment>& holder, const std::vector<Segment>& tool_inside) {
+  std::vector<Segment> out;
+  const double inserted = total_length(tool_inside);
+  if (inserted <= kLengthEps) return holder;
+  std::vector<Segment> rest = holder;
+  std::vector<Segment> tool_rest = tool_inside;
+  double depth = 0.0;
+  // Walk the holder; where the tool is inside, cut at each tool boundary and add the tool's layers.
+  for (const Segment& t : tool_inside) {
+    auto [outer, inner] = split_segments(rest, t.length);
+    if (total_length(outer) < t.length - kLengthEps)
+      throw InvalidArgument(fmt::format("the tool goes {} m deep into a holder only {} m long", inserted, total_length(holder)));
+    for (Segment h : outer) {
+      double bore = std::numeric_limits<double>::infinity();
+      for (const Annulus& l : h.layers) bore = std::min(bore, l.inner_diameter);
+      const double shank = t.layers.front().outer_diameter;
+      if (bore <= 0.0)
+        throw InvalidArgument(fmt::format("{}: solid (no bore) at {:.4g} m from the holder tip, but the tool is inserted {:.4g} m deep",
+                                          h.name.empty() ? "holder segment" : h.name, depth, inserted),
+                              "give the holder segments an inner_diameter (the bore) where the shank sits");
+      if (shank > bore * (1.0 + 1e-9))
+        throw InvalidArgument(fmt::format("{}: bore {} m is narrower than the tool part inside it ({} m diameter)",
+                                          h.name.empty() ? "holder segment" : h.name, bore, shank));
+      for (const Annulus& l : t.layers) h.layers.push_back(l);
+      depth += h.length;
+      out.push_back(std::move(h));
+    }
+    rest = std::move(inner);
+  }
+  for (Segment& h : rest) out.push_back(std::move(h));
+  return out;
+}
+
+Chain::Chain(std::vector<Segment> pieces, ReceptanceMethod method, int modal_terms)
+    : pieces_(std::move(pieces)), ground_(pieces_.size() + 1) {
+  for (const Segment& s : pieces_) {
+    s.check();
+    props_.push_back(s.properties());
+    if (method == ReceptanceMethod::Modal) {
+      try {
+        modal_.push_back(std::make_shared<const ModalBeam>(props_.back(), s.length, ModalOptions{modal_terms, true}));
+      } catch (const InvalidArgument& e) {
+        throw InvalidArgument(fmt::format("{}: {}", s.name.empty() ? "segment" : s.name, e.what()), e.hint());
+      }
+    }
+  }
+}
+
+void Chain::add_ground(std::size_t node, const Bearing& b) {
+  if (node >= ground_.size()) throw InvalidArgument(fmt::format("ground node {} outside the chain's {} nodes", node, ground_.size()));
+  ground_[node].push_back(b);
+}
+
+double Chain::length() const { return total_length(pieces_); }
+
+TwoPort Chain::piece(std::size_t i, double frequency_hz) const {
+  return modal_.empty() ? exact_receptance(props_[i], pieces_[i].length, frequency_hz) : modal_[i]->receptance(frequency_hz);
+}
+
+namespace {
+
+bool ground_at(const std::vector<Bearing>& node, double f, Block& D) {
+  if (node.empty()) return false;
+  D = Block::Zero();
+  for (const Bearing& b : node) D += b.dynamic_stiffness(f);
+  return true;
+}
+
+}  // namespace
+
+TwoPort Chain::two_port(double f) const {
+  if (pieces_.empty()) throw InvalidArgument("empty segment chain");
+  const std::size_t n = pieces_.size();
+  Block D;
+  TwoPort g = piece(n - 1, f);
+  if (ground_at(ground_[n], f, D)) g = ground_end2(g, D);
+  for (std::size_t k = n - 1; k-- > 0;) {
+    if (ground_at(ground_[k + 1], f, D)) g = ground_end1(g, D);
+    g = couple_rigid(piece(k, f), g);
+  }
+  if (ground_at(ground_[0], f, D)) g = ground_end1(g, D);
+  return g;
+}
+
+Block Chain::point(double f) const {
+  if (pieces_.empty()) throw InvalidArgument("empty segment chain");
+  const std::size_t n = pieces_.size();
+  Block D;
+  TwoPort last = piece(n - 1, f);
+  if (ground_at(ground_[n], f, D)) last = ground_end2(last, D);
+  Block g = last.b11;
+  for (std::size_t k = n - 1; k-- > 0;) {
+    if (ground_at(ground_[k + 1], f, D)) g = ground_point(g, D);
+    g = couple_rigid_point(piece(k, f), g);
+  }
+  if (ground_at(ground_[0], f, D)) g = ground_point(g, D);
+  return g;
+}
+
+// ---- The assembly -------------------------------------------------------------------------------
+
+AssemblyModel::AssemblyModel(const Assembly& assembly) : assembly_(assembly) {
+  assembly_.check();
+  const Assembly& a = assembly_;
+  const int terms = a.modal_terms;
+  auto with_model = [&](std::vector<Segment> segs) {
+    for (auto& s : segs) s.shear_model = a.shear_model;
+    return segs;
+  };
+  auto [tool_out, tool_in] = split_segments(a.tool.segments(a.shear_model), a.tool.overhang);
+  tool_ = Chain(tool_out, a.method, terms);
+  holder_ = Chain(insert_tool(with_model(a.holder), tool_in), a.method, terms);
+
+  // Spindle: cut at every bearing position so bearings sit on nodes.
+  std::vector<double> cuts;
+  for (const Bearing& b : a.spindle.bearings) cuts.push_back(b.position);
+  std::sort(cuts.begin(), cuts.end());
+  std::vector<Segment> pieces, rest = with_model(a.spindle.segments);
+  double done = 0.0;
+  for (double c : cuts) {
+    auto [outer, inner] = split_segments(rest, c - done);
+    if (!outer.empty() && total_length(outer) > kLengthEps) {
+      for (auto& s : outer) pieces.push_back(std::move(s));
+      done = c;
+    }
+    rest = std::move(inner);
+  }
+  for (auto& s : rest) pieces.push_back(std::move(s));
+  std::vector<double> node_pos{0.0};
+  for (const auto& s : pieces) node_pos.push_back(node_pos.back() + s.length);
+  spindle_ = Chain(std::move(pieces), a.method, terms);
+  for (const Bearing& b : a.spindle.bearings) {
+    const auto it = std::min_element(node_pos.begin(), node_pos.end(),
+                                     [&](double x, double y) { return std::abs(x - b.position) < std::abs(y - b.position); });
+    spindle_.add_ground(static_cast<std::size_t>(it - node_pos.begin()), b);
+  }
+}
+
+Block AssemblyModel::spindle_nose(double f) const { return spindle_.point(f); }
+TwoPort AssemblyModel::holder(double f) const { return holder_.two_port(f); }
+TwoPort AssemblyModel::tool(double f) const { return tool_.two_port(f); }
+
+Block AssemblyModel::holder_tip(double f) const {
+  return couple_point(holder_.two_port(f), spindle_.point(f), assembly_.spindle_holder, f);
+}
+
+Block AssemblyModel::tool_point(double f) const { return couple_point(tool_.two_port(f), holder_tip(f), assembly_.holder_tool, f); }
+
+TwoPort AssemblyModel::holder_tool(double f) const { return couple(tool_.two_port(f), holder_.two_port(f), assembly_.holder_tool, f); }
+
+AssemblyModel::Receptances AssemblyModel::evaluate(double f) const {
+  Receptances r;
+  r.S11 = spindle_.point(f);
+  r.H = holder_.two_port(f);
+  r.T = tool_.two_port(f);
+  r.SH11 = couple_point(r.H, r.S11, assembly_.spindle_holder, f);
+  r.SHT11 = couple_point(r.T, r.SH11, assembly_.holder_tool, f);
+  return r;
+}
+
+Eigen::MatrixXcd AssemblyModel::tool_stations(double f, const std::vector<double>& distances) const {
+  const double overhang = tool_.length();
+  std::vector<double> cuts;
+  for (double d : distances) {
+    if (!(d >= -kLengthEps && d <= overhang + kLengthEps))
+      throw InvalidArgument(fmt::format("station at {} m from the tool tip lies outside the overhang [0, {}] m", d, overhang));
+    cuts.push_back(std::clamp(d, 0.0, overhang));
+  }
+  std::vector<double> nodes{0.0};
+  std::vector<double> sorted = cuts;
+  std::sort(sorted.begin(), sorted.end());
+  for (double c : sorted)
+    if (c > nodes.back() + kLengthEps) nodes.push_back(c);
+  if (overhang > nodes.back() + kLengthEps) nodes.push_back(overhang);
+  const auto m = static_cast<Eigen::Index>(nodes.size());
+  // Chain the pieces between nodes, keeping every node (multi-point rigid junctions), then attach
+  // the rest of the assembly at the last node as a ground of dynamic stiffness (K_ht⁻¹ + SH11)⁻¹.
+  std::vector<Segment> rest = tool_.segments();
+  Eigen::MatrixXcd G;
+  for (Eigen::Index k = 0; k + 1 < m; ++k) {
+    auto [piece, inner] = split_segments(rest, nodes[k + 1] - nodes[k]);
+    rest = std::move(inner);
+    const Eigen::MatrixXcd P = as_matrix(Chain(piece, ReceptanceMethod::Exact, 0).two_port(f));
+    G = k == 0 ? P : join_rigid(G, k, P, 0);
+  }
+  const Block sh = holder_tip(f);
+  const Block Z = assembly_.holder_tool.rigid
+                      ? inverse_checked(sh, "holder-tip receptance SH11")
+                      : Block(assembly_.holder_tool.parameters.stiffness(f) *
+                              inverse_checked(Block::Identity() + sh * assembly_.holder_tool.parameters.stiffness(f), "(I + SH11 K_ht)"));
+  G = ground_node(G, m - 1, Z);
+  const auto n = static_cast<Eigen::Index>(cuts.size());
+  Eigen::MatrixXcd out(2 * n, 2 * n);
+  auto node_of = [&](double d) {
+    return static_cast<Eigen::Index>(std::min_element(nodes.begin(), nodes.end(),
+                                                      [&](double x, double y) { return std::abs(x - d) < std::abs(y - d); }) -
+                                     nodes.begin());
+  };
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (Eigen::Index j = 0; j < n; ++j) out.block<2, 2>(2 * i, 2 * j) = G.block<2, 2>(2 * node_of(cuts[i]), 2 * node_of(cuts[j]));
+  return out;
+}
+
+BlockSeries block_series(const std::vector<double>& frequency_hz, const std::function<Block(double)>& at) {
+  BlockSeries s;
+  s.frequency_hz = frequency_hz;
+  s.blocks.reserve(frequency_hz.size());
+  for (double f : frequency_hz) {
+    try {
+      s.blocks.push_back(at(f));
+    } catch (const NumericalError& e) {
+      throw NumericalError(fmt::format("at {} Hz: {}", f, e.what()), e.hint());
+    }
+  }
+  return s;
+}
+
+}  // namespace toolpoint

@@ -1,0 +1,349 @@
+// toolpoint: reading the assembly TOML file with toml++.
+#include "toolpoint/assembly_file.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+#include <map>
+#include <toml++/toml.h>
+
+#include "toolpoint/error.hpp"
+#include "toolpoint/io.hpp"
+
+namespace toolpoint {
+
+namespace {
+
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    cur[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j)
+      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+    std::swap(prev, cur);
+  }
+  return prev[b.size()];
+}
+
+// Reads values out of the TOML tree with file:line in every message.
+class Reader {
+ public:
+  explicit Reader(std::string source) : source_(std::move(source)) {}
+
+  std::string where(const toml::node& n) const {
+    const auto& src = n.source();
+    return src.begin.line ? fmt::format("{}:{}", source_, src.begin.line) : source_;
+  }
+
+  [[noreturn]] void fail(const toml::node& n, const std::string& what, const std::string& hint = {}) const {
+    throw InputError(fmt::format("{}: {}", where(n), what), hint);
+  }
+
+  // Only `allowed` keys may appear in `t`; anything else is an error with the nearest valid key.
+  void only(const toml::table& t, const std::string& path, std::initializer_list<const char*> allowed) const {
+    for (auto&& [k, v] : t) {
+      const std::string key(k.str());
+      if (std::find_if(allowed.begin(), allowed.end(), [&](const char* a) { return key == a; }) != allowed.end()) continue;
+      std::string best;
+      std::size_t best_d = 99;
+      for (const char* a : allowed) {
+        const std::size_t d = edit_distance(key, a);
+        if (d < best_d) best_d = d, best = a;
+      }
+      std::string list;
+      for (const char* a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
+      fail(v, fmt::format("unknown key '{}{}'", path.empty() ? "" : path + ".", key),
+           best_d <= 3 ? fmt::format("did you mean '{}'? valid keys here: {}", best, list) : fmt::format("valid keys here: {}", list));
+    }
+  }
+
+  const toml::table* table(const toml::table& t, const char* key, const std::string& path, bool required) const {
+    const toml::node* n = t.get(key);
+    if (!n) {
+      if (required) fail(t, fmt::format("missing table [{}{}]", path.empty() ? "" : path + ".", key));
+      return nullptr;
+    }
+    if (!n->is_table()) fail(*n, fmt::format("'{}' must be a table ([{}])", join(path, key), join(path, key)));
+    return n->as_table();
+  }
+
+  std::optional<double> number(const toml::table& t, const char* key, const std::string& path, const char* unit) const {
+    const toml::node* n = t.get(key);
+    if (!n) return std::nullopt;
+    double v;
+    if (auto i = n->as_integer()) {
+      v = static_cast<double>(i->get());
+    } else if (auto f = n->as_floating_point()) {
+      v = f->get();
+    } else {
+      fail(*n, fmt::format("{} must be a number in {}", join(path, key), unit),
+           n->is_string() ? "write the bare number in SI units, without quotes or unit text" : "");
+    }
+    if (!std::isfinite(v)) fail(*n, fmt::format("{} = {} is not a finite number", join(path, key), v));
+    return v;
+  }
+
+  double required_number(const toml::table& t, const char* key, const std::string& path, const char* unit) const {
+    auto v = number(t, key, path, unit);
+    if (!v) fail(t, fmt::format("missing key {} (a number in {})", join(path, key), unit));
+    return *v;
+  }
+
+  std::optional<std::string> string(const toml::table& t, const char* key, const std::string& path) const {
+    const toml::node* n = t.get(key);
+    if (!n) return std::nullopt;
+    if (!n->is_string()) fail(*n, fmt::format("{} must be a string", join(path, key)));
+    return n->as_string()->get();
+  }
+
+  std::optional<bool> boolean(const toml::table& t, const char* key, const std::string& path) const {
+    const toml::node* n = t.get(key);
+    if (!n) return std::nullopt;
+    if (!n->is_boolean()) fail(*n, fmt::format("{} must be true or false", join(path, key)));
+    return n->as_boolean()->get();
+  }
+
+  // Warn about a value that is implausible in SI units (e.g. a length given in mm).
+  void plausible(const toml::table& t, const char* key, const std::string& path, double v, double lo, double hi,
+                 const std::string& likely) {
+    if (v == 0.0 || (v >= lo && v <= hi)) return;
+    const toml::node* n = t.get(key);
+    warnings.push_back(fmt::format("{}: {} = {:g} is outside the usual range [{:g}, {:g}]{}", n ? where(*n) : source_,
+                                   join(path, key), v, lo, hi, likely.empty() ? "" : "; " + likely));
+  }
+
+  static std::string join(const std::string& path, const char* key) { return path.empty() ? key : path + "." + key; }
+
+  std::vector<std::string> warnings;
+
+ private:
+  std::string source_;
+};
+
+Material read_material(Reader& r, const toml::table& t, const std::string& path, const std::string& name) {
+  r.only(t, path, {"youngs_modulus", "poisson", "shear_modulus", "density", "loss_factor"});
+  Material m;
+  m.name = name;
+  m.youngs_modulus = r.required_number(t, "youngs_modulus", path, "Pa");
+  m.density = r.required_number(t, "density", path, "kg/m^3");
+  m.poisson = r.number(t, "poisson", path, "(dimensionless)").value_or(0.3);
+  m.shear_modulus = r.number(t, "shear_modulus", path, "Pa").value_or(0.0);
+  m.loss_factor = r.number(t, "loss_factor", path, "(dimensionless)").value_or(0.0);
+  r.plausible(t, "youngs_modulus", path, m.youngs_modulus, 1e9, 1.2e12, "Young's modulus is in Pa (steel 2.1e11), not MPa or GPa");
+  r.plausible(t, "density", path, m.density, 500.0, 25000.0, "density is in kg/m^3 (steel 7800)");
+  r.plausible(t, "loss_factor", path, m.loss_factor, 0.0, 0.2, "a structural loss factor is usually 0.001–0.05");
+  try {
+    m.check();
+  } catch (const InvalidArgument& e) {
+    r.fail(t, e.what(), e.hint());
+  }
+  return m;
+}
+
+const Material& material_ref(Reader& r, const std::map<std::string, Material>& mats, const toml::table& t, const char* key,
+                             const std::string& path, const Material* fallback) {
+  auto name = r.string(t, key, path);
+  if (!name) {
+    if (fallback) return *fallback;
+    r.fail(t, fmt::format("missing key {} (the name of a [materials.NAME] table)", Reader::join(path, key)));
+  }
+  auto it = mats.find(*name);
+  if (it == mats.end()) {
+    std::string list;
+    for (const auto& [k, v] : mats) list += (list.empty() ? "" : ", ") + k;
+    r.fail(*t.get(key), fmt::format("{} = \"{}\" names no material", Reader::join(path, key), *name),
+           list.empty() ? "define it in a [materials.NAME] table" : "defined materials: " + list);
+  }
+  return it->second;
+}
+
+std::vector<Segment> read_segments(Reader& r, const toml::table& comp, const std::string& comp_path,
+                                   const std::map<std::string, Material>& mats, const Material* default_mat) {
+  const toml::node* n = comp.get("segment");
+  if (!n) r.fail(comp, fmt::format("[{}] has no segments", comp_path), fmt::format("add [[{}.segment]] tables", comp_path));
+  const toml::array* arr = n->as_array();
+  if (!arr || !arr->is_array_of_tables())
+    r.fail(*n, fmt::format("{}.segment must be an array of tables ([[{}.segment]])", comp_path, comp_path));
+  std::vector<Segment> out;
+  int i = 0;
+  for (const toml::node& e : *arr) {
+    ++i;
+    const toml::table& t = *e.as_table();
+    const std::string path = fmt::format("{}.segment[{}]", comp_path, i);
+    r.only(t, path, {"length", "outer_diameter", "inner_diameter", "material", "shear_coefficient"});
+    const Material& m = material_ref(r, mats, t, "material", path, default_mat);
+    Segment s = Segment::tube(r.required_number(t, "length", path, "m"), r.required_number(t, "outer_diameter", path, "m"),
+                              r.number(t, "inner_diameter", path, "m").value_or(0.0), m, path);
+    s.layers[0].shear_coefficient = r.number(t, "shear_coefficient", path, "(dimensionless)");
+    r.plausible(t, "length", path, s.length, 1e-4, 2.0, "lengths are in metres (49 mm = 0.049)");
+    r.plausible(t, "outer_diameter", path, s.layers[0].outer_diameter, 1e-3, 0.5, "diameters are in metres (16 mm = 0.016)");
+    r.plausible(t, "inner_diameter", path, s.layers[0].inner_diameter, 1e-4, 0.5, "diameters are in metres");
+    try {
+      s.check();
+    } catch (const InvalidArgument& ex) {
+      r.fail(t, ex.what(), ex.hint());
+    }
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
+Joint read_joint(Reader& r, const toml::table* t, const std::string& path) {
+  if (!t) return Joint::make_rigid();
+  r.only(*t, path, {"rigid", "k_yf", "c_yf", "k_ym", "c_ym", "k_tf", "c_tf", "k_tm", "c_tm"});
+  if (r.boolean(*t, "rigid", path).value_or(false)) {
+    if (t->size() > 1) r.fail(*t, fmt::format("[{}] has rigid = true and stiffness values: choose one", path));
+    return Joint::make_rigid();
+  }
+  JointParameters p;
+  for (int i = 0; i < 8; ++i) {
+    auto v = r.number(*t, JointParameters::name(i), path, JointParameters::unit(i));
+    // θf terms default to the ym ones: a reciprocal joint needs only six values.
+    if (!v && (i == 4 || i == 5)) v = r.number(*t, JointParameters::name(i - 2), path, JointParameters::unit(i - 2));
+    if (!v)
+      r.fail(*t, fmt::format("missing key {} (in {})", Reader::join(path, JointParameters::name(i)), JointParameters::unit(i)),
+             "give k_yf, c_yf, k_ym, c_ym, k_tm, c_tm (and k_tf, c_tf if they differ from k_ym, c_ym), or rigid = true");
+    p[i] = *v;
+  }
+  r.plausible(*t, "k_yf", path, p.k_yf, 1e5, 1e11, "translational stiffness is in N/m");
+  return Joint::make_elastic(p);
+}
+
+}  // namespace
+
+LoadedAssembly parse_assembly(const std::string& text, const std::string& source) {
+  toml::table root;
+  try {
+    root = toml::parse(text, source);
+  } catch (const toml::parse_error& e) {
+    throw InputError(fmt::format("{}:{}:{}: TOML syntax error: {}", source, e.source().begin.line, e.source().begin.column,
+                                 e.description()),
+                     "see examples/bt40_shrinkfit_16mm.toml for the file format");
+  }
+  Reader r(source);
+  r.only(root, "", {"assembly", "analysis", "model", "materials", "spindle", "holder", "tool", "joints"});
+  Assembly a;
+
+  if (const toml::table* t = r.table(root, "assembly", "", false)) {
+    r.only(*t, "assembly", {"name", "description"});
+    a.name = r.string(*t, "name", "assembly").value_or("");
+  }
+
+  if (const toml::table* t = r.table(root, "analysis", "", false)) {
+    r.only(*t, "analysis", {"frequency_min", "frequency_max", "frequency_step", "points"});
+    const double fmin = r.number(*t, "frequency_min", "analysis", "Hz").value_or(a.grid.start_hz);
+    const double fmax = r.number(*t, "frequency_max", "analysis", "Hz").value_or(a.grid.stop_hz);
+    auto step = r.number(*t, "frequency_step", "analysis", "Hz");
+    auto points = r.number(*t, "points", "analysis", "(count)");
+    if (step && points) r.fail(*t, "[analysis] gives both frequency_step and points: choose one");
+    a.grid = {fmin, fmax, step ? *step : a.grid.step_hz};
+    if (points) {
+      if (*points < 2 || *points != std::floor(*points)) r.fail(*t->get("points"), fmt::format("analysis.points = {} must be an integer ≥ 2", *points));
+      a.grid.step_hz = (fmax - fmin) / (*points - 1.0);
+    }
+    try {
+      a.grid.check();
+    } catch (const InvalidArgument& e) {
+      r.fail(*t, fmt::format("[analysis]: {}", e.what()), e.hint());
+    }
+  }
+
+  if (const toml::table* t = r.table(root, "model", "", false)) {
+    r.only(*t, "model", {"shear_model", "method", "modal_terms"});
+    if (auto s = r.string(*t, "shear_model", "model")) {
+      if (*s == "hutchinson") a.shear_model = ShearModel::Hutchinson;
+      else if (*s == "cowper") a.shear_model = ShearModel::Cowper;
+      else r.fail(*t->get("shear_model"), fmt::format("model.shear_model = \"{}\": expected \"hutchinson\" or \"cowper\"", *s));
+    }
+    if (auto s = r.string(*t, "method", "model")) {
+      if (*s == "exact") a.method = ReceptanceMethod::Exact;
+      else if (*s == "modal") a.method = ReceptanceMethod::Modal;
+      else r.fail(*t->get("method"), fmt::format("model.method = \"{}\": expected \"exact\" or \"modal\"", *s));
+    }
+    if (auto n = r.number(*t, "modal_terms", "model", "(count)")) a.modal_terms = static_cast<int>(*n);
+  }
+
+  std::map<std::string, Material> mats;
+  if (const toml::table* t = r.table(root, "materials", "", true)) {
+    for (auto&& [k, v] : *t) {
+      const std::string name(k.str());
+      if (!v.is_table()) r.fail(v, fmt::format("materials.{} must be a table ([materials.{}])", name, name));
+      mats[name] = read_material(r, *v.as_table(), "materials." + name, name);
+    }
+  }
+
+  const toml::table& sp = *r.table(root, "spindle", "", true);
+  r.only(sp, "spindle", {"material", "segment", "bearing"});
+  const Material* sp_mat = sp.get("material") ? &material_ref(r, mats, sp, "material", "spindle", nullptr) : nullptr;
+  a.spindle.segments = read_segments(r, sp, "spindle", mats, sp_mat);
+  if (const toml::node* bn = sp.get("bearing")) {
+    const toml::array* arr = bn->as_array();
+    if (!arr || !arr->is_array_of_tables()) r.fail(*bn, "spindle.bearing must be an array of tables ([[spindle.bearing]])");
+    double ls = 0.0;
+    for (const auto& s : a.spindle.segments) ls += s.length;
+    int i = 0;
+    for (const toml::node& e : *arr) {
+      ++i;
+      const toml::table& t = *e.as_table();
+      const std::string path = fmt::format("spindle.bearing[{}]", i);
+      r.only(t, path, {"name", "position", "stiffness", "damping", "rotational_stiffness", "rotational_damping"});
+      Bearing b;
+      b.name = r.string(t, "name", path).value_or(path);
+      if (b.name != path) b.name = fmt::format("{} ({})", path, b.name);
+      b.position = r.required_number(t, "position", path, "m from the spindle nose");
+      b.stiffness = r.required_number(t, "stiffness", path, "N/m");
+      b.damping = r.number(t, "damping", path, "N s/m").value_or(0.0);
+      b.rotational_stiffness = r.number(t, "rotational_stiffness", path, "N m/rad").value_or(0.0);
+      b.rotational_damping = r.number(t, "rotational_damping", path, "N m s/rad").value_or(0.0);
+      r.plausible(t, "stiffness", path, b.stiffness, 1e6, 1e10, "bearing stiffness is in N/m (typically 1e7–1e9)");
+      try {
+        b.check();
+      } catch (const InvalidArgument& ex) {
+        r.fail(t, ex.what(), ex.hint());
+      }
+      if (b.position > ls + 1e-9)
+        r.fail(*t.get("position"),
+               fmt::format("{}.position = {} m lies outside the spindle (0 to {} m from the nose)", path, b.position, ls),
+               "positions are measured from the spindle nose, inwards, in metres");
+      a.spindle.bearings.push_back(b);
+    }
+  }
+
+  const toml::table& ho = *r.table(root, "holder", "", true);
+  r.only(ho, "holder", {"material", "segment"});
+  const Material* ho_mat = ho.get("material") ? &material_ref(r, mats, ho, "material", "holder", nullptr) : nullptr;
+  a.holder = read_segments(r, ho, "holder", mats, ho_mat);
+
+  const toml::table& to = *r.table(root, "tool", "", true);
+  r.only(to, "tool", {"material", "length", "overhang", "diameter", "shank_diameter", "flute_length", "flute_diameter_ratio",
+                      "shear_coefficient"});
+  a.tool.material = material_ref(r, mats, to, "material", "tool", nullptr);
+  a.tool.length = r.required_number(to, "length", "tool", "m");
+  a.tool.overhang = r.required_number(to, "overhang", "tool", "m");
+  a.tool.diameter = r.required_number(to, "diameter", "tool", "m");
+  a.tool.shank_diameter = r.number(to, "shank_diameter", "tool", "m").value_or(0.0);
+  a.tool.flute_length = r.number(to, "flute_length", "tool", "m").value_or(0.0);
+  a.tool.flute_diameter_ratio = r.number(to, "flute_diameter_ratio", "tool", "(dimensionless)").value_or(0.8);
+  a.tool.shear_coefficient = r.number(to, "shear_coefficient", "tool", "(dimensionless)");
+  r.plausible(to, "length", "tool", a.tool.length, 5e-3, 0.5, "lengths are in metres (123 mm = 0.123)");
+  r.plausible(to, "overhang", "tool", a.tool.overhang, 2e-3, 0.5, "lengths are in metres (49 mm = 0.049)");
+  r.plausible(to, "diameter", "tool", a.tool.diameter, 2e-4, 0.2, "diameters are in metres (16 mm = 0.016)");
+
+  if (const toml::table* t = r.table(root, "joints", "", false)) {
+    r.only(*t, "joints", {"spindle_holder", "holder_tool"});
+    a.spindle_holder = read_joint(r, r.table(*t, "spindle_holder", "joints", false), "joints.spindle_holder");
+    a.holder_tool = read_joint(r, r.table(*t, "holder_tool", "joints", false), "joints.holder_tool");
+  }
+
+  try {
+    a.check();
+  } catch (const InvalidArgument& e) {
+    throw InputError(fmt::format("{}: {}", source, e.what()), e.hint());
+  }
+  return {std::move(a), std::move(r.warnings)};
+}
+
+LoadedAssembly load_assembly(const std::string& path) { return parse_assembly(read_text_file(path), path); }
+
+}  // namespace toolpoint

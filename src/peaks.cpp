@@ -1,0 +1,94 @@
+// toolpoint: peak picking on FRF magnitudes.
+#include "toolpoint/peaks.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+
+#include "toolpoint/error.hpp"
+
+namespace toolpoint {
+
+void PeakOptions::check() const {
+  if (!(min_prominence >= 0.0 && min_prominence < 1.0))
+    throw InvalidArgument(fmt::format("peak prominence {} must lie in [0, 1)", min_prominence));
+}
+
+std::vector<Peak> find_peaks(const FrfSeries& frf, const PeakOptions& options) {
+  options.check();
+  const std::size_t n = frf.size();
+  std::vector<double> m(n);
+  for (std::size_t i = 0; i < n; ++i) m[i] = std::abs(frf.values[i]);
+  std::vector<Peak> out;
+  for (std::size_t i = 1; i + 1 < n; ++i) {
+    if (!(m[i] > m[i - 1] && m[i] >= m[i + 1])) continue;
+    // Prominence: walk left and right until a higher point (or the end), recording the minimum.
+    double left_min = m[i], right_min = m[i];
+    for (std::size_t k = i; k-- > 0;) {
+      if (m[k] > m[i]) break;
+      left_min = std::min(left_min, m[k]);
+    }
+    for (std::size_t k = i + 1; k < n; ++k) {
+      if (m[k] > m[i]) break;
+      right_min = std::min(right_min, m[k]);
+    }
+    const double prom = (m[i] - std::max(left_min, right_min)) / m[i];
+    if (prom < options.min_prominence) continue;
+    Peak p;
+    p.index = i;
+    p.prominence = prom;
+    // Parabola through (f, log m) at i−1, i, i+1 (non-uniform spacing allowed).
+    const double x0 = frf.frequency_hz[i - 1], x1 = frf.frequency_hz[i], x2 = frf.frequency_hz[i + 1];
+    const double y0 = std::log(m[i - 1]), y1 = std::log(m[i]), y2 = std::log(m[i + 1]);
+    const double d01 = (y1 - y0) / (x1 - x0), d12 = (y2 - y1) / (x2 - x1);
+    const double a = (d12 - d01) / (x2 - x0);
+    if (a < 0.0) {
+      const double b = d01 - a * (x0 + x1);
+      const double xv = std::clamp(-b / (2.0 * a), x0, x2);
+      p.frequency_hz = xv;
+      p.magnitude = std::exp(y1 + d01 * (xv - x1) + a * (xv - x0) * (xv - x1));
+    } else {
+      p.frequency_hz = x1;
+      p.magnitude = m[i];
+    }
+    out.push_back(p);
+  }
+  return out;
+}
+
+std::vector<Peak> find_peaks(const FrfSeries& frf, const PeakOptions& options, const std::function<double(double)>& magnitude) {
+  std::vector<Peak> peaks = find_peaks(frf, options);
+  for (Peak& p : peaks) {
+    const auto [f, m] = refine_peak(magnitude, frf.frequency_hz[p.index - 1], frf.frequency_hz[p.index + 1]);
+    p.frequency_hz = f;
+    p.magnitude = m;
+  }
+  return peaks;
+}
+
+std::pair<double, double> refine_peak(const std::function<double(double)>& magnitude, double lo, double hi) {
+  if (!(lo > 0.0 && hi > lo)) throw InvalidArgument(fmt::format("peak bracket [{}, {}] Hz is not a valid interval", lo, hi));
+  const double g = (std::sqrt(5.0) - 1.0) / 2.0;
+  double a = lo, b = hi;
+  double c = b - g * (b - a), d = a + g * (b - a);
+  double fc = magnitude(c), fd = magnitude(d);
+  for (int it = 0; it < 200 && (b - a) > 1e-9 * b; ++it) {
+    if (fc > fd) {
+      b = d;
+      d = c;
+      fd = fc;
+      c = b - g * (b - a);
+      fc = magnitude(c);
+    } else {
+      a = c;
+      c = d;
+      fc = fd;
+      d = a + g * (b - a);
+      fd = magnitude(d);
+    }
+  }
+  const double x = 0.5 * (a + b);
+  return {x, magnitude(x)};
+}
+
+}  // namespace toolpoint

@@ -1,0 +1,51 @@
+// Shared helpers for the tests: materials, block access, relative errors, peak finding on a
+// model by golden-section search.
+#pragma once
+
+#include <cmath>
+#include <functional>
+#include <vector>
+
+#include "toolpoint/beam.hpp"
+#include "toolpoint/receptance.hpp"
+
+namespace toolpoint::test {
+
+inline Material steel(double eta = 0.0) { return Material{"steel", 200e9, 0.3, 0.0, 7800.0, eta}; }
+inline Material carbide(double eta = 0.0) { return Material{"carbide", 580e9, 0.22, 0.0, 14500.0, eta}; }
+
+inline Complex entry_of(const Block& b, int k) { return b(k / 2, k % 2); }
+inline const Block& block_of(const TwoPort& t, int j) { return j == 0 ? t.b11 : j == 1 ? t.b12 : j == 2 ? t.b21 : t.b22; }
+
+// ‖a − b‖ / ‖b‖ over the four blocks.
+inline double rel_error(const TwoPort& a, const TwoPort& b) {
+  const double num = (a.b11 - b.b11).squaredNorm() + (a.b12 - b.b12).squaredNorm() + (a.b21 - b.b21).squaredNorm() +
+                     (a.b22 - b.b22).squaredNorm();
+  const double den = b.b11.squaredNorm() + b.b12.squaredNorm() + b.b21.squaredNorm() + b.b22.squaredNorm();
+  return std::sqrt(num / den);
+}
+inline double rel_error(const Block& a, const Block& b) { return (a - b).norm() / b.norm(); }
+
+// Frequencies of the local maxima of `mag` on [lo, hi], scanned with `step` and refined by
+// golden-section search to 1e-10 relative.
+inline std::vector<double> model_peaks(const std::function<double(double)>& mag, double lo, double hi, double step) {
+  std::vector<double> out;
+  double f0 = lo, m0 = mag(f0), f1 = lo + step, m1 = mag(f1);
+  for (double f2 = lo + 2 * step; f2 <= hi; f2 += step) {
+    const double m2 = mag(f2);
+    if (m1 > m0 && m1 >= m2) {
+      double a = f0, b = f2;
+      const double g = (std::sqrt(5.0) - 1.0) / 2.0;
+      double c = b - g * (b - a), d = a + g * (b - a), fc = mag(c), fd = mag(d);
+      while (b - a > 1e-10 * b) {
+        if (fc > fd) { b = d; d = c; fd = fc; c = b - g * (b - a); fc = mag(c); }
+        else { a = c; c = d; fc = fd; d = a + g * (b - a); fd = mag(d); }
+      }
+      out.push_back(0.5 * (a + b));
+    }
+    f0 = f1; m0 = m1; f1 = f2; m1 = m2;
+  }
+  return out;
+}
+
+}  // namespace toolpoint::test
