@@ -34,6 +34,11 @@ double condition_number(const Block& m) {
   return smin2 > 0.0 ? std::sqrt(smax2 / smin2) : std::numeric_limits<double>::infinity();
 }
 
+double frobenius_condition(const Block& m) {
+  const double det = std::abs(m(0, 0) * m(1, 1) - m(0, 1) * m(1, 0));
+  return det > 0.0 ? m.squaredNorm() / det : std::numeric_limits<double>::infinity();
+}
+
 namespace {
 
 Block interface_rigid(const TwoPort& a, const Block& b11) { return inverse_checked(a.b22 + b11, "rigid-coupling interface matrix (A22 + B11)"); }

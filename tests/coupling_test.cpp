@@ -166,4 +166,10 @@ TEST(Coupling, SingularInterfaceIsReported) {
   Block d = Block::Identity();
   d(1, 1) = 1e-3;
   EXPECT_NEAR(condition_number(d), 1e3, 1e-9);
+  // Frobenius condition of a 2×2 lies in [cond₂, cond₂ + 1/cond₂] (σ₁/σ₂ + σ₂/σ₁).
+  Block m;
+  m << Complex(1, 2), Complex(-3, 0.5), Complex(0.2, -1), Complex(4, 4);
+  const double c2 = condition_number(m), cf = frobenius_condition(m);
+  EXPECT_GE(cf, c2 * (1 - 1e-12));
+  EXPECT_NEAR(cf, c2 + 1 / c2, 1e-12 * cf);
 }

@@ -32,5 +32,6 @@ void warn_all(const std::vector<std::string>& messages);
 // example) and callback.
 void add_beam_command(CLI::App& app, Globals& g);
 void add_predict_command(CLI::App& app, Globals& g);
+void add_identify_command(CLI::App& app, Globals& g);
 
 }  // namespace toolpoint::cli

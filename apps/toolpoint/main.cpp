@@ -43,6 +43,7 @@ int main(int argc, char** argv) {
   Globals globals;
   app.add_flag("-q,--quiet", globals.quiet, "No progress bars or informational messages (warnings and errors still shown)");
   app.require_subcommand(1);
+  app.fallthrough();  // --quiet may follow the subcommand
   app.footer(
       "Exit codes: 0 success, 1 internal error, 2 usage (bad option or value), 3 bad input file,\n"
       "4 numerical failure (e.g. singular inversion), 5 file I/O failure.\n"
@@ -50,6 +51,7 @@ int main(int argc, char** argv) {
 
   add_beam_command(app, globals);
   add_predict_command(app, globals);
+  add_identify_command(app, globals);
 
   try {
     app.parse(argc, argv);

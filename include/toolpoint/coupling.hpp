@@ -18,6 +18,9 @@ Block inverse_checked(const Block& m, const char* what);
 
 // 2-norm condition number σ_max/σ_min of a 2×2 block (∞ when singular).
 double condition_number(const Block& m);
+// Frobenius condition number ‖M‖_F ‖M⁻¹‖_F = ‖M‖²_F / |det M| (∞ when singular); for a 2×2 it
+// lies between cond₂ and cond₂ + 1/cond₂, at a fraction of the cost.
+double frobenius_condition(const Block& m);
 
 // Elastic coupling, seed Eq. (1)–(4): with X = (A22 + K⁻¹ + B11)⁻¹,
 //   G11 = A11 − A12 X A21,  G12 = A12 X B12,  G21 = B21 X A21,  G22 = B22 − B21 X B12.

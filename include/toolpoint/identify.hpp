@@ -1,0 +1,138 @@
+// toolpoint: closed-form identification of joint dynamics (seed Sections 2.2, 2.3, 3).
+//
+// Every identification in the seed has one shape. A component A (free–free, ends 1 and 2) is
+// joined at its end 2 through K to a structure B known by its point receptance B11; G11 is the
+// point receptance of the whole at A's end 1. Eq. (5) G11 = A11 − A12 (A22 + K⁻¹ + B11)⁻¹ A21
+// rearranges (the printed Eq. 6 misplaces its inverses) to
+//     X⁻¹ = A21 (A11 − G11)⁻¹ A12        (= A22 + K⁻¹ + B11)
+//     K   = (X⁻¹ − A22 − B11)⁻¹
+// which needs one inverse of (A11 − G11) instead of A12⁻¹ and A21⁻¹ — mathematically the same.
+//   holder–tool,   Eq. (6):  A = T  (tool outside the holder), B11 = SH11, G11 = SHT11
+//   spindle–holder, Eq. (15): A = H  (holder with the shank),   B11 = S11,  G11 = SH11
+//   spindle–holder, Eq. (18): A = HT (holder–tool subassembly), B11 = S11,  G11 = SHT11
+// k = Re K, c = Im K / ω for all eight parameters (joint.hpp has units and the sign convention).
+// The inversions are badly conditioned away from the joint's dominant mode, so the condition
+// numbers are reported per frequency and the parameters are read in a band at that mode.
+#pragma once
+
+#include <array>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "toolpoint/assembly.hpp"
+#include "toolpoint/joint.hpp"
+#include "toolpoint/peaks.hpp"
+#include "toolpoint/receptance.hpp"
+
+namespace toolpoint {
+
+// K at one frequency, with the conditioning of each step. Condition numbers are Frobenius ones,
+// ‖M‖_F ‖M⁻¹‖_F = ‖M‖²_F / |det M| for a 2×2 (between cond₂ and cond₂ + 1/cond₂): cheap and
+// as telling.
+struct JointEstimate {
+  Block K;
+  double cond_difference = 0.0;   // cond(A11 − G11), the inversion that amplifies errors in G11
+  double cond_flexibility = 0.0;  // cond(K⁻¹ = X⁻¹ − A22 − B11)
+  double cond_A12 = 0.0;          // cond(A12), as the seed's form would invert it
+  // First-order amplification of a relative error in G11 into K: from
+  // δK⁻¹ = A21 D⁻¹ δG D⁻¹ A12 (D = A11 − G11),
+  //   sensitivity = ‖A21 D⁻¹‖ ‖D⁻¹ A12‖ ‖G11‖ / ‖K⁻¹‖   (Frobenius norms),
+  // so a 1 % error in the measured FRF may move K by up to `sensitivity` %. It is large away
+  // from the joint's dominant mode (NOTES §1) and at low frequency, where the components'
+  // rigid-body receptance dwarfs the joint's flexibility.
+  double sensitivity = 0.0;
+};
+
+// The closed form above at one frequency. Throws NumericalError when A11 − G11 or K⁻¹ is
+// singular (G11 equal to A11: nothing attached; K⁻¹ = 0: a rigid joint).
+JointEstimate identify_joint(const TwoPort& A, const Block& B11, const Block& G11);
+
+enum class JointKind { HolderTool, SpindleHolder };
+
+// K(ω) over a frequency grid, with k, c per frequency and the conditioning.
+struct JointSeries {
+  std::vector<double> frequency_hz;
+  std::vector<JointEstimate> estimates;
+  std::vector<JointParameters> parameters;  // k = Re K, c = Im K / ω
+  std::size_t size() const { return frequency_hz.size(); }
+};
+
+// Identification over a grid: A(f) from the model, B11 and G11 given as series on one grid.
+// Throws InputError for mismatched grids, NaN or fewer than 3 points (naming `b_name`, `g_name`).
+JointSeries identify_series(const std::function<TwoPort(double)>& A, const BlockSeries& B11, const std::string& b_name,
+                            const BlockSeries& G11, const std::string& g_name);
+
+// The eight parameters read in a band: median and a robust spread (1.4826 × median absolute
+// deviation, the standard deviation for Gaussian scatter).
+struct ParameterReadout {
+  double median = 0.0, spread = 0.0, min = 0.0, max = 0.0;
+};
+
+struct JointReadout {
+  double band_lo_hz = 0.0, band_hi_hz = 0.0;
+  std::size_t points = 0;
+  std::array<ParameterReadout, 8> parameters;  // k_yf, c_yf, k_ym, c_ym, k_θf, c_θf, k_θm, c_θm
+  JointParameters medians() const;
+  // Reciprocity: |k_ym − k_θf| / max(|k_ym|, |k_θf|), and the same for c (0 when both are 0).
+  double reciprocity_k = 0.0, reciprocity_c = 0.0;
+  double max_cond_difference = 0.0, max_cond_flexibility = 0.0;
+  std::vector<std::string> warnings;
+};
+
+struct ReadoutOptions {
+  double cond_warning = 1e6;        // warn when cond(A11 − G11) exceeds this in the band
+  double reciprocity_warning = 0.1; // warn when k_ym and k_θf (or c) differ by more than this
+  void check() const;
+};
+
+// Reads the parameters from the points with band_lo ≤ f ≤ band_hi. Throws InvalidArgument if the
+// band holds no point.
+JointReadout read_joint(const JointSeries& series, double band_lo_hz, double band_hi_hz, const ReadoutOptions& options = {});
+
+// ---- Which mode does the joint control? ---------------------------------------------------------
+
+struct ModeEffect {
+  double frequency_hz = 0.0;      // peak of the model FRF
+  double magnitude = 0.0;         // m/N
+  double stiffness_shift = 0.0;   // relative frequency shift when the joint's k's grow by `step`
+  double damping_effect = 0.0;    // relative peak-magnitude change when its c's grow by `step`
+};
+
+struct EffectAnalysis {
+  std::vector<ModeEffect> modes;
+  std::size_t dominant = 0;  // index into modes: the largest |stiffness_shift|
+};
+
+// Effect analysis (Ertürk et al. 2007, the seed's basis for choosing the mode): perturb the
+// joint's stiffness (then damping) parameters by `step` in the model and see which peak of the
+// FRF the joint is identified from moves most — SHT11 for the holder–tool joint; SH11 (Eq. 15)
+// or SHT11 (Eq. 18) for the spindle–holder joint. Peaks on `frequency_hz`, refined on the model.
+// Throws InvalidArgument if the joint is rigid in the model (give it trial values) or the FRF
+// has no peak.
+EffectAnalysis effect_analysis(const Assembly& assembly, JointKind joint, bool tool_point_frf,
+                               const std::vector<double>& frequency_hz, double step = 0.1);
+
+// The mode that moves most with the tool overhang (the seed's Fig. 10): peaks of each FRF
+// (ordered by overhang), matched to the reference FRF's peaks by nearest frequency; returns the
+// reference peak whose frequency varies most (relative range over the FRFs).
+struct OverhangModes {
+  std::vector<Peak> reference_peaks;
+  std::vector<double> relative_variation;  // per reference peak
+  std::size_t dominant = 0;
+};
+OverhangModes overhang_mode(const std::vector<FrfSeries>& frfs, std::size_t reference, const PeakOptions& peaks = {});
+
+// ---- Forward verification -----------------------------------------------------------------------
+
+struct ModeComparison {
+  double measured_hz = 0.0, predicted_hz = 0.0, frequency_error = 0.0;      // relative
+  double measured_peak = 0.0, predicted_peak = 0.0, magnitude_error = 0.0;  // relative
+};
+
+// Peaks of |H| of `measured` matched to those of `predicted` (nearest frequency); errors relative
+// to the measured values.
+std::vector<ModeComparison> compare_modes(const FrfSeries& measured, const FrfSeries& predicted, const PeakOptions& peaks = {});
+
+}  // namespace toolpoint

@@ -1,0 +1,220 @@
+// toolpoint: closed-form joint identification (seed Eq. 5 → 6, 15, 18), read-out, mode choice.
+#include "toolpoint/identify.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+
+#include "toolpoint/coupling.hpp"
+#include "toolpoint/error.hpp"
+
+namespace toolpoint {
+
+JointEstimate identify_joint(const TwoPort& A, const Block& B11, const Block& G11) {
+  JointEstimate e;
+  const Block D = A.b11 - G11;
+  const Block Dinv = inverse_checked(D, "A11 − G11 (the component's free–free tip receptance minus the assembly's)");
+  const Block left = A.b21 * Dinv, right = Dinv * A.b12;
+  const Block Kinv = left * A.b12 - A.b22 - B11;
+  e.K = inverse_checked(Kinv, "joint flexibility K⁻¹");
+  const double nD = D.squaredNorm(), nK = Kinv.squaredNorm();  // Frobenius, squared
+  e.cond_difference = std::sqrt(nD) * Dinv.norm();
+  e.cond_flexibility = std::sqrt(nK) * e.K.norm();
+  e.cond_A12 = frobenius_condition(A.b12);
+  e.sensitivity = left.norm() * right.norm() * G11.norm() / std::sqrt(nK);
+  return e;
+}
+
+JointSeries identify_series(const std::function<TwoPort(double)>& A, const BlockSeries& B11, const std::string& b_name,
+                            const BlockSeries& G11, const std::string& g_name) {
+  validate(B11, b_name, 3);
+  validate(G11, g_name, 3);
+  require_same_grid(B11.frequency_hz, b_name, G11.frequency_hz, g_name);
+  JointSeries s;
+  s.frequency_hz = G11.frequency_hz;
+  s.estimates.reserve(s.size());
+  s.parameters.reserve(s.size());
+  for (std::size_t i = 0; i < G11.size(); ++i) {
+    const double f = G11.frequency_hz[i];
+    try {
+      s.estimates.push_back(identify_joint(A(f), B11.blocks[i], G11.blocks[i]));
+    } catch (const NumericalError& e) {
+      throw NumericalError(fmt::format("identification at {} Hz: {}", f, e.what()), e.hint());
+    }
+    s.parameters.push_back(parameters_from_stiffness(s.estimates.back().K, f));
+  }
+  return s;
+}
+
+JointParameters JointReadout::medians() const {
+  JointParameters p;
+  for (int i = 0; i < 8; ++i) p[i] = parameters[static_cast<std::size_t>(i)].median;
+  return p;
+}
+
+void ReadoutOptions::check() const {
+  if (!(cond_warning > 1.0)) throw InvalidArgument(fmt::format("condition-number warning level {} must be > 1", cond_warning));
+  if (!(reciprocity_warning > 0.0)) throw InvalidArgument(fmt::format("reciprocity warning level {} must be > 0", reciprocity_warning));
+}
+
+namespace {
+
+double median_of(std::vector<double> v) {
+  const std::size_t n = v.size();
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(n / 2), v.end());
+  const double hi = v[n / 2];
+  if (n % 2) return hi;
+  return 0.5 * (hi + *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(n / 2)));
+}
+
+double relative_difference(double a, double b) {
+  const double m = std::max(std::abs(a), std::abs(b));
+  return m > 0.0 ? std::abs(a - b) / m : 0.0;
+}
+
+}  // namespace
+
+JointReadout read_joint(const JointSeries& s, double lo, double hi, const ReadoutOptions& options) {
+  options.check();
+  JointReadout r;
+  r.band_lo_hz = lo;
+  r.band_hi_hz = hi;
+  std::array<std::vector<double>, 8> vals;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    if (s.frequency_hz[i] < lo || s.frequency_hz[i] > hi) continue;
+    for (int k = 0; k < 8; ++k) vals[static_cast<std::size_t>(k)].push_back(s.parameters[i][k]);
+    r.max_cond_difference = std::max(r.max_cond_difference, s.estimates[i].cond_difference);
+    r.max_cond_flexibility = std::max(r.max_cond_flexibility, s.estimates[i].cond_flexibility);
+  }
+  r.points = vals[0].size();
+  if (r.points == 0)
+    throw InvalidArgument(fmt::format("read-out band {}–{} Hz holds no frequency point of the data ({}–{} Hz)", lo, hi,
+                                      s.frequency_hz.empty() ? 0.0 : s.frequency_hz.front(),
+                                      s.frequency_hz.empty() ? 0.0 : s.frequency_hz.back()),
+                          "choose a band inside the data's frequency range");
+  for (std::size_t k = 0; k < 8; ++k) {
+    ParameterReadout& p = r.parameters[k];
+    p.median = median_of(vals[k]);
+    std::vector<double> dev;
+    for (double v : vals[k]) dev.push_back(std::abs(v - p.median));
+    p.spread = 1.4826 * median_of(dev);
+    p.min = *std::min_element(vals[k].begin(), vals[k].end());
+    p.max = *std::max_element(vals[k].begin(), vals[k].end());
+  }
+  r.reciprocity_k = relative_difference(r.parameters[2].median, r.parameters[4].median);
+  r.reciprocity_c = relative_difference(r.parameters[3].median, r.parameters[5].median);
+  if (r.max_cond_difference > options.cond_warning)
+    r.warnings.push_back(fmt::format("cond(A11 − G11) reaches {:.3g} in the band: a 1 % error in the measured FRF can move "
+                                     "K by up to that factor; check the band sits on the joint's dominant mode",
+                                     r.max_cond_difference));
+  if (r.reciprocity_k > options.reciprocity_warning)
+    r.warnings.push_back(fmt::format("k_ym = {:.4g} and k_tf = {:.4g} differ by {:.0f} %: finite-difference error in L/N or a "
+                                     "non-linear joint (seed Section 2.2)",
+                                     r.parameters[2].median, r.parameters[4].median, 100 * r.reciprocity_k));
+  if (r.reciprocity_c > options.reciprocity_warning)
+    r.warnings.push_back(fmt::format("c_ym = {:.4g} and c_tf = {:.4g} differ by {:.0f} %", r.parameters[3].median,
+                                     r.parameters[5].median, 100 * r.reciprocity_c));
+  if (r.points < 3) r.warnings.push_back(fmt::format("only {} point(s) in the read-out band", r.points));
+  return r;
+}
+
+// ---- Mode choice --------------------------------------------------------------------------------
+
+namespace {
+
+std::vector<Peak> model_peaks(const Assembly& a, bool tool_point, const std::vector<double>& f) {
+  const AssemblyModel m(a);
+  auto at = [&](double x) { return tool_point ? m.tool_point(x) : m.holder_tip(x); };
+  const BlockSeries s = block_series(f, at);
+  return find_peaks(entry(s, 0), PeakOptions{}, [&](double x) { return std::abs(at(x)(0, 0)); });
+}
+
+// Index of the peak in `peaks` nearest to frequency f.
+std::size_t nearest(const std::vector<Peak>& peaks, double f) {
+  std::size_t best = 0;
+  for (std::size_t i = 1; i < peaks.size(); ++i)
+    if (std::abs(peaks[i].frequency_hz - f) < std::abs(peaks[best].frequency_hz - f)) best = i;
+  return best;
+}
+
+}  // namespace
+
+EffectAnalysis effect_analysis(const Assembly& assembly, JointKind kind, bool tool_point_frf, const std::vector<double>& f,
+                               double step) {
+  const Joint& j = kind == JointKind::HolderTool ? assembly.holder_tool : assembly.spindle_holder;
+  const char* which = kind == JointKind::HolderTool ? "holder_tool" : "spindle_holder";
+  if (j.rigid)
+    throw InvalidArgument(fmt::format("effect analysis needs trial values for joints.{} (it is rigid in the assembly file)", which),
+                          "give the joint estimated stiffness and damping values in the assembly file");
+  if (!(step > 0.0 && step < 1.0)) throw InvalidArgument(fmt::format("effect-analysis step {} must lie in (0, 1)", step));
+  const auto base = model_peaks(assembly, tool_point_frf, f);
+  if (base.empty())
+    throw InvalidArgument(fmt::format("the model's {} FRF has no peak in {}–{} Hz", tool_point_frf ? "tool point" : "holder tip",
+                                      f.front(), f.back()),
+                          "widen the frequency range");
+  auto perturbed = [&](bool stiffness) {
+    Assembly a = assembly;
+    JointParameters& p = (kind == JointKind::HolderTool ? a.holder_tool : a.spindle_holder).parameters;
+    for (int i = stiffness ? 0 : 1; i < 8; i += 2) p[i] *= 1.0 + step;
+    return model_peaks(a, tool_point_frf, f);
+  };
+  const auto pk = perturbed(true), pc = perturbed(false);
+  EffectAnalysis r;
+  for (const Peak& b : base) {
+    ModeEffect m;
+    m.frequency_hz = b.frequency_hz;
+    m.magnitude = b.magnitude;
+    if (!pk.empty()) m.stiffness_shift = (pk[nearest(pk, b.frequency_hz)].frequency_hz - b.frequency_hz) / b.frequency_hz;
+    if (!pc.empty()) m.damping_effect = (pc[nearest(pc, b.frequency_hz)].magnitude - b.magnitude) / b.magnitude;
+    r.modes.push_back(m);
+  }
+  for (std::size_t i = 1; i < r.modes.size(); ++i)
+    if (std::abs(r.modes[i].stiffness_shift) > std::abs(r.modes[r.dominant].stiffness_shift)) r.dominant = i;
+  return r;
+}
+
+OverhangModes overhang_mode(const std::vector<FrfSeries>& frfs, std::size_t reference, const PeakOptions& options) {
+  if (frfs.size() < 2) throw InvalidArgument(fmt::format("overhang mode choice needs FRFs at ≥ 2 overhangs, got {}", frfs.size()));
+  if (reference >= frfs.size()) throw InvalidArgument(fmt::format("reference FRF {} outside 0..{}", reference, frfs.size() - 1));
+  OverhangModes r;
+  r.reference_peaks = find_peaks(frfs[reference], options);
+  if (r.reference_peaks.empty()) throw InvalidArgument("the reference FRF has no resonance peak");
+  std::vector<std::vector<Peak>> all;
+  for (const auto& s : frfs) {
+    all.push_back(find_peaks(s, options));
+    if (all.back().empty()) throw InvalidArgument("an overhang FRF has no resonance peak");
+  }
+  for (const Peak& p : r.reference_peaks) {
+    double lo = p.frequency_hz, hi = p.frequency_hz;
+    for (const auto& peaks : all) {
+      const double f = peaks[nearest(peaks, p.frequency_hz)].frequency_hz;
+      lo = std::min(lo, f);
+      hi = std::max(hi, f);
+    }
+    r.relative_variation.push_back((hi - lo) / p.frequency_hz);
+  }
+  r.dominant = static_cast<std::size_t>(std::max_element(r.relative_variation.begin(), r.relative_variation.end()) -
+                                        r.relative_variation.begin());
+  return r;
+}
+
+std::vector<ModeComparison> compare_modes(const FrfSeries& measured, const FrfSeries& predicted, const PeakOptions& options) {
+  require_same_grid(measured.frequency_hz, "measured FRF", predicted.frequency_hz, "predicted FRF");
+  const auto pm = find_peaks(measured, options), pp = find_peaks(predicted, options);
+  std::vector<ModeComparison> out;
+  if (pp.empty()) return out;
+  for (const Peak& m : pm) {
+    const Peak& p = pp[nearest(pp, m.frequency_hz)];
+    ModeComparison c;
+    c.measured_hz = m.frequency_hz;
+    c.predicted_hz = p.frequency_hz;
+    c.frequency_error = (p.frequency_hz - m.frequency_hz) / m.frequency_hz;
+    c.measured_peak = m.magnitude;
+    c.predicted_peak = p.magnitude;
+    c.magnitude_error = (p.magnitude - m.magnitude) / m.magnitude;
+    out.push_back(c);
+  }
+  return out;
+}
+
+}  // namespace toolpoint
