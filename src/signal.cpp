@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
-#include <limits>
 #include <random>
 
 #include "toolpoint/conventions.hpp"
@@ -343,12 +342,12 @@ RotationalResult rotational_frfs(const PointFrfs& in, const RotationalOptions& o
 
   std::vector<std::string> missing;
   for (int i = 1; i < points; ++i)
-    for (int j = 1; j < points; ++j)
-      if (!a.h[i][j]) missing.push_back(fmt::format("H{}{}", i, j));
+    for (int j = i; j < points; ++j)  // a missing H_ij means H_ji is missing too (gather())
+      if (!a.h[i][j]) missing.push_back(i == j ? fmt::format("H{}{}", i, j) : fmt::format("H{}{} (or H{}{})", i, j, j, i));
   r.p_from_cross_terms = missing.empty() && o.p_method != PMethod::SchmitzSmith;
   if (o.p_method == PMethod::CrossTerms && !missing.empty())
-    throw InputError(fmt::format("rotational FRFs: P by finite differences of order {} needs {} (or its transpose), not given",
-                                 o.order, list(missing)),
+    throw InputError(fmt::format("rotational FRFs: P by finite differences of order {} needs {}, not given", o.order,
+                                 list(missing)),
                      "measure with the hammer moved to the inner points too, or let P be approximated (p-method auto)");
 
   const std::vector<double> d = o.order == 1 ? std::vector<double>{1.0 / o.spacing, -1.0 / o.spacing}
@@ -385,7 +384,9 @@ RotationalResult rotational_frfs(const PointFrfs& in, const RotationalOptions& o
   if (!r.p_from_cross_terms)
     r.warnings.push_back(fmt::format(
         "P approximated as N·L/H00 (Schmitz & Smith){}: exact for one mode only, about 25 % low on a static cantilever",
-        o.p_method == PMethod::SchmitzSmith ? " as requested" : fmt::format(" because {} is missing", list(missing))));
+        o.p_method == PMethod::SchmitzSmith ? " as requested"
+                                            : fmt::format(" because {} {} not given", list(missing),
+                                                          missing.size() == 1 ? "is" : "are")));
   return r;
 }
 

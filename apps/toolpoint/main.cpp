@@ -49,6 +49,9 @@ int main(int argc, char** argv) {
       "Run `toolpoint COMMAND --help` for a command's options, units, defaults and an example.");
 
   add_beam_command(app, globals);
+  add_filter_command(app, globals);
+  add_noise_command(app, globals);
+  add_rotational_command(app, globals);
 
   try {
     app.parse(argc, argv);
