@@ -223,16 +223,16 @@ std::vector<double> noise_factors(std::size_t count, const NoiseOptions& o, std:
 
 }  // namespace
 
-SignalResult<FrfSeries> add_measurement_noise(const FrfSeries& series, const NoiseOptions& options) {
-  validate(series, "FRF");
+SignalResult<FrfSeries> add_measurement_noise(const FrfSeries& series, const NoiseOptions& options, const std::string& what) {
+  validate(series, what);
   SignalResult<FrfSeries> r{series, {}};
   const auto f = noise_factors(series.size(), options, r.warnings);
   for (std::size_t i = 0; i < series.size(); ++i) r.series.values[i] *= f[i];
   return r;
 }
 
-SignalResult<BlockSeries> add_measurement_noise(const BlockSeries& series, const NoiseOptions& options) {
-  validate(series, "block series");
+SignalResult<BlockSeries> add_measurement_noise(const BlockSeries& series, const NoiseOptions& options, const std::string& what) {
+  validate(series, what);
   SignalResult<BlockSeries> r{series, {}};
   const auto f = noise_factors(4 * series.size(), options, r.warnings);
   for (std::size_t i = 0; i < series.size(); ++i)

@@ -25,7 +25,7 @@ void run_noise(const NoiseCliOptions& o, const Globals& g) {
                   "mt19937_64), sigma = {}, seed = {}; from {}",
                   o.noise.sigma, o.noise.seed, o.input)};
   const auto distort = [&](const auto& series) {
-    const auto r = add_measurement_noise(series, o.noise);
+    const auto r = add_measurement_noise(series, o.noise, o.input);
     write_frf_csv(o.output, r.series, comments);
     warn_all(r.warnings);
   };

@@ -88,9 +88,12 @@ struct NoiseOptions {
 // in (0, 1], u2 = (r₂ >> 11)·2⁻⁵³ in [0, 1), z = √(−2 ln u1)·cos 2πu2, then √(−2 ln u1)·sin 2πu2).
 std::vector<double> standard_normals(std::size_t count, std::uint64_t seed);
 
-// Noisy copies. A warning is given when some factor is ≤ 0 (σ so large that a value changes sign).
-SignalResult<FrfSeries> add_measurement_noise(const FrfSeries& series, const NoiseOptions& options);
-SignalResult<BlockSeries> add_measurement_noise(const BlockSeries& series, const NoiseOptions& options);
+// Noisy copies; `what` names the data in errors (validate()). A warning is given when some factor
+// is ≤ 0 (σ so large that a value changes sign).
+SignalResult<FrfSeries> add_measurement_noise(const FrfSeries& series, const NoiseOptions& options,
+                                              const std::string& what = "FRF");
+SignalResult<BlockSeries> add_measurement_noise(const BlockSeries& series, const NoiseOptions& options,
+                                                const std::string& what = "block series");
 
 // ---- Rotational FRFs by finite differences (Duarte & Ewins 2000; NOTES §5) ------------------
 //
