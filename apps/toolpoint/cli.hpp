@@ -33,5 +33,8 @@ void warn_all(const std::vector<std::string>& messages);
 void add_beam_command(CLI::App& app, Globals& g);
 void add_predict_command(CLI::App& app, Globals& g);
 void add_identify_command(CLI::App& app, Globals& g);
+void add_filter_command(CLI::App& app, Globals& g);
+void add_noise_command(CLI::App& app, Globals& g);
+void add_rotational_command(CLI::App& app, Globals& g);
 
 }  // namespace toolpoint::cli

@@ -52,6 +52,9 @@ int main(int argc, char** argv) {
   add_beam_command(app, globals);
   add_predict_command(app, globals);
   add_identify_command(app, globals);
+  add_filter_command(app, globals);
+  add_noise_command(app, globals);
+  add_rotational_command(app, globals);
 
   try {
     app.parse(argc, argv);

@@ -1,0 +1,164 @@
+// toolpoint: signal processing for measured FRFs — Savitzky–Golay smoothing, simulated
+// measurement noise, and rotational FRFs (L, N, P) by finite differences of translational ones.
+//
+// Units: frequencies in Hz; FRF values keep the units they come in (H m/N, L 1/N, N rad/N,
+// P rad/(N·m)); the finite-difference spacing s in m; Savitzky–Golay windows count frequency
+// points. Sign convention as in conventions.hpp: x points from the spindle towards the tool tip,
+// θ is positive like dw/dx, a moment m acts in the sense of θ.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "toolpoint/receptance.hpp"
+
+namespace toolpoint {
+
+// A processed series and what the caller should know about it (nothing fatal: fatal problems
+// throw).
+template <class Series>
+struct SignalResult {
+  Series series;
+  std::vector<std::string> warnings;
+};
+
+// ---- Savitzky–Golay smoothing ---------------------------------------------------------------
+//
+// Savitzky & Golay (1964), as in the seed paper's Section 4, and matching
+// scipy.signal.savgol_filter(x, window, order, mode='interp'):
+//   * interior points (m = window/2 ≤ i < n − m): y_i = Σ_{k=−m..m} c_k x_{i+k}, where c_k are the
+//     weights that give the value at 0 of the degree-p least-squares polynomial through
+//     x_{i−m..i+m};
+//   * the first m outputs: the degree-p polynomial fitted to the first `window` samples,
+//     evaluated at positions 0..m−1; the last m likewise with the last `window` samples.
+// A complex series is filtered as two real ones (real and imaginary parts separately). The
+// samples are assumed evenly spaced in frequency; an uneven grid is filtered as if it were even
+// and flagged in the warnings.
+struct SavgolOptions {
+  int window = 5;  // points in the fitting window: odd, > order (the defaults are the NOTES §6 oracle)
+  int order = 2;   // polynomial degree p ≥ 0
+
+  // Throws InvalidArgument naming `window` or `order` (even window, order < 0 or ≥ window).
+  void check() const;
+};
+
+// The interior weights c_{−m..m} (left to right). From the least-squares problem on the
+// Vandermonde matrix V_kj = t_k^j, t_k = k/m (centred, scaled abscissa: keeps V well conditioned),
+// solved by Householder QR: c = row m of the hat matrix V V⁺ = Q Qᵀ. Their sum is 1 (a constant
+// passes unchanged) and Σ c_k² is the factor by which white noise variance is reduced.
+// Throws InvalidArgument (see check()) and NumericalError when the order is so high that the
+// Vandermonde matrix is too ill-conditioned for accurate weights (condition number > 1e8).
+std::vector<double> savgol_coefficients(const SavgolOptions& options);
+
+// Filters real samples. `what` names the data in errors. Throws InvalidArgument when the window
+// is longer than the data (scipy's mode='interp' rule), InputError on non-finite samples.
+std::vector<double> savgol_filter(std::span<const double> samples, const SavgolOptions& options,
+                                  const std::string& what = "samples");
+
+// Filters an FRF (real and imaginary parts separately) or every entry of a 2×2 block series
+// (eight real columns). The frequency grid is kept. Validates the series (validate()).
+SignalResult<FrfSeries> savgol_filter(const FrfSeries& series, const SavgolOptions& options,
+                                      const std::string& what = "FRF");
+SignalResult<BlockSeries> savgol_filter(const BlockSeries& series, const SavgolOptions& options,
+                                        const std::string& what = "block series");
+
+// ---- Simulated measurement noise (seed Section 3) --------------------------------------------
+//
+// Each FRF entry at each frequency is multiplied by its own real random factor 1 + σz, z standard
+// normal: mean 1, standard deviation σ, independent across entries and frequencies. The complex
+// value is scaled as a whole (magnitude distorted, phase kept), as the seed did.
+// Reproducible and portable: z comes from std::mt19937_64 raw output (fully specified by the C++
+// standard) through the Box–Muller transform written here — not std::normal_distribution, whose
+// output differs between standard libraries. Draw order: frequency by frequency, and within one
+// frequency the entries H, L, N, P. Results agree bit for bit wherever std::log, std::sqrt,
+// std::cos and std::sin round alike (glibc does so on every platform it supports).
+struct NoiseOptions {
+  double sigma = 0.05;     // standard deviation of the factor (dimensionless; 0.05 = 5 %)
+  std::uint64_t seed = 1;  // mt19937_64 seed
+
+  // Throws InvalidArgument unless σ is finite and ≥ 0.
+  void check() const;
+};
+
+// `count` standard normal numbers from `seed` (Box–Muller on mt19937_64: u1 = (r₁ >> 11 + 1)·2⁻⁵³
+// in (0, 1], u2 = (r₂ >> 11)·2⁻⁵³ in [0, 1), z = √(−2 ln u1)·cos 2πu2, then √(−2 ln u1)·sin 2πu2).
+std::vector<double> standard_normals(std::size_t count, std::uint64_t seed);
+
+// Noisy copies; `what` names the data in errors (validate()). A warning is given when some factor
+// is ≤ 0 (σ so large that a value changes sign).
+SignalResult<FrfSeries> add_measurement_noise(const FrfSeries& series, const NoiseOptions& options,
+                                              const std::string& what = "FRF");
+SignalResult<BlockSeries> add_measurement_noise(const BlockSeries& series, const NoiseOptions& options,
+                                                const std::string& what = "block series");
+
+// ---- Rotational FRFs by finite differences (Duarte & Ewins 2000; NOTES §5) ------------------
+//
+// Points along the tool: 0 at the tip, 1 at s and 2 at 2s inward (towards the spindle).
+// H_ij = w_i/f_j: translational response at point i to a force at point j [m/N].
+// With weights d = (1, −1)/s (first order) or (3, −4, 1)/(2s) (second order), one-sided
+// differences in the direction of decreasing x:
+//     N = Σ_i d_i H_i0      first order (H00 − H10)/s,   second (3H00 − 4H10 + H20)/(2s)
+//     L = Σ_j d_j H_0j      first order (H00 − H01)/s,   second (3H00 − 4H01 + H02)/(2s)
+//     P = Σ_ij d_i d_j H_ij first order (H00 − H01 − H10 + H11)/s²,
+//                           second (9H00 − 12H01 + 3H02 − 12H10 + 16H11 − 4H12 + 3H20 − 4H21 + H22)/(4s²)
+// Our x axis points outward (towards the tool tip), the points lie at x_tip − is, so these are
+// backward differences of dw/dx and the formulas hold as printed (with an inward axis N and L
+// would change sign, P would not). N and L have error O(s) (first order) and O(s²) (second
+// order) in general. At a free end loaded by a force — the tool tip — the bending moment w'' is
+// zero, so there the first-order N is also O(s²), with half the second-order formula's leading
+// error and opposite sign (N₁ − N ≈ s²w'''/6, N₂ − N ≈ −s²w'''/3 for an Euler–Bernoulli tip; L
+// likewise). P does not gain an order: the mixed derivative ∂²H/∂x∂ξ has a kink where x = ξ,
+// which both stencils straddle, so P's error is O(s) for either order.
+//
+// Missing data: a missing off-diagonal H_ij is taken from H_ji (Maxwell–Betti reciprocity), and
+// the result says so. With the hammer at the tip only (H_i0) that makes L = N. P needs every
+// H_ij up to the order (the hammer moved too, in particular H11, H22); without them P is
+// approximated as N·L/H00 — N²/H00 when L = N (Schmitz & Smith), exact for a single mode, about
+// 25 % low on a static cantilever — and flagged.
+enum class PMethod {
+  Auto,          // cross terms if every H_ij is available (directly or by reciprocity), else N·L/H00
+  CrossTerms,    // the finite-difference formula; missing terms are an error
+  SchmitzSmith,  // P ≈ N·L/H00 even when cross terms are available
+};
+
+struct RotationalOptions {
+  int order = 2;                      // finite-difference order: 1 or 2
+  double spacing = 0.0;               // s [m] between neighbouring points, > 0 (no default)
+  bool symmetrise = false;            // replace L and N by their mean (reciprocity L = N)
+  PMethod p_method = PMethod::Auto;
+
+  // Throws InvalidArgument naming `order` or `spacing`.
+  void check() const;
+};
+
+// The translational FRFs measured on points 0, 1, 2. Unused slots stay empty.
+struct PointFrfs {
+  std::array<std::array<std::optional<FrfSeries>, 3>, 3> h;  // h[i][j] = H_ij
+  std::array<std::array<std::string, 3>, 3> source;           // where each came from (errors)
+
+  // Stores H_{response,force}; `source` (a file name) defaults to "H<response><force>".
+  void set(int response, int force, FrfSeries series, std::string source = {});
+  // The label used in messages: "H10 (file.csv)" or "H10".
+  std::string label(int response, int force) const;
+};
+
+struct RotationalResult {
+  BlockSeries block;              // [[H00, L], [N, P]] on H00's frequency grid
+  bool p_from_cross_terms = false;  // false: P ≈ N·L/H00 (Schmitz & Smith)
+  bool l_equals_n_by_reciprocity = false;  // L or N (or both) built from transposed data
+  // max_f |L − N| / max_f max(|L|, |N|) when L and N came from independent data before any
+  // symmetrising (a reciprocity and measurement-quality check); empty otherwise.
+  std::optional<double> reciprocity_mismatch;
+  std::vector<std::string> warnings;  // reciprocity fills, the P approximation, unused inputs
+};
+
+// Builds the tip block. Throws InvalidArgument (options), InputError (a needed H_ij missing,
+// naming it; grids that differ, naming both sources; non-finite values) and NumericalError
+// (H00 = 0 where P ≈ N·L/H00 divides by it).
+RotationalResult rotational_frfs(const PointFrfs& frfs, const RotationalOptions& options);
+
+}  // namespace toolpoint

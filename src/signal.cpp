@@ -1,0 +1,393 @@
+// toolpoint: Savitzky–Golay smoothing, simulated measurement noise, finite-difference rotational
+// FRFs. Units: Hz, m, and the FRFs' own units (see signal.hpp).
+#include "toolpoint/signal.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+#include <random>
+
+#include "toolpoint/conventions.hpp"
+#include "toolpoint/error.hpp"
+
+namespace toolpoint {
+
+// ---- Savitzky–Golay ----------------------------------------------------------------------------
+
+void SavgolOptions::check() const {
+  if (window < 1 || window % 2 == 0)
+    throw InvalidArgument(fmt::format("Savitzky–Golay window {} must be a positive odd number of points", window),
+                          "use an odd window such as 5, 11 or 21 points");
+  if (order < 0)
+    throw InvalidArgument(fmt::format("Savitzky–Golay order {} must be ≥ 0", order), "use a polynomial order such as 2 or 3");
+  if (order >= window)
+    throw InvalidArgument(fmt::format("Savitzky–Golay order {} must be less than the window {} points", order, window),
+                          "lower the order or widen the window (a window of w points fits at most degree w − 1)");
+}
+
+namespace {
+
+// The least-squares machinery for one (window, order): the QR factorisation of the scaled
+// Vandermonde matrix, shared by the interior weights and the edge fits.
+class SavgolKernel {
+ public:
+  explicit SavgolKernel(const SavgolOptions& o) : half_(o.window / 2), scale_(std::max(1, o.window / 2)) {
+    o.check();
+    const int w = o.window, p1 = o.order + 1;
+    Eigen::MatrixXd v(w, p1);
+    for (int k = 0; k < w; ++k) {
+      const double t = abscissa(k);
+      double tj = 1.0;
+      for (int j = 0; j < p1; ++j, tj *= t) v(k, j) = tj;
+    }
+    // Accuracy of the weights is about ε·cond(V); beyond 1e8 they would differ from the exact
+    // least-squares weights in the 8th digit, which no longer "matches scipy".
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(v);
+    const auto& sv = svd.singularValues();
+    const double cond = sv(0) / sv(sv.size() - 1);
+    if (!(cond <= 1e8))
+      throw NumericalError(
+          fmt::format("Savitzky–Golay order {} with window {}: Vandermonde condition number {:.3g} is too large "
+                      "for accurate weights",
+                      o.order, w, cond),
+          "use a lower polynomial order (2–6 is usual for smoothing FRFs)");
+    qr_.compute(v);
+    const Eigen::MatrixXd q = qr_.householderQ() * Eigen::MatrixXd::Identity(w, p1);
+    // Row `half` of the hat matrix Q Qᵀ: the fitted value at the centre as a weighted sum.
+    const Eigen::VectorXd c = q * q.row(half_).transpose();
+    centre_.assign(c.data(), c.data() + w);
+  }
+
+  const std::vector<double>& centre() const { return centre_; }
+
+  // out[first + k] for k in [from, to): the polynomial fitted to in[first .. first+window)
+  // evaluated at those positions.
+  void fit_edge(std::span<const double> in, std::size_t first, int from, int to, std::vector<double>& out) const {
+    const int w = static_cast<int>(centre_.size());
+    const Eigen::Map<const Eigen::VectorXd> y(in.data() + first, w);
+    const Eigen::VectorXd a = qr_.solve(y);
+    for (int k = from; k < to; ++k) {
+      const double t = abscissa(k);
+      double v = 0.0;
+      for (Eigen::Index j = a.size() - 1; j >= 0; --j) v = v * t + a(j);  // Horner
+      out[first + static_cast<std::size_t>(k)] = v;
+    }
+  }
+
+ private:
+  double abscissa(int k) const { return static_cast<double>(k - half_) / scale_; }
+
+  int half_;
+  double scale_;
+  Eigen::HouseholderQR<Eigen::MatrixXd> qr_;
+  std::vector<double> centre_;
+};
+
+std::vector<double> apply_savgol(const SavgolKernel& kernel, std::span<const double> x) {
+  const auto& c = kernel.centre();
+  const std::size_t n = x.size(), w = c.size(), m = w / 2;
+  std::vector<double> y(n);
+  for (std::size_t i = m; i + m < n; ++i) {
+    double s = 0.0;
+    for (std::size_t k = 0; k < w; ++k) s += c[k] * x[i - m + k];
+    y[i] = s;
+  }
+  const int mi = static_cast<int>(m), wi = static_cast<int>(w);
+  kernel.fit_edge(x, 0, 0, mi, y);
+  kernel.fit_edge(x, n - w, wi - mi, wi, y);
+  return y;
+}
+
+void require_window_fits(const SavgolOptions& o, std::size_t n, const std::string& what) {
+  o.check();
+  if (static_cast<std::size_t>(o.window) > n)
+    throw InvalidArgument(fmt::format("Savitzky–Golay window {} points is longer than {} ({} points)", o.window, what, n),
+                          "use a window no longer than the data (and much shorter, to smooth rather than fit)");
+}
+
+// Savitzky–Golay assumes even spacing; report an uneven grid rather than refuse it (a grid
+// written with rounded frequencies is uneven at the 1e-9 level and harmless).
+void warn_if_uneven(const std::vector<double>& f, const std::string& what, std::vector<std::string>& warnings) {
+  if (f.size() < 3) return;
+  double lo = f[1] - f[0], hi = lo;
+  for (std::size_t i = 2; i < f.size(); ++i) {
+    lo = std::min(lo, f[i] - f[i - 1]);
+    hi = std::max(hi, f[i] - f[i - 1]);
+  }
+  if (hi - lo > 1e-6 * hi)
+    warnings.push_back(fmt::format("{}: frequency steps vary from {} Hz to {} Hz; Savitzky–Golay treats the points as "
+                                   "evenly spaced",
+                                   what, lo, hi));
+}
+
+}  // namespace
+
+std::vector<double> savgol_coefficients(const SavgolOptions& options) { return SavgolKernel(options).centre(); }
+
+std::vector<double> savgol_filter(std::span<const double> samples, const SavgolOptions& options, const std::string& what) {
+  require_window_fits(options, samples.size(), what);
+  for (std::size_t i = 0; i < samples.size(); ++i)
+    if (!std::isfinite(samples[i]))
+      throw InputError(fmt::format("{}: sample {} is {}, not a finite number", what, i + 1, samples[i]),
+                       "remove or repair the NaN/Inf values in the data");
+  return apply_savgol(SavgolKernel(options), samples);
+}
+
+namespace {
+
+// Filters `columns` real columns of a series; get(i, c) reads, set(i, c, v) writes.
+template <class Series, class Get, class Set>
+SignalResult<Series> filter_columns(const Series& series, const SavgolOptions& options, const std::string& what,
+                                    int columns, Get get, Set set) {
+  validate(series, what);
+  require_window_fits(options, series.size(), what);
+  const SavgolKernel kernel(options);
+  SignalResult<Series> r{series, {}};
+  std::vector<double> col(series.size());
+  for (int c = 0; c < columns; ++c) {
+    for (std::size_t i = 0; i < series.size(); ++i) col[i] = get(series, i, c);
+    const std::vector<double> out = apply_savgol(kernel, col);
+    for (std::size_t i = 0; i < series.size(); ++i) set(r.series, i, c, out[i]);
+  }
+  warn_if_uneven(series.frequency_hz, what, r.warnings);
+  return r;
+}
+
+// Real (c even) or imaginary (c odd) part of entry c/2 of z.
+double part(const Complex& z, int c) { return c % 2 == 0 ? z.real() : z.imag(); }
+void set_part(Complex& z, int c, double v) {
+  if (c % 2 == 0)
+    z.real(v);
+  else
+    z.imag(v);
+}
+
+}  // namespace
+
+SignalResult<FrfSeries> savgol_filter(const FrfSeries& series, const SavgolOptions& options, const std::string& what) {
+  return filter_columns(
+      series, options, what, 2, [](const FrfSeries& s, std::size_t i, int c) { return part(s.values[i], c); },
+      [](FrfSeries& s, std::size_t i, int c, double v) { set_part(s.values[i], c, v); });
+}
+
+SignalResult<BlockSeries> savgol_filter(const BlockSeries& series, const SavgolOptions& options, const std::string& what) {
+  // Column c: entry c/2 of the block (H, L, N, P, row-major), real part for even c.
+  return filter_columns(
+      series, options, what, 8,
+      [](const BlockSeries& s, std::size_t i, int c) { return part(s.blocks[i](c / 4, (c / 2) % 2), c); },
+      [](BlockSeries& s, std::size_t i, int c, double v) { set_part(s.blocks[i](c / 4, (c / 2) % 2), c, v); });
+}
+
+// ---- Simulated measurement noise ------------------------------------------------------------
+
+void NoiseOptions::check() const {
+  if (!std::isfinite(sigma) || sigma < 0.0)
+    throw InvalidArgument(fmt::format("noise sigma {} must be a finite standard deviation ≥ 0", sigma),
+                          "give sigma as a fraction, e.g. 0.05 for 5 %");
+}
+
+std::vector<double> standard_normals(std::size_t count, std::uint64_t seed) {
+  std::mt19937_64 engine(seed);
+  constexpr double k2to53 = 0x1p-53;
+  std::vector<double> z;
+  z.reserve(count + 1);
+  while (z.size() < count) {
+    // The top 53 bits make a double exactly; +1 keeps u1 away from 0, where ln diverges.
+    const double u1 = static_cast<double>((engine() >> 11) + 1) * k2to53;
+    const double u2 = static_cast<double>(engine() >> 11) * k2to53;
+    const double r = std::sqrt(-2.0 * std::log(u1));
+    z.push_back(r * std::cos(2.0 * kPi * u2));
+    z.push_back(r * std::sin(2.0 * kPi * u2));
+  }
+  z.resize(count);
+  return z;
+}
+
+namespace {
+
+// The factors 1 + σz for `count` values, and a warning if any is ≤ 0.
+std::vector<double> noise_factors(std::size_t count, const NoiseOptions& o, std::vector<std::string>& warnings) {
+  o.check();
+  std::vector<double> f = standard_normals(count, o.seed);
+  std::size_t non_positive = 0;
+  for (double& v : f) {
+    v = 1.0 + o.sigma * v;
+    if (v <= 0.0) ++non_positive;
+  }
+  if (non_positive > 0)
+    warnings.push_back(fmt::format("noise sigma {}: {} of {} factors are ≤ 0, so those values changed sign", o.sigma,
+                                   non_positive, count));
+  return f;
+}
+
+}  // namespace
+
+SignalResult<FrfSeries> add_measurement_noise(const FrfSeries& series, const NoiseOptions& options, const std::string& what) {
+  validate(series, what);
+  SignalResult<FrfSeries> r{series, {}};
+  const auto f = noise_factors(series.size(), options, r.warnings);
+  for (std::size_t i = 0; i < series.size(); ++i) r.series.values[i] *= f[i];
+  return r;
+}
+
+SignalResult<BlockSeries> add_measurement_noise(const BlockSeries& series, const NoiseOptions& options, const std::string& what) {
+  validate(series, what);
+  SignalResult<BlockSeries> r{series, {}};
+  const auto f = noise_factors(4 * series.size(), options, r.warnings);
+  for (std::size_t i = 0; i < series.size(); ++i)
+    for (int k = 0; k < 4; ++k) r.series.blocks[i](k / 2, k % 2) *= f[4 * i + static_cast<std::size_t>(k)];
+  return r;
+}
+
+// ---- Rotational FRFs by finite differences ----------------------------------------------------
+
+void RotationalOptions::check() const {
+  if (order != 1 && order != 2)
+    throw InvalidArgument(fmt::format("finite-difference order {} must be 1 or 2", order),
+                          "use order 2 (three points) or 1 (two points)");
+  if (!std::isfinite(spacing) || !(spacing > 0.0))
+    throw InvalidArgument(fmt::format("finite-difference spacing {} m must be a positive distance in metres", spacing),
+                          "give the distance between neighbouring measurement points, e.g. 0.01 for 10 mm");
+}
+
+void PointFrfs::set(int response, int force, FrfSeries series, std::string src) {
+  if (response < 0 || response > 2 || force < 0 || force > 2)
+    throw InvalidArgument(fmt::format("measurement point indices ({}, {}) must be 0, 1 or 2", response, force));
+  h[response][force] = std::move(series);
+  source[response][force] = std::move(src);
+}
+
+std::string PointFrfs::label(int i, int j) const {
+  const std::string name = fmt::format("H{}{}", i, j);
+  return source[i][j].empty() ? name : fmt::format("{} ({})", name, source[i][j]);
+}
+
+namespace {
+
+// H_ij as used: measured, or its transpose by reciprocity, or absent.
+struct Available {
+  const FrfSeries* h[3][3] = {};
+  bool transposed[3][3] = {};
+};
+
+Available gather(const PointFrfs& in, int points) {
+  Available a;
+  for (int i = 0; i < points; ++i)
+    for (int j = 0; j < points; ++j) {
+      if (in.h[i][j]) {
+        a.h[i][j] = &*in.h[i][j];
+      } else if (in.h[j][i]) {
+        a.h[i][j] = &*in.h[j][i];
+        a.transposed[i][j] = true;
+      }
+    }
+  return a;
+}
+
+// Σ_k d_k H(k) at frequency index f, where H(k) picks the FRF for stencil point k.
+template <class Pick>
+Complex difference(const std::vector<double>& d, std::size_t f, Pick pick) {
+  Complex s = 0.0;
+  for (std::size_t k = 0; k < d.size(); ++k) s += d[k] * pick(static_cast<int>(k))->values[f];
+  return s;
+}
+
+std::string list(const std::vector<std::string>& v) {
+  std::string s;
+  for (std::size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + v[i];
+  return s;
+}
+
+}  // namespace
+
+RotationalResult rotational_frfs(const PointFrfs& in, const RotationalOptions& o) {
+  o.check();
+  const int points = o.order + 1;
+  if (!in.h[0][0])
+    throw InputError("rotational FRFs: H00 (response and force at the tip) is missing",
+                     "give the tip point FRF measured with the hammer and the sensor at the tip");
+  const FrfSeries& h00 = *in.h[0][0];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      if (!in.h[i][j]) continue;
+      validate(*in.h[i][j], in.label(i, j));
+      require_same_grid(h00.frequency_hz, in.label(0, 0), in.h[i][j]->frequency_hz, in.label(i, j));
+    }
+
+  RotationalResult r;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (in.h[i][j] && (i >= points || j >= points))
+        r.warnings.push_back(fmt::format("{} is not used by order-{} differences (points 0..{})", in.label(i, j), o.order,
+                                         points - 1));
+
+  const Available a = gather(in, points);
+  for (int k = 1; k < points; ++k)
+    if (!a.h[k][0])
+      throw InputError(fmt::format("rotational FRFs of order {}: neither H{}0 (response {} s inward, force at the tip) "
+                                   "nor H0{} (response at the tip, force {} s inward) is given",
+                                   o.order, k, k, k, k),
+                       "N and L need the response (or the hammer) moved to every point inward of the tip");
+  std::vector<std::string> filled;
+  for (int i = 0; i < points; ++i)
+    for (int j = 0; j < points; ++j)
+      if (a.transposed[i][j]) filled.push_back(fmt::format("H{}{} := {}", i, j, in.label(j, i)));
+  bool n_transposed = false, l_transposed = false;
+  for (int k = 1; k < points; ++k) {
+    n_transposed = n_transposed || a.transposed[k][0];
+    l_transposed = l_transposed || a.transposed[0][k];
+  }
+  r.l_equals_n_by_reciprocity = n_transposed || l_transposed;
+
+  std::vector<std::string> missing;
+  for (int i = 1; i < points; ++i)
+    for (int j = i; j < points; ++j)  // a missing H_ij means H_ji is missing too (gather())
+      if (!a.h[i][j]) missing.push_back(i == j ? fmt::format("H{}{}", i, j) : fmt::format("H{}{} (or H{}{})", i, j, j, i));
+  r.p_from_cross_terms = missing.empty() && o.p_method != PMethod::SchmitzSmith;
+  if (o.p_method == PMethod::CrossTerms && !missing.empty())
+    throw InputError(fmt::format("rotational FRFs: P by finite differences of order {} needs {}, not given", o.order,
+                                 list(missing)),
+                     "measure with the hammer moved to the inner points too, or let P be approximated (p-method auto)");
+
+  const std::vector<double> d = o.order == 1 ? std::vector<double>{1.0 / o.spacing, -1.0 / o.spacing}
+                                             : std::vector<double>{1.5 / o.spacing, -2.0 / o.spacing, 0.5 / o.spacing};
+  const std::size_t n = h00.size();
+  r.block.frequency_hz = h00.frequency_hz;
+  r.block.blocks.resize(n);
+  double mismatch = 0.0, peak = 0.0;
+  for (std::size_t f = 0; f < n; ++f) {
+    const Complex nn = difference(d, f, [&](int k) { return a.h[k][0]; });
+    const Complex ll = difference(d, f, [&](int k) { return a.h[0][k]; });
+    mismatch = std::max(mismatch, std::abs(ll - nn));
+    peak = std::max({peak, std::abs(ll), std::abs(nn)});
+    const Complex l_used = o.symmetrise ? 0.5 * (ll + nn) : ll;
+    const Complex n_used = o.symmetrise ? 0.5 * (ll + nn) : nn;
+    Complex p;
+    if (r.p_from_cross_terms) {
+      for (int i = 0; i < points; ++i) p += d[i] * difference(d, f, [&](int k) { return a.h[i][k]; });
+    } else {
+      const Complex h = h00.values[f];
+      if (h == 0.0)
+        throw NumericalError(fmt::format("P ≈ N·L/H00 at {} Hz: H00 is exactly 0", h00.frequency_hz[f]),
+                             "give the cross terms (hammer moved to the inner points) so P needs no division");
+      p = n_used * l_used / h;
+    }
+    r.block.blocks[f] = make_block(h00.values[f], l_used, n_used, p);
+  }
+  if (!r.l_equals_n_by_reciprocity) r.reciprocity_mismatch = peak > 0.0 ? mismatch / peak : 0.0;
+
+  if (!filled.empty())
+    r.warnings.push_back(fmt::format("reciprocity H_ij = H_ji assumed for {}", list(filled)));
+  if (r.l_equals_n_by_reciprocity)
+    r.warnings.push_back("L and N come from the same data (reciprocity), so L = N is assumed, not measured");
+  if (!r.p_from_cross_terms)
+    r.warnings.push_back(fmt::format(
+        "P approximated as N·L/H00 (Schmitz & Smith){}: exact for one mode only, about 25 % low on a static cantilever",
+        o.p_method == PMethod::SchmitzSmith ? " as requested"
+                                            : fmt::format(" because {} {} not given", list(missing),
+                                                          missing.size() == 1 ? "is" : "are")));
+  return r;
+}
+
+}  // namespace toolpoint

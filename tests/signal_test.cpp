@@ -1,0 +1,762 @@
+// Tests of the signal module: Savitzky–Golay smoothing, simulated noise, finite-difference
+// rotational FRFs. Every expectation comes from something independent of the code under test:
+// the NOTES §6 oracle (scipy's output), closed-form Savitzky–Golay weights (Savitzky & Golay 1964
+// for degree 2–3), exact reproduction of polynomials, closed-form straight-line regression at
+// the edges, the statistics of white noise, the normal distribution's probabilities, the static
+// cantilever flexibility G(x, ξ) = ξ²(3x − ξ)/6 (NOTES §5), and an exact dynamic Green's function
+// of a damped Euler–Bernoulli cantilever solved here from its boundary-value problem.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <numeric>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "toolpoint/conventions.hpp"
+#include "toolpoint/error.hpp"
+#include "toolpoint/io.hpp"
+#include "toolpoint/signal.hpp"
+
+using namespace toolpoint;
+
+namespace {
+
+bool contains(const std::vector<std::string>& v, const std::string& needle) {
+  for (const auto& s : v)
+    if (s.find(needle) != std::string::npos) return true;
+  return false;
+}
+
+std::vector<double> polynomial_samples(const std::vector<double>& coeffs, std::size_t n) {
+  std::vector<double> y(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double t = static_cast<double>(i) / static_cast<double>(n);  // keeps values O(1)
+    for (std::size_t j = coeffs.size(); j-- > 0;) y[i] = y[i] * t + coeffs[j];
+  }
+  return y;
+}
+
+FrfSeries single(std::vector<Complex> values, double f0 = 10.0, double df = 2.5) {
+  FrfSeries s;
+  for (std::size_t i = 0; i < values.size(); ++i) s.frequency_hz.push_back(f0 + df * static_cast<double>(i));
+  s.values = std::move(values);
+  return s;
+}
+
+}  // namespace
+
+// ---- Savitzky–Golay ------------------------------------------------------------------------------
+
+// NOTES §6 oracle (scipy): window 5, order 2 → [−3, 12, 17, 12, −3]/35. 1e-14: a few ulps of the
+// QR round-off on numbers of order 1.
+TEST(Savgol, CoefficientsMatchOracle) {
+  const auto c = savgol_coefficients({5, 2});
+  const double want[] = {-3, 12, 17, 12, -3};
+  ASSERT_EQ(c.size(), 5u);
+  for (int k = 0; k < 5; ++k) EXPECT_NEAR(c[k], want[k] / 35.0, 1e-14) << k;
+}
+
+// NOTES §6: x = [2,2,5,2,1,0,1,4,9], window 5, order 2 → [58/35, 111/35, 124/35, 20/7, 23/35,
+// 6/35, 1, 4, 9] (the first two and last two from the edge fits). 1e-14 as above.
+TEST(Savgol, NineSampleOracleIncludingEdges) {
+  const std::vector<double> x = {2, 2, 5, 2, 1, 0, 1, 4, 9};
+  const double want[] = {58 / 35.0, 111 / 35.0, 124 / 35.0, 20 / 7.0, 23 / 35.0, 6 / 35.0, 1, 4, 9};
+  const auto y = savgol_filter(x, {5, 2});
+  ASSERT_EQ(y.size(), 9u);
+  for (int i = 0; i < 9; ++i) EXPECT_NEAR(y[i], want[i], 1e-14) << i;
+}
+
+// Closed form for degree 2 and 3 (Savitzky & Golay 1964; the cubic weights at the centre equal
+// the quadratic ones by symmetry): c_k = [3(3m² + 3m − 1) − 15k²] / [(2m−1)(2m+1)(2m+3)],
+// k = −m..m. Degree 0 and 1: the plain mean 1/(2m+1). 1e-14: round-off on weights ≤ 1.
+TEST(Savgol, CoefficientsMatchClosedForm) {
+  for (int m = 1; m <= 25; ++m) {
+    const int w = 2 * m + 1;
+    const double den = (2.0 * m - 1) * (2.0 * m + 1) * (2.0 * m + 3);
+    for (int order : {0, 1, 2, 3}) {
+      if (order >= w) continue;
+      const auto c = savgol_coefficients({w, order});
+      for (int k = -m; k <= m; ++k) {
+        const double want = order <= 1 ? 1.0 / w : (3.0 * (3.0 * m * m + 3.0 * m - 1) - 15.0 * k * k) / den;
+        EXPECT_NEAR(c[k + m], want, 1e-14) << "window " << w << " order " << order << " k " << k;
+      }
+    }
+  }
+}
+
+// A least-squares fit of degree p reproduces any polynomial of degree ≤ p exactly, at interior
+// points and at both edges. Values are O(1); 1e-12 allows the round-off of the QR solve and of
+// the 2m+1-term sums.
+TEST(Savgol, ReproducesPolynomialsUpToTheOrder) {
+  const std::vector<double> coeffs = {0.7, -2.1, 3.3, 1.9, -4.2, 2.5, -0.8, 1.1, -0.6, 0.9, -1.3, 0.4, 0.2};  // degree ≤ 12
+  for (auto [w, p] : {std::pair{5, 2}, {7, 3}, {11, 4}, {21, 6}, {9, 0}, {3, 1}, {13, 12}}) {
+    for (int degree = 0; degree <= p; ++degree) {
+      const auto x = polynomial_samples(std::vector<double>(coeffs.begin(), coeffs.begin() + degree + 1), 40);
+      const auto y = savgol_filter(x, {w, p});
+      for (std::size_t i = 0; i < x.size(); ++i)
+        EXPECT_NEAR(y[i], x[i], 1e-12) << "window " << w << " order " << p << " degree " << degree << " point " << i;
+    }
+  }
+  // …and not one degree more: a filter that passed everything through would fail here.
+  const auto x = polynomial_samples({0.0, 0.0, 0.0, 1.0}, 40);  // t³
+  const auto y = savgol_filter(x, {9, 2});
+  double worst = 0.0;
+  for (std::size_t i = 0; i < x.size(); ++i) worst = std::max(worst, std::abs(y[i] - x[i]));
+  EXPECT_GT(worst, 1e-4);
+}
+
+// DC gain 1: the weights sum to 1 for every (window, order) (a constant is a polynomial of degree
+// 0, which every fit reproduces). 1e-13: round-off of up to 101 terms.
+TEST(Savgol, UnitDcGain) {
+  for (int w = 1; w <= 101; w += 4)
+    for (int p = 0; p < std::min(w, 8); ++p) {
+      const auto c = savgol_coefficients({w, p});
+      EXPECT_NEAR(std::accumulate(c.begin(), c.end(), 0.0), 1.0, 1e-13) << w << " " << p;
+    }
+}
+
+// Edges for order 1 have a closed form: the regression line through (k, y_k), k = 0..w−1,
+// ŷ(k) = ȳ + (k − k̄) Σ(k − k̄)(y_k − ȳ) / Σ(k − k̄)². 1e-13 for values of order 1.
+TEST(Savgol, LinearEdgesMatchRegressionLine) {
+  const auto x = standard_normals(30, 11);
+  const int w = 9, m = 4;
+  const auto y = savgol_filter(x, {w, 1});
+  auto regression = [&](std::size_t first, int k) {
+    const double kbar = (w - 1) / 2.0;
+    double ybar = 0.0, sxy = 0.0, sxx = 0.0;
+    for (int j = 0; j < w; ++j) ybar += x[first + j] / w;
+    for (int j = 0; j < w; ++j) {
+      sxy += (j - kbar) * (x[first + j] - ybar);
+      sxx += (j - kbar) * (j - kbar);
+    }
+    return ybar + (k - kbar) * sxy / sxx;
+  };
+  for (int k = 0; k < m; ++k) {
+    EXPECT_NEAR(y[k], regression(0, k), 1e-13) << "start " << k;
+    EXPECT_NEAR(y[30 - w + (w - m) + k], regression(30 - w, w - m + k), 1e-13) << "end " << k;
+  }
+}
+
+// White noise of variance 1 filtered by weights c has variance Σc² at interior points. The
+// output is a moving average, so its sample variance over n points has standard error
+// sqrt(2 Σ_h γ_h² / n), γ_h = Σ_k c_k c_{k+h}; we allow 5 standard errors (for any seed a
+// failure by chance has probability < 1e-6). A plain mean or an identity filter would be off by
+// many times that.
+TEST(Savgol, WhiteNoiseVarianceReductionEqualsSumOfSquares) {
+  const std::size_t n = 200000;
+  const auto x = standard_normals(n, 2024);
+  for (auto [w, p] : {std::pair{21, 3}, {11, 2}, {31, 5}}) {
+    const auto c = savgol_coefficients({w, p});
+    const auto y = savgol_filter(x, {w, p});
+    double gain = 0.0;
+    for (double ck : c) gain += ck * ck;
+    double sum_gamma2 = 0.0;
+    for (int h = -(w - 1); h < w; ++h) {
+      double g = 0.0;
+      for (int k = 0; k < w; ++k)
+        if (k + h >= 0 && k + h < w) g += c[k] * c[k + h];
+      sum_gamma2 += g * g;
+    }
+    const std::size_t m = w / 2, count = n - 2 * m;
+    double mean = 0.0, var = 0.0;
+    for (std::size_t i = m; i < n - m; ++i) mean += y[i] / count;
+    for (std::size_t i = m; i < n - m; ++i) var += (y[i] - mean) * (y[i] - mean) / (count - 1);
+    const double se = std::sqrt(2.0 * sum_gamma2 / count);
+    EXPECT_NEAR(var, gain, 5.0 * se) << "window " << w << " order " << p;
+    EXPECT_GT(std::abs(gain - 1.0 / w), 10.0 * se);  // the test can tell these weights from a mean
+  }
+}
+
+// Complex data: real and imaginary parts are filtered separately; a 2×2 block series: its eight
+// real columns each on their own. Each column holds a different polynomial of degree ≤ 3, so
+// a (3, 7) filter must give every column back unchanged; a mixed-up column would show. 1e-12
+// as in ReproducesPolynomialsUpToTheOrder.
+TEST(Savgol, BlockAndComplexColumnsAreFilteredSeparately) {
+  const std::size_t n = 25;
+  std::vector<std::vector<double>> cols;
+  for (int c = 0; c < 8; ++c) cols.push_back(polynomial_samples({1.0 + c, -0.5 * c, 0.3 * (c - 4), 0.1 * c * c}, n));
+  BlockSeries b;
+  for (std::size_t i = 0; i < n; ++i) {
+    b.frequency_hz.push_back(100.0 + 10.0 * static_cast<double>(i));
+    b.blocks.push_back(make_block({cols[0][i], cols[1][i]}, {cols[2][i], cols[3][i]}, {cols[4][i], cols[5][i]},
+                                  {cols[6][i], cols[7][i]}));
+  }
+  const auto r = savgol_filter(b, {7, 3});
+  ASSERT_EQ(r.series.size(), n);
+  EXPECT_TRUE(r.warnings.empty());
+  for (std::size_t i = 0; i < n; ++i) {
+    EXPECT_DOUBLE_EQ(r.series.frequency_hz[i], b.frequency_hz[i]);
+    EXPECT_LT((r.series.blocks[i] - b.blocks[i]).cwiseAbs().maxCoeff(), 1e-12) << i;
+  }
+  // Noisy complex FRF: the result's real part is the filtered real part, the imaginary part the
+  // filtered imaginary part (equal to round-off: the same arithmetic on the same numbers).
+  const auto re = standard_normals(n, 1), im = standard_normals(n, 2);
+  std::vector<Complex> z(n);
+  for (std::size_t i = 0; i < n; ++i) z[i] = {re[i], im[i]};
+  const auto fz = savgol_filter(single(z), {7, 3}).series;
+  const auto fre = savgol_filter(re, {7, 3}), fim = savgol_filter(im, {7, 3});
+  for (std::size_t i = 0; i < n; ++i) {
+    EXPECT_DOUBLE_EQ(fz.values[i].real(), fre[i]);
+    EXPECT_DOUBLE_EQ(fz.values[i].imag(), fim[i]);
+  }
+}
+
+TEST(Savgol, UnevenGridIsFlagged) {
+  FrfSeries s = single(std::vector<Complex>(9, {1.0, 0.0}));
+  EXPECT_TRUE(savgol_filter(s, {5, 2}).warnings.empty());
+  s.frequency_hz[4] += 0.5;
+  EXPECT_TRUE(contains(savgol_filter(s, {5, 2}, "h.csv").warnings, "h.csv: frequency steps vary"));
+}
+
+TEST(Savgol, BadOptionsAndDataAreRejected) {
+  const std::vector<double> x(9, 1.0);
+  EXPECT_THROW(savgol_filter(x, {4, 2}), InvalidArgument);   // even window
+  EXPECT_THROW(savgol_filter(x, {5, 5}), InvalidArgument);   // order = window
+  EXPECT_THROW(savgol_filter(x, {5, 7}), InvalidArgument);   // order > window
+  EXPECT_THROW(savgol_filter(x, {5, -1}), InvalidArgument);  // negative order
+  EXPECT_THROW(savgol_filter(x, {0, 0}), InvalidArgument);
+  EXPECT_THROW(savgol_filter(x, {-3, 0}), InvalidArgument);
+  try {
+    savgol_filter(x, {11, 2}, "tip.csv");  // window longer than the data
+    ADD_FAILURE();
+  } catch (const InvalidArgument& e) {
+    EXPECT_NE(std::string(e.what()).find("tip.csv (9 points)"), std::string::npos) << e.what();
+  }
+  EXPECT_NO_THROW(savgol_filter(x, {9, 8}));  // window = length is allowed (scipy 'interp')
+  EXPECT_NO_THROW(savgol_filter(x, {1, 0}));
+  std::vector<double> bad = x;
+  bad[3] = std::nan("");
+  EXPECT_THROW(savgol_filter(bad, {5, 2}), InputError);
+  FrfSeries s = single(std::vector<Complex>(9, {1.0, 0.0}));
+  s.values[2] = {0.0, INFINITY};
+  EXPECT_THROW(savgol_filter(s, {5, 2}), InputError);
+  // Orders so high that monomials on 2m+1 points lose accuracy are refused, not silently wrong.
+  EXPECT_THROW(savgol_coefficients({61, 40}), NumericalError);
+  EXPECT_NO_THROW(savgol_coefficients({61, 10}));
+}
+
+// ---- Simulated measurement noise ---------------------------------------------------------------
+
+// Factors 1 + σz: over n = 200 000 draws the sample mean lies within 5 σ/√n of 1 and the sample
+// standard deviation within 5 σ/√(2n) of σ (its standard error for a normal sample), for each
+// of several seeds. The factor is real: a complex value keeps its phase (1e-15: round-off).
+TEST(Noise, FactorsHaveMeanOneAndStandardDeviationSigma) {
+  const std::size_t n = 200000;
+  for (double sigma : {0.05, 0.2}) {
+    for (std::uint64_t seed : {1u, 7u, 123456789u}) {
+      const FrfSeries s = single(std::vector<Complex>(n, {2.0, -3.0}), 1.0, 0.1);
+      const auto r = add_measurement_noise(s, {sigma, seed});
+      double mean = 0.0, var = 0.0;
+      for (const Complex& v : r.series.values) {
+        const Complex ratio = v / Complex(2.0, -3.0);
+        EXPECT_LT(std::abs(ratio.imag()), 1e-15);
+        mean += ratio.real() / n;
+      }
+      for (const Complex& v : r.series.values) var += std::pow((v / Complex(2.0, -3.0)).real() - mean, 2) / (n - 1);
+      EXPECT_NEAR(mean, 1.0, 5.0 * sigma / std::sqrt(n)) << sigma << " " << seed;
+      EXPECT_NEAR(std::sqrt(var), sigma, 5.0 * sigma / std::sqrt(2.0 * n)) << sigma << " " << seed;
+      if (sigma <= 0.05) EXPECT_TRUE(r.warnings.empty());  // a factor <= 0 needs z <= -20
+    }
+  }
+}
+
+// The draws are standard normal: P(|z| < 1) = 0.682689, P(|z| < 2) = 0.954500 (binomial standard
+// error sqrt(p(1−p)/n), 5 of them allowed). Block entries and neighbouring frequencies are
+// independent: sample correlations within 5/√n of 0.
+TEST(Noise, DrawsAreNormalAndIndependent) {
+  const std::size_t n = 200000;
+  const auto z = standard_normals(n, 99);
+  double in1 = 0, in2 = 0;
+  for (double v : z) {
+    in1 += std::abs(v) < 1.0;
+    in2 += std::abs(v) < 2.0;
+  }
+  EXPECT_NEAR(in1 / n, 0.682689, 5.0 * std::sqrt(0.6827 * 0.3173 / n));
+  EXPECT_NEAR(in2 / n, 0.954500, 5.0 * std::sqrt(0.9545 * 0.0455 / n));
+
+  const std::size_t nf = 50000;
+  BlockSeries b;
+  for (std::size_t i = 0; i < nf; ++i) {
+    b.frequency_hz.push_back(1.0 + static_cast<double>(i));
+    b.blocks.push_back(make_block(1.0, 1.0, 1.0, 1.0));
+  }
+  const auto r = add_measurement_noise(b, {0.05, 5}).series;
+  auto corr = [&](auto a, auto c, std::size_t count) {
+    double sa = 0, sc = 0, saa = 0, scc = 0, sac = 0;
+    for (std::size_t i = 0; i < count; ++i) {
+      const double x = a(i), y = c(i);
+      sa += x, sc += y, saa += x * x, scc += y * y, sac += x * y;
+    }
+    const double k = static_cast<double>(count);
+    return (sac / k - sa / k * sc / k) / std::sqrt((saa / k - sa * sa / k / k) * (scc / k - sc * sc / k / k));
+  };
+  const double tol = 5.0 / std::sqrt(static_cast<double>(nf));
+  EXPECT_NEAR(corr([&](std::size_t i) { return r.blocks[i](0, 0).real(); },
+                   [&](std::size_t i) { return r.blocks[i](0, 1).real(); }, nf),
+              0.0, tol);  // H vs L at one frequency
+  EXPECT_NEAR(corr([&](std::size_t i) { return r.blocks[i](1, 1).real(); },
+                   [&](std::size_t i) { return r.blocks[i + 1](0, 0).real(); }, nf - 1),
+              0.0, tol);  // P at one frequency vs H at the next
+}
+
+TEST(Noise, ReproducibleFromTheSeed) {
+  const FrfSeries s = single({{1.0, 2.0}, {3.0, -1.0}, {0.5, 0.5}, {-2.0, 1.0}, {1e-6, -3e-6}});
+  const auto a = add_measurement_noise(s, {0.05, 42}).series, b = add_measurement_noise(s, {0.05, 42}).series;
+  const auto c = add_measurement_noise(s, {0.05, 43}).series;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    EXPECT_EQ(a.values[i], b.values[i]);  // bit for bit
+    EXPECT_NE(a.values[i], c.values[i]);
+  }
+  // The draws for a series are the first draws of the stream: a prefix of a longer run.
+  const auto z5 = standard_normals(5, 42), z8 = standard_normals(8, 42);
+  for (int i = 0; i < 5; ++i) EXPECT_EQ(z5[i], z8[i]);
+  for (std::size_t i = 0; i < s.size(); ++i) EXPECT_EQ(a.values[i], s.values[i] * (1.0 + 0.05 * z5[i]));
+}
+
+TEST(Noise, EdgeCasesAndBadSigma) {
+  const FrfSeries s = single({{1.0, 2.0}, {3.0, -1.0}});
+  const auto same = add_measurement_noise(s, {0.0, 3}).series;
+  for (std::size_t i = 0; i < s.size(); ++i) EXPECT_EQ(same.values[i], s.values[i]);
+  EXPECT_THROW(add_measurement_noise(s, {-0.01, 1}), InvalidArgument);
+  EXPECT_THROW(add_measurement_noise(s, {std::nan(""), 1}), InvalidArgument);
+  // σ = 2: about 31 % of factors are negative, which flips signs; said so.
+  const FrfSeries many = single(std::vector<Complex>(100, {1.0, 0.0}));
+  EXPECT_TRUE(contains(add_measurement_noise(many, {2.0, 1}).warnings, "changed sign"));
+}
+
+// ---- Rotational FRFs by finite differences -------------------------------------------------------
+
+namespace {
+
+// Static cantilever flexibility (EI = 1, clamp at x = 0): deflection at x for a unit force at ξ,
+// G = ξ²(3x − ξ)/6 for ξ ≤ x, symmetric otherwise. Exact tip values: N = L = 1/2, P = 1 (L = 1).
+double cantilever_static(double x, double xi) {
+  if (xi > x) std::swap(x, xi);
+  return xi * xi * (3.0 * x - xi) / 6.0;
+}
+
+// Exact dynamic receptances of a uniform Euler–Bernoulli cantilever (clamped at x = 0, free at
+// x = len or held there by a spring k to ground), EI complex (structural damping), ρA real:
+// EI w'''' − ρAΩ² w = f δ(x − ξ) − m δ'(x − ξ). Solved as a boundary-value problem on [0, ξ] and
+// [ξ, len] with w = Σ a_k φ_k(βx), φ = (cos, sin, cosh, sinh), β⁴ = ρAΩ²/EI: clamp w = w' = 0,
+// end w'' = 0 and EI w''' = k w, and at ξ w, w' continuous, [w''] = −m/EI, [w'''] = f/EI (signs:
+// a tip force f gives w = fx²(3L−x)/(6EI), a tip moment m gives w = mx²/(2EI), θ = dw/dx).
+struct Cantilever {
+  double len = 1.0, rhoA = 1.0;
+  Complex EI{1.0, 0.0};
+  double spring = 0.0;  // k [N/m] to ground at x = len
+
+  // d-th derivative of the basis at x.
+  Eigen::Matrix<Complex, 1, 4> basis(Complex beta, double x, int d) const {
+    const Complex bx = beta * x, bd = std::pow(beta, d);
+    const Complex c = std::cos(bx), s = std::sin(bx), ch = std::cosh(bx), sh = std::sinh(bx);
+    const Complex trig[4] = {c, -s, -c, s};  // cos and its derivatives; sin is the next one along
+    const Complex hyp[4] = {ch, sh, ch, sh};
+    Eigen::Matrix<Complex, 1, 4> r;
+    r << bd * trig[d % 4], bd * trig[(d + 3) % 4], bd * hyp[d % 2], bd * hyp[(d + 1) % 2];
+    return r;
+  }
+
+  // (w(x), w'(x)) for a force f and a moment m at ξ, at frequency Ω [rad/s].
+  std::pair<Complex, Complex> response(double x, double xi, Complex f, Complex m, double omega) const {
+    const Complex beta = std::pow(rhoA * omega * omega / EI, 0.25);
+    Eigen::Matrix<Complex, 8, 8> a = Eigen::Matrix<Complex, 8, 8>::Zero();
+    Eigen::Matrix<Complex, 8, 1> rhs = Eigen::Matrix<Complex, 8, 1>::Zero();
+    a.block<1, 4>(0, 0) = basis(beta, 0.0, 0);
+    a.block<1, 4>(1, 0) = basis(beta, 0.0, 1);
+    a.block<1, 4>(2, 4) = basis(beta, len, 2);
+    a.block<1, 4>(3, 4) = EI * basis(beta, len, 3) - spring * basis(beta, len, 0);
+    for (int d = 0; d < 4; ++d) {
+      a.block<1, 4>(4 + d, 0) = -basis(beta, xi, d);
+      a.block<1, 4>(4 + d, 4) = basis(beta, xi, d);
+    }
+    rhs(6) = -m / EI;
+    rhs(7) = f / EI;
+    const Eigen::Matrix<Complex, 8, 1> coef = a.fullPivLu().solve(rhs);
+    const int off = x <= xi ? 0 : 4;
+    return {(basis(beta, x, 0) * coef.segment<4>(off))(0), (basis(beta, x, 1) * coef.segment<4>(off))(0)};
+  }
+  Complex H(double x, double xi, double w) const { return response(x, xi, 1.0, 0.0, w).first; }
+  Complex N(double x, double xi, double w) const { return response(x, xi, 1.0, 0.0, w).second; }
+  Complex L(double x, double xi, double w) const { return response(x, xi, 0.0, 1.0, w).first; }
+  Complex P(double x, double xi, double w) const { return response(x, xi, 0.0, 1.0, w).second; }
+};
+
+// H_ij for points x_i = tip − i·s, from a kernel k(x, ξ, frequency index), on a frequency grid.
+template <class Kernel>
+PointFrfs point_frfs(const std::vector<double>& freqs, double tip, double s, Kernel k, int points = 3) {
+  PointFrfs p;
+  for (int i = 0; i < points; ++i)
+    for (int j = 0; j < points; ++j) {
+      FrfSeries series;
+      series.frequency_hz = freqs;
+      for (std::size_t f = 0; f < freqs.size(); ++f) series.values.push_back(k(tip - i * s, tip - j * s, f));
+      p.set(i, j, series);
+    }
+  return p;
+}
+
+RotationalOptions fd(int order, double s, PMethod p = PMethod::Auto, bool symmetrise = false) {
+  return RotationalOptions{order, s, symmetrise, p};
+}
+
+}  // namespace
+
+// The reference kernel itself, against independent facts: Maxwell–Betti reciprocity
+// (H(x,ξ) = H(ξ,x), N(x,ξ) = L(ξ,x)), the static flexibility at low frequency (relative
+// deviation O((βL)⁴) ≈ 1e-4 at βL = 0.1; round-off in the nearly collinear basis is ~1e-10), and
+// resonance at the first clamped–free root β₁L = 1.8751040687 (undamped: |H| there exceeds
+// 1e6 times its value 2 % away). With a tip spring k the kernel must equal the free one modified
+// by Özgüven's formula (NOTES §4), H_k(x,ξ) = H(x,ξ) − H(x,L) H(L,ξ) / (1/k + H(L,L)), to
+// round-off (1e-12 on values of order 0.1).
+TEST(Rotational, ReferenceCantileverKernelIsRight) {
+  Cantilever c;
+  c.EI = {1.0, 0.02};
+  const double w = 2.5 * 2.5;  // βL = 2.5
+  EXPECT_LT(std::abs(c.H(0.7, 0.4, w) - c.H(0.4, 0.7, w)), 1e-12);
+  EXPECT_LT(std::abs(c.N(0.7, 0.4, w) - c.L(0.4, 0.7, w)), 1e-12);
+  EXPECT_LT(std::abs(c.N(1.0, 1.0, w) - c.L(1.0, 1.0, w)), 1e-12);
+  Cantilever st;
+  const double w0 = 0.01;  // βL = 0.1
+  for (auto [x, xi] : {std::pair{1.0, 1.0}, {0.9, 1.0}, {1.0, 0.8}, {0.5, 0.3}})
+    EXPECT_NEAR(st.H(x, xi, w0).real() / cantilever_static(x, xi), 1.0, 2e-4) << x << " " << xi;
+  EXPECT_NEAR(st.N(1.0, 1.0, w0).real(), 0.5, 1e-4);
+  EXPECT_NEAR(st.P(1.0, 1.0, w0).real(), 1.0, 1e-4);
+  const double b1 = 1.8751040687;
+  EXPECT_GT(std::abs(st.H(1.0, 1.0, b1 * b1 * (1 + 1e-9))), 1e6 * std::abs(st.H(1.0, 1.0, b1 * b1 * 1.02)));
+  Cantilever held = c;
+  held.spring = 10.0;
+  for (auto [x, xi] : {std::pair{0.6, 0.6}, {0.3, 0.8}, {1.0, 0.5}}) {
+    const Complex want = c.H(x, xi, w) - c.H(x, 1.0, w) * c.H(1.0, xi, w) / (1.0 / held.spring + c.H(1.0, 1.0, w));
+    EXPECT_LT(std::abs(held.H(x, xi, w) - want), 1e-12) << x << " " << xi;
+  }
+}
+
+// NOTES §5 static check: EI = 1, L = 1, s = 0.1, from the closed-form flexibility. First order
+// N = L = 299/600, P = 14/15; second order N = L = 151/300, P = 31/30. 1e-12: round-off of
+// differences of O(1) numbers divided by s² = 0.01.
+TEST(Rotational, StaticCantileverMatchesNotes) {
+  const std::vector<double> f = {1.0};
+  const auto kernel = [](double x, double xi, std::size_t) { return Complex(cantilever_static(x, xi), 0.0); };
+  const PointFrfs p = point_frfs(f, 1.0, 0.1, kernel);
+  const RotationalResult r1 = rotational_frfs(p, fd(1, 0.1));
+  const RotationalResult r2 = rotational_frfs(p, fd(2, 0.1));
+  for (const auto& [r, n, pp] : {std::tuple{&r1, 299.0 / 600, 14.0 / 15}, {&r2, 151.0 / 300, 31.0 / 30}}) {
+    const Block& b = r->block.blocks[0];
+    EXPECT_NEAR(H_of(b).real(), 1.0 / 3.0, 1e-15);
+    EXPECT_NEAR(N_of(b).real(), n, 1e-12);
+    EXPECT_NEAR(L_of(b).real(), n, 1e-12);
+    EXPECT_NEAR(P_of(b).real(), pp, 1e-12);
+    EXPECT_TRUE(r->p_from_cross_terms);
+    EXPECT_FALSE(r->l_equals_n_by_reciprocity);
+    ASSERT_TRUE(r->reciprocity_mismatch.has_value());
+    EXPECT_LT(*r->reciprocity_mismatch, 1e-14);  // the kernel is symmetric
+  }
+  EXPECT_TRUE(contains(r1.warnings, "H02 is not used by order-1"));
+}
+
+// Schmitz & Smith with the hammer at the tip only (H00, H10): P = N²/H00. With the first-order
+// N = 299/600 and H00 = 1/3 that is 3(299/600)² = 0.745, and with the exact N = 1/2 it is 3/4:
+// about 25 % below P = 1 (NOTES §5). L = N by reciprocity, and both are flagged.
+TEST(Rotational, SchmitzSmithIsAbout25PercentLowOnStaticCantilever) {
+  PointFrfs p;
+  FrfSeries h00 = single({cantilever_static(1.0, 1.0)}), h10 = single({cantilever_static(0.9, 1.0)});
+  p.set(0, 0, h00, "tip.csv");
+  p.set(1, 0, h10, "p1.csv");
+  const RotationalResult r = rotational_frfs(p, fd(1, 0.1));
+  const Block& b = r.block.blocks[0];
+  EXPECT_NEAR(N_of(b).real(), 299.0 / 600, 1e-12);
+  EXPECT_EQ(L_of(b), N_of(b));
+  EXPECT_NEAR(P_of(b).real(), 3.0 * std::pow(299.0 / 600, 2), 1e-12);
+  EXPECT_FALSE(r.p_from_cross_terms);
+  EXPECT_TRUE(r.l_equals_n_by_reciprocity);
+  EXPECT_FALSE(r.reciprocity_mismatch.has_value());
+  EXPECT_TRUE(contains(r.warnings, "P approximated as N·L/H00"));
+  EXPECT_TRUE(contains(r.warnings, "H01 := H10 (p1.csv)"));
+  // As s → 0 the approximation tends to N²/H = (1/2)²/(1/3) = 3/4 of the true P = 1: 25 % low.
+  PointFrfs fine = point_frfs({1.0}, 1.0, 1e-5, [](double x, double xi, std::size_t) { return Complex(cantilever_static(x, xi)); });
+  const Complex p_ss = P_of(rotational_frfs(fine, fd(2, 1e-5, PMethod::SchmitzSmith)).block.blocks[0]);
+  EXPECT_NEAR(p_ss.real(), 0.75, 1e-6);  // second-order N error ~ s² plus round-off ~1e-16/s
+}
+
+// Convergence on the exact dynamic kernel (damped cantilever, EI = 1 + 0.02i, ρA = 1, L = 1) at
+// βL = 0.8, 2.5 and 3.5 (below and between the first two resonances 1.875 and 4.694), with s =
+// 0.01 and 0.02. Observed order = log2(error(2s)/error(s)).
+// * At an inner point x0 = 0.6 of the beam held by a tip spring k = 10 (so that a force at x0
+//   bends the beam there, w'' ≠ 0; on the plain cantilever w''(x0) is zero statically): N and L
+//   are first order (1 ± 0.1) with the first-order formulas, second order (2 ± 0.15) with the
+//   second-order ones.
+// * P is first order (1 ± 0.1) with either: the stencils straddle the kink of ∂²H/∂x∂ξ at x = ξ.
+// * At the free tip of the plain cantilever w'' = 0, so Taylor expansion gives N₁ − N = s²w'''/6 + O(s³) and
+//   N₂ − N = −s²w'''/3 + O(s³): both second order, the first-order formula with −1/2 times the
+//   second-order error (±0.05 for the O(s) relative remainder). Likewise L by reciprocity.
+// Tolerances allow for the next term of the error expansion (relative size ~ s·βL).
+TEST(Rotational, ConvergenceOrdersOnDynamicCantilever) {
+  Cantilever free;
+  free.EI = {1.0, 0.02};
+  Cantilever held = free;
+  held.spring = 10.0;
+  const std::vector<double> beta_l = {0.8, 2.5, 3.5};
+  std::vector<double> omegas, freqs;
+  for (double bl : beta_l) {
+    omegas.push_back(bl * bl);
+    freqs.push_back(bl * bl / (2.0 * kPi));
+  }
+  // Per frequency: the errors of N, L, P at point x0 (complex, FD minus exact).
+  auto errors = [&](int order, double s, double x0) {
+    const Cantilever& c = x0 < 1.0 ? held : free;
+    const auto kernel = [&](double x, double xi, std::size_t f) { return c.H(x, xi, omegas[f]); };
+    const RotationalResult r = rotational_frfs(point_frfs(freqs, x0, s, kernel), fd(order, s));
+    std::vector<std::array<Complex, 3>> e;
+    for (std::size_t f = 0; f < freqs.size(); ++f) {
+      const Block& b = r.block.blocks[f];
+      const double w = omegas[f];
+      e.push_back({N_of(b) - c.N(x0, x0, w), L_of(b) - c.L(x0, x0, w), P_of(b) - c.P(x0, x0, w)});
+    }
+    return e;
+  };
+  for (double x0 : {0.6, 1.0}) {
+    for (int order : {1, 2}) {
+      const auto coarse = errors(order, 0.02, x0), fine = errors(order, 0.01, x0);
+      for (std::size_t f = 0; f < freqs.size(); ++f) {
+        const double nl = x0 < 1.0 ? order : 2.0;
+        const double want[3] = {nl, nl, 1.0}, tol[3] = {nl > 1 ? 0.15 : 0.1, nl > 1 ? 0.15 : 0.1, 0.1};
+        for (int q = 0; q < 3; ++q)
+          EXPECT_NEAR(std::log2(std::abs(coarse[f][q]) / std::abs(fine[f][q])), want[q], tol[q])
+              << "x0 " << x0 << " order " << order << " βL " << beta_l[f] << " entry " << "NLP"[q];
+      }
+    }
+  }
+  const auto first = errors(1, 0.01, 1.0), second = errors(2, 0.01, 1.0);
+  for (std::size_t f = 0; f < freqs.size(); ++f)
+    for (int q = 0; q < 2; ++q) {
+      const Complex ratio = first[f][q] / second[f][q];
+      EXPECT_NEAR(ratio.real(), -0.5, 0.05) << "βL " << beta_l[f] << " entry " << "NL"[q];
+      EXPECT_NEAR(ratio.imag(), 0.0, 0.05) << "βL " << beta_l[f] << " entry " << "NL"[q];
+    }
+}
+
+// A roving hammer (sensor fixed at the tip: H00, H01, H02) gives N from L by reciprocity; with
+// both directions measured but different (noise), --symmetrise averages them and the mismatch
+// is reported.
+TEST(Rotational, ReciprocityFillAndSymmetrise) {
+  const auto kernel = [](double x, double xi, std::size_t) { return Complex(cantilever_static(x, xi)); };
+  const PointFrfs all = point_frfs({1.0}, 1.0, 0.1, kernel);
+  PointFrfs roving;
+  for (int j = 0; j < 3; ++j) roving.set(0, j, *all.h[0][j]);
+  const RotationalResult r = rotational_frfs(roving, fd(2, 0.1));
+  EXPECT_NEAR(N_of(r.block.blocks[0]).real(), 151.0 / 300, 1e-12);
+  EXPECT_EQ(N_of(r.block.blocks[0]), L_of(r.block.blocks[0]));
+  EXPECT_TRUE(r.l_equals_n_by_reciprocity);
+
+  PointFrfs skew = all;  // H10 measured 1 % high: N differs from L
+  skew.h[1][0]->values[0] *= 1.01;
+  const double h10 = cantilever_static(0.9, 1.0);
+  const RotationalResult kept = rotational_frfs(skew, fd(1, 0.1));
+  const RotationalResult sym = rotational_frfs(skew, fd(1, 0.1, PMethod::Auto, true));
+  const double n_skew = 299.0 / 600 - 0.01 * h10 / 0.1, l_true = 299.0 / 600;
+  EXPECT_NEAR(N_of(kept.block.blocks[0]).real(), n_skew, 1e-12);
+  EXPECT_NEAR(L_of(kept.block.blocks[0]).real(), l_true, 1e-12);
+  EXPECT_NEAR(N_of(sym.block.blocks[0]).real(), 0.5 * (n_skew + l_true), 1e-12);
+  EXPECT_EQ(N_of(sym.block.blocks[0]), L_of(sym.block.blocks[0]));
+  ASSERT_TRUE(kept.reciprocity_mismatch.has_value());
+  EXPECT_NEAR(*kept.reciprocity_mismatch, std::abs(n_skew - l_true) / l_true, 1e-12);
+  // A missing cross term (H21) is filled from H12; P is still by cross terms, and said so.
+  PointFrfs no21 = all;
+  no21.h[2][1].reset();
+  const RotationalResult r21 = rotational_frfs(no21, fd(2, 0.1));
+  EXPECT_TRUE(r21.p_from_cross_terms);
+  EXPECT_NEAR(P_of(r21.block.blocks[0]).real(), 31.0 / 30, 1e-12);
+  EXPECT_TRUE(contains(r21.warnings, "H21 := H12"));
+}
+
+TEST(Rotational, BadInputIsRejected) {
+  const auto kernel = [](double x, double xi, std::size_t) { return Complex(cantilever_static(x, xi)); };
+  const PointFrfs all = point_frfs({1.0, 2.0}, 1.0, 0.1, kernel);
+  EXPECT_THROW(rotational_frfs(all, fd(3, 0.1)), InvalidArgument);
+  EXPECT_THROW(rotational_frfs(all, fd(1, 0.0)), InvalidArgument);
+  EXPECT_THROW(rotational_frfs(all, fd(1, -0.01)), InvalidArgument);
+  EXPECT_THROW(rotational_frfs(all, fd(1, std::nan(""))), InvalidArgument);
+  PointFrfs no_tip = all;
+  no_tip.h[0][0].reset();
+  EXPECT_THROW(rotational_frfs(no_tip, fd(1, 0.1)), InputError);
+  PointFrfs no_point2 = all;  // neither H20 nor H02
+  no_point2.h[2][0].reset();
+  no_point2.h[0][2].reset();
+  EXPECT_NO_THROW(rotational_frfs(no_point2, fd(1, 0.1)));
+  EXPECT_THROW(rotational_frfs(no_point2, fd(2, 0.1)), InputError);
+  PointFrfs no_h11 = all;  // cross terms demanded but H11 missing
+  no_h11.h[1][1].reset();
+  try {
+    rotational_frfs(no_h11, fd(1, 0.1, PMethod::CrossTerms));
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("H11"), std::string::npos) << e.what();
+  }
+  PointFrfs grid = all;  // a different grid, named by its source
+  FrfSeries shifted = *all.h[1][0];
+  shifted.frequency_hz[1] = 2.5;
+  grid.set(1, 0, shifted, "p1.csv");
+  try {
+    rotational_frfs(grid, fd(1, 0.1));
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("H10 (p1.csv)"), std::string::npos) << e.what();
+  }
+  PointFrfs nan = all;
+  nan.h[1][1]->values[0] = {std::nan(""), 0.0};
+  EXPECT_THROW(rotational_frfs(nan, fd(1, 0.1)), InputError);
+  PointFrfs zero = all;  // P ≈ N·L/H00 with H00 = 0
+  zero.h[0][0]->values[1] = 0.0;
+  EXPECT_THROW(rotational_frfs(zero, fd(1, 0.1, PMethod::SchmitzSmith)), NumericalError);
+}
+
+// ---- The CLI: filter, noise, rotational ---------------------------------------------------------
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// A scratch folder per test, removed afterwards.
+class SignalCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("toolpoint_signal_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+  void write(const std::string& name, const std::string& text) const { write_text_file(path(name), text); }
+
+  // Runs `toolpoint ARGS` in the scratch folder; returns the exit code, stderr in err_.
+  int run(const std::string& args) {
+    const std::string cmd = "cd '" + dir_.string() + "' && '" TOOLPOINT_CLI "' " + args + " > out.txt 2> err.txt";
+    const int status = std::system(cmd.c_str());
+    err_ = read_text_file(path("err.txt"));
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+
+  bool err_has(const std::string& s) const { return err_.find(s) != std::string::npos; }
+
+  fs::path dir_;
+  std::string err_;
+};
+
+// An FRF CSV of the static cantilever flexibility between two points, on two frequencies.
+std::string static_frf(double x, double xi, double f0 = 10.0) {
+  const double g = cantilever_static(x, xi);
+  FrfSeries s = single({{g, 0.0}, {g, -0.01 * g}}, f0, 10.0);
+  return format_frf_csv(s);
+}
+
+}  // namespace
+
+// The NOTES §6 oracle through the command line, on a complex FRF (imaginary part = −real part)
+// and on a 2×2 block: the form is kept and every column is filtered. Written in shortest
+// round-trip form, so the file holds the library's numbers: 1e-14 as in the library test.
+TEST_F(SignalCli, FilterReproducesOracle) {
+  const double x[] = {2, 2, 5, 2, 1, 0, 1, 4, 9};
+  const double want[] = {58 / 35.0, 111 / 35.0, 124 / 35.0, 20 / 7.0, 23 / 35.0, 6 / 35.0, 1, 4, 9};
+  std::string single_csv = "frequency_hz,re,im\n", block_csv = "frequency_hz,H_re,H_im,L_re,L_im,N_re,N_im,P_re,P_im\n";
+  for (int i = 0; i < 9; ++i) {
+    const std::string f = std::to_string(100 + 5 * i), v = std::to_string(x[i]), mv = std::to_string(-x[i]);
+    single_csv += f + "," + v + "," + mv + "\n";
+    block_csv += f + "," + v + "," + mv + "," + v + ",0," + "0," + mv + "," + v + "," + v + "\n";
+  }
+  write("x.csv", single_csv);
+  write("b.csv", block_csv);
+  ASSERT_EQ(run("filter x.csv y.csv --window 5 --order 2"), 0) << err_;
+  ASSERT_EQ(run("filter b.csv c.csv -w 5 -p 2"), 0) << err_;
+  const FrfSeries y = read_single_csv(path("y.csv"));
+  const BlockSeries c = read_block_csv(path("c.csv"));
+  ASSERT_EQ(y.size(), 9u);
+  ASSERT_EQ(c.size(), 9u);
+  for (int i = 0; i < 9; ++i) {
+    EXPECT_NEAR(y.values[i].real(), want[i], 1e-14) << i;
+    EXPECT_NEAR(y.values[i].imag(), -want[i], 1e-14) << i;
+    EXPECT_NEAR(y.frequency_hz[i], 100 + 5 * i, 0.0);
+    const Block& b = c.blocks[i];
+    EXPECT_NEAR(b(0, 0).real(), want[i], 1e-14);
+    EXPECT_NEAR(b(0, 0).imag(), -want[i], 1e-14);
+    EXPECT_NEAR(b(0, 1).real(), want[i], 1e-14);
+    EXPECT_NEAR(b(0, 1).imag(), 0.0, 1e-14);
+    EXPECT_NEAR(b(1, 0).real(), 0.0, 1e-14);
+    EXPECT_NEAR(b(1, 0).imag(), -want[i], 1e-14);
+    EXPECT_NEAR(b(1, 1).real(), want[i], 1e-14);
+    EXPECT_NEAR(b(1, 1).imag(), want[i], 1e-14);
+  }
+}
+
+// Bad input: a clear message naming the option or the file and line, the documented exit code,
+// and no output file.
+TEST_F(SignalCli, FilterRejectsBadInput) {
+  write("x.csv", "frequency_hz,re,im\n1,1,0\n2,2,0\n3,3,0\n4,4,0\n5,5,0\n6,6,0\n7,7,0\n");
+  write("nan.csv", "# a comment\nfrequency_hz,re,im\n1,1,0\n2,nan,0\n3,3,0\n");
+  EXPECT_EQ(run("filter x.csv y.csv --window 4 --order 2"), 2);
+  EXPECT_TRUE(err_has("window 4")) << err_;
+  EXPECT_EQ(run("filter x.csv y.csv --window 5 --order 5"), 2);
+  EXPECT_TRUE(err_has("order 5")) << err_;
+  EXPECT_EQ(run("filter x.csv y.csv --window 9 --order 2"), 2);
+  EXPECT_TRUE(err_has("longer than x.csv (7 points)")) << err_;
+  EXPECT_EQ(run("filter x.csv y.csv --window 5"), 2);  // --order is required
+  EXPECT_EQ(run("filter nan.csv y.csv --window 3 --order 1"), 3);
+  EXPECT_TRUE(err_has("nan.csv:4")) << err_;
+  EXPECT_EQ(run("filter missing.csv y.csv --window 3 --order 1"), 5);
+  EXPECT_FALSE(fs::exists(path("y.csv")));
+}
+
+// Same seed, same file; another seed, another file; a negative sigma is a usage error.
+TEST_F(SignalCli, NoiseIsReproducible) {
+  write("h.csv", static_frf(1.0, 1.0));
+  ASSERT_EQ(run("noise h.csv a.csv --sigma 0.05 --seed 7"), 0) << err_;
+  ASSERT_EQ(run("noise h.csv b.csv --sigma 0.05 --seed 7"), 0) << err_;
+  ASSERT_EQ(run("noise h.csv c.csv --seed 8"), 0) << err_;
+  EXPECT_EQ(read_text_file(path("a.csv")), read_text_file(path("b.csv")));
+  EXPECT_NE(read_text_file(path("a.csv")), read_text_file(path("c.csv")));
+  EXPECT_EQ(run("noise h.csv d.csv --sigma -0.1"), 2);
+  EXPECT_TRUE(err_has("sigma -0.1")) << err_;
+}
+
+// NOTES §5 static check through the command line (second order, s = 0.1): N = L = 151/300,
+// P = 31/30 (1e-12 as in the library test); with the hammer at the tip only, P ≈ N²/H00 with a
+// warning. Errors: negative spacing, a missing point, grids that differ, a block where a
+// single FRF belongs.
+TEST_F(SignalCli, RotationalStaticCantilever) {
+  std::string args = "rotational --spacing 0.1 --order 2 --output tip.csv";
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      const std::string name = "h" + std::to_string(i) + std::to_string(j) + ".csv";
+      write(name, static_frf(1.0 - 0.1 * i, 1.0 - 0.1 * j));
+      args += " --h" + std::to_string(i) + std::to_string(j) + " " + name;
+    }
+  ASSERT_EQ(run(args), 0) << err_;
+  const BlockSeries b = read_block_csv(path("tip.csv"));
+  ASSERT_EQ(b.size(), 2u);
+  EXPECT_NEAR(N_of(b.blocks[0]).real(), 151.0 / 300, 1e-12);
+  EXPECT_NEAR(L_of(b.blocks[0]).real(), 151.0 / 300, 1e-12);
+  EXPECT_NEAR(P_of(b.blocks[0]).real(), 31.0 / 30, 1e-12);
+
+  ASSERT_EQ(run("rotational -s 0.1 --order 1 --h00 h00.csv --h10 h10.csv -o tip1.csv"), 0) << err_;
+  EXPECT_TRUE(err_has("P approximated as N·L/H00")) << err_;
+  EXPECT_NEAR(P_of(read_block_csv(path("tip1.csv")).blocks[0]).real(), 3.0 * std::pow(299.0 / 600, 2), 1e-12);
+
+  EXPECT_EQ(run("rotational --spacing -0.1 --h00 h00.csv --h10 h10.csv --h20 h20.csv -o bad.csv"), 2);
+  EXPECT_TRUE(err_has("spacing -0.1 m")) << err_;
+  EXPECT_EQ(run("rotational --spacing 0.1 --order 2 --h00 h00.csv --h10 h10.csv -o bad.csv"), 3);
+  EXPECT_TRUE(err_has("H20")) << err_;
+  write("shifted.csv", static_frf(0.9, 1.0, 11.0));
+  EXPECT_EQ(run("rotational --spacing 0.1 --order 1 --h00 h00.csv --h10 shifted.csv -o bad.csv"), 3);
+  EXPECT_TRUE(err_has("h00.csv") && err_has("shifted.csv")) << err_;
+  EXPECT_EQ(run("rotational --spacing 0.1 --order 1 --h00 h00.csv --h10 tip.csv -o bad.csv"), 3);
+  EXPECT_TRUE(err_has("tip.csv")) << err_;
+  EXPECT_EQ(run("rotational --spacing 0.1 --order 3 --h00 h00.csv --h10 h10.csv -o bad.csv"), 2);
+  EXPECT_FALSE(fs::exists(path("bad.csv")));
+}
