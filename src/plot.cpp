@@ -792,7 +792,11 @@ int engineering_exponent(const std::vector<double>& values) {
   for (double v : values)
     if (std::isfinite(v)) largest = std::max(largest, std::abs(v));
   if (!(largest > 0.0)) return 0;
-  return 3 * static_cast<int>(std::floor(std::log10(largest) / 3.0));
+  int e = 3 * static_cast<int>(std::floor(std::log10(largest) / 3.0));
+  // log10 may land a hair on the wrong side of an exact power of ten (1e-6 → −6.0000000001).
+  if (largest / std::pow(10.0, e) >= 1000.0 * (1.0 - 1e-12)) e += 3;
+  if (largest / std::pow(10.0, e) < 1.0 - 1e-12) e -= 3;
+  return e;
 }
 
 // `unit` for values divided by 10^exponent: an SI prefix on a unit that starts with a plain SI
