@@ -89,6 +89,11 @@ void require(bool ok, const std::string& what, const std::string& hint = {}) {
   if (!ok) throw InvalidArgument(what, hint);
 }
 
+void check_size(int width_px, int height_px) {
+  require(width_px >= 200 && width_px <= 20000 && height_px >= 200 && height_px <= 20000,
+          fmt::format("figure size {}×{} px is outside 200…20000 px", width_px, height_px));
+}
+
 std::string panel_name(std::size_t i, const Panel& p) {
   return p.y.label.empty() ? fmt::format("panel {}", i + 1) : fmt::format("panel {} ('{}')", i + 1, p.y.label);
 }
@@ -122,7 +127,7 @@ Format format_for_path(const std::string& path) {
 std::string literal(std::string_view text) {
   std::string s;
   for (char c : text) {
-    if (std::strchr("_^@&~{}\\", c) != nullptr && c != '\0') s += '\\';
+    if (c != '\0' && std::strchr("_^@&~{}\\", c) != nullptr) s += '\\';
     s += c;
   }
   return s;
@@ -130,8 +135,7 @@ std::string literal(std::string_view text) {
 
 void Figure::check() const {
   require(!panels.empty(), "figure has no panels", "add at least one panel with a curve");
-  require(width_px >= 200 && width_px <= 20000 && height_px >= 200 && height_px <= 20000,
-          fmt::format("figure size {}×{} px is outside 200…20000 px", width_px, height_px));
+  check_size(width_px, height_px);
   check_axis(x, "x axis");
   for (std::size_t i = 0; i < panels.size(); ++i) {
     const Panel& p = panels[i];
@@ -324,7 +328,7 @@ void append_panel(std::string& s, const Figure& fig, std::size_t i, double top, 
   const Panel& p = fig.panels[i];
   const bool last = i + 1 == fig.panels.size();
   const std::string id = fmt::format("p{}", i);
-  s += fmt::format("# ---- {}\n", panel_name(i, p));
+  s += fmt::format("# ---- panel {}\n", i + 1);  // not the label: a newline in it would end the comment
   s += fmt::format("set lmargin at screen {:.5f}\nset rmargin at screen {:.5f}\n", frame.left, frame.right);
   s += fmt::format("set tmargin at screen {:.5f}\nset bmargin at screen {:.5f}\n", top, bottom);
   s += "unset label\nunset arrow\nunset object\n";
@@ -402,7 +406,7 @@ std::string gnuplot_script(const Figure& fig) {
       append_block(s, fmt::format("$p{}f{}", i, k), p.fills[k].x, p.fills[k].y, fig.x.scale, p.y.scale, p.fills[k].base);
   }
   // House style shared by every panel.
-  s += "set grid xtics ytics back lw 1 lc rgb \"#DDDDDD\" dt solid\n"
+  s += "set grid xtics ytics back lt 1 lw 1 lc rgb \"#E0E0E0\" dt solid\n"
        "set border lw 1.2\n"
        "set tics scale 1.2, 0.6\n"
        "set samples 2\n"  // horizontal lines are constants: two samples draw them exactly
@@ -539,7 +543,10 @@ ChildOutcome run_gnuplot(const PlotOptions& o, const std::string& script) {
     const nfds_t n = in_write.get() >= 0 ? 2 : 1;
     if (::poll(fds, n, static_cast<int>(std::min<long long>(left.count(), 1000))) < 0) {
       if (errno == EINTR) continue;
-      break;
+      const std::string why = std::strerror(errno);
+      ::kill(pid, SIGKILL);
+      ::waitpid(pid, nullptr, 0);
+      throw IoError(fmt::format("lost contact with gnuplot ('{}'): poll failed ({})", o.gnuplot, why));
     }
     if (fds[0].revents != 0) {
       char buf[4096];
@@ -647,8 +654,7 @@ RenderResult render_script(const std::string& body, const std::string& path, int
                            const PlotOptions& options) {
   options.check();
   const Format format = format_for_path(path);
-  require(width_px >= 200 && width_px <= 20000 && height_px >= 200 && height_px <= 20000,
-          fmt::format("figure size {}×{} px is outside 200…20000 px", width_px, height_px));
+  check_size(width_px, height_px);
   TempOutput tmp(path);
   const std::string script = terminal_lines(format, width_px, height_px) + "set output " + gp_path(tmp.path()) +
                              "\n" + body + "\nunset output\n";
@@ -860,11 +866,13 @@ Figure frf_figure(const std::vector<FrfTrace>& traces, const FrfFigureOptions& o
   }
   if (o.mode_labels > 0) {
     const FrfSeries& s = traces[o.peak_trace].frf;
-    std::vector<double> magnitude;
-    for (const Complex& v : s.values) magnitude.push_back(std::abs(v));
+    std::vector<double> magnitude;  // NaN outside the plotted range: no peak is sought there
+    for (std::size_t k = 0; k < s.size(); ++k) {
+      const double f = s.frequency_hz[k];
+      magnitude.push_back(fig.x.min && (f < *fig.x.min || f > *fig.x.max) ? kNaN : std::abs(s.values[k]));
+    }
     for (std::size_t k : peak_indices(magnitude, o.mode_labels, o.min_peak_ratio)) {
       const double f = s.frequency_hz[k];
-      if (fig.x.min && (f < *fig.x.min || f > *fig.x.max)) continue;
       if (polar) {
         upper.labels.push_back({f, magnitude[k], hz_text(f), true});
       } else {  // Re X swings through zero at a mode: a marker line through both panels reads best
@@ -1034,6 +1042,11 @@ Figure lobes_figure(const LobesFigureData& data) {
   Figure fig;
   fig.title = data.title;
   fig.x.label = "Spindle speed [rpm]";
+  // The envelope spans the speeds of interest; lobes computed beyond it are cut at its ends.
+  if (data.envelope_rpm.size() >= 2) {
+    const auto [lo, hi] = std::minmax_element(data.envelope_rpm.begin(), data.envelope_rpm.end());
+    if (std::isfinite(*lo) && std::isfinite(*hi) && *lo < *hi) fig.x.min = *lo, fig.x.max = *hi;
+  }
   Panel depth, chatter;
   depth.height = 1.8;
   depth.y = Axis{"Axial depth of cut [mm]", Scale::Linear, 0.0, top * 1000.0, std::nullopt};

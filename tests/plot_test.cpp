@@ -387,6 +387,9 @@ TEST(Plot, FrfFigureMagnitudePhase) {
   ASSERT_EQ(f.panels[0].labels.size(), 1u);
   EXPECT_EQ(f.panels[0].labels[0].x, 40.0);
   EXPECT_EQ(f.panels[0].labels[0].text, "40 Hz");
+  // Peaks are sought only in the plotted range.
+  o.frequency_range_hz = {{10.0, 35.0}};
+  EXPECT_TRUE(frf_figure({{s, "measured", CurveStyle::Line}}, o).panels[0].labels.empty());
 }
 
 // Re/Im of a receptance in µm/N: the curve holds the input times 1e6 and the unit says µm/N.
@@ -460,6 +463,8 @@ TEST(Plot, LobesFigureContent) {
   d.envelope_depth_m = {2e-4, 1e-4, 1e-4};
   const Figure f = lobes_figure(d);
   ASSERT_EQ(f.panels.size(), 2u);
+  EXPECT_EQ(f.x.min.value_or(0.0), 5000.0);  // the speed axis spans the envelope
+  EXPECT_EQ(f.x.max.value_or(0.0), 20000.0);
   const Panel& p = f.panels[0];
   EXPECT_EQ(p.y.label, "Axial depth of cut [mm]");
   EXPECT_NEAR(*p.y.max, 0.5, 1e-12);  // default top: 5 × the envelope's 0.1 mm minimum

@@ -198,7 +198,8 @@ struct FrfFigureOptions {
   std::string unit = "m/N";   // the FRF's unit
   Scale frequency_scale = Scale::Linear;
   std::optional<std::pair<double, double>> frequency_range_hz;
-  int mode_labels = 0;          // label up to this many peaks (frequency in Hz) of trace `peak_trace`
+  int mode_labels = 0;          // label up to this many peaks (frequency in Hz) of trace `peak_trace`,
+                                // sought within frequency_range_hz when given
   std::size_t peak_trace = 0;
   double min_peak_ratio = 2.0;  // see peak_indices(); 2 = 6 dB above the surrounding valleys
   void check() const;           // throws InvalidArgument
@@ -277,7 +278,8 @@ struct LobesFigureData {
 };
 
 // Two panels: depth [mm] against spindle speed [rpm] with the stable region under the envelope
-// shaded and lobe numbers, and chatter frequency [Hz] against spindle speed.
+// shaded and lobe numbers, and chatter frequency [Hz] against spindle speed (when given). The
+// speed axis spans the envelope; legends sit outside on the right.
 Figure lobes_figure(const LobesFigureData& data);
 
 }  // namespace toolpoint::plot
