@@ -137,7 +137,8 @@ void add_beam_command(CLI::App& app, Globals& g) {
   c->add_option("--plot", o->plot,
                 "Also draw the receptance in FILE (.png, .svg or .pdf, by extension; needs gnuplot): |H| [m/N], "
                 "phase of H [deg], |P| [rad/(N·m)], phase of P [deg] against frequency [Hz], peaks of |H| labelled "
-                "[Hz]. Needs --frequencies and --output");
+                "[Hz]. Needs --frequencies and --output")
+      ->option_text("FILE");
   c->add_option("--block", o->block, "Which block to write: 11 (end 1 = outer end), 12, 21 or 22")
       ->check(CLI::IsMember({"11", "12", "21", "22"}))
       ->capture_default_str();
