@@ -1,4 +1,7 @@
 // toolpoint beam: one free–free Timoshenko segment — natural frequencies and end receptances.
+// Units: SI (m, kg, Pa); frequencies in Hz. --plot draws the written block through gnuplot:
+// |H| [m/N] and phase of H [deg], |P| [rad/(N·m)] and phase of P [deg], peaks of |H| labelled
+// with their frequency [Hz]; L and N are in the CSV only.
 #include <fmt/format.h>
 #include <iostream>
 #include <memory>
@@ -9,6 +12,7 @@
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/io.hpp"
+#include "toolpoint/plot.hpp"
 
 namespace toolpoint::cli {
 
@@ -20,12 +24,17 @@ struct BeamOptions {
   double shear_coefficient = 0.0;
   std::string shear_model = "hutchinson";
   int modes = 0;
-  std::string frequencies, output, method = "exact", block = "11";
+  std::string frequencies, output, method = "exact", block = "11", plot;
   int modal_terms = 100;
   bool static_residual = false, json = false;
 };
 
 void run_beam(const BeamOptions& o, const Globals& g) {
+  if (!o.plot.empty()) {  // before any work: a typo in the figure name should not cost a run
+    if (o.frequencies.empty())
+      throw InvalidArgument("--plot needs --frequencies and --output", "add --frequencies 10:20000:10 --output tip.csv");
+    plot::format_for_path(o.plot);
+  }
   Material mat{"beam", o.youngs_modulus, o.poisson, o.shear_modulus, o.density, o.loss_factor};
   Segment seg = Segment::tube(o.length, o.diameter, o.inner_diameter, mat);
   seg.shear_model = o.shear_model == "cowper" ? ShearModel::Cowper : ShearModel::Hutchinson;
@@ -85,6 +94,21 @@ void run_beam(const BeamOptions& o, const Globals& g) {
     out["output"] = o.output;
     out["points"] = f.size();
     info(g, fmt::format("wrote {} ({} frequencies, block T{})", o.output, f.size(), o.block));
+    if (!o.plot.empty()) {
+      const plot::Figure fig = plot::receptance_figure(
+          s, fmt::format("Free–free Timoshenko beam, block T_{{{}}}: L = {} m, D = {} m", o.block, o.length, o.diameter),
+          o.block);
+      plot::RenderResult r;
+      try {
+        r = plot::render(fig, o.plot);
+      } catch (const plot::PlotUnavailable& e) {
+        throw plot::PlotUnavailable(fmt::format("{}; the receptance was written to {}", e.what(), o.output), e.hint());
+      }
+      for (const auto& n : r.notes) info(g, "note: " + n);
+      warn_all(r.warnings);
+      out["plot"] = o.plot;
+      info(g, fmt::format("wrote {} (gnuplot terminal {})", o.plot, r.terminal));
+    }
   }
   if (o.json) std::cout << out.dump(2) << '\n';
 }
@@ -110,6 +134,11 @@ void add_beam_command(CLI::App& app, Globals& g) {
   c->add_option("--modes", o->modes, "Print the first N free–free natural frequencies [Hz]");
   c->add_option("--frequencies", o->frequencies, "Frequency grid START:STOP:STEP [Hz] for the receptance output");
   c->add_option("--output", o->output, "Write the receptance block here (FRF CSV)");
+  c->add_option("--plot", o->plot,
+                "Also draw the receptance in FILE (.png, .svg or .pdf, by extension; needs gnuplot): |H| [m/N], "
+                "phase of H [deg], |P| [rad/(N·m)], phase of P [deg] against frequency [Hz], peaks of |H| labelled "
+                "[Hz]. Needs --frequencies and --output")
+      ->option_text("FILE");
   c->add_option("--block", o->block, "Which block to write: 11 (end 1 = outer end), 12, 21 or 22")
       ->check(CLI::IsMember({"11", "12", "21", "22"}))
       ->capture_default_str();
@@ -123,7 +152,7 @@ void add_beam_command(CLI::App& app, Globals& g) {
       "Example:\n"
       "  toolpoint beam --length 0.1 --diameter 0.05 --modes 6\n"
       "  toolpoint beam --length 0.123 --diameter 0.016 --youngs-modulus 5.8e11 --density 14500 \\\n"
-      "      --loss-factor 0.002 --frequencies 10:20000:10 --output tool_T11.csv");
+      "      --loss-factor 0.002 --frequencies 10:20000:10 --output tool_T11.csv --plot tool_T11.png");
   c->callback([o, &g] { run_beam(*o, g); });
 }
 
