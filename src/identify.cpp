@@ -21,7 +21,22 @@ JointEstimate identify_joint(const TwoPort& A, const Block& B11, const Block& G1
   e.cond_difference = std::sqrt(nD) * Dinv.norm();
   e.cond_flexibility = std::sqrt(nK) * e.K.norm();
   e.cond_A12 = frobenius_condition(A.b12);
-  e.sensitivity = left.norm() * right.norm() * G11.norm() / std::sqrt(nK);
+  const Block L = e.K * left, R = right * e.K;
+  for (int r = 0; r < 2; ++r)
+    for (int c = 0; c < 2; ++c) {
+      // A real relative error ε_q on entry q moves K_rc by ε_q·coef_q: Re and Im add separately.
+      double sre = 0.0, sim = 0.0;
+      for (int a = 0; a < 2; ++a)
+        for (int b = 0; b < 2; ++b) {
+          const Complex cg = L(r, a) * R(b, c) * G11(a, b), cb = e.K(r, a) * e.K(b, c) * B11(a, b);
+          sre += cg.real() * cg.real() + cb.real() * cb.real();
+          sim += cg.imag() * cg.imag() + cb.imag() * cb.imag();
+        }
+      const double re = std::abs(e.K(r, c).real()), im = std::abs(e.K(r, c).imag());
+      const int k = 4 * r + 2 * c;  // (0,0) → k_yf, (0,1) → k_ym, (1,0) → k_θf, (1,1) → k_θm
+      e.noise_gain[static_cast<std::size_t>(k)] = re > 0.0 ? std::sqrt(sre) / re : std::numeric_limits<double>::infinity();
+      e.noise_gain[static_cast<std::size_t>(k + 1)] = im > 0.0 ? std::sqrt(sim) / im : std::numeric_limits<double>::infinity();
+    }
   return e;
 }
 
@@ -44,6 +59,23 @@ JointSeries identify_series(const std::function<TwoPort(double)>& A, const Block
     s.parameters.push_back(parameters_from_stiffness(s.estimates.back().K, f));
   }
   return s;
+}
+
+Table joint_table(const JointSeries& js) {
+  Table t;
+  t.columns = {"frequency_hz",     "k_yf_N_per_m",     "c_yf_N_s_per_m",     "k_ym_N",        "c_ym_N_s",
+               "k_tf_N_per_rad",   "c_tf_N_s_per_rad", "k_tm_N_m_per_rad",   "c_tm_N_m_s_per_rad",
+               "cond_A11_minus_G11", "cond_K_inverse",
+               "gain_k_yf", "gain_c_yf", "gain_k_ym", "gain_c_ym", "gain_k_tf", "gain_c_tf", "gain_k_tm", "gain_c_tm"};
+  for (std::size_t i = 0; i < js.size(); ++i) {
+    std::vector<double> row{js.frequency_hz[i]};
+    for (int k = 0; k < 8; ++k) row.push_back(js.parameters[i][k]);
+    row.push_back(js.estimates[i].cond_difference);
+    row.push_back(js.estimates[i].cond_flexibility);
+    for (double gk : js.estimates[i].noise_gain) row.push_back(gk);
+    t.rows.push_back(std::move(row));
+  }
+  return t;
 }
 
 JointParameters JointReadout::medians() const {
@@ -79,10 +111,13 @@ JointReadout read_joint(const JointSeries& s, double lo, double hi, const Readou
   JointReadout r;
   r.band_lo_hz = lo;
   r.band_hi_hz = hi;
-  std::array<std::vector<double>, 8> vals;
+  std::array<std::vector<double>, 8> vals, gains;
   for (std::size_t i = 0; i < s.size(); ++i) {
     if (s.frequency_hz[i] < lo || s.frequency_hz[i] > hi) continue;
-    for (int k = 0; k < 8; ++k) vals[static_cast<std::size_t>(k)].push_back(s.parameters[i][k]);
+    for (int k = 0; k < 8; ++k) {
+      vals[static_cast<std::size_t>(k)].push_back(s.parameters[i][k]);
+      gains[static_cast<std::size_t>(k)].push_back(s.estimates[i].noise_gain[static_cast<std::size_t>(k)]);
+    }
     r.max_cond_difference = std::max(r.max_cond_difference, s.estimates[i].cond_difference);
     r.max_cond_flexibility = std::max(r.max_cond_flexibility, s.estimates[i].cond_flexibility);
   }
@@ -100,6 +135,7 @@ JointReadout read_joint(const JointSeries& s, double lo, double hi, const Readou
     p.spread = 1.4826 * median_of(dev);
     p.min = *std::min_element(vals[k].begin(), vals[k].end());
     p.max = *std::max_element(vals[k].begin(), vals[k].end());
+    r.noise_gain[k] = median_of(gains[k]);
   }
   r.reciprocity_k = relative_difference(r.parameters[2].median, r.parameters[4].median);
   r.reciprocity_c = relative_difference(r.parameters[3].median, r.parameters[5].median);
@@ -114,6 +150,12 @@ JointReadout read_joint(const JointSeries& s, double lo, double hi, const Readou
   if (r.reciprocity_c > options.reciprocity_warning)
     r.warnings.push_back(fmt::format("c_ym = {:.4g} and c_tf = {:.4g} differ by {:.0f} %", r.parameters[3].median,
                                      r.parameters[5].median, 100 * r.reciprocity_c));
+  for (int k = 0; k < 8; ++k) {
+    const auto& p = r.parameters[static_cast<std::size_t>(k)];
+    if (r.points >= 3 && p.spread > std::abs(p.median))
+      r.warnings.push_back(fmt::format("{}: spread {:.3g} exceeds the value {:.3g} {} — not identifiable from these data in this band",
+                                       JointParameters::name(k), p.spread, p.median, JointParameters::unit(k)));
+  }
   if (r.points < 3) r.warnings.push_back(fmt::format("only {} point(s) in the read-out band", r.points));
   return r;
 }

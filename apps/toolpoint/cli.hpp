@@ -28,11 +28,16 @@ void info(const Globals& g, const std::string& message);
 void warn(const std::string& message);
 void warn_all(const std::vector<std::string>& messages);
 
+// The example assembly compiled into the binary (examples/bt40_shrinkfit_16mm.toml).
+const char* example_assembly_toml();
+const char* example_assembly_name();
+
 // The subcommands. Each adds itself to `app` with its options, help (units, defaults, one
 // example) and callback.
 void add_beam_command(CLI::App& app, Globals& g);
 void add_predict_command(CLI::App& app, Globals& g);
 void add_identify_command(CLI::App& app, Globals& g);
+void add_demo_command(CLI::App& app, Globals& g);
 void add_filter_command(CLI::App& app, Globals& g);
 void add_noise_command(CLI::App& app, Globals& g);
 void add_rotational_command(CLI::App& app, Globals& g);

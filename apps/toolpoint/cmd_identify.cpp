@@ -117,16 +117,7 @@ void run_identify(const IdentifyOptions& o, const Globals& g) {
   const auto cmp = compare_modes(g_h, entry(pred, 0));
 
   if (!o.output.empty()) {
-    Table t;
-    t.columns = {"frequency_hz", "k_yf_N_per_m", "c_yf_N_s_per_m", "k_ym_N", "c_ym_N_s", "k_tf_N_per_rad", "c_tf_N_s_per_rad",
-                 "k_tm_N_m_per_rad", "c_tm_N_m_s_per_rad", "cond_A11_minus_G11", "cond_K_inverse"};
-    for (std::size_t i = 0; i < js.size(); ++i) {
-      std::vector<double> row{js.frequency_hz[i]};
-      for (int k = 0; k < 8; ++k) row.push_back(js.parameters[i][k]);
-      row.push_back(js.estimates[i].cond_difference);
-      row.push_back(js.estimates[i].cond_flexibility);
-      t.rows.push_back(std::move(row));
-    }
+    const Table t = joint_table(js);
     write_table_csv(o.output, t,
                     {fmt::format("toolpoint identify: {} joint, {}", o.joint, equation),
                      "k = Re K, c = Im K / omega; units in the column names (SI); frequency in Hz"});

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "toolpoint/assembly.hpp"
+#include "toolpoint/io.hpp"
 #include "toolpoint/joint.hpp"
 #include "toolpoint/peaks.hpp"
 #include "toolpoint/receptance.hpp"
@@ -36,13 +37,17 @@ struct JointEstimate {
   double cond_difference = 0.0;   // cond(A11 − G11), the inversion that amplifies errors in G11
   double cond_flexibility = 0.0;  // cond(K⁻¹ = X⁻¹ − A22 − B11)
   double cond_A12 = 0.0;          // cond(A12), as the seed's form would invert it
-  // First-order amplification of a relative error in G11 into K: from
-  // δK⁻¹ = A21 D⁻¹ δG D⁻¹ A12 (D = A11 − G11),
-  //   sensitivity = ‖A21 D⁻¹‖ ‖D⁻¹ A12‖ ‖G11‖ / ‖K⁻¹‖   (Frobenius norms),
-  // so a 1 % error in the measured FRF may move K by up to `sensitivity` %. It is large away
-  // from the joint's dominant mode (NOTES §1) and at low frequency, where the components'
-  // rigid-body receptance dwarfs the joint's flexibility.
-  double sensitivity = 0.0;
+  // Noise gain per parameter (k_yf, c_yf, …, c_θm): the expected relative error of that parameter
+  // per unit relative error on each measured entry — the 4 of G11 and the 4 of B11, independent,
+  // as the seed's multiplicative noise. First-order propagation: with D = A11 − G11,
+  //   δK = −(K A21 D⁻¹) δG (D⁻¹ A12 K) + K δB11 K,
+  // a real relative error ε_q on entry q moves K_rc by ε_q coef_q with coef = −(K A21 D⁻¹)_ra
+  // (D⁻¹ A12 K)_bc G_ab or K_ra K_bc B_ab; so the RMS error of k = Re K_rc is sqrt(Σ Re(coef)²)
+  // and of c = Im K_rc/ω is sqrt(Σ Im(coef)²)/ω, each divided by the parameter for the gain:
+  // for 5 % noise expect a relative error of ≈ 0.05 × gain. Unit-free. Large away from
+  // a well-placed mode (NOTES §1), at low frequency, and always for a damping whose ωc is a small
+  // part of |K|.
+  std::array<double, 8> noise_gain{};
 };
 
 // The closed form above at one frequency. Throws NumericalError when A11 − G11 or K⁻¹ is
@@ -64,6 +69,10 @@ struct JointSeries {
 JointSeries identify_series(const std::function<TwoPort(double)>& A, const BlockSeries& B11, const std::string& b_name,
                             const BlockSeries& G11, const std::string& g_name);
 
+// K(ω) as a table: frequency_hz, the eight parameters (units in the column names) and the
+// condition numbers and noise gains per frequency.
+Table joint_table(const JointSeries& series);
+
 // The eight parameters read in a band: median and a robust spread (1.4826 × median absolute
 // deviation, the standard deviation for Gaussian scatter).
 struct ParameterReadout {
@@ -78,6 +87,7 @@ struct JointReadout {
   // Reciprocity: |k_ym − k_θf| / max(|k_ym|, |k_θf|), and the same for c (0 when both are 0).
   double reciprocity_k = 0.0, reciprocity_c = 0.0;
   double max_cond_difference = 0.0, max_cond_flexibility = 0.0;
+  std::array<double, 8> noise_gain{};  // median over the band of JointEstimate::noise_gain
   std::vector<std::string> warnings;
 };
 
@@ -87,8 +97,10 @@ struct ReadoutOptions {
   void check() const;
 };
 
-// Reads the parameters from the points with band_lo ≤ f ≤ band_hi. Throws InvalidArgument if the
-// band holds no point.
+// Reads the parameters from the points with band_lo ≤ f ≤ band_hi. Warns (in the result) about
+// poor conditioning, broken reciprocity, and any parameter whose spread exceeds its value (not
+// identifiable from the data: typical of damping under noise, where ωc is a few % of |K|).
+// Throws InvalidArgument if the band holds no point.
 JointReadout read_joint(const JointSeries& series, double band_lo_hz, double band_hi_hz, const ReadoutOptions& options = {});
 
 // ---- Which mode does the joint control? ---------------------------------------------------------

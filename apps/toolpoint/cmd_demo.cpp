@@ -1,0 +1,251 @@
+// toolpoint demo: the seed's analytical case study (Section 3) end to end, with its figures.
+#include <fmt/format.h>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "cli.hpp"
+#include "toolpoint/assembly_file.hpp"
+#include "toolpoint/case_study.hpp"
+#include "toolpoint/io.hpp"
+#include "toolpoint/plot.hpp"
+
+namespace toolpoint::cli {
+
+namespace {
+
+struct DemoOptions {
+  std::string assembly, output = "toolpoint-demo";
+  double sigma = 0.05, width = 0.02;
+  std::uint64_t seed = 1;
+  int window = 81, order = 2;
+  bool no_plots = false, json = false;
+};
+
+std::string pct(double x) { return fmt::format("{:+.2g} %", 100.0 * x); }
+
+plot::JointParameterCurve joint_curve(const JointSeries& s, int k_index, const JointParameters& ref,
+                                      const std::optional<JointParameters>& identified) {
+  static const char* subs[4] = {"yf", "ym", "{/Symbol q}f", "{/Symbol q}m"};
+  plot::JointParameterCurve c;
+  const int pair = k_index / 2;
+  c.name = subs[pair];
+  c.stiffness_unit = JointParameters::unit(2 * pair);
+  c.damping_unit = JointParameters::unit(2 * pair + 1);
+  for (const auto& p : s.parameters) {
+    c.stiffness.push_back(p[2 * pair]);
+    c.damping.push_back(p[2 * pair + 1]);
+  }
+  c.reference_stiffness = ref[2 * pair];
+  c.reference_damping = ref[2 * pair + 1];
+  if (identified) {
+    c.identified_stiffness = (*identified)[2 * pair];
+    c.identified_damping = (*identified)[2 * pair + 1];
+  }
+  return c;
+}
+
+void run_demo(const DemoOptions& o, const Globals& g) {
+  const LoadedAssembly loaded = o.assembly.empty() ? parse_assembly(example_assembly_toml(), example_assembly_name())
+                                                   : load_assembly(o.assembly);
+  warn_all(loaded.warnings);
+  CaseStudyOptions co;
+  co.noise_sigma = o.sigma;
+  co.seed = o.seed;
+  co.filter = SavgolOptions{o.window, o.order};
+  co.band_width = o.width;
+  co.check();
+  info(g, "toolpoint demo: running the seed's analytical case study (Özşahin et al. 2009, Section 3)…");
+  const CaseStudy cs = run_case_study(loaded.assembly, co);
+  const auto& f = cs.sht_true.frequency_hz;
+  const std::string dir = o.output;
+  auto path = [&](const std::string& name) { return dir + "/" + name; };
+
+  // Data files.
+  const std::vector<std::string> note = {fmt::format("toolpoint demo: {}", loaded.assembly.name)};
+  std::vector<std::string> files;
+  auto block_file = [&](const std::string& name, const BlockSeries& s, const std::string& what) {
+    write_frf_csv(path(name), s, {note[0], what});
+    files.push_back(name);
+  };
+  block_file("sh11_true.csv", cs.sh_true, "SH11, holder tip of spindle + holder (tool outside removed), noise-free model");
+  block_file("sht11_true.csv", cs.sht_true, "SHT11, tool point, noise-free model");
+  block_file("sh11_noisy.csv", cs.sh_noisy, fmt::format("SH11 with {} % multiplicative noise, seed {}", 100 * o.sigma, o.seed));
+  block_file("sht11_noisy.csv", cs.sht_noisy, fmt::format("SHT11 with {} % multiplicative noise, seed {}", 100 * o.sigma, o.seed + 1));
+  block_file("sh11_filtered.csv", cs.sh_filtered, fmt::format("SH11 noisy, Savitzky-Golay window {} points, order {}", o.window, o.order));
+  block_file("sht11_filtered.csv", cs.sht_filtered, fmt::format("SHT11 noisy, Savitzky-Golay window {} points, order {}", o.window, o.order));
+  block_file("sht11_identified.csv", cs.sht_verified, "SHT11 from Eq. (5) with the joint read from the filtered data");
+  auto joint_file = [&](const std::string& name, const JointSeries& s, const std::string& what) {
+    write_table_csv(path(name), joint_table(s), {note[0], "holder-tool joint K(omega) by Eq. (6): " + what, "k = Re K, c = Im K / omega (SI)"});
+    files.push_back(name);
+  };
+  joint_file("kht_noise_free.csv", cs.clean, "noise-free FRFs");
+  joint_file("kht_noisy.csv", cs.noisy, "noisy FRFs, unfiltered");
+  joint_file("kht_filtered.csv", cs.filtered, "noisy FRFs, Savitzky-Golay filtered");
+
+  // Summary.
+  nlohmann::json j;
+  j["case_study"] = "Ozsahin, Erturk, Ozguven, Budak (2009), Section 3: holder-tool joint";
+  j["assembly"] = o.assembly.empty() ? example_assembly_name() : o.assembly;
+  j["units"] = "SI; frequencies in Hz";
+  j["frequency_range_hz"] = {f.front(), f.back()};
+  j["points"] = f.size();
+  j["noise"] = {{"sigma", o.sigma}, {"seed_sh11", o.seed}, {"seed_sht11", o.seed + 1}};
+  j["filter"] = {{"method", "Savitzky-Golay"}, {"window_points", o.window}, {"order", o.order}};
+  j["tool_mode_hz"] = cs.mode_hz;
+  j["band_hz"] = {cs.filtered_readout.band_lo_hz, cs.filtered_readout.band_hi_hz};
+  nlohmann::json modes = nlohmann::json::array();
+  for (const auto& m : cs.effect.modes)
+    modes.push_back({{"frequency_hz", m.frequency_hz}, {"peak_m_per_n", m.magnitude}, {"relative_shift_per_10pct_k", m.stiffness_shift}});
+  j["effect_analysis"] = {{"modes", modes}, {"dominant_index", cs.effect.dominant}};
+  for (int k = 0; k < 8; ++k) {
+    const auto ks = static_cast<std::size_t>(k);
+    j["parameters"][JointParameters::name(k)] = {
+        {"unit", JointParameters::unit(k)},
+        {"reference", cs.reference[k]},
+        {"noise_free_max_relative_deviation_over_band", cs.clean_max_deviation[ks]},
+        {"noise_free", cs.clean_readout.parameters[ks].median},
+        {"noisy", cs.noisy_readout.parameters[ks].median},
+        {"noisy_spread", cs.noisy_readout.parameters[ks].spread},
+        {"filtered", cs.filtered_readout.parameters[ks].median},
+        {"filtered_spread", cs.filtered_readout.parameters[ks].spread},
+        {"noise_gain_in_band", cs.clean_readout.noise_gain[ks]}};
+  }
+  j["verification"] = nlohmann::json::array();
+  for (const auto& c : cs.verification)
+    j["verification"].push_back({{"true_hz", c.measured_hz}, {"predicted_hz", c.predicted_hz}, {"frequency_error", c.frequency_error},
+                                 {"peak_error", c.magnitude_error}});
+  std::vector<std::string> warnings = cs.warnings;
+  for (const auto& w : cs.filtered_readout.warnings) warnings.push_back("filtered read-out: " + w);
+  j["warnings"] = warnings;
+
+  // Figures (the seed's Fig. 2–5), unless gnuplot is missing: then the data still stand.
+  std::vector<std::string> figures;
+  std::string plot_note;
+  if (!o.no_plots) {
+    try {
+      auto frf_fig = [&](const std::string& name, const std::vector<plot::FrfTrace>& traces, const std::string& title,
+                         const std::string& symbol, int labels) {
+        plot::FrfFigureOptions fo;
+        fo.title = title;
+        fo.symbol = symbol;
+        fo.mode_labels = labels;
+        fo.peak_trace = 0;
+        plot::render(plot::frf_figure(traces, fo), path(name));
+        figures.push_back(name);
+      };
+      frf_fig("fig2a_tool_point_frf.png",
+              {{entry(cs.sht_true, 0), "model (noise-free)", plot::CurveStyle::Line},
+               {entry(cs.sht_noisy, 0), fmt::format("{:g} % noise", 100 * o.sigma), plot::CurveStyle::Points},
+               {entry(cs.sht_filtered, 0), "Savitzky-Golay filtered", plot::CurveStyle::Dashed}},
+              "Tool point FRF H_{11}^{sht} (seed Fig. 2a, 4b)", "H^{sht}_{11}", 6);
+      frf_fig("fig2b_holder_tip_frf.png",
+              {{entry(cs.sh_true, 0), "model (noise-free)", plot::CurveStyle::Line},
+               {entry(cs.sh_noisy, 0), fmt::format("{:g} % noise", 100 * o.sigma), plot::CurveStyle::Points},
+               {entry(cs.sh_filtered, 0), "Savitzky-Golay filtered", plot::CurveStyle::Dashed}},
+              "Holder tip FRF H_{11}^{sh}, tool outside removed (seed Fig. 2b, 4a)", "H^{sh}_{11}", 6);
+      plot::JointFigureData clean;
+      clean.frequency_hz = f;
+      clean.title = "Holder-tool joint from noise-free FRFs, Eq. (6) (seed Fig. 3)";
+      for (int pair = 0; pair < 4; ++pair) clean.parameters.push_back(joint_curve(cs.clean, 2 * pair, cs.reference, std::nullopt));
+      plot::render(plot::joint_figure(clean), path("fig3_joint_noise_free.png"));
+      figures.push_back("fig3_joint_noise_free.png");
+      plot::JointFigureData noisy;
+      noisy.frequency_hz = f;
+      noisy.title = fmt::format("k_{{yf}}, c_{{yf}} from {:g} % noise, filtered; read at the tool mode (seed Fig. 5)", 100 * o.sigma);
+      noisy.parameters.push_back(joint_curve(cs.filtered, 0, cs.reference, cs.filtered_readout.medians()));
+      noisy.band_hz = std::make_pair(cs.filtered_readout.band_lo_hz, cs.filtered_readout.band_hi_hz);
+      plot::render(plot::joint_figure(noisy), path("fig5_joint_filtered.png"));
+      figures.push_back("fig5_joint_filtered.png");
+      frf_fig("fig_verification.png",
+              {{entry(cs.sht_true, 0), "true tool point FRF", plot::CurveStyle::Line},
+               {entry(cs.sht_verified, 0), "Eq. (5) with the identified joint", plot::CurveStyle::Dashed}},
+              "Forward check: identified holder-tool joint coupled back", "H^{sht}_{11}", 6);
+    } catch (const plot::PlotUnavailable& e) {
+      plot_note = fmt::format("figures skipped: {} (the CSV data are written)", e.what());
+      warn(plot_note);
+    }
+  }
+  j["files"] = files;
+  j["figures"] = figures;
+  write_text_file(path("summary.json"), j.dump(2) + "\n");
+  files.push_back("summary.json");
+
+  if (o.json) {
+    std::cout << j.dump(2) << '\n';
+    return;
+  }
+  std::cout << fmt::format("toolpoint demo: the seed's analytical case study (Özşahin et al. 2009, Section 3)\n");
+  std::cout << fmt::format("assembly: {} ({})\n\n", loaded.assembly.name, o.assembly.empty() ? example_assembly_name() : o.assembly);
+  std::cout << fmt::format("1. Forward model (Eq. 1–5): SH11 and SHT11 at {} frequencies, {:g}–{:g} Hz.\n", f.size(), f.front(), f.back());
+  std::cout << "   tool point modes:";
+  for (std::size_t i = 0; i < cs.effect.modes.size(); ++i)
+    std::cout << fmt::format(" {:.1f} Hz{}", cs.effect.modes[i].frequency_hz, i == cs.effect.dominant ? " (tool mode)" : "");
+  std::cout << "\n";
+  double worst = 0.0;
+  for (double d : cs.clean_max_deviation) worst = std::max(worst, d);
+  std::cout << fmt::format("2. Identification from noise-free FRFs (Eq. 6) over the whole band: all 8 parameters equal the\n"
+                           "   holder-tool joint put in, within {:.1e} relative at every frequency (seed Fig. 3).\n",
+                           worst);
+  std::cout << fmt::format("3. {:g} % noise on every entry of SH11 and SHT11 (seeds {}, {}); Savitzky-Golay filter,\n"
+                           "   window {} points ({:g} Hz), order {}.\n",
+                           100 * o.sigma, o.seed, o.seed + 1, o.window, o.window * (f[1] - f[0]), o.order);
+  const auto& dm = cs.effect.modes[cs.effect.dominant];
+  std::cout << fmt::format("4. Effect analysis: the holder-tool joint controls the {:.1f} Hz mode (+10 % joint stiffness moves it\n"
+                           "   {}); read in {:.0f}–{:.0f} Hz (±{:g} % around {:.1f} Hz).\n\n",
+                           dm.frequency_hz, pct(dm.stiffness_shift), cs.filtered_readout.band_lo_hz, cs.filtered_readout.band_hi_hz,
+                           100 * o.width, cs.mode_hz);
+  std::cout << "parameter  unit         Table 1      noise-free  error      noisy       error      filtered    error      gain\n";
+  for (int k = 0; k < 8; ++k) {
+    const auto ks = static_cast<std::size_t>(k);
+    const double ref = cs.reference[k];
+    auto col = [&](const JointReadout& r) {
+      const double v = r.parameters[ks].median;
+      return fmt::format("{:>10.4g}  {:>9}", v, ref != 0.0 ? pct(v / ref - 1.0) : std::string("-"));
+    };
+    std::cout << fmt::format("{:<9}  {:<10}  {:>10.4g}  {}  {}  {}  {:>8.3g}\n", JointParameters::name(k), JointParameters::unit(k), ref,
+                             col(cs.clean_readout), col(cs.noisy_readout), col(cs.filtered_readout), cs.clean_readout.noise_gain[ks]);
+  }
+  std::cout << "gain: relative error of the parameter per unit relative error on every FRF entry, to first order\n"
+               "(JointEstimate::noise_gain, median in the band). Damping whose ωc is a few % of |K| has a gain of\n"
+               "tens to hundreds: 5 % noise then leaves it unidentifiable, whatever the filter.\n";
+  std::cout << "\n5. Forward check: the filtered read-out coupled back (Eq. 5) against the true tool point FRF\n"
+               "   mode   true_hz   predicted_hz   freq_error   peak_error\n";
+  for (std::size_t i = 0; i < cs.verification.size(); ++i) {
+    const auto& c = cs.verification[i];
+    std::cout << fmt::format("   {:4d}  {:8.1f}  {:13.1f}  {:>11}  {:>11}\n", i + 1, c.measured_hz, c.predicted_hz, pct(c.frequency_error),
+                             pct(c.magnitude_error));
+  }
+  if (!warnings.empty()) {
+    std::cout << "\nnotes:\n";
+    for (const auto& w : warnings) std::cout << "  - " << w << "\n";
+  }
+  std::cout << fmt::format("\nwrote {} data files to {}/", files.size(), dir);
+  if (!figures.empty()) {
+    std::cout << "\nfigures:";
+    for (const auto& fig : figures) std::cout << "\n  " << path(fig);
+  } else if (!plot_note.empty()) {
+    std::cout << "\n" << plot_note;
+  }
+  std::cout << "\n";
+}
+
+}  // namespace
+
+void add_demo_command(CLI::App& app, Globals& g) {
+  auto o = std::make_shared<DemoOptions>();
+  CLI::App* c = app.add_subcommand("demo", "The seed's analytical case study end to end: predict, identify, add noise, filter, identify again, verify");
+  c->add_option("--assembly", o->assembly, "Assembly file (TOML); default: the built-in examples/bt40_shrinkfit_16mm.toml");
+  c->add_option("--output", o->output, "Folder for the CSV data, summary.json and figures")->capture_default_str();
+  c->add_option("--sigma", o->sigma, "Standard deviation of the multiplicative noise (0.05 = 5 %, the seed's)")->capture_default_str();
+  c->add_option("--seed", o->seed, "Random seed (SH11 uses it, SHT11 seed + 1)")->capture_default_str();
+  c->add_option("--window", o->window, "Savitzky-Golay window [frequency points, odd]")->capture_default_str();
+  c->add_option("--order", o->order, "Savitzky-Golay polynomial order")->capture_default_str();
+  c->add_option("--width", o->width, "Read-out band half-width around the tool mode, relative (0.02 = ±2 %)")->capture_default_str();
+  c->add_flag("--no-plots", o->no_plots, "Write the data only, no figures");
+  c->add_flag("--json", o->json, "Print summary.json on stdout instead of the table");
+  c->footer("Example:\n  toolpoint demo --output demo-out\n  toolpoint demo --sigma 0.02 --seed 7 --window 41");
+  c->callback([o, &g] { run_demo(*o, g); });
+}
+
+}  // namespace toolpoint::cli
