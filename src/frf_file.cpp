@@ -244,17 +244,19 @@ UffDataset58 uff_from_receptance(const FrfSeries& h, const UffDof& dof, const st
   d.declared_points = static_cast<long long>(h.size());
   const std::size_t n = h.size();
   d.even = false;
+  // Even only when a reader rebuilds every frequency bit for bit from record 7 (min + i·step), so
+  // binary files stay exact; the step may be known as f1 − f0 or as the span over n − 1.
   if (n >= 2) {
     const double f0 = h.frequency_hz.front();
-    const double step = (h.frequency_hz.back() - f0) / static_cast<double>(n - 1);
-    const double scale = std::abs(h.frequency_hz.back());
-    bool even = uff_field13_roundtrip(f0) == f0 && uff_field13_roundtrip(step) == step;
-    for (std::size_t i = 0; even && i < n; ++i)
-      even = std::abs(f0 + static_cast<double>(i) * step - h.frequency_hz[i]) <= 1e-12 * scale;
-    if (even) {
-      d.even = true;
-      d.abscissa_min = f0;
-      d.abscissa_increment = step;
+    for (double step : {h.frequency_hz[1] - f0, (h.frequency_hz.back() - f0) / static_cast<double>(n - 1)}) {
+      bool even = uff_field13_roundtrip(f0) == f0 && uff_field13_roundtrip(step) == step;
+      for (std::size_t i = 0; even && i < n; ++i) even = f0 + static_cast<double>(i) * step == h.frequency_hz[i];
+      if (even) {
+        d.even = true;
+        d.abscissa_min = f0;
+        d.abscissa_increment = step;
+        break;
+      }
     }
   }
   return d;

@@ -208,7 +208,8 @@ void add_convert_command(CLI::App& app, Globals& g) {
   auto* rn = c->add_option("--response-node", o->response_node,
                            "UFF input: select by response node; UFF output from CSV/.frf: label (default 0)");
   auto* rd = c->add_option("--response-dir", o->response_dir,
-                           "Response direction: +X, -Y, Z, +RZ, scalar or a code -6..6 (selection or label as above)");
+                           "Response direction: +X, Y-, Z, +RZ, scalar or a code -6..6 (selection or label as above); write a leading "
+                           "minus as --response-dir=-Y");
   auto* fn = c->add_option("--reference-node", o->reference_node, "Reference (excitation) node (selection or label)");
   auto* fd = c->add_option("--reference-dir", o->reference_dir, "Reference direction, as --response-dir");
   for (auto* opt : {rn, rd, fn, fd}) ds->excludes(opt);

@@ -78,9 +78,9 @@ struct UffDof {
   int response_node = 0, response_direction = 0, reference_node = 0, reference_direction = 0;
 };
 
-// A receptance series as a UFF dataset 58 (see the format list above). Even spacing when the
-// grid is even and record 7's 13-column fields hold its start and step exactly; otherwise
-// uneven. `description` becomes ID line 1 (cut to 80 characters).
+// A receptance series as a UFF dataset 58 (see the format list above). Even spacing when
+// record 7's 13-column fields hold the start and step exactly and start + i·step gives every
+// frequency bit for bit; otherwise uneven. `description` becomes ID line 1 (cut to 80 characters).
 UffDataset58 uff_from_receptance(const FrfSeries& receptance, const UffDof& dof, const std::string& description);
 
 // CutPro-style .frf text (see above). parse throws InputError naming `source`, the line and what
