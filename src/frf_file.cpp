@@ -385,16 +385,7 @@ FrfFileData read_frf_file(const std::string& path, const FrfReadOptions& o) {
     case FrfFormat::Uff: {
       const UffFile file = read_uff(path);
       const UffDataset58& d = select_dataset58(file, o.uff);
-      // The file's warnings that are about this dataset or about the file as a whole.
-      std::set<std::string> others;
-      for (const auto& f : file.functions)
-        if (&f != &d) others.insert(f.warnings.begin(), f.warnings.end());
-      for (const auto& w : file.warnings)
-        if (!others.count(w) && std::find(file.skipped.begin(), file.skipped.end(), w) == file.skipped.end())
-          out.warnings.push_back(w);
-      if (!file.skipped.empty())
-        out.warnings.push_back(fmt::format("{}: {} other dataset(s) 58 could not be read (see --list)", path,
-                                           file.skipped.size()));
+      out.warnings = file.warnings_for({&d});
       UffReceptance r = uff_receptance(d, o.ordinate, path);
       out.warnings.insert(out.warnings.end(), r.warnings.begin(), r.warnings.end());
       out.single = std::move(r.receptance);

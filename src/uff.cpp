@@ -396,7 +396,10 @@ class Parser {
   }
 
  private:
-  void warn(std::string message) { file_.warnings.push_back(std::move(message)); }
+  void warn(std::string message) {
+    file_.file_warnings.push_back(message);
+    file_.warnings.push_back(std::move(message));
+  }
 
   // Moves past the next delimiter line (the end of the current dataset).
   void skip_to_delimiter(const std::string& what) {
@@ -568,7 +571,7 @@ class Parser {
     } catch (const DatasetFailure& f) {
       const std::string message = fmt::format("{} skipped: {}", what, f.what);
       file_.skipped.push_back(message);
-      warn(message);
+      file_.warnings.push_back(message);
       if (recovery == Recovery::SkipBinary) {
         cur_.pos = data_start;
         cur_.advance(static_cast<std::size_t>(
@@ -579,7 +582,7 @@ class Parser {
       }
       return;
     }
-    for (const auto& w : d.warnings) warn(w);
+    file_.warnings.insert(file_.warnings.end(), d.warnings.begin(), d.warnings.end());
     file_.functions.push_back(std::move(d));
   }
 
@@ -980,6 +983,15 @@ UffFile parse_uff(std::string_view bytes, const std::string& source) { return Pa
 UffFile read_uff(const std::string& path) {
   const std::string bytes = read_text_file(path);
   return parse_uff(bytes, path);
+}
+
+std::vector<std::string> UffFile::warnings_for(const std::vector<const UffDataset58*>& sets) const {
+  std::vector<std::string> out = file_warnings;
+  for (const UffDataset58* d : sets) out.insert(out.end(), d->warnings.begin(), d->warnings.end());
+  if (!skipped.empty())
+    out.push_back(fmt::format("{}: {} dataset(s) 58 could not be read and were skipped (see `toolpoint convert {} --list`)",
+                              source, skipped.size(), source));
+  return out;
 }
 
 bool UffSelection::empty() const {

@@ -20,20 +20,18 @@
 using namespace toolpoint;
 namespace fs = std::filesystem;
 
+// Message checks, defined in uff_test.cpp.
+namespace uff_test {
+bool contains(const std::string& s, const std::string& part);
+bool any_contains(const std::vector<std::string>& messages, std::initializer_list<const char*> parts);
+}  // namespace uff_test
+
+using uff_test::any_contains;
+using uff_test::contains;
+
 namespace {
 
 const std::string kUffDir = std::string(TOOLPOINT_TEST_DATA_DIR) + "/uff/";
-
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
-
-bool any_contains(const std::vector<std::string>& v, std::initializer_list<const char*> parts) {
-  for (const auto& s : v) {
-    bool all = true;
-    for (const char* p : parts) all = all && contains(s, p);
-    if (all) return true;
-  }
-  return false;
-}
 
 // A fresh folder per test, removed afterwards.
 class TempDir {
@@ -97,7 +95,7 @@ int run_cli(const std::string& args, const std::string& out_file) {
 // Mobility and accelerance files give back the closed-form receptance. The data are written in
 // binary double (exact), so the only error is the rounding of ω = 2πf and one division: 1e-13.
 // The 0 Hz point cannot be converted and is dropped with a warning.
-TEST(FrfFile, MobilityAndAccelerianceConvertToTheClosedFormReceptance) {
+TEST(FrfFile, MobilityAndAcceleranceConvertToTheClosedFormReceptance) {
   TempDir dir;
   for (int code : {8, 11, 12}) {
     SCOPED_TRACE(code);
@@ -145,7 +143,7 @@ TEST(FrfFile, OrdinateOverride) {
 // "general", units label (1/N)*(m/s²), from 0 Hz). Read as accelerance: the 0 Hz point is dropped
 // and H = A/(−ω²) from the printed values A(0.195313 Hz) = −5.99924e-2 − 5.53260e-2 i, exact to
 // the rounding of ω (1e-13).
-TEST(FrfFile, RealAccelerianceFile) {
+TEST(FrfFile, RealAcceleranceFile) {
   EXPECT_THROW(read_frf_file(kUffDir + "non_ascii_header.uff"), InputError);
   const FrfFileData r = read_frf_file(kUffDir + "non_ascii_header.uff", {.ordinate = FrfOrdinate::Accelerance});
   ASSERT_EQ(r.single.size(), 5u);

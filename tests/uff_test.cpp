@@ -19,20 +19,29 @@
 
 using namespace toolpoint;
 
-namespace {
-
-const std::string kDir = std::string(TOOLPOINT_TEST_DATA_DIR) + "/uff/";
+// Message checks shared with frf_file_test.cpp (declared there).
+namespace uff_test {
 
 bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
-bool any_contains(const std::vector<std::string>& v, std::initializer_list<const char*> parts) {
-  for (const auto& s : v) {
+// Whether one message holds every part.
+bool any_contains(const std::vector<std::string>& messages, std::initializer_list<const char*> parts) {
+  for (const auto& s : messages) {
     bool all = true;
     for (const char* p : parts) all = all && contains(s, p);
     if (all) return true;
   }
   return false;
 }
+
+}  // namespace uff_test
+
+using uff_test::any_contains;
+using uff_test::contains;
+
+namespace {
+
+const std::string kDir = std::string(TOOLPOINT_TEST_DATA_DIR) + "/uff/";
 
 // A dataset with reproducible values spanning many decades and both signs.
 UffDataset58 synthetic(int ordinate_type, bool even, std::size_t n, unsigned seed) {
@@ -157,6 +166,9 @@ TEST(Uff, DamagedFilesAreReadWithClearWarnings) {
     ASSERT_EQ(d.warnings.size(), 1u);
     EXPECT_TRUE(any_contains(d.warnings, {"mpstd_58b_wrong_byte_count.uff", "58b", "2 byte(s)", "line break", "-1"}));
   }
+  EXPECT_EQ(w.warnings.size(), 4u);
+  EXPECT_TRUE(w.file_warnings.empty());
+  EXPECT_EQ(w.warnings_for({&w.functions[2]}), w.functions[2].warnings);  // a caller of #2 hears about #2 only
   // The well-formed files read without a single warning.
   for (const char* name : {"Sample_UFF58_ascii.uff", "Sample_UFF58b_bin.uff", "binary8byte.uff", "non_ascii_header.uff",
                            "sample_dataset58_psd.uff", "time-history-not-all-columns-filled.uff",
@@ -256,6 +268,7 @@ TEST(Uff, MalformedHeaderSkipsTheDatasetAndSaysWhy) {
   EXPECT_TRUE(any_contains(f.skipped, {"broken.uff:9", "record 7 field 1", "ordinate data type", "is 7", "expected 2"}));
   ASSERT_EQ(f.functions.size(), 1u);
   EXPECT_EQ(f.functions[0].index, 1u);
+  EXPECT_TRUE(any_contains(f.warnings_for({&f.functions[0]}), {"1 dataset(s) 58 could not be read"}));
   try {
     select_dataset58(f, UffSelection{.index = 0});
     FAIL() << "selected a skipped dataset";

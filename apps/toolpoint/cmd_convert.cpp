@@ -136,10 +136,14 @@ void run_convert(const ConvertOptions& o, const Globals& g) {
   // UFF to UFF: the datasets 58 themselves (all, or the selected one), every field kept.
   if (in == FrfFormat::Uff && (out == FrfFormat::Uff || out == FrfFormat::UffBinary) && !ordinate) {
     const UffFile f = read_uff(o.input);
+    std::vector<const UffDataset58*> chosen;
+    if (sel.empty() && !f.functions.empty())
+      for (const auto& d : f.functions) chosen.push_back(&d);
+    else
+      chosen.push_back(&select_dataset58(f, sel));
+    warn_all(f.warnings_for(chosen));
     std::vector<UffDataset58> sets;
-    if (sel.empty() && !f.functions.empty()) sets = f.functions;
-    else sets.push_back(select_dataset58(f, sel));
-    warn_all(f.warnings);
+    for (const UffDataset58* d : chosen) sets.push_back(*d);
     if (const std::string others = other_types(f); !others.empty())
       warn(fmt::format("{}: datasets of other types not written ({}): only datasets 58 are converted", o.input, others));
     UffWriteOptions w;

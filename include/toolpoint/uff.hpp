@@ -112,6 +112,11 @@ struct UffFile {
   std::vector<UffDataset58> functions;       // the readable datasets 58/58b, in file order
   std::vector<std::string> warnings;         // every problem found, with file, line/byte, record, field
   std::vector<std::string> skipped;          // the datasets 58 that could not be read, and why
+  std::vector<std::string> file_warnings;    // the problems not about one dataset 58 (stray text, other datasets)
+
+  // What a caller using `sets` should report: file_warnings, the warnings of each of `sets`, and
+  // how many datasets 58 were skipped.
+  std::vector<std::string> warnings_for(const std::vector<const UffDataset58*>& sets) const;
 };
 
 // Parses the bytes of a universal file. Never throws on content: problems go to warnings, and a
