@@ -41,5 +41,6 @@ void add_demo_command(CLI::App& app, Globals& g);
 void add_filter_command(CLI::App& app, Globals& g);
 void add_noise_command(CLI::App& app, Globals& g);
 void add_rotational_command(CLI::App& app, Globals& g);
+void add_convert_command(CLI::App& app, Globals& g);
 
 }  // namespace toolpoint::cli

@@ -56,6 +56,7 @@ int main(int argc, char** argv) {
   add_filter_command(app, globals);
   add_noise_command(app, globals);
   add_rotational_command(app, globals);
+  add_convert_command(app, globals);
 
   try {
     app.parse(argc, argv);

@@ -1,0 +1,238 @@
+// toolpoint convert: measured FRF files between formats (FRF CSV, UFF dataset 58/58b, CutPro
+// .frf), and a listing of the datasets 58 in a universal file.
+#include <fmt/format.h>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "cli.hpp"
+#include "toolpoint/error.hpp"
+#include "toolpoint/frf_file.hpp"
+#include "toolpoint/uff.hpp"
+
+namespace toolpoint::cli {
+
+namespace {
+
+struct ConvertOptions {
+  std::string input, output, from = "auto", to = "auto", ordinate;
+  std::optional<std::size_t> dataset;
+  std::optional<int> response_node, reference_node;
+  std::string response_dir, reference_dir;
+  bool list = false, json = false;
+};
+
+UffSelection selection_of(const ConvertOptions& o) {
+  UffSelection s;
+  s.index = o.dataset;
+  s.response_node = o.response_node;
+  s.reference_node = o.reference_node;
+  if (!o.response_dir.empty()) s.response_direction = parse_uff_direction(o.response_dir, "--response-dir");
+  if (!o.reference_dir.empty()) s.reference_direction = parse_uff_direction(o.reference_dir, "--reference-dir");
+  return s;
+}
+
+std::string other_types(const UffFile& f) {
+  std::map<int, std::size_t> count;
+  for (const auto& d : f.datasets)
+    if (d.type != 58) ++count[d.type];
+  std::string s;
+  for (const auto& [type, n] : count) s += fmt::format("{}{} ×{}", s.empty() ? "" : ", ", type, n);
+  return s;
+}
+
+std::string points_text(const UffDataset58& d) {
+  return static_cast<long long>(d.size()) == d.declared_points ? fmt::format("{}", d.size())
+                                                                : fmt::format("{} of {}", d.size(), d.declared_points);
+}
+
+std::string ordinate_text(const UffDataset58& d) {
+  std::string s = uff_data_type_name(d.ordinate.data_type);
+  if (d.denominator.data_type != 0) s += "/" + uff_data_type_name(d.denominator.data_type);
+  if (const auto k = uff_ordinate_kind(d); k && d.denominator.data_type == 13) s = frf_ordinate_name(*k);
+  return s;
+}
+
+void run_list(const ConvertOptions& o) {
+  const FrfFormat format = o.from == "auto" ? frf_format_of_path(o.input) : parse_frf_format(o.from, "--from");
+  if (format != FrfFormat::Uff)
+    throw InvalidArgument(fmt::format("--list lists the datasets of a UFF file; {} is {}", o.input, frf_format_name(format)),
+                          "give a .uff/.unv/.uf file or --from uff");
+  const UffFile f = read_uff(o.input);
+  if (o.json) {
+    nlohmann::json out;
+    out["file"] = f.source;
+    out["units"] = "abscissa in the file's own units (see abscissa_units); frequency in Hz for FRFs";
+    out["dataset_types"] = nlohmann::json::array();
+    for (const auto& d : f.datasets) out["dataset_types"].push_back(d.type);
+    out["datasets58"] = nlohmann::json::array();
+    for (const auto& d : f.functions)
+      out["datasets58"].push_back({{"index", d.index},
+                                   {"line", d.line},
+                                   {"binary", d.binary},
+                                   {"function_type", d.function_type},
+                                   {"function", uff_function_type_name(d.function_type)},
+                                   {"response_node", d.response_node},
+                                   {"response_direction", d.response_direction},
+                                   {"reference_node", d.reference_node},
+                                   {"reference_direction", d.reference_direction},
+                                   {"points", d.size()},
+                                   {"declared_points", d.declared_points},
+                                   {"ordinate_data_type", d.ordinate_data_type},
+                                   {"ordinate_numerator_type", d.ordinate.data_type},
+                                   {"ordinate_denominator_type", d.denominator.data_type},
+                                   {"ordinate", ordinate_text(d)},
+                                   {"abscissa_type", d.abscissa.data_type},
+                                   {"abscissa_units", d.abscissa.units},
+                                   {"abscissa_first", d.x.empty() ? 0.0 : d.x.front()},
+                                   {"abscissa_last", d.x.empty() ? 0.0 : d.x.back()},
+                                   {"id1", d.id[0]},
+                                   {"warnings", d.warnings}});
+    out["skipped"] = f.skipped;
+    out["warnings"] = f.warnings;
+    std::cout << out.dump(2) << '\n';
+    return;
+  }
+  std::cout << fmt::format("{}: {} dataset(s) 58, {} of other types{}\n", f.source, f.functions.size(),
+                           f.datasets.size() - f.functions.size() - f.skipped.size(),
+                           other_types(f).empty() ? "" : " (" + other_types(f) + ")");
+  if (!f.functions.empty())
+    std::cout << fmt::format("{:>5}  {:<32} {:<12} {:<12} {:>17}  {:<15} {:<28} {:<34} {}\n", "index",
+                             "function (type)", "response", "reference", "points", "values", "ordinate",
+                             "abscissa first..last [units]", "ID line 1");
+  for (const auto& d : f.functions) {
+    const std::string range =
+        d.x.empty() ? std::string("-")
+                    : fmt::format("{:.6g}..{:.6g} [{}]", d.x.front(), d.x.back(), d.abscissa.units);
+    std::cout << fmt::format("{:>5}  {:<32} {:<12} {:<12} {:>17}  {:<15} {:<28} {:<34} {}\n", d.index,
+                             fmt::format("{} ({})", uff_function_type_name(d.function_type), d.function_type),
+                             fmt::format("{} {}", d.response_node, uff_direction_name(d.response_direction)),
+                             fmt::format("{} {}", d.reference_node, uff_direction_name(d.reference_direction)),
+                             points_text(d), uff_ordinate_type_name(d.ordinate_data_type), ordinate_text(d), range,
+                             d.id[0]);
+  }
+  for (const auto& s : f.skipped) std::cout << "skipped: " << s << '\n';
+  for (const auto& w : f.warnings)
+    if (std::find(f.skipped.begin(), f.skipped.end(), w) == f.skipped.end()) warn(w);
+}
+
+void run_convert(const ConvertOptions& o, const Globals& g) {
+  if (o.list) {
+    if (!o.output.empty()) throw InvalidArgument("--list takes only the input file", "drop OUT, or drop --list");
+    run_list(o);
+    return;
+  }
+  if (o.json) throw InvalidArgument("--json goes with --list", "add --list, or drop --json");
+  if (o.output.empty()) throw InvalidArgument("convert needs IN and OUT (or --list)", "e.g. toolpoint convert tap.uff tap.csv");
+  const FrfFormat in = o.from == "auto" ? frf_format_of_path(o.input) : parse_frf_format(o.from, "--from");
+  const FrfFormat out = o.to == "auto" ? frf_format_of_path(o.output) : parse_frf_format(o.to, "--to");
+  if (in == FrfFormat::UffBinary)
+    throw InvalidArgument("--from uffb is not needed: --from uff reads ASCII 58 and binary 58b", "use --from uff");
+  const UffSelection sel = selection_of(o);
+  const std::optional<FrfOrdinate> ordinate =
+      o.ordinate.empty() ? std::nullopt : std::optional<FrfOrdinate>(parse_frf_ordinate(o.ordinate, "--ordinate"));
+
+  // UFF to UFF: the datasets 58 themselves (all, or the selected one), every field kept.
+  if (in == FrfFormat::Uff && (out == FrfFormat::Uff || out == FrfFormat::UffBinary) && !ordinate) {
+    const UffFile f = read_uff(o.input);
+    std::vector<const UffDataset58*> chosen;
+    if (sel.empty() && !f.functions.empty())
+      for (const auto& d : f.functions) chosen.push_back(&d);
+    else
+      chosen.push_back(&select_dataset58(f, sel));
+    warn_all(f.warnings_for(chosen));
+    std::vector<UffDataset58> sets;
+    for (const UffDataset58* d : chosen) sets.push_back(*d);
+    if (const std::string others = other_types(f); !others.empty())
+      warn(fmt::format("{}: datasets of other types not written ({}): only datasets 58 are converted", o.input, others));
+    UffWriteOptions w;
+    w.binary = out == FrfFormat::UffBinary;
+    warn_all(write_uff(o.output, sets, w));
+    info(g, fmt::format("wrote {} ({} dataset(s) 58 as {})", o.output, sets.size(), w.binary ? "binary 58b" : "ASCII 58"));
+    return;
+  }
+
+  FrfReadOptions r;
+  r.format = in;
+  r.ordinate = ordinate;
+  FrfWriteOptions w;
+  w.format = out;
+  if (in == FrfFormat::Uff) {
+    r.uff = sel;
+  } else if (!sel.empty()) {
+    // Not a UFF input: the node/direction options label the written dataset instead.
+    if (sel.index) throw InvalidArgument("--dataset selects a dataset of a UFF input file; " + o.input + " is not UFF");
+    if (out != FrfFormat::Uff && out != FrfFormat::UffBinary)
+      throw InvalidArgument("--response-node/--reference-node/--*-dir apply to a UFF input (selection) or a UFF output "
+                            "(labels); here neither is UFF");
+  }
+  const FrfFileData data = read_frf_file(o.input, r);
+  w.dof = data.dof;
+  if (in != FrfFormat::Uff) {
+    w.dof.response_node = sel.response_node.value_or(0);
+    w.dof.response_direction = sel.response_direction.value_or(0);
+    w.dof.reference_node = sel.reference_node.value_or(0);
+    w.dof.reference_direction = sel.reference_direction.value_or(0);
+  }
+  w.description = in == FrfFormat::Uff ? "from " + data.description : std::string();
+  warn_all(data.warnings);
+  if (data.is_block) {
+    warn_all(write_frf_file(o.output, data.block, w));
+    info(g, fmt::format("wrote {} ({} frequencies, 2×2 receptance blocks)", o.output, data.block.size()));
+    return;
+  }
+  warn_all(write_frf_file(o.output, data.single, w));
+  info(g, fmt::format("wrote {} ({} frequencies {:.6g}..{:.6g} Hz, receptance m/N{})", o.output, data.single.size(),
+                      data.single.frequency_hz.front(), data.single.frequency_hz.back(),
+                      data.ordinate == FrfOrdinate::Receptance
+                          ? std::string()
+                          : fmt::format(", converted from {} {}", frf_ordinate_name(data.ordinate),
+                                        frf_ordinate_units(data.ordinate))));
+}
+
+}  // namespace
+
+void add_convert_command(CLI::App& app, Globals& g) {
+  auto o = std::make_shared<ConvertOptions>();
+  CLI::App* c = app.add_subcommand(
+      "convert",
+      "Measured FRF files between formats: FRF CSV, UFF dataset 58 (ASCII) / 58b (binary), CutPro .frf; "
+      "UFF datasets listed with --list");
+  c->add_option("IN", o->input, "Input file: .csv (FRF CSV), .uff/.unv/.uf (UFF 58 or 58b), .frf (CutPro text)")
+      ->required();
+  c->add_option("OUT", o->output,
+                "Output file, format by extension (.csv, .uff/.unv/.uf ASCII UFF, .frf) or --to; "
+                "receptance [m/N] against frequency [Hz]");
+  c->add_option("--from", o->from, "Input format: auto (by extension), csv, uff or frf")->capture_default_str();
+  c->add_option("--to", o->to, "Output format: auto (by extension), csv, uff (ASCII 58), uffb (binary 58b) or frf")
+      ->capture_default_str();
+  auto* ds = c->add_option("--dataset", o->dataset,
+                           "UFF input: the dataset 58 to read, by index from 0 as --list shows (default: the only one)");
+  auto* rn = c->add_option("--response-node", o->response_node,
+                           "UFF input: select by response node; UFF output from CSV/.frf: label (default 0)");
+  auto* rd = c->add_option("--response-dir", o->response_dir,
+                           "Response direction: +X, Y-, Z, +RZ, scalar or a code -6..6 (selection or label as above); write a leading "
+                           "minus as --response-dir=-Y");
+  auto* fn = c->add_option("--reference-node", o->reference_node, "Reference (excitation) node (selection or label)");
+  auto* fd = c->add_option("--reference-dir", o->reference_dir, "Reference direction, as --response-dir");
+  for (auto* opt : {rn, rd, fn, fd}) ds->excludes(opt);
+  c->add_option("--ordinate", o->ordinate,
+                "What the input values are: receptance [m/N], mobility [(m/s)/N] or accelerance [(m/s^2)/N]; "
+                "converted to receptance (H = Y/(iω), H = A/(−ω²), ω = 2πf). Default: from the UFF record 9/10 "
+                "codes, receptance for CSV and .frf");
+  c->add_flag("--list", o->list,
+              "List the datasets 58 of a UFF input: index, function type, nodes/directions, points, value type, "
+              "ordinate, abscissa range, ID line");
+  c->add_flag("--json", o->json, "With --list: machine-readable output on stdout");
+  c->footer(
+      "Points at 0 Hz are dropped (with a warning). UFF to UFF copies the datasets 58 unchanged (all of them, or\n"
+      "the selected one); with --ordinate the selected FRF is converted to receptance instead.\n"
+      "Examples:\n"
+      "  toolpoint convert tap_test.uff --list\n"
+      "  toolpoint convert tap_test.uff tool_tip.csv --response-node 1 --response-dir +X --ordinate accelerance\n"
+      "  toolpoint convert tool_tip.csv tool_tip.frf");
+  c->callback([o, &g] { run_convert(*o, g); });
+}
+
+}  // namespace toolpoint::cli
