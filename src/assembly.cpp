@@ -334,6 +334,33 @@ Eigen::MatrixXcd AssemblyModel::tool_stations(double f, const std::vector<double
   return out;
 }
 
+Assembly with_overhang(const Assembly& assembly, double overhang) {
+  if (!std::isfinite(overhang) || !(overhang > 0.0))
+    throw InvalidArgument(fmt::format("overhang {} m must be > 0", overhang));
+  Assembly a = assembly;
+  const double inside = assembly.tool.length - assembly.tool.overhang;
+  a.tool.overhang = overhang;
+  a.tool.length = inside + overhang;
+  a.check();
+  return a;
+}
+
+BlockSeries couple_tool(const Assembly& assembly, const BlockSeries& sh11, const std::string& sh_name) {
+  validate(sh11, sh_name, 1);
+  const AssemblyModel model(assembly);
+  BlockSeries out{sh11.frequency_hz, {}};
+  out.blocks.reserve(sh11.size());
+  for (std::size_t i = 0; i < sh11.size(); ++i) {
+    const double f = sh11.frequency_hz[i];
+    try {
+      out.blocks.push_back(couple_point(model.tool(f), sh11.blocks[i], assembly.holder_tool, f));
+    } catch (const NumericalError& e) {
+      throw NumericalError(fmt::format("coupling the tool to {} at {} Hz: {}", sh_name, f, e.what()), e.hint());
+    }
+  }
+  return out;
+}
+
 BlockSeries block_series(const std::vector<double>& frequency_hz, const std::function<Block(double)>& at) {
   BlockSeries s;
   s.frequency_hz = frequency_hz;

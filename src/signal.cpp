@@ -249,6 +249,8 @@ void RotationalOptions::check() const {
   if (!std::isfinite(spacing) || !(spacing > 0.0))
     throw InvalidArgument(fmt::format("finite-difference spacing {} m must be a positive distance in metres", spacing),
                           "give the distance between neighbouring measurement points, e.g. 0.01 for 10 mm");
+  if (shear_stiffness && !(std::isfinite(*shear_stiffness) && *shear_stiffness > 0.0))
+    throw InvalidArgument(fmt::format("shear stiffness κGA = {} N must be > 0", *shear_stiffness));
 }
 
 void PointFrfs::set(int response, int force, FrfSeries series, std::string src) {
@@ -356,9 +358,12 @@ RotationalResult rotational_frfs(const PointFrfs& in, const RotationalOptions& o
   r.block.frequency_hz = h00.frequency_hz;
   r.block.blocks.resize(n);
   double mismatch = 0.0, peak = 0.0;
+  // Shear corrections (see RotationalOptions::shear_stiffness): 1/κGA on N and L, c/(s κGA) on P.
+  const double shear_nl = o.shear_stiffness ? 1.0 / *o.shear_stiffness : 0.0;
+  const double shear_p = o.shear_stiffness ? (o.order == 1 ? 1.0 : 2.5) / (o.spacing * *o.shear_stiffness) : 0.0;
   for (std::size_t f = 0; f < n; ++f) {
-    const Complex nn = difference(d, f, [&](int k) { return a.h[k][0]; });
-    const Complex ll = difference(d, f, [&](int k) { return a.h[0][k]; });
+    const Complex nn = difference(d, f, [&](int k) { return a.h[k][0]; }) - shear_nl;
+    const Complex ll = difference(d, f, [&](int k) { return a.h[0][k]; }) - shear_nl;
     mismatch = std::max(mismatch, std::abs(ll - nn));
     peak = std::max({peak, std::abs(ll), std::abs(nn)});
     const Complex l_used = o.symmetrise ? 0.5 * (ll + nn) : ll;
@@ -366,6 +371,7 @@ RotationalResult rotational_frfs(const PointFrfs& in, const RotationalOptions& o
     Complex p;
     if (r.p_from_cross_terms) {
       for (int i = 0; i < points; ++i) p += d[i] * difference(d, f, [&](int k) { return a.h[i][k]; });
+      p -= shear_p;
     } else {
       const Complex h = h00.values[f];
       if (h == 0.0)

@@ -458,6 +458,32 @@ TEST(Rotational, StaticCantileverMatchesNotes) {
   EXPECT_TRUE(contains(r1.warnings, "H02 is not used by order-1"));
 }
 
+// The shear correction removes exactly what a pure shear flexibility adds. For a segment that
+// only shears (G(x, ξ) = c₀ + min(x, ξ)/κGA, x and ξ measured from the support outwards), the true
+// section rotation is zero: corrected N, L and P must come out 0 (to round-off), while the raw
+// differences give 1/κGA for N and L and 1/(sκGA), 2.5/(sκGA) for P (orders 1, 2).
+TEST(Rotational, ShearCorrectionOnAPureShearKernel) {
+  const double kGA = 3.0e7, s = 0.01;
+  const std::vector<double> f = {100.0};
+  const auto kernel = [&](double x, double xi, std::size_t) { return Complex(1e-6 + std::min(x, xi) / kGA, 0.0); };
+  const PointFrfs p = point_frfs(f, 1.0, s, kernel);
+  for (int order : {1, 2}) {
+    RotationalOptions o = fd(order, s);
+    const Block raw = rotational_frfs(p, o).block.blocks[0];
+    EXPECT_NEAR(N_of(raw).real() * kGA, 1.0, 1e-9);
+    EXPECT_NEAR(L_of(raw).real() * kGA, 1.0, 1e-9);
+    EXPECT_NEAR(P_of(raw).real() * s * kGA, order == 1 ? 1.0 : 2.5, 1e-9);
+    o.shear_stiffness = kGA;
+    const Block corrected = rotational_frfs(p, o).block.blocks[0];
+    EXPECT_LT(std::abs(N_of(corrected)) * kGA, 1e-9);
+    EXPECT_LT(std::abs(L_of(corrected)) * kGA, 1e-9);
+    EXPECT_LT(std::abs(P_of(corrected)) * s * kGA, 1e-9);
+  }
+  RotationalOptions bad = fd(2, s);
+  bad.shear_stiffness = -1.0;
+  EXPECT_THROW(bad.check(), InvalidArgument);
+}
+
 // Schmitz & Smith with the hammer at the tip only (H00, H10): P = N²/H00. With the first-order
 // N = 299/600 and H00 = 1/3 that is 3(299/600)² = 0.745, and with the exact N = 1/2 it is 3/4:
 // about 25 % below P = 1 (NOTES §5). L = N by reciprocity, and both are flagged.

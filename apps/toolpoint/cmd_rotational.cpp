@@ -13,6 +13,7 @@ namespace toolpoint::cli {
 namespace {
 
 struct RotationalCliOptions {
+  double shear_stiffness = 0.0;
   std::string files[3][3];  // files[i][j]: H_ij, response at point i, force at point j
   std::string output, p_method = "auto";
   RotationalOptions fd{2, 0.0, false, PMethod::Auto};
@@ -29,7 +30,9 @@ void run_rotational(RotationalCliOptions o, const Globals& g) {
         in.set(i, j, read_single_csv(o.files[i][j]), o.files[i][j]);
         sources += fmt::format(" H{}{}={}", i, j, o.files[i][j]);
       }
-  const RotationalResult r = rotational_frfs(in, o.fd);
+  RotationalOptions fd = o.fd;
+  if (o.shear_stiffness != 0.0) fd.shear_stiffness = o.shear_stiffness;
+  const RotationalResult r = rotational_frfs(in, fd);
   write_frf_csv(o.output, r.block,
                 {fmt::format("tip block by order-{} finite differences (Duarte & Ewins), spacing s = {} m; points 0 (tip), "
                              "1, 2 at s, 2s inward; L and N {}; P {}",
@@ -65,6 +68,9 @@ void add_rotational_command(CLI::App& app, Globals& g) {
           ->required(i == 0 && j == 0);
     }
   c->add_flag("--symmetrise", o->fd.symmetrise, "Replace L and N by their mean (reciprocity); default keeps both");
+  c->add_option("--shear-stiffness", o->shear_stiffness,
+                "κGA [N] of the section under the points: removes the shear strain from N, L (1/κGA) and P (c/(s κGA)), "
+                "giving the section rotation the coupling equations use; default: none (total slope dw/dx)");
   c->add_option("--p-method", o->p_method,
                 "P from: auto (cross terms if all H_ij are given, else N*L/H00), cross (cross terms, error if "
                 "missing), n2h (always N*L/H00, Schmitz & Smith)")

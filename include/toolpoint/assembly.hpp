@@ -150,6 +150,17 @@ class AssemblyModel {
   Chain spindle_, holder_, tool_;
 };
 
+// The same assembly with the tool sticking out `overhang` m: the length inside the holder is kept
+// (tool length = inside + overhang), so a measured SH11 stays valid. Throws InvalidArgument for a
+// non-positive overhang (and whatever Assembly::check finds in the result).
+Assembly with_overhang(const Assembly& assembly, double overhang);
+
+// Semi-analytical tool point FRF (Schmitz's receptance coupling with the seed's Eq. 5): a measured
+// (or finite-differenced) holder-tip block SH11 coupled to the model's free–free tool through the
+// assembly's holder–tool joint, SHT11 = T11 − T12 (T22 + K_ht⁻¹ + SH11)⁻¹ T21, on SH11's grid.
+// Throws InputError for an invalid SH11 (naming `sh_name`).
+BlockSeries couple_tool(const Assembly& assembly, const BlockSeries& sh11, const std::string& sh_name);
+
 // Series over a frequency grid (Hz) of any per-frequency block function of the model.
 BlockSeries block_series(const std::vector<double>& frequency_hz, const std::function<Block(double)>& at);
 

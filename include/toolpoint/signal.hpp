@@ -130,8 +130,18 @@ struct RotationalOptions {
   double spacing = 0.0;               // s [m] between neighbouring points, > 0 (no default)
   bool symmetrise = false;            // replace L and N by their mean (reciprocity L = N)
   PMethod p_method = PMethod::Auto;
+  // κGA [N] of the section the points lie on. Differences of displacements measure the total
+  // slope dw/dx, but the Timoshenko rotation θ = ψ that the coupling equations use differs from it
+  // by the shear strain Q/κGA. At a loaded free tip Q equals the tip force, so N and L come out
+  // 1/κGA too large; and a force couple across points spaced s apart shears the segment between
+  // them, so P comes out c/(s κGA) too large, c = 1 (first order) or 2.5 (second order) — the
+  // formulas applied to the shear kernel c₀ − max(x, ξ)/κGA — an error that grows as s shrinks.
+  // With the value given, these are subtracted (the points must lie on one uniform section).
+  // Unset: the total-slope quantities, as printed in NOTES §5 (fine for slender tools, where
+  // 1/κGA is far below N).
+  std::optional<double> shear_stiffness;
 
-  // Throws InvalidArgument naming `order` or `spacing`.
+  // Throws InvalidArgument naming `order`, `spacing` or `shear_stiffness`.
   void check() const;
 };
 
