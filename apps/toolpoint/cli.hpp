@@ -31,5 +31,7 @@ void warn_all(const std::vector<std::string>& messages);
 // The subcommands. Each adds itself to `app` with its options, help (units, defaults, one
 // example) and callback.
 void add_beam_command(CLI::App& app, Globals& g);
+void add_lobes_command(CLI::App& app, Globals& g);
+void add_modes_command(CLI::App& app, Globals& g);
 
 }  // namespace toolpoint::cli

@@ -49,6 +49,8 @@ int main(int argc, char** argv) {
       "Run `toolpoint COMMAND --help` for a command's options, units, defaults and an example.");
 
   add_beam_command(app, globals);
+  add_lobes_command(app, globals);
+  add_modes_command(app, globals);
 
   try {
     app.parse(argc, argv);
