@@ -148,25 +148,19 @@ void ZeroOrderOptions::check() const {
 
 namespace {
 
-// Per chatter frequency and root: the limiting depth a_lim [m] (NaN where Λ_R ≥ 0 or the root
-// vanishes) and the phase ε ∈ (0, 2π).
-struct RootTable {
-  std::vector<double> f;
-  std::vector<double> depth[2];
-  std::vector<double> eps[2];
-};
-
-RootTable zero_order_roots(const MillingFrfs& frfs, const CuttingConditions& cutting) {
+LobeTable zero_order_roots(const MillingFrfs& frfs, const CuttingConditions& cutting) {
   cutting.check();
   frfs.check();
   const Eigen::Matrix2d a = directional_factors(cutting);
   const double nkt = cutting.teeth * cutting.tangential_coefficient;
   const std::size_t n = frfs.xx.size();
-  RootTable t;
-  t.f = frfs.xx.frequency_hz;
+  LobeTable t;
+  t.chatter_hz = frfs.xx.frequency_hz;
+  t.speed_factor.resize(n);
+  for (std::size_t i = 0; i < n; ++i) t.speed_factor[i] = 60.0 * t.chatter_hz[i] / cutting.teeth;
   for (int r = 0; r < 2; ++r) {
-    t.depth[r].assign(n, kNaN);
-    t.eps[r].assign(n, kNaN);
+    t.depth_m[r].assign(n, kNaN);
+    t.phase[r].assign(n, kNaN);
   }
   Complex prev[2] = {0.0, 0.0};
   for (std::size_t i = 0; i < n; ++i) {
@@ -192,8 +186,8 @@ RootTable zero_order_roots(const MillingFrfs& frfs, const CuttingConditions& cut
       if (!(std::abs(mu[r]) > 1e-12 * scale)) continue;
       const Complex lam = -1.0 / mu[r];
       if (!(lam.real() < 0.0)) continue;  // Λ_R ≥ 0: no positive depth from this root here
-      t.depth[r][i] = -2.0 * kPi * std::norm(lam) / (lam.real() * nkt);
-      t.eps[r][i] = 2.0 * std::atan2(-lam.real(), -lam.imag());
+      t.depth_m[r][i] = -2.0 * kPi * std::norm(lam) / (lam.real() * nkt);
+      t.phase[r][i] = std::atan2(-lam.real(), -lam.imag()) / kPi;  // ε/2π, ε = 2 atan2(−Λ_R, −Λ_I)
     }
   }
   return t;
@@ -201,21 +195,67 @@ RootTable zero_order_roots(const MillingFrfs& frfs, const CuttingConditions& cut
 
 struct Floor {
   double depth = kInf, chatter_hz = kNaN;
-  std::size_t index = 0;
 };
 
-Floor find_floor(const RootTable& t) {
+Floor find_floor(const LobeTable& t) {
   Floor fl;
   for (int r = 0; r < 2; ++r)
-    for (std::size_t i = 0; i < t.f.size(); ++i)
-      if (t.depth[r][i] < fl.depth) fl = {t.depth[r][i], t.f[i], i};
+    for (std::size_t i = 0; i < t.chatter_hz.size(); ++i)
+      if (t.depth_m[r][i] < fl.depth) fl = {t.depth_m[r][i], t.chatter_hz[i]};
   if (!std::isfinite(fl.depth))
     throw NumericalError("no chatter frequency of the FRF gives a positive limiting depth (Λ_R ≥ 0 everywhere)",
                          "check the FRF: a receptance in m/N with Im G ≤ 0 (e^{iωt} convention) around its resonances");
   return fl;
 }
 
+// Lowers the envelope with every segment of lobe k, root r: the lobe is a polyline in (speed,
+// depth) through neighbouring grid frequencies, interpolated linearly in speed.
+void lower_envelope(const LobeTable& t, int k, int r, std::size_t i0, std::size_t i1, double n_min, double dn,
+                    std::vector<EnvelopePoint>& env, std::vector<double>& speed) {
+  const double* a = t.speed_factor.data();
+  const double* ph = t.phase[r].data();
+  const double* d = t.depth_m[r].data();
+  speed.resize(i1 - i0);
+  for (std::size_t i = i0; i < i1; ++i) speed[i - i0] = a[i] / (ph[i] + k);  // NaN where invalid; vectorises
+  const double inv_dn = 1.0 / dn, last = static_cast<double>(env.size() - 1);
+  for (std::size_t i = i0 + 1; i < i1; ++i) {
+    const double s0 = speed[i - 1 - i0], s1 = speed[i - i0];
+    if (std::isnan(s0) || std::isnan(s1)) continue;
+    const double lo = (std::min(s0, s1) - n_min) * inv_dn, hi = (std::max(s0, s1) - n_min) * inv_dn;
+    if (hi < 0.0 || lo > last) continue;
+    // Grid indices j with lo ≤ j ≤ hi (ceil and floor of non-negative values by truncation).
+    const double jl_real = std::max(lo, 0.0), jh_real = std::min(hi, last);
+    auto jl = static_cast<std::size_t>(jl_real);
+    if (static_cast<double>(jl) < jl_real) ++jl;
+    const auto jh = static_cast<std::size_t>(jh_real);
+    if (jl > jh) continue;
+    const double d0 = d[i - 1], d1 = d[i], slope = s1 == s0 ? 0.0 : 1.0 / (s1 - s0);
+    for (std::size_t j = jl; j <= jh; ++j) {
+      const double u = (env[j].speed_rpm - s0) * slope, dj = d0 + u * (d1 - d0);
+      if (dj < env[j].depth_m) {
+        env[j].depth_m = dj;
+        env[j].chatter_hz = t.chatter_hz[i - 1] + u * (t.chatter_hz[i] - t.chatter_hz[i - 1]);
+        env[j].lobe = k;
+      }
+    }
+  }
+}
+
 }  // namespace
+
+std::pair<std::size_t, std::size_t> lobe_window(const LobeTable& t, int teeth, int lobe, double min_rpm, double max_rpm) {
+  const double f_lo = min_rpm * teeth * lobe / 60.0, f_hi = max_rpm * teeth * (lobe + 1) / 60.0;
+  const auto& f = t.chatter_hz;
+  auto i0 = static_cast<std::size_t>(std::lower_bound(f.begin(), f.end(), f_lo) - f.begin());
+  auto i1 = static_cast<std::size_t>(std::upper_bound(f.begin(), f.end(), f_hi) - f.begin());
+  return {i0 > 0 ? i0 - 1 : 0, std::min(i1 + 1, f.size())};
+}
+
+std::vector<LobePoint> ZeroOrderResult::points() const {
+  std::vector<LobePoint> v;
+  for_each_point([&](const LobePoint& p) { v.push_back(p); });
+  return v;
+}
 
 double zero_order_floor(const MillingFrfs& frfs, const CuttingConditions& cutting, double* chatter_hz) {
   const Floor fl = find_floor(zero_order_roots(frfs, cutting));
@@ -225,21 +265,28 @@ double zero_order_floor(const MillingFrfs& frfs, const CuttingConditions& cuttin
 
 ZeroOrderResult zero_order_lobes(const MillingFrfs& frfs, const CuttingConditions& cutting, const ZeroOrderOptions& options) {
   options.check();
-  const RootTable t = zero_order_roots(frfs, cutting);
-  const Floor fl = find_floor(t);
   ZeroOrderResult res;
+  res.table = zero_order_roots(frfs, cutting);
+  const LobeTable& t = res.table;
+  const Floor fl = find_floor(t);
   res.alpha = directional_factors(cutting);
   res.floor_depth_m = fl.depth;
   res.floor_chatter_hz = fl.chatter_hz;
+  res.teeth = cutting.teeth;
+  res.speeds = options.speeds;
+  res.max_depth_m = options.max_depth_m;
   const double n_teeth = cutting.teeth, n_min = options.speeds.min_rpm, n_max = options.speeds.max_rpm;
-  const std::size_t nf = t.f.size();
+  const std::size_t nf = t.chatter_hz.size();
 
   // Lobe k reaches down to 60 f/(N(k + 1)) rpm. Automatic K covers MIN at every chatter frequency
   // whose depth is within 10× the floor (the band that shapes the envelope).
   double f_band = fl.chatter_hz;
+  std::size_t near = 0;
   for (int r = 0; r < 2; ++r)
-    for (std::size_t i = 0; i < nf; ++i)
-      if (t.depth[r][i] <= 10.0 * fl.depth) f_band = std::max(f_band, t.f[i]);
+    for (std::size_t i = 0; i < nf; ++i) {
+      if (t.depth_m[r][i] <= 10.0 * fl.depth) f_band = std::max(f_band, t.chatter_hz[i]);
+      near += t.depth_m[r][i] <= 2.0 * fl.depth;
+    }
   const int needed = static_cast<int>(std::ceil(60.0 * f_band / (n_teeth * n_min)));
   if (options.lobes < 0) {
     res.lobes = std::min(needed, 2000);
@@ -252,55 +299,18 @@ ZeroOrderResult zero_order_lobes(const MillingFrfs& frfs, const CuttingCondition
                                          "are not covered (use --lobes {} or more)",
                                          res.lobes, 60.0 * f_band / (n_teeth * (res.lobes + 1)), f_band, needed));
   }
-  {
-    std::size_t near = 0;
-    for (int r = 0; r < 2; ++r)
-      for (std::size_t i = 0; i < nf; ++i) near += t.depth[r][i] <= 2.0 * fl.depth;
-    if (near < 5)
-      res.warnings.push_back(fmt::format("only {} FRF point(s) near the critical chatter frequency {:.2f} Hz have a_lim within "
-                                         "2× the floor: the FRF grid is too coarse there and the lobes are inaccurate",
-                                         near, fl.chatter_hz));
-  }
+  if (near < 5)
+    res.warnings.push_back(fmt::format("only {} FRF point(s) near the critical chatter frequency {:.2f} Hz have a_lim within "
+                                       "2× the floor: the FRF grid is too coarse there and the lobes are inaccurate",
+                                       near, fl.chatter_hz));
 
   const std::vector<double> grid = options.speeds.values();
-  const double dn = grid[1] - grid[0];
   res.envelope.resize(grid.size());
   for (std::size_t j = 0; j < grid.size(); ++j) res.envelope[j] = {grid[j], kInf, kNaN, -1};
-
+  std::vector<double> scratch;
   for (int k = 0; k <= res.lobes; ++k) {
-    // Lobe k lives at 60 f/(N(k+1)) < n < 60 f/(N k): only these frequencies can reach the range
-    // (one more point on each side so segments crossing the range ends are kept).
-    const double f_lo = n_min * n_teeth * k / 60.0, f_hi = n_max * n_teeth * (k + 1) / 60.0;
-    std::size_t i0 = static_cast<std::size_t>(std::lower_bound(t.f.begin(), t.f.end(), f_lo) - t.f.begin());
-    std::size_t i1 = static_cast<std::size_t>(std::upper_bound(t.f.begin(), t.f.end(), f_hi) - t.f.begin());
-    i0 = i0 > 0 ? i0 - 1 : 0;
-    i1 = std::min(i1 + 1, nf);
-    for (int r = 0; r < 2; ++r) {
-      double prev_speed = kNaN;
-      for (std::size_t i = i0; i < i1; ++i) {
-        const double d = t.depth[r][i];
-        if (std::isnan(d)) {
-          prev_speed = kNaN;
-          continue;
-        }
-        const double speed = 60.0 * t.f[i] / (n_teeth * (t.eps[r][i] / (2.0 * kPi) + k));
-        if (speed >= n_min && speed <= n_max && (options.max_depth_m == 0.0 || d <= options.max_depth_m))
-          res.points.push_back({k, r, speed, d, t.f[i]});
-        if (!std::isnan(prev_speed)) {
-          const double s0 = prev_speed, d0 = t.depth[r][i - 1], f0 = t.f[i - 1];
-          const double lo = std::min(s0, speed), hi = std::max(s0, speed);
-          const double jl = std::max(0.0, std::ceil((lo - n_min) / dn));
-          const double jh = std::min(static_cast<double>(grid.size() - 1), std::floor((hi - n_min) / dn));
-          for (double jj = jl; jj <= jh; jj += 1.0) {
-            const auto j = static_cast<std::size_t>(jj);
-            const double u = speed == s0 ? 0.0 : (grid[j] - s0) / (speed - s0);
-            const double dj = d0 + u * (d - d0);
-            if (dj < res.envelope[j].depth_m) res.envelope[j] = {grid[j], dj, f0 + u * (t.f[i] - f0), k};
-          }
-        }
-        prev_speed = speed;
-      }
-    }
+    const auto [i0, i1] = lobe_window(t, cutting.teeth, k, n_min, n_max);
+    for (int r = 0; r < 2; ++r) lower_envelope(t, k, r, i0, i1, n_min, grid[1] - grid[0], res.envelope, scratch);
   }
   const auto uncovered = std::count_if(res.envelope.begin(), res.envelope.end(), [](const EnvelopePoint& e) { return e.lobe < 0; });
   if (uncovered > 0)
@@ -660,8 +670,9 @@ std::string csv_head(const std::string& what, const std::vector<std::string>& co
 std::string format_lobes_csv(const ZeroOrderResult& result, const std::vector<std::string>& comments) {
   std::string s = csv_head("stability lobes, zero-order approximation (root: which eigenvalue of the quadratic)", comments,
                            "lobe,spindle_speed_rpm,axial_depth_mm,chatter_frequency_hz,root");
-  for (const LobePoint& p : result.points)
+  result.for_each_point([&](const LobePoint& p) {
     fmt::format_to(std::back_inserter(s), "{},{},{},{},{}\n", p.lobe, p.speed_rpm, p.depth_m * 1e3, p.chatter_hz, p.root);
+  });
   return s;
 }
 

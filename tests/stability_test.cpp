@@ -157,8 +157,9 @@ TEST(Stability, LobePointsSatisfyTheCharacteristicEquation) {
     ZeroOrderOptions o;
     o.speeds = {3000.0, 30000.0, 500};
     const ZeroOrderResult r = zero_order_lobes(c.frfs, cc, o);
-    ASSERT_FALSE(r.points.empty());
-    for (const LobePoint& p : r.points) {
+    const std::vector<LobePoint> points = r.points();
+    ASSERT_FALSE(points.empty());
+    for (const LobePoint& p : points) {
       const auto i = static_cast<std::size_t>(std::lower_bound(grid.begin(), grid.end(), p.chatter_hz - 1e-9) - grid.begin());
       ASSERT_LT(i, grid.size());
       Eigen::Matrix2cd g;
@@ -184,9 +185,20 @@ TEST(Stability, LobeMappingAndEnvelope) {
   o.speeds = {4000.0, 30000.0, 4000};
   const ZeroOrderResult r = zero_order_lobes(frfs, cc, o);
   ASSERT_GE(r.lobes, 5);
+  // The per-lobe frequency windows only skip work: every (lobe, root, frequency) of the table whose
+  // speed falls in the range is a point, counted here without windows.
+  const std::vector<LobePoint> points = r.points();
+  std::size_t brute = 0;
+  for (int k = 0; k <= r.lobes; ++k)
+    for (int root = 0; root < 2; ++root)
+      for (std::size_t i = 0; i < r.table.chatter_hz.size(); ++i) {
+        const double n = r.table.chatter_hz[i] * 60.0 / (cc.teeth * (r.table.phase[root][i] + k));
+        brute += r.table.depth_m[root][i] > 0.0 && n >= o.speeds.min_rpm && n <= o.speeds.max_rpm;
+      }
+  EXPECT_EQ(points.size(), brute);
   std::map<std::tuple<int, double>, std::map<int, double>> by_freq;  // (root, f) → lobe → speed
   std::map<int, LobePoint> lowest;
-  for (const LobePoint& p : r.points) {
+  for (const LobePoint& p : points) {
     EXPECT_GT(p.depth_m, 0.0);
     EXPECT_GE(p.speed_rpm, o.speeds.min_rpm);
     EXPECT_LE(p.speed_rpm, o.speeds.max_rpm);
@@ -226,7 +238,7 @@ TEST(Stability, TooFewLobesAreReported) {
   bool warned = false;
   for (const auto& w : r.warnings) warned |= w.find("--lobes") != std::string::npos;
   EXPECT_TRUE(warned);
-  for (const LobePoint& p : r.points) EXPECT_LE(p.lobe, 2);
+  for (const LobePoint& p : r.points()) EXPECT_LE(p.lobe, 2);
 }
 
 // With no cutting the monodromy matrix is exp(A₀τ): ρ = e^{−ζω_nτ} exactly, and with two modes
@@ -455,5 +467,31 @@ TEST(LobesCommand, WritesLobesAndRejectsBadInputWithExitCodes) {
   const CliRun no_output = run_cli(base + " --immersion 2 --output " + dir + "/never.csv");
   EXPECT_EQ(no_output.code, 2);
   EXPECT_FALSE(std::filesystem::exists(dir + "/never.csv"));
+  std::filesystem::remove_all(dir);
+}
+
+TEST(ModesCommand, FitsAnFrfAndRejectsACoarseOne) {
+  const std::string dir = temp_dir();
+  write_frf_csv(dir + "/two.csv", modal_frf({kBench, Mode{0.2, 0.03, 2100.0}}, uniform_grid(300.0, 3000.0, 1.0)));
+  const CliRun ok = run_cli("modes " + dir + "/two.csv --max-modes 2 --json");
+  ASSERT_EQ(ok.code, 0) << ok.out;
+  EXPECT_NE(ok.out.find("\"modal_mass_kg\": 0.0399"), std::string::npos) << ok.out;
+  const CliRun text = run_cli("modes " + dir + "/two.csv");
+  ASSERT_EQ(text.code, 0) << text.out;
+  EXPECT_NE(text.out.find("--mode-x 0.03993,0.011,922 --mode-x 0.2,0.03,2100"), std::string::npos) << text.out;
+  write_frf_csv(dir + "/coarse.csv", modal_frf({kBench}, uniform_grid(500.0, 1500.0, 25.0)));
+  const CliRun coarse = run_cli("modes " + dir + "/coarse.csv");
+  EXPECT_EQ(coarse.code, 3) << coarse.out;
+  EXPECT_NE(coarse.out.find("half-power band"), std::string::npos) << coarse.out;
+  const CliRun bad_band = run_cli("modes " + dir + "/two.csv --band 900");
+  EXPECT_EQ(bad_band.code, 2) << bad_band.out;
+  // An sd run from explicit modes, and a malformed mode.
+  const std::string sd = "lobes --method sd --teeth 2 --kt 6e8 --kn 2e8 --immersion 0.05 --milling down --rpm 17000:18000 --speeds 2 --rigid-y";
+  const CliRun modes_given = run_cli(sd + " --mode-x 0.03993,0.011,922 --max-depth 10 --json");
+  ASSERT_EQ(modes_given.code, 0) << modes_given.out;
+  EXPECT_NE(modes_given.out.find("\"kind\": \"flip\""), std::string::npos) << modes_given.out;
+  const CliRun malformed = run_cli(sd + " --mode-x 0.03993,0.011");
+  EXPECT_EQ(malformed.code, 2) << malformed.out;
+  EXPECT_NE(malformed.out.find("--mode-x"), std::string::npos) << malformed.out;
   std::filesystem::remove_all(dir);
 }

@@ -197,12 +197,14 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
     if (!o.output.empty()) write_text_file(o.output, format_lobes_csv(r, comments));
     out["floor_depth_mm"] = r.floor_depth_m * 1e3;
     out["floor_chatter_frequency_hz"] = r.floor_chatter_hz;
+    std::size_t points = 0;
+    r.for_each_point([&](const LobePoint&) { ++points; });
     out["lobes"] = r.lobes;
-    out["lobe_points"] = r.points.size();
+    out["lobe_points"] = points;
     if (!o.json) {
       std::cout << fmt::format("zero-order stability lobes, k = 0…{}: absolute stability limit {:.4f} mm (chatter at {:.1f} Hz)\n",
                                r.lobes, r.floor_depth_m * 1e3, r.floor_chatter_hz);
-      if (!o.output.empty()) info(g, fmt::format("wrote {} ({} lobe points)", o.output, r.points.size()));
+      if (!o.output.empty()) info(g, fmt::format("wrote {} ({} lobe points)", o.output, points));
     }
   } else {
     if (o.lobes >= 0) warnings.push_back("--lobes is used by --method zoa only (sd derives lobe numbers)");

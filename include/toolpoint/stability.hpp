@@ -21,7 +21,9 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cmath>
 #include <optional>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -112,14 +114,33 @@ struct ZeroOrderOptions {
   void check() const;
 };
 
+// What every lobe shares, per chatter frequency of the FRF grid and root of the quadratic: lobe k
+// has the same depth and chatter frequency at speed n_k = speed_factor / (phase + k), so the lobe
+// points are a view of this table (1 division each), not stored.
+struct LobeTable {
+  std::vector<double> chatter_hz;     // the FRF grid [Hz]
+  std::vector<double> speed_factor;   // 60 f/N [rpm]
+  std::vector<double> depth_m[2];     // a_lim [m]; NaN where Λ_R ≥ 0 (no positive depth) or no root
+  std::vector<double> phase[2];       // ε/2π in (0, 1)
+};
+
 struct ZeroOrderResult {
   Eigen::Matrix2d alpha;             // directional factors α over the engagement
   double floor_depth_m = 0.0;        // absolute stability limit: min over ω_c and both roots of a_lim
   double floor_chatter_hz = 0.0;     // … and its chatter frequency
   int lobes = 0;                     // K used
-  std::vector<LobePoint> points;     // by lobe, then root, then chatter frequency; speeds in range
+  LobeTable table;
+  int teeth = 0;                     // N
+  SpeedRange speeds;                 // the range lobe points are kept in
+  double max_depth_m = 0.0;          // lobe points deeper than this are left out (0: none)
   std::vector<EnvelopePoint> envelope;
   std::vector<std::string> warnings;
+
+  // Calls visit(point) for every lobe point with speed in range (and depth ≤ max_depth_m), by
+  // lobe, then root, then chatter frequency.
+  template <typename Visit>
+  void for_each_point(Visit&& visit) const;
+  std::vector<LobePoint> points() const;
 };
 
 // Stability lobes by the zero-order approximation, directly from the FRFs (no modal fit). At each
@@ -134,6 +155,25 @@ struct ZeroOrderResult {
 // Throws InvalidArgument (bad conditions or options), InputError (bad FRFs), NumericalError when
 // no frequency gives a positive depth (no regenerative chatter possible: check the FRF's sign).
 ZeroOrderResult zero_order_lobes(const MillingFrfs& frfs, const CuttingConditions& cutting, const ZeroOrderOptions& options);
+
+// Lobe k can only reach speeds in (60f/(N(k+1)), 60f/(Nk)): the index range of the table's
+// frequencies that can map into [min_rpm, max_rpm], widened by one point on each side so segments
+// crossing the range ends are kept.
+std::pair<std::size_t, std::size_t> lobe_window(const LobeTable& table, int teeth, int lobe, double min_rpm, double max_rpm);
+
+template <typename Visit>
+void ZeroOrderResult::for_each_point(Visit&& visit) const {
+  for (int k = 0; k <= lobes; ++k) {
+    const auto [i0, i1] = lobe_window(table, teeth, k, speeds.min_rpm, speeds.max_rpm);
+    for (int r = 0; r < 2; ++r)
+      for (std::size_t i = i0; i < i1; ++i) {
+        const double d = table.depth_m[r][i];
+        if (!(d > 0.0) || (max_depth_m > 0.0 && d > max_depth_m)) continue;
+        const double n = table.speed_factor[i] / (table.phase[r][i] + k);
+        if (n >= speeds.min_rpm && n <= speeds.max_rpm) visit(LobePoint{k, r, n, d, table.chatter_hz[i]});
+      }
+  }
+}
 
 // The zero-order absolute stability limit alone [m] (speed independent), and its chatter
 // frequency [Hz] through `chatter_hz` when not null. Same errors as zero_order_lobes.
