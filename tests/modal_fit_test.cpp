@@ -66,10 +66,11 @@ TEST(ModalFit, RecoversThreeModesExactly) {
   EXPECT_NEAR(std::abs(modal_receptance(model, 922.0) / modal_receptance(kModes, 922.0) - 1.0), 0.0, 1e-9);
 }
 
-// Noisy data, σ = 1 % and 3 % of the response. A least-squares estimate's relative error is about
-// σ/sqrt(n) with n the points in a mode's half-power band (21…190 here): for σ = 3 % and n = 21,
-// ~0.7 %. Tolerances: f_r 5e-4 (observed ≤ 1.3e-4), ζ_r and m_r 3σ/√21·1.5 ≈ 3 % at σ = 3 %
-// (observed ≤ 0.9 %). The reported residuals must tell the truth: overall ≈ σ (within ±30 %).
+// Noisy data, σ = 1 % and 3 % of the response (one fixed seed). A least-squares estimate's
+// relative error is about σ/sqrt(n), n the points in a mode's half-power band (21…96 here): for
+// n = 21 that is 0.22σ. Tolerances: ζ_r and m_r within 0.5σ (observed ≤ 0.25σ), f_r within 5e-4
+// (observed ≤ 1.6e-4). The reported residuals must tell the truth: overall ≈ σ (within ±30 %),
+// per mode within ±50 %.
 TEST(ModalFit, RecoversModesFromNoisyData) {
   const FrfSeries clean = modal_frf(kModes, grid(100.0, 4000.0, 1.0));
   for (double sigma : {0.01, 0.03}) {
@@ -77,8 +78,8 @@ TEST(ModalFit, RecoversModesFromNoisyData) {
     ASSERT_EQ(r.modes.size(), 3u) << sigma;
     for (std::size_t i = 0; i < 3; ++i) {
       EXPECT_NEAR(r.modes[i].mode.frequency_hz / kModes[i].frequency_hz, 1.0, 5e-4) << sigma << " mode " << i;
-      EXPECT_NEAR(r.modes[i].mode.damping_ratio / kModes[i].damping_ratio, 1.0, sigma) << sigma << " mode " << i;
-      EXPECT_NEAR(r.modes[i].mode.mass_kg / kModes[i].mass_kg, 1.0, sigma) << sigma << " mode " << i;
+      EXPECT_NEAR(r.modes[i].mode.damping_ratio / kModes[i].damping_ratio, 1.0, 0.5 * sigma) << sigma << " mode " << i;
+      EXPECT_NEAR(r.modes[i].mode.mass_kg / kModes[i].mass_kg, 1.0, 0.5 * sigma) << sigma << " mode " << i;
       EXPECT_NEAR(r.modes[i].normalised_residual / sigma, 1.0, 0.5) << sigma << " mode " << i;
     }
     EXPECT_NEAR(r.normalised_residual / sigma, 1.0, 0.3) << sigma;

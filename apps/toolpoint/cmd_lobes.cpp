@@ -118,6 +118,7 @@ ModalModel modal_model(const LobesOptions& o, const std::optional<MillingFrfs>& 
     report["modal_fit"][name] = {{"normalised_residual", r.normalised_residual}, {"modes", r.modes.size()}};
     return r.modal_model();
   };
+  if (o.rigid_y && !o.mode_y.empty()) throw InvalidArgument("--rigid-y and --mode-y contradict each other", "drop one of them");
   for (const auto& t : o.mode_x) mm.x.push_back(parse_mode(t, "--mode-x"));
   for (const auto& t : o.mode_y) mm.y.push_back(parse_mode(t, "--mode-y"));
   if (mm.x.empty()) {
@@ -128,7 +129,6 @@ ModalModel modal_model(const LobesOptions& o, const std::optional<MillingFrfs>& 
     if (frfs && frfs->yy) mm.y = fit(*frfs->yy, o.frf_y);
     else mm.y = mm.x;  // symmetric tool
   }
-  if (o.rigid_y) mm.y.clear();
   if (frfs && frfs->xy) warnings.push_back("--method sd uses uncoupled x and y modes: the cross FRFs are ignored");
   auto list = [](const std::vector<Mode>& v) {
     nlohmann::json a = nlohmann::json::array();
