@@ -110,7 +110,7 @@ struct EnvelopePoint {
 struct ZeroOrderOptions {
   int lobes = -1;            // K: lobes k = 0…K; −1 chooses K so the lobes cover speeds.min_rpm
   SpeedRange speeds{0.0, 0.0, 2000};  // where lobe points are kept, and the envelope's grid
-  double max_depth_m = 0.0;  // lobe points deeper than this are left out of `points` (0: keep all)
+  double max_depth_m = 0.0;  // lobe points deeper than this are left out (0: keep all)
   void check() const;
 };
 
