@@ -175,15 +175,16 @@ LobeTable zero_order_roots(const MillingFrfs& frfs, const CuttingConditions& cut
     const Complex disc = std::sqrt(half_tr * half_tr - det);
     // The larger root directly, the smaller one as det/larger: no cancellation (and exactly 0
     // when det B = 0, the 1-DOF case).
-    const Complex big = std::abs(half_tr + disc) >= std::abs(half_tr - disc) ? half_tr + disc : half_tr - disc;
-    Complex mu[2] = {big, std::abs(big) > 0.0 ? det / big : Complex(0.0)};
-    if (i > 0 && std::abs(mu[0] - prev[0]) + std::abs(mu[1] - prev[1]) > std::abs(mu[0] - prev[1]) + std::abs(mu[1] - prev[0]))
+    // (Squared moduli throughout: comparisons need no square roots.)
+    const Complex big = std::norm(half_tr + disc) >= std::norm(half_tr - disc) ? half_tr + disc : half_tr - disc;
+    Complex mu[2] = {big, big != 0.0 ? det / big : Complex(0.0)};
+    if (i > 0 && std::norm(mu[0] - prev[0]) + std::norm(mu[1] - prev[1]) > std::norm(mu[0] - prev[1]) + std::norm(mu[1] - prev[0]))
       std::swap(mu[0], mu[1]);  // keep each root on its own continuous branch
     prev[0] = mu[0];
     prev[1] = mu[1];
-    const double scale = std::max(std::abs(mu[0]), std::abs(mu[1]));
+    const double scale2 = std::max(std::norm(mu[0]), std::norm(mu[1]));
     for (int r = 0; r < 2; ++r) {
-      if (!(std::abs(mu[r]) > 1e-12 * scale)) continue;
+      if (!(std::norm(mu[r]) > 1e-24 * scale2)) continue;  // |μ| ≤ 1e-12 max|μ|: a vanishing root
       const Complex lam = -1.0 / mu[r];
       if (!(lam.real() < 0.0)) continue;  // Λ_R ≥ 0: no positive depth from this root here
       t.depth_m[r][i] = -2.0 * kPi * std::norm(lam) / (lam.real() * nkt);
@@ -209,34 +210,35 @@ Floor find_floor(const LobeTable& t) {
 }
 
 // Lowers the envelope with every segment of lobe k, root r: the lobe is a polyline in (speed,
-// depth) through neighbouring grid frequencies, interpolated linearly in speed.
+// depth) through neighbouring grid frequencies, interpolated linearly in speed. Most segments are
+// short and hold no envelope speed; they are told apart by the grid cell of their ends, computed in
+// a branch-free (vectorised) pass.
 void lower_envelope(const LobeTable& t, int k, int r, std::size_t i0, std::size_t i1, double n_min, double dn,
-                    std::vector<EnvelopePoint>& env, std::vector<double>& speed) {
+                    std::vector<EnvelopePoint>& env, std::vector<double>& speed, std::vector<int>& cell) {
   const double* a = t.speed_factor.data();
   const double* ph = t.phase[r].data();
   const double* d = t.depth_m[r].data();
-  speed.resize(i1 - i0);
-  for (std::size_t i = i0; i < i1; ++i) speed[i - i0] = a[i] / (ph[i] + k);  // NaN where invalid; vectorises
+  const std::size_t n = i1 - i0;
+  speed.resize(n);
+  cell.resize(n);
   const double inv_dn = 1.0 / dn, last = static_cast<double>(env.size() - 1);
-  for (std::size_t i = i0 + 1; i < i1; ++i) {
-    const double s0 = speed[i - 1 - i0], s1 = speed[i - i0];
+  for (std::size_t i = 0; i < n; ++i) {
+    speed[i] = a[i0 + i] / (ph[i0 + i] + k);  // NaN where the root gives no depth
+    // floor((speed − n_min)/dn) clamped to −1…last+1 (NaN → −1): truncation of a value ≥ 0.
+    const double u = std::min(std::max((speed[i] - n_min) * inv_dn + 1.0, 0.0), last + 2.0);
+    cell[i] = static_cast<int>(u) - 1;
+  }
+  for (std::size_t i = 1; i < n; ++i) {
+    if (cell[i] == cell[i - 1]) continue;  // no envelope speed strictly inside this segment
+    const double s0 = speed[i - 1], s1 = speed[i];
     if (std::isnan(s0) || std::isnan(s1)) continue;
-    const double lo = (std::min(s0, s1) - n_min) * inv_dn, hi = (std::max(s0, s1) - n_min) * inv_dn;
-    if (hi < 0.0 || lo > last) continue;
-    // Grid indices j with lo ≤ j ≤ hi (ceil and floor of non-negative values by truncation).
-    const double jl_real = std::max(lo, 0.0), jh_real = std::min(hi, last);
-    auto jl = static_cast<std::size_t>(jl_real);
-    if (static_cast<double>(jl) < jl_real) ++jl;
-    const auto jh = static_cast<std::size_t>(jh_real);
-    if (jl > jh) continue;
-    const double d0 = d[i - 1], d1 = d[i], slope = s1 == s0 ? 0.0 : 1.0 / (s1 - s0);
+    const auto jl = static_cast<std::size_t>(std::min(cell[i - 1], cell[i]) + 1);
+    const auto jh = static_cast<std::size_t>(std::min(std::max(cell[i - 1], cell[i]), static_cast<int>(last)));
+    const double d0 = d[i0 + i - 1], d1 = d[i0 + i], slope = 1.0 / (s1 - s0);
+    const double f0 = t.chatter_hz[i0 + i - 1], f1 = t.chatter_hz[i0 + i];
     for (std::size_t j = jl; j <= jh; ++j) {
       const double u = (env[j].speed_rpm - s0) * slope, dj = d0 + u * (d1 - d0);
-      if (dj < env[j].depth_m) {
-        env[j].depth_m = dj;
-        env[j].chatter_hz = t.chatter_hz[i - 1] + u * (t.chatter_hz[i] - t.chatter_hz[i - 1]);
-        env[j].lobe = k;
-      }
+      if (dj < env[j].depth_m) env[j] = {env[j].speed_rpm, dj, f0 + u * (f1 - f0), k};
     }
   }
 }
@@ -307,10 +309,11 @@ ZeroOrderResult zero_order_lobes(const MillingFrfs& frfs, const CuttingCondition
   const std::vector<double> grid = options.speeds.values();
   res.envelope.resize(grid.size());
   for (std::size_t j = 0; j < grid.size(); ++j) res.envelope[j] = {grid[j], kInf, kNaN, -1};
-  std::vector<double> scratch;
+  std::vector<double> speed;
+  std::vector<int> cell;
   for (int k = 0; k <= res.lobes; ++k) {
     const auto [i0, i1] = lobe_window(t, cutting.teeth, k, n_min, n_max);
-    for (int r = 0; r < 2; ++r) lower_envelope(t, k, r, i0, i1, n_min, grid[1] - grid[0], res.envelope, scratch);
+    for (int r = 0; r < 2; ++r) lower_envelope(t, k, r, i0, i1, n_min, grid[1] - grid[0], res.envelope, speed, cell);
   }
   const auto uncovered = std::count_if(res.envelope.begin(), res.envelope.end(), [](const EnvelopePoint& e) { return e.lobe < 0; });
   if (uncovered > 0)
