@@ -43,5 +43,7 @@ void add_filter_command(CLI::App& app, Globals& g);
 void add_noise_command(CLI::App& app, Globals& g);
 void add_rotational_command(CLI::App& app, Globals& g);
 void add_convert_command(CLI::App& app, Globals& g);
+void add_lobes_command(CLI::App& app, Globals& g);
+void add_modes_command(CLI::App& app, Globals& g);
 
 }  // namespace toolpoint::cli

@@ -16,7 +16,7 @@ struct RotationalCliOptions {
   double shear_stiffness = 0.0;
   std::string files[3][3];  // files[i][j]: H_ij, response at point i, force at point j
   std::string output, p_method = "auto";
-  RotationalOptions fd{2, 0.0, false, PMethod::Auto};
+  RotationalOptions fd{2, 0.0, false, PMethod::Auto, std::nullopt};
 };
 
 void run_rotational(RotationalCliOptions o, const Globals& g) {

@@ -58,6 +58,8 @@ int main(int argc, char** argv) {
   add_noise_command(app, globals);
   add_rotational_command(app, globals);
   add_convert_command(app, globals);
+  add_lobes_command(app, globals);
+  add_modes_command(app, globals);
 
   try {
     app.parse(argc, argv);

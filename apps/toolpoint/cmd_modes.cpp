@@ -1,0 +1,99 @@
+// toolpoint modes: modal parameters (natural frequency Hz, damping ratio, modal mass kg) of a point
+// receptance FRF [m/N] by peak picking and a Levenberg–Marquardt fit, with the fit quality.
+#include <fmt/format.h>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "cli.hpp"
+#include "toolpoint/conventions.hpp"
+#include "toolpoint/io.hpp"
+#include "toolpoint/modal_fit.hpp"
+
+namespace toolpoint::cli {
+
+namespace {
+
+struct ModesOptions {
+  std::string file, band;
+  int max_modes = 3;
+  double min_prominence_db = 3.0;
+  bool no_residuals = false, json = false;
+};
+
+void run_modes(const ModesOptions& o, const Globals& g) {
+  ModalFitOptions fo;
+  fo.max_modes = o.max_modes;
+  fo.min_prominence_db = o.min_prominence_db;
+  fo.residual_terms = !o.no_residuals;
+  if (!o.band.empty()) fo.band_hz = parse_range(o.band, "--band");
+  fo.check();
+  FrfTable table = read_frf_csv(o.file);
+  const FrfSeries frf = table.is_block ? entry(table.block, 0) : std::move(table.single);
+  if (table.is_block) info(g, fmt::format("{} holds a 2×2 block: fitting its H entry (w/f)", o.file));
+  const ModalFitResult r = fit_modes(frf, fo, o.file);
+
+  if (o.json) {
+    nlohmann::json out;
+    out["units"] = "frequency Hz, modal mass kg, stiffness N/m, residue 1/kg, lower residual 1/kg, upper residual m/N";
+    out["file"] = o.file;
+    out["band_hz"] = {r.band_low_hz, r.band_high_hz};
+    out["points"] = r.points;
+    nlohmann::json modes = nlohmann::json::array();
+    for (const FittedMode& m : r.modes)
+      modes.push_back({{"frequency_hz", m.mode.frequency_hz},
+                       {"damping_ratio", m.mode.damping_ratio},
+                       {"modal_mass_kg", m.mode.mass_kg},
+                       {"stiffness_n_per_m", m.mode.stiffness()},
+                       {"residue_per_kg", m.residue},
+                       {"normalised_residual", m.normalised_residual},
+                       {"points_in_half_power_band", m.points_in_half_power_band},
+                       {"initial_frequency_hz", m.initial_frequency_hz},
+                       {"initial_damping_ratio", m.initial_damping_ratio}});
+    out["modes"] = modes;
+    out["lower_residual_per_kg"] = r.lower_residual;
+    out["upper_residual_m_per_n"] = r.upper_residual;
+    out["normalised_residual"] = r.normalised_residual;
+    out["converged"] = r.converged;
+    out["evaluations"] = r.evaluations;
+    out["warnings"] = r.warnings;
+    std::cout << out.dump(2) << '\n';
+  } else {
+    std::cout << fmt::format("modal fit of {}: {} mode(s), {} points in {}–{} Hz, overall residual {:.3g} %{}\n", o.file,
+                             r.modes.size(), r.points, r.band_low_hz, r.band_high_hz, 100.0 * r.normalised_residual,
+                             r.converged ? "" : " (not converged)");
+    std::cout << "mode  frequency_hz  damping_ratio  modal_mass_kg  stiffness_n_per_m  residual_pct  half_power_points\n";
+    int i = 1;
+    for (const FittedMode& m : r.modes)
+      std::cout << fmt::format("{:4d}  {:12.3f}  {:13.6f}  {:13.6g}  {:17.6g}  {:12.3f}  {:17d}\n", i++, m.mode.frequency_hz,
+                               m.mode.damping_ratio, m.mode.mass_kg, m.mode.stiffness(), 100.0 * m.normalised_residual,
+                               m.points_in_half_power_band);
+    if (fo.residual_terms)
+      std::cout << fmt::format("residual terms: lower {:.6g} 1/kg (−L/ω²), upper {:.6g} m/N\n", r.lower_residual, r.upper_residual);
+    std::string as_options;
+    for (const FittedMode& m : r.modes)
+      if (m.residue > 0.0) as_options += fmt::format(" --mode-x {:.6g},{:.6g},{:.6g}", m.mode.mass_kg, m.mode.damping_ratio, m.mode.frequency_hz);
+    if (!as_options.empty()) std::cout << "for `toolpoint lobes --method sd`:" << as_options << '\n';
+  }
+  warn_all(r.warnings);
+}
+
+}  // namespace
+
+void add_modes_command(CLI::App& app, Globals& g) {
+  auto o = std::make_shared<ModesOptions>();
+  CLI::App* c = app.add_subcommand("modes", "Modal parameters of a point FRF: natural frequency [Hz], damping ratio, modal mass [kg], with fit quality");
+  c->add_option("frf", o->file, "FRF CSV: frequency_hz,re,im (receptance m/N) or a 2×2 block CSV (its H entry is used)")->required();
+  c->add_option("--max-modes", o->max_modes, "Fit at most N modes (the most prominent peaks), 1…20")->capture_default_str();
+  c->add_option("--band", o->band, "Fit only F1 ≤ f ≤ F2, as F1:F2 [Hz] (default: the whole FRF)");
+  c->add_option("--min-prominence", o->min_prominence_db, "A peak must rise this much [dB] above its valleys to count as a mode")
+      ->capture_default_str();
+  c->add_flag("--no-residuals", o->no_residuals, "Do not fit the residual terms −L/ω² + U for out-of-band modes (default: fit them)");
+  c->add_flag("--json", o->json, "Machine-readable output on stdout");
+  c->footer(
+      "Example:\n"
+      "  toolpoint modes tool_point.csv --max-modes 2 --band 500:3000");
+  c->callback([o, &g] { run_modes(*o, g); });
+}
+
+}  // namespace toolpoint::cli

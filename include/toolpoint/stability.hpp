@@ -1,0 +1,304 @@
+// toolpoint: milling stability lobes from the tool point dynamics.
+//
+// Units: SI (m, kg, N, s, rad) in every argument and result, with two named exceptions that are
+// the machinist's own: spindle speeds in rpm (fields *_rpm) and, in the CSV the CLI writes, axial
+// depths in mm. Frequencies in Hz; cutting coefficients K_t, K_n in N/m² (force per chip area).
+//
+// Geometry and sign convention (Altintas & Budak, CIRP Annals 44 (1995) 357; Altintas,
+// Manufacturing Automation, 2nd ed., ch. 4): x is the feed direction, y the normal direction in the
+// plane of the cut; the immersion angle φ of a tooth is measured clockwise from +y, so a tooth cuts
+// while φ_st ≤ φ ≤ φ_ex within [0, π]. Up-milling: φ_st = 0, φ_ex = acos(1 − 2a/D); down-milling:
+// φ_st = acos(2a/D − 1), φ_ex = π (NOTES §7). x, y are displacements of the tool relative to the
+// work; the FRFs G_xx, G_xy, G_yx, G_yy are receptances [m/N] of the tool point in these
+// directions (e^{iωt}: Im G_xx ≤ 0). Flutes are straight (no helix), teeth evenly spaced.
+//
+// Dynamic chip thickness h = Δx sin φ + Δy cos φ, Δ = r(t) − r(t − τ), τ = 60/(N n) the tooth
+// period; tooth forces F_t = K_t a h, F_r = K_r F_t with K_r = K_n/K_t. Summed over the teeth in
+// cut: F(t) = ½ a K_t A(φ(t)) Δ(t), with per tooth
+//     A = [[−sin2φ − K_r(1 − cos2φ),  −(1 + cos2φ) − K_r sin2φ],
+//          [ (1 − cos2φ) − K_r sin2φ,    sin2φ − K_r(1 + cos2φ)]],
+// whose integral over φ₁…φ₂ is the matrix α of NOTES §7 (directional_integral below).
+#pragma once
+
+#include <Eigen/Core>
+#include <cmath>
+#include <optional>
+#include <utility>
+#include <string>
+#include <vector>
+
+#include "toolpoint/modal_fit.hpp"
+#include "toolpoint/receptance.hpp"
+
+namespace toolpoint {
+
+enum class MillingDirection { Up, Down };
+
+// Entry and exit angles φ_st < φ_ex of the teeth [rad], within [0, π].
+struct Engagement {
+  double entry_rad = 0.0;
+  double exit_rad = 0.0;
+  void check() const;  // throws InvalidArgument unless 0 ≤ φ_st < φ_ex ≤ π
+};
+
+// From the radial immersion a/D in (0, 1] (NOTES §7). Throws InvalidArgument outside (0, 1].
+Engagement engagement_from_immersion(double radial_immersion, MillingDirection direction);
+// From angles in degrees (the CLI's --entry/--exit). Throws InvalidArgument outside 0 ≤ entry < exit ≤ 180.
+Engagement engagement_from_degrees(double entry_deg, double exit_deg);
+
+struct CuttingConditions {
+  int teeth = 0;                        // N ≥ 1, evenly spaced
+  double tangential_coefficient = 0.0;  // K_t > 0 [N/m²]
+  double radial_ratio = 0.0;            // K_r = K_n/K_t ≥ 0
+  Engagement engagement;
+  // Throws InvalidArgument naming the parameter and value (negative coefficients, N < 1, …).
+  void check() const;
+};
+
+// α(φ₁, φ₂) = ∫_{φ₁}^{φ₂} A(φ) dφ (NOTES §7, Altintas & Budak 1995 Eq. 10), dimensionless:
+//   α_xx = ½[cos2φ − 2K_rφ + K_r sin2φ], α_xy = ½[−sin2φ − 2φ + K_r cos2φ],
+//   α_yx = ½[−sin2φ + 2φ + K_r cos2φ],  α_yy = ½[−cos2φ − 2K_rφ − K_r sin2φ]   evaluated φ₁…φ₂.
+Eigen::Matrix2d directional_integral(double radial_ratio, double phi1, double phi2);
+// α over the engagement φ_st…φ_ex: the time average of the summed tooth matrices is (N/2π)·α.
+Eigen::Matrix2d directional_factors(const CuttingConditions& cutting);
+
+// An evenly spaced grid of spindle speeds MIN…MAX [rpm], both ends included.
+struct SpeedRange {
+  double min_rpm = 0.0;
+  double max_rpm = 0.0;
+  int points = 1000;
+  void check() const;  // throws InvalidArgument unless 0 < MIN < MAX and 2 ≤ points ≤ 1e6
+  std::vector<double> values() const;
+};
+
+// ---- Zero-order approximation (Altintas & Budak 1995; Budak & Altintas 1998) -------------------
+
+// The tool point FRFs the zero-order method works from, all on one frequency grid [Hz], in m/N.
+struct MillingFrfs {
+  FrfSeries xx;                   // G_xx
+  std::optional<FrfSeries> yy;    // G_yy; absent: G_yy = G_xx (a symmetric tool)
+  std::optional<FrfSeries> xy;    // cross FRFs G_xy, G_yx: both or neither; absent: zero
+  std::optional<FrfSeries> yx;
+  bool rigid_y = false;           // G_yy = G_xy = G_yx = 0: flexible in x only (the 1-DOF model)
+
+  // Throws InputError (data: NaN, grids that differ, one cross FRF without the other).
+  void check() const;
+};
+
+// The FRFs of a modal model (x and y modes uncoupled, G_xy = G_yx = 0) on a frequency grid.
+MillingFrfs modal_milling_frfs(const std::vector<Mode>& x_modes, const std::vector<Mode>& y_modes,
+                               const std::vector<double>& frequency_hz);
+// A frequency grid [Hz] that resolves every mode's resonance (steps ≤ ζf/20 over f(1 ± 20ζ)) and
+// spans 0.3…3 × the mode frequencies: fine enough for the zero-order floor to ~1e-5.
+std::vector<double> modal_frequency_grid(const std::vector<Mode>& modes);
+
+struct LobePoint {
+  int lobe = 0;             // k: k whole chatter waves plus ε/2π between successive teeth
+  int root = 0;             // which eigenvalue of the quadratic (0 or 1), tracked continuously in f
+  double speed_rpm = 0.0;   // n = 60 ω_c / (N (ε + 2kπ))
+  double depth_m = 0.0;     // a_lim = −2πΛ_R(1 + κ²)/(N K_t) [m]
+  double chatter_hz = 0.0;  // ω_c/2π
+};
+
+struct EnvelopePoint {
+  double speed_rpm = 0.0;
+  double depth_m = 0.0;      // minimum over all lobes at this speed [m]; +inf where no lobe reaches
+  double chatter_hz = 0.0;   // of the limiting lobe (NaN where none)
+  int lobe = -1;             // the limiting lobe k (−1 where none)
+};
+
+struct ZeroOrderOptions {
+  int lobes = -1;            // K: lobes k = 0…K; −1 chooses K so the lobes cover speeds.min_rpm
+  SpeedRange speeds{0.0, 0.0, 2000};  // where lobe points are kept, and the envelope's grid
+  double max_depth_m = 0.0;  // lobe points deeper than this are left out (0: keep all)
+  void check() const;
+};
+
+// What every lobe shares, per chatter frequency of the FRF grid and root of the quadratic: lobe k
+// has the same depth and chatter frequency at speed n_k = speed_factor / (phase + k), so the lobe
+// points are a view of this table (1 division each), not stored.
+struct LobeTable {
+  std::vector<double> chatter_hz;     // the FRF grid [Hz]
+  std::vector<double> speed_factor;   // 60 f/N [rpm]
+  std::vector<double> depth_m[2];     // a_lim [m]; NaN where Λ_R ≥ 0 (no positive depth) or no root
+  std::vector<double> phase[2];       // ε/2π in (0, 1)
+};
+
+struct ZeroOrderResult {
+  Eigen::Matrix2d alpha;             // directional factors α over the engagement
+  double floor_depth_m = 0.0;        // absolute stability limit: min over ω_c and both roots of a_lim
+  double floor_chatter_hz = 0.0;     // … and its chatter frequency
+  int lobes = 0;                     // K used
+  LobeTable table;
+  int teeth = 0;                     // N
+  SpeedRange speeds;                 // the range lobe points are kept in
+  double max_depth_m = 0.0;          // lobe points deeper than this are left out (0: none)
+  std::vector<EnvelopePoint> envelope;
+  std::vector<std::string> warnings;
+
+  // Calls visit(point) for every lobe point with speed in range (and depth ≤ max_depth_m), by
+  // lobe, then root, then chatter frequency.
+  template <typename Visit>
+  void for_each_point(Visit&& visit) const;
+  std::vector<LobePoint> points() const;
+};
+
+// Stability lobes by the zero-order approximation, directly from the FRFs (no modal fit). At each
+// chatter frequency ω_c of the grid, the two roots of det(I + Λ α G(iω_c)) = 0,
+//     a₀Λ² + a₁Λ + 1 = 0,  a₀ = det α · det G,  a₁ = tr(α G)
+// (with G_xy = G_yx = 0: a₀ = G_xx G_yy(α_xx α_yy − α_xy α_yx), a₁ = α_xx G_xx + α_yy G_yy), give
+// Λ = −N a K_t (1 − e^{−iω_c τ})/(4π). Only Λ_R < 0 gives a positive depth a_lim = −2πΛ_R(1+κ²)/(N K_t),
+// κ = Λ_I/Λ_R = cot(ω_c τ/2). The phase ε = ω_c τ − 2kπ = 2·atan2(−Λ_R, −Λ_I) ∈ (0, 2π) (the
+// printed ε = π − 2 atan κ on its principal branch), so τ = (ε + 2kπ)/ω_c and n = 60/(Nτ).
+// The envelope is the minimum over lobes and roots, each lobe a polyline in (speed, depth)
+// interpolated linearly between neighbouring grid frequencies.
+// Throws InvalidArgument (bad conditions or options), InputError (bad FRFs), NumericalError when
+// no frequency gives a positive depth (no regenerative chatter possible: check the FRF's sign).
+ZeroOrderResult zero_order_lobes(const MillingFrfs& frfs, const CuttingConditions& cutting, const ZeroOrderOptions& options);
+
+// Lobe k can only reach speeds in (60f/(N(k+1)), 60f/(Nk)): the index range of the table's
+// frequencies that can map into [min_rpm, max_rpm], widened by one point on each side so segments
+// crossing the range ends are kept.
+std::pair<std::size_t, std::size_t> lobe_window(const LobeTable& table, int teeth, int lobe, double min_rpm, double max_rpm);
+
+template <typename Visit>
+void ZeroOrderResult::for_each_point(Visit&& visit) const {
+  for (int k = 0; k <= lobes; ++k) {
+    const auto [i0, i1] = lobe_window(table, teeth, k, speeds.min_rpm, speeds.max_rpm);
+    for (int r = 0; r < 2; ++r)
+      for (std::size_t i = i0; i < i1; ++i) {
+        const double d = table.depth_m[r][i];
+        if (!(d > 0.0) || (max_depth_m > 0.0 && d > max_depth_m)) continue;
+        const double n = table.speed_factor[i] / (table.phase[r][i] + k);
+        if (n >= speeds.min_rpm && n <= speeds.max_rpm) visit(LobePoint{k, r, n, d, table.chatter_hz[i]});
+      }
+  }
+}
+
+// The zero-order absolute stability limit alone [m] (speed independent), and its chatter
+// frequency [Hz] through `chatter_hz` when not null. Same errors as zero_order_lobes.
+double zero_order_floor(const MillingFrfs& frfs, const CuttingConditions& cutting, double* chatter_hz = nullptr);
+
+// ---- Semi-discretization (Insperger & Stépán, IJNME 61 (2004) 117–141) --------------------------
+
+// Modes of the tool point in x and in y (uncoupled; each a 1-DOF oscillator seen at the tool
+// point, see Mode). An empty y list means the tool is rigid in y (the 1-DOF milling model).
+struct ModalModel {
+  std::vector<Mode> x;
+  std::vector<Mode> y;
+  // Throws InvalidArgument: no x mode, a bad mode, or ζ = 0 (undamped: zero depth is already
+  // marginal, there is no stable region to bound).
+  void check() const;
+};
+
+enum class BoundaryKind {
+  Hopf,  // a complex pair of Floquet multipliers leaves the unit circle: quasi-periodic chatter
+  Flip,  // a multiplier leaves at −1: period doubling, chatter at (j + ½) × tooth passing frequency
+  Fold,  // a multiplier leaves at +1 (not expected in milling; reported if seen)
+  None,  // no instability found up to the maximum depth
+};
+const char* to_string(BoundaryKind kind);
+
+// What the monodromy matrix says at one speed and depth.
+struct FloquetAnalysis {
+  double spectral_radius = 0.0;  // max |μ|; < 1 is asymptotically stable
+  Complex critical_multiplier;   // the multiplier of largest modulus (Im ≥ 0 of a pair)
+  BoundaryKind kind = BoundaryKind::None;  // Hopf, Flip or Fold from the critical multiplier's phase
+  double chatter_hz = 0.0;       // dominant frequency of the critical Floquet solution
+  int lobe = -1;                 // floor(chatter_hz · τ): whole waves per tooth period (−1 if unknown)
+  int matrix_size = 0;           // size of the reduced monodromy matrix whose eigenvalues were taken
+};
+
+struct BoundaryPoint {
+  double speed_rpm = 0.0;
+  double depth_m = 0.0;      // the lowest depth where ρ reaches 1 (max_depth_m when kind is None)
+  double chatter_hz = 0.0;   // NaN when kind is None
+  int lobe = -1;
+  BoundaryKind kind = BoundaryKind::None;
+  Complex multiplier;        // critical multiplier just above the boundary
+};
+
+// Zero-order semi-discretization of M q̈ + C q̇ + K q = ½ a K_t Φᵀ A(t) Φ (q(t) − q(t − τ)) in modal
+// coordinates q (Φ maps modes to x, y): m intervals of Δt = τ/m per tooth period; on each,
+// A(t) and the screen function are replaced by their exact interval averages (the α integrals of
+// the overlap of each tooth's sweep with the cut zone, divided by the sweep angle) and the delayed
+// state by ½(y_{i−m+1} + y_{i−m}) (the 2004 paper's weights for τ = mΔt), so
+//     y_{i+1} = P_i y_i + R_i ½(q_{i−m+1} + q_{i−m}),  [P_i R_i] from exp([[A_i, B_i], [0, 0]] Δt).
+// The monodromy matrix maps the state and the delayed samples over one tooth period. Delayed
+// samples that no interval in cut reads give zero columns and zero multipliers; they are dropped
+// exactly (block-triangular structure), so the eigenvalue problem is s + n_q(c + 1) instead of
+// s + n_q m (s states, n_q modes, c intervals in cut): a big saving at low immersion.
+class SemiDiscretization {
+ public:
+  // Throws InvalidArgument (bad model, conditions, intervals outside 4…2000).
+  SemiDiscretization(ModalModel model, CuttingConditions cutting, int intervals = 40);
+
+  double spectral_radius(double speed_rpm, double depth_m) const;
+  // The spectral radius with the critical multiplier, its kind, and the chatter frequency from
+  // the discrete Fourier transform of the critical Floquet solution over one tooth period
+  // (resolved up to m/(2τ) Hz).
+  FloquetAnalysis analyse(double speed_rpm, double depth_m) const;
+  // ρ on a grid: result(i, j) at speeds_rpm[i], depths_m[j]. Per-speed work is shared.
+  Eigen::MatrixXd spectral_radius_map(const std::vector<double>& speeds_rpm, const std::vector<double>& depths_m) const;
+  // The stability boundary at one speed: ρ scanned over depth 0…max_depth_m in `depth_steps`
+  // steps, then the first stable → unstable step bisected until its width is below
+  // `tolerance` × depth. The lowest unstable depth is found; stable islands above it are not.
+  BoundaryPoint boundary(double speed_rpm, double max_depth_m, int depth_steps = 50, double tolerance = 1e-4) const;
+
+  const ModalModel& model() const { return model_; }
+  const CuttingConditions& cutting() const { return cutting_; }
+  int intervals() const { return intervals_; }
+
+ private:
+  struct SpeedSetup;
+  struct Propagation;
+  SpeedSetup prepare(double speed_rpm) const;
+  Propagation propagate(const SpeedSetup& setup, double depth_m, bool keep_states) const;
+  double radius(const SpeedSetup& setup, double depth_m) const;
+  FloquetAnalysis analyse(const SpeedSetup& setup, double depth_m) const;
+
+  ModalModel model_;
+  CuttingConditions cutting_;
+  int intervals_;
+  int modes_ = 0;        // n_q
+  Eigen::MatrixXd a0_;   // state matrix without cutting [[0, I], [−M⁻¹K, −M⁻¹C]]
+};
+
+
+struct SemiDiscretizationOptions {
+  int intervals = 40;                 // m per tooth period
+  SpeedRange speeds{0.0, 0.0, 200};
+  double max_depth_m = 0.0;           // scan ceiling [m]; 0: 10 × the zero-order floor of the model
+  int depth_steps = 50;               // coarse scan 0…max in this many steps, then bisection
+  double depth_tolerance = 1e-4;      // bisection stops at this relative width
+  void check() const;
+};
+
+struct SemiDiscretizationResult {
+  std::vector<BoundaryPoint> boundary;  // one per speed of the grid
+  double max_depth_m = 0.0;             // the scan ceiling used
+  int intervals = 0;
+  std::vector<std::string> warnings;
+};
+
+// SemiDiscretization::boundary at every speed of options.speeds. Throws InvalidArgument (bad model, conditions or options), NumericalError
+// (non-finite multipliers).
+SemiDiscretizationResult semi_discretization_boundary(const ModalModel& model, const CuttingConditions& cutting,
+                                                      const SemiDiscretizationOptions& options);
+
+// ---- Results for people ---------------------------------------------------------------------
+
+// Local maxima of the envelope depth (the best speeds), deepest first, at most `count`.
+std::vector<EnvelopePoint> stability_pockets(const std::vector<EnvelopePoint>& envelope, int count);
+
+// CSV text (units in the header comment): lobes as `lobe,spindle_speed_rpm,axial_depth_mm,
+// chatter_frequency_hz,root`; the semi-discretization boundary as the same first four columns and
+// `kind` (hopf, flip, fold, none); the envelope as `spindle_speed_rpm,axial_depth_mm,
+// chatter_frequency_hz,lobe` (speeds no lobe reaches are left out).
+std::string format_lobes_csv(const ZeroOrderResult& result, const std::vector<std::string>& comments = {});
+std::string format_boundary_csv(const SemiDiscretizationResult& result, const std::vector<std::string>& comments = {});
+std::string format_envelope_csv(const std::vector<EnvelopePoint>& envelope, const std::vector<std::string>& comments = {});
+// The semi-discretization boundary as an envelope (kind None rows keep depth = the scan ceiling).
+std::vector<EnvelopePoint> boundary_envelope(const SemiDiscretizationResult& result);
+
+}  // namespace toolpoint

@@ -1,0 +1,372 @@
+// toolpoint: modal models and their identification from a point FRF (peak picking, linear least
+// squares for residues, Levenberg–Marquardt on everything). Units: kg, N, m, s; Hz at interfaces.
+#include "toolpoint/modal_fit.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+#include <unsupported/Eigen/NonLinearOptimization>
+
+#include "toolpoint/conventions.hpp"
+#include "toolpoint/error.hpp"
+
+namespace toolpoint {
+
+double Mode::stiffness() const {
+  const double w = omega_of(frequency_hz);
+  return mass_kg * w * w;
+}
+
+void Mode::check(const std::string& what) const {
+  if (!std::isfinite(mass_kg) || !(mass_kg > 0.0))
+    throw InvalidArgument(fmt::format("{}: modal mass {} kg must be positive and finite", what, mass_kg));
+  if (!std::isfinite(damping_ratio) || damping_ratio < 0.0 || damping_ratio >= 1.0)
+    throw InvalidArgument(fmt::format("{}: damping ratio {} must lie in [0, 1)", what, damping_ratio),
+                          "give ζ as a fraction of critical damping, e.g. 0.02 for 2 %");
+  if (!std::isfinite(frequency_hz) || !(frequency_hz > 0.0))
+    throw InvalidArgument(fmt::format("{}: natural frequency {} Hz must be positive and finite", what, frequency_hz));
+}
+
+namespace {
+
+// 1/(ω_r² − ω² + 2iζ_r ω_r ω): the mode's receptance times its modal mass [1/(rad/s)²].
+Complex mode_shape_factor(double omega_r, double zeta, double omega) {
+  return 1.0 / Complex(omega_r * omega_r - omega * omega, 2.0 * zeta * omega_r * omega);
+}
+
+}  // namespace
+
+Complex modal_receptance(const std::vector<Mode>& modes, double frequency_hz) {
+  const double w = omega_of(frequency_hz);
+  Complex g = 0.0;
+  for (const Mode& m : modes) g += mode_shape_factor(omega_of(m.frequency_hz), m.damping_ratio, w) / m.mass_kg;
+  return g;
+}
+
+FrfSeries modal_frf(const std::vector<Mode>& modes, const std::vector<double>& frequency_hz) {
+  for (std::size_t i = 0; i < modes.size(); ++i) modes[i].check(fmt::format("mode {}", i + 1));
+  FrfSeries s;
+  s.frequency_hz = frequency_hz;
+  s.values.reserve(frequency_hz.size());
+  for (double f : frequency_hz) s.values.push_back(modal_receptance(modes, f));
+  return s;
+}
+
+void ModalFitOptions::check() const {
+  if (max_modes < 1 || max_modes > 20)
+    throw InvalidArgument(fmt::format("--max-modes {} must lie in 1…20", max_modes));
+  if (band_hz) {
+    const auto [lo, hi] = *band_hz;
+    if (!std::isfinite(lo) || !std::isfinite(hi) || !(lo >= 0.0) || !(hi > lo))
+      throw InvalidArgument(fmt::format("--band {}:{} Hz must satisfy 0 ≤ F1 < F2", lo, hi), "e.g. --band 500:3000");
+  }
+  if (!std::isfinite(min_prominence_db) || !(min_prominence_db > 0.0))
+    throw InvalidArgument(fmt::format("peak prominence {} dB must be positive", min_prominence_db));
+  if (max_evaluations < 10)
+    throw InvalidArgument(fmt::format("{} Levenberg–Marquardt evaluations are too few (at least 10)", max_evaluations));
+}
+
+namespace {
+
+struct Peak {
+  std::size_t index;
+  double prominence_db;
+};
+
+// Local maxima of |G| away from the band edges, with their prominence: the drop [dB] from the
+// peak to the higher of the lowest points on each side before a higher point (or the band edge).
+std::vector<Peak> find_peaks(const std::vector<double>& mag) {
+  std::vector<Peak> peaks;
+  const std::size_t n = mag.size();
+  for (std::size_t i = 1; i + 1 < n; ++i) {
+    if (!(mag[i] > mag[i - 1] && mag[i] >= mag[i + 1])) continue;
+    double left_min = mag[i], right_min = mag[i];
+    for (std::size_t j = i; j-- > 0 && mag[j] <= mag[i];) left_min = std::min(left_min, mag[j]);
+    for (std::size_t j = i + 1; j < n && mag[j] <= mag[i]; ++j) right_min = std::min(right_min, mag[j]);
+    const double valley = std::max(left_min, right_min);
+    peaks.push_back({i, valley > 0.0 ? 20.0 * std::log10(mag[i] / valley) : 300.0});
+  }
+  return peaks;
+}
+
+// Half-power crossing on one side of peak `p` (step −1 or +1), linearly interpolated in |G|.
+// The prominence test guarantees the crossing exists before a higher point or the edge.
+double half_power_frequency(const std::vector<double>& f, const std::vector<double>& mag, std::size_t p, int step) {
+  const double level = mag[p] / std::sqrt(2.0);
+  std::size_t j = p;
+  for (;;) {
+    const std::size_t k = step < 0 ? j - 1 : j + 1;
+    if (mag[k] < level) {
+      const double t = (mag[j] - level) / (mag[j] - mag[k]);
+      return f[j] + t * (f[k] - f[j]);
+    }
+    j = k;
+  }
+}
+
+// The model G = Σ A_r/D_r − L/ω² + U and its Jacobian, for MINPACK's Levenberg–Marquardt.
+// Parameters per mode: ln ω_r, ln ζ_r, A_r/S_r; then L/S_L, U/S_U. Residuals: Re and Im of
+// (G_model − G)/scale.
+struct FitProblem {
+  const std::vector<double>* omega;
+  const std::vector<Complex>* measured;
+  std::vector<double> mode_scale;  // S_r
+  double lower_scale = 1.0, upper_scale = 1.0, scale = 1.0;
+  bool residuals = true;
+
+  int modes() const { return static_cast<int>(mode_scale.size()); }
+  int inputs() const { return 3 * modes() + (residuals ? 2 : 0); }
+  int values() const { return static_cast<int>(2 * omega->size()); }
+
+  Complex model(const Eigen::VectorXd& x, double w) const {
+    Complex g = 0.0;
+    for (int r = 0; r < modes(); ++r)
+      g += x(3 * r + 2) * mode_scale[r] * mode_shape_factor(std::exp(x(3 * r)), std::exp(x(3 * r + 1)), w);
+    if (residuals) g += -x(3 * modes()) * lower_scale / (w * w) + x(3 * modes() + 1) * upper_scale;
+    return g;
+  }
+
+  int operator()(const Eigen::VectorXd& x, Eigen::VectorXd& fvec) const {
+    const std::size_t n = omega->size();
+    for (std::size_t i = 0; i < n; ++i) {
+      const Complex e = (model(x, (*omega)[i]) - (*measured)[i]) / scale;
+      fvec(static_cast<Eigen::Index>(i)) = e.real();
+      fvec(static_cast<Eigen::Index>(n + i)) = e.imag();
+    }
+    return 0;
+  }
+
+  int df(const Eigen::VectorXd& x, Eigen::MatrixXd& jac) const {
+    const std::size_t n = omega->size();
+    for (std::size_t i = 0; i < n; ++i) {
+      const double w = (*omega)[i];
+      const auto row_re = static_cast<Eigen::Index>(i), row_im = static_cast<Eigen::Index>(n + i);
+      auto put = [&](int col, Complex d) {
+        jac(row_re, col) = d.real() / scale;
+        jac(row_im, col) = d.imag() / scale;
+      };
+      for (int r = 0; r < modes(); ++r) {
+        const double wr = std::exp(x(3 * r)), z = std::exp(x(3 * r + 1)), a = x(3 * r + 2) * mode_scale[r];
+        const Complex inv = mode_shape_factor(wr, z, w), inv2 = inv * inv;
+        put(3 * r, -a * Complex(2.0 * wr, 2.0 * z * w) * inv2 * wr);  // ∂/∂ln ω_r
+        put(3 * r + 1, -a * Complex(0.0, 2.0 * wr * w) * inv2 * z);   // ∂/∂ln ζ_r
+        put(3 * r + 2, mode_scale[r] * inv);                          // ∂/∂(A_r/S_r)
+      }
+      if (residuals) {
+        put(3 * modes(), -lower_scale / (w * w));
+        put(3 * modes() + 1, upper_scale);
+      }
+    }
+    return 0;
+  }
+};
+
+// Residues (and residual terms) by linear least squares with ω_r, ζ_r fixed. Columns are scaled
+// to unit norm so modes of very different size are solved with equal care.
+Eigen::VectorXd linear_residues(const FitProblem& p, const std::vector<double>& omega_r, const std::vector<double>& zeta) {
+  const auto n = static_cast<Eigen::Index>(p.omega->size());
+  const int k = p.modes(), cols = k + (p.residuals ? 2 : 0);
+  Eigen::MatrixXd a(2 * n, cols);
+  Eigen::VectorXd b(2 * n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double w = (*p.omega)[static_cast<std::size_t>(i)];
+    for (int r = 0; r < k; ++r) {
+      const Complex c = mode_shape_factor(omega_r[r], zeta[r], w);
+      a(i, r) = c.real();
+      a(n + i, r) = c.imag();
+    }
+    if (p.residuals) {
+      a(i, k) = -1.0 / (w * w);
+      a(n + i, k) = 0.0;
+      a(i, k + 1) = 1.0;
+      a(n + i, k + 1) = 0.0;
+    }
+    b(i) = (*p.measured)[static_cast<std::size_t>(i)].real();
+    b(n + i) = (*p.measured)[static_cast<std::size_t>(i)].imag();
+  }
+  Eigen::VectorXd norms = a.colwise().norm().transpose();
+  for (int c = 0; c < cols; ++c) a.col(c) /= norms(c);
+  Eigen::VectorXd sol = a.colPivHouseholderQr().solve(b);
+  return sol.cwiseQuotient(norms);
+}
+
+double normalised_error(const std::vector<Complex>& fit, const std::vector<Complex>& meas, std::size_t lo, std::size_t hi) {
+  double num = 0.0, den = 0.0;
+  for (std::size_t i = lo; i < hi; ++i) {
+    num += std::norm(fit[i] - meas[i]);
+    den += std::norm(meas[i]);
+  }
+  return den > 0.0 ? std::sqrt(num / den) : 0.0;
+}
+
+}  // namespace
+
+ModalFitResult fit_modes(const FrfSeries& frf, const ModalFitOptions& options, const std::string& what) {
+  options.check();
+  validate(frf, what, 1);
+  ModalFitResult res;
+
+  std::vector<double> f, omega, mag;
+  std::vector<Complex> g;
+  for (std::size_t i = 0; i < frf.size(); ++i) {
+    const double fi = frf.frequency_hz[i];
+    if (options.band_hz && (fi < options.band_hz->first || fi > options.band_hz->second)) continue;
+    f.push_back(fi);
+    omega.push_back(omega_of(fi));
+    g.push_back(frf.values[i]);
+    mag.push_back(std::abs(frf.values[i]));
+  }
+  if (f.size() < 8)
+    throw InputError(fmt::format("{}: {} point(s) in the fitted band {}, at least 8 needed", what, f.size(),
+                                 options.band_hz ? fmt::format("{}–{} Hz", options.band_hz->first, options.band_hz->second)
+                                                 : std::string("(whole FRF)")),
+                     "widen --band or give a finer FRF");
+  res.band_low_hz = f.front();
+  res.band_high_hz = f.back();
+  res.points = f.size();
+
+  // 1. Peaks: the most prominent first, then back into frequency order.
+  std::vector<Peak> peaks = find_peaks(mag);
+  std::erase_if(peaks, [&](const Peak& p) { return p.prominence_db < options.min_prominence_db; });
+  if (peaks.empty())
+    throw InputError(fmt::format("{}: no resonance peak rising {} dB above its surroundings in {}–{} Hz", what,
+                                 options.min_prominence_db, f.front(), f.back()),
+                     "check the band (--band) and that the file holds a receptance with a resonance inside it");
+  std::stable_sort(peaks.begin(), peaks.end(), [](const Peak& a, const Peak& b) { return a.prominence_db > b.prominence_db; });
+  // A peak needs points inside its half-power band for its damping to be seen: fewer than 3 is
+  // an under-resolved mode (or a noise spike). Such peaks are set aside; with none left, stop.
+  auto points_inside = [&](std::size_t p) {
+    std::size_t inside = 1;
+    const double level = mag[p] / std::sqrt(2.0);
+    for (std::size_t j = p; j-- > 0 && mag[j] >= level;) ++inside;
+    for (std::size_t j = p + 1; j < f.size() && mag[j] >= level; ++j) ++inside;
+    return inside;
+  };
+  const Peak strongest = peaks.front();
+  std::vector<Peak> resolved;
+  for (const Peak& p : peaks) {
+    if (points_inside(p.index) >= 3) resolved.push_back(p);
+    else if (resolved.size() < static_cast<std::size_t>(options.max_modes))
+      res.warnings.push_back(fmt::format("the peak at {} Hz has fewer than 3 FRF points within its half-power band and was "
+                                         "not fitted (too coarse a grid there, or noise)", f[p.index]));
+  }
+  if (resolved.empty())
+    throw InputError(fmt::format("{}: the mode near {} Hz has {} FRF point(s) within its half-power band (the grid step "
+                                 "there is {} Hz); at least 3 are needed to fit its damping",
+                                 what, f[strongest.index], points_inside(strongest.index),
+                                 f[strongest.index + 1] - f[strongest.index]),
+                     "measure or compute the FRF on a finer frequency grid around that mode");
+  peaks = std::move(resolved);
+  if (peaks.size() > static_cast<std::size_t>(options.max_modes)) {
+    res.warnings.push_back(fmt::format("{} peaks found, the {} most prominent kept (raise --max-modes to fit more)",
+                                       peaks.size(), options.max_modes));
+    peaks.resize(static_cast<std::size_t>(options.max_modes));
+  }
+  std::sort(peaks.begin(), peaks.end(), [](const Peak& a, const Peak& b) { return a.index < b.index; });
+
+  std::vector<double> w0, z0, peak_mag;
+  for (const Peak& p : peaks) {
+    const double f1 = half_power_frequency(f, mag, p.index, -1), f2 = half_power_frequency(f, mag, p.index, +1);
+    w0.push_back(omega[p.index]);
+    z0.push_back(std::max((f2 - f1) / (2.0 * f[p.index]), 1e-5));
+    peak_mag.push_back(mag[p.index]);
+  }
+
+  // 2. Residues by linear least squares; 3. Levenberg–Marquardt on all parameters.
+  FitProblem prob{&omega, &g, {}, 1.0, 1.0, 1.0, options.residual_terms};
+  prob.scale = *std::max_element(mag.begin(), mag.end());
+  for (std::size_t r = 0; r < w0.size(); ++r) prob.mode_scale.push_back(peak_mag[r] * 2.0 * z0[r] * w0[r] * w0[r]);
+  prob.lower_scale = prob.scale * omega.front() * omega.front();
+  prob.upper_scale = prob.scale;
+  const Eigen::VectorXd lin = linear_residues(prob, w0, z0);
+  const int k = prob.modes();
+  Eigen::VectorXd x(prob.inputs());
+  for (int r = 0; r < k; ++r) {
+    x(3 * r) = std::log(w0[r]);
+    x(3 * r + 1) = std::log(z0[r]);
+    x(3 * r + 2) = lin(r) / prob.mode_scale[r];
+  }
+  if (options.residual_terms) {
+    x(3 * k) = lin(k) / prob.lower_scale;
+    x(3 * k + 1) = lin(k + 1) / prob.upper_scale;
+  }
+  Eigen::LevenbergMarquardt<FitProblem> lm(prob);
+  lm.parameters.maxfev = options.max_evaluations;
+  lm.parameters.ftol = 1e-14;  // stop on relative changes near round-off: noise-free data fit exactly
+  lm.parameters.xtol = 1e-14;
+  const auto status = lm.minimize(x);
+  res.evaluations = static_cast<int>(lm.nfev);
+  using namespace Eigen::LevenbergMarquardtSpace;
+  res.converged = status == RelativeReductionTooSmall || status == RelativeErrorTooSmall ||
+                  status == RelativeErrorAndReductionTooSmall || status == CosinusTooSmall || status == FtolTooSmall ||
+                  status == XtolTooSmall || status == GtolTooSmall;
+  if (!res.converged)
+    res.warnings.push_back(fmt::format("the Levenberg–Marquardt fit stopped without converging (status {}, {} evaluations)",
+                                       static_cast<int>(status), res.evaluations));
+  if (!x.allFinite())
+    throw NumericalError(fmt::format("{}: the modal fit diverged (non-finite parameters)", what),
+                         "narrow --band around the modes of interest or reduce --max-modes");
+
+  for (int r = 0; r < k; ++r) {
+    FittedMode m;
+    const double wr = std::exp(x(3 * r));
+    m.residue = x(3 * r + 2) * prob.mode_scale[r];
+    m.mode = {1.0 / m.residue, std::exp(x(3 * r + 1)), wr / (2.0 * kPi)};
+    m.initial_frequency_hz = w0[r] / (2.0 * kPi);
+    m.initial_damping_ratio = z0[r];
+    res.modes.push_back(m);
+  }
+  if (options.residual_terms) {
+    res.lower_residual = x(3 * k) * prob.lower_scale;
+    res.upper_residual = x(3 * k + 1) * prob.upper_scale;
+  }
+
+  std::vector<Complex> fit(f.size());
+  for (std::size_t i = 0; i < f.size(); ++i) fit[i] = res.receptance(f[i]);
+  res.normalised_residual = normalised_error(fit, g, 0, f.size());
+  for (FittedMode& m : res.modes) {
+    const double fr = m.mode.frequency_hz, z = m.mode.damping_ratio;
+    const auto lower = [&](double v) { return static_cast<std::size_t>(std::lower_bound(f.begin(), f.end(), v) - f.begin()); };
+    m.points_in_half_power_band = static_cast<int>(lower(fr * (1.0 + z)) - lower(fr * (1.0 - z)));
+    std::size_t lo = lower(fr * (1.0 - 2.0 * z)), hi = lower(fr * (1.0 + 2.0 * z));
+    while (hi - lo < 5 && (lo > 0 || hi < f.size())) {  // widen to the 5 nearest points
+      if (lo > 0 && (hi == f.size() || fr - f[lo - 1] < f[hi] - fr)) --lo; else ++hi;
+    }
+    m.normalised_residual = normalised_error(fit, g, lo, hi);
+    if (fr < f.front() || fr > f.back())
+      res.warnings.push_back(fmt::format("the mode fitted at {:.2f} Hz lies outside the band {}–{} Hz", fr, f.front(), f.back()));
+    if (z > 0.3) res.warnings.push_back(fmt::format("the mode at {:.2f} Hz has a large damping ratio {:.3f}", fr, z));
+    if (!(m.residue > 0.0))
+      res.warnings.push_back(fmt::format("the mode at {:.2f} Hz has a non-positive residue {:.4g} 1/kg: no modal mass "
+                                         "(is this a point FRF, with the e^{{iωt}} sign convention?)", fr, m.residue));
+    if (m.normalised_residual > 0.1)
+      res.warnings.push_back(fmt::format("the mode at {:.2f} Hz is fitted poorly: {:.1f} % residual near it", fr,
+                                         100.0 * m.normalised_residual));
+  }
+  if (res.normalised_residual > 0.1)
+    res.warnings.push_back(fmt::format("overall fit residual {:.1f} %: more modes (--max-modes) or a narrower --band may help",
+                                       100.0 * res.normalised_residual));
+  return res;
+}
+
+std::vector<Mode> ModalFitResult::modal_model() const {
+  std::vector<Mode> out;
+  for (const FittedMode& m : modes) {
+    if (!(m.residue > 0.0))
+      throw NumericalError(fmt::format("the fitted mode at {:.2f} Hz has residue {:.4g} 1/kg: it has no positive modal mass",
+                                       m.mode.frequency_hz, m.residue),
+                           "fit a point (direct) FRF, narrow --band, or give the modes explicitly");
+    out.push_back(m.mode);
+  }
+  return out;
+}
+
+Complex ModalFitResult::receptance(double frequency_hz) const {
+  const double w = omega_of(frequency_hz);
+  Complex g = -lower_residual / (w * w) + upper_residual;
+  for (const FittedMode& m : modes) g += m.residue * mode_shape_factor(omega_of(m.mode.frequency_hz), m.mode.damping_ratio, w);
+  return g;
+}
+
+}  // namespace toolpoint
