@@ -86,6 +86,7 @@ JointParameters JointReadout::medians() const {
 
 void ReadoutOptions::check() const {
   if (!(cond_warning > 1.0)) throw InvalidArgument(fmt::format("condition-number warning level {} must be > 1", cond_warning));
+  if (!(gain_warning > 0.0)) throw InvalidArgument(fmt::format("noise-gain warning level {} must be > 0", gain_warning));
   if (!(reciprocity_warning > 0.0)) throw InvalidArgument(fmt::format("reciprocity warning level {} must be > 0", reciprocity_warning));
 }
 
@@ -152,7 +153,12 @@ JointReadout read_joint(const JointSeries& s, double lo, double hi, const Readou
                                      r.parameters[5].median, 100 * r.reciprocity_c));
   for (int k = 0; k < 8; ++k) {
     const auto& p = r.parameters[static_cast<std::size_t>(k)];
-    if (r.points >= 3 && p.spread > std::abs(p.median))
+    const double gain = r.noise_gain[static_cast<std::size_t>(k)];
+    if (gain > options.gain_warning)
+      r.warnings.push_back(fmt::format("{}: noise gain {:.3g} — a 1 % error in the FRFs moves it by about {:.0f} %: not identifiable "
+                                       "from measured data in this band",
+                                       JointParameters::name(k), gain, gain));
+    else if (r.points >= 3 && p.spread > std::abs(p.median))
       r.warnings.push_back(fmt::format("{}: spread {:.3g} exceeds the value {:.3g} {} — not identifiable from these data in this band",
                                        JointParameters::name(k), p.spread, p.median, JointParameters::unit(k)));
   }

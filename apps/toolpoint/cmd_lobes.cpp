@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli.hpp"
+#include "toolpoint/assembly_file.hpp"
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/io.hpp"
@@ -21,7 +22,7 @@ namespace {
 
 struct LobesOptions {
   // Where the tool point FRFs come from (see tool_point_frfs).
-  std::string frf, frf_y, frf_xy, frf_yx;
+  std::string frf, frf_y, frf_xy, frf_yx, assembly;
   bool rigid_y = false;
   // Cutting.
   int teeth = 0;
@@ -45,10 +46,24 @@ FrfSeries read_point_frf(const std::string& path, const Globals& g) {
   return entry(t.block, 0);
 }
 
-// The one place the tool point FRFs enter the command. Today they come from CSV files; an
-// assembly (tool point FRF computed by receptance coupling) plugs in here and nowhere else.
+// The one place the tool point FRFs enter the command: CSV files, or an assembly file whose tool
+// point FRF (SHT11's H, seed Eq. 5) serves both directions (a round tool on a round spindle).
 // Returns nullopt when no FRF is given (the semi-discretization may run from --mode-x alone).
 std::optional<MillingFrfs> tool_point_frfs(const LobesOptions& o, const Globals& g) {
+  if (!o.assembly.empty()) {
+    if (!o.frf.empty() || !o.frf_y.empty() || !o.frf_xy.empty() || !o.frf_yx.empty())
+      throw InvalidArgument("give either --assembly or --frf (with --frf-y, --frf-xy, --frf-yx), not both");
+    const LoadedAssembly loaded = load_assembly(o.assembly);
+    warn_all(loaded.warnings);
+    const AssemblyModel model(loaded.assembly);
+    MillingFrfs f;
+    f.xx = entry(block_series(loaded.assembly.grid.values(), [&](double x) { return model.tool_point(x); }), 0);
+    f.rigid_y = o.rigid_y;
+    f.check();
+    info(g, fmt::format("tool point FRF from {} ({} frequencies, {:g}–{:g} Hz), used for x and y", o.assembly, f.xx.size(),
+                        f.xx.frequency_hz.front(), f.xx.frequency_hz.back()));
+    return f;
+  }
   if (o.frf.empty()) {
     if (!o.frf_y.empty() || !o.frf_xy.empty() || !o.frf_yx.empty())
       throw InvalidArgument("--frf-y/--frf-xy/--frf-yx need --frf (the x direct FRF)");
@@ -258,6 +273,8 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
 void add_lobes_command(CLI::App& app, Globals& g) {
   auto o = std::make_shared<LobesOptions>();
   CLI::App* c = app.add_subcommand("lobes", "Milling stability lobes from the tool point FRF: zero-order (zoa) or semi-discretization (sd)");
+  c->add_option("--assembly", o->assembly, "Assembly file (TOML): its tool point FRF (SHT11, Eq. 5) on its [analysis] grid, for x and y")
+      ->check(CLI::ExistingFile);
   c->add_option("--frf", o->frf, "x direct tool point FRF (receptance m/N, Hz): frequency_hz,re,im CSV or a 2×2 block CSV (H used)");
   c->add_option("--frf-y", o->frf_y, "y direct FRF (default: the x FRF, a symmetric tool)");
   auto* xy = c->add_option("--frf-xy", o->frf_xy, "Cross FRF G_xy [m/N] (with --frf-yx; default: none)");

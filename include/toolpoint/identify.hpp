@@ -94,12 +94,16 @@ struct JointReadout {
 struct ReadoutOptions {
   double cond_warning = 1e6;        // warn when cond(A11 − G11) exceeds this in the band
   double reciprocity_warning = 0.1; // warn when k_ym and k_θf (or c) differ by more than this
+  double gain_warning = 20.0;       // warn when a parameter's noise gain exceeds this (a 5 % FRF
+                                    // error then moves it by 100 %)
   void check() const;
 };
 
 // Reads the parameters from the points with band_lo ≤ f ≤ band_hi. Warns (in the result) about
-// poor conditioning, broken reciprocity, and any parameter whose spread exceeds its value (not
-// identifiable from the data: typical of damping under noise, where ωc is a few % of |K|).
+// poor conditioning, broken reciprocity, any parameter whose noise gain is large or whose spread
+// exceeds its value (not identifiable from such data: typical of damping, whose ωc is a few %
+// of |K|; filtered data are smooth, so their spread understates the error and the gain is the
+// better guide).
 // Throws InvalidArgument if the band holds no point.
 JointReadout read_joint(const JointSeries& series, double band_lo_hz, double band_hi_hz, const ReadoutOptions& options = {});
 
