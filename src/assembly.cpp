@@ -291,24 +291,29 @@ AssemblyModel::Receptances AssemblyModel::evaluate(double f) const {
   return r;
 }
 
-Eigen::MatrixXcd AssemblyModel::tool_stations(double f, const std::vector<double>& distances) const {
-  const double overhang = tool_.length();
+namespace {
+
+// Receptances between stations on `chain` at `distances` from its end 1, with the rest of the
+// structure attached at its end 2 through `joint`, the rest known by its point receptance
+// `rest11` there. Pieces between stations are chained by multi-point rigid junctions (no inverse
+// of a free–free receptance); the rest enters as a ground of dynamic stiffness (K⁻¹ + rest11)⁻¹.
+Eigen::MatrixXcd chain_stations(const Chain& chain, double f, const std::vector<double>& distances, const Block& rest11,
+                                const Joint& joint, const char* what) {
+  const double length = chain.length();
   std::vector<double> cuts;
   for (double d : distances) {
-    if (!(d >= -kLengthEps && d <= overhang + kLengthEps))
-      throw InvalidArgument(fmt::format("station at {} m from the tool tip lies outside the overhang [0, {}] m", d, overhang));
-    cuts.push_back(std::clamp(d, 0.0, overhang));
+    if (!(d >= -kLengthEps && d <= length + kLengthEps))
+      throw InvalidArgument(fmt::format("station at {} m from the {} lies outside [0, {}] m", d, what, length));
+    cuts.push_back(std::clamp(d, 0.0, length));
   }
   std::vector<double> nodes{0.0};
   std::vector<double> sorted = cuts;
   std::sort(sorted.begin(), sorted.end());
   for (double c : sorted)
     if (c > nodes.back() + kLengthEps) nodes.push_back(c);
-  if (overhang > nodes.back() + kLengthEps) nodes.push_back(overhang);
+  if (length > nodes.back() + kLengthEps) nodes.push_back(length);
   const auto m = static_cast<Eigen::Index>(nodes.size());
-  // Chain the pieces between nodes, keeping every node (multi-point rigid junctions), then attach
-  // the rest of the assembly at the last node as a ground of dynamic stiffness (K_ht⁻¹ + SH11)⁻¹.
-  std::vector<Segment> rest = tool_.segments();
+  std::vector<Segment> rest = chain.segments();
   Eigen::MatrixXcd G;
   for (Eigen::Index k = 0; k + 1 < m; ++k) {
     auto [piece, inner] = split_segments(rest, nodes[k + 1] - nodes[k]);
@@ -316,11 +321,13 @@ Eigen::MatrixXcd AssemblyModel::tool_stations(double f, const std::vector<double
     const Eigen::MatrixXcd P = as_matrix(Chain(piece, ReceptanceMethod::Exact, 0).two_port(f));
     G = k == 0 ? P : join_rigid(G, k, P, 0);
   }
-  const Block sh = holder_tip(f);
-  const Block Z = assembly_.holder_tool.rigid
-                      ? inverse_checked(sh, "holder-tip receptance SH11")
-                      : Block(assembly_.holder_tool.parameters.stiffness(f) *
-                              inverse_checked(Block::Identity() + sh * assembly_.holder_tool.parameters.stiffness(f), "(I + SH11 K_ht)"));
+  Block Z;
+  if (joint.rigid) {
+    Z = inverse_checked(rest11, "point receptance of the structure beyond the stations");
+  } else {
+    const Block K = joint.parameters.stiffness(f);
+    Z = K * inverse_checked(Block::Identity() + rest11 * K, "(I + B11 K) at the stations' joint");
+  }
   G = ground_node(G, m - 1, Z);
   const auto n = static_cast<Eigen::Index>(cuts.size());
   Eigen::MatrixXcd out(2 * n, 2 * n);
@@ -332,6 +339,16 @@ Eigen::MatrixXcd AssemblyModel::tool_stations(double f, const std::vector<double
   for (Eigen::Index i = 0; i < n; ++i)
     for (Eigen::Index j = 0; j < n; ++j) out.block<2, 2>(2 * i, 2 * j) = G.block<2, 2>(2 * node_of(cuts[i]), 2 * node_of(cuts[j]));
   return out;
+}
+
+}  // namespace
+
+Eigen::MatrixXcd AssemblyModel::tool_stations(double f, const std::vector<double>& distances) const {
+  return chain_stations(tool_, f, distances, holder_tip(f), assembly_.holder_tool, "tool tip (the overhang)");
+}
+
+Eigen::MatrixXcd AssemblyModel::holder_stations(double f, const std::vector<double>& distances) const {
+  return chain_stations(holder_, f, distances, spindle_nose(f), assembly_.spindle_holder, "holder tip (the holder)");
 }
 
 Assembly with_overhang(const Assembly& assembly, double overhang) {

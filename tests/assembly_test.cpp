@@ -160,6 +160,11 @@ TEST(Assembly, ToolStations) {
     EXPECT_LT((G - G.transpose()).norm(), 1e-9 * G.norm());
   }
   EXPECT_THROW(m.tool_stations(100.0, {0.06}), InvalidArgument);
+  for (double f : {300.0, 2580.0}) {
+    const Eigen::MatrixXcd G = m.holder_stations(f, {0.0, 0.01, 0.02});
+    EXPECT_LT(rel_error(Block(G.block<2, 2>(0, 0)), m.holder_tip(f)), 1e-9);
+    EXPECT_LT((G - G.transpose()).norm(), 1e-9 * G.norm());
+  }
 }
 
 TEST(Assembly, InvalidAssembliesAreRejected) {

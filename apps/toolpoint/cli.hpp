@@ -39,6 +39,7 @@ void add_predict_command(CLI::App& app, Globals& g);
 void add_identify_command(CLI::App& app, Globals& g);
 void add_demo_command(CLI::App& app, Globals& g);
 void add_couple_command(CLI::App& app, Globals& g);
+void add_taptest_command(CLI::App& app, Globals& g);
 void add_filter_command(CLI::App& app, Globals& g);
 void add_noise_command(CLI::App& app, Globals& g);
 void add_rotational_command(CLI::App& app, Globals& g);

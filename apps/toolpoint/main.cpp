@@ -54,6 +54,7 @@ int main(int argc, char** argv) {
   add_identify_command(app, globals);
   add_demo_command(app, globals);
   add_couple_command(app, globals);
+  add_taptest_command(app, globals);
   add_filter_command(app, globals);
   add_noise_command(app, globals);
   add_rotational_command(app, globals);

@@ -139,6 +139,9 @@ class AssemblyModel {
   // (each in [0, overhang]), the rest of the assembly attached: a 2n×2n matrix of blocks,
   // block (i, j) = response at station i to a load at station j. For finite-difference checks.
   Eigen::MatrixXcd tool_stations(double frequency_hz, const std::vector<double>& distances) const;
+  // The same on the holder of the spindle–holder subassembly (the tool outside removed), at
+  // `distances` from the holder tip inwards: the stations an SH11 tap test uses.
+  Eigen::MatrixXcd holder_stations(double frequency_hz, const std::vector<double>& distances) const;
 
   const Assembly& assembly() const { return assembly_; }
   const Chain& spindle_chain() const { return spindle_; }
