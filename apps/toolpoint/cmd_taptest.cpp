@@ -3,6 +3,7 @@
 // planning the spacing of a real test, and for trying the measured-data workflow without a machine.
 #include <fmt/format.h>
 #include <iostream>
+#include <limits>
 #include <memory>
 
 #include "cli.hpp"
@@ -72,6 +73,13 @@ void run_taptest(const TapTestOptions& o, const Globals& g) {
   std::cout << "points: ";
   for (int i = 0; i < o.points; ++i) std::cout << fmt::format("{}node {} at {:g} mm from the tip", i ? "; " : "", i + 1, 1000 * x[static_cast<std::size_t>(i)]);
   std::cout << fmt::format("\nUFF datasets: response node i+1, reference (hammer) node j+1, direction +Y; wrote {}\n", o.output);
+  // The section under the points: what `rotational --shear-stiffness` needs to turn dw/dx into ψ.
+  const Chain& chain = tool ? model.tool_chain() : model.holder_chain();
+  const auto [under, rest] = split_segments(chain.segments(), x.back());
+  double kga = std::numeric_limits<double>::infinity();
+  for (const Segment& sg : under) kga = std::min(kga, sg.properties().kGA.real());
+  std::cout << fmt::format("shear stiffness κGA under the points: {:.4g} N{} (give it to `toolpoint rotational --shear-stiffness`)\n", kga,
+                           under.size() > 1 ? " (smallest of the sections spanned: the points cross a step)" : "");
   (void)g;
 }
 
