@@ -1,6 +1,7 @@
 // toolpoint: modal models and their identification from a point FRF (peak picking, linear least
 // squares for residues, Levenberg–Marquardt on everything). Units: kg, N, m, s; Hz at interfaces.
 #include "toolpoint/modal_fit.hpp"
+#include "toolpoint/peaks.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -69,24 +70,18 @@ void ModalFitOptions::check() const {
 
 namespace {
 
-struct Peak {
+struct ModePeak {
   std::size_t index;
   double prominence_db;
 };
 
-// Local maxima of |G| away from the band edges, with their prominence: the drop [dB] from the
-// peak to the higher of the lowest points on each side before a higher point (or the band edge).
-std::vector<Peak> find_peaks(const std::vector<double>& mag) {
-  std::vector<Peak> peaks;
-  const std::size_t n = mag.size();
-  for (std::size_t i = 1; i + 1 < n; ++i) {
-    if (!(mag[i] > mag[i - 1] && mag[i] >= mag[i + 1])) continue;
-    double left_min = mag[i], right_min = mag[i];
-    for (std::size_t j = i; j-- > 0 && mag[j] <= mag[i];) left_min = std::min(left_min, mag[j]);
-    for (std::size_t j = i + 1; j < n && mag[j] <= mag[i]; ++j) right_min = std::min(right_min, mag[j]);
-    const double valley = std::max(left_min, right_min);
-    peaks.push_back({i, valley > 0.0 ? 20.0 * std::log10(mag[i] / valley) : 300.0});
-  }
+// Local maxima of |G| away from the band edges (peaks.hpp), with their prominence in dB: the drop
+// from the peak to the higher of the lowest points on each side before a higher point (or the
+// band edge).
+std::vector<ModePeak> peaks_in_db(const std::vector<double>& mag) {
+  std::vector<ModePeak> peaks;
+  for (const toolpoint::Peak& p : toolpoint::find_peaks(mag, 0.0))
+    peaks.push_back({p.index, p.prominence < 1.0 ? -20.0 * std::log10(1.0 - p.prominence) : 300.0});
   return peaks;
 }
 
@@ -227,13 +222,13 @@ ModalFitResult fit_modes(const FrfSeries& frf, const ModalFitOptions& options, c
   res.points = f.size();
 
   // 1. Peaks: the most prominent first, then back into frequency order.
-  std::vector<Peak> peaks = find_peaks(mag);
-  std::erase_if(peaks, [&](const Peak& p) { return p.prominence_db < options.min_prominence_db; });
+  std::vector<ModePeak> peaks = peaks_in_db(mag);
+  std::erase_if(peaks, [&](const ModePeak& p) { return p.prominence_db < options.min_prominence_db; });
   if (peaks.empty())
     throw InputError(fmt::format("{}: no resonance peak rising {} dB above its surroundings in {}–{} Hz", what,
                                  options.min_prominence_db, f.front(), f.back()),
                      "check the band (--band) and that the file holds a receptance with a resonance inside it");
-  std::stable_sort(peaks.begin(), peaks.end(), [](const Peak& a, const Peak& b) { return a.prominence_db > b.prominence_db; });
+  std::stable_sort(peaks.begin(), peaks.end(), [](const ModePeak& a, const ModePeak& b) { return a.prominence_db > b.prominence_db; });
   // A peak needs points inside its half-power band for its damping to be seen: fewer than 3 is
   // an under-resolved mode (or a noise spike). Such peaks are set aside; with none left, stop.
   auto points_inside = [&](std::size_t p) {
@@ -243,9 +238,9 @@ ModalFitResult fit_modes(const FrfSeries& frf, const ModalFitOptions& options, c
     for (std::size_t j = p + 1; j < f.size() && mag[j] >= level; ++j) ++inside;
     return inside;
   };
-  const Peak strongest = peaks.front();
-  std::vector<Peak> resolved;
-  for (const Peak& p : peaks) {
+  const ModePeak strongest = peaks.front();
+  std::vector<ModePeak> resolved;
+  for (const ModePeak& p : peaks) {
     if (points_inside(p.index) >= 3) resolved.push_back(p);
     else if (resolved.size() < static_cast<std::size_t>(options.max_modes))
       res.warnings.push_back(fmt::format("the peak at {} Hz has fewer than 3 FRF points within its half-power band and was "
@@ -263,10 +258,10 @@ ModalFitResult fit_modes(const FrfSeries& frf, const ModalFitOptions& options, c
                                        peaks.size(), options.max_modes));
     peaks.resize(static_cast<std::size_t>(options.max_modes));
   }
-  std::sort(peaks.begin(), peaks.end(), [](const Peak& a, const Peak& b) { return a.index < b.index; });
+  std::sort(peaks.begin(), peaks.end(), [](const ModePeak& a, const ModePeak& b) { return a.index < b.index; });
 
   std::vector<double> w0, z0, peak_mag;
-  for (const Peak& p : peaks) {
+  for (const ModePeak& p : peaks) {
     const double f1 = half_power_frequency(f, mag, p.index, -1), f2 = half_power_frequency(f, mag, p.index, +1);
     w0.push_back(omega[p.index]);
     z0.push_back(std::max((f2 - f1) / (2.0 * f[p.index]), 1e-5));

@@ -14,29 +14,33 @@ void PeakOptions::check() const {
     throw InvalidArgument(fmt::format("peak prominence {} must lie in [0, 1)", min_prominence));
 }
 
-std::vector<Peak> find_peaks(const FrfSeries& frf, const PeakOptions& options) {
-  options.check();
-  const std::size_t n = frf.size();
-  std::vector<double> m(n);
-  for (std::size_t i = 0; i < n; ++i) m[i] = std::abs(frf.values[i]);
+std::vector<Peak> find_peaks(const std::vector<double>& m, double min_prominence) {
   std::vector<Peak> out;
+  const std::size_t n = m.size();
   for (std::size_t i = 1; i + 1 < n; ++i) {
     if (!(m[i] > m[i - 1] && m[i] >= m[i + 1])) continue;
     // Prominence: walk left and right until a higher point (or the end), recording the minimum.
     double left_min = m[i], right_min = m[i];
-    for (std::size_t k = i; k-- > 0;) {
-      if (m[k] > m[i]) break;
-      left_min = std::min(left_min, m[k]);
-    }
-    for (std::size_t k = i + 1; k < n; ++k) {
-      if (m[k] > m[i]) break;
-      right_min = std::min(right_min, m[k]);
-    }
+    for (std::size_t k = i; k-- > 0 && m[k] <= m[i];) left_min = std::min(left_min, m[k]);
+    for (std::size_t k = i + 1; k < n && m[k] <= m[i]; ++k) right_min = std::min(right_min, m[k]);
     const double prom = (m[i] - std::max(left_min, right_min)) / m[i];
-    if (prom < options.min_prominence) continue;
+    if (prom < min_prominence) continue;
     Peak p;
     p.index = i;
     p.prominence = prom;
+    p.magnitude = m[i];
+    out.push_back(p);
+  }
+  return out;
+}
+
+std::vector<Peak> find_peaks(const FrfSeries& frf, const PeakOptions& options) {
+  options.check();
+  std::vector<double> m(frf.size());
+  for (std::size_t i = 0; i < frf.size(); ++i) m[i] = std::abs(frf.values[i]);
+  std::vector<Peak> out = find_peaks(m, options.min_prominence);
+  for (Peak& p : out) {
+    const std::size_t i = p.index;
     // Parabola through (f, log m) at i−1, i, i+1 (non-uniform spacing allowed).
     const double x0 = frf.frequency_hz[i - 1], x1 = frf.frequency_hz[i], x2 = frf.frequency_hz[i + 1];
     const double y0 = std::log(m[i - 1]), y1 = std::log(m[i]), y2 = std::log(m[i + 1]);
@@ -49,9 +53,7 @@ std::vector<Peak> find_peaks(const FrfSeries& frf, const PeakOptions& options) {
       p.magnitude = std::exp(y1 + d01 * (xv - x1) + a * (xv - x0) * (xv - x1));
     } else {
       p.frequency_hz = x1;
-      p.magnitude = m[i];
     }
-    out.push_back(p);
   }
   return out;
 }

@@ -25,6 +25,11 @@ struct PeakOptions {
   void check() const;
 };
 
+// Local maxima of a sampled magnitude (m[i] > m[i−1] and m[i] ≥ m[i+1]) with their prominence
+// as defined in Peak, at least `min_prominence`, in index order; frequency_hz and magnitude are
+// left at 0 and m[i]. A prominence p is a peak-to-valley ratio 1/(1 − p): 20·log10 of it in dB.
+std::vector<Peak> find_peaks(const std::vector<double>& magnitude, double min_prominence);
+
 // Local maxima of |values| on the grid, ascending in frequency, each refined by a parabola
 // through log|H| at the three grid points around it.
 std::vector<Peak> find_peaks(const FrfSeries& frf, const PeakOptions& options = {});
