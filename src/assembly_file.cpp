@@ -132,6 +132,7 @@ Material read_material(Reader& r, const toml::table& t, const std::string& path,
   m.loss_factor = r.number(t, "loss_factor", path, "(dimensionless)").value_or(0.0);
   r.plausible(t, "youngs_modulus", path, m.youngs_modulus, 1e9, 1.2e12, "Young's modulus is in Pa (steel 2.1e11), not MPa or GPa");
   r.plausible(t, "density", path, m.density, 500.0, 25000.0, "density is in kg/m^3 (steel 7800)");
+  r.plausible(t, "shear_modulus", path, m.shear_modulus, 4e8, 5e11, "the shear modulus is in Pa (steel 8e10), not MPa or GPa");
   r.plausible(t, "loss_factor", path, m.loss_factor, 0.0, 0.2, "a structural loss factor is usually 0.001–0.05");
   try {
     m.check();
@@ -261,7 +262,11 @@ LoadedAssembly parse_assembly(const std::string& text, const std::string& source
       else if (*s == "modal") a.method = ReceptanceMethod::Modal;
       else r.fail(*t->get("method"), fmt::format("model.method = \"{}\": expected \"exact\" or \"modal\"", *s));
     }
-    if (auto n = r.number(*t, "modal_terms", "model", "(count)")) a.modal_terms = static_cast<int>(*n);
+    if (auto n = r.number(*t, "modal_terms", "model", "(count)")) {
+      if (*n < 1 || *n > 20000 || *n != std::floor(*n))
+        r.fail(*t->get("modal_terms"), fmt::format("model.modal_terms = {} must be an integer in 1..20000", *n), "100 is plenty below ~10 kHz");
+      a.modal_terms = static_cast<int>(*n);
+    }
   }
 
   std::map<std::string, Material> mats;

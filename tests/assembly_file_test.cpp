@@ -92,6 +92,11 @@ TEST(AssemblyFile, WrongTypesAndSyntax) {
                {"missing key joints.holder_tool.k_yf", "N/m"});
 }
 
+TEST(AssemblyFile, ModalTermsMustBeAnInteger) {
+  for (const char* bad : {"10.7", "0", "1e12"})
+    expect_error(replace(example_text(), "modal_terms = 100", std::string("modal_terms = ") + bad), {"bad.toml:", "model.modal_terms", "integer"});
+}
+
 TEST(AssemblyFile, ImplausibleMagnitudesWarnWithTheKey) {
   // 80 meant in mm: a legal but implausible spindle segment length.
   const std::string t = replace(example_text(), "length = 0.080\nouter_diameter = 0.045", "length = 80\nouter_diameter = 0.045");

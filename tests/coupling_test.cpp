@@ -173,3 +173,22 @@ TEST(Coupling, SingularInterfaceIsReported) {
   EXPECT_GE(cf, c2 * (1 - 1e-12));
   EXPECT_NEAR(cf, c2 + 1 / c2, 1e-12 * cf);
 }
+
+// Definiteness warnings (joint module): the seed's Table 1 is indefinite in stiffness (det ≈
+// −1.5e12) and in damping (54·1 − 22.2² < 0); a diagonal positive joint is not; zero damping is
+// not warned about.
+TEST(Joint, DefinitenessWarnings) {
+  EXPECT_EQ(joint_warnings(seed_table1_joint(), "K_ht").size(), 2u);
+  JointParameters p;
+  p.k_yf = 1e8;
+  p.k_tm = 1e5;
+  p.c_yf = 100;
+  p.c_tm = 1;
+  EXPECT_TRUE(joint_warnings(p, "K").empty());
+  p.c_yf = p.c_tm = 0.0;
+  EXPECT_TRUE(joint_warnings(p, "K").empty());
+  p.k_ym = p.k_tf = 4e6;  // (4e6)² = 1.6e13 > 1e8 · 1e5 = 1e13
+  const auto w = joint_warnings(p, "K");
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_NE(w[0].find("not positive definite"), std::string::npos);
+}

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "toolpoint/receptance.hpp"
 
@@ -41,6 +42,13 @@ struct Joint {
   static Joint make_rigid() { return {}; }
   static Joint make_elastic(const JointParameters& p) { return {false, p}; }
 };
+
+// Warnings about a joint that is legal but worth knowing: an indefinite symmetric part of the
+// stiffness (Re K) or damping (C) — the structure then has a motion of negative stiffness (it
+// can diverge statically) or of negative damping (it feeds energy in). The seed's Table 1 has both:
+// det(sym k) ≈ −1.5e12 (the tool rotating rigidly about a point 49 mm out, its tip in the seed's
+// experiment) and det(sym c) = 54·1 − 22.2² < 0. `name` labels the messages.
+std::vector<std::string> joint_warnings(const JointParameters& p, const std::string& name);
 
 // The seed's analytical case study, Table 1 (holder–tool joint).
 JointParameters seed_table1_joint();
