@@ -904,6 +904,43 @@ Figure receptance_figure(const BlockSeries& series, const std::string& title, co
   return fig;
 }
 
+Figure block_figure(const BlockSeries& series, const std::string& title, const std::string& subscript, int mode_labels) {
+  validate(series, title.empty() ? std::string("receptance block") : title);
+  const std::string sub = subscript.empty() ? "" : "_{" + subscript + "}";
+  FrfFigureOptions o;
+  o.title = title;
+  o.mode_labels = mode_labels;
+  o.symbol = "H" + sub;
+  Figure fig = frf_figure({{entry(series, 0), "", CurveStyle::Line}}, o);
+  fig.panels.resize(1);  // |H| with its mode labels; the phases get a panel of their own
+  fig.panels[0].height = 1.3;
+  const auto magnitude = [&](int k) {
+    Curve c{series.frequency_hz, {}, std::string(1, "HLNP"[k]) + sub, CurveStyle::Line, k};
+    for (const Block& b : series.blocks) c.y.push_back(std::abs(b(k / 2, k % 2)));
+    return c;
+  };
+  Panel ln, p, phase;
+  // L = w/m [1/N] and N = θ/f [rad/N] share one axis: rad is dimensionless.
+  ln.y = Axis{fmt::format("|L{0}|, |N{0}| [1/N]", sub), Scale::Log, std::nullopt, std::nullopt, std::nullopt};
+  ln.curves = {magnitude(1), magnitude(2)};
+  ln.legend = Legend::Outside;
+  p.y = Axis{fmt::format("|P{}| [rad/(N·m)]", sub), Scale::Log, std::nullopt, std::nullopt, std::nullopt};
+  p.curves = {magnitude(3)};
+  p.legend = Legend::Outside;
+  phase.y = Axis{"Phase [deg]", Scale::Linear, -198.0, 198.0, 90.0};  // ±180° kept off the frame
+  phase.legend = Legend::Outside;
+  for (int k = 0; k < 4; ++k) {
+    Curve c{{}, {}, std::string(1, "HLNP"[k]) + sub, CurveStyle::Line, k};
+    phase_curve(entry(series, k), c.x, c.y);
+    phase.curves.push_back(std::move(c));
+  }
+  fig.panels.push_back(std::move(ln));
+  fig.panels.push_back(std::move(p));
+  fig.panels.push_back(std::move(phase));
+  fig.height_px = height_for_panels(fig.panels.size());
+  return fig;
+}
+
 Figure overhang_frf_figure(const std::vector<double>& overhang_m, const std::vector<FrfSeries>& frfs,
                            const FrfFigureOptions& options) {
   require(overhang_m.size() == frfs.size(),
