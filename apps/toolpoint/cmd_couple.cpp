@@ -30,44 +30,47 @@ struct CoupleOptions {
 void print_report(const CoupleOptions& o, const Globals& g, double inside, const std::vector<double>& overhangs,
                   const std::vector<std::vector<Peak>>& all_peaks, bool sweep);
 
+// --overhang: one length or a sweep START:STOP:STEP, in m (empty: none given).
+std::vector<double> parse_overhangs(const std::string& text) {
+  if (text.empty()) return {};
+  if (text.find(':') != std::string::npos) {
+    // Reuse the grid parser's checks with its own wording.
+    std::vector<double> v;
+    try {
+      v = parse_frequency_grid(text, "--overhang").values();
+    } catch (const InvalidArgument& e) {
+      throw InvalidArgument(std::string(e.what()) + " (here in metres, not Hz)", "e.g. --overhang 0.040:0.060:0.002");
+    }
+    if (v.size() > 1000)
+      throw InvalidArgument(fmt::format("--overhang {} gives {} overhangs; at most 1000", text, v.size()), "use a larger STEP");
+    return v;
+  }
+  std::size_t used = 0;
+  double v = 0.0;
+  try {
+    v = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size())
+    throw InvalidArgument(fmt::format("--overhang '{}' is not a length in m or START:STOP:STEP", text),
+                          "e.g. --overhang 0.05 or --overhang 0.040:0.060:0.002 (metres)");
+  if (!(v > 0.0) || !std::isfinite(v))
+    throw InvalidArgument(fmt::format("--overhang {} m must be > 0", v), "give the tool length outside the holder, e.g. 0.05");
+  return {v};
+}
+
 void run_couple(const CoupleOptions& o, const Globals& g) {
   check_plot_path(o.plot);
+  std::vector<double> overhangs = parse_overhangs(o.overhang);
+  const bool sweep = overhangs.size() > 1 || o.overhang.find(':') != std::string::npos;
+  if (sweep && o.output.empty())
+    throw InvalidArgument("an overhang sweep needs --output DIR for its files", "add --output overhangs");
   LoadedAssembly loaded = load_assembly(o.assembly);
   warn_all(loaded.warnings);
   const BlockSeries sh = read_block_csv(o.sh);
   validate(sh, o.sh, 3);
-  std::vector<double> overhangs;
-  bool sweep = false;
-  if (o.overhang.empty()) {
-    overhangs.push_back(loaded.assembly.tool.overhang);
-  } else if (o.overhang.find(':') != std::string::npos) {
-    // A sweep START:STOP:STEP in m; reuse the grid parser's checks with its own wording.
-    const FrequencyGrid gsw = [&] {
-      try {
-        return parse_frequency_grid(o.overhang, "--overhang");
-      } catch (const InvalidArgument& e) {
-        throw InvalidArgument(std::string(e.what()) + " (here in metres, not Hz)", "e.g. --overhang 0.040:0.060:0.002");
-      }
-    }();
-    overhangs = gsw.values();
-    sweep = true;
-  } else {
-    std::size_t used = 0;
-    double v = 0.0;
-    try {
-      v = std::stod(o.overhang, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used != o.overhang.size())
-      throw InvalidArgument(fmt::format("--overhang '{}' is not a length in m or START:STOP:STEP", o.overhang),
-                            "e.g. --overhang 0.05 or --overhang 0.040:0.060:0.002 (metres)");
-    overhangs.push_back(v);
-  }
-  if (overhangs.size() > 1000)
-    throw InvalidArgument(fmt::format("--overhang gives {} overhangs; at most 1000", overhangs.size()), "use a larger STEP");
-  if (sweep && o.output.empty())
-    throw InvalidArgument("an overhang sweep needs --output DIR for its files", "add --output overhangs");
+  if (overhangs.empty()) overhangs.push_back(loaded.assembly.tool.overhang);
 
   const double inside = loaded.assembly.tool.length - loaded.assembly.tool.overhang;
   Table table;
