@@ -45,7 +45,8 @@ int main(int argc, char** argv) {
       "file content, 4 numerical failure (e.g. singular inversion), 5 file I/O failure (including a\n"
       "--plot figure that gnuplot could not draw; the data files are written first).\n"
       "Errors print one line saying what is wrong and where, and one (\"fix:\") saying how to fix it.\n"
-      "Progress bars appear on stderr for work over a second, only on a terminal and without --quiet.\n"
+      "Progress bars appear on stderr for work over a second (TOOLPOINT_PROGRESS_DELAY=SECONDS sets\n"
+      "another delay), only when stderr is a terminal and without --quiet.\n"
       "Run `toolpoint COMMAND --help` for a command's options, units, defaults and an example.\n"
       "Example:\n"
       "  toolpoint demo --output demo-out");

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fmt/format.h>
 #include <sys/ioctl.h>
 #include <unistd.h>
@@ -12,9 +13,18 @@ namespace toolpoint::cli {
 
 namespace {
 
-// Work shorter than this never shows a bar; redraws are at least this far apart.
-constexpr double kDelayS = 1.0;
+// Work shorter than the delay never shows a bar (TOOLPOINT_PROGRESS_DELAY overrides it);
+// redraws are at least kRedrawS apart.
+constexpr double kDefaultDelayS = 1.0;
 constexpr double kRedrawS = 0.1;
+
+double delay_s() {
+  const char* text = std::getenv("TOOLPOINT_PROGRESS_DELAY");
+  if (text == nullptr) return kDefaultDelayS;
+  char* end = nullptr;
+  const double v = std::strtod(text, &end);
+  return end != text && *end == '\0' && std::isfinite(v) && v >= 0.0 ? v : kDefaultDelayS;
+}
 
 Progress* g_shown = nullptr;  // the bar owning the terminal line (one at a time)
 
@@ -51,6 +61,7 @@ std::string progress_line(const std::string& label, double fraction, double elap
 Progress::Progress(const Globals& g, std::string label)
     : enabled_(!g.quiet && g_shown == nullptr && ::isatty(STDERR_FILENO) == 1),
       label_(std::move(label)),
+      delay_s_(delay_s()),
       start_(std::chrono::steady_clock::now()),
       last_draw_(start_) {
   if (enabled_) g_shown = this;
@@ -64,7 +75,7 @@ Progress::~Progress() {
 void Progress::update(double fraction) {
   if (!enabled_ || std::isnan(fraction)) return;
   fraction_ = std::clamp(fraction, 0.0, 1.0);
-  if (seconds_since(start_) < kDelayS || (drawn_ && seconds_since(last_draw_) < kRedrawS)) return;
+  if (seconds_since(start_) < delay_s_ || (drawn_ && seconds_since(last_draw_) < kRedrawS)) return;
   draw();
 }
 
@@ -72,7 +83,7 @@ void Progress::stage(std::string label, double fraction) {
   label_ = std::move(label);
   if (!enabled_ || std::isnan(fraction)) return;
   fraction_ = std::clamp(fraction, 0.0, 1.0);
-  if (seconds_since(start_) >= kDelayS) draw();  // a new stage shows at once, unthrottled
+  if (seconds_since(start_) >= delay_s_) draw();  // a new stage shows at once, unthrottled
 }
 
 std::function<void(double)> Progress::part(double from, double to) {

@@ -5,8 +5,9 @@
 // on stderr, redrawn in place with '\r':
 //     lobes (sd boundary) [##############..............]  48 %  2 s, about 2 s left
 // It draws only when stderr is a terminal (isatty) and --quiet is off, and only once the work has
-// run for a second: quick runs, pipes, logs and tests see nothing. The line is erased when the
-// work ends, and before any info()/warn() message, so messages never land on a half line.
+// run for a second (the environment variable TOOLPOINT_PROGRESS_DELAY sets another delay in
+// seconds, 0 for at once): quick runs, pipes, logs and tests see nothing. The line is erased when
+// the work ends, and before any info()/warn() message, so messages never land on a half line.
 #pragma once
 
 #include <chrono>
@@ -41,6 +42,7 @@ class Progress {
 
   bool enabled_ = false;
   std::string label_;
+  double delay_s_ = 1.0;
   double fraction_ = 0.0;
   std::chrono::steady_clock::time_point start_, last_draw_;
   bool drawn_ = false;
