@@ -91,6 +91,12 @@ extern const char* const kPointFrfHelp;
 // Help text for a block input (SH11, SHT11, S11): FRF CSV only.
 extern const char* const kBlockCsvHelp;
 
+// Adds the INPUT and OUTPUT arguments and --dataset of a command that transforms an FRF file into
+// another of the same form (filter, noise); `block_note` says what happens to a block, e.g.
+// "every entry filtered".
+void add_frf_file_arguments(CLI::App* command, std::string& input, std::string& output, std::optional<std::size_t>& dataset,
+                            const std::string& block_note);
+
 // Adds `--dataset N` (UFF inputs: which dataset 58, numbered as `toolpoint convert FILE --list`).
 CLI::Option* add_dataset_option(CLI::App* command, std::optional<std::size_t>& target);
 
@@ -120,22 +126,39 @@ void check_frf_output(const std::string& path, FrfFormat format, bool is_block);
 // Warnings of the writer are shown.
 void write_frf_output(const std::string& path, FrfFormat format, const FrfFileData& data, const std::string& comment);
 
-// `in` with `transform` applied to its single FRF or block series (a generic callable taking
-// either), written by write_frf_output; returns what was written.
-template <class Transform>
-FrfFileData transformed(const FrfFileData& in, Transform&& transform, const std::string& path, FrfFormat format,
-                        const std::string& comment) {
+// What filter and noise share: check the figure and output names (before any work), read
+// `input` (any format; `dataset` as for read_frf_input), apply `process` — a generic callable
+// taking a FrfSeries or a BlockSeries and returning a SignalResult — to its single FRF or block,
+// show the result's warnings, and write it to `output` in the input's form (write_frf_output).
+// Returns what was read and what was written.
+template <class Process>
+std::pair<FrfFileData, FrfFileData> process_frf_file(const std::string& input, std::optional<std::size_t> dataset,
+                                                     const std::string& output, const std::string& plot_path,
+                                                     const std::string& comment, Process&& process) {
+  check_plot_path(plot_path);
+  const FrfFormat format = output_frf_format(output);
+  FrfFileData in = read_frf_input(input, dataset);
+  check_frf_output(output, format, in.is_block);
   FrfFileData out;
   out.format = format;
   out.is_block = in.is_block;
   out.dof = in.dof;
   out.description = comment;
-  check_frf_output(path, format, in.is_block);  // before any work
-  if (in.is_block) out.block = transform(in.block);
-  else out.single = transform(in.single);
-  write_frf_output(path, format, out, comment);
-  return out;
+  const auto apply = [&](const auto& series) {
+    auto r = process(series);
+    warn_all(r.warnings);
+    return std::move(r.series);
+  };
+  if (in.is_block) out.block = apply(in.block);
+  else out.single = apply(in.single);
+  write_frf_output(output, format, out, comment);
+  return {std::move(in), std::move(out)};
 }
+
+// Draws `traces` (FRF figure: |H| and phase, overlaid) in `plot_path` after the data file
+// `written` (draw_figures).
+void draw_frf_overlay(const Globals& g, const std::vector<plot::FrfTrace>& traces, const plot::FrfFigureOptions& options,
+                      const std::string& plot_path, const std::string& written);
 
 // ---- Subcommands ----------------------------------------------------------------------------
 // Each adds itself to `app` with its options, help (units, defaults, one example) and callback.

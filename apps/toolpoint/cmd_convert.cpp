@@ -228,7 +228,7 @@ void run_convert(const ConvertOptions& o, const Globals& g) {
   plot::FrfFigureOptions fo;
   fo.title = title;
   fo.mode_labels = 6;
-  draw_figures(g, {{plot::frf_figure({{data.single, "receptance", plot::CurveStyle::Line}}, fo), o.plot}}, {o.output});
+  draw_frf_overlay(g, {{data.single, "receptance", plot::CurveStyle::Line}}, fo, o.plot, o.output);
 }
 
 }  // namespace

@@ -20,19 +20,12 @@ struct FilterOptions {
 
 void run_filter(const FilterOptions& o, const Globals& g) {
   o.savgol.check();
-  check_plot_path(o.plot);
-  const FrfFormat out_format = output_frf_format(o.output);
-  const FrfFileData in = read_frf_input(o.input, o.dataset);
   const std::string comment =
       fmt::format("Savitzky-Golay filtered (window {} points, order {}, scipy savgol_filter mode='interp'; real and "
                   "imaginary parts separately) from {}",
                   o.savgol.window, o.savgol.order, o.input);
-  const auto filter = [&](const auto& series) {
-    auto r = savgol_filter(series, o.savgol, o.input);
-    warn_all(r.warnings);
-    return std::move(r.series);
-  };
-  const FrfFileData out = transformed(in, filter, o.output, out_format, comment);
+  const auto [in, out] = process_frf_file(o.input, o.dataset, o.output, o.plot, comment,
+                                          [&](const auto& series) { return savgol_filter(series, o.savgol, o.input); });
   double gain = 0.0;  // Σc²: white noise variance after / before, interior points
   for (double c : savgol_coefficients(o.savgol)) gain += c * c;
   info(g, fmt::format("wrote {} ({}, {} points filtered; interior white-noise variance × {:.4g})", o.output,
@@ -43,12 +36,8 @@ void run_filter(const FilterOptions& o, const Globals& g) {
                          plot::literal(o.input));
   fo.mode_labels = 6;
   fo.peak_trace = 1;  // the filtered trace: noise makes spurious peaks on the input
-  draw_figures(g,
-               {{plot::frf_figure({{point_frf(in), "input", plot::CurveStyle::Points},
-                                   {point_frf(out), "filtered", plot::CurveStyle::Line}},
-                                  fo),
-                 o.plot}},
-               {o.output});
+  draw_frf_overlay(g, {{point_frf(in), "input", plot::CurveStyle::Points}, {point_frf(out), "filtered", plot::CurveStyle::Line}},
+                   fo, o.plot, o.output);
 }
 
 }  // namespace
@@ -57,18 +46,12 @@ void add_filter_command(CLI::App& app, Globals& g) {
   auto o = std::make_shared<FilterOptions>();
   CLI::App* c = app.add_subcommand(
       "filter", "Savitzky–Golay smoothing of an FRF (single FRF or 2×2 block, real and imaginary parts separately)");
-  c->add_option("input", o->input, std::string("Input FRF (required): ") + kSingleFrfHelp + ", or a 2×2 block CSV (every entry filtered)")
-      ->required();
-  c->add_option("output", o->output,
-                "Output file (required), same form as the input, format by extension: .csv, .uff/.unv/.uf (ASCII UFF 58) "
-                "or .frf for a single FRF; .csv for a block")
-      ->required();
+  add_frf_file_arguments(c, o->input, o->output, o->dataset, "every entry filtered");
   c->add_option("-w,--window", o->savgol.window,
                 "Window length [frequency points]: odd, > --order, ≤ the number of points (required, no default)")
       ->required();
   c->add_option("-p,--order", o->savgol.order, "Polynomial order [-], ≥ 0 and < --window (required, no default)")
       ->required();
-  add_dataset_option(c, o->dataset);
   add_plot_option(c, o->plot,
                   "the input (points) and the filtered FRF (line), |H| [m/N] and phase [deg] against frequency [Hz] "
                   "(the H entry of a block)");

@@ -20,30 +20,21 @@ struct NoiseCliOptions {
 
 void run_noise(const NoiseCliOptions& o, const Globals& g) {
   o.noise.check();
-  check_plot_path(o.plot);
-  const FrfFormat out_format = output_frf_format(o.output);
-  const FrfFileData in = read_frf_input(o.input, o.dataset);
   const std::string comment =
       fmt::format("simulated measurement noise: each entry times (1 + sigma z), z standard normal (Box-Muller on "
                   "mt19937_64), sigma = {}, seed = {}; from {}",
                   o.noise.sigma, o.noise.seed, o.input);
-  const auto distort = [&](const auto& series) {
-    auto r = add_measurement_noise(series, o.noise, o.input);
-    warn_all(r.warnings);
-    return std::move(r.series);
-  };
-  const FrfFileData out = transformed(in, distort, o.output, out_format, comment);
+  const auto [in, out] = process_frf_file(o.input, o.dataset, o.output, o.plot, comment,
+                                          [&](const auto& series) { return add_measurement_noise(series, o.noise, o.input); });
   info(g, fmt::format("wrote {} (sigma {}, seed {})", o.output, o.noise.sigma, o.noise.seed));
   if (o.plot.empty()) return;
   plot::FrfFigureOptions fo;
   fo.title = fmt::format("{:g} % multiplicative noise, seed {}: {}", 100.0 * o.noise.sigma, o.noise.seed, plot::literal(o.input));
   fo.mode_labels = 6;  // of the clean trace: noise makes spurious peaks
-  draw_figures(g,
-               {{plot::frf_figure({{point_frf(in), "clean", plot::CurveStyle::Line},
-                                   {point_frf(out), fmt::format("{:g} % noise", 100.0 * o.noise.sigma), plot::CurveStyle::Points}},
-                                  fo),
-                 o.plot}},
-               {o.output});
+  draw_frf_overlay(g,
+                   {{point_frf(in), "clean", plot::CurveStyle::Line},
+                    {point_frf(out), fmt::format("{:g} % noise", 100.0 * o.noise.sigma), plot::CurveStyle::Points}},
+                   fo, o.plot, o.output);
 }
 
 }  // namespace
@@ -52,16 +43,10 @@ void add_noise_command(CLI::App& app, Globals& g) {
   auto o = std::make_shared<NoiseCliOptions>();
   CLI::App* c = app.add_subcommand(
       "noise", "Simulated measurement noise: multiply every FRF entry by 1 + sigma·z (seed Section 3), reproducibly");
-  c->add_option("input", o->input, std::string("Input FRF (required): ") + kSingleFrfHelp + ", or a 2×2 block CSV (every entry distorted)")
-      ->required();
-  c->add_option("output", o->output,
-                "Output file (required), same form as the input, format by extension: .csv, .uff/.unv/.uf (ASCII UFF 58) "
-                "or .frf for a single FRF; .csv for a block")
-      ->required();
+  add_frf_file_arguments(c, o->input, o->output, o->dataset, "every entry distorted");
   c->add_option("--sigma", o->noise.sigma, "Standard deviation of the factor [-] (0.05 = 5 %), ≥ 0")->capture_default_str();
   c->add_option("--seed", o->noise.seed, "Random seed (mt19937_64); the same seed gives the same noise")
       ->capture_default_str();
-  add_dataset_option(c, o->dataset);
   add_plot_option(c, o->plot,
                   "the clean (line) and the noisy FRF (points), |H| [m/N] and phase [deg] against frequency [Hz] (the H "
                   "entry of a block)");

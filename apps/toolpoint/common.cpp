@@ -108,6 +108,11 @@ void draw_figures(const Globals& g, const std::vector<FigureFile>& figures, cons
   }
 }
 
+void draw_frf_overlay(const Globals& g, const std::vector<plot::FrfTrace>& traces, const plot::FrfFigureOptions& options,
+                      const std::string& plot_path, const std::string& written) {
+  draw_figures(g, {{plot::frf_figure(traces, options), plot_path}}, {written});
+}
+
 // ---- FRF inputs -----------------------------------------------------------------------------
 
 #define TOOLPOINT_SINGLE_FRF_FORMATS                                                                     \
@@ -120,6 +125,18 @@ const char* const kPointFrfHelp = TOOLPOINT_SINGLE_FRF_FORMATS ", or a 2×2 bloc
 
 const char* const kBlockCsvHelp =
     "2×2 block FRF CSV (H m/N, L 1/N, N rad/N, P rad/(N m); CSV only: the one format that carries rotations)";
+
+void add_frf_file_arguments(CLI::App* command, std::string& input, std::string& output, std::optional<std::size_t>& dataset,
+                            const std::string& block_note) {
+  command->add_option("input", input, std::string("Input FRF (required): ") + kSingleFrfHelp + ", or a 2×2 block CSV (" + block_note + ")")
+      ->required();
+  command
+      ->add_option("output", output,
+                   "Output file (required), same form as the input, format by extension: .csv, .uff/.unv/.uf (ASCII UFF 58) "
+                   "or .frf for a single FRF; .csv for a block")
+      ->required();
+  add_dataset_option(command, dataset);
+}
 
 CLI::Option* add_dataset_option(CLI::App* command, std::optional<std::size_t>& target) {
   return command->add_option("--dataset", target,
