@@ -30,10 +30,11 @@ void run_noise(const NoiseCliOptions& o, const Globals& g) {
   if (o.plot.empty()) return;
   plot::FrfFigureOptions fo;
   fo.title = fmt::format("{:g} % multiplicative noise, seed {}: {}", 100.0 * o.noise.sigma, o.noise.seed, plot::literal(o.input));
-  fo.mode_labels = 6;  // of the clean trace: noise makes spurious peaks
+  fo.mode_labels = 6;
+  fo.peak_trace = 1;  // the clean trace, drawn over the noisy points: noise makes spurious peaks
   draw_frf_overlay(g,
-                   {{point_frf(in), "clean", plot::CurveStyle::Line},
-                    {point_frf(out), fmt::format("{:g} % noise", 100.0 * o.noise.sigma), plot::CurveStyle::Points}},
+                   {{point_frf(out), fmt::format("{:g} % noise", 100.0 * o.noise.sigma), plot::CurveStyle::Points},
+                    {point_frf(in), "clean", plot::CurveStyle::Line}},
                    fo, o.plot, o.output);
 }
 
@@ -48,7 +49,7 @@ void add_noise_command(CLI::App& app, Globals& g) {
   c->add_option("--seed", o->noise.seed, "Random seed (mt19937_64); the same seed gives the same noise")
       ->capture_default_str();
   add_plot_option(c, o->plot,
-                  "the clean (line) and the noisy FRF (points), |H| [m/N] and phase [deg] against frequency [Hz] (the H "
+                  "the noisy (points) and the clean FRF (line), |H| [m/N] and phase [deg] against frequency [Hz] (the H "
                   "entry of a block)");
   c->footer(std::string(kFigureFooter) +
             "Entries at every frequency get independent factors (drawn frequency by frequency, H, L, N, P).\n"
