@@ -6,6 +6,7 @@
 // (closed-form modal FRFs, the static cantilever of NOTES §5, the example assembly) on coarse
 // grids so the whole file stays within a few seconds; the checks on numbers compare against
 // closed forms or properties that hold independently of the code under test.
+// Units: SI (m, kg, N; receptance m/N), frequencies in Hz, figure sizes in pixels.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 

@@ -1,4 +1,5 @@
 // toolpoint CLI: messages, figures and FRF inputs shared by the subcommands (cli.hpp).
+// Units: SI (receptance m/N, joint parameters in their SI units); frequencies in Hz.
 #include <algorithm>
 #include <cctype>
 #include <filesystem>

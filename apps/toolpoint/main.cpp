@@ -1,5 +1,6 @@
 // toolpoint: command-line entry point. Maps library exceptions to messages and exit codes:
 // "error: what is wrong and where" on one line, "  fix: how to fix it" on the next.
+// Units: SI with frequencies in Hz throughout the commands (each states its own).
 #include <exception>
 #include <fmt/format.h>
 #include <iostream>

@@ -1,4 +1,5 @@
 // toolpoint CLI: a progress bar on stderr for work that takes more than a second.
+// Units: fractions of the work 0…1, times in seconds.
 //
 // Library loops report progress through an optional std::function<void(double fraction)>
 // (fraction of the work done, 0…1) and never print; this class turns those calls into one line
