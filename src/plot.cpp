@@ -885,21 +885,66 @@ Figure frf_figure(const std::vector<FrfTrace>& traces, const FrfFigureOptions& o
   return fig;
 }
 
-Figure receptance_figure(const BlockSeries& series, const std::string& title, const std::string& subscript,
-                         int mode_labels) {
-  validate(series, title.empty() ? std::string("receptance") : title);
-  const std::string sub = subscript.empty() ? "" : "_{" + subscript + "}";
+namespace {
+
+// "_{11}" for subscript "11", nothing for none.
+std::string subscript_text(const std::string& subscript) { return subscript.empty() ? "" : "_{" + subscript + "}"; }
+
+// |H| and ∠H of a block series with `mode_labels` peaks of |H| labelled: the top of the
+// receptance and block figures. `what` names the series in errors when there is no title.
+Figure h_entry_figure(const BlockSeries& series, const std::string& title, const std::string& subscript, int mode_labels,
+                      const std::string& what) {
+  validate(series, title.empty() ? what : title);
   FrfFigureOptions o;
   o.title = title;
   o.mode_labels = mode_labels;
-  o.symbol = "H" + sub;
-  o.unit = "m/N";
-  Figure fig = frf_figure({{entry(series, 0), "", CurveStyle::Line}}, o);
-  o.symbol = "P" + sub;
+  o.symbol = "H" + subscript_text(subscript);
+  return frf_figure({{entry(series, 0), "", CurveStyle::Line}}, o);
+}
+
+}  // namespace
+
+Figure receptance_figure(const BlockSeries& series, const std::string& title, const std::string& subscript,
+                         int mode_labels) {
+  Figure fig = h_entry_figure(series, title, subscript, mode_labels, "receptance");
+  FrfFigureOptions o;
+  o.title = title;
+  o.symbol = "P" + subscript_text(subscript);
   o.unit = "rad/(N·m)";
-  o.mode_labels = 0;
   Figure p = frf_figure({{entry(series, 3), "", CurveStyle::Line}}, o);
   for (Panel& panel : p.panels) fig.panels.push_back(std::move(panel));
+  fig.height_px = height_for_panels(fig.panels.size());
+  return fig;
+}
+
+Figure block_figure(const BlockSeries& series, const std::string& title, const std::string& subscript, int mode_labels) {
+  Figure fig = h_entry_figure(series, title, subscript, mode_labels, "receptance block");
+  const std::string sub = subscript_text(subscript);
+  fig.panels.resize(1);  // |H| with its mode labels; the phases get a panel of their own
+  fig.panels[0].height = 1.3;
+  const auto magnitude = [&](int k) {
+    Curve c{series.frequency_hz, {}, std::string(1, "HLNP"[k]) + sub, CurveStyle::Line, k};
+    for (const Block& b : series.blocks) c.y.push_back(std::abs(b(k / 2, k % 2)));
+    return c;
+  };
+  Panel ln, p, phase;
+  // L = w/m [1/N] and N = θ/f [rad/N] share one axis: rad is dimensionless.
+  ln.y = Axis{fmt::format("|L{0}|, |N{0}| [1/N]", sub), Scale::Log, std::nullopt, std::nullopt, std::nullopt};
+  ln.curves = {magnitude(1), magnitude(2)};
+  ln.legend = Legend::Outside;
+  p.y = Axis{fmt::format("|P{}| [rad/(N·m)]", sub), Scale::Log, std::nullopt, std::nullopt, std::nullopt};
+  p.curves = {magnitude(3)};
+  p.legend = Legend::Outside;
+  phase.y = Axis{"Phase [deg]", Scale::Linear, -198.0, 198.0, 90.0};  // ±180° kept off the frame
+  phase.legend = Legend::Outside;
+  for (int k = 0; k < 4; ++k) {
+    Curve c{{}, {}, std::string(1, "HLNP"[k]) + sub, CurveStyle::Line, k};
+    phase_curve(entry(series, k), c.x, c.y);
+    phase.curves.push_back(std::move(c));
+  }
+  fig.panels.push_back(std::move(ln));
+  fig.panels.push_back(std::move(p));
+  fig.panels.push_back(std::move(phase));
   fig.height_px = height_for_panels(fig.panels.size());
   return fig;
 }

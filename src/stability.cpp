@@ -626,8 +626,10 @@ SemiDiscretizationResult semi_discretization_boundary(const ModalModel& model, c
     res.max_depth_m = 10.0 * zero_order_floor(modal_milling_frfs(model.x, model.y, modal_frequency_grid(all)), cutting);
   }
   int none = 0, aliased = 0;
-  for (double n : options.speeds.values()) {
+  const std::vector<double> speeds = options.speeds.values();
+  for (double n : speeds) {
     res.boundary.push_back(sd.boundary(n, res.max_depth_m, options.depth_steps, options.depth_tolerance));
+    if (options.progress) options.progress(static_cast<double>(res.boundary.size()) / static_cast<double>(speeds.size()));
     const BoundaryPoint& b = res.boundary.back();
     none += b.kind == BoundaryKind::None;
     // Fewer than 4 samples per chatter period: the DFT (and the discretization) is at its limit.

@@ -1,21 +1,38 @@
 // toolpoint CLI: what every subcommand shares. Each subcommand lives in its own cmd_<name>.cpp
 // and is thin: parse options, call the library, report. Only the CLI talks to a person.
+//
+// House rules every command follows (and states in its --help):
+//   * Units: SI (m, kg, N, Pa, s, rad), frequencies in Hz; every option's help gives its unit and
+//     default.
+//   * Output files are written whole or not at all (write_text_file, plot::render).
+//   * Figures (--plot FILE.png|svg|pdf): the extension is checked before any work; the data
+//     (files and the report on stdout) come first, the figure last. If the figure cannot be
+//     drawn (gnuplot missing or failing) the data stay written, the error says which files they
+//     are, and the exit code is 5 (I/O) — a script never mistakes a missing figure for success.
+//   * Progress bars (progress.hpp) on stderr only when it is a terminal, never with --quiet.
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "toolpoint/frf_file.hpp"
+#include "toolpoint/identify.hpp"
+#include "toolpoint/plot.hpp"
+#include "toolpoint/receptance.hpp"
+
 namespace toolpoint::cli {
 
-// Exit codes (README "Exit codes").
+// Exit codes (`toolpoint --help` lists them).
 enum ExitCode : int {
   kExitOk = 0,
   kExitInternal = 1,   // a bug: an unexpected exception
   kExitUsage = 2,      // bad command line or option value
   kExitInput = 3,      // bad input file content
   kExitNumerical = 4,  // singular inversion, no convergence
-  kExitIo = 5,         // cannot read or write a file
+  kExitIo = 5,         // cannot read or write a file (or draw a requested figure)
 };
 
 // Options every subcommand sees.
@@ -32,8 +49,119 @@ void warn_all(const std::vector<std::string>& messages);
 const char* example_assembly_toml();
 const char* example_assembly_name();
 
-// The subcommands. Each adds itself to `app` with its options, help (units, defaults, one
-// example) and callback.
+// ---- Figures ------------------------------------------------------------------------------------
+
+// The paragraph every command with --plot puts in its --help footer.
+extern const char* const kFigureFooter;
+
+// Adds `--plot FILE` whose help says what is drawn (`what`, with units) and how.
+CLI::Option* add_plot_option(CLI::App* command, std::string& target, const std::string& what);
+
+// Before any work: an empty path passes; otherwise the extension must be .png, .svg or .pdf
+// (InvalidArgument naming the option and the path).
+void check_plot_path(const std::string& path, const std::string& option = "--plot");
+
+// A figure and where it goes.
+struct FigureFile {
+  plot::Figure figure;
+  std::string path;
+};
+
+// Renders the figures in order, saying where each went (info). `written` names the data files
+// the command already wrote. When a figure cannot be drawn, throws IoError (PlotUnavailable if
+// gnuplot cannot be run) naming that figure, the figures drawn before it and the data written.
+// `skip` says how to do without the figures in the fix line.
+void draw_figures(const Globals& g, const std::vector<FigureFile>& figures, const std::vector<std::string>& written,
+                  const std::string& skip = "drop --plot");
+
+// One of the joint's four stiffness/damping pairs (0 yf, 1 ym, 2 θf, 3 θm) of an identified K(ω)
+// as a joint-figure curve, with optional reference and identified values drawn as lines.
+plot::JointParameterCurve joint_curve(const JointSeries& series, int pair, const std::optional<JointParameters>& reference,
+                                      const std::optional<JointParameters>& identified);
+
+// `path` with `suffix` before its extension: ("lobes.png", "_chatter") → "lobes_chatter.png".
+std::string with_suffix(const std::string& path, const std::string& suffix);
+
+// ---- FRF inputs -----------------------------------------------------------------------------
+
+// Help text for an input that takes one FRF file of any supported format: a single FRF only
+// (kSingleFrfHelp), or also a 2×2 block CSV whose H entry is used (kPointFrfHelp).
+extern const char* const kSingleFrfHelp;
+extern const char* const kPointFrfHelp;
+// Help text for a block input (SH11, SHT11, S11): FRF CSV only.
+extern const char* const kBlockCsvHelp;
+
+// Adds the INPUT and OUTPUT arguments and --dataset of a command that transforms an FRF file into
+// another of the same form (filter, noise); `block_note` says what happens to a block, e.g.
+// "every entry filtered".
+void add_frf_file_arguments(CLI::App* command, std::string& input, std::string& output, std::optional<std::size_t>& dataset,
+                            const std::string& block_note);
+
+// Adds `--dataset N` (UFF inputs: which dataset 58, numbered as `toolpoint convert FILE --list`).
+CLI::Option* add_dataset_option(CLI::App* command, std::optional<std::size_t>& target);
+
+// Reads one measured FRF for a command: FRF CSV (single FRF or 2×2 block), UFF 58/58b or CutPro
+// .frf, by extension, as receptance [m/N] against frequency [Hz] (UFF ordinates converted; see
+// frf_file.hpp). `spec` is a path, optionally ending in "#N" to pick dataset N of a UFF file
+// (when no file of that exact name exists); `dataset` (a --dataset option) does the same. The
+// file's warnings are shown. Throws InvalidArgument (unknown extension, a selection on a
+// non-UFF file, both #N and --dataset), InputError, IoError.
+FrfFileData read_frf_input(const std::string& spec, std::optional<std::size_t> dataset = std::nullopt);
+
+// The same, reduced to one point FRF: a 2×2 block CSV gives its H entry (w/f), said by info().
+FrfSeries read_point_frf(const Globals& g, const std::string& spec, std::optional<std::size_t> dataset = std::nullopt);
+
+// The H entry (w/f) of a block, or the single FRF.
+FrfSeries point_frf(const FrfFileData& data);
+
+// The format an output FRF file gets from its extension (InvalidArgument naming the path, with
+// a hint, for anything else). Call before any work.
+FrfFormat output_frf_format(const std::string& path);
+
+// A 2×2 block can only be written as FRF CSV: InvalidArgument naming `path` otherwise.
+void check_frf_output(const std::string& path, FrfFormat format, bool is_block);
+
+// Writes `data` (single FRF or block) to `path` in `format` (check_frf_output first): UFF keeps
+// the input's DOF labels and takes `comment` as ID line 1; CSV takes it as a comment line.
+// Warnings of the writer are shown.
+void write_frf_output(const std::string& path, FrfFormat format, const FrfFileData& data, const std::string& comment);
+
+// What filter and noise share: check the figure and output names (before any work), read
+// `input` (any format; `dataset` as for read_frf_input), apply `process` — a generic callable
+// taking a FrfSeries or a BlockSeries and returning a SignalResult — to its single FRF or block,
+// show the result's warnings, and write it to `output` in the input's form (write_frf_output).
+// Returns what was read and what was written.
+template <class Process>
+std::pair<FrfFileData, FrfFileData> process_frf_file(const std::string& input, std::optional<std::size_t> dataset,
+                                                     const std::string& output, const std::string& plot_path,
+                                                     const std::string& comment, Process&& process) {
+  check_plot_path(plot_path);
+  const FrfFormat format = output_frf_format(output);
+  FrfFileData in = read_frf_input(input, dataset);
+  check_frf_output(output, format, in.is_block);
+  FrfFileData out;
+  out.format = format;
+  out.is_block = in.is_block;
+  out.dof = in.dof;
+  out.description = comment;
+  const auto apply = [&](const auto& series) {
+    auto r = process(series);
+    warn_all(r.warnings);
+    return std::move(r.series);
+  };
+  if (in.is_block) out.block = apply(in.block);
+  else out.single = apply(in.single);
+  write_frf_output(output, format, out, comment);
+  return {std::move(in), std::move(out)};
+}
+
+// Draws `traces` (FRF figure: |H| and phase, overlaid) in `plot_path` after the data file
+// `written` (draw_figures).
+void draw_frf_overlay(const Globals& g, const std::vector<plot::FrfTrace>& traces, const plot::FrfFigureOptions& options,
+                      const std::string& plot_path, const std::string& written);
+
+// ---- Subcommands ----------------------------------------------------------------------------
+// Each adds itself to `app` with its options, help (units, defaults, one example) and callback.
 void add_beam_command(CLI::App& app, Globals& g);
 void add_predict_command(CLI::App& app, Globals& g);
 void add_identify_command(CLI::App& app, Globals& g);

@@ -30,11 +30,12 @@ struct BeamOptions {
 };
 
 void run_beam(const BeamOptions& o, const Globals& g) {
-  if (!o.plot.empty()) {  // before any work: a typo in the figure name should not cost a run
-    if (o.frequencies.empty())
-      throw InvalidArgument("--plot needs --frequencies and --output", "add --frequencies 10:20000:10 --output tip.csv");
-    plot::format_for_path(o.plot);
-  }
+  check_plot_path(o.plot);  // before any work: a typo in the figure name should not cost a run
+  if (!o.plot.empty() && (o.frequencies.empty() || o.output.empty()))
+    throw InvalidArgument("--plot needs --frequencies and --output (the figure draws the receptance written there)",
+                          "add --frequencies 10:20000:10 --output tip.csv");
+  if (!o.frequencies.empty() && o.output.empty())
+    throw InvalidArgument("--frequencies needs --output FILE.csv for the receptance", "add --output tip.csv");
   Material mat{"beam", o.youngs_modulus, o.poisson, o.shear_modulus, o.density, o.loss_factor};
   Segment seg = Segment::tube(o.length, o.diameter, o.inner_diameter, mat);
   seg.shear_model = o.shear_model == "cowper" ? ShearModel::Cowper : ShearModel::Hutchinson;
@@ -71,12 +72,11 @@ void run_beam(const BeamOptions& o, const Globals& g) {
     out["natural_frequencies"] = list;
   }
 
+  BlockSeries s;  // the receptance written (and drawn)
   if (!o.frequencies.empty()) {
-    if (o.output.empty()) throw InvalidArgument("--frequencies needs --output FILE.csv", "add --output tip.csv");
     const std::vector<double> f = parse_frequency_grid(o.frequencies, "--frequencies").values();
     std::unique_ptr<ModalBeam> modal;
     if (o.method == "modal") modal = std::make_unique<ModalBeam>(sp, o.length, ModalOptions{o.modal_terms, o.static_residual});
-    BlockSeries s;
     s.frequency_hz = f;
     s.blocks.reserve(f.size());
     for (double fi : f) {
@@ -94,23 +94,16 @@ void run_beam(const BeamOptions& o, const Globals& g) {
     out["output"] = o.output;
     out["points"] = f.size();
     info(g, fmt::format("wrote {} ({} frequencies, block T{})", o.output, f.size(), o.block));
-    if (!o.plot.empty()) {
-      const plot::Figure fig = plot::receptance_figure(
-          s, fmt::format("Free–free Timoshenko beam, block T_{{{}}}: L = {} m, D = {} m", o.block, o.length, o.diameter),
-          o.block);
-      plot::RenderResult r;
-      try {
-        r = plot::render(fig, o.plot);
-      } catch (const plot::PlotUnavailable& e) {
-        throw plot::PlotUnavailable(fmt::format("{}; the receptance was written to {}", e.what(), o.output), e.hint());
-      }
-      for (const auto& n : r.notes) info(g, "note: " + n);
-      warn_all(r.warnings);
-      out["plot"] = o.plot;
-      info(g, fmt::format("wrote {} (gnuplot terminal {})", o.plot, r.terminal));
-    }
+    if (!o.plot.empty()) out["plot"] = o.plot;
   }
   if (o.json) std::cout << out.dump(2) << '\n';
+  if (!o.plot.empty())
+    draw_figures(g,
+                 {{plot::receptance_figure(s, fmt::format("Free–free Timoshenko beam, block T_{{{}}}: L = {} m, D = {} m",
+                                                               o.block, o.length, o.diameter),
+                                           o.block),
+                   o.plot}},
+                 {o.output});
 }
 
 }  // namespace
@@ -118,38 +111,36 @@ void run_beam(const BeamOptions& o, const Globals& g) {
 void add_beam_command(CLI::App& app, Globals& g) {
   auto o = std::make_shared<BeamOptions>();
   CLI::App* c = app.add_subcommand("beam", "Free–free Timoshenko beam: natural frequencies and end receptances (seed Eq. 9–14)");
-  c->add_option("--length", o->length, "Segment length L [m]")->required();
-  c->add_option("--diameter", o->diameter, "Outer diameter D [m]")->required();
-  c->add_option("--inner-diameter", o->inner_diameter, "Inner diameter d [m] (0: solid)")->capture_default_str();
+  c->add_option("--length", o->length, "Segment length L [m], > 0 (required)")->required();
+  c->add_option("--diameter", o->diameter, "Outer diameter D [m], > 0 (required)")->required();
+  c->add_option("--inner-diameter", o->inner_diameter, "Inner diameter d [m] (0: a solid section)")->capture_default_str();
   c->add_option("--youngs-modulus", o->youngs_modulus, "Young's modulus E [Pa]")->capture_default_str();
   c->add_option("--density", o->density, "Density ρ [kg/m³]")->capture_default_str();
-  c->add_option("--poisson", o->poisson, "Poisson's ratio ν, in (−1, 0.5)")->capture_default_str();
-  c->add_option("--shear-modulus", o->shear_modulus, "Shear modulus G [Pa] (default E/(2(1+ν)))");
-  c->add_option("--loss-factor", o->loss_factor, "Structural loss factor η ≥ 0 (complex moduli E(1+iη), G(1+iη))")
+  c->add_option("--poisson", o->poisson, "Poisson's ratio ν [-], in (−1, 0.5)")->capture_default_str();
+  c->add_option("--shear-modulus", o->shear_modulus, "Shear modulus G [Pa] (default: E/(2(1+ν)))");
+  c->add_option("--loss-factor", o->loss_factor, "Structural loss factor η [-], ≥ 0 (complex moduli E(1+iη), G(1+iη))")
       ->capture_default_str();
-  c->add_option("--shear-coefficient", o->shear_coefficient, "Shear coefficient κ (default from --shear-model)");
+  c->add_option("--shear-coefficient", o->shear_coefficient, "Shear coefficient κ [-] (default: from --shear-model, Poisson's ratio and the diameters)");
   c->add_option("--shear-model", o->shear_model, "κ formula for circular sections: hutchinson or cowper")
       ->check(CLI::IsMember({"hutchinson", "cowper"}))
       ->capture_default_str();
-  c->add_option("--modes", o->modes, "Print the first N free–free natural frequencies [Hz]");
-  c->add_option("--frequencies", o->frequencies, "Frequency grid START:STOP:STEP [Hz] for the receptance output");
-  c->add_option("--output", o->output, "Write the receptance block here (FRF CSV)");
-  c->add_option("--plot", o->plot,
-                "Also draw the receptance in FILE (.png, .svg or .pdf, by extension; needs gnuplot): |H| [m/N], "
-                "phase of H [deg], |P| [rad/(N·m)], phase of P [deg] against frequency [Hz], peaks of |H| labelled "
-                "[Hz]. Needs --frequencies and --output")
-      ->option_text("FILE");
-  c->add_option("--block", o->block, "Which block to write: 11 (end 1 = outer end), 12, 21 or 22")
+  c->add_option("--modes", o->modes, "Print the first N free–free natural frequencies [Hz] (default: 5 without --frequencies, else none)");
+  c->add_option("--frequencies", o->frequencies, "Frequency grid START:STOP:STEP [Hz] for the receptance output (needs --output)");
+  c->add_option("--output", o->output, "Write the receptance block here (FRF CSV; H m/N, L 1/N, N rad/N, P rad/(N m))");
+  add_plot_option(c, o->plot,
+                  "the receptance (needs --frequencies and --output): |H| [m/N], phase of H [deg], |P| [rad/(N·m)], "
+                  "phase of P [deg] against frequency [Hz], peaks of |H| labelled [Hz]");
+  c->add_option("--block", o->block, "Which end block to write: 11 (end 1 = the outer end), 12, 21 or 22")
       ->check(CLI::IsMember({"11", "12", "21", "22"}))
       ->capture_default_str();
-  c->add_option("--method", o->method, "exact (closed form, default) or modal (seed Eq. 11–14 summation)")
+  c->add_option("--method", o->method, "Receptance method: exact (closed form) or modal (seed Eq. 11–14 summation)")
       ->check(CLI::IsMember({"exact", "modal"}))
       ->capture_default_str();
-  c->add_option("--modal-terms", o->modal_terms, "Elastic modes summed by --method modal")->capture_default_str();
+  c->add_option("--modal-terms", o->modal_terms, "Elastic modes summed by --method modal [-]")->capture_default_str();
   c->add_flag("--static-residual", o->static_residual, "--method modal: add the truncated modes' static flexibility");
   c->add_flag("--json", o->json, "Machine-readable output on stdout");
-  c->footer(
-      "Example:\n"
+  c->footer(std::string(kFigureFooter) +
+      "Examples:\n"
       "  toolpoint beam --length 0.1 --diameter 0.05 --modes 6\n"
       "  toolpoint beam --length 0.123 --diameter 0.016 --youngs-modulus 5.8e11 --density 14500 \\\n"
       "      --loss-factor 0.002 --frequencies 10:20000:10 --output tool_T11.csv --plot tool_T11.png");

@@ -1,5 +1,7 @@
 // toolpoint convert: measured FRF files between formats (FRF CSV, UFF dataset 58/58b, CutPro
-// .frf), and a listing of the datasets 58 in a universal file.
+// .frf), and a listing of the datasets 58 in a universal file. Units: receptance m/N against
+// frequency Hz (UFF mobility/accelerance converted on request). --plot draws what was written, as
+// receptance: |H| [m/N] and phase [deg] against frequency [Hz].
 #include <fmt/format.h>
 #include <iostream>
 #include <map>
@@ -9,6 +11,7 @@
 #include "cli.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/frf_file.hpp"
+#include "toolpoint/plot.hpp"
 #include "toolpoint/uff.hpp"
 
 namespace toolpoint::cli {
@@ -16,7 +19,7 @@ namespace toolpoint::cli {
 namespace {
 
 struct ConvertOptions {
-  std::string input, output, from = "auto", to = "auto", ordinate;
+  std::string input, output, from = "auto", to = "auto", ordinate, plot;
   std::optional<std::size_t> dataset;
   std::optional<int> response_node, reference_node;
   std::string response_dir, reference_dir;
@@ -117,9 +120,35 @@ void run_list(const ConvertOptions& o) {
     if (std::find(f.skipped.begin(), f.skipped.end(), w) == f.skipped.end()) warn(w);
 }
 
+// The datasets 58 a UFF-to-UFF copy wrote, each as receptance, overlaid. Datasets that are no FRF
+// (or of an unknown ordinate) are left out with a warning.
+plot::Figure copied_datasets_figure(const ConvertOptions& o, const std::vector<UffDataset58>& sets) {
+  std::vector<plot::FrfTrace> traces;
+  for (const UffDataset58& d : sets) {
+    try {
+      UffReceptance r = uff_receptance(d, std::nullopt, o.input);
+      traces.push_back({std::move(r.receptance),
+                        fmt::format("dataset {}: {} {} / {} {}", d.index, d.response_node, uff_direction_name(d.response_direction),
+                                    d.reference_node, uff_direction_name(d.reference_direction)),
+                        plot::CurveStyle::Line});
+    } catch (const InputError& e) {
+      warn(fmt::format("not drawn: {}", e.what()));
+    }
+  }
+  if (traces.empty())
+    throw InputError(fmt::format("{}: no dataset written is an FRF that can be drawn as receptance", o.output),
+                     "pick an FRF dataset with --dataset (see --list), or drop --plot");
+  plot::FrfFigureOptions fo;
+  fo.title = fmt::format("{} → {}", plot::literal(o.input), plot::literal(o.output));
+  fo.mode_labels = traces.size() == 1 ? 6 : 0;
+  return plot::frf_figure(traces, fo);
+}
+
 void run_convert(const ConvertOptions& o, const Globals& g) {
+  check_plot_path(o.plot);
   if (o.list) {
-    if (!o.output.empty()) throw InvalidArgument("--list takes only the input file", "drop OUT, or drop --list");
+    if (!o.output.empty() || !o.plot.empty())
+      throw InvalidArgument("--list takes only the input file", "drop OUT and --plot, or drop --list");
     run_list(o);
     return;
   }
@@ -150,6 +179,7 @@ void run_convert(const ConvertOptions& o, const Globals& g) {
     w.binary = out == FrfFormat::UffBinary;
     warn_all(write_uff(o.output, sets, w));
     info(g, fmt::format("wrote {} ({} dataset(s) 58 as {})", o.output, sets.size(), w.binary ? "binary 58b" : "ASCII 58"));
+    if (!o.plot.empty()) draw_figures(g, {{copied_datasets_figure(o, sets), o.plot}}, {o.output});
     return;
   }
 
@@ -162,10 +192,13 @@ void run_convert(const ConvertOptions& o, const Globals& g) {
     r.uff = sel;
   } else if (!sel.empty()) {
     // Not a UFF input: the node/direction options label the written dataset instead.
-    if (sel.index) throw InvalidArgument("--dataset selects a dataset of a UFF input file; " + o.input + " is not UFF");
+    if (sel.index)
+      throw InvalidArgument("--dataset selects a dataset of a UFF input file; " + o.input + " is not UFF",
+                            "drop --dataset for CSV and .frf inputs");
     if (out != FrfFormat::Uff && out != FrfFormat::UffBinary)
       throw InvalidArgument("--response-node/--reference-node/--*-dir apply to a UFF input (selection) or a UFF output "
-                            "(labels); here neither is UFF");
+                            "(labels); here neither is UFF",
+                            "drop them, or write a .uff file to label its dataset");
   }
   const FrfFileData data = read_frf_file(o.input, r);
   w.dof = data.dof;
@@ -177,9 +210,11 @@ void run_convert(const ConvertOptions& o, const Globals& g) {
   }
   w.description = in == FrfFormat::Uff ? "from " + data.description : std::string();
   warn_all(data.warnings);
+  const std::string title = fmt::format("{} → {}", plot::literal(o.input), plot::literal(o.output));
   if (data.is_block) {
     warn_all(write_frf_file(o.output, data.block, w));
     info(g, fmt::format("wrote {} ({} frequencies, 2×2 receptance blocks)", o.output, data.block.size()));
+    if (!o.plot.empty()) draw_figures(g, {{plot::block_figure(data.block, title), o.plot}}, {o.output});
     return;
   }
   warn_all(write_frf_file(o.output, data.single, w));
@@ -189,6 +224,11 @@ void run_convert(const ConvertOptions& o, const Globals& g) {
                           ? std::string()
                           : fmt::format(", converted from {} {}", frf_ordinate_name(data.ordinate),
                                         frf_ordinate_units(data.ordinate))));
+  if (o.plot.empty()) return;
+  plot::FrfFigureOptions fo;
+  fo.title = title;
+  fo.mode_labels = 6;
+  draw_frf_overlay(g, {{data.single, "receptance", plot::CurveStyle::Line}}, fo, o.plot, o.output);
 }
 
 }  // namespace
@@ -199,23 +239,25 @@ void add_convert_command(CLI::App& app, Globals& g) {
       "convert",
       "Measured FRF files between formats: FRF CSV, UFF dataset 58 (ASCII) / 58b (binary), CutPro .frf; "
       "UFF datasets listed with --list");
-  c->add_option("IN", o->input, "Input file: .csv (FRF CSV), .uff/.unv/.uf (UFF 58 or 58b), .frf (CutPro text)")
+  c->add_option("IN", o->input,
+                "Input file (required): .csv (FRF CSV, single or 2×2 block), .uff/.unv/.uf (UFF 58 or 58b), .frf "
+                "(CutPro text)")
       ->required();
   c->add_option("OUT", o->output,
                 "Output file, format by extension (.csv, .uff/.unv/.uf ASCII UFF, .frf) or --to; "
-                "receptance [m/N] against frequency [Hz]");
+                "receptance [m/N] against frequency [Hz]; a 2×2 block: .csv only (required unless --list)");
   c->add_option("--from", o->from, "Input format: auto (by extension), csv, uff or frf")->capture_default_str();
   c->add_option("--to", o->to, "Output format: auto (by extension), csv, uff (ASCII 58), uffb (binary 58b) or frf")
       ->capture_default_str();
   auto* ds = c->add_option("--dataset", o->dataset,
                            "UFF input: the dataset 58 to read, by index from 0 as --list shows (default: the only one)");
   auto* rn = c->add_option("--response-node", o->response_node,
-                           "UFF input: select by response node; UFF output from CSV/.frf: label (default 0)");
+                           "UFF input: select by response node; UFF output from CSV/.frf: label (default: any / 0)");
   auto* rd = c->add_option("--response-dir", o->response_dir,
-                           "Response direction: +X, Y-, Z, +RZ, scalar or a code -6..6 (selection or label as above); write a leading "
-                           "minus as --response-dir=-Y");
-  auto* fn = c->add_option("--reference-node", o->reference_node, "Reference (excitation) node (selection or label)");
-  auto* fd = c->add_option("--reference-dir", o->reference_dir, "Reference direction, as --response-dir");
+                           "Response direction: +X, Y-, Z, +RZ, scalar or a code -6..6 (selection or label as above; default: any / 0, "
+                           "scalar); write a leading minus as --response-dir=-Y");
+  auto* fn = c->add_option("--reference-node", o->reference_node, "Reference (excitation) node (selection or label as above; default: any / 0)");
+  auto* fd = c->add_option("--reference-dir", o->reference_dir, "Reference direction, as --response-dir (default: any / 0, scalar)");
   for (auto* opt : {rn, rd, fn, fd}) ds->excludes(opt);
   c->add_option("--ordinate", o->ordinate,
                 "What the input values are: receptance [m/N], mobility [(m/s)/N] or accelerance [(m/s^2)/N]; "
@@ -225,13 +267,16 @@ void add_convert_command(CLI::App& app, Globals& g) {
               "List the datasets 58 of a UFF input: index, function type, nodes/directions, points, value type, "
               "ordinate, abscissa range, ID line");
   c->add_flag("--json", o->json, "With --list: machine-readable output on stdout");
-  c->footer(
+  add_plot_option(c, o->plot,
+                  "the FRF written, as receptance: |H| [m/N] and phase [deg] against frequency [Hz], modes labelled "
+                  "(a block: all four entries; UFF to UFF: every dataset copied, overlaid)");
+  c->footer(std::string(kFigureFooter) +
       "Points at 0 Hz are dropped (with a warning). UFF to UFF copies the datasets 58 unchanged (all of them, or\n"
       "the selected one); with --ordinate the selected FRF is converted to receptance instead.\n"
       "Examples:\n"
       "  toolpoint convert tap_test.uff --list\n"
       "  toolpoint convert tap_test.uff tool_tip.csv --response-node 1 --response-dir +X --ordinate accelerance\n"
-      "  toolpoint convert tool_tip.csv tool_tip.frf");
+      "  toolpoint convert tool_tip.csv tool_tip.frf --plot tool_tip.png");
   c->callback([o, &g] { run_convert(*o, g); });
 }
 

@@ -1,5 +1,8 @@
 // toolpoint couple: the semi-analytical tool point FRF — a measured SH11 + the model's tool + the
 // holder–tool joint (seed Eq. 5), for one tool overhang or a sweep (the seed's Fig. 10).
+// Units: overhangs in m (mm in file names and figures), receptances in SI (H m/N, …), Hz.
+// --plot: one overhang, the tool point FRF; a sweep, the FRFs overlaid in FILE and the natural
+// frequencies against overhang in FILE with "_frequencies" before the extension.
 #include <cmath>
 #include <fmt/format.h>
 #include <iostream>
@@ -12,49 +15,62 @@
 #include "toolpoint/error.hpp"
 #include "toolpoint/io.hpp"
 #include "toolpoint/peaks.hpp"
+#include "toolpoint/plot.hpp"
+#include "progress.hpp"
 
 namespace toolpoint::cli {
 
 namespace {
 
 struct CoupleOptions {
-  std::string sh, assembly, overhang, output;
+  std::string sh, assembly, overhang, output, plot;
   bool json = false;
 };
 
+void print_report(const CoupleOptions& o, const Globals& g, double inside, const std::vector<double>& overhangs,
+                  const std::vector<std::vector<Peak>>& all_peaks, bool sweep);
+
+// --overhang: one length or a sweep START:STOP:STEP, in m (empty: none given).
+std::vector<double> parse_overhangs(const std::string& text) {
+  if (text.empty()) return {};
+  if (text.find(':') != std::string::npos) {
+    // Reuse the grid parser's checks with its own wording.
+    std::vector<double> v;
+    try {
+      v = parse_frequency_grid(text, "--overhang").values();
+    } catch (const InvalidArgument& e) {
+      throw InvalidArgument(std::string(e.what()) + " (here in metres, not Hz)", "e.g. --overhang 0.040:0.060:0.002");
+    }
+    if (v.size() > 1000)
+      throw InvalidArgument(fmt::format("--overhang {} gives {} overhangs; at most 1000", text, v.size()), "use a larger STEP");
+    return v;
+  }
+  std::size_t used = 0;
+  double v = 0.0;
+  try {
+    v = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size())
+    throw InvalidArgument(fmt::format("--overhang '{}' is not a length in m or START:STOP:STEP", text),
+                          "e.g. --overhang 0.05 or --overhang 0.040:0.060:0.002 (metres)");
+  if (!(v > 0.0) || !std::isfinite(v))
+    throw InvalidArgument(fmt::format("--overhang {} m must be > 0", v), "give the tool length outside the holder, e.g. 0.05");
+  return {v};
+}
+
 void run_couple(const CoupleOptions& o, const Globals& g) {
+  check_plot_path(o.plot);
+  std::vector<double> overhangs = parse_overhangs(o.overhang);
+  const bool sweep = overhangs.size() > 1 || o.overhang.find(':') != std::string::npos;
+  if (sweep && o.output.empty())
+    throw InvalidArgument("an overhang sweep needs --output DIR for its files", "add --output overhangs");
   LoadedAssembly loaded = load_assembly(o.assembly);
   warn_all(loaded.warnings);
   const BlockSeries sh = read_block_csv(o.sh);
   validate(sh, o.sh, 3);
-  std::vector<double> overhangs;
-  bool sweep = false;
-  if (o.overhang.empty()) {
-    overhangs.push_back(loaded.assembly.tool.overhang);
-  } else if (o.overhang.find(':') != std::string::npos) {
-    // A sweep START:STOP:STEP in m; reuse the grid parser's checks with its own wording.
-    const FrequencyGrid gsw = [&] {
-      try {
-        return parse_frequency_grid(o.overhang, "--overhang");
-      } catch (const InvalidArgument& e) {
-        throw InvalidArgument(std::string(e.what()) + " (here in metres, not Hz)", "e.g. --overhang 0.040:0.060:0.002");
-      }
-    }();
-    overhangs = gsw.values();
-    sweep = true;
-  } else {
-    std::size_t used = 0;
-    double v = 0.0;
-    try {
-      v = std::stod(o.overhang, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used != o.overhang.size()) throw InvalidArgument(fmt::format("--overhang '{}' is not a length in m or START:STOP:STEP", o.overhang));
-    overhangs.push_back(v);
-  }
-  if (overhangs.size() > 1000) throw InvalidArgument(fmt::format("--overhang gives {} overhangs; at most 1000", overhangs.size()));
-  if (sweep && o.output.empty()) throw InvalidArgument("an overhang sweep needs --output DIR");
+  if (overhangs.empty()) overhangs.push_back(loaded.assembly.tool.overhang);
 
   const double inside = loaded.assembly.tool.length - loaded.assembly.tool.overhang;
   Table table;
@@ -65,9 +81,13 @@ void run_couple(const CoupleOptions& o, const Globals& g) {
   j["assembly"] = o.assembly;
   j["tool_inside_holder_m"] = inside;
   j["overhangs"] = nlohmann::json::array();
+  std::vector<std::string> written;
+  std::vector<FrfSeries> tool_point_h;  // for the figure
+  Progress progress(g, "couple: overhangs");
   for (double L : overhangs) {
     const Assembly a = with_overhang(loaded.assembly, L);
     const BlockSeries sht = couple_tool(a, sh, o.sh);
+    tool_point_h.push_back(entry(sht, 0));
     const auto peaks = find_peaks(entry(sht, 0));
     max_modes = std::max(max_modes, peaks.size());
     all_peaks.push_back(peaks);
@@ -77,7 +97,9 @@ void run_couple(const CoupleOptions& o, const Globals& g) {
       write_frf_csv(file, sht,
                     {fmt::format("tool point SHT11: measured SH11 ({}) + model tool, overhang {} m (tool length {} m), Eq. (5)", o.sh, L,
                                  inside + L)});
+      written.push_back(file);
     }
+    progress.update(static_cast<double>(tool_point_h.size()) / static_cast<double>(overhangs.size()));
     nlohmann::json modes = nlohmann::json::array();
     for (const Peak& p : peaks) modes.push_back({{"peak_frequency_hz", p.frequency_hz}, {"peak_magnitude_m_per_n", p.magnitude}});
     j["overhangs"].push_back({{"overhang_m", L}, {"file", file}, {"modes", modes}});
@@ -95,11 +117,35 @@ void run_couple(const CoupleOptions& o, const Globals& g) {
                     {"peaks of |H| of the coupled tool point FRF against tool overhang (seed Fig. 10); nan: no peak",
                      "overhang in m, frequencies in Hz"});
     j["natural_frequencies_file"] = o.output + "/natural_frequencies.csv";
+    written.push_back(o.output + "/natural_frequencies.csv");
   }
+  progress.done();
+  if (!o.plot.empty()) j["plot"] = sweep ? nlohmann::json{o.plot, with_suffix(o.plot, "_frequencies")} : nlohmann::json(o.plot);
   if (o.json) {
     std::cout << j.dump(2) << '\n';
-    return;
+  } else {
+    print_report(o, g, inside, overhangs, all_peaks, sweep);
   }
+  if (o.plot.empty()) return;
+  plot::FrfFigureOptions fo;
+  fo.symbol = "H^{sht}_{11}";
+  fo.title = fmt::format("Tool point FRF from {} + model tool (Eq. 5)", plot::literal(o.sh));
+  fo.mode_labels = sweep ? 0 : 6;  // on an overlay, labels of one trace would be misread as all
+  std::vector<FigureFile> figures{{plot::overhang_frf_figure(overhangs, tool_point_h, fo), o.plot}};
+  if (sweep) {
+    plot::OverhangSweep sw;
+    sw.overhang_m = overhangs;
+    sw.frequency_hz.assign(max_modes, std::vector<double>(overhangs.size(), std::numeric_limits<double>::quiet_NaN()));
+    for (std::size_t i = 0; i < overhangs.size(); ++i)
+      for (std::size_t m = 0; m < all_peaks[i].size(); ++m) sw.frequency_hz[m][i] = all_peaks[i][m].frequency_hz;
+    sw.title = "Peaks of |H^{sht}_{11}| against tool overhang (seed Fig. 10)";
+    if (max_modes > 0) figures.push_back({plot::natural_frequency_figure(sw), with_suffix(o.plot, "_frequencies")});
+  }
+  draw_figures(g, figures, written);
+}
+
+void print_report(const CoupleOptions& o, const Globals& g, double inside, const std::vector<double>& overhangs,
+                  const std::vector<std::vector<Peak>>& all_peaks, bool sweep) {
   std::cout << fmt::format("tool point FRF from {} + model tool ({:.1f} mm inside the holder) + holder–tool joint (Eq. 5)\n", o.sh,
                            1000 * inside);
   std::cout << "overhang_mm  peak frequencies of |H| [Hz]\n";
@@ -108,6 +154,7 @@ void run_couple(const CoupleOptions& o, const Globals& g) {
     for (const Peak& p : all_peaks[i]) std::cout << fmt::format(" {:9.1f}", p.frequency_hz);
     std::cout << "\n";
   }
+  std::cout << std::flush;
   if (!o.output.empty()) info(g, sweep ? fmt::format("wrote {} FRFs and natural_frequencies.csv to {}/", overhangs.size(), o.output)
                                        : fmt::format("wrote {}", o.output));
 }
@@ -117,16 +164,28 @@ void run_couple(const CoupleOptions& o, const Globals& g) {
 void add_couple_command(CLI::App& app, Globals& g) {
   auto o = std::make_shared<CoupleOptions>();
   CLI::App* c = app.add_subcommand("couple", "Tool point FRF from a measured SH11 and the model's tool, for any overhang (seed Eq. 5, Fig. 10)");
-  c->add_option("--sh", o->sh, "SH11 block CSV at the holder tip (measured, e.g. via `toolpoint rotational`)")->required()->check(CLI::ExistingFile);
-  c->add_option("--assembly", o->assembly, "Assembly file (TOML): the tool and the holder–tool joint")->required()->check(CLI::ExistingFile);
+  c->add_option("--sh", o->sh,
+                std::string("SH11 at the holder tip, measured (e.g. via `toolpoint rotational`) (required): ") + kBlockCsvHelp)
+      ->required();
+  c->add_option("--assembly", o->assembly, "Assembly file (TOML, SI units): the tool and the holder–tool joint (required)")
+      ->required();
   c->add_option("--overhang", o->overhang,
-                "Tool overhang [m], or a sweep START:STOP:STEP [m]; default: the file's. The length inside the holder is kept");
-  c->add_option("--output", o->output, "One overhang: the SHT11 block CSV; a sweep: a folder for one CSV per overhang and natural_frequencies.csv");
+                "Tool overhang [m], or a sweep START:STOP:STEP [m] (default: the file's tool.overhang). The length inside "
+                "the holder is kept");
+  c->add_option("--output", o->output,
+                "One overhang: the SHT11 block CSV (H m/N, L 1/N, N rad/N, P rad/(N m)); a sweep (required): a folder for "
+                "sht11_overhang_<mm>mm.csv per overhang and natural_frequencies.csv (overhang m, peaks Hz). Default: "
+                "the table on stdout only");
+  add_plot_option(c, o->plot,
+                  "|H| [m/N] and phase [deg] of the tool point FRF against frequency [Hz] (one overhang: modes labelled; "
+                  "a sweep: every overhang overlaid, and the natural frequencies [Hz] against overhang [mm] in FILE with "
+                  "\"_frequencies\" before the extension)");
   c->add_flag("--json", o->json, "Machine-readable output on stdout");
-  c->footer(
-      "Example:\n"
-      "  toolpoint couple --sh sh11.csv --assembly examples/bt40_shrinkfit_16mm.toml \\\n"
-      "      --overhang 0.040:0.060:0.002 --output overhangs");
+  c->footer(std::string(kFigureFooter) +
+            "Example:\n"
+            "  toolpoint couple --sh sh11.csv --assembly examples/bt40_shrinkfit_16mm.toml \\\n"
+            "      --overhang 0.040:0.060:0.002 --output overhangs --plot overhangs.png\n"
+            "  (draws overhangs.png and overhangs_frequencies.png)");
   c->callback([o, &g] { run_couple(*o, g); });
 }
 

@@ -1,4 +1,8 @@
 // toolpoint demo: the seed's analytical case study (Section 3) end to end, with its figures.
+// Units: SI; frequencies in Hz. The figures follow the CLI's rule (cli.hpp): data first; figures
+// gnuplot cannot draw are an error (exit 5) after every data file and summary.json are written.
+#include <exception>
+#include <filesystem>
 #include <fmt/format.h>
 #include <iostream>
 #include <memory>
@@ -9,6 +13,7 @@
 #include "toolpoint/case_study.hpp"
 #include "toolpoint/io.hpp"
 #include "toolpoint/plot.hpp"
+#include "progress.hpp"
 
 namespace toolpoint::cli {
 
@@ -24,26 +29,8 @@ struct DemoOptions {
 
 std::string pct(double x) { return fmt::format("{:+.2g} %", 100.0 * x); }
 
-plot::JointParameterCurve joint_curve(const JointSeries& s, int k_index, const JointParameters& ref,
-                                      const std::optional<JointParameters>& identified) {
-  static const char* subs[4] = {"yf", "ym", "{/Symbol q}f", "{/Symbol q}m"};
-  plot::JointParameterCurve c;
-  const int pair = k_index / 2;
-  c.name = subs[pair];
-  c.stiffness_unit = JointParameters::unit(2 * pair);
-  c.damping_unit = JointParameters::unit(2 * pair + 1);
-  for (const auto& p : s.parameters) {
-    c.stiffness.push_back(p[2 * pair]);
-    c.damping.push_back(p[2 * pair + 1]);
-  }
-  c.reference_stiffness = ref[2 * pair];
-  c.reference_damping = ref[2 * pair + 1];
-  if (identified) {
-    c.identified_stiffness = (*identified)[2 * pair];
-    c.identified_damping = (*identified)[2 * pair + 1];
-  }
-  return c;
-}
+void print_report(const DemoOptions& o, const LoadedAssembly& loaded, const CaseStudy& cs, const std::vector<std::string>& warnings,
+                  const std::vector<std::string>& files, const std::vector<std::string>& figures);
 
 void run_demo(const DemoOptions& o, const Globals& g) {
   const LoadedAssembly loaded = o.assembly.empty() ? parse_assembly(example_assembly_toml(), example_assembly_name())
@@ -56,7 +43,10 @@ void run_demo(const DemoOptions& o, const Globals& g) {
   co.band_width = o.width;
   co.check();
   info(g, "toolpoint demo: running the seed's analytical case study (Özşahin et al. 2009, Section 3)…");
+  // The stages and the share of the run each takes (the figures dominate).
+  Progress progress(g, "demo: case study");
   const CaseStudy cs = run_case_study(loaded.assembly, co);
+  progress.stage("demo: writing data", 0.15);
   const auto& f = cs.sht_true.frequency_hz;
   const std::string dir = o.output;
   auto path = [&](const std::string& name) { return dir + "/" + name; };
@@ -119,11 +109,12 @@ void run_demo(const DemoOptions& o, const Globals& g) {
   for (const auto& w : cs.filtered_readout.warnings) warnings.push_back("filtered read-out: " + w);
   j["warnings"] = warnings;
 
-  // Figures (the seed's Fig. 2–5), unless gnuplot is missing: then the data still stand.
+  // Figures (the seed's Fig. 2–5). A failure is kept until summary.json and the report are out.
   std::vector<std::string> figures;
-  std::string plot_note;
+  std::exception_ptr figure_failure;
   if (!o.no_plots) {
-    try {
+    std::vector<FigureFile> todo;
+    {
       auto frf_fig = [&](const std::string& name, const std::vector<plot::FrfTrace>& traces, const std::string& title,
                          const std::string& symbol, int labels) {
         plot::FrfFigureOptions fo;
@@ -131,8 +122,7 @@ void run_demo(const DemoOptions& o, const Globals& g) {
         fo.symbol = symbol;
         fo.mode_labels = labels;
         fo.peak_trace = 0;
-        plot::render(plot::frf_figure(traces, fo), path(name));
-        figures.push_back(name);
+        todo.push_back({plot::frf_figure(traces, fo), path(name)});
       };
       frf_fig("fig2a_tool_point_frf.png",
               {{entry(cs.sht_true, 0), "model (noise-free)", plot::CurveStyle::Line},
@@ -147,25 +137,33 @@ void run_demo(const DemoOptions& o, const Globals& g) {
       plot::JointFigureData clean;
       clean.frequency_hz = f;
       clean.title = "Holder-tool joint from noise-free FRFs, Eq. (6) (seed Fig. 3)";
-      for (int pair = 0; pair < 4; ++pair) clean.parameters.push_back(joint_curve(cs.clean, 2 * pair, cs.reference, std::nullopt));
-      plot::render(plot::joint_figure(clean), path("fig3_joint_noise_free.png"));
-      figures.push_back("fig3_joint_noise_free.png");
+      for (int pair = 0; pair < 4; ++pair) clean.parameters.push_back(joint_curve(cs.clean, pair, cs.reference, std::nullopt));
+      todo.push_back({plot::joint_figure(clean), path("fig3_joint_noise_free.png")});
       plot::JointFigureData noisy;
       noisy.frequency_hz = f;
       noisy.title = fmt::format("k_{{yf}}, c_{{yf}} from {:g} % noise, filtered; read at the tool mode (seed Fig. 5)", 100 * o.sigma);
       noisy.parameters.push_back(joint_curve(cs.filtered, 0, cs.reference, cs.filtered_readout.medians()));
       noisy.band_hz = std::make_pair(cs.filtered_readout.band_lo_hz, cs.filtered_readout.band_hi_hz);
-      plot::render(plot::joint_figure(noisy), path("fig5_joint_filtered.png"));
-      figures.push_back("fig5_joint_filtered.png");
+      todo.push_back({plot::joint_figure(noisy), path("fig5_joint_filtered.png")});
       frf_fig("fig_verification.png",
               {{entry(cs.sht_true, 0), "true tool point FRF", plot::CurveStyle::Line},
                {entry(cs.sht_verified, 0), "Eq. (5) with the identified joint", plot::CurveStyle::Dashed}},
               "Forward check: identified holder-tool joint coupled back", "H^{sht}_{11}", 6);
-    } catch (const plot::PlotUnavailable& e) {
-      plot_note = fmt::format("figures skipped: {} (the CSV data are written)", e.what());
-      warn(plot_note);
+    }
+    const std::vector<std::string> written{fmt::format("{}/ ({} data files; summary.json follows)", dir, files.size())};
+    for (std::size_t i = 0; i < todo.size(); ++i) {
+      progress.stage(fmt::format("demo: figure {} of {}", i + 1, todo.size()),
+                     0.2 + 0.8 * static_cast<double>(i) / static_cast<double>(todo.size()));
+      try {
+        draw_figures(g, {todo[i]}, written, "run with --no-plots");
+      } catch (const IoError&) {
+        figure_failure = std::current_exception();
+        break;
+      }
+      figures.push_back(std::filesystem::path(todo[i].path).filename().string());
     }
   }
+  progress.done();
   j["files"] = files;
   j["figures"] = figures;
   write_text_file(path("summary.json"), j.dump(2) + "\n");
@@ -173,8 +171,16 @@ void run_demo(const DemoOptions& o, const Globals& g) {
 
   if (o.json) {
     std::cout << j.dump(2) << '\n';
-    return;
+  } else {
+    print_report(o, loaded, cs, warnings, files, figures);
   }
+  if (figure_failure) std::rethrow_exception(figure_failure);
+}
+
+void print_report(const DemoOptions& o, const LoadedAssembly& loaded, const CaseStudy& cs, const std::vector<std::string>& warnings,
+                  const std::vector<std::string>& files, const std::vector<std::string>& figures) {
+  const auto& f = cs.sht_true.frequency_hz;
+  const std::string& dir = o.output;
   std::cout << fmt::format("toolpoint demo: the seed's analytical case study (Özşahin et al. 2009, Section 3)\n");
   std::cout << fmt::format("assembly: {} ({})\n\n", loaded.assembly.name, o.assembly.empty() ? example_assembly_name() : o.assembly);
   std::cout << fmt::format("1. Forward model (Eq. 1–5): SH11 and SHT11 at {} frequencies, {:g}–{:g} Hz.\n", f.size(), f.front(), f.back());
@@ -223,11 +229,9 @@ void run_demo(const DemoOptions& o, const Globals& g) {
   std::cout << fmt::format("\nwrote {} data files to {}/", files.size(), dir);
   if (!figures.empty()) {
     std::cout << "\nfigures:";
-    for (const auto& fig : figures) std::cout << "\n  " << path(fig);
-  } else if (!plot_note.empty()) {
-    std::cout << "\n" << plot_note;
+    for (const auto& fig : figures) std::cout << "\n  " << dir << "/" << fig;
   }
-  std::cout << "\n";
+  std::cout << std::endl;
 }
 
 }  // namespace
@@ -235,16 +239,20 @@ void run_demo(const DemoOptions& o, const Globals& g) {
 void add_demo_command(CLI::App& app, Globals& g) {
   auto o = std::make_shared<DemoOptions>();
   CLI::App* c = app.add_subcommand("demo", "The seed's analytical case study end to end: predict, identify, add noise, filter, identify again, verify");
-  c->add_option("--assembly", o->assembly, "Assembly file (TOML); default: the built-in examples/bt40_shrinkfit_16mm.toml");
+  c->add_option("--assembly", o->assembly, "Assembly file (TOML, SI units; default: the built-in examples/bt40_shrinkfit_16mm.toml)");
   c->add_option("--output", o->output, "Folder for the CSV data, summary.json and figures")->capture_default_str();
-  c->add_option("--sigma", o->sigma, "Standard deviation of the multiplicative noise (0.05 = 5 %, the seed's)")->capture_default_str();
+  c->add_option("--sigma", o->sigma, "Standard deviation of the multiplicative noise [-] (0.05 = 5 %, the seed's)")->capture_default_str();
   c->add_option("--seed", o->seed, "Random seed (SH11 uses it, SHT11 seed + 1)")->capture_default_str();
   c->add_option("--window", o->window, "Savitzky-Golay window [frequency points, odd]")->capture_default_str();
-  c->add_option("--order", o->order, "Savitzky-Golay polynomial order")->capture_default_str();
-  c->add_option("--width", o->width, "Read-out band half-width around the tool mode, relative (0.02 = ±2 %)")->capture_default_str();
-  c->add_flag("--no-plots", o->no_plots, "Write the data only, no figures");
+  c->add_option("--order", o->order, "Savitzky-Golay polynomial order [-]")->capture_default_str();
+  c->add_option("--width", o->width, "Read-out band half-width around the tool mode, relative [-] (0.02 = ±2 %)")->capture_default_str();
+  c->add_flag("--no-plots", o->no_plots, "Write the data only, no figures (default: draw the five figures, which needs gnuplot)");
   c->add_flag("--json", o->json, "Print summary.json on stdout instead of the table");
-  c->footer("Example:\n  toolpoint demo --output demo-out\n  toolpoint demo --sigma 0.02 --seed 7 --window 41");
+  c->footer(
+      "Figures: five PNGs (the seed's Fig. 2–5 and the forward check) drawn by gnuplot after the data.\n"
+      "If gnuplot is missing or fails, the data files and summary.json stay written, the error names\n"
+      "them, and the exit code is 5; --no-plots skips the figures.\n"
+      "Examples:\n  toolpoint demo --output demo-out\n  toolpoint demo --sigma 0.02 --seed 7 --window 41 --no-plots");
   c->callback([o, &g] { run_demo(*o, g); });
 }
 

@@ -1,5 +1,8 @@
 // toolpoint identify: joint stiffness and damping in closed form from measured (or modelled) FRFs
 // (seed Eq. 6, 15, 18), read at the mode the joint controls, verified forward (Eq. 5).
+// Units: SI (k in N/m, N, N/rad, N·m/rad; c in N·s/m, N·s, N·s/rad, N·m·s/rad); frequencies in
+// Hz. --plot draws k(f) and c(f) of the four pairs (the seed's Fig. 11–12), the read-out band
+// shaded and the values read there as lines.
 #include <fmt/format.h>
 #include <iostream>
 #include <memory>
@@ -12,25 +15,29 @@
 #include "toolpoint/identify.hpp"
 #include "toolpoint/io.hpp"
 #include "toolpoint/peaks.hpp"
+#include "toolpoint/plot.hpp"
+#include "progress.hpp"
 
 namespace toolpoint::cli {
 
 namespace {
 
 struct IdentifyOptions {
-  std::string joint = "holder-tool", assembly, sh, sht, s, band, output;
+  std::string joint = "holder-tool", assembly, sh, sht, s, band, output, plot;
   double at = 0.0, width = 0.02;
   std::vector<std::string> overhang_frfs;
   bool json = false;
 };
 
-FrfSeries h_entry_of(const std::string& path) {
-  FrfTable t = read_frf_csv(path);
-  return t.is_block ? entry(t.block, 0) : t.single;
-}
+void print_report(const IdentifyOptions& o, const std::string& equation, double center, double lo, double hi,
+                  const nlohmann::json& choice, const JointReadout& r, const std::vector<ModeComparison>& cmp);
 
 void run_identify(const IdentifyOptions& o, const Globals& g) {
+  if (!(o.width > 0.0 && o.width < 0.5))
+    throw InvalidArgument(fmt::format("--width {} must lie in (0, 0.5)", o.width), "e.g. --width 0.02 for ±2 % around the mode");
+  check_plot_path(o.plot);
   const bool ht = o.joint == "holder-tool";
+  Progress progress(g, "identify: reading");
   LoadedAssembly loaded = load_assembly(o.assembly);
   warn_all(loaded.warnings);
   const Assembly& a = loaded.assembly;
@@ -42,14 +49,17 @@ void run_identify(const IdentifyOptions& o, const Globals& g) {
   std::function<TwoPort(double)> A;
   bool tool_point_frf = true;
   if (ht) {
-    if (o.sh.empty() || o.sht.empty()) throw InvalidArgument("--joint holder-tool needs --sh SH11.csv and --sht SHT11.csv");
+    if (o.sh.empty() || o.sht.empty())
+      throw InvalidArgument("--joint holder-tool needs --sh SH11.csv and --sht SHT11.csv",
+                            "give both measured blocks, e.g. --sh sh11.csv --sht sht11.csv");
     equation = "Eq. (6) from Eq. (5): A = T (tool, model), B11 = SH11, G11 = SHT11";
     B = read_block_csv(b_name = o.sh);
     G = read_block_csv(g_name = o.sht);
     A = [&](double f) { return model.tool(f); };
   } else {
     if (o.sh.empty() == o.sht.empty())
-      throw InvalidArgument("--joint spindle-holder needs exactly one of --sh SH11.csv (Eq. 15) or --sht SHT11.csv (Eq. 18)");
+      throw InvalidArgument("--joint spindle-holder needs exactly one of --sh SH11.csv (Eq. 15) or --sht SHT11.csv (Eq. 18)",
+                            "give --sh for the holder tip FRF or --sht for the tool point FRF, not both");
     tool_point_frf = !o.sht.empty();
     G = read_block_csv(g_name = tool_point_frf ? o.sht : o.sh);
     if (!o.s.empty()) {
@@ -67,6 +77,7 @@ void run_identify(const IdentifyOptions& o, const Globals& g) {
       A = [&](double f) { return model.holder(f); };
     }
   }
+  progress.stage("identify: K(f) at every frequency", 0.2);
   const JointSeries js = identify_series(A, B, b_name, G, g_name);
   const FrfSeries g_h = entry(G, 0);
 
@@ -75,7 +86,8 @@ void run_identify(const IdentifyOptions& o, const Globals& g) {
   double lo = 0.0, hi = 0.0, center = 0.0;
   if (!o.band.empty()) {
     std::tie(lo, hi) = parse_range(o.band, "--band");
-    if (!(hi > lo)) throw InvalidArgument(fmt::format("--band {}: the upper frequency must exceed the lower", o.band));
+    if (!(hi > lo))
+      throw InvalidArgument(fmt::format("--band {}: the upper frequency must exceed the lower", o.band), "e.g. --band 2500:2650");
     center = 0.5 * (lo + hi);
     choice = {{"method", "band given"}};
   } else {
@@ -84,11 +96,12 @@ void run_identify(const IdentifyOptions& o, const Globals& g) {
       choice = {{"method", "frequency given"}};
     } else if (!o.overhang_frfs.empty()) {
       std::vector<FrfSeries> frfs{g_h};
-      for (const auto& p : o.overhang_frfs) frfs.push_back(h_entry_of(p));
+      for (const auto& p : o.overhang_frfs) frfs.push_back(read_point_frf(g, p));
       const OverhangModes om = overhang_mode(frfs, 0);
       center = om.reference_peaks[om.dominant].frequency_hz;
       choice = {{"method", "mode that moves most with the overhang"}, {"relative_variation", om.relative_variation}};
     } else {
+      progress.stage("identify: effect analysis on the model", 0.4);
       const EffectAnalysis ea =
           effect_analysis(a, ht ? JointKind::HolderTool : JointKind::SpindleHolder, tool_point_frf, G.frequency_hz);
       const double model_f = ea.modes[ea.dominant].frequency_hz;
@@ -110,13 +123,17 @@ void run_identify(const IdentifyOptions& o, const Globals& g) {
   warn_all(r.warnings);
 
   // Forward verification: the constants back into Eq. (5) with the measured B11.
+  progress.stage("identify: forward check", 0.8);
   const JointParameters kc = r.medians();
   const Joint joint = Joint::make_elastic(kc);
   BlockSeries pred{G.frequency_hz, {}};
   for (std::size_t i = 0; i < G.size(); ++i) pred.blocks.push_back(couple_point(A(G.frequency_hz[i]), B.blocks[i], joint, G.frequency_hz[i]));
   const auto cmp = compare_modes(g_h, entry(pred, 0));
 
+  progress.done();
+  std::vector<std::string> written;
   if (!o.output.empty()) {
+    written.push_back(o.output);
     const Table t = joint_table(js);
     write_table_csv(o.output, t,
                     {fmt::format("toolpoint identify: {} joint, {}", o.joint, equation),
@@ -146,9 +163,24 @@ void run_identify(const IdentifyOptions& o, const Globals& g) {
                                    {"magnitude_error", c.magnitude_error}});
     j["warnings"] = r.warnings;
     if (!o.output.empty()) j["output"] = o.output;
+    if (!o.plot.empty()) j["plot"] = o.plot;
     std::cout << j.dump(2) << '\n';
-    return;
+  } else {
+    print_report(o, equation, center, lo, hi, choice, r, cmp);
   }
+  if (!o.plot.empty()) {
+    plot::JointFigureData d;
+    d.frequency_hz = js.frequency_hz;
+    d.band_hz = std::make_pair(lo, hi);
+    d.title = fmt::format("{} joint, {}: k(f), c(f) and the values read in {:.0f}–{:.0f} Hz",
+                          ht ? "Holder–tool" : "Spindle–holder", ht ? "Eq. (6)" : tool_point_frf ? "Eq. (18)" : "Eq. (15)", lo, hi);
+    for (int pair = 0; pair < 4; ++pair) d.parameters.push_back(joint_curve(js, pair, std::nullopt, kc));
+    draw_figures(g, {{plot::joint_figure(d), o.plot}}, written);
+  }
+}
+
+void print_report(const IdentifyOptions& o, const std::string& equation, double center, double lo, double hi,
+                  const nlohmann::json& choice, const JointReadout& r, const std::vector<ModeComparison>& cmp) {
   std::cout << fmt::format("{} joint, {}\n", o.joint, equation);
   std::cout << fmt::format("read at {:.1f} Hz: band {:.1f}–{:.1f} Hz ({} points; {})\n", center, lo, hi, r.points,
                            choice["method"].get<std::string>());
@@ -166,6 +198,7 @@ void run_identify(const IdentifyOptions& o, const Globals& g) {
   for (const auto& c : cmp)
     std::cout << fmt::format("  {:2d}  {:10.1f}  {:12.1f}  {:+10.2e}  {:+10.2e}\n", i++, c.measured_hz, c.predicted_hz, c.frequency_error,
                              c.magnitude_error);
+  std::cout << std::flush;
 }
 
 }  // namespace
@@ -176,28 +209,36 @@ void add_identify_command(CLI::App& app, Globals& g) {
   c->add_option("--joint", o->joint, "holder-tool (Eq. 6) or spindle-holder (Eq. 15 with --sh, Eq. 18 with --sht)")
       ->check(CLI::IsMember({"holder-tool", "spindle-holder"}))
       ->capture_default_str();
-  c->add_option("--assembly", o->assembly, "Assembly file (TOML): the model's free-free components; its joint values serve as trial values for the effect analysis")
-      ->required()
-      ->check(CLI::ExistingFile);
-  c->add_option("--sh", o->sh, "SH11 block CSV: holder tip of spindle + holder, tool outside removed (m/N, 1/N, rad/N, rad/(N m))");
-  c->add_option("--sht", o->sht, "SHT11 block CSV: tool point of the whole assembly");
-  c->add_option("--s", o->s, "S11 block CSV: spindle nose alone (spindle-holder joint; default: the model's spindle)");
-  c->add_option("--band", o->band, "Read the parameters in F1:F2 [Hz] instead of at the dominant mode");
-  c->add_option("--at", o->at, "Read the parameters around this frequency [Hz] instead of the automatic mode choice");
-  c->add_option("--width", o->width, "Half-width of the read-out band around the mode, relative (0.02 = ±2 %)")->capture_default_str();
+  c->add_option("--assembly", o->assembly,
+                "Assembly file (TOML, SI units): the model's free–free components; its joint values serve as trial values "
+                "for the effect analysis (required)")
+      ->required();
+  c->add_option("--sh", o->sh, std::string("SH11, holder tip of spindle + holder with the tool outside removed: ") + kBlockCsvHelp);
+  c->add_option("--sht", o->sht, std::string("SHT11, tool point of the whole assembly: ") + kBlockCsvHelp);
+  c->add_option("--s", o->s,
+                std::string("S11, spindle nose alone (spindle-holder joint; default: the model's spindle): ") + kBlockCsvHelp);
+  c->add_option("--band", o->band, "Read the parameters in F1:F2 [Hz] (default: around the mode the joint controls)");
+  c->add_option("--at", o->at,
+                "Read the parameters around this frequency [Hz] (default: the mode chosen by effect analysis or "
+                "--overhang-frfs)");
+  c->add_option("--width", o->width, "Half-width of the read-out band around the mode, relative [-] (0.02 = ±2 %), in (0, 0.5)")
+      ->capture_default_str();
   c->add_option("--overhang-frfs", o->overhang_frfs,
-                "Tool point FRFs (CSV) at other overhangs: choose the mode that moves most with the overhang (seed Fig. 10)")
+                std::string("Tool point FRFs at other overhangs, comma-separated: choose the mode that moves most with the "
+                            "overhang (seed Fig. 10). Each: ") + kPointFrfHelp)
       ->delimiter(',');
-  c->add_option("--output", o->output, "Write k(ω), c(ω) and the conditioning per frequency here (CSV)");
+  c->add_option("--output", o->output,
+                "Write k(f), c(f) (SI units in the column names), the condition numbers and noise gains per frequency [Hz] "
+                "here (CSV; default: none)");
+  add_plot_option(c, o->plot,
+                  "k(f) and c(f) of the four pairs yf, ym, θf, θm against frequency [Hz] (SI units on each axis), the "
+                  "read-out band shaded and the values read there as lines (the seed's Fig. 11–12)");
   c->add_flag("--json", o->json, "Machine-readable output on stdout");
-  c->footer(
-      "Example:\n"
-      "  toolpoint identify --joint holder-tool --assembly examples/bt40_shrinkfit_16mm.toml \\\n"
-      "      --sh sh11.csv --sht sht11.csv --output kht.csv");
-  c->callback([o, &g] {
-    if (!(o->width > 0.0 && o->width < 0.5)) throw InvalidArgument(fmt::format("--width {} must lie in (0, 0.5)", o->width));
-    run_identify(*o, g);
-  });
+  c->footer(std::string(kFigureFooter) +
+            "Example:\n"
+            "  toolpoint identify --joint holder-tool --assembly examples/bt40_shrinkfit_16mm.toml \\\n"
+            "      --sh sh11.csv --sht sht11.csv --output kht.csv --plot kht.png");
+  c->callback([o, &g] { run_identify(*o, g); });
 }
 
 }  // namespace toolpoint::cli

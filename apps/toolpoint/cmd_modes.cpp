@@ -1,5 +1,7 @@
 // toolpoint modes: modal parameters (natural frequency Hz, damping ratio, modal mass kg) of a point
 // receptance FRF [m/N] by peak picking and a Levenberg–Marquardt fit, with the fit quality.
+// --output writes the fitted receptance [m/N] on the measured frequencies [Hz] of the band;
+// --plot overlays it on the measured FRF with the fitted modes labelled.
 #include <fmt/format.h>
 #include <iostream>
 #include <memory>
@@ -9,13 +11,15 @@
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/io.hpp"
 #include "toolpoint/modal_fit.hpp"
+#include "toolpoint/plot.hpp"
 
 namespace toolpoint::cli {
 
 namespace {
 
 struct ModesOptions {
-  std::string file, band;
+  std::string file, band, output, plot;
+  std::optional<std::size_t> dataset;
   int max_modes = 3;
   double min_prominence_db = 3.0;
   bool no_residuals = false, json = false;
@@ -28,10 +32,26 @@ void run_modes(const ModesOptions& o, const Globals& g) {
   fo.residual_terms = !o.no_residuals;
   if (!o.band.empty()) fo.band_hz = parse_range(o.band, "--band");
   fo.check();
-  FrfTable table = read_frf_csv(o.file);
-  const FrfSeries frf = table.is_block ? entry(table.block, 0) : std::move(table.single);
-  if (table.is_block) info(g, fmt::format("{} holds a 2×2 block: fitting its H entry (w/f)", o.file));
+  check_plot_path(o.plot);
+  const FrfFormat out_format = o.output.empty() ? FrfFormat::Csv : output_frf_format(o.output);
+  const FrfSeries frf = read_point_frf(g, o.file, o.dataset);
   const ModalFitResult r = fit_modes(frf, fo, o.file);
+
+  // The fitted receptance on the measured frequencies of the band.
+  FrfFileData fitted;
+  for (std::size_t i = 0; i < frf.size(); ++i)
+    if (frf.frequency_hz[i] >= r.band_low_hz && frf.frequency_hz[i] <= r.band_high_hz) {
+      fitted.single.frequency_hz.push_back(frf.frequency_hz[i]);
+      fitted.single.values.push_back(r.receptance(frf.frequency_hz[i]));
+    }
+  if (!o.output.empty()) {
+    std::string modes;
+    for (const FittedMode& m : r.modes)
+      modes += fmt::format("{}{:.6g} Hz, zeta {:.4g}, {:.4g} kg", modes.empty() ? "" : "; ", m.mode.frequency_hz,
+                           m.mode.damping_ratio, m.mode.mass_kg);
+    write_frf_output(o.output, out_format, fitted, fmt::format("modal fit of {}: {}", o.file, modes));
+    info(g, fmt::format("wrote {} (fitted receptance, {} frequencies)", o.output, fitted.single.size()));
+  }
 
   if (o.json) {
     nlohmann::json out;
@@ -57,6 +77,8 @@ void run_modes(const ModesOptions& o, const Globals& g) {
     out["converged"] = r.converged;
     out["evaluations"] = r.evaluations;
     out["warnings"] = r.warnings;
+    if (!o.output.empty()) out["output"] = o.output;
+    if (!o.plot.empty()) out["plot"] = o.plot;
     std::cout << out.dump(2) << '\n';
   } else {
     std::cout << fmt::format("modal fit of {}: {} mode(s), {} points in {}–{} Hz, overall residual {:.3g} %{}\n", o.file,
@@ -74,8 +96,21 @@ void run_modes(const ModesOptions& o, const Globals& g) {
     for (const FittedMode& m : r.modes)
       if (m.residue > 0.0) as_options += fmt::format(" --mode-x {:.6g},{:.6g},{:.6g}", m.mode.mass_kg, m.mode.damping_ratio, m.mode.frequency_hz);
     if (!as_options.empty()) std::cout << "for `toolpoint lobes --method sd`:" << as_options << '\n';
+    std::cout << std::flush;
   }
   warn_all(r.warnings);
+  if (o.plot.empty()) return;
+  plot::FrfFigureOptions po;
+  po.title = fmt::format("Modal fit of {}: {} mode(s), residual {:.3g} %", plot::literal(o.file), r.modes.size(),
+                         100.0 * r.normalised_residual);
+  plot::Figure fig = plot::frf_figure({{frf, "measured", plot::CurveStyle::Points},
+                                       {fitted.single, "fitted modal model", plot::CurveStyle::Line}},
+                                      po);
+  // Each fitted mode labelled at its natural frequency on the fitted curve.
+  for (const FittedMode& m : r.modes)
+    fig.panels[0].labels.push_back({m.mode.frequency_hz, std::abs(r.receptance(m.mode.frequency_hz)),
+                                    fmt::format("{:.1f} Hz, ζ {:.3g}", m.mode.frequency_hz, m.mode.damping_ratio), true});
+  draw_figures(g, {{fig, o.plot}}, o.output.empty() ? std::vector<std::string>{} : std::vector<std::string>{o.output});
 }
 
 }  // namespace
@@ -83,16 +118,23 @@ void run_modes(const ModesOptions& o, const Globals& g) {
 void add_modes_command(CLI::App& app, Globals& g) {
   auto o = std::make_shared<ModesOptions>();
   CLI::App* c = app.add_subcommand("modes", "Modal parameters of a point FRF: natural frequency [Hz], damping ratio, modal mass [kg], with fit quality");
-  c->add_option("frf", o->file, "FRF CSV: frequency_hz,re,im (receptance m/N) or a 2×2 block CSV (its H entry is used)")->required();
-  c->add_option("--max-modes", o->max_modes, "Fit at most N modes (the most prominent peaks), 1…20")->capture_default_str();
+  c->add_option("frf", o->file, std::string("The point FRF to fit (required): ") + kPointFrfHelp)->required();
+  add_dataset_option(c, o->dataset);
+  c->add_option("--max-modes", o->max_modes, "Fit at most N modes (the most prominent peaks) [-], 1…20")->capture_default_str();
   c->add_option("--band", o->band, "Fit only F1 ≤ f ≤ F2, as F1:F2 [Hz] (default: the whole FRF)");
-  c->add_option("--min-prominence", o->min_prominence_db, "A peak must rise this much [dB] above its valleys to count as a mode")
+  c->add_option("--min-prominence", o->min_prominence_db, "A peak must rise this much [dB] above its valleys on both sides to count as a mode")
       ->capture_default_str();
   c->add_flag("--no-residuals", o->no_residuals, "Do not fit the residual terms −L/ω² + U for out-of-band modes (default: fit them)");
+  c->add_option("--output", o->output,
+                "Write the fitted receptance [m/N] (residual terms included) on the measured frequencies [Hz] of the band "
+                "here: .csv, .uff/.unv/.uf or .frf by extension (default: none)");
+  add_plot_option(c, o->plot,
+                  "the measured FRF (points) and the fitted modal FRF (line), |H| [m/N] and phase [deg] against "
+                  "frequency [Hz], each fitted mode labelled with its frequency [Hz] and damping ratio");
   c->add_flag("--json", o->json, "Machine-readable output on stdout");
-  c->footer(
-      "Example:\n"
-      "  toolpoint modes tool_point.csv --max-modes 2 --band 500:3000");
+  c->footer(std::string(kFigureFooter) +
+            "Example:\n"
+            "  toolpoint modes tool_point.csv --max-modes 2 --band 500:3000 --plot modes.png");
   c->callback([o, &g] { run_modes(*o, g); });
 }
 

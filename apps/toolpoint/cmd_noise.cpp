@@ -1,11 +1,11 @@
 // toolpoint noise: simulated measurement noise as in the seed's Section 3 — every FRF entry at
 // every frequency multiplied by its own real random factor of mean 1 and standard deviation σ.
-// Units: frequencies in Hz, values in the file's own units; σ dimensionless.
+// Units: frequencies in Hz, values in the file's own units; σ dimensionless. --plot overlays the
+// clean and the noisy FRF (H of a block).
 #include <fmt/format.h>
 #include <memory>
 
 #include "cli.hpp"
-#include "toolpoint/io.hpp"
 #include "toolpoint/signal.hpp"
 
 namespace toolpoint::cli {
@@ -13,24 +13,29 @@ namespace toolpoint::cli {
 namespace {
 
 struct NoiseCliOptions {
-  std::string input, output;
+  std::string input, output, plot;
+  std::optional<std::size_t> dataset;
   NoiseOptions noise;
 };
 
 void run_noise(const NoiseCliOptions& o, const Globals& g) {
   o.noise.check();
-  const FrfTable in = read_frf_csv(o.input);
-  const std::vector<std::string> comments = {
+  const std::string comment =
       fmt::format("simulated measurement noise: each entry times (1 + sigma z), z standard normal (Box-Muller on "
                   "mt19937_64), sigma = {}, seed = {}; from {}",
-                  o.noise.sigma, o.noise.seed, o.input)};
-  const auto distort = [&](const auto& series) {
-    const auto r = add_measurement_noise(series, o.noise, o.input);
-    write_frf_csv(o.output, r.series, comments);
-    warn_all(r.warnings);
-  };
-  in.is_block ? distort(in.block) : distort(in.single);
+                  o.noise.sigma, o.noise.seed, o.input);
+  const auto [in, out] = process_frf_file(o.input, o.dataset, o.output, o.plot, comment,
+                                          [&](const auto& series) { return add_measurement_noise(series, o.noise, o.input); });
   info(g, fmt::format("wrote {} (sigma {}, seed {})", o.output, o.noise.sigma, o.noise.seed));
+  if (o.plot.empty()) return;
+  plot::FrfFigureOptions fo;
+  fo.title = fmt::format("{:g} % multiplicative noise, seed {}: {}", 100.0 * o.noise.sigma, o.noise.seed, plot::literal(o.input));
+  fo.mode_labels = 6;
+  fo.peak_trace = 1;  // the clean trace, drawn over the noisy points: noise makes spurious peaks
+  draw_frf_overlay(g,
+                   {{point_frf(out), fmt::format("{:g} % noise", 100.0 * o.noise.sigma), plot::CurveStyle::Points},
+                    {point_frf(in), "clean", plot::CurveStyle::Line}},
+                   fo, o.plot, o.output);
 }
 
 }  // namespace
@@ -39,15 +44,17 @@ void add_noise_command(CLI::App& app, Globals& g) {
   auto o = std::make_shared<NoiseCliOptions>();
   CLI::App* c = app.add_subcommand(
       "noise", "Simulated measurement noise: multiply every FRF entry by 1 + sigma·z (seed Section 3), reproducibly");
-  c->add_option("input", o->input, "Input FRF CSV (single FRF or 2×2 block; Hz and FRF units)")->required();
-  c->add_option("output", o->output, "Output FRF CSV, same form and units as the input")->required();
+  add_frf_file_arguments(c, o->input, o->output, o->dataset, "every entry distorted");
   c->add_option("--sigma", o->noise.sigma, "Standard deviation of the factor [-] (0.05 = 5 %), ≥ 0")->capture_default_str();
   c->add_option("--seed", o->noise.seed, "Random seed (mt19937_64); the same seed gives the same noise")
       ->capture_default_str();
-  c->footer(
-      "Entries at every frequency get independent factors (drawn frequency by frequency, H, L, N, P).\n"
-      "Example:\n"
-      "  toolpoint noise SHT11.csv SHT11_noisy.csv --sigma 0.05 --seed 7");
+  add_plot_option(c, o->plot,
+                  "the noisy (points) and the clean FRF (line), |H| [m/N] and phase [deg] against frequency [Hz] (the H "
+                  "entry of a block)");
+  c->footer(std::string(kFigureFooter) +
+            "Entries at every frequency get independent factors (drawn frequency by frequency, H, L, N, P).\n"
+            "Example:\n"
+            "  toolpoint noise SHT11.csv SHT11_noisy.csv --sigma 0.05 --seed 7 --plot noisy.png");
   c->callback([o, &g] { run_noise(*o, g); });
 }
 

@@ -1,4 +1,6 @@
 // toolpoint predict: the tool point FRF (SHT11) or the holder-tip FRF (SH11) of an assembly file.
+// Units: SI (H m/N, L 1/N, N rad/N, P rad/(N·m)); frequencies in Hz. --plot draws |H|, ∠H, |P|,
+// ∠P with the modes (peaks of |H|) labelled [Hz].
 #include <fmt/format.h>
 #include <iostream>
 #include <memory>
@@ -8,17 +10,19 @@
 #include "toolpoint/assembly_file.hpp"
 #include "toolpoint/io.hpp"
 #include "toolpoint/peaks.hpp"
+#include "toolpoint/plot.hpp"
 
 namespace toolpoint::cli {
 
 namespace {
 
 struct PredictOptions {
-  std::string assembly, at = "tool", output, frequencies;
+  std::string assembly, at = "tool", output, frequencies, plot;
   bool json = false;
 };
 
 void run_predict(const PredictOptions& o, const Globals& g) {
+  check_plot_path(o.plot);
   LoadedAssembly loaded = load_assembly(o.assembly);
   warn_all(loaded.warnings);
   if (!o.frequencies.empty()) loaded.assembly.grid = parse_frequency_grid(o.frequencies, "--frequencies");
@@ -29,10 +33,12 @@ void run_predict(const PredictOptions& o, const Globals& g) {
   const auto peaks = find_peaks(entry(series, 0), PeakOptions{}, [&](double f) { return std::abs(at(f)(0, 0)); });
   const std::string what = tool ? "tool point SHT11" : "holder tip SH11 (tool outside the holder removed)";
 
+  std::vector<std::string> written;
   if (!o.output.empty()) {
     write_frf_csv(o.output, series,
                   {fmt::format("{} of {}", what, o.assembly), fmt::format("assembly: {}", loaded.assembly.name)});
     info(g, fmt::format("wrote {} ({} frequencies, {})", o.output, series.size(), what));
+    written.push_back(o.output);
   }
   if (o.json) {
     nlohmann::json j;
@@ -41,19 +47,26 @@ void run_predict(const PredictOptions& o, const Globals& g) {
     j["units"] = "frequency Hz, magnitude m/N";
     j["points"] = series.size();
     if (!o.output.empty()) j["output"] = o.output;
+    if (!o.plot.empty()) j["plot"] = o.plot;
     j["modes"] = nlohmann::json::array();
     for (const Peak& p : peaks) j["modes"].push_back({{"peak_frequency_hz", p.frequency_hz}, {"peak_magnitude_m_per_n", p.magnitude}});
     j["warnings"] = loaded.warnings;
     std::cout << j.dump(2) << '\n';
-    return;
+  } else {
+    std::cout << fmt::format("{} — {}\n", what, loaded.assembly.name);
+    std::cout << fmt::format("{} to {} Hz, {} points; modes (peaks of |H|) below {} Hz:\n", series.frequency_hz.front(),
+                             series.frequency_hz.back(), series.size(), series.frequency_hz.back());
+    std::cout << "mode  peak_frequency_hz  peak_magnitude_m_per_n\n";
+    int i = 1;
+    for (const Peak& p : peaks) std::cout << fmt::format("{:4d}  {:17.2f}  {:22.4e}\n", i++, p.frequency_hz, p.magnitude);
+    if (peaks.empty()) std::cout << "  (no resonance peak in the frequency range)\n";
+    std::cout << std::flush;
   }
-  std::cout << fmt::format("{} — {}\n", what, loaded.assembly.name);
-  std::cout << fmt::format("{} to {} Hz, {} points; modes (peaks of |H|) below {} Hz:\n", series.frequency_hz.front(),
-                           series.frequency_hz.back(), series.size(), series.frequency_hz.back());
-  std::cout << "mode  peak_frequency_hz  peak_magnitude_m_per_n\n";
-  int i = 1;
-  for (const Peak& p : peaks) std::cout << fmt::format("{:4d}  {:17.2f}  {:22.4e}\n", i++, p.frequency_hz, p.magnitude);
-  if (peaks.empty()) std::cout << "  (no resonance peak in the frequency range)\n";
+  if (!o.plot.empty()) {
+    const std::string title = fmt::format("{} of {}", tool ? "Tool point FRF SHT_{11}" : "Holder tip FRF SH_{11}",
+                                          plot::literal(loaded.assembly.name));
+    draw_figures(g, {{plot::receptance_figure(series, title, "11", 6), o.plot}}, written);
+  }
 }
 
 }  // namespace
@@ -61,14 +74,21 @@ void run_predict(const PredictOptions& o, const Globals& g) {
 void add_predict_command(CLI::App& app, Globals& g) {
   auto o = std::make_shared<PredictOptions>();
   CLI::App* c = app.add_subcommand("predict", "Tool point FRF of an assembly by receptance coupling (seed Eq. 1–5)");
-  c->add_option("assembly", o->assembly, "Assembly file (TOML, SI units; see examples/)")->required()->check(CLI::ExistingFile);
+  c->add_option("assembly", o->assembly, "Assembly file (TOML, SI units; see examples/) (required)")->required();
   c->add_option("--at", o->at, "tool: SHT11 at the tool tip; holder: SH11 at the holder tip, tool outside removed")
       ->check(CLI::IsMember({"tool", "holder"}))
       ->capture_default_str();
-  c->add_option("--output", o->output, "Write the 2×2 block [[H, L], [N, P]] per frequency here (FRF CSV; H m/N, L 1/N, N rad/N, P rad/(N m))");
-  c->add_option("--frequencies", o->frequencies, "Override the file's [analysis] grid: START:STOP:STEP [Hz]");
+  c->add_option("--output", o->output,
+                "Write the 2×2 block [[H, L], [N, P]] per frequency here (FRF CSV; H m/N, L 1/N, N rad/N, P rad/(N m)); "
+                "default: only the table of modes on stdout");
+  c->add_option("--frequencies", o->frequencies,
+                "Frequency grid START:STOP:STEP [Hz] (default: the file's [analysis] grid)");
+  add_plot_option(c, o->plot,
+                  "the block: |H| [m/N] and phase of H [deg], |P| [rad/(N·m)] and phase of P [deg] against frequency "
+                  "[Hz], modes (peaks of |H|) labelled [Hz]");
   c->add_flag("--json", o->json, "Machine-readable output on stdout");
-  c->footer("Example:\n  toolpoint predict examples/bt40_shrinkfit_16mm.toml --output sht11.csv");
+  c->footer(std::string(kFigureFooter) +
+            "Example:\n  toolpoint predict examples/bt40_shrinkfit_16mm.toml --output sht11.csv --plot sht11.png");
   c->callback([o, &g] { run_predict(*o, g); });
 }
 

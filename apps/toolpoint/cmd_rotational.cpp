@@ -1,11 +1,14 @@
 // toolpoint rotational: the tip block [[H, L], [N, P]] from translational FRFs measured at the
 // tip and at points s and 2s inward, by Duarte & Ewins finite differences (seed Section 4).
 // Units: spacing in m; FRFs in m/N in, block out in m/N, 1/N, rad/N, rad/(N·m); frequencies Hz.
+// --plot draws the four entries of the block written.
 #include <fmt/format.h>
 #include <memory>
 
 #include "cli.hpp"
+#include "toolpoint/error.hpp"
 #include "toolpoint/io.hpp"
+#include "toolpoint/plot.hpp"
 #include "toolpoint/signal.hpp"
 
 namespace toolpoint::cli {
@@ -15,19 +18,25 @@ namespace {
 struct RotationalCliOptions {
   double shear_stiffness = 0.0;
   std::string files[3][3];  // files[i][j]: H_ij, response at point i, force at point j
-  std::string output, p_method = "auto";
+  std::string output, p_method = "auto", plot;
   RotationalOptions fd{2, 0.0, false, PMethod::Auto, std::nullopt};
 };
 
 void run_rotational(RotationalCliOptions o, const Globals& g) {
   o.fd.p_method = o.p_method == "cross" ? PMethod::CrossTerms : o.p_method == "n2h" ? PMethod::SchmitzSmith : PMethod::Auto;
   o.fd.check();
+  check_plot_path(o.plot);
   PointFrfs in;
   std::string sources;
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
       if (!o.files[i][j].empty()) {
-        in.set(i, j, read_single_csv(o.files[i][j]), o.files[i][j]);
+        FrfFileData d = read_frf_input(o.files[i][j]);
+        if (d.is_block)
+          throw InputError(fmt::format("--h{}{} {}: holds a 2×2 block, expected a single translational FRF H{}{} [m/N]", i, j,
+                                       o.files[i][j], i, j),
+                           "give the measured FRF (frequency_hz,re,im CSV, a UFF dataset or a .frf file)");
+        in.set(i, j, std::move(d.single), o.files[i][j]);
         sources += fmt::format(" H{}{}={}", i, j, o.files[i][j]);
       }
   RotationalOptions fd = o.fd;
@@ -46,6 +55,14 @@ void run_rotational(RotationalCliOptions o, const Globals& g) {
   if (r.reciprocity_mismatch)
     info(g, fmt::format("reciprocity check: max |L - N| / max(|L|, |N|) = {:.3g}", *r.reciprocity_mismatch));
   info(g, fmt::format("wrote {} ({} frequencies)", o.output, r.block.size()));
+  if (!o.plot.empty())
+    draw_figures(g,
+                 {{plot::block_figure(r.block,
+                                      fmt::format("Tip block by order-{} finite differences, s = {:g} mm", o.fd.order,
+                                                  1000.0 * o.fd.spacing),
+                                      "00"),
+                   o.plot}},
+                 {o.output});
 }
 
 }  // namespace
@@ -63,8 +80,8 @@ void add_rotational_command(CLI::App& app, Globals& g) {
       const std::string where_i = i == 0 ? "the tip" : fmt::format("{}s inward", i == 1 ? "" : "2");
       const std::string where_j = j == 0 ? "the tip" : fmt::format("{}s inward", j == 1 ? "" : "2");
       c->add_option(fmt::format("--h{}{}", i, j), o->files[i][j],
-                    fmt::format("FRF CSV (frequency_hz,re,im; m/N) of H{}{}: response at {}, force at {}{}", i, j, where_i,
-                                where_j, i == 0 && j == 0 ? " (required)" : ""))
+                    fmt::format("H{}{} [m/N], response at {}, force at {}: a single FRF file, formats below{}", i, j, where_i,
+                                where_j, i == 0 && j == 0 ? " (required)" : " (default: none)"))
           ->required(i == 0 && j == 0);
     }
   c->add_flag("--symmetrise", o->fd.symmetrise, "Replace L and N by their mean (reciprocity); default keeps both");
@@ -76,15 +93,22 @@ void add_rotational_command(CLI::App& app, Globals& g) {
                 "missing), n2h (always N*L/H00, Schmitz & Smith)")
       ->check(CLI::IsMember({"auto", "cross", "n2h"}))
       ->capture_default_str();
-  c->add_option("-o,--output", o->output, "Output 2×2 block FRF CSV (H m/N, L 1/N, N rad/N, P rad/(N m))")->required();
-  c->footer(
+  c->add_option("-o,--output", o->output,
+                "Output 2×2 block FRF CSV, the one format that carries rotations (H m/N, L 1/N, N rad/N, P rad/(N m)) "
+                "(required)")
+      ->required();
+  add_plot_option(c, o->plot,
+                  "the block: |H| [m/N], |L| and |N| [1/N], |P| [rad/(N·m)] and the four phases [deg] against frequency [Hz]");
+  c->footer(std::string(kFigureFooter) +
       "Points: 0 at the tool tip, 1 and 2 at s and 2s towards the spindle; H_ij = w_i/f_j. N needs\n"
       "H10 (and H20), L needs H01 (and H02); a missing H_ij is taken from H_ji (reciprocity), so with\n"
       "the hammer at the tip only L = N. P needs H11 (and H12, H22) too; otherwise P ~ N*L/H00,\n"
       "which is about 25 % low on a static cantilever (a warning says so). All inputs share one grid.\n"
+      "Input formats: " + std::string(kSingleFrfHelp) + ".\n"
       "Example:\n"
       "  toolpoint rotational --spacing 0.04 --order 2 --h00 tip.csv --h10 p1.csv --h20 p2.csv \\\n"
-      "      --h11 p1p1.csv --h21 p2p1.csv --h22 p2p2.csv --output SHT11.csv");
+      "      --h11 p1p1.csv --h21 p2p1.csv --h22 p2p2.csv --output SHT11.csv --plot SHT11.png\n"
+      "  (with every FRF in one universal file: --h00 tap.uff#0 --h10 tap.uff#1 …)");
   c->callback([o, &g] { run_rotational(*o, g); });
 }
 

@@ -1,4 +1,6 @@
-// toolpoint: command-line entry point. Maps library exceptions to messages and exit codes.
+// toolpoint: command-line entry point. Maps library exceptions to messages and exit codes:
+// "error: what is wrong and where" on one line, "  fix: how to fix it" on the next.
+// Units: SI with frequencies in Hz throughout the commands (each states its own).
 #include <exception>
 #include <fmt/format.h>
 #include <iostream>
@@ -6,27 +8,21 @@
 #include "cli.hpp"
 #include "toolpoint/error.hpp"
 
-namespace toolpoint::cli {
-
-void info(const Globals& g, const std::string& message) {
-  if (!g.quiet) std::cerr << message << '\n';
-}
-
-void warn(const std::string& message) { std::cerr << "warning: " << message << '\n'; }
-
-void warn_all(const std::vector<std::string>& messages) {
-  for (const auto& m : messages) warn(m);
-}
-
-}  // namespace toolpoint::cli
-
 namespace {
 
-int report(const char* kind, const toolpoint::Error& e, int code) {
+// `fallback` stands in for errors thrown without a hint, so every error has its fix line.
+int report(const toolpoint::Error& e, int code, const std::string& fallback) {
   std::cerr << "error: " << e.what() << '\n';
-  if (!e.hint().empty()) std::cerr << "  fix: " << e.hint() << '\n';
-  (void)kind;
+  std::cerr << "  fix: " << (e.hint().empty() ? fallback : e.hint()) << '\n';
   return code;
+}
+
+// The subcommand named on the command line, for the usage hint ("" if none).
+std::string subcommand_named(const CLI::App& app, int argc, char** argv) {
+  for (int i = 1; i < argc; ++i)
+    for (const CLI::App* c : app.get_subcommands({}))
+      if (c->get_name() == argv[i]) return c->get_name();
+  return {};
 }
 
 }  // namespace
@@ -41,13 +37,20 @@ int main(int argc, char** argv) {
       "toolpoint"};
   app.set_version_flag("--version", std::string("toolpoint ") + TOOLPOINT_VERSION);
   Globals globals;
-  app.add_flag("-q,--quiet", globals.quiet, "No progress bars or informational messages (warnings and errors still shown)");
+  app.add_flag("-q,--quiet", globals.quiet,
+               "No progress bars or informational messages (warnings and errors still shown; default: off)");
   app.require_subcommand(1);
   app.fallthrough();  // --quiet may follow the subcommand
   app.footer(
-      "Exit codes: 0 success, 1 internal error, 2 usage (bad option or value), 3 bad input file,\n"
-      "4 numerical failure (e.g. singular inversion), 5 file I/O failure.\n"
-      "Run `toolpoint COMMAND --help` for a command's options, units, defaults and an example.");
+      "Exit codes: 0 success, 1 internal error (a bug), 2 usage (bad option or value), 3 bad input\n"
+      "file content, 4 numerical failure (e.g. singular inversion), 5 file I/O failure (including a\n"
+      "--plot figure that gnuplot could not draw; the data files are written first).\n"
+      "Errors print one line saying what is wrong and where, and one (\"fix:\") saying how to fix it.\n"
+      "Progress bars appear on stderr for work over a second (TOOLPOINT_PROGRESS_DELAY=SECONDS sets\n"
+      "another delay), only when stderr is a terminal and without --quiet.\n"
+      "Run `toolpoint COMMAND --help` for a command's options, units, defaults and an example.\n"
+      "Example:\n"
+      "  toolpoint demo --output demo-out");
 
   add_beam_command(app, globals);
   add_predict_command(app, globals);
@@ -62,6 +65,8 @@ int main(int argc, char** argv) {
   add_lobes_command(app, globals);
   add_modes_command(app, globals);
 
+  const std::string command = subcommand_named(app, argc, argv);
+  const std::string help = command.empty() ? "toolpoint --help" : "toolpoint " + command + " --help";
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -72,18 +77,18 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     app.exit(e);
-    std::cerr << "  fix: see `toolpoint --help` or `toolpoint COMMAND --help`\n";
+    std::cerr << fmt::format("  fix: see `{}` for the options, their units and an example\n", help);
     return kExitUsage;
   } catch (const toolpoint::InvalidArgument& e) {
-    return report("usage", e, kExitUsage);
+    return report(e, kExitUsage, fmt::format("correct the value named above; `{}` gives each option's unit, range and default", help));
   } catch (const toolpoint::InputError& e) {
-    return report("input", e, kExitInput);
+    return report(e, kExitInput, fmt::format("correct the file at the place named above; `{}` describes the formats read", help));
   } catch (const toolpoint::NumericalError& e) {
-    return report("numerical", e, kExitNumerical);
+    return report(e, kExitNumerical, "check the input data (units, signs, frequency range) and the options named above");
   } catch (const toolpoint::IoError& e) {
-    return report("io", e, kExitIo);
+    return report(e, kExitIo, "check the path and the folder's permissions");
   } catch (const toolpoint::Error& e) {
-    return report("error", e, kExitInternal);
+    return report(e, kExitInternal, "this is a bug in toolpoint; please report it with the command line");
   } catch (const std::exception& e) {
     std::cerr << "error: internal: " << e.what() << "\n  fix: this is a bug in toolpoint; please report it with the command line\n";
     return kExitInternal;

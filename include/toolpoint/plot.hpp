@@ -218,6 +218,14 @@ Figure frf_figure(const std::vector<FrfTrace>& traces, const FrfFigureOptions& o
 Figure receptance_figure(const BlockSeries& series, const std::string& title, const std::string& subscript = "",
                          int mode_labels = 6);
 
+// All four entries of a receptance block series (a tip block from finite differences, a converted
+// block file): |H| [m/N] with the first `mode_labels` peaks labelled, |L| and |N| overlaid
+// [1/N = rad/N] (equal for a point receptance, by reciprocity), |P| [rad/(N·m)], and the four
+// phases [deg] overlaid, all on log magnitude axes against frequency [Hz]. `subscript` (enhanced
+// text, e.g. "11") goes on every symbol. Throws InputError for an invalid series.
+Figure block_figure(const BlockSeries& series, const std::string& title, const std::string& subscript = "",
+                    int mode_labels = 6);
+
 // Tool point FRFs for several tool overhangs overlaid (the seed's Fig. 10): trace i is labelled
 // "overhang <overhang_m[i] in mm> mm". `options.mode_labels` applies to options.peak_trace.
 Figure overhang_frf_figure(const std::vector<double>& overhang_m, const std::vector<FrfSeries>& frfs,

@@ -22,6 +22,7 @@
 
 #include <Eigen/Core>
 #include <cmath>
+#include <functional>
 #include <optional>
 #include <utility>
 #include <string>
@@ -271,6 +272,9 @@ struct SemiDiscretizationOptions {
   double max_depth_m = 0.0;           // scan ceiling [m]; 0: 10 × the zero-order floor of the model
   int depth_steps = 50;               // coarse scan 0…max in this many steps, then bisection
   double depth_tolerance = 1e-4;      // bisection stops at this relative width
+  // Called after each speed with the fraction of speeds done (0…1], for a caller's progress
+  // display (the library never prints); empty: not called.
+  std::function<void(double fraction)> progress;
   void check() const;
 };
 

@@ -1,0 +1,218 @@
+// toolpoint CLI: messages, figures and FRF inputs shared by the subcommands (cli.hpp).
+// Units: SI (receptance m/N, joint parameters in their SI units); frequencies in Hz.
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <fmt/format.h>
+#include <iostream>
+
+#include "cli.hpp"
+#include "progress.hpp"
+#include "toolpoint/error.hpp"
+
+namespace toolpoint::cli {
+
+void info(const Globals& g, const std::string& message) {
+  if (g.quiet) return;
+  Progress::clear_line();
+  std::cerr << message << '\n';
+}
+
+void warn(const std::string& message) {
+  Progress::clear_line();
+  std::cerr << "warning: " << message << '\n';
+}
+
+void warn_all(const std::vector<std::string>& messages) {
+  for (const auto& m : messages) warn(m);
+}
+
+// ---- Figures ------------------------------------------------------------------------------------
+
+const char* const kFigureFooter =
+    "Figures (--plot): drawn by gnuplot after the data are written. If gnuplot is missing or fails,\n"
+    "the data files stay written, the error names them, and the exit code is 5.\n";
+
+CLI::Option* add_plot_option(CLI::App* command, std::string& target, const std::string& what) {
+  return command
+      ->add_option("--plot", target,
+                   "Draw a figure in FILE (.png, .svg or .pdf by extension, through gnuplot; default: none): " + what)
+      ->option_text("FILE");
+}
+
+void check_plot_path(const std::string& path, const std::string& option) {
+  if (path.empty()) return;
+  try {
+    plot::format_for_path(path);
+  } catch (const InvalidArgument& e) {
+    throw InvalidArgument(fmt::format("{}: {}", option, e.what()), e.hint());
+  }
+}
+
+std::string with_suffix(const std::string& path, const std::string& suffix) {
+  const std::filesystem::path p(path);
+  return (p.parent_path() / (p.stem().string() + suffix + p.extension().string())).string();
+}
+
+plot::JointParameterCurve joint_curve(const JointSeries& series, int pair, const std::optional<JointParameters>& reference,
+                                      const std::optional<JointParameters>& identified) {
+  static const char* subscripts[4] = {"yf", "ym", "{/Symbol q}f", "{/Symbol q}m"};
+  plot::JointParameterCurve c;
+  c.name = subscripts[pair];
+  c.stiffness_unit = JointParameters::unit(2 * pair);
+  c.damping_unit = JointParameters::unit(2 * pair + 1);
+  for (const auto& p : series.parameters) {
+    c.stiffness.push_back(p[2 * pair]);
+    c.damping.push_back(p[2 * pair + 1]);
+  }
+  if (reference) c.reference_stiffness = (*reference)[2 * pair], c.reference_damping = (*reference)[2 * pair + 1];
+  if (identified) c.identified_stiffness = (*identified)[2 * pair], c.identified_damping = (*identified)[2 * pair + 1];
+  return c;
+}
+
+namespace {
+
+std::string listing(const std::vector<std::string>& names) {
+  std::string s;
+  for (const auto& n : names) s += (s.empty() ? "" : ", ") + n;
+  return s;
+}
+
+}  // namespace
+
+void draw_figures(const Globals& g, const std::vector<FigureFile>& figures, const std::vector<std::string>& written,
+                  const std::string& skip) {
+  std::vector<std::string> drawn;
+  for (const FigureFile& f : figures) {
+    plot::RenderResult r;
+    // What stands on disk, for the message if this figure fails.
+    const auto what_stands = [&] {
+      std::string s;
+      if (!written.empty()) s += "; the data were written to " + listing(written);
+      if (!drawn.empty()) s += "; figures drawn: " + listing(drawn);
+      return s;
+    };
+    try {
+      r = plot::render(f.figure, f.path);
+    } catch (const plot::PlotUnavailable& e) {
+      throw plot::PlotUnavailable(fmt::format("figure {} not drawn: {}{}", f.path, e.what(), what_stands()),
+                                  (e.hint().empty() ? "install gnuplot" : e.hint()) + ", or " + skip);
+    } catch (const IoError& e) {
+      throw IoError(fmt::format("figure {} not drawn: {}{}", f.path, e.what(), what_stands()),
+                    (e.hint().empty() ? "check that the folder is writable and gnuplot works (`gnuplot --version`)" : e.hint()) +
+                        ", or " + skip);
+    }
+    for (const auto& n : r.notes) info(g, "note: " + n);
+    warn_all(r.warnings);
+    info(g, fmt::format("wrote {} (gnuplot terminal {})", f.path, r.terminal));
+    drawn.push_back(f.path);
+  }
+}
+
+void draw_frf_overlay(const Globals& g, const std::vector<plot::FrfTrace>& traces, const plot::FrfFigureOptions& options,
+                      const std::string& plot_path, const std::string& written) {
+  draw_figures(g, {{plot::frf_figure(traces, options), plot_path}}, {written});
+}
+
+// ---- FRF inputs -----------------------------------------------------------------------------
+
+#define TOOLPOINT_SINGLE_FRF_FORMATS                                                                     \
+  "FRF CSV (frequency_hz,re,im), UFF dataset 58/58b (.uff/.unv/.uf; FILE#N picks dataset N, numbered as "  \
+  "`toolpoint convert FILE --list` shows; mobility/accelerance converted) or CutPro .frf; receptance m/N "  \
+  "against frequency Hz"
+const char* const kSingleFrfHelp = TOOLPOINT_SINGLE_FRF_FORMATS;
+const char* const kPointFrfHelp = TOOLPOINT_SINGLE_FRF_FORMATS ", or a 2×2 block CSV (its H entry, w/f, is used)";
+#undef TOOLPOINT_SINGLE_FRF_FORMATS
+
+const char* const kBlockCsvHelp =
+    "2×2 block FRF CSV (H m/N, L 1/N, N rad/N, P rad/(N m); CSV only: the one format that carries rotations)";
+
+void add_frf_file_arguments(CLI::App* command, std::string& input, std::string& output, std::optional<std::size_t>& dataset,
+                            const std::string& block_note) {
+  command->add_option("input", input, std::string("Input FRF (required): ") + kSingleFrfHelp + ", or a 2×2 block CSV (" + block_note + ")")
+      ->required();
+  command
+      ->add_option("output", output,
+                   "Output file (required), same form as the input, format by extension: .csv, .uff/.unv/.uf (ASCII UFF 58) "
+                   "or .frf for a single FRF; .csv for a block")
+      ->required();
+  add_dataset_option(command, dataset);
+}
+
+CLI::Option* add_dataset_option(CLI::App* command, std::optional<std::size_t>& target) {
+  return command->add_option("--dataset", target,
+                             "UFF input: the dataset 58 to read, by index from 0 as `toolpoint convert FILE --list` "
+                             "shows (default: the file's only dataset 58)");
+}
+
+namespace {
+
+// "tap.uff#3" → ("tap.uff", 3) unless a file of that exact name exists.
+std::pair<std::string, std::optional<std::size_t>> split_dataset_suffix(const std::string& spec) {
+  const std::size_t hash = spec.rfind('#');
+  if (hash == std::string::npos || hash + 1 == spec.size() || std::filesystem::exists(spec)) return {spec, std::nullopt};
+  const std::string digits = spec.substr(hash + 1);
+  if (digits.size() > 9 || !std::all_of(digits.begin(), digits.end(), [](unsigned char c) { return std::isdigit(c); }))
+    return {spec, std::nullopt};
+  return {spec.substr(0, hash), std::stoul(digits)};
+}
+
+}  // namespace
+
+FrfFileData read_frf_input(const std::string& spec, std::optional<std::size_t> dataset) {
+  auto [path, suffix] = split_dataset_suffix(spec);
+  if (suffix && dataset)
+    throw InvalidArgument(fmt::format("{}: dataset {} picked twice (#{} and --dataset {})", spec, *suffix, *suffix, *dataset),
+                          "use either FILE#N or --dataset N");
+  FrfReadOptions r;
+  try {
+    r.format = frf_format_of_path(path);
+  } catch (const InvalidArgument& e) {
+    throw InvalidArgument(e.what(), "give an FRF CSV (.csv), a universal file (.uff, .unv, .uf) or a CutPro file (.frf); "
+                                    "`toolpoint convert --from FORMAT` reads files with other names");
+  }
+  r.uff.index = suffix ? suffix : dataset;
+  if (r.uff.index && r.format != FrfFormat::Uff)
+    throw InvalidArgument(fmt::format("{}: dataset {} asked for, but only UFF files have datasets ({} is {})", spec,
+                                      *r.uff.index, path, frf_format_name(r.format)),
+                          "drop --dataset / #N for CSV and .frf files");
+  FrfFileData d = read_frf_file(path, r);
+  warn_all(d.warnings);
+  return d;
+}
+
+FrfSeries read_point_frf(const Globals& g, const std::string& spec, std::optional<std::size_t> dataset) {
+  FrfFileData d = read_frf_input(spec, dataset);
+  if (!d.is_block) return std::move(d.single);
+  info(g, fmt::format("{} holds a 2×2 block: using its H entry (w/f)", spec));
+  return entry(d.block, 0);
+}
+
+FrfSeries point_frf(const FrfFileData& data) { return data.is_block ? entry(data.block, 0) : data.single; }
+
+FrfFormat output_frf_format(const std::string& path) {
+  try {
+    return frf_format_of_path(path);
+  } catch (const InvalidArgument& e) {
+    throw InvalidArgument(e.what(), "name the output .csv (FRF CSV), .uff/.unv/.uf (ASCII UFF 58) or .frf (CutPro); "
+                                    "`toolpoint convert --to uffb` writes binary UFF");
+  }
+}
+
+void check_frf_output(const std::string& path, FrfFormat format, bool is_block) {
+  if (is_block && format != FrfFormat::Csv)
+    throw InvalidArgument(fmt::format("{}: a 2×2 receptance block can only be written as FRF CSV, not {}", path,
+                                      frf_format_name(format)),
+                          "name the output .csv");
+}
+
+void write_frf_output(const std::string& path, FrfFormat format, const FrfFileData& data, const std::string& comment) {
+  check_frf_output(path, format, data.is_block);
+  FrfWriteOptions w;
+  w.format = format;
+  w.dof = data.dof;
+  w.description = comment;
+  warn_all(data.is_block ? write_frf_file(path, data.block, w) : write_frf_file(path, data.single, w));
+}
+
+}  // namespace toolpoint::cli

@@ -1,0 +1,412 @@
+// The toolpoint command line as a user meets it: every command's working invocation (data files
+// and figures), the errors (exit code, a message naming the file or option, a fix line, no
+// output left behind), the rule for a missing gnuplot, and the progress bar.
+//
+// Each test runs the binary (TOOLPOINT_CLI) in its own scratch folder. Inputs are synthetic
+// (closed-form modal FRFs, the static cantilever of NOTES §5, the example assembly) on coarse
+// grids so the whole file stays within a few seconds; the checks on numbers compare against
+// closed forms or properties that hold independently of the code under test.
+// Units: SI (m, kg, N; receptance m/N), frequencies in Hz, figure sizes in pixels.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <initializer_list>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "toolpoint/assembly_file.hpp"
+#include "toolpoint/frf_file.hpp"
+#include "toolpoint/io.hpp"
+#include "toolpoint/modal_fit.hpp"
+#include "toolpoint/uff.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace toolpoint;
+
+const std::string kExample = std::string(TOOLPOINT_SOURCE_DIR) + "/examples/bt40_shrinkfit_16mm.toml";
+const Mode kToolMode{0.03993, 0.011, 922.0};
+const Mode kSecondMode{0.2, 0.03, 2100.0};
+
+// House figure sizes (plot.hpp): 1000 × 700 px for two stacked panels, 170 px more per further
+// panel, e.g. 1040 for four (receptance, block), 1720 for eight (joint: k and c of four pairs).
+constexpr unsigned kWidth = 1000;
+constexpr unsigned kTwoPanels = 700, kFourPanels = 1040, kEightPanels = 1720;
+
+std::vector<double> grid(double from, double to, double step) {
+  std::vector<double> f;
+  for (double x = from; x <= to + 1e-9 * to; x += step) f.push_back(x);
+  return f;
+}
+
+// (width, height) from a PNG's IHDR chunk; (0, 0) when the bytes are no PNG.
+std::pair<unsigned, unsigned> png_size(const std::string& bytes) {
+  const std::string signature("\x89PNG\r\n\x1a\n", 8);
+  if (bytes.size() < 33 || bytes.compare(0, 8, signature) != 0 || bytes.compare(12, 4, "IHDR") != 0) return {0, 0};
+  const auto be32 = [&](std::size_t at) {
+    unsigned v = 0;
+    for (std::size_t k = 0; k < 4; ++k) v = (v << 8) | static_cast<unsigned char>(bytes[at + k]);
+    return v;
+  };
+  return {be32(16), be32(20)};
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  struct Run {
+    int code = -1;
+    std::string out, err;
+  };
+
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("toolpoint_cli_" + std::to_string(::getpid()) + "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  bool exists(const std::string& name) const { return fs::exists(dir_ / name); }
+
+  // `toolpoint ARGS` in the scratch folder, with `env` (e.g. "PATH=/nonexistent") before it.
+  Run run(const std::string& args, const std::string& env = "") const {
+    const std::string cmd = "cd '" + dir_.string() + "' && " + env + " '" TOOLPOINT_CLI "' " + args +
+                            " > .stdout 2> .stderr < /dev/null";
+    const int status = std::system(cmd.c_str());
+    Run r;
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = read_text_file(path(".stdout"));
+    r.err = read_text_file(path(".stderr"));
+    fs::remove(dir_ / ".stdout");
+    fs::remove(dir_ / ".stderr");
+    return r;
+  }
+
+  // A working run: exit 0 and no progress bar (stderr is a file here, not a terminal).
+  Run ok(const std::string& args) const {
+    Run r = run(args);
+    EXPECT_EQ(r.code, 0) << args << "\n" << r.err;
+    EXPECT_EQ(r.err.find('\r'), std::string::npos) << "progress bar drawn into a file:\n" << r.err;
+    return r;
+  }
+
+  // A failed run: the exit code, "error: …" naming every item of `mentions`, and a fix line.
+  void expect_error(const Run& r, int code, std::initializer_list<std::string> mentions) const {
+    EXPECT_EQ(r.code, code) << r.err;
+    EXPECT_NE(r.err.find("error: "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("\n  fix: "), std::string::npos) << "no fix line:\n" << r.err;
+    for (const auto& m : mentions) EXPECT_NE(r.err.find(m), std::string::npos) << "'" << m << "' not named:\n" << r.err;
+  }
+
+  void expect_png(const std::string& name, unsigned height) const {
+    ASSERT_TRUE(exists(name)) << name;
+    const auto [w, h] = png_size(read_text_file(path(name)));
+    EXPECT_EQ(w, kWidth) << name;
+    EXPECT_EQ(h, height) << name;
+  }
+
+  // The example assembly's SH11 and SHT11 on a coarse grid, through `predict`.
+  void predict_blocks(const std::string& grid_spec = "100:3500:5") const {
+    ok("predict '" + kExample + "' --at holder --frequencies " + grid_spec + " --output sh.csv");
+    ok("predict '" + kExample + "' --frequencies " + grid_spec + " --output sht.csv");
+  }
+
+  fs::path dir_;
+};
+
+// ---- Every command, working ---------------------------------------------------------------------
+
+TEST_F(Cli, PredictWritesTheBlockAndItsFigure) {
+  const Run r = ok("predict '" + kExample + "' --frequencies 100:3000:10 --output sht.csv --plot sht.png");
+  const BlockSeries b = read_block_csv(path("sht.csv"));
+  ASSERT_EQ(b.size(), 291u);
+  EXPECT_EQ(b.frequency_hz.front(), 100.0);
+  EXPECT_EQ(b.frequency_hz.back(), 3000.0);
+  expect_png("sht.png", kFourPanels);  // |H|, ∠H, |P|, ∠P
+  EXPECT_NE(r.out.find("peak_frequency_hz"), std::string::npos) << r.out;
+}
+
+// Noise-free SH11 and SHT11 of the example give back the holder–tool joint the file puts in
+// (seed Eq. 6 is exact; the read-out is a median over the band): 1e-6 relative leaves room for
+// the conditioning (≤ 1e4) times rounding. The joint figure has the 8 panels k, c of 4 pairs.
+TEST_F(Cli, IdentifyRecoversTheFileJointAndDrawsIt) {
+  predict_blocks();
+  const Run r = ok("identify --assembly '" + kExample + "' --sh sh.csv --sht sht.csv --output kht.csv --plot kht.png --json");
+  const JointParameters truth = load_assembly(kExample).assembly.holder_tool.parameters;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  for (int k = 0; k < 8; ++k) {
+    const double got = j["parameters"][JointParameters::name(k)]["median"].get<double>();
+    EXPECT_NEAR(got, truth[k], 1e-6 * std::abs(truth[k])) << JointParameters::name(k);
+  }
+  EXPECT_EQ(j["plot"], "kht.png");
+  EXPECT_NE(read_text_file(path("kht.csv")).find("frequency_hz,k_yf"), std::string::npos);
+  expect_png("kht.png", kEightPanels);
+}
+
+// The semi-analytical coupling (measured SH11 + model tool, Eq. 5) at the file's own overhang is
+// the full model's SHT11: both are exact receptance coupling of the same beams, 1e-9 relative
+// covers the rounding of two different evaluation orders. A sweep writes one file per overhang,
+// the natural-frequency table, and two figures (FILE and FILE_frequencies).
+TEST_F(Cli, CoupleOneOverhangAndASweep) {
+  predict_blocks("500:3000:10");
+  ok("couple --sh sh.csv --assembly '" + kExample + "' --output one.csv --plot one.png");
+  const BlockSeries a = read_block_csv(path("one.csv")), b = read_block_csv(path("sht.csv"));
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i)
+    ASSERT_LE((a.blocks[i] - b.blocks[i]).norm(), 1e-9 * b.blocks[i].norm()) << a.frequency_hz[i];
+  expect_png("one.png", kTwoPanels);
+
+  ok("couple --sh sh.csv --assembly '" + kExample + "' --overhang 0.04:0.06:0.01 --output sweep --plot sweep.png");
+  for (const char* f : {"sweep/sht11_overhang_40.0mm.csv", "sweep/sht11_overhang_50.0mm.csv", "sweep/sht11_overhang_60.0mm.csv"})
+    EXPECT_TRUE(exists(f)) << f;
+  const std::string table = read_text_file(path("sweep/natural_frequencies.csv"));
+  EXPECT_NE(table.find("\noverhang_m,mode_1_hz"), std::string::npos) << table;
+  expect_png("sweep.png", kTwoPanels);
+  expect_png("sweep_frequencies.png", kTwoPanels);
+}
+
+// A Savitzky–Golay filter of order p passes a polynomial of degree ≤ p unchanged (the
+// least-squares fit reproduces it): an FRF linear in frequency, read from a UFF file and written
+// as CutPro .frf, comes back equal to 1e-12 relative (the .frf holds shortest round-trip numbers).
+TEST_F(Cli, FilterReadsUffAndKeepsAPolynomial) {
+  FrfSeries lin;
+  lin.frequency_hz = grid(100.0, 200.0, 1.0);
+  for (double f : lin.frequency_hz) lin.values.push_back({1e-6 + 2e-9 * f, -3e-7 + 1e-9 * f});
+  write_frf_file(path("lin.uff"), lin);
+  ok("filter lin.uff smooth.frf --window 11 --order 2 --dataset 0 --plot smooth.png");
+  const FrfFileData in = read_frf_file(path("lin.uff")), out = read_frf_file(path("smooth.frf"));
+  ASSERT_EQ(out.single.size(), in.single.size());
+  for (std::size_t i = 0; i < in.single.size(); ++i)
+    ASSERT_LE(std::abs(out.single.values[i] - in.single.values[i]), 1e-12 * std::abs(in.single.values[i])) << i;
+  expect_png("smooth.png", kTwoPanels);
+}
+
+// σ = 0 multiplies every entry by exactly 1: the output equals the input bit for bit (.frf in,
+// .frf out); σ > 0 changes it. Both figures are drawn.
+TEST_F(Cli, NoiseOnAFrfFile) {
+  write_frf_file(path("h.frf"), modal_frf({kToolMode}, grid(800.0, 1050.0, 1.0)));
+  ok("noise h.frf same.frf --sigma 0 --plot same.png");
+  EXPECT_EQ(read_text_file(path("same.frf")), read_text_file(path("h.frf")));
+  ok("noise h.frf noisy.frf --sigma 0.05 --seed 3 --plot noisy.png");
+  EXPECT_NE(read_text_file(path("noisy.frf")), read_text_file(path("h.frf")));
+  expect_png("same.png", kTwoPanels);
+  expect_png("noisy.png", kTwoPanels);
+}
+
+// NOTES §5 through one universal file holding three datasets, picked with FILE#N: a static
+// cantilever (EI = 1, L = 1; H(x, ξ) = ξ²(3x − ξ)/6) hit at the tip, second order, s = 0.1,
+// gives N = (3·1/3 − 4·0.2835 + 0.64·2.2/6)/0.2 = 151/300 by hand. Binary 58b holds the values
+// exactly, so 1e-12 (rounding of the stencil) applies.
+TEST_F(Cli, RotationalFromDatasetsOfOneUniversalFile) {
+  const auto g = [](double x, double xi) {
+    if (xi > x) std::swap(x, xi);
+    return xi * xi * (3.0 * x - xi) / 6.0;
+  };
+  std::vector<UffDataset58> sets;
+  for (int i = 0; i < 3; ++i) {
+    const double h = g(1.0 - 0.1 * i, 1.0);
+    FrfSeries s{{10.0, 20.0, 30.0}, {{h, 0.0}, {h, -0.01 * h}, {h, -0.02 * h}}};
+    sets.push_back(uff_from_receptance(s, UffDof{i + 1, 1, 1, 1}, "static cantilever"));
+  }
+  write_uff(path("tap.uff"), sets, UffWriteOptions{.binary = true});
+  ok("rotational --spacing 0.1 --order 2 --h00 tap.uff#0 --h10 tap.uff#1 --h20 tap.uff#2 --output tip.csv --plot tip.png");
+  const BlockSeries b = read_block_csv(path("tip.csv"));
+  ASSERT_EQ(b.size(), 3u);
+  EXPECT_NEAR(N_of(b.blocks[0]).real(), 151.0 / 300.0, 1e-12);
+  EXPECT_NEAR(L_of(b.blocks[0]).real(), 151.0 / 300.0, 1e-12);  // L = N by reciprocity (hammer at the tip only)
+  expect_png("tip.png", kFourPanels);  // |H|, |L| and |N|, |P|, phases
+}
+
+// Dataset 1 of a two-dataset file, to CSV, as written (binary UFF: exact); a block CSV copied
+// with its four-entry figure.
+TEST_F(Cli, ConvertWithFigures) {
+  const FrfSeries one = modal_frf({kToolMode}, grid(800.0, 1050.0, 2.0)), two = modal_frf({kSecondMode}, grid(800.0, 1050.0, 2.0));
+  write_uff(path("two.uff"), {uff_from_receptance(one, {1, 1, 1, 1}, "a"), uff_from_receptance(two, {2, 1, 1, 1}, "b")},
+            UffWriteOptions{.binary = true});
+  ok("convert two.uff second.csv --dataset 1 --plot second.png");
+  const FrfSeries got = read_single_csv(path("second.csv"));
+  ASSERT_EQ(got.size(), two.size());
+  for (std::size_t i = 0; i < got.size(); ++i) ASSERT_EQ(got.values[i], two.values[i]) << i;
+  expect_png("second.png", kTwoPanels);
+
+  ok("predict '" + kExample + "' --frequencies 500:1500:10 --output block.csv");
+  ok("convert block.csv copy.csv --plot copy.png");
+  EXPECT_EQ(read_block_csv(path("copy.csv")).blocks, read_block_csv(path("block.csv")).blocks);
+  expect_png("copy.png", kFourPanels);
+}
+
+// Zero-order lobes from a CutPro .frf and the semi-discretization boundary from a mode, each with
+// its CSV and figure (depth and chatter-frequency panels).
+TEST_F(Cli, LobesBothMethodsWithFigures) {
+  write_frf_file(path("tool.frf"), modal_frf({kToolMode}, grid(600.0, 1400.0, 0.5)));
+  const std::string cut = " --teeth 2 --kt 6e8 --kn 2e8 --immersion 0.05 --milling down --rpm 5000:25000";
+  const Run zoa = ok("lobes --frf tool.frf" + cut + " --output lobes.csv --envelope env.csv --plot lobes.png");
+  EXPECT_NE(zoa.out.find("absolute stability limit"), std::string::npos) << zoa.out;
+  EXPECT_NE(read_text_file(path("lobes.csv")).find("\nlobe,spindle_speed_rpm,axial_depth_mm,chatter_frequency_hz,root\n"),
+            std::string::npos);
+  EXPECT_TRUE(exists("env.csv"));
+  expect_png("lobes.png", kTwoPanels);
+
+  ok("lobes --method sd --mode-x 0.03993,0.011,922 --rigid-y --speeds 40" + cut + " --output sd.csv --plot sd.png");
+  EXPECT_NE(read_text_file(path("sd.csv")).find("\nlobe,spindle_speed_rpm,axial_depth_mm,chatter_frequency_hz,kind\n"),
+            std::string::npos);
+  expect_png("sd.png", kTwoPanels);
+}
+
+// Two modes given, fitted back from a UFF file picked by --dataset: the fitted receptance written
+// (residual terms included) equals the exact modal FRF to 1e-6 relative — the fit recovers exact
+// modal data to well below that (the library's tests bound the parameters), and the file holds
+// shortest round-trip numbers.
+TEST_F(Cli, ModesFitsAUffDatasetAndWritesTheFit) {
+  const FrfSeries h = modal_frf({kToolMode, kSecondMode}, grid(300.0, 3000.0, 1.0));
+  write_frf_file(path("h.uff"), h, FrfWriteOptions{.format = FrfFormat::UffBinary});
+  const Run r = ok("modes h.uff --dataset 0 --max-modes 2 --output fit.csv --plot fit.png");
+  EXPECT_NE(r.out.find("--mode-x 0.03993,0.011,922 --mode-x 0.2,0.03,2100"), std::string::npos) << r.out;
+  const FrfSeries fit = read_single_csv(path("fit.csv"));
+  ASSERT_EQ(fit.size(), h.size());
+  double worst = 0.0;
+  for (std::size_t i = 0; i < h.size(); ++i) worst = std::max(worst, std::abs(fit.values[i] - h.values[i]) / std::abs(h.values[i]));
+  EXPECT_LT(worst, 1e-6);
+  expect_png("fit.png", kTwoPanels);
+}
+
+// ---- Bad input ------------------------------------------------------------------------------
+
+TEST_F(Cli, MissingFilesAreIoErrors) {
+  expect_error(run("filter missing.csv out.csv --window 5 --order 2"), 5, {"missing.csv"});
+  expect_error(run("predict missing.toml --output out.csv"), 5, {"missing.toml"});
+  expect_error(run("modes missing.uff --output out.csv"), 5, {"missing.uff"});
+  expect_error(run("couple --sh missing.csv --assembly '" + kExample + "' --output out.csv"), 5, {"missing.csv"});
+  EXPECT_FALSE(exists("out.csv"));
+}
+
+TEST_F(Cli, MalformedAndNonFiniteDataNameTheLine) {
+  write_text_file(path("broken.csv"), "frequency_hz,re,im\n100,1e-6,-1e-7\n200,oops,0\n300,1e-6,0\n");
+  write_text_file(path("nan.csv"), "# a comment\nfrequency_hz,re,im\n1,1,0\n2,nan,0\n3,3,0\n");
+  expect_error(run("modes broken.csv --output out.csv"), 3, {"broken.csv:3"});
+  expect_error(run("noise nan.csv out.csv --plot out.png"), 3, {"nan.csv:4"});
+  expect_error(run("lobes --frf broken.csv --teeth 2 --kt 6e8 --kr 0.3 --immersion 0.5 --milling up --rpm 1000:2000 --output out.csv"),
+               3, {"broken.csv:3"});
+  EXPECT_FALSE(exists("out.csv"));
+  EXPECT_FALSE(exists("out.png"));
+}
+
+TEST_F(Cli, IdentifyRejectsMismatchedGrids) {
+  ok("predict '" + kExample + "' --at holder --frequencies 500:1500:10 --output sh.csv");
+  ok("predict '" + kExample + "' --frequencies 500:1500:20 --output sht.csv");
+  expect_error(run("identify --assembly '" + kExample + "' --sh sh.csv --sht sht.csv --output kht.csv --plot kht.png"), 3,
+               {"sh.csv", "sht.csv", "grids differ"});
+  EXPECT_FALSE(exists("kht.csv"));
+  EXPECT_FALSE(exists("kht.png"));
+}
+
+TEST_F(Cli, BadValuesAreUsageErrors) {
+  expect_error(run("beam --length -0.1 --diameter 0.05"), 2, {"length -0.1 m"});
+  write_text_file(path("h.csv"), "frequency_hz,re,im\n10,1,0\n20,1,0\n");
+  expect_error(run("rotational --spacing -0.1 --h00 h.csv --h10 h.csv --order 1 -o tip.csv"), 2, {"spacing -0.1 m"});
+  expect_error(run("couple --sh h.csv --assembly '" + kExample + "' --overhang -0.05 --output c.csv"), 2, {"overhang -0.05 m"});
+  expect_error(run("lobes --frf h.csv --teeth 2 --kt 6e8 --kr 0.3 --immersion 1.5 --milling up --rpm 1:2"), 2, {"immersion"});
+  expect_error(run("modes h.csv --dataset 1"), 2, {"h.csv", "dataset 1"});  // a CSV has no datasets
+  expect_error(run("filter h.csv out.xyz --window 1 --order 0"), 2, {"out.xyz"});
+  EXPECT_FALSE(exists("tip.csv"));
+  EXPECT_FALSE(exists("c.csv"));
+}
+
+// The figure's name is checked before any work, so a typo costs nothing and leaves nothing.
+TEST_F(Cli, BadPlotExtensionIsRefusedBeforeAnyWork) {
+  for (const std::string& args :
+       std::vector<std::string>{"predict '" + kExample + "' --output out.csv --plot out.jpg",
+        "lobes --method sd --mode-x 0.03993,0.011,922 --rigid-y --teeth 2 --kt 6e8 --kn 2e8 --immersion 0.05 --milling down "
+        "--rpm 5000:25000 --output out.csv --plot out.jpg"})
+    expect_error(run(args), 2, {"--plot", "out.jpg", ".png, .svg or .pdf"});
+  EXPECT_FALSE(exists("out.csv"));
+  EXPECT_FALSE(exists("out.jpg"));
+}
+
+TEST_F(Cli, UnknownOptionsAndMissingArgumentsAreUsageErrors) {
+  const Run bogus = run("filter a.csv b.csv --window 5 --order 2 --bogus");
+  EXPECT_EQ(bogus.code, 2);
+  EXPECT_NE(bogus.err.find("--bogus"), std::string::npos) << bogus.err;
+  EXPECT_NE(bogus.err.find("fix: see `toolpoint filter --help`"), std::string::npos) << bogus.err;
+  const Run none = run("");
+  EXPECT_EQ(none.code, 2);
+  EXPECT_NE(none.err.find("fix: see `toolpoint --help`"), std::string::npos) << none.err;
+}
+
+// ---- Help ---------------------------------------------------------------------------------------
+
+// The exit codes are documented; every subcommand's help ends with an example, and every one
+// that draws says what happens without gnuplot.
+TEST_F(Cli, HelpDocumentsExitCodesExamplesAndTheFigureRule) {
+  const Run top = ok("--help");
+  for (const char* s : {"0 success", "1 internal", "2 usage", "3 bad input", "4 numerical", "5 file I/O"})
+    EXPECT_NE(top.out.find(s), std::string::npos) << s;
+  for (const char* c : {"beam", "predict", "identify", "demo", "couple", "filter", "noise", "rotational", "convert", "lobes", "modes"}) {
+    const Run h = ok(std::string(c) + " --help");
+    EXPECT_NE(h.out.find("Example"), std::string::npos) << c;
+    EXPECT_NE(h.out.find(std::string("toolpoint ") + c + " "), std::string::npos) << c;
+    EXPECT_NE(h.out.find("exit code is 5"), std::string::npos) << c;
+  }
+  EXPECT_NE(ok("--version").out.find("toolpoint "), std::string::npos);
+}
+
+// ---- Without gnuplot ----------------------------------------------------------------------------
+
+// The data come first and stay; the figure's absence is an I/O error (5) that names the data
+// written and says how to do without.
+TEST_F(Cli, WithoutGnuplotTheDataAreWrittenAndTheExitCodeIs5) {
+  write_frf_file(path("h.csv"), modal_frf({kToolMode}, grid(800.0, 1050.0, 1.0)));
+  const std::string no_gnuplot = "PATH=/nonexistent";
+  for (const auto& [args, data] : std::vector<std::pair<std::string, std::string>>{
+           {"predict '" + kExample + "' --frequencies 500:1500:10 --output p.csv --plot p.png", "p.csv"},
+           {"filter h.csv f.csv --window 5 --order 2 --plot f.png", "f.csv"},
+           {"lobes --frf h.csv --teeth 2 --kt 6e8 --kn 2e8 --immersion 0.05 --milling down --rpm 5000:25000 --envelope e.csv "
+            "--plot e.png",
+            "e.csv"}}) {
+    const Run r = run(args, no_gnuplot);
+    expect_error(r, 5, {"gnuplot not found", data, "drop --plot"});
+    EXPECT_TRUE(exists(data)) << args;
+    EXPECT_FALSE(exists(data.substr(0, 1) + ".png")) << args;
+  }
+  // The demo draws by default: all data and summary.json stay, the fix names --no-plots.
+  const Run demo = run("demo --output demo", no_gnuplot);
+  expect_error(demo, 5, {"gnuplot not found", "demo/", "--no-plots"});
+  for (const char* f : {"demo/sht11_true.csv", "demo/kht_filtered.csv", "demo/summary.json"}) EXPECT_TRUE(exists(f)) << f;
+  EXPECT_NE(demo.out.find("5. Forward check"), std::string::npos) << "the report is printed before the error";
+  EXPECT_FALSE(exists("demo/fig2a_tool_point_frf.png"));
+}
+
+// ---- Progress bar ---------------------------------------------------------------------------
+
+// On a terminal (a pseudo-terminal from script(1)) the bar is drawn with '\r' and erased at the
+// end; --quiet, or stderr in a file (every other test here: see ok()), draws nothing.
+// TOOLPOINT_PROGRESS_DELAY=0 lifts the one-second wait, so the run can be short and the test
+// does not depend on the machine's speed.
+TEST_F(Cli, ProgressBarOnlyOnATerminal) {
+  if (std::system("script --version > /dev/null 2>&1") != 0) GTEST_SKIP() << "script(1) not available";
+  const std::string args =
+      "lobes --method sd --mode-x 0.04,0.011,922 --mode-y 0.04,0.011,950 --teeth 2 --kt 6e8 --kn 2e8 --immersion 0.05 "
+      "--milling down --rpm 5000:25000 --speeds 20";
+  const auto on_terminal = [&](const std::string& options) {
+    const std::string cmd = "cd '" + dir_.string() + "' && TOOLPOINT_PROGRESS_DELAY=0 script -qec \"'" TOOLPOINT_CLI "' " +
+                            options + args + " > /dev/null\" /dev/null > tty.txt 2>&1";
+    EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    return read_text_file(path("tty.txt"));
+  };
+  const std::string shown = on_terminal("");
+  EXPECT_NE(shown.find("\rlobes: semi-discretization boundary ["), std::string::npos) << shown;
+  EXPECT_NE(shown.find(" %"), std::string::npos) << shown;
+  EXPECT_NE(shown.find("\r\033[K"), std::string::npos) << "the bar is not erased:\n" << shown;
+  const std::string quiet = on_terminal("--quiet ");
+  EXPECT_EQ(quiet.find("semi-discretization boundary ["), std::string::npos) << quiet;
+}
+
+}  // namespace
