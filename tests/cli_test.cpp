@@ -225,6 +225,28 @@ TEST_F(Cli, RotationalFromDatasetsOfOneUniversalFile) {
   expect_png("tip.png", kFourPanels);  // |H|, |L| and |N|, |P|, phases
 }
 
+// A virtual tap test (taptest) read back whole by `rotational --uff`: nine datasets with response
+// node i+1 and hammer node j+1, the same block as naming each dataset with FILE#N (exactly), and
+// the tip FRF H00 equal to the model's tool point H (taptest without noise, binary UFF: exact
+// data; 1e-9 relative, as Assembly.ToolStations: station and point coupling are different
+// algebra, equal to round-off amplified near antiresonances).
+TEST_F(Cli, TaptestThenRotationalFromTheWholeFile) {
+  ok("taptest '" + kExample + "' --at tool --spacing 0.01 --frequencies 500:3000:25 --binary --output tap.uff");
+  ok("predict '" + kExample + "' --frequencies 500:3000:25 --output sht.csv");
+  ok("rotational --uff tap.uff --spacing 0.01 --order 2 --shear-stiffness 2.778e7 --output a.csv");
+  std::string each;
+  for (int j = 0, k = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i, ++k) each += " --h" + std::to_string(i) + std::to_string(j) + " tap.uff#" + std::to_string(k);
+  ok("rotational" + each + " --spacing 0.01 --order 2 --shear-stiffness 2.778e7 --output b.csv");
+  const BlockSeries a = read_block_csv(path("a.csv")), b = read_block_csv(path("b.csv")), m = read_block_csv(path("sht.csv"));
+  ASSERT_EQ(a.size(), m.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a.blocks[i], b.blocks[i]);
+    EXPECT_LT(std::abs(H_of(a.blocks[i]) - H_of(m.blocks[i])), 1e-9 * std::abs(H_of(m.blocks[i])));
+  }
+  expect_error(run("rotational --uff tap.uff --h00 tap.uff#0 --spacing 0.01 --output c.csv"), 2, {"--uff"});
+}
+
 // Dataset 1 of a two-dataset file, to CSV, as written (binary UFF: exact); a block CSV copied
 // with its four-entry figure.
 TEST_F(Cli, ConvertWithFigures) {

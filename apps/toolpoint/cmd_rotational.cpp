@@ -7,6 +7,8 @@
 
 #include "cli.hpp"
 #include "toolpoint/error.hpp"
+#include "toolpoint/frf_file.hpp"
+#include "toolpoint/uff.hpp"
 #include "toolpoint/io.hpp"
 #include "toolpoint/plot.hpp"
 #include "toolpoint/signal.hpp"
@@ -18,7 +20,7 @@ namespace {
 struct RotationalCliOptions {
   double shear_stiffness = 0.0;
   std::string files[3][3];  // files[i][j]: H_ij, response at point i, force at point j
-  std::string output, p_method = "auto", plot;
+  std::string output, p_method = "auto", plot, uff;
   RotationalOptions fd{2, 0.0, false, PMethod::Auto, std::nullopt};
 };
 
@@ -28,6 +30,30 @@ void run_rotational(RotationalCliOptions o, const Globals& g) {
   check_plot_path(o.plot);
   PointFrfs in;
   std::string sources;
+  if (!o.uff.empty()) {
+    // A whole tap test in one file: H_ij is the dataset with response node i+1, reference node j+1
+    // (the layout `toolpoint taptest` writes). Missing ones are left to reciprocity or refused.
+    for (const auto& f : o.files)
+      for (const auto& name : f)
+        if (!name.empty()) throw InvalidArgument("give either --uff or --hij files, not both", "use --uff for one tap-test file");
+    const UffFile file = read_uff(o.uff);
+    warn_all(file.file_warnings);
+    const int points = o.fd.order + 1;
+    for (const UffDataset58& d : file.functions) {
+      const int i = d.response_node - 1, j = d.reference_node - 1;
+      if (i < 0 || j < 0 || i >= points || j >= points) continue;
+      if (in.h[i][j])
+        throw InputError(fmt::format("{}: two datasets for response node {} and reference node {}", o.uff, i + 1, j + 1),
+                         "keep one dataset per pair of points (node k+1 is point k: the tip, then s, 2s inwards)");
+      UffReceptance r = uff_receptance(d, std::nullopt, o.uff);
+      warn_all(r.warnings);
+      in.set(i, j, std::move(r.receptance), fmt::format("{} (nodes {}/{})", o.uff, i + 1, j + 1));
+      sources += fmt::format(" H{}{}={}#nodes{}/{}", i, j, o.uff, i + 1, j + 1);
+    }
+  }
+  if (o.uff.empty() && o.files[0][0].empty())
+    throw InvalidArgument("rotational needs the tip FRF: --h00 FILE (and the others), or --uff FILE with the whole test",
+                          "see `toolpoint rotational --help`");
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
       if (!o.files[i][j].empty()) {
@@ -71,6 +97,9 @@ void add_rotational_command(CLI::App& app, Globals& g) {
   auto o = std::make_shared<RotationalCliOptions>();
   CLI::App* c = app.add_subcommand(
       "rotational", "Tip block [[H, L], [N, P]] from translational FRFs by finite differences (Duarte & Ewins 2000)");
+  c->add_option("--uff", o->uff,
+                "One UFF file holding the whole test: H_ij = the dataset with response node i+1 and reference node j+1 "
+                "(node 1 the tip, 2 and 3 at s and 2s inwards; what `toolpoint taptest` writes)");
   c->add_option("-s,--spacing", o->fd.spacing, "Distance s between neighbouring points [m], > 0 (required)")->required();
   c->add_option("--order", o->fd.order, "Finite-difference order: 1 (points 0, 1) or 2 (points 0, 1, 2)")
       ->check(CLI::IsMember({1, 2}))
@@ -81,8 +110,7 @@ void add_rotational_command(CLI::App& app, Globals& g) {
       const std::string where_j = j == 0 ? "the tip" : fmt::format("{}s inward", j == 1 ? "" : "2");
       c->add_option(fmt::format("--h{}{}", i, j), o->files[i][j],
                     fmt::format("H{}{} [m/N], response at {}, force at {}: a single FRF file, formats below{}", i, j, where_i,
-                                where_j, i == 0 && j == 0 ? " (required)" : " (default: none)"))
-          ->required(i == 0 && j == 0);
+                                where_j, i == 0 && j == 0 ? " (required unless --uff)" : " (default: none)"));
     }
   c->add_flag("--symmetrise", o->fd.symmetrise, "Replace L and N by their mean (reciprocity); default keeps both");
   c->add_option("--shear-stiffness", o->shear_stiffness,
@@ -106,6 +134,7 @@ void add_rotational_command(CLI::App& app, Globals& g) {
       "which is about 25 % low on a static cantilever (a warning says so). All inputs share one grid.\n"
       "Input formats: " + std::string(kSingleFrfHelp) + ".\n"
       "Example:\n"
+      "  toolpoint rotational --uff tap_tool.uff --spacing 0.01 --order 2 --output sht11.csv\n"
       "  toolpoint rotational --spacing 0.04 --order 2 --h00 tip.csv --h10 p1.csv --h20 p2.csv \\\n"
       "      --h11 p1p1.csv --h21 p2p1.csv --h22 p2p2.csv --output SHT11.csv --plot SHT11.png\n"
       "  (with every FRF in one universal file: --h00 tap.uff#0 --h10 tap.uff#1 …)");
