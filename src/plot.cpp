@@ -333,7 +333,17 @@ void append_panel(std::string& s, const Figure& fig, std::size_t i, double top, 
   s += fmt::format("set tmargin at screen {:.5f}\nset bmargin at screen {:.5f}\n", top, bottom);
   s += "unset label\nunset arrow\nunset object\n";
   const auto limit = [](std::optional<double> v) { return v ? number(*v) : std::string("*"); };
-  append_axis(s, 'x', fig.x, number(xr.first), number(xr.second),
+  // A linear x axis gets at most one tic label per ~80 px of panel width (gnuplot's autofreq
+  // knows the range, not the width, and crowds narrow panels: "5001000"), at a 1-2-5 step.
+  Axis x_axis = fig.x;
+  if (x_axis.scale == Scale::Linear && !x_axis.tic_step && xr.second > xr.first) {
+    const double width_px = (frame.right - frame.left) * fig.width_px;
+    const double max_tics = std::max(2.0, std::floor(width_px / 80.0));
+    const double raw = (xr.second - xr.first) / max_tics, mag = std::pow(10.0, std::floor(std::log10(raw)));
+    const double unit = raw / mag;
+    x_axis.tic_step = (unit <= 1.0 ? 1.0 : unit <= 2.0 ? 2.0 : unit <= 5.0 ? 5.0 : 10.0) * mag;
+  }
+  append_axis(s, 'x', x_axis, number(xr.first), number(xr.second),
               fig.x.scale == Scale::Log ? std::log10(xr.second / xr.first) : 0.0, last);
   append_axis(s, 'y', p.y, limit(p.y.min), limit(p.y.max), y_decades(p), true);
   if (p.legend == Legend::Hidden || legend_texts(p).empty()) {
@@ -986,7 +996,9 @@ Figure natural_frequency_figure(const OverhangSweep& sweep) {
 namespace {
 
 // The y range of a noisy identified parameter: 2nd–98th percentile of the values (in the band
-// when there is one) together with the reference lines, widened by a quarter each side.
+// when there is one) together with the reference lines, widened by a quarter each side, and never
+// narrower than ±5 % around the middle of that range — so a flat (noise-free) result shows flat,
+// as in the seed's Fig. 3, rather than its round-off magnified to fill the panel.
 std::pair<double, double> robust_range(const std::vector<double>& f, const std::vector<double>& v,
                                        const std::optional<std::pair<double, double>>& band,
                                        const std::vector<double>& lines) {
@@ -1006,7 +1018,10 @@ std::pair<double, double> robust_range(const std::vector<double>& f, const std::
   for (double l : lines) lo = std::min(lo, l), hi = std::max(hi, l);
   double span = hi - lo;
   if (!(span > 0.0)) span = std::max(std::abs(hi) * 0.2, 1e-300);
-  return {lo - 0.25 * span, hi + 0.25 * span};
+  lo -= 0.25 * span;
+  hi += 0.25 * span;
+  const double mid = 0.5 * (lo + hi), half = 0.05 * std::max(std::abs(lo), std::abs(hi));
+  return {std::min(lo, mid - half), std::max(hi, mid + half)};
 }
 
 }  // namespace
