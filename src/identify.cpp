@@ -224,22 +224,19 @@ EffectAnalysis effect_analysis(const Assembly& assembly, JointKind kind, bool to
 OverhangModes overhang_mode(const std::vector<FrfSeries>& frfs, std::size_t reference, const PeakOptions& options) {
   if (frfs.size() < 2) throw InvalidArgument(fmt::format("overhang mode choice needs FRFs at ≥ 2 overhangs, got {}", frfs.size()));
   if (reference >= frfs.size()) throw InvalidArgument(fmt::format("reference FRF {} outside 0..{}", reference, frfs.size() - 1));
+  std::vector<std::vector<Peak>> family;
+  for (const auto& s : frfs) family.push_back(find_peaks(s, options));
   OverhangModes r;
-  r.reference_peaks = find_peaks(frfs[reference], options);
-  if (r.reference_peaks.empty()) throw InvalidArgument("the reference FRF has no resonance peak");
-  std::vector<std::vector<Peak>> all;
-  for (const auto& s : frfs) {
-    all.push_back(find_peaks(s, options));
-    if (all.back().empty()) throw InvalidArgument("an overhang FRF has no resonance peak");
-  }
-  for (const Peak& p : r.reference_peaks) {
-    double lo = p.frequency_hz, hi = p.frequency_hz;
-    for (const auto& peaks : all) {
-      const double f = peaks[nearest(peaks, p.frequency_hz)].frequency_hz;
-      lo = std::min(lo, f);
-      hi = std::max(hi, f);
-    }
-    r.relative_variation.push_back((hi - lo) / p.frequency_hz);
+  r.reference_peaks = family[reference];
+  if (r.reference_peaks.empty())
+    throw InputError("the reference FRF has no resonance peak", "check the FRF, or lower the peak prominence");
+  // Each reference mode found in every FRF (in any order: matched against the reference, within
+  // 25 %); its variation is the range it spans.
+  for (const auto& mode : track_modes(family, reference, 0.25, false)) {
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (double f : mode)
+      if (!std::isnan(f)) lo = std::min(lo, f), hi = std::max(hi, f);
+    r.relative_variation.push_back((hi - lo) / mode[reference]);
   }
   r.dominant = static_cast<std::size_t>(std::max_element(r.relative_variation.begin(), r.relative_variation.end()) -
                                         r.relative_variation.begin());

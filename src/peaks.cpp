@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <fmt/format.h>
 
 #include "toolpoint/error.hpp"
@@ -66,6 +67,41 @@ std::vector<Peak> find_peaks(const FrfSeries& frf, const PeakOptions& options, c
     p.magnitude = m;
   }
   return peaks;
+}
+
+std::vector<std::vector<double>> track_modes(const std::vector<std::vector<Peak>>& family, std::size_t reference,
+                                             double tolerance, bool ordered) {
+  if (reference >= family.size())
+    throw InvalidArgument(fmt::format("mode tracking: reference member {} outside the {} FRFs", reference, family.size()));
+  if (!(tolerance > 0.0 && tolerance < 1.0)) throw InvalidArgument(fmt::format("mode tracking tolerance {} must lie in (0, 1)", tolerance));
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const std::size_t modes = family[reference].size(), n = family.size();
+  std::vector<std::vector<double>> f(modes, std::vector<double>(n, nan));
+  for (std::size_t m = 0; m < modes; ++m) f[m][reference] = family[reference][m].frequency_hz;
+  // Walk away from the reference; `last[m]` is the frequency where mode m was last seen.
+  for (int dir : {-1, 1}) {
+    std::vector<double> last(modes);
+    for (std::size_t m = 0; m < modes; ++m) last[m] = f[m][reference];
+    for (std::ptrdiff_t k = static_cast<std::ptrdiff_t>(reference) + dir; k >= 0 && k < static_cast<std::ptrdiff_t>(n); k += dir) {
+      const auto& peaks = family[static_cast<std::size_t>(k)];
+      struct Pair { double d; std::size_t m, p; };
+      std::vector<Pair> pairs;
+      for (std::size_t m = 0; m < modes; ++m)
+        for (std::size_t p = 0; p < peaks.size(); ++p) {
+          const double d = std::abs(peaks[p].frequency_hz - last[m]) / last[m];
+          if (d <= tolerance) pairs.push_back({d, m, p});
+        }
+      std::sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) { return a.d < b.d; });
+      std::vector<bool> mode_used(modes, false), peak_used(peaks.size(), false);
+      for (const Pair& q : pairs) {
+        if (mode_used[q.m] || peak_used[q.p]) continue;
+        mode_used[q.m] = peak_used[q.p] = true;
+        f[q.m][static_cast<std::size_t>(k)] = peaks[q.p].frequency_hz;
+        if (ordered) last[q.m] = peaks[q.p].frequency_hz;
+      }
+    }
+  }
+  return f;
 }
 
 std::pair<double, double> refine_peak(const std::function<double(double)>& magnitude, double lo, double hi) {

@@ -11,6 +11,7 @@
 #include <fcntl.h>
 #include <filesystem>
 #include <limits>
+#include <map>
 #include <poll.h>
 #include <pthread.h>
 #include <spawn.h>
@@ -1116,6 +1117,8 @@ Figure lobes_figure(const LobesFigureData& data) {
   const std::vector<double> env = mm_of(data.envelope_depth_m);
   if (!data.envelope_rpm.empty()) depth.fills.push_back({data.envelope_rpm, env, 0.0, "stable"});
   bool named = false;
+  std::map<int, TextLabel> lowest;  // per lobe number (a lobe may come as several branches)
+  double rpm_lo = std::numeric_limits<double>::infinity(), rpm_hi = -rpm_lo;
   for (const Lobe& l : data.lobes) {
     const std::vector<double> mm = mm_of(l.depth_m);
     // The lobe number sits above the lobe's lowest point, in the unstable region; a lobe whose
@@ -1124,12 +1127,25 @@ Figure lobes_figure(const LobesFigureData& data) {
     for (std::size_t k = 0; k < mm.size(); ++k)
       if (std::isfinite(mm[k]) && std::isfinite(l.spindle_speed_rpm[k]) && (low == mm.size() || mm[k] < mm[low])) low = k;
     if (low == mm.size()) continue;  // nothing to draw
-    if (low > 0 && low + 1 < mm.size() && mm[low] < top * 1000.0)
-      depth.labels.push_back({l.spindle_speed_rpm[low], mm[low], fmt::format("{}", l.number), false});
+    for (double r : l.spindle_speed_rpm)
+      if (std::isfinite(r)) rpm_lo = std::min(rpm_lo, r), rpm_hi = std::max(rpm_hi, r);
+    if (low > 0 && low + 1 < mm.size() && mm[low] < top * 1000.0) {
+      auto it = lowest.find(l.number);
+      if (it == lowest.end() || mm[low] < it->second.y)
+        lowest[l.number] = {l.spindle_speed_rpm[low], mm[low], fmt::format("{}", l.number), false};
+    }
     depth.curves.push_back({l.spindle_speed_rpm, mm, named ? "" : "lobes", CurveStyle::Dashed, 2});
     if (!l.chatter_frequency_hz.empty())
       chatter.curves.push_back({l.spindle_speed_rpm, l.chatter_frequency_hz, named ? "" : "lobes", CurveStyle::Dashed, 2});
     named = true;
+  }
+  // Lobe numbers from the highest speed down (lobe 0 first); one that would sit within 6 % of the
+  // speed range of a number already placed is left out: high lobes crowd at low speed.
+  double last = std::numeric_limits<double>::infinity();
+  for (const auto& [number, label] : lowest) {
+    if (std::abs(last - label.x) < 0.06 * (rpm_hi - rpm_lo)) continue;
+    depth.labels.push_back(label);
+    last = label.x;
   }
   // The envelope last, on top of the lobes that form it.
   if (!data.envelope_rpm.empty()) depth.curves.push_back({data.envelope_rpm, env, "stability limit", CurveStyle::Line, 0});

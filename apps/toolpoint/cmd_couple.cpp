@@ -24,11 +24,12 @@ namespace {
 
 struct CoupleOptions {
   std::string sh, assembly, overhang, output, plot;
+  double prominence = 0.1;
   bool json = false;
 };
 
 void print_report(const CoupleOptions& o, const Globals& g, double inside, const std::vector<double>& overhangs,
-                  const std::vector<std::vector<Peak>>& all_peaks, bool sweep);
+                  const std::vector<std::vector<double>>& modes, bool sweep);
 
 // --overhang: one length or a sweep START:STOP:STEP, in m (empty: none given).
 std::vector<double> parse_overhangs(const std::string& text) {
@@ -74,7 +75,6 @@ void run_couple(const CoupleOptions& o, const Globals& g) {
 
   const double inside = loaded.assembly.tool.length - loaded.assembly.tool.overhang;
   Table table;
-  std::size_t max_modes = 0;
   std::vector<std::vector<Peak>> all_peaks;
   nlohmann::json j;
   j["sh11"] = o.sh;
@@ -88,8 +88,7 @@ void run_couple(const CoupleOptions& o, const Globals& g) {
     const Assembly a = with_overhang(loaded.assembly, L);
     const BlockSeries sht = couple_tool(a, sh, o.sh);
     tool_point_h.push_back(entry(sht, 0));
-    const auto peaks = find_peaks(entry(sht, 0));
-    max_modes = std::max(max_modes, peaks.size());
+    const auto peaks = find_peaks(entry(sht, 0), PeakOptions{o.prominence});
     all_peaks.push_back(peaks);
     std::string file;
     if (!o.output.empty()) {
@@ -104,17 +103,22 @@ void run_couple(const CoupleOptions& o, const Globals& g) {
     for (const Peak& p : peaks) modes.push_back({{"peak_frequency_hz", p.frequency_hz}, {"peak_magnitude_m_per_n", p.magnitude}});
     j["overhangs"].push_back({{"overhang_m", L}, {"file", file}, {"modes", modes}});
   }
+  // Modes followed through the sweep from the overhang nearest the file's (the seed's Fig. 10).
+  std::size_t ref = 0;
+  for (std::size_t i = 1; i < overhangs.size(); ++i)
+    if (std::abs(overhangs[i] - loaded.assembly.tool.overhang) < std::abs(overhangs[ref] - loaded.assembly.tool.overhang)) ref = i;
+  const std::vector<std::vector<double>> modes = track_modes(all_peaks, ref);
   table.columns = {"overhang_m"};
-  for (std::size_t m = 0; m < max_modes; ++m) table.columns.push_back(fmt::format("mode_{}_hz", m + 1));
+  for (std::size_t m = 0; m < modes.size(); ++m) table.columns.push_back(fmt::format("mode_{}_hz", m + 1));
   for (std::size_t i = 0; i < overhangs.size(); ++i) {
     std::vector<double> row{overhangs[i]};
-    for (std::size_t m = 0; m < max_modes; ++m)
-      row.push_back(m < all_peaks[i].size() ? all_peaks[i][m].frequency_hz : std::numeric_limits<double>::quiet_NaN());
+    for (const auto& mode : modes) row.push_back(mode[i]);
     table.rows.push_back(row);
   }
   if (sweep) {
     write_table_csv(o.output + "/natural_frequencies.csv", table,
-                    {"peaks of |H| of the coupled tool point FRF against tool overhang (seed Fig. 10); nan: no peak",
+                    {"modes of the coupled tool point FRF against tool overhang (seed Fig. 10): peaks of |H| followed from "
+                     "the overhang nearest the assembly file's to within 15 % per step; nan: not found",
                      "overhang in m, frequencies in Hz"});
     j["natural_frequencies_file"] = o.output + "/natural_frequencies.csv";
     written.push_back(o.output + "/natural_frequencies.csv");
@@ -124,7 +128,7 @@ void run_couple(const CoupleOptions& o, const Globals& g) {
   if (o.json) {
     std::cout << j.dump(2) << '\n';
   } else {
-    print_report(o, g, inside, overhangs, all_peaks, sweep);
+    print_report(o, g, inside, overhangs, modes, sweep);
   }
   if (o.plot.empty()) return;
   plot::FrfFigureOptions fo;
@@ -135,23 +139,21 @@ void run_couple(const CoupleOptions& o, const Globals& g) {
   if (sweep) {
     plot::OverhangSweep sw;
     sw.overhang_m = overhangs;
-    sw.frequency_hz.assign(max_modes, std::vector<double>(overhangs.size(), std::numeric_limits<double>::quiet_NaN()));
-    for (std::size_t i = 0; i < overhangs.size(); ++i)
-      for (std::size_t m = 0; m < all_peaks[i].size(); ++m) sw.frequency_hz[m][i] = all_peaks[i][m].frequency_hz;
-    sw.title = "Peaks of |H^{sht}_{11}| against tool overhang (seed Fig. 10)";
-    if (max_modes > 0) figures.push_back({plot::natural_frequency_figure(sw), with_suffix(o.plot, "_frequencies")});
+    sw.frequency_hz = modes;
+    sw.title = "Modes of H^{sht}_{11} against tool overhang (seed Fig. 10)";
+    if (!modes.empty()) figures.push_back({plot::natural_frequency_figure(sw), with_suffix(o.plot, "_frequencies")});
   }
   draw_figures(g, figures, written);
 }
 
 void print_report(const CoupleOptions& o, const Globals& g, double inside, const std::vector<double>& overhangs,
-                  const std::vector<std::vector<Peak>>& all_peaks, bool sweep) {
+                  const std::vector<std::vector<double>>& modes, bool sweep) {
   std::cout << fmt::format("tool point FRF from {} + model tool ({:.1f} mm inside the holder) + holder–tool joint (Eq. 5)\n", o.sh,
                            1000 * inside);
-  std::cout << "overhang_mm  peak frequencies of |H| [Hz]\n";
+  std::cout << "overhang_mm  natural frequencies (peaks of |H|, followed mode by mode) [Hz]\n";
   for (std::size_t i = 0; i < overhangs.size(); ++i) {
     std::cout << fmt::format("{:11.1f} ", 1000 * overhangs[i]);
-    for (const Peak& p : all_peaks[i]) std::cout << fmt::format(" {:9.1f}", p.frequency_hz);
+    for (const auto& mode : modes) std::cout << (std::isnan(mode[i]) ? fmt::format(" {:>9}", "-") : fmt::format(" {:9.1f}", mode[i]));
     std::cout << "\n";
   }
   std::cout << std::flush;
@@ -169,6 +171,10 @@ void add_couple_command(CLI::App& app, Globals& g) {
       ->required();
   c->add_option("--assembly", o->assembly, "Assembly file (TOML, SI units): the tool and the holder–tool joint (required)")
       ->required();
+  c->add_option("--prominence", o->prominence,
+                "A peak counts as a mode when it rises this fraction of its height above the valleys around it "
+                "(0.1 = 10 %: keeps measurement noise in SH11 from making modes)")
+      ->capture_default_str();
   c->add_option("--overhang", o->overhang,
                 "Tool overhang [m], or a sweep START:STOP:STEP [m] (default: the file's tool.overhang). The length inside "
                 "the holder is kept");

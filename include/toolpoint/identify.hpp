@@ -130,9 +130,10 @@ struct EffectAnalysis {
 EffectAnalysis effect_analysis(const Assembly& assembly, JointKind joint, bool tool_point_frf,
                                const std::vector<double>& frequency_hz, double step = 0.1);
 
-// The mode that moves most with the tool overhang (the seed's Fig. 10): peaks of each FRF
-// (ordered by overhang), matched to the reference FRF's peaks by nearest frequency; returns the
-// reference peak whose frequency varies most (relative range over the FRFs).
+// The mode that moves most with the tool overhang (the seed's Fig. 10): the reference FRF's peaks
+// found in each FRF (any order; track_modes against the reference within 25 %), the one whose
+// frequency varies most (relative range) is dominant. Throws InvalidArgument (fewer than 2 FRFs, bad reference)
+// and InputError (no peak in the reference FRF).
 struct OverhangModes {
   std::vector<Peak> reference_peaks;
   std::vector<double> relative_variation;  // per reference peak

@@ -38,6 +38,18 @@ std::vector<Peak> find_peaks(const FrfSeries& frf, const PeakOptions& options = 
 // any frequency) between its grid neighbours.
 std::vector<Peak> find_peaks(const FrfSeries& frf, const PeakOptions& options, const std::function<double(double)>& magnitude);
 
+// Modes followed through a family of FRFs (an overhang sweep, the seed's Fig. 10): the modes are
+// the peaks of member `reference`. `ordered` (members in order of the swept parameter): from the
+// reference outwards in both directions, each mode is matched in the next member to the nearest
+// peak within `tolerance` (relative) of its frequency in the last member where it was found, so
+// modes may move far over a long sweep. Not ordered: every member is matched against the
+// reference directly. Either way one peak per mode, closest pairs first; peaks matched to no mode
+// (noise, a mode born in the sweep) are left out. Result: [mode][member] frequency in Hz, NaN where
+// the mode was not found. Throws InvalidArgument for a reference outside the family or a tolerance
+// outside (0, 1).
+std::vector<std::vector<double>> track_modes(const std::vector<std::vector<Peak>>& family, std::size_t reference,
+                                             double tolerance = 0.15, bool ordered = true);
+
 // Refines a peak of a magnitude function on [lo_hz, hi_hz] (it must be unimodal there) by
 // golden-section search to a relative frequency tolerance of 1e-9. Returns (frequency, magnitude).
 std::pair<double, double> refine_peak(const std::function<double(double)>& magnitude, double lo_hz, double hi_hz);
