@@ -115,86 +115,123 @@ Segment Segment::tube(double length, double outer_diameter, double inner_diamete
 
 namespace {
 
-// (1 − e^{−z})/z, accurate for small |z| (series) and any Re z ≥ 0.
-Complex one_minus_exp_over(Complex z) {
-  if (std::abs(z) < 0.25) {
-    Complex term(1.0, 0.0), sum(1.0, 0.0);
-    for (int k = 1; k < 14; ++k) {
-      term *= -z / static_cast<double>(k + 1);
-      sum += term;
-    }
-    return sum;
-  }
-  return (1.0 - std::exp(-z)) / z;
+// |z| as sqrt(x² + y²): within an ulp of std::abs (hypot), which guards against over- and
+// underflow at several times the cost. Those guards are only needed far outside the range of
+// receptances and wavenumbers, so std::abs is kept for there.
+inline double abs_fast(Complex z) {
+  const double n = z.real() * z.real() + z.imag() * z.imag();
+  return n > 1e-290 && n < 1e290 ? std::sqrt(n) : std::abs(z);
 }
 
-// Inverse of a 2×2 complex matrix; `ok` false when it is numerically singular.
-struct C2 {
-  Complex a, b, c, d;  // [[a, b], [c, d]]
-};
-
-inline C2 mul(const C2& x, const C2& y) {
-  return {x.a * y.a + x.b * y.c, x.a * y.b + x.b * y.d, x.c * y.a + x.d * y.c, x.c * y.b + x.d * y.d};
+// Principal square root (Re ≥ 0; the sign of a zero imaginary part kept, as std::sqrt), by the
+// cancellation-free t = sqrt((|z| + |x|)/2): a few ulps, like the libm one, at a third of its cost.
+inline Complex sqrt_principal(Complex z) {
+  const double x = z.real(), y = z.imag();
+  const double n = x * x + y * y;
+  if (!(n > 1e-290 && n < 1e290)) return std::sqrt(z);
+  const double t = std::sqrt(0.5 * (std::sqrt(n) + std::abs(x)));
+  if (x >= 0.0) return {t, y / (2.0 * t)};
+  return {std::abs(y) / (2.0 * t), std::copysign(t, y)};
 }
 
-inline bool inv(const C2& m, C2& out) {
-  const Complex det = m.a * m.d - m.b * m.c;
-  const double scale = std::abs(m.a * m.d) + std::abs(m.b * m.c);
-  if (!(std::abs(det) > 1e-14 * scale)) return false;
-  const Complex r = 1.0 / det;
-  out = {m.d * r, -m.b * r, -m.c * r, m.a * r};
-  return true;
+// e^{−z} − 1 for Re z ≥ 0, accurate for small |z| too (no cancellation):
+//   Re = e^{−x} cos y − 1 = expm1(−x) cos y + (cos y − 1), cos y − 1 = −sin²y/(1 + cos y) for cos y > 0,
+//   Im = −e^{−x} sin y.
+// Both real terms are ≤ 0 for x ≥ 0 and cos y > 0, so they do not cancel; one expm1 and one
+// sincos serve both the symmetric and antisymmetric shape functions.
+inline Complex exp_neg_minus_one(Complex z) {
+  const double em1 = std::expm1(-z.real());
+  const double cy = std::cos(z.imag()), sy = std::sin(z.imag());
+  const double cm1 = cy > 0.0 ? -sy * sy / (1.0 + cy) : cy - 1.0;
+  return {em1 * cy + cm1, -(1.0 + em1) * sy};
 }
 
 }  // namespace
 
-TwoPort exact_receptance(const SectionProperties& sp, double length, double frequency_hz) {
+SectionWaves section_waves(const SectionProperties& sp, double frequency_hz) {
   if (!(frequency_hz > 0.0) || !std::isfinite(frequency_hz))
     throw InvalidArgument(fmt::format("frequency {} Hz must be > 0 (free–free receptances are unbounded at 0 Hz)", frequency_hz));
   const double w2 = omega_of(frequency_hz) * omega_of(frequency_hz);
   const Complex a = sp.kGA, b = sp.EI;
   const double mA = sp.rhoA, mI = sp.rhoI;
 
-  // Wavenumbers: a b p² + (a ρI + b ρA) Ω² p − ρA Ω² (a − ρI Ω²) = 0, p = s².
+  // Wavenumbers: a b p² + (a ρI + b ρA) Ω² p − ρA Ω² (a − ρI Ω²) = 0, p = s². The root of larger
+  // modulus first, the other from the product of the roots (no cancellation).
   const Complex B = (a * mI + b * mA) * w2;
   const Complex C = mA * w2 * (a - mI * w2);
   const Complex ab = a * b;
-  Complex sq = std::sqrt(B * B + 4.0 * ab * C);
+  Complex sq = sqrt_principal(B * B + 4.0 * ab * C);
   if ((std::conj(B) * sq).real() < 0.0) sq = -sq;
   const Complex q = -0.5 * (B + sq);
-  const Complex p[2] = {q / ab, -C / q};
-
-  // Symmetric basis φ = e^{−sL/2} cosh(s y), antisymmetric φ = e^{−sL/2} sinh(s y)/s, y from
-  // mid-span; fields w = a φ', ψ = (a p + ρAΩ²) φ, M = b (a p + ρAΩ²) φ', Q = −a ρA Ω² φ.
-  Complex c[2], S[2], pS[2], e[2];
+  SectionWaves w;
+  w.frequency_hz = frequency_hz;
+  w.p[0] = q / ab;
+  w.p[1] = -C / q;
   for (int j = 0; j < 2; ++j) {
-    const Complex s = std::sqrt(p[j]);  // principal branch: Re s ≥ 0, so e^{−sL} is bounded
-    const Complex z = s * length;
-    c[j] = 0.5 * (1.0 + std::exp(-z));
-    S[j] = 0.5 * length * one_minus_exp_over(z);
-    pS[j] = p[j] * S[j];
-    e[j] = a * p[j] + mA * w2;
+    w.s[j] = sqrt_principal(w.p[j]);
+    w.e[j] = a * w.p[j] + mA * w2;
   }
+  w.de = w.e[1] - w.e[0];
   const Complex u = -a * mA * w2;
-  const C2 Ms{u * c[0], u * c[1], b * e[0] * pS[0], b * e[1] * pS[1]};
-  const C2 Rs{a * pS[0], a * pS[1], e[0] * c[0], e[1] * c[1]};
-  const C2 Ma{u * S[0], u * S[1], b * e[0] * c[0], b * e[1] * c[1]};
-  const C2 Ra{a * c[0], a * c[1], e[0] * S[0], e[1] * S[1]};
-  C2 Msi, Mai;
-  if (!inv(Ms, Msi) || !inv(Ma, Mai))
+  w.a_over_u = -1.0 / (mA * w2);
+  w.a_over_b = a / b;
+  w.inv_b = 1.0 / b;
+  w.ee_over_u = w.e[0] * w.e[1] / u;
+  return w;
+}
+
+// Symmetric basis φ = e^{−sL/2} cosh(s y), antisymmetric φ = e^{−sL/2} sinh(s y)/s, y from
+// mid-span; fields w = a φ', ψ = (a p + ρAΩ²) φ = e φ, M = b e φ', Q = u φ with u = −a ρA Ω².
+// At y = +L/2, per wave j: c_j = e^{−sL/2} cosh(sL/2) = (1 + e^{−sL})/2 and
+// S_j = e^{−sL/2} sinh(sL/2)/s = (L/2)(1 − e^{−sL})/(sL). (Q, M) = M_x α and (w, ψ) = R_x α for the
+// wave amplitudes α; the end compliance is g_x = R_x M_x⁻¹ with, for the symmetric part,
+//   M_s = [[u c_0, u c_1], [b e_0 p_0 S_0, b e_1 p_1 S_1]],  R_s = [[a p_0 S_0, a p_1 S_1], [e_0 c_0, e_1 c_1]]
+// and for the antisymmetric part M_a = [[u S_0, u S_1], [b e_0 c_0, b e_1 c_1]], R_a = [[a c_0, a c_1], [e_0 S_0, e_1 S_1]].
+// Written out (det M_s = u b Δ_s, det M_a = u b Δ_a):
+//   g_s = [[a/u · pS_0 pS_1 (e_1 − e_0), a/b · X_s], [e_0 e_1/u · X_s, c_0 c_1 (e_1 − e_0)/b]] / Δ_s,
+//         Δ_s = c_0 e_1 pS_1 − c_1 e_0 pS_0,  X_s = c_0 pS_1 − c_1 pS_0;
+//   g_a = [[a/u · c_0 c_1 (e_1 − e_0), a/b · X_a], [e_0 e_1/u · X_a, S_0 S_1 (e_1 − e_0)/b]] / Δ_a,
+//         Δ_a = S_0 e_1 c_1 − S_1 e_0 c_0,  X_a = S_0 c_1 − S_1 c_0.
+// All terms stay bounded for any sL (the e^{−sL/2} scaling) and are entire in s, so the cut-off
+// (p_1 = 0) needs no special case.
+TwoPort exact_receptance(const SectionWaves& w, double length) {
+  Complex c[2], S[2], pS[2];
+  for (int j = 0; j < 2; ++j) {
+    const Complex z = w.s[j] * length;
+    const Complex m1 = exp_neg_minus_one(z);  // e^{−z} − 1
+    c[j] = 1.0 + 0.5 * m1;
+    S[j] = z == Complex(0.0, 0.0) ? Complex(0.5 * length, 0.0) : -0.5 * length * (m1 / z);
+    pS[j] = w.p[j] * S[j];
+  }
+  const Complex s0 = c[0] * w.e[1] * pS[1], s1 = c[1] * w.e[0] * pS[0];
+  const Complex a0 = S[0] * w.e[1] * c[1], a1 = S[1] * w.e[0] * c[0];
+  const Complex ds = s0 - s1, da = a0 - a1;
+  // The test inverse() applies to M_s and M_a, |det| ≤ 1e-14 (|m_00 m_11| + |m_01 m_10|), with u b
+  // divided out.
+  if (!(abs_fast(ds) > 1e-14 * (abs_fast(s0) + abs_fast(s1))) || !(abs_fast(da) > 1e-14 * (abs_fast(a0) + abs_fast(a1))))
     throw NumericalError(fmt::format("{} Hz is a natural frequency of an undamped free–free segment (L = {} m): "
                                      "the receptance is unbounded there",
-                                     frequency_hz, length),
+                                     w.frequency_hz, length),
                          "give the material a loss factor > 0 or move the frequency grid off the resonance");
+  const Complex rs = 1.0 / ds, ra = 1.0 / da;
+  const Complex xs = (c[0] * pS[1] - c[1] * pS[0]) * rs, xa = (S[0] * c[1] - S[1] * c[0]) * ra;
+  const Complex cc = c[0] * c[1] * w.de;
   // (w, ψ) at y = +L/2 from (Q, M) at y = +L/2, for the symmetric and antisymmetric parts.
-  const C2 gs = mul(Rs, Msi), ga = mul(Ra, Mai);
+  const Complex gs_a = w.a_over_u * (pS[0] * pS[1] * w.de * rs), gs_b = w.a_over_b * xs, gs_c = w.ee_over_u * xs,
+                gs_d = w.inv_b * (cc * rs);
+  const Complex ga_a = w.a_over_u * (cc * ra), ga_b = w.a_over_b * xa, ga_c = w.ee_over_u * xa,
+                ga_d = w.inv_b * (S[0] * S[1] * w.de * ra);
 
   TwoPort t;
-  t.b11 = make_block(0.5 * (gs.a + ga.a), 0.5 * (gs.b + ga.b), 0.5 * (gs.c + ga.c), 0.5 * (gs.d + ga.d));
-  t.b12 = make_block(0.5 * (ga.a - gs.a), 0.5 * (gs.b - ga.b), 0.5 * (ga.c - gs.c), 0.5 * (gs.d - ga.d));
-  t.b21 = make_block(0.5 * (ga.a - gs.a), 0.5 * (ga.b - gs.b), 0.5 * (gs.c - ga.c), 0.5 * (gs.d - ga.d));
-  t.b22 = make_block(0.5 * (gs.a + ga.a), -0.5 * (gs.b + ga.b), -0.5 * (gs.c + ga.c), 0.5 * (gs.d + ga.d));
+  t.b11 = make_block(0.5 * (gs_a + ga_a), 0.5 * (gs_b + ga_b), 0.5 * (gs_c + ga_c), 0.5 * (gs_d + ga_d));
+  t.b12 = make_block(0.5 * (ga_a - gs_a), 0.5 * (gs_b - ga_b), 0.5 * (ga_c - gs_c), 0.5 * (gs_d - ga_d));
+  t.b21 = make_block(0.5 * (ga_a - gs_a), 0.5 * (ga_b - gs_b), 0.5 * (gs_c - ga_c), 0.5 * (gs_d - ga_d));
+  t.b22 = make_block(0.5 * (gs_a + ga_a), -0.5 * (gs_b + ga_b), -0.5 * (gs_c + ga_c), 0.5 * (gs_d + ga_d));
   return t;
+}
+
+TwoPort exact_receptance(const SectionProperties& sp, double length, double frequency_hz) {
+  return exact_receptance(section_waves(sp, frequency_hz), length);
 }
 
 TwoPort exact_receptance(const Segment& segment, double frequency_hz) {

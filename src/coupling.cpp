@@ -10,16 +10,50 @@
 
 namespace toolpoint {
 
+namespace {
+
+// |z| as sqrt(x² + y²): within an ulp of std::abs (hypot), which guards against over- and
+// underflow at several times the cost; std::abs is kept for outside the safe range.
+inline double abs_fast(Complex z) {
+  const double n = z.real() * z.real() + z.imag() * z.imag();
+  return n > 1e-290 && n < 1e290 ? std::sqrt(n) : std::abs(z);
+}
+
+// 2×2 products written out: the same sums in the same order as Eigen's coefficient-based
+// product, without its per-call temporaries (the coupling runs once per piece per frequency).
+inline Block mul(const Block& x, const Block& y) {
+  Block r;
+  r(0, 0) = x(0, 0) * y(0, 0) + x(0, 1) * y(1, 0);
+  r(1, 0) = x(1, 0) * y(0, 0) + x(1, 1) * y(1, 0);
+  r(0, 1) = x(0, 0) * y(0, 1) + x(0, 1) * y(1, 1);
+  r(1, 1) = x(1, 0) * y(0, 1) + x(1, 1) * y(1, 1);
+  return r;
+}
+
+// I + x y
+inline Block identity_plus_mul(const Block& x, const Block& y) {
+  Block r = mul(x, y);
+  r(0, 0) += 1.0;
+  r(1, 1) += 1.0;
+  return r;
+}
+
+}  // namespace
+
 Block inverse_checked(const Block& m, const char* what) {
-  const Complex det = m(0, 0) * m(1, 1) - m(0, 1) * m(1, 0);
-  const double scale = std::abs(m(0, 0) * m(1, 1)) + std::abs(m(0, 1) * m(1, 0));
-  if (!(std::abs(det) > 1e-14 * scale) || !std::isfinite(std::abs(det)))
+  const Complex ad = m(0, 0) * m(1, 1), bc = m(0, 1) * m(1, 0);
+  const Complex det = ad - bc;
+  const double adet = abs_fast(det);
+  if (!(adet > 1e-14 * (abs_fast(ad) + abs_fast(bc))) || !std::isfinite(adet))
     throw NumericalError(fmt::format("{} is singular: {} (|det| = {:.3g})", what, format_block(m), std::abs(det)),
                          "the structure has an undamped resonance exactly at this frequency, or the data are "
                          "inconsistent; add damping or move the frequency grid");
   const Complex r = 1.0 / det;
   Block inv;
-  inv << m(1, 1) * r, -m(0, 1) * r, -m(1, 0) * r, m(0, 0) * r;
+  inv(0, 0) = m(1, 1) * r;
+  inv(1, 0) = -m(1, 0) * r;
+  inv(0, 1) = -m(0, 1) * r;
+  inv(1, 1) = m(0, 0) * r;
   return inv;
 }
 
@@ -35,7 +69,7 @@ double condition_number(const Block& m) {
 }
 
 double frobenius_condition(const Block& m) {
-  const double det = std::abs(m(0, 0) * m(1, 1) - m(0, 1) * m(1, 0));
+  const double det = abs_fast(m(0, 0) * m(1, 1) - m(0, 1) * m(1, 0));
   return det > 0.0 ? m.squaredNorm() / det : std::numeric_limits<double>::infinity();
 }
 
@@ -44,12 +78,12 @@ namespace {
 Block interface_rigid(const TwoPort& a, const Block& b11) { return inverse_checked(a.b22 + b11, "rigid-coupling interface matrix (A22 + B11)"); }
 
 Block interface_elastic(const TwoPort& a, const Block& b11, const Block& K) {
-  return K * inverse_checked(Block::Identity() + (a.b22 + b11) * K, "elastic-coupling interface matrix (I + (A22 + B11) K)");
+  return mul(K, inverse_checked(identity_plus_mul(a.b22 + b11, K), "elastic-coupling interface matrix (I + (A22 + B11) K)"));
 }
 
 TwoPort assemble(const TwoPort& a, const TwoPort& b, const Block& X) {
-  const Block xa21 = X * a.b21, xb12 = X * b.b12;
-  return {a.b11 - a.b12 * xa21, a.b12 * xb12, b.b21 * xa21, b.b22 - b.b21 * xb12};
+  const Block xa21 = mul(X, a.b21), xb12 = mul(X, b.b12);
+  return {a.b11 - mul(a.b12, xa21), mul(a.b12, xb12), mul(b.b21, xa21), b.b22 - mul(b.b21, xb12)};
 }
 
 }  // namespace
@@ -63,10 +97,10 @@ TwoPort couple(const TwoPort& a, const TwoPort& b, const Joint& joint, double fr
 }
 
 Block couple_elastic_point(const TwoPort& a, const Block& b11, const Block& K) {
-  return a.b11 - a.b12 * interface_elastic(a, b11, K) * a.b21;
+  return a.b11 - mul(mul(a.b12, interface_elastic(a, b11, K)), a.b21);
 }
 
-Block couple_rigid_point(const TwoPort& a, const Block& b11) { return a.b11 - a.b12 * interface_rigid(a, b11) * a.b21; }
+Block couple_rigid_point(const TwoPort& a, const Block& b11) { return a.b11 - mul(mul(a.b12, interface_rigid(a, b11)), a.b21); }
 
 Block couple_point(const TwoPort& a, const Block& b11, const Joint& joint, double frequency_hz) {
   return joint.rigid ? couple_rigid_point(a, b11) : couple_elastic_point(a, b11, joint.parameters.stiffness(frequency_hz));
@@ -132,19 +166,19 @@ Eigen::MatrixXcd ground_node(const Eigen::MatrixXcd& G, Eigen::Index node, const
 }
 
 Block ground_point(const Block& h, const Block& D) {
-  return h * inverse_checked(Block::Identity() + D * h, "structural-modification matrix (I + D H)");
+  return mul(h, inverse_checked(identity_plus_mul(D, h), "structural-modification matrix (I + D H)"));
 }
 
 TwoPort ground_end1(const TwoPort& t, const Block& D) {
-  const Block Y = D * inverse_checked(Block::Identity() + t.b11 * D, "structural-modification matrix (I + T11 D)");
-  const Block y11 = Y * t.b11, y12 = Y * t.b12;
-  return {t.b11 - t.b11 * y11, t.b12 - t.b11 * y12, t.b21 - t.b21 * y11, t.b22 - t.b21 * y12};
+  const Block Y = mul(D, inverse_checked(identity_plus_mul(t.b11, D), "structural-modification matrix (I + T11 D)"));
+  const Block y11 = mul(Y, t.b11), y12 = mul(Y, t.b12);
+  return {t.b11 - mul(t.b11, y11), t.b12 - mul(t.b11, y12), t.b21 - mul(t.b21, y11), t.b22 - mul(t.b21, y12)};
 }
 
 TwoPort ground_end2(const TwoPort& t, const Block& D) {
-  const Block Y = D * inverse_checked(Block::Identity() + t.b22 * D, "structural-modification matrix (I + T22 D)");
-  const Block y21 = Y * t.b21, y22 = Y * t.b22;
-  return {t.b11 - t.b12 * y21, t.b12 - t.b12 * y22, t.b21 - t.b22 * y21, t.b22 - t.b22 * y22};
+  const Block Y = mul(D, inverse_checked(identity_plus_mul(t.b22, D), "structural-modification matrix (I + T22 D)"));
+  const Block y21 = mul(Y, t.b21), y22 = mul(Y, t.b22);
+  return {t.b11 - mul(t.b12, y21), t.b12 - mul(t.b12, y22), t.b21 - mul(t.b22, y21), t.b22 - mul(t.b22, y22)};
 }
 
 }  // namespace toolpoint

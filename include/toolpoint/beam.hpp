@@ -97,6 +97,28 @@ struct Segment {
 TwoPort exact_receptance(const SectionProperties& section, double length, double frequency_hz);
 TwoPort exact_receptance(const Segment& segment, double frequency_hz);
 
+// The length-independent part of the above at one frequency: the two wavenumbers s_j (p_j = s_j²,
+// roots of κGA EI p² + (κGA ρI + EI ρA) Ω² p − ρA Ω² (κGA − ρI Ω²) = 0) and the constants the end
+// receptances need from them. A segment cut into pieces (at bearings, at the tool's insertion)
+// has one section: computing this once per frequency and reusing it for every piece gives what
+// exact_receptance(section, length, f) gives for each piece, without repeating the three complex
+// square roots. Units: s in 1/m, p in 1/m², e in N/m² (κGA p + ρAΩ²).
+struct SectionWaves {
+  double frequency_hz = 0.0;
+  Complex p[2], s[2];  // Re s ≥ 0 (principal root), so e^{−sL} is bounded
+  Complex e[2];        // κGA p_j + ρA Ω²
+  Complex de;          // e_1 − e_0
+  double a_over_u = 0.0;  // κGA / u = −1/(ρA Ω²), with u = −κGA ρA Ω² [m/kg·s²]
+  Complex a_over_b;       // κGA / EI [1/m²]
+  Complex inv_b;          // 1 / EI [1/(N·m²)]
+  Complex ee_over_u;      // e_0 e_1 / u
+};
+// Throws InvalidArgument for a frequency that is not > 0.
+SectionWaves section_waves(const SectionProperties& section, double frequency_hz);
+// End receptances of a piece of `length` m of the section `waves` was made for; throws
+// NumericalError at an exact undamped natural frequency, as exact_receptance.
+TwoPort exact_receptance(const SectionWaves& waves, double length);
+
 // ---- Modal summation (seed Eq. 11–14) ---------------------------------------------------------
 
 struct ModalOptions {
