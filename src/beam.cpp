@@ -8,9 +8,18 @@
 #include <fmt/format.h>
 
 #include "toolpoint/conventions.hpp"
+#include "toolpoint/coupling.hpp"
 #include "toolpoint/error.hpp"
 
 namespace toolpoint {
+
+using detail::abs_fast;
+using detail::both;
+using detail::CPair;
+using detail::lane;
+using detail::Lanes;
+using detail::pair;
+using detail::reciprocal;
 
 // ---- Material, section --------------------------------------------------------------------------
 
@@ -115,14 +124,6 @@ Segment Segment::tube(double length, double outer_diameter, double inner_diamete
 
 namespace {
 
-// |z| as sqrt(x² + y²): within an ulp of std::abs (hypot), which guards against over- and
-// underflow at several times the cost. Those guards are only needed far outside the range of
-// receptances and wavenumbers, so std::abs is kept for there.
-inline double abs_fast(Complex z) {
-  const double n = z.real() * z.real() + z.imag() * z.imag();
-  return n > 1e-290 && n < 1e290 ? std::sqrt(n) : std::abs(z);
-}
-
 // Principal square root (Re ≥ 0; the sign of a zero imaginary part kept, as std::sqrt), by the
 // cancellation-free t = sqrt((|z| + |x|)/2): a few ulps, like the libm one, at a third of its cost.
 inline Complex sqrt_principal(Complex z) {
@@ -163,70 +164,79 @@ SectionWaves section_waves(const SectionProperties& sp, double frequency_hz) {
   Complex sq = sqrt_principal(B * B + 4.0 * ab * C);
   if ((std::conj(B) * sq).real() < 0.0) sq = -sq;
   const Complex q = -0.5 * (B + sq);
+  const Complex inv_ab = reciprocal(ab);
+  const Complex p[2] = {q * inv_ab, -C * reciprocal(q)};
   SectionWaves w;
   w.frequency_hz = frequency_hz;
-  w.p[0] = q / ab;
-  w.p[1] = -C / q;
   for (int j = 0; j < 2; ++j) {
-    w.s[j] = sqrt_principal(w.p[j]);
-    w.e[j] = a * w.p[j] + mA * w2;
+    w.s[j] = sqrt_principal(p[j]);
+    w.inv_s[j] = w.s[j] == Complex(0.0, 0.0) ? Complex(0.0, 0.0) : reciprocal(w.s[j]);
+    w.e[j] = a * p[j] + mA * w2;
   }
-  w.de = w.e[1] - w.e[0];
-  const Complex u = -a * mA * w2;
-  w.a_over_u = -1.0 / (mA * w2);
-  w.a_over_b = a / b;
-  w.inv_b = 1.0 / b;
-  w.ee_over_u = w.e[0] * w.e[1] / u;
+  const Complex de = w.e[1] - w.e[0];
+  const Complex inv_b = a * inv_ab;
+  w.a_over_b = a * inv_b;
+  w.f_a = (-1.0 / (mA * w2)) * de;  // a/u = −1/(ρA Ω²)
+  w.f_d = de * inv_b;
   return w;
 }
 
 // Symmetric basis φ = e^{−sL/2} cosh(s y), antisymmetric φ = e^{−sL/2} sinh(s y)/s, y from
 // mid-span; fields w = a φ', ψ = (a p + ρAΩ²) φ = e φ, M = b e φ', Q = u φ with u = −a ρA Ω².
 // At y = +L/2, per wave j: c_j = e^{−sL/2} cosh(sL/2) = (1 + e^{−sL})/2 and
-// S_j = e^{−sL/2} sinh(sL/2)/s = (L/2)(1 − e^{−sL})/(sL). (Q, M) = M_x α and (w, ψ) = R_x α for the
-// wave amplitudes α; the end compliance is g_x = R_x M_x⁻¹ with, for the symmetric part,
+// S_j = e^{−sL/2} sinh(sL/2)/s = σ_j/s_j with σ_j = (1 − e^{−sL})/2 (L/2 at s = 0), so
+// p_j S_j = s_j σ_j (no division per piece). (Q, M) = M_x α and (w, ψ) = R_x α for the wave amplitudes α; the end
+// compliance is g_x = R_x M_x⁻¹ with, for the symmetric part,
 //   M_s = [[u c_0, u c_1], [b e_0 p_0 S_0, b e_1 p_1 S_1]],  R_s = [[a p_0 S_0, a p_1 S_1], [e_0 c_0, e_1 c_1]]
 // and for the antisymmetric part M_a = [[u S_0, u S_1], [b e_0 c_0, b e_1 c_1]], R_a = [[a c_0, a c_1], [e_0 S_0, e_1 S_1]].
-// Written out (det M_s = u b Δ_s, det M_a = u b Δ_a):
-//   g_s = [[a/u · pS_0 pS_1 (e_1 − e_0), a/b · X_s], [e_0 e_1/u · X_s, c_0 c_1 (e_1 − e_0)/b]] / Δ_s,
+// Written out (det M_s = u b Δ_s, det M_a = u b Δ_a, Δe = e_1 − e_0, pS_j = p_j S_j):
+//   g_s = [[a/u · pS_0 pS_1 Δe, a/b · X_s], [e_0 e_1/u · X_s, c_0 c_1 Δe/b]] / Δ_s,
 //         Δ_s = c_0 e_1 pS_1 − c_1 e_0 pS_0,  X_s = c_0 pS_1 − c_1 pS_0;
-//   g_a = [[a/u · c_0 c_1 (e_1 − e_0), a/b · X_a], [e_0 e_1/u · X_a, S_0 S_1 (e_1 − e_0)/b]] / Δ_a,
-//         Δ_a = S_0 e_1 c_1 − S_1 e_0 c_0,  X_a = S_0 c_1 − S_1 c_0.
-// All terms stay bounded for any sL (the e^{−sL/2} scaling) and are entire in s, so the cut-off
-// (p_1 = 0) needs no special case.
+//   g_a = [[a/u · c_0 c_1 Δe, a/b · X_a], [e_0 e_1/u · X_a, S_0 S_1 Δe/b]] / Δ_a,
+//         Δ_a = S_0 e_1 c_1 − S_1 e_0 c_0,  X_a = S_0 c_1 − S_1 c_0,
+// and e_0 e_1/u = a/b (Vieta: p_0 p_1 = −C/(ab), p_0 + p_1 = −B/(ab)), which is reciprocity
+// (L = N, T21 = T12ᵀ), exact here. All terms stay bounded for any sL (the e^{−sL/2} scaling) and
+// are entire in s, so the cut-off (p_1 = 0) needs no special case.
 TwoPort exact_receptance(const SectionWaves& w, double length) {
-  Complex c[2], S[2], pS[2];
+  // Per wave j: c_j, and (pS_j, S_j) = σ_j (s_j, 1/s_j) as a pair.
+  Complex c[2];
+  CPair pS_S[2];
   for (int j = 0; j < 2; ++j) {
-    const Complex z = w.s[j] * length;
-    const Complex m1 = exp_neg_minus_one(z);  // e^{−z} − 1
+    const Complex m1 = exp_neg_minus_one(w.s[j] * length);  // e^{−sL} − 1
     c[j] = 1.0 + 0.5 * m1;
-    S[j] = z == Complex(0.0, 0.0) ? Complex(0.5 * length, 0.0) : -0.5 * length * (m1 / z);
-    pS[j] = w.p[j] * S[j];
+    pS_S[j] = both(-0.5 * m1) * pair(w.s[j], w.inv_s[j]);
+    if (w.inv_s[j] == Complex(0.0, 0.0)) pS_S[j].re[1] = 0.5 * length, pS_S[j].im[1] = 0.0;  // S → L/2 as s → 0
   }
-  const Complex s0 = c[0] * w.e[1] * pS[1], s1 = c[1] * w.e[0] * pS[0];
-  const Complex a0 = S[0] * w.e[1] * c[1], a1 = S[1] * w.e[0] * c[0];
-  const Complex ds = s0 - s1, da = a0 - a1;
+  // Lane 0 symmetric, lane 1 antisymmetric: X = (P, U) − (Q, V) and Δ = e_1 (P, U) − e_0 (Q, V)
+  // with P = c_0 pS_1, Q = c_1 pS_0, U = c_1 S_0, V = c_0 S_1.
+  const CPair c01 = pair(c[0], c[1]), c10 = pair(c[1], c[0]);
+  const CPair PU = c01 * CPair{Lanes{pS_S[1].re[0], pS_S[0].re[1]}, Lanes{pS_S[1].im[0], pS_S[0].im[1]}};
+  const CPair QV = c10 * CPair{Lanes{pS_S[0].re[0], pS_S[1].re[1]}, Lanes{pS_S[0].im[0], pS_S[1].im[1]}};
+  const CPair t1 = both(w.e[1]) * PU, t2 = both(w.e[0]) * QV;
+  const CPair d = t1 - t2;
   // The test inverse() applies to M_s and M_a, |det| ≤ 1e-14 (|m_00 m_11| + |m_01 m_10|), with u b
   // divided out.
-  if (!(abs_fast(ds) > 1e-14 * (abs_fast(s0) + abs_fast(s1))) || !(abs_fast(da) > 1e-14 * (abs_fast(a0) + abs_fast(a1))))
-    throw NumericalError(fmt::format("{} Hz is a natural frequency of an undamped free–free segment (L = {} m): "
-                                     "the receptance is unbounded there",
-                                     w.frequency_hz, length),
-                         "give the material a loss factor > 0 or move the frequency grid off the resonance");
-  const Complex rs = 1.0 / ds, ra = 1.0 / da;
-  const Complex xs = (c[0] * pS[1] - c[1] * pS[0]) * rs, xa = (S[0] * c[1] - S[1] * c[0]) * ra;
-  const Complex cc = c[0] * c[1] * w.de;
-  // (w, ψ) at y = +L/2 from (Q, M) at y = +L/2, for the symmetric and antisymmetric parts.
-  const Complex gs_a = w.a_over_u * (pS[0] * pS[1] * w.de * rs), gs_b = w.a_over_b * xs, gs_c = w.ee_over_u * xs,
-                gs_d = w.inv_b * (cc * rs);
-  const Complex ga_a = w.a_over_u * (cc * ra), ga_b = w.a_over_b * xa, ga_c = w.ee_over_u * xa,
-                ga_d = w.inv_b * (S[0] * S[1] * w.de * ra);
+  for (int k = 0; k < 2; ++k)
+    if (!(abs_fast(lane(d, k)) > 1e-14 * (abs_fast(lane(t1, k)) + abs_fast(lane(t2, k)))))
+      throw NumericalError(fmt::format("{} Hz is a natural frequency of an undamped free–free segment (L = {} m): "
+                                       "the receptance is unbounded there",
+                                       w.frequency_hz, length),
+                           "give the material a loss factor > 0 or move the frequency grid off the resonance");
+  const CPair r = pair(reciprocal(lane(d, 0)), reciprocal(lane(d, 1)));  // (1/Δ_s, 1/Δ_a)
+  const Complex cc = c[0] * c[1];
+  const CPair prod = pS_S[0] * pS_S[1];  // (pS_0 pS_1, S_0 S_1)
+  // (w, ψ) at y = +L/2 from (Q, M) at y = +L/2: lane 0 g_s, lane 1 g_a.
+  const CPair ga = (both(w.f_a) * r) * pair(lane(prod, 0), cc);
+  const CPair gb = (both(w.a_over_b) * r) * (PU - QV);
+  const CPair gd = (both(w.f_d) * r) * pair(cc, lane(prod, 1));
 
   TwoPort t;
-  t.b11 = make_block(0.5 * (gs_a + ga_a), 0.5 * (gs_b + ga_b), 0.5 * (gs_c + ga_c), 0.5 * (gs_d + ga_d));
-  t.b12 = make_block(0.5 * (ga_a - gs_a), 0.5 * (gs_b - ga_b), 0.5 * (ga_c - gs_c), 0.5 * (gs_d - ga_d));
-  t.b21 = make_block(0.5 * (ga_a - gs_a), 0.5 * (ga_b - gs_b), 0.5 * (gs_c - ga_c), 0.5 * (gs_d - ga_d));
-  t.b22 = make_block(0.5 * (gs_a + ga_a), -0.5 * (gs_b + ga_b), -0.5 * (gs_c + ga_c), 0.5 * (gs_d + ga_d));
+  const Complex h = 0.5 * (lane(ga, 0) + lane(ga, 1)), l = 0.5 * (lane(gb, 0) + lane(gb, 1)), pp = 0.5 * (lane(gd, 0) + lane(gd, 1));
+  const Complex h12 = 0.5 * (lane(ga, 1) - lane(ga, 0)), l12 = 0.5 * (lane(gb, 0) - lane(gb, 1)), p12 = 0.5 * (lane(gd, 0) - lane(gd, 1));
+  t.b11(0, 0) = h, t.b11(0, 1) = l, t.b11(1, 0) = l, t.b11(1, 1) = pp;
+  t.b12(0, 0) = h12, t.b12(0, 1) = l12, t.b12(1, 0) = -l12, t.b12(1, 1) = p12;
+  t.b21(0, 0) = h12, t.b21(0, 1) = -l12, t.b21(1, 0) = l12, t.b21(1, 1) = p12;
+  t.b22(0, 0) = h, t.b22(0, 1) = -l, t.b22(1, 0) = -l, t.b22(1, 1) = pp;
   return t;
 }
 

@@ -105,13 +105,12 @@ TwoPort exact_receptance(const Segment& segment, double frequency_hz);
 // square roots. Units: s in 1/m, p in 1/m², e in N/m² (κGA p + ρAΩ²).
 struct SectionWaves {
   double frequency_hz = 0.0;
-  Complex p[2], s[2];  // Re s ≥ 0 (principal root), so e^{−sL} is bounded
-  Complex e[2];        // κGA p_j + ρA Ω²
-  Complex de;          // e_1 − e_0
-  double a_over_u = 0.0;  // κGA / u = −1/(ρA Ω²), with u = −κGA ρA Ω² [m/kg·s²]
-  Complex a_over_b;       // κGA / EI [1/m²]
-  Complex inv_b;          // 1 / EI [1/(N·m²)]
-  Complex ee_over_u;      // e_0 e_1 / u
+  Complex s[2];      // Re s ≥ 0 (principal root), so e^{−sL} is bounded [1/m]
+  Complex inv_s[2];  // 1/s, or 0 where s = 0 (exactly at an undamped cut-off)
+  Complex e[2];      // κGA p_j + ρA Ω² [N/m²]
+  // Length-independent factors of the closed form (beam.cpp): with a = κGA, b = EI,
+  // u = −a ρA Ω² and Δe = e_1 − e_0: a/b, (a/u) Δe, Δe/b.
+  Complex a_over_b, f_a, f_d;
 };
 // Throws InvalidArgument for a frequency that is not > 0.
 SectionWaves section_waves(const SectionProperties& section, double frequency_hz);
