@@ -42,11 +42,13 @@ JointEstimate identify_joint(const TwoPort& A, const Block& B11, const Block& G1
         sim += cg.im * cg.im + cb.im * cb.im;
       }
     }
+    // Both rows' quotients in one vector division each (the same IEEE quotients as one by one).
+    const detail::Lanes re{std::abs(e.K(0, c).real()), std::abs(e.K(1, c).real())}, im{std::abs(e.K(0, c).imag()), std::abs(e.K(1, c).imag())};
+    const detail::Lanes gre = detail::Lanes{std::sqrt(sre[0]), std::sqrt(sre[1])} / re, gim = detail::Lanes{std::sqrt(sim[0]), std::sqrt(sim[1])} / im;
     for (int r = 0; r < 2; ++r) {
-      const double re = std::abs(e.K(r, c).real()), im = std::abs(e.K(r, c).imag());
       const auto g = static_cast<std::size_t>(4 * r + 2 * c);  // (0,0) → k_yf, (0,1) → k_ym, (1,0) → k_θf, (1,1) → k_θm
-      e.noise_gain[g] = re > 0.0 ? std::sqrt(sre[r]) / re : std::numeric_limits<double>::infinity();
-      e.noise_gain[g + 1] = im > 0.0 ? std::sqrt(sim[r]) / im : std::numeric_limits<double>::infinity();
+      e.noise_gain[g] = re[r] > 0.0 ? gre[r] : std::numeric_limits<double>::infinity();
+      e.noise_gain[g + 1] = im[r] > 0.0 ? gim[r] : std::numeric_limits<double>::infinity();
     }
   }
   return e;
