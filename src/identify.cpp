@@ -27,24 +27,28 @@ JointEstimate identify_joint(const TwoPort& A, const Block& B11, const Block& G1
   e.cond_A12 = frobenius_condition(A.b12);
   const Cols k = cols(e.K), L = k * left, R = right * k;
   // Noise gains, both rows r of K at once (lane r): a real relative error ε_q on entry q moves
-  // K_rc by ε_q·coef_q, coef = L_ra R_bc G_ab or K_ra K_bc B_ab; Re and Im add separately.
-  for (int c = 0; c < 2; ++c) {
-    const detail::CPair& Rc = c == 0 ? R.c0 : R.c1;
-    const detail::CPair& Kc = c == 0 ? k.c0 : k.c1;
-    detail::Lanes sre{0.0, 0.0}, sim{0.0, 0.0};
-    for (int a = 0; a < 2; ++a) {
-      const detail::CPair& La = a == 0 ? L.c0 : L.c1;
-      const detail::CPair& Ka = a == 0 ? k.c0 : k.c1;
-      for (int b = 0; b < 2; ++b) {
-        const detail::CPair cg = La * both(detail::lane(Rc, b)) * both(G11(a, b));
-        const detail::CPair cb = Ka * both(detail::lane(Kc, b)) * both(B11(a, b));
-        sre += cg.re * cg.re + cb.re * cb.re;
-        sim += cg.im * cg.im + cb.im * cb.im;
+  // K_rc by ε_q·coef_q, coef = L_ra R_bc G_ab or K_ra K_bc B_ab; Re and Im add separately (summed
+  // over a, then b, as written in the docs). Few values live at a time: SSE2 has 16 registers.
+  using detail::CPair;
+  using detail::Lanes;
+  Lanes sre[2] = {{0.0, 0.0}, {0.0, 0.0}}, sim[2] = {{0.0, 0.0}, {0.0, 0.0}};
+  for (int a = 0; a < 2; ++a) {
+    const CPair& La = a == 0 ? L.c0 : L.c1;
+    const CPair& Ka = a == 0 ? k.c0 : k.c1;
+    for (int b = 0; b < 2; ++b) {
+      const CPair g = both(G11(a, b)), bb = both(B11(a, b));
+      for (int c = 0; c < 2; ++c) {
+        const CPair cg = La * both(detail::lane(c == 0 ? R.c0 : R.c1, b)) * g;
+        const CPair cb = Ka * both(e.K(b, c)) * bb;
+        sre[c] += cg.re * cg.re + cb.re * cb.re;
+        sim[c] += cg.im * cg.im + cb.im * cb.im;
       }
     }
+  }
+  for (int c = 0; c < 2; ++c) {
     // Both rows' quotients in one vector division each (the same IEEE quotients as one by one).
-    const detail::Lanes re{std::abs(e.K(0, c).real()), std::abs(e.K(1, c).real())}, im{std::abs(e.K(0, c).imag()), std::abs(e.K(1, c).imag())};
-    const detail::Lanes gre = detail::Lanes{std::sqrt(sre[0]), std::sqrt(sre[1])} / re, gim = detail::Lanes{std::sqrt(sim[0]), std::sqrt(sim[1])} / im;
+    const Lanes re{std::abs(e.K(0, c).real()), std::abs(e.K(1, c).real())}, im{std::abs(e.K(0, c).imag()), std::abs(e.K(1, c).imag())};
+    const Lanes gre = Lanes{std::sqrt(sre[c][0]), std::sqrt(sre[c][1])} / re, gim = Lanes{std::sqrt(sim[c][0]), std::sqrt(sim[c][1])} / im;
     for (int r = 0; r < 2; ++r) {
       const auto g = static_cast<std::size_t>(4 * r + 2 * c);  // (0,0) → k_yf, (0,1) → k_ym, (1,0) → k_θf, (1,1) → k_θm
       e.noise_gain[g] = re[r] > 0.0 ? gre[r] : std::numeric_limits<double>::infinity();
