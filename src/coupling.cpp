@@ -32,6 +32,8 @@ inline TwoPort two_port(const Port& p) { return {block(p.b11), block(p.b12), blo
 
 }  // namespace
 
+Block inverse_checked(const Block& m, const char* what) { return block(detail::inverse_checked(cols(m), what)); }
+
 void detail::throw_singular(const Block& m, const char* what) {
   const Complex det = m(0, 0) * m(1, 1) - m(0, 1) * m(1, 0);
   throw NumericalError(fmt::format("{} is singular: {} (|det| = {:.3g})", what, format_block(m), std::abs(det)),

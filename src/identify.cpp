@@ -16,16 +16,17 @@ JointEstimate identify_joint(const TwoPort& A, const Block& B11, const Block& G1
   using detail::Cols;
   JointEstimate e;
   const Block D = A.b11 - G11;
-  const Block Dinv = inverse_checked(D, "A11 − G11 (the component's free–free tip receptance minus the assembly's)");
-  const Cols a12 = cols(A.b12), dinv = cols(Dinv);
+  const Cols dinv = detail::inverse_checked(cols(D), "A11 − G11 (the component's free–free tip receptance minus the assembly's)");
+  const Cols a12 = cols(A.b12);
   const Cols left = cols(A.b21) * dinv, right = dinv * a12;
   const Block Kinv = detail::block(left * a12 - cols(A.b22) - cols(B11));
-  e.K = inverse_checked(Kinv, "joint flexibility K⁻¹");
+  const Cols k = detail::inverse_checked(cols(Kinv), "joint flexibility K⁻¹");
+  e.K = detail::block(k);
   const double nD = D.squaredNorm(), nK = Kinv.squaredNorm();  // Frobenius, squared
-  e.cond_difference = std::sqrt(nD) * Dinv.norm();
+  e.cond_difference = std::sqrt(nD) * detail::block(dinv).norm();
   e.cond_flexibility = std::sqrt(nK) * e.K.norm();
   e.cond_A12 = frobenius_condition(A.b12);
-  const Cols k = cols(e.K), L = k * left, R = right * k;
+  const Cols L = k * left, R = right * k;
   // Noise gains, both rows r of K at once (lane r): a real relative error ε_q on entry q moves
   // K_rc by ε_q·coef_q, coef = L_ra R_bc G_ab or K_ra K_bc B_ab; Re and Im add separately (summed
   // over a, then b, as written in the docs). Few values live at a time: SSE2 has 16 registers.

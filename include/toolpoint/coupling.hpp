@@ -14,8 +14,8 @@
 namespace toolpoint {
 
 // Inverse of a 2×2 block; throws NumericalError naming `what` when it is singular to working
-// precision (|det| ≤ 1e-14 (|ad| + |bc|)). Inline (below): it runs several times per frequency.
-inline Block inverse_checked(const Block& m, const char* what);
+// precision (|det| ≤ 1e-14 (|ad| + |bc|)).
+Block inverse_checked(const Block& m, const char* what);
 
 // 2-norm condition number σ_max/σ_min of a 2×2 block (∞ when singular).
 double condition_number(const Block& m);
@@ -122,7 +122,9 @@ inline Cols operator*(const Cols& x, const Cols& y) {
   return {x.c0 * both(lane(y.c0, 0)) + x.c1 * both(lane(y.c0, 1)), x.c0 * both(lane(y.c1, 0)) + x.c1 * both(lane(y.c1, 1))};
 }
 
-// inverse_checked by columns: ad and bc as one paired product, then the same operations.
+// inverse_checked by columns: ad and bc as one paired product, then the same operations. For the
+// library's own sources only: its complex division must be compiled with the library's
+// -fcx-fortran-rules (Smith's), as inverse_checked is.
 inline Cols inverse_checked(const Cols& m, const char* what) {
   const CPair adbc = m.c0 * CPair{Lanes{m.c1.re[1], m.c1.re[0]}, Lanes{m.c1.im[1], m.c1.im[0]}};  // (m00 m11, m10 m01)
   const Complex ad = lane(adbc, 0), bc = lane(adbc, 1);
@@ -137,7 +139,5 @@ inline Cols inverse_checked(const Cols& m, const char* what) {
 }
 
 }  // namespace detail
-
-inline Block inverse_checked(const Block& m, const char* what) { return detail::block(detail::inverse_checked(detail::cols(m), what)); }
 
 }  // namespace toolpoint
