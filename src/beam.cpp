@@ -13,7 +13,6 @@
 
 namespace toolpoint {
 
-using detail::abs_fast;
 using detail::both;
 using detail::CPair;
 using detail::lane;
@@ -230,7 +229,7 @@ TwoPort exact_receptance(const SectionWaves& w, double length) {
   // The test inverse() applies to M_s and M_a, |det| ≤ 1e-14 (|m_00 m_11| + |m_01 m_10|), with u b
   // divided out.
   for (int k = 0; k < 2; ++k)
-    if (!(abs_fast(lane(d, k)) > 1e-14 * (abs_fast(lane(t1, k)) + abs_fast(lane(t2, k)))))
+    if (!detail::well_above_roundoff(lane(d, k), lane(t1, k), lane(t2, k)))
       throw NumericalError(fmt::format("{} Hz is a natural frequency of an undamped free–free segment (L = {} m): "
                                        "the receptance is unbounded there",
                                        w.frequency_hz, length),

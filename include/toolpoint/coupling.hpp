@@ -86,6 +86,16 @@ inline double abs_fast(Complex z) {
   return n > 1e-290 && n < 1e290 ? std::sqrt(n) : std::abs(z);
 }
 
+// |d| > 1e-14 (|x| + |y|), the singularity test of a 2×2 determinant d = x − y, with one square
+// root instead of three: both sides squared, (|x| + |y|)² = |x|² + |y|² + 2 sqrt(|x|²|y|²). The
+// abs form is kept where a square could over- or underflow; false for NaN, as the abs form.
+inline bool well_above_roundoff(Complex d, Complex x, Complex y) {
+  const double nd = std::norm(d), nx = std::norm(x), ny = std::norm(y);
+  const bool safe = nd > 1e-290 && nd < 1e290 && nx > 1e-145 && nx < 1e145 && ny > 1e-145 && ny < 1e145;
+  if (!safe) return abs_fast(d) > 1e-14 * (abs_fast(x) + abs_fast(y));
+  return nd > 1e-28 * (nx + ny + 2.0 * std::sqrt(nx * ny));
+}
+
 // 1/z as conj(z)/|z|²: one real division instead of Smith's three (a few ulps, like Smith's);
 // 1/z is kept outside the range where |z|² neither over- nor underflows.
 inline Complex reciprocal(Complex z) {
@@ -129,8 +139,7 @@ inline Cols inverse_checked(const Cols& m, const char* what) {
   const CPair adbc = m.c0 * CPair{Lanes{m.c1.re[1], m.c1.re[0]}, Lanes{m.c1.im[1], m.c1.im[0]}};  // (m00 m11, m10 m01)
   const Complex ad = lane(adbc, 0), bc = lane(adbc, 1);
   const Complex det = ad - bc;
-  const double adet = abs_fast(det);
-  if (!(adet > 1e-14 * (abs_fast(ad) + abs_fast(bc))) || !std::isfinite(adet)) throw_singular(block(m), what);
+  if (!well_above_roundoff(det, ad, bc) || !std::isfinite(det.real()) || !std::isfinite(det.imag())) throw_singular(block(m), what);
   const CPair r = both(1.0 / det);
   const Lanes neg{1.0, -1.0};
   // [[m11, −m01], [−m10, m00]] r
