@@ -83,7 +83,7 @@ namespace detail {
 // underflow at several times the cost; std::abs is kept for outside the safe range.
 inline double abs_fast(Complex z) {
   const double n = z.real() * z.real() + z.imag() * z.imag();
-  return n > 1e-290 && n < 1e290 ? std::sqrt(n) : std::abs(z);
+  return (n > 1e-290 && n < 1e290) || z == Complex(0.0, 0.0) ? std::sqrt(n) : std::abs(z);
 }
 
 // |d| > 1e-14 (|x| + |y|), the singularity test of a 2×2 determinant d = x − y, with one square
@@ -91,7 +91,9 @@ inline double abs_fast(Complex z) {
 // abs form is kept where a square could over- or underflow; false for NaN, as the abs form.
 inline bool well_above_roundoff(Complex d, Complex x, Complex y) {
   const double nd = std::norm(d), nx = std::norm(x), ny = std::norm(y);
-  const bool safe = nd > 1e-290 && nd < 1e290 && nx > 1e-145 && nx < 1e145 && ny > 1e-145 && ny < 1e145;
+  // Exact zeros are common (a bearing without rotational stiffness) and safe.
+  auto in_range = [](double n, Complex z) { return (n > 1e-145 && n < 1e145) || z == Complex(0.0, 0.0); };
+  const bool safe = nd > 1e-290 && nd < 1e290 && in_range(nx, x) && in_range(ny, y);
   if (!safe) return abs_fast(d) > 1e-14 * (abs_fast(x) + abs_fast(y));
   return nd > 1e-28 * (nx + ny + 2.0 * std::sqrt(nx * ny));
 }
