@@ -235,7 +235,7 @@ TwoPort exact_receptance(const SectionWaves& w, double length) {
                                        "the receptance is unbounded there",
                                        w.frequency_hz, length),
                            "give the material a loss factor > 0 or move the frequency grid off the resonance");
-  const CPair r = pair(reciprocal(lane(d, 0)), reciprocal(lane(d, 1)));  // (1/Δ_s, 1/Δ_a)
+  const CPair r = detail::reciprocals(d);  // (1/Δ_s, 1/Δ_a)
   const Complex cc = c[0] * c[1];
   const CPair prod = pS_S[0] * pS_S[1];  // (pS_0 pS_1, S_0 S_1)
   // (w, ψ) at y = +L/2 from (Q, M) at y = +L/2: lane 0 g_s, lane 1 g_a.

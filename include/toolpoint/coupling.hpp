@@ -121,6 +121,14 @@ inline CPair both(Complex z) { return {Lanes{z.real(), z.real()}, Lanes{z.imag()
 inline CPair pair(Complex x, Complex y) { return {Lanes{x.real(), y.real()}, Lanes{x.imag(), y.imag()}}; }
 inline Complex lane(const CPair& a, int i) { return {a.re[i], a.im[i]}; }
 
+// reciprocal() of both lanes, with one vector division (the same quotients as two).
+inline CPair reciprocals(const CPair& z) {
+  const Lanes n = z.re * z.re + z.im * z.im;
+  if (!(n[0] > 1e-290 && n[0] < 1e290 && n[1] > 1e-290 && n[1] < 1e290)) return pair(reciprocal(lane(z, 0)), reciprocal(lane(z, 1)));
+  const Lanes r = Lanes{1.0, 1.0} / n;
+  return {z.re * r, -z.im * r};
+}
+
 // A 2×2 block by columns: c0 = (m00, m10), c1 = (m01, m11).
 struct Cols {
   CPair c0, c1;
