@@ -60,11 +60,11 @@ double frobenius_condition(const Block& m) {
 namespace {
 
 Cols interface_rigid(const Cols& a22, const Cols& b11) {
-  return detail::inverse_checked(a22 + b11, "rigid-coupling interface matrix (A22 + B11)", false);
+  return detail::inverse_checked(a22 + b11, "rigid-coupling interface matrix (A22 + B11)");
 }
 
 Cols interface_elastic(const Cols& a22, const Cols& b11, const Cols& K) {
-  return K * detail::inverse_checked(identity_plus((a22 + b11) * K), "elastic-coupling interface matrix (I + (A22 + B11) K)", false);
+  return K * detail::inverse_checked(identity_plus((a22 + b11) * K), "elastic-coupling interface matrix (I + (A22 + B11) K)");
 }
 
 TwoPort assemble(const Port& a, const Port& b, const Cols& X) {
@@ -161,13 +161,13 @@ Eigen::MatrixXcd ground_node(const Eigen::MatrixXcd& G, Eigen::Index node, const
 
 Block ground_point(const Block& h, const Block& D) {
   const Cols hc = cols(h);
-  return block(hc * detail::inverse_checked(identity_plus(cols(D) * hc), "structural-modification matrix (I + D H)", false));
+  return block(hc * detail::inverse_checked(identity_plus(cols(D) * hc), "structural-modification matrix (I + D H)"));
 }
 
 TwoPort ground_end1(const TwoPort& t, const Block& D) {
   const Port p = port(t);
   const Cols d = cols(D);
-  const Cols Y = d * detail::inverse_checked(identity_plus(p.b11 * d), "structural-modification matrix (I + T11 D)", false);
+  const Cols Y = d * detail::inverse_checked(identity_plus(p.b11 * d), "structural-modification matrix (I + T11 D)");
   const Cols y11 = Y * p.b11, y12 = Y * p.b12;
   return two_port({p.b11 - p.b11 * y11, p.b12 - p.b11 * y12, p.b21 - p.b21 * y11, p.b22 - p.b21 * y12});
 }
@@ -175,7 +175,7 @@ TwoPort ground_end1(const TwoPort& t, const Block& D) {
 TwoPort ground_end2(const TwoPort& t, const Block& D) {
   const Port p = port(t);
   const Cols d = cols(D);
-  const Cols Y = d * detail::inverse_checked(identity_plus(p.b22 * d), "structural-modification matrix (I + T22 D)", false);
+  const Cols Y = d * detail::inverse_checked(identity_plus(p.b22 * d), "structural-modification matrix (I + T22 D)");
   const Cols y21 = Y * p.b21, y22 = Y * p.b22;
   return two_port({p.b11 - p.b12 * y21, p.b12 - p.b12 * y22, p.b21 - p.b22 * y21, p.b22 - p.b22 * y22});
 }

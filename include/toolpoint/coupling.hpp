@@ -144,15 +144,13 @@ inline Cols operator*(const Cols& x, const Cols& y) {
 
 // inverse_checked by columns: ad and bc as one paired product, then the same operations. For the
 // library's own sources only: its complex division must be compiled with the library's
-// -fcx-fortran-rules (Smith's), as inverse_checked is. With `smith` false, 1/det is reciprocal()
-// (one division instead of three, a few ulps like Smith's): for the per-frequency coupling,
-// whose results need not repeat inverse_checked's bits.
-inline Cols inverse_checked(const Cols& m, const char* what, bool smith = true) {
+// -fcx-fortran-rules (Smith's), as inverse_checked is.
+inline Cols inverse_checked(const Cols& m, const char* what) {
   const CPair adbc = m.c0 * CPair{Lanes{m.c1.re[1], m.c1.re[0]}, Lanes{m.c1.im[1], m.c1.im[0]}};  // (m00 m11, m10 m01)
   const Complex ad = lane(adbc, 0), bc = lane(adbc, 1);
   const Complex det = ad - bc;
   if (!well_above_roundoff(det, ad, bc) || !std::isfinite(det.real()) || !std::isfinite(det.imag())) throw_singular(block(m), what);
-  const CPair r = both(smith ? 1.0 / det : reciprocal(det));
+  const CPair r = both(1.0 / det);
   const Lanes neg{1.0, -1.0};
   // [[m11, −m01], [−m10, m00]] r
   return {CPair{Lanes{m.c1.re[1], m.c0.re[1]} * neg, Lanes{m.c1.im[1], m.c0.im[1]} * neg} * r,
