@@ -137,9 +137,8 @@ inline Complex sqrt_principal(Complex z) {
 // e^{−z} − 1 for Re z ≥ 0, accurate for small |z| too (no cancellation):
 //   Re = e^{−x} cos y − 1 = expm1(−x) cos y + (cos y − 1), cos y − 1 = −sin²y/(1 + cos y) for cos y > 0,
 //   Im = −e^{−x} sin y.
-// Both real terms are ≤ 0 for x ≥ 0 and cos y > 0, so they do not cancel; one expm1 and one
-// sincos serve both the symmetric and antisymmetric shape functions.
-// Each wave has one small part: y is η-small on the evanescent wave, x on the propagating one.
+// Both real terms are ≤ 0 for x ≥ 0 and cos y > 0, so they do not cancel. One evaluation per wave
+// gives both c = (1 + e^{−z})/2 and σ = (1 − e^{−z})/2. Each wave has one small part: y is η-small on the evanescent wave, x on the propagating one.
 // For |y| ≤ 1/32, sin y and cos y − 1 come from their Taylor series through y⁷ and y⁸, and for
 // x ≤ 1/32, expm1(−x) through x⁸: the first omitted terms are below 3e-18 relative, and half
 // the libm calls are saved. Products with the rounded ratios of factorials: their 1e-16 errors
@@ -207,8 +206,9 @@ SectionWaves section_waves(const SectionProperties& sp, double frequency_hz) {
 // mid-span; fields w = a φ', ψ = (a p + ρAΩ²) φ = e φ, M = b e φ', Q = u φ with u = −a ρA Ω².
 // At y = +L/2, per wave j: c_j = e^{−sL/2} cosh(sL/2) = (1 + e^{−sL})/2 and
 // S_j = e^{−sL/2} sinh(sL/2)/s = σ_j/s_j with σ_j = (1 − e^{−sL})/2 (L/2 at s = 0), so
-// p_j S_j = s_j σ_j (no division per piece). (Q, M) = M_x α and (w, ψ) = R_x α for the wave amplitudes α; the end
-// compliance is g_x = R_x M_x⁻¹ with, for the symmetric part,
+// p_j S_j = s_j σ_j (1/s_j is per section, so no division by s per piece). (Q, M) = M_x α and
+// (w, ψ) = R_x α for the wave amplitudes α; the end compliance is g_x = R_x M_x⁻¹ with, for the
+// symmetric part,
 //   M_s = [[u c_0, u c_1], [b e_0 p_0 S_0, b e_1 p_1 S_1]],  R_s = [[a p_0 S_0, a p_1 S_1], [e_0 c_0, e_1 c_1]]
 // and for the antisymmetric part M_a = [[u S_0, u S_1], [b e_0 c_0, b e_1 c_1]], R_a = [[a c_0, a c_1], [e_0 S_0, e_1 S_1]].
 // Written out (det M_s = u b Δ_s, det M_a = u b Δ_a, Δe = e_1 − e_0, pS_j = p_j S_j):
@@ -236,8 +236,8 @@ TwoPort exact_receptance(const SectionWaves& w, double length) {
   const CPair QV = c10 * CPair{Lanes{pS_S[0].re[0], pS_S[1].re[1]}, Lanes{pS_S[0].im[0], pS_S[1].im[1]}};
   const CPair t1 = both(w.e[1]) * PU, t2 = both(w.e[0]) * QV;
   const CPair d = t1 - t2;
-  // The test inverse() applies to M_s and M_a, |det| ≤ 1e-14 (|m_00 m_11| + |m_01 m_10|), with u b
-  // divided out.
+  // inverse_checked's singularity test applied to M_s and M_a, |det| ≤ 1e-14 (|m_00 m_11| +
+  // |m_01 m_10|), with u b divided out.
   for (int k = 0; k < 2; ++k)
     if (!detail::well_above_roundoff(lane(d, k), lane(t1, k), lane(t2, k)))
       throw NumericalError(fmt::format("{} Hz is a natural frequency of an undamped free–free segment (L = {} m): "
