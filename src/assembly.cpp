@@ -190,6 +190,16 @@ TwoPort Chain::piece(std::size_t i, double frequency_hz) const {
   return modal_.empty() ? exact_receptance(props_[i], pieces_[i].length, frequency_hz) : modal_[i]->receptance(frequency_hz);
 }
 
+TwoPort Chain::piece(std::size_t i, double frequency_hz, SectionWaves& waves, const SectionProperties*& waves_of) const {
+  if (!modal_.empty()) return modal_[i]->receptance(frequency_hz);
+  const SectionProperties& p = props_[i];
+  if (!waves_of || !(waves_of->EI == p.EI && waves_of->kGA == p.kGA && waves_of->rhoA == p.rhoA && waves_of->rhoI == p.rhoI)) {
+    waves = section_waves(p, frequency_hz);
+    waves_of = &p;
+  }
+  return exact_receptance(waves, pieces_[i].length);
+}
+
 namespace {
 
 bool ground_at(const std::vector<Bearing>& node, double f, Block& D) {
@@ -205,11 +215,13 @@ TwoPort Chain::two_port(double f) const {
   if (pieces_.empty()) throw InvalidArgument("empty segment chain");
   const std::size_t n = pieces_.size();
   Block D;
-  TwoPort g = piece(n - 1, f);
+  SectionWaves waves;
+  const SectionProperties* waves_of = nullptr;
+  TwoPort g = piece(n - 1, f, waves, waves_of);
   if (ground_at(ground_[n], f, D)) g = ground_end2(g, D);
   for (std::size_t k = n - 1; k-- > 0;) {
     if (ground_at(ground_[k + 1], f, D)) g = ground_end1(g, D);
-    g = couple_rigid(piece(k, f), g);
+    g = couple_rigid(piece(k, f, waves, waves_of), g);
   }
   if (ground_at(ground_[0], f, D)) g = ground_end1(g, D);
   return g;
@@ -219,12 +231,14 @@ Block Chain::point(double f) const {
   if (pieces_.empty()) throw InvalidArgument("empty segment chain");
   const std::size_t n = pieces_.size();
   Block D;
-  TwoPort last = piece(n - 1, f);
+  SectionWaves waves;
+  const SectionProperties* waves_of = nullptr;
+  TwoPort last = piece(n - 1, f, waves, waves_of);
   if (ground_at(ground_[n], f, D)) last = ground_end2(last, D);
   Block g = last.b11;
   for (std::size_t k = n - 1; k-- > 0;) {
     if (ground_at(ground_[k + 1], f, D)) g = ground_point(g, D);
-    g = couple_rigid_point(piece(k, f), g);
+    g = couple_rigid_point(piece(k, f, waves, waves_of), g);
   }
   if (ground_at(ground_[0], f, D)) g = ground_point(g, D);
   return g;

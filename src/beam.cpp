@@ -8,9 +8,17 @@
 #include <fmt/format.h>
 
 #include "toolpoint/conventions.hpp"
+#include "toolpoint/coupling.hpp"
 #include "toolpoint/error.hpp"
 
 namespace toolpoint {
+
+using detail::both;
+using detail::CPair;
+using detail::lane;
+using detail::Lanes;
+using detail::pair;
+using detail::reciprocal;
 
 // ---- Material, section --------------------------------------------------------------------------
 
@@ -115,86 +123,147 @@ Segment Segment::tube(double length, double outer_diameter, double inner_diamete
 
 namespace {
 
-// (1 − e^{−z})/z, accurate for small |z| (series) and any Re z ≥ 0.
-Complex one_minus_exp_over(Complex z) {
-  if (std::abs(z) < 0.25) {
-    Complex term(1.0, 0.0), sum(1.0, 0.0);
-    for (int k = 1; k < 14; ++k) {
-      term *= -z / static_cast<double>(k + 1);
-      sum += term;
-    }
-    return sum;
+// Principal square root (Re ≥ 0; the sign of a zero imaginary part kept, as std::sqrt), by the
+// cancellation-free t = sqrt((|z| + |x|)/2): a few ulps, like the libm one, at a third of its cost.
+inline Complex sqrt_principal(Complex z) {
+  const double x = z.real(), y = z.imag();
+  const double n = x * x + y * y;
+  if (!(n > 1e-290 && n < 1e290)) return std::sqrt(z);
+  const double t = std::sqrt(0.5 * (std::sqrt(n) + std::abs(x)));
+  if (x >= 0.0) return {t, y / (2.0 * t)};
+  return {std::abs(y) / (2.0 * t), std::copysign(t, y)};
+}
+
+// e^{−z} − 1 for Re z ≥ 0, accurate for small |z| too (no cancellation):
+//   Re = e^{−x} cos y − 1 = expm1(−x) cos y + (cos y − 1), cos y − 1 = −sin²y/(1 + cos y) for cos y > 0,
+//   Im = −e^{−x} sin y.
+// Both real terms are ≤ 0 for x ≥ 0 and cos y > 0, so they do not cancel. One evaluation per wave
+// gives both c = (1 + e^{−z})/2 and σ = (1 − e^{−z})/2. Each wave has one small part: y is η-small on the evanescent wave, x on the propagating one.
+// For |y| ≤ 1/32, sin y and cos y − 1 come from their Taylor series through y⁷ and y⁸, and for
+// x ≤ 1/32, expm1(−x) through x⁸: the first omitted terms are below 3e-18 relative, and half
+// the libm calls are saved. Products with the rounded ratios of factorials: their 1e-16 errors
+// scale terms ≤ 1/6 of the leading one, at most 2e-4 of it.
+inline Complex exp_neg_minus_one(Complex z) {
+  const double x = z.real();
+  const double em1 =
+      std::abs(x) <= 0.03125
+          ? -x * (1.0 - x * 0.5 *
+                            (1.0 - x * (1.0 / 3.0) *
+                                       (1.0 - x * 0.25 *
+                                                  (1.0 - x * 0.2 *
+                                                             (1.0 - x * (1.0 / 6.0) * (1.0 - x * (1.0 / 7.0) * (1.0 - x * 0.125)))))))
+          : std::expm1(-x);
+  const double y = z.imag();
+  double sy, cy, cm1;
+  if (std::abs(y) <= 0.03125) {
+    const double y2 = y * y;
+    sy = y * (1.0 - y2 * (1.0 / 6.0) * (1.0 - y2 * (1.0 / 20.0) * (1.0 - y2 * (1.0 / 42.0))));
+    cm1 = -0.5 * y2 * (1.0 - y2 * (1.0 / 12.0) * (1.0 - y2 * (1.0 / 30.0) * (1.0 - y2 * (1.0 / 56.0))));
+    cy = 1.0 + cm1;
+  } else {
+    cy = std::cos(y);
+    sy = std::sin(y);
+    cm1 = cy > 0.0 ? -sy * sy / (1.0 + cy) : cy - 1.0;
   }
-  return (1.0 - std::exp(-z)) / z;
-}
-
-// Inverse of a 2×2 complex matrix; `ok` false when it is numerically singular.
-struct C2 {
-  Complex a, b, c, d;  // [[a, b], [c, d]]
-};
-
-inline C2 mul(const C2& x, const C2& y) {
-  return {x.a * y.a + x.b * y.c, x.a * y.b + x.b * y.d, x.c * y.a + x.d * y.c, x.c * y.b + x.d * y.d};
-}
-
-inline bool inv(const C2& m, C2& out) {
-  const Complex det = m.a * m.d - m.b * m.c;
-  const double scale = std::abs(m.a * m.d) + std::abs(m.b * m.c);
-  if (!(std::abs(det) > 1e-14 * scale)) return false;
-  const Complex r = 1.0 / det;
-  out = {m.d * r, -m.b * r, -m.c * r, m.a * r};
-  return true;
+  return {em1 * cy + cm1, -(1.0 + em1) * sy};
 }
 
 }  // namespace
 
-TwoPort exact_receptance(const SectionProperties& sp, double length, double frequency_hz) {
+SectionWaves section_waves(const SectionProperties& sp, double frequency_hz) {
   if (!(frequency_hz > 0.0) || !std::isfinite(frequency_hz))
     throw InvalidArgument(fmt::format("frequency {} Hz must be > 0 (free–free receptances are unbounded at 0 Hz)", frequency_hz));
   const double w2 = omega_of(frequency_hz) * omega_of(frequency_hz);
   const Complex a = sp.kGA, b = sp.EI;
   const double mA = sp.rhoA, mI = sp.rhoI;
 
-  // Wavenumbers: a b p² + (a ρI + b ρA) Ω² p − ρA Ω² (a − ρI Ω²) = 0, p = s².
+  // Wavenumbers: a b p² + (a ρI + b ρA) Ω² p − ρA Ω² (a − ρI Ω²) = 0, p = s². The root of larger
+  // modulus first, the other from the product of the roots (no cancellation).
   const Complex B = (a * mI + b * mA) * w2;
   const Complex C = mA * w2 * (a - mI * w2);
   const Complex ab = a * b;
-  Complex sq = std::sqrt(B * B + 4.0 * ab * C);
+  Complex sq = sqrt_principal(B * B + 4.0 * ab * C);
   if ((std::conj(B) * sq).real() < 0.0) sq = -sq;
   const Complex q = -0.5 * (B + sq);
-  const Complex p[2] = {q / ab, -C / q};
-
-  // Symmetric basis φ = e^{−sL/2} cosh(s y), antisymmetric φ = e^{−sL/2} sinh(s y)/s, y from
-  // mid-span; fields w = a φ', ψ = (a p + ρAΩ²) φ, M = b (a p + ρAΩ²) φ', Q = −a ρA Ω² φ.
-  Complex c[2], S[2], pS[2], e[2];
+  const Complex inv_ab = reciprocal(ab);
+  const Complex p[2] = {q * inv_ab, -C * reciprocal(q)};
+  SectionWaves w;
+  w.frequency_hz = frequency_hz;
   for (int j = 0; j < 2; ++j) {
-    const Complex s = std::sqrt(p[j]);  // principal branch: Re s ≥ 0, so e^{−sL} is bounded
-    const Complex z = s * length;
-    c[j] = 0.5 * (1.0 + std::exp(-z));
-    S[j] = 0.5 * length * one_minus_exp_over(z);
-    pS[j] = p[j] * S[j];
-    e[j] = a * p[j] + mA * w2;
+    w.s[j] = sqrt_principal(p[j]);
+    w.inv_s[j] = w.s[j] == Complex(0.0, 0.0) ? Complex(0.0, 0.0) : reciprocal(w.s[j]);
+    w.e[j] = a * p[j] + mA * w2;
   }
-  const Complex u = -a * mA * w2;
-  const C2 Ms{u * c[0], u * c[1], b * e[0] * pS[0], b * e[1] * pS[1]};
-  const C2 Rs{a * pS[0], a * pS[1], e[0] * c[0], e[1] * c[1]};
-  const C2 Ma{u * S[0], u * S[1], b * e[0] * c[0], b * e[1] * c[1]};
-  const C2 Ra{a * c[0], a * c[1], e[0] * S[0], e[1] * S[1]};
-  C2 Msi, Mai;
-  if (!inv(Ms, Msi) || !inv(Ma, Mai))
-    throw NumericalError(fmt::format("{} Hz is a natural frequency of an undamped free–free segment (L = {} m): "
-                                     "the receptance is unbounded there",
-                                     frequency_hz, length),
-                         "give the material a loss factor > 0 or move the frequency grid off the resonance");
-  // (w, ψ) at y = +L/2 from (Q, M) at y = +L/2, for the symmetric and antisymmetric parts.
-  const C2 gs = mul(Rs, Msi), ga = mul(Ra, Mai);
+  const Complex de = w.e[1] - w.e[0];
+  const Complex inv_b = a * inv_ab;
+  w.a_over_b = a * inv_b;
+  w.f_a = (-1.0 / (mA * w2)) * de;  // a/u = −1/(ρA Ω²)
+  w.f_d = de * inv_b;
+  return w;
+}
+
+// Symmetric basis φ = e^{−sL/2} cosh(s y), antisymmetric φ = e^{−sL/2} sinh(s y)/s, y from
+// mid-span; fields w = a φ', ψ = (a p + ρAΩ²) φ = e φ, M = b e φ', Q = u φ with u = −a ρA Ω².
+// At y = +L/2, per wave j: c_j = e^{−sL/2} cosh(sL/2) = (1 + e^{−sL})/2 and
+// S_j = e^{−sL/2} sinh(sL/2)/s = σ_j/s_j with σ_j = (1 − e^{−sL})/2 (L/2 at s = 0), so
+// p_j S_j = s_j σ_j (1/s_j is per section, so no division by s per piece). (Q, M) = M_x α and
+// (w, ψ) = R_x α for the wave amplitudes α; the end compliance is g_x = R_x M_x⁻¹ with, for the
+// symmetric part,
+//   M_s = [[u c_0, u c_1], [b e_0 p_0 S_0, b e_1 p_1 S_1]],  R_s = [[a p_0 S_0, a p_1 S_1], [e_0 c_0, e_1 c_1]]
+// and for the antisymmetric part M_a = [[u S_0, u S_1], [b e_0 c_0, b e_1 c_1]], R_a = [[a c_0, a c_1], [e_0 S_0, e_1 S_1]].
+// Written out (det M_s = u b Δ_s, det M_a = u b Δ_a, Δe = e_1 − e_0, pS_j = p_j S_j):
+//   g_s = [[a/u · pS_0 pS_1 Δe, a/b · X_s], [e_0 e_1/u · X_s, c_0 c_1 Δe/b]] / Δ_s,
+//         Δ_s = c_0 e_1 pS_1 − c_1 e_0 pS_0,  X_s = c_0 pS_1 − c_1 pS_0;
+//   g_a = [[a/u · c_0 c_1 Δe, a/b · X_a], [e_0 e_1/u · X_a, S_0 S_1 Δe/b]] / Δ_a,
+//         Δ_a = S_0 e_1 c_1 − S_1 e_0 c_0,  X_a = S_0 c_1 − S_1 c_0,
+// and e_0 e_1/u = a/b (Vieta: p_0 p_1 = −C/(ab), p_0 + p_1 = −B/(ab)), which is reciprocity
+// (L = N, T21 = T12ᵀ), exact here. All terms stay bounded for any sL (the e^{−sL/2} scaling) and
+// are entire in s, so the cut-off (p_1 = 0) needs no special case.
+TwoPort exact_receptance(const SectionWaves& w, double length) {
+  // Per wave j: c_j, and (pS_j, S_j) = σ_j (s_j, 1/s_j) as a pair.
+  Complex c[2];
+  CPair pS_S[2];
+  for (int j = 0; j < 2; ++j) {
+    const Complex m1 = exp_neg_minus_one(w.s[j] * length);  // e^{−sL} − 1
+    c[j] = 1.0 + 0.5 * m1;
+    pS_S[j] = both(-0.5 * m1) * pair(w.s[j], w.inv_s[j]);
+    if (w.inv_s[j] == Complex(0.0, 0.0)) pS_S[j].re[1] = 0.5 * length, pS_S[j].im[1] = 0.0;  // S → L/2 as s → 0
+  }
+  // Lane 0 symmetric, lane 1 antisymmetric: X = (P, U) − (Q, V) and Δ = e_1 (P, U) − e_0 (Q, V)
+  // with P = c_0 pS_1, Q = c_1 pS_0, U = c_1 S_0, V = c_0 S_1.
+  const CPair c01 = pair(c[0], c[1]), c10 = pair(c[1], c[0]);
+  const CPair PU = c01 * CPair{Lanes{pS_S[1].re[0], pS_S[0].re[1]}, Lanes{pS_S[1].im[0], pS_S[0].im[1]}};
+  const CPair QV = c10 * CPair{Lanes{pS_S[0].re[0], pS_S[1].re[1]}, Lanes{pS_S[0].im[0], pS_S[1].im[1]}};
+  const CPair t1 = both(w.e[1]) * PU, t2 = both(w.e[0]) * QV;
+  const CPair d = t1 - t2;
+  // inverse_checked's singularity test applied to M_s and M_a, |det| ≤ 1e-14 (|m_00 m_11| +
+  // |m_01 m_10|), with u b divided out.
+  for (int k = 0; k < 2; ++k)
+    if (!detail::well_above_roundoff(lane(d, k), lane(t1, k), lane(t2, k)))
+      throw NumericalError(fmt::format("{} Hz is a natural frequency of an undamped free–free segment (L = {} m): "
+                                       "the receptance is unbounded there",
+                                       w.frequency_hz, length),
+                           "give the material a loss factor > 0 or move the frequency grid off the resonance");
+  const CPair r = detail::reciprocals(d);  // (1/Δ_s, 1/Δ_a)
+  const Complex cc = c[0] * c[1];
+  const CPair prod = pS_S[0] * pS_S[1];  // (pS_0 pS_1, S_0 S_1)
+  // (w, ψ) at y = +L/2 from (Q, M) at y = +L/2: lane 0 g_s, lane 1 g_a.
+  const CPair ga = (both(w.f_a) * r) * pair(lane(prod, 0), cc);
+  const CPair gb = (both(w.a_over_b) * r) * (PU - QV);
+  const CPair gd = (both(w.f_d) * r) * pair(cc, lane(prod, 1));
 
   TwoPort t;
-  t.b11 = make_block(0.5 * (gs.a + ga.a), 0.5 * (gs.b + ga.b), 0.5 * (gs.c + ga.c), 0.5 * (gs.d + ga.d));
-  t.b12 = make_block(0.5 * (ga.a - gs.a), 0.5 * (gs.b - ga.b), 0.5 * (ga.c - gs.c), 0.5 * (gs.d - ga.d));
-  t.b21 = make_block(0.5 * (ga.a - gs.a), 0.5 * (ga.b - gs.b), 0.5 * (gs.c - ga.c), 0.5 * (gs.d - ga.d));
-  t.b22 = make_block(0.5 * (gs.a + ga.a), -0.5 * (gs.b + ga.b), -0.5 * (gs.c + ga.c), 0.5 * (gs.d + ga.d));
+  const Complex h = 0.5 * (lane(ga, 0) + lane(ga, 1)), l = 0.5 * (lane(gb, 0) + lane(gb, 1)), pp = 0.5 * (lane(gd, 0) + lane(gd, 1));
+  const Complex h12 = 0.5 * (lane(ga, 1) - lane(ga, 0)), l12 = 0.5 * (lane(gb, 0) - lane(gb, 1)), p12 = 0.5 * (lane(gd, 0) - lane(gd, 1));
+  t.b11(0, 0) = h, t.b11(0, 1) = l, t.b11(1, 0) = l, t.b11(1, 1) = pp;
+  t.b12(0, 0) = h12, t.b12(0, 1) = l12, t.b12(1, 0) = -l12, t.b12(1, 1) = p12;
+  t.b21(0, 0) = h12, t.b21(0, 1) = -l12, t.b21(1, 0) = l12, t.b21(1, 1) = p12;
+  t.b22(0, 0) = h, t.b22(0, 1) = -l, t.b22(1, 0) = -l, t.b22(1, 1) = pp;
   return t;
+}
+
+TwoPort exact_receptance(const SectionProperties& sp, double length, double frequency_hz) {
+  return exact_receptance(section_waves(sp, frequency_hz), length);
 }
 
 TwoPort exact_receptance(const Segment& segment, double frequency_hz) {

@@ -10,17 +10,35 @@
 
 namespace toolpoint {
 
-Block inverse_checked(const Block& m, const char* what) {
+namespace {
+
+using detail::block;
+using detail::cols;
+using detail::Cols;
+
+// I + m
+inline Cols identity_plus(Cols m) {
+  m.c0.re[0] += 1.0;
+  m.c1.re[1] += 1.0;
+  return m;
+}
+
+// The four blocks of a two-end component by columns.
+struct Port {
+  Cols b11, b12, b21, b22;
+};
+inline Port port(const TwoPort& t) { return {cols(t.b11), cols(t.b12), cols(t.b21), cols(t.b22)}; }
+inline TwoPort two_port(const Port& p) { return {block(p.b11), block(p.b12), block(p.b21), block(p.b22)}; }
+
+}  // namespace
+
+Block inverse_checked(const Block& m, const char* what) { return block(detail::inverse_checked(cols(m), what)); }
+
+void detail::throw_singular(const Block& m, const char* what) {
   const Complex det = m(0, 0) * m(1, 1) - m(0, 1) * m(1, 0);
-  const double scale = std::abs(m(0, 0) * m(1, 1)) + std::abs(m(0, 1) * m(1, 0));
-  if (!(std::abs(det) > 1e-14 * scale) || !std::isfinite(std::abs(det)))
-    throw NumericalError(fmt::format("{} is singular: {} (|det| = {:.3g})", what, format_block(m), std::abs(det)),
-                         "the structure has an undamped resonance exactly at this frequency, or the data are "
-                         "inconsistent; add damping or move the frequency grid");
-  const Complex r = 1.0 / det;
-  Block inv;
-  inv << m(1, 1) * r, -m(0, 1) * r, -m(1, 0) * r, m(0, 0) * r;
-  return inv;
+  throw NumericalError(fmt::format("{} is singular: {} (|det| = {:.3g})", what, format_block(m), std::abs(det)),
+                       "the structure has an undamped resonance exactly at this frequency, or the data are "
+                       "inconsistent; add damping or move the frequency grid");
 }
 
 double condition_number(const Block& m) {
@@ -41,32 +59,42 @@ double frobenius_condition(const Block& m) {
 
 namespace {
 
-Block interface_rigid(const TwoPort& a, const Block& b11) { return inverse_checked(a.b22 + b11, "rigid-coupling interface matrix (A22 + B11)"); }
-
-Block interface_elastic(const TwoPort& a, const Block& b11, const Block& K) {
-  return K * inverse_checked(Block::Identity() + (a.b22 + b11) * K, "elastic-coupling interface matrix (I + (A22 + B11) K)");
+Cols interface_rigid(const Cols& a22, const Cols& b11) {
+  return detail::inverse_checked(a22 + b11, "rigid-coupling interface matrix (A22 + B11)");
 }
 
-TwoPort assemble(const TwoPort& a, const TwoPort& b, const Block& X) {
-  const Block xa21 = X * a.b21, xb12 = X * b.b12;
-  return {a.b11 - a.b12 * xa21, a.b12 * xb12, b.b21 * xa21, b.b22 - b.b21 * xb12};
+Cols interface_elastic(const Cols& a22, const Cols& b11, const Cols& K) {
+  return K * detail::inverse_checked(identity_plus((a22 + b11) * K), "elastic-coupling interface matrix (I + (A22 + B11) K)");
+}
+
+TwoPort assemble(const Port& a, const Port& b, const Cols& X) {
+  const Cols xa21 = X * a.b21, xb12 = X * b.b12;
+  return two_port({a.b11 - a.b12 * xa21, a.b12 * xb12, b.b21 * xa21, b.b22 - b.b21 * xb12});
 }
 
 }  // namespace
 
-TwoPort couple_elastic(const TwoPort& a, const TwoPort& b, const Block& K) { return assemble(a, b, interface_elastic(a, b.b11, K)); }
+TwoPort couple_elastic(const TwoPort& a, const TwoPort& b, const Block& K) {
+  const Port pa = port(a), pb = port(b);
+  return assemble(pa, pb, interface_elastic(pa.b22, pb.b11, cols(K)));
+}
 
-TwoPort couple_rigid(const TwoPort& a, const TwoPort& b) { return assemble(a, b, interface_rigid(a, b.b11)); }
+TwoPort couple_rigid(const TwoPort& a, const TwoPort& b) {
+  const Port pa = port(a), pb = port(b);
+  return assemble(pa, pb, interface_rigid(pa.b22, pb.b11));
+}
 
 TwoPort couple(const TwoPort& a, const TwoPort& b, const Joint& joint, double frequency_hz) {
   return joint.rigid ? couple_rigid(a, b) : couple_elastic(a, b, joint.parameters.stiffness(frequency_hz));
 }
 
 Block couple_elastic_point(const TwoPort& a, const Block& b11, const Block& K) {
-  return a.b11 - a.b12 * interface_elastic(a, b11, K) * a.b21;
+  return block(cols(a.b11) - (cols(a.b12) * interface_elastic(cols(a.b22), cols(b11), cols(K))) * cols(a.b21));
 }
 
-Block couple_rigid_point(const TwoPort& a, const Block& b11) { return a.b11 - a.b12 * interface_rigid(a, b11) * a.b21; }
+Block couple_rigid_point(const TwoPort& a, const Block& b11) {
+  return block(cols(a.b11) - (cols(a.b12) * interface_rigid(cols(a.b22), cols(b11))) * cols(a.b21));
+}
 
 Block couple_point(const TwoPort& a, const Block& b11, const Joint& joint, double frequency_hz) {
   return joint.rigid ? couple_rigid_point(a, b11) : couple_elastic_point(a, b11, joint.parameters.stiffness(frequency_hz));
@@ -74,7 +102,7 @@ Block couple_point(const TwoPort& a, const Block& b11, const Joint& joint, doubl
 
 Junction couple_rigid_junction(const TwoPort& a, const Block& b11) {
   // Loads at A1 and at j; f_A2 (A's share at j) from compatibility x_A2 = x_B1 and equilibrium.
-  const Block X = interface_rigid(a, b11);
+  const Block X = block(interface_rigid(cols(a.b22), cols(b11)));
   Junction j;
   j.g11 = a.b11 - a.b12 * X * a.b21;
   j.gj1 = b11 * X * a.b21;
@@ -132,19 +160,24 @@ Eigen::MatrixXcd ground_node(const Eigen::MatrixXcd& G, Eigen::Index node, const
 }
 
 Block ground_point(const Block& h, const Block& D) {
-  return h * inverse_checked(Block::Identity() + D * h, "structural-modification matrix (I + D H)");
+  const Cols hc = cols(h);
+  return block(hc * detail::inverse_checked(identity_plus(cols(D) * hc), "structural-modification matrix (I + D H)"));
 }
 
 TwoPort ground_end1(const TwoPort& t, const Block& D) {
-  const Block Y = D * inverse_checked(Block::Identity() + t.b11 * D, "structural-modification matrix (I + T11 D)");
-  const Block y11 = Y * t.b11, y12 = Y * t.b12;
-  return {t.b11 - t.b11 * y11, t.b12 - t.b11 * y12, t.b21 - t.b21 * y11, t.b22 - t.b21 * y12};
+  const Port p = port(t);
+  const Cols d = cols(D);
+  const Cols Y = d * detail::inverse_checked(identity_plus(p.b11 * d), "structural-modification matrix (I + T11 D)");
+  const Cols y11 = Y * p.b11, y12 = Y * p.b12;
+  return two_port({p.b11 - p.b11 * y11, p.b12 - p.b11 * y12, p.b21 - p.b21 * y11, p.b22 - p.b21 * y12});
 }
 
 TwoPort ground_end2(const TwoPort& t, const Block& D) {
-  const Block Y = D * inverse_checked(Block::Identity() + t.b22 * D, "structural-modification matrix (I + T22 D)");
-  const Block y21 = Y * t.b21, y22 = Y * t.b22;
-  return {t.b11 - t.b12 * y21, t.b12 - t.b12 * y22, t.b21 - t.b22 * y21, t.b22 - t.b22 * y22};
+  const Port p = port(t);
+  const Cols d = cols(D);
+  const Cols Y = d * detail::inverse_checked(identity_plus(p.b22 * d), "structural-modification matrix (I + T22 D)");
+  const Cols y21 = Y * p.b21, y22 = Y * p.b22;
+  return two_port({p.b11 - p.b12 * y21, p.b12 - p.b12 * y22, p.b21 - p.b22 * y21, p.b22 - p.b22 * y22});
 }
 
 }  // namespace toolpoint

@@ -11,32 +11,51 @@
 namespace toolpoint {
 
 JointEstimate identify_joint(const TwoPort& A, const Block& B11, const Block& G11) {
+  using detail::both;
+  using detail::cols;
+  using detail::Cols;
   JointEstimate e;
   const Block D = A.b11 - G11;
-  const Block Dinv = inverse_checked(D, "A11 − G11 (the component's free–free tip receptance minus the assembly's)");
-  const Block left = A.b21 * Dinv, right = Dinv * A.b12;
-  const Block Kinv = left * A.b12 - A.b22 - B11;
-  e.K = inverse_checked(Kinv, "joint flexibility K⁻¹");
+  const Cols dinv = detail::inverse_checked(cols(D), "A11 − G11 (the component's free–free tip receptance minus the assembly's)");
+  const Cols a12 = cols(A.b12);
+  const Cols left = cols(A.b21) * dinv, right = dinv * a12;
+  const Block Kinv = detail::block(left * a12 - cols(A.b22) - cols(B11));
+  const Cols k = detail::inverse_checked(cols(Kinv), "joint flexibility K⁻¹");
+  e.K = detail::block(k);
   const double nD = D.squaredNorm(), nK = Kinv.squaredNorm();  // Frobenius, squared
-  e.cond_difference = std::sqrt(nD) * Dinv.norm();
+  e.cond_difference = std::sqrt(nD) * detail::block(dinv).norm();
   e.cond_flexibility = std::sqrt(nK) * e.K.norm();
   e.cond_A12 = frobenius_condition(A.b12);
-  const Block L = e.K * left, R = right * e.K;
-  for (int r = 0; r < 2; ++r)
-    for (int c = 0; c < 2; ++c) {
-      // A real relative error ε_q on entry q moves K_rc by ε_q·coef_q: Re and Im add separately.
-      double sre = 0.0, sim = 0.0;
-      for (int a = 0; a < 2; ++a)
-        for (int b = 0; b < 2; ++b) {
-          const Complex cg = L(r, a) * R(b, c) * G11(a, b), cb = e.K(r, a) * e.K(b, c) * B11(a, b);
-          sre += cg.real() * cg.real() + cb.real() * cb.real();
-          sim += cg.imag() * cg.imag() + cb.imag() * cb.imag();
-        }
-      const double re = std::abs(e.K(r, c).real()), im = std::abs(e.K(r, c).imag());
-      const int k = 4 * r + 2 * c;  // (0,0) → k_yf, (0,1) → k_ym, (1,0) → k_θf, (1,1) → k_θm
-      e.noise_gain[static_cast<std::size_t>(k)] = re > 0.0 ? std::sqrt(sre) / re : std::numeric_limits<double>::infinity();
-      e.noise_gain[static_cast<std::size_t>(k + 1)] = im > 0.0 ? std::sqrt(sim) / im : std::numeric_limits<double>::infinity();
+  const Cols L = k * left, R = right * k;
+  // Noise gains, both rows r of K at once (lane r): a real relative error ε_q on entry q moves
+  // K_rc by ε_q·coef_q, coef = L_ra R_bc G_ab or K_ra K_bc B_ab; Re and Im add separately (summed
+  // over a, then b, as written in the docs). Few values live at a time: SSE2 has 16 registers.
+  using detail::CPair;
+  using detail::Lanes;
+  Lanes sre[2] = {{0.0, 0.0}, {0.0, 0.0}}, sim[2] = {{0.0, 0.0}, {0.0, 0.0}};
+  for (int a = 0; a < 2; ++a) {
+    const CPair& La = a == 0 ? L.c0 : L.c1;
+    const CPair& Ka = a == 0 ? k.c0 : k.c1;
+    for (int b = 0; b < 2; ++b) {
+      const CPair g = both(G11(a, b)), bb = both(B11(a, b));
+      for (int c = 0; c < 2; ++c) {
+        const CPair cg = La * both(detail::lane(c == 0 ? R.c0 : R.c1, b)) * g;
+        const CPair cb = Ka * both(e.K(b, c)) * bb;
+        sre[c] += cg.re * cg.re + cb.re * cb.re;
+        sim[c] += cg.im * cg.im + cb.im * cb.im;
+      }
     }
+  }
+  for (int c = 0; c < 2; ++c) {
+    // Both rows' quotients in one vector division each (the same IEEE quotients as one by one).
+    const Lanes re{std::abs(e.K(0, c).real()), std::abs(e.K(1, c).real())}, im{std::abs(e.K(0, c).imag()), std::abs(e.K(1, c).imag())};
+    const Lanes gre = Lanes{std::sqrt(sre[c][0]), std::sqrt(sre[c][1])} / re, gim = Lanes{std::sqrt(sim[c][0]), std::sqrt(sim[c][1])} / im;
+    for (int r = 0; r < 2; ++r) {
+      const auto g = static_cast<std::size_t>(4 * r + 2 * c);  // (0,0) → k_yf, (0,1) → k_ym, (1,0) → k_θf, (1,1) → k_θm
+      e.noise_gain[g] = re[r] > 0.0 ? gre[r] : std::numeric_limits<double>::infinity();
+      e.noise_gain[g + 1] = im[r] > 0.0 ? gim[r] : std::numeric_limits<double>::infinity();
+    }
+  }
   return e;
 }
 

@@ -167,6 +167,33 @@ TEST(Assembly, ToolStations) {
   }
 }
 
+// A chain shares the wavenumbers of consecutive pieces of one section (a segment cut at bearings
+// or at the tool's insertion). Pieces of two sections alternating in runs: the chain's blocks must
+// equal the fold of independent exact_receptance calls with couple_rigid / couple_rigid_point to
+// 1e-13 relative (the same arithmetic, so round-off only; reusing the wrong section's
+// wavenumbers would be off by O(1)).
+TEST(Assembly, SharedWavenumbersEqualIndependentPieces) {
+  const Segment a = Segment::tube(1.0, 0.05, 0.02, steel(0.01)), b = Segment::tube(1.0, 0.03, 0.0, carbide(0.002));
+  std::vector<Segment> pieces;
+  for (auto [seg, len] : {std::pair{&a, 0.03}, {&a, 0.05}, {&b, 0.02}, {&a, 0.04}, {&a, 0.01}, {&b, 0.06}, {&b, 0.015}}) {
+    pieces.push_back(*seg);
+    pieces.back().length = len;
+  }
+  const Chain chain(pieces, ReceptanceMethod::Exact, 0);
+  for (double f : {20.0, 850.0, 4321.0, 30000.0}) {
+    TwoPort g = exact_receptance(pieces.back(), f);
+    Block p = g.b11;
+    for (std::size_t k = pieces.size() - 1; k-- > 0;) {
+      const TwoPort t = exact_receptance(pieces[k].properties(), pieces[k].length, f);
+      g = couple_rigid(t, g);
+      p = couple_rigid_point(t, p);
+    }
+    const TwoPort c = chain.two_port(f);
+    EXPECT_LT(rel_error(c, g), 1e-13) << f;
+    EXPECT_LT(rel_error(chain.point(f), p), 1e-13) << f;
+  }
+}
+
 TEST(Assembly, InvalidAssembliesAreRejected) {
   Assembly a = cantilevered();
   a.spindle.bearings.push_back(Bearing{"far", 0.3, 1e8, 0, 0, 0});

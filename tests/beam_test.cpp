@@ -147,6 +147,25 @@ TEST(Beam, DampedReceptanceIsPassiveAndFinite) {
   EXPECT_NEAR(std::arg(h), -kPi / 2.0, 0.05);
 }
 
+// Exactly at the cut-off of an undamped section one wavenumber is 0 (C = ρAΩ²(κGA − ρIΩ²) = 0)
+// and the shape function sinh(sy)/s takes its limit y. Built so that C is exactly 0 at f: the
+// receptances there must be finite and continuous. They are analytic in f there (entire in s²), so
+// the mean of f(1 ± 1e-9) differs from them at second order (~1e-18) plus round-off, which is
+// ≲ 1e-11 near the cut-off (against extended precision); 1e-8 relative.
+TEST(Beam, ExactlyAtTheCutOff) {
+  SectionProperties sp = Segment::tube(0.08, 0.05, 0.0, steel()).properties();
+  const double f = sp.cutoff_frequency_hz();
+  const double w2 = omega_of(f) * omega_of(f);
+  sp.kGA = Complex(sp.rhoI * w2, 0.0);  // κGA − ρIΩ² = 0 in floating point at this f
+  const TwoPort at = exact_receptance(sp, 0.08, f);
+  const TwoPort lo = exact_receptance(sp, 0.08, f * (1.0 - 1e-9)), hi = exact_receptance(sp, 0.08, f * (1.0 + 1e-9));
+  for (int j = 0; j < 4; ++j) {
+    const Block mean = 0.5 * (block_of(lo, j) + block_of(hi, j));
+    EXPECT_TRUE(block_of(at, j).allFinite());
+    EXPECT_LT((block_of(at, j) - mean).norm(), 1e-8 * mean.norm()) << j;
+  }
+}
+
 // The two independent methods. Error of an entry: max over the grid of |modal − exact| divided
 // by max over the grid of |exact| (so antiresonances do not inflate it). Timoshenko frequencies
 // grow linearly with mode number at high order, so plain sums converge slowly: with 300 modes

@@ -104,6 +104,10 @@ class Chain {
   double length() const;
 
  private:
+  // piece(i, f), reusing `waves` when piece i has the section they were made for (consecutive
+  // pieces of one cut segment) and refreshing them otherwise.
+  TwoPort piece(std::size_t i, double frequency_hz, SectionWaves& waves, const SectionProperties*& waves_of) const;
+
   std::vector<Segment> pieces_;
   std::vector<SectionProperties> props_;
   std::vector<std::shared_ptr<const ModalBeam>> modal_;

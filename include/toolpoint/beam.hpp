@@ -97,6 +97,27 @@ struct Segment {
 TwoPort exact_receptance(const SectionProperties& section, double length, double frequency_hz);
 TwoPort exact_receptance(const Segment& segment, double frequency_hz);
 
+// The length-independent part of the above at one frequency: the two wavenumbers s_j (p_j = s_j²,
+// roots of κGA EI p² + (κGA ρI + EI ρA) Ω² p − ρA Ω² (κGA − ρI Ω²) = 0) and the constants the end
+// receptances need from them. A segment cut into pieces (at bearings, at the tool's insertion)
+// has one section: computing this once per frequency and reusing it for every piece gives what
+// exact_receptance(section, length, f) gives for each piece, without repeating the three complex
+// square roots. Units: s in 1/m, p in 1/m², e in N/m² (κGA p + ρAΩ²).
+struct SectionWaves {
+  double frequency_hz = 0.0;
+  Complex s[2];      // Re s ≥ 0 (principal root), so e^{−sL} is bounded [1/m]
+  Complex inv_s[2];  // 1/s, or 0 where s = 0 (exactly at an undamped cut-off)
+  Complex e[2];      // κGA p_j + ρA Ω² [N/m²]
+  // Length-independent factors of the closed form (beam.cpp): with a = κGA, b = EI,
+  // u = −a ρA Ω² and Δe = e_1 − e_0: a/b, (a/u) Δe, Δe/b.
+  Complex a_over_b, f_a, f_d;
+};
+// Throws InvalidArgument for a frequency that is not > 0.
+SectionWaves section_waves(const SectionProperties& section, double frequency_hz);
+// End receptances of a piece of `length` m of the section `waves` was made for; throws
+// NumericalError at an exact undamped natural frequency, as exact_receptance.
+TwoPort exact_receptance(const SectionWaves& waves, double length);
+
 // ---- Modal summation (seed Eq. 11–14) ---------------------------------------------------------
 
 struct ModalOptions {

@@ -1,0 +1,45 @@
+// Speed of the assembly model (assembly and coupling modules) on the example assembly
+// (examples/bt40_shrinkfit_16mm.toml: spindle cut at its four bearings, holder with the shank
+// inside, tool; 15 segment pieces). Items are frequencies, swept over 10–5000 Hz. Target
+// (issues): SHT11, all four entries, on 10 000 frequencies in ≤ 20 ms on one core, i.e.
+// ≥ 5e5 frequencies/s; BM_Assembly/ExampleToolPointSHT11_10k reports the time of one such sweep.
+#include <benchmark/benchmark.h>
+
+#include <string>
+#include <vector>
+
+#include "toolpoint/assembly.hpp"
+#include "toolpoint/assembly_file.hpp"
+
+using namespace toolpoint;
+
+namespace {
+
+const AssemblyModel& example_model() {
+  static const AssemblyModel m(load_assembly(std::string(TOOLPOINT_SOURCE_DIR) + "/examples/bt40_shrinkfit_16mm.toml").assembly);
+  return m;
+}
+
+// `at` of the example model at n frequencies evenly spread over 10–5000 Hz, per iteration.
+template <class R>
+void BM_Assembly(benchmark::State& state, R (AssemblyModel::*at)(double) const, std::size_t n) {
+  const AssemblyModel& m = example_model();
+  std::vector<double> f(n);
+  for (std::size_t i = 0; i < n; ++i) f[i] = 10.0 + 4990.0 * static_cast<double>(i) / static_cast<double>(n - 1);
+  for (auto _ : state)
+    for (double x : f) benchmark::DoNotOptimize((m.*at)(x));
+  state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(n));
+}
+
+// The target's figure: one 10 000-frequency sweep of SHT11.
+BENCHMARK_CAPTURE(BM_Assembly, ExampleToolPointSHT11_10k, &AssemblyModel::tool_point, 10000)->Unit(benchmark::kMillisecond);
+// Its parts, per frequency: the spindle's point sweep (9 pieces, 4 bearings), the holder and
+// tool chains (4 and 2 pieces), SH11 (spindle + holder); and everything at once (S11, H, T, SH11,
+// SHT11) as the identification's forward model uses it.
+BENCHMARK_CAPTURE(BM_Assembly, ExampleSpindleNoseS11, &AssemblyModel::spindle_nose, 1000);
+BENCHMARK_CAPTURE(BM_Assembly, ExampleHolderTwoPort, &AssemblyModel::holder, 1000);
+BENCHMARK_CAPTURE(BM_Assembly, ExampleToolTwoPort, &AssemblyModel::tool, 1000);
+BENCHMARK_CAPTURE(BM_Assembly, ExampleHolderTipSH11, &AssemblyModel::holder_tip, 1000);
+BENCHMARK_CAPTURE(BM_Assembly, ExampleEvaluateAll, &AssemblyModel::evaluate, 1000);
+
+}  // namespace
