@@ -171,6 +171,11 @@ inline Complex exp_neg_minus_one(Complex z) {
 }  // namespace
 
 SectionWaves section_waves(const SectionProperties& sp, double frequency_hz) {
+  // Cheap enough for the per-frequency path; a bad section would otherwise give finite garbage.
+  if (!(sp.EI.real() > 0.0 && sp.kGA.real() > 0.0 && sp.rhoA > 0.0 && sp.rhoI > 0.0) || !std::isfinite(sp.EI.imag()) ||
+      !std::isfinite(sp.kGA.imag()) || !std::isfinite(sp.EI.real() + sp.kGA.real() + sp.rhoA + sp.rhoI))
+    throw InvalidArgument(fmt::format("section properties EI = {}, κGA = {}, ρA = {}, ρI = {} must be finite with positive real parts",
+                                      format_complex(sp.EI), format_complex(sp.kGA), sp.rhoA, sp.rhoI));
   if (!(frequency_hz > 0.0) || !std::isfinite(frequency_hz))
     throw InvalidArgument(fmt::format("frequency {} Hz must be > 0 (free–free receptances are unbounded at 0 Hz)", frequency_hz));
   const double w2 = omega_of(frequency_hz) * omega_of(frequency_hz);
@@ -220,6 +225,7 @@ SectionWaves section_waves(const SectionProperties& sp, double frequency_hz) {
 // (L = N, T21 = T12ᵀ), exact here. All terms stay bounded for any sL (the e^{−sL/2} scaling) and
 // are entire in s, so the cut-off (p_1 = 0) needs no special case.
 TwoPort exact_receptance(const SectionWaves& w, double length) {
+  if (!(length > 0.0) || !std::isfinite(length)) throw InvalidArgument(fmt::format("segment length {} m must be > 0", length));
   // Per wave j: c_j, and (pS_j, S_j) = σ_j (s_j, 1/s_j) as a pair.
   Complex c[2];
   CPair pS_S[2];
@@ -306,6 +312,30 @@ struct FreqEq {
     return w;
   }
 
+  // The free–free frequency equation factors into a symmetric and an antisymmetric part (modes
+  // even or odd about mid-span). The combined form above has a double sign change where one mode
+  // of each class lie within a scan step — above the cut-off they can be 0.03 % apart — and the
+  // pair vanishes; each factor alone has simple roots spaced ≳ π in ω̂ or θ. With P₁ = μ² (or
+  // −θ² above the cut-off), P₂ = −ω̂², C(P) = cosh(√P/2), S(P) = sinh(√P/2)/√P (entire in P):
+  //   F_odd  = (P₂+λ) P₂ S₂ C₁ − (P₁+λ) P₁ S₁ C₂,    F_even = (P₂+λ) S₁ C₂ − (P₁+λ) S₂ C₁,
+  // (from the determinants of the end conditions in the potential form, see exact_receptance)
+  // both divided by cosh(μ/2) below the cut-off, continuous through it.
+  void factors(double lambda, double& odd, double& even) const {
+    const Waves w = waves(lambda);
+    const double P1 = w.above ? -w.second * w.second : w.second * w.second, P2 = -w.omh * w.omh;
+    double C1, S1;
+    if (!w.above) {
+      C1 = 1.0;  // cosh(μ/2) divided out
+      S1 = w.second < 1e-6 ? 0.5 : std::tanh(0.5 * w.second) / w.second;
+    } else {
+      C1 = std::cos(0.5 * w.second);
+      S1 = w.second < 1e-6 ? 0.5 : std::sin(0.5 * w.second) / w.second;
+    }
+    const double C2 = std::cos(0.5 * w.omh), S2 = std::sin(0.5 * w.omh) / w.omh;
+    odd = (P2 + lambda) * P2 * S2 * C1 - (P1 + lambda) * P1 * S1 * C2;
+    even = (P2 + lambda) * S1 * C2 - (P1 + lambda) * S2 * C1;
+  }
+
   double operator()(double lambda) const {
     const Waves w = waves(lambda);
     const double om = w.omh, om_t = om * (lambda - om * om);
@@ -344,15 +374,19 @@ void check_section(const SectionProperties& sp, double length) {
     throw InvalidArgument("section properties EI, κGA, ρA, ρI must be positive");
 }
 
-// Roots λ_r of the frequency equation, ascending, found by scanning with steps that keep the
-// change of ω̂ and of μ or θ below 0.05 rad (roots are ≳ π apart in one of them), then bisection.
+// Roots λ_r of the frequency equation, ascending: the even and odd factors are scanned with steps
+// that keep the change of ω̂ and of μ or θ below 0.05 rad (each factor's roots are ≳ π apart in
+// one of them), sign changes refined by bisection. Every root is checked against the combined
+// equation (Han, Benaroya & Wei) as printed, rewritten without poles.
 std::vector<double> frequency_roots(const Dimensionless& d, int count) {
   const FreqEq& eq = d.eq;
   std::vector<double> roots;
   double lam = std::min(1.0 / (eq.gamma * eq.alpha), 0.1 * eq.alpha);
-  double g = eq(lam);
+  double g[2];
+  eq.factors(lam, g[0], g[1]);
   const double max_step_rad = 0.05;
   int guard = 0;
+  // Roots come in increasing λ; once `count` are known, every root below the scan point is.
   while (static_cast<int>(roots.size()) < count) {
     if (++guard > 50'000'000) throw NumericalError("free–free frequency equation: root scan did not finish");
     const auto w0 = eq.waves(lam);
@@ -364,28 +398,37 @@ std::vector<double> frequency_roots(const Dimensionless& d, int count) {
     double next = lam + step;
     // Land exactly on the cut-off so the branch change is one step of its own.
     if (lam < eq.alpha && next > eq.alpha) next = eq.alpha * (1.0 + 1e-13);
-    const double gn = eq(next);
-    if (g == 0.0) {
-      roots.push_back(lam);
-    } else if ((g < 0.0) != (gn < 0.0)) {
-      double lo = lam, hi = next, glo = g;
-      for (int it = 0; it < 200 && hi - lo > 1e-15 * hi; ++it) {
+    double gn[2];
+    eq.factors(next, gn[0], gn[1]);
+    for (int k = 0; k < 2; ++k) {
+      if ((g[k] < 0.0) == (gn[k] < 0.0) && g[k] != 0.0) continue;
+      double lo = lam, hi = next, glo = g[k];
+      for (int it = 0; it < 200 && hi - lo > 1e-15 * hi && glo != 0.0; ++it) {
         const double mid = 0.5 * (lo + hi);
-        const double gm = eq(mid);
-        if ((gm < 0.0) == (glo < 0.0)) {
+        double gm[2];
+        eq.factors(mid, gm[0], gm[1]);
+        if ((gm[k] < 0.0) == (glo < 0.0)) {
           lo = mid;
-          glo = gm;
+          glo = gm[k];
         } else {
           hi = mid;
         }
       }
-      const double root = 0.5 * (lo + hi);
-      // The function has no poles, but keep the safeguard: a true root has a tiny residual.
-      if (std::abs(eq(root)) < 1e-6 * std::max(std::abs(g), std::abs(gn))) roots.push_back(root);
+      const double root = glo == 0.0 ? lo : 0.5 * (lo + hi);
+      // Cross-check with the combined equation: at a root its value is round-off small compared
+      // with its size a relative 1e-4 away on either side.
+      const double scale = std::abs(eq(root * (1.0 - 1e-4))) + std::abs(eq(root * (1.0 + 1e-4)));
+      if (!(std::abs(eq(root)) <= 1e-3 * scale))
+        throw NumericalError(fmt::format("free–free frequency equation: root λ = {} of the {} factor does not satisfy the "
+                                         "combined equation ({} against {})",
+                                         root, k ? "even" : "odd", eq(root), scale));
+      roots.push_back(root);
     }
     lam = next;
-    g = gn;
+    g[0] = gn[0];
+    g[1] = gn[1];
   }
+  std::sort(roots.begin(), roots.end());
   roots.resize(static_cast<std::size_t>(count));
   return roots;
 }

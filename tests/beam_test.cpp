@@ -6,6 +6,7 @@
 
 #include <cmath>
 
+#include "support/fe_beam.hpp"
 #include "toolpoint/beam.hpp"
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
@@ -47,6 +48,41 @@ TEST(Beam, ExactReceptanceResonatesAtFrequencyEquationRoots) {
       SUCCEED();  // exactly singular: reported, not returned as garbage
     }
   }
+}
+
+// Above the cut-off an even and an odd mode can lie 0.02 % apart (a 16 mm bar of L/D = 15 has a
+// pair at 149.01 and 149.04 kHz); the frequency equation must give both. Checks independent of
+// the root finder: (a) each of the first 40 roots makes the exact, undamped receptance blow up
+// (|H11| or |P11| at the root more than 100× its value 1e-4 away; the pair's members are 2.2e-4
+// apart); (b) an undamped finite-element model (tests/support, 240 elements) has exactly as many
+// eigenfrequencies in 140–152 kHz as there are roots there (4): its error there, well under 1 %,
+// cannot move a mode across the window's edges, which are ≥ 1.6 % from the nearest modes.
+TEST(Beam, NearDegeneratePairsAboveTheCutoffAreFound) {
+  const double len = 0.24, d = 0.016;
+  const SectionProperties sp = Segment::tube(len, d, 0.0, steel()).properties();
+  const auto roots = free_free_frequencies(sp, len, 40);
+  for (std::size_t i = 1; i < roots.size(); ++i) EXPECT_GT(roots[i], roots[i - 1]);
+  for (double fr : roots) {
+    double on = 0.0;
+    try {
+      const TwoPort t = exact_receptance(sp, len, fr);
+      on = std::max(std::abs(H_of(t.b11)), std::abs(P_of(t.b11)));
+    } catch (const NumericalError&) {
+      continue;  // exactly singular: a resonance
+    }
+    for (double side : {1.0 - 1e-4, 1.0 + 1e-4}) {
+      const TwoPort t = exact_receptance(sp, len, fr * side);
+      EXPECT_GT(on, 100.0 * std::max(std::abs(H_of(t.b11)), std::abs(P_of(t.b11)))) << fr;
+    }
+  }
+  int in_window = 0;
+  for (double fr : roots) in_window += fr > 140e3 && fr < 152e3;
+  EXPECT_EQ(in_window, 4);
+  fe_oracle::FeModel fem;
+  fem.add_chain({fe_oracle::FeSegment{len, sp.EI, sp.kGA, sp.rhoA, sp.rhoI, 240}});
+  int fe_in_window = 0;
+  for (double f : fem.natural_frequencies_hz()) fe_in_window += f > 140e3 && f < 152e3;
+  EXPECT_EQ(fe_in_window, in_window);
 }
 
 // Euler–Bernoulli limit: β_rL = 4.730040745, 7.853204624, 10.995607838, 14.137165491. Timoshenko
@@ -268,6 +304,14 @@ TEST(Beam, BadInputIsRejected) {
   EXPECT_THROW(exact_receptance(Segment::tube(0.1, 0.05, 0.0, steel()), 0.0), InvalidArgument);
   EXPECT_THROW(exact_receptance(Segment::tube(0.1, 0.05, 0.0, steel()), -5.0), InvalidArgument);
   EXPECT_THROW(ModalBeam(Segment::tube(0.1, 0.05, 0.0, steel()).properties(), 0.1, {0, false}), InvalidArgument);
+  // The raw overload on section properties checks too (found in review: L < 0 gave flipped signs).
+  const SectionProperties sp = Segment::tube(0.1, 0.05, 0.0, steel(0.01)).properties();
+  EXPECT_THROW(exact_receptance(sp, -0.1, 100.0), InvalidArgument);
+  EXPECT_THROW(exact_receptance(sp, 0.0, 100.0), InvalidArgument);
+  EXPECT_THROW(exact_receptance(sp, std::nan(""), 100.0), InvalidArgument);
+  SectionProperties neg = sp;
+  neg.kGA = -neg.kGA;
+  EXPECT_THROW(exact_receptance(neg, 0.1, 100.0), InvalidArgument);
   // Layers with different loss factors: the modal method refuses, the exact one works.
   Segment mixed = Segment::tube(0.1, 0.05, 0.02, steel(0.01));
   mixed.layers.push_back(Annulus{0.02, 0.0, steel(0.05), std::nullopt});
