@@ -19,7 +19,16 @@ JointEstimate identify_joint(const TwoPort& A, const Block& B11, const Block& G1
   const Cols dinv = detail::inverse_checked(cols(D), "A11 − G11 (the component's free–free tip receptance minus the assembly's)");
   const Cols a12 = cols(A.b12);
   const Cols left = cols(A.b21) * dinv, right = dinv * a12;
-  const Block Kinv = detail::block(left * a12 - cols(A.b22) - cols(B11));
+  const Cols xinv = left * a12;
+  const Block Kinv = detail::block(xinv - cols(A.b22) - cols(B11));
+  // K⁻¹ is the difference X⁻¹ − A22 − B11 of much larger terms when the joint is stiff: below
+  // 1e-12 of them it is round-off, and the joint effectively rigid for these data.
+  e.flexibility_share = Kinv.norm() / (detail::block(xinv).norm() + A.b22.norm() + B11.norm());
+  if (!(e.flexibility_share > 1e-12))
+    throw NumericalError(fmt::format("the joint flexibility K⁻¹ = X⁻¹ − A22 − B11 is {:.2g} of the terms it is the difference of: "
+                                     "lost in round-off, the joint is effectively rigid for these data",
+                                     e.flexibility_share),
+                         "a rigid connection has no stiffness to identify; if the joint is not rigid, the FRFs do not see it");
   const Cols k = detail::inverse_checked(cols(Kinv), "joint flexibility K⁻¹");
   e.K = detail::block(k);
   const double nD = D.squaredNorm(), nK = Kinv.squaredNorm();  // Frobenius, squared
@@ -46,9 +55,16 @@ JointEstimate identify_joint(const TwoPort& A, const Block& B11, const Block& G1
       }
     }
   }
+  // Relative to the parameter; an off-diagonal one (k_ym, k_θf and their c) no smaller than 10 %
+  // of the diagonal's geometric mean sqrt|K_yf K_θm| (of the same part, Re or Im) — its natural
+  // scale (a coupling term that size changes det K by 1 %): a coupling term that is zero has no
+  // relative error, only one against that scale.
+  const double re_scale = 0.1 * std::sqrt(std::abs(e.K(0, 0).real() * e.K(1, 1).real()));
+  const double im_scale = 0.1 * std::sqrt(std::abs(e.K(0, 0).imag() * e.K(1, 1).imag()));
   for (int c = 0; c < 2; ++c) {
     // Both rows' quotients in one vector division each (the same IEEE quotients as one by one).
-    const Lanes re{std::abs(e.K(0, c).real()), std::abs(e.K(1, c).real())}, im{std::abs(e.K(0, c).imag()), std::abs(e.K(1, c).imag())};
+    const Lanes re{std::max(std::abs(e.K(0, c).real()), c == 0 ? 0.0 : re_scale), std::max(std::abs(e.K(1, c).real()), c == 1 ? 0.0 : re_scale)},
+                im{std::max(std::abs(e.K(0, c).imag()), c == 0 ? 0.0 : im_scale), std::max(std::abs(e.K(1, c).imag()), c == 1 ? 0.0 : im_scale)};
     const Lanes gre = Lanes{std::sqrt(sre[c][0]), std::sqrt(sre[c][1])} / re, gim = Lanes{std::sqrt(sim[c][0]), std::sqrt(sim[c][1])} / im;
     for (int r = 0; r < 2; ++r) {
       const auto g = static_cast<std::size_t>(4 * r + 2 * c);  // (0,0) → k_yf, (0,1) → k_ym, (1,0) → k_θf, (1,1) → k_θm
@@ -119,8 +135,9 @@ double median_of(std::vector<double> v) {
   return 0.5 * (hi + *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(n / 2)));
 }
 
-double relative_difference(double a, double b) {
-  const double m = std::max(std::abs(a), std::abs(b));
+// |a − b| relative to the larger, or to `floor` when both are smaller (a coupling term near zero).
+double relative_difference(double a, double b, double floor) {
+  const double m = std::max({std::abs(a), std::abs(b), floor});
   return m > 0.0 ? std::abs(a - b) / m : 0.0;
 }
 
@@ -157,8 +174,11 @@ JointReadout read_joint(const JointSeries& s, double lo, double hi, const Readou
     p.max = *std::max_element(vals[k].begin(), vals[k].end());
     r.noise_gain[k] = median_of(gains[k]);
   }
-  r.reciprocity_k = relative_difference(r.parameters[2].median, r.parameters[4].median);
-  r.reciprocity_c = relative_difference(r.parameters[3].median, r.parameters[5].median);
+  // Against the off-diagonal's natural scale too (10 % of sqrt|k_yf k_θm|), as the noise gain.
+  r.reciprocity_k = relative_difference(r.parameters[2].median, r.parameters[4].median,
+                                        0.1 * std::sqrt(std::abs(r.parameters[0].median * r.parameters[6].median)));
+  r.reciprocity_c = relative_difference(r.parameters[3].median, r.parameters[5].median,
+                                        0.1 * std::sqrt(std::abs(r.parameters[1].median * r.parameters[7].median)));
   if (r.max_cond_difference > options.cond_warning)
     r.warnings.push_back(fmt::format("cond(A11 − G11) reaches {:.3g} in the band: a 1 % error in the measured FRF can move "
                                      "K by up to that factor; check the band sits on the joint's dominant mode",
@@ -174,7 +194,7 @@ JointReadout read_joint(const JointSeries& s, double lo, double hi, const Readou
     const auto& p = r.parameters[static_cast<std::size_t>(k)];
     const double gain = r.noise_gain[static_cast<std::size_t>(k)];
     if (gain > options.gain_warning)
-      r.warnings.push_back(fmt::format("{}: noise gain {:.3g} — a 1 % error in the FRFs moves it by about {:.0f} %: not identifiable "
+      r.warnings.push_back(fmt::format("{}: noise gain {:.3g} — a 1 % error in the FRFs moves it by about {:.3g} %: not identifiable "
                                        "from measured data in this band",
                                        JointParameters::name(k), gain, gain));
     else if (r.points >= 3 && p.spread > std::abs(p.median))

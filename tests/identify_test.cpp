@@ -55,8 +55,8 @@ TEST(Identify, NoiseFreeRoundTripOfTable1) {
 // (Eq. 5 for Eq. 6, Eq. 1 for Eq. 15, Eq. 17 for Eq. 18). The draws follow real joints (the seed's
 // Tables 1 and 2): k_yf log-uniform, k_ym = ±k_yf ℓ_m and k_θm = k_yf ℓ_r² with lengths ℓ in
 // 5–50 mm (indefinite when ℓ_m > ℓ_r, as Table 1), damping c = k τ with τ in 1e-6–1e-4 s.
-// Tolerance 1e-6 per parameter at every frequency from 100 Hz up (sensitivities there reach
-// 1e8, see JointEstimate::sensitivity, and still hold). Below ~100 Hz the free–free components' rigid-body receptance
+// Tolerance 1e-6 per parameter at every frequency from 100 Hz up (noise gains there reach 1e4
+// and more, see JointEstimate::noise_gain, and still hold). Below ~100 Hz the free–free components' rigid-body receptance
 // exceeds the joint flexibility by 1e5–1e7 and double-precision rounding of the model itself
 // (not the identification: extended precision there changes nothing) reaches 1e-3 in the
 // damping values, whose ωc is then ~1e-5 of |K|; the seed reads joints at modes of kHz.
@@ -195,16 +195,13 @@ TEST(Identify, ReadoutStatistics) {
   EXPECT_THROW(read_joint(s, 200.0, 300.0), InvalidArgument);
 }
 
-// Forward verification with the true constants reproduces every mode exactly; 30 % stiffer
-// joint stiffnesses move the tool mode up by over 1 % (effect analysis: 0.7 % per 10 %).
+// Forward verification: 30 % stiffer joint stiffnesses move the tool mode up by over 1 % (effect
+// analysis: 0.7 % per 10 %), and compare_modes reports it.
 TEST(Identify, ForwardVerification) {
   const Assembly a = example();
   const AssemblyModel m(a);
   const auto f = grid();
   const FrfSeries meas = entry(block_series(f, [&](double x) { return m.tool_point(x); }), 0);
-  const auto same = compare_modes(meas, meas);
-  ASSERT_FALSE(same.empty());
-  for (const auto& c : same) EXPECT_EQ(c.frequency_error, 0.0);
   Assembly b = a;
   for (int k = 0; k < 8; k += 2) b.holder_tool.parameters[k] *= 1.3;
   const AssemblyModel mb(b);
@@ -212,6 +209,41 @@ TEST(Identify, ForwardVerification) {
   double max_shift = 0.0;
   for (const auto& c : cmp) max_shift = std::max(max_shift, c.frequency_error);
   EXPECT_GT(max_shift, 1e-2);
+}
+
+// A joint without coupling terms (the example's spindle–holder joint: k_ym = c_ym = 0), read by
+// Eq. (15) from noise-free data at its mode: the zero terms come back near zero (1e-6 of the
+// natural scale sqrt(k_yf k_θm)); their gains are measured against 10 % of that scale, not
+// against zero — finite and moderate (below 1e4; they were 1e15, found in review) — and the
+// reciprocity check does not cry wolf.
+TEST(Identify, ZeroCouplingTermsAreNotFlagged) {
+  const Assembly a = example();
+  const AssemblyModel m(a);
+  const std::vector<double> f = FrequencyGrid{3900.0, 4500.0, 5.0}.values();
+  const BlockSeries S = block_series(f, [&](double x) { return m.spindle_nose(x); });
+  const BlockSeries SH = block_series(f, [&](double x) { return m.holder_tip(x); });
+  const JointReadout r = read_joint(identify_series([&](double x) { return m.holder(x); }, S, "S11", SH, "SH11"), 4100.0, 4280.0);
+  const JointParameters& p = a.spindle_holder.parameters;
+  EXPECT_LT(std::abs(r.parameters[2].median), 1e-6 * std::sqrt(p.k_yf * p.k_tm));
+  EXPECT_LT(r.reciprocity_k, 0.1);
+  EXPECT_LT(r.reciprocity_c, 0.1);
+  for (int k : {2, 3, 4, 5}) EXPECT_LT(r.noise_gain[static_cast<std::size_t>(k)], 1e4) << JointParameters::name(k);
+}
+
+// A rigid holder–tool joint cannot be identified: K⁻¹ is lost in round-off and the estimate is
+// refused, not returned as k_yf ≈ 1e21 of random sign (found in review).
+TEST(Identify, RigidJointIsRefused) {
+  Assembly a = example();
+  a.holder_tool = Joint::make_rigid();
+  const AssemblyModel m(a);
+  for (double x : {500.0, 2500.0}) {
+    try {
+      const JointEstimate e = identify_joint(m.tool(x), m.holder_tip(x), m.tool_point(x));
+      ADD_FAILURE() << "rigid joint identified as k_yf = " << e.K(0, 0).real() << " at " << x << " Hz";
+    } catch (const NumericalError& err) {
+      EXPECT_NE(std::string(err.what()).find("effectively rigid"), std::string::npos) << err.what();
+    }
+  }
 }
 
 TEST(Identify, BadDataIsRefused) {

@@ -44,14 +44,21 @@ struct JointEstimate {
   // a real relative error ε_q on entry q moves K_rc by ε_q coef_q with coef = −(K A21 D⁻¹)_ra
   // (D⁻¹ A12 K)_bc G_ab or K_ra K_bc B_ab; so the RMS error of k = Re K_rc is sqrt(Σ Re(coef)²)
   // and of c = Im K_rc/ω is sqrt(Σ Im(coef)²)/ω, each divided by the parameter for the gain:
-  // for 5 % noise expect a relative error of ≈ 0.05 × gain. Unit-free. Large away from
+  // for 5 % noise expect a relative error of ≈ 0.05 × gain. Unit-free. An off-diagonal parameter
+  // is measured against max(|value|, 10 % of sqrt|K_yf K_θm|) of its part (Re or Im): a coupling
+  // term that is zero has no relative error, only one against its natural scale. Large away from
   // a well-placed mode (NOTES §1), at low frequency, and always for a damping whose ωc is a small
   // part of |K|.
   std::array<double, 8> noise_gain{};
+  // ‖K⁻¹‖ / (‖X⁻¹‖ + ‖A22‖ + ‖B11‖): how much of the terms survives their difference. Small for a
+  // stiff joint at low frequency (rounding then limits K); identify_joint refuses below 1e-12.
+  double flexibility_share = 0.0;
 };
 
-// The closed form above at one frequency. Throws NumericalError when A11 − G11 or K⁻¹ is
-// singular (G11 equal to A11: nothing attached; K⁻¹ = 0: a rigid joint).
+// The closed form above at one frequency. Throws NumericalError when A11 − G11 is singular (G11
+// equal to A11: nothing attached, or a hinge joint — a singular K makes A11 − G11 singular too;
+// the seed's A12⁻¹ form has the same limit), when K⁻¹ is lost in round-off (flexibility_share
+// below 1e-12: a rigid joint) or singular.
 JointEstimate identify_joint(const TwoPort& A, const Block& B11, const Block& G11);
 
 enum class JointKind { HolderTool, SpindleHolder };
