@@ -75,7 +75,7 @@ CaseStudy run_case_study(const Assembly& assembly, const CaseStudyOptions& o) {
   cs.filtered = identify(cs.sh_filtered, cs.sht_filtered, "filtered");
 
   // The mode the joint controls (effect analysis on the model), found in the measured FRF.
-  cs.effect = effect_analysis(assembly, JointKind::HolderTool, true, f);
+  cs.effect = effect_analysis(assembly, Route::HolderTool, f);
   const double model_mode = cs.effect.modes[cs.effect.dominant].frequency_hz;
   const auto peaks = find_peaks(entry(cs.sht_filtered, 0));
   cs.mode_hz = model_mode;

@@ -226,10 +226,10 @@ std::size_t nearest(const std::vector<Peak>& peaks, double f) {
 
 }  // namespace
 
-EffectAnalysis effect_analysis(const Assembly& assembly, JointKind kind, bool tool_point_frf, const std::vector<double>& f,
-                               double step) {
-  const Joint& j = kind == JointKind::HolderTool ? assembly.holder_tool : assembly.spindle_holder;
-  const char* which = kind == JointKind::HolderTool ? "holder_tool" : "spindle_holder";
+EffectAnalysis effect_analysis(const Assembly& assembly, Route route, const std::vector<double>& f, double step) {
+  const bool holder_tool = route == Route::HolderTool, tool_point_frf = route != Route::SpindleHolderFromSH;
+  const Joint& j = holder_tool ? assembly.holder_tool : assembly.spindle_holder;
+  const char* which = holder_tool ? "holder_tool" : "spindle_holder";
   if (j.rigid)
     throw InvalidArgument(fmt::format("effect analysis needs trial values for joints.{} (it is rigid in the assembly file)", which),
                           "give the joint estimated stiffness and damping values in the assembly file");
@@ -241,7 +241,7 @@ EffectAnalysis effect_analysis(const Assembly& assembly, JointKind kind, bool to
                           "widen the frequency range");
   auto perturbed = [&](bool stiffness) {
     Assembly a = assembly;
-    JointParameters& p = (kind == JointKind::HolderTool ? a.holder_tool : a.spindle_holder).parameters;
+    JointParameters& p = (holder_tool ? a.holder_tool : a.spindle_holder).parameters;
     for (int i = stiffness ? 0 : 1; i < 8; i += 2) p[i] *= 1.0 + step;
     return model_peaks(a, tool_point_frf, f);
   };
@@ -257,6 +257,9 @@ EffectAnalysis effect_analysis(const Assembly& assembly, JointKind kind, bool to
   }
   for (std::size_t i = 1; i < r.modes.size(); ++i)
     if (std::abs(r.modes[i].stiffness_shift) > std::abs(r.modes[r.dominant].stiffness_shift)) r.dominant = i;
+  if (r.modes[r.dominant].stiffness_shift == 0.0)
+    throw InvalidArgument(fmt::format("effect analysis: no mode of the {} FRF moves when joints.{} changes", tool_point_frf ? "tool point" : "holder tip", which),
+                          "the FRF does not depend on this joint; pick the band by hand (--band)");
   return r;
 }
 

@@ -154,7 +154,7 @@ TEST(Identify, NoiseGainPredictsTheScatter) {
 TEST(Identify, EffectAnalysisPicksTheToolMode) {
   const Assembly a = example();
   const std::vector<double> f = FrequencyGrid{10.0, 5000.0, 2.0}.values();
-  const EffectAnalysis ea = effect_analysis(a, JointKind::HolderTool, true, f);
+  const EffectAnalysis ea = effect_analysis(a, Route::HolderTool, f);
   std::vector<FrfSeries> frfs;
   for (double dl : {0.0, -0.006, 0.006}) {
     Assembly b = a;
@@ -272,5 +272,5 @@ TEST(Identify, BadDataIsRefused) {
   // Rigid trial joint: no effect analysis possible.
   Assembly r = a;
   r.holder_tool = Joint::make_rigid();
-  EXPECT_THROW(effect_analysis(r, JointKind::HolderTool, true, f), InvalidArgument);
+  EXPECT_THROW(effect_analysis(r, Route::HolderTool, f), InvalidArgument);
 }

@@ -103,7 +103,7 @@ void run_identify(const IdentifyOptions& o, const Globals& g) {
     } else {
       progress.stage("identify: effect analysis on the model", 0.4);
       const EffectAnalysis ea =
-          effect_analysis(a, ht ? JointKind::HolderTool : JointKind::SpindleHolder, tool_point_frf, G.frequency_hz);
+          effect_analysis(a, ht ? Route::HolderTool : tool_point_frf ? Route::SpindleHolderFromSHT : Route::SpindleHolderFromSH, G.frequency_hz);
       const double model_f = ea.modes[ea.dominant].frequency_hz;
       const auto peaks = find_peaks(g_h);
       if (peaks.empty()) throw InputError(fmt::format("{}: no resonance peak in |H| to read the joint at", g_name), "give --at or --band");

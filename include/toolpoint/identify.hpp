@@ -61,7 +61,11 @@ struct JointEstimate {
 // below 1e-12: a rigid joint) or singular.
 JointEstimate identify_joint(const TwoPort& A, const Block& B11, const Block& G11);
 
-enum class JointKind { HolderTool, SpindleHolder };
+// The three identifications of the seed, each with its joint and the FRF it reads:
+//   HolderTool            Eq. (6):  K_ht from SHT11 (SH11 given)
+//   SpindleHolderFromSH   Eq. (15): K_sh from SH11  (S11 given)
+//   SpindleHolderFromSHT  Eq. (18): K_sh from SHT11 (S11 given, HT from the model's K_ht)
+enum class Route { HolderTool, SpindleHolderFromSH, SpindleHolderFromSHT };
 
 // K(ω) over a frequency grid, with k, c per frequency and the conditioning.
 struct JointSeries {
@@ -130,12 +134,11 @@ struct EffectAnalysis {
 
 // Effect analysis (Ertürk et al. 2007, the seed's basis for choosing the mode): perturb the
 // joint's stiffness (then damping) parameters by `step` in the model and see which peak of the
-// FRF the joint is identified from moves most — SHT11 for the holder–tool joint; SH11 (Eq. 15)
-// or SHT11 (Eq. 18) for the spindle–holder joint. Peaks on `frequency_hz`, refined on the model.
-// Throws InvalidArgument if the joint is rigid in the model (give it trial values) or the FRF
-// has no peak.
-EffectAnalysis effect_analysis(const Assembly& assembly, JointKind joint, bool tool_point_frf,
-                               const std::vector<double>& frequency_hz, double step = 0.1);
+// FRF the joint is identified from (see Route) moves most. Peaks on `frequency_hz`, refined on the
+// model. Throws InvalidArgument if the joint is rigid in the model (give it trial values), the
+// FRF has no peak, or no mode moves at all (the FRF does not depend on the joint).
+EffectAnalysis effect_analysis(const Assembly& assembly, Route route, const std::vector<double>& frequency_hz,
+                               double step = 0.1);
 
 // The mode that moves most with the tool overhang (the seed's Fig. 10): the reference FRF's peaks
 // found in each FRF (any order; track_modes against the reference within 25 %), the one whose
