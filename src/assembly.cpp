@@ -165,17 +165,23 @@ std::vector<Segment> insert_tool(const std::vector<Segment>& holder, const std::
 }
 
 Chain::Chain(std::vector<Segment> pieces, ReceptanceMethod method, int modal_terms)
-    : pieces_(std::move(pieces)), ground_(pieces_.size() + 1) {
+    : pieces_(std::move(pieces)), ground_(pieces_.size() + 1), method_(method), modal_terms_(modal_terms) {
   for (const Segment& s : pieces_) {
     s.check();
     props_.push_back(s.properties());
-    if (method == ReceptanceMethod::Modal) {
-      try {
-        modal_.push_back(std::make_shared<const ModalBeam>(props_.back(), s.length, ModalOptions{modal_terms, true}));
-      } catch (const InvalidArgument& e) {
-        throw InvalidArgument(fmt::format("{}: {}", s.name.empty() ? "segment" : s.name, e.what()), e.hint());
-      }
+    if (method != ReceptanceMethod::Modal) continue;
+    const SectionProperties& p = props_.back();
+    // The modal sum damps every mode by one η: a composite section whose layers differ in loss
+    // factor has no such η, so that piece is computed exactly (and said so).
+    const double eta_b = p.EI.imag() / p.EI.real(), eta_s = p.kGA.imag() / p.kGA.real();
+    if (std::abs(eta_b - eta_s) > 1e-12 * std::max(1.0, std::abs(eta_b))) {
+      warnings_.push_back(fmt::format("{}: its layers have different loss factors, which the modal method cannot represent; "
+                                      "this piece uses the exact solution",
+                                      s.name.empty() ? "segment" : s.name));
+      modal_.push_back(nullptr);
+      continue;
     }
+    modal_.push_back(std::make_shared<const ModalBeam>(p, s.length, ModalOptions{modal_terms, true}));
   }
 }
 
@@ -187,11 +193,11 @@ void Chain::add_ground(std::size_t node, const Bearing& b) {
 double Chain::length() const { return total_length(pieces_); }
 
 TwoPort Chain::piece(std::size_t i, double frequency_hz) const {
-  return modal_.empty() ? exact_receptance(props_[i], pieces_[i].length, frequency_hz) : modal_[i]->receptance(frequency_hz);
+  return modal_.empty() || !modal_[i] ? exact_receptance(props_[i], pieces_[i].length, frequency_hz) : modal_[i]->receptance(frequency_hz);
 }
 
 TwoPort Chain::piece(std::size_t i, double frequency_hz, SectionWaves& waves, const SectionProperties*& waves_of) const {
-  if (!modal_.empty()) return modal_[i]->receptance(frequency_hz);
+  if (!modal_.empty() && modal_[i]) return modal_[i]->receptance(frequency_hz);
   const SectionProperties& p = props_[i];
   if (!waves_of || !(waves_of->EI == p.EI && waves_of->kGA == p.kGA && waves_of->rhoA == p.rhoA && waves_of->rhoI == p.rhoI)) {
     waves = section_waves(p, frequency_hz);
@@ -283,6 +289,12 @@ AssemblyModel::AssemblyModel(const Assembly& assembly) : assembly_(assembly) {
   }
 }
 
+std::vector<std::string> AssemblyModel::warnings() const {
+  std::vector<std::string> w;
+  for (const Chain* c : {&spindle_, &holder_, &tool_}) w.insert(w.end(), c->warnings().begin(), c->warnings().end());
+  return w;
+}
+
 Block AssemblyModel::spindle_nose(double f) const { return spindle_.point(f); }
 TwoPort AssemblyModel::holder(double f) const { return holder_.two_port(f); }
 TwoPort AssemblyModel::tool(double f) const { return tool_.two_port(f); }
@@ -332,7 +344,7 @@ Eigen::MatrixXcd chain_stations(const Chain& chain, double f, const std::vector<
   for (Eigen::Index k = 0; k + 1 < m; ++k) {
     auto [piece, inner] = split_segments(rest, nodes[k + 1] - nodes[k]);
     rest = std::move(inner);
-    const Eigen::MatrixXcd P = as_matrix(Chain(piece, ReceptanceMethod::Exact, 0).two_port(f));
+    const Eigen::MatrixXcd P = as_matrix(Chain(piece, chain.method(), chain.modal_terms()).two_port(f));
     G = k == 0 ? P : join_rigid(G, k, P, 0);
   }
   Block Z;

@@ -346,7 +346,11 @@ LoadedAssembly parse_assembly(const std::string& text, const std::string& source
   } catch (const InvalidArgument& e) {
     throw InputError(fmt::format("{}: {}", source, e.what()), e.hint());
   }
-  return {std::move(a), std::move(r.warnings)};
+  std::vector<std::string> notes;
+  for (const auto& [joint, name] : {std::pair{&a.spindle_holder, "joints.spindle_holder"}, std::pair{&a.holder_tool, "joints.holder_tool"}})
+    if (!joint->rigid)
+      for (auto& n : joint_warnings(joint->parameters, fmt::format("{}: {}", source, name))) notes.push_back(std::move(n));
+  return {std::move(a), std::move(r.warnings), std::move(notes)};
 }
 
 LoadedAssembly load_assembly(const std::string& path) { return parse_assembly(read_text_file(path), path); }

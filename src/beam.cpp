@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <fmt/format.h>
 
 #include "toolpoint/conventions.hpp"
@@ -84,9 +85,24 @@ double SectionProperties::cutoff_frequency_hz() const { return std::sqrt(kGA.rea
 
 SectionProperties Segment::properties() const {
   SectionProperties p{{0.0, 0.0}, {0.0, 0.0}, 0.0, 0.0};
+  // A composite section shears as one body: unless a layer overrides κ, the whole section takes
+  // the coefficient of its outer circle with its innermost bore (ν area-weighted), so concentric
+  // layers of one material are exactly the solid section (per-layer κ of thin sleeves would not
+  // be). With an override, each layer keeps its own.
+  bool overridden = false;
+  double outer = 0.0, inner = std::numeric_limits<double>::infinity(), area = 0.0, nu_area = 0.0;
+  for (const Annulus& l : layers) {
+    overridden = overridden || l.shear_coefficient.has_value();
+    outer = std::max(outer, l.outer_diameter);
+    inner = std::min(inner, l.inner_diameter);
+    area += l.area();
+    nu_area += l.material.poisson * l.area();
+  }
+  const double whole_kappa = layers.size() > 1 && !overridden && area > 0.0 ? shear_coefficient(shear_model, nu_area / area, outer, inner) : 0.0;
   for (const Annulus& l : layers) {
     const double A = l.area(), I = l.second_moment();
     const double kappa = l.shear_coefficient ? *l.shear_coefficient
+                         : whole_kappa > 0.0 ? whole_kappa
                                              : shear_coefficient(shear_model, l.material.poisson, l.outer_diameter, l.inner_diameter);
     const Complex damp(1.0, l.material.loss_factor);
     p.EI += l.material.youngs_modulus * I * damp;

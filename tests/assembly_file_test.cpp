@@ -39,6 +39,9 @@ void expect_error(const std::string& text, std::initializer_list<const char*> fr
 TEST(AssemblyFile, ExampleLoadsWithoutWarnings) {
   const LoadedAssembly la = load_assembly(kExample);
   EXPECT_TRUE(la.warnings.empty());
+  // The seed's Table 1 joint is indefinite in stiffness and damping: legal, noted.
+  ASSERT_EQ(la.notes.size(), 2u);
+  EXPECT_NE(la.notes[0].find("joints.holder_tool"), std::string::npos);
   const Assembly& a = la.assembly;
   EXPECT_EQ(a.spindle.segments.size(), 5u);
   EXPECT_EQ(a.spindle.bearings.size(), 4u);

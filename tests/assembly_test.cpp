@@ -66,8 +66,12 @@ TEST(Assembly, StaticLimitOfCantileveredAssembly) {
   // (length, EI, κGA) from the tip inwards; joints after the tool (ℓ = 0.05) and the holder (ℓ = 0.13).
   struct Piece { double len, EI, kGA; };
   const std::vector<Piece> tool = {{0.05, EI_of(cb, 0.012, 0), kGA_of(cb, 0.012, 0)}};
+  // Where the shank fills the bore the section is one solid 40 mm circle for shear: κ of that
+  // circle (ν area-weighted) times Σ G A (Segment's documented rule for composite sections).
+  const double a_st = kPi / 4 * (0.04 * 0.04 - 0.012 * 0.012), a_cb = kPi / 4 * 0.012 * 0.012;
+  const double kappa_whole = shear_coefficient(ShearModel::Hutchinson, (st.poisson * a_st + cb.poisson * a_cb) / (a_st + a_cb), 0.04, 0.0);
   const std::vector<Piece> holder = {
-      {0.03, EI_of(st, 0.04, 0.012) + EI_of(cb, 0.012, 0), kGA_of(st, 0.04, 0.012) + kGA_of(cb, 0.012, 0)},
+      {0.03, EI_of(st, 0.04, 0.012) + EI_of(cb, 0.012, 0), kappa_whole * (st.G() * a_st + cb.G() * a_cb)},
       {0.02, EI_of(st, 0.04, 0.012), kGA_of(st, 0.04, 0.012)},
       {0.03, EI_of(st, 0.05, 0.012), kGA_of(st, 0.05, 0.012)}};
   const std::vector<Piece> spindle = {{0.2, EI_of(st, 0.06, 0.02), kGA_of(st, 0.06, 0.02)}};
@@ -138,15 +142,20 @@ TEST(Assembly, StiffJointsTendToRigidAssembly) {
 
 // The modal method (100 modes per segment with the static residual) reproduces the exact
 // assembly FRF: 1e-4 relative over the example's band (the residual's quasi-static
-// approximation leaves ~(Ω/ω_N)² of the truncated part). The modal method needs one loss factor
-// per section, so the carbide is given the steel's for the composite holder sections.
+// approximation leaves ~(Ω/ω_N)² of the truncated part). On the example as it is, the holder
+// pieces holding the carbide shank in steel have two loss factors, which the modal sum cannot
+// represent: they fall back to the exact solution with a warning each (found in review: the
+// method used to refuse the shipped example).
 TEST(Assembly, ModalMethodMatchesExact) {
   Assembly a = load_assembly(std::string(TOOLPOINT_SOURCE_DIR) + "/examples/bt40_shrinkfit_16mm.toml").assembly;
-  a.tool.material.loss_factor = a.holder.front().layers.front().material.loss_factor;
   const AssemblyModel exact(a);
   a.method = ReceptanceMethod::Modal;
   a.modal_terms = 100;
   const AssemblyModel modal(a);
+  const auto w = modal.warnings();
+  ASSERT_EQ(w.size(), 3u);  // the three holder pieces with the shank inside
+  for (const auto& x : w) EXPECT_NE(x.find("different loss factors"), std::string::npos) << x;
+  EXPECT_TRUE(exact.warnings().empty());
   for (double f = 50.0; f < 5000.0; f *= 1.17) EXPECT_LT(rel_error(modal.tool_point(f), exact.tool_point(f)), 1e-4) << f;
 }
 

@@ -13,6 +13,8 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+
+#include "toolpoint/assembly_file.hpp"
 #include <cstddef>
 #include <optional>
 #include <string>
@@ -44,6 +46,8 @@ struct Globals {
 void info(const Globals& g, const std::string& message);
 void warn(const std::string& message);
 void warn_all(const std::vector<std::string>& messages);
+// What loading an assembly file found: its warnings, and its notes (info, silenced by --quiet).
+void report_loaded(const Globals& g, const LoadedAssembly& loaded);
 
 // The example assembly compiled into the binary (examples/bt40_shrinkfit_16mm.toml).
 const char* example_assembly_toml();

@@ -68,7 +68,7 @@ void run_couple(const CoupleOptions& o, const Globals& g) {
   if (sweep && o.output.empty())
     throw InvalidArgument("an overhang sweep needs --output DIR for its files", "add --output overhangs");
   LoadedAssembly loaded = load_assembly(o.assembly);
-  warn_all(loaded.warnings);
+  report_loaded(g, loaded);
   const BlockSeries sh = read_block_csv(o.sh);
   validate(sh, o.sh, 3);
   if (overhangs.empty()) overhangs.push_back(loaded.assembly.tool.overhang);

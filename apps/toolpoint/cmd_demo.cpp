@@ -35,7 +35,7 @@ void print_report(const DemoOptions& o, const LoadedAssembly& loaded, const Case
 void run_demo(const DemoOptions& o, const Globals& g) {
   const LoadedAssembly loaded = o.assembly.empty() ? parse_assembly(example_assembly_toml(), example_assembly_name())
                                                    : load_assembly(o.assembly);
-  warn_all(loaded.warnings);
+  report_loaded(g, loaded);
   CaseStudyOptions co;
   co.noise_sigma = o.sigma;
   co.seed = o.seed;

@@ -39,9 +39,10 @@ void run_identify(const IdentifyOptions& o, const Globals& g) {
   const bool ht = o.joint == "holder-tool";
   Progress progress(g, "identify: reading");
   LoadedAssembly loaded = load_assembly(o.assembly);
-  warn_all(loaded.warnings);
+  report_loaded(g, loaded);
   const Assembly& a = loaded.assembly;
   const AssemblyModel model(a);
+  warn_all(model.warnings());
 
   // Which equation, which data.
   std::string equation, g_name, b_name;

@@ -53,8 +53,9 @@ std::optional<MillingFrfs> tool_point_frfs(const LobesOptions& o, const Globals&
       throw InvalidArgument("give either --assembly or --frf (with --frf-y, --frf-xy, --frf-yx), not both",
                             "drop --assembly to use measured FRFs, or drop the --frf options");
     const LoadedAssembly loaded = load_assembly(o.assembly);
-    warn_all(loaded.warnings);
+    report_loaded(g, loaded);
     const AssemblyModel model(loaded.assembly);
+  warn_all(model.warnings());
     MillingFrfs f;
     f.xx = entry(block_series(loaded.assembly.grid.values(), [&](double x) { return model.tool_point(x); }), 0);
     f.rigid_y = o.rigid_y;

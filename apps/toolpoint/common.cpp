@@ -33,6 +33,11 @@ const char* const kFigureFooter =
     "Figures (--plot): drawn by gnuplot after the data are written. If gnuplot is missing or fails,\n"
     "the data files stay written, the error names them, and the exit code is 5.\n";
 
+void report_loaded(const Globals& g, const LoadedAssembly& loaded) {
+  warn_all(loaded.warnings);
+  for (const auto& n : loaded.notes) info(g, "note: " + n);
+}
+
 CLI::Option* add_plot_option(CLI::App* command, std::string& target, const std::string& what) {
   return command
       ->add_option("--plot", target,

@@ -102,6 +102,11 @@ class Chain {
   std::size_t size() const { return pieces_.size(); }
   const std::vector<Segment>& segments() const { return pieces_; }
   double length() const;
+  ReceptanceMethod method() const { return method_; }
+  int modal_terms() const { return modal_terms_; }
+  // What the chain could not do as asked (a composite piece whose layers have different loss
+  // factors is computed exactly under the modal method: the modal sum needs one loss factor).
+  const std::vector<std::string>& warnings() const { return warnings_; }
 
  private:
   // piece(i, f), reusing `waves` when piece i has the section they were made for (consecutive
@@ -110,8 +115,11 @@ class Chain {
 
   std::vector<Segment> pieces_;
   std::vector<SectionProperties> props_;
-  std::vector<std::shared_ptr<const ModalBeam>> modal_;
-  std::vector<std::vector<Bearing>> ground_;  // per node, size n + 1
+  std::vector<std::shared_ptr<const ModalBeam>> modal_;  // per piece under the modal method; null: exact
+  std::vector<std::vector<Bearing>> ground_;              // per node, size n + 1
+  ReceptanceMethod method_ = ReceptanceMethod::Exact;
+  int modal_terms_ = 0;
+  std::vector<std::string> warnings_;
 };
 
 // Splits a chain listed from end 1 at `distance` from end 1: (outer part, inner part).
@@ -148,6 +156,8 @@ class AssemblyModel {
   Eigen::MatrixXcd holder_stations(double frequency_hz, const std::vector<double>& distances) const;
 
   const Assembly& assembly() const { return assembly_; }
+  // The chains' warnings (see Chain::warnings).
+  std::vector<std::string> warnings() const;
   const Chain& spindle_chain() const { return spindle_; }
   const Chain& holder_chain() const { return holder_; }
   const Chain& tool_chain() const { return tool_; }

@@ -18,6 +18,7 @@ namespace toolpoint {
 struct LoadedAssembly {
   Assembly assembly;
   std::vector<std::string> warnings;  // "file:line: key = value …" for implausible magnitudes
+  std::vector<std::string> notes;     // legal but worth knowing: an indefinite joint (joint_warnings)
 };
 
 // Parses assembly TOML text; `source` names the file in errors ("file:line: key: what was

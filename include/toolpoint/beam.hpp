@@ -70,7 +70,9 @@ struct SectionProperties {
   double cutoff_frequency_hz() const;
 };
 
-// A uniform segment: length and concentric layers (outermost first or any order).
+// A uniform segment: length and concentric layers (outermost first or any order). A composite
+// section (several layers) takes one shear coefficient for the whole section — that of its outer
+// circle with its innermost bore, ν area-weighted — unless a layer overrides κ.
 struct Segment {
   std::string name;     // where it came from, for messages ("holder.segment[2]"); may be empty
   double length = 0.0;  // m
