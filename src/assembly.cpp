@@ -42,6 +42,9 @@ void Tool::check() const {
   };
   positive(length, "length");
   positive(overhang, "overhang");
+  if (overhang < 1e-4)
+    throw InvalidArgument(fmt::format("tool.overhang = {} m: a tool must stick out at least 0.1 mm", overhang),
+                          "overhangs are in metres (49 mm = 0.049)");
   positive(diameter, "diameter");
   if (shank_diameter < 0.0 || !std::isfinite(shank_diameter))
     throw InvalidArgument(fmt::format("tool.shank_diameter = {} m must be > 0", shank_diameter));
