@@ -194,11 +194,11 @@ JointReadout read_joint(const JointSeries& s, double lo, double hi, const Readou
     const auto& p = r.parameters[static_cast<std::size_t>(k)];
     const double gain = r.noise_gain[static_cast<std::size_t>(k)];
     if (gain > options.gain_warning)
-      r.warnings.push_back(fmt::format("{}: noise gain {:.3g} — a 1 % error in the FRFs moves it by about {:.3g} %: not identifiable "
-                                       "from measured data in this band",
+      r.warnings.push_back(fmt::format("{}: noise gain {:.3g} — a 1 % error in the FRFs moves it by about {:.3g} %: poorly "
+                                       "determined by measured data in this band",
                                        JointParameters::name(k), gain, gain));
     else if (r.points >= 3 && p.spread > std::abs(p.median))
-      r.warnings.push_back(fmt::format("{}: spread {:.3g} exceeds the value {:.3g} {} — not identifiable from these data in this band",
+      r.warnings.push_back(fmt::format("{}: spread {:.3g} exceeds the value {:.3g} {} — undetermined by these data in this band",
                                        JointParameters::name(k), p.spread, p.median, JointParameters::unit(k)));
   }
   if (r.points < 3) r.warnings.push_back(fmt::format("only {} point(s) in the read-out band", r.points));

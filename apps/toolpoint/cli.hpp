@@ -49,6 +49,14 @@ void warn_all(const std::vector<std::string>& messages);
 // What loading an assembly file found: its warnings, and its notes (info, silenced by --quiet).
 void report_loaded(const Globals& g, const LoadedAssembly& loaded);
 
+// An assembly file loaded, its findings reported, its grid replaced by `frequencies` when given
+// (START:STOP:STEP [Hz], named --frequencies in errors), and its model built (warnings reported).
+struct LoadedModel {
+  LoadedAssembly loaded;
+  AssemblyModel model;
+};
+LoadedModel load_model(const Globals& g, const std::string& path, const std::string& frequencies = {});
+
 // The example assembly compiled into the binary (examples/bt40_shrinkfit_16mm.toml).
 const char* example_assembly_toml();
 const char* example_assembly_name();

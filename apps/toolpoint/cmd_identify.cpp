@@ -38,11 +38,9 @@ void run_identify(const IdentifyOptions& o, const Globals& g) {
   check_plot_path(o.plot);
   const bool ht = o.joint == "holder-tool";
   Progress progress(g, "identify: reading");
-  LoadedAssembly loaded = load_assembly(o.assembly);
-  report_loaded(g, loaded);
-  const Assembly& a = loaded.assembly;
-  const AssemblyModel model(a);
-  warn_all(model.warnings());
+  const LoadedModel lm = load_model(g, o.assembly);
+  const Assembly& a = lm.loaded.assembly;
+  const AssemblyModel& model = lm.model;
 
   // Which equation, which data.
   std::string equation, g_name, b_name;

@@ -52,12 +52,9 @@ std::optional<MillingFrfs> tool_point_frfs(const LobesOptions& o, const Globals&
     if (!o.frf.empty() || !o.frf_y.empty() || !o.frf_xy.empty() || !o.frf_yx.empty())
       throw InvalidArgument("give either --assembly or --frf (with --frf-y, --frf-xy, --frf-yx), not both",
                             "drop --assembly to use measured FRFs, or drop the --frf options");
-    const LoadedAssembly loaded = load_assembly(o.assembly);
-    report_loaded(g, loaded);
-    const AssemblyModel model(loaded.assembly);
-  warn_all(model.warnings());
+    const LoadedModel lm = load_model(g, o.assembly);
     MillingFrfs f;
-    f.xx = entry(block_series(loaded.assembly.grid.values(), [&](double x) { return model.tool_point(x); }), 0);
+    f.xx = entry(block_series(lm.loaded.assembly.grid.values(), [&](double x) { return lm.model.tool_point(x); }), 0);
     f.rigid_y = o.rigid_y;
     f.check();
     info(g, fmt::format("tool point FRF from {} ({} frequencies, {:g}–{:g} Hz), used for x and y", o.assembly, f.xx.size(),

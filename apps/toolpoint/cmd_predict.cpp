@@ -23,11 +23,9 @@ struct PredictOptions {
 
 void run_predict(const PredictOptions& o, const Globals& g) {
   check_plot_path(o.plot);
-  LoadedAssembly loaded = load_assembly(o.assembly);
-  report_loaded(g, loaded);
-  if (!o.frequencies.empty()) loaded.assembly.grid = parse_frequency_grid(o.frequencies, "--frequencies");
-  const AssemblyModel model(loaded.assembly);
-  warn_all(model.warnings());
+  const LoadedModel lm = load_model(g, o.assembly, o.frequencies);
+  const LoadedAssembly& loaded = lm.loaded;
+  const AssemblyModel& model = lm.model;
   const bool tool = o.at == "tool";
   auto at = [&](double f) { return tool ? model.tool_point(f) : model.holder_tip(f); };
   const BlockSeries series = block_series(loaded.assembly.grid.values(), at);

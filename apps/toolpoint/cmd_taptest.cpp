@@ -27,11 +27,9 @@ struct TapTestOptions {
 
 void run_taptest(const TapTestOptions& o, const Globals& g) {
   if (!(o.spacing > 0.0)) throw InvalidArgument(fmt::format("--spacing {} m must be > 0", o.spacing), "e.g. --spacing 0.01 for 10 mm");
-  LoadedAssembly loaded = load_assembly(o.assembly);
-  report_loaded(g, loaded);
-  if (!o.frequencies.empty()) loaded.assembly.grid = parse_frequency_grid(o.frequencies, "--frequencies");
-  const AssemblyModel model(loaded.assembly);
-  warn_all(model.warnings());
+  const LoadedModel lm = load_model(g, o.assembly, o.frequencies);
+  const LoadedAssembly& loaded = lm.loaded;
+  const AssemblyModel& model = lm.model;
   const bool tool = o.at == "tool";
   std::vector<double> x;
   for (int i = 0; i < o.points; ++i) x.push_back(i * o.spacing);

@@ -38,6 +38,15 @@ void report_loaded(const Globals& g, const LoadedAssembly& loaded) {
   for (const auto& n : loaded.notes) info(g, "note: " + n);
 }
 
+LoadedModel load_model(const Globals& g, const std::string& path, const std::string& frequencies) {
+  LoadedAssembly loaded = load_assembly(path);
+  report_loaded(g, loaded);
+  if (!frequencies.empty()) loaded.assembly.grid = parse_frequency_grid(frequencies, "--frequencies");
+  AssemblyModel model(loaded.assembly);
+  warn_all(model.warnings());
+  return {std::move(loaded), std::move(model)};
+}
+
 CLI::Option* add_plot_option(CLI::App* command, std::string& target, const std::string& what) {
   return command
       ->add_option("--plot", target,
