@@ -116,6 +116,20 @@ TEST(Identify, ForwardRoutesAgree) {
     EXPECT_LT(rel_error(couple_point(m.holder_tool(x), m.spindle_nose(x), a.spindle_holder, x), m.tool_point(x)), 1e-9) << x;
 }
 
+// Without diagnostics the stiffness is the same, bit for bit, and the diagnostics stay 0.
+TEST(Identify, DiagnosticsAreOptional) {
+  const AssemblyModel m(example());
+  for (double x : {700.0, 2580.0}) {
+    const TwoPort T = m.tool(x);
+    const Block SH = m.holder_tip(x), G = m.tool_point(x);
+    const JointEstimate full = identify_joint(T, SH, G), lean = identify_joint(T, SH, G, false);
+    EXPECT_EQ(lean.K, full.K);
+    EXPECT_GT(full.cond_difference, 0.0);
+    EXPECT_EQ(lean.cond_difference, 0.0);
+    EXPECT_EQ(lean.noise_gain[0], 0.0);
+  }
+}
+
 // The noise gain predicts the scatter of the identified parameters: a Monte-Carlo run with
 // independent relative errors of 1e-6 (small: first order holds) on the 8 measured entries gives
 // an RMS relative error per parameter within 15 % of 1e-6 × gain (400 draws: the RMS estimate

@@ -59,7 +59,9 @@ struct JointEstimate {
 // equal to A11: nothing attached, or a hinge joint — a singular K makes A11 − G11 singular too;
 // the seed's A12⁻¹ form has the same limit), when K⁻¹ is lost in round-off (flexibility_share
 // below 1e-12: a rigid joint) or singular.
-JointEstimate identify_joint(const TwoPort& A, const Block& B11, const Block& G11);
+// `diagnostics` false skips the condition numbers and noise gains (left 0): K and the round-off
+// check only, about twice as fast, for bulk work that does not read them.
+JointEstimate identify_joint(const TwoPort& A, const Block& B11, const Block& G11, bool diagnostics = true);
 
 // The three identifications of the seed, each with its joint and the FRF it reads:
 //   HolderTool            Eq. (6):  K_ht from SHT11 (SH11 given)
