@@ -38,14 +38,9 @@ CaseStudy run_case_study(const Assembly& assembly, const CaseStudyOptions& o) {
     cs.sh_true.blocks.push_back(r.SH11);
     cs.sht_true.blocks.push_back(r.SHT11);
   }
-  std::size_t cursor = 0;
-  auto tool_at = [&](double x) -> TwoPort {
-    // Series are on the same grid in order: the next frequency is (nearly always) the next point.
-    if (cursor >= f.size() || f[cursor] != x) cursor = static_cast<std::size_t>(std::lower_bound(f.begin(), f.end(), x) - f.begin());
-    return T[cursor++];
-  };
+  // Every series here is on the grid f, so the tool's block at x is T at x's index.
+  auto tool_at = [&](double x) { return T[static_cast<std::size_t>(std::lower_bound(f.begin(), f.end(), x) - f.begin())]; };
   auto identify = [&](const BlockSeries& sh, const BlockSeries& sht, const char* what) {
-    cursor = 0;
     return identify_series(tool_at, sh, fmt::format("SH11 ({})", what), sht, fmt::format("SHT11 ({})", what));
   };
 

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -32,21 +33,31 @@ std::string read_text_file(const std::string& path) {
   return ss.str();
 }
 
-void write_text_file(const std::string& path, const std::string& content) {
-  const fs::path target(path);
-  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+AtomicOutput::AtomicOutput(std::string target) : target_(std::move(target)) {
+  const fs::path t(target_);
+  const fs::path dir = t.has_parent_path() ? t.parent_path() : fs::path(".");
   std::error_code ec;
   fs::create_directories(dir, ec);
-  if (ec) throw IoError(fmt::format("{}: cannot create folder {} ({})", path, dir.string(), ec.message()));
-  std::string leaf(".");  // hidden temporary beside the target, so rename() stays on one file system
-  leaf += target.filename().string();
+  if (ec) throw IoError(fmt::format("{}: cannot create folder {} ({})", target_, dir.string(), ec.message()));
+  std::string leaf(".");  // hidden, beside the target, so rename() stays on one file system
+  leaf += t.filename().string();
   leaf += ".tmp.XXXXXX";
   std::string tmpl = (dir / leaf).string();
-  std::vector<char> name(tmpl.begin(), tmpl.end());
-  name.push_back('\0');
-  const int fd = ::mkstemp(name.data());
-  if (fd < 0) throw IoError(fmt::format("{}: cannot create a temporary file in {} ({})", path, dir.string(), std::strerror(errno)));
-  const std::string tmp(name.data());
+  const int fd = ::mkstemp(tmpl.data());
+  if (fd < 0)
+    throw IoError(fmt::format("{}: cannot create a temporary file in {} ({})", target_, dir.string(), std::strerror(errno)),
+                  "check that the folder exists and is writable");
+  ::close(fd);
+  path_ = std::move(tmpl);
+}
+
+AtomicOutput::~AtomicOutput() {
+  if (!path_.empty()) ::unlink(path_.c_str());
+}
+
+void AtomicOutput::write(const std::string& content) {
+  const int fd = ::open(path_.c_str(), O_WRONLY | O_TRUNC);
+  if (fd < 0) throw IoError(fmt::format("{}: cannot write its temporary file ({})", target_, std::strerror(errno)));
   std::size_t written = 0;
   while (written < content.size()) {
     const ssize_t n = ::write(fd, content.data() + written, content.size() - written);
@@ -54,21 +65,24 @@ void write_text_file(const std::string& path, const std::string& content) {
       if (errno == EINTR) continue;
       const std::string why = std::strerror(errno);
       ::close(fd);
-      ::unlink(tmp.c_str());
-      throw IoError(fmt::format("{}: write failed ({}); nothing was written", path, why));
+      throw IoError(fmt::format("{}: write failed ({}); nothing was written", target_, why));
     }
     written += static_cast<std::size_t>(n);
   }
-  if (::close(fd) != 0) {
-    ::unlink(tmp.c_str());
-    throw IoError(fmt::format("{}: write failed on close; nothing was written", path));
-  }
-  ::chmod(tmp.c_str(), 0644);
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    const std::string why = std::strerror(errno);
-    ::unlink(tmp.c_str());
-    throw IoError(fmt::format("{}: cannot replace the file ({}); nothing was written", path, why));
-  }
+  if (::close(fd) != 0) throw IoError(fmt::format("{}: write failed on close; nothing was written", target_));
+}
+
+void AtomicOutput::commit() {
+  ::chmod(path_.c_str(), 0644);
+  if (std::rename(path_.c_str(), target_.c_str()) != 0)
+    throw IoError(fmt::format("{}: cannot replace the file ({}); nothing was written", target_, std::strerror(errno)));
+  path_.clear();
+}
+
+void write_text_file(const std::string& path, const std::string& content) {
+  AtomicOutput out(path);
+  out.write(content);
+  out.commit();
 }
 
 namespace {

@@ -22,6 +22,7 @@
 #include <fmt/format.h>
 
 #include "toolpoint/conventions.hpp"
+#include "toolpoint/io.hpp"
 
 extern char** environ;
 
@@ -582,41 +583,6 @@ ChildOutcome run_gnuplot(const PlotOptions& o, const std::string& script) {
   return out;
 }
 
-// A hidden temporary file beside the target (same file system, so the final rename is atomic),
-// removed unless kept.
-class TempOutput {
- public:
-  explicit TempOutput(const std::string& target) {
-    const fs::path t(target);
-    const fs::path dir = t.has_parent_path() ? t.parent_path() : fs::path(".");
-    std::error_code ec;
-    fs::create_directories(dir, ec);
-    if (ec) throw IoError(fmt::format("{}: cannot create folder {} ({})", target, dir.string(), ec.message()));
-    std::string tmpl = (dir / ("." + t.filename().string() + ".tmp.XXXXXX")).string();
-    const int fd = ::mkstemp(tmpl.data());
-    if (fd < 0)
-      throw IoError(fmt::format("{}: cannot create a temporary file in {} ({})", target, dir.string(), std::strerror(errno)),
-                    "check that the folder exists and is writable");
-    ::close(fd);
-    path_ = tmpl;
-  }
-  ~TempOutput() {
-    if (!path_.empty()) ::unlink(path_.c_str());
-  }
-  TempOutput(const TempOutput&) = delete;
-  TempOutput& operator=(const TempOutput&) = delete;
-  const std::string& path() const { return path_; }
-  void keep_as(const std::string& target) {
-    ::chmod(path_.c_str(), 0644);
-    if (std::rename(path_.c_str(), target.c_str()) != 0)
-      throw IoError(fmt::format("{}: cannot replace the file ({}); nothing was written", target, std::strerror(errno)));
-    path_.clear();
-  }
-
- private:
-  std::string path_;
-};
-
 // The terminal, chosen inside gnuplot from what this gnuplot was built with; the choice is
 // reported back on stderr through "toolpoint-…:" lines. PDF keeps the PNG's proportions: the
 // cairo PNG works at 72 px per inch, and pdfcairo's default font and line scale is one half.
@@ -666,7 +632,7 @@ RenderResult render_script(const std::string& body, const std::string& path, int
   options.check();
   const Format format = format_for_path(path);
   check_size(width_px, height_px);
-  TempOutput tmp(path);
+  AtomicOutput tmp(path);
   const std::string script = terminal_lines(format, width_px, height_px) + "set output " + gp_path(tmp.path()) +
                              "\n" + body + "\nunset output\n";
   const ChildOutcome run = run_gnuplot(options, script);
@@ -714,7 +680,7 @@ RenderResult render_script(const std::string& body, const std::string& path, int
       from = to + 1;
     }
   }
-  tmp.keep_as(path);
+  tmp.commit();
   return result;
 }
 

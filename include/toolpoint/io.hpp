@@ -18,8 +18,27 @@ namespace toolpoint {
 // Reads a whole file. Throws IoError naming the path.
 std::string read_text_file(const std::string& path);
 
-// Writes `content` whole or not at all: a temporary file in the same folder, then rename.
-// Creates missing parent folders. Throws IoError naming the path.
+// Output written whole or not at all: a hidden temporary file beside `target` (same file
+// system, so the final rename is atomic). Fill it through write() or by its path (e.g. from
+// another program), then commit() renames it over the target; destroyed uncommitted, it is
+// removed and the target is untouched. Missing parent folders are created. Throws IoError naming
+// the target.
+class AtomicOutput {
+ public:
+  explicit AtomicOutput(std::string target);
+  ~AtomicOutput();
+  AtomicOutput(const AtomicOutput&) = delete;
+  AtomicOutput& operator=(const AtomicOutput&) = delete;
+
+  const std::string& path() const { return path_; }  // the temporary file
+  void write(const std::string& content);            // replaces the temporary file's content
+  void commit();                                     // mode 0644, renamed over the target
+
+ private:
+  std::string target_, path_;
+};
+
+// Writes `content` whole or not at all (AtomicOutput). Throws IoError naming the path.
 void write_text_file(const std::string& path, const std::string& content);
 
 // What an FRF CSV file holds: a block series or a single FRF.
