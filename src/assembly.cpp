@@ -195,6 +195,10 @@ void Chain::add_ground(std::size_t node, const Bearing& b) {
 
 double Chain::length() const { return total_length(pieces_); }
 
+bool Chain::has_modal_pieces() const {
+  return std::any_of(modal_.begin(), modal_.end(), [](const auto& m) { return m != nullptr; });
+}
+
 TwoPort Chain::piece(std::size_t i, double frequency_hz) const {
   return modal_.empty() || !modal_[i] ? exact_receptance(props_[i], pieces_[i].length, frequency_hz) : modal_[i]->receptance(frequency_hz);
 }

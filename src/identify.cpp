@@ -213,7 +213,7 @@ namespace {
 std::vector<Peak> model_peaks(const Assembly& a, bool tool_point, const std::vector<double>& f) {
   const AssemblyModel m(a);
   auto at = [&](double x) { return tool_point ? m.tool_point(x) : m.holder_tip(x); };
-  const BlockSeries s = block_series(f, at);
+  const BlockSeries s = tool_point ? m.tool_point(f) : m.holder_tip(f);
   return find_peaks(entry(s, 0), PeakOptions{}, [&](double x) { return std::abs(at(x)(0, 0)); });
 }
 

@@ -33,8 +33,7 @@ struct Data {
 };
 
 Data forward(const AssemblyModel& m, const std::vector<double>& f) {
-  return {block_series(f, [&](double x) { return m.spindle_nose(x); }), block_series(f, [&](double x) { return m.holder_tip(x); }),
-          block_series(f, [&](double x) { return m.tool_point(x); })};
+  return {block_series(f, [&](double x) { return m.spindle_nose(x); }), m.holder_tip(f), m.tool_point(f)};
 }
 
 }  // namespace
@@ -175,7 +174,7 @@ TEST(Identify, EffectAnalysisPicksTheToolMode) {
     b.tool.overhang += dl;
     b.tool.length += dl;
     const AssemblyModel m(b);
-    frfs.push_back(entry(block_series(f, [&](double x) { return m.tool_point(x); }), 0));
+    frfs.push_back(entry(m.tool_point(f), 0));
   }
   const OverhangModes om = overhang_mode(frfs, 0);
   EXPECT_NEAR(ea.modes[ea.dominant].frequency_hz, om.reference_peaks[om.dominant].frequency_hz, 2.0 * 2.0);
@@ -215,11 +214,11 @@ TEST(Identify, ForwardVerification) {
   const Assembly a = example();
   const AssemblyModel m(a);
   const auto f = grid();
-  const FrfSeries meas = entry(block_series(f, [&](double x) { return m.tool_point(x); }), 0);
+  const FrfSeries meas = entry(m.tool_point(f), 0);
   Assembly b = a;
   for (int k = 0; k < 8; k += 2) b.holder_tool.parameters[k] *= 1.3;
   const AssemblyModel mb(b);
-  const auto cmp = compare_modes(meas, entry(block_series(f, [&](double x) { return mb.tool_point(x); }), 0));
+  const auto cmp = compare_modes(meas, entry(mb.tool_point(f), 0));
   double max_shift = 0.0;
   for (const auto& c : cmp) max_shift = std::max(max_shift, c.frequency_error);
   EXPECT_GT(max_shift, 1e-2);
@@ -235,7 +234,7 @@ TEST(Identify, ZeroCouplingTermsAreNotFlagged) {
   const AssemblyModel m(a);
   const std::vector<double> f = FrequencyGrid{3900.0, 4500.0, 5.0}.values();
   const BlockSeries S = block_series(f, [&](double x) { return m.spindle_nose(x); });
-  const BlockSeries SH = block_series(f, [&](double x) { return m.holder_tip(x); });
+  const BlockSeries SH = m.holder_tip(f);
   const JointReadout r = read_joint(identify_series([&](double x) { return m.holder(x); }, S, "S11", SH, "SH11"), 4100.0, 4280.0);
   const JointParameters& p = a.spindle_holder.parameters;
   EXPECT_LT(std::abs(r.parameters[2].median), 1e-6 * std::sqrt(p.k_yf * p.k_tm));

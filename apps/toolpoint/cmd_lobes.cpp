@@ -54,7 +54,7 @@ std::optional<MillingFrfs> tool_point_frfs(const LobesOptions& o, const Globals&
                             "drop --assembly to use measured FRFs, or drop the --frf options");
     const LoadedModel lm = load_model(g, o.assembly);
     MillingFrfs f;
-    f.xx = entry(block_series(lm.loaded.assembly.grid.values(), [&](double x) { return lm.model.tool_point(x); }), 0);
+    f.xx = entry(lm.model.tool_point(lm.loaded.assembly.grid.values()), 0);
     f.rigid_y = o.rigid_y;
     f.check();
     info(g, fmt::format("tool point FRF from {} ({} frequencies, {:g}–{:g} Hz), used for x and y", o.assembly, f.xx.size(),

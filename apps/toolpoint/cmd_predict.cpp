@@ -28,7 +28,8 @@ void run_predict(const PredictOptions& o, const Globals& g) {
   const AssemblyModel& model = lm.model;
   const bool tool = o.at == "tool";
   auto at = [&](double f) { return tool ? model.tool_point(f) : model.holder_tip(f); };
-  const BlockSeries series = block_series(loaded.assembly.grid.values(), at);
+  const std::vector<double> grid = loaded.assembly.grid.values();
+  const BlockSeries series = tool ? model.tool_point(grid) : model.holder_tip(grid);
   const auto peaks = find_peaks(entry(series, 0), PeakOptions{}, [&](double f) { return std::abs(at(f)(0, 0)); });
   const std::string what = tool ? "tool point SHT11" : "holder tip SH11 (tool outside the holder removed)";
 

@@ -101,6 +101,11 @@ class Chain {
   Block point(double frequency_hz) const;
   std::size_t size() const { return pieces_.size(); }
   const std::vector<Segment>& segments() const { return pieces_; }
+  const std::vector<SectionProperties>& properties() const { return props_; }  // per piece
+  // The ground springs at node k (0 = end 1, size() = end 2).
+  const std::vector<Bearing>& grounds(std::size_t node) const { return ground_.at(node); }
+  // True when some piece is summed modally (the modal method); false when all are exact.
+  bool has_modal_pieces() const;
   double length() const;
   ReceptanceMethod method() const { return method_; }
   int modal_terms() const { return modal_terms_; }
@@ -142,6 +147,16 @@ class AssemblyModel {
 
   Block tool_point(double frequency_hz) const;   // SHT11
   Block holder_tip(double frequency_hz) const;   // SH11
+  // The same over a grid of frequencies [Hz], as a series (what predict, lobes and the effect
+  // analysis need). Under the exact method the frequencies go kWidth at a time through SIMD lanes
+  // (sweep.cpp): the same closed forms as the per-frequency functions, with the assembly swept
+  // as point receptances from the spindle's rear to the tool tip (Eq. 1 and 5 applied piece by
+  // piece), so the result agrees with them to rounding. Frequencies the lanes cannot certify
+  // (a near-singular inverse, a value outside the fast formulas' range) and the modal method go
+  // through the per-frequency functions, which handle them or throw. A NumericalError names the
+  // frequency; InvalidArgument for a frequency that is not > 0.
+  BlockSeries tool_point(const std::vector<double>& frequency_hz) const;
+  BlockSeries holder_tip(const std::vector<double>& frequency_hz) const;
   Block spindle_nose(double frequency_hz) const; // S11
   TwoPort holder(double frequency_hz) const;     // H
   TwoPort tool(double frequency_hz) const;       // T
@@ -177,6 +192,10 @@ Assembly with_overhang(const Assembly& assembly, double overhang);
 // assembly's holder–tool joint, SHT11 = T11 − T12 (T22 + K_ht⁻¹ + SH11)⁻¹ T21, on SH11's grid.
 // Throws InputError for an invalid SH11 (naming `sh_name`).
 BlockSeries couple_tool(const Assembly& assembly, const BlockSeries& sh11, const std::string& sh_name);
+
+// Whether this build and CPU run AssemblyModel's sweeps in SIMD lanes (x86-64 with AVX2 and FMA,
+// built with SLEEF); otherwise the sweeps go one frequency at a time, to the same values.
+bool simd_sweeps_available();
 
 // Series over a frequency grid (Hz) of any per-frequency block function of the model.
 BlockSeries block_series(const std::vector<double>& frequency_hz, const std::function<Block(double)>& at);

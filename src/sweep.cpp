@@ -1,0 +1,260 @@
+// toolpoint: the assembly's point receptances over a frequency grid, several frequencies at a time.
+//
+// AssemblyModel::tool_point(f) and holder_tip(f) for a whole grid. The per-frequency functions
+// build each component's four end blocks and couple them (seed Eq. 1 and 5); a sweep only needs
+// point receptances, so it walks the assembly once from the spindle's rear end to the tool tip:
+//   spindle   g ← T11 of the rearmost piece (its rear bearings by modification), then piece by
+//             piece towards the nose, g ← T11 − T12 (T22 + g)⁻¹ T21 (rigid coupling, Eq. 1 with
+//             K⁻¹ = 0), the bearings at each node by modification, g (I + D g)⁻¹;
+//   holder    the innermost piece coupled to S11 through K_sh (Eq. 1), then rigidly outwards: SH11;
+//   tool      the same through K_ht from SH11: SHT11 (Eq. 5).
+// Coupling is associative, so this is the same receptance as coupling the components' two-ports;
+// only the rounding differs. Each frequency occupies one lane of lanes.hpp's vectors; the
+// segment receptances are beam.cpp's closed form (exact_receptance from section_waves), written
+// once more in lanes. Units: SI, frequencies in Hz.
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+#include <optional>
+
+#include "lanes.hpp"
+#include "toolpoint/assembly.hpp"
+#include "toolpoint/conventions.hpp"
+#include "toolpoint/error.hpp"
+
+namespace toolpoint {
+
+namespace {
+
+using lanes::kWidth;
+
+// What the sweep needs of a chain, read once: per piece its length and section (consecutive
+// pieces of one cut segment share a section, so its wavenumbers are computed once), per node
+// its ground springs.
+struct ChainPlan {
+  struct Piece {
+    double length;
+    const SectionProperties* section;
+    bool new_section;  // differs from the previous piece's (towards end 2)
+  };
+  std::vector<Piece> pieces;  // from end 1
+  std::vector<const std::vector<Bearing>*> grounds;
+
+  explicit ChainPlan(const Chain& c) {
+    for (std::size_t i = 0; i < c.size(); ++i) {
+      const SectionProperties& p = c.properties()[i];
+      const bool same = i > 0 && [&] {
+        const SectionProperties& q = c.properties()[i - 1];
+        return p.EI == q.EI && p.kGA == q.kGA && p.rhoA == q.rhoA && p.rhoI == q.rhoI;
+      }();
+      pieces.push_back({c.segments()[i].length, &p, !same});
+    }
+    for (std::size_t k = 0; k <= c.size(); ++k) grounds.push_back(&c.grounds(k));
+  }
+};
+
+// The three chains of a sweep (no tool for SH11).
+struct Plans {
+  ChainPlan spindle, holder;
+  std::optional<ChainPlan> tool;
+};
+
+#if TOOLPOINT_LANES
+#pragma GCC push_options
+#pragma GCC target("avx2,fma")
+
+using lanes::B;
+using lanes::C;
+using lanes::Mask;
+using lanes::Port;
+using lanes::V;
+
+// A joint's K(ω) (joint.hpp, Eq. 8) in lanes: k + iωc per entry.
+B joint_stiffness(const JointParameters& j, V w) {
+  return {{lanes::splat(j.k_yf), j.c_yf * w}, {lanes::splat(j.k_ym), j.c_ym * w}, {lanes::splat(j.k_tf), j.c_tf * w},
+          {lanes::splat(j.k_tm), j.c_tm * w}};
+}
+
+// The summed dynamic stiffness of the bearings at one node, diag(k + iωc, k_θ + iωc_θ).
+B ground_stiffness(const std::vector<Bearing>& node, V w) {
+  double k = 0.0, c = 0.0, kt = 0.0, ct = 0.0;
+  for (const Bearing& b : node) k += b.stiffness, c += b.damping, kt += b.rotational_stiffness, ct += b.rotational_damping;
+  const C zero = lanes::cplx(0.0, 0.0);
+  return {{lanes::splat(k), c * w}, zero, zero, {lanes::splat(kt), ct * w}};
+}
+
+// beam.cpp's section_waves in lanes: the two wavenumbers of the section and the constants the
+// closed form needs (see SectionWaves).
+struct Waves {
+  C s[2], inv_s[2], e[2];
+  C a_over_b, f_a, f_d;
+};
+
+[[gnu::always_inline]] inline Waves section_waves(const SectionProperties& sp, V w2, Mask& bad) {
+  const Complex a = sp.kGA, b = sp.EI, ab = a * b;
+  const double mA = sp.rhoA, mI = sp.rhoI;
+  const Complex cb = a * mI + b * mA;
+  const C Bq = {cb.real() * w2, cb.imag() * w2};                  // (a ρI + b ρA) Ω²
+  const C Cq = {mA * w2 * (a.real() - mI * w2), mA * w2 * a.imag()};  // ρA Ω² (a − ρI Ω²)
+  const C disc = Bq * Bq + C{lanes::splat(4.0 * ab.real()), lanes::splat(4.0 * ab.imag())} * Cq;
+  C sq = lanes::sqrt_principal(disc, bad);
+  const Mask flip = (Bq.re * sq.re + Bq.im * sq.im) < 0.0;  // Re(conj(B) sq) < 0
+  sq = lanes::select(flip, -sq, sq);
+  const C q = -0.5 * (Bq + sq);
+  const Complex inv_ab = 1.0 / ab;
+  Waves w;
+  const C p[2] = {q * C{lanes::splat(inv_ab.real()), lanes::splat(inv_ab.imag())}, -(Cq * lanes::reciprocal(q, bad))};
+  const C ac = {lanes::splat(a.real()), lanes::splat(a.imag())};
+  for (int j = 0; j < 2; ++j) {
+    w.s[j] = lanes::sqrt_principal(p[j], bad);
+    w.inv_s[j] = lanes::reciprocal(w.s[j], bad);
+    w.e[j] = ac * p[j] + C{mA * w2, V{}};
+  }
+  const C de = w.e[1] - w.e[0];
+  const Complex inv_b = a * inv_ab, a_over_b = a * inv_b;
+  w.a_over_b = lanes::cplx(a_over_b.real(), a_over_b.imag());
+  w.f_a = (-1.0 / (mA * w2)) * de;
+  w.f_d = de * lanes::cplx(inv_b.real(), inv_b.imag());
+  return w;
+}
+
+// beam.cpp's exact_receptance(waves, length) in lanes (the derivation is there): the four end
+// blocks from the symmetric (s) and antisymmetric (a) parts.
+[[gnu::always_inline]] inline Port segment(const Waves& w, double length, Mask& bad) {
+  C c[2], pS[2], S[2];
+  for (int j = 0; j < 2; ++j) {
+    const C m1 = lanes::exp_neg_minus_one(length * w.s[j]);  // e^{−sL} − 1
+    c[j] = {1.0 + 0.5 * m1.re, 0.5 * m1.im};
+    const C sigma = -0.5 * m1;
+    pS[j] = sigma * w.s[j];
+    S[j] = sigma * w.inv_s[j];
+  }
+  const C P = c[0] * pS[1], Q = c[1] * pS[0], U = c[1] * S[0], Vv = c[0] * S[1];
+  const C ts1 = w.e[1] * P, ts2 = w.e[0] * Q, ta1 = w.e[1] * U, ta2 = w.e[0] * Vv;
+  const C ds = ts1 - ts2, da = ta1 - ta2;
+  lanes::check_well_above_roundoff(ds, ts1, ts2, bad);
+  lanes::check_well_above_roundoff(da, ta1, ta2, bad);
+  const C rs = lanes::reciprocal(ds, bad), ra = lanes::reciprocal(da, bad);
+  const C cc = c[0] * c[1];
+  const C ga_s = (w.f_a * rs) * (pS[0] * pS[1]), ga_a = (w.f_a * ra) * cc;
+  const C gb_s = (w.a_over_b * rs) * (P - Q), gb_a = (w.a_over_b * ra) * (U - Vv);
+  const C gd_s = (w.f_d * rs) * cc, gd_a = (w.f_d * ra) * (S[0] * S[1]);
+  const C h = 0.5 * (ga_s + ga_a), l = 0.5 * (gb_s + gb_a), pp = 0.5 * (gd_s + gd_a);
+  const C h12 = 0.5 * (ga_a - ga_s), l12 = 0.5 * (gb_s - gb_a), p12 = 0.5 * (gd_s - gd_a);
+  return {{h, l, l, pp}, {h12, l12, -l12, p12}, {h12, -l12, l12, p12}, {h, -l, -l, pp}};
+}
+
+// The point receptance at end 1 of `chain`, its end 2 free or, with `beyond`, attached to a
+// structure of point receptance *beyond through `joint` (Eq. 1).
+B chain_point(const ChainPlan& chain, V w, V w2, const B* beyond, const Joint& joint, Mask& bad) {
+  const std::size_t n = chain.pieces.size();
+  Waves waves;
+  auto piece = [&](std::size_t i) {
+    const ChainPlan::Piece& p = chain.pieces[i];
+    // Walking inwards-out, a piece reuses the waves of the piece behind it unless the section
+    // changes between them.
+    if (i == n - 1 || chain.pieces[i + 1].new_section) waves = section_waves(*p.section, w2, bad);
+    return segment(waves, p.length, bad);
+  };
+  const Port last = piece(n - 1);
+  B g;
+  const std::vector<Bearing>& end2 = *chain.grounds[n];
+  if (beyond) {
+    g = joint.rigid ? lanes::couple_rigid_point(last, *beyond, bad)
+                    : lanes::couple_elastic_point(last, *beyond, joint_stiffness(joint.parameters, w), bad);
+    if (!end2.empty()) bad |= Mask{} - 1;  // not a configuration the model builds; the scalar path handles it
+  } else if (!end2.empty()) {
+    // Springs to ground at a free end 2 are a joint to a body of zero receptance.
+    const C zero = lanes::cplx(0.0, 0.0);
+    g = lanes::couple_elastic_point(last, B{zero, zero, zero, zero}, ground_stiffness(end2, w), bad);
+  } else {
+    g = last.b11;
+  }
+  for (std::size_t k = n - 1; k-- > 0;) {
+    if (!chain.grounds[k + 1]->empty()) g = lanes::ground_point(g, ground_stiffness(*chain.grounds[k + 1], w), bad);
+    g = lanes::couple_rigid_point(piece(k), g, bad);
+  }
+  if (!chain.grounds[0]->empty()) g = lanes::ground_point(g, ground_stiffness(*chain.grounds[0], w), bad);
+  return g;
+}
+
+// SH11 (or SHT11 when plans.tool is set) at the kWidth frequencies f_in [Hz]: entry e (H, L, N,
+// P) of lane i in out[e][i] (real parts) and out[e + 4][i] (imaginary parts). Returns the lanes
+// to recompute one at a time, bit i for lane i. (Blocks are built by the caller: Eigen's
+// SSE2-only inline functions cannot be inlined into this AVX2 code.)
+unsigned batch(const Plans& plans, const Assembly& a, const double* f_in, double (*out)[kWidth]) {
+  Mask bad{};
+  V f;
+  for (int i = 0; i < kWidth; ++i) f[i] = f_in[i];
+  bad |= ~lanes::within(f, 0.0, std::numeric_limits<double>::infinity());
+  const V w = (2.0 * kPi) * f, w2 = w * w;  // omega_of(f), squared
+  const B s11 = chain_point(plans.spindle, w, w2, nullptr, Joint::make_rigid(), bad);
+  B g = chain_point(plans.holder, w, w2, &s11, a.spindle_holder, bad);
+  if (plans.tool) g = chain_point(*plans.tool, w, w2, &g, a.holder_tool, bad);
+  const C e[4] = {g.a, g.b, g.c, g.d};
+  for (int k = 0; k < 4; ++k)
+    for (int i = 0; i < kWidth; ++i) out[k][i] = e[k].re[i], out[k + 4][i] = e[k].im[i];
+  return static_cast<unsigned>(_mm256_movemask_pd((__m256d)bad));
+}
+
+#pragma GCC pop_options
+#endif  // TOOLPOINT_LANES
+
+// The series over `frequency_hz`, through the lanes when every chain is exact, with `at` (the
+// per-frequency function) for the lanes they cannot certify or for modal chains.
+BlockSeries sweep(const Plans* plans, const Assembly& a, const std::vector<double>& frequency_hz, Block (AssemblyModel::*at)(double) const,
+                  const AssemblyModel& model) {
+  BlockSeries s;
+  s.frequency_hz = frequency_hz;
+  s.blocks.resize(frequency_hz.size());
+  auto one = [&](std::size_t i) {
+    try {
+      s.blocks[i] = (model.*at)(frequency_hz[i]);
+    } catch (const NumericalError& e) {
+      throw NumericalError(fmt::format("at {} Hz: {}", frequency_hz[i], e.what()), e.hint());
+    }
+  };
+#if TOOLPOINT_LANES
+  if (plans) {
+    const std::size_t n = frequency_hz.size(), width = kWidth;
+    for (std::size_t start = 0; start < n; start += width) {
+      const std::size_t m = std::min(width, n - start);
+      double f[kWidth];
+      for (std::size_t i = 0; i < width; ++i) f[i] = frequency_hz[start + std::min(i, m - 1)];  // a short batch repeats its last
+      double out[8][kWidth];
+      const unsigned bad = batch(*plans, a, f, out);
+      for (std::size_t i = 0; i < m; ++i) {
+        if (bad >> i & 1u)
+          one(start + i);
+        else
+          s.blocks[start + i] = make_block({out[0][i], out[4][i]}, {out[1][i], out[5][i]}, {out[2][i], out[6][i]}, {out[3][i], out[7][i]});
+      }
+    }
+    return s;
+  }
+#else
+  (void)plans, (void)a;
+#endif
+  for (std::size_t i = 0; i < frequency_hz.size(); ++i) one(i);
+  return s;
+}
+
+}  // namespace
+
+bool simd_sweeps_available() { return lanes::available(); }
+
+BlockSeries AssemblyModel::holder_tip(const std::vector<double>& frequency_hz) const {
+  std::optional<Plans> plans;
+  if (lanes::available() && !spindle_.has_modal_pieces() && !holder_.has_modal_pieces())
+    plans = Plans{ChainPlan(spindle_), ChainPlan(holder_), std::nullopt};
+  return sweep(plans ? &*plans : nullptr, assembly_, frequency_hz, &AssemblyModel::holder_tip, *this);
+}
+
+BlockSeries AssemblyModel::tool_point(const std::vector<double>& frequency_hz) const {
+  std::optional<Plans> plans;
+  if (lanes::available() && !spindle_.has_modal_pieces() && !holder_.has_modal_pieces() && !tool_.has_modal_pieces())
+    plans = Plans{ChainPlan(spindle_), ChainPlan(holder_), ChainPlan(tool_)};
+  return sweep(plans ? &*plans : nullptr, assembly_, frequency_hz, &AssemblyModel::tool_point, *this);
+}
+
+}  // namespace toolpoint
