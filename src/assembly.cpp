@@ -206,7 +206,7 @@ TwoPort Chain::piece(std::size_t i, double frequency_hz) const {
 TwoPort Chain::piece(std::size_t i, double frequency_hz, SectionWaves& waves, const SectionProperties*& waves_of) const {
   if (!modal_.empty() && modal_[i]) return modal_[i]->receptance(frequency_hz);
   const SectionProperties& p = props_[i];
-  if (!waves_of || !(waves_of->EI == p.EI && waves_of->kGA == p.kGA && waves_of->rhoA == p.rhoA && waves_of->rhoI == p.rhoI)) {
+  if (!waves_of || !(*waves_of == p)) {
     waves = section_waves(p, frequency_hz);
     waves_of = &p;
   }

@@ -16,7 +16,9 @@
 // frequencies with the scalar code, which handles the edge or throws its typed error.
 #pragma once
 
-#if defined(__x86_64__) && defined(TOOLPOINT_HAVE_SLEEF) && (defined(__GNUC__) || defined(__clang__))
+// GCC only: the AVX2 region below is a `#pragma GCC target`, which Clang ignores (Clang builds
+// take the per-frequency path).
+#if defined(__x86_64__) && defined(TOOLPOINT_HAVE_SLEEF) && defined(__GNUC__) && !defined(__clang__)
 #define TOOLPOINT_LANES 1
 #else
 #define TOOLPOINT_LANES 0

@@ -43,11 +43,7 @@ struct ChainPlan {
   explicit ChainPlan(const Chain& c) {
     for (std::size_t i = 0; i < c.size(); ++i) {
       const SectionProperties& p = c.properties()[i];
-      const bool same = i > 0 && [&] {
-        const SectionProperties& q = c.properties()[i - 1];
-        return p.EI == q.EI && p.kGA == q.kGA && p.rhoA == q.rhoA && p.rhoI == q.rhoI;
-      }();
-      pieces.push_back({c.segments()[i].length, &p, !same});
+      pieces.push_back({c.segments()[i].length, &p, i == 0 || !(c.properties()[i - 1] == p)});
     }
     for (std::size_t k = 0; k <= c.size(); ++k) grounds.push_back(&c.grounds(k));
   }

@@ -68,6 +68,8 @@ struct SectionProperties {
 
   // Ω_c = sqrt(κGA/ρI) in Hz: above it the second ("shear") spectrum propagates.
   double cutoff_frequency_hz() const;
+  // Equal sections have equal wavenumbers (pieces of one cut segment share them).
+  bool operator==(const SectionProperties&) const = default;
 };
 
 // A uniform segment: length and concentric layers (outermost first or any order). A composite
