@@ -19,18 +19,30 @@ std::vector<Peak> find_peaks(const std::vector<double>& m, double min_prominence
   std::vector<Peak> out;
   const std::size_t n = m.size();
   for (std::size_t i = 1; i + 1 < n; ++i) {
-    if (!(m[i] > m[i - 1] && m[i] >= m[i + 1])) continue;
-    // Prominence: walk left and right until a higher point (or the end), recording the minimum.
-    double left_min = m[i], right_min = m[i];
-    for (std::size_t k = i; k-- > 0 && m[k] <= m[i];) left_min = std::min(left_min, m[k]);
-    for (std::size_t k = i + 1; k < n && m[k] <= m[i]; ++k) right_min = std::min(right_min, m[k]);
-    const double prom = (m[i] - std::max(left_min, right_min)) / m[i];
-    if (prom < min_prominence) continue;
-    Peak p;
-    p.index = i;
-    p.prominence = prom;
-    p.magnitude = m[i];
-    out.push_back(p);
+    if (!std::isfinite(m[i]) || !(m[i] > m[i - 1])) continue;
+    std::size_t j = i;  // the end of a plateau
+    while (j + 1 < n && m[j + 1] == m[i]) ++j;
+    if (j + 1 >= n || !(m[j + 1] < m[i])) {  // rises again (or runs to the end): a shoulder
+      i = j;
+      continue;
+    }
+    // The valleys: the lowest value between the peak and the nearest higher point on each side
+    // (or the end), NaN (a gap) skipped. A naive scan, as scipy's peak_prominences: long scans
+    // happen only for the few tall peaks.
+    double left = m[i], right = m[i];
+    for (std::size_t k = i; k-- > 0 && !(m[k] > m[i]);)
+      if (std::isfinite(m[k])) left = std::min(left, m[k]);
+    for (std::size_t k = j + 1; k < n && !(m[k] > m[i]); ++k)
+      if (std::isfinite(m[k])) right = std::min(right, m[k]);
+    const double prom = (m[i] - std::max(left, right)) / m[i];
+    if (prom >= min_prominence) {
+      Peak p;
+      p.index = (i + j) / 2;
+      p.prominence = prom;
+      p.magnitude = m[i];
+      out.push_back(p);
+    }
+    i = j;
   }
   return out;
 }

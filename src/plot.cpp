@@ -23,6 +23,7 @@
 
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/io.hpp"
+#include "toolpoint/peaks.hpp"
 
 extern char** environ;
 
@@ -694,36 +695,12 @@ RenderResult render(const Figure& figure, const std::string& path, const PlotOpt
 std::vector<std::size_t> peak_indices(const std::vector<double>& v, int max_peaks, double min_ratio) {
   require(max_peaks >= 0, fmt::format("peak_indices: max_peaks {} must be ≥ 0", max_peaks));
   require(min_ratio > 1.0 && std::isfinite(min_ratio), fmt::format("peak_indices: min_ratio {} must be > 1", min_ratio));
-  struct Candidate {
-    std::size_t index;
-    double ratio;
-  };
-  std::vector<Candidate> found;
-  const std::size_t n = v.size();
-  for (std::size_t i = 1; i + 1 < n; ++i) {
-    if (!std::isfinite(v[i]) || !(v[i] > v[i - 1])) continue;
-    std::size_t j = i;  // the end of a plateau
-    while (j + 1 < n && v[j + 1] == v[i]) ++j;
-    if (j + 1 >= n || !(v[j + 1] < v[i])) {
-      i = j;
-      continue;
-    }
-    // The valleys: the lowest value between the peak and the nearest higher point on each side
-    // (a naive scan, as scipy's peak_prominences: long scans happen only for the few tall peaks).
-    double left = v[i], right = v[i];
-    for (std::size_t k = i; k-- > 0 && !(v[k] > v[i]);)
-      if (std::isfinite(v[k])) left = std::min(left, v[k]);
-    for (std::size_t k = j + 1; k < n && !(v[k] > v[i]); ++k)
-      if (std::isfinite(v[k])) right = std::min(right, v[k]);
-    const double base = std::max(left, right);
-    const double ratio = base > 0.0 ? v[i] / base : std::numeric_limits<double>::infinity();
-    if (ratio >= min_ratio) found.push_back({(i + j) / 2, ratio});
-    i = j;
-  }
-  std::stable_sort(found.begin(), found.end(), [](const Candidate& a, const Candidate& b) { return a.ratio > b.ratio; });
+  // A ratio r = peak/valley is a prominence 1 − 1/r (peaks.hpp).
+  std::vector<Peak> found = find_peaks(v, 1.0 - 1.0 / min_ratio);
+  std::stable_sort(found.begin(), found.end(), [](const Peak& a, const Peak& b) { return a.prominence > b.prominence; });
   if (found.size() > static_cast<std::size_t>(max_peaks)) found.resize(static_cast<std::size_t>(max_peaks));
   std::vector<std::size_t> out;
-  for (const Candidate& c : found) out.push_back(c.index);
+  for (const Peak& p : found) out.push_back(p.index);
   std::sort(out.begin(), out.end());
   return out;
 }

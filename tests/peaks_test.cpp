@@ -60,6 +60,29 @@ TEST(Peaks, ProminenceDecides) {
   EXPECT_THROW(find_peaks(s, PeakOptions{1.5}), InvalidArgument);
 }
 
+// Shapes of sampled data: a flat top (two grid points straddling a maximum equally) is one peak
+// at its middle; a shoulder (a plateau that then rises) is none; ends are none; a gap (NaN, as a
+// plot's line break) is no peak and does not end a valley walk.
+TEST(Peaks, PlateausShouldersEndsAndGaps) {
+  auto indices = [](const std::vector<double>& m, double prom) {
+    std::vector<std::size_t> v;
+    for (const Peak& p : find_peaks(m, prom)) v.push_back(p.index);
+    return v;
+  };
+  EXPECT_EQ(indices({1.0, 4.0, 4.0, 4.0, 1.0}, 0.0), std::vector<std::size_t>{2});
+  EXPECT_EQ(indices({1.0, 4.0, 4.0, 1.0}, 0.0), std::vector<std::size_t>{1});
+  EXPECT_TRUE(indices({1.0, 4.0, 4.0, 5.0, 1.0}, 0.0) == std::vector<std::size_t>{3});
+  EXPECT_TRUE(indices({5.0, 1.0, 1.0, 5.0}, 0.0).empty());
+  EXPECT_TRUE(indices({1.0, 2.0, 3.0}, 0.0).empty());
+  const double nan = std::nan("");
+  // 4 at index 3: valleys 1 (left, across the gap) and 2 (right): prominence 1 − 2/4.
+  const auto p = find_peaks({1.0, nan, 3.0, 4.0, 2.0, 3.0}, 0.0);
+  ASSERT_EQ(p.size(), 1u);
+  EXPECT_EQ(p[0].index, 3u);
+  EXPECT_DOUBLE_EQ(p[0].prominence, 0.5);
+  EXPECT_TRUE(indices({1.0, nan, 1.0}, 0.0).empty());
+}
+
 // Mode tracking: three modes moving through a sweep with a noise peak appearing in one member
 // and a mode vanishing in another; every mode is followed, the noise ignored, the gap NaN.
 TEST(Peaks, TrackModesThroughASweep) {

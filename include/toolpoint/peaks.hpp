@@ -25,9 +25,12 @@ struct PeakOptions {
   void check() const;
 };
 
-// Local maxima of a sampled magnitude (m[i] > m[i−1] and m[i] ≥ m[i+1]) with their prominence
-// as defined in Peak, at least `min_prominence`, in index order; frequency_hz and magnitude are
-// left at 0 and m[i]. A prominence p is a peak-to-valley ratio 1/(1 − p): 20·log10 of it in dB.
+// Local maxima of a sampled magnitude (≥ 0) with their prominence as defined in Peak, at least
+// `min_prominence`, in index order; frequency_hz and magnitude are left at 0 and m[i]. A maximum
+// is a point above its left neighbour and above its right one, or a plateau of equal values that
+// falls on both sides (counted once, at its middle index); a plateau that rises again is no peak.
+// Non-finite values (gaps) are never peaks and are skipped when looking for the valleys. A
+// prominence p is a peak-to-valley ratio 1/(1 − p): 20·log10 of it in dB.
 std::vector<Peak> find_peaks(const std::vector<double>& magnitude, double min_prominence);
 
 // Local maxima of |values| on the grid, ascending in frequency, each refined by a parabola
