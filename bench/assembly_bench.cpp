@@ -32,11 +32,14 @@ void BM_Assembly(benchmark::State& state, R (AssemblyModel::*at)(double) const, 
 }
 
 // A whole grid through the sweep (AssemblyModel::tool_point/holder_tip of a vector: SIMD lanes).
-void BM_Sweep(benchmark::State& state, BlockSeries (AssemblyModel::*sweep)(const std::vector<double>&) const, std::size_t n) {
+void BM_Sweep(benchmark::State& state, BlockSeries (AssemblyModel::*sweep)(const std::vector<double>&, AssemblyModel::SweepDiagnostics*) const,
+              std::size_t n) {
   const AssemblyModel& m = example_model();
   std::vector<double> f(n);
   for (std::size_t i = 0; i < n; ++i) f[i] = 10.0 + 4990.0 * static_cast<double>(i) / static_cast<double>(n - 1);
-  for (auto _ : state) benchmark::DoNotOptimize((m.*sweep)(f));
+  AssemblyModel::SweepDiagnostics d;
+  for (auto _ : state) benchmark::DoNotOptimize((m.*sweep)(f, &d));
+  state.counters["simd_share"] = static_cast<double>(d.simd) / static_cast<double>(n);  // 1: no frequency left the lanes
   state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(n));
 }
 

@@ -11,9 +11,11 @@
 // so it may run only when `available()`; sweep.cpp takes the per-frequency path on other
 // CPUs. Only sweep.cpp includes this header, and only functions compiled for AVX2 call these.
 //
-// Nothing here throws: each operation that could divide by (nearly) zero or leave the range where
-// the fast formulas are exact ORs the offending lanes into a `Mask`; the caller recomputes those
-// frequencies with the scalar code, which handles the edge or throws its typed error.
+// Nothing here throws: each division (reciprocal, inverse) and square root ORs the lanes where it
+// is (nearly) singular or outside its formula's safe range into a `Mask`; the caller recomputes
+// those frequencies with the scalar code, which handles the edge or throws its typed error.
+// Products and exp/sin/cos are not checked one by one: a NaN or overflow they make reaches one
+// of those checks (NaN fails every range test).
 #pragma once
 
 // GCC only: the AVX2 region below is a `#pragma GCC target`, which Clang ignores (Clang builds
@@ -41,15 +43,19 @@ inline bool available() {
 
 #include <cmath>
 #include <cstddef>
+#include <cstdlib>
+#include <immintrin.h>
 #include <limits>
-
-// Vectors wider than 16 bytes are passed differently with and without AVX; these functions are
-// all internal and called only from AVX2 code, so no call crosses that boundary.
-#pragma GCC diagnostic ignored "-Wpsabi"
+// Every header is included above, outside the AVX2 region: an inline function first defined
+// inside it (immintrin.h pulls in <cstdlib>) would be compiled for AVX2 and could be the copy the
+// linker keeps for the whole program.
 
 #pragma GCC push_options
 #pragma GCC target("avx2,fma")
-#include <immintrin.h>
+// Vectors wider than 16 bytes are passed differently with and without AVX; these functions are
+// all internal and called only from AVX2 code, so no call crosses that boundary.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
 
 // SLEEF's 1-ulp AVX2 variants, as sleef.h declares them; sleef.h declares its 256-bit functions
 // only in files compiled with -mavx throughout, which the rest of this file must not be.
@@ -185,5 +191,6 @@ struct Port {
 
 }  // namespace toolpoint::lanes
 
+#pragma GCC diagnostic pop
 #pragma GCC pop_options
 #endif  // TOOLPOINT_LANES
