@@ -186,6 +186,13 @@ struct Port {
 [[gnu::always_inline]] inline B couple_elastic_point(const Port& a, const B& b11, const B& K, Mask& bad) {
   return a.b11 - (a.b12 * (K * inverse(identity_plus((a.b22 + b11) * K), bad))) * a.b21;
 }
+// Rigid coupling of two two-ends (coupling.hpp's couple_rigid): X = (A22 + B11)⁻¹,
+// G11 = A11 − A12 X A21, G12 = A12 X B12, G21 = B21 X A21, G22 = B22 − B21 X B12.
+[[gnu::always_inline]] inline Port couple_rigid(const Port& a, const Port& b, Mask& bad) {
+  const B X = inverse(a.b22 + b.b11, bad);
+  const B xa21 = X * a.b21, xb12 = X * b.b12;
+  return {a.b11 - a.b12 * xa21, a.b12 * xb12, b.b21 * xa21, b.b22 - b.b21 * xb12};
+}
 // Structural modification at a point (coupling.hpp's ground_point): H (I + D H)⁻¹.
 [[gnu::always_inline]] inline B ground_point(const B& h, const B& D, Mask& bad) { return h * inverse(identity_plus(D * h), bad); }
 

@@ -1,21 +1,19 @@
 // toolpoint: the assembly's point receptances over a frequency grid, several frequencies at a time.
 //
-// AssemblyModel::tool_point(f) and holder_tip(f) for a whole grid. The per-frequency functions
-// build each component's four end blocks and couple them (seed Eq. 1 and 5); a sweep only needs
-// point receptances, so it walks the assembly once from the spindle's rear end to the tool tip:
-//   spindle   g ← T11 of the rearmost piece (its rear bearings by modification), then piece by
-//             piece towards the nose, g ← T11 − T12 (T22 + g)⁻¹ T21 (rigid coupling, Eq. 1 with
-//             K⁻¹ = 0), the bearings at each node by modification, g (I + D g)⁻¹;
-//   holder    the innermost piece coupled to S11 through K_sh (Eq. 1), then rigidly outwards: SH11;
-//   tool      the same through K_ht from SH11: SHT11 (Eq. 5).
-// Coupling is associative, so this is the same receptance as coupling the components' two-ports;
-// the rounding differs, and neither order is better everywhere. The walk cancels the rigid-body
-// part of each light piece against what lies behind it, so at low frequency it loses more
-// (7e-9 against 3e-10 at 13 Hz on the example, 80-digit reference); the two-port order couples
-// free–free sub-chains first and so meets their resonances, which the walk never does (an
-// undamped holder's sub-chain resonance is a singular interface there, not here). Each frequency occupies one lane of lanes.hpp's vectors; the
-// segment receptances are beam.cpp's closed form (exact_receptance from section_waves), written
-// once more in lanes. Units: SI, frequencies in Hz.
+// AssemblyModel::tool_point(f) and holder_tip(f) for a whole grid, four frequencies at a time,
+// one per lane of lanes.hpp's vectors, by the same algebra as the per-frequency functions:
+//   S11   Chain::point: the spindle walked from its rear end, g ← T11 − T12 (T22 + g)⁻¹ T21 piece
+//         by piece (rigid coupling), its bearings by modification g (I + D g)⁻¹;
+//   H, T  Chain::two_port: the holder's and the tool's pieces coupled rigidly into two-ports;
+//   SH11 = H11 − H12 (H22 + K_sh⁻¹ + S11)⁻¹ H21 (Eq. 1), SHT11 = T11 − T12 (T22 + K_ht⁻¹ + SH11)⁻¹
+//         T21 (Eq. 5), as couple_point forms them.
+// The segment receptances are beam.cpp's closed form (exact_receptance from section_waves),
+// written once more in lanes. Same association, same formulas: the two paths differ only in
+// rounding (SLEEF's exp/sin/cos against libm's, a reciprocal for a Smith division), and a lane
+// that meets a near-singular inverse goes to the per-frequency function, which meets the same one.
+// (Walking the holder and tool as point receptances too is cheaper, but it cancels the rigid-body
+// part of each light piece separately and loses 20× more at 10 Hz against an 80-digit reference.)
+// Units: SI, frequencies in Hz.
 #include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
@@ -146,31 +144,36 @@ struct Waves {
   return {{h, l, l, pp}, {h12, l12, -l12, p12}, {h12, -l12, l12, p12}, {h, -l, -l, pp}};
 }
 
-// The point receptance at end 1 of `chain`, its end 2 free or, with `beyond`, attached to a
-// structure of point receptance *beyond through `joint` (Eq. 1).
-B chain_point(const ChainPlan& chain, V w, V w2, const B* beyond, const Joint& joint, Mask& bad) {
+// The pieces of a chain at the lanes' frequencies, asked for from end 2 to end 1 (i = n−1, …, 0):
+// a piece reuses the waves of the piece asked for before it unless the section changes.
+class Pieces {
+ public:
+  Pieces(const ChainPlan& chain, V w2, Mask& bad) : chain_(chain), w2_(w2), bad_(bad) {}
+  Port operator()(std::size_t i) {
+    const ChainPlan::Piece& p = chain_.pieces[i];
+    if (i + 1 == chain_.pieces.size() || chain_.pieces[i + 1].new_section) waves_ = section_waves(*p.section, w2_, bad_);
+    return segment(waves_, p.length, bad_);
+  }
+
+ private:
+  const ChainPlan& chain_;
+  V w2_;
+  Mask& bad_;
+  Waves waves_;
+};
+
+// Chain::point in lanes: the point receptance at end 1 of a chain with a free end 2 and ground
+// springs at its nodes (the spindle), walked from end 2.
+B chain_point(const ChainPlan& chain, V w, V w2, Mask& bad) {
   const std::size_t n = chain.pieces.size();
-  Waves waves;
-  auto piece = [&](std::size_t i) {
-    const ChainPlan::Piece& p = chain.pieces[i];
-    // Walking inwards-out, a piece reuses the waves of the piece behind it unless the section
-    // changes between them.
-    if (i == n - 1 || chain.pieces[i + 1].new_section) waves = section_waves(*p.section, w2, bad);
-    return segment(waves, p.length, bad);
-  };
+  Pieces piece(chain, w2, bad);
   const Port last = piece(n - 1);
-  B g;
-  const std::vector<Bearing>& end2 = *chain.grounds[n];
-  if (beyond) {
-    g = joint.rigid ? lanes::couple_rigid_point(last, *beyond, bad)
-                    : lanes::couple_elastic_point(last, *beyond, joint_stiffness(joint.parameters, w), bad);
-    if (!end2.empty()) bad |= Mask{} - 1;  // not a configuration the model builds; the scalar path handles it
-  } else if (!end2.empty()) {
-    // Springs to ground at a free end 2 are a joint to a body of zero receptance.
+  B g = last.b11;
+  if (!chain.grounds[n]->empty()) {
+    // Chain::point's ground_end2: T11 − T12 D (I + T22 D)⁻¹ T21, i.e. a joint D to a body of
+    // zero receptance.
     const C zero = lanes::cplx(0.0, 0.0);
-    g = lanes::couple_elastic_point(last, B{zero, zero, zero, zero}, ground_stiffness(end2, w), bad);
-  } else {
-    g = last.b11;
+    g = lanes::couple_elastic_point(last, B{zero, zero, zero, zero}, ground_stiffness(*chain.grounds[n], w), bad);
   }
   for (std::size_t k = n - 1; k-- > 0;) {
     if (!chain.grounds[k + 1]->empty()) g = lanes::ground_point(g, ground_stiffness(*chain.grounds[k + 1], w), bad);
@@ -178,6 +181,23 @@ B chain_point(const ChainPlan& chain, V w, V w2, const B* beyond, const Joint& j
   }
   if (!chain.grounds[0]->empty()) g = lanes::ground_point(g, ground_stiffness(*chain.grounds[0], w), bad);
   return g;
+}
+
+// Chain::two_port in lanes for a chain without ground springs (the holder, the tool): the pieces
+// coupled rigidly from end 2. A grounded chain is left to the per-frequency path.
+Port chain_two_port(const ChainPlan& chain, V w2, Mask& bad) {
+  for (const auto* node : chain.grounds)
+    if (!node->empty()) bad |= Mask{} - 1;
+  const std::size_t n = chain.pieces.size();
+  Pieces piece(chain, w2, bad);
+  Port g = piece(n - 1);
+  for (std::size_t k = n - 1; k-- > 0;) g = lanes::couple_rigid(piece(k), g, bad);
+  return g;
+}
+
+// couple_point (coupling.hpp) in lanes: A's end 1 with `b11` attached at its end 2 through `joint`.
+B couple_point(const Port& a, const B& b11, const Joint& joint, V w, Mask& bad) {
+  return joint.rigid ? lanes::couple_rigid_point(a, b11, bad) : lanes::couple_elastic_point(a, b11, joint_stiffness(joint.parameters, w), bad);
 }
 
 // SH11 (or SHT11 when plans.tool is set) at the kWidth frequencies f_in [Hz]: entry e (H, L, N,
@@ -191,9 +211,9 @@ unsigned batch(const Plans& plans, const Assembly& a, const double* f_in, double
   for (int i = 0; i < kWidth; ++i) f[i] = f_in[i];
   bad |= ~lanes::within(f, 0.0, std::numeric_limits<double>::infinity());
   const V w = (2.0 * kPi) * f, w2 = w * w;  // omega_of(f), squared
-  const B s11 = chain_point(plans.spindle, w, w2, nullptr, Joint::make_rigid(), bad);
-  B g = chain_point(plans.holder, w, w2, &s11, a.spindle_holder, bad);
-  if (plans.tool) g = chain_point(*plans.tool, w, w2, &g, a.holder_tool, bad);
+  // As AssemblyModel::holder_tip and tool_point: SH11 = H ⊕ S11 (Eq. 1), SHT11 = T ⊕ SH11 (Eq. 5).
+  B g = couple_point(chain_two_port(plans.holder, w2, bad), chain_point(plans.spindle, w, w2, bad), a.spindle_holder, w, bad);
+  if (plans.tool) g = couple_point(chain_two_port(*plans.tool, w2, bad), g, a.holder_tool, w, bad);
   const C e[4] = {g.a, g.b, g.c, g.d};
   for (int k = 0; k < 4; ++k)
     for (int i = 0; i < kWidth; ++i) out[k][i] = e[k].re[i], out[k + 4][i] = e[k].im[i];

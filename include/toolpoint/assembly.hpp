@@ -149,13 +149,11 @@ class AssemblyModel {
   Block holder_tip(double frequency_hz) const;   // SH11
   // The same over a grid of frequencies [Hz], as a series (what predict, lobes and the effect
   // analysis need). Under the exact method the frequencies go four at a time through SIMD lanes
-  // (sweep.cpp): the same closed forms as the per-frequency functions, with the assembly walked
-  // as point receptances from the spindle's rear to the tool tip (Eq. 1 and 5 applied piece by
-  // piece) instead of coupling two-ports. In exact arithmetic the two are equal; in floating
-  // point they round differently, and both lose accuracy at low frequency, where the coupling
+  // (sweep.cpp), by the same closed forms and the same coupling order as the per-frequency
+  // functions; only the rounding differs. Both lose accuracy at low frequency, where the coupling
   // subtracts free–free receptances (∝ 1/ω²) far larger than the result: on the example, against
-  // an 80-digit evaluation, the per-frequency functions are within 3e-10 at 13 Hz and the sweep
-  // within 7e-9, both within 2e-14 above 10 kHz (README, "How correctness is established").
+  // an 80-digit evaluation, both are within 1e-9 at 10–13 Hz, 2e-7 at 1 Hz and 3e-15 at 10 kHz
+  // (tests: Assembly.AccuracyAgainstAnEightyDigitReference).
   // Frequencies the lanes cannot certify (a near-singular inverse, a value outside the fast
   // formulas' range) and the modal method go through the per-frequency functions, which handle
   // them or throw. A NumericalError names the frequency; InvalidArgument for a frequency that is
