@@ -220,6 +220,7 @@ SectionWaves section_waves(const SectionProperties& sp, double frequency_hz) {
   w.a_over_b = a * inv_b;
   w.f_a = (-1.0 / (mA * w2)) * de;  // a/u = −1/(ρA Ω²)
   w.f_d = de * inv_b;
+  w.undamped = sp.EI.imag() == 0.0 && sp.kGA.imag() == 0.0;
   return w;
 }
 
@@ -261,11 +262,26 @@ TwoPort exact_receptance(const SectionWaves& w, double length) {
   // inverse_checked's singularity test applied to M_s and M_a, |det| ≤ 1e-14 (|m_00 m_11| +
   // |m_01 m_10|), with u b divided out.
   for (int k = 0; k < 2; ++k)
-    if (!detail::well_above_roundoff(lane(d, k), lane(t1, k), lane(t2, k)))
-      throw NumericalError(fmt::format("{} Hz is a natural frequency of an undamped free–free segment (L = {} m): "
-                                       "the receptance is unbounded there",
-                                       w.frequency_hz, length),
-                           "give the material a loss factor > 0 or move the frequency grid off the resonance");
+    if (!detail::well_above_roundoff(lane(d, k), lane(t1, k), lane(t2, k))) {
+      // A true resonance (possible only undamped), a frequency so near one (or near 0 Hz, the
+      // rigid-body modes: 1e-10 Hz) that rounding hides the damping, or terms that under- or
+      // overflow double precision (1e100 Hz).
+      const double n1 = std::norm(lane(t1, k)), n2 = std::norm(lane(t2, k));
+      const bool representable = std::isfinite(n1) && std::isfinite(n2) && std::max(n1, n2) > 1e-290 && std::max(n1, n2) < 1e290;
+      if (!representable)
+        throw InvalidArgument(fmt::format("{} Hz: the end receptances of a {} m segment under- or overflow double precision "
+                                          "at this frequency",
+                                          w.frequency_hz, length),
+                              "use a frequency in the range of structural dynamics (mHz to MHz)");
+      throw NumericalError(w.undamped ? fmt::format("{} Hz is a natural frequency of an undamped free–free segment (L = {} m): "
+                                                    "the receptance is unbounded there",
+                                                    w.frequency_hz, length)
+                                      : fmt::format("{} Hz lies so close to a natural frequency of a free–free segment (L = {} m), "
+                                                    "or to 0 Hz where its rigid-body motion is unbounded, that its "
+                                                    "receptance cannot be resolved in double precision",
+                                                    w.frequency_hz, length),
+                           "give the material a (larger) loss factor or move the frequency grid off the resonance");
+    }
   const CPair r = detail::reciprocals(d);  // (1/Δ_s, 1/Δ_a)
   const Complex cc = c[0] * c[1];
   const CPair prod = pS_S[0] * pS_S[1];  // (pS_0 pS_1, S_0 S_1)

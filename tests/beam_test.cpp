@@ -301,6 +301,27 @@ TEST(Beam, BadInputIsRejected) {
   EXPECT_THROW(m.check(), InvalidArgument);
   EXPECT_THROW(exact_receptance(Segment::tube(0.1, 0.05, 0.0, steel()), 0.0), InvalidArgument);
   EXPECT_THROW(exact_receptance(Segment::tube(0.1, 0.05, 0.0, steel()), -5.0), InvalidArgument);
+  // Far outside structural dynamics a damped segment is not at a resonance, and the errors say
+  // what is wrong (found in review: 1e-20 and 1e100 Hz were called natural frequencies of an
+  // undamped segment): near 0 Hz rounding hides the damping of the rigid-body modes; at 1e100 Hz
+  // the terms overflow.
+  for (double f : {1e-20, 1e-10}) {
+    try {
+      exact_receptance(Segment::tube(0.1, 0.05, 0.0, steel(0.01)), f);
+      ADD_FAILURE() << f << " Hz was evaluated";
+    } catch (const NumericalError& e) {
+      EXPECT_NE(std::string(e.what()).find("0 Hz where its rigid-body motion"), std::string::npos) << e.what();
+    }
+  }
+  for (double f : {1e100, 1e300}) {
+    try {
+      exact_receptance(Segment::tube(0.1, 0.05, 0.0, steel(0.01)), f);
+      ADD_FAILURE() << f << " Hz was evaluated";
+    } catch (const InvalidArgument& e) {
+      EXPECT_NE(std::string(e.what()).find("overflow double precision"), std::string::npos) << e.what();
+    }
+  }
+  for (double f : {1e-3, 1e7}) EXPECT_TRUE(exact_receptance(Segment::tube(0.1, 0.05, 0.0, steel(0.01)), f).b11.allFinite()) << f;
   EXPECT_THROW(ModalBeam(Segment::tube(0.1, 0.05, 0.0, steel()).properties(), 0.1, {0, false}), InvalidArgument);
   // The raw overload on section properties checks too (found in review: L < 0 gave flipped signs).
   const SectionProperties sp = Segment::tube(0.1, 0.05, 0.0, steel(0.01)).properties();

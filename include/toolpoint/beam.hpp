@@ -97,7 +97,8 @@ struct Segment {
 // so that no term grows with frequency or length (stable for any sL), and entire in the
 // wavenumbers so the cut-off frequency (a zero wavenumber) needs no special case.
 // Throws NumericalError at an exact undamped natural frequency (η = 0), where the receptance is
-// unbounded.
+// unbounded, or so near one (or near 0 Hz: 1e-10 Hz) that rounding hides the damping;
+// InvalidArgument where the terms under- or overflow double precision (1e100 Hz).
 TwoPort exact_receptance(const SectionProperties& section, double length, double frequency_hz);
 TwoPort exact_receptance(const Segment& segment, double frequency_hz);
 
@@ -115,6 +116,7 @@ struct SectionWaves {
   // Length-independent factors of the closed form (beam.cpp): with a = κGA, b = EI,
   // u = −a ρA Ω² and Δe = e_1 − e_0: a/b, (a/u) Δe, Δe/b.
   Complex a_over_b, f_a, f_d;
+  bool undamped = false;  // EI and κGA real: exact resonances exist
 };
 // Throws InvalidArgument for a frequency that is not > 0.
 SectionWaves section_waves(const SectionProperties& section, double frequency_hz);
