@@ -225,7 +225,8 @@ void lower_envelope(const LobeTable& t, int k, int r, std::size_t i0, std::size_
   for (std::size_t i = 0; i < n; ++i) {
     speed[i] = a[i0 + i] / (ph[i0 + i] + k);  // NaN where the root gives no depth
     // floor((speed − n_min)/dn) clamped to −1…last+1 (NaN → −1): truncation of a value ≥ 0.
-    const double u = std::min(std::max((speed[i] - n_min) * inv_dn + 1.0, 0.0), last + 2.0);
+    // std::max(0.0, NaN) is 0.0 (std::max(NaN, 0.0) would be NaN, and casting NaN to int is UB).
+    const double u = std::min(std::max(0.0, (speed[i] - n_min) * inv_dn + 1.0), last + 2.0);
     cell[i] = static_cast<int>(u) - 1;
   }
   for (std::size_t i = 1; i < n; ++i) {
