@@ -411,17 +411,19 @@ BlockSeries couple_tool(const Assembly& assembly, const BlockSeries& sh11, const
   return out;
 }
 
+Block block_at(const std::function<Block(double)>& at, double frequency_hz) {
+  try {
+    return at(frequency_hz);
+  } catch (const NumericalError& e) {
+    throw NumericalError(fmt::format("at {} Hz: {}", frequency_hz, e.what()), e.hint());
+  }
+}
+
 BlockSeries block_series(const std::vector<double>& frequency_hz, const std::function<Block(double)>& at) {
   BlockSeries s;
   s.frequency_hz = frequency_hz;
   s.blocks.reserve(frequency_hz.size());
-  for (double f : frequency_hz) {
-    try {
-      s.blocks.push_back(at(f));
-    } catch (const NumericalError& e) {
-      throw NumericalError(fmt::format("at {} Hz: {}", f, e.what()), e.hint());
-    }
-  }
+  for (double f : frequency_hz) s.blocks.push_back(block_at(at, f));
   return s;
 }
 

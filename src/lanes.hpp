@@ -42,6 +42,7 @@ inline bool available() {
 #if TOOLPOINT_LANES
 
 #include <cmath>
+#include <complex>
 #include <cstddef>
 #include <cstdlib>
 #include <immintrin.h>
@@ -73,7 +74,6 @@ typedef double V __attribute__((vector_size(8 * kWidth)));
 typedef long long Mask __attribute__((vector_size(8 * kWidth)));  // comparisons: all bits set = true
 
 [[gnu::always_inline]] inline V splat(double x) { return V{} + x; }
-[[gnu::always_inline]] inline bool any(Mask m) { return !_mm256_testz_si256((__m256i)m, (__m256i)m); }
 // Lanes where `x` is within (lo, hi); false for NaN.
 [[gnu::always_inline]] inline Mask within(V x, double lo, double hi) { return (x > lo) & (x < hi); }
 
@@ -99,6 +99,7 @@ struct C {
   V re, im;
 };
 [[gnu::always_inline]] inline C cplx(double re, double im) { return {splat(re), splat(im)}; }
+[[gnu::always_inline]] inline C cplx(std::complex<double> z) { return cplx(z.real(), z.imag()); }
 [[gnu::always_inline]] inline C operator+(C a, C b) { return {a.re + b.re, a.im + b.im}; }
 [[gnu::always_inline]] inline C operator-(C a, C b) { return {a.re - b.re, a.im - b.im}; }
 [[gnu::always_inline]] inline C operator-(C a) { return {-a.re, -a.im}; }

@@ -16,13 +16,11 @@
 // Units: SI, frequencies in Hz.
 #include <algorithm>
 #include <cmath>
-#include <fmt/format.h>
 #include <optional>
 
 #include "lanes.hpp"
 #include "toolpoint/assembly.hpp"
 #include "toolpoint/conventions.hpp"
-#include "toolpoint/error.hpp"
 
 namespace toolpoint {
 
@@ -96,15 +94,15 @@ struct Waves {
   const Complex cb = a * mI + b * mA;
   const C Bq = {cb.real() * w2, cb.imag() * w2};                  // (a ρI + b ρA) Ω²
   const C Cq = {mA * w2 * (a.real() - mI * w2), mA * w2 * a.imag()};  // ρA Ω² (a − ρI Ω²)
-  const C disc = Bq * Bq + C{lanes::splat(4.0 * ab.real()), lanes::splat(4.0 * ab.imag())} * Cq;
+  const C disc = Bq * Bq + lanes::cplx(4.0 * ab) * Cq;
   C sq = lanes::sqrt_principal(disc, bad);
   const Mask flip = (Bq.re * sq.re + Bq.im * sq.im) < 0.0;  // Re(conj(B) sq) < 0
   sq = lanes::select(flip, -sq, sq);
   const C q = -0.5 * (Bq + sq);
   const Complex inv_ab = 1.0 / ab;
   Waves w;
-  const C p[2] = {q * C{lanes::splat(inv_ab.real()), lanes::splat(inv_ab.imag())}, -(Cq * lanes::reciprocal(q, bad))};
-  const C ac = {lanes::splat(a.real()), lanes::splat(a.imag())};
+  const C p[2] = {q * lanes::cplx(inv_ab), -(Cq * lanes::reciprocal(q, bad))};
+  const C ac = lanes::cplx(a);
   for (int j = 0; j < 2; ++j) {
     w.s[j] = lanes::sqrt_principal(p[j], bad);
     w.inv_s[j] = lanes::reciprocal(w.s[j], bad);
@@ -112,9 +110,9 @@ struct Waves {
   }
   const C de = w.e[1] - w.e[0];
   const Complex inv_b = a * inv_ab, a_over_b = a * inv_b;
-  w.a_over_b = lanes::cplx(a_over_b.real(), a_over_b.imag());
+  w.a_over_b = lanes::cplx(a_over_b);
   w.f_a = (-1.0 / (mA * w2)) * de;
-  w.f_d = de * lanes::cplx(inv_b.real(), inv_b.imag());
+  w.f_d = de * lanes::cplx(inv_b);
   return w;
 }
 
@@ -234,11 +232,7 @@ BlockSeries sweep(const Plans* plans, const Assembly& a, const std::vector<doubl
   s.blocks.resize(frequency_hz.size());
   auto one = [&](std::size_t i) {
     ++count.per_frequency;
-    try {
-      s.blocks[i] = (model.*at)(frequency_hz[i]);
-    } catch (const NumericalError& e) {
-      throw NumericalError(fmt::format("at {} Hz: {}", frequency_hz[i], e.what()), e.hint());
-    }
+    s.blocks[i] = block_at([&](double x) { return (model.*at)(x); }, frequency_hz[i]);
   };
 #if TOOLPOINT_LANES
   if (plans) {
@@ -271,17 +265,23 @@ BlockSeries sweep(const Plans* plans, const Assembly& a, const std::vector<doubl
 
 bool simd_sweeps_available() { return lanes::available(); }
 
+namespace {
+// The lanes' plans for spindle + holder (+ tool), or none where the lanes cannot run: no AVX2
+// here, or a chain summed modally.
+std::optional<Plans> plans_for(const Chain& spindle, const Chain& holder, const Chain* tool) {
+  if (!lanes::available() || spindle.has_modal_pieces() || holder.has_modal_pieces() || (tool && tool->has_modal_pieces()))
+    return std::nullopt;
+  return Plans{ChainPlan(spindle), ChainPlan(holder), tool ? std::optional<ChainPlan>(ChainPlan(*tool)) : std::nullopt};
+}
+}  // namespace
+
 BlockSeries AssemblyModel::holder_tip(const std::vector<double>& frequency_hz, SweepDiagnostics* diagnostics) const {
-  std::optional<Plans> plans;
-  if (lanes::available() && !spindle_.has_modal_pieces() && !holder_.has_modal_pieces())
-    plans = Plans{ChainPlan(spindle_), ChainPlan(holder_), std::nullopt};
+  const std::optional<Plans> plans = plans_for(spindle_, holder_, nullptr);
   return sweep(plans ? &*plans : nullptr, assembly_, frequency_hz, &AssemblyModel::holder_tip, *this, diagnostics);
 }
 
 BlockSeries AssemblyModel::tool_point(const std::vector<double>& frequency_hz, SweepDiagnostics* diagnostics) const {
-  std::optional<Plans> plans;
-  if (lanes::available() && !spindle_.has_modal_pieces() && !holder_.has_modal_pieces() && !tool_.has_modal_pieces())
-    plans = Plans{ChainPlan(spindle_), ChainPlan(holder_), ChainPlan(tool_)};
+  const std::optional<Plans> plans = plans_for(spindle_, holder_, &tool_);
   return sweep(plans ? &*plans : nullptr, assembly_, frequency_hz, &AssemblyModel::tool_point, *this, diagnostics);
 }
 

@@ -206,6 +206,9 @@ bool simd_sweeps_available();
 
 // Series over a frequency grid (Hz) of any per-frequency block function of the model.
 BlockSeries block_series(const std::vector<double>& frequency_hz, const std::function<Block(double)>& at);
+// One point of such a series: at(frequency_hz), a NumericalError's message prefixed with the
+// frequency ("at 916 Hz: …"), as every series of the model reports it.
+Block block_at(const std::function<Block(double)>& at, double frequency_hz);
 
 // The holder segments with the inserted tool part as a core layer; `tool_inside` from the
 // holder tip inwards. Throws InvalidArgument if the tool does not fit the bore.
