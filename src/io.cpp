@@ -16,6 +16,7 @@
 #include <fmt/format.h>
 
 #include "toolpoint/error.hpp"
+#include "text.hpp"
 
 namespace toolpoint {
 
@@ -87,11 +88,7 @@ void write_text_file(const std::string& path, const std::string& content) {
 
 namespace {
 
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
-  return s;
-}
+using text::trim;
 
 std::vector<std::string_view> split_commas(std::string_view line) {
   std::vector<std::string_view> out;

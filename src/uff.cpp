@@ -14,53 +14,22 @@
 
 #include "toolpoint/error.hpp"
 #include "toolpoint/io.hpp"
+#include "text.hpp"
 
 namespace toolpoint {
 
 namespace {
 
+using text::char_count;
+using text::excerpt;
+using text::iequal;
+using text::is_blank;
+using text::is_blank_char;
+using text::trim;
+using text::valid_utf8;
+
 // ---------------------------------------------------------------------------------------------
 // Text helpers
-
-bool is_blank_char(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
-
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && is_blank_char(s.front())) s.remove_prefix(1);
-  while (!s.empty() && is_blank_char(s.back())) s.remove_suffix(1);
-  return s;
-}
-
-bool is_blank(std::string_view s) { return trim(s).empty(); }
-
-// Well-formed UTF-8 (Unicode 15, table 3-7: no overlong forms, no surrogates, at most U+10FFFF).
-bool valid_utf8(std::string_view s) {
-  std::size_t i = 0;
-  while (i < s.size()) {
-    const auto c = static_cast<unsigned char>(s[i]);
-    std::size_t n = 0;
-    unsigned char lo = 0x80, hi = 0xBF;  // range of the second byte
-    if (c < 0x80) n = 0;
-    else if (c >= 0xC2 && c <= 0xDF) n = 1;
-    else if (c >= 0xE0 && c <= 0xEF) {
-      n = 2;
-      if (c == 0xE0) lo = 0xA0;
-      if (c == 0xED) hi = 0x9F;
-    } else if (c >= 0xF0 && c <= 0xF4) {
-      n = 3;
-      if (c == 0xF0) lo = 0x90;
-      if (c == 0xF4) hi = 0x8F;
-    } else {
-      return false;
-    }
-    if (n > s.size() - i - 1) return false;
-    for (std::size_t k = 1; k <= n; ++k) {
-      const auto b = static_cast<unsigned char>(s[i + k]);
-      if (k == 1 ? (b < lo || b > hi) : (b & 0xC0) != 0x80) return false;
-    }
-    i += n + 1;
-  }
-  return true;
-}
 
 // Header text as UTF-8. Old software writes Latin-1 labels ("m/s²" as byte 0xB2); those bytes are
 // mapped to their code points so every string the reader returns is valid UTF-8.
@@ -78,13 +47,6 @@ std::string header_text(std::string_view raw) {
     }
   }
   return out;
-}
-
-// Characters (code points) of valid UTF-8 text.
-std::size_t char_count(std::string_view s) {
-  return static_cast<std::size_t>(std::count_if(s.begin(), s.end(), [](char c) {
-    return (static_cast<unsigned char>(c) & 0xC0) != 0x80;
-  }));
 }
 
 // The fixed-format field of `len` characters starting at character `start` (Fortran columns count
@@ -118,17 +80,6 @@ std::vector<std::string_view> split_blanks(std::string_view s) {
   return out;
 }
 
-// A short, printable excerpt of file text for messages.
-std::string excerpt(std::string_view s, std::size_t max = 40) {
-  std::string out;
-  for (char c : s.substr(0, max)) {
-    const auto u = static_cast<unsigned char>(c);
-    out += (u < 0x20 || u >= 0x7F) ? '?' : c;
-  }
-  if (s.size() > max) out += "...";
-  return out;
-}
-
 // ---------------------------------------------------------------------------------------------
 // Numbers
 
@@ -144,13 +95,6 @@ std::optional<long long> parse_integer(std::string_view field) {
 }
 
 bool is_digit(char c) { return c >= '0' && c <= '9'; }
-
-bool iequal(std::string_view a, std::string_view b) {
-  if (a.size() != b.size()) return false;
-  for (std::size_t i = 0; i < a.size(); ++i)
-    if (std::tolower(static_cast<unsigned char>(a[i])) != std::tolower(static_cast<unsigned char>(b[i]))) return false;
-  return true;
-}
 
 // Scans Fortran-style reals from `text` into `out`. Numbers are separated by blanks, tabs or
 // commas, or run together when a fixed-width field is full ("-1.5E-02-2.5E-02"); the exponent
