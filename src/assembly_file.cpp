@@ -9,6 +9,7 @@
 
 #include "toolpoint/error.hpp"
 #include "toolpoint/io.hpp"
+#include "toml_input.hpp"
 
 namespace toolpoint {
 
@@ -214,14 +215,7 @@ Joint read_joint(Reader& r, const toml::table* t, const std::string& path) {
 }  // namespace
 
 LoadedAssembly parse_assembly(const std::string& text, const std::string& source) {
-  toml::table root;
-  try {
-    root = toml::parse(text, source);
-  } catch (const toml::parse_error& e) {
-    throw InputError(fmt::format("{}:{}:{}: TOML syntax error: {}", source, e.source().begin.line, e.source().begin.column,
-                                 e.description()),
-                     "see examples/bt40_shrinkfit_16mm.toml for the file format");
-  }
+  const toml::table root = detail::parse_toml_text(text, source, "see examples/bt40_shrinkfit_16mm.toml for the file format");
   Reader r(source);
   r.only(root, "", {"assembly", "analysis", "model", "materials", "spindle", "holder", "tool", "joints"});
   Assembly a;
