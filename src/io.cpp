@@ -10,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 #include <fcntl.h>
+#include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -32,6 +33,41 @@ std::string read_text_file(const std::string& path) {
   ss << in.rdbuf();
   if (in.bad()) throw IoError(fmt::format("{}: read failed", path));
   return ss.str();
+}
+
+MappedFile::MappedFile(const std::string& path) {
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw IoError(fmt::format("{}: is a folder, not a file", path));
+  const int fd = ::open(path.c_str(), O_RDONLY);
+  if (fd < 0)
+    throw IoError(fmt::format("{}: cannot open for reading ({})", path, std::strerror(errno)),
+                  "check the path and the file's permissions");
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) {
+    const std::string why = std::strerror(errno);
+    ::close(fd);
+    throw IoError(fmt::format("{}: cannot read its size ({})", path, why));
+  }
+  if (!S_ISREG(st.st_mode)) {
+    ::close(fd);
+    copy_ = read_text_file(path);
+    return;
+  }
+  size_ = static_cast<std::size_t>(st.st_size);
+  if (size_ > 0) {
+    void* p = ::mmap(nullptr, size_, PROT_READ, MAP_PRIVATE, fd, 0);
+    if (p == MAP_FAILED) {
+      const std::string why = std::strerror(errno);
+      ::close(fd);
+      throw IoError(fmt::format("{}: cannot map for reading ({})", path, why));
+    }
+    data_ = static_cast<const char*>(p);
+  }
+  ::close(fd);  // the mapping keeps the file
+}
+
+MappedFile::~MappedFile() {
+  if (data_) ::munmap(const_cast<char*>(data_), size_);
 }
 
 AtomicOutput::AtomicOutput(std::string target) : target_(std::move(target)) {

@@ -96,6 +96,38 @@ std::optional<long long> parse_integer(std::string_view field) {
 
 bool is_digit(char c) { return c >= '0' && c <= '9'; }
 
+// For a decimal number from_chars found out of range: whether it is too small (not too large).
+// The exponent of its leading digit decides: mantissa digits before the point (less leading
+// zeros, or minus the zeros after the point) plus the written exponent.
+bool beyond_range_is_tiny(const std::string& number) {
+  long long lead = 0;  // decimal exponent of the first nonzero digit, before the written exponent
+  bool seen_point = false, seen_digit = false;
+  std::size_t k = number[0] == '-' ? 1 : 0;
+  for (; k < number.size() && number[k] != 'e'; ++k) {
+    const char c = number[k];
+    if (c == '.') {
+      seen_point = true;
+    } else if (!seen_digit && c == '0') {
+      if (seen_point) --lead;
+    } else {
+      if (!seen_digit) {
+        seen_digit = true;
+        if (seen_point) --lead;
+      } else if (!seen_point) {
+        ++lead;
+      }
+    }
+  }
+  long long exponent = 0;
+  if (k < number.size()) {
+    const bool minus = k + 1 < number.size() && number[k + 1] == '-';
+    for (std::size_t j = k + 1; j < number.size(); ++j)
+      if (is_digit(number[j])) exponent = std::min<long long>(exponent * 10 + (number[j] - '0'), 1'000'000'000'000LL);
+    if (minus) exponent = -exponent;
+  }
+  return lead + exponent < 0;
+}
+
 // Scans Fortran-style reals from `text` into `out`. Numbers are separated by blanks, tabs or
 // commas, or run together when a fixed-width field is full ("-1.5E-02-2.5E-02"); the exponent
 // letter is E, e, D or d, or absent before a signed exponent of up to three digits ("1.5-100",
@@ -104,7 +136,9 @@ bool is_digit(char c) { return c >= '0' && c <= '9'; }
 std::size_t scan_reals(std::string_view text, std::vector<double>& out) {
   const std::size_t n = text.size();
   std::size_t i = 0;
-  char buf[72];
+  // The number as from_chars reads it (D exponents and missing E letters mended). Any length:
+  // a 90-digit field is read exactly, never cut.
+  thread_local std::string buf;
   while (i < n) {
     const char c = text[i];
     if (is_blank_char(c) || c == ',') {
@@ -112,10 +146,8 @@ std::size_t scan_reals(std::string_view text, std::vector<double>& out) {
       continue;
     }
     const std::size_t start = i;
-    std::size_t k = 0;
-    auto put = [&](char ch) {
-      if (k < sizeof(buf) - 1) buf[k++] = ch;
-    };
+    buf.clear();
+    auto put = [&](char ch) { buf += ch; };
     bool negative = false;
     if (c == '+' || c == '-') {
       negative = c == '-';
@@ -159,14 +191,15 @@ std::size_t scan_reals(std::string_view text, std::vector<double>& out) {
       for (int d = 0; d < 3 && i < n && is_digit(text[i]); ++d) put(text[i++]);
     }
     double v = 0.0;
-    const auto [ptr, ec] = std::from_chars(buf, buf + k, v);
+    const char* b = buf.data();
+    const char* e = b + buf.size();
+    const auto [ptr, ec] = std::from_chars(b, e, v);
     if (ec == std::errc::result_out_of_range) {
-      // Beyond double range: an exponent below −308 is zero, above +308 infinite.
-      const char* e = std::find(buf, buf + k, 'e');
-      const bool tiny = e + 1 < buf + k && e[1] == '-';
-      v = tiny ? 0.0 : std::numeric_limits<double>::infinity();
+      // Beyond double range: below about 1e-308 is zero, above 1.8e308 infinite (from_chars tells
+      // which by the value it would round to: decide by the decimal exponent of the mantissa).
+      v = beyond_range_is_tiny(buf) ? 0.0 : std::numeric_limits<double>::infinity();
       if (negative) v = -v;
-    } else if (ec != std::errc() || ptr != buf + k) {
+    } else if (ec != std::errc() || ptr != e) {
       return start;
     }
     out.push_back(v);
@@ -278,7 +311,8 @@ struct DatasetFailure {
 
 class Parser {
  public:
-  Parser(std::string_view bytes, const std::string& source) : source_(source) {
+  Parser(std::string_view bytes, const std::string& source, const UffReadOptions& options)
+      : source_(source), options_(options) {
     cur_.data = bytes;
     file_.source = source;
   }
@@ -505,13 +539,16 @@ class Parser {
       for (std::size_t k = 0; k < 4; ++k) parse_axis(rec[7 + k], rec_line[7 + k], 8 + static_cast<int>(k), *axes[k]);
 
       std::vector<double> values;
+      std::optional<std::size_t> present;
       if (t.binary) {
-        read_binary_data(d, what, static_cast<unsigned long long>(n_bytes), values);
+        std::size_t points = 0;
+        read_binary_data(d, what, static_cast<unsigned long long>(n_bytes), values, points);
+        present = points;
       } else {
         read_ascii_data(d, what, values);
       }
       recovery = Recovery::Done;
-      assemble(d, what, values);
+      assemble(d, what, values, present);
     } catch (const DatasetFailure& f) {
       const std::string message = fmt::format("{} skipped: {}", what, f.what);
       file_.skipped.push_back(message);
@@ -521,7 +558,7 @@ class Parser {
         cur_.advance(static_cast<std::size_t>(
             std::min<unsigned long long>(static_cast<unsigned long long>(n_bytes), cur_.data.size() - data_start)));
         close_binary(what, cur_.pos, file_.warnings);
-      } else if (recovery == Recovery::ScanToDelimiter) {
+      } else if (recovery == Recovery::ScanToDelimiter && !cur_.eof()) {
         skip_to_delimiter(what);
       }
       return;
@@ -680,21 +717,38 @@ class Parser {
                                                                       : n * per;
   }
 
+  // Record 12 in ASCII: the values up to the closing delimiter. A record without its closing
+  // delimiter is cut off (its last number may be cut short: "-6.766" of "-6.766E-10"), so the
+  // dataset is refused rather than read. Headers only: the lines are passed over, and only the
+  // first and the last are read for the abscissa range.
   void read_ascii_data(UffDataset58& d, const std::string& what, std::vector<double>& values) {
     const unsigned long long wanted = wanted_values(d);
-    // Never reserve what the header claims: each value takes at least two bytes of the file.
-    const std::size_t present_max = (cur_.data.size() - cur_.pos) / 2 + 1;
-    values.reserve(static_cast<std::size_t>(std::min<unsigned long long>(wanted, present_max)));
+    const std::size_t first_line = cur_.line;
     std::vector<double> line_values;
     unsigned long long found = 0;
     std::size_t extra_line = 0;
+    std::string_view first_text, last_text;
+    std::size_t last_line = 0;
     bool closed = false;
+    if (!options_.headers_only) {
+      // Never reserve what the header claims: each value takes at least two bytes of the file.
+      const std::size_t present_max = (cur_.data.size() - cur_.pos) / 2 + 1;
+      values.reserve(static_cast<std::size_t>(std::min<unsigned long long>(wanted, present_max)));
+    }
     while (!cur_.eof()) {
       const std::size_t line = cur_.line;
       const std::string_view text = cur_.take();
       if (is_delimiter(text)) {
         closed = true;
         break;
+      }
+      if (options_.headers_only) {
+        if (!is_blank(text)) {
+          if (first_text.empty()) first_text = text;
+          last_text = text;
+          last_line = line;
+        }
+        continue;
       }
       line_values.clear();
       const std::size_t bad = scan_reals(text, line_values);
@@ -709,46 +763,148 @@ class Parser {
       }
     }
     if (!closed)
-      d.warnings.push_back(fmt::format("{}: {} has no closing '    -1' (the file ends at line {}; truncated?)", source_,
-                                       what, cur_.line - 1));
+      fail(cur_.line - 1, fmt::format("record 12 (data, from line {}) is cut off: the file ends without the closing "
+                                      "'    -1' after {} of the {} values record 7 declares, and its last number may be "
+                                      "cut short",
+                                      first_line, found, wanted));
     if (found > wanted)
       d.warnings.push_back(fmt::format("{}:{}: {}: record 12 holds {} values, more than the {} that record 7's {} "
                                        "points need; the extra values were ignored",
                                        source_, extra_line, what, found, wanted, d.declared_points));
+    if (options_.headers_only && !d.even && !first_text.empty()) {
+      // The abscissa range of uneven data from the first and the last line alone.
+      const std::size_t per = values_per_point(d.is_complex(), d.even);
+      std::vector<double> v;
+      if (scan_reals(first_text, v) == std::string_view::npos && !v.empty()) d.abscissa_first = v.front();
+      v.clear();
+      if (scan_reals(last_text, v) == std::string_view::npos && v.size() >= per)
+        d.abscissa_last = v[(v.size() / per - 1) * per];
+      else
+        d.warnings.push_back(fmt::format("{}:{}: {}: the last line of record 12 holds no whole point", source_, last_line,
+                                         what));
+    }
   }
 
+  // Where the closing delimiter stands if binary data end at byte `end`: right there, after
+  // stray line-break bytes, or the end of the file (reported by close_binary).
+  bool closes_at(std::size_t end) const {
+    const std::string_view s = cur_.data;
+    if (end > s.size()) return false;
+    std::size_t p = end;
+    while (p < s.size() && (s[p] == '\r' || s[p] == '\n')) ++p;
+    if (p == s.size()) return true;
+    Cursor probe{s, p, 0};
+    return is_delimiter(probe.take());
+  }
+
+  // Record 12 in binary. Which bytes it holds is decided by where the closing delimiter stands,
+  // not by trust in one count: record 7's point count and the 58b byte count (pyuff writes
+  // num_pts × 8 for complex double, half the real size) are both tried, each also after a stray
+  // line break before the data (Test.Lab exports). When neither ends at a delimiter the file may
+  // be cut off inside the data (an error) or carry junk after them (read, warned).
   void read_binary_data(UffDataset58& d, const std::string& what, unsigned long long declared_bytes,
-                        std::vector<double>& values) {
+                        std::vector<double>& values, std::size_t& points_present) {
     const std::size_t start = cur_.pos;
     const std::size_t available = cur_.data.size() - start;
     const std::size_t size = d.is_double() ? 8 : 4;
+    const std::size_t per = values_per_point(d.is_complex(), d.even);
     const unsigned long long wanted = wanted_values(d);
     const unsigned long long expected_bytes =
         wanted > std::numeric_limits<unsigned long long>::max() / size ? std::numeric_limits<unsigned long long>::max()
                                                                         : wanted * size;
-    if (declared_bytes != expected_bytes)
-      d.warnings.push_back(fmt::format("{}: {}: the 58b byte count {} (field 6) does not match record 7: {} points × {} "
-                                       "value(s) × {} bytes = {} bytes",
-                                       source_, what, declared_bytes, d.declared_points,
-                                       values_per_point(d.is_complex(), d.even), size, expected_bytes));
-    const auto in_block = std::min<unsigned long long>(declared_bytes, available);
-    if (declared_bytes > available)
-      d.warnings.push_back(fmt::format("{}: {}: the 58b byte count {} runs past the end of the file ({} bytes of data "
-                                       "from byte {}; truncated?)",
-                                       source_, what, declared_bytes, available, start));
-    const auto usable = std::min<unsigned long long>(in_block, expected_bytes);
-    const std::size_t count = static_cast<std::size_t>(usable / size);
-    values.resize(count);
+    const auto fits = [&](std::size_t lead, unsigned long long bytes) {
+      return lead <= available && bytes <= available - lead && closes_at(start + lead + static_cast<std::size_t>(bytes));
+    };
+    std::size_t lead = 0;  // stray line-break bytes before the data
+    while (lead < 2 && lead < available && (cur_.data[start + lead] == '\r' || cur_.data[start + lead] == '\n')) ++lead;
+    std::optional<std::pair<std::size_t, unsigned long long>> found;  // (lead, bytes)
+    const auto try_lead = [&](std::size_t l) {
+      if (fits(l, expected_bytes)) found = {l, expected_bytes};
+      else if (declared_bytes != expected_bytes && fits(l, declared_bytes)) found = {l, declared_bytes};
+      return found.has_value();
+    };
+    if (!try_lead(0) && lead > 0) try_lead(lead);
+    const std::string counts = fmt::format("record 7: {} points × {} value(s) × {} bytes = {} bytes; 58b field 6: {} bytes",
+                                           d.declared_points, per, size, expected_bytes, declared_bytes);
+    unsigned long long bytes = 0;
+    if (found) {
+      cur_.pos = start + found->first;
+      bytes = found->second;
+      if (found->first > 0)
+        d.warnings.push_back(fmt::format("{}: {}: {} stray line-break byte(s) before the binary data (byte {}), as some "
+                                         "exporters write; skipped",
+                                         source_, what, found->first, start));
+      if (bytes == expected_bytes && declared_bytes != expected_bytes)
+        d.warnings.push_back(fmt::format("{}: {}: the 58b byte count disagrees with record 7 ({}); the data present agree "
+                                         "with record 7 (the closing '    -1' follows them), so all {} points were read{}",
+                                         source_, what, counts, d.declared_points,
+                                         declared_bytes * 2 == expected_bytes && d.is_complex()
+                                             ? " (pyuff writes num_pts × 8 bytes for complex data)"
+                                             : ""));
+      else if (bytes != expected_bytes)
+        d.warnings.push_back(fmt::format("{}: {}: the data present agree with the 58b byte count, not with record 7 ({}); "
+                                         "read {} whole point(s){}",
+                                         source_, what, counts, std::min(bytes, expected_bytes) / (per * size),
+                                         bytes > expected_bytes ? " (record 7's count; the bytes after them ignored)" : ""));
+    } else {
+      // Neither count ends at a delimiter: the data run to the first `    -1` (written right after
+      // the last byte, so not necessarily at a line start) that ends its line.
+      std::optional<std::size_t> end;
+      for (std::size_t at = cur_.data.find("    -1", start); at != std::string_view::npos;
+           at = cur_.data.find("    -1", at + 1)) {
+        Cursor probe{cur_.data, at, 0};
+        if (is_delimiter(probe.take())) {
+          end = at;
+          break;
+        }
+      }
+      if (!end)
+        fail(cur_.line, fmt::format("record 12 (binary data from byte {}) is cut off: no closing '    -1' follows, and "
+                                    "the file ends {} bytes into the data ({})",
+                                    start, available, counts));
+      std::size_t e = *end;
+      for (int k = 0; k < 2 && e > start && (cur_.data[e - 1] == '\n' || cur_.data[e - 1] == '\r'); ++k) --e;
+      bytes = e - start;
+      d.warnings.push_back(fmt::format("{}: {}: the data agree with neither count ({}): the closing '    -1' at byte {} "
+                                       "makes them {} bytes; read {} whole point(s)",
+                                       source_, what, counts, *end, bytes, std::min(bytes, expected_bytes) / (per * size)));
+    }
+    // Never more points than record 7 declares (the extra bytes are passed over).
+    const std::size_t count = static_cast<std::size_t>(std::min(bytes, expected_bytes) / size);
+    points_present = count / per;
     const bool big = d.byte_order == 2;
-    const char* p = cur_.data.data() + start;
-    for (std::size_t i = 0; i < count; ++i)
-      values[i] = size == 8 ? load_value<double>(p + 8 * i, big) : static_cast<double>(load_value<float>(p + 4 * i, big));
-    cur_.advance(static_cast<std::size_t>(in_block));
+    const char* p = cur_.data.data() + cur_.pos;
+    const auto value_at = [&](std::size_t i) {
+      return size == 8 ? load_value<double>(p + 8 * i, big) : static_cast<double>(load_value<float>(p + 4 * i, big));
+    };
+    if (!options_.headers_only) {
+      values.resize(count);
+      for (std::size_t i = 0; i < count; ++i) values[i] = value_at(i);
+    } else if (!d.even && points_present > 0) {
+      d.abscissa_first = value_at(0);
+      d.abscissa_last = value_at((points_present - 1) * per);
+    }
+    cur_.advance(static_cast<std::size_t>(bytes));
     close_binary(what, cur_.pos, d.warnings);
   }
 
-  void assemble(UffDataset58& d, const std::string& what, const std::vector<double>& values) const {
+  // The points from record 12's values (or, headers only, the abscissa range of those present:
+  // `present` points, unknown for ASCII). Even spacing: x_i = min + i·increment, never summed.
+  void assemble(UffDataset58& d, const std::string& what, const std::vector<double>& values,
+                std::optional<std::size_t> present) const {
     const std::size_t per = values_per_point(d.is_complex(), d.even);
+    if (options_.headers_only) {
+      d.headers_only = true;
+      const auto n = present.value_or(static_cast<std::size_t>(std::min<long long>(d.declared_points, 1LL << 40)));
+      if (present && *present < static_cast<unsigned long long>(d.declared_points))
+        d.warnings.push_back(fmt::format("{}: {}: record 7 declares {} points but the file holds {}", source_, what,
+                                         d.declared_points, *present));
+      if (d.even && n > 0) {
+        d.abscissa_first = d.abscissa_min;
+        d.abscissa_last = d.abscissa_min + static_cast<double>(n - 1) * d.abscissa_increment;
+      }
+      return;
+    }
     const std::size_t n = values.size() / per;
     if (values.size() % per != 0)
       d.warnings.push_back(fmt::format("{}: {}: record 12 ends inside a point ({} value(s) left over, {} per point); the "
@@ -766,9 +922,14 @@ class Parser {
       d.x[i] = d.even ? d.abscissa_min + static_cast<double>(i) * d.abscissa_increment : v[k++];
       d.y[i] = d.is_complex() ? Complex(v[k], v[k + 1]) : Complex(v[k], 0.0);
     }
+    if (n > 0) {
+      d.abscissa_first = d.x.front();
+      d.abscissa_last = d.x.back();
+    }
   }
 
   const std::string& source_;
+  UffReadOptions options_;
   Cursor cur_;
   UffFile file_;
   std::optional<UffUnits> units_;
@@ -805,26 +966,40 @@ void store_value(std::string& out, T value, bool big_endian) {
   }
 }
 
-void check_text(const std::string& s, std::size_t max, const std::string& what) {
+// Text fields must be one line of UTF-8; their length is the writer's business (see Field).
+void check_text(const std::string& s, const std::string& what) {
   if (s.find_first_of("\r\n") != std::string::npos)
     throw InvalidArgument(fmt::format("UFF {} '{}' holds a line break", what, excerpt(s)), "use a single line of text");
   if (!valid_utf8(s)) throw InvalidArgument(fmt::format("UFF {} is not valid UTF-8 text", what));
-  if (char_count(s) > max)
-    throw InvalidArgument(fmt::format("UFF {} '{}' has {} characters; the field holds {}", what, s, char_count(s), max),
-                          "shorten the text");
 }
 
 std::string or_none(const std::string& s) { return trim(s).empty() ? std::string("NONE") : s; }
 
-// Text padded to `width` characters (code points: fmt may count display width differently).
-std::string pad(const std::string& s, std::size_t width) {
-  const std::size_t n = char_count(s);
-  return n >= width ? s : s + std::string(width - n, ' ');
-}
+// Text fields of one dataset as written: "NONE" for blank text, cut to the field's width with a
+// warning (a 95-character ID line read from another program's file must not stop a copy), padded
+// to it (code points: fmt may count display width differently).
+struct Fields {
+  const UffDataset58& d;
+  std::size_t k;
+  std::vector<std::string>& warnings;
 
-std::string axis_line(const UffAxis& a) {
+  std::string operator()(const std::string& text, std::size_t width, const std::string& what) const {
+    std::string s = or_none(text);
+    const std::size_t n = char_count(s);
+    if (n > width) {
+      s = text::cut(s, width);
+      warnings.push_back(fmt::format("UFF dataset {} ('{}'): the {} has {} characters, its field holds {}; written as '{}'",
+                                     k, excerpt(d.id[0]), what, n, width, s));
+      return s;
+    }
+    return s + std::string(width - n, ' ');
+  }
+};
+
+std::string axis_line(const UffAxis& a, const Fields& field, int record) {
   return fmt::format("{:>10}{:>5}{:>5}{:>5} {} {}\n", a.data_type, a.length_exponent, a.force_exponent,
-                     a.temperature_exponent, pad(or_none(a.label), 20), pad(or_none(a.units), 20));
+                     a.temperature_exponent, field(a.label, 20, fmt::format("record {} axis label", record)),
+                     field(a.units, 20, fmt::format("record {} units label", record)));
 }
 
 void append_dataset(std::string& out, const UffDataset58& d, const UffWriteOptions& o, std::size_t k,
@@ -839,15 +1014,18 @@ void append_dataset(std::string& out, const UffDataset58& d, const UffWriteOptio
                        0, 0, 0);
   else
     out += "    58\n";
-  for (const auto& id : d.id) out += pad(or_none(id), 80) + "\n";
+  const Fields field{d, k, warnings};
+  for (std::size_t i = 0; i < d.id.size(); ++i) out += field(d.id[i], 80, fmt::format("ID line {}", i + 1)) + "\n";
   out += fmt::format("{:>5}{:>10}{:>5}{:>10} {}{:>10}{:>4} {}{:>10}{:>4}\n", d.function_type, d.function_id, d.version,
-                     d.load_case, pad(or_none(d.response_entity), 10), d.response_node, d.response_direction,
-                     pad(or_none(d.reference_entity), 10), d.reference_node, d.reference_direction);
+                     d.load_case, field(d.response_entity, 10, "response entity name"), d.response_node,
+                     d.response_direction, field(d.reference_entity, 10, "reference entity name"), d.reference_node,
+                     d.reference_direction);
   const std::string xmin = fortran_e(d.even ? d.abscissa_min : 0.0, 13);
   const std::string xinc = fortran_e(d.even ? d.abscissa_increment : 0.0, 13);
   out += fmt::format("{:>10}{:>10}{:>10}{}{}{}\n", d.ordinate_data_type, n, d.even ? 1 : 0, xmin, xinc,
                      fortran_e(d.z_value, 13));
-  out += axis_line(d.abscissa) + axis_line(d.ordinate) + axis_line(d.denominator) + axis_line(d.z_axis);
+  out += axis_line(d.abscissa, field, 8) + axis_line(d.ordinate, field, 9) + axis_line(d.denominator, field, 10) +
+         axis_line(d.z_axis, field, 11);
 
   // The abscissa a reader will compute or read, against the one given.
   auto x_given = [&](std::size_t i) {
@@ -922,15 +1100,21 @@ void append_dataset(std::string& out, const UffDataset58& d, const UffWriteOptio
 // ---------------------------------------------------------------------------------------------
 // Public functions
 
-UffFile parse_uff(std::string_view bytes, const std::string& source) { return Parser(bytes, source).run(); }
+UffFile parse_uff(std::string_view bytes, const std::string& source, const UffReadOptions& options) {
+  return Parser(bytes, source, options).run();
+}
 
-UffFile read_uff(const std::string& path) {
-  const std::string bytes = read_text_file(path);
-  return parse_uff(bytes, path);
+UffFile read_uff(const std::string& path, const UffReadOptions& options) {
+  const MappedFile file(path);
+  return parse_uff(file.bytes(), path, options);
 }
 
 std::vector<std::string> UffFile::warnings_for(const std::vector<const UffDataset58*>& sets) const {
-  std::vector<std::string> out = file_warnings;
+  constexpr std::size_t kShown = 10;  // messages for a person: the first few, then a count
+  std::vector<std::string> out(file_warnings.begin(), file_warnings.begin() + std::min(file_warnings.size(), kShown));
+  if (file_warnings.size() > kShown)
+    out.push_back(fmt::format("{}: … and {} more problems in the file (see `toolpoint convert {} --list`)", source,
+                              file_warnings.size() - kShown, source));
   for (const UffDataset58* d : sets) out.insert(out.end(), d->warnings.begin(), d->warnings.end());
   if (!skipped.empty())
     out.push_back(fmt::format("{}: {} dataset(s) 58 could not be read and were skipped (see `toolpoint convert {} --list`)",
@@ -976,12 +1160,15 @@ std::string candidate_list(const std::vector<const UffDataset58*>& sets) {
 }  // namespace
 
 const UffDataset58& select_dataset58(const UffFile& file, const UffSelection& sel) {
+  constexpr std::size_t kShown = 5;  // the first few reasons, then a count
   std::string skipped;
-  for (const auto& s : file.skipped) skipped += "\n  " + s;
+  for (std::size_t i = 0; i < file.skipped.size() && i < kShown; ++i) skipped += "\n  " + file.skipped[i];
+  if (file.skipped.size() > kShown)
+    skipped += fmt::format("\n  … and {} more (`toolpoint convert {} --list`)", file.skipped.size() - kShown, file.source);
   if (file.functions.empty())
     throw InputError(fmt::format("{}: no readable dataset 58 (function at nodal DOF) in the file ({} dataset(s) of "
-                                 "other types){}",
-                                 file.source, file.datasets.size(), skipped),
+                                 "other types, {} dataset(s) 58 unreadable){}",
+                                 file.source, file.datasets.size() - file.skipped.size(), file.skipped.size(), skipped),
                      "a tap-test FRF is exported as UFF dataset 58 or 58b; check the export settings");
   std::vector<const UffDataset58*> all, match;
   for (const auto& d : file.functions) {
@@ -1036,13 +1223,13 @@ void UffDataset58::check() const {
         throw InvalidArgument(fmt::format("{}: point {} has imaginary part {} but ordinate data type {} is real", what, i,
                                           y[i].imag(), ordinate_data_type),
                               "use type 5 or 6 for complex data");
-  for (std::size_t k = 0; k < id.size(); ++k) check_text(id[k], 80, fmt::format("ID line {}", k + 1));
-  check_text(response_entity, 10, "response entity name");
-  check_text(reference_entity, 10, "reference entity name");
+  for (std::size_t k = 0; k < id.size(); ++k) check_text(id[k], fmt::format("ID line {}", k + 1));
+  check_text(response_entity, "response entity name");
+  check_text(reference_entity, "reference entity name");
   const UffAxis* axes[] = {&abscissa, &ordinate, &denominator, &z_axis};
   for (std::size_t k = 0; k < 4; ++k) {
-    check_text(axes[k]->label, 20, fmt::format("record {} axis label", 8 + k));
-    check_text(axes[k]->units, 20, fmt::format("record {} units label", 8 + k));
+    check_text(axes[k]->label, fmt::format("record {} axis label", 8 + k));
+    check_text(axes[k]->units, fmt::format("record {} units label", 8 + k));
     for (int e : {axes[k]->length_exponent, axes[k]->force_exponent, axes[k]->temperature_exponent})
       if (e < -9999 || e > 99999)
         throw InvalidArgument(fmt::format("{}: record {} units exponent {} does not fit 5 columns", what, 8 + k, e));
@@ -1051,6 +1238,8 @@ void UffDataset58::check() const {
     if (v < -9999 || v > 99999) throw InvalidArgument(fmt::format("{}: record 6 value {} does not fit 5 columns", what, v));
   for (int v : {response_direction, reference_direction})
     if (v < -999 || v > 9999) throw InvalidArgument(fmt::format("{}: direction {} does not fit 4 columns", what, v));
+  for (int v : {function_id, load_case, response_node, reference_node})
+    if (v < -999'999'999) throw InvalidArgument(fmt::format("{}: record 6 value {} does not fit 10 columns", what, v));
 }
 
 UffText format_uff(const std::vector<UffDataset58>& sets, const UffWriteOptions& options) {

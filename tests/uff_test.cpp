@@ -225,7 +225,7 @@ TEST(Uff, ADatasetStartsOnlyAfterADelimiter) {
 
 // What files in the wild do: CRLF line ends, numbers run together in full fields, D exponents,
 // Fortran's letterless three-digit exponents, tabs, Latin-1 labels, a free-format record 6,
-// record 6 entity names with blanks, a missing closing delimiter.
+// record 6 entity names with blanks.
 TEST(Uff, LiberalReading) {
   const std::string text =
       "    -1\r\n    58\r\nID one\r\nNONE\r\nNONE\r\nNONE\r\nNONE\r\n"
@@ -237,7 +237,7 @@ TEST(Uff, LiberalReading) {
       "         0    0    0    0 NONE                 NONE\r\n"
       " 1.00000E+01-1.50000E-02-2.50000D-02 2.0E+01\t3.0e0,4.0E+00\r\n"
       "3.0E+01 1.5-100 -2.5+002 4.0E+01 1.0E+00 2.0E+00\r\n";
-  const UffFile f = parse_uff(text, "wild.uff");
+  const UffFile f = parse_uff(text + "    -1\r\n", "wild.uff");
   ASSERT_EQ(f.functions.size(), 1u) << (f.skipped.empty() ? "" : f.skipped[0]);
   const UffDataset58& d = f.functions[0];
   EXPECT_EQ(d.response_entity, "PT");
@@ -249,7 +249,13 @@ TEST(Uff, LiberalReading) {
   EXPECT_EQ(d.y[0], Complex(-1.5e-2, -2.5e-2));
   EXPECT_EQ(d.y[1], Complex(3.0, 4.0));
   EXPECT_EQ(d.y[2], Complex(1.5e-100, -2.5e2));
-  EXPECT_TRUE(any_contains(f.warnings, {"wild.uff", "no closing", "truncated"}));
+  EXPECT_TRUE(f.warnings.empty()) << f.warnings.front();
+
+  // Without its closing delimiter the record is cut off: its last number may be cut short
+  // ("2.0E+00" of "2.0E+001"), so the dataset is refused, naming the record, not read.
+  const UffFile cut = parse_uff(text, "cut.uff");
+  EXPECT_TRUE(cut.functions.empty());
+  EXPECT_TRUE(any_contains(cut.skipped, {"cut.uff:15", "record 12", "cut off", "12 of the 12 values"})) << cut.skipped.at(0);
 
   // Entity names with blanks need the fixed columns of record 6 (binary8byte.uff has " sine 5 Hz").
   const UffFile b = read_uff(kDir + "binary8byte.uff");
@@ -288,8 +294,9 @@ TEST(Uff, MalformedHeaderSkipsTheDatasetAndSaysWhy) {
   EXPECT_EQ(h.functions.size(), 1u);
 }
 
-// A binary header that lies about its size: the reader takes what the file holds, allocates no
-// more than that, and says so.
+// A binary header that lies about its size: the reader takes what the data up to the closing
+// delimiter hold, allocates no more than that, and says so; without a closing delimiter the
+// record is cut off and refused.
 TEST(Uff, LyingBinaryCountsAreBoundedByTheBytesPresent) {
   std::string head = "    -1\n    58b     1     2          11 99999999999999     0     0           0           0\n";
   std::string recs = kHeader58;
@@ -299,15 +306,19 @@ TEST(Uff, LyingBinaryCountsAreBoundedByTheBytesPresent) {
     const float v = static_cast<float>(i) + 0.5f;
     std::memcpy(&data[static_cast<std::size_t>(4 * i)], &v, 4);
   }
-  const UffFile f = parse_uff(head + recs + data, "lying.uff");
+  const UffFile f = parse_uff(head + recs + data + "    -1\n", "lying.uff");
   ASSERT_EQ(f.functions.size(), 1u) << (f.skipped.empty() ? "" : f.skipped[0]);
   const UffDataset58& d = f.functions[0];
   EXPECT_EQ(d.declared_points, 9999999999LL);
   ASSERT_EQ(d.size(), 10u);
   EXPECT_EQ(d.y[9].real(), 9.5);
-  EXPECT_TRUE(any_contains(d.warnings, {"byte count 99999999999999", "does not match"}));
-  EXPECT_TRUE(any_contains(d.warnings, {"runs past the end of the file"}));
+  EXPECT_TRUE(any_contains(d.warnings, {"agree with neither count", "58b field 6: 99999999999999 bytes", "40 bytes"}));
   EXPECT_TRUE(any_contains(d.warnings, {"declares 9999999999 points", "holds 10"}));
+
+  const UffFile cut = parse_uff(head + recs + data, "cut.uff");
+  EXPECT_TRUE(cut.functions.empty());
+  EXPECT_TRUE(any_contains(cut.skipped, {"cut.uff:", "record 12", "cut off", "40 bytes into the data"}))
+      << cut.skipped.at(0);
 }
 
 // Byte order and float format against bit patterns written by hand: 1.5f is 3F C0 00 00, −2.0
@@ -504,7 +515,7 @@ TEST(Uff, WriterRejectsWhatDoesNotFit) {
   d.y[1] = Complex(1.0, 2.0);
   EXPECT_THROW(format_uff({d}), InvalidArgument);  // imaginary part in real data
   d = synthetic(6, true, 3, 2);
-  d.id[2] = std::string(81, 'a');
+  d.response_node = -1'000'000'000;  // 11 characters in a 10-column field
   EXPECT_THROW(format_uff({d}), InvalidArgument);
   d = synthetic(6, true, 3, 2);
   d.ordinate.label = "two\nlines";
@@ -516,4 +527,26 @@ TEST(Uff, WriterRejectsWhatDoesNotFit) {
   d.x.pop_back();
   EXPECT_THROW(format_uff({d}), InvalidArgument);
   EXPECT_THROW(format_uff({synthetic(6, true, 3, 2)}, UffWriteOptions{.binary = true, .byte_order = 3}), InvalidArgument);
+}
+
+// Text longer than its field (a 95-character ID line from another program's file, a long label)
+// is cut to the field on write, with a warning naming the field, never refused: a copy must not
+// fail on what the user cannot change (a fuzz finding of issue 12). The cut never splits a
+// character, and the file reads back with the cut text in place.
+TEST(Uff, LongTextIsCutOnWriteWithAWarning) {
+  UffDataset58 d = synthetic(6, true, 3, 2);
+  d.id[0] = std::string(90, 'a') + "µµµµµ";  // 95 characters
+  d.ordinate.units = "m/s² per newton of force";
+  d.response_entity = "a long entity";
+  const UffText t = format_uff({d}, {.binary = true});
+  ASSERT_EQ(t.warnings.size(), 3u);
+  EXPECT_TRUE(any_contains(t.warnings, {"ID line 1 has 95 characters, its field holds 80"}));
+  EXPECT_TRUE(any_contains(t.warnings, {"record 9 units label has 24 characters, its field holds 20", "'m/s² per newton of f'"}));
+  EXPECT_TRUE(any_contains(t.warnings, {"response entity name has 13 characters, its field holds 10", "'a long ent'"}));
+  const UffFile back = parse_uff(t.bytes, "cut.uff");
+  ASSERT_EQ(back.functions.size(), 1u) << (back.skipped.empty() ? "" : back.skipped[0]);
+  EXPECT_EQ(back.functions[0].id[0], std::string(80, 'a'));
+  EXPECT_EQ(back.functions[0].ordinate.units, "m/s² per newton of f");
+  EXPECT_EQ(back.functions[0].response_entity, "a long ent");
+  EXPECT_EQ(back.functions[0].y, d.y);
 }

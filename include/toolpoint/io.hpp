@@ -9,6 +9,7 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "toolpoint/receptance.hpp"
@@ -17,6 +18,25 @@ namespace toolpoint {
 
 // Reads a whole file. Throws IoError naming the path.
 std::string read_text_file(const std::string& path);
+
+// A whole file as read-only bytes, mapped into memory (no copy: a 1 GB universal file is listed
+// without reading what is not looked at; a pipe or device is read whole instead). Empty files
+// give an empty view. Throws IoError naming
+// the path. The bytes stay valid while the object lives.
+class MappedFile {
+ public:
+  explicit MappedFile(const std::string& path);
+  ~MappedFile();
+  MappedFile(const MappedFile&) = delete;
+  MappedFile& operator=(const MappedFile&) = delete;
+
+  std::string_view bytes() const { return data_ ? std::string_view(data_, size_) : std::string_view(copy_); }
+
+ private:
+  const char* data_ = nullptr;  // the mapping, for a regular file
+  std::size_t size_ = 0;
+  std::string copy_;            // a pipe or device read whole instead
+};
 
 // Output written whole or not at all: a hidden temporary file beside `target` (same file
 // system, so the final rename is atomic). Fill it through write() or by its path (e.g. from

@@ -86,14 +86,18 @@ struct UffDataset58 {
   int byte_order = 1;     // 58b: 1 little endian, 2 big endian
   std::optional<UffUnits> units;    // the dataset 164 in force, if any
   std::vector<std::string> warnings;  // what was wrong with it (also in UffFile::warnings)
+  bool headers_only = false;          // read with UffReadOptions::headers_only: x, y empty
+  // The first and last abscissa of record 12 (also when read headers only; 0 without points).
+  double abscissa_first = 0.0, abscissa_last = 0.0;
 
   bool is_complex() const { return ordinate_data_type == 5 || ordinate_data_type == 6; }
   bool is_double() const { return ordinate_data_type == 4 || ordinate_data_type == 6; }
   std::size_t size() const { return y.size(); }
 
   // For writing: the types and codes are valid, x and y agree in length (and x with the even
-  // spacing), real types have no imaginary parts, text fits its field (ID lines 80, entity names
-  // 10, labels 20 characters; no line breaks), nodes fit 10 digits. Throws InvalidArgument.
+  // spacing), real types have no imaginary parts, text is one line of UTF-8, numbers fit their
+  // columns. Throws InvalidArgument. (Text longer than its field — ID lines 80, entity names 10,
+  // labels 20 characters — is cut by the writer, with a warning.)
   void check() const;
 };
 
@@ -119,11 +123,19 @@ struct UffFile {
   std::vector<std::string> warnings_for(const std::vector<const UffDataset58*>& sets) const;
 };
 
+// How to read. headers_only: records 1–11 of every dataset 58 and where its data end, but not the
+// data themselves (x and y stay empty; abscissa_first/last and the checks on binary sizes still
+// hold). That is what a listing needs: the time is that of finding the line ends, and binary data
+// are skipped by their size without being looked at.
+struct UffReadOptions {
+  bool headers_only = false;
+};
+
 // Parses the bytes of a universal file. Never throws on content: problems go to warnings, and a
 // dataset 58 that cannot be read at all goes to `skipped`. `source` names the file in messages.
-UffFile parse_uff(std::string_view bytes, const std::string& source);
-// Reads and parses a file. Throws IoError if it cannot be read.
-UffFile read_uff(const std::string& path);
+UffFile parse_uff(std::string_view bytes, const std::string& source, const UffReadOptions& options = {});
+// Reads (maps) and parses a file. Throws IoError if it cannot be read.
+UffFile read_uff(const std::string& path, const UffReadOptions& options = {});
 
 // Which dataset 58 to use: by index (position among the file's datasets 58, from 0) and/or by
 // response/reference node and direction. Every criterion given must match.
