@@ -41,6 +41,99 @@ std::optional<std::string> non_si_token(const std::string& label) {
   return std::nullopt;
 }
 
+// ---- units -----------------------------------------------------------------------------------
+
+constexpr double kStandardGravity = 9.80665;        // m/s² per g (CGPM 1901)
+constexpr double kPoundForce = 4.4482216152605;     // N per lbf
+constexpr double kInch = 0.0254;                    // m per inch
+
+// Lower case, no blanks or brackets or product signs; µ/μ → u, ² → ^2, ** → ^, "sec" → "s".
+std::string normalise_units(std::string_view in) {
+  std::string s;
+  for (std::size_t i = 0; i < in.size(); ++i) {
+    const auto c = static_cast<unsigned char>(in[i]);
+    const std::string_view rest = in.substr(i);
+    if (rest.substr(0, 2) == "\xC2\xB5" || rest.substr(0, 2) == "\xCE\xBC") {  // µ, μ
+      s += 'u';
+      ++i;
+    } else if (rest.substr(0, 2) == "\xC2\xB2") {  // ²
+      s += "^2";
+      ++i;
+    } else if (rest.substr(0, 2) == "\xC2\xB7") {  // ·
+      ++i;
+    } else if (rest.substr(0, 2) == "**") {
+      s += '^';
+      ++i;
+    } else if (c == ' ' || c == '\t' || c == '[' || c == ']' || c == '*') {
+    } else {
+      s += static_cast<char>(std::tolower(c));
+    }
+  }
+  for (std::size_t at; (at = s.find("sec")) != std::string::npos;) s.erase(at + 1, 2);  // "sec" → "s"
+  return s;
+}
+
+std::optional<double> force_factor(const std::string& f) {
+  if (f == "n") return 1.0;
+  if (f == "kn") return 1e3;
+  if (f == "mn") return 1e-3;
+  if (f == "lbf" || f == "lb") return kPoundForce;
+  return std::nullopt;
+}
+
+// The response part of FRF units: a length (receptance), a length per second (mobility), per
+// second squared or g (accelerance), with its factor to SI.
+std::optional<std::pair<FrfOrdinate, double>> response_units(std::string n) {
+  if (n.size() >= 2 && n.front() == '(' && n.back() == ')') n = n.substr(1, n.size() - 2);
+  if (n == "g") return std::pair{FrfOrdinate::Accelerance, kStandardGravity};
+  if (n == "ips") return std::pair{FrfOrdinate::Mobility, kInch};
+  static const std::pair<const char*, double> lengths[] = {{"m", 1.0},   {"mm", 1e-3},  {"um", 1e-6}, {"nm", 1e-9},
+                                                           {"cm", 1e-2}, {"in", kInch}, {"inch", kInch}};
+  for (const auto& [name, f] : lengths) {
+    const std::string l(name);
+    if (n == l) return std::pair{FrfOrdinate::Receptance, f};
+    if (n == l + "/s") return std::pair{FrfOrdinate::Mobility, f};
+    if (n == l + "/s^2" || n == l + "/s2" || n == l + "/s/s") return std::pair{FrfOrdinate::Accelerance, f};
+  }
+  return std::nullopt;
+}
+
+// SI units of an ordinate, as a label.
+std::string si_label(FrfOrdinate o) { return frf_ordinate_units(o); }
+
+// What the values are and their factor: the user's units, else the file's, else the user's
+// ordinate in SI, else SI receptance. `where` names what stated the file's units.
+FrfUnits resolve_units(const std::optional<FrfUnits>& file_units, const std::string& where, const FrfReadOptions& o,
+                       std::vector<std::string>& warnings) {
+  if (o.units) {
+    if (file_units && !(*file_units == *o.units))
+      warnings.push_back(fmt::format("{} says the values are in '{}' ({}); the units given, '{}' ({}), are used", where,
+                                     file_units->label, frf_ordinate_name(file_units->ordinate), o.units->label,
+                                     frf_ordinate_name(o.units->ordinate)));
+    return *o.units;
+  }
+  if (file_units) {
+    if (o.ordinate && *o.ordinate != file_units->ordinate) {
+      warnings.push_back(fmt::format("{} says the values are in '{}' ({}); the ordinate given, {}, is used, in SI units "
+                                     "({})",
+                                     where, file_units->label, frf_ordinate_name(file_units->ordinate),
+                                     frf_ordinate_name(*o.ordinate), si_label(*o.ordinate)));
+      return {*o.ordinate, 1.0, si_label(*o.ordinate)};
+    }
+    return *file_units;
+  }
+  const FrfOrdinate ord = o.ordinate.value_or(FrfOrdinate::Receptance);
+  return {ord, 1.0, si_label(ord)};
+}
+
+// The values scaled to SI, with a warning saying so when the factor is not 1.
+void scale_to_si(FrfSeries& s, const FrfUnits& u, const std::string& what, std::vector<std::string>& warnings) {
+  if (u.to_si == 1.0) return;
+  for (auto& v : s.values) v *= u.to_si;
+  warnings.push_back(fmt::format("{}: values in '{}' converted to SI ({}): × {}", what, u.label, si_label(u.ordinate),
+                                 u.to_si));
+}
+
 std::string uff_what(const std::string& source, const UffDataset58& d) {
   return fmt::format("{}: dataset 58 #{} ('{}')", source, d.index, cut(d.id[0], 40));
 }
@@ -105,6 +198,35 @@ std::string frf_ordinate_units(FrfOrdinate o) {
   return "?";
 }
 
+std::optional<FrfUnits> parse_frf_units(std::string_view text) {
+  const std::string n = normalise_units(text);
+  const std::size_t slash = n.rfind('/');
+  if (slash == std::string::npos) return std::nullopt;
+  const auto force = force_factor(n.substr(slash + 1));
+  if (!force) return std::nullopt;
+  const auto response = response_units(n.substr(0, slash));
+  if (!response) return std::nullopt;
+  return FrfUnits{response->first, response->second / *force, std::string(trim(text))};
+}
+
+FrfUnits parse_frf_units_option(const std::string& text, const std::string& option) {
+  if (const auto u = parse_frf_units(text)) return *u;
+  throw InvalidArgument(fmt::format("{} '{}' are not FRF units toolpoint knows", option, text),
+                        "use m/N, mm/N, um/N (receptance); m/s/N, mm/s/N (mobility); m/s^2/N, g/N (accelerance); "
+                        "force N, kN or lbf, e.g. in/lbf");
+}
+
+std::optional<FrfUnits> uff_label_units(const std::string& numerator, const std::string& denominator) {
+  if (const auto whole = parse_frf_units(numerator)) return whole;
+  const auto response = response_units(normalise_units(numerator));
+  if (!response) return std::nullopt;
+  const std::string d = normalise_units(denominator);
+  const auto force = d.empty() || d == "none" ? std::optional<double>(1.0) : force_factor(d);
+  if (!force) return std::nullopt;
+  const std::string den = d.empty() || d == "none" ? std::string("N") : std::string(trim(denominator));
+  return FrfUnits{response->first, response->second / *force, fmt::format("{}/{}", trim(numerator), den)};
+}
+
 std::optional<FrfOrdinate> uff_ordinate_kind(const UffDataset58& d) {
   if (d.denominator.data_type != 13 && d.denominator.data_type != 0) return std::nullopt;
   switch (d.ordinate.data_type) {
@@ -145,7 +267,8 @@ FrfSeries to_receptance(const FrfSeries& s, FrfOrdinate ordinate, std::vector<st
   return out;
 }
 
-UffReceptance uff_receptance(const UffDataset58& d, std::optional<FrfOrdinate> ordinate, const std::string& source) {
+UffReceptance uff_receptance(const UffDataset58& d, std::optional<FrfOrdinate> ordinate, const std::string& source,
+                             const std::optional<FrfUnits>& units) {
   UffReceptance r;
   const std::string what = uff_what(source, d);
   const std::string list_hint = fmt::format("list the datasets with `toolpoint convert {} --list` and pick an FRF", source);
@@ -163,25 +286,39 @@ UffReceptance uff_receptance(const UffDataset58& d, std::optional<FrfOrdinate> o
     throw InputError(fmt::format("{}: record 8 abscissa data type {} ({}), expected 18 (frequency, Hz)", what,
                                  d.abscissa.data_type, uff_data_type_name(d.abscissa.data_type)),
                      list_hint);
+  if (units && ordinate && units->ordinate != *ordinate)
+    throw InvalidArgument(fmt::format("units '{}' are {}, but the ordinate given is {}", units->label,
+                                      frf_ordinate_name(units->ordinate), frf_ordinate_name(*ordinate)),
+                          "give one of them, or both alike");
   const auto stated = uff_ordinate_kind(d);
+  const auto labelled = uff_label_units(d.ordinate.units, d.denominator.units);
   const std::string codes =
       fmt::format("record 9 ordinate data type {} ({}, units '{}') over record 10 data type {} ({}, units '{}')",
                   d.ordinate.data_type, uff_data_type_name(d.ordinate.data_type), d.ordinate.units,
                   d.denominator.data_type, uff_data_type_name(d.denominator.data_type), d.denominator.units);
-  if (ordinate) {
-    if (stated && *stated != *ordinate)
+  const std::optional<FrfOrdinate> given = units ? std::optional(units->ordinate) : ordinate;
+  if (given) {
+    if (stated && *stated != *given)
       r.warnings.push_back(fmt::format("{}: {} states {}, but {} was given; taken as {}", what, codes,
-                                       frf_ordinate_name(*stated), frf_ordinate_name(*ordinate),
-                                       frf_ordinate_name(*ordinate)));
-    r.ordinate = *ordinate;
+                                       frf_ordinate_name(*stated), frf_ordinate_name(*given), frf_ordinate_name(*given)));
+    r.ordinate = *given;
   } else if (stated) {
+    if (labelled && labelled->ordinate != *stated)
+      throw InputError(fmt::format("{}: {} states {}, but the units labels say {} ('{}')", what, codes,
+                                   frf_ordinate_name(*stated), frf_ordinate_name(labelled->ordinate), labelled->label),
+                       "say which is right: --ordinate receptance|mobility|accelerance, or --units (e.g. g/N)");
     r.ordinate = *stated;
     if (d.denominator.data_type == 0)
       r.warnings.push_back(fmt::format("{}: record 10 (ordinate denominator) data type 0 (not given); taken as force",
                                        what));
+  } else if (labelled) {
+    r.ordinate = labelled->ordinate;
+    r.warnings.push_back(fmt::format("{}: {} names no response per force; the units labels ('{}') say {}, taken as such",
+                                     what, codes, labelled->label, frf_ordinate_name(labelled->ordinate)));
   } else {
     throw InputError(fmt::format("{}: {} is not displacement, velocity or acceleration per force", what, codes),
-                     "if you know what the values are, give the ordinate (--ordinate receptance|mobility|accelerance)");
+                     "if you know what the values are, give the ordinate (--ordinate receptance|mobility|accelerance) "
+                     "or the units (--units, e.g. g/N)");
   }
   if (!d.is_complex())
     r.warnings.push_back(fmt::format("{}: the ordinate is real ({}); an FRF is complex — is this a magnitude?", what,
@@ -190,7 +327,12 @@ UffReceptance uff_receptance(const UffDataset58& d, std::optional<FrfOrdinate> o
   FrfSeries raw;
   raw.frequency_hz = d.x;
   raw.values = d.y;
-  if (d.units && (d.units->force_factor != d.units->length_factor)) {
+  if (units) {
+    if (labelled && !(*labelled == *units))
+      r.warnings.push_back(fmt::format("{}: the units labels say '{}'; the units given, '{}', are used", what,
+                                       labelled->label, units->label));
+    scale_to_si(raw, *units, what, r.warnings);
+  } else if (d.units && (d.units->force_factor != d.units->length_factor)) {
     // SI value = file value / factor: X_SI/F_SI = (X/fL)/(F/fF) = (X/F)·fF/fL; time stays in s.
     const double scale = d.units->force_factor / d.units->length_factor;
     for (auto& v : raw.values) v *= scale;
@@ -198,11 +340,13 @@ UffReceptance uff_receptance(const UffDataset58& d, std::optional<FrfOrdinate> o
                                      "'{}'): × force factor {} / length factor {} = × {}",
                                      what, d.units->line, d.units->code, d.units->description, d.units->force_factor,
                                      d.units->length_factor, scale));
+  } else if (labelled && labelled->ordinate == r.ordinate) {
+    scale_to_si(raw, *labelled, what, r.warnings);  // g/N × 9.80665, mm/N × 1e-3, …
   } else if (!d.units || d.units->code == 1) {
     for (const UffAxis* a : {&d.ordinate, &d.denominator})
       if (const auto t = non_si_token(a->units))
         r.warnings.push_back(fmt::format("{}: units label '{}' mentions '{}', which is not SI; toolpoint takes the "
-                                         "values as SI (m, s, N) — convert them first if they are not",
+                                         "values as SI (m, s, N) — give --units if they are not",
                                          what, a->units, *t));
   }
   r.receptance = to_receptance(raw, r.ordinate, r.warnings, what);
@@ -247,15 +391,37 @@ UffDataset58 uff_from_receptance(const FrfSeries& h, const UffDof& dof, const st
   return d;
 }
 
-FrfText parse_cutpro_frf(std::string_view text, const std::string& source) {
+namespace {
+
+// CutPro's column labels, as its own files and the MATLAB scripts that write for it have them.
+const char* const kCutProLabels[] = {"Freq Hz Real m/N Imag m/N", "Freq Hz Real m/N Imag Real"};
+
+bool is_cutpro_labels(const std::vector<std::string_view>& tokens) {
+  std::string joined;
+  for (const auto t : tokens) {
+    if (!joined.empty()) joined += ' ';
+    joined += t;
+  }
+  return std::any_of(std::begin(kCutProLabels), std::end(kCutProLabels),
+                     [&](const char* l) { return text::iequal(joined, l); });
+}
+
+}  // namespace
+
+FrfText parse_cutpro_frf(std::string_view text_in, const std::string& source) {
   FrfText out;
-  std::size_t pos = 0, line_no = 0, header_lines = 0, zero_lines = 0;
+  std::size_t pos = 0, line_no = 0, zero_lines = 0;
   double last_f = -1.0;
   std::size_t last_line = 0;
-  while (pos < text.size()) {
-    std::size_t end = text.find('\n', pos);
-    if (end == std::string_view::npos) end = text.size();
-    const std::string_view line = trim(text.substr(pos, end - pos));
+  const std::string fix_table =
+      "if it is a magnitude/phase or other table, read it as CSV: `toolpoint convert FILE OUT --from csv --format "
+      "mag-phase-deg` (see --columns, --format)";
+  if (text_in.substr(0, 3) == "\xEF\xBB\xBF") text_in.remove_prefix(3);
+  bool data_seen = false;
+  while (pos < text_in.size()) {
+    std::size_t end = text_in.find('\n', pos);
+    if (end == std::string_view::npos) end = text_in.size();
+    const std::string_view line = trim(text_in.substr(pos, end - pos));
     pos = end + 1;
     ++line_no;
     if (line.empty() || line.front() == '#' || line.front() == '%' || line.front() == '!' || line.front() == ';' ||
@@ -278,14 +444,33 @@ FrfText parse_cutpro_frf(std::string_view text, const std::string& source) {
       const auto [ptr, ec] = std::from_chars(f.data(), f.data() + f.size(), v[parsed]);
       if (ec != std::errc() || ptr != f.data() + f.size()) break;
     }
-    if (parsed == 0 && out.series.size() == 0 && zero_lines == 0) {  // a header line before the data
-      ++header_lines;
-      continue;
+    // Labels: only CutPro's own, and only before the data (alone, or after the first numbers).
+    if (parsed == 0 || (parsed == 3 && fields.size() > 3)) {
+      const std::vector<std::string_view> labels(fields.begin() + static_cast<std::ptrdiff_t>(parsed), fields.end());
+      const bool header_place = !data_seen && out.labels.empty();
+      if (header_place && is_cutpro_labels(labels)) {
+        for (const auto t : labels) {
+          if (!out.labels.empty()) out.labels += ' ';
+          out.labels += t;
+        }
+        if (parsed == 0) continue;
+        fields.resize(3);
+      } else if (header_place) {
+        throw InputError(fmt::format("{}:{}: '{}' is not CutPro's header ('{}' or '{}'): the columns may not be "
+                                     "frequency, real and imaginary part",
+                                     source, line_no, text::excerpt(line.substr(line.find(labels.front())), 60),
+                                     kCutProLabels[0], kCutProLabels[1]),
+                         fix_table);
+      } else if (parsed == 0) {
+        throw InputError(fmt::format("{}:{}: field 1 (frequency [Hz]) is '{}', not a number", source, line_no,
+                                     text::excerpt(fields[0], 40)),
+                         "each data line holds three numbers: frequency [Hz], real and imaginary receptance [m/N]");
+      }
     }
     const char* names[] = {"frequency [Hz]", "real part [m/N]", "imaginary part [m/N]"};
     if (parsed < fields.size() && parsed < 3)
       throw InputError(fmt::format("{}:{}: field {} ({}) is '{}', not a number", source, line_no, parsed + 1,
-                                   names[parsed], std::string(fields[parsed].substr(0, 40))),
+                                   names[parsed], text::excerpt(fields[parsed], 40)),
                        "each data line holds three numbers: frequency [Hz], real and imaginary receptance [m/N]");
     if (fields.size() != 3)
       throw InputError(fmt::format("{}:{}: {} field(s), expected 3 (frequency [Hz], real, imaginary [m/N])", source,
@@ -296,6 +481,7 @@ FrfText parse_cutpro_frf(std::string_view text, const std::string& source) {
         throw InputError(fmt::format("{}:{}: field {} ({}) is {}, expected a finite number", source, line_no, k + 1,
                                      names[k], v[k]),
                          "remove or repair the NaN/Inf values in the data");
+    data_seen = true;
     if (v[0] < 0.0)
       throw InputError(fmt::format("{}:{}: frequency {} Hz is negative", source, line_no, v[0]));
     if (v[0] == 0.0) {
@@ -315,8 +501,25 @@ FrfText parse_cutpro_frf(std::string_view text, const std::string& source) {
     out.warnings.push_back(fmt::format("{}: {} line(s) at 0 Hz dropped: an FRF series needs frequencies above 0 Hz",
                                        source, zero_lines));
   if (out.series.size() == 0)
-    throw InputError(fmt::format("{}: no data lines ({} line(s), {} header line(s))", source, line_no, header_lines),
+    throw InputError(fmt::format("{}: no data lines ({} line(s){})", source, line_no,
+                                 out.labels.empty() ? "" : ", CutPro labels only"),
                      "an .frf file holds one line per frequency: frequency [Hz], real, imaginary [m/N]");
+  // A magnitude/phase table without a header: real parts never negative, "imaginary parts" within
+  // ±180 and a thousand times larger. A receptance is never like that (its real part changes sign
+  // at a resonance, and where it does not, below the first one, it dominates the imaginary part).
+  double max_re = 0.0, max_im = 0.0;
+  bool re_negative = false, im_beyond_180 = false;
+  for (const Complex& h : out.series.values) {
+    re_negative = re_negative || h.real() < 0.0;
+    im_beyond_180 = im_beyond_180 || std::abs(h.imag()) > 180.0;
+    max_re = std::max(max_re, std::abs(h.real()));
+    max_im = std::max(max_im, std::abs(h.imag()));
+  }
+  if (out.series.size() >= 3 && !re_negative && !im_beyond_180 && max_im > 1e3 * max_re)
+    throw InputError(fmt::format("{}: looks like magnitude and phase, not real and imaginary parts: every second column "
+                                 "value is ≥ 0 (largest {:.3g}), every third within ±180 and up to {:.3g}",
+                                 source, max_re, max_im),
+                     fix_table + "; if it really holds real and imaginary parts, read it with --from csv --format re-im");
   return out;
 }
 
@@ -331,7 +534,19 @@ std::string format_cutpro_frf(const FrfSeries& s) {
 void FrfReadOptions::check() const {
   if (format == FrfFormat::UffBinary)
     throw InvalidArgument("reading format 'uffb' is not needed: 'uff' reads both ASCII 58 and binary 58b");
+  if (units && ordinate && units->ordinate != *ordinate)
+    throw InvalidArgument(fmt::format("FrfReadOptions::units '{}' are {}, but FrfReadOptions::ordinate is {}", units->label,
+                                      frf_ordinate_name(units->ordinate), frf_ordinate_name(*ordinate)),
+                          "give the units alone (they say the ordinate), or both alike");
+  if (units && !(units->to_si > 0.0) ) throw InvalidArgument("FrfReadOptions::units: the factor to SI must be > 0");
+  csv.check();
 }
+
+namespace {
+
+bool csv_options_given(const FrfCsvOptions& c) { return c.format.has_value() || !c.columns.empty(); }
+
+}  // namespace
 
 FrfFileData read_frf_file(const std::string& path, const FrfReadOptions& o) {
   o.check();
@@ -340,30 +555,57 @@ FrfFileData read_frf_file(const std::string& path, const FrfReadOptions& o) {
   if (out.format != FrfFormat::Uff && !o.uff.empty())
     throw InvalidArgument(fmt::format("{}: a dataset selection ({}) only applies to UFF files, not {}", path,
                                       o.uff.describe(), frf_format_name(out.format)));
-  const FrfOrdinate given = o.ordinate.value_or(FrfOrdinate::Receptance);
+  if (out.format != FrfFormat::Csv && csv_options_given(o.csv))
+    throw InvalidArgument(fmt::format("{}: a column or value-format choice only applies to CSV files, not {}", path,
+                                      frf_format_name(out.format)),
+                          "drop it, or read the file as CSV (--from csv)");
   switch (out.format) {
     case FrfFormat::Csv: {
-      FrfTable t = read_frf_csv(path);
+      FrfTable t = read_frf_csv(path, o.csv);
+      out.warnings = std::move(t.warnings);
       out.is_block = t.is_block;
-      out.ordinate = given;
       out.description = path;
+      out.coherence = std::move(t.coherence);
       if (t.is_block) {
-        if (given != FrfOrdinate::Receptance)
-          throw InvalidArgument(fmt::format("{}: a 2×2 block CSV holds receptances; it cannot be read as {}", path,
-                                            frf_ordinate_name(given)));
+        const FrfUnits u = resolve_units(std::nullopt, path, o, out.warnings);
+        if (u.ordinate != FrfOrdinate::Receptance || u.to_si != 1.0)
+          throw InvalidArgument(fmt::format("{}: a 2×2 block CSV holds receptances in SI units; it cannot be read as {} "
+                                            "in '{}'",
+                                            path, frf_ordinate_name(u.ordinate), u.label),
+                                "drop the ordinate and units options for block files");
+        out.ordinate = u.ordinate;
+        out.units = u;
         out.block = std::move(t.block);
-      } else {
-        out.single = to_receptance(t.single, given, out.warnings, path);
-        validate(out.single, path);
+        break;
       }
+      std::optional<FrfUnits> file_units;
+      const std::string where = t.value_units_column.empty() ? path : fmt::format("{}: {}", path, t.value_units_column);
+      if (!t.value_units.empty()) {
+        file_units = parse_frf_units(t.value_units);
+        if (!file_units && !o.units)
+          throw InputError(fmt::format("{} gives the units '{}', which toolpoint does not know", where, t.value_units),
+                           "give the units (--units, e.g. mm/N, m/s^2/N, g/N) or correct the header");
+      }
+      const FrfUnits u = resolve_units(file_units, where, o, out.warnings);
+      scale_to_si(t.single, u, path, out.warnings);
+      out.ordinate = u.ordinate;
+      out.units = u;
+      out.single = to_receptance(t.single, u.ordinate, out.warnings, path);
+      validate(out.single, path);
       break;
     }
     case FrfFormat::Frf: {
       FrfText t = parse_cutpro_frf(read_text_file(path), path);
       out.warnings = std::move(t.warnings);
-      out.ordinate = given;
       out.description = path;
-      out.single = to_receptance(t.series, given, out.warnings, path);
+      // CutPro's values are receptance in m/N by the format (its labels say so when present).
+      const std::optional<FrfUnits> file_units =
+          t.labels.empty() ? std::nullopt : std::optional<FrfUnits>(FrfUnits{FrfOrdinate::Receptance, 1.0, "m/N"});
+      const FrfUnits u = resolve_units(file_units, fmt::format("{}: CutPro labels '{}'", path, t.labels), o, out.warnings);
+      scale_to_si(t.series, u, path, out.warnings);
+      out.ordinate = u.ordinate;
+      out.units = u;
+      out.single = to_receptance(t.series, u.ordinate, out.warnings, path);
       validate(out.single, path);
       break;
     }
@@ -371,10 +613,11 @@ FrfFileData read_frf_file(const std::string& path, const FrfReadOptions& o) {
       const UffFile file = read_uff(path);
       const UffDataset58& d = select_dataset58(file, o.uff);
       out.warnings = file.warnings_for({&d});
-      UffReceptance r = uff_receptance(d, o.ordinate, path);
+      UffReceptance r = uff_receptance(d, o.ordinate, path, o.units);
       out.warnings.insert(out.warnings.end(), r.warnings.begin(), r.warnings.end());
       out.single = std::move(r.receptance);
       out.ordinate = r.ordinate;
+      out.units = o.units.value_or(FrfUnits{r.ordinate, 1.0, si_label(r.ordinate)});
       out.dof = {d.response_node, d.response_direction, d.reference_node, d.reference_direction};
       out.description = fmt::format("{} dataset {} '{}', response {} {}, reference {} {}", path, d.index, d.id[0],
                                     d.response_node, uff_direction_name(d.response_direction), d.reference_node,
@@ -388,6 +631,17 @@ FrfFileData read_frf_file(const std::string& path, const FrfReadOptions& o) {
   return out;
 }
 
+namespace {
+
+// What a format without a coherence column loses.
+std::vector<std::string> coherence_lost(const std::vector<double>& coherence, const std::string& path, FrfFormat f) {
+  if (coherence.empty()) return {};
+  return {fmt::format("{}: the coherence column is not written: {} has no place for it (write CSV to keep it)", path,
+                      f == FrfFormat::Frf ? "a CutPro .frf file" : "a UFF dataset 58")};
+}
+
+}  // namespace
+
 std::vector<std::string> write_frf_file(const std::string& path, const FrfSeries& h, const FrfWriteOptions& o) {
   const FrfFormat format = o.format == FrfFormat::Auto ? frf_format_of_path(path) : o.format;
   validate(h, "the series to write to " + path);
@@ -395,17 +649,19 @@ std::vector<std::string> write_frf_file(const std::string& path, const FrfSeries
     case FrfFormat::Csv: {
       std::vector<std::string> comments = o.comments;
       if (!o.description.empty()) comments.insert(comments.begin(), o.description);
-      write_frf_csv(path, h, comments);
+      write_frf_csv(path, h, comments, o.coherence);
       return {};
     }
     case FrfFormat::Frf:
       write_text_file(path, format_cutpro_frf(h));
-      return {};
+      return coherence_lost(o.coherence, path, format);
     case FrfFormat::Uff:
     case FrfFormat::UffBinary: {
       UffWriteOptions w;
       w.binary = format == FrfFormat::UffBinary;
-      return write_uff(path, {uff_from_receptance(h, o.dof, o.description)}, w);
+      std::vector<std::string> lost = write_uff(path, {uff_from_receptance(h, o.dof, o.description)}, w);
+      for (auto& m : coherence_lost(o.coherence, path, format)) lost.push_back(std::move(m));
+      return lost;
     }
     case FrfFormat::Auto:
       break;
@@ -422,7 +678,7 @@ std::vector<std::string> write_frf_file(const std::string& path, const BlockSeri
   validate(b, "the series to write to " + path);
   std::vector<std::string> comments = o.comments;
   if (!o.description.empty()) comments.insert(comments.begin(), o.description);
-  write_frf_csv(path, b, comments);
+  write_frf_csv(path, b, comments, o.coherence);
   return {};
 }
 

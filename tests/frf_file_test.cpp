@@ -180,17 +180,26 @@ TEST(FrfFile, UnitsDatasetScalesToSi) {
     ASSERT_LE(std::abs(r.single.values[i] - h), 1e-13 * std::abs(h));
   }
   EXPECT_TRUE(any_contains(r.warnings, {"dataset 164 at line 1", "mm (newton)", "× 0.001"}));
-  // Without a units dataset, a non-SI label is reported.
+  // Without a units dataset, a units label toolpoint knows is applied (mm/N is 1/1000 m/N) …
   d.ordinate.units = "mm/N";
+  write_uff(path, {d}, {.binary = true});
+  const FrfFileData labelled = read_frf_file(path);
+  for (std::size_t i = 0; i < labelled.single.size(); ++i) {
+    const Complex h = sdof_receptance(labelled.single.frequency_hz[i]);
+    ASSERT_LE(std::abs(labelled.single.values[i] - h), 1e-13 * std::abs(h));
+  }
+  EXPECT_TRUE(any_contains(labelled.warnings, {"values in 'mm/N' converted to SI", "× 0.001"})) << labelled.warnings.at(0);
+  // … and one it does not know is reported, not applied.
+  d.ordinate.units = "mm/kgf";
   write_uff(path, {d});
-  EXPECT_TRUE(any_contains(read_frf_file(path).warnings, {"'mm/N'", "not SI"}));
+  EXPECT_TRUE(any_contains(read_frf_file(path).warnings, {"'mm/kgf'", "not SI", "--units"}));
 }
 
-// CutPro text: liberal in what is read, strict in what is written.
+// CutPro text: liberal in layout, strict about what the columns are, strict in what is written.
 TEST(FrfFile, CutProTextReadLiberally) {
   const std::string text =
       "% exported by some tool\r\n"
-      "Frequency [Hz]\tReal [m/N]\tImag [m/N]\r\n"
+      "Freq\tHz\tReal\tm/N\tImag\tm/N\r\n"
       "0\t1e-6\t0\r\n"
       "10\t1.5e-06\t-2.5e-07\r\n"
       "\r\n"
@@ -202,6 +211,7 @@ TEST(FrfFile, CutProTextReadLiberally) {
   EXPECT_EQ(t.series.frequency_hz, (std::vector<double>{10, 20, 30, 40}));
   EXPECT_EQ(t.series.values[0], Complex(1.5e-6, -2.5e-7));
   EXPECT_EQ(t.series.values[3], Complex(4.5e-6, -5.5e-7));
+  EXPECT_EQ(t.labels, "Freq Hz Real m/N Imag m/N");
   EXPECT_TRUE(any_contains(t.warnings, {"tap.frf", "1 line(s) at 0 Hz dropped"}));
 
   auto error_of = [](const std::string& bad) {
@@ -218,7 +228,12 @@ TEST(FrfFile, CutProTextReadLiberally) {
   EXPECT_TRUE(contains(error_of("10\t1\t2\n10\t1\t2\n"), "bad.frf:2: frequency 10 Hz is not above 10 Hz on line 1"));
   EXPECT_TRUE(contains(error_of("10\t1\tnan\n"), "bad.frf:1: field 3"));
   EXPECT_TRUE(contains(error_of("-1\t1\t2\n"), "negative"));
-  EXPECT_TRUE(contains(error_of("header only\n"), "no data lines"));
+  EXPECT_TRUE(contains(error_of("Freq Hz Real m/N Imag m/N\n"), "no data lines"));
+  // Any header but CutPro's is refused: the columns may be something else.
+  EXPECT_TRUE(contains(error_of("header only\n"), "bad.frf:1: 'header only' is not CutPro's header"));
+  EXPECT_TRUE(contains(error_of("Frequency [Hz]\tReal [m/N]\tImag [m/N]\n10\t1\t2\n"), "is not CutPro's header"));
+  // Labels after the data are no header either.
+  EXPECT_TRUE(contains(error_of("10\t1\t2\nFreq Hz Real m/N Imag m/N\n"), "bad.frf:2: field 1 (frequency [Hz]) is 'Freq'"));
 }
 
 TEST(FrfFile, CutProTextWrittenStrictly) {

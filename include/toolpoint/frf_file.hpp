@@ -8,11 +8,16 @@
 //                            record 8 code 18 (frequency, Hz), record 9 code 8 (displacement, m),
 //                            record 10 code 13 (excitation force, N)
 //   uffb   (by name only)    the same, written as binary 58b (little-endian IEEE 754 doubles)
-//   frf    .frf              CutPro-style text: one line per frequency, "frequency<TAB>real<TAB>
-//                            imaginary", frequency in Hz, receptance in m/N, no header. Read
-//                            liberally (tabs, blanks, commas or semicolons between the three
-//                            numbers; leading header lines; comment lines starting with # % ! ; or
-//                            //; CRLF), written strictly (tabs, shortest round-trip numbers, LF).
+//   frf    .frf              CutPro text: one line per frequency, "frequency<TAB>real<TAB>
+//                            imaginary", frequency in Hz, receptance in m/N. CutPro's own files
+//                            carry the labels "Freq Hz Real m/N Imag m/N" (or "… Imag Real", as
+//                            MATLAB scripts write them), on the first line after its numbers or on
+//                            a line of their own; a file without labels is read as the format
+//                            defines it. Any other header (a magnitude/phase table renamed .frf)
+//                            is refused, never read as real and imaginary parts. Tabs, blanks,
+//                            commas or semicolons between the numbers, comment lines (# % ! ; //)
+//                            and CRLF are read; written strictly (tabs, shortest round-trip
+//                            numbers, LF, no labels).
 //
 // Ordinates (sign convention: e^{iωt} time dependence, x = H·f):
 //   receptance   H = X/F      [m/N]
@@ -21,8 +26,16 @@
 // with ω = 2πf [rad/s] and f in Hz. A UFF dataset states its ordinate in record 9 (numerator:
 // 8 displacement, 11 velocity, 12 acceleration) over record 10 (denominator: 13 excitation force);
 // an explicit ordinate overrides the codes (and is the only way for files whose codes say
-// "general"). CSV and .frf files hold receptance unless an ordinate is given. Points at f = 0
-// cannot be converted (ω = 0) and a receptance series needs f > 0: they are dropped with a warning.
+// "general" and whose units labels say nothing). CSV and .frf files hold receptance unless their
+// header's units or an option say otherwise. Points at f = 0 cannot be converted (ω = 0) and a
+// receptance series needs f > 0: they are dropped with a warning.
+//
+// Units of the values (FrfUnits; SI value = file value × to_si): what the user gives
+// (FrfReadOptions::units) wins, with a warning where the file says otherwise; else a UFF dataset
+// 164 with non-SI factors; else the units the file states (a CSV header's "Real [mm/N]", a UFF
+// record 9/10 units label "g" over "N"); else SI. g is the standard gravity, 9.80665 m/s²; lbf is
+// 4.4482216152605 N. A UFF units label that contradicts its record's data type code (acceleration
+// in "mm") is an error unless the user says which is right.
 #pragma once
 
 #include <optional>
@@ -30,6 +43,7 @@
 #include <string_view>
 #include <vector>
 
+#include "toolpoint/io.hpp"
 #include "toolpoint/receptance.hpp"
 #include "toolpoint/uff.hpp"
 
@@ -50,6 +64,25 @@ FrfOrdinate parse_frf_ordinate(const std::string& text, const std::string& optio
 std::string frf_ordinate_name(FrfOrdinate ordinate);   // "mobility"
 std::string frf_ordinate_units(FrfOrdinate ordinate);  // "(m/s)/N"
 
+// The units of FRF values.
+struct FrfUnits {
+  FrfOrdinate ordinate = FrfOrdinate::Receptance;
+  double to_si = 1.0;  // SI value = value in these units × to_si
+  std::string label;   // as written, e.g. "g/N"
+
+  bool operator==(const FrfUnits& o) const { return ordinate == o.ordinate && to_si == o.to_si; }
+};
+
+// "m/N", "mm/N", "µm/N" (or "um/N"), "nm/N", "in/lbf"; "m/s/N", "(m/s)/N", "mm/s/N", "in/s/lbf";
+// "m/s^2/N" ("m/s²/N", "m/s2/N", "(m/s^2)/N"), "mm/s^2/N", "g/N", "g/lbf"; force in N, kN, mN or
+// lbf; blanks, brackets and "·"/"*" ignored. nullopt for anything else.
+std::optional<FrfUnits> parse_frf_units(std::string_view text);
+// The same for a user's option: InvalidArgument naming `option` and listing the accepted forms.
+FrfUnits parse_frf_units_option(const std::string& text, const std::string& option);
+// The units two UFF labels state: record 9's (the response, or the whole FRF "g/N") over record
+// 10's (the force; blank or NONE read as N). nullopt when they state nothing recognisable.
+std::optional<FrfUnits> uff_label_units(const std::string& numerator, const std::string& denominator);
+
 // What records 9 and 10 of a dataset state: 8/11/12 over 13 (or over 0, "not given"). nullopt
 // when the codes say anything else (general, pressure, …).
 std::optional<FrfOrdinate> uff_ordinate_kind(const UffDataset58& dataset);
@@ -62,16 +95,18 @@ FrfSeries to_receptance(const FrfSeries& series, FrfOrdinate ordinate, std::vect
 
 // A UFF dataset 58 as a receptance in m/N against frequency in Hz. Requires an FRF (function
 // type 4, or 0 "general" with a warning) with a frequency abscissa (record 8 code 18, or 0 with a
-// warning). Applies the dataset 164 units in force (SI = file value × force factor / length
-// factor). Throws InputError naming `source`, the dataset and the record when the dataset is not
-// an FRF, its ordinate is unknown and no override is given, or the result is not a valid series.
+// warning). Units as above: `units` (the user's) wins, else the dataset 164 units in force (SI =
+// file value × force factor / length factor), else the units labels, else SI. Throws InputError
+// naming `source`, the dataset and the record when the dataset is not an FRF, its ordinate is
+// unknown and no override is given, its labels contradict its codes, or the result is not a
+// valid series.
 struct UffReceptance {
   FrfSeries receptance;
   FrfOrdinate ordinate = FrfOrdinate::Receptance;  // what the dataset held (after any override)
   std::vector<std::string> warnings;
 };
 UffReceptance uff_receptance(const UffDataset58& dataset, std::optional<FrfOrdinate> ordinate,
-                             const std::string& source);
+                             const std::string& source, const std::optional<FrfUnits>& units = std::nullopt);
 
 // Record 6 labels of a written dataset.
 struct UffDof {
@@ -88,16 +123,21 @@ UffDataset58 uff_from_receptance(const FrfSeries& receptance, const UffDof& dof,
 struct FrfText {
   FrfSeries series;
   std::vector<std::string> warnings;
+  std::string labels;  // CutPro's label line as found ("Freq Hz Real m/N Imag m/N"), or empty
 };
 FrfText parse_cutpro_frf(std::string_view text, const std::string& source);
 std::string format_cutpro_frf(const FrfSeries& series);
 
-// Reading any supported file.
+// Reading any supported file. The same options for every format: one reader for every command.
 struct FrfReadOptions {
   FrfFormat format = FrfFormat::Auto;     // Auto: by extension
   UffSelection uff;                       // which dataset 58 (UFF only; empty: the only one)
-  std::optional<FrfOrdinate> ordinate;    // what the values are; default: from the UFF codes, else receptance
-  void check() const;                     // throws InvalidArgument
+  std::optional<FrfOrdinate> ordinate;    // what the values are; default: the file's units or codes, else receptance
+  std::optional<FrfUnits> units;          // the values' units (they imply the ordinate); default: the file's, else SI
+  FrfCsvOptions csv;                      // CSV only: columns and value format where the header cannot say
+  // Throws InvalidArgument: a units/ordinate contradiction (g/N as receptance), CSV options for
+  // another format is checked by read_frf_file.
+  void check() const;
 };
 
 struct FrfFileData {
@@ -105,7 +145,13 @@ struct FrfFileData {
   bool is_block = false;                   // a 2×2 block CSV
   FrfSeries single;                        // receptance [m/N] vs frequency [Hz] (when !is_block)
   BlockSeries block;                       // when is_block
+  // Coherence γ² (0…1) per frequency of `single` or `block`, when the file has a coherence column
+  // (CSV), else empty. Read, kept and written (CSV) but not used by the reader: identification
+  // can take it as a noise estimate, since the relative random error of |H| from n averages is
+  // about sqrt((1 − γ²) / (2 n γ²)) (Bendat & Piersol).
+  std::vector<double> coherence;
   FrfOrdinate ordinate = FrfOrdinate::Receptance;  // what the file held, before conversion
+  FrfUnits units;                          // the units the values were read in (converted to SI)
   std::string description;                 // where the data came from (UFF: dataset, DOFs, ID line 1)
   UffDof dof;                              // UFF: record 6 labels of the dataset read
   std::vector<std::string> warnings;       // everything questionable about the file and the conversion
@@ -121,11 +167,12 @@ struct FrfWriteOptions {
   UffDof dof;                           // UFF record 6 labels
   std::string description;              // UFF ID line 1; CSV comment line
   std::vector<std::string> comments;    // CSV comment lines
+  std::vector<double> coherence;        // per frequency, or empty: a CSV column; UFF and .frf cannot hold it
 };
 
 // Writes a receptance series (validated first). Returns what the format lost (ASCII UFF rounds
-// uneven frequencies to 7 significant digits). Throws InputError for an invalid series,
-// InvalidArgument for an unknown extension, IoError.
+// uneven frequencies to 7 significant digits; a coherence has no place in UFF or .frf). Throws
+// InputError for an invalid series, InvalidArgument for an unknown extension, IoError.
 std::vector<std::string> write_frf_file(const std::string& path, const FrfSeries& receptance,
                                         const FrfWriteOptions& options = {});
 // A 2×2 block series: FRF CSV only (InvalidArgument for other formats).

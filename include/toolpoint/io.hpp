@@ -1,13 +1,28 @@
 // toolpoint: files. Whole-file reads, atomic writes, and the FRF CSV format every command uses.
 //
-// FRF CSV (units: frequency in Hz; H in m/N, L in 1/N, N in rad/N, P in rad/(N·m)):
+// FRF CSV as toolpoint writes it (frequency in Hz; H in m/N, L in 1/N, N in rad/N, P in rad/(N·m)):
 //   # comment lines start with '#'; blank lines are ignored
 //   frequency_hz,H_re,H_im,L_re,L_im,N_re,N_im,P_re,P_im      <- a 2×2 receptance block
-//   frequency_hz,re,im                                         <- a single FRF
-// The first non-comment line is the header and decides the form. Numbers are read exactly as
-// written and written in shortest round-trip form, so write-then-read gives back the same data.
+//   frequency_hz,re,im[,coherence]                             <- a single FRF
+// Numbers are written in shortest round-trip form, so write-then-read gives back the same data.
+//
+// FRF CSV as measurement software and scripts export it, read as well (parse_frf_csv):
+//   * a UTF-8 byte order mark; CRLF line ends; comment lines starting with '#' or '%';
+//   * ',' ';' or tab between columns (the header line decides), quoted cells;
+//   * a decimal comma (1,5e-6) when the columns are separated by ';' or tab;
+//   * header synonyms with units in brackets, after '_', '/' or a blank: frequency (Freq,
+//     Frequency, f; Hz, kHz, rad/s), real and imaginary part (Re, Real, Im, Imag, Imaginary),
+//     magnitude (Mag, Magnitude, Abs, Amplitude, |H|; linear, or dB for 20·log10 |H| in the
+//     units after "re"), phase (Phase, Angle, Arg; deg or rad), coherence (Coherence, Coh, γ²);
+//   * a 0 Hz line is dropped with a warning; other columns are reported and not used.
+// The values' units in the header (e.g. "Real [mm/N]") are returned as text for frf_file.hpp to
+// interpret. Whatever the header cannot say (no header, a phase without its unit, unknown column
+// names) is an error naming the column and the option that settles it (FrfCsvOptions) — never a
+// guess.
+#pragma once
 #pragma once
 
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -61,29 +76,61 @@ class AtomicOutput {
 // Writes `content` whole or not at all (AtomicOutput). Throws IoError naming the path.
 void write_text_file(const std::string& path, const std::string& content);
 
+// What the two value columns of a single-FRF CSV hold: real and imaginary part, magnitude and
+// phase (degrees or radians), or magnitude in dB (20·log10 of |H| in the value units) and phase.
+enum class FrfValueFormat { ReIm, MagPhaseDeg, MagPhaseRad, DbPhaseDeg, DbPhaseRad };
+
+// "re-im", "mag-phase-deg", "mag-phase-rad", "db-phase" (degrees), "db-phase-deg", "db-phase-rad".
+// Throws InvalidArgument naming `option`.
+FrfValueFormat parse_frf_value_format(const std::string& text, const std::string& option);
+std::string frf_value_format_name(FrfValueFormat format);
+
+// What the header of a CSV cannot say.
+struct FrfCsvOptions {
+  std::optional<FrfValueFormat> format;  // the value columns' meaning (default: from the header)
+  // The frequency column, the two value columns and optionally the coherence column, each a
+  // 1-based column number or a header cell's text (default: found by the header's names).
+  std::vector<std::string> columns;
+  void check() const;  // 3 or 4 distinct entries; throws InvalidArgument naming FrfCsvOptions::columns
+};
+
 // What an FRF CSV file holds: a block series or a single FRF.
 struct FrfTable {
   bool is_block = false;
-  BlockSeries block;  // when is_block
-  FrfSeries single;   // otherwise
+  BlockSeries block;  // when is_block: SI (a block file's units, if its header gives any, must be SI)
+  FrfSeries single;   // otherwise: frequency in Hz, values as complex numbers in value_units
+  // Coherence per frequency (0…1) when the file has a coherence column, else empty. Kept for
+  // callers that use it as a noise estimate (with γ², Var|H|/|H|² ≈ (1 − γ²)/(2 n_avg γ²)).
+  std::vector<double> coherence;
+  std::string value_units;         // the values' units as the header gives them ("mm/N"); empty: not given
+  std::string value_units_column;  // the header cell that gave them, for messages
+  FrfValueFormat format = FrfValueFormat::ReIm;  // how the file stored the values
+  std::vector<std::string> warnings;             // dropped 0 Hz lines, unused columns, …
 };
 
-// Parses FRF CSV text; `source` (a file name) appears in every error with the line number.
-// Throws InputError on a bad header, a malformed number, a wrong column count, NaN/Inf, a
-// non-increasing or non-positive frequency.
-FrfTable parse_frf_csv(const std::string& text, const std::string& source);
-FrfTable read_frf_csv(const std::string& path);
+// Parses FRF CSV text; `source` (a file name) appears in every error with the line number (and
+// column). Throws InputError on a header that cannot be understood, a malformed number, a wrong
+// column count, NaN/Inf, a negative or non-increasing frequency, a negative linear magnitude or a
+// coherence outside [0, 1]; InvalidArgument for options that do not fit the file.
+FrfTable parse_frf_csv(const std::string& text, const std::string& source, const FrfCsvOptions& options = {});
+FrfTable read_frf_csv(const std::string& path, const FrfCsvOptions& options = {});
 
-// Reads a file that must hold a 2×2 block series (or a single FRF, for read_single_csv).
+// Reads a file that must hold a 2×2 block series (or a single FRF in SI units, for
+// read_single_csv).
 BlockSeries read_block_csv(const std::string& path);
 FrfSeries read_single_csv(const std::string& path);
 
-// Formats FRF CSV text. `comments` become '#' lines after the standard units line.
-std::string format_frf_csv(const BlockSeries& series, const std::vector<std::string>& comments = {});
-std::string format_frf_csv(const FrfSeries& series, const std::vector<std::string>& comments = {});
+// Formats FRF CSV text. `comments` become '#' lines after the standard units line; a coherence
+// (one value per frequency, or empty) becomes a last column `coherence`.
+std::string format_frf_csv(const BlockSeries& series, const std::vector<std::string>& comments = {},
+                           const std::vector<double>& coherence = {});
+std::string format_frf_csv(const FrfSeries& series, const std::vector<std::string>& comments = {},
+                           const std::vector<double>& coherence = {});
 
-void write_frf_csv(const std::string& path, const BlockSeries& series, const std::vector<std::string>& comments = {});
-void write_frf_csv(const std::string& path, const FrfSeries& series, const std::vector<std::string>& comments = {});
+void write_frf_csv(const std::string& path, const BlockSeries& series, const std::vector<std::string>& comments = {},
+                   const std::vector<double>& coherence = {});
+void write_frf_csv(const std::string& path, const FrfSeries& series, const std::vector<std::string>& comments = {},
+                   const std::vector<double>& coherence = {});
 
 // A generic numeric table writer for other results (k(ω), lobes, …): header names carry units.
 struct Table {
