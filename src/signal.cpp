@@ -7,6 +7,7 @@
 #include <cmath>
 #include <fmt/format.h>
 #include <random>
+#include <tuple>
 
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
@@ -273,13 +274,13 @@ struct Available {
   bool transposed[3][3] = {};
 };
 
-Available gather(const PointFrfs& in, int points) {
+Available gather(const PointFrfs& in, int points, bool reciprocity) {
   Available a;
   for (int i = 0; i < points; ++i)
     for (int j = 0; j < points; ++j) {
       if (in.h[i][j]) {
         a.h[i][j] = &*in.h[i][j];
-      } else if (in.h[j][i]) {
+      } else if (reciprocity && in.h[j][i]) {
         a.h[i][j] = &*in.h[j][i];
         a.transposed[i][j] = true;
       }
@@ -324,17 +325,30 @@ RotationalResult rotational_frfs(const PointFrfs& in, const RotationalOptions& o
         r.warnings.push_back(fmt::format("{} is not used by order-{} differences (points 0..{})", in.label(i, j), o.order,
                                          points - 1));
 
-  const Available a = gather(in, points);
+  const Available a = gather(in, points, o.assume_reciprocity);
   for (int k = 1; k < points; ++k)
-    if (!a.h[k][0])
+    if (!in.h[k][0] && !in.h[0][k])
       throw InputError(fmt::format("rotational FRFs of order {}: neither H{}0 (response {} s inward, force at the tip) "
                                    "nor H0{} (response at the tip, force {} s inward) is given",
                                    o.order, k, k, k, k),
                        "N and L need the response (or the hammer) moved to every point inward of the tip");
+  for (int k = 1; k < points; ++k)
+    for (const auto& [i, j, needs] : {std::tuple{k, 0, "N"}, std::tuple{0, k, "L"}})
+      if (!a.h[i][j])
+        throw InputError(fmt::format("rotational FRFs: H{}{} ({}) is not given, and {} needs it; {} is, but a measurement "
+                                     "is not invented from another unless asked for",
+                                     i, j,
+                                     i == 0 ? fmt::format("response at the tip, force {} inward", k == 1 ? "s" : "2s")
+                                            : fmt::format("response {} inward, force at the tip", k == 1 ? "s" : "2s"),
+                                     needs, in.label(j, i)),
+                         fmt::format("measure H{}{}, or let reciprocity stand in (H{}{} := H{}{}; "
+                                     "RotationalOptions::assume_reciprocity), which makes L = N",
+                                     i, j, i, j, j, i));
   std::vector<std::string> filled;
   for (int i = 0; i < points; ++i)
     for (int j = 0; j < points; ++j)
       if (a.transposed[i][j]) filled.push_back(fmt::format("H{}{} := {}", i, j, in.label(j, i)));
+  r.filled_by_reciprocity = filled;
   bool n_transposed = false, l_transposed = false;
   for (int k = 1; k < points; ++k) {
     n_transposed = n_transposed || a.transposed[k][0];
@@ -343,9 +357,20 @@ RotationalResult rotational_frfs(const PointFrfs& in, const RotationalOptions& o
   r.l_equals_n_by_reciprocity = n_transposed || l_transposed;
 
   std::vector<std::string> missing;
+  bool reciprocity_would_do = false;  // a missing H_ij whose transpose is given
   for (int i = 1; i < points; ++i)
-    for (int j = i; j < points; ++j)  // a missing H_ij means H_ji is missing too (gather())
-      if (!a.h[i][j]) missing.push_back(i == j ? fmt::format("H{}{}", i, j) : fmt::format("H{}{} (or H{}{})", i, j, j, i));
+    for (int j = i; j < points; ++j) {
+      const bool have_ij = a.h[i][j] != nullptr, have_ji = a.h[j][i] != nullptr;
+      if (i == j) {
+        if (!have_ij) missing.push_back(fmt::format("H{}{}", i, j));
+      } else if (!have_ij && !have_ji) {
+        missing.push_back(o.assume_reciprocity ? fmt::format("H{}{} (or H{}{})", i, j, j, i)
+                                               : fmt::format("H{}{} and H{}{}", i, j, j, i));
+      } else if (!have_ij || !have_ji) {
+        missing.push_back(fmt::format("H{}{}", have_ij ? j : i, have_ij ? i : j));
+        reciprocity_would_do = true;
+      }
+    }
   r.p_from_cross_terms = missing.empty() && o.p_method != PMethod::SchmitzSmith;
   if (o.p_method == PMethod::CrossTerms && !missing.empty())
     throw InputError(fmt::format("rotational FRFs: P by finite differences of order {} needs {}, not given", o.order,
@@ -390,9 +415,10 @@ RotationalResult rotational_frfs(const PointFrfs& in, const RotationalOptions& o
   if (!r.p_from_cross_terms)
     r.warnings.push_back(fmt::format(
         "P approximated as N·L/H00 (Schmitz & Smith){}: exact for one mode only, about 25 % low on a static cantilever",
-        o.p_method == PMethod::SchmitzSmith ? " as requested"
-                                            : fmt::format(" because {} {} not given", list(missing),
-                                                          missing.size() == 1 ? "is" : "are")));
+        o.p_method == PMethod::SchmitzSmith
+            ? " as requested"
+            : fmt::format(" because {} {} not given{}", list(missing), missing.size() == 1 ? "is" : "are",
+                          reciprocity_would_do ? " (their transposes are: assume_reciprocity would use them)" : "")));
   return r;
 }
 

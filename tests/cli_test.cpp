@@ -217,7 +217,14 @@ TEST_F(Cli, RotationalFromDatasetsOfOneUniversalFile) {
     sets.push_back(uff_from_receptance(s, UffDof{i + 1, 1, 1, 1}, "static cantilever"));
   }
   write_uff(path("tap.uff"), sets, UffWriteOptions{.binary = true});
-  ok("rotational --spacing 0.1 --order 2 --h00 tap.uff#0 --h10 tap.uff#1 --h20 tap.uff#2 --output tip.csv --plot tip.png");
+  // Hammer at the tip only: L is not measured, and not invented unless asked for (issue 12).
+  expect_error(run("rotational --spacing 0.1 --order 2 --h00 tap.uff#0 --h10 tap.uff#1 --h20 tap.uff#2 --output tip.csv"), 3,
+               {"H01", "is not given, and L needs it", "--assume-reciprocity"});
+  EXPECT_FALSE(exists("tip.csv"));
+  ok("rotational --spacing 0.1 --order 2 --h00 tap.uff#0 --h10 tap.uff#1 --h20 tap.uff#2 --assume-reciprocity --output "
+     "tip.csv --plot tip.png");
+  EXPECT_NE(read_text_file(path("tip.csv")).find("# reciprocity assumed (--assume-reciprocity), not measured: H01 := H10"),
+            std::string::npos);
   const BlockSeries b = read_block_csv(path("tip.csv"));
   ASSERT_EQ(b.size(), 3u);
   EXPECT_NEAR(N_of(b.blocks[0]).real(), 151.0 / 300.0, 1e-12);

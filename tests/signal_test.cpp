@@ -399,9 +399,10 @@ PointFrfs point_frfs(const std::vector<double>& freqs, double tip, double s, Ker
   return p;
 }
 
-RotationalOptions fd(int order, double s, PMethod p = PMethod::Auto, bool symmetrise = false) {
-  return RotationalOptions{order, s, symmetrise, p};
+RotationalOptions fd(int order, double s, PMethod p = PMethod::Auto, bool symmetrise = false, bool reciprocity = false) {
+  return RotationalOptions{order, s, symmetrise, p, std::nullopt, reciprocity};
 }
+RotationalOptions with_reciprocity(int order, double s) { return fd(order, s, PMethod::Auto, false, true); }
 
 }  // namespace
 
@@ -486,13 +487,24 @@ TEST(Rotational, ShearCorrectionOnAPureShearKernel) {
 
 // Schmitz & Smith with the hammer at the tip only (H00, H10): P = N²/H00. With the first-order
 // N = 299/600 and H00 = 1/3 that is 3(299/600)² = 0.745, and with the exact N = 1/2 it is 3/4:
-// about 25 % below P = 1 (NOTES §5). L = N by reciprocity, and both are flagged.
+// about 25 % below P = 1 (NOTES §5). L = N by reciprocity — only when asked for (otherwise L is
+// missing, an error naming H01) — and both are flagged.
 TEST(Rotational, SchmitzSmithIsAbout25PercentLowOnStaticCantilever) {
   PointFrfs p;
   FrfSeries h00 = single({cantilever_static(1.0, 1.0)}), h10 = single({cantilever_static(0.9, 1.0)});
   p.set(0, 0, h00, "tip.csv");
   p.set(1, 0, h10, "p1.csv");
-  const RotationalResult r = rotational_frfs(p, fd(1, 0.1));
+  try {
+    rotational_frfs(p, fd(1, 0.1));
+    FAIL() << "L was invented from N without assume_reciprocity";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("H01 (response at the tip, force s inward) is not given, and L needs it; H10 "
+                                         "(p1.csv) is"),
+              std::string::npos)
+        << e.what();
+    EXPECT_NE(e.hint().find("RotationalOptions::assume_reciprocity"), std::string::npos);
+  }
+  const RotationalResult r = rotational_frfs(p, with_reciprocity(1, 0.1));
   const Block& b = r.block.blocks[0];
   EXPECT_NEAR(N_of(b).real(), 299.0 / 600, 1e-12);
   EXPECT_EQ(L_of(b), N_of(b));
@@ -502,6 +514,7 @@ TEST(Rotational, SchmitzSmithIsAbout25PercentLowOnStaticCantilever) {
   EXPECT_FALSE(r.reciprocity_mismatch.has_value());
   EXPECT_TRUE(contains(r.warnings, "P approximated as N·L/H00"));
   EXPECT_TRUE(contains(r.warnings, "H01 := H10 (p1.csv)"));
+  EXPECT_EQ(r.filled_by_reciprocity, std::vector<std::string>{"H01 := H10 (p1.csv)"});
   // As s → 0 the approximation tends to N²/H = (1/2)²/(1/3) = 3/4 of the true P = 1: 25 % low.
   PointFrfs fine = point_frfs({1.0}, 1.0, 1e-5, [](double x, double xi, std::size_t) { return Complex(cantilever_static(x, xi)); });
   const Complex p_ss = P_of(rotational_frfs(fine, fd(2, 1e-5, PMethod::SchmitzSmith)).block.blocks[0]);
@@ -573,7 +586,8 @@ TEST(Rotational, ReciprocityFillAndSymmetrise) {
   const PointFrfs all = point_frfs({1.0}, 1.0, 0.1, kernel);
   PointFrfs roving;
   for (int j = 0; j < 3; ++j) roving.set(0, j, *all.h[0][j]);
-  const RotationalResult r = rotational_frfs(roving, fd(2, 0.1));
+  EXPECT_THROW(rotational_frfs(roving, fd(2, 0.1)), InputError);  // N not measured, not invented
+  const RotationalResult r = rotational_frfs(roving, with_reciprocity(2, 0.1));
   EXPECT_NEAR(N_of(r.block.blocks[0]).real(), 151.0 / 300, 1e-12);
   EXPECT_EQ(N_of(r.block.blocks[0]), L_of(r.block.blocks[0]));
   EXPECT_TRUE(r.l_equals_n_by_reciprocity);
@@ -590,10 +604,15 @@ TEST(Rotational, ReciprocityFillAndSymmetrise) {
   EXPECT_EQ(N_of(sym.block.blocks[0]), L_of(sym.block.blocks[0]));
   ASSERT_TRUE(kept.reciprocity_mismatch.has_value());
   EXPECT_NEAR(*kept.reciprocity_mismatch, std::abs(n_skew - l_true) / l_true, 1e-12);
-  // A missing cross term (H21) is filled from H12; P is still by cross terms, and said so.
+  // A missing cross term (H21): without reciprocity P falls back to N·L/H00, saying that H12
+  // could stand in; with it, H21 is filled from H12 and P is by cross terms, and said so.
   PointFrfs no21 = all;
   no21.h[2][1].reset();
-  const RotationalResult r21 = rotational_frfs(no21, fd(2, 0.1));
+  const RotationalResult plain = rotational_frfs(no21, fd(2, 0.1));
+  EXPECT_FALSE(plain.p_from_cross_terms);
+  EXPECT_TRUE(contains(plain.warnings, "because H21 is not given (their transposes are: assume_reciprocity would use them)"));
+  EXPECT_TRUE(plain.filled_by_reciprocity.empty());
+  const RotationalResult r21 = rotational_frfs(no21, with_reciprocity(2, 0.1));
   EXPECT_TRUE(r21.p_from_cross_terms);
   EXPECT_NEAR(P_of(r21.block.blocks[0]).real(), 31.0 / 30, 1e-12);
   EXPECT_TRUE(contains(r21.warnings, "H21 := H12"));
@@ -770,7 +789,9 @@ TEST_F(SignalCli, RotationalStaticCantilever) {
   EXPECT_NEAR(L_of(b.blocks[0]).real(), 151.0 / 300, 1e-12);
   EXPECT_NEAR(P_of(b.blocks[0]).real(), 31.0 / 30, 1e-12);
 
-  ASSERT_EQ(run("rotational -s 0.1 --order 1 --h00 h00.csv --h10 h10.csv -o tip1.csv"), 0) << err_;
+  EXPECT_EQ(run("rotational -s 0.1 --order 1 --h00 h00.csv --h10 h10.csv -o tip1.csv"), 3);
+  EXPECT_TRUE(err_has("--assume-reciprocity")) << err_;
+  ASSERT_EQ(run("rotational -s 0.1 --order 1 --h00 h00.csv --h10 h10.csv --assume-reciprocity -o tip1.csv"), 0) << err_;
   EXPECT_TRUE(err_has("P approximated as N·L/H00")) << err_;
   EXPECT_NEAR(P_of(read_block_csv(path("tip1.csv")).blocks[0]).real(), 3.0 * std::pow(299.0 / 600, 2), 1e-12);
 

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <fmt/format.h>
 
 #include "toolpoint/assembly_file.hpp"
 #include <cstddef>
@@ -37,9 +38,20 @@ enum ExitCode : int {
   kExitIo = 5,         // cannot read or write a file (or draw a requested figure)
 };
 
+// What the user says about the FRF files a command reads (add_frf_read_options): the same
+// options, spelt the same, for every command that reads an FRF. As typed; frf_read_options()
+// checks them.
+struct FrfInputOptions {
+  std::string ordinate;              // --ordinate receptance|mobility|accelerance
+  std::string units;                 // --units m/N, mm/N, g/N, …
+  std::string format;                // --format re-im|mag-phase-deg|mag-phase-rad|db-phase[-rad] (CSV)
+  std::vector<std::string> columns;  // --columns F,A,B[,COH] (CSV)
+};
+
 // Options every subcommand sees.
 struct Globals {
   bool quiet = false;  // --quiet: no progress, no informational messages (warnings still shown)
+  FrfInputOptions frf;  // the FRF reading options of the command run (only one runs per call)
 };
 
 // Messages on stderr. info() is silenced by --quiet; warn() never is.
@@ -103,22 +115,41 @@ extern const char* const kPointFrfHelp;
 // Help text for a block input (SH11, SHT11, S11): FRF CSV only.
 extern const char* const kBlockCsvHelp;
 
-// Adds the INPUT and OUTPUT arguments and --dataset of a command that transforms an FRF file into
-// another of the same form (filter, noise); `block_note` says what happens to a block, e.g.
-// "every entry filtered".
-void add_frf_file_arguments(CLI::App* command, std::string& input, std::string& output, std::optional<std::size_t>& dataset,
-                            const std::string& block_note);
+// Adds --ordinate, --units, --format and --columns to a command that reads FRF files, bound to
+// g.frf, which read_frf_input/read_point_frf/read_block_input then apply to every FRF it reads.
+void add_frf_read_options(CLI::App* command, Globals& g);
+
+// The library's reading options from what was typed (InvalidArgument naming the flag).
+FrfReadOptions frf_read_options(const FrfInputOptions& typed);
+
+// `text` with the library's option fields (FrfCsvOptions::format, …) replaced by the flags that
+// set them (--format, …): library messages name library fields, the CLI its flags.
+std::string with_flags(std::string text);
+
+// read_frf_file, its errors naming the command's flags where the library names its fields.
+FrfFileData read_frf_file_for_cli(const std::string& path, const FrfReadOptions& options);
+
+// Adds the INPUT and OUTPUT arguments, --dataset and the FRF reading options of a command that
+// transforms an FRF file into another of the same form (filter, noise); `block_note` says what
+// happens to a block, e.g. "every entry filtered".
+void add_frf_file_arguments(CLI::App* command, Globals& g, std::string& input, std::string& output,
+                            std::optional<std::size_t>& dataset, const std::string& block_note);
 
 // Adds `--dataset N` (UFF inputs: which dataset 58, numbered as `toolpoint convert FILE --list`).
 CLI::Option* add_dataset_option(CLI::App* command, std::optional<std::size_t>& target);
 
 // Reads one measured FRF for a command: FRF CSV (single FRF or 2×2 block), UFF 58/58b or CutPro
-// .frf, by extension, as receptance [m/N] against frequency [Hz] (UFF ordinates converted; see
-// frf_file.hpp). `spec` is a path, optionally ending in "#N" to pick dataset N of a UFF file
-// (when no file of that exact name exists); `dataset` (a --dataset option) does the same. The
-// file's warnings are shown. Throws InvalidArgument (unknown extension, a selection on a
-// non-UFF file, both #N and --dataset), InputError, IoError.
-FrfFileData read_frf_input(const std::string& spec, std::optional<std::size_t> dataset = std::nullopt);
+// .frf, by extension, as receptance [m/N] against frequency [Hz] (ordinates and units converted;
+// see frf_file.hpp), with the command's FRF reading options (g.frf). `spec` is a path, optionally
+// ending in "#N" to pick dataset N of a UFF file (when no file of that exact name exists);
+// `dataset` (a --dataset option) does the same. The file's warnings are shown. Throws
+// InvalidArgument (unknown extension, a selection on a non-UFF file, both #N and --dataset, bad
+// reading options), InputError, IoError.
+FrfFileData read_frf_input(const Globals& g, const std::string& spec, std::optional<std::size_t> dataset = std::nullopt);
+
+// A 2×2 block file (SH11, SHT11, S11: FRF CSV in any dialect) for a command, with its warnings
+// shown. InputError if it holds a single FRF.
+BlockSeries read_block_input(const Globals& g, const std::string& path);
 
 // The same, reduced to one point FRF: a 2×2 block CSV gives its H entry (w/f), said by info().
 FrfSeries read_point_frf(const Globals& g, const std::string& spec, std::optional<std::size_t> dataset = std::nullopt);
@@ -134,8 +165,8 @@ FrfFormat output_frf_format(const std::string& path);
 void check_frf_output(const std::string& path, FrfFormat format, bool is_block);
 
 // Writes `data` (single FRF or block) to `path` in `format` (check_frf_output first): UFF keeps
-// the input's DOF labels and takes `comment` as ID line 1; CSV takes it as a comment line.
-// Warnings of the writer are shown.
+// the input's DOF labels and takes `comment` as ID line 1; CSV takes it as a comment line and
+// keeps a coherence column. Warnings of the writer are shown.
 void write_frf_output(const std::string& path, FrfFormat format, const FrfFileData& data, const std::string& comment);
 
 // What filter and noise share: check the figure and output names (before any work), read
@@ -144,12 +175,15 @@ void write_frf_output(const std::string& path, FrfFormat format, const FrfFileDa
 // show the result's warnings, and write it to `output` in the input's form (write_frf_output).
 // Returns what was read and what was written.
 template <class Process>
-std::pair<FrfFileData, FrfFileData> process_frf_file(const std::string& input, std::optional<std::size_t> dataset,
-                                                     const std::string& output, const std::string& plot_path,
-                                                     const std::string& comment, Process&& process) {
+std::pair<FrfFileData, FrfFileData> process_frf_file(const Globals& g, const std::string& input,
+                                                     std::optional<std::size_t> dataset, const std::string& output,
+                                                     const std::string& plot_path, const std::string& comment,
+                                                     Process&& process) {
   check_plot_path(plot_path);
   const FrfFormat format = output_frf_format(output);
-  FrfFileData in = read_frf_input(input, dataset);
+  FrfFileData in = read_frf_input(g, input, dataset);
+  if (!in.coherence.empty())
+    warn(fmt::format("{}: its coherence column is not carried into {}: the values changed", input, output));
   check_frf_output(output, format, in.is_block);
   FrfFileData out;
   out.format = format;

@@ -19,7 +19,7 @@ namespace toolpoint::cli {
 namespace {
 
 struct ConvertOptions {
-  std::string input, output, from = "auto", to = "auto", ordinate, plot;
+  std::string input, output, from = "auto", to = "auto", plot;
   std::optional<std::size_t> dataset;
   std::optional<int> response_node, reference_node;
   std::string response_dir, reference_dir;
@@ -163,6 +163,7 @@ plot::Figure copied_datasets_figure(const ConvertOptions& o, const std::vector<U
 }
 
 void run_convert(const ConvertOptions& o, const Globals& g) {
+  FrfReadOptions r = frf_read_options(g.frf);
   check_plot_path(o.plot);
   if (o.list) {
     if (!o.output.empty() || !o.plot.empty())
@@ -177,11 +178,9 @@ void run_convert(const ConvertOptions& o, const Globals& g) {
   if (in == FrfFormat::UffBinary)
     throw InvalidArgument("--from uffb is not needed: --from uff reads ASCII 58 and binary 58b", "use --from uff");
   const UffSelection sel = selection_of(o);
-  const std::optional<FrfOrdinate> ordinate =
-      o.ordinate.empty() ? std::nullopt : std::optional<FrfOrdinate>(parse_frf_ordinate(o.ordinate, "--ordinate"));
 
   // UFF to UFF: the datasets 58 themselves (all, or the selected one), every field kept.
-  if (in == FrfFormat::Uff && (out == FrfFormat::Uff || out == FrfFormat::UffBinary) && !ordinate) {
+  if (in == FrfFormat::Uff && (out == FrfFormat::Uff || out == FrfFormat::UffBinary) && !r.ordinate && !r.units) {
     const UffFile f = read_uff(o.input);
     std::vector<const UffDataset58*> chosen;
     if (sel.empty() && !f.functions.empty())
@@ -206,9 +205,7 @@ void run_convert(const ConvertOptions& o, const Globals& g) {
     return;
   }
 
-  FrfReadOptions r;
   r.format = in;
-  r.ordinate = ordinate;
   FrfWriteOptions w;
   w.format = out;
   if (in == FrfFormat::Uff) {
@@ -223,8 +220,9 @@ void run_convert(const ConvertOptions& o, const Globals& g) {
                             "(labels); here neither is UFF",
                             "drop them, or write a .uff file to label its dataset");
   }
-  const FrfFileData data = read_frf_file(o.input, r);
+  const FrfFileData data = read_frf_file_for_cli(o.input, r);
   w.dof = data.dof;
+  w.coherence = data.coherence;
   if (in != FrfFormat::Uff) {
     w.dof.response_node = sel.response_node.value_or(0);
     w.dof.response_direction = sel.response_direction.value_or(0);
@@ -243,10 +241,9 @@ void run_convert(const ConvertOptions& o, const Globals& g) {
   warn_all(write_frf_file(o.output, data.single, w));
   info(g, fmt::format("wrote {} ({} frequencies {:.6g}..{:.6g} Hz, receptance m/N{})", o.output, data.single.size(),
                       data.single.frequency_hz.front(), data.single.frequency_hz.back(),
-                      data.ordinate == FrfOrdinate::Receptance
+                      data.ordinate == FrfOrdinate::Receptance && data.units.to_si == 1.0
                           ? std::string()
-                          : fmt::format(", converted from {} {}", frf_ordinate_name(data.ordinate),
-                                        frf_ordinate_units(data.ordinate))));
+                          : fmt::format(", converted from {} in {}", frf_ordinate_name(data.ordinate), data.units.label)));
   if (o.plot.empty()) return;
   plot::FrfFigureOptions fo;
   fo.title = title;
@@ -282,10 +279,7 @@ void add_convert_command(CLI::App& app, Globals& g) {
   auto* fn = c->add_option("--reference-node", o->reference_node, "Reference (excitation) node (selection or label as above; default: any / 0)");
   auto* fd = c->add_option("--reference-dir", o->reference_dir, "Reference direction, as --response-dir (default: any / 0, scalar)");
   for (auto* opt : {rn, rd, fn, fd}) ds->excludes(opt);
-  c->add_option("--ordinate", o->ordinate,
-                "What the input values are: receptance [m/N], mobility [(m/s)/N] or accelerance [(m/s^2)/N]; "
-                "converted to receptance (H = Y/(iω), H = A/(−ω²), ω = 2πf). Default: from the UFF record 9/10 "
-                "codes, receptance for CSV and .frf");
+  add_frf_read_options(c, g);
   c->add_flag("--list", o->list,
               "List the datasets 58 of a UFF input: index, function type, nodes/directions, points (as record 7 "
               "declares them), value type, ordinate, abscissa range, ID line. Reads the headers only: a 1 GB file "
@@ -296,11 +290,12 @@ void add_convert_command(CLI::App& app, Globals& g) {
                   "(a block: all four entries; UFF to UFF: every dataset copied, overlaid)");
   c->footer(std::string(kFigureFooter) +
       "Points at 0 Hz are dropped (with a warning). UFF to UFF copies the datasets 58 unchanged (all of them, or\n"
-      "the selected one); with --ordinate the selected FRF is converted to receptance instead.\n"
+      "the selected one); with --ordinate or --units the selected FRF is converted to receptance instead.\n"
       "Examples:\n"
       "  toolpoint convert tap_test.uff --list\n"
       "  toolpoint convert tap_test.uff tool_tip.csv --response-node 1 --response-dir +X --ordinate accelerance\n"
-      "  toolpoint convert tool_tip.csv tool_tip.frf --plot tool_tip.png");
+      "  toolpoint convert tool_tip.csv tool_tip.frf --plot tool_tip.png\n"
+      "  toolpoint convert export.csv tool_tip.csv --format mag-phase-deg --units g/N    # what the header cannot say");
   c->callback([o, &g] { run_convert(*o, g); });
 }
 

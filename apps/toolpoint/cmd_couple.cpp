@@ -69,7 +69,7 @@ void run_couple(const CoupleOptions& o, const Globals& g) {
     throw InvalidArgument("an overhang sweep needs --output DIR for its files", "add --output overhangs");
   LoadedAssembly loaded = load_assembly(o.assembly);
   report_loaded(g, loaded);
-  const BlockSeries sh = read_block_csv(o.sh);
+  const BlockSeries sh = read_block_input(g, o.sh);
   validate(sh, o.sh, 3);
   if (overhangs.empty()) overhangs.push_back(loaded.assembly.tool.overhang);
 
@@ -166,6 +166,7 @@ void print_report(const CoupleOptions& o, const Globals& g, double inside, const
 void add_couple_command(CLI::App& app, Globals& g) {
   auto o = std::make_shared<CoupleOptions>();
   CLI::App* c = app.add_subcommand("couple", "Tool point FRF from a measured SH11 and the model's tool, for any overhang (seed Eq. 5, Fig. 10)");
+  add_frf_read_options(c, g);
   c->add_option("--sh", o->sh,
                 std::string("SH11 at the holder tip, measured (e.g. via `toolpoint rotational`) (required): ") + kBlockCsvHelp)
       ->required();

@@ -24,7 +24,7 @@ void run_filter(const FilterOptions& o, const Globals& g) {
       fmt::format("Savitzky-Golay filtered (window {} points, order {}, scipy savgol_filter mode='interp'; real and "
                   "imaginary parts separately) from {}",
                   o.savgol.window, o.savgol.order, o.input);
-  const auto [in, out] = process_frf_file(o.input, o.dataset, o.output, o.plot, comment,
+  const auto [in, out] = process_frf_file(g, o.input, o.dataset, o.output, o.plot, comment,
                                           [&](const auto& series) { return savgol_filter(series, o.savgol, o.input); });
   double gain = 0.0;  // Σc²: white noise variance after / before, interior points
   for (double c : savgol_coefficients(o.savgol)) gain += c * c;
@@ -46,7 +46,7 @@ void add_filter_command(CLI::App& app, Globals& g) {
   auto o = std::make_shared<FilterOptions>();
   CLI::App* c = app.add_subcommand(
       "filter", "Savitzky–Golay smoothing of an FRF (single FRF or 2×2 block, real and imaginary parts separately)");
-  add_frf_file_arguments(c, o->input, o->output, o->dataset, "every entry filtered");
+  add_frf_file_arguments(c, g, o->input, o->output, o->dataset, "every entry filtered");
   c->add_option("-w,--window", o->savgol.window,
                 "Window length [frequency points]: odd, > --order, ≤ the number of points (required, no default)")
       ->required();

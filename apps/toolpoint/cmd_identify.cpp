@@ -52,17 +52,17 @@ void run_identify(const IdentifyOptions& o, const Globals& g) {
       throw InvalidArgument("--joint holder-tool needs --sh SH11.csv and --sht SHT11.csv",
                             "give both measured blocks, e.g. --sh sh11.csv --sht sht11.csv");
     equation = "Eq. (6) from Eq. (5): A = T (tool, model), B11 = SH11, G11 = SHT11";
-    B = read_block_csv(b_name = o.sh);
-    G = read_block_csv(g_name = o.sht);
+    B = read_block_input(g, b_name = o.sh);
+    G = read_block_input(g, g_name = o.sht);
     A = [&](double f) { return model.tool(f); };
   } else {
     if (o.sh.empty() == o.sht.empty())
       throw InvalidArgument("--joint spindle-holder needs exactly one of --sh SH11.csv (Eq. 15) or --sht SHT11.csv (Eq. 18)",
                             "give --sh for the holder tip FRF or --sht for the tool point FRF, not both");
     tool_point_frf = !o.sht.empty();
-    G = read_block_csv(g_name = tool_point_frf ? o.sht : o.sh);
+    G = read_block_input(g, g_name = tool_point_frf ? o.sht : o.sh);
     if (!o.s.empty()) {
-      B = read_block_csv(b_name = o.s);
+      B = read_block_input(g, b_name = o.s);
     } else {
       b_name = "S11 (model spindle)";
       validate(G, g_name, 3);
@@ -213,6 +213,7 @@ void add_identify_command(CLI::App& app, Globals& g) {
                 "for the effect analysis (required)")
       ->required();
   c->add_option("--sh", o->sh, std::string("SH11, holder tip of spindle + holder with the tool outside removed: ") + kBlockCsvHelp);
+  add_frf_read_options(c, g);
   c->add_option("--sht", o->sht, std::string("SHT11, tool point of the whole assembly: ") + kBlockCsvHelp);
   c->add_option("--s", o->s,
                 std::string("S11, spindle nose alone (spindle-holder joint; default: the model's spindle): ") + kBlockCsvHelp);

@@ -374,6 +374,7 @@ void add_lobes_command(CLI::App& app, Globals& g) {
                 "Assembly file (TOML, SI units): its tool point FRF (SHT11's H, Eq. 5) on its [analysis] grid, for x and y "
                 "(instead of --frf)");
   c->add_option("--frf", o->frf, std::string("x direct tool point FRF G_xx: ") + kPointFrfHelp);
+  add_frf_read_options(c, g);
   c->add_option("--frf-y", o->frf_y, "y direct FRF G_yy [m/N], any format as --frf (default: the x FRF, a symmetric tool)");
   auto* xy = c->add_option("--frf-xy", o->frf_xy, "Cross FRF G_xy [m/N], any format as --frf (with --frf-yx; default: none)");
   auto* yx = c->add_option("--frf-yx", o->frf_yx, "Cross FRF G_yx [m/N], any format as --frf (with --frf-xy; default: none)");

@@ -120,6 +120,7 @@ void add_modes_command(CLI::App& app, Globals& g) {
   CLI::App* c = app.add_subcommand("modes", "Modal parameters of a point FRF: natural frequency [Hz], damping ratio, modal mass [kg], with fit quality");
   c->add_option("frf", o->file, std::string("The point FRF to fit (required): ") + kPointFrfHelp)->required();
   add_dataset_option(c, o->dataset);
+  add_frf_read_options(c, g);
   c->add_option("--max-modes", o->max_modes, "Fit at most N modes (the most prominent peaks) [-], 1…20")->capture_default_str();
   c->add_option("--band", o->band, "Fit only F1 ≤ f ≤ F2, as F1:F2 [Hz] (default: the whole FRF)");
   c->add_option("--min-prominence", o->min_prominence_db, "A peak must rise this much [dB] above its valleys on both sides to count as a mode")

@@ -2,7 +2,9 @@
 // tip and at points s and 2s inward, by Duarte & Ewins finite differences (seed Section 4).
 // Units: spacing in m; FRFs in m/N in, block out in m/N, 1/N, rad/N, rad/(N·m); frequencies Hz.
 // --plot draws the four entries of the block written.
+#include <algorithm>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <memory>
 
 #include "cli.hpp"
@@ -20,9 +22,76 @@ namespace {
 struct RotationalCliOptions {
   double shear_stiffness = 0.0;
   std::string files[3][3];  // files[i][j]: H_ij, response at point i, force at point j
-  std::string output, p_method = "auto", plot, uff;
-  RotationalOptions fd{2, 0.0, false, PMethod::Auto, std::nullopt};
+  std::string output, p_method = "auto", plot, uff, direction;
+  std::vector<int> nodes;   // --nodes: UFF node numbers of points 0 (tip), 1, 2
+  RotationalOptions fd{2, 0.0, false, PMethod::Auto, std::nullopt, false};
 };
+
+// H_ij from one tap-test file: the dataset whose response node is point i's and whose reference
+// node is point j's (--nodes, tip first; default 1, 2, 3), in one direction (--direction, or the
+// only one there is). Anything ambiguous is refused, naming the datasets.
+void read_tap_test_file(const RotationalCliOptions& o, const Globals& g, PointFrfs& in, std::string& sources) {
+  const UffFile file = read_uff(o.uff);
+  warn_all(file.warnings_for({}));
+  const int points = o.fd.order + 1;
+  std::vector<int> nodes = o.nodes.empty() ? std::vector<int>{1, 2, 3} : o.nodes;
+  if (nodes.size() < static_cast<std::size_t>(points))
+    throw InvalidArgument(fmt::format("--nodes gives {} node(s); order-{} differences need {} (the tip first)", nodes.size(),
+                                      o.fd.order, points),
+                          "e.g. --nodes 101,102,103");
+  nodes.resize(static_cast<std::size_t>(points));
+  for (int a = 0; a < points; ++a)
+    for (int b = a + 1; b < points; ++b)
+      if (nodes[a] == nodes[b]) throw InvalidArgument(fmt::format("--nodes names node {} twice", nodes[a]));
+  const bool by_direction = !o.direction.empty();
+  const int direction = by_direction ? parse_uff_direction(o.direction, "--direction") : 0;
+  const FrfReadOptions read = frf_read_options(g.frf);
+  if (read.csv.format || !read.csv.columns.empty())
+    throw InvalidArgument("--format and --columns apply to CSV inputs, not to --uff", "drop them");
+  const auto point_of = [&](int node) {
+    const auto it = std::find(nodes.begin(), nodes.end(), node);
+    return it == nodes.end() ? -1 : static_cast<int>(it - nodes.begin());
+  };
+  const UffDataset58* used[3][3] = {};
+  std::string seen;  // the node pairs the file holds, for the message when the tip is missing
+  std::size_t listed = 0;
+  for (const UffDataset58& d : file.functions) {
+    if (listed < 20)
+      seen += fmt::format("{}{}/{} {}", listed ? ", " : "", d.response_node, d.reference_node,
+                          uff_direction_name(d.response_direction));
+    ++listed;
+    const int i = point_of(d.response_node), j = point_of(d.reference_node);
+    if (i < 0 || j < 0) continue;
+    if (by_direction && (d.response_direction != direction || d.reference_direction != direction)) continue;
+    if (const UffDataset58* other = used[i][j])
+      throw InputError(fmt::format("{}: datasets {} and {} both have response node {} and reference node {} (directions "
+                                   "{}/{} and {}/{})",
+                                   o.uff, other->index, d.index, d.response_node, d.reference_node,
+                                   uff_direction_name(other->response_direction),
+                                   uff_direction_name(other->reference_direction), uff_direction_name(d.response_direction),
+                                   uff_direction_name(d.reference_direction)),
+                       "pick the direction measured (--direction, e.g. +Y), or keep one dataset per pair of points");
+    used[i][j] = &d;
+  }
+  if (listed > 20) seen += fmt::format(" … and {} more", listed - 20);
+  if (!used[0][0])
+    throw InputError(fmt::format("{}: no dataset with response and reference node {} (the tip: the first of --nodes {}){}; "
+                                 "the file holds response/reference nodes {}",
+                                 o.uff, nodes[0], fmt::join(nodes, ","),
+                                 by_direction ? fmt::format(" in direction {}", uff_direction_name(direction)) : "",
+                                 seen.empty() ? "(none: no readable dataset 58)" : seen),
+                     "give the node numbers of the tip and the points inward, tip first, e.g. --nodes 101,102,103");
+  for (int i = 0; i < points; ++i)
+    for (int j = 0; j < points; ++j) {
+      const UffDataset58* d = used[i][j];
+      if (!d) continue;
+      UffReceptance r = uff_receptance(*d, read.ordinate, o.uff, read.units);
+      warn_all(r.warnings);
+      in.set(i, j, std::move(r.receptance),
+             fmt::format("{} dataset {} (nodes {}/{})", o.uff, d->index, d->response_node, d->reference_node));
+      sources += fmt::format(" H{}{}={}#{}", i, j, o.uff, d->index);
+    }
+}
 
 void run_rotational(RotationalCliOptions o, const Globals& g) {
   o.fd.p_method = o.p_method == "cross" ? PMethod::CrossTerms : o.p_method == "n2h" ? PMethod::SchmitzSmith : PMethod::Auto;
@@ -31,25 +100,12 @@ void run_rotational(RotationalCliOptions o, const Globals& g) {
   PointFrfs in;
   std::string sources;
   if (!o.uff.empty()) {
-    // A whole tap test in one file: H_ij is the dataset with response node i+1, reference node j+1
-    // (the layout `toolpoint taptest` writes). Missing ones are left to reciprocity or refused.
     for (const auto& f : o.files)
       for (const auto& name : f)
         if (!name.empty()) throw InvalidArgument("give either --uff or --hij files, not both", "use --uff for one tap-test file");
-    const UffFile file = read_uff(o.uff);
-    warn_all(file.file_warnings);
-    const int points = o.fd.order + 1;
-    for (const UffDataset58& d : file.functions) {
-      const int i = d.response_node - 1, j = d.reference_node - 1;
-      if (i < 0 || j < 0 || i >= points || j >= points) continue;
-      if (in.h[i][j])
-        throw InputError(fmt::format("{}: two datasets for response node {} and reference node {}", o.uff, i + 1, j + 1),
-                         "keep one dataset per pair of points (node k+1 is point k: the tip, then s, 2s inwards)");
-      UffReceptance r = uff_receptance(d, std::nullopt, o.uff);
-      warn_all(r.warnings);
-      in.set(i, j, std::move(r.receptance), fmt::format("{} (nodes {}/{})", o.uff, i + 1, j + 1));
-      sources += fmt::format(" H{}{}={}#nodes{}/{}", i, j, o.uff, i + 1, j + 1);
-    }
+    read_tap_test_file(o, g, in, sources);
+  } else if (!o.nodes.empty() || !o.direction.empty()) {
+    throw InvalidArgument("--nodes and --direction select datasets of a --uff file", "give --uff FILE, or drop them");
   }
   if (o.uff.empty() && o.files[0][0].empty())
     throw InvalidArgument("rotational needs the tip FRF: --h00 FILE (and the others), or --uff FILE with the whole test",
@@ -57,7 +113,7 @@ void run_rotational(RotationalCliOptions o, const Globals& g) {
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
       if (!o.files[i][j].empty()) {
-        FrfFileData d = read_frf_input(o.files[i][j]);
+        FrfFileData d = read_frf_input(g, o.files[i][j]);
         if (d.is_block)
           throw InputError(fmt::format("--h{}{} {}: holds a 2×2 block, expected a single translational FRF H{}{} [m/N]", i, j,
                                        o.files[i][j], i, j),
@@ -67,7 +123,12 @@ void run_rotational(RotationalCliOptions o, const Globals& g) {
       }
   RotationalOptions fd = o.fd;
   if (o.shear_stiffness != 0.0) fd.shear_stiffness = o.shear_stiffness;
-  const RotationalResult r = rotational_frfs(in, fd);
+  RotationalResult r;
+  try {
+    r = rotational_frfs(in, fd);
+  } catch (const InputError& e) {
+    throw InputError(with_flags(e.what()), with_flags(e.hint()));
+  }
   write_frf_csv(o.output, r.block,
                 {fmt::format("tip block by order-{} finite differences (Duarte & Ewins), spacing s = {} m; points 0 (tip), "
                              "1, 2 at s, 2s inward; L and N {}; P {}",
@@ -76,7 +137,11 @@ void run_rotational(RotationalCliOptions o, const Globals& g) {
                              : o.fd.symmetrise           ? "symmetrised (their mean)"
                                                          : "as measured (L from H0j, N from Hi0)",
                              r.p_from_cross_terms ? "from cross terms" : "approximated as N*L/H00 (Schmitz & Smith)"),
-                 "inputs:" + sources});
+                 "inputs:" + sources,
+                 r.filled_by_reciprocity.empty()
+                     ? std::string("no measurement filled by reciprocity")
+                     : fmt::format("reciprocity assumed (--assume-reciprocity), not measured: {}",
+                                   fmt::join(r.filled_by_reciprocity, ", "))});
   warn_all(r.warnings);
   if (r.reciprocity_mismatch)
     info(g, fmt::format("reciprocity check: max |L - N| / max(|L|, |N|) = {:.3g}", *r.reciprocity_mismatch));
@@ -98,8 +163,19 @@ void add_rotational_command(CLI::App& app, Globals& g) {
   CLI::App* c = app.add_subcommand(
       "rotational", "Tip block [[H, L], [N, P]] from translational FRFs by finite differences (Duarte & Ewins 2000)");
   c->add_option("--uff", o->uff,
-                "One UFF file holding the whole test: H_ij = the dataset with response node i+1 and reference node j+1 "
-                "(node 1 the tip, 2 and 3 at s and 2s inwards; what `toolpoint taptest` writes)");
+                "One UFF file holding the whole test: H_ij = the dataset whose response node is point i's and whose "
+                "reference node is point j's (--nodes; by default nodes 1, 2, 3: what `toolpoint taptest` writes)");
+  c->add_option("--nodes", o->nodes,
+                "With --uff: the node numbers of the points, tip first, then s and 2s inwards, comma-separated "
+                "(default: 1,2,3), e.g. --nodes 101,102,103")
+      ->delimiter(',');
+  c->add_option("--direction", o->direction,
+                "With --uff: use only datasets whose response and reference direction is this (+X, Y, -Z, code -6..6; "
+                "default: any, and two datasets for one pair of points are an error); write a minus as --direction=-Y");
+  c->add_flag("--assume-reciprocity", o->fd.assume_reciprocity,
+              "Fill a missing H_ij with H_ji (Maxwell–Betti), e.g. L from N when the hammer stayed at the tip; said in "
+              "the output file's header. Default: a missing H_0k or H_k0 is an error (nothing is invented)");
+  add_frf_read_options(c, g);
   c->add_option("-s,--spacing", o->fd.spacing, "Distance s between neighbouring points [m], > 0 (required)")->required();
   c->add_option("--order", o->fd.order, "Finite-difference order: 1 (points 0, 1) or 2 (points 0, 1, 2)")
       ->check(CLI::IsMember({1, 2}))
@@ -129,12 +205,14 @@ void add_rotational_command(CLI::App& app, Globals& g) {
                   "the block: |H| [m/N], |L| and |N| [1/N], |P| [rad/(N·m)] and the four phases [deg] against frequency [Hz]");
   c->footer(std::string(kFigureFooter) +
       "Points: 0 at the tool tip, 1 and 2 at s and 2s towards the spindle; H_ij = w_i/f_j. N needs\n"
-      "H10 (and H20), L needs H01 (and H02); a missing H_ij is taken from H_ji (reciprocity), so with\n"
-      "the hammer at the tip only L = N. P needs H11 (and H12, H22) too; otherwise P ~ N*L/H00,\n"
-      "which is about 25 % low on a static cantilever (a warning says so). All inputs share one grid.\n"
+      "H10 (and H20), L needs H01 (and H02); a missing one is an error unless --assume-reciprocity\n"
+      "takes it from H_ji (with the hammer at the tip only, that makes L = N). P needs H11 (and H12,\n"
+      "H21, H22) too; otherwise P ~ N*L/H00, which is about 25 % low on a static cantilever (a warning\n"
+      "says so). All inputs share one grid (`toolpoint resample` puts them on one).\n"
       "Input formats: " + std::string(kSingleFrfHelp) + ".\n"
       "Example:\n"
       "  toolpoint rotational --uff tap_tool.uff --spacing 0.01 --order 2 --output sht11.csv\n"
+      "  toolpoint rotational --uff testlab.uff --nodes 101,102,103 --direction +Y --spacing 0.02 --output sht11.csv\n"
       "  toolpoint rotational --spacing 0.04 --order 2 --h00 tip.csv --h10 p1.csv --h20 p2.csv \\\n"
       "      --h11 p1p1.csv --h21 p2p1.csv --h22 p2p2.csv --output SHT11.csv --plot SHT11.png\n"
       "  (with every FRF in one universal file: --h00 tap.uff#0 --h10 tap.uff#1 …)");

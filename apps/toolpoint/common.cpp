@@ -139,10 +139,65 @@ const char* const kPointFrfHelp = TOOLPOINT_SINGLE_FRF_FORMATS ", or a 2×2 bloc
 #undef TOOLPOINT_SINGLE_FRF_FORMATS
 
 const char* const kBlockCsvHelp =
-    "2×2 block FRF CSV (H m/N, L 1/N, N rad/N, P rad/(N m); CSV only: the one format that carries rotations)";
+    "2×2 block FRF CSV (H m/N, L 1/N, N rad/N, P rad/(N m); CSV only: the one format that carries rotations; ',', ';' "
+    "or tab between columns, decimal comma, a coherence column read)";
 
-void add_frf_file_arguments(CLI::App* command, std::string& input, std::string& output, std::optional<std::size_t>& dataset,
-                            const std::string& block_note) {
+void add_frf_read_options(CLI::App* command, Globals& g) {
+  command->add_option("--ordinate", g.frf.ordinate,
+                      "What the input FRF values are: receptance [m/N], mobility [(m/s)/N] or accelerance [(m/s^2)/N]; "
+                      "converted to receptance (H = Y/(iω), H = A/(−ω²), ω = 2πf). Default: the file's units (CSV "
+                      "header, UFF labels) or UFF record 9/10 codes, else receptance");
+  command->add_option("--units", g.frf.units,
+                      "Units of the input FRF values, e.g. m/N, mm/N, um/N, m/s/N, mm/s/N, m/s^2/N, g/N (g = 9.80665 "
+                      "m/s²), in/lbf; they say the ordinate and are scaled to SI. Default: the file's (CSV header, UFF "
+                      "labels or dataset 164), else SI");
+  command->add_option("--format", g.frf.format,
+                      "CSV input: what the two value columns hold where the header does not say: re-im, mag-phase-deg, "
+                      "mag-phase-rad, db-phase (dB of |H| in the units, phase in degrees) or db-phase-rad");
+  command->add_option("--columns", g.frf.columns,
+                      "CSV input: the frequency column, the two value columns and optionally a coherence column, by "
+                      "number from 1 or by header text, comma-separated, e.g. 1,4,5 (default: found by the header's "
+                      "names)")
+      ->delimiter(',')
+      ->expected(3, 4);
+}
+
+std::string with_flags(std::string text) {
+  static const std::pair<const char*, const char*> names[] = {
+      {"FrfCsvOptions::columns", "--columns"},      {"FrfCsvOptions::format", "--format"},
+      {"FrfReadOptions::units", "--units"},         {"FrfReadOptions::ordinate", "--ordinate"},
+      {"RotationalOptions::assume_reciprocity", "--assume-reciprocity"}};
+  for (const auto& [field, flag] : names)
+    for (std::size_t at; (at = text.find(field)) != std::string::npos;) text.replace(at, std::string_view(field).size(), flag);
+  return text;
+}
+
+FrfReadOptions frf_read_options(const FrfInputOptions& t) {
+  FrfReadOptions r;
+  if (!t.ordinate.empty()) r.ordinate = parse_frf_ordinate(t.ordinate, "--ordinate");
+  if (!t.units.empty()) r.units = parse_frf_units_option(t.units, "--units");
+  if (!t.format.empty()) r.csv.format = parse_frf_value_format(t.format, "--format");
+  r.csv.columns = t.columns;
+  try {
+    r.check();
+  } catch (const InvalidArgument& e) {
+    throw InvalidArgument(with_flags(e.what()), with_flags(e.hint()));
+  }
+  return r;
+}
+
+FrfFileData read_frf_file_for_cli(const std::string& path, const FrfReadOptions& options) {
+  try {
+    return read_frf_file(path, options);
+  } catch (const InvalidArgument& e) {
+    throw InvalidArgument(with_flags(e.what()), with_flags(e.hint()));
+  } catch (const InputError& e) {
+    throw InputError(with_flags(e.what()), with_flags(e.hint()));
+  }
+}
+
+void add_frf_file_arguments(CLI::App* command, Globals& g, std::string& input, std::string& output,
+                            std::optional<std::size_t>& dataset, const std::string& block_note) {
   command->add_option("input", input, std::string("Input FRF (required): ") + kSingleFrfHelp + ", or a 2×2 block CSV (" + block_note + ")")
       ->required();
   command
@@ -151,6 +206,7 @@ void add_frf_file_arguments(CLI::App* command, std::string& input, std::string& 
                    "or .frf for a single FRF; .csv for a block")
       ->required();
   add_dataset_option(command, dataset);
+  add_frf_read_options(command, g);
 }
 
 CLI::Option* add_dataset_option(CLI::App* command, std::optional<std::size_t>& target) {
@@ -173,12 +229,12 @@ std::pair<std::string, std::optional<std::size_t>> split_dataset_suffix(const st
 
 }  // namespace
 
-FrfFileData read_frf_input(const std::string& spec, std::optional<std::size_t> dataset) {
+FrfFileData read_frf_input(const Globals& g, const std::string& spec, std::optional<std::size_t> dataset) {
   auto [path, suffix] = split_dataset_suffix(spec);
   if (suffix && dataset)
     throw InvalidArgument(fmt::format("{}: dataset {} picked twice (#{} and --dataset {})", spec, *suffix, *suffix, *dataset),
                           "use either FILE#N or --dataset N");
-  FrfReadOptions r;
+  FrfReadOptions r = frf_read_options(g.frf);
   try {
     r.format = frf_format_of_path(path);
   } catch (const InvalidArgument& e) {
@@ -190,13 +246,25 @@ FrfFileData read_frf_input(const std::string& spec, std::optional<std::size_t> d
     throw InvalidArgument(fmt::format("{}: dataset {} asked for, but only UFF files have datasets ({} is {})", spec,
                                       *r.uff.index, path, frf_format_name(r.format)),
                           "drop --dataset / #N for CSV and .frf files");
-  FrfFileData d = read_frf_file(path, r);
+  FrfFileData d = read_frf_file_for_cli(path, r);
   warn_all(d.warnings);
   return d;
 }
 
+BlockSeries read_block_input(const Globals& g, const std::string& path) {
+  FrfReadOptions r = frf_read_options(g.frf);
+  r.format = FrfFormat::Csv;  // the one format that carries rotations
+  FrfFileData d = read_frf_file_for_cli(path, r);
+  if (!d.is_block)
+    throw InputError(fmt::format("{}: holds a single FRF where a 2×2 block is needed", path),
+                     "give a block file with columns frequency_hz,H_re,H_im,L_re,L_im,N_re,N_im,P_re,P_im (e.g. from "
+                     "`toolpoint rotational`)");
+  warn_all(d.warnings);
+  return std::move(d.block);
+}
+
 FrfSeries read_point_frf(const Globals& g, const std::string& spec, std::optional<std::size_t> dataset) {
-  FrfFileData d = read_frf_input(spec, dataset);
+  FrfFileData d = read_frf_input(g, spec, dataset);
   if (!d.is_block) return std::move(d.single);
   info(g, fmt::format("{} holds a 2×2 block: using its H entry (w/f)", spec));
   return entry(d.block, 0);
@@ -226,6 +294,7 @@ void write_frf_output(const std::string& path, FrfFormat format, const FrfFileDa
   w.format = format;
   w.dof = data.dof;
   w.description = comment;
+  w.coherence = data.coherence;
   warn_all(data.is_block ? write_frf_file(path, data.block, w) : write_frf_file(path, data.single, w));
 }
 

@@ -114,11 +114,12 @@ SignalResult<BlockSeries> add_measurement_noise(const BlockSeries& series, const
 // likewise). P does not gain an order: the mixed derivative ∂²H/∂x∂ξ has a kink where x = ξ,
 // which both stencils straddle, so P's error is O(s) for either order.
 //
-// Missing data: a missing off-diagonal H_ij is taken from H_ji (Maxwell–Betti reciprocity), and
-// the result says so. With the hammer at the tip only (H_i0) that makes L = N. P needs every
-// H_ij up to the order (the hammer moved too, in particular H11, H22); without them P is
-// approximated as N·L/H00 — N²/H00 when L = N (Schmitz & Smith), exact for a single mode, about
-// 25 % low on a static cantilever — and flagged.
+// Missing data: nothing is invented unless asked for. With assume_reciprocity, a missing
+// off-diagonal H_ij is taken from H_ji (Maxwell–Betti reciprocity) and the result lists each fill
+// (with the hammer at the tip only, H_i0, that makes L = N); without it, an H_0k or H_k0 that N or
+// L needs is an error naming it. P needs every H_ij up to the order (the hammer moved too, in
+// particular H11, H22); without them P is approximated as N·L/H00 — N²/H00 when L = N (Schmitz &
+// Smith), exact for a single mode, about 25 % low on a static cantilever — and flagged.
 enum class PMethod {
   Auto,          // cross terms if every H_ij is available (directly or by reciprocity), else N·L/H00
   CrossTerms,    // the finite-difference formula; missing terms are an error
@@ -140,6 +141,7 @@ struct RotationalOptions {
   // Unset: the total-slope quantities, as printed in NOTES §5 (fine for slender tools, where
   // 1/κGA is far below N).
   std::optional<double> shear_stiffness;
+  bool assume_reciprocity = false;    // fill a missing H_ij with H_ji (default: refuse, see above)
 
   // Throws InvalidArgument naming `order`, `spacing` or `shear_stiffness`.
   void check() const;
@@ -163,6 +165,7 @@ struct RotationalResult {
   // max_f |L − N| / max_f max(|L|, |N|) when L and N came from independent data before any
   // symmetrising (a reciprocity and measurement-quality check); empty otherwise.
   std::optional<double> reciprocity_mismatch;
+  std::vector<std::string> filled_by_reciprocity;  // "H01 := H10 (tip.csv)", with assume_reciprocity only
   std::vector<std::string> warnings;  // reciprocity fills, the P approximation, unused inputs
 };
 
