@@ -13,6 +13,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <fmt/format.h>
+
 #include "toolpoint/error.hpp"
 #include "toolpoint/frf_file.hpp"
 #include "toolpoint/io.hpp"
@@ -324,4 +326,96 @@ TEST(FrfVariants, RoundTripCsvUffCutProKeepsEveryPoint) {
   // CSV to CSV keeps the coherence bit for bit.
   ASSERT_EQ(run_cli("convert " + dir / "a.csv " + dir / "g.csv", &out), 0) << out;
   EXPECT_EQ(read_frf_file(dir / "g.csv").coherence, coh);
+}
+
+// Every command that reads an FRF takes the same options, spelt the same: a magnitude/phase file
+// whose phase has no unit is refused by each, naming --format, and read by each with it.
+TEST(FrfVariants, EveryCommandTakesTheSameReadingOptions) {
+  TempDir dir;
+  const std::string in = dir / "mag_phase.csv";  // as csv_phase_without_unit.csv, on a finer grid (modes needs ≥ 8 points)
+  std::string text = "Freq,Mag,Phase\n";
+  for (int i = 0; i <= 60; ++i) {
+    const double f = 1000.0 + 20.0 * i;
+    text += fmt::format("{},{},{}\n", f, std::abs(sdof(f)), std::arg(sdof(f)) * 180.0 / std::numbers::pi);
+  }
+  write_text_file(in, text);
+  const std::string commands[] = {
+      "filter " + in + " " + dir / "f.csv --window 3 --order 1",
+      "noise " + in + " " + dir / "n.csv --sigma 0.01",
+      "modes " + in + " --max-modes 1",
+      "lobes --frf " + in + " --teeth 2 --kt 6e8 --kr 0.3 --immersion 0.5 --milling down --rpm 5000:6000",
+      "convert " + in + " " + dir / "c.csv",
+      "rotational --h00 " + in + " --h10 " + in + " --spacing 0.01 --order 1 --assume-reciprocity --output " + dir / "r.csv",
+  };
+  for (const std::string& c : commands) {
+    std::string out;
+    EXPECT_EQ(run_cli(c, &out), 3) << c << "\n" << out;
+    EXPECT_TRUE(contains(out, "gives no unit: degrees or radians?") && contains(out, "--format mag-phase-deg")) << c << "\n"
+                                                                                                                << out;
+    EXPECT_EQ(run_cli(c + " --format mag-phase-deg", &out), 0) << c << "\n" << out;
+  }
+  // identify and couple read blocks through the same reader and take the same options.
+  for (const char* c : {"identify", "couple"}) {
+    std::string out;
+    EXPECT_EQ(run_cli(std::string(c) + " --help", &out), 0);
+    for (const char* flag : {"--ordinate", "--units", "--format", "--columns"}) EXPECT_TRUE(contains(out, flag)) << c << flag;
+  }
+}
+
+// A tap test as measurement software numbers it (nodes 101, 102, 103, direction +Y), with a second
+// direction measured too: `rotational --uff` needs --nodes (the message lists the nodes present)
+// and --direction (two datasets per pair otherwise), and then gives exactly the block of the same
+// test numbered 1, 2, 3. A dataset lost to a damaged byte count is not replaced by reciprocity.
+TEST(FrfVariants, RotationalNodeMappingAndDirection) {
+  TempDir dir;
+  const std::string example = std::string(TOOLPOINT_SOURCE_DIR) + "/examples/bt40_shrinkfit_16mm.toml";
+  std::string out;
+  ASSERT_EQ(run_cli("taptest " + example + " --at tool --spacing 0.01 --frequencies 500:3000:50 --binary --output " +
+                        dir / "tap.uff",
+                    &out),
+            0)
+      << out;
+  ASSERT_EQ(run_cli("rotational --uff " + dir / "tap.uff" + " --spacing 0.01 --output " + dir / "ref.csv", &out), 0) << out;
+  UffFile f = read_uff(dir / "tap.uff");
+  std::vector<UffDataset58> renumbered;
+  for (int copy = 0; copy < 2; ++copy)
+    for (UffDataset58 d : f.functions) {
+      d.response_node += 100;
+      d.reference_node += 100;
+      d.response_direction = d.reference_direction = copy == 0 ? 2 : 3;  // +Y, and a +Z copy
+      if (copy == 1)
+        for (auto& y : d.y) y *= 2.0;
+      renumbered.push_back(d);
+    }
+  write_uff(dir / "testlab.uff", renumbered, {.binary = true});
+  const std::string base = "rotational --uff " + dir / "testlab.uff" + " --spacing 0.01 --output " + dir / "out.csv";
+  EXPECT_EQ(run_cli(base, &out), 3);
+  EXPECT_TRUE(contains(out, "no dataset with response and reference node 1 (the tip: the first of --nodes 1,2,3)")) << out;
+  EXPECT_TRUE(contains(out, "the file holds response/reference nodes 101/101 +Y, 102/101 +Y")) << out;
+  EXPECT_TRUE(contains(out, "--nodes 101,102,103")) << out;
+  EXPECT_EQ(run_cli(base + " --nodes 101,102,103", &out), 3);
+  EXPECT_TRUE(contains(out, "both have response node 101 and reference node 101 (directions +Y/+Y and +Z/+Z)")) << out;
+  EXPECT_EQ(run_cli(base + " --nodes 101,102,103 --direction +Y", &out), 0) << out;
+  const BlockSeries a = read_block_csv(dir / "ref.csv"), b = read_block_csv(dir / "out.csv");
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a.blocks[i], b.blocks[i]);
+  EXPECT_EQ(run_cli(base + " --nodes 101,102,101", &out), 2);
+  EXPECT_EQ(run_cli("rotational --h00 " + dir / "ref.csv --nodes 1,2,3 --spacing 0.01 --output " + dir / "x.csv", &out), 2);
+
+  // Damage the byte count of the dataset H10 (response 2, reference 1) beyond repair: it is
+  // skipped with a warning, and the block is refused rather than built from H01 by reciprocity.
+  std::string bytes = read_text_file(dir / "tap.uff");
+  const std::size_t second = bytes.find("    58b", bytes.find("    58b") + 1);
+  ASSERT_NE(second, std::string::npos);
+  const std::size_t rec6 = [&] {
+    std::size_t at = second;
+    for (int k = 0; k < 6; ++k) at = bytes.find('\n', at) + 1;
+    return at;
+  }();
+  bytes.replace(rec6, 5, "    x");  // record 6 function type unreadable: the dataset is skipped
+  write_text_file(dir / "damaged.uff", bytes);
+  EXPECT_EQ(run_cli("rotational --uff " + dir / "damaged.uff" + " --spacing 0.01 --output " + dir / "d.csv", &out), 3);
+  EXPECT_TRUE(contains(out, "1 dataset(s) 58 could not be read")) << out;
+  EXPECT_TRUE(contains(out, "is not given, and N needs it")) << out;
+  EXPECT_FALSE(fs::exists(dir / "d.csv"));
 }
