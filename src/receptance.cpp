@@ -65,16 +65,25 @@ void validate(const FrfSeries& series, const std::string& what, std::size_t min_
                        "remove or repair the NaN/Inf values in the data");
 }
 
+namespace {
+
+// Where the grid-mismatch error points: the library function and the command that do it.
+const char* const kOneGrid =
+    "put them on one grid: resample() / `toolpoint resample IN OUT --onto OTHER` (interpolation), or --band F1:F2 "
+    "(cropping)";
+
+}  // namespace
+
 void require_same_grid(const std::vector<double>& a, const std::string& what_a, const std::vector<double>& b,
                        const std::string& what_b) {
   if (a.size() != b.size())
     throw InputError(fmt::format("frequency grids differ: {} has {} points, {} has {}", what_a, a.size(), what_b, b.size()),
-                     "resample the FRFs onto one frequency grid");
+                     kOneGrid);
   for (std::size_t i = 0; i < a.size(); ++i) {
     if (std::abs(a[i] - b[i]) > 1e-9 * std::max(std::abs(a[i]), std::abs(b[i])))
       throw InputError(fmt::format("frequency grids differ at point {}: {} has {} Hz, {} has {} Hz", i + 1, what_a, a[i],
                                    what_b, b[i]),
-                       "resample the FRFs onto one frequency grid");
+                       kOneGrid);
   }
 }
 
