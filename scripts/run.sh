@@ -3,7 +3,7 @@
 # only, via apt-get), configures and builds, then runs the requested job.
 #
 #   bash scripts/run.sh demo    # install, build, run `toolpoint demo` (the seed's case study)
-#   bash scripts/run.sh test    # install, build, run every test (ctest)
+#   bash scripts/run.sh test    # install, build, run every test (ctest), then each fuzz target 10 s
 #   bash scripts/run.sh build   # install and build only
 #   bash scripts/run.sh bench   # install, build, run the benchmarks
 #
@@ -18,7 +18,8 @@ build_dir=${BUILD_DIR:-build}
 jobs=${JOBS:-$(nproc 2>/dev/null || echo 2)}
 
 packages=(build-essential cmake pkg-config libeigen3-dev libcli11-dev libfmt-dev libtomlplusplus-dev
-          nlohmann-json3-dev libsleef-dev libgtest-dev libbenchmark-dev gnuplot-nox)
+          nlohmann-json3-dev libsleef-dev libgtest-dev libbenchmark-dev gnuplot-nox
+          clang libclang-rt-14-dev)  # clang + libFuzzer for the fuzz targets (scripts/fuzz.sh)
 
 missing=()
 for p in "${packages[@]}"; do
@@ -40,7 +41,8 @@ cmake --build "$build_dir" -j "$jobs"
 
 case "$job" in
   demo)  exec "$build_dir/toolpoint" demo "$@" ;;
-  test)  cd "$build_dir" && exec ctest --output-on-failure -j "$jobs" "$@" ;;
+  test)  (cd "$build_dir" && ctest --output-on-failure -j "$jobs" "$@")
+         bash scripts/fuzz.sh "${FUZZ_SECONDS:-10}" ;;  # each fuzz target for a short fixed time
   build) ;;
   bench) exec "$build_dir/toolpoint_bench" "$@" ;;
   *) echo "usage: bash scripts/run.sh demo|test|build|bench [args...]" >&2; exit 2 ;;
