@@ -436,6 +436,7 @@ FrfText parse_cutpro_frf(std::string_view text_in, const std::string& source) {
       while (i < line.size() && std::string_view(" \t\r,;").find(line[i]) == std::string_view::npos) ++i;
       if (i > b) fields.push_back(line.substr(b, i - b));
     }
+    if (fields.empty()) continue;  // separators only (a spreadsheet's empty row): blank
     double v[3] = {};
     std::size_t parsed = 0;
     for (; parsed < fields.size() && parsed < 3; ++parsed) {

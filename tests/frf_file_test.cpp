@@ -229,6 +229,9 @@ TEST(FrfFile, CutProTextReadLiberally) {
   EXPECT_TRUE(contains(error_of("10\t1\tnan\n"), "bad.frf:1: field 3"));
   EXPECT_TRUE(contains(error_of("-1\t1\t2\n"), "negative"));
   EXPECT_TRUE(contains(error_of("Freq Hz Real m/N Imag m/N\n"), "no data lines"));
+  // Found by fuzz/fuzz_cutpro.cpp: a line of separators only (was undefined behaviour) is blank.
+  EXPECT_TRUE(contains(error_of(","), "no data lines"));
+  EXPECT_EQ(parse_cutpro_frf(",;\t\n10\t1\t2\n", "ok.frf").series.size(), 1u);
   // Any header but CutPro's is refused: the columns may be something else.
   EXPECT_TRUE(contains(error_of("header only\n"), "bad.frf:1: 'header only' is not CutPro's header"));
   EXPECT_TRUE(contains(error_of("Frequency [Hz]\tReal [m/N]\tImag [m/N]\n10\t1\t2\n"), "is not CutPro's header"));
