@@ -1015,7 +1015,13 @@ void append_dataset(std::string& out, const UffDataset58& d, const UffWriteOptio
   else
     out += "    58\n";
   const Fields field{d, k, warnings};
-  for (std::size_t i = 0; i < d.id.size(); ++i) out += field(d.id[i], 80, fmt::format("ID line {}", i + 1)) + "\n";
+  for (std::size_t i = 0; i < d.id.size(); ++i) {
+    std::string line = field(d.id[i], 80, fmt::format("ID line {}", i + 1));
+    // An ID line reading "-1" would end the dataset when read back: moved past column 6, where a
+    // delimiter cannot stand (the reader trims it back to "-1"). Found by fuzz/fuzz_uff.cpp.
+    if (is_delimiter(line)) line = std::string(5, ' ') + line.substr(0, line.size() > 75 ? 75 : line.size());
+    out += line + "\n";
+  }
   out += fmt::format("{:>5}{:>10}{:>5}{:>10} {}{:>10}{:>4} {}{:>10}{:>4}\n", d.function_type, d.function_id, d.version,
                      d.load_case, field(d.response_entity, 10, "response entity name"), d.response_node,
                      d.response_direction, field(d.reference_entity, 10, "reference entity name"), d.reference_node,

@@ -550,3 +550,19 @@ TEST(Uff, LongTextIsCutOnWriteWithAWarning) {
   EXPECT_EQ(back.functions[0].response_entity, "a long ent");
   EXPECT_EQ(back.functions[0].y, d.y);
 }
+
+// An ID line whose text is "-1" (a real file had it 23 columns in) must not be written where a
+// reader takes it for the delimiter that ends the dataset (found by fuzz/fuzz_uff.cpp: the copy
+// read back with no dataset).
+TEST(Uff, AnIdLineReadingMinusOneIsNotWrittenAsADelimiter) {
+  UffDataset58 d = synthetic(6, true, 3, 2);
+  d.id[4] = "-1";
+  d.id[1] = "  -1";
+  for (bool binary : {false, true}) {
+    const UffFile back = parse_uff(format_uff({d}, {.binary = binary}).bytes, "id.uff");
+    ASSERT_EQ(back.functions.size(), 1u) << (back.skipped.empty() ? "" : back.skipped[0]);
+    EXPECT_EQ(back.functions[0].id[4], "-1");
+    EXPECT_EQ(back.functions[0].id[1], "-1");
+    EXPECT_EQ(back.functions[0].size(), 3u);
+  }
+}
