@@ -6,18 +6,12 @@
 #include <cstdlib>
 #include <string_view>
 
+#include "fuzz_util.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/frf_file.hpp"
 
 using namespace toolpoint;
-
-namespace {
-
-void require(bool rule) {
-  if (!rule) std::abort();
-}
-
-}  // namespace
+using fuzz::require;
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);

@@ -10,17 +10,15 @@
 #include <cstdlib>
 #include <string>
 
+#include "fuzz_util.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/frf_file.hpp"
 #include "toolpoint/io.hpp"
 
 using namespace toolpoint;
+using fuzz::require;
 
 namespace {
-
-void require(bool rule) {
-  if (!rule) std::abort();
-}
 
 void require_grid(const std::vector<double>& f) {
   for (std::size_t i = 0; i < f.size(); ++i) require(std::isfinite(f[i]) && f[i] > 0.0 && (i == 0 || f[i] > f[i - 1]));

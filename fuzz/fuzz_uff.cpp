@@ -8,19 +8,13 @@
 #include <cstdlib>
 #include <string_view>
 
+#include "fuzz_util.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/frf_file.hpp"
 #include "toolpoint/uff.hpp"
 
 using namespace toolpoint;
-
-namespace {
-
-void require(bool rule) {
-  if (!rule) std::abort();
-}
-
-}  // namespace
+using fuzz::require;
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view bytes(reinterpret_cast<const char*>(data), size);

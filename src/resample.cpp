@@ -139,17 +139,26 @@ std::vector<double> crop_values(const std::vector<double>& f, const std::vector<
   return out;
 }
 
-FrfSeries resample(const FrfSeries& s, const std::vector<double>& grid, Interpolation method, const std::string& what) {
+namespace {
+
+// What every resampling checks first: a usable series with enough points for the method, a
+// usable target grid, and every target inside the measured range.
+template <class Series>
+void check_resampling(const Series& s, const std::vector<double>& grid, Interpolation method, const std::string& what) {
   validate(s, what, method == Interpolation::Cubic ? 3 : 2);
   check_grid(grid);
   check_inside(s.frequency_hz, grid, what);
+}
+
+}  // namespace
+
+FrfSeries resample(const FrfSeries& s, const std::vector<double>& grid, Interpolation method, const std::string& what) {
+  check_resampling(s, grid, method, what);
   return {grid, interpolate(s.frequency_hz, s.values, grid, method)};
 }
 
 BlockSeries resample(const BlockSeries& s, const std::vector<double>& grid, Interpolation method, const std::string& what) {
-  validate(s, what, method == Interpolation::Cubic ? 3 : 2);
-  check_grid(grid);
-  check_inside(s.frequency_hz, grid, what);
+  check_resampling(s, grid, method, what);
   BlockSeries out;
   out.frequency_hz = grid;
   out.blocks.assign(grid.size(), Block::Zero());

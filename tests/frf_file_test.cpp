@@ -16,6 +16,7 @@
 #include "toolpoint/error.hpp"
 #include "toolpoint/frf_file.hpp"
 #include "toolpoint/io.hpp"
+#include "support/scratch.hpp"
 
 using namespace toolpoint;
 namespace fs = std::filesystem;
@@ -33,22 +34,7 @@ namespace {
 
 const std::string kUffDir = std::string(TOOLPOINT_TEST_DATA_DIR) + "/uff/";
 
-// A fresh folder per test, removed afterwards.
-class TempDir {
- public:
-  TempDir() {
-    path_ = fs::temp_directory_path() /
-            ("toolpoint_frf_file_" + std::to_string(::getpid()) + "_" +
-             ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() { fs::remove_all(path_); }
-  std::string operator/(const std::string& leaf) const { return (path_ / leaf).string(); }
-
- private:
-  fs::path path_;
-};
+using test::TempDir;
 
 // Single-DOF oscillator: H(f) = 1/(k − mω² + icω), m = 2 kg, k = 8e6 N/m, c = 150 N·s/m.
 Complex sdof_receptance(double f) {
@@ -77,17 +63,14 @@ UffDataset58 sdof_dataset(int numerator_code, std::size_t n = 400) {
   return d;
 }
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+std::string slurp(const std::string& path) { return read_text_file(path); }
 
+// `toolpoint ARGS`, its output kept in `out_file` for slurp().
 int run_cli(const std::string& args, const std::string& out_file) {
-  const std::string cmd = std::string(TOOLPOINT_CLI) + " " + args + " > " + out_file + " 2>&1";
-  const int status = std::system(cmd.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  std::string out;
+  const int code = test::run_toolpoint(args, &out);
+  write_text_file(out_file, out);
+  return code;
 }
 
 }  // namespace

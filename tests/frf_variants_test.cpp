@@ -10,8 +10,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <numbers>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <fmt/format.h>
 
@@ -19,6 +17,7 @@
 #include "toolpoint/frf_file.hpp"
 #include "toolpoint/io.hpp"
 #include "toolpoint/uff.hpp"
+#include "support/scratch.hpp"
 
 using namespace toolpoint;
 namespace fs = std::filesystem;
@@ -65,28 +64,9 @@ std::string error_of(const std::string& file, const FrfReadOptions& o = {}) {
   return "no error";
 }
 
-class TempDir {
- public:
-  TempDir() {
-    path_ = fs::temp_directory_path() / ("toolpoint_variants_" + std::to_string(::getpid()) + "_" +
-                                         ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() { fs::remove_all(path_); }
-  std::string operator/(const std::string& leaf) const { return (path_ / leaf).string(); }
+using test::TempDir;
 
- private:
-  fs::path path_;
-};
-
-int run_cli(const std::string& args, std::string* output = nullptr) {
-  const std::string log = fs::temp_directory_path() / ("toolpoint_variants_cli_" + std::to_string(::getpid()) + ".txt");
-  const int status = std::system((std::string(TOOLPOINT_CLI) + " " + args + " > " + log + " 2>&1").c_str());
-  if (output) *output = read_text_file(log);
-  fs::remove(log);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
+int run_cli(const std::string& args, std::string* output = nullptr) { return test::run_toolpoint(args, output); }
 
 }  // namespace
 

@@ -9,13 +9,12 @@
 #include <cstdlib>
 #include <filesystem>
 #include <numbers>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include "toolpoint/error.hpp"
 #include "toolpoint/frf_file.hpp"
 #include "toolpoint/io.hpp"
 #include "toolpoint/resample.hpp"
+#include "support/scratch.hpp"
 
 using namespace toolpoint;
 namespace fs = std::filesystem;
@@ -50,13 +49,7 @@ double worst_error(double step, Interpolation method, double lo, double hi) {
   return worst / std::abs(sdof(1600.0 * std::sqrt(1.0 - 2.0 * 0.02 * 0.02)));
 }
 
-int run_cli(const std::string& args, std::string* output = nullptr) {
-  const std::string log = fs::temp_directory_path() / ("toolpoint_resample_cli_" + std::to_string(::getpid()) + ".txt");
-  const int status = std::system((std::string(TOOLPOINT_CLI) + " " + args + " > " + log + " 2>&1").c_str());
-  if (output) *output = read_text_file(log);
-  fs::remove(log);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
+int run_cli(const std::string& args, std::string* output = nullptr) { return test::run_toolpoint(args, output); }
 
 }  // namespace
 
@@ -136,10 +129,8 @@ TEST(Resample, NeverExtrapolatesAndCropsInclusively) {
 }
 
 TEST(Resample, CommandLine) {
-  const fs::path dir = fs::temp_directory_path() / ("toolpoint_resample_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  const auto p = [&](const char* leaf) { return (dir / leaf).string(); };
+  const test::TempDir dir("toolpoint_resample");
+  const auto p = [&](const char* leaf) { return dir / leaf; };
   write_frf_csv(p("fine.csv"), sampled(1000, 2000, 2.5), {}, std::vector<double>(401, 0.95));
   write_frf_csv(p("coarse.csv"), sampled(1200, 1800, 10));
   std::string out;
@@ -176,5 +167,4 @@ TEST(Resample, CommandLine) {
                     &out),
             3);
   EXPECT_NE(out.find("toolpoint resample IN OUT --onto OTHER"), std::string::npos) << out;
-  fs::remove_all(dir);
 }

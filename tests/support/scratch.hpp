@@ -1,0 +1,50 @@
+// Shared helpers for the file tests: a scratch folder per test, and running the command line.
+#pragma once
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace toolpoint::test {
+
+// A fresh folder per test (named after the test and the process), removed afterwards.
+class TempDir {
+ public:
+  explicit TempDir(const std::string& prefix = "toolpoint_test") {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    path_ = std::filesystem::temp_directory_path() /
+            (prefix + "_" + std::to_string(::getpid()) + "_" + info->test_suite_name() + "_" + info->name());
+    std::filesystem::remove_all(path_);
+    std::filesystem::create_directories(path_);
+  }
+  ~TempDir() { std::filesystem::remove_all(path_); }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  std::string operator/(const std::string& leaf) const { return (path_ / leaf).string(); }
+
+ private:
+  std::filesystem::path path_;
+};
+
+// `toolpoint ARGS` (TOOLPOINT_CLI); stdout and stderr together in *output. Returns the exit code.
+inline int run_toolpoint(const std::string& args, std::string* output = nullptr) {
+  const std::string log =
+      (std::filesystem::temp_directory_path() / ("toolpoint_cli_log_" + std::to_string(::getpid()) + ".txt")).string();
+  const int status = std::system((std::string(TOOLPOINT_CLI) + " " + args + " > " + log + " 2>&1").c_str());
+  if (output) {
+    std::ifstream in(log, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    *output = ss.str();
+  }
+  std::filesystem::remove(log);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+}  // namespace toolpoint::test
