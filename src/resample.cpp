@@ -113,22 +113,23 @@ Interpolation parse_interpolation(const std::string& text_in, const std::string&
                         "use linear (no overshoot) or cubic (natural cubic spline)");
 }
 
+namespace {
+
+template <class V>
+V slice(const V& v, std::size_t begin, std::size_t end) {
+  return V(v.begin() + static_cast<std::ptrdiff_t>(begin), v.begin() + static_cast<std::ptrdiff_t>(end));
+}
+
+}  // namespace
+
 FrfSeries crop(const FrfSeries& s, double low, double high, const std::string& what) {
   const auto [b, e] = kept_range(s.frequency_hz, low, high, what);
-  FrfSeries out;
-  out.frequency_hz.assign(s.frequency_hz.begin() + static_cast<std::ptrdiff_t>(b),
-                          s.frequency_hz.begin() + static_cast<std::ptrdiff_t>(e));
-  out.values.assign(s.values.begin() + static_cast<std::ptrdiff_t>(b), s.values.begin() + static_cast<std::ptrdiff_t>(e));
-  return out;
+  return {slice(s.frequency_hz, b, e), slice(s.values, b, e)};
 }
 
 BlockSeries crop(const BlockSeries& s, double low, double high, const std::string& what) {
   const auto [b, e] = kept_range(s.frequency_hz, low, high, what);
-  BlockSeries out;
-  out.frequency_hz.assign(s.frequency_hz.begin() + static_cast<std::ptrdiff_t>(b),
-                          s.frequency_hz.begin() + static_cast<std::ptrdiff_t>(e));
-  out.blocks.assign(s.blocks.begin() + static_cast<std::ptrdiff_t>(b), s.blocks.begin() + static_cast<std::ptrdiff_t>(e));
-  return out;
+  return {slice(s.frequency_hz, b, e), slice(s.blocks, b, e)};
 }
 
 std::vector<double> crop_values(const std::vector<double>& f, const std::vector<double>& values, double low, double high) {

@@ -22,10 +22,6 @@
 using namespace toolpoint;
 namespace fs = std::filesystem;
 
-namespace uff_test {
-bool contains(const std::string& s, const std::string& part);
-bool any_contains(const std::vector<std::string>& messages, std::initializer_list<const char*> parts);
-}  // namespace uff_test
 using uff_test::any_contains;
 using uff_test::contains;
 

@@ -1,4 +1,5 @@
-// Shared helpers for the file tests: a scratch folder per test, and running the command line.
+// Shared helpers for the file tests: a scratch folder per test, running the command line, and the
+// message checks of uff_test.cpp.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -9,7 +10,9 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <initializer_list>
 #include <string>
+#include <vector>
 
 namespace toolpoint::test {
 
@@ -48,3 +51,9 @@ inline int run_toolpoint(const std::string& args, std::string* output = nullptr)
 }
 
 }  // namespace toolpoint::test
+
+// Message checks, defined in uff_test.cpp: `part` in `s`; every one of `parts` in one message.
+namespace uff_test {
+bool contains(const std::string& s, const std::string& part);
+bool any_contains(const std::vector<std::string>& messages, std::initializer_list<const char*> parts);
+}  // namespace uff_test
