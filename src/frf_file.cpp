@@ -332,6 +332,7 @@ UffReceptance uff_receptance(const UffDataset58& d, std::optional<FrfOrdinate> o
       r.warnings.push_back(fmt::format("{}: the units labels say '{}'; the units given, '{}', are used", what,
                                        labelled->label, units->label));
     scale_to_si(raw, *units, what, r.warnings);
+    r.units = *units;
   } else if (d.units && (d.units->force_factor != d.units->length_factor)) {
     // SI value = file value / factor: X_SI/F_SI = (X/fL)/(F/fF) = (X/F)·fF/fL; time stays in s.
     const double scale = d.units->force_factor / d.units->length_factor;
@@ -340,14 +341,18 @@ UffReceptance uff_receptance(const UffDataset58& d, std::optional<FrfOrdinate> o
                                      "'{}'): × force factor {} / length factor {} = × {}",
                                      what, d.units->line, d.units->code, d.units->description, d.units->force_factor,
                                      d.units->length_factor, scale));
+    r.units = {r.ordinate, scale, fmt::format("dataset 164 '{}'", d.units->description)};
   } else if (labelled && labelled->ordinate == r.ordinate) {
     scale_to_si(raw, *labelled, what, r.warnings);  // g/N × 9.80665, mm/N × 1e-3, …
-  } else if (!d.units || d.units->code == 1) {
-    for (const UffAxis* a : {&d.ordinate, &d.denominator})
-      if (const auto t = non_si_token(a->units))
-        r.warnings.push_back(fmt::format("{}: units label '{}' mentions '{}', which is not SI; toolpoint takes the "
-                                         "values as SI (m, s, N) — give --units if they are not",
-                                         what, a->units, *t));
+    r.units = *labelled;
+  } else {
+    r.units = {r.ordinate, 1.0, si_label(r.ordinate)};
+    if (!d.units || d.units->code == 1)
+      for (const UffAxis* a : {&d.ordinate, &d.denominator})
+        if (const auto t = non_si_token(a->units))
+          r.warnings.push_back(fmt::format("{}: units label '{}' mentions '{}', which is not SI; toolpoint takes the "
+                                           "values as SI (m, s, N) — give --units if they are not",
+                                           what, a->units, *t));
   }
   r.receptance = to_receptance(raw, r.ordinate, r.warnings, what);
   validate(r.receptance, what);
@@ -618,7 +623,7 @@ FrfFileData read_frf_file(const std::string& path, const FrfReadOptions& o) {
       out.warnings.insert(out.warnings.end(), r.warnings.begin(), r.warnings.end());
       out.single = std::move(r.receptance);
       out.ordinate = r.ordinate;
-      out.units = o.units.value_or(FrfUnits{r.ordinate, 1.0, si_label(r.ordinate)});
+      out.units = r.units;
       out.dof = {d.response_node, d.response_direction, d.reference_node, d.reference_direction};
       out.description = fmt::format("{} dataset {} '{}', response {} {}, reference {} {}", path, d.index, d.id[0],
                                     d.response_node, uff_direction_name(d.response_direction), d.reference_node,

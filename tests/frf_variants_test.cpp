@@ -395,3 +395,25 @@ TEST(FrfVariants, RotationalNodeMappingAndDirection) {
   EXPECT_TRUE(contains(out, "is not given, and N needs it")) << out;
   EXPECT_FALSE(fs::exists(dir / "d.csv"));
 }
+
+// The case: accelerance in g read as receptance gave negative modal masses. Read with its
+// units, an accelerometer file in g/N gives the oscillator's own modal mass, 0.04 kg, through
+// `modes` (the fit of noise-free data: 1 %), and FrfFileData says what the values were.
+TEST(FrfVariants, AccelerometerFileInGGivesTheModalMass) {
+  TempDir dir;
+  std::string text = "Frequency (Hz),Real (g/N),Imag (g/N)\n";
+  for (int i = 0; i <= 80; ++i) {
+    const double f = 1200.0 + 10.0 * i, w = 2.0 * std::numbers::pi * f;
+    const Complex a = -w * w * sdof(f) / 9.80665;
+    text += fmt::format("{},{},{}\n", f, a.real(), a.imag());
+  }
+  write_text_file(dir / "acc.csv", text);
+  const FrfFileData r = read_frf_file(dir / "acc.csv");
+  EXPECT_EQ(r.units.label, "g/N");
+  EXPECT_EQ(r.ordinate, FrfOrdinate::Accelerance);
+  std::string out;
+  ASSERT_EQ(run_cli("modes " + dir / "acc.csv --max-modes 1 --json", &out), 0) << out;
+  const std::size_t at = out.find("\"modal_mass_kg\": ");
+  ASSERT_NE(at, std::string::npos) << out;
+  EXPECT_NEAR(std::stod(out.substr(at + 17)), 0.04, 0.0004) << out;
+}

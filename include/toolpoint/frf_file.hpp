@@ -103,6 +103,7 @@ FrfSeries to_receptance(const FrfSeries& series, FrfOrdinate ordinate, std::vect
 struct UffReceptance {
   FrfSeries receptance;
   FrfOrdinate ordinate = FrfOrdinate::Receptance;  // what the dataset held (after any override)
+  FrfUnits units;                                   // the units its values were read in
   std::vector<std::string> warnings;
 };
 UffReceptance uff_receptance(const UffDataset58& dataset, std::optional<FrfOrdinate> ordinate,
