@@ -417,3 +417,36 @@ TEST(FrfVariants, AccelerometerFileInGGivesTheModalMass) {
   ASSERT_NE(at, std::string::npos) << out;
   EXPECT_NEAR(std::stod(out.substr(at + 17)), 0.04, 0.0004) << out;
 }
+
+// Fuzz findings of the issue. A file of many empty datasets: the listing is linear (measured by
+// the benchmark list_empty_datasets) and its messages, and the error of a conversion, are capped
+// (the first few, then a count: it printed 33 MB before). A number field of 83 characters that is
+// exactly 1 (it was cut to 71 characters and read as 0).
+TEST(FrfVariants, FuzzFindingsCappedMessagesAndLongNumbers) {
+  TempDir dir;
+  std::string empty;
+  for (int i = 0; i < 50000; ++i) empty += "    -1\n    58\n    -1\n";
+  write_text_file(dir / "empty.uff", empty);
+  std::string out;
+  EXPECT_EQ(run_cli("convert " + dir / "empty.uff --list", &out), 0) << out.substr(0, 2000);
+  EXPECT_LT(out.size(), 4000u);
+  EXPECT_TRUE(contains(out, "0 dataset(s) 58")) << out;
+  EXPECT_TRUE(contains(out, "… and 49990 more datasets 58 skipped (all of them: --list --json)")) << out;
+  EXPECT_EQ(run_cli("convert " + dir / "empty.uff " + dir / "x.csv", &out), 3);
+  EXPECT_LT(out.size(), 2000u);
+  EXPECT_TRUE(contains(out, "0 dataset(s) of other types, 50000 dataset(s) 58 unreadable")) << out;
+  EXPECT_TRUE(contains(out, "… and 49995 more")) << out;
+
+  const std::string one = "0." + std::string(80, '0') + "1E+81";  // 83 characters, exactly 1
+  const std::string text = "    -1\n    58\nNONE\nNONE\nNONE\nNONE\nNONE\n"
+                           "    4         0    0         0 NONE               1   3 NONE               1   3\n"
+                           "         4         1         1  1.00000E+01  1.00000E+00  0.00000E+00\n"
+                           "        18    0    0    0 Frequency            Hz\n"
+                           "         8    0    0    0 Response             m\n"
+                           "        13    0    0    0 Force                N\n"
+                           "         0    0    0    0 NONE                 NONE\n" +
+                           one + "\n    -1\n";
+  const UffFile f = parse_uff(text, "long.uff");
+  ASSERT_EQ(f.functions.size(), 1u) << (f.skipped.empty() ? "" : f.skipped[0]);
+  EXPECT_EQ(f.functions[0].y.at(0), Complex(1.0, 0.0));
+}
