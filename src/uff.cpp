@@ -99,7 +99,7 @@ bool is_digit(char c) { return c >= '0' && c <= '9'; }
 // For a decimal number from_chars found out of range: whether it is too small (not too large).
 // The exponent of its leading digit decides: mantissa digits before the point (less leading
 // zeros, or minus the zeros after the point) plus the written exponent.
-bool beyond_range_is_tiny(const std::string& number) {
+bool beyond_range_is_tiny(std::string_view number) {
   long long lead = 0;  // decimal exponent of the first nonzero digit, before the written exponent
   bool seen_point = false, seen_digit = false;
   std::size_t k = number[0] == '-' ? 1 : 0;
@@ -128,6 +128,12 @@ bool beyond_range_is_tiny(const std::string& number) {
   return lead + exponent < 0;
 }
 
+// The slow path of scan_reals' buffer: a number longer than the small buffer goes on in `big`.
+[[gnu::noinline]] void append_long(std::string& big, const char* small, std::size_t k, char ch) {
+  if (big.size() != k) big.assign(small, k);
+  big += ch;
+}
+
 // Scans Fortran-style reals from `text` into `out`. Numbers are separated by blanks, tabs or
 // commas, or run together when a fixed-width field is full ("-1.5E-02-2.5E-02"); the exponent
 // letter is E, e, D or d, or absent before a signed exponent of up to three digits ("1.5-100",
@@ -136,9 +142,10 @@ bool beyond_range_is_tiny(const std::string& number) {
 std::size_t scan_reals(std::string_view text, std::vector<double>& out) {
   const std::size_t n = text.size();
   std::size_t i = 0;
-  // The number as from_chars reads it (D exponents and missing E letters mended). Any length:
-  // a 90-digit field is read exactly, never cut.
-  thread_local std::string buf;
+  // The number as from_chars reads it (D exponents and missing E letters mended), in a small
+  // buffer, or in `long_number` when longer: any length is read exactly, never cut.
+  char small[64];
+  std::string long_number;
   while (i < n) {
     const char c = text[i];
     if (is_blank_char(c) || c == ',') {
@@ -146,8 +153,12 @@ std::size_t scan_reals(std::string_view text, std::vector<double>& out) {
       continue;
     }
     const std::size_t start = i;
-    buf.clear();
-    auto put = [&](char ch) { buf += ch; };
+    std::size_t k = 0;
+    auto put = [&](char ch) __attribute__((always_inline)) {
+      if (k < sizeof(small)) [[likely]] small[k] = ch;
+      else append_long(long_number, small, k, ch);
+      ++k;
+    };
     bool negative = false;
     if (c == '+' || c == '-') {
       negative = c == '-';
@@ -191,13 +202,13 @@ std::size_t scan_reals(std::string_view text, std::vector<double>& out) {
       for (int d = 0; d < 3 && i < n && is_digit(text[i]); ++d) put(text[i++]);
     }
     double v = 0.0;
-    const char* b = buf.data();
-    const char* e = b + buf.size();
+    const char* b = k <= sizeof(small) ? small : long_number.data();
+    const char* e = b + k;
     const auto [ptr, ec] = std::from_chars(b, e, v);
     if (ec == std::errc::result_out_of_range) {
       // Beyond double range: below about 1e-308 is zero, above 1.8e308 infinite (from_chars tells
       // which by the value it would round to: decide by the decimal exponent of the mantissa).
-      v = beyond_range_is_tiny(buf) ? 0.0 : std::numeric_limits<double>::infinity();
+      v = beyond_range_is_tiny(std::string_view(b, k)) ? 0.0 : std::numeric_limits<double>::infinity();
       if (negative) v = -v;
     } else if (ec != std::errc() || ptr != e) {
       return start;
