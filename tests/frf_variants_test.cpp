@@ -425,17 +425,17 @@ TEST(FrfVariants, AccelerometerFileInGGivesTheModalMass) {
 TEST(FrfVariants, FuzzFindingsCappedMessagesAndLongNumbers) {
   TempDir dir;
   std::string empty;
-  for (int i = 0; i < 50000; ++i) empty += "    -1\n    58\n    -1\n";
+  for (int i = 0; i < 20000; ++i) empty += "    -1\n    58\n    -1\n";
   write_text_file(dir / "empty.uff", empty);
   std::string out;
   EXPECT_EQ(run_cli("convert " + dir / "empty.uff --list", &out), 0) << out.substr(0, 2000);
   EXPECT_LT(out.size(), 4000u);
   EXPECT_TRUE(contains(out, "0 dataset(s) 58")) << out;
-  EXPECT_TRUE(contains(out, "… and 49990 more datasets 58 skipped (all of them: --list --json)")) << out;
+  EXPECT_TRUE(contains(out, "… and 19990 more datasets 58 skipped (all of them: --list --json)")) << out;
   EXPECT_EQ(run_cli("convert " + dir / "empty.uff " + dir / "x.csv", &out), 3);
   EXPECT_LT(out.size(), 2000u);
-  EXPECT_TRUE(contains(out, "0 dataset(s) of other types, 50000 dataset(s) 58 unreadable")) << out;
-  EXPECT_TRUE(contains(out, "… and 49995 more")) << out;
+  EXPECT_TRUE(contains(out, "0 dataset(s) of other types, 20000 dataset(s) 58 unreadable")) << out;
+  EXPECT_TRUE(contains(out, "… and 19995 more")) << out;
 
   const std::string one = "0." + std::string(80, '0') + "1E+81";  // 83 characters, exactly 1
   const std::string text = "    -1\n    58\nNONE\nNONE\nNONE\nNONE\nNONE\n"
