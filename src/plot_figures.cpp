@@ -316,9 +316,14 @@ Figure joint_figure(const JointFigureData& data) {
                           data.frequency_hz.size()));
       const auto reference = damping ? jp.reference_damping : jp.reference_stiffness;
       const auto identified = damping ? jp.identified_damping : jp.identified_stiffness;
+      const auto interval = damping ? jp.damping_interval : jp.stiffness_interval;
+      const bool undetermined = damping ? jp.damping_undetermined : jp.stiffness_undetermined;
       std::vector<double> lines;
       if (reference) lines.push_back(*reference);
       if (identified) lines.push_back(*identified);
+      if (interval && !undetermined) lines.push_back(interval->first), lines.push_back(interval->second);
+      const auto other = damping ? jp.other_damping : jp.other_stiffness;
+      if (other) lines.push_back(*other);
       // The scale comes from the values a reader looks at: the robust range, or all values.
       const auto [lo, hi] = robust_range(data.frequency_hz, values, data.band_hz, lines);
       const int exponent = data.robust_range ? engineering_exponent({lo, hi}) : engineering_exponent(values);
@@ -332,8 +337,14 @@ Figure joint_figure(const JointFigureData& data) {
       if (reference)
         p.horizontal_lines.push_back({*reference * factor, fmt::format("reference {:.4g} {}", *reference * factor, shown_unit)});
       if (identified)
-        p.horizontal_lines.push_back(
-            {*identified * factor, fmt::format("identified {:.4g} {}", *identified * factor, shown_unit)});
+        p.horizontal_lines.push_back({*identified * factor, fmt::format("identified {:.4g} {}{}", *identified * factor, shown_unit,
+                                                                       undetermined ? ": UNDETERMINED by these data" : "")});
+      if (other) p.horizontal_lines.push_back({*other * factor, fmt::format("{} {:.4g} {}", jp.other_label, *other * factor, shown_unit)});
+      if (interval && !undetermined) {
+        p.horizontal_lines.push_back({interval->first * factor, fmt::format("95 % interval {:.4g}…{:.4g}", interval->first * factor,
+                                                                            interval->second * factor)});
+        p.horizontal_lines.push_back({interval->second * factor, ""});
+      }
       if (data.band_hz)
         p.bands.push_back({data.band_hz->first, data.band_hz->second, fig.panels.empty() ? "identification band" : ""});
       if (data.robust_range) {

@@ -22,6 +22,7 @@
 
 #include "toolpoint/frf_file.hpp"
 #include "toolpoint/identify.hpp"
+#include "toolpoint/joint_fit.hpp"
 #include "toolpoint/plot.hpp"
 #include "toolpoint/receptance.hpp"
 
@@ -35,6 +36,7 @@ enum ExitCode : int {
   kExitInput = 3,      // bad input file content
   kExitNumerical = 4,  // singular inversion, no convergence
   kExitIo = 5,         // cannot read or write a file (or draw a requested figure)
+  kExitVerdict = 6,    // a result judged wrong by its own checks (identify's verdict fail; --accept overrides)
 };
 
 // Options every subcommand sees.
@@ -88,8 +90,11 @@ void draw_figures(const Globals& g, const std::vector<FigureFile>& figures, cons
 
 // One of the joint's four stiffness/damping pairs (0 yf, 1 ym, 2 θf, 3 θm) of an identified K(ω)
 // as a joint-figure curve, with optional reference and identified values drawn as lines.
+// With `fit`, the identified values' intervals and verdicts; with `seed` (a read-out), a value whose
+// noise gain exceeds 20 or whose spread exceeds it is marked undetermined.
 plot::JointParameterCurve joint_curve(const JointSeries& series, int pair, const std::optional<JointParameters>& reference,
-                                      const std::optional<JointParameters>& identified);
+                                      const std::optional<JointParameters>& identified, const JointFit* fit = nullptr,
+                                      const JointReadout* seed = nullptr);
 
 // `path` with `suffix` before its extension: ("lobes.png", "_chatter") → "lobes_chatter.png".
 std::string with_suffix(const std::string& path, const std::string& suffix);

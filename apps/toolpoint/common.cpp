@@ -69,7 +69,7 @@ std::string with_suffix(const std::string& path, const std::string& suffix) {
 }
 
 plot::JointParameterCurve joint_curve(const JointSeries& series, int pair, const std::optional<JointParameters>& reference,
-                                      const std::optional<JointParameters>& identified) {
+                                      const std::optional<JointParameters>& identified, const JointFit* fit, const JointReadout* seed) {
   static const char* subscripts[4] = {"yf", "ym", "{/Symbol q}f", "{/Symbol q}m"};
   plot::JointParameterCurve c;
   c.name = subscripts[pair];
@@ -81,6 +81,19 @@ plot::JointParameterCurve joint_curve(const JointSeries& series, int pair, const
   }
   if (reference) c.reference_stiffness = (*reference)[2 * pair], c.reference_damping = (*reference)[2 * pair + 1];
   if (identified) c.identified_stiffness = (*identified)[2 * pair], c.identified_damping = (*identified)[2 * pair + 1];
+  const auto k = static_cast<std::size_t>(2 * pair), d = k + 1;
+  if (fit) {
+    c.stiffness_interval = std::make_pair(fit->intervals[k].lower, fit->intervals[k].upper);
+    c.damping_interval = std::make_pair(fit->intervals[d].lower, fit->intervals[d].upper);
+    c.stiffness_undetermined = !fit->intervals[k].determined;
+    c.damping_undetermined = !fit->intervals[d].determined;
+  } else if (seed) {
+    auto undetermined = [&](std::size_t i) {
+      return seed->noise_gain[i] > 20.0 || seed->parameters[i].spread > std::abs(seed->parameters[i].median);
+    };
+    c.stiffness_undetermined = undetermined(k);
+    c.damping_undetermined = undetermined(d);
+  }
   return c;
 }
 

@@ -37,8 +37,8 @@
 //
 // Uncertainty (UncertaintyMethod).
 //   Linearised: the sandwich covariance above (A = Jᵀ Ω J) with the noise models' Σ — right even
-//     though the working weights are floored — scaled up by the residual ratio when the data
-//     scatter more than the noise models explain.
+//     though the working weights are floored — scaled up by √(residual ratio) when the data
+//     scatter more than the noise models explain (ratio above 1.1).
 //   Bootstrap (default): a parametric bootstrap on the fitted model (Efron & Tibshirani 1993,
 //     ch. 6 and 10). In each replicate the "truth" is θ̂ and the smoothed measured B11; data are
 //     drawn from the noise models (a fresh B11 and G11 = model(θ̂) + noise, G11 filtered if the
@@ -46,8 +46,8 @@
 //     smoothed B11, whose noise then correlates with the fit's). The replicates' mean minus θ̂
 //     estimates the bias — second order in the noise: B11's noise inside a nonlinear model
 //     (errors in variables), the weights' dependence on B11 — which is subtracted; their spread gives the
-//     standard error. Intervals: bias-corrected estimate ± z·SE, SE scaled up by the residual
-//     ratio as above. Coverage of these intervals is measured over noise seeds in the tests and
+//     standard error. Intervals: bias-corrected estimate ± z·SE, SE scaled up as above. Coverage
+//     of these intervals is measured over noise seeds in the tests and
 //     the README (toolpoint_coverage).
 // A parameter is *determined* when its interval excludes 0 and is narrower than |estimate|.
 //
@@ -138,7 +138,7 @@ struct JointFit {
   bool reciprocal = true;
   std::size_t points = 0;                      // frequencies fitted, all set-ups
   // Weighted residual sum over its expectation under the noise models (≈ 1 when the model and the
-  // noise models explain the data; NaN for exact data). Intervals are widened by √ratio above 1.
+  // noise models explain the data; NaN for exact data). Intervals are widened by √ratio above 1.1.
   double residual_ratio = 0.0;
   int iterations = 0;
   bool converged = false;

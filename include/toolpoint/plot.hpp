@@ -250,6 +250,14 @@ struct JointParameterCurve {
   std::vector<double> damping;    // per frequency; empty: no damping panel
   std::optional<double> reference_stiffness, reference_damping;    // drawn as horizontal lines
   std::optional<double> identified_stiffness, identified_damping;  // ditto
+  // The identified values' intervals (drawn as two lines when the value is determined) and whether
+  // the data leave the value undetermined (then said in its label, and no interval drawn: it
+  // would dwarf the curve).
+  std::optional<std::pair<double, double>> stiffness_interval, damping_interval;
+  bool stiffness_undetermined = false, damping_undetermined = false;
+  // A second identified value to compare with (the seed's read-out beside a band fit).
+  std::optional<double> other_stiffness, other_damping;
+  std::string other_label = "seed read-out";
 };
 
 struct JointFigureData {

@@ -1,0 +1,183 @@
+// toolpoint: results as JSON (json.hpp).
+#include "toolpoint/json.hpp"
+
+#include <cmath>
+#include <fmt/format.h>
+
+namespace toolpoint {
+
+namespace {
+
+// NaN and ±inf are not JSON numbers: null.
+nlohmann::json number(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
+
+nlohmann::json numbers(const std::vector<double>& v) {
+  nlohmann::json a = nlohmann::json::array();
+  for (double x : v) a.push_back(number(x));
+  return a;
+}
+
+std::string level_key(const char* side, double confidence) {
+  return fmt::format("{}{}", side, std::lround(100.0 * confidence));
+}
+
+}  // namespace
+
+nlohmann::json to_json(const JointParameters& p) {
+  nlohmann::json j;
+  for (int k = 0; k < 8; ++k) j[JointParameters::name(k)] = number(p[k]);
+  return j;
+}
+
+nlohmann::json to_json(const JointFit& f) {
+  nlohmann::json j;
+  for (int k = 0; k < 8; ++k) {
+    const ParameterInterval& iv = f.intervals[static_cast<std::size_t>(k)];
+    j["parameters"][JointParameters::name(k)] = {{"estimate", number(iv.estimate)},
+                                                  {level_key("lower", f.confidence), number(iv.lower)},
+                                                  {level_key("upper", f.confidence), number(iv.upper)},
+                                                  {"std_error", number(iv.std_error)},
+                                                  {"fitted", number(iv.fitted)},
+                                                  {"bias", number(iv.bias)},
+                                                  {"determined", iv.determined},
+                                                  {"free", iv.free},
+                                                  {"unit", JointParameters::unit(k)}};
+  }
+  j["confidence"] = f.confidence;
+  j["interval_method"] = f.method == UncertaintyMethod::Bootstrap ? "bootstrap" : "linearised";
+  j["interval_description"] = f.method_description;
+  j["bootstrap_samples"] = f.bootstrap_samples;
+  j["reciprocal"] = f.reciprocal;
+  j["points"] = f.points;
+  j["residual_ratio"] = number(f.residual_ratio);
+  j["iterations"] = f.iterations;
+  j["converged"] = f.converged;
+  nlohmann::json corr = nlohmann::json::array(), cov = nlohmann::json::array();
+  const auto c = f.correlation();
+  for (int i = 0; i < 8; ++i) {
+    nlohmann::json rc = nlohmann::json::array(), rv = nlohmann::json::array();
+    for (int k = 0; k < 8; ++k) rc.push_back(number(c(i, k))), rv.push_back(number(f.covariance(i, k)));
+    corr.push_back(rc);
+    cov.push_back(rv);
+  }
+  j["correlation"] = corr;
+  j["covariance"] = cov;
+  if (!f.setups.empty()) {
+    nlohmann::json s = nlohmann::json::array();
+    for (const SetupFit& x : f.setups) {
+      nlohmann::json se;
+      for (int k = 0; k < 8; ++k) se[JointParameters::name(k)] = number(x.std_error[static_cast<std::size_t>(k)]);
+      s.push_back({{"label", x.label}, {"parameters", to_json(x.fitted)}, {"std_error", se}, {"residual_ratio", number(x.residual_ratio)},
+                   {"disagreement", number(x.disagreement)}});
+    }
+    j["setups"] = s;
+    j["transfer"] = {{"statistic", number(f.transfer_statistic)}, {"limit_99_9", number(f.transfer_limit)}, {"transfers", f.transfers}};
+  }
+  j["warnings"] = f.warnings;
+  return j;
+}
+
+nlohmann::json to_json(const JointReadout& r) {
+  nlohmann::json j;
+  j["band_hz"] = {r.band_lo_hz, r.band_hi_hz};
+  j["points"] = r.points;
+  for (int k = 0; k < 8; ++k) {
+    const auto& p = r.parameters[static_cast<std::size_t>(k)];
+    j["parameters"][JointParameters::name(k)] = {{"median", number(p.median)}, {"spread", number(p.spread)}, {"min", number(p.min)},
+                                                  {"max", number(p.max)},       {"noise_gain", number(r.noise_gain[static_cast<std::size_t>(k)])},
+                                                  {"unit", JointParameters::unit(k)}};
+  }
+  j["reciprocity"] = {{"k_ym_vs_k_tf", number(r.reciprocity_k)}, {"c_ym_vs_c_tf", number(r.reciprocity_c)}};
+  j["max_condition_numbers"] = {{"A11_minus_G11", number(r.max_cond_difference)}, {"K_inverse", number(r.max_cond_flexibility)}};
+  j["warnings"] = r.warnings;
+  return j;
+}
+
+nlohmann::json to_json(const std::vector<ModeComparison>& check) {
+  nlohmann::json a = nlohmann::json::array();
+  for (const ModeComparison& c : check)
+    a.push_back({{"measured_hz", number(c.measured_hz)},
+                 {"predicted_hz", number(c.predicted_hz)},
+                 {"frequency_error_percent", number(100 * c.frequency_error)},
+                 {"measured_peak_m_per_n", number(c.measured_peak)},
+                 {"predicted_peak_m_per_n", number(c.predicted_peak)},
+                 {"peak_error_percent", number(100 * c.magnitude_error)}});
+  return a;
+}
+
+nlohmann::json to_json(const EffectAnalysis& e) {
+  nlohmann::json modes = nlohmann::json::array();
+  for (const ModeEffect& m : e.modes)
+    modes.push_back({{"frequency_hz", number(m.frequency_hz)},
+                     {"peak_m_per_n", number(m.magnitude)},
+                     {"shift_percent_per_10_percent_k", number(100 * m.stiffness_shift)},
+                     {"peak_change_percent_per_10_percent_c", number(100 * m.damping_effect)}});
+  return {{"modes", modes}, {"dominant_index", e.dominant}, {"dominant_hz", number(e.modes.at(e.dominant).frequency_hz)}};
+}
+
+nlohmann::json to_json(const ModeChoice& c) {
+  nlohmann::json j = {{"method", c.method}, {"center_hz", number(c.center_hz)}, {"band_hz", {number(c.lo_hz), number(c.hi_hz)}}};
+  if (c.effect) j["effect_analysis"] = to_json(*c.effect);
+  if (c.overhang) j["overhang_modes"] = {{"relative_variation", numbers(c.overhang->relative_variation)}, {"dominant_index", c.overhang->dominant}};
+  return j;
+}
+
+nlohmann::json to_json(const BlockNoise& n) {
+  return {{"source", n.source},
+          {"magnitude_sigma", numbers({n.magnitude_sigma.begin(), n.magnitude_sigma.end()})},
+          {"phase_sigma_rad", numbers({n.phase_sigma_rad.begin(), n.phase_sigma_rad.end()})},
+          {"residual_correlation", number(n.residual_correlation)}};
+}
+
+nlohmann::json to_json(const Identification& id) {
+  nlohmann::json j;
+  j["interface"] = id.route == Route::HolderTool ? "holder_tool" : "spindle_holder";
+  j["route"] = to_string(id.route);
+  j["equation"] = id.equation;
+  j["method"] = to_string(id.method);
+  if (id.fit) {
+    nlohmann::json f = to_json(*id.fit);
+    j["parameters"] = f["parameters"];
+    f.erase("parameters");
+    f["band_hz"] = {id.fit_band_hz.first, id.fit_band_hz.second};
+    j["fit"] = f;
+  } else {
+    for (int k = 0; k < 8; ++k) {
+      const auto& p = id.seed.parameters[static_cast<std::size_t>(k)];
+      const double gain = id.seed.noise_gain[static_cast<std::size_t>(k)];
+      j["parameters"][JointParameters::name(k)] = {{"estimate", number(p.median)},
+                                                    {"lower95", nullptr},
+                                                    {"upper95", nullptr},
+                                                    {"determined", gain <= 20.0 && p.spread <= std::abs(p.median)},
+                                                    {"unit", JointParameters::unit(k)}};
+    }
+  }
+  if (id.seed.points > 0) j["seed_readout"] = to_json(id.seed);
+  j["mode_choice"] = to_json(id.mode);
+  nlohmann::json noise = nlohmann::json::array();
+  for (std::size_t s = 0; s < id.g_noise.size(); ++s) noise.push_back({{"G11", to_json(id.g_noise[s])}, {"B11", to_json(id.b_noise[s])}});
+  j["noise"] = noise;
+  j["forward_check"] = to_json(id.forward_check);
+  j["verdict"] = {{"verdict", to_string(id.verdict.verdict)}, {"reasons", id.verdict.reasons}};
+  j["warnings"] = id.warnings;
+  return j;
+}
+
+nlohmann::json to_json(const FrfBand& b) {
+  nlohmann::json mag = nlohmann::json::object(), ph = nlohmann::json::object();
+  for (std::size_t l = 0; l < b.levels.size(); ++l) {
+    const std::string key = fmt::format("q{:g}", 100 * b.levels[l]);
+    mag[key] = numbers(b.magnitude[l]);
+    ph[key] = numbers(b.phase_rad[l]);
+  }
+  return {{"frequency_hz", numbers(b.frequency_hz)}, {"levels", b.levels}, {"samples", b.samples}, {"magnitude_m_per_n", mag}, {"phase_rad", ph}};
+}
+
+nlohmann::json to_json(const StabilityUncertainty& s) {
+  nlohmann::json d = nlohmann::json::object();
+  for (std::size_t l = 0; l < s.levels.size(); ++l) d[fmt::format("q{:g}", 100 * s.levels[l])] = numbers(s.depth_m[l]);
+  return {{"speed_rpm", numbers(s.speed_rpm)}, {"levels", s.levels}, {"samples", s.samples}, {"nominal_depth_m", numbers(s.nominal_depth_m)},
+          {"depth_m", d}, {"depth_grid_m", numbers(s.depth_grid_m)}};
+}
+
+}  // namespace toolpoint
