@@ -79,12 +79,7 @@ JointFile parse_joint_file(const std::string& text, const std::string& source) {
   if (*iface == "holder_tool") f.interface = JointInterface::HolderTool;
   else if (*iface == "spindle_holder") f.interface = JointInterface::SpindleHolder;
   else r.fail(*jt->get("interface"), fmt::format("joint.interface = \"{}\": expected \"holder_tool\" or \"spindle_holder\"", *iface));
-  // The parameters as an assembly file's joint table, without `interface`.
-  toml::table params = *jt;
-  params.erase("interface");
-  const Joint j = read_joint_table(r, &params, "joint");
-  if (j.rigid) r.fail(*jt, "a joint file holds an elastic joint: rigid = true has nothing to identify");
-  f.parameters = j.parameters;
+  f.parameters = read_joint_table(r, jt, "joint", true).parameters;
 
   if (const toml::table* ut = r.table(root, "uncertainty", "", false)) {
     r.only(*ut, "uncertainty", {"confidence", "lower", "upper", "determined", "covariance"});
@@ -121,6 +116,7 @@ JointFile parse_joint_file(const std::string& text, const std::string& source) {
         for (std::size_t k = 0; k < 8; ++k)
           u.covariance(static_cast<int>(i), static_cast<int>(k)) = number(*row->get(k), fmt::format("uncertainty.covariance[{}][{}]", i, k));
       }
+      if ((u.covariance.diagonal().array() < 0.0).any()) r.fail(*n, "uncertainty.covariance has a negative variance");
       const double scale = u.covariance.diagonal().cwiseAbs().maxCoeff();
       for (int i = 0; i < 8; ++i)
         for (int k = 0; k < i; ++k)
@@ -136,7 +132,6 @@ JointFile parse_joint_file(const std::string& text, const std::string& source) {
         }
       if (scale > 0.0 && Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 8, 8>>(c).eigenvalues()(0) < -1e-6)
         r.fail(*n, "uncertainty.covariance is not positive semidefinite: not a covariance");
-      if ((u.covariance.diagonal().array() < 0.0).any()) r.fail(*n, "uncertainty.covariance has a negative variance");
     }
     f.uncertainty = u;
   }

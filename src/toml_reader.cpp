@@ -13,9 +13,10 @@ toml::table parse_toml(const std::string& text, const std::string& source, const
   }
 }
 
-Joint read_joint_table(Reader& r, const toml::table* t, const std::string& path) {
+Joint read_joint_table(Reader& r, const toml::table* t, const std::string& path, bool joint_file) {
   if (!t) return Joint::make_rigid();
-  r.only(*t, path, {"rigid", "k_yf", "c_yf", "k_ym", "c_ym", "k_tf", "c_tf", "k_tm", "c_tm"});
+  if (joint_file) r.only(*t, path, {"interface", "k_yf", "c_yf", "k_ym", "c_ym", "k_tf", "c_tf", "k_tm", "c_tm"});
+  else r.only(*t, path, {"rigid", "k_yf", "c_yf", "k_ym", "c_ym", "k_tf", "c_tf", "k_tm", "c_tm"});
   if (r.boolean(*t, "rigid", path).value_or(false)) {
     if (t->size() > 1) r.fail(*t, fmt::format("[{}] has rigid = true and stiffness values: choose one", path));
     return Joint::make_rigid();

@@ -127,7 +127,8 @@ class Reader {
 };
 
 // A joint's table: `rigid = true`, or the eight parameters (k_θf, c_θf default to k_ym, c_ym: a
-// reciprocal joint needs six). `t` null: rigid (the table is absent).
-Joint read_joint_table(Reader& r, const toml::table* t, const std::string& path);
+// reciprocal joint needs six). `t` null: rigid (the table is absent). A joint file's [joint]
+// (`joint_file`) has the key `interface` and no `rigid`.
+Joint read_joint_table(Reader& r, const toml::table* t, const std::string& path, bool joint_file = false);
 
 }  // namespace toolpoint

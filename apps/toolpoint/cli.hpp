@@ -22,6 +22,8 @@
 
 #include "toolpoint/frf_file.hpp"
 #include "toolpoint/identify.hpp"
+#include "toolpoint/joint_file.hpp"
+#include "toolpoint/uncertainty.hpp"
 #include "toolpoint/joint_fit.hpp"
 #include "toolpoint/plot.hpp"
 #include "toolpoint/receptance.hpp"
@@ -57,7 +59,32 @@ struct LoadedModel {
   LoadedAssembly loaded;
   AssemblyModel model;
 };
-LoadedModel load_model(const Globals& g, const std::string& path, const std::string& frequencies = {});
+LoadedModel load_model(const Globals& g, const std::string& path, const std::string& frequencies = {},
+                       const std::vector<JointFile>& joints = {});
+
+// ---- Joint files -----------------------------------------------------------------------------
+
+// Adds `--joint INTERFACE=FILE.toml` (repeatable; INTERFACE holder-tool or spindle-holder, or just
+// FILE.toml): identified joints (`toolpoint identify --joint-output`) in place of the assembly
+// file's.
+CLI::Option* add_joint_option(CLI::App* command, std::vector<std::string>& target);
+// Reads the joint files of --joint options (InvalidArgument when the interface named in the option
+// is not the file's, or one interface is given twice) and says which joints are replaced (info).
+std::vector<JointFile> read_joint_options(const Globals& g, const std::vector<std::string>& specs);
+// The assembly with the files' joints in place.
+Assembly with_joints(const Assembly& assembly, const std::vector<JointFile>& files);
+
+// Monte Carlo over a joint's uncertainty (--samples N, --seed, --threads), for the commands that
+// carry it forward. Adds the options; `sampled` picks the one --joint file with an [uncertainty]
+// (InvalidArgument when none or several have one).
+struct SamplingOptions {
+  int samples = 0;
+  std::uint64_t seed = 1;
+  int threads = 0;
+};
+void add_sampling_options(CLI::App* command, SamplingOptions& target, const std::string& what);
+const JointFile& sampled_joint(const std::vector<JointFile>& files);
+UncertaintyOptions uncertainty_options(const SamplingOptions& s);
 
 // The example assembly compiled into the binary (examples/bt40_shrinkfit_16mm.toml).
 const char* example_assembly_toml();

@@ -24,6 +24,7 @@ namespace {
 
 struct CoupleOptions {
   std::string sh, assembly, overhang, output, plot;
+  std::vector<std::string> joints;
   double prominence = 0.1;
   bool json = false;
 };
@@ -67,8 +68,10 @@ void run_couple(const CoupleOptions& o, const Globals& g) {
   const bool sweep = overhangs.size() > 1 || o.overhang.find(':') != std::string::npos;
   if (sweep && o.output.empty())
     throw InvalidArgument("an overhang sweep needs --output DIR for its files", "add --output overhangs");
+  const std::vector<JointFile> joints = read_joint_options(g, o.joints);
   LoadedAssembly loaded = load_assembly(o.assembly);
   report_loaded(g, loaded);
+  loaded.assembly = with_joints(loaded.assembly, joints);
   const BlockSeries sh = read_block_csv(o.sh);
   validate(sh, o.sh, 3);
   if (overhangs.empty()) overhangs.push_back(loaded.assembly.tool.overhang);
@@ -182,6 +185,7 @@ void add_couple_command(CLI::App& app, Globals& g) {
                 "One overhang: the SHT11 block CSV (H m/N, L 1/N, N rad/N, P rad/(N m)); a sweep (required): a folder for "
                 "sht11_overhang_<mm>mm.csv per overhang and natural_frequencies.csv (overhang m, peaks Hz). Default: "
                 "the table on stdout only");
+  add_joint_option(c, o->joints);
   add_plot_option(c, o->plot,
                   "|H| [m/N] and phase [deg] of the tool point FRF against frequency [Hz] (one overhang: modes labelled; "
                   "a sweep: every overhang overlaid, and the natural frequencies [Hz] against overhang [mm] in FILE with "

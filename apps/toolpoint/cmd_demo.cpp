@@ -22,6 +22,7 @@ namespace {
 
 struct DemoOptions {
   std::string assembly, output = "toolpoint-demo";
+  std::vector<std::string> joints;
   double sigma = 0.05, width = 0.02;
   std::uint64_t seed = 1;
   int window = 81, order = 2, bootstrap = 200, threads = 0;
@@ -34,9 +35,10 @@ void print_report(const DemoOptions& o, const LoadedAssembly& loaded, const Case
                   const std::vector<std::string>& files, const std::vector<std::string>& figures);
 
 void run_demo(const DemoOptions& o, const Globals& g) {
-  const LoadedAssembly loaded = o.assembly.empty() ? parse_assembly(example_assembly_toml(), example_assembly_name())
-                                                   : load_assembly(o.assembly);
+  LoadedAssembly loaded = o.assembly.empty() ? parse_assembly(example_assembly_toml(), example_assembly_name())
+                                             : load_assembly(o.assembly);
   report_loaded(g, loaded);
+  loaded.assembly = with_joints(loaded.assembly, read_joint_options(g, o.joints));
   CaseStudyOptions co;
   co.noise_sigma = o.sigma;
   co.seed = o.seed;
@@ -297,6 +299,9 @@ void add_demo_command(CLI::App& app, Globals& g) {
   c->add_option("--threads", o->threads, "Worker threads for the bootstrap (0: every core; the same result for any number)")
       ->capture_default_str();
   c->add_flag("--no-fit", o->no_fit, "Only the seed's procedure, without the band fit");
+  add_joint_option(c, o->joints)->description(
+      "The joint(s) the study identifies, from joint files instead of the assembly's (holder-tool=FILE.toml; its "
+      "constants are then the reference)");
   c->add_flag("--no-plots", o->no_plots, "Write the data only, no figures (default: draw the five figures, which needs gnuplot)");
   c->add_flag("--json", o->json, "Print summary.json on stdout instead of the table");
   c->footer(

@@ -195,8 +195,8 @@ void run_identify(const IdentifyOptions& o, const Globals& g) {
     plot::JointFigureData d;
     d.frequency_hz = id.closed_form.frequency_hz;
     if (id.seed.points > 0) d.band_hz = std::make_pair(id.seed.band_lo_hz, id.seed.band_hi_hz);
-    d.title = fmt::format("{} joint, {}: closed form k(f), c(f); {} shown as lines", ht ? "Holder–tool" : "Spindle–holder",
-                          to_string(id.route), id.fit ? "band fit with its 95 % interval" : "seed read-out in the shaded band");
+    d.title = fmt::format("{} joint, {}: closed form and {}", ht ? "Holder–tool" : "Spindle–holder", to_string(id.route),
+                          id.fit ? "band fit (95 % interval)" : "seed read-out (shaded band)");
     for (int pair = 0; pair < 4; ++pair)
       d.parameters.push_back(joint_curve(id.closed_form, pair, std::nullopt, id.identified, id.fit ? &*id.fit : nullptr,
                                          id.seed.points > 0 ? &id.seed : nullptr));

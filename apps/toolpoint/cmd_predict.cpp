@@ -9,6 +9,7 @@
 #include "cli.hpp"
 #include "toolpoint/assembly_file.hpp"
 #include "toolpoint/io.hpp"
+#include "toolpoint/json.hpp"
 #include "toolpoint/peaks.hpp"
 #include "toolpoint/plot.hpp"
 
@@ -17,13 +18,50 @@ namespace toolpoint::cli {
 namespace {
 
 struct PredictOptions {
-  std::string assembly, at = "tool", output, frequencies, plot;
+  std::string assembly, at = "tool", output, frequencies, plot, band_output;
+  std::vector<std::string> joints;
+  SamplingOptions sampling;
   bool json = false;
 };
 
+// The tool point FRF's quantiles as a table: |H| [m/N] and ∠H [deg] per level.
+Table band_table(const FrfBand& b) {
+  Table t;
+  t.columns = {"frequency_hz"};
+  for (double l : b.levels) t.columns.push_back(fmt::format("magnitude_q{:g}_m_per_n", 100 * l));
+  for (double l : b.levels) t.columns.push_back(fmt::format("phase_q{:g}_deg", 100 * l));
+  for (std::size_t i = 0; i < b.frequency_hz.size(); ++i) {
+    std::vector<double> row{b.frequency_hz[i]};
+    for (const auto& m : b.magnitude) row.push_back(m[i]);
+    for (const auto& p : b.phase_rad) row.push_back(p[i] * 180.0 / kPi);
+    t.rows.push_back(std::move(row));
+  }
+  return t;
+}
+
+// FRF traces of the band's quantile levels (magnitude and phase quantiles recombined) around the nominal.
+std::vector<plot::FrfTrace> band_traces(const FrfBand& b) {
+  std::vector<plot::FrfTrace> traces{{b.nominal, "identified joint", plot::CurveStyle::Line}};
+  for (std::size_t l = 0; l < b.levels.size(); ++l) {
+    if (std::abs(b.levels[l] - 0.5) < 1e-9) continue;
+    FrfSeries q;
+    q.frequency_hz = b.frequency_hz;
+    for (std::size_t i = 0; i < b.frequency_hz.size(); ++i) q.values.push_back(std::polar(b.magnitude[l][i], b.phase_rad[l][i]));
+    traces.push_back({q, fmt::format("{:g} % quantile ({} joint samples)", 100 * b.levels[l], b.samples), plot::CurveStyle::Dashed});
+  }
+  return traces;
+}
+
 void run_predict(const PredictOptions& o, const Globals& g) {
   check_plot_path(o.plot);
-  const LoadedModel lm = load_model(g, o.assembly, o.frequencies);
+  const std::vector<JointFile> joints = read_joint_options(g, o.joints);
+  std::optional<UncertaintyOptions> sampling;
+  if (o.sampling.samples != 0 || !o.band_output.empty()) {
+    if (o.at != "tool") throw InvalidArgument("--samples: the band is computed for the tool point (--at tool)", "drop --at holder");
+    sampling = uncertainty_options(o.sampling);
+    sampled_joint(joints);
+  }
+  const LoadedModel lm = load_model(g, o.assembly, o.frequencies, joints);
   const LoadedAssembly& loaded = lm.loaded;
   const AssemblyModel& model = lm.model;
   const bool tool = o.at == "tool";
@@ -40,9 +78,22 @@ void run_predict(const PredictOptions& o, const Globals& g) {
     info(g, fmt::format("wrote {} ({} frequencies, {})", o.output, series.size(), what));
     written.push_back(o.output);
   }
+  std::optional<FrfBand> band;
+  if (sampling) {
+    band = tool_point_band(lm.loaded.assembly, sampled_joint(joints), grid, *sampling);
+    if (!o.band_output.empty()) {
+      write_table_csv(o.band_output, band_table(*band),
+                      {fmt::format("tool point H of {} with the joint of {} uncertain: quantiles over {} samples", o.assembly,
+                                   sampled_joint(joints).source, band->samples),
+                       "magnitude in m/N, phase in degrees, frequency in Hz"});
+      info(g, fmt::format("wrote {} (quantiles of the tool point FRF)", o.band_output));
+      written.push_back(o.band_output);
+    }
+  }
   if (o.json) {
     nlohmann::json j;
     j["assembly"] = o.assembly;
+    if (band) j["band"] = to_json(*band);
     j["receptance"] = tool ? "SHT11" : "SH11";
     j["units"] = "frequency Hz, magnitude m/N";
     j["points"] = series.size();
@@ -65,7 +116,15 @@ void run_predict(const PredictOptions& o, const Globals& g) {
   if (!o.plot.empty()) {
     const std::string title = fmt::format("{} of {}", tool ? "Tool point FRF SHT_{11}" : "Holder tip FRF SH_{11}",
                                           plot::literal(loaded.assembly.name));
-    draw_figures(g, {{plot::receptance_figure(series, title, "11", 6), o.plot}}, written);
+    if (band) {
+      plot::FrfFigureOptions fo;
+      fo.title = fmt::format("Tool point FRF, the joint uncertain ({} samples)", band->samples);
+      fo.symbol = "H^{sht}_{11}";
+      fo.mode_labels = 6;
+      draw_figures(g, {{plot::frf_figure(band_traces(*band), fo), o.plot}}, written);
+    } else {
+      draw_figures(g, {{plot::receptance_figure(series, title, "11", 6), o.plot}}, written);
+    }
   }
 }
 
@@ -86,6 +145,10 @@ void add_predict_command(CLI::App& app, Globals& g) {
   add_plot_option(c, o->plot,
                   "the block: |H| [m/N] and phase of H [deg], |P| [rad/(N·m)] and phase of P [deg] against frequency "
                   "[Hz], modes (peaks of |H|) labelled [Hz]");
+  add_joint_option(c, o->joints);
+  add_sampling_options(c, o->sampling, "the 5/50/95 % quantiles of the tool point FRF, in --band-output and the figure");
+  c->add_option("--band-output", o->band_output,
+                "With --samples: the quantiles of |H| [m/N] and ∠H [deg] per frequency [Hz] (CSV)");
   c->add_flag("--json", o->json, "Machine-readable output on stdout");
   c->footer(std::string(kFigureFooter) +
             "Example:\n  toolpoint predict examples/bt40_shrinkfit_16mm.toml --output sht11.csv --plot sht11.png");

@@ -19,6 +19,7 @@ namespace {
 
 struct TapTestOptions {
   std::string assembly, at = "tool", hammer = "roving", frequencies, output;
+  std::vector<std::string> joints;
   double spacing = 0.0, sigma = 0.0;
   int points = 3;
   std::uint64_t seed = 1;
@@ -27,7 +28,7 @@ struct TapTestOptions {
 
 void run_taptest(const TapTestOptions& o, const Globals& g) {
   if (!(o.spacing > 0.0)) throw InvalidArgument(fmt::format("--spacing {} m must be > 0", o.spacing), "e.g. --spacing 0.01 for 10 mm");
-  const LoadedModel lm = load_model(g, o.assembly, o.frequencies);
+  const LoadedModel lm = load_model(g, o.assembly, o.frequencies, read_joint_options(g, o.joints));
   const LoadedAssembly& loaded = lm.loaded;
   const AssemblyModel& model = lm.model;
   const bool tool = o.at == "tool";
@@ -103,6 +104,7 @@ void add_taptest_command(CLI::App& app, Globals& g) {
   c->add_option("--frequencies", o->frequencies, "Override the file's [analysis] grid: START:STOP:STEP [Hz]");
   c->add_option("--output", o->output, "UFF file to write (.uff)")->required();
   c->add_flag("--binary", o->binary, "Write binary dataset 58b instead of ASCII");
+  add_joint_option(c, o->joints);
   c->footer(
       "Example:\n"
       "  toolpoint taptest examples/bt40_shrinkfit_16mm.toml --at tool --spacing 0.01 --sigma 0.02 --output tap_tool.uff");

@@ -38,13 +38,96 @@ void report_loaded(const Globals& g, const LoadedAssembly& loaded) {
   for (const auto& n : loaded.notes) info(g, "note: " + n);
 }
 
-LoadedModel load_model(const Globals& g, const std::string& path, const std::string& frequencies) {
+LoadedModel load_model(const Globals& g, const std::string& path, const std::string& frequencies, const std::vector<JointFile>& joints) {
   LoadedAssembly loaded = load_assembly(path);
   report_loaded(g, loaded);
+  loaded.assembly = with_joints(loaded.assembly, joints);
   if (!frequencies.empty()) loaded.assembly.grid = parse_frequency_grid(frequencies, "--frequencies");
   AssemblyModel model(loaded.assembly);
   warn_all(model.warnings());
   return {std::move(loaded), std::move(model)};
+}
+
+CLI::Option* add_joint_option(CLI::App* command, std::vector<std::string>& target) {
+  return command
+      ->add_option("--joint", target,
+                   "Use an identified joint instead of the assembly file's: holder-tool=FILE.toml or spindle-holder=FILE.toml "
+                   "(as written by `toolpoint identify --joint-output`; repeat for both joints)")
+      ->option_text("INTERFACE=FILE");
+}
+
+std::vector<JointFile> read_joint_options(const Globals& g, const std::vector<std::string>& specs) {
+  std::vector<JointFile> files;
+  for (const std::string& spec : specs) {
+    const std::size_t eq = spec.find('=');
+    std::string path = spec;
+    std::optional<JointInterface> named;
+    if (eq != std::string::npos) {
+      const std::string name = spec.substr(0, eq);
+      path = spec.substr(eq + 1);
+      if (name == "holder-tool") named = JointInterface::HolderTool;
+      else if (name == "spindle-holder") named = JointInterface::SpindleHolder;
+      else
+        throw InvalidArgument(fmt::format("--joint {}: '{}' names no joint", spec, name),
+                              "write holder-tool=FILE.toml or spindle-holder=FILE.toml");
+    }
+    JointFile f = load_joint_file(path);
+    if (named && *named != f.interface)
+      throw InvalidArgument(fmt::format("--joint {}: {} holds the {} joint, not the {} joint", spec, path, to_string(f.interface),
+                                        to_string(*named)),
+                            fmt::format("write --joint {}={}", f.interface == JointInterface::HolderTool ? "holder-tool" : "spindle-holder",
+                                        path));
+    for (const JointFile& other : files)
+      if (other.interface == f.interface)
+        throw InvalidArgument(fmt::format("--joint: two files for the {} joint ({} and {})", to_string(f.interface), other.source, path),
+                              "give one file per joint");
+    info(g, fmt::format("joints.{}: the identified joint of {}{}", to_string(f.interface), path,
+                        f.uncertainty ? " (with its covariance)" : ""));
+    files.push_back(std::move(f));
+  }
+  return files;
+}
+
+Assembly with_joints(const Assembly& assembly, const std::vector<JointFile>& files) {
+  Assembly a = assembly;
+  for (const JointFile& f : files) a = with_joint(a, f);
+  return a;
+}
+
+void add_sampling_options(CLI::App* command, SamplingOptions& target, const std::string& what) {
+  command->add_option("--samples", target.samples,
+                      "Carry the --joint file's uncertainty forward by this many Monte Carlo samples of the joint (≥ 10; 0: "
+                      "none): " + what)
+      ->capture_default_str();
+  command->add_option("--seed", target.seed, "Random seed of the joint samples")->capture_default_str();
+  command->add_option("--threads", target.threads, "Worker threads for the samples (0: every core; the same result for any number)")
+      ->capture_default_str();
+}
+
+const JointFile& sampled_joint(const std::vector<JointFile>& files) {
+  const JointFile* found = nullptr;
+  for (const JointFile& f : files)
+    if (f.uncertainty) {
+      if (found)
+        throw InvalidArgument(fmt::format("--samples: both {} and {} carry an uncertainty; one joint is sampled at a time", found->source,
+                                          f.source),
+                              "give the other joint without --samples, or as assembly-file values");
+      found = &f;
+    }
+  if (!found)
+    throw InvalidArgument("--samples needs a --joint file with an [uncertainty] (a band fit's covariance)",
+                          "identify the joint with `toolpoint identify --joint-output FILE.toml` and pass --joint holder-tool=FILE.toml");
+  return *found;
+}
+
+UncertaintyOptions uncertainty_options(const SamplingOptions& s) {
+  if (s.samples < 10) throw InvalidArgument(fmt::format("--samples {}: at least 10 (200 is a good default)", s.samples));
+  if (s.threads < 0) throw InvalidArgument(fmt::format("--threads {} must be ≥ 0 (0: every core)", s.threads));
+  UncertaintyOptions o;
+  o.samples = s.samples;
+  o.seed = s.seed;
+  o.parallel.threads = s.threads;
+  return o;
 }
 
 CLI::Option* add_plot_option(CLI::App* command, std::string& target, const std::string& what) {
