@@ -400,20 +400,23 @@ Linearised linearise(const std::vector<Setup>& setups, const Parametrization& pa
   for (const Setup& s : setups) {
     const Evaluation ev = evaluate(s, s.B, par, q, true, filter);
     const std::size_t n = s.f.size();
-    std::vector<Jac> Z(n, Jac(8, p));  // Ω J per frequency
+    // Ω J per frequency, 8×8 fixed (columns past p stay zero): small fixed products, no GEMM.
+    std::vector<Cov8> Z(n);
+    Cov8 mid = Cov8::Zero();
     for (std::size_t i = 0; i < n; ++i) {
-      Z[i] = s.W[i].transpose() * (s.W[i] * ev.jm[i].leftCols(p));
-      trace += (s.W[i] * s.sigma[i] * s.W[i].transpose()).trace();
+      Z[i] = s.W[i].transpose().lazyProduct(s.W[i].lazyProduct(ev.jm[i]));
+      trace += (s.W[i].lazyProduct(s.sigma[i]).lazyProduct(s.W[i].transpose())).trace();
     }
     if (s.rows) {  // Y = Sᵀ Z, column by column along frequency
-      std::vector<Jac> Y(n, Jac::Zero(8, p));
+      std::vector<Cov8> Y(n, Cov8::Zero());
       for (std::size_t i = 0; i < n; ++i) {
         const auto& w = s.rows->weight[i];
         for (std::size_t k = 0; k < w.size(); ++k) Y[s.rows->start[i] + k] += w[k] * Z[i];
       }
       Z = std::move(Y);
     }
-    for (std::size_t i = 0; i < n; ++i) middle.noalias() += Z[i].transpose() * s.sigma_raw[i] * Z[i];
+    for (std::size_t i = 0; i < n; ++i) mid.noalias() += Z[i].transpose().lazyProduct(s.sigma_raw[i].lazyProduct(Z[i]));
+    middle += mid.topLeftCorner(p, p);
   }
   const MatrixXd Ainv = A.ldlt().solve(MatrixXd::Identity(p, p));
   Linearised l;
@@ -563,9 +566,11 @@ JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<Join
 
   // The best start under the weights of the first, then two passes (weights at the solution).
   VectorXd q = par.from(starts.front());
-  for (Setup& u : setups) update_weights(u, par, q);
+  if (starts.size() > 1)
+    for (Setup& u : setups) update_weights(u, par, q);
   double best = std::numeric_limits<double>::infinity();
   for (const JointParameters& s : starts) {
+    if (starts.size() == 1) break;
     const VectorXd x = par.from(s);
     double c = 0.0;
     try {

@@ -198,9 +198,6 @@ void judge(Identification& r, const IdentificationOptions& o, bool same_data) {
         doubt.push_back(fmt::format("{} is poorly determined in the read-out band (noise gain {:.3g})", JointParameters::name(k),
                                     r.seed.noise_gain[static_cast<std::size_t>(k)]));
   }
-  for (const BlockNoise* n : {&r.g_noise.front(), &r.b_noise.front()})
-    for (const auto& w : n->warnings)
-      if (w.find("white") != std::string::npos) doubt.push_back("the noise is not white: " + w);
   if (r.forward_check.empty()) doubt.push_back("the forward check found no mode to compare");
   for (const ModeComparison& c : r.forward_check) {
     const double fe = std::abs(c.frequency_error), pe = std::abs(c.magnitude_error);

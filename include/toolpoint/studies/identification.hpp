@@ -20,8 +20,9 @@
 // diagonal stiffness; a diagonal damping negative beyond its interval; a forward-check error above
 // the fail thresholds; G11 identical to B11; a fit that did not converge), doubtful when something
 // deserves a look (errors above the doubt thresholds, residuals the noise does not explain, a joint
-// that does not transfer between set-ups, a stiffness left undetermined, noise that is not white),
-// pass otherwise. Units: SI; frequencies in Hz; errors as fractions (reports show %).
+// that does not transfer between set-ups, a stiffness left undetermined), pass otherwise. (Noise
+// that does not look white is a warning only: low noise on sharp peaks looks so too, and a noise
+// estimate that is too small shows in the residual ratio.) Units: SI; frequencies in Hz; errors as fractions (reports show %).
 #pragma once
 
 #include <functional>
