@@ -22,6 +22,7 @@
 #include "toolpoint/error.hpp"
 #include "toolpoint/io.hpp"
 #include "toolpoint/stability.hpp"
+#include "toolpoint/stability_io.hpp"
 
 using namespace toolpoint;
 
@@ -246,8 +247,8 @@ TEST(Stability, TooFewLobesAreReported) {
 TEST(Stability, SpectralRadiusAtZeroDepthIsFreeDecay) {
   const Mode second{0.1, 0.05, 400.0};
   for (int m : {10, 40}) {
-    const SemiDiscretization sd1(ModalModel{{kBench}, {}}, cutting(2, 0.05), m);
-    const SemiDiscretization sd2(ModalModel{{kBench}, {second}}, cutting(2, 1.0), m);
+    const FullDiscretization sd1(ModalModel{{kBench}, {}}, cutting(2, 0.05), m);
+    const FullDiscretization sd2(ModalModel{{kBench}, {second}}, cutting(2, 1.0), m);
     for (double rpm : {5000.0, 12345.0, 25000.0}) {
       const double tau = 60.0 / (2.0 * rpm);
       const double decay1 = std::exp(-kBench.damping_ratio * omega_of(kBench.frequency_hz) * tau);
@@ -267,7 +268,7 @@ TEST(Stability, SpectralRadiusAtZeroDepthIsFreeDecay) {
 // depth at a fixed speed a lot). The error grows with the chatter waves per tooth period f_c τ
 // over m: observed at m = 40 ≤ 1.3 % (lobe 1 at 8000 rpm, f_c τ ≈ 1.9), ≤ 0.34 % on lobe 0; we
 // allow 2 %. It falls 4.0–4.1× per doubling of m (second order): we require ≥ 3×.
-TEST(Stability, SemiDiscretizationConvergesToZeroOrderWhenTimeInvariant) {
+TEST(Stability, FullDiscretizationConvergesToZeroOrderWhenTimeInvariant) {
   const std::vector<double> grid = uniform_grid(850.0, 1100.0, 0.02);
   const CuttingConditions cc = cutting(4, 1.0);
   for (const bool two_dof : {false, true}) {
@@ -281,7 +282,7 @@ TEST(Stability, SemiDiscretizationConvergesToZeroOrderWhenTimeInvariant) {
     ASSERT_GE(bottoms.size(), 3u);
     double prev_err = 0.0;
     for (int m : two_dof ? std::vector<int>{40} : std::vector<int>{20, 40, 80}) {
-      const SemiDiscretization sd(ModalModel{{kBench}, y}, cc, m);
+      const FullDiscretization sd(ModalModel{{kBench}, y}, cc, m);
       double worst = 0.0;
       for (const EnvelopePoint& e : bottoms) {
         const BoundaryPoint b = sd.boundary(e.speed_rpm, 2.0 * e.depth_m, 8, 1e-8);
@@ -306,7 +307,7 @@ TEST(Stability, SemiDiscretizationConvergesToZeroOrderWhenTimeInvariant) {
 // immersion, so no closer agreement is expected).
 TEST(Stability, LowImmersionFlipLobesThatZeroOrderMisses) {
   const CuttingConditions cc = cutting(2, 0.05);
-  const SemiDiscretization sd(ModalModel{{kBench}, {}}, cc, 40);
+  const FullDiscretization sd(ModalModel{{kBench}, {}}, cc, 40);
   ZeroOrderOptions zo;
   zo.speeds = {17000.0, 22000.0, 2};
   const ZeroOrderResult z = zero_order_lobes(modal_milling_frfs({kBench}, {}, uniform_grid(600.0, 1300.0, 0.05)), cc, zo);
@@ -321,18 +322,18 @@ TEST(Stability, LowImmersionFlipLobesThatZeroOrderMisses) {
   EXPECT_EQ(hopf.kind, BoundaryKind::Hopf);
   EXPECT_NEAR(hopf.depth_m / z.envelope[1].depth_m, 1.0, 0.05);
   // Over the whole benchmark range some speeds have flip boundaries, and the CSV names them.
-  SemiDiscretizationOptions so;
+  BoundaryOptions so;
   so.speeds = {5000.0, 25000.0, 41};
   so.max_depth_m = 0.02;
-  const SemiDiscretizationResult r = semi_discretization_boundary(ModalModel{{kBench}, {}}, cc, so);
+  const BoundaryResult r = stability_boundary(ModalModel{{kBench}, {}}, cc, so);
   const auto flips = std::count_if(r.boundary.begin(), r.boundary.end(), [](const BoundaryPoint& b) { return b.kind == BoundaryKind::Flip; });
   EXPECT_GT(flips, 5);
-  EXPECT_NE(format_boundary_csv(r).find(",flip\n"), std::string::npos);
+  EXPECT_NE(format_boundary_csv(r).find(",flip,"), std::string::npos);
 }
 
 // The boundary is where ρ crosses 1: just below it ρ < 1, just above ρ ≥ 1.
 TEST(Stability, BoundaryBracketsTheSpectralRadiusCrossing) {
-  const SemiDiscretization sd(ModalModel{{kBench}, {kBench}}, cutting(2, 0.5, MillingDirection::Up), 30);
+  const FullDiscretization sd(ModalModel{{kBench}, {kBench}}, cutting(2, 0.5, MillingDirection::Up), 30);
   for (double rpm : {7000.0, 15000.0}) {
     const BoundaryPoint b = sd.boundary(rpm, 0.005, 40, 1e-6);
     ASSERT_NE(b.kind, BoundaryKind::None);
@@ -392,11 +393,11 @@ TEST(Stability, BadInputIsRejected) {
   for (auto& v : stiff.xx.values) v = Complex(1e-7, 0.0);
   EXPECT_THROW(zero_order_lobes(stiff, cutting(2, 1.0), o), NumericalError);
   // Semi-discretization: no x mode, an undamped or massless mode, too few intervals, bad depth.
-  EXPECT_THROW(SemiDiscretization(ModalModel{{}, {kBench}}, cutting(2, 0.5)), InvalidArgument);
-  EXPECT_THROW(SemiDiscretization(ModalModel{{Mode{0.04, 0.0, 900.0}}, {}}, cutting(2, 0.5)), InvalidArgument);
-  EXPECT_THROW(SemiDiscretization(ModalModel{{Mode{-0.04, 0.01, 900.0}}, {}}, cutting(2, 0.5)), InvalidArgument);
-  EXPECT_THROW(SemiDiscretization(ModalModel{{kBench}, {}}, cutting(2, 0.5), 2), InvalidArgument);
-  const SemiDiscretization sd(ModalModel{{kBench}, {}}, cutting(2, 0.5), 20);
+  EXPECT_THROW(FullDiscretization(ModalModel{{}, {kBench}}, cutting(2, 0.5)), InvalidArgument);
+  EXPECT_THROW(FullDiscretization(ModalModel{{Mode{0.04, 0.0, 900.0}}, {}}, cutting(2, 0.5)), InvalidArgument);
+  EXPECT_THROW(FullDiscretization(ModalModel{{Mode{-0.04, 0.01, 900.0}}, {}}, cutting(2, 0.5)), InvalidArgument);
+  EXPECT_THROW(FullDiscretization(ModalModel{{kBench}, {}}, cutting(2, 0.5), 2), InvalidArgument);
+  const FullDiscretization sd(ModalModel{{kBench}, {}}, cutting(2, 0.5), 20);
   EXPECT_THROW(sd.spectral_radius(10000.0, -1e-3), InvalidArgument);
   EXPECT_THROW(sd.spectral_radius(0.0, 1e-3), InvalidArgument);
   EXPECT_THROW(sd.boundary(10000.0, 0.0), InvalidArgument);
@@ -445,7 +446,7 @@ TEST(LobesCommand, WritesLobesAndRejectsBadInputWithExitCodes) {
 
   const CliRun sd = run_cli(base + " --immersion 0.05 --method sd --rigid-y --speeds 9 --max-depth 10 --output " + dir + "/s.csv");
   ASSERT_EQ(sd.code, 0) << sd.out;
-  EXPECT_NE(read_text_file(dir + "/s.csv").find("\nlobe,spindle_speed_rpm,axial_depth_mm,chatter_frequency_hz,kind\n"),
+  EXPECT_NE(read_text_file(dir + "/s.csv").find("\nlobe,spindle_speed_rpm,axial_depth_mm,chatter_frequency_hz,kind,axial_depth_error_mm,steps\n"),
             std::string::npos);
 
   const CliRun bad_immersion = run_cli(base + " --immersion 1.5");
