@@ -612,3 +612,28 @@ TEST(Stability, PocketsNeedProminence) {
   EXPECT_EQ(stability_pockets(env, 5, 0.0).size(), 2u + (env[50].depth_m > env[49].depth_m && env[50].depth_m > env[51].depth_m));
   EXPECT_THROW(stability_pockets(env, 5, 1.5), InvalidArgument);
 }
+
+// Without a terminal (stderr to a pipe here) long work reports progress as lines, the first after
+// TOOLPOINT_PROGRESS_DELAY seconds (0 here; 5 by default, so short runs print none), and a closing
+// line; --quiet prints none. The data on stdout are untouched.
+TEST(LobesCommand, ProgressLinesWhenStderrIsNotATerminal) {
+  const std::string args = " lobes --method fd --mode-x 0.04,0.011,922 --rigid-y --teeth 2 --kt 6e8 --kn 2e8 --immersion 0.05 "
+                           "--milling down --rpm 5000:25000 --speeds 24 2>&1 >/dev/null";
+  const auto run = [](const std::string& cmd) {
+    FILE* p = ::popen(cmd.c_str(), "r");
+    std::string out;
+    char buf[4096];
+    while (std::size_t n = std::fread(buf, 1, sizeof buf, p)) out.append(buf, n);
+    EXPECT_EQ(::pclose(p), 0) << cmd;
+    return out;
+  };
+  const std::string shown = run("TOOLPOINT_PROGRESS_DELAY=0 " + std::string(TOOLPOINT_CLI) + args);
+  EXPECT_NE(shown.find("lobes: full-discretization boundary: "), std::string::npos) << shown;
+  EXPECT_NE(shown.find(" % after "), std::string::npos) << shown;
+  EXPECT_NE(shown.find("lobes: full-discretization boundary: done in "), std::string::npos) << shown;
+  EXPECT_EQ(shown.find('\r'), std::string::npos) << "no bar redrawing in a pipe";
+  const std::string quiet = run("TOOLPOINT_PROGRESS_DELAY=0 " + std::string(TOOLPOINT_CLI) + " --quiet" + args);
+  EXPECT_EQ(quiet.find("full-discretization boundary"), std::string::npos) << quiet;
+  const std::string default_delay = run(std::string(TOOLPOINT_CLI) + args);
+  EXPECT_EQ(default_delay.find("% after"), std::string::npos) << "a run under 5 s prints no progress line";
+}
