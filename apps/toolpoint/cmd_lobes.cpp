@@ -250,8 +250,13 @@ void print_pockets(const LobesStudyResult& r, double prominence) {
     if (r.boundary)
       for (const BoundaryPoint& b : r.boundary->boundary)
         if (b.speed_rpm == p.speed_rpm) error = b.depth_error_m;
-    const std::string depth = r.boundary ? depth_text_mm(p.depth_m * 1e3, error * 1e3) : fmt::format("{:.4f}", p.depth_m * 1e3);
-    std::cout << fmt::format("  {:17.0f}  {:>14}  {:>20.1f}  {:>4}\n", p.speed_rpm, depth, p.chatter_hz, p.lobe);
+    // lobe −1: no instability up to the ceiling searched there.
+    const bool capped = p.lobe < 0;
+    const std::string depth = (capped ? ">= " : "") + (r.boundary && !capped ? depth_text_mm(p.depth_m * 1e3, error * 1e3)
+                                                                               : fmt::format("{:.4f}", p.depth_m * 1e3));
+    std::cout << fmt::format("  {:17.0f}  {:>14}  {:>20}  {:>4}\n", p.speed_rpm, depth,
+                             capped ? std::string("-") : fmt::format("{:.1f}", p.chatter_hz),
+                             capped ? std::string("-") : std::to_string(p.lobe));
   }
 }
 

@@ -198,12 +198,15 @@ std::vector<Mode> fit_milling_modes(const FrfSeries& frf, const std::string& wha
   for (const std::string& w : best_warnings)
     if (w.find("peaks found") == std::string::npos && w.find("overall fit residual") == std::string::npos) warnings.push_back(what + ": " + w);
   if (!summary.target_met)
-    warnings.push_back(fmt::format("{}: the best modal model, {} mode(s) (the resonance peaks rising {} dB or more, at most "
-                                   "ModalFitOptions::max_modes = {}), represents the FRF within {:.1f} % over {:g}–{:g} Hz, not "
-                                   "the {:.3g} % aimed at: the lobes are those of this model. Narrow the fitted band to the "
-                                   "modes that matter, allow more modes, or give the modes",
-                                   what, best.size(), options.min_prominence_db, options.max_modes, 100.0 * best_residual,
-                                   summary.band_low_hz, summary.band_high_hz, 100.0 * target));
+    warnings.push_back(fmt::format(
+        "{}: the best modal model represents the FRF within {:.1f} % over {:g}–{:g} Hz, not the {:.3g} % aimed at: {}. The lobes "
+        "are those of this model. Narrow the fitted band to the modes that matter, or give the modes",
+        what, 100.0 * best_residual, summary.band_low_hz, summary.band_high_hz, 100.0 * target,
+        static_cast<int>(best.size()) >= options.max_modes
+            ? fmt::format("it uses the most modes allowed (ModalFitOptions::max_modes = {})", options.max_modes)
+            : fmt::format("the FRF has {} resonance peak(s) rising {:g} dB or more, one mode each; the rest is the flexibility "
+                          "of modes outside the band, which modes inside it cannot carry",
+                          best.size(), options.min_prominence_db)));
   return best;
 }
 
@@ -277,11 +280,9 @@ LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOption
   res.boundary = stability_boundary(res.modes, options.cutting, bo);
   res.warnings.insert(res.warnings.end(), res.boundary->warnings.begin(), res.boundary->warnings.end());
   res.envelope = boundary_envelope(*res.boundary);
-  // Speeds stable up to the ceiling are no pockets: their depth is the ceiling, not a limit.
-  std::vector<EnvelopePoint> limited = res.envelope;
-  for (EnvelopePoint& e : limited)
-    if (e.lobe < 0 && !std::isfinite(e.chatter_hz)) e.depth_m = kNaN;
-  res.pockets = stability_pockets(limited, options.pockets, options.pocket_prominence);
+  // Speeds stable up to the ceiling form a plateau at the ceiling: a pocket at least that deep
+  // (lobe −1, reported as "≥").
+  res.pockets = stability_pockets(res.envelope, options.pockets, options.pocket_prominence);
   res.figure = boundary_figure(*res.boundary);
   set_depth_axis(res.figure, depth_axis(res.envelope, res.pockets));
   return res;
