@@ -446,7 +446,8 @@ FloquetAnalysis floquet(const PeriodMap& map, double depth_m, const DominantMult
 // multiplier at its upper end.
 struct Root {
   double depth_m = 0.0;
-  DominantMultiplier at_hi;
+  double hi = 0.0;     // the bracket's upper end, where ρ ≥ 1
+  double slope = 0.0;  // dρ/da across the last bracket [1/m] (secant of the true values)
 };
 
 struct RadiusCounter {
@@ -454,37 +455,38 @@ struct RadiusCounter {
   long* evaluations;
   DominantMultiplier operator()(double a) const {
     ++*evaluations;
-    return map.dominant(a);
+    return map.dominant(a, false);
   }
 };
 
-Root illinois(const RadiusCounter& rho, double lo, double flo, double hi, DominantMultiplier at_hi, double tolerance) {
+Root illinois(const RadiusCounter& rho, double lo, double flo, double hi, const DominantMultiplier& at_hi, double tolerance) {
   double fhi = at_hi.spectral_radius - 1.0;
+  double true_lo = flo, true_hi = fhi;  // unhalved, for the slope
   int side = 0;  // which end was kept last time: −1 lo, +1 hi
   for (int it = 0; it < 100 && hi - lo > tolerance * hi; ++it) {
     double x = hi - fhi * (hi - lo) / (fhi - flo);
     if (!(x > lo && x < hi)) x = 0.5 * (lo + hi);  // round-off at a tiny bracket
-    const DominantMultiplier dm = rho(x);
-    const double f = dm.spectral_radius - 1.0;
+    const double f = rho(x).spectral_radius - 1.0;
     if (f < 0.0) {
       lo = x;
-      flo = f;
+      flo = true_lo = f;
       if (side == -1) fhi *= 0.5;
       side = -1;
     } else {
       hi = x;
-      fhi = f;
-      at_hi = dm;
+      fhi = true_hi = f;
       if (side == 1) flo *= 0.5;
       side = 1;
     }
   }
-  return {0.5 * (lo + hi), at_hi};
+  return {0.5 * (lo + hi), hi, (true_hi - true_lo) / (hi - lo)};
 }
 
-// The first instability met going up from `start` in steps of ×`growth` (or down from it by
-// halving while unstable), then narrowed. nullopt when ρ < 1 up to max_depth_m.
-std::optional<Root> lowest_root(const RadiusCounter& rho, double start, double growth, double max_depth_m, double tolerance) {
+// The first instability met going up from `start` (or down from it by halving while unstable),
+// then narrowed. Going up, the first step jumps to `expected` (the neighbouring speed's limit) when
+// that lies above `start`, then steps of ×`growth`. nullopt when ρ < 1 up to max_depth_m.
+std::optional<Root> lowest_root(const RadiusCounter& rho, double start, double expected, double growth, double max_depth_m,
+                                double tolerance) {
   double a = std::min(start, max_depth_m);
   DominantMultiplier dm = rho(a);
   if (dm.spectral_radius >= 1.0) {
@@ -500,36 +502,45 @@ std::optional<Root> lowest_root(const RadiusCounter& rho, double start, double g
     throw NumericalError(fmt::format("the spectral radius stays ≥ 1 down to depth {:.3g} m, although the free tool decays", a),
                          "check the modal model (damping ratios > 0) and the cutting coefficients");
   }
+  bool first = true;
   for (;;) {
     if (a >= max_depth_m) return std::nullopt;
     const double lo = a, flo = dm.spectral_radius - 1.0;
-    a = std::min(a * growth, max_depth_m);
+    a = std::min(first && expected > a * 1.05 ? expected : a * growth, max_depth_m);
+    first = false;
     dm = rho(a);
     if (dm.spectral_radius >= 1.0) return illinois(rho, lo, flo, a, dm, tolerance);
   }
 }
 
-// The root at a finer level near the coarser level's root `near`: a bracket grown outwards from
-// it in steps doubling from 0.5 % (at most ±25 %), then narrowed; failing that, the lowest root at
-// this level by a scan up from 70 % of `near`. nullopt when no instability below max_depth_m.
-std::optional<Root> root_near(const RadiusCounter& rho, double near, double max_depth_m, double tolerance) {
+// The root at a finer level near the coarser level's root `near`, where ρ has slope `slope`: a
+// secant step from ρ(near) predicts it (overshooting 20 % so that one more value usually brackets
+// it); else a bracket grown outwards in steps doubling from 0.5 % (at most ±25 %); then narrowed.
+// Failing all that, the lowest root at this level by a scan up from 70 % of `near`. nullopt when no
+// instability below max_depth_m.
+std::optional<Root> root_near(const RadiusCounter& rho, double near, double slope, double max_depth_m, double tolerance) {
   const double a = std::min(near, max_depth_m);
   const DominantMultiplier dm = rho(a);
   const bool unstable = dm.spectral_radius >= 1.0;
-  double end = a, fend = dm.spectral_radius - 1.0;
-  DominantMultiplier end_dm = dm;
+  const double fa = dm.spectral_radius - 1.0;
+  auto bracket = [&](double b, const DominantMultiplier& db) -> std::optional<Root> {
+    const double fb = db.spectral_radius - 1.0;
+    if (unstable && fb < 0.0) return illinois(rho, b, fb, a, dm, tolerance);
+    if (!unstable && fb >= 0.0) return illinois(rho, a, fa, b, db, tolerance);
+    return std::nullopt;
+  };
+  if (std::isfinite(slope) && slope > 0.0) {
+    const double step = std::clamp(-1.2 * fa / slope, -0.25 * a, 0.25 * a);
+    const double b = std::min(a + (std::abs(step) > 1e-6 * a ? step : (unstable ? -1e-6 : 1e-6) * a), max_depth_m);
+    if (b != a && (b < a) == unstable)
+      if (auto r = bracket(b, rho(b))) return r;
+  }
   for (double step = 0.005; step < 0.26; step *= 2.0) {
     const double b = unstable ? a * (1.0 - step) : std::min(a * (1.0 + step), max_depth_m);
-    const DominantMultiplier db = rho(b);
-    const double fb = db.spectral_radius - 1.0;
-    if (unstable && fb < 0.0) return illinois(rho, b, fb, end, end_dm, tolerance);
-    if (!unstable && fb >= 0.0) return illinois(rho, end, fend, b, db, tolerance);
-    end = b;
-    fend = fb;
-    end_dm = db;
+    if (auto r = bracket(b, rho(b))) return r;
     if (b >= max_depth_m) break;
   }
-  return lowest_root(rho, 0.7 * a, 1.2, max_depth_m, tolerance);
+  return lowest_root(rho, 0.7 * a, a, 1.2, max_depth_m, tolerance);
 }
 
 }  // namespace
@@ -593,7 +604,7 @@ BoundaryPoint FullDiscretization::boundary(double speed_rpm, double max_depth_m,
       continue;
     }
     const Root root = illinois(rho, lo, flo, a, dm, tolerance);
-    const FloquetAnalysis fa = floquet(map, root.depth_m, root.at_hi, 60.0 / (cutting_.teeth * speed_rpm));
+    const FloquetAnalysis fa = floquet(map, root.hi, map.dominant(root.hi), 60.0 / (cutting_.teeth * speed_rpm));
     bp.depth_m = root.depth_m;
     bp.depth_error_m = kNaN;
     bp.chatter_hz = fa.chatter_hz;
@@ -659,10 +670,11 @@ SpeedOutcome boundary_at(const ModalModel& model, const CuttingConditions& cutti
   // m: 12 steps per chatter wave within a tooth period (at least 16), unless given.
   const double waves = std::isfinite(guess.chatter_hz) ? guess.chatter_hz * tau : 1.0;
   int m = o.steps > 0 ? o.steps : std::clamp(static_cast<int>(std::ceil(12.0 * waves)), 16, o.max_steps / 2);
-  // Roots to 1/1000 of the error target: their own error does not blur the estimate.
-  const double root_tolerance = std::clamp(1e-3 * o.tolerance, 1e-10, 1e-5);
+  // Roots to 1/100 of the error target: their own error does not blur the estimate.
+  const double root_tolerance = std::clamp(1e-2 * o.tolerance, 1e-10, 1e-4);
   const PeriodMap coarse(sys, m, o.degree);
-  std::optional<Root> r1 = lowest_root({coarse, &out.evaluations}, guess.start * guess.depth_m, 1.2, max_depth_m, root_tolerance);
+  std::optional<Root> r1 =
+      lowest_root({coarse, &out.evaluations}, guess.start * guess.depth_m, guess.depth_m, 1.15, max_depth_m, root_tolerance);
   if (!r1) {
     bp.depth_m = max_depth_m;
     bp.depth_error_m = kNaN;
@@ -670,10 +682,10 @@ SpeedOutcome boundary_at(const ModalModel& model, const CuttingConditions& cutti
     return out;
   }
   const double factor = std::pow(2.0, o.degree + 1) - 1.0;  // Richardson: error of a_{2m} = (a_{2m} − a_m)/(2^{p+1} − 1)
-  double a1 = r1->depth_m;
+  double a1 = r1->depth_m, slope = r1->slope;
   for (;;) {
     const PeriodMap fine(sys, 2 * m, o.degree);
-    const std::optional<Root> r2 = root_near({fine, &out.evaluations}, a1, max_depth_m, root_tolerance);
+    const std::optional<Root> r2 = root_near({fine, &out.evaluations}, a1, slope, max_depth_m, root_tolerance);
     if (!r2) {  // the finer (more accurate) level is stable up to the ceiling
       bp.depth_m = max_depth_m;
       bp.depth_error_m = kNaN;
@@ -686,7 +698,7 @@ SpeedOutcome boundary_at(const ModalModel& model, const CuttingConditions& cutti
     bp.depth_error_m = error;
     bp.steps = 2 * m;
     if (error <= o.tolerance * bp.depth_m || 4 * m > o.max_steps) {
-      const FloquetAnalysis fa = floquet(fine, r2->depth_m, r2->at_hi, tau);
+      const FloquetAnalysis fa = floquet(fine, r2->hi, fine.dominant(r2->hi), tau);
       bp.chatter_hz = fa.chatter_hz;
       bp.lobe = fa.lobe;
       bp.kind = fa.kind;
@@ -697,6 +709,7 @@ SpeedOutcome boundary_at(const ModalModel& model, const CuttingConditions& cutti
       return out;
     }
     a1 = a2;
+    slope = r2->slope;
     m *= 2;
   }
 }

@@ -53,7 +53,7 @@ struct PeriodicDelaySystem {
 struct DominantMultiplier {
   double spectral_radius = 0.0;
   std::complex<double> multiplier;
-  Eigen::VectorXcd vector;
+  Eigen::VectorXcd vector;  // empty when not asked for
   bool krylov = false;  // found by the Arnoldi iteration (else: dense eigen-decomposition)
 };
 
@@ -79,12 +79,13 @@ class PeriodMap {
   // Its spectral radius and dominant multiplier: Arnoldi on apply() (no matrix is formed), the
   // dense eigen-decomposition for small maps or when Arnoldi does not converge (Spectra). Throws
   // NumericalError when neither converges or the multipliers are not finite.
-  DominantMultiplier dominant(double sigma) const;
+  // `vector` false: the eigenvector is left empty (the dense path then skips computing it).
+  DominantMultiplier dominant(double sigma, bool vector = true) const;
   double spectral_radius(double sigma) const { return dominant(sigma).spectral_radius; }
 
  private:
   template <typename S>
-  void run(double sigma, const S* u, S* v, S* outputs) const;
+  void run(double sigma, int cols, const S* u, S* v, S* outputs) const;
 
   int n_ = 0, d_ = 0, m_ = 0, p_ = 0;
   bool regenerative_ = false;
