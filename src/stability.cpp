@@ -54,7 +54,7 @@ void CuttingConditions::check() const {
                           "K_t is a specific cutting pressure, e.g. 6e8 N/m² for aluminium, 2e9 N/m² for steel");
   if (!std::isfinite(radial_ratio) || radial_ratio < 0.0)
     throw InvalidArgument(fmt::format("radial cutting coefficient ratio K_r = K_n/K_t = {} must be ≥ 0", radial_ratio),
-                          "give --kr as a ratio (typically 0.2…0.5) or --kn in N/m²");
+                          "CuttingConditions::radial_ratio is K_n/K_t, typically 0.2…0.5");
   engagement.check();
 }
 
@@ -76,7 +76,7 @@ Eigen::Matrix2d directional_factors(const CuttingConditions& cutting) {
 void SpeedRange::check() const {
   if (!std::isfinite(min_rpm) || !std::isfinite(max_rpm) || !(min_rpm > 0.0) || !(max_rpm > min_rpm))
     throw InvalidArgument(fmt::format("spindle speed range {}:{} rpm is empty or not positive", min_rpm, max_rpm),
-                          "give --rpm MIN:MAX with 0 < MIN < MAX, e.g. --rpm 5000:25000");
+                          "give SpeedRange::min_rpm and max_rpm with 0 < min < max, e.g. 5000 and 25000 rpm");
   if (points < 2 || points > 1000000)
     throw InvalidArgument(fmt::format("{} speed points: need 2…1000000", points));
 }
@@ -142,7 +142,7 @@ std::vector<double> modal_frequency_grid(const std::vector<Mode>& modes) {
 }
 
 void ZeroOrderOptions::check() const {
-  if (lobes < -1 || lobes > 5000) throw InvalidArgument(fmt::format("--lobes {} must lie in 0…5000", lobes));
+  if (lobes < -1 || lobes > 5000) throw InvalidArgument(fmt::format("ZeroOrderOptions::lobes {} must lie in 0…5000 (−1: automatic)", lobes));
   speeds.check();
   if (!std::isfinite(max_depth_m) || max_depth_m < 0.0)
     throw InvalidArgument(fmt::format("maximum depth {} m must be ≥ 0 (0: no limit)", max_depth_m));
@@ -301,7 +301,7 @@ ZeroOrderResult zero_order_lobes(const MillingFrfs& frfs, const CuttingCondition
     res.lobes = options.lobes;
     if (res.lobes < needed)
       res.warnings.push_back(fmt::format("lobes 0…{} reach down to about {:.0f} rpm at {:.1f} Hz: slower speeds in the range "
-                                         "are not covered (use --lobes {} or more)",
+                                         "are not covered (ZeroOrderOptions::lobes {} or more)",
                                          res.lobes, 60.0 * f_band / (n_teeth * (res.lobes + 1)), f_band, needed));
   }
   if (near < 5)

@@ -239,7 +239,7 @@ TEST(Stability, TooFewLobesAreReported) {
   o.lobes = 2;
   const ZeroOrderResult r = zero_order_lobes(frfs, cutting(2, 0.5), o);
   bool warned = false;
-  for (const auto& w : r.warnings) warned |= w.find("--lobes") != std::string::npos;
+  for (const auto& w : r.warnings) warned |= w.find("ZeroOrderOptions::lobes") != std::string::npos;
   EXPECT_TRUE(warned);
   for (const LobePoint& p : r.points()) EXPECT_LE(p.lobe, 2);
 }
@@ -450,6 +450,17 @@ TEST(LobesCommand, WritesLobesAndRejectsBadInputWithExitCodes) {
   ASSERT_EQ(sd.code, 0) << sd.out;
   EXPECT_NE(read_text_file(dir + "/s.csv").find("\nlobe,spindle_speed_rpm,axial_depth_mm,chatter_frequency_hz,kind,axial_depth_error_mm,steps\n"),
             std::string::npos);
+
+  // The modal fit's warnings name the FRF they are about (the assembly's tool point FRF), never an
+  // empty name; the library's field names reach the user as the options' spellings.
+  const CliRun assembly = run_cli("lobes --assembly " + std::string(TOOLPOINT_SOURCE_DIR) + "/examples/bt40_shrinkfit_16mm.toml "
+                                  "--method fd --teeth 4 --kt 6e8 --kr 0.3 --immersion 0.5 --milling down --rpm 8000:9000 --speeds 3");
+  ASSERT_EQ(assembly.code, 0) << assembly.out;
+  EXPECT_EQ(assembly.out.find("warning: :"), std::string::npos) << assembly.out;
+  EXPECT_NE(assembly.out.find("warning: the tool point FRF of "), std::string::npos) << assembly.out;
+  EXPECT_NE(assembly.out.find("estimated discretization error at most"), std::string::npos) << assembly.out;
+  const CliRun few_lobes = run_cli(base + " --immersion 0.5 --lobes 1");
+  EXPECT_NE(few_lobes.out.find("--lobes (ZeroOrderOptions::lobes)"), std::string::npos) << few_lobes.out;
 
   const CliRun bad_immersion = run_cli(base + " --immersion 1.5");
   EXPECT_EQ(bad_immersion.code, 2) << bad_immersion.out;

@@ -127,7 +127,9 @@ std::string with_flags(std::string text) {
       {"LobesStudyOptions::lobes", "--lobes"},             {"LobesStudyOptions::fit_target", "--fit-target"},
       {"LobesStudyOptions::pocket_prominence", "--pocket-prominence"}, {"ParallelOptions::threads", "--threads"},
       {"ModalFitOptions::max_modes", "--max-modes"},       {"LobesInput::x_modes", "--mode-x"},
-      {"LobesInput::frfs", "--frf"},                       {"LobesInput: rigid_y and y modes", "--rigid-y and --mode-y"}};
+      {"LobesInput::frfs", "--frf"},                       {"LobesInput: rigid_y and y modes", "--rigid-y and --mode-y"},
+      {"ZeroOrderOptions::lobes", "--lobes"},              {"SpeedRange::min_rpm and max_rpm", "--rpm MIN:MAX"},
+      {"CuttingConditions::radial_ratio", "--kr"}};
   for (const auto& [field, flag] : kFlags)
     for (std::size_t at = text.find(field); at != std::string::npos; at = text.find(field, at + std::strlen(flag))) {
       text.replace(at, std::strlen(field), fmt::format("{} ({})", flag, field));
@@ -302,6 +304,7 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
     throw InvalidArgument(with_flags(e.what()), with_flags(e.hint()));
   }
   progress.done();
+  for (std::string& w : r.warnings) w = with_flags(w);
   if (so.method != LobesMethod::ZeroOrder && o.lobes >= 0) r.warnings.push_back("--lobes is used by --method zoa only (fd derives lobe numbers)");
   if (o.depth_steps > 0) r.warnings.push_back("--depth-steps is no longer used: the boundary is bracketed by a geometric scan from the neighbouring speed's limit");
 
