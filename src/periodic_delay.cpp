@@ -249,6 +249,105 @@ PeriodMap::PeriodMap(const PeriodicDelaySystem& sys, int steps, int degree) {
     }
 }
 
+// One state at a time: the path Arnoldi takes (plain loops, no column dimension).
+template <typename S>
+void PeriodMap::run_one(double sigma, const S* u, S* v, S* out) const {
+  const int n = n_, d = d_, m = m_, p = p_, nd = n * d;
+  // Scratch kept per thread between calls (this runs ~20 times per spectral radius).
+  static thread_local std::vector<S> y, z, r, zero, delta, rhs;
+  y.assign(u, u + n);
+  z.resize(static_cast<std::size_t>(n));
+  r.resize(static_cast<std::size_t>((m + 1) * d));  // the outputs y_0 … y_m of this period, d values each
+  zero.assign(static_cast<std::size_t>(d), S(0.0));
+  delta.resize(static_cast<std::size_t>(d));
+  rhs.resize(static_cast<std::size_t>(d));
+  auto sample = [&](int j) -> const S* {
+    if (j >= 0) return r.data() + j * d;
+    const int at = slot_[static_cast<std::size_t>(-j)];
+    return at >= 0 ? u + at : zero.data();
+  };
+  auto outputs_of = [&](const std::vector<S>& x, S* dst) {
+    for (int i = 0; i < d; ++i) {
+      S acc(0.0);
+      for (int c = 0; c < n; ++c) acc += c_(i, c) * x[static_cast<std::size_t>(c)];
+      dst[i] = acc;
+    }
+  };
+  outputs_of(y, r.data());
+  for (int k = 0; k < m; ++k) {
+    // z = e^{A₀h} y, block by block.
+    const double* ph = phi_.data();
+    for (std::size_t b = 0; b < block_start_.size(); ++b) {
+      const int s0 = block_start_[b], bs = block_size_[b];
+      for (int i = 0; i < bs; ++i) {
+        S acc(0.0);
+        for (int j = 0; j < bs; ++j) acc += ph[i * bs + j] * y[static_cast<std::size_t>(s0 + j)];
+        z[static_cast<std::size_t>(s0 + i)] = acc;
+      }
+      ph += bs * bs;
+    }
+    S* rk1 = r.data() + (k + 1) * d;
+    const auto kk = static_cast<std::size_t>(k);
+    if (!active_[kk]) {
+      y.swap(z);
+      outputs_of(y, rk1);
+      continue;
+    }
+    const double* wp = wp_[kk].data();
+    const double* wq = regenerative_ ? nullptr : wq_[kk].data();
+    auto add = [&](const double* w, const S* x, double f) {  // z += f W x, W n × d column-major
+      for (int c = 0; c < d; ++c) {
+        const S xc = f * x[c];
+        const double* col = w + c * n;
+        for (int i = 0; i < n; ++i) z[static_cast<std::size_t>(i)] += col[i] * xc;
+      }
+    };
+    for (int o = 0; o <= p; ++o) {
+      const int cur = k + 1 - p + o;
+      const S* del = sample(cur - m);
+      if (regenerative_) {
+        if (o < p) {
+          const S* now = sample(cur);
+          for (int i = 0; i < d; ++i) delta[static_cast<std::size_t>(i)] = now[i] - del[i];
+          add(wp + o * nd, delta.data(), sigma);
+        } else {
+          add(wp + o * nd, del, -sigma);
+        }
+      } else {
+        if (o < p) add(wp + o * nd, sample(cur), sigma);
+        add(wq + o * nd, del, sigma);
+      }
+    }
+    // y_{k+1} = z + σ W^P_p y_{k+1}: (I − σ C W^P_p) y_{k+1} = C z, a d × d solve.
+    outputs_of(z, rhs.data());
+    const Eigen::MatrixXd& cw = cwp_[kk];
+    if (d == 1) {
+      rk1[0] = rhs[0] / (1.0 - sigma * cw(0, 0));
+    } else if (d == 2) {
+      const double a = 1.0 - sigma * cw(0, 0), b = -sigma * cw(0, 1), c = -sigma * cw(1, 0), e = 1.0 - sigma * cw(1, 1);
+      const double det = a * e - b * c;
+      rk1[0] = (e * rhs[0] - b * rhs[1]) / det;
+      rk1[1] = (a * rhs[1] - c * rhs[0]) / det;
+    } else {
+      using Mat = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>;
+      using Vec = Eigen::Matrix<S, Eigen::Dynamic, 1>;
+      const Mat lhs = (Eigen::MatrixXd::Identity(d, d) - sigma * cw).template cast<S>();
+      const Vec sol = lhs.partialPivLu().solve(Eigen::Map<const Vec>(rhs.data(), d));
+      for (int i = 0; i < d; ++i) rk1[i] = sol(i);
+    }
+    add(wp + p * nd, rk1, sigma);
+    y.swap(z);
+  }
+  if (v) {
+    std::copy(y.begin(), y.end(), v);
+    for (int i : read_) {
+      const S* src = i <= m ? r.data() + (m - i) * d : sample(-(i - m));
+      std::copy(src, src + d, v + slot_[static_cast<std::size_t>(i)]);
+    }
+  }
+  if (out) std::copy(r.begin(), r.end(), out);
+}
+
 // The recursion over one period for `cols` states at once. Layout: entry i of column c at
 // [i * cols + c] (columns innermost, so the loops over them vectorise); outputs likewise, sample j
 // output i at [(j * d + i) * cols + c]. Scratch is kept per thread between calls.
@@ -377,9 +476,9 @@ void PeriodMap::run(double sigma, int cols, const S* u, S* v, S* out) const {
   if (out) std::copy(r, r + static_cast<std::size_t>((m + 1) * d) * nc, out);
 }
 
-void PeriodMap::apply(double sigma, const double* u, double* v) const { run(sigma, 1, u, v, static_cast<double*>(nullptr)); }
+void PeriodMap::apply(double sigma, const double* u, double* v) const { run_one(sigma, u, v, static_cast<double*>(nullptr)); }
 
-void PeriodMap::apply(double sigma, const Complex* u, Complex* v) const { run(sigma, 1, u, v, static_cast<Complex*>(nullptr)); }
+void PeriodMap::apply(double sigma, const Complex* u, Complex* v) const { run_one(sigma, u, v, static_cast<Complex*>(nullptr)); }
 
 Eigen::MatrixXcd PeriodMap::outputs(double sigma, const Eigen::VectorXcd& u) const {
   if (u.size() != size()) throw InvalidArgument(fmt::format("PeriodMap::outputs: state of size {}, expected {}", u.size(), size()));

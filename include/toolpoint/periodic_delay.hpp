@@ -86,6 +86,8 @@ class PeriodMap {
  private:
   template <typename S>
   void run(double sigma, int cols, const S* u, S* v, S* outputs) const;
+  template <typename S>
+  void run_one(double sigma, const S* u, S* v, S* outputs) const;
 
   int n_ = 0, d_ = 0, m_ = 0, p_ = 0;
   bool regenerative_ = false;
