@@ -420,14 +420,23 @@ Figure lobes_figure(const LobesFigureData& data) {
       chatter.curves.push_back({l.spindle_speed_rpm, l.chatter_frequency_hz, named ? "" : "lobes", CurveStyle::Dashed, 2});
     named = true;
   }
-  // Lobe numbers from the highest speed down (lobe 0 first); one that would sit within 6 % of the
-  // speed range of a number already placed is left out: high lobes crowd at low speed.
-  double last = std::numeric_limits<double>::infinity();
+  // Lobe numbers, lobe 0 first (the lowest lobes matter most); a number whose box would touch one
+  // already placed is left out, so no two overlap: high lobes crowd at low speed, and lobes of
+  // different modes can sit side by side at any speed. A box is about 3 % of the speed range per
+  // digit wide (a 16 pt digit in a ~850 px wide panel) and 7 % of the depth axis high.
+  const double x_range = fig.x.min && fig.x.max ? *fig.x.max - *fig.x.min : rpm_hi - rpm_lo;
+  const double digit_width = 0.03 * x_range, line_height = 0.07 * top * 1000.0;
+  std::vector<TextLabel> placed;
   for (const auto& [number, label] : lowest) {
-    if (std::abs(last - label.x) < 0.06 * (rpm_hi - rpm_lo)) continue;
-    depth.labels.push_back(label);
-    last = label.x;
+    const double half_width = 0.5 * digit_width * static_cast<double>(label.text.size() + 1);
+    const bool overlaps = std::any_of(placed.begin(), placed.end(), [&](const TextLabel& p) {
+      const double other_half = 0.5 * digit_width * static_cast<double>(p.text.size() + 1);
+      return std::abs(p.x - label.x) < half_width + other_half && std::abs(p.y - label.y) < line_height;
+    });
+    if (overlaps) continue;
+    placed.push_back(label);
   }
+  depth.labels = placed;
   // The envelope last, on top of the lobes that form it.
   if (!data.envelope_rpm.empty()) depth.curves.push_back({data.envelope_rpm, env, "stability limit", CurveStyle::Line, 0});
   fig.panels.push_back(std::move(depth));

@@ -328,7 +328,7 @@ TEST_F(Cli, LobesBothMethodsWithFigures) {
   expect_png("lobes.png", kTwoPanels);
 
   ok("lobes --method sd --mode-x 0.03993,0.011,922 --rigid-y --speeds 40" + cut + " --output sd.csv --plot sd.png");
-  EXPECT_NE(read_text_file(path("sd.csv")).find("\nlobe,spindle_speed_rpm,axial_depth_mm,chatter_frequency_hz,kind\n"),
+  EXPECT_NE(read_text_file(path("sd.csv")).find("\nlobe,spindle_speed_rpm,axial_depth_mm,chatter_frequency_hz,kind,axial_depth_error_mm,steps\n"),
             std::string::npos);
   expect_png("sd.png", kTwoPanels);
 }
@@ -474,11 +474,11 @@ TEST_F(Cli, ProgressBarOnlyOnATerminal) {
     return read_text_file(path("tty.txt"));
   };
   const std::string shown = on_terminal("");
-  EXPECT_NE(shown.find("\rlobes: semi-discretization boundary ["), std::string::npos) << shown;
+  EXPECT_NE(shown.find("\rlobes: full-discretization boundary ["), std::string::npos) << shown;
   EXPECT_NE(shown.find(" %"), std::string::npos) << shown;
   EXPECT_NE(shown.find("\r\033[K"), std::string::npos) << "the bar is not erased:\n" << shown;
   const std::string quiet = on_terminal("--quiet ");
-  EXPECT_EQ(quiet.find("semi-discretization boundary ["), std::string::npos) << quiet;
+  EXPECT_EQ(quiet.find("full-discretization boundary ["), std::string::npos) << quiet;
 }
 
 }  // namespace

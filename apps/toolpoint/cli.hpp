@@ -9,7 +9,7 @@
 //     (files and the report on stdout) come first, the figure last. If the figure cannot be
 //     drawn (gnuplot missing or failing) the data stay written, the error says which files they
 //     are, and the exit code is 5 (I/O) — a script never mistakes a missing figure for success.
-//   * Progress bars (progress.hpp) on stderr only when it is a terminal, never with --quiet.
+//   * Progress (progress.hpp) on stderr: a bar on a terminal, a line every few seconds otherwise; never with --quiet.
 #pragma once
 
 #include <CLI/CLI.hpp>

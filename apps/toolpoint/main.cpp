@@ -38,7 +38,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string("toolpoint ") + TOOLPOINT_VERSION);
   Globals globals;
   app.add_flag("-q,--quiet", globals.quiet,
-               "No progress bars or informational messages (warnings and errors still shown; default: off)");
+               "No progress or informational messages (warnings and errors still shown; default: off)");
   app.require_subcommand(1);
   app.fallthrough();  // --quiet may follow the subcommand
   app.footer(
@@ -47,8 +47,8 @@ int main(int argc, char** argv) {
       "--plot figure that gnuplot could not draw; the data files are written first), 6 a result that fails its\n"
       "own checks (identify's verdict; --accept overrides).\n"
       "Errors print one line saying what is wrong and where, and one (\"fix:\") saying how to fix it.\n"
-      "Progress bars appear on stderr for work over a second (TOOLPOINT_PROGRESS_DELAY=SECONDS sets\n"
-      "another delay), only when stderr is a terminal and without --quiet.\n"
+      "Progress shows on stderr for long work: a bar on a terminal (after a second), otherwise a line every\n"
+      "5 s (TOOLPOINT_PROGRESS_DELAY=SECONDS sets the first delay); nothing with --quiet.\n"
       "Run `toolpoint COMMAND --help` for a command's options, units, defaults and an example.\n"
       "Example:\n"
       "  toolpoint demo --output demo-out");
