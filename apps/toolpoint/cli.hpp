@@ -14,6 +14,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "parse.hpp"
 #include "toolpoint/assembly_file.hpp"
 #include <cstddef>
 #include <optional>
