@@ -1,5 +1,5 @@
 // From an assembly file to chatter stability lobes, in a program of your own:
-// assembly → tool point FRF SHT11 (receptance coupling, seed Eq. 1–5) → zero-order lobes
+// assembly → tool point FRF SHT11 (the prediction study: receptance coupling, seed Eq. 1–5) → zero-order lobes
 // (Altintas & Budak 1995) → the absolute stability limit and the best spindle speeds.
 //
 //   tool_point_to_lobes ASSEMBLY.toml
@@ -12,6 +12,7 @@
 #include <toolpoint/assembly_file.hpp>
 #include <toolpoint/error.hpp>
 #include <toolpoint/stability.hpp>
+#include <toolpoint/studies/predict.hpp>
 #include <toolpoint/version.hpp>
 
 int main(int argc, char** argv) {
@@ -23,11 +24,11 @@ int main(int argc, char** argv) {
     const toolpoint::LoadedAssembly loaded = toolpoint::load_assembly(argv[1]);
     for (const std::string& w : loaded.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
 
-    // SHT11 on the file's [analysis] grid; its H entry (w/f, m/N) is G_xx.
-    const toolpoint::AssemblyModel model(loaded.assembly);
-    const toolpoint::BlockSeries sht = model.tool_point(loaded.assembly.grid.values());
+    // SHT11 on the file's [analysis] grid, with its modes; its H entry (w/f, m/N) is G_xx.
+    const toolpoint::Prediction sht = toolpoint::run_prediction(loaded.assembly);
+    for (const std::string& w : sht.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
     toolpoint::MillingFrfs frfs;
-    frfs.xx = toolpoint::entry(sht, 0);
+    frfs.xx = toolpoint::entry(sht.frf, 0);
 
     toolpoint::CuttingConditions cut;
     cut.teeth = 2;
@@ -38,7 +39,10 @@ int main(int argc, char** argv) {
     options.speeds = {5000.0, 25000.0, 2000};
     const toolpoint::ZeroOrderResult lobes = toolpoint::zero_order_lobes(frfs, cut, options);
 
-    std::printf("toolpoint %s: %s, %zu frequencies\n", toolpoint::version, loaded.assembly.name.c_str(), sht.size());
+    std::printf("toolpoint %s: %s, %zu frequencies\n", toolpoint::version, loaded.assembly.name.c_str(), sht.frf.size());
+    std::printf("tool point modes (peaks of |H|):");
+    for (const toolpoint::Peak& m : sht.modes) std::printf(" %.0f Hz", m.frequency_hz);
+    std::printf("\n");
     std::printf("absolute stability limit %.3f mm (chatter at %.0f Hz), %d lobes\n", 1e3 * lobes.floor_depth_m,
                 lobes.floor_chatter_hz, lobes.lobes + 1);
     std::printf("best speeds (stability pockets):\n");

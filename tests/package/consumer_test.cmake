@@ -65,6 +65,7 @@ endforeach()
 get_filename_component(config_dir ${config_files} DIRECTORY)
 foreach(f ${config_dir}/toolpointConfigVersion.cmake ${config_dir}/toolpointTargets.cmake
           ${prefix}/bin/toolpoint ${prefix}/include/toolpoint/version.hpp ${prefix}/include/toolpoint/assembly.hpp
+          ${prefix}/include/toolpoint/json.hpp ${prefix}/include/toolpoint/studies/overhang.hpp
           ${prefix}/share/toolpoint/bt40_shrinkfit_16mm.toml ${prefix}/share/doc/toolpoint/LICENSE)
   if(NOT EXISTS ${f})
     message(FATAL_ERROR "install: ${f} is missing")
@@ -97,6 +98,7 @@ run(COMMAND ${CMAKE_COMMAND} --build ${consumer} -j 2)
 
 set(example ${prefix}/share/toolpoint/bt40_shrinkfit_16mm.toml)
 run(COMMAND ${consumer}/tool_point_to_lobes ${example} OUTPUT lobes)
+expect_match("${lobes}" "tool point modes \\(peaks of \\|H\\|\\): 916 Hz 1600 Hz 2585 Hz" "tool_point_to_lobes modes")
 expect_match("${lobes}" "absolute stability limit [0-9]+\\.[0-9]+ mm" "tool_point_to_lobes")
 expect_match("${lobes}" "rpm  [0-9]+\\.[0-9]+ mm" "tool_point_to_lobes pockets")
 
