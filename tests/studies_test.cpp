@@ -50,6 +50,13 @@ std::string invalid_argument_message(F&& run) {
   return {};
 }
 
+// The model's SH11 on the assembly's grid, standing in for a measured one.
+BlockSeries model_sh11(const Assembly& a) {
+  PredictOptions holder;
+  holder.receptance = PredictedFrf::HolderTip;
+  return run_prediction(a, holder).frf;
+}
+
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 // The nearest of `peaks` to f.
@@ -112,9 +119,7 @@ TEST(PredictStudy, ModesAreTheModelsPeaksFoundIndependently) {
 // Eq. 1 and 5, the per-frequency Eq. 5 on the given SH11).
 TEST(OverhangStudy, AtTheFilesOverhangItIsThePredictedToolPointFrf) {
   const Assembly a = example({500.0, 3500.0, 2.0});
-  PredictOptions holder;
-  holder.receptance = PredictedFrf::HolderTip;
-  const BlockSeries sh = run_prediction(a, holder).frf, sht = run_prediction(a).frf;
+  const BlockSeries sh = model_sh11(a), sht = run_prediction(a).frf;
   const OverhangStudy s = run_overhang_study(a, sh);
   ASSERT_EQ(s.overhangs.size(), 1u);
   EXPECT_EQ(s.overhangs[0].overhang_m, a.tool.overhang);
@@ -135,9 +140,7 @@ TEST(OverhangStudy, AtTheFilesOverhangItIsThePredictedToolPointFrf) {
 // once per overhang.
 TEST(OverhangStudy, TrackedModesAreEachOverhangsModelPeaks) {
   const Assembly a = example({300.0, 4500.0, 1.0});
-  PredictOptions holder;
-  holder.receptance = PredictedFrf::HolderTip;
-  const BlockSeries sh = run_prediction(a, holder).frf;
+  const BlockSeries sh = model_sh11(a);
   OverhangStudyOptions o;
   o.overhangs_m = {0.035, 0.040, 0.045, 0.049, 0.055, 0.060, 0.065};
   std::vector<double> fractions;
@@ -167,9 +170,7 @@ TEST(OverhangStudy, TrackedModesAreEachOverhangsModelPeaks) {
 // Each overhang writes only its own slot (parallel.hpp): 1, 2 and 5 threads give the same bits.
 TEST(OverhangStudy, ResultsAreIdenticalForAnyThreadCount) {
   const Assembly a = example({500.0, 3500.0, 5.0});
-  PredictOptions holder;
-  holder.receptance = PredictedFrf::HolderTip;
-  const BlockSeries sh = run_prediction(a, holder).frf;
+  const BlockSeries sh = model_sh11(a);
   OverhangStudyOptions o;
   o.overhangs_m = {0.030, 0.036, 0.042, 0.048, 0.054, 0.060};
   o.threads = 1;
@@ -192,11 +193,9 @@ TEST(OverhangStudy, ResultsAreIdenticalForAnyThreadCount) {
 // on 500–3000 Hz the tool mode of a 30 mm overhang (≈ 3008 Hz) is above the band.
 TEST(OverhangStudy, ALostModeIsNaNAndWarned) {
   const Assembly a = example({500.0, 3000.0, 2.0});
-  PredictOptions holder;
-  holder.receptance = PredictedFrf::HolderTip;
   OverhangStudyOptions o;
   o.overhangs_m = {0.030, 0.040, 0.049};
-  const OverhangStudy s = run_overhang_study(a, run_prediction(a, holder).frf, o);
+  const OverhangStudy s = run_overhang_study(a, model_sh11(a), o);
   ASSERT_EQ(s.reference, 2u);
   std::size_t lost = 0;
   for (const auto& mode : s.tracked_modes_hz)
@@ -211,9 +210,7 @@ TEST(OverhangStudy, ALostModeIsNaNAndWarned) {
 // whatever the thread count; a bad SH11 is an InputError naming it.
 TEST(OverhangStudy, BadInputNamesTheField) {
   const Assembly a = example({500.0, 1500.0, 10.0});
-  PredictOptions holder;
-  holder.receptance = PredictedFrf::HolderTip;
-  const BlockSeries sh = run_prediction(a, holder).frf;
+  const BlockSeries sh = model_sh11(a);
   const auto message = [&](const OverhangStudyOptions& o) { return invalid_argument_message([&] { run_overhang_study(a, sh, o); }); };
   OverhangStudyOptions o;
   o.overhangs_m = {0.05, 0.04};
