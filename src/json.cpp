@@ -1,4 +1,4 @@
-// toolpoint: results as JSON (json.hpp).
+// toolpoint: results as JSON (json.hpp). nlohmann::json sorts the keys.
 #include "toolpoint/json.hpp"
 
 #include <cmath>
@@ -23,13 +23,46 @@ std::string level_key(const char* side, double confidence) {
 
 }  // namespace
 
-nlohmann::json to_json(const JointParameters& p) {
-  nlohmann::json j;
-  for (int k = 0; k < 8; ++k) j[JointParameters::name(k)] = number(p[k]);
-  return j;
+void to_json(nlohmann::json& j, const Peak& p) {
+  j = {{"index", p.index}, {"frequency_hz", p.frequency_hz}, {"magnitude", p.magnitude}, {"prominence", p.prominence}};
 }
 
-nlohmann::json to_json(const JointFit& f) {
+// ---- Studies ------------------------------------------------------------------------------------
+
+void to_json(nlohmann::json& j, const Prediction& p) {
+  j = {{"receptance", predicted_frf_name(p.receptance)}, {"modes", p.modes}, {"warnings", p.warnings}};
+}
+
+void to_json(nlohmann::json& j, const OverhangFrf& r) { j = {{"overhang_m", r.overhang_m}, {"modes", r.modes}}; }
+
+void to_json(nlohmann::json& j, const OverhangStudy& s) {
+  j = {{"tool_inside_holder_m", s.tool_inside_holder_m},
+       {"overhangs", s.overhangs},
+       {"reference", s.reference},
+       {"tracked_modes_hz", s.tracked_modes_hz},
+       {"warnings", s.warnings}};
+}
+
+void to_json(nlohmann::json& j, const TapTestFrf& r) { j = {{"response", r.response}, {"hammer", r.hammer}}; }
+
+void to_json(nlohmann::json& j, const TapTest& t) {
+  j = {{"side", tap_side_name(t.side)},
+       {"distance_m", t.distance_m},
+       {"frfs", t.frfs},
+       {"shear_stiffness_n", t.shear_stiffness_n},
+       {"crosses_step", t.crosses_step},
+       {"warnings", t.warnings}};
+}
+
+// ---- Joint identification and uncertainty --------------------------------------------------------
+
+void to_json(nlohmann::json& out, const JointParameters& p) {
+  nlohmann::json j;
+  for (int k = 0; k < 8; ++k) j[JointParameters::name(k)] = number(p[k]);
+  out = std::move(j);
+}
+
+void to_json(nlohmann::json& out, const JointFit& f) {
   nlohmann::json j;
   for (int k = 0; k < 8; ++k) {
     const ParameterInterval& iv = f.intervals[static_cast<std::size_t>(k)];
@@ -67,17 +100,17 @@ nlohmann::json to_json(const JointFit& f) {
     for (const SetupFit& x : f.setups) {
       nlohmann::json se;
       for (int k = 0; k < 8; ++k) se[JointParameters::name(k)] = number(x.std_error[static_cast<std::size_t>(k)]);
-      s.push_back({{"label", x.label}, {"parameters", to_json(x.fitted)}, {"std_error", se}, {"residual_ratio", number(x.residual_ratio)},
+      s.push_back({{"label", x.label}, {"parameters", nlohmann::json(x.fitted)}, {"std_error", se}, {"residual_ratio", number(x.residual_ratio)},
                    {"disagreement", number(x.disagreement)}});
     }
     j["setups"] = s;
     j["transfer"] = {{"statistic", number(f.transfer_statistic)}, {"limit_99_9", number(f.transfer_limit)}, {"transfers", f.transfers}};
   }
   j["warnings"] = f.warnings;
-  return j;
+  out = std::move(j);
 }
 
-nlohmann::json to_json(const JointReadout& r) {
+void to_json(nlohmann::json& out, const JointReadout& r) {
   nlohmann::json j;
   j["band_hz"] = {r.band_lo_hz, r.band_hi_hz};
   j["points"] = r.points;
@@ -90,53 +123,50 @@ nlohmann::json to_json(const JointReadout& r) {
   j["reciprocity"] = {{"k_ym_vs_k_tf", number(r.reciprocity_k)}, {"c_ym_vs_c_tf", number(r.reciprocity_c)}};
   j["max_condition_numbers"] = {{"A11_minus_G11", number(r.max_cond_difference)}, {"K_inverse", number(r.max_cond_flexibility)}};
   j["warnings"] = r.warnings;
-  return j;
+  out = std::move(j);
 }
 
-nlohmann::json to_json(const std::vector<ModeComparison>& check) {
-  nlohmann::json a = nlohmann::json::array();
-  for (const ModeComparison& c : check)
-    a.push_back({{"measured_hz", number(c.measured_hz)},
-                 {"predicted_hz", number(c.predicted_hz)},
-                 {"frequency_error_percent", number(100 * c.frequency_error)},
-                 {"measured_peak_m_per_n", number(c.measured_peak)},
-                 {"predicted_peak_m_per_n", number(c.predicted_peak)},
-                 {"peak_error_percent", number(100 * c.magnitude_error)}});
-  return a;
+void to_json(nlohmann::json& out, const ModeComparison& c) {
+  out = {{"measured_hz", number(c.measured_hz)},
+         {"predicted_hz", number(c.predicted_hz)},
+         {"frequency_error_percent", number(100 * c.frequency_error)},
+         {"measured_peak_m_per_n", number(c.measured_peak)},
+         {"predicted_peak_m_per_n", number(c.predicted_peak)},
+         {"peak_error_percent", number(100 * c.magnitude_error)}};
 }
 
-nlohmann::json to_json(const EffectAnalysis& e) {
+void to_json(nlohmann::json& out, const EffectAnalysis& e) {
   nlohmann::json modes = nlohmann::json::array();
   for (const ModeEffect& m : e.modes)
     modes.push_back({{"frequency_hz", number(m.frequency_hz)},
                      {"peak_m_per_n", number(m.magnitude)},
                      {"shift_percent_per_10_percent_k", number(100 * m.stiffness_shift)},
                      {"peak_change_percent_per_10_percent_c", number(100 * m.damping_effect)}});
-  return {{"modes", modes}, {"dominant_index", e.dominant}, {"dominant_hz", number(e.modes.at(e.dominant).frequency_hz)}};
+  out = {{"modes", modes}, {"dominant_index", e.dominant}, {"dominant_hz", number(e.modes.at(e.dominant).frequency_hz)}};
 }
 
-nlohmann::json to_json(const ModeChoice& c) {
+void to_json(nlohmann::json& out, const ModeChoice& c) {
   nlohmann::json j = {{"method", c.method}, {"center_hz", number(c.center_hz)}, {"band_hz", {number(c.lo_hz), number(c.hi_hz)}}};
-  if (c.effect) j["effect_analysis"] = to_json(*c.effect);
+  if (c.effect) j["effect_analysis"] = nlohmann::json(*c.effect);
   if (c.overhang) j["overhang_modes"] = {{"relative_variation", numbers(c.overhang->relative_variation)}, {"dominant_index", c.overhang->dominant}};
-  return j;
+  out = std::move(j);
 }
 
-nlohmann::json to_json(const BlockNoise& n) {
-  return {{"source", n.source},
+void to_json(nlohmann::json& out, const BlockNoise& n) {
+  out = {{"source", n.source},
           {"magnitude_sigma", numbers({n.magnitude_sigma.begin(), n.magnitude_sigma.end()})},
           {"phase_sigma_rad", numbers({n.phase_sigma_rad.begin(), n.phase_sigma_rad.end()})},
           {"residual_correlation", number(n.residual_correlation)}};
 }
 
-nlohmann::json to_json(const Identification& id) {
+void to_json(nlohmann::json& out, const Identification& id) {
   nlohmann::json j;
   j["interface"] = id.route == Route::HolderTool ? "holder_tool" : "spindle_holder";
   j["route"] = to_string(id.route);
   j["equation"] = id.equation;
   j["method"] = to_string(id.method);
   if (id.fit) {
-    nlohmann::json f = to_json(*id.fit);
+    nlohmann::json f = nlohmann::json(*id.fit);
     j["parameters"] = f["parameters"];
     f.erase("parameters");
     f["band_hz"] = {id.fit_band_hz.first, id.fit_band_hz.second};
@@ -152,31 +182,31 @@ nlohmann::json to_json(const Identification& id) {
                                                     {"unit", JointParameters::unit(k)}};
     }
   }
-  if (id.seed.points > 0) j["seed_readout"] = to_json(id.seed);
-  j["mode_choice"] = to_json(id.mode);
+  if (id.seed.points > 0) j["seed_readout"] = nlohmann::json(id.seed);
+  j["mode_choice"] = nlohmann::json(id.mode);
   nlohmann::json noise = nlohmann::json::array();
-  for (std::size_t s = 0; s < id.g_noise.size(); ++s) noise.push_back({{"G11", to_json(id.g_noise[s])}, {"B11", to_json(id.b_noise[s])}});
+  for (std::size_t s = 0; s < id.g_noise.size(); ++s) noise.push_back({{"G11", nlohmann::json(id.g_noise[s])}, {"B11", nlohmann::json(id.b_noise[s])}});
   j["noise"] = noise;
-  j["forward_check"] = to_json(id.forward_check);
+  j["forward_check"] = nlohmann::json(id.forward_check);
   j["verdict"] = {{"verdict", to_string(id.verdict.verdict)}, {"reasons", id.verdict.reasons}};
   j["warnings"] = id.warnings;
-  return j;
+  out = std::move(j);
 }
 
-nlohmann::json to_json(const FrfBand& b) {
+void to_json(nlohmann::json& out, const FrfBand& b) {
   nlohmann::json mag = nlohmann::json::object(), ph = nlohmann::json::object();
   for (std::size_t l = 0; l < b.levels.size(); ++l) {
     const std::string key = fmt::format("q{:g}", 100 * b.levels[l]);
     mag[key] = numbers(b.magnitude[l]);
     ph[key] = numbers(b.phase_rad[l]);
   }
-  return {{"frequency_hz", numbers(b.frequency_hz)}, {"levels", b.levels}, {"samples", b.samples}, {"magnitude_m_per_n", mag}, {"phase_rad", ph}};
+  out = {{"frequency_hz", numbers(b.frequency_hz)}, {"levels", b.levels}, {"samples", b.samples}, {"magnitude_m_per_n", mag}, {"phase_rad", ph}};
 }
 
-nlohmann::json to_json(const StabilityUncertainty& s) {
+void to_json(nlohmann::json& out, const StabilityUncertainty& s) {
   nlohmann::json d = nlohmann::json::object();
   for (std::size_t l = 0; l < s.levels.size(); ++l) d[fmt::format("q{:g}", 100 * s.levels[l])] = numbers(s.depth_m[l]);
-  return {{"speed_rpm", numbers(s.speed_rpm)}, {"levels", s.levels}, {"samples", s.samples}, {"nominal_depth_m", numbers(s.nominal_depth_m)},
+  out = {{"speed_rpm", numbers(s.speed_rpm)}, {"levels", s.levels}, {"samples", s.samples}, {"nominal_depth_m", numbers(s.nominal_depth_m)},
           {"depth_m", d}, {"depth_grid_m", numbers(s.depth_grid_m)}};
 }
 

@@ -54,7 +54,7 @@ TEST(IdentificationStudy, HolderToolEndToEnd) {
     EXPECT_LT(std::abs(c.frequency_error), 0.01) << c.measured_hz;
     EXPECT_LT(std::abs(c.magnitude_error), 0.05) << c.measured_hz;
   }
-  const nlohmann::json j = to_json(id);
+  const nlohmann::json j = id;
   for (int k = 0; k < 8; ++k)
     for (const char* key : {"estimate", "lower95", "upper95", "unit", "determined"})
       EXPECT_TRUE(j["parameters"][JointParameters::name(k)].contains(key)) << JointParameters::name(k) << " " << key;
@@ -84,7 +84,7 @@ TEST(IdentificationStudy, SeedMethod) {
   const Identification id = identify_joint_from_frfs(a, {measured(d, 0.01, 5)}, o);
   EXPECT_FALSE(id.fit);
   EXPECT_EQ(id.identified.k_yf, id.seed.parameters[0].median);
-  const nlohmann::json j = to_json(id);
+  const nlohmann::json j = id;
   EXPECT_TRUE(j["parameters"]["k_yf"]["lower95"].is_null());
   EXPECT_FALSE(joint_file_of(id).uncertainty) << "a read-out has no interval to carry";
 }

@@ -14,12 +14,15 @@
 
 #include <CLI/CLI.hpp>
 
+#include "parse.hpp"
 #include "toolpoint/assembly_file.hpp"
 #include <cstddef>
+#include <initializer_list>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "toolpoint/error.hpp"
 #include "toolpoint/frf_file.hpp"
 #include "toolpoint/identify.hpp"
 #include "toolpoint/joint_file.hpp"
@@ -53,8 +56,12 @@ void warn_all(const std::vector<std::string>& messages);
 // What loading an assembly file found: its warnings, and its notes (info, silenced by --quiet).
 void report_loaded(const Globals& g, const LoadedAssembly& loaded);
 
-// An assembly file loaded, its findings reported, its grid replaced by `frequencies` when given
-// (START:STOP:STEP [Hz], named --frequencies in errors), and its model built (warnings reported).
+// An assembly file loaded, its findings reported, and its grid replaced by `frequencies` when
+// given (START:STOP:STEP [Hz], named --frequencies in errors): the input of a study.
+LoadedAssembly load_assembly_on_grid(const Globals& g, const std::string& path, const std::string& frequencies = {},
+                                     const std::vector<JointFile>& joints = {});
+
+// The same, and its model built (warnings reported).
 struct LoadedModel {
   LoadedAssembly loaded;
   AssemblyModel model;
@@ -85,6 +92,15 @@ struct SamplingOptions {
 void add_sampling_options(CLI::App* command, SamplingOptions& target, const std::string& what);
 const JointFile& sampled_joint(const std::vector<JointFile>& files);
 UncertaintyOptions uncertainty_options(const SamplingOptions& s);
+
+// The command line's spelling of a library field: `e` rethrown with " (FLAG)" after its message
+// when the message names one of the fields (e.g. "OverhangStudyOptions::peaks" → --prominence),
+// unchanged otherwise. For a library call's InvalidArgument, so the user sees which flag to fix.
+struct FieldFlag {
+  const char* field;
+  const char* flag;
+};
+[[noreturn]] void rethrow_with_flag(const InvalidArgument& e, std::initializer_list<FieldFlag> fields);
 
 // The example assembly compiled into the binary (examples/bt40_shrinkfit_16mm.toml).
 const char* example_assembly_toml();

@@ -98,7 +98,7 @@ void run_demo(const DemoOptions& o, const Globals& g) {
   j["filter"] = {{"method", "Savitzky-Golay"}, {"window_points", o.window}, {"order", o.order}};
   j["tool_mode_hz"] = cs.mode_hz;
   j["band_hz"] = {cs.filtered_readout.band_lo_hz, cs.filtered_readout.band_hi_hz};
-  j["effect_analysis"] = to_json(cs.effect);
+  j["effect_analysis"] = nlohmann::json(cs.effect);
   for (int k = 0; k < 8; ++k) {
     const auto ks = static_cast<std::size_t>(k);
     j["parameters"][JointParameters::name(k)] = {
@@ -112,11 +112,11 @@ void run_demo(const DemoOptions& o, const Globals& g) {
         {"filtered_spread", cs.filtered_readout.parameters[ks].spread},
         {"noise_gain_in_band", cs.clean_readout.noise_gain[ks]}};
   }
-  j["seed"] = to_json(cs.seed);
-  j["forward_check"] = to_json(cs.verification);
+  j["seed"] = nlohmann::json(cs.seed);
+  j["forward_check"] = nlohmann::json(cs.verification);
   if (cs.fitted) {
-    j["fit"] = to_json(*cs.fitted);
-    j["fit_forward_check"] = to_json(cs.fit_verification);
+    j["fit"] = nlohmann::json(*cs.fitted);
+    j["fit_forward_check"] = nlohmann::json(cs.fit_verification);
   }
   std::vector<std::string> warnings = cs.warnings;
   for (const auto& w : cs.seed.warnings) warnings.push_back(w);

@@ -181,7 +181,7 @@ void run_identify(const IdentifyOptions& o, const Globals& g) {
     written.push_back(o.joint_output);
   }
   if (o.json) {
-    nlohmann::json j = to_json(id);
+    nlohmann::json j = nlohmann::json(id);
     j["joint"] = o.joint;
     if (!o.output.empty()) j["output"] = o.output;
     if (!o.joint_output.empty()) j["joint_output"] = o.joint_output;

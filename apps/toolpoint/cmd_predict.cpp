@@ -1,4 +1,5 @@
-// toolpoint predict: the tool point FRF (SHT11) or the holder-tip FRF (SH11) of an assembly file.
+// toolpoint predict: the tool point FRF (SHT11) or the holder-tip FRF (SH11) of an assembly file
+// (the prediction study, studies/predict.hpp).
 // Units: SI (H m/N, L 1/N, N rad/N, P rad/(N·m)); frequencies in Hz. --plot draws |H|, ∠H, |P|,
 // ∠P with the modes (peaks of |H|) labelled [Hz].
 #include <fmt/format.h>
@@ -7,17 +8,18 @@
 #include <nlohmann/json.hpp>
 
 #include "cli.hpp"
+#include "progress.hpp"
 #include "toolpoint/assembly_file.hpp"
 #include "toolpoint/io.hpp"
 #include "toolpoint/json.hpp"
-#include "toolpoint/peaks.hpp"
 #include "toolpoint/plot.hpp"
+#include "toolpoint/studies/predict.hpp"
 
 namespace toolpoint::cli {
 
 namespace {
 
-struct PredictOptions {
+struct PredictArgs {
   std::string assembly, at = "tool", output, frequencies, plot, band_output;
   std::vector<std::string> joints;
   SamplingOptions sampling;
@@ -52,7 +54,7 @@ std::vector<plot::FrfTrace> band_traces(const FrfBand& b) {
   return traces;
 }
 
-void run_predict(const PredictOptions& o, const Globals& g) {
+void run_predict(const PredictArgs& o, const Globals& g) {
   check_plot_path(o.plot);
   const std::vector<JointFile> joints = read_joint_options(g, o.joints);
   std::optional<UncertaintyOptions> sampling;
@@ -61,14 +63,15 @@ void run_predict(const PredictOptions& o, const Globals& g) {
     sampling = uncertainty_options(o.sampling);
     sampled_joint(joints);
   }
-  const LoadedModel lm = load_model(g, o.assembly, o.frequencies, joints);
-  const LoadedAssembly& loaded = lm.loaded;
-  const AssemblyModel& model = lm.model;
+  const LoadedAssembly loaded = load_assembly_on_grid(g, o.assembly, o.frequencies, joints);
   const bool tool = o.at == "tool";
-  auto at = [&](double f) { return tool ? model.tool_point(f) : model.holder_tip(f); };
-  const std::vector<double> grid = loaded.assembly.grid.values();
-  const BlockSeries series = tool ? model.tool_point(grid) : model.holder_tip(grid);
-  const auto peaks = find_peaks(entry(series, 0), PeakOptions{}, [&](double f) { return std::abs(at(f)(0, 0)); });
+  toolpoint::PredictOptions options;
+  options.receptance = tool ? PredictedFrf::ToolPoint : PredictedFrf::HolderTip;
+  Progress progress(g, "predict");
+  const Prediction p = run_prediction(loaded.assembly, options, progress.part());
+  progress.done();
+  warn_all(p.warnings);
+  const BlockSeries& series = p.frf;
   const std::string what = tool ? "tool point SHT11" : "holder tip SH11 (tool outside the holder removed)";
 
   std::vector<std::string> written;
@@ -80,7 +83,7 @@ void run_predict(const PredictOptions& o, const Globals& g) {
   }
   std::optional<FrfBand> band;
   if (sampling) {
-    band = tool_point_band(lm.loaded.assembly, sampled_joint(joints), grid, *sampling);
+    band = tool_point_band(loaded.assembly, sampled_joint(joints), series.frequency_hz, *sampling);
     if (!o.band_output.empty()) {
       write_table_csv(o.band_output, band_table(*band),
                       {fmt::format("tool point H of {} with the joint of {} uncertain: quantiles over {} samples", o.assembly,
@@ -91,17 +94,17 @@ void run_predict(const PredictOptions& o, const Globals& g) {
     }
   }
   if (o.json) {
-    nlohmann::json j;
+    nlohmann::json j = p;
     j["assembly"] = o.assembly;
-    if (band) j["band"] = to_json(*band);
-    j["receptance"] = tool ? "SHT11" : "SH11";
+    if (band) j["band"] = *band;
     j["units"] = "frequency Hz, magnitude m/N";
     j["points"] = series.size();
     if (!o.output.empty()) j["output"] = o.output;
     if (!o.plot.empty()) j["plot"] = o.plot;
-    j["modes"] = nlohmann::json::array();
-    for (const Peak& p : peaks) j["modes"].push_back({{"peak_frequency_hz", p.frequency_hz}, {"peak_magnitude_m_per_n", p.magnitude}});
-    j["warnings"] = loaded.warnings;
+    // The file's warnings as well as the model's, as before the study.
+    std::vector<std::string> warnings = loaded.warnings;
+    warnings.insert(warnings.end(), p.warnings.begin(), p.warnings.end());
+    j["warnings"] = warnings;
     std::cout << j.dump(2) << '\n';
   } else {
     std::cout << fmt::format("{} — {}\n", what, loaded.assembly.name);
@@ -109,8 +112,8 @@ void run_predict(const PredictOptions& o, const Globals& g) {
                              series.frequency_hz.back(), series.size(), series.frequency_hz.back());
     std::cout << "mode  peak_frequency_hz  peak_magnitude_m_per_n\n";
     int i = 1;
-    for (const Peak& p : peaks) std::cout << fmt::format("{:4d}  {:17.2f}  {:22.4e}\n", i++, p.frequency_hz, p.magnitude);
-    if (peaks.empty()) std::cout << "  (no resonance peak in the frequency range)\n";
+    for (const Peak& m : p.modes) std::cout << fmt::format("{:4d}  {:17.2f}  {:22.4e}\n", i++, m.frequency_hz, m.magnitude);
+    if (p.modes.empty()) std::cout << "  (no resonance peak in the frequency range)\n";
     std::cout << std::flush;
   }
   if (!o.plot.empty()) {
@@ -131,7 +134,7 @@ void run_predict(const PredictOptions& o, const Globals& g) {
 }  // namespace
 
 void add_predict_command(CLI::App& app, Globals& g) {
-  auto o = std::make_shared<PredictOptions>();
+  auto o = std::make_shared<PredictArgs>();
   CLI::App* c = app.add_subcommand("predict", "Tool point FRF of an assembly by receptance coupling (seed Eq. 1–5)");
   c->add_option("assembly", o->assembly, "Assembly file (TOML, SI units; see examples/) (required)")->required();
   c->add_option("--at", o->at, "tool: SHT11 at the tool tip; holder: SH11 at the holder tip, tool outside removed")

@@ -38,11 +38,17 @@ void report_loaded(const Globals& g, const LoadedAssembly& loaded) {
   for (const auto& n : loaded.notes) info(g, "note: " + n);
 }
 
-LoadedModel load_model(const Globals& g, const std::string& path, const std::string& frequencies, const std::vector<JointFile>& joints) {
+LoadedAssembly load_assembly_on_grid(const Globals& g, const std::string& path, const std::string& frequencies,
+                                     const std::vector<JointFile>& joints) {
   LoadedAssembly loaded = load_assembly(path);
   report_loaded(g, loaded);
   loaded.assembly = with_joints(loaded.assembly, joints);
   if (!frequencies.empty()) loaded.assembly.grid = parse_frequency_grid(frequencies, "--frequencies");
+  return loaded;
+}
+
+LoadedModel load_model(const Globals& g, const std::string& path, const std::string& frequencies, const std::vector<JointFile>& joints) {
+  LoadedAssembly loaded = load_assembly_on_grid(g, path, frequencies, joints);
   AssemblyModel model(loaded.assembly);
   warn_all(model.warnings());
   return {std::move(loaded), std::move(model)};
@@ -128,6 +134,13 @@ UncertaintyOptions uncertainty_options(const SamplingOptions& s) {
   o.seed = s.seed;
   o.parallel.threads = s.threads;
   return o;
+}
+
+void rethrow_with_flag(const InvalidArgument& e, std::initializer_list<FieldFlag> fields) {
+  const std::string what = e.what();
+  for (const FieldFlag& f : fields)
+    if (what.find(f.field) != std::string::npos) throw InvalidArgument(fmt::format("{} ({})", what, f.flag), e.hint());
+  throw e;
 }
 
 CLI::Option* add_plot_option(CLI::App* command, std::string& target, const std::string& what) {

@@ -7,6 +7,7 @@
 
 #include "cli.hpp"
 #include "toolpoint/error.hpp"
+#include "toolpoint/version.hpp"
 
 namespace {
 

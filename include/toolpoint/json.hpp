@@ -1,42 +1,86 @@
-// toolpoint: results as JSON (nlohmann::json), one to_json per result type and one spelling per
-// field, for the CLI's --json, summary files and the Python package.
+// toolpoint: results as JSON (nlohmann::json), for the CLI's --json output, summary files and
+// anyone who wants a result as plain data. `nlohmann::json j = result;` finds these by ADL.
 //
-// Conventions: SI units, named in the key where a reader could doubt them (`_hz`, `_m`,
-// `_m_per_n`); relative errors as percentages in keys ending `_percent`; a joint parameter is
-// always spelt k_yf, c_yf, k_ym, c_ym, k_tf, c_tf, k_tm, c_tm (θ as "t") with its `unit`.
+// One spelling per field, by one rule:
+//   * a key is the C++ member's name (Peak::frequency_hz → "frequency_hz"), and its value is in
+//     the member's unit (SI; Hz for frequencies; in the name where the name has one, else in the
+//     member's header comment). The same field therefore has the same key in every command;
+//   * enums are lower-case strings or the receptance's name: PredictedFrf "SHT11" / "SH11",
+//     TapSide "tool" / "holder", HammerPlan "roving" / "tip";
+//   * NaN (a mode not found) and ±inf become null: JSON has no NaN;
+//   * relative errors are percentages, their keys ending "_percent" (a forward check's
+//     "frequency_error_percent"); a joint parameter is always spelt k_yf, c_yf, k_ym, c_ym, k_tf,
+//     c_tf, k_tm, c_tm (θ as "t") with its "unit";
+//   * sampled series (BlockSeries, FrfSeries members) are left out: they go to FRF files
+//     (io.hpp, frf_file.hpp, uff.hpp) or, in Python, to arrays. What a caller adds (file names,
+//     the assembly's path, units) it adds under its own keys.
+// Units: SI; frequencies in Hz.
 #pragma once
 
 #include <nlohmann/json.hpp>
-#include <vector>
 
 #include "toolpoint/identify.hpp"
 #include "toolpoint/joint_fit.hpp"
 #include "toolpoint/noise.hpp"
+#include "toolpoint/peaks.hpp"
 #include "toolpoint/studies/identification.hpp"
+#include "toolpoint/studies/overhang.hpp"
+#include "toolpoint/studies/predict.hpp"
+#include "toolpoint/studies/tap_test.hpp"
 #include "toolpoint/uncertainty.hpp"
 
 namespace toolpoint {
 
-// {"k_yf": value, …}
-nlohmann::json to_json(const JointParameters& p);
-// Per parameter {"estimate", "lower95", "upper95", "std_error", "fitted", "bias", "determined",
-// "free", "unit"} (the interval's confidence in the key when it is not 95 %: "lower90", …), and the
-// fit's diagnostics.
-nlohmann::json to_json(const JointFit& fit);
-// The seed's read-out: band, points, per parameter {"median", "spread", "min", "max",
-// "noise_gain", "unit"}, reciprocity, conditioning, warnings.
-nlohmann::json to_json(const JointReadout& readout);
-// Forward check, mode by mode: {"measured_hz", "predicted_hz", "frequency_error_percent",
+// {"index", "frequency_hz", "magnitude", "prominence"}
+void to_json(nlohmann::json& j, const Peak& p);
+// A forward check's mode: {"measured_hz", "predicted_hz", "frequency_error_percent",
 // "measured_peak_m_per_n", "predicted_peak_m_per_n", "peak_error_percent"}.
-nlohmann::json to_json(const std::vector<ModeComparison>& check);
-nlohmann::json to_json(const EffectAnalysis& effect);
-nlohmann::json to_json(const ModeChoice& choice);
-// {"source", "magnitude_sigma": [H, L, N, P], "phase_sigma_rad": […], "residual_correlation"}.
-nlohmann::json to_json(const BlockNoise& noise);
-// The whole study; "parameters" holds the chosen method's values in JointFit's spelling (for the
-// seed's read-out: estimate = the median, no interval, determined from its noise gain and spread).
-nlohmann::json to_json(const Identification& id);
-nlohmann::json to_json(const FrfBand& band);
-nlohmann::json to_json(const StabilityUncertainty& s);
+void to_json(nlohmann::json& j, const ModeComparison& c);
+// {"k_yf": value, …}
+void to_json(nlohmann::json& j, const JointParameters& p);
+// {"modes": [{"frequency_hz", "peak_m_per_n", "shift_percent_per_10_percent_k",
+// "peak_change_percent_per_10_percent_c"}…], "dominant_index", "dominant_hz"}
+void to_json(nlohmann::json& j, const EffectAnalysis& e);
+// {"source", "magnitude_sigma": [H, L, N, P], "phase_sigma_rad": […], "residual_correlation"}
+void to_json(nlohmann::json& j, const BlockNoise& n);
+
+// ---- Joint identification ------------------------------------------------------------------------
+
+// Per parameter {"estimate", "lower95", "upper95", "std_error", "fitted", "bias", "determined",
+// "free", "unit"} under "parameters" (the interval's confidence in the key when not 95 %:
+// "lower90"), and the fit's diagnostics: "confidence", "interval_method", "interval_description",
+// "bootstrap_samples", "reciprocal", "points", "residual_ratio", "iterations", "converged",
+// "correlation", "covariance" (8×8, SI), "setups" and "transfer" (several set-ups), "warnings".
+void to_json(nlohmann::json& j, const JointFit& fit);
+// The seed's read-out: "band_hz", "points", per parameter {"median", "spread", "min", "max",
+// "noise_gain", "unit"}, "reciprocity", "max_condition_numbers", "warnings".
+void to_json(nlohmann::json& j, const JointReadout& r);
+// {"method", "center_hz", "band_hz", "effect_analysis" | "overhang_modes"}
+void to_json(nlohmann::json& j, const ModeChoice& c);
+// The whole study: "interface", "route", "equation", "method", "parameters" (the chosen method's
+// values in JointFit's spelling; for the seed's read-out estimate = the median, no interval,
+// determined from its noise gain and spread), "fit", "seed_readout", "mode_choice", "noise",
+// "forward_check", "verdict", "warnings".
+void to_json(nlohmann::json& j, const Identification& id);
+
+// ---- Uncertainty carried forward ---------------------------------------------------------------
+
+// {"frequency_hz", "levels", "samples", "magnitude_m_per_n": {"q5": […], …}, "phase_rad": {…}}
+void to_json(nlohmann::json& j, const FrfBand& b);
+// {"speed_rpm", "levels", "samples", "nominal_depth_m", "depth_m": {"q5": […], …}, "depth_grid_m"}
+void to_json(nlohmann::json& j, const StabilityUncertainty& s);
+
+// ---- Studies ------------------------------------------------------------------------------------
+
+// {"receptance": "SHT11" | "SH11", "modes": [Peak…], "warnings"}
+void to_json(nlohmann::json& j, const Prediction& p);
+// {"overhang_m", "modes": [Peak…]}
+void to_json(nlohmann::json& j, const OverhangFrf& r);
+// {"tool_inside_holder_m", "overhangs": [OverhangFrf…], "reference", "tracked_modes_hz", "warnings"}
+void to_json(nlohmann::json& j, const OverhangStudy& s);
+// {"response", "hammer"}
+void to_json(nlohmann::json& j, const TapTestFrf& r);
+// {"side", "distance_m", "frfs": [TapTestFrf…], "shear_stiffness_n", "crosses_step", "warnings"}
+void to_json(nlohmann::json& j, const TapTest& t);
 
 }  // namespace toolpoint

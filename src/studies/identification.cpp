@@ -9,6 +9,7 @@
 #include "toolpoint/coupling.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/peaks.hpp"
+#include "toolpoint/version.hpp"
 
 namespace toolpoint {
 
