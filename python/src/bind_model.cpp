@@ -204,6 +204,7 @@ void bind_model(py::module_& m) {
                                                     "receptances by modal summation (seed Eq. 11–14).")
       .def(py::init([](const Segment& s, int modes, bool static_residual) {
              ModalOptions o{modes, static_residual};
+             py::gil_scoped_release nogil;
              return std::make_shared<ModalBeam>(s.properties(), s.length, o);
            }),
            "segment"_a, "modes"_a = 100, "static_residual"_a = false)

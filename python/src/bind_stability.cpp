@@ -76,7 +76,15 @@ void bind_stability(py::module_& m) {
       .def("check", [](const Mode& x) { x.check(); })
       .def("to_dict", [](const Mode& x) { return dict_of(x); })
       .def("__repr__", [](const Mode& x) { return fmt::format("Mode(mass_kg={:.17g}, damping_ratio={:.17g}, frequency_hz={:.17g})", x.mass_kg, x.damping_ratio, x.frequency_hz); });
-  m.def("modal_frf", [](const std::vector<Mode>& modes, const RealArray& f) { return array_of(modal_frf(modes, vector_of(f, "frequency_hz")).values); },
+  m.def("modal_frf", [](const std::vector<Mode>& modes, const RealArray& f) {
+    const std::vector<double> grid = vector_of(f, "frequency_hz");
+    FrfSeries s;
+    {
+      py::gil_scoped_release nogil;
+      s = modal_frf(modes, grid);
+    }
+    return array_of(s.values);
+  },
         "modes"_a, "frequency_hz"_a, "G(f) = Σ 1/(m_r(ω_r² − ω² + 2iζ_r ω_r ω)) [m/N], complex (n,).");
   py::class_<ModalFitResult>(m, "ModalFitResult", "fit_modes' result.")
       .def_property_readonly("modes", [](const ModalFitResult& r) {
