@@ -220,8 +220,12 @@ void to_json(nlohmann::json& j, const Mode& m) {
 }
 
 void to_json(nlohmann::json& j, const ModalFitSummary& s) {
-  j = {{"frf", s.what}, {"modes", s.modes}, {"normalised_residual", s.residual}, {"band_low_hz", s.band_low_hz},
-       {"band_high_hz", s.band_high_hz}, {"target_met", s.target_met}};
+  j = {{"frf", s.what},
+       {"modes", s.modes},
+       {"normalised_residual", s.residual},
+       {"band_low_hz", s.band_low_hz},
+       {"band_high_hz", s.band_high_hz},
+       {"target_met", s.target_met}};
 }
 
 void to_json(nlohmann::json& j, const CuttingConditions& c) {
@@ -233,7 +237,10 @@ void to_json(nlohmann::json& j, const CuttingConditions& c) {
 }
 
 void to_json(nlohmann::json& j, const EnvelopePoint& p) {
-  j = {{"spindle_speed_rpm", p.speed_rpm}, {"axial_depth_mm", p.depth_m * 1e3}, {"chatter_frequency_hz", p.chatter_hz}, {"lobe", p.lobe}};
+  j = {{"spindle_speed_rpm", p.speed_rpm},
+       {"axial_depth_mm", p.depth_m * 1e3},
+       {"chatter_frequency_hz", p.chatter_hz},
+       {"lobe", p.lobe}};
 }
 
 void to_json(nlohmann::json& j, const BoundaryPoint& b) {
@@ -276,7 +283,8 @@ void to_json(nlohmann::json& j, const LobesStudyResult& r) {
     const auto lowest = std::min_element(b.boundary.begin(), b.boundary.end(),
                                          [](const BoundaryPoint& x, const BoundaryPoint& y) { return x.depth_m < y.depth_m; });
     if (lowest != b.boundary.end()) out["lowest_boundary"] = *lowest;
-    out["flip_speeds"] = std::count_if(b.boundary.begin(), b.boundary.end(), [](const BoundaryPoint& x) { return x.kind == BoundaryKind::Flip; });
+    out["flip_speeds"] = std::count_if(b.boundary.begin(), b.boundary.end(),
+                                       [](const BoundaryPoint& x) { return x.kind == BoundaryKind::Flip; });
   }
   j = std::move(out);
 }

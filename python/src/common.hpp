@@ -15,10 +15,12 @@
 #include <complex>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
 #include "toolpoint/receptance.hpp"
+#include "toolpoint/stability.hpp"
 #include "toolpoint/studies/study.hpp"
 
 namespace toolpoint::python {
@@ -49,6 +51,11 @@ Eigen::MatrixXd rows_matrix(const std::vector<std::vector<double>>& rows);
 // Series from arrays (no validation here: the library validates and names `what`).
 BlockSeries block_series(const RealArray& frequency_hz, const ComplexArray& blocks, const std::string& what);
 FrfSeries frf_series(const RealArray& frequency_hz, const ComplexArray& values, const std::string& what);
+
+// (min_rpm, max_rpm, points) as a SpeedRange.
+inline SpeedRange speed_range(const std::tuple<double, double, int>& s) {
+  return {std::get<0>(s), std::get<1>(s), std::get<2>(s)};
+}
 
 // nlohmann::json as plain Python objects (dict, list, float, int, str, bool, None).
 py::object to_python(const nlohmann::json& j);
@@ -94,7 +101,8 @@ E enum_of(const std::string& text, const std::vector<std::pair<const char*, E>>&
     if (text == name) return value;
     list += (list.empty() ? "'" : ", '") + std::string(name) + "'";
   }
-  throw InvalidArgument(fmt::format("{} '{}' is not one of {}", option, text, list), fmt::format("give {} as one of {}", option, list));
+  throw InvalidArgument(fmt::format("{} '{}' is not one of {}", option, text, list),
+                        fmt::format("give {} as one of {}", option, list));
 }
 
 template <class E>

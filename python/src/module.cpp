@@ -64,7 +64,8 @@ std::vector<Block> blocks_of(const ComplexArray& a, const std::string& name) {
   require_shape(a, name, {2, 2}, "(n, 2, 2)");
   std::vector<Block> out(static_cast<std::size_t>(a.shape(0)));
   const auto r = a.unchecked<3>();
-  for (py::ssize_t i = 0; i < a.shape(0); ++i) out[static_cast<std::size_t>(i)] = make_block(r(i, 0, 0), r(i, 0, 1), r(i, 1, 0), r(i, 1, 1));
+  for (py::ssize_t i = 0; i < a.shape(0); ++i)
+    out[static_cast<std::size_t>(i)] = make_block(r(i, 0, 0), r(i, 0, 1), r(i, 1, 0), r(i, 1, 1));
   return out;
 }
 
@@ -161,12 +162,12 @@ py::object to_python(const nlohmann::json& j) {
     case T::array: {
       py::list l;
       for (const auto& e : j) l.append(to_python(e));
-      return std::move(l);
+      return l;
     }
     case T::object: {
       py::dict d;
       for (const auto& [k, v] : j.items()) d[py::str(k)] = to_python(v);
-      return std::move(d);
+      return d;
     }
     default: return py::none();
   }
@@ -202,9 +203,10 @@ void bind_errors(py::module_& m) {
                       "(also shown as a 'fix:' note in tracebacks).");
   PyObject_SetAttrString(g_error, "hint", py::str("").ptr());
   const py::tuple invalid_bases = py::make_tuple(py::handle(g_error), py::handle(PyExc_ValueError));
-  g_invalid = new_class(m, "InvalidArgument", invalid_bases.ptr(),
-                        "A parameter outside its valid range (a negative length, an even filter window, ...): the CLI's exit code 2. "
-                        "Also a ValueError.");
+  g_invalid =
+      new_class(m, "InvalidArgument", invalid_bases.ptr(),
+                "A parameter outside its valid range (a negative length, an even filter window, ...): the CLI's exit code 2. "
+                "Also a ValueError.");
   g_input = new_class(m, "InputError", g_error,
                       "Malformed or inconsistent input data: a file that cannot be parsed, a missing key, NaN, mismatched grids, "
                       "an array of the wrong shape: exit code 3.");
@@ -236,12 +238,13 @@ void bind_errors(py::module_& m) {
 
 PYBIND11_MODULE(_toolpoint, m) {
   using namespace toolpoint::python;
-  m.doc() = "toolpoint: tool point FRFs, joint identification and chatter stability (the C++ library's bindings; "
-            "import toolpoint, not this module).";
+  m.doc() =
+      "toolpoint: tool point FRFs, joint identification and chatter stability (the C++ library's bindings; "
+      "import toolpoint, not this module).";
   m.attr("__version__") = TOOLPOINT_VERSION;
   bind_errors(m);
   bind_model(m);
   bind_signal_io(m);
-  bind_identify(m);
   bind_stability(m);
+  bind_identify(m);
 }

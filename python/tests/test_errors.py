@@ -68,3 +68,23 @@ def test_results_are_plain_data(example, prediction):
     t = tp.run_tap_test(example, spacing_m=0.01, points=2, hammer="tip")
     assert json.loads(json.dumps(t.to_dict())) == t.to_dict()
     assert tp.seed_table1_joint().to_dict()["c_tm"] == 1.0
+
+
+def test_every_function_and_method_has_a_docstring():
+    # pybind11 puts the signature on the first line; a description must follow it.
+    import inspect
+    missing = []
+    for name in tp.__all__:
+        obj = getattr(tp, name)
+        if inspect.isclass(obj):
+            if issubclass(obj, BaseException):
+                continue
+            if not (obj.__doc__ or "").strip():
+                missing.append(name)
+            for member, value in vars(obj).items():
+                if not member.startswith("_") and callable(value) and not isinstance(value, property):
+                    if len([line for line in (value.__doc__ or "").splitlines() if line.strip()]) < 2:
+                        missing.append(f"{name}.{member}")
+        elif callable(obj) and len([line for line in (obj.__doc__ or "").splitlines() if line.strip()]) < 2:
+            missing.append(name)
+    assert not missing

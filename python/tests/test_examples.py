@@ -19,11 +19,12 @@ def load(name):
 
 
 def test_demo_py_prints_the_cli_demo_report(tmp_path):
-    # 20 bootstrap replicates (the least allowed) keep it quick; the numbers are the CLI's at the same setting.
-    py = subprocess.run([sys.executable, str(EXAMPLES / "demo.py"), "--bootstrap", "20", "--figures", str(tmp_path / "fig")],
+    # Linearised intervals (--bootstrap 0) keep it quick (the bootstrap is compared in the tutorial's
+    # test); the numbers are the CLI's at the same setting.
+    py = subprocess.run([sys.executable, str(EXAMPLES / "demo.py"), "--bootstrap", "0", "--figures", str(tmp_path / "fig")],
                         capture_output=True, text=True)
     assert py.returncode == 0, py.stderr
-    cli = run_cli("demo", "--no-plots", "--bootstrap", 20, "--output", tmp_path / "cli")
+    cli = run_cli("demo", "--no-plots", "--bootstrap", 0, "--output", tmp_path / "cli")
     expected = cli.split("\nwrote ")[0].rstrip("\n").splitlines()
     assert py.stdout.rstrip("\n").splitlines() == expected
     assert any(line.startswith("k_yf ") for line in expected)  # the table is there
@@ -64,3 +65,16 @@ def test_tap_test_to_lobes_follows_the_cli_tutorial(tmp_path):
     lobes = run_cli_json("lobes", "--frf", "overhangs/sht11_overhang_48.0mm.csv", "--teeth", 4, "--kt", 6e8, "--kr", 0.3, "--immersion", 0.5,
                          "--milling", "down", "--rpm", "2000:20000", cwd=tmp_path)
     assert r["lobes"].to_dict()["pockets"] == lobes["pockets"]
+
+
+def test_the_readme_example_runs(tmp_path, monkeypatch):
+    # The README's Python section, as written (run in a scratch folder: it writes sht11.uff).
+    text = (SOURCE_DIR / "README.md").read_text()
+    section = text.split("## Python\n", 1)[1].split("\n## ", 1)[0]
+    code = section.split("```python\n", 1)[1].split("```", 1)[0]
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "examples").symlink_to(SOURCE_DIR / "examples")
+    scope = {}
+    exec(compile(code, "README.md", "exec"), scope)
+    assert [round(m.frequency_hz, 1) for m in scope["p"].modes] == [916.1, 1599.8, 2584.6, 3629.0, 4554.2]
+    assert (tmp_path / "sht11.uff").exists() and len(code.strip().splitlines()) <= 12

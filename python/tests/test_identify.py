@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import toolpoint as tp
-from conftest import EXAMPLE, run_cli, run_cli_json
+from conftest import EXAMPLE, read_csv, run_cli, run_cli_json
 
 
 @pytest.fixture(scope="module")
@@ -41,7 +41,7 @@ def test_identification_study_is_the_cli_one(measured, example):
         data = tp.IdentificationData(f, sht, B11=sh, g_name=sht_path, b_name=sh_path)
         ours = tp.identify_joint_from_frfs(example, [data], method=method, bootstrap_samples=20, threads=1)
         j = ours.to_dict()
-        for key in ("parameters", "verdict", "mode_choice", "seed_readout", "forward_check", "warnings"):
+        for key in ("parameters", "verdict", "mode_choice", "seed_readout", "forward_check", "noise", "warnings"):
             assert j[key] == cli[key], (method, key)
         if method == "fit":
             assert j["fit"] == cli["fit"]
@@ -69,8 +69,11 @@ def test_joint_file_round_trip_and_band(tmp_path, measured, example, prediction)
     assert band.magnitude.shape == (3, len(f[::50])) and band.nominal.shape == (len(f[::50]),)
     assert np.all(band.magnitude[0] <= band.magnitude[2])
     assert np.array_equal(band.nominal, tp.AssemblyModel(with_file).tool_point(f[::50])[:, 0, 0])
-    cli = run_cli("predict", EXAMPLE, "--joint", f"holder-tool={tmp_path / 'kht.toml'}", "--json")
-    assert '"modes"' in cli
+    # The band against predict --samples (the same samples and quantiles: identical doubles).
+    run_cli("predict", EXAMPLE, "--joint", f"holder-tool={tmp_path / 'kht.toml'}", "--samples", 20, "--band-output", tmp_path / "band.csv")
+    full = tp.tool_point_band(with_file, back, f, samples=20, seed=1)
+    cli = read_csv(tmp_path / "band.csv")  # frequency, |H| q5, q50, q95 [m/N], phase q5, q50, q95 [deg]
+    assert np.array_equal(cli[:, 0], full.frequency_hz) and np.array_equal(cli[:, 1:4].T, full.magnitude)
 
 
 def test_bad_identification_input_raises():
