@@ -206,7 +206,7 @@ void bind_identify(py::module_& m) {
           "The result as plain data (dicts, lists, floats, str, bool, None; the CLI's --json keys, SI units).");
   m.def(
       "effect_analysis",
-      [](const Assembly& a, const std::string& route, const RealArray& f, double step) {
+      [](Assembly a, const std::string& route, const RealArray& f, double step) {
         const std::vector<double> grid = vector_of(f, "frequency_hz");
         const Route r = enum_of(route, kRoutes, "route");
         py::gil_scoped_release nogil;
@@ -428,7 +428,7 @@ void bind_identify(py::module_& m) {
           "to_dict", [](const Identification& i) { return dict_of(i); }, "toolpoint identify --json's keys.");
   m.def(
       "identify_joint_from_frfs",
-      [](const Assembly& a, const std::vector<IdentificationData>& data, const std::string& route, const std::string& method,
+      [](Assembly a, const std::vector<IdentificationData>& data, const std::string& route, const std::string& method,
          std::optional<std::pair<double, double>> band_hz, std::optional<double> at_hz, double width,
          const std::vector<std::pair<RealArray, ComplexArray>>& overhang_frfs, std::optional<std::pair<int, int>> filter,
          std::optional<double> magnitude_sigma, double phase_sigma_rad, bool reciprocal, const std::string& uncertainty,
@@ -490,7 +490,7 @@ void bind_identify(py::module_& m) {
           "The result as plain data (dicts, lists, floats, str, bool, None; the CLI's --json keys, SI units).");
   m.def(
       "tool_point_band",
-      [](const Assembly& a, const JointFile& joint, const RealArray& f, int samples, std::uint64_t seed,
+      [](Assembly a, JointFile joint, const RealArray& f, int samples, std::uint64_t seed,
          std::vector<double> levels, int threads, const py::object& progress) {
         const std::vector<double> grid = vector_of(f, "frequency_hz");
         const UncertaintyOptions o = uncertainty_options(samples, seed, std::move(levels), threads, progress);
@@ -528,7 +528,7 @@ void bind_identify(py::module_& m) {
           "The result as plain data (dicts, lists, floats, str, bool, None; the CLI's --json keys, SI units).");
   m.def(
       "stability_uncertainty",
-      [](const Assembly& a, const JointFile& joint, const RealArray& f, const CuttingConditions& cutting,
+      [](Assembly a, JointFile joint, const RealArray& f, const CuttingConditions& cutting,
          std::tuple<double, double, int> speeds, const RealArray& depth_grid_m, int lobes, double max_depth_m, int samples,
          std::uint64_t seed, std::vector<double> levels, int threads, const py::object& progress) {
         const std::vector<double> grid = vector_of(f, "frequency_hz"), depths = vector_of(depth_grid_m, "depth_grid_m");
@@ -587,7 +587,7 @@ void bind_identify(py::module_& m) {
       .def_readonly("warnings", &CaseStudy::warnings);
   m.def(
       "run_case_study",
-      [](const Assembly& a, double noise_sigma, std::uint64_t seed, std::pair<int, int> filter, bool apply_filter,
+      [](Assembly a, double noise_sigma, std::uint64_t seed, std::pair<int, int> filter, bool apply_filter,
          double band_width, bool fit, const std::string& uncertainty, int bootstrap_samples, std::uint64_t fit_seed, int threads,
          const py::object& progress) {
         CaseStudyOptions o;

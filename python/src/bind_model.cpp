@@ -224,7 +224,7 @@ void bind_model(py::module_& m) {
 
   m.def(
       "exact_receptance",
-      [](const Segment& s, const RealArray& f) { return two_ports_over(f, [&](double x) { return exact_receptance(s, x); }); },
+      [](Segment s, const RealArray& f) { return two_ports_over(f, [&](double x) { return exact_receptance(s, x); }); },
       "segment"_a, "frequency_hz"_a,
       "Free–free end receptances of a uniform Timoshenko segment by the exact (truncation-free) solution, seed Eq. 9–14 "
       "generalised: complex (n, 4, 4) over (w1, θ1, w2, θ2) = [[T11, T12], [T21, T22]]; H in m/N, L 1/N, N rad/N, P rad/(N·m). "
@@ -238,7 +238,7 @@ void bind_model(py::module_& m) {
       m, "ModalBeam",
       "A segment's free–free modes (mass-normalised, rigid-body modes plus `modes` elastic ones): "
       "receptances by modal summation (seed Eq. 11–14).")
-      .def(py::init([](const Segment& s, int modes, bool static_residual) {
+      .def(py::init([](Segment s, int modes, bool static_residual) {
              ModalOptions o{modes, static_residual};
              py::gil_scoped_release nogil;
              return std::make_shared<ModalBeam>(s.properties(), s.length, o);
@@ -368,7 +368,7 @@ void bind_model(py::module_& m) {
       m, "AssemblyModel",
       "An assembly's components built once. Blocks are complex (n, 2, 2) [[H, L], [N, P]] (m/N, 1/N, rad/N, rad/(N·m)); "
       "two-end components (n, 4, 4) over (w1, θ1, w2, θ2). Frequencies in Hz. The GIL is released while computing.")
-      .def(py::init([](const Assembly& a) {
+      .def(py::init([](Assembly a) {
              py::gil_scoped_release nogil;
              return std::make_shared<AssemblyModel>(a);
            }),
@@ -440,7 +440,7 @@ void bind_model(py::module_& m) {
 
   m.def(
       "couple_tool",
-      [](const Assembly& a, const RealArray& f, const ComplexArray& sh11, const std::string& name) {
+      [](Assembly a, const RealArray& f, const ComplexArray& sh11, const std::string& name) {
         const BlockSeries s = block_series(f, sh11, name);
         BlockSeries out;
         {
@@ -481,7 +481,7 @@ void bind_model(py::module_& m) {
           "{'receptance', 'modes', 'warnings'} (toolpoint predict --json's keys).");
   m.def(
       "run_prediction",
-      [](const Assembly& a, const std::string& receptance, double min_prominence, const py::object& progress) {
+      [](Assembly a, const std::string& receptance, double min_prominence, const py::object& progress) {
         PredictOptions o;
         o.receptance = enum_of(receptance, kPredicted, "receptance");
         o.peaks.min_prominence = min_prominence;
@@ -521,7 +521,7 @@ void bind_model(py::module_& m) {
           "The result as plain data (dicts, lists, floats, str, bool, None; the CLI's --json keys, SI units).");
   m.def(
       "run_overhang_study",
-      [](const Assembly& a, const RealArray& f, const ComplexArray& sh11, std::vector<double> overhangs_m, double min_prominence,
+      [](Assembly a, const RealArray& f, const ComplexArray& sh11, std::vector<double> overhangs_m, double min_prominence,
          double tracking_tolerance, int threads, std::string sh11_name, const py::object& progress) {
         OverhangStudyOptions o;
         o.overhangs_m = std::move(overhangs_m);
@@ -569,7 +569,7 @@ void bind_model(py::module_& m) {
           "The result as plain data (dicts, lists, floats, str, bool, None; the CLI's --json keys, SI units).");
   m.def(
       "run_tap_test",
-      [](const Assembly& a, double spacing_m, const std::string& side, int points, const std::string& hammer, double sigma,
+      [](Assembly a, double spacing_m, const std::string& side, int points, const std::string& hammer, double sigma,
          std::uint64_t seed, const py::object& progress) {
         TapTestOptions o;
         o.side = enum_of(side, kSides, "side");

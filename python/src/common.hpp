@@ -5,7 +5,9 @@
 // as complex128 (n,); a two-end component's end receptances as complex128 (n, 4, 4) over
 // (w1, θ1, w2, θ2), i.e. [[b11, b12], [b21, b22]] (coupling.hpp's as_matrix); SI units; enums as
 // lower-case strings. Inputs are copied once into the library's value types (its studies own their
-// data); outputs are new numpy arrays. Long computations run with the GIL released.
+// data); outputs are new numpy arrays. Long computations run with the GIL released; mutable inputs
+// (Assembly, Segment, JointFile) are taken by value, copied while the GIL is held, so another Python
+// thread changing the object meanwhile cannot race with the computation.
 #pragma once
 
 #include <pybind11/numpy.h>

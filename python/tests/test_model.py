@@ -156,3 +156,19 @@ def test_progress_is_reported(example):
     seen = []
     tp.run_prediction(example, progress=seen.append)
     assert seen and seen[-1] == pytest.approx(1.0) and all(0 < x <= 1 for x in seen)
+
+
+def test_progress_from_worker_threads_and_concurrent_calls(example, prediction):
+    # The overhang study reports progress from its worker threads (the callback takes the GIL).
+    f = example.frequency_hz[::10]
+    sh11 = tp.AssemblyModel(example).holder_tip(f)
+    seen = []
+    one = tp.run_overhang_study(example, f, sh11, overhangs_m=[0.045, 0.05, 0.055, 0.06], threads=2, progress=seen.append)
+    assert len(seen) >= 4 and max(seen) == pytest.approx(1.0)
+    # Python threads may call the library at once (the GIL is released): the same results as alone.
+    from concurrent.futures import ThreadPoolExecutor
+    with ThreadPoolExecutor(2) as pool:
+        runs = list(pool.map(lambda _: tp.run_prediction(example).frf, range(3)))
+    assert all(np.array_equal(r, prediction.frf) for r in runs)
+    again = tp.run_overhang_study(example, f, sh11, overhangs_m=[0.045, 0.05, 0.055, 0.06], threads=1)
+    assert all(np.array_equal(a.sht11, b.sht11) for a, b in zip(one.overhangs, again.overhangs))
