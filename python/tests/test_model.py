@@ -118,6 +118,10 @@ def test_beam_against_the_cli_and_the_euler_bernoulli_limit(tmp_path):
     run_cli("beam", "--length", 0.1, "--diameter", 0.016, "--frequencies", "200:3000:400", "--output", tmp_path / "t11.csv")
     fc, t11 = read_block_csv(tmp_path / "t11.csv")
     assert np.array_equal(tp.exact_receptance(s, fc)[:, :2, :2], t11)
+    run_cli("beam", "--length", 0.1, "--diameter", 0.016, "--frequencies", "200:3000:400", "--method", "modal", "--block", 12,
+            "--output", tmp_path / "m12.csv")
+    _, m12 = read_block_csv(tmp_path / "m12.csv")
+    assert np.array_equal(tp.ModalBeam(s).receptance(fc)[:, :2, 2:], m12)  # T12: rows of end 1, columns of end 2
 
 
 def test_couple_and_overhang_study_are_the_cli_ones(tmp_path, example, model):

@@ -66,6 +66,15 @@ def test_time_domain_boundary_is_the_cli_one():
     assert fd.spectral_radius(n, a - 3 * e - 1e-4 * a) < 1 < fd.spectral_radius(n, a + 3 * e + 1e-4 * a)
 
 
+def test_modal_fit_is_the_cli_one(tmp_path, prediction):
+    tp.write_frf_file(str(tmp_path / "h.csv"), prediction.frequency_hz, prediction.frf[:, 0, 0])
+    cli = run_cli_json("modes", tmp_path / "h.csv")
+    r = tp.fit_modes(prediction.frequency_hz, prediction.frf[:, 0, 0])
+    assert [(m.frequency_hz, m.damping_ratio, m.mass_kg) for m in r.modes] == [
+        (m["frequency_hz"], m["damping_ratio"], m["modal_mass_kg"]) for m in cli["modes"]]
+    assert r.lower_residual == cli["lower_residual_per_kg"]
+
+
 def test_modal_fit_recovers_the_modes_it_is_given():
     f = np.linspace(500.0, 2000.0, 3001)
     modes = [tp.Mode(0.04, 0.011, 922.0), tp.Mode(0.08, 0.02, 1400.0)]
