@@ -439,6 +439,12 @@ Figure lobes_figure(const LobesFigureData& data) {
   depth.labels = placed;
   // The envelope last, on top of the lobes that form it.
   if (!data.envelope_rpm.empty()) depth.curves.push_back({data.envelope_rpm, env, "stability limit", CurveStyle::Line, 0});
+  int series = 3;
+  for (const auto& e : data.other_envelopes) {
+    require(e.depth_m.size() == data.envelope_rpm.size(),
+            fmt::format("lobes figure: envelope '{}' has {} depths for {} speeds", e.label, e.depth_m.size(), data.envelope_rpm.size()));
+    depth.curves.push_back({data.envelope_rpm, mm_of(e.depth_m), e.label, CurveStyle::Line, series++});
+  }
   fig.panels.push_back(std::move(depth));
   if (!chatter.curves.empty()) fig.panels.push_back(std::move(chatter));
   return fig;
