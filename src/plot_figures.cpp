@@ -337,11 +337,11 @@ Figure joint_figure(const JointFigureData& data) {
       if (reference)
         p.horizontal_lines.push_back({*reference * factor, fmt::format("reference {:.4g} {}", *reference * factor, shown_unit)});
       if (identified)
-        p.horizontal_lines.push_back({*identified * factor, fmt::format("identified {:.4g} {}{}", *identified * factor, shown_unit,
+        p.horizontal_lines.push_back({*identified * factor, fmt::format("{} {:.4g} {}{}", jp.identified_label, *identified * factor, shown_unit,
                                                                        undetermined ? ": UNDETERMINED by these data" : "")});
       if (other) p.horizontal_lines.push_back({*other * factor, fmt::format("{} {:.4g} {}", jp.other_label, *other * factor, shown_unit)});
       if (interval && !undetermined) {
-        p.horizontal_lines.push_back({interval->first * factor, fmt::format("95 % interval {:.4g}…{:.4g}", interval->first * factor,
+        p.horizontal_lines.push_back({interval->first * factor, fmt::format("95 %: {:.4g}…{:.4g}", interval->first * factor,
                                                                             interval->second * factor)});
         p.horizontal_lines.push_back({interval->second * factor, ""});
       }

@@ -258,6 +258,7 @@ struct JointParameterCurve {
   // A second identified value to compare with (the seed's read-out beside a band fit).
   std::optional<double> other_stiffness, other_damping;
   std::string other_label = "seed read-out";
+  std::string identified_label = "identified";
 };
 
 struct JointFigureData {
