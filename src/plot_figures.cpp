@@ -337,11 +337,11 @@ Figure joint_figure(const JointFigureData& data) {
       if (reference)
         p.horizontal_lines.push_back({*reference * factor, fmt::format("reference {:.4g} {}", *reference * factor, shown_unit)});
       if (identified)
-        p.horizontal_lines.push_back({*identified * factor, fmt::format("identified {:.4g} {}{}", *identified * factor, shown_unit,
+        p.horizontal_lines.push_back({*identified * factor, fmt::format("{} {:.4g} {}{}", jp.identified_label, *identified * factor, shown_unit,
                                                                        undetermined ? ": UNDETERMINED by these data" : "")});
       if (other) p.horizontal_lines.push_back({*other * factor, fmt::format("{} {:.4g} {}", jp.other_label, *other * factor, shown_unit)});
       if (interval && !undetermined) {
-        p.horizontal_lines.push_back({interval->first * factor, fmt::format("95 % interval {:.4g}…{:.4g}", interval->first * factor,
+        p.horizontal_lines.push_back({interval->first * factor, fmt::format("95 %: {:.4g}…{:.4g}", interval->first * factor,
                                                                             interval->second * factor)});
         p.horizontal_lines.push_back({interval->second * factor, ""});
       }
@@ -439,6 +439,12 @@ Figure lobes_figure(const LobesFigureData& data) {
   depth.labels = placed;
   // The envelope last, on top of the lobes that form it.
   if (!data.envelope_rpm.empty()) depth.curves.push_back({data.envelope_rpm, env, "stability limit", CurveStyle::Line, 0});
+  int series = 3;
+  for (const auto& e : data.other_envelopes) {
+    require(e.depth_m.size() == data.envelope_rpm.size(),
+            fmt::format("lobes figure: envelope '{}' has {} depths for {} speeds", e.label, e.depth_m.size(), data.envelope_rpm.size()));
+    depth.curves.push_back({data.envelope_rpm, mm_of(e.depth_m), e.label, CurveStyle::Line, series++});
+  }
   fig.panels.push_back(std::move(depth));
   if (!chatter.curves.empty()) fig.panels.push_back(std::move(chatter));
   return fig;

@@ -141,24 +141,45 @@ FrfBand coupled_tool_point_band(const Assembly& assembly, const JointFile& joint
   return band_of(samples, frf(with_joint(assembly, joint)), o.levels);
 }
 
-StabilityUncertainty stability_uncertainty(const Assembly& assembly, const JointFile& joint, const std::vector<double>& frequency_hz,
-                                           const CuttingConditions& cutting, const ZeroOrderOptions& lobes,
-                                           const std::vector<double>& depth_grid_m, const UncertaintyOptions& o) {
-  o.check();
-  cutting.check();
-  lobes.check();
+namespace {
+
+// Quantiles and the probability map from each sample's envelope on the common speed grid.
+StabilityUncertainty summarise(std::vector<double> speeds, std::vector<double> nominal, const std::vector<std::vector<double>>& depth,
+                               const std::vector<double>& depth_grid_m, const std::vector<double>& levels) {
+  StabilityUncertainty r;
+  r.speed_rpm = std::move(speeds);
+  r.nominal_depth_m = std::move(nominal);
+  r.levels = levels;
+  r.samples = static_cast<int>(depth.size());
+  r.depth_grid_m = depth_grid_m;
+  const std::size_t ns = r.speed_rpm.size();
+  r.depth_m.assign(levels.size(), std::vector<double>(ns));
+  r.probability = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(ns), static_cast<Eigen::Index>(depth_grid_m.size()));
+  std::vector<double> at(depth.size());
+  for (std::size_t k = 0; k < ns; ++k) {
+    for (std::size_t s = 0; s < depth.size(); ++s) at[s] = depth[s].at(k);
+    for (std::size_t l = 0; l < levels.size(); ++l) r.depth_m[l][k] = quantile(at, levels[l]);
+    std::sort(at.begin(), at.end());
+    for (std::size_t j = 0; j < depth_grid_m.size(); ++j) {
+      // Stable at depth a when the sample's envelope lies above a.
+      const auto above = at.end() - std::upper_bound(at.begin(), at.end(), depth_grid_m[j]);
+      r.probability(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(j)) = static_cast<double>(above) / static_cast<double>(at.size());
+    }
+  }
+  return r;
+}
+
+void check_depth_grid(const std::vector<double>& depth_grid_m) {
   if (depth_grid_m.empty()) throw InvalidArgument("stability_uncertainty: the depth grid is empty");
   for (std::size_t i = 0; i < depth_grid_m.size(); ++i)
     if (!(depth_grid_m[i] >= 0.0 && std::isfinite(depth_grid_m[i])) || (i > 0 && !(depth_grid_m[i] > depth_grid_m[i - 1])))
       throw InvalidArgument("stability_uncertainty: the depth grid must increase from ≥ 0 m");
-  auto envelope = [&](const Assembly& a) {
-    MillingFrfs m;
-    m.xx = entry(AssemblyModel(a).tool_point(frequency_hz), 0);
-    const ZeroOrderResult z = zero_order_lobes(m, cutting, lobes);
-    std::vector<double> d;
-    for (const EnvelopePoint& p : z.envelope) d.push_back(p.depth_m);
-    return std::pair{lobes.speeds.values(), d};
-  };
+}
+
+// Every sample's envelope through `envelope`, on every core; the nominal's last.
+StabilityUncertainty sample_envelopes(const Assembly& assembly, const JointFile& joint, const std::vector<double>& depth_grid_m,
+                                      const UncertaintyOptions& o,
+                                      const std::function<std::pair<std::vector<double>, std::vector<double>>(const Assembly&)>& envelope) {
   const JointUncertainty& u = uncertainty_of(joint);
   const std::vector<JointParameters> joints = sample_joints(joint.parameters, u.covariance, o.samples, o.seed);
   std::vector<std::vector<double>> depth(joints.size());
@@ -170,28 +191,46 @@ StabilityUncertainty stability_uncertainty(const Assembly& assembly, const Joint
         depth[i] = envelope(with_joint(assembly, ji)).second;
       },
       o.progress);
-  StabilityUncertainty r;
   auto [speeds, nominal] = envelope(with_joint(assembly, joint));
-  r.speed_rpm = std::move(speeds);
-  r.nominal_depth_m = std::move(nominal);
-  r.levels = o.levels;
-  r.samples = static_cast<int>(joints.size());
-  r.depth_grid_m = depth_grid_m;
-  const std::size_t ns = r.speed_rpm.size();
-  r.depth_m.assign(o.levels.size(), std::vector<double>(ns));
-  r.probability = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(ns), static_cast<Eigen::Index>(depth_grid_m.size()));
-  std::vector<double> at(joints.size());
-  for (std::size_t k = 0; k < ns; ++k) {
-    for (std::size_t s = 0; s < joints.size(); ++s) at[s] = depth[s].at(k);
-    for (std::size_t l = 0; l < o.levels.size(); ++l) r.depth_m[l][k] = quantile(at, o.levels[l]);
-    std::sort(at.begin(), at.end());
-    for (std::size_t j = 0; j < depth_grid_m.size(); ++j) {
-      // Stable at depth a when the sample's envelope lies above a.
-      const auto above = at.end() - std::upper_bound(at.begin(), at.end(), depth_grid_m[j]);
-      r.probability(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(j)) = static_cast<double>(above) / static_cast<double>(at.size());
-    }
-  }
-  return r;
+  return summarise(std::move(speeds), std::move(nominal), depth, depth_grid_m, o.levels);
+}
+
+}  // namespace
+
+StabilityUncertainty stability_uncertainty(const Assembly& assembly, const JointFile& joint, const std::vector<double>& frequency_hz,
+                                           const CuttingConditions& cutting, const ZeroOrderOptions& lobes,
+                                           const std::vector<double>& depth_grid_m, const UncertaintyOptions& o) {
+  o.check();
+  cutting.check();
+  lobes.check();
+  check_depth_grid(depth_grid_m);
+  return sample_envelopes(assembly, joint, depth_grid_m, o, [&](const Assembly& a) {
+    MillingFrfs m;
+    m.xx = entry(AssemblyModel(a).tool_point(frequency_hz), 0);
+    const ZeroOrderResult z = zero_order_lobes(m, cutting, lobes);
+    std::vector<double> d;
+    for (const EnvelopePoint& p : z.envelope) d.push_back(p.depth_m);
+    return std::pair{lobes.speeds.values(), d};
+  });
+}
+
+StabilityUncertainty stability_uncertainty(const Assembly& assembly, const JointFile& joint, const std::vector<double>& frequency_hz,
+                                           const LobesStudyOptions& lobes, const std::vector<double>& depth_grid_m,
+                                           const UncertaintyOptions& o) {
+  o.check();
+  lobes.check();
+  check_depth_grid(depth_grid_m);
+  LobesStudyOptions inner = lobes;
+  inner.parallel.threads = 1;
+  inner.progress = {};
+  return sample_envelopes(assembly, joint, depth_grid_m, o, [&](const Assembly& a) {
+    LobesInput in;
+    in.frfs = milling_frfs(AssemblyModel(a), frequency_hz);
+    const LobesStudyResult r = run_lobes_study(in, inner);
+    std::vector<double> speeds, d;
+    for (const EnvelopePoint& p : r.envelope) speeds.push_back(p.speed_rpm), d.push_back(p.depth_m);
+    return std::pair{speeds, d};
+  });
 }
 
 }  // namespace toolpoint

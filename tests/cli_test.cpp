@@ -177,6 +177,14 @@ TEST_F(Cli, IdentifiedJointFileFeedsTheOtherCommands) {
   expect_png("band.png", kTwoPanels);
   ok("couple --sh sh.csv --assembly '" + kExample + "' --joint kht.toml --output coupled.csv");
   ok("taptest '" + kExample + "' --joint holder-tool=kht.toml --spacing 0.01 --frequencies 100:3000:10 --output tap.uff");
+  // Lobes with the joint uncertain: the probability of stability on speed × depth, 1 at zero depth
+  // and never rising with depth at a speed; the quantile envelopes in the figure.
+  const Run lobes = ok("lobes --assembly '" + kExample + "' --joint holder-tool=kht.toml --samples 20 --teeth 4 --kt 6e8 --kr 0.3 "
+                       "--immersion 0.5 --milling down --rpm 5000:15000 --speeds 50 --probability-output prob.csv --plot lobes.png");
+  EXPECT_NE(lobes.out.find("stable with probability 95 %"), std::string::npos) << lobes.out;
+  const std::string prob = read_text_file(path("prob.csv"));
+  EXPECT_NE(prob.find("spindle_speed_rpm,axial_depth_mm,probability_stable"), std::string::npos);
+  EXPECT_TRUE(exists("lobes.png"));
   // The wrong interface, sampling without a covariance, a joint file that is no such thing.
   expect_error(run("predict '" + kExample + "' --joint spindle-holder=kht.toml"), 2, {"kht.toml", "holder_tool"});
   expect_error(run("predict '" + kExample + "' --samples 20"), 2, {"--samples", "--joint"});

@@ -249,7 +249,9 @@ Coverage coverage(const CoverageCase& c, const JointFitOptions& base, int seeds,
 
 // Prints the table (what the README quotes) and checks every parameter that is determined in most
 // seeds: coverage at least 95 % − 3 binomial standard errors (a correct 95 % interval fails this
-// once in ~700), and — only when the study is long enough to tell (≥ 200 seeds) — at most 98 %.
+// once in ~700), and — only when the study is long enough to tell (≥ 200 seeds) — at most 98 % plus
+// 2 binomial standard errors at 98 % (a coverage of 98 % would exceed it once in 40: the estimate
+// itself scatters by 0.7 % at 400 seeds).
 void check(const CoverageCase& c, const Coverage& cv, const std::string& method) {
   std::string table = fmt::format("{} ({}), {} seeds: parameter coverage determined rms_error mean_error\n", c.name, method, cv.seeds);
   const double n = cv.seeds, lo = 0.95 - 3.0 * std::sqrt(0.95 * 0.05 / n);
@@ -259,7 +261,7 @@ void check(const CoverageCase& c, const Coverage& cv, const std::string& method)
                          cv.determined[ks] / n, 100 * cv.rms[ks], 100 * cv.mean[ks]);
     if (cv.determined[ks] < 0.9 * n) continue;
     EXPECT_GE(cv.covered[ks] / n, lo) << c.name << " " << method << " " << JointParameters::name(k);
-    if (n >= 200) EXPECT_LE(cv.covered[ks] / n, 0.98) << c.name << " " << method << " " << JointParameters::name(k);
+    if (n >= 200) EXPECT_LE(cv.covered[ks] / n, 0.98 + 2.0 * std::sqrt(0.98 * 0.02 / n)) << c.name << " " << method << " " << JointParameters::name(k);
   }
   std::printf("%s", table.c_str());
 }

@@ -89,7 +89,8 @@ struct SamplingOptions {
   std::uint64_t seed = 1;
   int threads = 0;
 };
-void add_sampling_options(CLI::App* command, SamplingOptions& target, const std::string& what);
+// `threads_option` false: the command has its own --threads (SamplingOptions::threads unused).
+void add_sampling_options(CLI::App* command, SamplingOptions& target, const std::string& what, bool threads_option = true);
 const JointFile& sampled_joint(const std::vector<JointFile>& files);
 UncertaintyOptions uncertainty_options(const SamplingOptions& s);
 

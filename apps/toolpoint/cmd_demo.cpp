@@ -157,13 +157,16 @@ void run_demo(const DemoOptions& o, const Globals& g) {
       todo.push_back({plot::joint_figure(clean), path("fig3_joint_noise_free.png")});
       plot::JointFigureData noisy;
       noisy.frequency_hz = f;
-      noisy.title = cs.fitted ? fmt::format("k_{{yf}}, c_{{yf}} from {:g} % noise: closed form (filtered, seed Fig. 5), seed read-out at the "
-                                            "tool mode, band fit with 95 % interval", 100 * o.sigma)
+      noisy.title = cs.fitted ? fmt::format("k_{{yf}}, c_{{yf}} at {:g} % noise: seed read-out and band fit (seed Fig. 5)", 100 * o.sigma)
                               : fmt::format("k_{{yf}}, c_{{yf}} from {:g} % noise, filtered; read at the tool mode (seed Fig. 5)", 100 * o.sigma);
       plot::JointParameterCurve yf = cs.fitted ? joint_curve(cs.filtered, 0, cs.reference, cs.fitted->identified, &*cs.fitted->fit)
                                                : joint_curve(cs.filtered, 0, cs.reference, cs.filtered_readout.medians(), nullptr,
                                                              &cs.filtered_readout);
-      if (cs.fitted) yf.other_stiffness = cs.filtered_readout.parameters[0].median, yf.other_damping = cs.filtered_readout.parameters[1].median;
+      if (cs.fitted) {
+        yf.other_stiffness = cs.filtered_readout.parameters[0].median;
+        yf.other_damping = cs.filtered_readout.parameters[1].median;
+        yf.identified_label = "band fit";
+      }
       noisy.parameters.push_back(yf);
       noisy.band_hz = std::make_pair(cs.filtered_readout.band_lo_hz, cs.filtered_readout.band_hi_hz);
       todo.push_back({plot::joint_figure(noisy), path("fig5_joint_filtered.png")});

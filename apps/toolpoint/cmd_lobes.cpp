@@ -20,6 +20,7 @@
 #include "toolpoint/json.hpp"
 #include "toolpoint/stability_io.hpp"
 #include "toolpoint/studies/lobes.hpp"
+#include "toolpoint/uncertainty.hpp"
 
 namespace toolpoint::cli {
 
@@ -41,6 +42,10 @@ struct LobesOptions {
   double max_depth_mm = 0.0, tolerance_pct = 1.0, fit_target_pct = 2.0, prominence_pct = 2.0;
   std::vector<std::string> mode_x, mode_y;
   std::string output, envelope, plot;
+  // The joint uncertain (--assembly with a --joint file carrying a covariance).
+  std::vector<std::string> joints;
+  SamplingOptions sampling;
+  std::string probability_output;
   bool json = false;
 };
 
@@ -48,18 +53,21 @@ struct LobesOptions {
 // point FRF (SHT11's H, seed Eq. 5) serves both directions (a round tool on a round spindle).
 // Fills input.frfs (left empty when no FRF is given: the time domain may run from --mode-x alone)
 // and the names used in messages.
-void tool_point_frfs(const LobesOptions& o, const Globals& g, LobesInput& input) {
+void tool_point_frfs(const LobesOptions& o, const Globals& g, const std::vector<JointFile>& joints, LobesInput& input,
+                     std::optional<Assembly>& assembly) {
   if (!o.assembly.empty()) {
     if (!o.frf.empty() || !o.frf_y.empty() || !o.frf_xy.empty() || !o.frf_yx.empty())
       throw InvalidArgument("give either --assembly or --frf (with --frf-y, --frf-xy, --frf-yx), not both",
                             "drop --assembly to use measured FRFs, or drop the --frf options");
-    const LoadedModel lm = load_model(g, o.assembly);
+    const LoadedModel lm = load_model(g, o.assembly, {}, joints);
     input.frfs = milling_frfs(lm.model, lm.loaded.assembly.grid.values(), o.rigid_y);
+    assembly = lm.loaded.assembly;
     input.frf_name = "the tool point FRF of " + o.assembly;
     info(g, fmt::format("tool point FRF from {} ({} frequencies, {:g}–{:g} Hz), used for x and y", o.assembly,
                         input.frfs->xx.size(), input.frfs->xx.frequency_hz.front(), input.frfs->xx.frequency_hz.back()));
     return;
   }
+  if (!joints.empty()) throw InvalidArgument("--joint needs --assembly (the joint goes into the model)", "add --assembly FILE.toml");
   if (o.frf.empty()) {
     if (!o.frf_y.empty() || !o.frf_xy.empty() || !o.frf_yx.empty())
       throw InvalidArgument("--frf-y/--frf-xy/--frf-yx need --frf (the x direct FRF)", "add --frf tool_point_x.csv");
@@ -185,6 +193,31 @@ void print_pockets(const LobesStudyResult& r, double prominence) {
   }
 }
 
+// What the joint's uncertainty does to the best speeds: at each, the nominal depth and the depths
+// stable with 95 % and 50 % probability.
+void report_uncertain_lobes(const StabilityUncertainty& su, const LobesStudyResult& r, const std::string& source) {
+  std::cout << fmt::format("with the joint of {} uncertain ({} samples): depth stable with probability 95 % / 50 % at the best speeds\n",
+                           source, su.samples);
+  std::cout << "  spindle_speed_rpm  nominal_mm  p95_mm  p50_mm\n";
+  std::size_t q05 = 0, q50 = 0;
+  for (std::size_t l = 0; l < su.levels.size(); ++l) {
+    if (std::abs(su.levels[l] - 0.05) < 1e-9) q05 = l;
+    if (std::abs(su.levels[l] - 0.5) < 1e-9) q50 = l;
+  }
+  for (const EnvelopePoint& p : r.pockets) {
+    const auto it = std::min_element(su.speed_rpm.begin(), su.speed_rpm.end(),
+                                     [&](double a, double b) { return std::abs(a - p.speed_rpm) < std::abs(b - p.speed_rpm); });
+    const auto k = static_cast<std::size_t>(it - su.speed_rpm.begin());
+    std::cout << fmt::format("  {:17.0f}  {:10.4f}  {:6.4f}  {:6.4f}\n", p.speed_rpm, 1e3 * su.nominal_depth_m[k], 1e3 * su.depth_m[q05][k],
+                             1e3 * su.depth_m[q50][k]);
+  }
+  std::size_t worst = 0;
+  for (std::size_t k = 0; k < su.speed_rpm.size(); ++k)
+    if (su.depth_m[q05][k] < su.depth_m[q05][worst]) worst = k;
+  std::cout << fmt::format("  lowest depth stable with 95 % probability: {:.4f} mm at {:.0f} rpm\n", 1e3 * su.depth_m[q05][worst],
+                           su.speed_rpm[worst]);
+}
+
 void run_lobes(const LobesOptions& o, const Globals& g) {
   check_plot_path(o.plot);
   LobesStudyOptions so;
@@ -205,8 +238,25 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
   so.pocket_prominence = o.prominence_pct / 100.0;
   so.parallel.threads = o.threads;
 
+  const bool uncertain = o.sampling.samples != 0 || !o.probability_output.empty();
+  if (uncertain) {
+    if (o.assembly.empty())
+      throw InvalidArgument("--samples needs --assembly (the joint is sampled inside the model)", "give --assembly FILE.toml --joint holder-tool=kht.toml");
+    if (so.method != LobesMethod::ZeroOrder)
+      throw InvalidArgument("--samples runs the zero-order method (a time-domain boundary per sample would take minutes)",
+                            "drop --method fd, or --samples");
+  }
+  const std::vector<JointFile> joints = read_joint_options(g, o.joints);
+  std::optional<UncertaintyOptions> sampling;
+  if (uncertain) {
+    sampled_joint(joints);
+    SamplingOptions so_threads = o.sampling;
+    so_threads.threads = o.threads;
+    sampling = uncertainty_options(so_threads);
+  }
   LobesInput input;
-  tool_point_frfs(o, g, input);
+  std::optional<Assembly> assembly;
+  tool_point_frfs(o, g, joints, input, assembly);
   if (o.rigid_y && !o.mode_y.empty()) throw InvalidArgument("--rigid-y and --mode-y contradict each other", "drop one of them");
   for (const auto& t : o.mode_x) input.x_modes.push_back(parse_mode(t, "--mode-x"));
   for (const auto& t : o.mode_y) input.y_modes.push_back(parse_mode(t, "--mode-y"));
@@ -231,6 +281,23 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
   if (so.method != LobesMethod::ZeroOrder && o.lobes >= 0) r.warnings.push_back("--lobes is used by --method zoa only (fd derives lobe numbers)");
   if (o.depth_steps > 0) r.warnings.push_back("--depth-steps is no longer used: the boundary is bracketed by a geometric scan from the neighbouring speed's limit");
 
+  // The joint uncertain: the stable depth's quantiles per speed, and the probability of stability
+  // on a speed × depth grid up to 1.5 × the nominal envelope's highest point.
+  std::optional<StabilityUncertainty> su;
+  std::string sampled_source;
+  if (sampling) {
+    const JointFile& sampled = sampled_joint(joints);
+    sampled_source = sampled.source;
+    Progress sprog(g, fmt::format("lobes: {} joint samples", sampling->samples));
+    sampling->progress = sprog.part();
+    double top = 0.0;
+    for (const EnvelopePoint& p : r.envelope)
+      if (std::isfinite(p.depth_m)) top = std::max(top, p.depth_m);
+    std::vector<double> depths;
+    for (int j = 0; j <= 200; ++j) depths.push_back(1.5 * top * j / 200);
+    su = stability_uncertainty(*assembly, sampled, assembly->grid.values(), so, depths, *sampling);
+    sprog.done();
+  }
   const std::vector<std::string> comments = {
       fmt::format("teeth {}, K_t {} N/m^2, K_r {}, entry {:.4f} deg, exit {:.4f} deg", so.cutting.teeth,
                   so.cutting.tangential_coefficient, so.cutting.radial_ratio, so.cutting.engagement.entry_rad * 180.0 / kPi,
@@ -245,8 +312,25 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
     write_text_file(o.envelope, format_envelope_csv(r.envelope, comments));
     written.push_back(o.envelope);
   }
+  if (su && !o.probability_output.empty()) {
+    Table t;
+    t.columns = {"spindle_speed_rpm", "axial_depth_mm", "probability_stable"};
+    for (std::size_t i = 0; i < su->speed_rpm.size(); ++i)
+      for (std::size_t j = 0; j < su->depth_grid_m.size(); ++j)
+        t.rows.push_back({su->speed_rpm[i], 1e3 * su->depth_grid_m[j], su->probability(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j))});
+    write_table_csv(o.probability_output, t,
+                    {fmt::format("probability that the cut is stable, over {} samples of the joint of {} (zero-order envelope of each sample's "
+                                 "tool point FRF)", su->samples, sampled_source),
+                     "spindle speed rpm, axial depth mm, probability 0..1"});
+    written.push_back(o.probability_output);
+    info(g, fmt::format("wrote {} (probability of stability)", o.probability_output));
+  }
   if (o.json) {
     nlohmann::json out = r;
+    if (su) {
+      out["uncertainty"] = *su;
+      out["uncertainty"]["joint"] = sampled_source;
+    }
     out["output"] = o.output;
     out["envelope"] = o.envelope;
     out["plot"] = o.plot;
@@ -258,13 +342,23 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
       info(g, r.zero_order ? fmt::format("wrote {} (lobe points)", o.output) : fmt::format("wrote {} ({} speeds)", o.output, r.boundary->boundary.size()));
     if (!o.envelope.empty()) info(g, fmt::format("wrote {} (stable envelope)", o.envelope));
     print_pockets(r, so.pocket_prominence);
+    if (su) report_uncertain_lobes(*su, r, sampled_source);
     std::cout << std::flush;
     if (o.output.empty() && o.plot.empty())
       info(g, "give --output lobes.csv for every lobe point, --envelope env.csv for the stable envelope, --plot lobes.png for "
               "the figure");
   }
   warn_all(r.warnings);
-  if (!o.plot.empty()) draw_figures(g, {{plot::lobes_figure(r.figure), o.plot}}, written);
+  if (!o.plot.empty()) {
+    plot::LobesFigureData d = r.figure;
+    if (su) {
+      // The title is full already: the legend says how the quantiles were made.
+      for (std::size_t l = 0; l < su->levels.size(); ++l)
+        d.other_envelopes.push_back({su->depth_m[l], fmt::format("stable with {:g} % probability{}", 100 * (1.0 - su->levels[l]),
+                                                                 l == 0 ? fmt::format(" ({} joint samples)", su->samples) : "")});
+    }
+    draw_figures(g, {{plot::lobes_figure(d), o.plot}}, written);
+  }
 }
 
 }  // namespace
@@ -335,6 +429,16 @@ void add_lobes_command(CLI::App& app, Globals& g) {
   add_plot_option(c, o->plot,
                   "axial depth [mm] against spindle speed [rpm] with the stable region under the envelope shaded, the "
                   "lobes (zoa) or the boundary (fd) numbered, and their chatter frequency [Hz] in a second panel");
+  add_joint_option(c, o->joints)->description(
+      "With --assembly: an identified joint instead of the assembly file's (holder-tool=FILE.toml or spindle-holder=FILE.toml, "
+      "from `toolpoint identify --joint-output`)");
+  add_sampling_options(c, o->sampling,
+                       "zoa with --assembly: the envelope's 5/50/95 % quantiles (drawn in the figure) and the probability of "
+                       "stability (--probability-output); --threads applies to them",
+                       false);
+  c->add_option("--probability-output", o->probability_output,
+                "With --samples: the probability that the cut is stable on a spindle speed [rpm] × axial depth [mm] grid "
+                "(CSV spindle_speed_rpm,axial_depth_mm,probability_stable)");
   c->add_flag("--json", o->json, "Machine-readable summary on stdout");
   c->footer(std::string(kFigureFooter) +
       "Examples:\n"

@@ -100,14 +100,15 @@ Assembly with_joints(const Assembly& assembly, const std::vector<JointFile>& fil
   return a;
 }
 
-void add_sampling_options(CLI::App* command, SamplingOptions& target, const std::string& what) {
+void add_sampling_options(CLI::App* command, SamplingOptions& target, const std::string& what, bool threads_option) {
   command->add_option("--samples", target.samples,
                       "Carry the --joint file's uncertainty forward by this many Monte Carlo samples of the joint (≥ 10; 0: "
                       "none): " + what)
       ->capture_default_str();
   command->add_option("--seed", target.seed, "Random seed of the joint samples")->capture_default_str();
-  command->add_option("--threads", target.threads, "Worker threads for the samples (0: every core; the same result for any number)")
-      ->capture_default_str();
+  if (threads_option)
+    command->add_option("--threads", target.threads, "Worker threads for the samples (0: every core; the same result for any number)")
+        ->capture_default_str();
 }
 
 const JointFile& sampled_joint(const std::vector<JointFile>& files) {

@@ -45,10 +45,11 @@
 //     fit filters), and refitted by the same procedure, weights included (they come from the
 //     smoothed B11, whose noise then correlates with the fit's). The replicates' mean minus θ̂
 //     estimates the bias — second order in the noise: B11's noise inside a nonlinear model
-//     (errors in variables), the weights' dependence on B11 — which is subtracted; their spread gives the
-//     standard error. Intervals: bias-corrected estimate ± z·SE, SE scaled up as above. Coverage
-//     of these intervals is measured over noise seeds in the tests and
-//     the README (toolpoint_coverage).
+//     (errors in variables), the weights' dependence on B11 — which is subtracted; their spread
+//     gives the standard error, never below the linearised one (a spread of N replicates has a
+//     Monte Carlo error of ~1/√(2N) itself; the correlations are the replicates'). Intervals:
+//     bias-corrected estimate ± z·SE, SE scaled up as above. Coverage of these intervals is
+//     measured over noise seeds in the tests and the README (JointFitCoverage).
 // A parameter is *determined* when its interval excludes 0 and is narrower than |estimate|.
 //
 // Several set-ups (the seed measured three overhangs; or several tools in one holder) share θ:

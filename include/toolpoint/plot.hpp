@@ -258,6 +258,7 @@ struct JointParameterCurve {
   // A second identified value to compare with (the seed's read-out beside a band fit).
   std::optional<double> other_stiffness, other_damping;
   std::string other_label = "seed read-out";
+  std::string identified_label = "identified";
 };
 
 struct JointFigureData {
@@ -291,6 +292,13 @@ struct LobesFigureData {
   std::vector<double> envelope_depth_m;  // m
   std::string title;
   std::optional<double> depth_max_m;     // top of the depth axis; default: 5× the envelope's minimum
+  // Other envelopes over envelope_rpm (the quantiles of the stable depth when a joint is
+  // uncertain), drawn as lines in the house style's next colours, in the legend.
+  struct Envelope {
+    std::vector<double> depth_m;
+    std::string label;
+  };
+  std::vector<Envelope> other_envelopes;
 };
 
 // Two panels: depth [mm] against spindle speed [rpm] with the stable region under the envelope

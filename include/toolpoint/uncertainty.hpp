@@ -25,6 +25,7 @@
 #include "toolpoint/parallel.hpp"
 #include "toolpoint/receptance.hpp"
 #include "toolpoint/stability.hpp"
+#include "toolpoint/studies/lobes.hpp"
 
 namespace toolpoint {
 
@@ -88,5 +89,13 @@ struct StabilityUncertainty {
 StabilityUncertainty stability_uncertainty(const Assembly& assembly, const JointFile& joint, const std::vector<double>& frequency_hz,
                                            const CuttingConditions& cutting, const ZeroOrderOptions& lobes,
                                            const std::vector<double>& depth_grid_m, const UncertaintyOptions& options);
+
+// The same by the lobes study (studies/lobes.hpp) with any of its methods: each sample's tool
+// point FRF (x and y, milling_frfs) goes through run_lobes_study with `lobes` (one thread inside:
+// the samples are what runs in parallel); the envelope is the study's (the time-domain boundary
+// where the search reached its ceiling counts as that depth). Same errors as run_lobes_study.
+StabilityUncertainty stability_uncertainty(const Assembly& assembly, const JointFile& joint, const std::vector<double>& frequency_hz,
+                                           const LobesStudyOptions& lobes, const std::vector<double>& depth_grid_m,
+                                           const UncertaintyOptions& options);
 
 }  // namespace toolpoint
