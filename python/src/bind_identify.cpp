@@ -35,17 +35,6 @@ py::array_t<double> array_of(const std::array<double, N>& a) {
   return python::array_of(std::vector<double>(a.begin(), a.end()));
 }
 
-UncertaintyOptions uncertainty_options(int samples, std::uint64_t seed, std::vector<double> levels, int threads,
-                                       const py::object& progress) {
-  UncertaintyOptions o;
-  o.samples = samples;
-  o.seed = seed;
-  o.levels = std::move(levels);
-  o.parallel.threads = threads;
-  o.progress = progress_of(progress);
-  return o;
-}
-
 // (rows, 8) from a per-row array of 8.
 template <class Rows, class Get>
 py::array_t<double> table8(const Rows& rows, Get get) {
@@ -85,6 +74,17 @@ py::array_t<double> interval_field(const JointFit& f, Get get) {
 }
 
 }  // namespace
+
+UncertaintyOptions uncertainty_options(int samples, std::uint64_t seed, std::vector<double> levels, int threads,
+                                       const py::object& progress) {
+  UncertaintyOptions o;
+  o.samples = samples;
+  o.seed = seed;
+  o.levels = std::move(levels);
+  o.parallel.threads = threads;
+  o.progress = progress_of(progress);
+  return o;
+}
 
 void bind_identify(py::module_& m) {
   // ---- Closed form per frequency (seed Eq. 6, 15, 18) ----------------------------------------------
@@ -490,8 +490,8 @@ void bind_identify(py::module_& m) {
           "The result as plain data (dicts, lists, floats, str, bool, None; the CLI's --json keys, SI units).");
   m.def(
       "tool_point_band",
-      [](Assembly a, JointFile joint, const RealArray& f, int samples, std::uint64_t seed,
-         std::vector<double> levels, int threads, const py::object& progress) {
+      [](Assembly a, JointFile joint, const RealArray& f, int samples, std::uint64_t seed, std::vector<double> levels,
+         int threads, const py::object& progress) {
         const std::vector<double> grid = vector_of(f, "frequency_hz");
         const UncertaintyOptions o = uncertainty_options(samples, seed, std::move(levels), threads, progress);
         py::gil_scoped_release nogil;
@@ -512,41 +512,6 @@ void bind_identify(py::module_& m) {
   m.def("quantile", &quantile, "values"_a, "p"_a, "Type-7 quantile (numpy's default) at level p of values (NaN left out).");
 
   // ---- Stability with the joint uncertain ------------------------------------------------------------
-  py::class_<StabilityUncertainty>(m, "StabilityUncertainty",
-                                   "Quantiles of the stable depth per speed and the probability of stability.")
-      .def_property_readonly("speed_rpm", [](const StabilityUncertainty& s) { return array_of(s.speed_rpm); })
-      .def_property_readonly("levels", [](const StabilityUncertainty& s) { return array_of(s.levels); })
-      .def_property_readonly("nominal_depth_m", [](const StabilityUncertainty& s) { return array_of(s.nominal_depth_m); })
-      .def_property_readonly(
-          "depth_m", [](const StabilityUncertainty& s) { return matrix_array(rows_matrix(s.depth_m)); }, "(levels, speeds) [m]")
-      .def_property_readonly("depth_grid_m", [](const StabilityUncertainty& s) { return array_of(s.depth_grid_m); })
-      .def_property_readonly(
-          "probability", [](const StabilityUncertainty& s) { return matrix_array(s.probability); }, "(speeds, depths) in [0, 1]")
-      .def_readonly("samples", &StabilityUncertainty::samples)
-      .def(
-          "to_dict", [](const StabilityUncertainty& s) { return dict_of(s); },
-          "The result as plain data (dicts, lists, floats, str, bool, None; the CLI's --json keys, SI units).");
-  m.def(
-      "stability_uncertainty",
-      [](Assembly a, JointFile joint, const RealArray& f, const CuttingConditions& cutting,
-         std::tuple<double, double, int> speeds, const RealArray& depth_grid_m, int lobes, double max_depth_m, int samples,
-         std::uint64_t seed, std::vector<double> levels, int threads, const py::object& progress) {
-        const std::vector<double> grid = vector_of(f, "frequency_hz"), depths = vector_of(depth_grid_m, "depth_grid_m");
-        ZeroOrderOptions z;
-        z.lobes = lobes;
-        z.speeds = speed_range(speeds);
-        z.max_depth_m = max_depth_m;
-        const UncertaintyOptions o = uncertainty_options(samples, seed, std::move(levels), threads, progress);
-        py::gil_scoped_release nogil;
-        return stability_uncertainty(a, joint, grid, cutting, z, depths, o);
-      },
-      "assembly"_a, "joint"_a, "frequency_hz"_a, "cutting"_a, "speeds"_a, "depth_grid_m"_a, "lobes"_a = -1, "max_depth_m"_a = 0.0,
-      "samples"_a = 200, "seed"_a = 1, "levels"_a = std::vector<double>{0.05, 0.5, 0.95}, "threads"_a = 0,
-      "progress"_a = py::none(),
-      "Zero-order stability with the joint of a JointFile uncertain: per speed the quantiles of the stable depth [m], and on "
-      "depth_grid_m "
-      "[m] the probability of stability.");
-
   // ---- The seed's case study ------------------------------------------------------------------------
   py::class_<CaseStudy>(m, "CaseStudy", "run_case_study's result (the seed's Section 3 and the band fit; toolpoint demo).")
       .def_readonly("assembly", &CaseStudy::assembly)
@@ -587,8 +552,8 @@ void bind_identify(py::module_& m) {
       .def_readonly("warnings", &CaseStudy::warnings);
   m.def(
       "run_case_study",
-      [](Assembly a, double noise_sigma, std::uint64_t seed, std::pair<int, int> filter, bool apply_filter,
-         double band_width, bool fit, const std::string& uncertainty, int bootstrap_samples, std::uint64_t fit_seed, int threads,
+      [](Assembly a, double noise_sigma, std::uint64_t seed, std::pair<int, int> filter, bool apply_filter, double band_width,
+         bool fit, const std::string& uncertainty, int bootstrap_samples, std::uint64_t fit_seed, int threads,
          const py::object& progress) {
         CaseStudyOptions o;
         o.noise_sigma = noise_sigma;

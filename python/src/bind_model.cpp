@@ -9,6 +9,7 @@
 #include "toolpoint/joint.hpp"
 #include "toolpoint/joint_file.hpp"
 #include "toolpoint/json.hpp"
+#include "toolpoint/studies/fd_correction.hpp"
 #include "toolpoint/studies/overhang.hpp"
 #include "toolpoint/studies/predict.hpp"
 #include "toolpoint/studies/tap_test.hpp"
@@ -589,6 +590,49 @@ void bind_model(py::module_& m) {
       "holder without the tool outside ('holder'), hammer at every point ('roving') or the tip ('tip'), multiplicative noise "
       "sigma "
       "(0.005 = 0.5 %; FRF k draws from seed + k), on assembly.grid.");
+
+  py::class_<FiniteDifferenceError>(
+      m, "FiniteDifferenceError", "The finite-difference error of a tap test estimated on the model (studies/fd_correction.hpp).")
+      .def_property_readonly(
+          "frequency_hz", [](const FiniteDifferenceError& e) { return array_of(e.error.frequency_hz); }, "(n,) Hz")
+      .def_property_readonly(
+          "error", [](const FiniteDifferenceError& e) { return blocks_array(e.error.blocks); },
+          "E = FD[model's H_ij at the points] − model's tip block, complex (n, 2, 2) (H's entry 0): subtract it from the "
+          "measured block")
+      .def_property_readonly(
+          "exact", [](const FiniteDifferenceError& e) { return blocks_array(e.exact.blocks); },
+          "the model's tip block, complex (n, 2, 2)")
+      .def_property_readonly(
+          "max_relative",
+          [](const FiniteDifferenceError& e) {
+            return array_of(std::vector<double>(e.max_relative.begin(), e.max_relative.end()));
+          },
+          "(4,) H, L, N, P: max over f of |E| over max over f of |exact|")
+      .def_readonly("warnings", &FiniteDifferenceError::warnings, "list of str");
+  m.def(
+      "finite_difference_error",
+      [](Assembly a, const RealArray& f, const std::vector<std::pair<int, int>>& pairs, double spacing, const std::string& side,
+         int order, bool symmetrise, const std::string& p_method, std::optional<double> shear_stiffness) {
+        const std::vector<double> grid = vector_of(f, "frequency_hz");
+        PointFrfs layout;
+        for (const auto& [i, j] : pairs) {
+          if (i < 0 || i > 2 || j < 0 || j > 2)
+            throw InvalidArgument(fmt::format("pairs: ({}, {}) is not (response, force) with points 0, 1, 2", i, j),
+                                  "list the measured H_ij as (response, force), e.g. [(0, 0), (1, 0), (2, 0)]");
+          layout.set(i, j, FrfSeries{grid, {}});
+        }
+        const RotationalOptions o = rotational_options(order, spacing, symmetrise, p_method, shear_stiffness);
+        const TapSide s = enum_of(side, kSides, "side");
+        py::gil_scoped_release nogil;
+        return finite_difference_error(a, s, grid, layout, o);
+      },
+      "assembly"_a, "frequency_hz"_a, "pairs"_a, "spacing"_a, "side"_a = "tool", "order"_a = 2, "symmetrise"_a = false,
+      "p_method"_a = "auto", "shear_stiffness"_a = py::none(),
+      "The model-based finite-difference correction: the error E(f) that the differences of rotational_frfs (same options; pairs "
+      "the "
+      "measured H_ij as (response, force)) make on the model at the same points spaced `spacing` m on the 'tool' or the "
+      "'holder'. "
+      "measured block − E removes it to the extent the model is right near the tip.");
 }
 
 }  // namespace toolpoint::python

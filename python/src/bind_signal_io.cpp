@@ -83,6 +83,17 @@ UffDof dof_of(const py::object& o) {
 
 }  // namespace
 
+RotationalOptions rotational_options(int order, double spacing, bool symmetrise, const std::string& p_method,
+                                     std::optional<double> shear_stiffness) {
+  RotationalOptions o;
+  o.order = order;
+  o.spacing = spacing;
+  o.symmetrise = symmetrise;
+  o.p_method = enum_of(p_method, kPMethods, "p_method");
+  o.shear_stiffness = shear_stiffness;
+  return o;
+}
+
 void bind_signal_io(py::module_& m) {
   // ---- Savitzky–Golay, noise, rotational FRFs ------------------------------------------------------
   m.def(
@@ -158,12 +169,7 @@ void bind_signal_io(py::module_& m) {
           const std::string name = fmt::format("H{}{}", ij.first, ij.second);
           frfs.set(ij.first, ij.second, FrfSeries{grid, complex_vector_of(value.cast<ComplexArray>(), name)});
         }
-        RotationalOptions o;
-        o.order = order;
-        o.spacing = spacing;
-        o.symmetrise = symmetrise;
-        o.p_method = enum_of(p_method, kPMethods, "p_method");
-        o.shear_stiffness = shear_stiffness;
+        const RotationalOptions o = rotational_options(order, spacing, symmetrise, p_method, shear_stiffness);
         py::gil_scoped_release nogil;
         return rotational_frfs(frfs, o);
       },

@@ -6,6 +6,7 @@
 #include "toolpoint/modal_fit.hpp"
 #include "toolpoint/stability.hpp"
 #include "toolpoint/studies/lobes.hpp"
+#include "toolpoint/uncertainty.hpp"
 
 namespace toolpoint::python {
 
@@ -61,6 +62,26 @@ MillingFrfs milling_of(const RealArray& f, const ComplexArray& xx, const std::op
   if (yx) m.yx = frf_series(f, *yx, "yx");
   m.rigid_y = rigid_y;
   return m;
+}
+
+// The lobes study's options from keyword arguments (run_lobes_study, stability_uncertainty).
+LobesStudyOptions lobes_study_options(const CuttingConditions& cutting, const std::tuple<double, double, int>& speeds,
+                                      const std::string& method, double max_depth_m, int lobes, double tolerance, int steps,
+                                      int degree, int max_modes, const std::optional<std::pair<double, double>>& band_hz,
+                                      double fit_target) {
+  LobesStudyOptions o;
+  o.method = enum_of(method, kLobesMethods, "method");
+  o.cutting = cutting;
+  o.speeds = speed_range(speeds);
+  o.max_depth_m = max_depth_m;
+  o.lobes = lobes;
+  o.tolerance = tolerance;
+  o.steps = steps;
+  o.degree = degree;
+  o.fit.max_modes = max_modes;
+  o.fit.band_hz = band_hz;
+  o.fit_target = fit_target;
+  return o;
 }
 
 }  // namespace
@@ -352,18 +373,8 @@ void bind_stability(py::module_& m) {
         in.x_modes = std::move(x_modes);
         in.y_modes = std::move(y_modes);
         in.rigid_y = rigid_y;
-        LobesStudyOptions o;
-        o.method = enum_of(method, kLobesMethods, "method");
-        o.cutting = cutting;
-        o.speeds = speed_range(speeds);
-        o.max_depth_m = max_depth_m;
-        o.lobes = lobes;
-        o.tolerance = tolerance;
-        o.steps = steps;
-        o.degree = degree;
-        o.fit.max_modes = max_modes;
-        o.fit.band_hz = band_hz;
-        o.fit_target = fit_target;
+        LobesStudyOptions o = lobes_study_options(cutting, speeds, method, max_depth_m, lobes, tolerance, steps, degree,
+                                                  max_modes, band_hz, fit_target);
         o.pocket_prominence = pocket_prominence;
         o.pockets = pockets;
         o.parallel.threads = threads;
@@ -410,6 +421,51 @@ void bind_stability(py::module_& m) {
       },
       "envelope"_a, "count"_a = 5, "min_prominence"_a = 0.02,
       "The best spindle speeds of an envelope dict: maxima rising min_prominence above their valleys.");
+
+  // ---- Stability with the joint uncertain ------------------------------------------------------------
+  py::class_<StabilityUncertainty>(m, "StabilityUncertainty",
+                                   "Quantiles of the stable depth per speed and the probability of stability.")
+      .def_property_readonly(
+          "speed_rpm", [](const StabilityUncertainty& s) { return array_of(s.speed_rpm); }, "(speeds,) rpm")
+      .def_property_readonly(
+          "levels", [](const StabilityUncertainty& s) { return array_of(s.levels); }, "the quantile levels")
+      .def_property_readonly(
+          "nominal_depth_m", [](const StabilityUncertainty& s) { return array_of(s.nominal_depth_m); },
+          "(speeds,) the envelope with the joint's constants [m]")
+      .def_property_readonly(
+          "depth_m", [](const StabilityUncertainty& s) { return matrix_array(rows_matrix(s.depth_m)); },
+          "(levels, speeds) quantiles of the stable depth [m]")
+      .def_property_readonly(
+          "depth_grid_m", [](const StabilityUncertainty& s) { return array_of(s.depth_grid_m); }, "(depths,) [m]")
+      .def_property_readonly(
+          "probability", [](const StabilityUncertainty& s) { return matrix_array(s.probability); },
+          "(speeds, depths): the fraction of samples stable there, in [0, 1]")
+      .def_readonly("samples", &StabilityUncertainty::samples)
+      .def(
+          "to_dict", [](const StabilityUncertainty& s) { return dict_of(s); },
+          "The result as plain data (dicts, lists, floats, str, bool, None; the CLI's --json keys, SI units).");
+  m.def(
+      "stability_uncertainty",
+      [](Assembly a, JointFile joint, const RealArray& f, const CuttingConditions& cutting,
+         std::tuple<double, double, int> speeds, const RealArray& depth_grid_m, const std::string& method, double max_depth_m,
+         int lobes, double tolerance, int steps, int degree, int max_modes, std::optional<std::pair<double, double>> band_hz,
+         double fit_target, int samples, std::uint64_t seed, std::vector<double> levels, int threads,
+         const py::object& progress) {
+        const std::vector<double> grid = vector_of(f, "frequency_hz"), depths = vector_of(depth_grid_m, "depth_grid_m");
+        const LobesStudyOptions lo = lobes_study_options(cutting, speeds, method, max_depth_m, lobes, tolerance, steps, degree,
+                                                         max_modes, band_hz, fit_target);
+        const UncertaintyOptions o = uncertainty_options(samples, seed, std::move(levels), threads, progress);
+        py::gil_scoped_release nogil;
+        return stability_uncertainty(a, joint, grid, lo, depths, o);
+      },
+      "assembly"_a, "joint"_a, "frequency_hz"_a, "cutting"_a, "speeds"_a, "depth_grid_m"_a, "method"_a = "zoa",
+      "max_depth_m"_a = 0.0, "lobes"_a = -1, "tolerance"_a = 0.01, "steps"_a = 0, "degree"_a = 2, "max_modes"_a = 8,
+      "band_hz"_a = py::none(), "fit_target"_a = 0.02, "samples"_a = 200, "seed"_a = 1,
+      "levels"_a = std::vector<double>{0.05, 0.5, 0.95}, "threads"_a = 0, "progress"_a = py::none(),
+      "Stability with the joint of a JointFile (with [uncertainty]) uncertain (toolpoint lobes --joint ... --samples N): each "
+      "sampled joint's tool point FRF on frequency_hz [Hz] through the lobes study (method 'zoa' or 'fd', its options as in "
+      "run_lobes_study); per speed the quantiles of the stable depth [m], and on depth_grid_m [m] the probability of stability. "
+      "threads: 0 every core; results identical for any count.");
 }
 
 }  // namespace toolpoint::python

@@ -15,6 +15,8 @@
 #include <pybind11/stl.h>
 
 #include <complex>
+#include <cstdint>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <tuple>
@@ -22,8 +24,13 @@
 #include <vector>
 
 #include "toolpoint/receptance.hpp"
+#include "toolpoint/signal.hpp"
 #include "toolpoint/stability.hpp"
 #include "toolpoint/studies/study.hpp"
+
+namespace toolpoint {
+struct UncertaintyOptions;
+}  // namespace toolpoint
 
 namespace toolpoint::python {
 
@@ -58,6 +65,14 @@ FrfSeries frf_series(const RealArray& frequency_hz, const ComplexArray& values, 
 inline SpeedRange speed_range(const std::tuple<double, double, int>& s) {
   return {std::get<0>(s), std::get<1>(s), std::get<2>(s)};
 }
+
+// RotationalOptions from keyword arguments (p_method 'auto', 'cross_terms', 'schmitz_smith').
+RotationalOptions rotational_options(int order, double spacing, bool symmetrise, const std::string& p_method,
+                                     std::optional<double> shear_stiffness);
+
+// UncertaintyOptions from keyword arguments (bind_identify.cpp).
+UncertaintyOptions uncertainty_options(int samples, std::uint64_t seed, std::vector<double> levels, int threads,
+                                       const py::object& progress);
 
 // nlohmann::json as plain Python objects (dict, list, float, int, str, bool, None).
 py::object to_python(const nlohmann::json& j);

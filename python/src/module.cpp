@@ -245,6 +245,6 @@ PYBIND11_MODULE(_toolpoint, m) {
   bind_errors(m);
   bind_model(m);
   bind_signal_io(m);
-  bind_stability(m);
   bind_identify(m);
+  bind_stability(m);
 }

@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 import toolpoint as tp
+from conftest import EXAMPLE, run_cli_json
 
 
 def test_find_peaks_and_track_modes(example, prediction):
@@ -50,10 +51,30 @@ def test_stability_uncertainty_without_uncertainty_is_the_nominal_lobes(example)
     depths = np.linspace(0.0, 5e-3, 11)
     s = tp.stability_uncertainty(example, jf, f, cut, (2000.0, 20000.0, 200), depths, samples=10, threads=1)
     H = tp.AssemblyModel(example).tool_point(f)[:, 0, 0]
-    nominal = tp.zero_order_lobes(f, H, cut, speeds=(2000.0, 20000.0, 200)).envelope["depth_m"]
+    nominal = tp.run_lobes_study(cut, (2000.0, 20000.0, 200), frequency_hz=f, xx=H).envelope["depth_m"]
     assert np.array_equal(s.nominal_depth_m, nominal)
     assert all(np.array_equal(q, nominal) for q in s.depth_m)  # every sample is the nominal joint
     assert np.array_equal(s.probability, (nominal[:, None] > depths[None, :]).astype(float))
+
+
+def test_stability_uncertainty_is_the_cli_one(tmp_path, example):
+    f = example.frequency_hz
+    sh = tp.add_measurement_noise(f, tp.AssemblyModel(example).holder_tip(f), sigma=0.02, seed=1)
+    sht = tp.add_measurement_noise(f, tp.AssemblyModel(example).tool_point(f), sigma=0.02, seed=2)
+    jf = tp.identify_joint_from_frfs(example, [tp.IdentificationData(f, sht, B11=sh)], uncertainty="linearised").joint_file()
+    tp.write_joint_file(str(tmp_path / "kht.toml"), jf)
+    jf = tp.load_joint_file(str(tmp_path / "kht.toml"))
+    cli = run_cli_json("lobes", "--assembly", EXAMPLE, "--joint", f"holder-tool={tmp_path / 'kht.toml'}", "--samples", 20, "--teeth", 4,
+                       "--kt", 6e8, "--kr", 0.3, "--immersion", 0.5, "--milling", "down", "--rpm", "2000:20000", "--speeds", 300)
+    a = example.with_joint(jf)
+    cut = tp.CuttingConditions(4, 6e8, 0.3, immersion=0.5, milling="down")
+    nominal = tp.run_lobes_study(cut, (2000.0, 20000.0, 300), frequency_hz=f, xx=tp.milling_frfs(tp.AssemblyModel(a), f))
+    top = max(d for d in nominal.envelope["depth_m"] if np.isfinite(d))
+    depths = [1.5 * top * j / 200 for j in range(201)]  # the CLI's grid (cmd_lobes.cpp)
+    s = tp.stability_uncertainty(a, jf, f, cut, (2000.0, 20000.0, 300), depths, samples=20)
+    expected = {k: v for k, v in cli["uncertainty"].items() if k != "joint"}
+    assert s.to_dict() == expected
+    assert s.probability.shape == (300, 201) and s.depth_m.shape == (3, 300)
 
 
 def test_best_speeds_of_an_envelope(example, model):
