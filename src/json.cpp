@@ -1,8 +1,11 @@
 // toolpoint: results as JSON (json.hpp). nlohmann::json sorts the keys.
 #include "toolpoint/json.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
+
+#include "toolpoint/conventions.hpp"
 
 namespace toolpoint {
 
@@ -208,6 +211,82 @@ void to_json(nlohmann::json& out, const StabilityUncertainty& s) {
   for (std::size_t l = 0; l < s.levels.size(); ++l) d[fmt::format("q{:g}", 100 * s.levels[l])] = numbers(s.depth_m[l]);
   out = {{"speed_rpm", numbers(s.speed_rpm)}, {"levels", s.levels}, {"samples", s.samples}, {"nominal_depth_m", numbers(s.nominal_depth_m)},
           {"depth_m", d}, {"depth_grid_m", numbers(s.depth_grid_m)}};
+}
+
+// ---- Stability lobes ------------------------------------------------------------------------------
+
+void to_json(nlohmann::json& j, const Mode& m) {
+  j = {{"modal_mass_kg", m.mass_kg}, {"damping_ratio", m.damping_ratio}, {"frequency_hz", m.frequency_hz}};
+}
+
+void to_json(nlohmann::json& j, const ModalFitSummary& s) {
+  j = {{"frf", s.what},
+       {"modes", s.modes},
+       {"normalised_residual", s.residual},
+       {"band_low_hz", s.band_low_hz},
+       {"band_high_hz", s.band_high_hz},
+       {"target_met", s.target_met}};
+}
+
+void to_json(nlohmann::json& j, const CuttingConditions& c) {
+  j = {{"teeth", c.teeth},
+       {"tangential_coefficient_n_per_m2", c.tangential_coefficient},
+       {"radial_ratio", c.radial_ratio},
+       {"entry_deg", c.engagement.entry_rad * 180.0 / kPi},
+       {"exit_deg", c.engagement.exit_rad * 180.0 / kPi}};
+}
+
+void to_json(nlohmann::json& j, const EnvelopePoint& p) {
+  j = {{"spindle_speed_rpm", p.speed_rpm},
+       {"axial_depth_mm", p.depth_m * 1e3},
+       {"chatter_frequency_hz", p.chatter_hz},
+       {"lobe", p.lobe}};
+}
+
+void to_json(nlohmann::json& j, const BoundaryPoint& b) {
+  j = {{"spindle_speed_rpm", b.speed_rpm},
+       {"axial_depth_mm", b.depth_m * 1e3},
+       {"axial_depth_error_mm", number(b.depth_error_m * 1e3)},
+       {"chatter_frequency_hz", number(b.chatter_hz)},
+       {"lobe", b.lobe},
+       {"kind", to_string(b.kind)},
+       {"steps", b.steps}};
+}
+
+void to_json(nlohmann::json& j, const LobesStudyResult& r) {
+  nlohmann::json out;
+  out["units"] = "spindle speed rpm, axial depth mm, chatter frequency Hz";
+  out["cutting"] = r.cutting;
+  out["pockets"] = r.pockets;
+  out["warnings"] = r.warnings;
+  if (r.zero_order) {
+    const ZeroOrderResult& z = *r.zero_order;
+    out["method"] = "zoa";
+    out["floor_depth_mm"] = z.floor_depth_m * 1e3;
+    out["floor_chatter_frequency_hz"] = z.floor_chatter_hz;
+    std::size_t points = 0;
+    z.for_each_point([&](const LobePoint&) { ++points; });
+    out["lobes"] = z.lobes;
+    out["lobe_points"] = points;
+  }
+  if (r.boundary) {
+    const BoundaryResult& b = *r.boundary;
+    out["method"] = "fd";
+    out["modes_x"] = r.modes.x;
+    out["modes_y"] = r.modes.y;
+    out["modal_fit"] = r.fits;
+    out["max_depth_mm"] = b.max_depth_m * 1e3;
+    out["tolerance_pct"] = 100.0 * b.tolerance;
+    out["worst_error_pct"] = 100.0 * b.worst_relative_error();
+    out["degree"] = b.degree;
+    out["evaluations"] = b.evaluations;
+    const auto lowest = std::min_element(b.boundary.begin(), b.boundary.end(),
+                                         [](const BoundaryPoint& x, const BoundaryPoint& y) { return x.depth_m < y.depth_m; });
+    if (lowest != b.boundary.end()) out["lowest_boundary"] = *lowest;
+    out["flip_speeds"] = std::count_if(b.boundary.begin(), b.boundary.end(),
+                                       [](const BoundaryPoint& x) { return x.kind == BoundaryKind::Flip; });
+  }
+  j = std::move(out);
 }
 
 }  // namespace toolpoint

@@ -147,84 +147,6 @@ std::string with_flags(std::string text) {
   return text;
 }
 
-// ---- JSON: one function per result type, one spelling per field (units in the key) ----------
-
-nlohmann::json to_json(const Mode& m) {
-  return {{"modal_mass_kg", m.mass_kg}, {"damping_ratio", m.damping_ratio}, {"frequency_hz", m.frequency_hz}};
-}
-
-nlohmann::json to_json(const std::vector<Mode>& modes) {
-  nlohmann::json a = nlohmann::json::array();
-  for (const Mode& m : modes) a.push_back(to_json(m));
-  return a;
-}
-
-nlohmann::json to_json(const ModalFitSummary& s) {
-  return {{"frf", s.what}, {"modes", s.modes}, {"normalised_residual", s.residual}, {"band_low_hz", s.band_low_hz},
-          {"band_high_hz", s.band_high_hz}, {"target_met", s.target_met}};
-}
-
-nlohmann::json to_json(const CuttingConditions& c) {
-  return {{"teeth", c.teeth},
-          {"tangential_coefficient_n_per_m2", c.tangential_coefficient},
-          {"radial_ratio", c.radial_ratio},
-          {"entry_deg", c.engagement.entry_rad * 180.0 / kPi},
-          {"exit_deg", c.engagement.exit_rad * 180.0 / kPi}};
-}
-
-nlohmann::json to_json(const EnvelopePoint& p) {
-  return {{"spindle_speed_rpm", p.speed_rpm}, {"axial_depth_mm", p.depth_m * 1e3}, {"chatter_frequency_hz", p.chatter_hz}, {"lobe", p.lobe}};
-}
-
-nlohmann::json to_json(const BoundaryPoint& b) {
-  return {{"spindle_speed_rpm", b.speed_rpm},
-          {"axial_depth_mm", b.depth_m * 1e3},
-          {"axial_depth_error_mm", std::isfinite(b.depth_error_m) ? nlohmann::json(b.depth_error_m * 1e3) : nlohmann::json(nullptr)},
-          {"chatter_frequency_hz", std::isfinite(b.chatter_hz) ? nlohmann::json(b.chatter_hz) : nlohmann::json(nullptr)},
-          {"lobe", b.lobe},
-          {"kind", to_string(b.kind)},
-          {"steps", b.steps}};
-}
-
-nlohmann::json to_json(const LobesStudyResult& r) {
-  nlohmann::json out;
-  out["units"] = "spindle speed rpm, axial depth mm, chatter frequency Hz";
-  out["cutting"] = to_json(r.cutting);
-  nlohmann::json pockets = nlohmann::json::array();
-  for (const EnvelopePoint& p : r.pockets) pockets.push_back(to_json(p));
-  out["pockets"] = pockets;
-  out["warnings"] = r.warnings;
-  if (r.zero_order) {
-    const ZeroOrderResult& z = *r.zero_order;
-    out["method"] = "zoa";
-    out["floor_depth_mm"] = z.floor_depth_m * 1e3;
-    out["floor_chatter_frequency_hz"] = z.floor_chatter_hz;
-    std::size_t points = 0;
-    z.for_each_point([&](const LobePoint&) { ++points; });
-    out["lobes"] = z.lobes;
-    out["lobe_points"] = points;
-  }
-  if (r.boundary) {
-    const BoundaryResult& b = *r.boundary;
-    out["method"] = "fd";
-    out["modes_x"] = to_json(r.modes.x);
-    out["modes_y"] = to_json(r.modes.y);
-    nlohmann::json fits = nlohmann::json::array();
-    for (const ModalFitSummary& s : r.fits) fits.push_back(to_json(s));
-    out["modal_fit"] = fits;
-    out["max_depth_mm"] = b.max_depth_m * 1e3;
-    out["tolerance_pct"] = 100.0 * b.tolerance;
-    out["worst_error_pct"] = 100.0 * b.worst_relative_error();
-    out["degree"] = b.degree;
-    out["evaluations"] = b.evaluations;
-    const auto lowest = std::min_element(b.boundary.begin(), b.boundary.end(),
-                                         [](const BoundaryPoint& x, const BoundaryPoint& y) { return x.depth_m < y.depth_m; });
-    out["lowest_boundary"] = to_json(*lowest);
-    out["flip_speeds"] = std::count_if(b.boundary.begin(), b.boundary.end(), [](const BoundaryPoint& x) { return x.kind == BoundaryKind::Flip; });
-  }
-  return out;
-}
-
 // ---- Text ------------------------------------------------------------------------------------
 
 void print_summary(const LobesStudyResult& r) {
@@ -404,7 +326,7 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
     info(g, fmt::format("wrote {} (probability of stability)", o.probability_output));
   }
   if (o.json) {
-    nlohmann::json out = to_json(r);
+    nlohmann::json out = r;
     if (su) {
       out["uncertainty"] = *su;
       out["uncertainty"]["joint"] = sampled_source;

@@ -23,6 +23,8 @@
 #include "toolpoint/joint_fit.hpp"
 #include "toolpoint/noise.hpp"
 #include "toolpoint/peaks.hpp"
+#include "toolpoint/stability.hpp"
+#include "toolpoint/studies/lobes.hpp"
 #include "toolpoint/studies/identification.hpp"
 #include "toolpoint/studies/overhang.hpp"
 #include "toolpoint/studies/predict.hpp"
@@ -82,5 +84,24 @@ void to_json(nlohmann::json& j, const OverhangStudy& s);
 void to_json(nlohmann::json& j, const TapTestFrf& r);
 // {"side", "distance_m", "frfs": [TapTestFrf…], "shear_stiffness_n", "crosses_step", "warnings"}
 void to_json(nlohmann::json& j, const TapTest& t);
+
+// ---- Stability lobes (the keys of `toolpoint lobes --json`: depths in mm, speeds in rpm, as in its
+// CSV files; the exception to the member-name rule, kept so scripts reading that output keep working)
+
+// {"modal_mass_kg", "damping_ratio", "frequency_hz"}
+void to_json(nlohmann::json& j, const Mode& m);
+// {"frf", "modes", "normalised_residual", "band_low_hz", "band_high_hz", "target_met"}
+void to_json(nlohmann::json& j, const ModalFitSummary& s);
+// {"teeth", "tangential_coefficient_n_per_m2", "radial_ratio", "entry_deg", "exit_deg"}
+void to_json(nlohmann::json& j, const CuttingConditions& c);
+// {"spindle_speed_rpm", "axial_depth_mm", "chatter_frequency_hz", "lobe"}
+void to_json(nlohmann::json& j, const EnvelopePoint& p);
+// {"spindle_speed_rpm", "axial_depth_mm", "axial_depth_error_mm", "chatter_frequency_hz", "lobe", "kind", "steps"}
+void to_json(nlohmann::json& j, const BoundaryPoint& b);
+// {"units", "cutting", "pockets", "warnings", "method": "zoa" | "fd"}, and for zoa "floor_depth_mm",
+// "floor_chatter_frequency_hz", "lobes", "lobe_points"; for fd "modes_x", "modes_y", "modal_fit",
+// "max_depth_mm", "tolerance_pct", "worst_error_pct", "degree", "evaluations", "lowest_boundary",
+// "flip_speeds".
+void to_json(nlohmann::json& j, const LobesStudyResult& r);
 
 }  // namespace toolpoint
