@@ -1,6 +1,7 @@
-// Benchmarks of milling stability (stability module). Aims (one core): zero-order lobes, 50 lobes
-// from a 10 000-point FRF, ≤ 5 ms; semi-discretization of the Insperger–Stépán benchmark on a
-// 200 speed × 100 depth grid with 40 intervals, ≤ 1 s.
+// Benchmarks of milling stability (stability module). Aims (one core unless stated): zero-order
+// lobes, 50 lobes from a 10 000-point FRF, ≤ 5 ms; the Insperger–Stépán benchmark's ρ map (200
+// speeds × 100 depths) ≤ 0.2 s and its boundary at 200 speeds ≤ 20 ms; the example assembly's
+// boundary at 200 speeds ≤ 1 s (≤ 0.6 s on two threads).
 // Run: build/toolpoint_bench --benchmark_filter=Stability
 #include <benchmark/benchmark.h>
 
@@ -44,38 +45,60 @@ static void BM_Stability_ZeroOrder50Lobes(benchmark::State& state) {
 BENCHMARK(BM_Stability_ZeroOrder50Lobes)->ArgsProduct({{0, 1}, {0, 1}})->Unit(benchmark::kMillisecond);
 
 // The benchmark system (1-DOF in x, a/D = 0.05 down-milling): ρ on 200 speeds (5000–25 000 rpm)
-// × 100 depths (0.1–10 mm), 40 intervals per tooth period.
-static void BM_Stability_SemiDiscretizationGrid(benchmark::State& state) {
-  const SemiDiscretization sd(ModalModel{{kBench}, {}}, benchmark_cut(0.05), 40);
+// × 100 depths (0.1–10 mm), 40 steps per tooth period, one thread. Aim ≤ 0.2 s.
+static void BM_Stability_FullDiscretizationGrid(benchmark::State& state) {
+  const FullDiscretization fd(ModalModel{{kBench}, {}}, benchmark_cut(0.05), 40);
   const std::vector<double> speeds = linear(5000.0, 25000.0, 200), depths = linear(1e-4, 1e-2, 100);
   for (auto _ : state) {
-    const Eigen::MatrixXd rho = sd.spectral_radius_map(speeds, depths);
+    const Eigen::MatrixXd rho = fd.spectral_radius_map(speeds, depths, ParallelOptions{1});
     benchmark::DoNotOptimize(rho.data());
   }
 }
-BENCHMARK(BM_Stability_SemiDiscretizationGrid)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Stability_FullDiscretizationGrid)->Unit(benchmark::kMillisecond);
 
-// What `toolpoint lobes --method sd` does for the benchmark: the boundary at 200 speeds by scan
-// (50 steps to 10 mm) and bisection to 1e-4.
-static void BM_Stability_SemiDiscretizationBoundary(benchmark::State& state) {
-  SemiDiscretizationOptions o;
+// What `toolpoint lobes --method fd` does for the benchmark: the boundary at 200 speeds with the
+// default 1 % error target (two levels per speed, refined where needed), ceiling 10 mm; argument:
+// threads. Aim ≤ 20 ms on one thread.
+static void BM_Stability_Boundary(benchmark::State& state) {
+  BoundaryOptions o;
   o.speeds = {5000.0, 25000.0, 200};
   o.max_depth_m = 1e-2;
+  o.parallel.threads = static_cast<int>(state.range(0));
+  long evaluations = 0;
   for (auto _ : state) {
-    const SemiDiscretizationResult r = semi_discretization_boundary(ModalModel{{kBench}, {}}, benchmark_cut(0.05), o);
+    const BoundaryResult r = stability_boundary(ModalModel{{kBench}, {}}, benchmark_cut(0.05), o);
+    evaluations = r.evaluations;
     benchmark::DoNotOptimize(r.boundary.data());
   }
+  state.counters["evaluations"] = static_cast<double>(evaluations);
 }
-BENCHMARK(BM_Stability_SemiDiscretizationBoundary)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Stability_Boundary)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
-// The expensive case: slotting (every interval in the cut, no reduction), 2-DOF symmetric:
-// a 84 × 84 monodromy matrix per point; 20 speeds × 10 depths.
-static void BM_Stability_SemiDiscretizationSlot2Dof(benchmark::State& state) {
-  const SemiDiscretization sd(ModalModel{{kBench}, {kBench}}, benchmark_cut(1.0), 40);
-  const std::vector<double> speeds = linear(5000.0, 25000.0, 20), depths = linear(1e-5, 1e-4, 10);
+// The example assembly's case (issue 16's command): 4 modes per direction fitted to the example's
+// tool point FRF (`toolpoint modes`), 4 teeth, K_t 6e8 N/m², K_r 0.3, a/D 0.5 down-milling,
+// 200 speeds 2000–20 000 rpm, 1 % error target; argument: threads. Aim ≤ 1 s on one, ≤ 0.6 s on two.
+static void BM_Stability_ExampleAssemblyBoundary(benchmark::State& state) {
+  const std::vector<Mode> modes = {{0.576061, 0.0117496, 916.596}, {0.0674606, 0.0450853, 2592.11},
+                                   {0.159563, 0.0405189, 3603.0},  {0.196928, 0.035962, 4525.41}};
+  const CuttingConditions cut{4, 6e8, 0.3, engagement_from_immersion(0.5, MillingDirection::Down)};
+  BoundaryOptions o;
+  o.speeds = {2000.0, 20000.0, 200};
+  o.parallel.threads = static_cast<int>(state.range(0));
+  long evaluations = 0;
   for (auto _ : state) {
-    const Eigen::MatrixXd rho = sd.spectral_radius_map(speeds, depths);
-    benchmark::DoNotOptimize(rho.data());
+    const BoundaryResult r = stability_boundary(ModalModel{modes, modes}, cut, o);
+    evaluations = r.evaluations;
+    benchmark::DoNotOptimize(r.boundary.data());
   }
+  state.counters["evaluations"] = static_cast<double>(evaluations);
 }
-BENCHMARK(BM_Stability_SemiDiscretizationSlot2Dof)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Stability_ExampleAssemblyBoundary)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// One dominant multiplier of a large map: slotting (every step in the cut, no reduction), 2-DOF
+// symmetric, 160 steps: a 340-state map, by restarted Arnoldi.
+static void BM_Stability_DominantMultiplierSlot2Dof(benchmark::State& state) {
+  const FullDiscretization fd(ModalModel{{kBench}, {kBench}}, benchmark_cut(1.0), 160);
+  const PeriodMap map = fd.period_map(10000.0);
+  for (auto _ : state) benchmark::DoNotOptimize(map.spectral_radius(1e-4));
+}
+BENCHMARK(BM_Stability_DominantMultiplierSlot2Dof)->Unit(benchmark::kMillisecond);

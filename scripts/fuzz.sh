@@ -19,7 +19,8 @@ jobs=${JOBS:-$(nproc 2>/dev/null || echo 2)}
 targets=(fuzz_uff fuzz_frf_csv fuzz_cutpro fuzz_assembly_toml)
 
 cmake -S . -B "$build" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTOOLPOINT_BUILD_FUZZERS=ON \
-      -DTOOLPOINT_BUILD_TESTS=OFF -DTOOLPOINT_BUILD_BENCH=OFF >/dev/null
+      -DTOOLPOINT_BUILD_CLI=OFF -DTOOLPOINT_BUILD_TESTS=OFF -DTOOLPOINT_BUILD_BENCH=OFF -DTOOLPOINT_BUILD_PYTHON=OFF \
+      -DTOOLPOINT_INSTALL=OFF >/dev/null
 cmake --build "$build" -j "$jobs" --target "${targets[@]}"
 
 # Seeds: every small file of the kind the target reads (large real files cut to their first 12 kB:

@@ -18,7 +18,8 @@ build_dir=${BUILD_DIR:-build}
 jobs=${JOBS:-$(nproc 2>/dev/null || echo 2)}
 
 packages=(build-essential cmake pkg-config libeigen3-dev libcli11-dev libfmt-dev libtomlplusplus-dev
-          nlohmann-json3-dev libsleef-dev libgtest-dev libbenchmark-dev gnuplot-nox
+          nlohmann-json3-dev libsleef-dev libspectra-dev libgtest-dev libbenchmark-dev gnuplot-nox
+          python3-dev pybind11-dev python3-numpy python3-pytest
           clang libclang-rt-14-dev)  # clang + libFuzzer for the fuzz targets (scripts/fuzz.sh)
 
 missing=()

@@ -5,122 +5,14 @@
 #include <cmath>
 #include <fmt/format.h>
 #include <map>
-#include <toml++/toml.h>
 
 #include "toolpoint/error.hpp"
 #include "toolpoint/io.hpp"
-#include "toml_input.hpp"
+#include "toml_reader.hpp"
 
 namespace toolpoint {
 
 namespace {
-
-std::size_t edit_distance(const std::string& a, const std::string& b) {
-  std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    cur[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j)
-      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
-    std::swap(prev, cur);
-  }
-  return prev[b.size()];
-}
-
-// Reads values out of the TOML tree with file:line in every message.
-class Reader {
- public:
-  explicit Reader(std::string source) : source_(std::move(source)) {}
-
-  std::string where(const toml::node& n) const {
-    const auto& src = n.source();
-    return src.begin.line ? fmt::format("{}:{}", source_, src.begin.line) : source_;
-  }
-
-  [[noreturn]] void fail(const toml::node& n, const std::string& what, const std::string& hint = {}) const {
-    throw InputError(fmt::format("{}: {}", where(n), what), hint);
-  }
-
-  // Only `allowed` keys may appear in `t`; anything else is an error with the nearest valid key.
-  void only(const toml::table& t, const std::string& path, std::initializer_list<const char*> allowed) const {
-    for (auto&& [k, v] : t) {
-      const std::string key(k.str());
-      if (std::find_if(allowed.begin(), allowed.end(), [&](const char* a) { return key == a; }) != allowed.end()) continue;
-      std::string best;
-      std::size_t best_d = 99;
-      for (const char* a : allowed) {
-        const std::size_t d = edit_distance(key, a);
-        if (d < best_d) best_d = d, best = a;
-      }
-      std::string list;
-      for (const char* a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
-      fail(v, fmt::format("unknown key '{}{}'", path.empty() ? "" : path + ".", key),
-           best_d <= 3 ? fmt::format("did you mean '{}'? valid keys here: {}", best, list) : fmt::format("valid keys here: {}", list));
-    }
-  }
-
-  const toml::table* table(const toml::table& t, const char* key, const std::string& path, bool required) const {
-    const toml::node* n = t.get(key);
-    if (!n) {
-      if (required) fail(t, fmt::format("missing table [{}{}]", path.empty() ? "" : path + ".", key));
-      return nullptr;
-    }
-    if (!n->is_table()) fail(*n, fmt::format("'{}' must be a table ([{}])", join(path, key), join(path, key)));
-    return n->as_table();
-  }
-
-  std::optional<double> number(const toml::table& t, const char* key, const std::string& path, const char* unit) const {
-    const toml::node* n = t.get(key);
-    if (!n) return std::nullopt;
-    double v;
-    if (auto i = n->as_integer()) {
-      v = static_cast<double>(i->get());
-    } else if (auto f = n->as_floating_point()) {
-      v = f->get();
-    } else {
-      fail(*n, fmt::format("{} must be a number in {}", join(path, key), unit),
-           n->is_string() ? "write the bare number in SI units, without quotes or unit text" : "");
-    }
-    if (!std::isfinite(v)) fail(*n, fmt::format("{} = {} is not a finite number", join(path, key), v));
-    return v;
-  }
-
-  double required_number(const toml::table& t, const char* key, const std::string& path, const char* unit) const {
-    auto v = number(t, key, path, unit);
-    if (!v) fail(t, fmt::format("missing key {} (a number in {})", join(path, key), unit));
-    return *v;
-  }
-
-  std::optional<std::string> string(const toml::table& t, const char* key, const std::string& path) const {
-    const toml::node* n = t.get(key);
-    if (!n) return std::nullopt;
-    if (!n->is_string()) fail(*n, fmt::format("{} must be a string", join(path, key)));
-    return n->as_string()->get();
-  }
-
-  std::optional<bool> boolean(const toml::table& t, const char* key, const std::string& path) const {
-    const toml::node* n = t.get(key);
-    if (!n) return std::nullopt;
-    if (!n->is_boolean()) fail(*n, fmt::format("{} must be true or false", join(path, key)));
-    return n->as_boolean()->get();
-  }
-
-  // Warn about a value that is implausible in SI units (e.g. a length given in mm).
-  void plausible(const toml::table& t, const char* key, const std::string& path, double v, double lo, double hi,
-                 const std::string& likely) {
-    if (v == 0.0 || (v >= lo && v <= hi)) return;
-    const toml::node* n = t.get(key);
-    warnings.push_back(fmt::format("{}: {} = {:g} is outside the usual range [{:g}, {:g}]{}", n ? where(*n) : source_,
-                                   join(path, key), v, lo, hi, likely.empty() ? "" : "; " + likely));
-  }
-
-  static std::string join(const std::string& path, const char* key) { return path.empty() ? key : path + "." + key; }
-
-  std::vector<std::string> warnings;
-
- private:
-  std::string source_;
-};
 
 Material read_material(Reader& r, const toml::table& t, const std::string& path, const std::string& name) {
   r.only(t, path, {"youngs_modulus", "poisson", "shear_modulus", "density", "loss_factor"});
@@ -191,31 +83,10 @@ std::vector<Segment> read_segments(Reader& r, const toml::table& comp, const std
   return out;
 }
 
-Joint read_joint(Reader& r, const toml::table* t, const std::string& path) {
-  if (!t) return Joint::make_rigid();
-  r.only(*t, path, {"rigid", "k_yf", "c_yf", "k_ym", "c_ym", "k_tf", "c_tf", "k_tm", "c_tm"});
-  if (r.boolean(*t, "rigid", path).value_or(false)) {
-    if (t->size() > 1) r.fail(*t, fmt::format("[{}] has rigid = true and stiffness values: choose one", path));
-    return Joint::make_rigid();
-  }
-  JointParameters p;
-  for (int i = 0; i < 8; ++i) {
-    auto v = r.number(*t, JointParameters::name(i), path, JointParameters::unit(i));
-    // θf terms default to the ym ones: a reciprocal joint needs only six values.
-    if (!v && (i == 4 || i == 5)) v = r.number(*t, JointParameters::name(i - 2), path, JointParameters::unit(i - 2));
-    if (!v)
-      r.fail(*t, fmt::format("missing key {} (in {})", Reader::join(path, JointParameters::name(i)), JointParameters::unit(i)),
-             "give k_yf, c_yf, k_ym, c_ym, k_tm, c_tm (and k_tf, c_tf if they differ from k_ym, c_ym), or rigid = true");
-    p[i] = *v;
-  }
-  r.plausible(*t, "k_yf", path, p.k_yf, 1e5, 1e11, "translational stiffness is in N/m");
-  return Joint::make_elastic(p);
-}
-
 }  // namespace
 
 LoadedAssembly parse_assembly(const std::string& text, const std::string& source) {
-  const toml::table root = detail::parse_toml_text(text, source, "see examples/bt40_shrinkfit_16mm.toml for the file format");
+  const toml::table root = parse_toml(text, source, "see examples/bt40_shrinkfit_16mm.toml for the file format");
   Reader r(source);
   r.only(root, "", {"assembly", "analysis", "model", "materials", "spindle", "holder", "tool", "joints"});
   Assembly a;
@@ -331,8 +202,8 @@ LoadedAssembly parse_assembly(const std::string& text, const std::string& source
 
   if (const toml::table* t = r.table(root, "joints", "", false)) {
     r.only(*t, "joints", {"spindle_holder", "holder_tool"});
-    a.spindle_holder = read_joint(r, r.table(*t, "spindle_holder", "joints", false), "joints.spindle_holder");
-    a.holder_tool = read_joint(r, r.table(*t, "holder_tool", "joints", false), "joints.holder_tool");
+    a.spindle_holder = read_joint_table(r, r.table(*t, "spindle_holder", "joints", false), "joints.spindle_holder");
+    a.holder_tool = read_joint_table(r, r.table(*t, "holder_tool", "joints", false), "joints.holder_tool");
   }
 
   try {

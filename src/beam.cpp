@@ -10,6 +10,7 @@
 
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/coupling.hpp"
+#include "complex_pairs.hpp"
 #include "toolpoint/error.hpp"
 
 namespace toolpoint {

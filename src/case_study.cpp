@@ -14,6 +14,7 @@ void CaseStudyOptions::check() const {
     throw InvalidArgument(fmt::format("noise σ = {} must lie in [0, 1)", noise_sigma));
   if (!(band_width > 0.0 && band_width < 0.5)) throw InvalidArgument(fmt::format("band width {} must lie in (0, 0.5)", band_width));
   filter.check();
+  fit_options.check();
 }
 
 CaseStudy run_case_study(const Assembly& assembly, const CaseStudyOptions& o) {
@@ -67,28 +68,43 @@ CaseStudy run_case_study(const Assembly& assembly, const CaseStudyOptions& o) {
     cs.sht_filtered = cs.sht_noisy;
   }
   cs.noisy = identify(cs.sh_noisy, cs.sht_noisy, "noisy");
-  cs.filtered = identify(cs.sh_filtered, cs.sht_filtered, "filtered");
 
-  // The mode the joint controls (effect analysis on the model), found in the measured FRF.
-  cs.effect = effect_analysis(assembly, Route::HolderTool, f);
-  const double model_mode = cs.effect.modes[cs.effect.dominant].frequency_hz;
-  const auto peaks = find_peaks(entry(cs.sht_filtered, 0));
-  cs.mode_hz = model_mode;
-  double best = std::numeric_limits<double>::infinity();
-  for (const Peak& p : peaks)
-    if (std::abs(p.frequency_hz - model_mode) < best) best = std::abs(p.frequency_hz - model_mode), cs.mode_hz = p.frequency_hz;
-  if (peaks.empty()) cs.warnings.push_back("no peak in the filtered SHT11: reading at the model's mode frequency");
-  const double lo = cs.mode_hz * (1.0 - o.band_width), hi = cs.mode_hz * (1.0 + o.band_width);
+  // The seed's procedure (filtered data, read at the mode effect analysis picks) and the band fit
+  // (raw data), by the one identification study.
+  IdentificationOptions io;
+  io.route = Route::HolderTool;
+  io.method = IdentificationMethod::Seed;
+  io.width = o.band_width;
+  if (o.apply_filter) io.filter = o.filter;
+  const IdentificationData measured{"overhang as modelled", std::nullopt, cs.sht_noisy, "SHT11 (noisy)", cs.sh_noisy, "SH11 (noisy)"};
+  cs.seed = identify_joint_from_frfs(assembly, {measured}, io);
+  cs.filtered = cs.seed.closed_form;
+  cs.effect = *cs.seed.mode.effect;
+  cs.mode_hz = cs.seed.mode.center_hz;
+  const double lo = cs.seed.mode.lo_hz, hi = cs.seed.mode.hi_hz;
   cs.clean_readout = read_joint(cs.clean, lo, hi);
   cs.noisy_readout = read_joint(cs.noisy, lo, hi);
-  cs.filtered_readout = read_joint(cs.filtered, lo, hi);
+  cs.filtered_readout = cs.seed.seed;
 
-  // Forward check: the read constants into Eq. (5) with the true SH11, against the true SHT11, so
-  // that what differs is the identified joint alone.
-  const Joint identified = Joint::make_elastic(cs.filtered_readout.medians());
-  cs.sht_verified.frequency_hz = f;
-  for (std::size_t i = 0; i < f.size(); ++i) cs.sht_verified.blocks.push_back(couple_point(T[i], cs.sh_true.blocks[i], identified, f[i]));
-  cs.verification = compare_modes(entry(cs.sht_true, 0), entry(cs.sht_verified, 0));
+  // Forward check: the constants into Eq. (5) with the true SH11, against the true SHT11, so that
+  // what differs is the identified joint alone.
+  auto couple_back = [&](const JointParameters& p, BlockSeries& out) {
+    const Joint joint = Joint::make_elastic(p);
+    out.frequency_hz = f;
+    for (std::size_t i = 0; i < f.size(); ++i) out.blocks.push_back(couple_point(T[i], cs.sh_true.blocks[i], joint, f[i]));
+    return compare_modes(entry(cs.sht_true, 0), entry(out, 0));
+  };
+  cs.verification = couple_back(cs.filtered_readout.medians(), cs.sht_verified);
+  if (o.fit) {
+    IdentificationOptions fo;
+    fo.route = Route::HolderTool;
+    fo.method = IdentificationMethod::Fit;
+    fo.width = o.band_width;
+    fo.at_hz = cs.mode_hz;  // the same read-out band as the seed's; the fit uses every frequency
+    fo.fit = o.fit_options;
+    cs.fitted = identify_joint_from_frfs(assembly, {measured}, fo);
+    cs.fit_verification = couple_back(cs.fitted->identified, cs.sht_fitted);
+  }
   return cs;
 }
 

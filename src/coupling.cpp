@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <vector>
 
+#include "complex_pairs.hpp"
 #include "toolpoint/error.hpp"
 
 namespace toolpoint {

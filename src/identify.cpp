@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "toolpoint/coupling.hpp"
+#include "complex_pairs.hpp"
 #include "toolpoint/error.hpp"
 
 namespace toolpoint {

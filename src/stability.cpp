@@ -9,10 +9,12 @@
 #include <cmath>
 #include <fmt/format.h>
 #include <limits>
-#include <unsupported/Eigen/MatrixFunctions>
+#include <mutex>
+#include <optional>
 
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
+#include "toolpoint/peaks.hpp"
 
 namespace toolpoint {
 
@@ -52,7 +54,7 @@ void CuttingConditions::check() const {
                           "K_t is a specific cutting pressure, e.g. 6e8 N/m² for aluminium, 2e9 N/m² for steel");
   if (!std::isfinite(radial_ratio) || radial_ratio < 0.0)
     throw InvalidArgument(fmt::format("radial cutting coefficient ratio K_r = K_n/K_t = {} must be ≥ 0", radial_ratio),
-                          "give --kr as a ratio (typically 0.2…0.5) or --kn in N/m²");
+                          "CuttingConditions::radial_ratio is K_n/K_t, typically 0.2…0.5");
   engagement.check();
 }
 
@@ -74,7 +76,7 @@ Eigen::Matrix2d directional_factors(const CuttingConditions& cutting) {
 void SpeedRange::check() const {
   if (!std::isfinite(min_rpm) || !std::isfinite(max_rpm) || !(min_rpm > 0.0) || !(max_rpm > min_rpm))
     throw InvalidArgument(fmt::format("spindle speed range {}:{} rpm is empty or not positive", min_rpm, max_rpm),
-                          "give --rpm MIN:MAX with 0 < MIN < MAX, e.g. --rpm 5000:25000");
+                          "give SpeedRange::min_rpm and max_rpm with 0 < min < max, e.g. 5000 and 25000 rpm");
   if (points < 2 || points > 1000000)
     throw InvalidArgument(fmt::format("{} speed points: need 2…1000000", points));
 }
@@ -140,7 +142,7 @@ std::vector<double> modal_frequency_grid(const std::vector<Mode>& modes) {
 }
 
 void ZeroOrderOptions::check() const {
-  if (lobes < -1 || lobes > 5000) throw InvalidArgument(fmt::format("--lobes {} must lie in 0…5000", lobes));
+  if (lobes < -1 || lobes > 5000) throw InvalidArgument(fmt::format("ZeroOrderOptions::lobes {} must lie in 0…5000 (−1: automatic)", lobes));
   speeds.check();
   if (!std::isfinite(max_depth_m) || max_depth_m < 0.0)
     throw InvalidArgument(fmt::format("maximum depth {} m must be ≥ 0 (0: no limit)", max_depth_m));
@@ -299,7 +301,7 @@ ZeroOrderResult zero_order_lobes(const MillingFrfs& frfs, const CuttingCondition
     res.lobes = options.lobes;
     if (res.lobes < needed)
       res.warnings.push_back(fmt::format("lobes 0…{} reach down to about {:.0f} rpm at {:.1f} Hz: slower speeds in the range "
-                                         "are not covered (use --lobes {} or more)",
+                                         "are not covered (ZeroOrderOptions::lobes {} or more)",
                                          res.lobes, 60.0 * f_band / (n_teeth * (res.lobes + 1)), f_band, needed));
   }
   if (near < 5)
@@ -324,10 +326,12 @@ ZeroOrderResult zero_order_lobes(const MillingFrfs& frfs, const CuttingCondition
   return res;
 }
 
-// ---- Semi-discretization --------------------------------------------------------------------
+// ---- Time-domain stability: full-discretization ----------------------------------------------
 
 void ModalModel::check() const {
-  if (x.empty()) throw InvalidArgument("the modal model needs at least one mode in x", "give --mode-x MASS,ZETA,FN or an FRF to fit");
+  if (x.empty())
+    throw InvalidArgument("ModalModel::x is empty: the modal model needs at least one mode in x",
+                          "give the x modes (mass, damping ratio, natural frequency) or an FRF to fit them from");
   for (std::size_t i = 0; i < x.size() + y.size(); ++i) {
     const bool in_x = i < x.size();
     const Mode& m = in_x ? x[i] : y[i - x.size()];
@@ -349,250 +353,260 @@ const char* to_string(BoundaryKind kind) {
   return "none";
 }
 
-struct SemiDiscretization::SpeedSetup {
-  double tau = 0.0, dt = 0.0;
-  std::vector<char> cut;                // interval i has a tooth in the cut
-  std::vector<Eigen::MatrixXd> mw;      // M⁻¹W_i (n_q × n_q): interval average of M⁻¹ ½K_t Φᵀ A Φ
-  Eigen::MatrixXd p0;                   // exp(A₀Δt): an interval with no tooth in the cut
-};
 
-struct SemiDiscretization::Propagation {
-  Eigen::MatrixXd monodromy;            // reduced: rows/columns of the state and the delayed samples read
-  std::vector<Eigen::MatrixXd> states;  // X_i (s × n_u), i = 0…m, the state in terms of the reduced initial vector
-};
-
-SemiDiscretization::SemiDiscretization(ModalModel model, CuttingConditions cutting, int intervals)
-    : model_(std::move(model)), cutting_(cutting), intervals_(intervals) {
-  model_.check();
-  cutting_.check();
-  if (intervals_ < 4 || intervals_ > 2000)
-    throw InvalidArgument(fmt::format("{} semi-discretization intervals per tooth period: need 4…2000", intervals_),
-                          "40 is usual; more for chatter frequencies far above the tooth passing frequency");
-  modes_ = static_cast<int>(model_.x.size() + model_.y.size());
-  const int s = 2 * modes_;
-  a0_ = Eigen::MatrixXd::Zero(s, s);
-  a0_.topRightCorner(modes_, modes_).setIdentity();
-  for (int r = 0; r < modes_; ++r) {
-    const Mode& m = r < static_cast<int>(model_.x.size()) ? model_.x[r] : model_.y[r - model_.x.size()];
-    const double w = omega_of(m.frequency_hz);
-    a0_(modes_ + r, r) = -w * w;
-    a0_(modes_ + r, modes_ + r) = -2.0 * m.damping_ratio * w;
-  }
-}
-
-SemiDiscretization::SpeedSetup SemiDiscretization::prepare(double speed_rpm) const {
+PeriodicDelaySystem milling_delay_system(const ModalModel& model, const CuttingConditions& cutting, double speed_rpm) {
+  model.check();
+  cutting.check();
   if (!std::isfinite(speed_rpm) || !(speed_rpm > 0.0))
     throw InvalidArgument(fmt::format("spindle speed {} rpm must be positive", speed_rpm));
-  const int m = intervals_, nq = modes_, nx = static_cast<int>(model_.x.size()), n_teeth = cutting_.teeth;
-  SpeedSetup su;
-  su.tau = 60.0 / (n_teeth * speed_rpm);
-  su.dt = su.tau / m;
-  su.p0 = (a0_ * su.dt).exp();
-  su.cut.assign(static_cast<std::size_t>(m), 0);
-  su.mw.resize(static_cast<std::size_t>(m));
-  const double sweep = 2.0 * kPi / (n_teeth * m), st = cutting_.engagement.entry_rad, ex = cutting_.engagement.exit_rad;
-  for (int i = 0; i < m; ++i) {
-    Eigen::Matrix2d avg = Eigen::Matrix2d::Zero();
-    bool any = false;
-    for (int j = 0; j < n_teeth; ++j) {
-      const double th0 = std::fmod(2.0 * kPi * j / n_teeth + i * sweep, 2.0 * kPi), th1 = th0 + sweep;
-      const double pieces[2][2] = {{th0, std::min(th1, 2.0 * kPi)}, {0.0, th1 - 2.0 * kPi}};
-      for (const auto& pc : pieces) {
-        const double lo = std::max(pc[0], st), hi = std::min(pc[1], ex);
-        if (hi > lo) {
-          avg += directional_integral(cutting_.radial_ratio, lo, hi);
-          any = true;
-        }
-      }
-    }
-    if (!any) continue;
-    avg /= sweep;
-    Eigen::MatrixXd mw(nq, nq);
-    for (int r = 0; r < nq; ++r) {
-      const double mass = r < nx ? model_.x[r].mass_kg : model_.y[r - nx].mass_kg;
-      for (int c = 0; c < nq; ++c) mw(r, c) = 0.5 * cutting_.tangential_coefficient * avg(r < nx ? 0 : 1, c < nx ? 0 : 1) / mass;
-    }
-    su.cut[static_cast<std::size_t>(i)] = 1;
-    su.mw[static_cast<std::size_t>(i)] = std::move(mw);
+  const int nx = static_cast<int>(model.x.size()), nq = nx + static_cast<int>(model.y.size());
+  const int d = model.y.empty() ? 1 : 2;
+  PeriodicDelaySystem sys;
+  sys.input = Eigen::MatrixXd::Zero(2 * nq, d);
+  sys.output = Eigen::MatrixXd::Zero(d, 2 * nq);
+  for (int r = 0; r < nq; ++r) {
+    const Mode& m = r < nx ? model.x[static_cast<std::size_t>(r)] : model.y[static_cast<std::size_t>(r - nx)];
+    const double w = omega_of(m.frequency_hz);
+    Eigen::MatrixXd block(2, 2);
+    block << 0.0, 1.0, -w * w, -2.0 * m.damping_ratio * w;
+    sys.a0_blocks.push_back(block);
+    sys.input(2 * r + 1, r < nx ? 0 : 1) = 1.0 / m.mass_kg;
+    sys.output(r < nx ? 0 : 1, 2 * r) = 1.0;
   }
-  return su;
-}
-
-SemiDiscretization::Propagation SemiDiscretization::propagate(const SpeedSetup& su, double depth_m, bool keep_states) const {
-  if (!std::isfinite(depth_m) || depth_m < 0.0) throw InvalidArgument(fmt::format("axial depth {} m must be ≥ 0", depth_m));
-  const int m = intervals_, nq = modes_, s = 2 * nq;
-  // Delayed sample q_{−p} (p = 1…m) is read by interval i when p = m − i or p = m − 1 − i and i is
-  // in the cut. p = 0 is the current displacement, part of the state. Unread samples are dropped.
-  std::vector<int> col(static_cast<std::size_t>(m + 1), -1);
-  for (int i = 0; i < m; ++i)
-    if (su.cut[static_cast<std::size_t>(i)]) col[static_cast<std::size_t>(m - i)] = col[static_cast<std::size_t>(m - 1 - i)] = 1;
-  col[0] = 0;
-  int nu = s;
-  std::vector<int> read;  // p ≥ 1 read, in column order
-  for (int p = 1; p <= m; ++p)
-    if (col[static_cast<std::size_t>(p)] >= 0) {
-      col[static_cast<std::size_t>(p)] = nu;
-      nu += nq;
-      read.push_back(p);
+  const int teeth = cutting.teeth;
+  const double spin = 2.0 * kPi * speed_rpm / 60.0, pitch = 2.0 * kPi / teeth;  // Ω [rad/s], tooth pitch [rad]
+  sys.period = 60.0 / (teeth * speed_rpm);
+  sys.regenerative = true;
+  const double kt = cutting.tangential_coefficient, kr = cutting.radial_ratio;
+  const double st = cutting.engagement.entry_rad, ex = cutting.engagement.exit_rad;
+  // P(t) = ½K_t Σ_j g_j A(φ_j), φ_j = Ωt + 2πj/N (tooth 0 at φ = 0 when t = 0).
+  sys.current = [=](double t) {
+    Eigen::Matrix2d sum = Eigen::Matrix2d::Zero();
+    for (int j = 0; j < teeth; ++j) {
+      const double phi = std::fmod(spin * t + j * pitch, 2.0 * kPi);
+      if (phi < st || phi > ex) continue;
+      const double s2 = std::sin(2.0 * phi), c2 = std::cos(2.0 * phi);
+      sum(0, 0) += -s2 - kr * (1.0 - c2);
+      sum(0, 1) += -(1.0 + c2) - kr * s2;
+      sum(1, 0) += (1.0 - c2) - kr * s2;
+      sum(1, 1) += s2 - kr * (1.0 + c2);
     }
-  // Output rows: the new delayed sample at position p is q_{m−p}, the displacement of X_{m−p};
-  // its rows sit where its column does.
-  std::vector<int> row_of_step(static_cast<std::size_t>(m + 1), -1);
-  for (int p : read) row_of_step[static_cast<std::size_t>(m - p)] = col[static_cast<std::size_t>(p)];
-
-  Propagation pr;
-  pr.monodromy.resize(nu, nu);
-  Eigen::MatrixXd x = Eigen::MatrixXd::Zero(s, nu), next(s, nu);
-  x.leftCols(s).setIdentity();
-  auto record = [&](int step) {
-    if (keep_states) pr.states.push_back(x);
-    if (const int row = row_of_step[static_cast<std::size_t>(step)]; row >= 0) pr.monodromy.middleRows(row, nq) = x.topRows(nq);
+    sum *= 0.5 * kt;
+    return d == 1 ? Eigen::MatrixXd(sum.topLeftCorner(1, 1)) : Eigen::MatrixXd(sum);
   };
-  record(0);
-  Eigen::MatrixXd aug(s + nq, s + nq), e(s + nq, s + nq);
-  for (int i = 0; i < m; ++i) {
-    const auto ii = static_cast<std::size_t>(i);
-    if (su.cut[ii] && depth_m > 0.0) {
-      aug.setZero();
-      aug.topLeftCorner(s, s) = a0_;
-      aug.block(nq, 0, nq, nq) += depth_m * su.mw[ii];
-      aug.block(nq, s, nq, nq) = -depth_m * su.mw[ii];
-      e = (aug * su.dt).exp();
-      next.noalias() = e.topLeftCorner(s, s) * x;
-      const Eigen::MatrixXd r = 0.5 * e.topRightCorner(s, nq);
-      for (int p : {m - i, m - 1 - i}) next.middleCols(col[static_cast<std::size_t>(p)], nq) += r;
-      x.swap(next);
-    } else {
-      next.noalias() = su.p0 * x;
-      x.swap(next);
-    }
-    record(i + 1);
+  // Within one tooth period each of the evenly spaced teeth enters and leaves once in turn: the
+  // cut changes at Ωt ≡ φ_st and φ_ex (mod the pitch).
+  for (double angle : {st, ex}) {
+    const double t = std::fmod(angle, pitch) / spin;
+    if (t > 1e-12 * sys.period && t < sys.period * (1.0 - 1e-12)) sys.breakpoints.push_back(t);
   }
-  pr.monodromy.topRows(s) = x;
-  return pr;
+  return sys;
 }
 
 namespace {
 
-double largest_modulus(const Eigen::VectorXcd& ev, Eigen::Index* where = nullptr) {
-  Eigen::Index k = 0;
-  double rho = 0.0;
-  for (Eigen::Index i = 0; i < ev.size(); ++i)
-    if (std::abs(ev(i)) > rho || (std::abs(ev(i)) == rho && ev(i).imag() > ev(k).imag())) {
-      rho = std::abs(ev(i));
-      k = i;
-    }
-  if (!std::isfinite(rho))
-    throw NumericalError("the monodromy matrix has non-finite eigenvalues", "reduce the depth range or check the modal model");
-  if (where) *where = k;
-  return rho;
-}
-
-}  // namespace
-
-namespace {
-
-Eigen::EigenSolver<Eigen::MatrixXd> monodromy_eigen(const Eigen::MatrixXd& monodromy, bool vectors, double depth_m) {
-  Eigen::EigenSolver<Eigen::MatrixXd> es(monodromy, vectors);
-  if (es.info() != Eigen::Success)
-    throw NumericalError(fmt::format("the eigenvalues of the monodromy matrix ({}×{}) at depth {} m did not converge",
-                                     monodromy.rows(), monodromy.cols(), depth_m));
-  return es;
-}
-
-}  // namespace
-
-double SemiDiscretization::radius(const SpeedSetup& su, double depth_m) const {
-  return largest_modulus(monodromy_eigen(propagate(su, depth_m, false).monodromy, false, depth_m).eigenvalues());
-}
-
-double SemiDiscretization::spectral_radius(double speed_rpm, double depth_m) const {
-  return radius(prepare(speed_rpm), depth_m);
-}
-
-FloquetAnalysis SemiDiscretization::analyse(double speed_rpm, double depth_m) const {
-  return analyse(prepare(speed_rpm), depth_m);
-}
-
-FloquetAnalysis SemiDiscretization::analyse(const SpeedSetup& su, double depth_m) const {
-  const Propagation pr = propagate(su, depth_m, true);
-  const auto es = monodromy_eigen(pr.monodromy, true, depth_m);
+// Hopf, flip or fold from the critical multiplier; the chatter frequency from the Floquet
+// solution q(t_i) = μ^{i/m} p(t_i), p τ-periodic: the DFT of p's tip displacement over one period
+// gives harmonics at (arg μ + 2πj)/τ, the strongest is the chatter.
+FloquetAnalysis floquet(const PeriodMap& map, double depth_m, const DominantMultiplier& dm, double tau) {
   FloquetAnalysis fa;
-  Eigen::Index k = 0;
-  fa.spectral_radius = largest_modulus(es.eigenvalues(), &k);
-  const Complex mu = es.eigenvalues()(k);
-  fa.critical_multiplier = mu;
-  fa.matrix_size = static_cast<int>(pr.monodromy.rows());
-  // Real eigenvalues of a real matrix come out of the real Schur form with Im exactly 0.
+  fa.spectral_radius = dm.spectral_radius;
+  fa.critical_multiplier = dm.multiplier;
+  fa.matrix_size = map.size();
+  const Complex mu = dm.multiplier;
+  // Real multipliers come out of the real Schur form with Im exactly 0.
   fa.kind = std::abs(mu.imag()) > 1e-9 * std::abs(mu) ? BoundaryKind::Hopf : mu.real() < 0.0 ? BoundaryKind::Flip : BoundaryKind::Fold;
   if (std::abs(mu) == 0.0) return fa;
-
-  // The Floquet solution q(t_i) = μ^{i/m} p(t_i), p τ-periodic: the DFT of p over one period gives
-  // harmonics at (arg μ + 2πj)/τ; the strongest one (x and y displacement together) is the chatter.
-  const int m = intervals_, nq = modes_, nx = static_cast<int>(model_.x.size());
-  const Eigen::VectorXcd v = es.eigenvectors().col(k);
+  const int m = map.steps();
+  const Eigen::MatrixXcd r = map.outputs(depth_m, dm.vector);
   const Complex root = std::exp(std::log(mu) / static_cast<double>(m));
-  std::vector<Complex> px(static_cast<std::size_t>(m)), py(static_cast<std::size_t>(m));
+  Eigen::MatrixXcd p(r.rows(), m);
   Complex scale = 1.0;
   for (int i = 0; i < m; ++i) {
-    const Eigen::VectorXcd q = pr.states[static_cast<std::size_t>(i)].topRows(nq).cast<Complex>() * v;
-    px[static_cast<std::size_t>(i)] = q.head(nx).sum() / scale;
-    py[static_cast<std::size_t>(i)] = q.tail(nq - nx).sum() / scale;
+    p.col(i) = r.col(i) / scale;
     scale *= root;
   }
   int best_j = 0;
   double best = -1.0;
   for (int j = -m / 2; j < m - m / 2; ++j) {
-    Complex cx = 0.0, cy = 0.0;
-    for (int i = 0; i < m; ++i) {
-      const Complex w = std::polar(1.0, -2.0 * kPi * j * i / m);
-      cx += px[static_cast<std::size_t>(i)] * w;
-      cy += py[static_cast<std::size_t>(i)] * w;
-    }
-    const double power = std::norm(cx) + std::norm(cy);
-    if (power > best) {
-      best = power;
+    Eigen::VectorXcd c = Eigen::VectorXcd::Zero(r.rows());
+    for (int i = 0; i < m; ++i) c += p.col(i) * std::polar(1.0, -2.0 * kPi * j * i / m);
+    if (c.squaredNorm() > best) {
+      best = c.squaredNorm();
       best_j = j;
     }
   }
-  fa.chatter_hz = std::abs(std::arg(mu) + 2.0 * kPi * best_j) / (2.0 * kPi * su.tau);
-  fa.lobe = static_cast<int>(std::floor(fa.chatter_hz * su.tau));
+  fa.chatter_hz = std::abs(std::arg(mu) + 2.0 * kPi * best_j) / (2.0 * kPi * tau);
+  fa.lobe = static_cast<int>(std::floor(fa.chatter_hz * tau));
   return fa;
 }
 
-Eigen::MatrixXd SemiDiscretization::spectral_radius_map(const std::vector<double>& speeds_rpm, const std::vector<double>& depths_m) const {
-  Eigen::MatrixXd rho(static_cast<Eigen::Index>(speeds_rpm.size()), static_cast<Eigen::Index>(depths_m.size()));
-  for (std::size_t i = 0; i < speeds_rpm.size(); ++i) {
-    const SpeedSetup su = prepare(speeds_rpm[i]);
-    for (std::size_t j = 0; j < depths_m.size(); ++j)
-      rho(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = radius(su, depths_m[j]);
+// The root of ρ(a) = 1 in a bracket lo < hi (ρ(lo) < 1 ≤ ρ(hi)) by regula falsi with the Illinois
+// modification, to a relative width `tolerance`. Returns the bracket's midpoint and the dominant
+// multiplier at its upper end.
+struct Root {
+  double depth_m = 0.0;
+  double hi = 0.0;     // the bracket's upper end, where ρ ≥ 1
+  double slope = 0.0;  // dρ/da across the last bracket [1/m] (secant of the true values)
+};
+
+struct RadiusCounter {
+  const PeriodMap& map;
+  long* evaluations;
+  DominantMultiplier operator()(double a) const {
+    ++*evaluations;
+    return map.dominant(a, false);
   }
+};
+
+Root illinois(const RadiusCounter& rho, double lo, double flo, double hi, const DominantMultiplier& at_hi, double tolerance) {
+  double fhi = at_hi.spectral_radius - 1.0;
+  double true_lo = flo, true_hi = fhi;  // unhalved, for the slope
+  int side = 0;  // which end was kept last time: −1 lo, +1 hi
+  for (int it = 0; it < 100 && hi - lo > tolerance * hi; ++it) {
+    double x = hi - fhi * (hi - lo) / (fhi - flo);
+    if (!(x > lo && x < hi)) x = 0.5 * (lo + hi);  // round-off at a tiny bracket
+    const double f = rho(x).spectral_radius - 1.0;
+    if (f < 0.0) {
+      lo = x;
+      flo = true_lo = f;
+      if (side == -1) fhi *= 0.5;
+      side = -1;
+    } else {
+      hi = x;
+      fhi = true_hi = f;
+      if (side == 1) flo *= 0.5;
+      side = 1;
+    }
+  }
+  return {0.5 * (lo + hi), hi, (true_hi - true_lo) / (hi - lo)};
+}
+
+// The first instability met going up from `start` (or down from it by halving while unstable),
+// then narrowed. Going up, the first step jumps to `expected` (the neighbouring speed's limit) when
+// that lies above `start`, then steps of ×`growth`. nullopt when ρ < 1 up to max_depth_m.
+std::optional<Root> lowest_root(const RadiusCounter& rho, double start, double expected, double growth, double max_depth_m,
+                                double tolerance) {
+  double a = std::min(start, max_depth_m);
+  DominantMultiplier dm = rho(a);
+  if (dm.spectral_radius >= 1.0) {
+    DominantMultiplier hi_dm = dm;
+    double hi = a;
+    for (int it = 0; it < 60; ++it) {
+      a *= 0.5;
+      dm = rho(a);
+      if (dm.spectral_radius < 1.0) return illinois(rho, a, dm.spectral_radius - 1.0, hi, hi_dm, tolerance);
+      hi = a;
+      hi_dm = dm;
+    }
+    throw NumericalError(fmt::format("the spectral radius stays ≥ 1 down to depth {:.3g} m, although the free tool decays", a),
+                         "check the modal model (damping ratios > 0) and the cutting coefficients");
+  }
+  bool first = true;
+  for (;;) {
+    if (a >= max_depth_m) return std::nullopt;
+    const double lo = a, flo = dm.spectral_radius - 1.0;
+    a = std::min(first && expected > a * 1.05 ? expected : a * growth, max_depth_m);
+    first = false;
+    dm = rho(a);
+    if (dm.spectral_radius >= 1.0) return illinois(rho, lo, flo, a, dm, tolerance);
+  }
+}
+
+// The root at a finer level near the coarser level's root `near`, where ρ has slope `slope`: a
+// secant step from ρ(near) predicts it (overshooting 20 % so that one more value usually brackets
+// it); else a bracket grown outwards in steps doubling from 0.5 % (at most ±25 %); then narrowed.
+// Failing all that, the lowest root at this level by a scan up from 70 % of `near`. nullopt when no
+// instability below max_depth_m.
+std::optional<Root> root_near(const RadiusCounter& rho, double near, double slope, double max_depth_m, double tolerance) {
+  const double a = std::min(near, max_depth_m);
+  const DominantMultiplier dm = rho(a);
+  const bool unstable = dm.spectral_radius >= 1.0;
+  const double fa = dm.spectral_radius - 1.0;
+  auto bracket = [&](double b, const DominantMultiplier& db) -> std::optional<Root> {
+    const double fb = db.spectral_radius - 1.0;
+    if (unstable && fb < 0.0) return illinois(rho, b, fb, a, dm, tolerance);
+    if (!unstable && fb >= 0.0) return illinois(rho, a, fa, b, db, tolerance);
+    return std::nullopt;
+  };
+  if (std::isfinite(slope) && slope > 0.0) {
+    const double step = std::clamp(-1.2 * fa / slope, -0.25 * a, 0.25 * a);
+    const double b = std::min(a + (std::abs(step) > 1e-6 * a ? step : (unstable ? -1e-6 : 1e-6) * a), max_depth_m);
+    if (b != a && (b < a) == unstable)
+      if (auto r = bracket(b, rho(b))) return r;
+  }
+  for (double step = 0.005; step < 0.26; step *= 2.0) {
+    const double b = unstable ? a * (1.0 - step) : std::min(a * (1.0 + step), max_depth_m);
+    if (auto r = bracket(b, rho(b))) return r;
+    if (b >= max_depth_m) break;
+  }
+  return lowest_root(rho, 0.7 * a, a, 1.2, max_depth_m, tolerance);
+}
+
+}  // namespace
+
+FullDiscretization::FullDiscretization(ModalModel model, CuttingConditions cutting, int steps, int degree)
+    : model_(std::move(model)), cutting_(cutting), steps_(steps), degree_(degree) {
+  model_.check();
+  cutting_.check();
+  if (steps_ < 4 || steps_ > 20000)
+    throw InvalidArgument(fmt::format("{} discretization steps per tooth period: need 4…20000", steps_),
+                          "40 is usual; more for chatter frequencies far above the tooth passing frequency");
+  if (degree_ < 1 || degree_ > 3) throw InvalidArgument(fmt::format("interpolation degree {}: need 1, 2 or 3", degree_));
+}
+
+PeriodMap FullDiscretization::period_map(double speed_rpm) const {
+  return PeriodMap(milling_delay_system(model_, cutting_, speed_rpm), steps_, degree_);
+}
+
+double FullDiscretization::spectral_radius(double speed_rpm, double depth_m) const {
+  if (!std::isfinite(depth_m) || depth_m < 0.0) throw InvalidArgument(fmt::format("axial depth {} m must be ≥ 0", depth_m));
+  return period_map(speed_rpm).spectral_radius(depth_m);
+}
+
+FloquetAnalysis FullDiscretization::analyse(double speed_rpm, double depth_m) const {
+  if (!std::isfinite(depth_m) || depth_m < 0.0) throw InvalidArgument(fmt::format("axial depth {} m must be ≥ 0", depth_m));
+  const PeriodMap map = period_map(speed_rpm);
+  return floquet(map, depth_m, map.dominant(depth_m), 60.0 / (cutting_.teeth * speed_rpm));
+}
+
+Eigen::MatrixXd FullDiscretization::spectral_radius_map(const std::vector<double>& speeds_rpm, const std::vector<double>& depths_m,
+                                                        const ParallelOptions& parallel) const {
+  for (double a : depths_m)
+    if (!std::isfinite(a) || a < 0.0) throw InvalidArgument(fmt::format("axial depth {} m must be ≥ 0", a));
+  Eigen::MatrixXd rho(static_cast<Eigen::Index>(speeds_rpm.size()), static_cast<Eigen::Index>(depths_m.size()));
+  parallel_for(speeds_rpm.size(), parallel, [&](std::size_t i) {
+    const PeriodMap map = period_map(speeds_rpm[i]);
+    for (std::size_t j = 0; j < depths_m.size(); ++j)
+      rho(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = map.spectral_radius(depths_m[j]);
+  });
   return rho;
 }
 
-BoundaryPoint SemiDiscretization::boundary(double speed_rpm, double max_depth_m, int depth_steps, double tolerance) const {
+BoundaryPoint FullDiscretization::boundary(double speed_rpm, double max_depth_m, int depth_steps, double tolerance) const {
   if (!std::isfinite(max_depth_m) || !(max_depth_m > 0.0))
     throw InvalidArgument(fmt::format("maximum depth {} m must be positive", max_depth_m));
   if (depth_steps < 1 || depth_steps > 100000) throw InvalidArgument(fmt::format("{} depth steps: need 1…100000", depth_steps));
   if (!std::isfinite(tolerance) || !(tolerance > 0.0) || tolerance >= 1.0)
     throw InvalidArgument(fmt::format("depth tolerance {} must lie in (0, 1)", tolerance));
-  const SpeedSetup su = prepare(speed_rpm);
+  const PeriodMap map = period_map(speed_rpm);
+  long evaluations = 0;
+  const RadiusCounter rho{map, &evaluations};
   BoundaryPoint bp;
   bp.speed_rpm = speed_rpm;
-  double lo = 0.0;  // ρ(0) = max e^{−ζω_n τ} < 1: stable
+  double lo = 0.0, flo = map.spectral_radius(0.0) - 1.0;  // < 0: the free tool decays
   for (int j = 1; j <= depth_steps; ++j) {
-    const double d = max_depth_m * j / depth_steps;
-    if (radius(su, d) < 1.0) {
-      lo = d;
+    const double a = max_depth_m * j / depth_steps;
+    const DominantMultiplier dm = rho(a);
+    if (dm.spectral_radius < 1.0) {
+      lo = a;
+      flo = dm.spectral_radius - 1.0;
       continue;
     }
-    double hi = d;
-    for (int it = 0; it < 200 && hi - lo > tolerance * hi; ++it) {
-      const double mid = 0.5 * (lo + hi);
-      (radius(su, mid) < 1.0 ? lo : hi) = mid;
-    }
-    const FloquetAnalysis fa = analyse(su, hi);
-    bp.depth_m = 0.5 * (lo + hi);
+    const Root root = illinois(rho, lo, flo, a, dm, tolerance);
+    const FloquetAnalysis fa = floquet(map, root.hi, map.dominant(root.hi), 60.0 / (cutting_.teeth * speed_rpm));
+    bp.depth_m = root.depth_m;
+    bp.depth_error_m = kNaN;
     bp.chatter_hz = fa.chatter_hz;
     bp.lobe = fa.lobe;
     bp.kind = fa.kind;
@@ -600,110 +614,188 @@ BoundaryPoint SemiDiscretization::boundary(double speed_rpm, double max_depth_m,
     return bp;
   }
   bp.depth_m = max_depth_m;
+  bp.depth_error_m = kNaN;
   bp.chatter_hz = kNaN;
   return bp;
 }
 
-void SemiDiscretizationOptions::check() const {
-  if (intervals < 4 || intervals > 2000) throw InvalidArgument(fmt::format("--intervals {} must lie in 4…2000", intervals));
+void BoundaryOptions::check() const {
   speeds.check();
+  if (!std::isfinite(tolerance) || !(tolerance >= 1e-6) || !(tolerance <= 0.5))
+    throw InvalidArgument(fmt::format("BoundaryOptions::tolerance {} must lie in 1e-6…0.5 (a fraction of the depth)", tolerance),
+                          "0.01 asks for an estimated discretization error below 1 % of each depth");
+  if (steps != 0 && (steps < 4 || steps > 20000))
+    throw InvalidArgument(fmt::format("BoundaryOptions::steps {} must be 0 (automatic) or lie in 4…20000", steps));
+  if (max_steps < 8 || max_steps > 20000)
+    throw InvalidArgument(fmt::format("BoundaryOptions::max_steps {} must lie in 8…20000", max_steps));
+  if (steps > max_steps / 2)
+    throw InvalidArgument(fmt::format("BoundaryOptions::steps {} leaves no room for the finer level below max_steps {}", steps,
+                                      max_steps),
+                          "the error estimate compares m with 2m steps: keep steps ≤ max_steps/2");
+  if (degree < 1 || degree > 3) throw InvalidArgument(fmt::format("BoundaryOptions::degree {} must be 1, 2 or 3", degree));
   if (!std::isfinite(max_depth_m) || max_depth_m < 0.0)
-    throw InvalidArgument(fmt::format("maximum depth {} m must be ≥ 0 (0: automatic)", max_depth_m));
-  if (depth_steps < 1 || depth_steps > 100000) throw InvalidArgument(fmt::format("{} depth steps: need 1…100000", depth_steps));
-  if (!std::isfinite(depth_tolerance) || !(depth_tolerance > 0.0) || depth_tolerance >= 1.0)
-    throw InvalidArgument(fmt::format("depth tolerance {} must lie in (0, 1)", depth_tolerance));
+    throw InvalidArgument(fmt::format("BoundaryOptions::max_depth_m {} m must be ≥ 0 (0: automatic)", max_depth_m));
+  parallel.check();
 }
 
-SemiDiscretizationResult semi_discretization_boundary(const ModalModel& model, const CuttingConditions& cutting,
-                                                      const SemiDiscretizationOptions& options) {
-  options.check();
-  const SemiDiscretization sd(model, cutting, options.intervals);
-  SemiDiscretizationResult res;
-  res.intervals = options.intervals;
-  res.max_depth_m = options.max_depth_m;
-  if (res.max_depth_m == 0.0) {
-    std::vector<Mode> all = model.x;
-    all.insert(all.end(), model.y.begin(), model.y.end());
-    res.max_depth_m = 10.0 * zero_order_floor(modal_milling_frfs(model.x, model.y, modal_frequency_grid(all)), cutting);
+double BoundaryResult::worst_relative_error() const {
+  double worst = 0.0;
+  for (const BoundaryPoint& b : boundary)
+    if (b.kind != BoundaryKind::None && std::isfinite(b.depth_error_m)) worst = std::max(worst, b.depth_error_m / b.depth_m);
+  return worst;
+}
+
+namespace {
+
+// Where a speed's search starts: the limit and chatter frequency of a neighbouring speed, or of
+// the zero-order method (which can be 2.3× too high at low immersion, hence `start` lower).
+struct Guess {
+  double depth_m, chatter_hz, start;
+};
+
+struct SpeedOutcome {
+  BoundaryPoint point;
+  long evaluations = 0;
+  bool unmet = false;    // the tolerance was not met at max_steps
+  bool aliased = false;  // the chatter period spans fewer than 4 steps
+};
+
+SpeedOutcome boundary_at(const ModalModel& model, const CuttingConditions& cutting, double speed_rpm, const Guess& guess,
+                         double max_depth_m, const BoundaryOptions& o) {
+  const PeriodicDelaySystem sys = milling_delay_system(model, cutting, speed_rpm);
+  const double tau = sys.period;
+  SpeedOutcome out;
+  BoundaryPoint& bp = out.point;
+  bp.speed_rpm = speed_rpm;
+  // m: 12 steps per chatter wave within a tooth period (at least 16), unless given.
+  const double waves = std::isfinite(guess.chatter_hz) ? guess.chatter_hz * tau : 1.0;
+  int m = o.steps > 0 ? o.steps : std::clamp(static_cast<int>(std::ceil(12.0 * waves)), 16, o.max_steps / 2);
+  // Roots to 1/100 of the error target: their own error does not blur the estimate.
+  const double root_tolerance = std::clamp(1e-2 * o.tolerance, 1e-10, 1e-4);
+  const PeriodMap coarse(sys, m, o.degree);
+  std::optional<Root> r1 =
+      lowest_root({coarse, &out.evaluations}, guess.start * guess.depth_m, guess.depth_m, 1.15, max_depth_m, root_tolerance);
+  if (!r1) {
+    bp.depth_m = max_depth_m;
+    bp.depth_error_m = kNaN;
+    bp.chatter_hz = kNaN;
+    return out;
   }
-  int none = 0, aliased = 0;
+  const double factor = std::pow(2.0, o.degree + 1) - 1.0;  // Richardson: error of a_{2m} = (a_{2m} − a_m)/(2^{p+1} − 1)
+  double a1 = r1->depth_m, slope = r1->slope;
+  for (;;) {
+    const PeriodMap fine(sys, 2 * m, o.degree);
+    const std::optional<Root> r2 = root_near({fine, &out.evaluations}, a1, slope, max_depth_m, root_tolerance);
+    if (!r2) {  // the finer (more accurate) level is stable up to the ceiling
+      bp.depth_m = max_depth_m;
+      bp.depth_error_m = kNaN;
+      bp.chatter_hz = kNaN;
+      bp.steps = 2 * m;
+      return out;
+    }
+    const double a2 = r2->depth_m, error = std::abs(a2 - a1) / factor;
+    bp.depth_m = a2 + (a2 - a1) / factor;
+    bp.depth_error_m = error;
+    bp.steps = 2 * m;
+    if (error <= o.tolerance * bp.depth_m || 4 * m > o.max_steps) {
+      const FloquetAnalysis fa = floquet(fine, r2->hi, fine.dominant(r2->hi), tau);
+      bp.chatter_hz = fa.chatter_hz;
+      bp.lobe = fa.lobe;
+      bp.kind = fa.kind;
+      bp.multiplier = fa.critical_multiplier;
+      out.unmet = error > o.tolerance * bp.depth_m;
+      // Fewer than 4 steps per chatter period: the discretization (and the DFT) is at its limit.
+      out.aliased = fa.chatter_hz * tau > 2.0 * m / 4.0;
+      return out;
+    }
+    a1 = a2;
+    slope = r2->slope;
+    m *= 2;
+  }
+}
+
+}  // namespace
+
+BoundaryResult stability_boundary(const ModalModel& model, const CuttingConditions& cutting, const BoundaryOptions& options) {
+  options.check();
+  model.check();
+  cutting.check();
+  BoundaryResult res;
+  res.tolerance = options.tolerance;
+  res.degree = options.degree;
+  // The zero-order lobes of the modal model on the same speed grid: starting guesses, and the
+  // default ceiling.
+  std::vector<Mode> all = model.x;
+  all.insert(all.end(), model.y.begin(), model.y.end());
+  ZeroOrderOptions zo;
+  zo.speeds = options.speeds;
+  const ZeroOrderResult zero = zero_order_lobes(modal_milling_frfs(model.x, model.y, modal_frequency_grid(all)), cutting, zo);
+  res.max_depth_m = options.max_depth_m > 0.0 ? options.max_depth_m : 10.0 * zero.floor_depth_m;
+
   const std::vector<double> speeds = options.speeds.values();
-  for (double n : speeds) {
-    res.boundary.push_back(sd.boundary(n, res.max_depth_m, options.depth_steps, options.depth_tolerance));
-    if (options.progress) options.progress(static_cast<double>(res.boundary.size()) / static_cast<double>(speeds.size()));
-    const BoundaryPoint& b = res.boundary.back();
-    none += b.kind == BoundaryKind::None;
-    // Fewer than 4 samples per chatter period: the DFT (and the discretization) is at its limit.
-    aliased += b.kind != BoundaryKind::None && b.chatter_hz * 60.0 / (cutting.teeth * n) > options.intervals / 4.0;
+  // Blocks of 8 neighbouring speeds, each walked in order from the zero-order guess: the work of
+  // one block depends on nothing outside it, so any thread count gives the same result.
+  constexpr std::size_t kBlock = 8;
+  const std::size_t blocks = (speeds.size() + kBlock - 1) / kBlock;
+  std::vector<SpeedOutcome> outcomes(speeds.size());
+  std::mutex progress_lock;
+  std::size_t done = 0;
+  parallel_for(blocks, options.parallel, [&](std::size_t b) {
+    Guess guess{kNaN, kNaN, 0.0};
+    for (std::size_t i = b * kBlock; i < std::min(speeds.size(), (b + 1) * kBlock); ++i) {
+      const EnvelopePoint& z = zero.envelope[i];
+      const bool first = i == b * kBlock || outcomes[i - 1].point.kind == BoundaryKind::None;
+      if (first)
+        guess = std::isfinite(z.depth_m) ? Guess{z.depth_m, z.chatter_hz, 0.35} : Guess{zero.floor_depth_m, zero.floor_chatter_hz, 0.35};
+      else
+        guess = {outcomes[i - 1].point.depth_m, outcomes[i - 1].point.chatter_hz, 0.7};
+      outcomes[i] = boundary_at(model, cutting, speeds[i], guess, res.max_depth_m, options);
+      if (options.progress) {
+        std::lock_guard<std::mutex> hold(progress_lock);
+        options.progress(static_cast<double>(++done) / static_cast<double>(speeds.size()));
+      }
+    }
+  });
+  int none = 0, unmet = 0, aliased = 0;
+  for (const SpeedOutcome& o : outcomes) {
+    res.boundary.push_back(o.point);
+    res.evaluations += o.evaluations;
+    none += o.point.kind == BoundaryKind::None;
+    unmet += o.unmet;
+    aliased += o.aliased;
   }
   if (none > 0)
     res.warnings.push_back(fmt::format("{} of {} speeds are stable up to the maximum depth {:.4g} mm (kind 'none')", none,
                                        res.boundary.size(), res.max_depth_m * 1e3));
+  if (unmet > 0)
+    res.warnings.push_back(fmt::format("at {} speed(s) the estimated discretization error stays above {:.3g} % of the depth "
+                                       "with {} steps per tooth period (BoundaryOptions::max_steps)",
+                                       unmet, 100.0 * options.tolerance, options.max_steps));
   if (aliased > 0)
-    res.warnings.push_back(fmt::format("at {} speed(s) the chatter period spans fewer than 4 of the {} intervals: raise "
-                                       "--intervals for a trustworthy boundary and chatter frequency",
-                                       aliased, options.intervals));
+    res.warnings.push_back(fmt::format("at {} speed(s) the chatter period spans fewer than 4 steps: the boundary and chatter "
+                                       "frequency there are at the discretization's limit (raise BoundaryOptions::steps)",
+                                       aliased));
   return res;
 }
 
 // ---- Results for people ---------------------------------------------------------------------
 
-std::vector<EnvelopePoint> stability_pockets(const std::vector<EnvelopePoint>& envelope, int count) {
-  std::vector<EnvelopePoint> peaks;
-  const std::size_t n = envelope.size();
-  for (std::size_t i = 0; i < n; ++i) {
-    const double d = envelope[i].depth_m;
-    if (!std::isfinite(d)) continue;
-    const bool left = i == 0 || !std::isfinite(envelope[i - 1].depth_m) || envelope[i - 1].depth_m < d;
-    const bool right = i + 1 == n || !std::isfinite(envelope[i + 1].depth_m) || envelope[i + 1].depth_m <= d;
-    if (left && right && i > 0 && i + 1 < n) peaks.push_back(envelope[i]);
-  }
-  std::stable_sort(peaks.begin(), peaks.end(), [](const EnvelopePoint& a, const EnvelopePoint& b) { return a.depth_m > b.depth_m; });
-  if (peaks.size() > static_cast<std::size_t>(std::max(count, 0))) peaks.resize(static_cast<std::size_t>(std::max(count, 0)));
-  return peaks;
+std::vector<EnvelopePoint> stability_pockets(const std::vector<EnvelopePoint>& envelope, int count, double min_prominence) {
+  if (!std::isfinite(min_prominence) || min_prominence < 0.0 || min_prominence >= 1.0)
+    throw InvalidArgument(fmt::format("pocket prominence {} must lie in [0, 1) (a fraction of the depth)", min_prominence));
+  std::vector<double> depth;
+  for (const EnvelopePoint& e : envelope) depth.push_back(std::isfinite(e.depth_m) ? e.depth_m : kNaN);
+  std::vector<EnvelopePoint> pockets;
+  // find_peaks' prominence is (peak − valley)/peak: the fraction of the depth asked for here. A
+  // maximum at either end of the range is only the range's edge, not a pocket.
+  for (const Peak& p : find_peaks(depth, min_prominence))
+    if (p.index > 0 && p.index + 1 < envelope.size()) pockets.push_back(envelope[p.index]);
+  std::stable_sort(pockets.begin(), pockets.end(), [](const EnvelopePoint& a, const EnvelopePoint& b) { return a.depth_m > b.depth_m; });
+  if (pockets.size() > static_cast<std::size_t>(std::max(count, 0))) pockets.resize(static_cast<std::size_t>(std::max(count, 0)));
+  return pockets;
 }
 
-namespace {
-
-std::string csv_head(const std::string& what, const std::vector<std::string>& comments, const std::string& columns) {
-  std::string s = "# toolpoint " + what + "; units: spindle speed rpm, axial depth mm, chatter frequency Hz\n";
-  for (const auto& c : comments) s += "# " + c + "\n";
-  return s + columns + "\n";
-}
-
-}  // namespace
-
-std::string format_lobes_csv(const ZeroOrderResult& result, const std::vector<std::string>& comments) {
-  std::string s = csv_head("stability lobes, zero-order approximation (root: which eigenvalue of the quadratic)", comments,
-                           "lobe,spindle_speed_rpm,axial_depth_mm,chatter_frequency_hz,root");
-  result.for_each_point([&](const LobePoint& p) {
-    fmt::format_to(std::back_inserter(s), "{},{},{},{},{}\n", p.lobe, p.speed_rpm, p.depth_m * 1e3, p.chatter_hz, p.root);
-  });
-  return s;
-}
-
-std::string format_boundary_csv(const SemiDiscretizationResult& result, const std::vector<std::string>& comments) {
-  std::string s = csv_head(fmt::format("stability boundary, semi-discretization with {} intervals per tooth period (kind: "
-                                       "hopf, flip = period doubling, none = stable up to {:.6g} mm; lobe −1 where unknown)",
-                                       result.intervals, result.max_depth_m * 1e3),
-                           comments, "lobe,spindle_speed_rpm,axial_depth_mm,chatter_frequency_hz,kind");
-  for (const BoundaryPoint& b : result.boundary)
-    fmt::format_to(std::back_inserter(s), "{},{},{},{},{}\n", b.lobe, b.speed_rpm, b.depth_m * 1e3,
-                   std::isfinite(b.chatter_hz) ? fmt::format("{}", b.chatter_hz) : std::string(), to_string(b.kind));
-  return s;
-}
-
-std::string format_envelope_csv(const std::vector<EnvelopePoint>& envelope, const std::vector<std::string>& comments) {
-  std::string s = csv_head("stable envelope (minimum over lobes)", comments,
-                           "spindle_speed_rpm,axial_depth_mm,chatter_frequency_hz,lobe");
-  for (const EnvelopePoint& e : envelope)
-    if (std::isfinite(e.depth_m))
-      fmt::format_to(std::back_inserter(s), "{},{},{},{}\n", e.speed_rpm, e.depth_m * 1e3,
-                     std::isfinite(e.chatter_hz) ? fmt::format("{}", e.chatter_hz) : std::string(), e.lobe);
-  return s;
-}
-
-std::vector<EnvelopePoint> boundary_envelope(const SemiDiscretizationResult& result) {
+std::vector<EnvelopePoint> boundary_envelope(const BoundaryResult& result) {
   std::vector<EnvelopePoint> env;
   for (const BoundaryPoint& b : result.boundary) env.push_back({b.speed_rpm, b.depth_m, b.chatter_hz, b.lobe});
   return env;

@@ -10,7 +10,7 @@
 #include "text.hpp"
 #include "toolpoint/error.hpp"
 
-namespace toolpoint::detail {
+namespace toolpoint {
 
 namespace {
 
@@ -353,7 +353,7 @@ void check_toml_text(std::string_view text, const std::string& source, const std
   Guard(text, source, hint).run();
 }
 
-toml::table parse_toml_text(std::string_view text, const std::string& source, const std::string& hint) {
+toml::table parse_toml(std::string_view text, const std::string& source, const std::string& hint) {
   check_toml_text(text, source, hint);
   try {
     return toml::parse(text, std::string(source));
@@ -364,4 +364,4 @@ toml::table parse_toml_text(std::string_view text, const std::string& source, co
   }
 }
 
-}  // namespace toolpoint::detail
+}  // namespace toolpoint

@@ -1,6 +1,7 @@
 // toolpoint (internal): TOML text in, a toml++ table out, every problem an InputError naming
 // file:line:column. Every TOML file toolpoint reads (assembly, joint, study files) goes through
-// parse_toml_text, never straight through toml::parse.
+// parse_toml, never straight through toml::parse (toml_reader.hpp, the readers' helpers, includes
+// this header).
 //
 // Why a guard before toml++: Debian's toml++ 3.3.0 reaches __builtin_unreachable (undefined
 // behaviour) on a non-ASCII character where whitespace may stand (`overhang = 49 µm`), and its
@@ -19,13 +20,13 @@
 
 #include <toml++/toml.h>
 
-namespace toolpoint::detail {
+namespace toolpoint {
 
 // The guard alone. Throws InputError "source:line:column: TOML syntax error: what", with `hint`
 // (how to fix it, e.g. which example file shows the format) unless the guard has a better one.
 void check_toml_text(std::string_view text, const std::string& source, const std::string& hint);
 
 // The guard, then toml::parse; toml++'s parse errors become the same InputError.
-toml::table parse_toml_text(std::string_view text, const std::string& source, const std::string& hint);
+toml::table parse_toml(std::string_view text, const std::string& source, const std::string& hint);
 
-}  // namespace toolpoint::detail
+}  // namespace toolpoint

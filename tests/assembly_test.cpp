@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "support/example_fe.hpp"
 #include "support/fe_beam.hpp"
 #include "support/test_util.hpp"
 #include "toolpoint/assembly.hpp"
@@ -230,69 +231,15 @@ TEST(Assembly, InvalidAssembliesAreRejected) {
 
 // ---- Against independent methods --------------------------------------------------------------
 
-namespace {
-
-fe_oracle::FeSegment fe_segment(double len, const std::vector<Annulus>& layers, double element_length) {
-  Segment s;
-  s.length = len;
-  s.layers = layers;
-  const SectionProperties p = s.properties();
-  return fe_oracle::FeSegment{len, p.EI, p.kGA, p.rhoA, p.rhoI, std::max(1, static_cast<int>(std::ceil(len / element_length)))};
-}
-
-Annulus ring(double D, double d, const Material& m) { return Annulus{D, d, m, std::nullopt}; }
-
-}  // namespace
-
-// The example assembly rebuilt as a finite-element model (tests/support/fe_beam.hpp: global
-// matrices, direct solve; nothing of the library's coupling), geometry typed in here from the
-// example file: spindle with bearings to ground, holder with the 74 mm shank inside, tool of 49 mm,
-// both joints as [[K, −K], [−K, K]] elements. SHT11 (all four entries) agrees within 2e-4 of each
-// entry's peak over 20–5000 Hz: the FE error after Richardson extrapolation (2 mm elements,
-// refinement 1 and 2) — the oracle's own tests show ~1e-5 for one segment to 30 kHz.
+// The example assembly rebuilt as a finite-element model (tests/support/example_fe.hpp: global
+// matrices, direct solve; nothing of the library's coupling), geometry typed in from the example
+// file. SHT11 (all four entries) agrees within 2e-4 of each entry's peak over 20–5000 Hz: the FE
+// error after Richardson extrapolation (2 mm elements, refinement 1 and 2) — the oracle's own
+// tests show ~1e-5 for one segment to 30 kHz.
 TEST(Assembly, MatchesIndependentFiniteElementModel) {
   const Assembly a = load_assembly(std::string(TOOLPOINT_SOURCE_DIR) + "/examples/bt40_shrinkfit_16mm.toml").assembly;
-  const Material st = a.holder.front().layers.front().material, cb = a.tool.material;
-  const double h = 0.002;  // element length, m
   fe_oracle::FeModel fem;
-  // Spindle from the rear (x = 0) to the nose, cut at the bearings (0.080, 0.120, 0.355, 0.395 m
-  // from the nose; length 0.485 m).
-  struct Piece { double from_nose_start, from_nose_end, D, d; };
-  const std::vector<Piece> spindle_sections = {{0.0, 0.065, 0.090, 0.010}, {0.065, 0.135, 0.070, 0.030}, {0.135, 0.335, 0.070, 0.025},
-                                               {0.335, 0.405, 0.055, 0.025}, {0.405, 0.485, 0.045, 0.020}};
-  std::vector<double> cuts = {0.0, 0.065, 0.080, 0.120, 0.135, 0.335, 0.355, 0.395, 0.405, 0.485};
-  std::vector<fe_oracle::FeSegment> sp;
-  for (std::size_t k = cuts.size() - 1; k-- > 0;) {  // rear → nose
-    const double mid = 0.5 * (cuts[k] + cuts[k + 1]);
-    for (const Piece& p : spindle_sections)
-      if (mid > p.from_nose_start && mid < p.from_nose_end) sp.push_back(fe_segment(cuts[k + 1] - cuts[k], {ring(p.D, p.d, st)}, h));
-  }
-  const fe_oracle::Chain spindle = fem.add_chain(sp);
-  const auto node_at_nose_distance = [&](double d) {  // spindle nodes: index 0 = rear (0.485 from nose)
-    for (std::size_t k = 0; k < cuts.size(); ++k)
-      if (std::abs(cuts[k] - d) < 1e-12) return spindle.nodes[cuts.size() - 1 - k];
-    ADD_FAILURE() << d;
-    return -1;
-  };
-  for (const Bearing& b : a.spindle.bearings)
-    fem.add_ground_spring(node_at_nose_distance(b.position), b.stiffness, b.rotational_stiffness, b.damping, b.rotational_damping);
-  // Holder from the gauge line to its tip; the shank (16 mm carbide) fills the bore over the
-  // outer 74 mm: the flange's outer 4 mm and both outer segments.
-  const fe_oracle::Chain holder = fem.add_chain({fe_segment(0.012, {ring(0.063, 0.016, st)}, h),
-                                          fe_segment(0.004, {ring(0.063, 0.016, st), ring(0.016, 0.0, cb)}, h),
-                                          fe_segment(0.030, {ring(0.044, 0.016, st), ring(0.016, 0.0, cb)}, h),
-                                          fe_segment(0.040, {ring(0.032, 0.016, st), ring(0.016, 0.0, cb)}, h)});
-  // Tool outside: 17 mm of 16 mm shank, then 32 mm of fluted part at 0.8 × 16 mm.
-  const fe_oracle::Chain tool = fem.add_chain({fe_segment(0.017, {ring(0.016, 0.0, cb)}, h), fe_segment(0.032, {ring(0.0128, 0.0, cb)}, h)});
-  auto joint = [&](int outer_end2, int inner_end1, const JointParameters& p) {
-    Eigen::Matrix2cd K;
-    K << p.k_yf, p.k_ym, p.k_tf, p.k_tm;
-    Eigen::Matrix2d C;
-    C << p.c_yf, p.c_ym, p.c_tf, p.c_tm;
-    fem.add_joint(outer_end2, inner_end1, K, C);
-  };
-  joint(holder.first(), spindle.last(), a.spindle_holder.parameters);
-  joint(tool.first(), holder.last(), a.holder_tool.parameters);
+  const fe_oracle::Chain tool = build_example_fe(fem, a).tool;
   fem.set_mesh({1, true});
 
   const AssemblyModel m(a);

@@ -479,6 +479,43 @@ TEST(Plot, LobesFigureContent) {
   EXPECT_EQ(f.panels[1].y.label, "Chatter frequency [Hz]");
 }
 
+// Lobe numbers never overlap (issue 13: "11" and "13" printed as "113"). Lobes of two modes,
+// 920 Hz and 2600 Hz, 40 each, interleave at low speed at nearly the same depth. The bound is
+// physical, not the figure's own rule: a 16 pt digit is about 10 px of an ~850 px panel, so two
+// numbers on about one line (within 5 % of the depth axis) need their centres at least half their
+// widths apart, 1.2 % of the speed range per digit. Lobe 0 of each mode is kept.
+TEST(PlotFigures, LobeNumbersNeverOverlap) {
+  LobesFigureData d;
+  for (const double fc : {920.0, 2600.0})
+    for (int n = 0; n < 40; ++n) {
+      Lobe l;
+      l.number = n + (fc > 1000.0 ? 100 : 0);
+      const double bottom = 60.0 * fc / (4.0 * (n + 0.8));
+      for (int k = -5; k <= 5; ++k) {
+        l.spindle_speed_rpm.push_back(bottom * (1.0 + 0.01 * k / (n + 1.0)));
+        l.depth_m.push_back((fc > 1000.0 ? 1.05e-3 : 1e-3) * (1.0 + 0.02 * k * k));
+      }
+      d.lobes.push_back(l);
+    }
+  d.envelope_rpm = {2000.0, 40000.0};
+  d.envelope_depth_m = {1e-3, 1e-3};
+  const Figure f = lobes_figure(d);
+  const std::vector<TextLabel>& labels = f.panels[0].labels;
+  ASSERT_GE(labels.size(), 2u);
+  const double range = *f.x.max - *f.x.min, height = *f.panels[0].y.max - *f.panels[0].y.min;
+  for (std::size_t i = 0; i < labels.size(); ++i)
+    for (std::size_t j = i + 1; j < labels.size(); ++j) {
+      if (std::abs(labels[i].y - labels[j].y) >= 0.05 * height) continue;
+      const double need = 0.5 * 0.012 * range * static_cast<double>(labels[i].text.size() + labels[j].text.size());
+      EXPECT_GE(std::abs(labels[i].x - labels[j].x), need) << labels[i].text << " and " << labels[j].text;
+    }
+  const auto has = [&](const std::string& t) {
+    return std::any_of(labels.begin(), labels.end(), [&](const TextLabel& l) { return l.text == t; });
+  };
+  EXPECT_TRUE(has("0"));
+  EXPECT_TRUE(has("100"));
+}
+
 // ---- Rendering: every figure kind, every format --------------------------------------------------------
 
 TEST(PlotRender, FrfFigures) {

@@ -21,7 +21,7 @@ namespace {
 // The guard's message for `text`, or "" when it lets the text through.
 std::string guard_message(const std::string& text) {
   try {
-    detail::check_toml_text(text, "t.toml", "hint");
+    check_toml_text(text, "t.toml", "hint");
   } catch (const InputError& e) {
     return e.what();
   }
@@ -139,7 +139,7 @@ TEST(TomlGuard, LetsValidTomlThrough) {
   };
   for (const std::string& text : valid) {
     EXPECT_EQ(guard_message(text), "") << text;
-    EXPECT_NO_THROW(detail::parse_toml_text(text, "t.toml", "hint")) << text;
+    EXPECT_NO_THROW(parse_toml(text, "t.toml", "hint")) << text;
   }
   // The example assembly file, comments and all.
   const std::string example = read_text_file(std::string(TOOLPOINT_SOURCE_DIR) + "/examples/bt40_shrinkfit_16mm.toml");
@@ -149,7 +149,7 @@ TEST(TomlGuard, LetsValidTomlThrough) {
 TEST(TomlGuard, TomlppErrorsBecomeInputErrorsWithLineAndColumn) {
   // Lexically fine, semantically not: toml++'s own error, converted.
   try {
-    detail::parse_toml_text("a = 1\na = 2\n", "dup.toml", "see the example");
+    parse_toml("a = 1\na = 2\n", "dup.toml", "see the example");
     FAIL() << "a duplicate key was accepted";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("dup.toml:2:"), std::string::npos) << e.what();

@@ -9,20 +9,26 @@
 //     (files and the report on stdout) come first, the figure last. If the figure cannot be
 //     drawn (gnuplot missing or failing) the data stay written, the error says which files they
 //     are, and the exit code is 5 (I/O) — a script never mistakes a missing figure for success.
-//   * Progress bars (progress.hpp) on stderr only when it is a terminal, never with --quiet.
+//   * Progress (progress.hpp) on stderr: a bar on a terminal, a line every few seconds otherwise; never with --quiet.
 #pragma once
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include "parse.hpp"
 #include "toolpoint/assembly_file.hpp"
 #include <cstddef>
+#include <initializer_list>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "toolpoint/error.hpp"
 #include "toolpoint/frf_file.hpp"
 #include "toolpoint/identify.hpp"
+#include "toolpoint/joint_file.hpp"
+#include "toolpoint/uncertainty.hpp"
+#include "toolpoint/joint_fit.hpp"
 #include "toolpoint/plot.hpp"
 #include "toolpoint/receptance.hpp"
 
@@ -36,6 +42,7 @@ enum ExitCode : int {
   kExitInput = 3,      // bad input file content
   kExitNumerical = 4,  // singular inversion, no convergence
   kExitIo = 5,         // cannot read or write a file (or draw a requested figure)
+  kExitVerdict = 6,    // a result judged wrong by its own checks (identify's verdict fail; --accept overrides)
 };
 
 // What the user says about the FRF files a command reads (add_frf_read_options): the same
@@ -61,13 +68,52 @@ void warn_all(const std::vector<std::string>& messages);
 // What loading an assembly file found: its warnings, and its notes (info, silenced by --quiet).
 void report_loaded(const Globals& g, const LoadedAssembly& loaded);
 
-// An assembly file loaded, its findings reported, its grid replaced by `frequencies` when given
-// (START:STOP:STEP [Hz], named --frequencies in errors), and its model built (warnings reported).
+// An assembly file loaded, its findings reported, and its grid replaced by `frequencies` when
+// given (START:STOP:STEP [Hz], named --frequencies in errors): the input of a study.
+LoadedAssembly load_assembly_on_grid(const Globals& g, const std::string& path, const std::string& frequencies = {},
+                                     const std::vector<JointFile>& joints = {});
+
+// The same, and its model built (warnings reported).
 struct LoadedModel {
   LoadedAssembly loaded;
   AssemblyModel model;
 };
-LoadedModel load_model(const Globals& g, const std::string& path, const std::string& frequencies = {});
+LoadedModel load_model(const Globals& g, const std::string& path, const std::string& frequencies = {},
+                       const std::vector<JointFile>& joints = {});
+
+// ---- Joint files -----------------------------------------------------------------------------
+
+// Adds `--joint INTERFACE=FILE.toml` (repeatable; INTERFACE holder-tool or spindle-holder, or just
+// FILE.toml): identified joints (`toolpoint identify --joint-output`) in place of the assembly
+// file's.
+CLI::Option* add_joint_option(CLI::App* command, std::vector<std::string>& target);
+// Reads the joint files of --joint options (InvalidArgument when the interface named in the option
+// is not the file's, or one interface is given twice) and says which joints are replaced (info).
+std::vector<JointFile> read_joint_options(const Globals& g, const std::vector<std::string>& specs);
+// The assembly with the files' joints in place.
+Assembly with_joints(const Assembly& assembly, const std::vector<JointFile>& files);
+
+// Monte Carlo over a joint's uncertainty (--samples N, --seed, --threads), for the commands that
+// carry it forward. Adds the options; `sampled` picks the one --joint file with an [uncertainty]
+// (InvalidArgument when none or several have one).
+struct SamplingOptions {
+  int samples = 0;
+  std::uint64_t seed = 1;
+  int threads = 0;
+};
+// `threads_option` false: the command has its own --threads (SamplingOptions::threads unused).
+void add_sampling_options(CLI::App* command, SamplingOptions& target, const std::string& what, bool threads_option = true);
+const JointFile& sampled_joint(const std::vector<JointFile>& files);
+UncertaintyOptions uncertainty_options(const SamplingOptions& s);
+
+// The command line's spelling of a library field: `e` rethrown with " (FLAG)" after its message
+// when the message names one of the fields (e.g. "OverhangStudyOptions::peaks" → --prominence),
+// unchanged otherwise. For a library call's InvalidArgument, so the user sees which flag to fix.
+struct FieldFlag {
+  const char* field;
+  const char* flag;
+};
+[[noreturn]] void rethrow_with_flag(const InvalidArgument& e, std::initializer_list<FieldFlag> fields);
 
 // The example assembly compiled into the binary (examples/bt40_shrinkfit_16mm.toml).
 const char* example_assembly_toml();
@@ -100,8 +146,11 @@ void draw_figures(const Globals& g, const std::vector<FigureFile>& figures, cons
 
 // One of the joint's four stiffness/damping pairs (0 yf, 1 ym, 2 θf, 3 θm) of an identified K(ω)
 // as a joint-figure curve, with optional reference and identified values drawn as lines.
+// With `fit`, the identified values' intervals and verdicts; with `seed` (a read-out), a value whose
+// noise gain exceeds 20 or whose spread exceeds it is marked undetermined.
 plot::JointParameterCurve joint_curve(const JointSeries& series, int pair, const std::optional<JointParameters>& reference,
-                                      const std::optional<JointParameters>& identified);
+                                      const std::optional<JointParameters>& identified, const JointFit* fit = nullptr,
+                                      const JointReadout* seed = nullptr);
 
 // `path` with `suffix` before its extension: ("lobes.png", "_chatter") → "lobes_chatter.png".
 std::string with_suffix(const std::string& path, const std::string& suffix);

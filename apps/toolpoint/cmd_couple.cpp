@@ -1,5 +1,6 @@
 // toolpoint couple: the semi-analytical tool point FRF — a measured SH11 + the model's tool + the
-// holder–tool joint (seed Eq. 5), for one tool overhang or a sweep (the seed's Fig. 10).
+// holder–tool joint (seed Eq. 5), for one tool overhang or a sweep (the seed's Fig. 10): the
+// overhang study (studies/overhang.hpp).
 // Units: overhangs in m (mm in file names and figures), receptances in SI (H m/N, …), Hz.
 // --plot: one overhang, the tool point FRF; a sweep, the FRFs overlaid in FILE and the natural
 // frequencies against overhang in FILE with "_frequencies" before the extension.
@@ -14,21 +15,23 @@
 #include "toolpoint/assembly_file.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/io.hpp"
-#include "toolpoint/peaks.hpp"
+#include "toolpoint/json.hpp"
 #include "toolpoint/plot.hpp"
+#include "toolpoint/studies/overhang.hpp"
 #include "progress.hpp"
 
 namespace toolpoint::cli {
 
 namespace {
 
-struct CoupleOptions {
+struct CoupleArgs {
   std::string sh, assembly, overhang, output, plot;
+  std::vector<std::string> joints;
   double prominence = 0.1;
   bool json = false;
 };
 
-void print_report(const CoupleOptions& o, const Globals& g, double inside, const std::vector<double>& overhangs,
+void print_report(const CoupleArgs& o, const Globals& g, double inside, const std::vector<double>& overhangs,
                   const std::vector<std::vector<double>>& modes, bool sweep);
 
 // --overhang: one length or a sweep START:STOP:STEP, in m (empty: none given).
@@ -61,61 +64,60 @@ std::vector<double> parse_overhangs(const std::string& text) {
   return {v};
 }
 
-void run_couple(const CoupleOptions& o, const Globals& g) {
+void run_couple(const CoupleArgs& o, const Globals& g) {
   check_plot_path(o.plot);
-  std::vector<double> overhangs = parse_overhangs(o.overhang);
-  const bool sweep = overhangs.size() > 1 || o.overhang.find(':') != std::string::npos;
+  OverhangStudyOptions options;
+  options.overhangs_m = parse_overhangs(o.overhang);
+  options.peaks.min_prominence = o.prominence;
+  options.sh11_name = o.sh;
+  const bool sweep = options.overhangs_m.size() > 1 || o.overhang.find(':') != std::string::npos;
   if (sweep && o.output.empty())
     throw InvalidArgument("an overhang sweep needs --output DIR for its files", "add --output overhangs");
+  const std::vector<JointFile> joints = read_joint_options(g, o.joints);
   LoadedAssembly loaded = load_assembly(o.assembly);
   report_loaded(g, loaded);
+  loaded.assembly = with_joints(loaded.assembly, joints);
   const BlockSeries sh = read_block_input(g, o.sh);
-  validate(sh, o.sh, 3);
-  if (overhangs.empty()) overhangs.push_back(loaded.assembly.tool.overhang);
 
-  const double inside = loaded.assembly.tool.length - loaded.assembly.tool.overhang;
-  Table table;
-  std::vector<std::vector<Peak>> all_peaks;
-  nlohmann::json j;
+  Progress progress(g, "couple: overhangs");
+  OverhangStudy study;
+  try {
+    study = run_overhang_study(loaded.assembly, sh, options, progress.part());
+  } catch (const InvalidArgument& e) {
+    rethrow_with_flag(e, {{"OverhangStudyOptions::overhangs_m", "--overhang"}, {"OverhangStudyOptions::peaks", "--prominence"}});
+  }
+  progress.done();
+  warn_all(study.warnings);
+
+  std::vector<double> overhangs;
+  for (const OverhangFrf& r : study.overhangs) overhangs.push_back(r.overhang_m);
+  const double inside = study.tool_inside_holder_m;
+  nlohmann::json j = study;
   j["sh11"] = o.sh;
   j["assembly"] = o.assembly;
-  j["tool_inside_holder_m"] = inside;
-  j["overhangs"] = nlohmann::json::array();
   std::vector<std::string> written;
-  std::vector<FrfSeries> tool_point_h;  // for the figure
-  Progress progress(g, "couple: overhangs");
-  for (double L : overhangs) {
-    const Assembly a = with_overhang(loaded.assembly, L);
-    const BlockSeries sht = couple_tool(a, sh, o.sh);
-    tool_point_h.push_back(entry(sht, 0));
-    const auto peaks = find_peaks(entry(sht, 0), PeakOptions{o.prominence});
-    all_peaks.push_back(peaks);
+  for (std::size_t i = 0; i < study.overhangs.size(); ++i) {
+    const OverhangFrf& r = study.overhangs[i];
     std::string file;
     if (!o.output.empty()) {
-      file = sweep ? fmt::format("{}/sht11_overhang_{:.1f}mm.csv", o.output, 1000 * L) : o.output;
-      write_frf_csv(file, sht,
-                    {fmt::format("tool point SHT11: measured SH11 ({}) + model tool, overhang {} m (tool length {} m), Eq. (5)", o.sh, L,
-                                 inside + L)});
+      file = sweep ? fmt::format("{}/sht11_overhang_{:.1f}mm.csv", o.output, 1000 * r.overhang_m) : o.output;
+      write_frf_csv(file, r.sht11,
+                    {fmt::format("tool point SHT11: measured SH11 ({}) + model tool, overhang {} m (tool length {} m), Eq. (5)", o.sh,
+                                 r.overhang_m, inside + r.overhang_m)});
       written.push_back(file);
     }
-    progress.update(static_cast<double>(tool_point_h.size()) / static_cast<double>(overhangs.size()));
-    nlohmann::json modes = nlohmann::json::array();
-    for (const Peak& p : peaks) modes.push_back({{"peak_frequency_hz", p.frequency_hz}, {"peak_magnitude_m_per_n", p.magnitude}});
-    j["overhangs"].push_back({{"overhang_m", L}, {"file", file}, {"modes", modes}});
+    j["overhangs"][i]["file"] = file;
   }
-  // Modes followed through the sweep from the overhang nearest the file's (the seed's Fig. 10).
-  std::size_t ref = 0;
-  for (std::size_t i = 1; i < overhangs.size(); ++i)
-    if (std::abs(overhangs[i] - loaded.assembly.tool.overhang) < std::abs(overhangs[ref] - loaded.assembly.tool.overhang)) ref = i;
-  const std::vector<std::vector<double>> modes = track_modes(all_peaks, ref);
-  table.columns = {"overhang_m"};
-  for (std::size_t m = 0; m < modes.size(); ++m) table.columns.push_back(fmt::format("mode_{}_hz", m + 1));
-  for (std::size_t i = 0; i < overhangs.size(); ++i) {
-    std::vector<double> row{overhangs[i]};
-    for (const auto& mode : modes) row.push_back(mode[i]);
-    table.rows.push_back(row);
-  }
+  const std::vector<std::vector<double>>& modes = study.tracked_modes_hz;
   if (sweep) {
+    Table table;
+    table.columns = {"overhang_m"};
+    for (std::size_t m = 0; m < modes.size(); ++m) table.columns.push_back(fmt::format("mode_{}_hz", m + 1));
+    for (std::size_t i = 0; i < overhangs.size(); ++i) {
+      std::vector<double> row{overhangs[i]};
+      for (const auto& mode : modes) row.push_back(mode[i]);
+      table.rows.push_back(row);
+    }
     write_table_csv(o.output + "/natural_frequencies.csv", table,
                     {"modes of the coupled tool point FRF against tool overhang (seed Fig. 10): peaks of |H| followed from "
                      "the overhang nearest the assembly file's to within 15 % per step; nan: not found",
@@ -123,7 +125,6 @@ void run_couple(const CoupleOptions& o, const Globals& g) {
     j["natural_frequencies_file"] = o.output + "/natural_frequencies.csv";
     written.push_back(o.output + "/natural_frequencies.csv");
   }
-  progress.done();
   if (!o.plot.empty()) j["plot"] = sweep ? nlohmann::json{o.plot, with_suffix(o.plot, "_frequencies")} : nlohmann::json(o.plot);
   if (o.json) {
     std::cout << j.dump(2) << '\n';
@@ -131,6 +132,8 @@ void run_couple(const CoupleOptions& o, const Globals& g) {
     print_report(o, g, inside, overhangs, modes, sweep);
   }
   if (o.plot.empty()) return;
+  std::vector<FrfSeries> tool_point_h;
+  for (const OverhangFrf& r : study.overhangs) tool_point_h.push_back(entry(r.sht11, 0));
   plot::FrfFigureOptions fo;
   fo.symbol = "H^{sht}_{11}";
   fo.title = fmt::format("Tool point FRF from {} + model tool (Eq. 5)", plot::literal(o.sh));
@@ -146,7 +149,7 @@ void run_couple(const CoupleOptions& o, const Globals& g) {
   draw_figures(g, figures, written);
 }
 
-void print_report(const CoupleOptions& o, const Globals& g, double inside, const std::vector<double>& overhangs,
+void print_report(const CoupleArgs& o, const Globals& g, double inside, const std::vector<double>& overhangs,
                   const std::vector<std::vector<double>>& modes, bool sweep) {
   std::cout << fmt::format("tool point FRF from {} + model tool ({:.1f} mm inside the holder) + holder–tool joint (Eq. 5)\n", o.sh,
                            1000 * inside);
@@ -164,7 +167,7 @@ void print_report(const CoupleOptions& o, const Globals& g, double inside, const
 }  // namespace
 
 void add_couple_command(CLI::App& app, Globals& g) {
-  auto o = std::make_shared<CoupleOptions>();
+  auto o = std::make_shared<CoupleArgs>();
   CLI::App* c = app.add_subcommand("couple", "Tool point FRF from a measured SH11 and the model's tool, for any overhang (seed Eq. 5, Fig. 10)");
   add_frf_read_options(c, g);
   c->add_option("--sh", o->sh,
@@ -183,6 +186,7 @@ void add_couple_command(CLI::App& app, Globals& g) {
                 "One overhang: the SHT11 block CSV (H m/N, L 1/N, N rad/N, P rad/(N m)); a sweep (required): a folder for "
                 "sht11_overhang_<mm>mm.csv per overhang and natural_frequencies.csv (overhang m, peaks Hz). Default: "
                 "the table on stdout only");
+  add_joint_option(c, o->joints);
   add_plot_option(c, o->plot,
                   "|H| [m/N] and phase [deg] of the tool point FRF against frequency [Hz] (one overhang: modes labelled; "
                   "a sweep: every overhang overlaid, and the natural frequencies [Hz] against overhang [mm] in FILE with "

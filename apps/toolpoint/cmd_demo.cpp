@@ -12,6 +12,7 @@
 #include "toolpoint/assembly_file.hpp"
 #include "toolpoint/case_study.hpp"
 #include "toolpoint/io.hpp"
+#include "toolpoint/json.hpp"
 #include "toolpoint/plot.hpp"
 #include "progress.hpp"
 
@@ -21,10 +22,11 @@ namespace {
 
 struct DemoOptions {
   std::string assembly, output = "toolpoint-demo";
+  std::vector<std::string> joints;
   double sigma = 0.05, width = 0.02;
   std::uint64_t seed = 1;
-  int window = 81, order = 2;
-  bool no_plots = false, json = false;
+  int window = 81, order = 2, bootstrap = 200, threads = 0;
+  bool no_plots = false, json = false, no_fit = false;
 };
 
 std::string pct(double x) { return fmt::format("{:+.2g} %", 100.0 * x); }
@@ -33,18 +35,29 @@ void print_report(const DemoOptions& o, const LoadedAssembly& loaded, const Case
                   const std::vector<std::string>& files, const std::vector<std::string>& figures);
 
 void run_demo(const DemoOptions& o, const Globals& g) {
-  const LoadedAssembly loaded = o.assembly.empty() ? parse_assembly(example_assembly_toml(), example_assembly_name())
-                                                   : load_assembly(o.assembly);
+  LoadedAssembly loaded = o.assembly.empty() ? parse_assembly(example_assembly_toml(), example_assembly_name())
+                                             : load_assembly(o.assembly);
   report_loaded(g, loaded);
+  loaded.assembly = with_joints(loaded.assembly, read_joint_options(g, o.joints));
   CaseStudyOptions co;
   co.noise_sigma = o.sigma;
   co.seed = o.seed;
   co.filter = SavgolOptions{o.window, o.order};
   co.band_width = o.width;
-  co.check();
+  co.fit = !o.no_fit;
+  if (o.bootstrap == 0) co.fit_options.uncertainty = UncertaintyMethod::Linearised;
+  else co.fit_options.bootstrap_samples = o.bootstrap;
+  co.fit_options.parallel.threads = o.threads;
+  co.fit_options.seed = o.seed;
+  try {
+    co.check();
+  } catch (const InvalidArgument& e) {
+    throw InvalidArgument(fmt::format("{} (--sigma, --window, --order, --width, --bootstrap, --threads)", e.what()), e.hint());
+  }
   info(g, "toolpoint demo: running the seed's analytical case study (Özşahin et al. 2009, Section 3)…");
   // The stages and the share of the run each takes (the figures dominate).
   Progress progress(g, "demo: case study");
+  co.fit_options.progress = progress.part(0.0, 0.15);
   const CaseStudy cs = run_case_study(loaded.assembly, co);
   progress.stage("demo: writing data", 0.15);
   const auto& f = cs.sht_true.frequency_hz;
@@ -65,6 +78,7 @@ void run_demo(const DemoOptions& o, const Globals& g) {
   block_file("sh11_filtered.csv", cs.sh_filtered, fmt::format("SH11 noisy, Savitzky-Golay window {} points, order {}", o.window, o.order));
   block_file("sht11_filtered.csv", cs.sht_filtered, fmt::format("SHT11 noisy, Savitzky-Golay window {} points, order {}", o.window, o.order));
   block_file("sht11_identified.csv", cs.sht_verified, "SHT11 from Eq. (5) with the joint read from the filtered data");
+  if (cs.fitted) block_file("sht11_fitted.csv", cs.sht_fitted, "SHT11 from Eq. (5) with the joint fitted to the raw noisy data");
   auto joint_file = [&](const std::string& name, const JointSeries& s, const std::string& what) {
     write_table_csv(path(name), joint_table(s), {note[0], "holder-tool joint K(omega) by Eq. (6): " + what, "k = Re K, c = Im K / omega (SI)"});
     files.push_back(name);
@@ -84,10 +98,7 @@ void run_demo(const DemoOptions& o, const Globals& g) {
   j["filter"] = {{"method", "Savitzky-Golay"}, {"window_points", o.window}, {"order", o.order}};
   j["tool_mode_hz"] = cs.mode_hz;
   j["band_hz"] = {cs.filtered_readout.band_lo_hz, cs.filtered_readout.band_hi_hz};
-  nlohmann::json modes = nlohmann::json::array();
-  for (const auto& m : cs.effect.modes)
-    modes.push_back({{"frequency_hz", m.frequency_hz}, {"peak_m_per_n", m.magnitude}, {"relative_shift_per_10pct_k", m.stiffness_shift}});
-  j["effect_analysis"] = {{"modes", modes}, {"dominant_index", cs.effect.dominant}};
+  j["effect_analysis"] = nlohmann::json(cs.effect);
   for (int k = 0; k < 8; ++k) {
     const auto ks = static_cast<std::size_t>(k);
     j["parameters"][JointParameters::name(k)] = {
@@ -101,12 +112,17 @@ void run_demo(const DemoOptions& o, const Globals& g) {
         {"filtered_spread", cs.filtered_readout.parameters[ks].spread},
         {"noise_gain_in_band", cs.clean_readout.noise_gain[ks]}};
   }
-  j["verification"] = nlohmann::json::array();
-  for (const auto& c : cs.verification)
-    j["verification"].push_back({{"true_hz", c.measured_hz}, {"predicted_hz", c.predicted_hz}, {"frequency_error", c.frequency_error},
-                                 {"peak_error", c.magnitude_error}});
+  j["seed"] = nlohmann::json(cs.seed);
+  j["forward_check"] = nlohmann::json(cs.verification);
+  if (cs.fitted) {
+    j["fit"] = nlohmann::json(*cs.fitted);
+    j["fit_forward_check"] = nlohmann::json(cs.fit_verification);
+  }
   std::vector<std::string> warnings = cs.warnings;
-  for (const auto& w : cs.filtered_readout.warnings) warnings.push_back("filtered read-out: " + w);
+  for (const auto& w : cs.seed.warnings) warnings.push_back(w);
+  if (cs.fitted)
+    for (const auto& w : cs.fitted->warnings)
+      if (w.rfind("seed read-out: ", 0) != 0) warnings.push_back("band fit: " + w);
   j["warnings"] = warnings;
 
   // Figures (the seed's Fig. 2–5). A failure is kept until summary.json and the report are out.
@@ -141,13 +157,23 @@ void run_demo(const DemoOptions& o, const Globals& g) {
       todo.push_back({plot::joint_figure(clean), path("fig3_joint_noise_free.png")});
       plot::JointFigureData noisy;
       noisy.frequency_hz = f;
-      noisy.title = fmt::format("k_{{yf}}, c_{{yf}} from {:g} % noise, filtered; read at the tool mode (seed Fig. 5)", 100 * o.sigma);
-      noisy.parameters.push_back(joint_curve(cs.filtered, 0, cs.reference, cs.filtered_readout.medians()));
+      noisy.title = cs.fitted ? fmt::format("k_{{yf}}, c_{{yf}} at {:g} % noise: seed read-out and band fit (seed Fig. 5)", 100 * o.sigma)
+                              : fmt::format("k_{{yf}}, c_{{yf}} from {:g} % noise, filtered; read at the tool mode (seed Fig. 5)", 100 * o.sigma);
+      plot::JointParameterCurve yf = cs.fitted ? joint_curve(cs.filtered, 0, cs.reference, cs.fitted->identified, &*cs.fitted->fit)
+                                               : joint_curve(cs.filtered, 0, cs.reference, cs.filtered_readout.medians(), nullptr,
+                                                             &cs.filtered_readout);
+      if (cs.fitted) {
+        yf.other_stiffness = cs.filtered_readout.parameters[0].median;
+        yf.other_damping = cs.filtered_readout.parameters[1].median;
+        yf.identified_label = "band fit";
+      }
+      noisy.parameters.push_back(yf);
       noisy.band_hz = std::make_pair(cs.filtered_readout.band_lo_hz, cs.filtered_readout.band_hi_hz);
       todo.push_back({plot::joint_figure(noisy), path("fig5_joint_filtered.png")});
-      frf_fig("fig_verification.png",
-              {{entry(cs.sht_true, 0), "true tool point FRF", plot::CurveStyle::Line},
-               {entry(cs.sht_verified, 0), "Eq. (5) with the identified joint", plot::CurveStyle::Dashed}},
+      std::vector<plot::FrfTrace> check{{entry(cs.sht_true, 0), "true tool point FRF", plot::CurveStyle::Line},
+                                        {entry(cs.sht_verified, 0), "Eq. (5), joint by the seed's read-out", plot::CurveStyle::Dashed}};
+      if (cs.fitted) check.push_back({entry(cs.sht_fitted, 0), "Eq. (5), joint by the band fit", plot::CurveStyle::Points});
+      frf_fig("fig_verification.png", check,
               "Forward check: identified holder-tool joint coupled back", "H^{sht}_{11}", 6);
     }
     const std::vector<std::string> written{fmt::format("{}/ ({} data files; summary.json follows)", dir, files.size())};
@@ -214,13 +240,38 @@ void print_report(const DemoOptions& o, const LoadedAssembly& loaded, const Case
   }
   std::cout << "gain: relative error of the parameter per unit relative error on every FRF entry, to first order\n"
                "(JointEstimate::noise_gain, median in the band). Damping whose ωc is a few % of |K| has a gain of\n"
-               "tens to hundreds: 5 % noise then leaves it unidentifiable, whatever the filter.\n";
-  std::cout << "\n5. Forward check: the filtered read-out coupled back (Eq. 5) against the true tool point FRF\n"
-               "   mode   true_hz   predicted_hz   freq_error   peak_error\n";
+               "tens to hundreds: 5 % noise then leaves it unidentifiable by the read-out, whatever the filter.\n";
+  std::cout << fmt::format("seed read-out verdict: {}\n", to_string(cs.seed.verdict.verdict));
+  if (cs.fitted) {
+    const JointFit& fit = *cs.fitted->fit;
+    std::cout << fmt::format(
+        "\n6. Band fit (beyond the seed): the joint's constants fitted to the raw noisy SH11 and SHT11 at all {} frequencies\n"
+        "   (output error on Eq. 5, noise estimated from the data, {} parameters); intervals: {}.\n\n",
+        fit.points, fit.reciprocal ? 6 : 8, fit.method_description);
+    std::cout << "parameter  unit         Table 1     seed read-out  error      band fit    error       95 % interval              holds Table 1  verdict\n";
+    for (int k = 0; k < 8; ++k) {
+      const auto ks = static_cast<std::size_t>(k);
+      const double ref = cs.reference[k];
+      const ParameterInterval& iv = fit.intervals[ks];
+      const double seed_v = cs.filtered_readout.parameters[ks].median;
+      auto err = [&](double v) { return ref != 0.0 ? pct(v / ref - 1.0) : std::string("-"); };
+      std::cout << fmt::format("{:<9}  {:<10}  {:>10.4g}  {:>12.4g}  {:>9}  {:>10.5g}  {:>10}  [{:>10.5g}, {:>10.5g}]  {:<13}  {}\n",
+                               JointParameters::name(k), JointParameters::unit(k), ref, seed_v, err(seed_v), iv.estimate, err(iv.estimate),
+                               iv.lower, iv.upper, iv.lower <= ref && ref <= iv.upper ? "yes" : "NO",
+                               iv.determined ? "determined" : "undetermined");
+    }
+    std::cout << fmt::format("band fit verdict: {}; residual ratio {:.3g} (≈ 1: the model and the estimated noise explain the data)\n",
+                             to_string(cs.fitted->verdict.verdict), fit.residual_ratio);
+  }
+  std::cout << "\n" << (cs.fitted ? "7" : "5")
+            << ". Forward check: each identified joint coupled back (Eq. 5) against the true tool point FRF\n"
+               "   mode   true_hz   seed: freq_error   peak_error" << (cs.fitted ? "     fit: freq_error   peak_error" : "") << "\n";
   for (std::size_t i = 0; i < cs.verification.size(); ++i) {
     const auto& c = cs.verification[i];
-    std::cout << fmt::format("   {:4d}  {:8.1f}  {:13.1f}  {:>11}  {:>11}\n", i + 1, c.measured_hz, c.predicted_hz, pct(c.frequency_error),
-                             pct(c.magnitude_error));
+    std::cout << fmt::format("   {:4d}  {:8.1f}  {:>17}  {:>11}", i + 1, c.measured_hz, pct(c.frequency_error), pct(c.magnitude_error));
+    if (cs.fitted && i < cs.fit_verification.size())
+      std::cout << fmt::format("  {:>17}  {:>11}", pct(cs.fit_verification[i].frequency_error), pct(cs.fit_verification[i].magnitude_error));
+    std::cout << "\n";
   }
   if (!warnings.empty()) {
     std::cout << "\nnotes:\n";
@@ -246,6 +297,14 @@ void add_demo_command(CLI::App& app, Globals& g) {
   c->add_option("--window", o->window, "Savitzky-Golay window [frequency points, odd]")->capture_default_str();
   c->add_option("--order", o->order, "Savitzky-Golay polynomial order [-]")->capture_default_str();
   c->add_option("--width", o->width, "Read-out band half-width around the tool mode, relative [-] (0.02 = ±2 %)")->capture_default_str();
+  c->add_option("--bootstrap", o->bootstrap, "Band fit intervals: bootstrap replicates (≥ 20), or 0 for linearised intervals")
+      ->capture_default_str();
+  c->add_option("--threads", o->threads, "Worker threads for the bootstrap (0: every core; the same result for any number)")
+      ->capture_default_str();
+  c->add_flag("--no-fit", o->no_fit, "Only the seed's procedure, without the band fit");
+  add_joint_option(c, o->joints)->description(
+      "The joint(s) the study identifies, from joint files instead of the assembly's (holder-tool=FILE.toml; its "
+      "constants are then the reference)");
   c->add_flag("--no-plots", o->no_plots, "Write the data only, no figures (default: draw the five figures, which needs gnuplot)");
   c->add_flag("--json", o->json, "Print summary.json on stdout instead of the table");
   c->footer(

@@ -1,202 +1,266 @@
-// toolpoint identify: joint stiffness and damping in closed form from measured (or modelled) FRFs
-// (seed Eq. 6, 15, 18), read at the mode the joint controls, verified forward (Eq. 5).
+// toolpoint identify: a joint's stiffness and damping from measured FRFs — the band fit with
+// intervals (default) or the seed's closed form read at the mode (Eq. 6, 15, 18), with a forward
+// check and a verdict. Thin: options → identify_joint_from_frfs (studies/identification.hpp) → report.
 // Units: SI (k in N/m, N, N/rad, N·m/rad; c in N·s/m, N·s, N·s/rad, N·m·s/rad); frequencies in
-// Hz. --plot draws k(f) and c(f) of the four pairs (the seed's Fig. 11–12), the read-out band
-// shaded and the values read there as lines.
+// Hz; the stated phase noise in degrees (said in its help). --plot draws k(f) and c(f) of the
+// closed form (the seed's Fig. 11–12) with the identified values and their intervals.
+#include <filesystem>
 #include <fmt/format.h>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
 
 #include "cli.hpp"
-#include "toolpoint/assembly_file.hpp"
-#include "toolpoint/coupling.hpp"
-#include "toolpoint/error.hpp"
-#include "toolpoint/identify.hpp"
-#include "toolpoint/io.hpp"
-#include "toolpoint/peaks.hpp"
-#include "toolpoint/plot.hpp"
 #include "progress.hpp"
+#include "toolpoint/error.hpp"
+#include "toolpoint/io.hpp"
+#include "toolpoint/joint_file.hpp"
+#include "toolpoint/json.hpp"
+#include "toolpoint/studies/identification.hpp"
 
 namespace toolpoint::cli {
 
 namespace {
 
 struct IdentifyOptions {
-  std::string joint = "holder-tool", assembly, sh, sht, s, band, output, plot;
-  double at = 0.0, width = 0.02;
+  std::string joint = "holder-tool", method = "fit", assembly, sh, s, band, output, plot, filter, joint_output;
+  std::vector<std::string> sht;
+  std::optional<double> at, sigma, phase_sigma_deg;
+  double width = 0.02;
+  int bootstrap = 200, parameters = 6, threads = 0;
+  std::uint64_t seed = 1;
   std::vector<std::string> overhang_frfs;
-  bool json = false;
+  bool json = false, accept = false;
 };
 
-void print_report(const IdentifyOptions& o, const std::string& equation, double center, double lo, double hi,
-                  const nlohmann::json& choice, const JointReadout& r, const std::vector<ModeComparison>& cmp);
+// "FILE" or "FILE@OVERHANG" (metres): a set-up at another overhang.
+std::pair<std::string, std::optional<double>> split_overhang(const std::string& spec) {
+  const std::size_t at = spec.rfind('@');
+  if (at == std::string::npos || std::filesystem::exists(spec)) return {spec, std::nullopt};
+  const std::string number = spec.substr(at + 1);
+  std::size_t used = 0;
+  double v = 0.0;
+  try {
+    v = std::stod(number, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != number.size() || !(v > 0.0) || !std::isfinite(v))
+    throw InvalidArgument(fmt::format("--sht {}: '{}' after '@' is not a tool overhang in m", spec, number),
+                          "write FILE@OVERHANG with the overhang in metres, e.g. sht11_60mm.csv@0.060");
+  if (v > 0.5)
+    throw InvalidArgument(fmt::format("--sht {}: an overhang of {} m is implausible (millimetres meant?)", spec, v),
+                          fmt::format("the overhang is in metres: {} mm is {:g}", v, v / 1000));
+  return {spec.substr(0, at), v};
+}
+
+SavgolOptions parse_filter(const std::string& text) {
+  int w = 0, p = 0;
+  char comma = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%d %c %d %c", &w, &comma, &p, &extra) != 3 || comma != ',')
+    throw InvalidArgument(fmt::format("--filter '{}' is not WINDOW,ORDER", text), "e.g. --filter 41,2 (41 frequency points, quadratic)");
+  SavgolOptions o{w, p};
+  try {
+    o.check();
+  } catch (const InvalidArgument& e) {
+    throw InvalidArgument(fmt::format("--filter {}: {}", text, e.what()), e.hint());
+  }
+  return o;
+}
+
+void print_report(const IdentifyOptions& o, const Identification& id);
 
 void run_identify(const IdentifyOptions& o, const Globals& g) {
-  if (!(o.width > 0.0 && o.width < 0.5))
-    throw InvalidArgument(fmt::format("--width {} must lie in (0, 0.5)", o.width), "e.g. --width 0.02 for ±2 % around the mode");
   check_plot_path(o.plot);
   const bool ht = o.joint == "holder-tool";
-  Progress progress(g, "identify: reading");
-  const LoadedModel lm = load_model(g, o.assembly);
-  const Assembly& a = lm.loaded.assembly;
-  const AssemblyModel& model = lm.model;
+  // Options to the library's fields (errors name the flags).
+  IdentificationOptions io;
+  io.method = o.method == "seed" ? IdentificationMethod::Seed : IdentificationMethod::Fit;
+  io.width = o.width;
+  if (!(o.width > 0.0 && o.width < 0.5))
+    throw InvalidArgument(fmt::format("--width {} must lie in (0, 0.5)", o.width), "e.g. --width 0.02 for ±2 % around the mode");
+  if (!o.band.empty()) {
+    io.band_hz = parse_range(o.band, "--band");
+    if (!(io.band_hz->second > io.band_hz->first && io.band_hz->first > 0.0))
+      throw InvalidArgument(fmt::format("--band {}: the upper frequency must exceed the lower, both > 0 Hz", o.band), "e.g. --band 2500:2650");
+    if (o.at) throw InvalidArgument("--at and --band both given: the band would ignore --at", "give one of them");
+  }
+  if (o.at) {
+    if (!(*o.at > 0.0)) throw InvalidArgument(fmt::format("--at {} Hz must be > 0", *o.at), "omit --at to read at the mode effect analysis picks");
+    io.at_hz = *o.at;
+  }
+  if (!o.filter.empty()) io.filter = parse_filter(o.filter);
+  if (o.sigma || o.phase_sigma_deg) {
+    io.noise.source = NoiseSpec::Source::Stated;
+    io.noise.magnitude_sigma = o.sigma.value_or(0.0);
+    io.noise.phase_sigma_rad = o.phase_sigma_deg.value_or(0.0) * kPi / 180.0;
+    if (io.noise.magnitude_sigma > 0.5)
+      throw InvalidArgument(fmt::format("--sigma {} is a fraction of the magnitude: {} would be {:g} %", io.noise.magnitude_sigma,
+                                        io.noise.magnitude_sigma, 100 * io.noise.magnitude_sigma),
+                            fmt::format("for {:g} % give --sigma {:g}", io.noise.magnitude_sigma, io.noise.magnitude_sigma / 100));
+    if (o.phase_sigma_deg && *o.phase_sigma_deg > 30.0)
+      throw InvalidArgument(fmt::format("--phase-sigma {}° is implausible for a measured FRF", *o.phase_sigma_deg),
+                            "the phase noise is in degrees, e.g. --phase-sigma 1");
+  }
+  if (o.bootstrap == 0) {
+    io.fit.uncertainty = UncertaintyMethod::Linearised;
+  } else if (o.bootstrap < 20) {
+    throw InvalidArgument(fmt::format("--bootstrap {}: use 0 (linearised intervals) or ≥ 20 replicates", o.bootstrap), "e.g. --bootstrap 200");
+  } else {
+    io.fit.bootstrap_samples = o.bootstrap;
+  }
+  io.fit.reciprocal = o.parameters == 6;
+  io.fit.seed = o.seed;
+  io.fit.parallel.threads = o.threads;
+  if (o.threads < 0) throw InvalidArgument(fmt::format("--threads {} must be ≥ 0 (0: every core)", o.threads));
 
-  // Which equation, which data.
-  std::string equation, g_name, b_name;
-  BlockSeries G, B;
-  std::function<TwoPort(double)> A;
-  bool tool_point_frf = true;
+  // Inputs, and outputs that must not overwrite them.
+  std::vector<IdentificationData> data;
+  std::vector<std::string> inputs{o.assembly};
+  std::optional<BlockSeries> B;
   if (ht) {
     if (o.sh.empty() || o.sht.empty())
       throw InvalidArgument("--joint holder-tool needs --sh SH11.csv and --sht SHT11.csv",
                             "give both measured blocks, e.g. --sh sh11.csv --sht sht11.csv");
-    equation = "Eq. (6) from Eq. (5): A = T (tool, model), B11 = SH11, G11 = SHT11";
-    B = read_block_input(g, b_name = o.sh);
-    G = read_block_input(g, g_name = o.sht);
-    A = [&](double f) { return model.tool(f); };
+    io.route = Route::HolderTool;
+    B = read_block_input(g, o.sh);
+    inputs.push_back(o.sh);
+    for (const auto& spec : o.sht) {
+      auto [path, overhang] = split_overhang(spec);
+      data.push_back({"", overhang, read_block_input(g, path), path, B, o.sh});
+      inputs.push_back(path);
+    }
   } else {
     if (o.sh.empty() == o.sht.empty())
       throw InvalidArgument("--joint spindle-holder needs exactly one of --sh SH11.csv (Eq. 15) or --sht SHT11.csv (Eq. 18)",
                             "give --sh for the holder tip FRF or --sht for the tool point FRF, not both");
-    tool_point_frf = !o.sht.empty();
-    G = read_block_input(g, g_name = tool_point_frf ? o.sht : o.sh);
     if (!o.s.empty()) {
-      B = read_block_input(g, b_name = o.s);
-    } else {
-      b_name = "S11 (model spindle)";
-      validate(G, g_name, 3);
-      B = block_series(G.frequency_hz, [&](double f) { return model.spindle_nose(f); });
+      B = read_block_input(g, o.s);
+      inputs.push_back(o.s);
     }
-    if (tool_point_frf) {
-      equation = "Eq. (18): A = HT (holder + tool through the file's K_ht, model), B11 = S11, G11 = SHT11";
-      A = [&](double f) { return model.holder_tool(f); };
+    if (!o.sh.empty()) {
+      io.route = Route::SpindleHolderFromSH;
+      data.push_back({"", std::nullopt, read_block_input(g, o.sh), o.sh, B, o.s});
+      inputs.push_back(o.sh);
     } else {
-      equation = "Eq. (15): A = H (holder with shank, model), B11 = S11, G11 = SH11";
-      A = [&](double f) { return model.holder(f); };
+      io.route = Route::SpindleHolderFromSHT;
+      for (const auto& spec : o.sht) {
+        auto [path, overhang] = split_overhang(spec);
+        data.push_back({"", overhang, read_block_input(g, path), path, B, o.s});
+        inputs.push_back(path);
+      }
     }
   }
-  progress.stage("identify: K(f) at every frequency", 0.2);
-  const JointSeries js = identify_series(A, B, b_name, G, g_name);
-  const FrfSeries g_h = entry(G, 0);
+  for (const std::string& out : {o.output, o.joint_output, o.plot})
+    for (const std::string& in : inputs)
+      if (!out.empty() && std::filesystem::exists(out) && std::filesystem::equivalent(out, in))
+        throw InvalidArgument(fmt::format("the output {} is an input of this run: it would be overwritten", out),
+                              "write the results to a new file");
+  if (!o.joint_output.empty() && std::filesystem::path(o.joint_output).extension() != ".toml")
+    throw InvalidArgument(fmt::format("--joint-output {}: a joint file is TOML", o.joint_output), "name it FILE.toml");
+  for (const auto& p : o.overhang_frfs) io.overhang_frfs.push_back(read_point_frf(g, p));
 
-  // The read-out band.
-  nlohmann::json choice;
-  double lo = 0.0, hi = 0.0, center = 0.0;
-  if (!o.band.empty()) {
-    std::tie(lo, hi) = parse_range(o.band, "--band");
-    if (!(hi > lo))
-      throw InvalidArgument(fmt::format("--band {}: the upper frequency must exceed the lower", o.band), "e.g. --band 2500:2650");
-    center = 0.5 * (lo + hi);
-    choice = {{"method", "band given"}};
-  } else {
-    if (o.at > 0.0) {
-      center = o.at;
-      choice = {{"method", "frequency given"}};
-    } else if (!o.overhang_frfs.empty()) {
-      std::vector<FrfSeries> frfs{g_h};
-      for (const auto& p : o.overhang_frfs) frfs.push_back(read_point_frf(g, p));
-      const OverhangModes om = overhang_mode(frfs, 0);
-      center = om.reference_peaks[om.dominant].frequency_hz;
-      choice = {{"method", "mode that moves most with the overhang"}, {"relative_variation", om.relative_variation}};
-    } else {
-      progress.stage("identify: effect analysis on the model", 0.4);
-      const EffectAnalysis ea =
-          effect_analysis(a, ht ? Route::HolderTool : tool_point_frf ? Route::SpindleHolderFromSHT : Route::SpindleHolderFromSH, G.frequency_hz);
-      const double model_f = ea.modes[ea.dominant].frequency_hz;
-      const auto peaks = find_peaks(g_h);
-      if (peaks.empty()) throw InputError(fmt::format("{}: no resonance peak in |H| to read the joint at", g_name), "give --at or --band");
-      center = std::min_element(peaks.begin(), peaks.end(), [&](const Peak& x, const Peak& y) {
-                 return std::abs(x.frequency_hz - model_f) < std::abs(y.frequency_hz - model_f);
-               })->frequency_hz;
-      nlohmann::json modes = nlohmann::json::array();
-      for (const auto& m : ea.modes)
-        modes.push_back({{"model_frequency_hz", m.frequency_hz}, {"relative_shift_per_10pct_k", m.stiffness_shift},
-                         {"relative_peak_change_per_10pct_c", m.damping_effect}});
-      choice = {{"method", "effect analysis on the model"}, {"model_modes", modes}, {"dominant_model_mode_hz", model_f}};
-    }
-    lo = center * (1.0 - o.width);
-    hi = center * (1.0 + o.width);
-  }
-  const JointReadout r = read_joint(js, lo, hi);
-  warn_all(r.warnings);
-
-  // Forward verification: the constants back into Eq. (5) with the measured B11.
-  progress.stage("identify: forward check", 0.8);
-  const JointParameters kc = r.medians();
-  const Joint joint = Joint::make_elastic(kc);
-  BlockSeries pred{G.frequency_hz, {}};
-  for (std::size_t i = 0; i < G.size(); ++i) pred.blocks.push_back(couple_point(A(G.frequency_hz[i]), B.blocks[i], joint, G.frequency_hz[i]));
-  const auto cmp = compare_modes(g_h, entry(pred, 0));
-
+  Progress progress(g, "identify");
+  io.progress = progress.part(0.05, 0.95);
+  const LoadedModel lm = load_model(g, o.assembly);
+  const Identification id = identify_joint_from_frfs(lm.loaded.assembly, data, io);
   progress.done();
-  std::vector<std::string> written;
-  if (!o.output.empty()) {
-    written.push_back(o.output);
-    const Table t = joint_table(js);
-    write_table_csv(o.output, t,
-                    {fmt::format("toolpoint identify: {} joint, {}", o.joint, equation),
-                     "k = Re K, c = Im K / omega; units in the column names (SI); frequency in Hz"});
-    info(g, fmt::format("wrote {} ({} frequencies)", o.output, js.size()));
-  }
+  warn_all(id.warnings);
 
+  // Results are written unless the verdict is fail (then only with --accept).
+  const bool refuse = id.verdict.verdict == Verdict::Fail && !o.accept;
+  std::vector<std::string> written;
+  if (!refuse && !o.output.empty() && id.closed_form.size() > 0) {
+    write_table_csv(o.output, joint_table(id.closed_form),
+                    {fmt::format("toolpoint identify: {} joint, {} (closed form per frequency)", o.joint, id.equation),
+                     "k = Re K, c = Im K / omega; units in the column names (SI); frequency in Hz"});
+    written.push_back(o.output);
+  }
+  if (!refuse && !o.joint_output.empty()) {
+    write_joint_file(o.joint_output, joint_file_of(id, std::vector<std::string>(inputs.begin(), inputs.end())));
+    written.push_back(o.joint_output);
+  }
   if (o.json) {
-    nlohmann::json j;
+    nlohmann::json j = nlohmann::json(id);
     j["joint"] = o.joint;
-    j["equation"] = equation;
-    j["band_hz"] = {lo, hi};
-    j["band_center_hz"] = center;
-    j["points_in_band"] = r.points;
-    j["mode_choice"] = choice;
-    for (int k = 0; k < 8; ++k) {
-      const auto& p = r.parameters[static_cast<std::size_t>(k)];
-      j["parameters"][JointParameters::name(k)] = {
-          {"median", p.median}, {"spread", p.spread}, {"min", p.min}, {"max", p.max}, {"unit", JointParameters::unit(k)}};
-    }
-    j["reciprocity"] = {{"k_ym_vs_k_tf", r.reciprocity_k}, {"c_ym_vs_c_tf", r.reciprocity_c}};
-    j["max_condition_numbers_in_band"] = {{"A11_minus_G11", r.max_cond_difference}, {"K_inverse", r.max_cond_flexibility}};
-    j["verification"] = nlohmann::json::array();
-    for (const auto& c : cmp)
-      j["verification"].push_back({{"measured_hz", c.measured_hz}, {"predicted_hz", c.predicted_hz}, {"frequency_error", c.frequency_error},
-                                   {"measured_peak_m_per_n", c.measured_peak}, {"predicted_peak_m_per_n", c.predicted_peak},
-                                   {"magnitude_error", c.magnitude_error}});
-    j["warnings"] = r.warnings;
     if (!o.output.empty()) j["output"] = o.output;
+    if (!o.joint_output.empty()) j["joint_output"] = o.joint_output;
     if (!o.plot.empty()) j["plot"] = o.plot;
     std::cout << j.dump(2) << '\n';
   } else {
-    print_report(o, equation, center, lo, hi, choice, r, cmp);
+    print_report(o, id);
   }
-  if (!o.plot.empty()) {
+  for (const auto& w : written) info(g, "wrote " + w);
+  if (!refuse && !o.plot.empty()) {
     plot::JointFigureData d;
-    d.frequency_hz = js.frequency_hz;
-    d.band_hz = std::make_pair(lo, hi);
-    d.title = fmt::format("{} joint, {}: k(f), c(f) and the values read in {:.0f}–{:.0f} Hz",
-                          ht ? "Holder–tool" : "Spindle–holder", ht ? "Eq. (6)" : tool_point_frf ? "Eq. (18)" : "Eq. (15)", lo, hi);
-    for (int pair = 0; pair < 4; ++pair) d.parameters.push_back(joint_curve(js, pair, std::nullopt, kc));
+    d.frequency_hz = id.closed_form.frequency_hz;
+    if (id.seed.points > 0) d.band_hz = std::make_pair(id.seed.band_lo_hz, id.seed.band_hi_hz);
+    d.title = fmt::format("{} joint, {}: closed form and {}", ht ? "Holder–tool" : "Spindle–holder", to_string(id.route),
+                          id.fit ? "band fit (95 % interval)" : "seed read-out (shaded band)");
+    for (int pair = 0; pair < 4; ++pair)
+      d.parameters.push_back(joint_curve(id.closed_form, pair, std::nullopt, id.identified, id.fit ? &*id.fit : nullptr,
+                                         id.seed.points > 0 ? &id.seed : nullptr));
     draw_figures(g, {{plot::joint_figure(d), o.plot}}, written);
   }
+  if (refuse)
+    throw VerdictFailure(fmt::format("the identified joint fails its checks: {}", fmt::join(id.verdict.reasons, "; ")),
+                         "check the data and the assembly (units, the right files for SH11 and SHT11, the band); --accept writes "
+                         "the results anyway");
 }
 
-void print_report(const IdentifyOptions& o, const std::string& equation, double center, double lo, double hi,
-                  const nlohmann::json& choice, const JointReadout& r, const std::vector<ModeComparison>& cmp) {
-  std::cout << fmt::format("{} joint, {}\n", o.joint, equation);
-  std::cout << fmt::format("read at {:.1f} Hz: band {:.1f}–{:.1f} Hz ({} points; {})\n", center, lo, hi, r.points,
-                           choice["method"].get<std::string>());
-  std::cout << "parameter  median         spread       unit\n";
-  for (int k = 0; k < 8; ++k) {
-    const auto& p = r.parameters[static_cast<std::size_t>(k)];
-    std::cout << fmt::format("{:<9}  {:>12.5g}  {:>11.3g}  {}\n", JointParameters::name(k), p.median, p.spread, JointParameters::unit(k));
+void print_report(const IdentifyOptions& o, const Identification& id) {
+  std::cout << fmt::format("{} joint, {}\n", o.joint, id.equation);
+  for (std::size_t s = 0; s < id.g_noise.size(); ++s) {
+    auto line = [](const BlockNoise& n) {
+      if (n.exact()) return std::string("exact (model)");
+      return fmt::format("magnitude σ {:.3g} % (H) … {:.3g} % (P), phase σ {:.3g}° (H); {}", 100 * n.magnitude_sigma[0],
+                         100 * n.magnitude_sigma[3], n.phase_sigma_rad[0] * 180 / kPi, n.source);
+    };
+    std::cout << fmt::format("noise, set-up {}: G11 {}\n                B11 {}\n", s + 1, line(id.g_noise[s]), line(id.b_noise[s]));
   }
-  std::cout << fmt::format("reciprocity: k_ym vs k_tf {:.2g}, c_ym vs c_tf {:.2g} (relative difference)\n", r.reciprocity_k,
-                           r.reciprocity_c);
-  std::cout << fmt::format("conditioning in band: cond(A11 - G11) ≤ {:.3g}, cond(K^-1) ≤ {:.3g}\n", r.max_cond_difference,
-                           r.max_cond_flexibility);
-  std::cout << "forward check (constants back into Eq. 5): mode  measured_hz  predicted_hz  freq_error  peak_error\n";
+  const bool seed_ok = id.seed.points > 0;
+  if (seed_ok)
+    std::cout << fmt::format("seed read-out: {:.1f}–{:.1f} Hz ({} points; {}, centre {:.1f} Hz)\n", id.seed.band_lo_hz, id.seed.band_hi_hz,
+                             id.seed.points, id.mode.method, id.mode.center_hz);
+  if (id.fit) {
+    const JointFit& f = *id.fit;
+    std::cout << fmt::format("band fit: {} frequencies, {:g}–{:g} Hz, {} parameters{}; residual ratio {:.3g}\n  intervals: {}\n", f.points,
+                             id.fit_band_hz.first, id.fit_band_hz.second, f.reciprocal ? 6 : 8,
+                             f.reciprocal ? " (k_tf = k_ym, c_tf = c_ym)" : "", f.residual_ratio, f.method_description);
+    std::cout << "\nparameter  estimate      95 % interval                  unit        verdict       seed read-out (noise gain)\n";
+    for (int k = 0; k < 8; ++k) {
+      const ParameterInterval& iv = f.intervals[static_cast<std::size_t>(k)];
+      std::cout << fmt::format("{:<9}  {:>11.5g}  [{:>11.5g}, {:>11.5g}]  {:<10}  {:<12}  {}\n", JointParameters::name(k), iv.estimate, iv.lower,
+                               iv.upper, JointParameters::unit(k), iv.determined ? "determined" : "UNDETERMINED",
+                               seed_ok ? fmt::format("{:.4g} ({:.3g})", id.seed.parameters[static_cast<std::size_t>(k)].median,
+                                                     id.seed.noise_gain[static_cast<std::size_t>(k)])
+                                       : std::string("-"));
+    }
+    if (f.setups.size() > 1) {
+      std::cout << fmt::format("\nset-ups fitted alone (transfer test χ² = {:.3g}, 99.9 % limit {:.3g}: {})\n", f.transfer_statistic,
+                               f.transfer_limit, f.transfers ? "the joint transfers" : "the joint does NOT transfer");
+      for (const SetupFit& s : f.setups)
+        std::cout << fmt::format("  {:<22} k_yf {:.5g} ± {:.2g}, k_tm {:.5g} ± {:.2g}, c_tm {:.4g} ± {:.2g}\n", s.label, s.fitted.k_yf,
+                                 s.std_error[0], s.fitted.k_tm, s.std_error[6], s.fitted.c_tm, s.std_error[7]);
+    }
+  } else {
+    std::cout << "\nparameter  median         spread       unit        noise gain\n";
+    for (int k = 0; k < 8; ++k) {
+      const auto& p = id.seed.parameters[static_cast<std::size_t>(k)];
+      std::cout << fmt::format("{:<9}  {:>12.5g}  {:>11.3g}  {:<10}  {:>8.3g}\n", JointParameters::name(k), p.median, p.spread,
+                               JointParameters::unit(k), id.seed.noise_gain[static_cast<std::size_t>(k)]);
+    }
+    std::cout << fmt::format("reciprocity: k_ym vs k_tf {:.2g}, c_ym vs c_tf {:.2g} (relative difference); cond(A11 - G11) ≤ {:.3g}\n",
+                             id.seed.reciprocity_k, id.seed.reciprocity_c, id.seed.max_cond_difference);
+  }
+  std::cout << "\nforward check (identified joint back into the forward model, both sides smoothed alike):\n"
+               "  mode  measured_hz  predicted_hz  freq_error  peak_error\n";
   int i = 1;
-  for (const auto& c : cmp)
-    std::cout << fmt::format("  {:2d}  {:10.1f}  {:12.1f}  {:+10.2e}  {:+10.2e}\n", i++, c.measured_hz, c.predicted_hz, c.frequency_error,
-                             c.magnitude_error);
+  for (const auto& c : id.forward_check)
+    std::cout << fmt::format("  {:4d}  {:11.1f}  {:12.1f}  {:>8.2g} %  {:>8.2g} %\n", i++, c.measured_hz, c.predicted_hz, 100 * c.frequency_error,
+                             100 * c.magnitude_error);
+  std::cout << fmt::format("\nverdict: {}\n", to_string(id.verdict.verdict));
+  for (const auto& r : id.verdict.reasons) std::cout << "  - " << r << "\n";
   std::cout << std::flush;
 }
 
@@ -204,40 +268,65 @@ void print_report(const IdentifyOptions& o, const std::string& equation, double 
 
 void add_identify_command(CLI::App& app, Globals& g) {
   auto o = std::make_shared<IdentifyOptions>();
-  CLI::App* c = app.add_subcommand("identify", "Joint stiffness and damping in closed form (seed Eq. 6, 15, 18)");
+  CLI::App* c = app.add_subcommand("identify", "Joint stiffness and damping from measured FRFs: band fit with intervals, or the seed's closed form (Eq. 6, 15, 18)");
   c->add_option("--joint", o->joint, "holder-tool (Eq. 6) or spindle-holder (Eq. 15 with --sh, Eq. 18 with --sht)")
       ->check(CLI::IsMember({"holder-tool", "spindle-holder"}))
       ->capture_default_str();
+  c->add_option("--method", o->method,
+                "fit: the joint's constants fitted to every frequency (or --band) with 95 % intervals; seed: the closed form "
+                "read at the mode the joint controls (the seed's procedure, no interval)")
+      ->check(CLI::IsMember({"fit", "seed"}))
+      ->capture_default_str();
   c->add_option("--assembly", o->assembly,
                 "Assembly file (TOML, SI units): the model's free–free components; its joint values serve as trial values "
-                "for the effect analysis (required)")
+                "(required)")
       ->required();
   c->add_option("--sh", o->sh, std::string("SH11, holder tip of spindle + holder with the tool outside removed: ") + kBlockCsvHelp);
   add_frf_read_options(c, g);
-  c->add_option("--sht", o->sht, std::string("SHT11, tool point of the whole assembly: ") + kBlockCsvHelp);
-  c->add_option("--s", o->s,
-                std::string("S11, spindle nose alone (spindle-holder joint; default: the model's spindle): ") + kBlockCsvHelp);
-  c->add_option("--band", o->band, "Read the parameters in F1:F2 [Hz] (default: around the mode the joint controls)");
-  c->add_option("--at", o->at,
-                "Read the parameters around this frequency [Hz] (default: the mode chosen by effect analysis or "
-                "--overhang-frfs)");
+  c->add_option("--sht", o->sht,
+                std::string("SHT11, tool point of the whole assembly; repeat for other overhangs as FILE@OVERHANG [m] (fitted "
+                            "together; the first is the reference): ") + kBlockCsvHelp);
+  c->add_option("--s", o->s, std::string("S11, spindle nose alone (spindle-holder joint; default: the model's spindle): ") + kBlockCsvHelp);
+  c->add_option("--band", o->band, "Identify in F1:F2 [Hz]: the seed's read-out band and the fit's band (default: the read-out around "
+                                   "the mode the joint controls, the fit over every frequency)");
+  c->add_option("--at", o->at, "Read the seed's parameters around this frequency [Hz] (default: the mode chosen by effect analysis or --overhang-frfs)");
   c->add_option("--width", o->width, "Half-width of the read-out band around the mode, relative [-] (0.02 = ±2 %), in (0, 0.5)")
       ->capture_default_str();
   c->add_option("--overhang-frfs", o->overhang_frfs,
                 std::string("Tool point FRFs at other overhangs, comma-separated: choose the mode that moves most with the "
                             "overhang (seed Fig. 10). Each: ") + kPointFrfHelp)
       ->delimiter(',');
+  c->add_option("--filter", o->filter,
+                "Savitzky–Golay filter WINDOW,ORDER [frequency points, -] applied to the data (the seed's read-out) and, alike, to "
+                "data and model in the fit (default: none; give raw data, the fit needs no filter)");
+  c->add_option("--sigma", o->sigma,
+                "State the noise: relative magnitude σ of every FRF entry [-] (0.02 = 2 %; default: estimated from the data)");
+  c->add_option("--phase-sigma", o->phase_sigma_deg, "State the noise: phase σ of every FRF entry [degrees] (default: estimated from the data)");
+  c->add_option("--bootstrap", o->bootstrap, "Fit intervals: bootstrap replicates (≥ 20), or 0 for linearised intervals")->capture_default_str();
+  c->add_option("--parameters", o->parameters, "6: k_tf = k_ym and c_tf = c_ym (reciprocity); 8: all eight free")
+      ->check(CLI::IsMember({6, 8}))
+      ->capture_default_str();
+  c->add_option("--seed", o->seed, "Random seed of the bootstrap")->capture_default_str();
+  c->add_option("--threads", o->threads, "Worker threads for the bootstrap (0: every core; results are the same for any number)")
+      ->capture_default_str();
   c->add_option("--output", o->output,
-                "Write k(f), c(f) (SI units in the column names), the condition numbers and noise gains per frequency [Hz] "
-                "here (CSV; default: none)");
+                "Write the closed form's k(f), c(f) (SI units in the column names), condition numbers and noise gains per "
+                "frequency [Hz] here (CSV; default: none)");
+  c->add_option("--joint-output", o->joint_output,
+                "Write the identified joint (constants, covariance, how it was identified) to this TOML file, for "
+                "`--joint holder-tool=FILE` of predict, couple, taptest, lobes and demo (default: none)");
+  c->add_flag("--accept", o->accept, "Write the results even when the verdict is fail (exit 0 then)");
   add_plot_option(c, o->plot,
-                  "k(f) and c(f) of the four pairs yf, ym, θf, θm against frequency [Hz] (SI units on each axis), the "
-                  "read-out band shaded and the values read there as lines (the seed's Fig. 11–12)");
+                  "k(f) and c(f) of the four pairs yf, ym, θf, θm by the closed form against frequency [Hz] (SI units on each "
+                  "axis), the read-out band shaded, the identified values as lines with their 95 % interval (the seed's Fig. 11–12)");
   c->add_flag("--json", o->json, "Machine-readable output on stdout");
   c->footer(std::string(kFigureFooter) +
+            "Verdict: pass, doubtful or fail (a negative diagonal stiffness, a forward-check error above 5 % in frequency\n"
+            "or 50 % in peak height, the same data for SH11 and SHT11, …). On fail nothing is written and the exit\n"
+            "code is 6, unless --accept.\n"
             "Example:\n"
             "  toolpoint identify --joint holder-tool --assembly examples/bt40_shrinkfit_16mm.toml \\\n"
-            "      --sh sh11.csv --sht sht11.csv --output kht.csv --plot kht.png");
+            "      --sh sh11.csv --sht sht11.csv --joint-output kht.toml --plot kht.png");
   c->callback([o, &g] { run_identify(*o, g); });
 }
 

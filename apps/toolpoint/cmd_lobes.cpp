@@ -1,25 +1,26 @@
 // toolpoint lobes: milling stability lobes — spindle speed [rpm] against limiting axial depth [mm]
 // with chatter frequency [Hz] — from the tool point FRF (zero-order approximation) or from a modal
-// model (semi-discretization, modes given or fitted from the FRF). --plot draws the lobes (or the
-// sd boundary) with the stable region shaded, lobe numbers and the chatter frequency panel.
+// model (full-discretization in the time domain, modes given or fitted from the FRF), by the
+// library's lobes study (studies/lobes.hpp). --plot draws the lobes (or the boundary) with the
+// stable region shaded, lobe numbers and the chatter frequency panel.
 #include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <fmt/format.h>
 #include <iostream>
-#include <limits>
+#include <cstring>
 #include <memory>
 #include <nlohmann/json.hpp>
 
 #include "cli.hpp"
-#include "toolpoint/assembly_file.hpp"
+#include "progress.hpp"
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/io.hpp"
-#include "toolpoint/modal_fit.hpp"
-#include "toolpoint/plot.hpp"
-#include "toolpoint/stability.hpp"
-#include "progress.hpp"
+#include "toolpoint/json.hpp"
+#include "toolpoint/stability_io.hpp"
+#include "toolpoint/studies/lobes.hpp"
+#include "toolpoint/uncertainty.hpp"
 
 namespace toolpoint::cli {
 
@@ -37,34 +38,40 @@ struct LobesOptions {
   std::string milling;
   // Speeds and method.
   std::string rpm, method = "zoa", band;
-  int speeds = 0, lobes = -1, intervals = 40, depth_steps = 50, max_modes = 3;
-  double max_depth_mm = 0.0;
+  int speeds = 0, lobes = -1, intervals = 0, depth_steps = 0, max_modes = 8, threads = 0;
+  double max_depth_mm = 0.0, tolerance_pct = 1.0, fit_target_pct = 2.0, prominence_pct = 2.0;
   std::vector<std::string> mode_x, mode_y;
   std::string output, envelope, plot;
+  // The joint uncertain (--assembly with a --joint file carrying a covariance).
+  std::vector<std::string> joints;
+  SamplingOptions sampling;
+  std::string probability_output;
   bool json = false;
 };
 
-// The one place the tool point FRFs enter the command: CSV files, or an assembly file whose tool
+// The one place the tool point FRFs enter the command: FRF files, or an assembly file whose tool
 // point FRF (SHT11's H, seed Eq. 5) serves both directions (a round tool on a round spindle).
-// Returns nullopt when no FRF is given (the semi-discretization may run from --mode-x alone).
-std::optional<MillingFrfs> tool_point_frfs(const LobesOptions& o, const Globals& g) {
+// Fills input.frfs (left empty when no FRF is given: the time domain may run from --mode-x alone)
+// and the names used in messages.
+void tool_point_frfs(const LobesOptions& o, const Globals& g, const std::vector<JointFile>& joints, LobesInput& input,
+                     std::optional<Assembly>& assembly) {
   if (!o.assembly.empty()) {
     if (!o.frf.empty() || !o.frf_y.empty() || !o.frf_xy.empty() || !o.frf_yx.empty())
       throw InvalidArgument("give either --assembly or --frf (with --frf-y, --frf-xy, --frf-yx), not both",
                             "drop --assembly to use measured FRFs, or drop the --frf options");
-    const LoadedModel lm = load_model(g, o.assembly);
-    MillingFrfs f;
-    f.xx = entry(lm.model.tool_point(lm.loaded.assembly.grid.values()), 0);
-    f.rigid_y = o.rigid_y;
-    f.check();
-    info(g, fmt::format("tool point FRF from {} ({} frequencies, {:g}–{:g} Hz), used for x and y", o.assembly, f.xx.size(),
-                        f.xx.frequency_hz.front(), f.xx.frequency_hz.back()));
-    return f;
+    const LoadedModel lm = load_model(g, o.assembly, {}, joints);
+    input.frfs = milling_frfs(lm.model, lm.loaded.assembly.grid.values(), o.rigid_y);
+    assembly = lm.loaded.assembly;
+    input.frf_name = "the tool point FRF of " + o.assembly;
+    info(g, fmt::format("tool point FRF from {} ({} frequencies, {:g}–{:g} Hz), used for x and y", o.assembly,
+                        input.frfs->xx.size(), input.frfs->xx.frequency_hz.front(), input.frfs->xx.frequency_hz.back()));
+    return;
   }
+  if (!joints.empty()) throw InvalidArgument("--joint needs --assembly (the joint goes into the model)", "add --assembly FILE.toml");
   if (o.frf.empty()) {
     if (!o.frf_y.empty() || !o.frf_xy.empty() || !o.frf_yx.empty())
       throw InvalidArgument("--frf-y/--frf-xy/--frf-yx need --frf (the x direct FRF)", "add --frf tool_point_x.csv");
-    return std::nullopt;
+    return;
   }
   MillingFrfs f;
   f.xx = read_point_frf(g, o.frf);
@@ -73,7 +80,9 @@ std::optional<MillingFrfs> tool_point_frfs(const LobesOptions& o, const Globals&
   if (!o.frf_yx.empty()) f.yx = read_point_frf(g, o.frf_yx);
   f.rigid_y = o.rigid_y;
   f.check();
-  return f;
+  input.frfs = std::move(f);
+  input.frf_name = o.frf;
+  input.frf_y_name = o.frf_y;
 }
 
 CuttingConditions cutting_conditions(const LobesOptions& o) {
@@ -118,258 +127,245 @@ Mode parse_mode(const std::string& text, const std::string& option) {
   return m;
 }
 
-// Modes for the semi-discretization: given, or fitted from the direct FRFs (y: the y FRF, the x
-// modes for a symmetric tool, none when rigid in y).
-ModalModel modal_model(const LobesOptions& o, const std::optional<MillingFrfs>& frfs, nlohmann::json& report,
-                       std::vector<std::string>& warnings) {
-  ModalModel mm;
-  ModalFitOptions fo;
-  fo.max_modes = o.max_modes;
-  if (!o.band.empty()) fo.band_hz = parse_range(o.band, "--band");
-  auto fit = [&](const FrfSeries& s, const std::string& name) {
-    const ModalFitResult r = fit_modes(s, fo, name);
-    for (const auto& w : r.warnings) warnings.push_back(name + ": " + w);
-    report["modal_fit"][name] = {{"normalised_residual", r.normalised_residual}, {"modes", r.modes.size()}};
-    return r.modal_model();
-  };
-  if (o.rigid_y && !o.mode_y.empty()) throw InvalidArgument("--rigid-y and --mode-y contradict each other", "drop one of them");
-  for (const auto& t : o.mode_x) mm.x.push_back(parse_mode(t, "--mode-x"));
-  for (const auto& t : o.mode_y) mm.y.push_back(parse_mode(t, "--mode-y"));
-  if (mm.x.empty()) {
-    if (!frfs)
-      throw InvalidArgument("--method sd needs modes: --mode-x MASS,ZETA,FN (repeatable) or --frf to fit them from",
-                            "e.g. --mode-x 0.04,0.011,922, or --frf tool_point.csv");
-    mm.x = fit(frfs->xx, o.frf);
-  }
-  if (mm.y.empty() && !o.rigid_y) {
-    if (frfs && frfs->yy) mm.y = fit(*frfs->yy, o.frf_y);
-    else mm.y = mm.x;  // symmetric tool
-  }
-  if (frfs && frfs->xy) warnings.push_back("--method sd uses uncoupled x and y modes: the cross FRFs are ignored");
-  auto list = [](const std::vector<Mode>& v) {
-    nlohmann::json a = nlohmann::json::array();
-    for (const Mode& m : v) a.push_back({{"modal_mass_kg", m.mass_kg}, {"damping_ratio", m.damping_ratio}, {"frequency_hz", m.frequency_hz}});
-    return a;
-  };
-  report["modes_x"] = list(mm.x);
-  report["modes_y"] = list(mm.y);
-  return mm;
+// The library's field names in its messages, as this command's options.
+std::string with_flags(std::string text) {
+  static const std::pair<const char*, const char*> kFlags[] = {
+      {"LobesStudyOptions::tolerance", "--tolerance"},     {"BoundaryOptions::tolerance", "--tolerance"},
+      {"BoundaryOptions::steps", "--intervals"},           {"BoundaryOptions::max_steps", "--intervals"},
+      {"LobesStudyOptions::max_depth_m", "--max-depth"},   {"BoundaryOptions::max_depth_m", "--max-depth"},
+      {"LobesStudyOptions::lobes", "--lobes"},             {"LobesStudyOptions::fit_target", "--fit-target"},
+      {"LobesStudyOptions::pocket_prominence", "--pocket-prominence"}, {"ParallelOptions::threads", "--threads"},
+      {"ModalFitOptions::max_modes", "--max-modes"},       {"LobesInput::x_modes", "--mode-x"},
+      {"LobesInput::frfs", "--frf"},                       {"LobesInput: rigid_y and y modes", "--rigid-y and --mode-y"},
+      {"ZeroOrderOptions::lobes", "--lobes"},              {"SpeedRange::min_rpm and max_rpm", "--rpm MIN:MAX"},
+      {"CuttingConditions::radial_ratio", "--kr"}};
+  for (const auto& [field, flag] : kFlags)
+    for (std::size_t at = text.find(field); at != std::string::npos; at = text.find(field, at + std::strlen(flag))) {
+      text.replace(at, std::strlen(field), fmt::format("{} ({})", flag, field));
+      at += std::strlen(field) + 3;
+    }
+  return text;
 }
 
-nlohmann::json pockets_json(const std::vector<EnvelopePoint>& pockets) {
-  nlohmann::json a = nlohmann::json::array();
-  for (const EnvelopePoint& p : pockets)
-    a.push_back({{"spindle_speed_rpm", p.speed_rpm}, {"axial_depth_mm", p.depth_m * 1e3}, {"chatter_frequency_hz", p.chatter_hz}, {"lobe", p.lobe}});
-  return a;
+// ---- Text ------------------------------------------------------------------------------------
+
+void print_summary(const LobesStudyResult& r) {
+  if (r.zero_order) {
+    const ZeroOrderResult& z = *r.zero_order;
+    std::cout << fmt::format("zero-order stability lobes, k = 0…{}: absolute stability limit {:.4f} mm (chatter at {:.1f} Hz)\n",
+                             z.lobes, z.floor_depth_m * 1e3, z.floor_chatter_hz);
+    return;
+  }
+  for (const ModalFitSummary& s : r.fits)
+    std::cout << fmt::format("modal model of {}: {} mode(s), {:.2f} % residual over {:g}–{:g} Hz{}\n", s.what, s.modes,
+                             100.0 * s.residual, s.band_low_hz, s.band_high_hz, s.target_met ? "" : " (above the target)");
+  const BoundaryResult& b = *r.boundary;
+  const auto lowest = std::min_element(b.boundary.begin(), b.boundary.end(),
+                                       [](const BoundaryPoint& x, const BoundaryPoint& y) { return x.depth_m < y.depth_m; });
+  const auto flips = std::count_if(b.boundary.begin(), b.boundary.end(), [](const BoundaryPoint& x) { return x.kind == BoundaryKind::Flip; });
+  std::cout << fmt::format("stability boundary by full-discretization ({} speeds, depths up to {:.4g} mm; estimated "
+                           "discretization error at most {:.2g} % of the depth, target {:.3g} %): lowest {} mm at {:.0f} rpm "
+                           "({}); period-doubling (flip) boundary at {} speed(s)\n",
+                           b.boundary.size(), b.max_depth_m * 1e3, 100.0 * b.worst_relative_error(), 100.0 * b.tolerance,
+                           depth_text_mm(lowest->depth_m * 1e3, lowest->depth_error_m * 1e3), lowest->speed_rpm,
+                           to_string(lowest->kind), flips);
 }
 
-void print_pockets(const std::vector<EnvelopePoint>& pockets, double min_rpm, double max_rpm) {
-  if (pockets.empty()) return;
-  std::cout << fmt::format("best spindle speeds in {}–{} rpm (peaks of the stable envelope):\n", min_rpm, max_rpm);
+void print_pockets(const LobesStudyResult& r, double prominence) {
+  if (r.pockets.empty()) return;
+  std::cout << fmt::format("best spindle speeds in {}–{} rpm (envelope maxima rising {:g} % of their depth or more above "
+                           "the valleys beside them):\n",
+                           r.speeds.min_rpm, r.speeds.max_rpm, 100.0 * prominence);
   std::cout << "  spindle_speed_rpm  axial_depth_mm  chatter_frequency_hz  lobe\n";
-  for (const EnvelopePoint& p : pockets) {
-    // lobe −1: sd found no instability up to the maximum depth there.
+  for (const EnvelopePoint& p : r.pockets) {
+    // The time domain's depths carry their error estimate: print the digits it supports.
+    double error = std::nan("");
+    if (r.boundary)
+      for (const BoundaryPoint& b : r.boundary->boundary)
+        if (b.speed_rpm == p.speed_rpm) error = b.depth_error_m;
+    // lobe −1: no instability up to the ceiling searched there.
     const bool capped = p.lobe < 0;
-    std::cout << fmt::format("  {:17.0f}  {:>14}  {:>20}  {:>4}\n", p.speed_rpm,
-                             fmt::format("{}{:.4f}", capped ? ">= " : "", p.depth_m * 1e3),
-                             capped ? std::string("-") : fmt::format("{:.1f}", p.chatter_hz), capped ? std::string("-") : std::to_string(p.lobe));
+    const std::string depth = (capped ? ">= " : "") + (r.boundary && !capped ? depth_text_mm(p.depth_m * 1e3, error * 1e3)
+                                                                               : fmt::format("{:.4f}", p.depth_m * 1e3));
+    std::cout << fmt::format("  {:17.0f}  {:>14}  {:>20}  {:>4}\n", p.speed_rpm, depth,
+                             capped ? std::string("-") : fmt::format("{:.1f}", p.chatter_hz),
+                             capped ? std::string("-") : std::to_string(p.lobe));
   }
 }
 
-// The top of a lobes figure's depth axis: 5× the shallowest envelope depth (the plot module's own
-// default), so lobe points far above it can be left out of the figure's data.
-double figure_top_m(const std::vector<EnvelopePoint>& envelope) {
-  double floor = std::numeric_limits<double>::infinity();
-  for (const EnvelopePoint& e : envelope)
-    if (std::isfinite(e.depth_m) && e.depth_m > 0.0) floor = std::min(floor, e.depth_m);
-  return 5.0 * floor;
-}
-
-void set_envelope(plot::LobesFigureData& d, const std::vector<EnvelopePoint>& envelope) {
-  for (const EnvelopePoint& e : envelope) {
-    d.envelope_rpm.push_back(e.speed_rpm);
-    d.envelope_depth_m.push_back(e.depth_m);
+// What the joint's uncertainty does to the best speeds: at each, the nominal depth and the depths
+// stable with 95 % and 50 % probability.
+void report_uncertain_lobes(const StabilityUncertainty& su, const LobesStudyResult& r, const std::string& source) {
+  std::cout << fmt::format("with the joint of {} uncertain ({} samples): depth stable with probability 95 % / 50 % at the best speeds\n",
+                           source, su.samples);
+  std::cout << "  spindle_speed_rpm  nominal_mm  p95_mm  p50_mm\n";
+  std::size_t q05 = 0, q50 = 0;
+  for (std::size_t l = 0; l < su.levels.size(); ++l) {
+    if (std::abs(su.levels[l] - 0.05) < 1e-9) q05 = l;
+    if (std::abs(su.levels[l] - 0.5) < 1e-9) q50 = l;
   }
-}
-
-// Zero-order lobes for the figure: one polyline per lobe, broken (NaN) between its two roots and
-// wherever grid frequencies are skipped (speed out of range, no positive depth, or deeper than
-// twice the axis top: such points only thin the data, the visible part stays whole).
-plot::LobesFigureData zoa_figure_data(const ZeroOrderResult& r) {
-  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
-  plot::LobesFigureData d;
-  set_envelope(d, r.envelope);
-  const double keep_below = 2.0 * figure_top_m(r.envelope);
-  const std::vector<double>& grid = r.table.chatter_hz;
-  std::size_t last_index = grid.size();
-  int last_root = -1;
-  r.for_each_point([&](const LobePoint& p) {
-    if (!(p.depth_m <= keep_below)) return;
-    if (d.lobes.empty() || d.lobes.back().number != p.lobe) {
-      d.lobes.push_back({p.lobe, {}, {}, {}});
-      last_index = grid.size();
-    }
-    plot::Lobe& l = d.lobes.back();
-    const auto index = static_cast<std::size_t>(std::lower_bound(grid.begin(), grid.end(), p.chatter_hz) - grid.begin());
-    if (!l.depth_m.empty() && (p.root != last_root || index != last_index + 1)) {
-      l.spindle_speed_rpm.push_back(nan);
-      l.depth_m.push_back(nan);
-      l.chatter_frequency_hz.push_back(nan);
-    }
-    l.spindle_speed_rpm.push_back(p.speed_rpm);
-    l.depth_m.push_back(p.depth_m);
-    l.chatter_frequency_hz.push_back(p.chatter_hz);
-    last_index = index;
-    last_root = p.root;
-  });
-  return d;
-}
-
-// The semi-discretization boundary for the figure: one curve per lobe number over the speed grid
-// (NaN at speeds another lobe limits), speeds with no instability left to the envelope alone.
-plot::LobesFigureData sd_figure_data(const SemiDiscretizationResult& r) {
-  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
-  plot::LobesFigureData d;
-  set_envelope(d, boundary_envelope(r));
-  std::vector<int> numbers;
-  for (const BoundaryPoint& b : r.boundary)
-    if (b.kind != BoundaryKind::None && std::find(numbers.begin(), numbers.end(), b.lobe) == numbers.end()) numbers.push_back(b.lobe);
-  std::sort(numbers.begin(), numbers.end());
-  for (int k : numbers) {
-    plot::Lobe l{k, {}, {}, {}};
-    for (const BoundaryPoint& b : r.boundary) {
-      const bool mine = b.kind != BoundaryKind::None && b.lobe == k;
-      l.spindle_speed_rpm.push_back(b.speed_rpm);
-      l.depth_m.push_back(mine ? b.depth_m : nan);
-      l.chatter_frequency_hz.push_back(mine ? b.chatter_hz : nan);
-    }
-    d.lobes.push_back(std::move(l));
+  for (const EnvelopePoint& p : r.pockets) {
+    const auto it = std::min_element(su.speed_rpm.begin(), su.speed_rpm.end(),
+                                     [&](double a, double b) { return std::abs(a - p.speed_rpm) < std::abs(b - p.speed_rpm); });
+    const auto k = static_cast<std::size_t>(it - su.speed_rpm.begin());
+    std::cout << fmt::format("  {:17.0f}  {:10.4f}  {:6.4f}  {:6.4f}\n", p.speed_rpm, 1e3 * su.nominal_depth_m[k], 1e3 * su.depth_m[q05][k],
+                             1e3 * su.depth_m[q50][k]);
   }
-  return d;
+  std::size_t worst = 0;
+  for (std::size_t k = 0; k < su.speed_rpm.size(); ++k)
+    if (su.depth_m[q05][k] < su.depth_m[q05][worst]) worst = k;
+  std::cout << fmt::format("  lowest depth stable with 95 % probability: {:.4f} mm at {:.0f} rpm\n", 1e3 * su.depth_m[q05][worst],
+                           su.speed_rpm[worst]);
 }
 
 void run_lobes(const LobesOptions& o, const Globals& g) {
   check_plot_path(o.plot);
-  const CuttingConditions cutting = cutting_conditions(o);
+  LobesStudyOptions so;
+  so.cutting = cutting_conditions(o);
   const auto [min_rpm, max_rpm] = parse_range(o.rpm, "--rpm");
-  const std::optional<MillingFrfs> frfs = tool_point_frfs(o, g);
-  const double max_depth_m = o.max_depth_mm * 1e-3;
-  if (!std::isfinite(max_depth_m) || max_depth_m < 0.0)
+  so.speeds = {min_rpm, max_rpm, o.speeds};
+  if (o.method == "zoa") so.method = LobesMethod::ZeroOrder;
+  else so.method = LobesMethod::FullDiscretization;
+  so.max_depth_m = o.max_depth_mm * 1e-3;
+  if (!std::isfinite(so.max_depth_m) || so.max_depth_m < 0.0)
     throw InvalidArgument(fmt::format("--max-depth {} mm must be ≥ 0", o.max_depth_mm), "e.g. --max-depth 10, or 0 for automatic");
-  const std::vector<std::string> comments = {
-      fmt::format("teeth {}, K_t {} N/m^2, K_r {}, entry {:.4f} deg, exit {:.4f} deg", cutting.teeth,
-                  cutting.tangential_coefficient, cutting.radial_ratio, cutting.engagement.entry_rad * 180.0 / kPi,
-                  cutting.engagement.exit_rad * 180.0 / kPi),
-      o.frf.empty() ? std::string("modal model from --mode-x/--mode-y") : fmt::format("tool point FRF {}", o.frf)};
+  so.lobes = o.lobes;
+  so.tolerance = o.tolerance_pct / 100.0;
+  so.steps = o.intervals;
+  so.fit.max_modes = o.max_modes;
+  if (!o.band.empty()) so.fit.band_hz = parse_range(o.band, "--band");
+  so.fit_target = o.fit_target_pct / 100.0;
+  so.pocket_prominence = o.prominence_pct / 100.0;
+  so.parallel.threads = o.threads;
 
-  nlohmann::json out;
-  out["units"] = "spindle speed rpm, axial depth mm, chatter frequency Hz";
-  out["method"] = o.method;
-  out["cutting"] = {{"teeth", cutting.teeth},
-                    {"tangential_coefficient_n_per_m2", cutting.tangential_coefficient},
-                    {"radial_ratio", cutting.radial_ratio},
-                    {"entry_deg", cutting.engagement.entry_rad * 180.0 / kPi},
-                    {"exit_deg", cutting.engagement.exit_rad * 180.0 / kPi}};
-  std::vector<std::string> warnings;
-  std::vector<EnvelopePoint> envelope;
-  std::vector<std::string> written;
-  plot::LobesFigureData figure;
-
-  if (o.method == "zoa") {
-    if (!frfs)
-      throw InvalidArgument("--method zoa needs the tool point FRF: --frf FILE.csv",
-                            "add --frf tool_point.csv (or --assembly FILE.toml), or use --method sd with --mode-x");
-    if (!o.mode_x.empty() || !o.mode_y.empty()) warnings.push_back("--mode-x/--mode-y are used by --method sd only");
-    ZeroOrderOptions zo;
-    zo.lobes = o.lobes;
-    zo.speeds = {min_rpm, max_rpm, o.speeds > 0 ? o.speeds : 2000};
-    zo.max_depth_m = max_depth_m;
-    const ZeroOrderResult r = zero_order_lobes(*frfs, cutting, zo);
-    warnings.insert(warnings.end(), r.warnings.begin(), r.warnings.end());
-    envelope = r.envelope;
-    if (!o.output.empty()) write_text_file(o.output, format_lobes_csv(r, comments));
-    if (!o.plot.empty()) {
-      figure = zoa_figure_data(r);
-      figure.title = fmt::format("Zero-order stability lobes, k = 0…{}: limit {:.4g} mm at {:.0f} Hz", r.lobes,
-                                 r.floor_depth_m * 1e3, r.floor_chatter_hz);
-    }
-    out["floor_depth_mm"] = r.floor_depth_m * 1e3;
-    out["floor_chatter_frequency_hz"] = r.floor_chatter_hz;
-    std::size_t points = 0;
-    r.for_each_point([&](const LobePoint&) { ++points; });
-    out["lobes"] = r.lobes;
-    out["lobe_points"] = points;
-    if (!o.json) {
-      std::cout << fmt::format("zero-order stability lobes, k = 0…{}: absolute stability limit {:.4f} mm (chatter at {:.1f} Hz)\n",
-                               r.lobes, r.floor_depth_m * 1e3, r.floor_chatter_hz);
-      if (!o.output.empty()) info(g, fmt::format("wrote {} ({} lobe points)", o.output, points));
-    }
-  } else {
-    if (o.lobes >= 0) warnings.push_back("--lobes is used by --method zoa only (sd derives lobe numbers)");
-    const ModalModel mm = modal_model(o, frfs, out, warnings);
-    SemiDiscretizationOptions so;
-    so.intervals = o.intervals;
-    so.speeds = {min_rpm, max_rpm, o.speeds > 0 ? o.speeds : 200};
-    so.max_depth_m = max_depth_m;
-    so.depth_steps = o.depth_steps;
-    Progress progress(g, "lobes: semi-discretization boundary");
-    so.progress = progress.part();
-    const SemiDiscretizationResult r = semi_discretization_boundary(mm, cutting, so);
-    progress.done();
-    warnings.insert(warnings.end(), r.warnings.begin(), r.warnings.end());
-    envelope = boundary_envelope(r);
-    if (!o.output.empty()) write_text_file(o.output, format_boundary_csv(r, comments));
-    if (!o.plot.empty()) {
-      figure = sd_figure_data(r);
-      figure.title = fmt::format("Semi-discretization stability boundary ({} intervals per tooth period)", r.intervals);
-    }
-    const auto lowest = std::min_element(r.boundary.begin(), r.boundary.end(),
-                                         [](const BoundaryPoint& a, const BoundaryPoint& b) { return a.depth_m < b.depth_m; });
-    const auto flips = std::count_if(r.boundary.begin(), r.boundary.end(), [](const BoundaryPoint& b) { return b.kind == BoundaryKind::Flip; });
-    out["intervals"] = r.intervals;
-    out["max_depth_mm"] = r.max_depth_m * 1e3;
-    out["lowest_boundary"] = {{"spindle_speed_rpm", lowest->speed_rpm}, {"axial_depth_mm", lowest->depth_m * 1e3},
-                              {"kind", to_string(lowest->kind)}};
-    out["flip_speeds"] = flips;
-    if (!o.json) {
-      std::cout << fmt::format("semi-discretization boundary ({} intervals, {} speeds, depths up to {:.4g} mm): lowest {:.4f} mm "
-                               "at {:.0f} rpm ({}); period-doubling (flip) boundary at {} speed(s)\n",
-                               r.intervals, r.boundary.size(), r.max_depth_m * 1e3, lowest->depth_m * 1e3, lowest->speed_rpm,
-                               to_string(lowest->kind), flips);
-      if (!o.output.empty()) info(g, fmt::format("wrote {} ({} speeds)", o.output, r.boundary.size()));
-    }
+  const bool uncertain = o.sampling.samples != 0 || !o.probability_output.empty();
+  if (uncertain) {
+    if (o.assembly.empty())
+      throw InvalidArgument("--samples needs --assembly (the joint is sampled inside the model)", "give --assembly FILE.toml --joint holder-tool=kht.toml");
+    if (so.method != LobesMethod::ZeroOrder)
+      throw InvalidArgument("--samples runs the zero-order method (a time-domain boundary per sample would take minutes)",
+                            "drop --method fd, or --samples");
   }
+  const std::vector<JointFile> joints = read_joint_options(g, o.joints);
+  std::optional<UncertaintyOptions> sampling;
+  if (uncertain) {
+    sampled_joint(joints);
+    SamplingOptions so_threads = o.sampling;
+    so_threads.threads = o.threads;
+    sampling = uncertainty_options(so_threads);
+  }
+  LobesInput input;
+  std::optional<Assembly> assembly;
+  tool_point_frfs(o, g, joints, input, assembly);
+  if (o.rigid_y && !o.mode_y.empty()) throw InvalidArgument("--rigid-y and --mode-y contradict each other", "drop one of them");
+  for (const auto& t : o.mode_x) input.x_modes.push_back(parse_mode(t, "--mode-x"));
+  for (const auto& t : o.mode_y) input.y_modes.push_back(parse_mode(t, "--mode-y"));
+  input.rigid_y = o.rigid_y;
+  if (so.method == LobesMethod::ZeroOrder && !input.frfs)
+    throw InvalidArgument("--method zoa needs the tool point FRF: --frf FILE.csv",
+                          "add --frf tool_point.csv (or --assembly FILE.toml), or use --method fd with --mode-x");
+  if (so.method != LobesMethod::ZeroOrder && input.x_modes.empty() && !input.frfs)
+    throw InvalidArgument("--method fd needs modes: --mode-x MASS,ZETA,FN (repeatable) or --frf to fit them from",
+                          "e.g. --mode-x 0.04,0.011,922, or --frf tool_point.csv");
 
-  if (!o.output.empty()) written.push_back(o.output);
-  const std::vector<EnvelopePoint> pockets = stability_pockets(envelope, 5);
+  Progress progress(g, so.method == LobesMethod::ZeroOrder ? "lobes: zero-order" : "lobes: full-discretization boundary");
+  so.progress = progress.part();
+  LobesStudyResult r;
+  try {
+    r = run_lobes_study(input, so);
+  } catch (const InvalidArgument& e) {
+    throw InvalidArgument(with_flags(e.what()), with_flags(e.hint()));
+  }
+  progress.done();
+  for (std::string& w : r.warnings) w = with_flags(w);
+  if (so.method != LobesMethod::ZeroOrder && o.lobes >= 0) r.warnings.push_back("--lobes is used by --method zoa only (fd derives lobe numbers)");
+  if (o.depth_steps > 0) r.warnings.push_back("--depth-steps is no longer used: the boundary is bracketed by a geometric scan from the neighbouring speed's limit");
+
+  // The joint uncertain: the stable depth's quantiles per speed, and the probability of stability
+  // on a speed × depth grid up to 1.5 × the nominal envelope's highest point.
+  std::optional<StabilityUncertainty> su;
+  std::string sampled_source;
+  if (sampling) {
+    const JointFile& sampled = sampled_joint(joints);
+    sampled_source = sampled.source;
+    Progress sprog(g, fmt::format("lobes: {} joint samples", sampling->samples));
+    sampling->progress = sprog.part();
+    double top = 0.0;
+    for (const EnvelopePoint& p : r.envelope)
+      if (std::isfinite(p.depth_m)) top = std::max(top, p.depth_m);
+    std::vector<double> depths;
+    for (int j = 0; j <= 200; ++j) depths.push_back(1.5 * top * j / 200);
+    su = stability_uncertainty(*assembly, sampled, assembly->grid.values(), so, depths, *sampling);
+    sprog.done();
+  }
+  const std::vector<std::string> comments = {
+      fmt::format("teeth {}, K_t {} N/m^2, K_r {}, entry {:.4f} deg, exit {:.4f} deg", so.cutting.teeth,
+                  so.cutting.tangential_coefficient, so.cutting.radial_ratio, so.cutting.engagement.entry_rad * 180.0 / kPi,
+                  so.cutting.engagement.exit_rad * 180.0 / kPi),
+      input.frfs ? fmt::format("tool point FRF {}", input.frf_name) : std::string("modal model from --mode-x/--mode-y")};
+  std::vector<std::string> written;
+  if (!o.output.empty()) {
+    write_text_file(o.output, r.zero_order ? format_lobes_csv(*r.zero_order, comments) : format_boundary_csv(*r.boundary, comments));
+    written.push_back(o.output);
+  }
   if (!o.envelope.empty()) {
-    write_text_file(o.envelope, format_envelope_csv(envelope, comments));
-    info(g, fmt::format("wrote {} (stable envelope)", o.envelope));
+    write_text_file(o.envelope, format_envelope_csv(r.envelope, comments));
     written.push_back(o.envelope);
   }
+  if (su && !o.probability_output.empty()) {
+    Table t;
+    t.columns = {"spindle_speed_rpm", "axial_depth_mm", "probability_stable"};
+    for (std::size_t i = 0; i < su->speed_rpm.size(); ++i)
+      for (std::size_t j = 0; j < su->depth_grid_m.size(); ++j)
+        t.rows.push_back({su->speed_rpm[i], 1e3 * su->depth_grid_m[j], su->probability(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j))});
+    write_table_csv(o.probability_output, t,
+                    {fmt::format("probability that the cut is stable, over {} samples of the joint of {} (zero-order envelope of each sample's "
+                                 "tool point FRF)", su->samples, sampled_source),
+                     "spindle speed rpm, axial depth mm, probability 0..1"});
+    written.push_back(o.probability_output);
+    info(g, fmt::format("wrote {} (probability of stability)", o.probability_output));
+  }
   if (o.json) {
-    out["pockets"] = pockets_json(pockets);
+    nlohmann::json out = r;
+    if (su) {
+      out["uncertainty"] = *su;
+      out["uncertainty"]["joint"] = sampled_source;
+    }
     out["output"] = o.output;
     out["envelope"] = o.envelope;
     out["plot"] = o.plot;
-    out["warnings"] = warnings;
+    out["warnings"] = r.warnings;
     std::cout << out.dump(2) << '\n';
   } else {
-    print_pockets(pockets, min_rpm, max_rpm);
+    print_summary(r);
+    if (!o.output.empty())
+      info(g, r.zero_order ? fmt::format("wrote {} (lobe points)", o.output) : fmt::format("wrote {} ({} speeds)", o.output, r.boundary->boundary.size()));
+    if (!o.envelope.empty()) info(g, fmt::format("wrote {} (stable envelope)", o.envelope));
+    print_pockets(r, so.pocket_prominence);
+    if (su) report_uncertain_lobes(*su, r, sampled_source);
     std::cout << std::flush;
     if (o.output.empty() && o.plot.empty())
       info(g, "give --output lobes.csv for every lobe point, --envelope env.csv for the stable envelope, --plot lobes.png for "
               "the figure");
   }
-  warn_all(warnings);
-  if (!o.plot.empty()) draw_figures(g, {{plot::lobes_figure(figure), o.plot}}, written);
+  warn_all(r.warnings);
+  if (!o.plot.empty()) {
+    plot::LobesFigureData d = r.figure;
+    if (su) {
+      // The title is full already: the legend says how the quantiles were made.
+      for (std::size_t l = 0; l < su->levels.size(); ++l)
+        d.other_envelopes.push_back({su->depth_m[l], fmt::format("stable with {:g} % probability{}", 100 * (1.0 - su->levels[l]),
+                                                                 l == 0 ? fmt::format(" ({} joint samples)", su->samples) : "")});
+    }
+    draw_figures(g, {{plot::lobes_figure(d), o.plot}}, written);
+  }
 }
 
 }  // namespace
 
 void add_lobes_command(CLI::App& app, Globals& g) {
   auto o = std::make_shared<LobesOptions>();
-  CLI::App* c = app.add_subcommand("lobes", "Milling stability lobes from the tool point FRF: zero-order (zoa) or semi-discretization (sd)");
+  CLI::App* c = app.add_subcommand("lobes", "Milling stability lobes from the tool point FRF: zero-order (zoa) or full-discretization (fd)");
   c->add_option("--assembly", o->assembly,
                 "Assembly file (TOML, SI units): its tool point FRF (SHT11's H, Eq. 5) on its [analysis] grid, for x and y "
                 "(instead of --frf)");
@@ -395,34 +391,61 @@ void add_lobes_command(CLI::App& app, Globals& g) {
   imm->excludes(exit_opt);
   c->add_option("--milling", o->milling, "Milling direction with --immersion: up or down (no default)")->check(CLI::IsMember({"up", "down"}));
   c->add_option("--rpm", o->rpm, "Spindle speed range MIN:MAX [rpm] (required)")->required();
-  c->add_option("--speeds", o->speeds, "Points of the speed grid [-] for the envelope (zoa) or the boundary (sd) (default: 2000 zoa, 200 sd)");
+  c->add_option("--speeds", o->speeds, "Points of the speed grid [-] for the envelope (zoa) or the boundary (fd) (default: 2000 zoa, 200 fd)");
   c->add_option("--lobes", o->lobes, "zoa: lobes k = 0…K [-] (default: enough to cover MIN rpm)");
-  c->add_option("--method", o->method, "zoa (zero-order, from the FRF) or sd (semi-discretization of a modal model)")
-      ->check(CLI::IsMember({"zoa", "sd"}))
+  c->add_option("--method", o->method,
+                "zoa (zero-order, from the FRF) or fd (full-discretization of a modal model in the time domain: flip lobes, "
+                "low immersion); sd is accepted for fd")
+      ->check(CLI::IsMember({"zoa", "fd", "sd"}))
       ->capture_default_str();
-  c->add_option("--intervals", o->intervals, "sd: intervals per tooth period [-], 4…2000 (more for chatter far above the tooth passing frequency)")
+  c->add_option("--tolerance", o->tolerance_pct,
+                "fd: target for the estimated discretization error of each depth [% of the depth], 1e-4…50; the steps per tooth "
+                "period are doubled until it is met")
       ->capture_default_str();
-  c->add_option("--depth-steps", o->depth_steps, "sd: coarse depth steps [-] before bisection")->capture_default_str();
-  c->add_option("--max-depth", o->max_depth_mm, "Largest axial depth [mm]: zoa drops deeper lobe points, sd scans up to it "
-                                                "(default: zoa all, sd 10 × the zero-order floor)");
-  c->add_option("--mode-x", o->mode_x, "sd: an x mode MASS_KG,DAMPING_RATIO,FREQUENCY_HZ (repeatable; default: fitted from --frf)");
-  c->add_option("--mode-y", o->mode_y, "sd: a y mode MASS_KG,DAMPING_RATIO,FREQUENCY_HZ (repeatable; default: from --frf-y, else the x modes)");
-  c->add_option("--max-modes", o->max_modes, "sd: at most N modes [-] fitted per FRF, 1…20")->capture_default_str();
-  c->add_option("--band", o->band, "sd: fit modes only in F1:F2 [Hz] (default: the whole FRF)");
+  c->add_option("--intervals", o->intervals,
+                "fd: steps per tooth period at the first of the two levels compared [-], 4…2000 (default 0: 12 per chatter wave)")
+      ->capture_default_str();
+  c->add_option("--depth-steps", o->depth_steps, "No longer used (kept so old scripts run; a warning says so)");
+  c->add_option("--threads", o->threads, "fd: worker threads [-], 0…1024 (default 0: every core); results are identical for any number")
+      ->capture_default_str();
+  c->add_option("--max-depth", o->max_depth_mm, "Largest axial depth [mm]: zoa drops deeper lobe points, fd searches up to it "
+                                                "(default: zoa all, fd 10 × the zero-order floor)");
+  c->add_option("--mode-x", o->mode_x, "fd: an x mode MASS_KG,DAMPING_RATIO,FREQUENCY_HZ (repeatable; default: fitted from --frf)");
+  c->add_option("--mode-y", o->mode_y, "fd: a y mode MASS_KG,DAMPING_RATIO,FREQUENCY_HZ (repeatable; default: from --frf-y, else the x modes)");
+  c->add_option("--max-modes", o->max_modes,
+                "fd: at most N modes [-] fitted per FRF, 1…20 (the fewest that meet --fit-target are used)")
+      ->capture_default_str();
+  c->add_option("--fit-target", o->fit_target_pct,
+                "fd: the fitted modes alone must represent the FRF within this [% of ‖G‖] over the band; else a warning says why")
+      ->capture_default_str();
+  c->add_option("--band", o->band, "fd: fit modes only in F1:F2 [Hz] (default: the whole FRF)");
+  c->add_option("--pocket-prominence", o->prominence_pct,
+                "Best speeds: envelope maxima rising at least this [% of their depth] above the valleys beside them")
+      ->capture_default_str();
   c->add_option("--output", o->output,
-                "Write the lobes (zoa) or the boundary (sd) here: CSV lobe,spindle_speed_rpm,axial_depth_mm,"
-                "chatter_frequency_hz,root|kind (default: none)");
+                "Write the lobes (zoa) or the boundary (fd) here: CSV lobe,spindle_speed_rpm,axial_depth_mm,"
+                "chatter_frequency_hz,root (zoa) or ...,kind,axial_depth_error_mm,steps (fd) (default: none)");
   c->add_option("--envelope", o->envelope,
                 "Write the stable envelope here: CSV spindle_speed_rpm,axial_depth_mm,chatter_frequency_hz,lobe (default: none)");
   add_plot_option(c, o->plot,
                   "axial depth [mm] against spindle speed [rpm] with the stable region under the envelope shaded, the "
-                  "lobes (zoa) or the boundary (sd) numbered, and their chatter frequency [Hz] in a second panel");
+                  "lobes (zoa) or the boundary (fd) numbered, and their chatter frequency [Hz] in a second panel");
+  add_joint_option(c, o->joints)->description(
+      "With --assembly: an identified joint instead of the assembly file's (holder-tool=FILE.toml or spindle-holder=FILE.toml, "
+      "from `toolpoint identify --joint-output`)");
+  add_sampling_options(c, o->sampling,
+                       "zoa with --assembly: the envelope's 5/50/95 % quantiles (drawn in the figure) and the probability of "
+                       "stability (--probability-output); --threads applies to them",
+                       false);
+  c->add_option("--probability-output", o->probability_output,
+                "With --samples: the probability that the cut is stable on a spindle speed [rpm] × axial depth [mm] grid "
+                "(CSV spindle_speed_rpm,axial_depth_mm,probability_stable)");
   c->add_flag("--json", o->json, "Machine-readable summary on stdout");
   c->footer(std::string(kFigureFooter) +
       "Examples:\n"
       "  toolpoint lobes --frf tool_point.csv --teeth 2 --kt 6e8 --kn 2e8 --immersion 0.05 --milling down \\\n"
       "      --rpm 5000:25000 --output lobes.csv --envelope envelope.csv --plot lobes.png\n"
-      "  toolpoint lobes --method sd --mode-x 0.03993,0.011,922 --rigid-y --teeth 2 --kt 6e8 --kn 2e8 \\\n"
+      "  toolpoint lobes --method fd --mode-x 0.03993,0.011,922 --rigid-y --teeth 2 --kt 6e8 --kn 2e8 \\\n"
       "      --immersion 0.05 --milling down --rpm 5000:25000 --output boundary.csv");
   c->callback([o, &g] { run_lobes(*o, g); });
 }

@@ -1,4 +1,5 @@
-// toolpoint predict: the tool point FRF (SHT11) or the holder-tip FRF (SH11) of an assembly file.
+// toolpoint predict: the tool point FRF (SHT11) or the holder-tip FRF (SH11) of an assembly file
+// (the prediction study, studies/predict.hpp).
 // Units: SI (H m/N, L 1/N, N rad/N, P rad/(N·m)); frequencies in Hz. --plot draws |H|, ∠H, |P|,
 // ∠P with the modes (peaks of |H|) labelled [Hz].
 #include <fmt/format.h>
@@ -7,30 +8,70 @@
 #include <nlohmann/json.hpp>
 
 #include "cli.hpp"
+#include "progress.hpp"
 #include "toolpoint/assembly_file.hpp"
 #include "toolpoint/io.hpp"
-#include "toolpoint/peaks.hpp"
+#include "toolpoint/json.hpp"
 #include "toolpoint/plot.hpp"
+#include "toolpoint/studies/predict.hpp"
 
 namespace toolpoint::cli {
 
 namespace {
 
-struct PredictOptions {
-  std::string assembly, at = "tool", output, frequencies, plot;
+struct PredictArgs {
+  std::string assembly, at = "tool", output, frequencies, plot, band_output;
+  std::vector<std::string> joints;
+  SamplingOptions sampling;
   bool json = false;
 };
 
-void run_predict(const PredictOptions& o, const Globals& g) {
+// The tool point FRF's quantiles as a table: |H| [m/N] and ∠H [deg] per level.
+Table band_table(const FrfBand& b) {
+  Table t;
+  t.columns = {"frequency_hz"};
+  for (double l : b.levels) t.columns.push_back(fmt::format("magnitude_q{:g}_m_per_n", 100 * l));
+  for (double l : b.levels) t.columns.push_back(fmt::format("phase_q{:g}_deg", 100 * l));
+  for (std::size_t i = 0; i < b.frequency_hz.size(); ++i) {
+    std::vector<double> row{b.frequency_hz[i]};
+    for (const auto& m : b.magnitude) row.push_back(m[i]);
+    for (const auto& p : b.phase_rad) row.push_back(p[i] * 180.0 / kPi);
+    t.rows.push_back(std::move(row));
+  }
+  return t;
+}
+
+// FRF traces of the band's quantile levels (magnitude and phase quantiles recombined) around the nominal.
+std::vector<plot::FrfTrace> band_traces(const FrfBand& b) {
+  std::vector<plot::FrfTrace> traces{{b.nominal, "identified joint", plot::CurveStyle::Line}};
+  for (std::size_t l = 0; l < b.levels.size(); ++l) {
+    if (std::abs(b.levels[l] - 0.5) < 1e-9) continue;
+    FrfSeries q;
+    q.frequency_hz = b.frequency_hz;
+    for (std::size_t i = 0; i < b.frequency_hz.size(); ++i) q.values.push_back(std::polar(b.magnitude[l][i], b.phase_rad[l][i]));
+    traces.push_back({q, fmt::format("{:g} % quantile ({} joint samples)", 100 * b.levels[l], b.samples), plot::CurveStyle::Dashed});
+  }
+  return traces;
+}
+
+void run_predict(const PredictArgs& o, const Globals& g) {
   check_plot_path(o.plot);
-  const LoadedModel lm = load_model(g, o.assembly, o.frequencies);
-  const LoadedAssembly& loaded = lm.loaded;
-  const AssemblyModel& model = lm.model;
+  const std::vector<JointFile> joints = read_joint_options(g, o.joints);
+  std::optional<UncertaintyOptions> sampling;
+  if (o.sampling.samples != 0 || !o.band_output.empty()) {
+    if (o.at != "tool") throw InvalidArgument("--samples: the band is computed for the tool point (--at tool)", "drop --at holder");
+    sampling = uncertainty_options(o.sampling);
+    sampled_joint(joints);
+  }
+  const LoadedAssembly loaded = load_assembly_on_grid(g, o.assembly, o.frequencies, joints);
   const bool tool = o.at == "tool";
-  auto at = [&](double f) { return tool ? model.tool_point(f) : model.holder_tip(f); };
-  const std::vector<double> grid = loaded.assembly.grid.values();
-  const BlockSeries series = tool ? model.tool_point(grid) : model.holder_tip(grid);
-  const auto peaks = find_peaks(entry(series, 0), PeakOptions{}, [&](double f) { return std::abs(at(f)(0, 0)); });
+  toolpoint::PredictOptions options;
+  options.receptance = tool ? PredictedFrf::ToolPoint : PredictedFrf::HolderTip;
+  Progress progress(g, "predict");
+  const Prediction p = run_prediction(loaded.assembly, options, progress.part());
+  progress.done();
+  warn_all(p.warnings);
+  const BlockSeries& series = p.frf;
   const std::string what = tool ? "tool point SHT11" : "holder tip SH11 (tool outside the holder removed)";
 
   std::vector<std::string> written;
@@ -40,17 +81,30 @@ void run_predict(const PredictOptions& o, const Globals& g) {
     info(g, fmt::format("wrote {} ({} frequencies, {})", o.output, series.size(), what));
     written.push_back(o.output);
   }
+  std::optional<FrfBand> band;
+  if (sampling) {
+    band = tool_point_band(loaded.assembly, sampled_joint(joints), series.frequency_hz, *sampling);
+    if (!o.band_output.empty()) {
+      write_table_csv(o.band_output, band_table(*band),
+                      {fmt::format("tool point H of {} with the joint of {} uncertain: quantiles over {} samples", o.assembly,
+                                   sampled_joint(joints).source, band->samples),
+                       "magnitude in m/N, phase in degrees, frequency in Hz"});
+      info(g, fmt::format("wrote {} (quantiles of the tool point FRF)", o.band_output));
+      written.push_back(o.band_output);
+    }
+  }
   if (o.json) {
-    nlohmann::json j;
+    nlohmann::json j = p;
     j["assembly"] = o.assembly;
-    j["receptance"] = tool ? "SHT11" : "SH11";
+    if (band) j["band"] = *band;
     j["units"] = "frequency Hz, magnitude m/N";
     j["points"] = series.size();
     if (!o.output.empty()) j["output"] = o.output;
     if (!o.plot.empty()) j["plot"] = o.plot;
-    j["modes"] = nlohmann::json::array();
-    for (const Peak& p : peaks) j["modes"].push_back({{"peak_frequency_hz", p.frequency_hz}, {"peak_magnitude_m_per_n", p.magnitude}});
-    j["warnings"] = loaded.warnings;
+    // The file's warnings as well as the model's, as before the study.
+    std::vector<std::string> warnings = loaded.warnings;
+    warnings.insert(warnings.end(), p.warnings.begin(), p.warnings.end());
+    j["warnings"] = warnings;
     std::cout << j.dump(2) << '\n';
   } else {
     std::cout << fmt::format("{} — {}\n", what, loaded.assembly.name);
@@ -58,21 +112,29 @@ void run_predict(const PredictOptions& o, const Globals& g) {
                              series.frequency_hz.back(), series.size(), series.frequency_hz.back());
     std::cout << "mode  peak_frequency_hz  peak_magnitude_m_per_n\n";
     int i = 1;
-    for (const Peak& p : peaks) std::cout << fmt::format("{:4d}  {:17.2f}  {:22.4e}\n", i++, p.frequency_hz, p.magnitude);
-    if (peaks.empty()) std::cout << "  (no resonance peak in the frequency range)\n";
+    for (const Peak& m : p.modes) std::cout << fmt::format("{:4d}  {:17.2f}  {:22.4e}\n", i++, m.frequency_hz, m.magnitude);
+    if (p.modes.empty()) std::cout << "  (no resonance peak in the frequency range)\n";
     std::cout << std::flush;
   }
   if (!o.plot.empty()) {
     const std::string title = fmt::format("{} of {}", tool ? "Tool point FRF SHT_{11}" : "Holder tip FRF SH_{11}",
                                           plot::literal(loaded.assembly.name));
-    draw_figures(g, {{plot::receptance_figure(series, title, "11", 6), o.plot}}, written);
+    if (band) {
+      plot::FrfFigureOptions fo;
+      fo.title = fmt::format("Tool point FRF, the joint uncertain ({} samples)", band->samples);
+      fo.symbol = "H^{sht}_{11}";
+      fo.mode_labels = 6;
+      draw_figures(g, {{plot::frf_figure(band_traces(*band), fo), o.plot}}, written);
+    } else {
+      draw_figures(g, {{plot::receptance_figure(series, title, "11", 6), o.plot}}, written);
+    }
   }
 }
 
 }  // namespace
 
 void add_predict_command(CLI::App& app, Globals& g) {
-  auto o = std::make_shared<PredictOptions>();
+  auto o = std::make_shared<PredictArgs>();
   CLI::App* c = app.add_subcommand("predict", "Tool point FRF of an assembly by receptance coupling (seed Eq. 1–5)");
   c->add_option("assembly", o->assembly, "Assembly file (TOML, SI units; see examples/) (required)")->required();
   c->add_option("--at", o->at, "tool: SHT11 at the tool tip; holder: SH11 at the holder tip, tool outside removed")
@@ -86,6 +148,10 @@ void add_predict_command(CLI::App& app, Globals& g) {
   add_plot_option(c, o->plot,
                   "the block: |H| [m/N] and phase of H [deg], |P| [rad/(N·m)] and phase of P [deg] against frequency "
                   "[Hz], modes (peaks of |H|) labelled [Hz]");
+  add_joint_option(c, o->joints);
+  add_sampling_options(c, o->sampling, "the 5/50/95 % quantiles of the tool point FRF, in --band-output and the figure");
+  c->add_option("--band-output", o->band_output,
+                "With --samples: the quantiles of |H| [m/N] and ∠H [deg] per frequency [Hz] (CSV)");
   c->add_flag("--json", o->json, "Machine-readable output on stdout");
   c->footer(std::string(kFigureFooter) +
             "Example:\n  toolpoint predict examples/bt40_shrinkfit_16mm.toml --output sht11.csv --plot sht11.png");

@@ -38,13 +38,110 @@ void report_loaded(const Globals& g, const LoadedAssembly& loaded) {
   for (const auto& n : loaded.notes) info(g, "note: " + n);
 }
 
-LoadedModel load_model(const Globals& g, const std::string& path, const std::string& frequencies) {
+LoadedAssembly load_assembly_on_grid(const Globals& g, const std::string& path, const std::string& frequencies,
+                                     const std::vector<JointFile>& joints) {
   LoadedAssembly loaded = load_assembly(path);
   report_loaded(g, loaded);
+  loaded.assembly = with_joints(loaded.assembly, joints);
   if (!frequencies.empty()) loaded.assembly.grid = parse_frequency_grid(frequencies, "--frequencies");
+  return loaded;
+}
+
+LoadedModel load_model(const Globals& g, const std::string& path, const std::string& frequencies, const std::vector<JointFile>& joints) {
+  LoadedAssembly loaded = load_assembly_on_grid(g, path, frequencies, joints);
   AssemblyModel model(loaded.assembly);
   warn_all(model.warnings());
   return {std::move(loaded), std::move(model)};
+}
+
+CLI::Option* add_joint_option(CLI::App* command, std::vector<std::string>& target) {
+  return command
+      ->add_option("--joint", target,
+                   "Use an identified joint instead of the assembly file's: holder-tool=FILE.toml or spindle-holder=FILE.toml "
+                   "(as written by `toolpoint identify --joint-output`; repeat for both joints)")
+      ->option_text("INTERFACE=FILE");
+}
+
+std::vector<JointFile> read_joint_options(const Globals& g, const std::vector<std::string>& specs) {
+  std::vector<JointFile> files;
+  for (const std::string& spec : specs) {
+    const std::size_t eq = spec.find('=');
+    std::string path = spec;
+    std::optional<JointInterface> named;
+    if (eq != std::string::npos) {
+      const std::string name = spec.substr(0, eq);
+      path = spec.substr(eq + 1);
+      if (name == "holder-tool") named = JointInterface::HolderTool;
+      else if (name == "spindle-holder") named = JointInterface::SpindleHolder;
+      else
+        throw InvalidArgument(fmt::format("--joint {}: '{}' names no joint", spec, name),
+                              "write holder-tool=FILE.toml or spindle-holder=FILE.toml");
+    }
+    JointFile f = load_joint_file(path);
+    if (named && *named != f.interface)
+      throw InvalidArgument(fmt::format("--joint {}: {} holds the {} joint, not the {} joint", spec, path, to_string(f.interface),
+                                        to_string(*named)),
+                            fmt::format("write --joint {}={}", f.interface == JointInterface::HolderTool ? "holder-tool" : "spindle-holder",
+                                        path));
+    for (const JointFile& other : files)
+      if (other.interface == f.interface)
+        throw InvalidArgument(fmt::format("--joint: two files for the {} joint ({} and {})", to_string(f.interface), other.source, path),
+                              "give one file per joint");
+    info(g, fmt::format("joints.{}: the identified joint of {}{}", to_string(f.interface), path,
+                        f.uncertainty ? " (with its covariance)" : ""));
+    files.push_back(std::move(f));
+  }
+  return files;
+}
+
+Assembly with_joints(const Assembly& assembly, const std::vector<JointFile>& files) {
+  Assembly a = assembly;
+  for (const JointFile& f : files) a = with_joint(a, f);
+  return a;
+}
+
+void add_sampling_options(CLI::App* command, SamplingOptions& target, const std::string& what, bool threads_option) {
+  command->add_option("--samples", target.samples,
+                      "Carry the --joint file's uncertainty forward by this many Monte Carlo samples of the joint (≥ 10; 0: "
+                      "none): " + what)
+      ->capture_default_str();
+  command->add_option("--seed", target.seed, "Random seed of the joint samples")->capture_default_str();
+  if (threads_option)
+    command->add_option("--threads", target.threads, "Worker threads for the samples (0: every core; the same result for any number)")
+        ->capture_default_str();
+}
+
+const JointFile& sampled_joint(const std::vector<JointFile>& files) {
+  const JointFile* found = nullptr;
+  for (const JointFile& f : files)
+    if (f.uncertainty) {
+      if (found)
+        throw InvalidArgument(fmt::format("--samples: both {} and {} carry an uncertainty; one joint is sampled at a time", found->source,
+                                          f.source),
+                              "give the other joint without --samples, or as assembly-file values");
+      found = &f;
+    }
+  if (!found)
+    throw InvalidArgument("--samples needs a --joint file with an [uncertainty] (a band fit's covariance)",
+                          "identify the joint with `toolpoint identify --joint-output FILE.toml` and pass --joint holder-tool=FILE.toml");
+  return *found;
+}
+
+UncertaintyOptions uncertainty_options(const SamplingOptions& s) {
+  if (s.samples < 10) throw InvalidArgument(fmt::format("--samples {}: at least 10 (200 is a good default)", s.samples));
+  if (s.threads < 0) throw InvalidArgument(fmt::format("--threads {} must be ≥ 0 (0: every core)", s.threads));
+  UncertaintyOptions o;
+  o.samples = s.samples;
+  o.seed = s.seed;
+  o.parallel.threads = s.threads;
+  return o;
+}
+
+void rethrow_with_flag(const InvalidArgument& e, std::initializer_list<FieldFlag> fields) {
+  const std::string what = e.what();
+  for (const FieldFlag& f : fields)
+    if (what.find(f.field) != std::string::npos) throw InvalidArgument(fmt::format("{} ({})", what, f.flag), e.hint());
+  throw e;
 }
 
 CLI::Option* add_plot_option(CLI::App* command, std::string& target, const std::string& what) {
@@ -69,7 +166,7 @@ std::string with_suffix(const std::string& path, const std::string& suffix) {
 }
 
 plot::JointParameterCurve joint_curve(const JointSeries& series, int pair, const std::optional<JointParameters>& reference,
-                                      const std::optional<JointParameters>& identified) {
+                                      const std::optional<JointParameters>& identified, const JointFit* fit, const JointReadout* seed) {
   static const char* subscripts[4] = {"yf", "ym", "{/Symbol q}f", "{/Symbol q}m"};
   plot::JointParameterCurve c;
   c.name = subscripts[pair];
@@ -81,6 +178,19 @@ plot::JointParameterCurve joint_curve(const JointSeries& series, int pair, const
   }
   if (reference) c.reference_stiffness = (*reference)[2 * pair], c.reference_damping = (*reference)[2 * pair + 1];
   if (identified) c.identified_stiffness = (*identified)[2 * pair], c.identified_damping = (*identified)[2 * pair + 1];
+  const auto k = static_cast<std::size_t>(2 * pair), d = k + 1;
+  if (fit) {
+    c.stiffness_interval = std::make_pair(fit->intervals[k].lower, fit->intervals[k].upper);
+    c.damping_interval = std::make_pair(fit->intervals[d].lower, fit->intervals[d].upper);
+    c.stiffness_undetermined = !fit->intervals[k].determined;
+    c.damping_undetermined = !fit->intervals[d].determined;
+  } else if (seed) {
+    auto undetermined = [&](std::size_t i) {
+      return seed->noise_gain[i] > 20.0 || seed->parameters[i].spread > std::abs(seed->parameters[i].median);
+    };
+    c.stiffness_undetermined = undetermined(k);
+    c.damping_undetermined = undetermined(d);
+  }
   return c;
 }
 

@@ -7,6 +7,7 @@
 
 #include "cli.hpp"
 #include "toolpoint/error.hpp"
+#include "toolpoint/version.hpp"
 
 namespace {
 
@@ -38,16 +39,17 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string("toolpoint ") + TOOLPOINT_VERSION);
   Globals globals;
   app.add_flag("-q,--quiet", globals.quiet,
-               "No progress bars or informational messages (warnings and errors still shown; default: off)");
+               "No progress or informational messages (warnings and errors still shown; default: off)");
   app.require_subcommand(1);
   app.fallthrough();  // --quiet may follow the subcommand
   app.footer(
       "Exit codes: 0 success, 1 internal error (a bug), 2 usage (bad option or value), 3 bad input\n"
       "file content, 4 numerical failure (e.g. singular inversion), 5 file I/O failure (including a\n"
-      "--plot figure that gnuplot could not draw; the data files are written first).\n"
+      "--plot figure that gnuplot could not draw; the data files are written first), 6 a result that fails its\n"
+      "own checks (identify's verdict; --accept overrides).\n"
       "Errors print one line saying what is wrong and where, and one (\"fix:\") saying how to fix it.\n"
-      "Progress bars appear on stderr for work over a second (TOOLPOINT_PROGRESS_DELAY=SECONDS sets\n"
-      "another delay), only when stderr is a terminal and without --quiet.\n"
+      "Progress shows on stderr for long work: a bar on a terminal (after a second), otherwise a line every\n"
+      "5 s (TOOLPOINT_PROGRESS_DELAY=SECONDS sets the first delay); nothing with --quiet.\n"
       "Run `toolpoint COMMAND --help` for a command's options, units, defaults and an example.\n"
       "Example:\n"
       "  toolpoint demo --output demo-out");
@@ -86,6 +88,8 @@ int main(int argc, char** argv) {
     return report(e, kExitInput, fmt::format("correct the file at the place named above; `{}` describes the formats read", help));
   } catch (const toolpoint::NumericalError& e) {
     return report(e, kExitNumerical, "check the input data (units, signs, frequency range) and the options named above");
+  } catch (const toolpoint::VerdictFailure& e) {
+    return report(e, kExitVerdict, "check the inputs; the command's --help says how to accept the result anyway");
   } catch (const toolpoint::IoError& e) {
     return report(e, kExitIo, "check the path and the folder's permissions");
   } catch (const toolpoint::Error& e) {

@@ -17,13 +17,14 @@ namespace {
 // redraws are at least kRedrawS apart.
 constexpr double kDefaultDelayS = 1.0;
 constexpr double kRedrawS = 0.1;
+constexpr double kLineEveryS = 5.0;  // without a terminal: a line this often (and not before)
 
-double delay_s() {
+double delay_s(double fallback) {
   const char* text = std::getenv("TOOLPOINT_PROGRESS_DELAY");
-  if (text == nullptr) return kDefaultDelayS;
+  if (text == nullptr) return fallback;
   char* end = nullptr;
   const double v = std::strtod(text, &end);
-  return end != text && *end == '\0' && std::isfinite(v) && v >= 0.0 ? v : kDefaultDelayS;
+  return end != text && *end == '\0' && std::isfinite(v) && v >= 0.0 ? v : fallback;
 }
 
 Progress* g_shown = nullptr;  // the bar owning the terminal line (one at a time)
@@ -59,9 +60,10 @@ std::string progress_line(const std::string& label, double fraction, double elap
 }
 
 Progress::Progress(const Globals& g, std::string label)
-    : enabled_(!g.quiet && g_shown == nullptr && ::isatty(STDERR_FILENO) == 1),
+    : enabled_(!g.quiet && g_shown == nullptr),
+      terminal_(::isatty(STDERR_FILENO) == 1),
       label_(std::move(label)),
-      delay_s_(delay_s()),
+      delay_s_(delay_s(terminal_ ? kDefaultDelayS : kLineEveryS)),
       start_(std::chrono::steady_clock::now()),
       last_draw_(start_) {
   if (enabled_) g_shown = this;
@@ -75,6 +77,10 @@ Progress::~Progress() {
 void Progress::update(double fraction) {
   if (!enabled_ || std::isnan(fraction)) return;
   fraction_ = std::clamp(fraction, 0.0, 1.0);
+  if (!terminal_) {
+    if (seconds_since(start_) >= delay_s_ && (!lines_written_ || seconds_since(last_draw_) >= kLineEveryS)) line();
+    return;
+  }
   if (seconds_since(start_) < delay_s_ || (drawn_ && seconds_since(last_draw_) < kRedrawS)) return;
   draw();
 }
@@ -83,6 +89,10 @@ void Progress::stage(std::string label, double fraction) {
   label_ = std::move(label);
   if (!enabled_ || std::isnan(fraction)) return;
   fraction_ = std::clamp(fraction, 0.0, 1.0);
+  if (!terminal_) {
+    update(fraction);
+    return;
+  }
   if (seconds_since(start_) >= delay_s_) draw();  // a new stage shows at once, unthrottled
 }
 
@@ -92,6 +102,21 @@ std::function<void(double)> Progress::part(double from, double to) {
 
 void Progress::done() {
   if (g_shown == this) clear_line();
+  if (enabled_ && lines_written_) {
+    std::fputs(fmt::format("{}: done in {:.0f} s\n", label_, std::floor(seconds_since(start_))).c_str(), stderr);
+    std::fflush(stderr);
+    lines_written_ = false;
+  }
+}
+
+void Progress::line() {
+  const double elapsed = seconds_since(start_);
+  std::string text = fmt::format("{}: {:.0f} % after {:.0f} s", label_, std::floor(100.0 * fraction_), std::floor(elapsed));
+  if (fraction_ >= 0.02 && fraction_ < 1.0) text += fmt::format(", about {:.0f} s left", std::ceil(elapsed * (1.0 - fraction_) / fraction_));
+  std::fputs((text + "\n").c_str(), stderr);
+  std::fflush(stderr);
+  lines_written_ = true;
+  last_draw_ = std::chrono::steady_clock::now();
 }
 
 void Progress::clear_line() {

@@ -1,14 +1,19 @@
-// toolpoint CLI: a progress bar on stderr for work that takes more than a second.
+// toolpoint CLI: progress on stderr for work that takes more than a moment.
 // Units: fractions of the work 0…1, times in seconds.
 //
 // Library loops report progress through an optional std::function<void(double fraction)>
-// (fraction of the work done, 0…1) and never print; this class turns those calls into one line
-// on stderr, redrawn in place with '\r':
-//     lobes (sd boundary) [##############..............]  48 %  2 s, about 2 s left
-// It draws only when stderr is a terminal (isatty) and --quiet is off, and only once the work has
-// run for a second (the environment variable TOOLPOINT_PROGRESS_DELAY sets another delay in
-// seconds, 0 for at once): quick runs, pipes, logs and tests see nothing. The line is erased when
-// the work ends, and before any info()/warn() message, so messages never land on a half line.
+// (fraction of the work done, 0…1) and never print; this class turns those calls into
+//   * on a terminal (isatty), one line redrawn in place with '\r', once the work has run for a
+//     second:
+//         lobes: full-discretization boundary [##############..............]  48 %  2 s, about 2 s left
+//     erased when the work ends, and before any info()/warn() message, so messages never land on
+//     a half line;
+//   * otherwise (a pipe, a log file, a batch job), a line every 5 s, the first after 5 s, and a
+//     closing line when the work ends:
+//         lobes: full-discretization boundary: 48 % after 10 s, about 11 s left
+//         lobes: full-discretization boundary: done in 21 s
+// Nothing with --quiet. The environment variable TOOLPOINT_PROGRESS_DELAY sets the first delay in
+// seconds for both (0: at once), so quick runs, pipes and tests normally see nothing.
 #pragma once
 
 #include <chrono>
@@ -41,9 +46,13 @@ class Progress {
  private:
   void draw();
 
+  void line();
+
   bool enabled_ = false;
+  bool terminal_ = false;  // a bar redrawn in place; otherwise lines
+  bool lines_written_ = false;
   std::string label_;
-  double delay_s_ = 1.0;
+  double delay_s_ = 1.0;  // before the bar, or before the first line
   double fraction_ = 0.0;
   std::chrono::steady_clock::time_point start_, last_draw_;
   bool drawn_ = false;

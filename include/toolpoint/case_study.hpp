@@ -1,11 +1,14 @@
-// toolpoint: the seed's analytical case study (Section 3), end to end.
+// toolpoint: the seed's analytical case study (Section 3), end to end — and beyond it, the band fit
+// side by side with the seed's read-out.
 //
 // On an assembly with a known holder–tool joint: predict SH11 and SHT11 (Eq. 1–5) → identify
 // K_ht over the whole band (Eq. 6; flat and equal to the input, the seed's Fig. 3) → distort SH11
 // and SHT11 with multiplicative noise (every FRF entry by its own random factors of mean 1 and
-// standard deviation σ, as the seed did) → Savitzky–Golay filter → identify again and read the
-// parameters at the tool mode found by effect analysis (the seed's Fig. 5) → couple the read
-// constants back (Eq. 5) and compare with the true tool point FRF.
+// standard deviation σ, as the seed did) → Savitzky–Golay filter → read the parameters at the
+// tool mode found by effect analysis (the seed's Fig. 5), and fit the joint's constants to the
+// raw noisy data with intervals (joint_fit.hpp) → couple each result back (Eq. 5) and compare
+// with the true tool point FRF. Both identifications go through identify_joint_from_frfs
+// (studies/identification.hpp): one rule for the band, one verdict.
 // Units: SI; frequencies in Hz.
 #pragma once
 
@@ -16,6 +19,7 @@
 #include "toolpoint/assembly.hpp"
 #include "toolpoint/identify.hpp"
 #include "toolpoint/signal.hpp"
+#include "toolpoint/studies/identification.hpp"
 
 namespace toolpoint {
 
@@ -25,6 +29,8 @@ struct CaseStudyOptions {
   SavgolOptions filter{81, 2};          // window in frequency points (81 Hz on a 1 Hz grid), order
   bool apply_filter = true;
   double band_width = 0.02;             // read-out band: tool mode × (1 ± band_width)
+  bool fit = true;                      // also fit the joint to the raw noisy data (the band fit)
+  JointFitOptions fit_options;          // its intervals (bootstrap by default), threads, seed
   void check() const;
 };
 
@@ -39,6 +45,10 @@ struct CaseStudy {
   JointReadout clean_readout, noisy_readout, filtered_readout;  // read in the band at the mode
   BlockSeries sht_verified;                     // SHT11 with the filtered read-out constants
   std::vector<ModeComparison> verification;     // true SHT11 against sht_verified
+  Identification seed;                          // the seed's procedure on the noisy, filtered data
+  std::optional<Identification> fitted;         // the band fit on the raw noisy data (options.fit)
+  BlockSeries sht_fitted;                       // SHT11 with the fitted constants
+  std::vector<ModeComparison> fit_verification; // true SHT11 against sht_fitted
   std::vector<std::string> warnings;
 };
 

@@ -28,7 +28,6 @@
 #pragma once
 
 #include <numbers>
-#include <string>
 #include <vector>
 
 namespace toolpoint {
@@ -50,11 +49,5 @@ struct FrequencyGrid {
   void check() const;
   std::vector<double> values() const;
 };
-
-// Parses "START:STOP:STEP" (Hz). Throws InvalidArgument naming `option` on malformed text.
-FrequencyGrid parse_frequency_grid(const std::string& text, const std::string& option);
-
-// Parses "A:B" into two numbers. Throws InvalidArgument naming `option`.
-std::pair<double, double> parse_range(const std::string& text, const std::string& option);
 
 }  // namespace toolpoint

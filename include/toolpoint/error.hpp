@@ -40,6 +40,13 @@ class NumericalError : public Error {
   using Error::Error;
 };
 
+// A result that was computed but fails its own checks (an identified joint with negative stiffness,
+// a forward check off by more than the fail threshold): refusing it beats printing it. Exit code 6.
+class VerdictFailure : public Error {
+ public:
+  using Error::Error;
+};
+
 // A file that cannot be opened, read or written. Exit code 5.
 class IoError : public Error {
  public:

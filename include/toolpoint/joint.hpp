@@ -17,6 +17,9 @@
 
 namespace toolpoint {
 
+// The eight parameters by name, in the order of JointParameters' fields (θ spelt "t").
+enum class JointParameter : int { k_yf, c_yf, k_ym, c_ym, k_tf, c_tf, k_tm, c_tm };
+
 struct JointParameters {
   double k_yf = 0.0, c_yf = 0.0;  // N/m, N·s/m
   double k_ym = 0.0, c_ym = 0.0;  // N, N·s
@@ -32,6 +35,15 @@ struct JointParameters {
   double operator[](int i) const;
   static const char* name(int i);  // "k_yf", …, with θ spelt "t": "k_tf"
   static const char* unit(int i);  // SI unit of value i
+  double& operator[](JointParameter p) { return (*this)[static_cast<int>(p)]; }
+  double operator[](JointParameter p) const { return (*this)[static_cast<int>(p)]; }
+  static const char* name(JointParameter p) { return name(static_cast<int>(p)); }
+  static const char* unit(JointParameter p) { return unit(static_cast<int>(p)); }
+  // Value i is a damping (c: Im K / ω) when odd, a stiffness (k: Re K) when even; it belongs to
+  // the entry (row(i), column(i)) of K.
+  static bool is_damping(int i) { return i % 2 == 1; }
+  static int row(int i) { return i / 4; }
+  static int column(int i) { return (i / 2) % 2; }
 };
 
 // A joint between two components: elastic with parameters, or rigid (K⁻¹ = 0).

@@ -250,6 +250,15 @@ struct JointParameterCurve {
   std::vector<double> damping;    // per frequency; empty: no damping panel
   std::optional<double> reference_stiffness, reference_damping;    // drawn as horizontal lines
   std::optional<double> identified_stiffness, identified_damping;  // ditto
+  // The identified values' intervals (drawn as two lines when the value is determined) and whether
+  // the data leave the value undetermined (then said in its label, and no interval drawn: it
+  // would dwarf the curve).
+  std::optional<std::pair<double, double>> stiffness_interval, damping_interval;
+  bool stiffness_undetermined = false, damping_undetermined = false;
+  // A second identified value to compare with (the seed's read-out beside a band fit).
+  std::optional<double> other_stiffness, other_damping;
+  std::string other_label = "seed read-out";
+  std::string identified_label = "identified";
 };
 
 struct JointFigureData {
@@ -283,6 +292,13 @@ struct LobesFigureData {
   std::vector<double> envelope_depth_m;  // m
   std::string title;
   std::optional<double> depth_max_m;     // top of the depth axis; default: 5× the envelope's minimum
+  // Other envelopes over envelope_rpm (the quantiles of the stable depth when a joint is
+  // uncertain), drawn as lines in the house style's next colours, in the legend.
+  struct Envelope {
+    std::vector<double> depth_m;
+    std::string label;
+  };
+  std::vector<Envelope> other_envelopes;
 };
 
 // Two panels: depth [mm] against spindle speed [rpm] with the stable region under the envelope

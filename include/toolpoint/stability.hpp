@@ -29,6 +29,8 @@
 #include <vector>
 
 #include "toolpoint/modal_fit.hpp"
+#include "toolpoint/parallel.hpp"
+#include "toolpoint/periodic_delay.hpp"
 #include "toolpoint/receptance.hpp"
 
 namespace toolpoint {
@@ -180,7 +182,17 @@ void ZeroOrderResult::for_each_point(Visit&& visit) const {
 // frequency [Hz] through `chatter_hz` when not null. Same errors as zero_order_lobes.
 double zero_order_floor(const MillingFrfs& frfs, const CuttingConditions& cutting, double* chatter_hz = nullptr);
 
-// ---- Semi-discretization (Insperger & Stépán, IJNME 61 (2004) 117–141) --------------------------
+// ---- Time-domain stability: full-discretization of the milling equation ----------------------
+//
+// The milling equation in modal coordinates q (each mode a 1-DOF oscillator seen at the tool point):
+//     q̈_r + 2ζ_rω_r q̇_r + ω_r² q_r = F_{dir(r)}(t)/m_r,   F(t) = ½ a K_t A(t) (r(t) − r(t − τ)),
+// r = (Σ_{x modes} q_r, Σ_{y modes} q_r) the tool-tip displacement, A(t) = Σ_j g_j A(φ_j(t)) over
+// the teeth in the cut (Insperger & Stépán, IJNME 61 (2004) 117–141, Eq. 1–6 in this notation).
+// It is discretized by periodic_delay.hpp (full-discretization: only the constant part is
+// exponentiated, A(t) integrated exactly, r interpolated by a degree-p polynomial; p = 2 by default,
+// third order) and its stability read from the dominant Floquet multiplier of the period map.
+// Only the tip displacement is delayed: the map acts on the 2n_q modal states and 1 (rigid y) or 2
+// tip values per step that the cut reads.
 
 // Modes of the tool point in x and in y (uncoupled; each a 1-DOF oscillator seen at the tool
 // point, see Mode). An empty y list means the tool is rigid in y (the 1-DOF milling model).
@@ -200,109 +212,115 @@ enum class BoundaryKind {
 };
 const char* to_string(BoundaryKind kind);
 
-// What the monodromy matrix says at one speed and depth.
+// What the period map says at one speed and depth.
 struct FloquetAnalysis {
   double spectral_radius = 0.0;  // max |μ|; < 1 is asymptotically stable
   Complex critical_multiplier;   // the multiplier of largest modulus (Im ≥ 0 of a pair)
   BoundaryKind kind = BoundaryKind::None;  // Hopf, Flip or Fold from the critical multiplier's phase
   double chatter_hz = 0.0;       // dominant frequency of the critical Floquet solution
   int lobe = -1;                 // floor(chatter_hz · τ): whole waves per tooth period (−1 if unknown)
-  int matrix_size = 0;           // size of the reduced monodromy matrix whose eigenvalues were taken
+  int matrix_size = 0;           // size of the reduced period map whose multipliers were taken
 };
 
 struct BoundaryPoint {
   double speed_rpm = 0.0;
-  double depth_m = 0.0;      // the lowest depth where ρ reaches 1 (max_depth_m when kind is None)
+  // The lowest depth where ρ reaches 1 [m] (max_depth_m when kind is None): Richardson's
+  // extrapolation a_{2m} + (a_{2m} − a_m)/(2^{p+1} − 1) of the roots at m and 2m steps.
+  double depth_m = 0.0;
+  // Estimated discretization error [m]: |a_{2m} − a_m|/(2^{p+1} − 1), the error of a_{2m} by
+  // Richardson; an upper estimate for depth_m, whose leading error term is removed. NaN for None.
+  double depth_error_m = 0.0;
+  int steps = 0;             // 2m, the finer level (0 when found at one fixed level)
   double chatter_hz = 0.0;   // NaN when kind is None
   int lobe = -1;
   BoundaryKind kind = BoundaryKind::None;
   Complex multiplier;        // critical multiplier just above the boundary
 };
 
-// Zero-order semi-discretization of M q̈ + C q̇ + K q = ½ a K_t Φᵀ A(t) Φ (q(t) − q(t − τ)) in modal
-// coordinates q (Φ maps modes to x, y): m intervals of Δt = τ/m per tooth period; on each,
-// A(t) and the screen function are replaced by their exact interval averages (the α integrals of
-// the overlap of each tooth's sweep with the cut zone, divided by the sweep angle) and the delayed
-// state by ½(y_{i−m+1} + y_{i−m}) (the 2004 paper's weights for τ = mΔt), so
-//     y_{i+1} = P_i y_i + R_i ½(q_{i−m+1} + q_{i−m}),  [P_i R_i] from exp([[A_i, B_i], [0, 0]] Δt).
-// The monodromy matrix maps the state and the delayed samples over one tooth period. Delayed
-// samples that no interval in cut reads give zero columns and zero multipliers; they are dropped
-// exactly (block-triangular structure), so the eigenvalue problem is s + n_q(c + 1) instead of
-// s + n_q m (s states, n_q modes, c intervals in cut): a big saving at low immersion.
-class SemiDiscretization {
- public:
-  // Throws InvalidArgument (bad model, conditions, intervals outside 4…2000).
-  SemiDiscretization(ModalModel model, CuttingConditions cutting, int intervals = 40);
+// The milling equation at one speed as a PeriodicDelaySystem: per mode the block
+// [[0, 1], [−ω_r², −2ζ_rω_r]] on (q_r, q̇_r); B puts the force on q̈_r with 1/m_r; C reads the tip
+// displacement; P(t) = ½K_t A(t) [N/m²] with σ the depth a [m], regenerative; breakpoints at the
+// teeth's entry and exit. One output (x) when the model has no y mode. Throws InvalidArgument.
+PeriodicDelaySystem milling_delay_system(const ModalModel& model, const CuttingConditions& cutting, double speed_rpm);
 
+// Stability of the milling equation at a fixed number of steps per tooth period.
+class FullDiscretization {
+ public:
+  // Throws InvalidArgument (bad model or conditions, steps outside 4…20000, degree outside 1…3).
+  FullDiscretization(ModalModel model, CuttingConditions cutting, int steps = 40, int degree = 2);
+
+  PeriodMap period_map(double speed_rpm) const;
   double spectral_radius(double speed_rpm, double depth_m) const;
-  // The spectral radius with the critical multiplier, its kind, and the chatter frequency from
-  // the discrete Fourier transform of the critical Floquet solution over one tooth period
-  // (resolved up to m/(2τ) Hz).
+  // The spectral radius with the critical multiplier, its kind, and the chatter frequency: the
+  // strongest harmonic (arg μ + 2πj)/(2πτ) of the critical Floquet solution's tip displacement over
+  // one tooth period (resolved up to m/(2τ) Hz).
   FloquetAnalysis analyse(double speed_rpm, double depth_m) const;
-  // ρ on a grid: result(i, j) at speeds_rpm[i], depths_m[j]. Per-speed work is shared.
-  Eigen::MatrixXd spectral_radius_map(const std::vector<double>& speeds_rpm, const std::vector<double>& depths_m) const;
-  // The stability boundary at one speed: ρ scanned over depth 0…max_depth_m in `depth_steps`
-  // steps, then the first stable → unstable step bisected until its width is below
-  // `tolerance` × depth. The lowest unstable depth is found; stable islands above it are not.
-  BoundaryPoint boundary(double speed_rpm, double max_depth_m, int depth_steps = 50, double tolerance = 1e-4) const;
+  // ρ on a grid: result(i, j) at speeds_rpm[i], depths_m[j]; speeds on `parallel` threads
+  // (identical results for any thread count).
+  Eigen::MatrixXd spectral_radius_map(const std::vector<double>& speeds_rpm, const std::vector<double>& depths_m,
+                                      const ParallelOptions& parallel = {}) const;
+  // The lowest depth where ρ reaches 1 at this speed, ρ scanned up from 0 in `depth_steps` equal
+  // steps to max_depth_m, the first stable → unstable step then narrowed by regula falsi
+  // (Illinois) to a relative width of `tolerance`. Kind None (depth = max_depth_m) when ρ < 1
+  // throughout. No error estimate (see stability_boundary).
+  BoundaryPoint boundary(double speed_rpm, double max_depth_m, int depth_steps = 50, double tolerance = 1e-7) const;
 
   const ModalModel& model() const { return model_; }
   const CuttingConditions& cutting() const { return cutting_; }
-  int intervals() const { return intervals_; }
+  int steps() const { return steps_; }
+  int degree() const { return degree_; }
 
  private:
-  struct SpeedSetup;
-  struct Propagation;
-  SpeedSetup prepare(double speed_rpm) const;
-  Propagation propagate(const SpeedSetup& setup, double depth_m, bool keep_states) const;
-  double radius(const SpeedSetup& setup, double depth_m) const;
-  FloquetAnalysis analyse(const SpeedSetup& setup, double depth_m) const;
-
   ModalModel model_;
   CuttingConditions cutting_;
-  int intervals_;
-  int modes_ = 0;        // n_q
-  Eigen::MatrixXd a0_;   // state matrix without cutting [[0, I], [−M⁻¹K, −M⁻¹C]]
+  int steps_, degree_;
 };
 
-
-struct SemiDiscretizationOptions {
-  int intervals = 40;                 // m per tooth period
+struct BoundaryOptions {
   SpeedRange speeds{0.0, 0.0, 200};
-  double max_depth_m = 0.0;           // scan ceiling [m]; 0: 10 × the zero-order floor of the model
-  int depth_steps = 50;               // coarse scan 0…max in this many steps, then bisection
-  double depth_tolerance = 1e-4;      // bisection stops at this relative width
-  // Called after each speed with the fraction of speeds done (0…1], for a caller's progress
-  // display (the library never prints); empty: not called.
+  // Target for the estimated discretization error of each depth, relative to it (0.01: 1 %). The
+  // steps per tooth period are doubled until the estimate meets it (or max_steps is reached).
+  double tolerance = 0.01;
+  int steps = 0;          // steps m of the first level; 0: 12 per chatter wave per tooth period, ≥ 16
+  int max_steps = 4000;   // no level finer than this
+  int degree = 2;         // interpolation degree p (1…3); the error falls like m^−(p+1)
+  double max_depth_m = 0.0;  // depths searched up to this [m]; 0: 10 × the zero-order floor of the model
+  ParallelOptions parallel;  // speeds on this many threads; results identical for any count
+  // Called with the fraction of speeds done (0…1], one call at a time (the library never prints).
   std::function<void(double fraction)> progress;
-  void check() const;
+  void check() const;  // throws InvalidArgument naming the field
 };
 
-struct SemiDiscretizationResult {
+
+struct BoundaryResult {
   std::vector<BoundaryPoint> boundary;  // one per speed of the grid
-  double max_depth_m = 0.0;             // the scan ceiling used
-  int intervals = 0;
+  double max_depth_m = 0.0;             // the ceiling searched
+  double tolerance = 0.0;               // the error target (relative)
+  int degree = 0;
+  long evaluations = 0;                 // spectral radii computed
   std::vector<std::string> warnings;
+  // The largest depth_error_m/depth_m over the speeds with a boundary (0 if none).
+  double worst_relative_error() const;
 };
 
-// SemiDiscretization::boundary at every speed of options.speeds. Throws InvalidArgument (bad model, conditions or options), NumericalError
-// (non-finite multipliers).
-SemiDiscretizationResult semi_discretization_boundary(const ModalModel& model, const CuttingConditions& cutting,
-                                                      const SemiDiscretizationOptions& options);
+// The stability boundary at every speed of options.speeds, with its error estimate. Per speed:
+// the roots of ρ(a) = 1 at m and 2m steps (regula falsi in a bracket found by a geometric scan
+// up from below the neighbouring speed's limit, or from a third of the zero-order limit for the
+// first speed of each block of 8), m doubled until the estimated error meets the tolerance.
+// Stable islands above the first boundary are not reported: the lowest unstable depth is. An
+// unstable band below the scan's start (70 % of the neighbour's depth) or narrower than a scan step
+// (20 %) can be missed. Throws InvalidArgument (bad model, conditions or options), NumericalError.
+BoundaryResult stability_boundary(const ModalModel& model, const CuttingConditions& cutting, const BoundaryOptions& options);
 
 // ---- Results for people ---------------------------------------------------------------------
 
-// Local maxima of the envelope depth (the best speeds), deepest first, at most `count`.
-std::vector<EnvelopePoint> stability_pockets(const std::vector<EnvelopePoint>& envelope, int count);
+// The best spindle speeds: local maxima of the envelope depth whose prominence — the depth above
+// the higher of the lowest envelope points separating them from a deeper maximum (or the range
+// end) — is at least `min_prominence` × their depth (0.02: 2 %). Deepest first, at most `count`.
+std::vector<EnvelopePoint> stability_pockets(const std::vector<EnvelopePoint>& envelope, int count,
+                                             double min_prominence = 0.02);
 
-// CSV text (units in the header comment): lobes as `lobe,spindle_speed_rpm,axial_depth_mm,
-// chatter_frequency_hz,root`; the semi-discretization boundary as the same first four columns and
-// `kind` (hopf, flip, fold, none); the envelope as `spindle_speed_rpm,axial_depth_mm,
-// chatter_frequency_hz,lobe` (speeds no lobe reaches are left out).
-std::string format_lobes_csv(const ZeroOrderResult& result, const std::vector<std::string>& comments = {});
-std::string format_boundary_csv(const SemiDiscretizationResult& result, const std::vector<std::string>& comments = {});
-std::string format_envelope_csv(const std::vector<EnvelopePoint>& envelope, const std::vector<std::string>& comments = {});
-// The semi-discretization boundary as an envelope (kind None rows keep depth = the scan ceiling).
-std::vector<EnvelopePoint> boundary_envelope(const SemiDiscretizationResult& result);
+// The stability boundary as an envelope (kind None rows keep depth = the search ceiling, lobe −1).
+std::vector<EnvelopePoint> boundary_envelope(const BoundaryResult& result);
 
 }  // namespace toolpoint

@@ -1,0 +1,165 @@
+// toolpoint: a joint's constant parameters fitted to measured FRFs over a band (output error),
+// with intervals whose coverage is measured.
+//
+// Why. The seed reads K(ω) from the closed form (Eq. 6, 15, 18; identify.hpp) at the mode the
+// joint controls. That inverts noisy data twice and throws most of the data away; once the noise
+// gain times the noise approaches 1 the read-out is biased, not only scattered. Here the joint's
+// constants θ are chosen so that the forward model reproduces the measured FRF entries at every
+// frequency of a band. All three identifications have the form (seed Eq. 5, 1 and 17)
+//     G11(θ) = A11 − A12 (A22 + K(θ)⁻¹ + B11)⁻¹ A21 = A11 − A12 K (I + M K)⁻¹ A21,  M = A22 + B11
+// (A a free–free component from the model, B11 and G11 measured; the second form needs no K⁻¹,
+// so a singular trial K is harmless). The fit minimises
+//     Σ_set-ups Σ_i r_iᵀ Ω_i r_i,   r_i = the 8 real parts of G11_measured(f_i) − G11(θ; B11_measured(f_i))
+// Residuals in the FRF, not in the inverted K: that removes the inversion bias.
+//
+// Weights. Ω_i⁻¹ is the noise covariance of r_i: that of G11 plus that of B11 carried through the
+// model (effective variance: Σ = Σ_G + J_B Σ_B J_Bᵀ, dG11 = (A12 X) dB11 (X A21), X = (M + K⁻¹)⁻¹),
+// from noise models (noise.hpp) placed around model values, never around the noisy data (whose
+// noise would then correlate with the weights and bias the fit). Within each entry no direction is
+// trusted more than 1/kWeightFloor times another (the seed's multiplicative noise has no phase
+// error at all, which real measurements never grant); and a relative floor of 1e-6 keeps exact
+// model data weighted by relative error. The weights follow θ: two passes, each to convergence.
+//
+// Solver. Levenberg–Marquardt with Marquardt's diagonal scaling on parameters scaled to O(1),
+// Jacobian in closed form: dG11 = −U dK V, U = A12 (I + K M)⁻¹, V = (I + M K)⁻¹ A21, dK = E_rc
+// (stiffness) or iω E_rc (damping). Six parameters by default (k_θf = k_ym, c_θf = c_ym: the
+// Betti–Maxwell reciprocity the seed's Section 2.2 expects), eight on request. The least-cost of
+// several starting points is used (the study passes the closed-form read-outs and the file's values).
+//
+// Filtered data. With `filter` set, the Savitzky–Golay filter is applied here to the measured G11
+// and, identically, to the model's G11 series, so the peaks it flattens are flattened in both and
+// do not bias θ. B11 enters the model unfiltered: filtering it would distort the model's input (the
+// seed's 81-point window cuts SH11's first peak by 40 %), a bias no weighting removes. The
+// correlation the filter puts between neighbouring frequencies enters the linearised covariance
+// exactly (sandwich with the filter matrix S: A⁻¹ (Σ_j Y_jᵀ Σ_j Y_j) A⁻¹, Y = Sᵀ Ω J) and the
+// bootstrap repeats the filtering. Give raw data: a file filtered elsewhere hides its noise
+// (noise.hpp says so when estimating).
+//
+// Uncertainty (UncertaintyMethod).
+//   Linearised: the sandwich covariance above (A = Jᵀ Ω J) with the noise models' Σ — right even
+//     though the working weights are floored — scaled up by √(residual ratio) when the data
+//     scatter more than the noise models explain (ratio above 1.1).
+//   Bootstrap (default): a parametric bootstrap on the fitted model (Efron & Tibshirani 1993,
+//     ch. 6 and 10). In each replicate the "truth" is θ̂ and the smoothed measured B11; data are
+//     drawn from the noise models (a fresh B11 and G11 = model(θ̂) + noise, G11 filtered if the
+//     fit filters), and refitted by the same procedure, weights included (they come from the
+//     smoothed B11, whose noise then correlates with the fit's). The replicates' mean minus θ̂
+//     estimates the bias — second order in the noise: B11's noise inside a nonlinear model
+//     (errors in variables), the weights' dependence on B11 — which is subtracted; their spread
+//     gives the standard error, never below the linearised one (a spread of N replicates has a
+//     Monte Carlo error of ~1/√(2N) itself; the correlations are the replicates'). Intervals:
+//     bias-corrected estimate ± z·SE, SE scaled up as above. Coverage of these intervals is
+//     measured over noise seeds in the tests and the README (JointFitCoverage).
+// A parameter is *determined* when its interval excludes 0 and is narrower than |estimate|.
+//
+// Several set-ups (the seed measured three overhangs; or several tools in one holder) share θ:
+// all are fitted together, and each alone as well. Their agreement is tested: Q = Σ_s d_sᵀ C_s⁻¹
+// d_s, d_s = θ_s − θ_joint, C_s the linearised covariance of set-up s alone, against the 99.9 %
+// point of χ² with (S − 1)·p degrees of freedom (Wilson–Hilferty); a joint that does not transfer
+// is reported, not hidden. (Set-ups sharing one measured B11 have correlated errors: the test is
+// then conservative.)
+//
+// Units: SI throughout (joint.hpp); frequencies in Hz.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "toolpoint/joint.hpp"
+#include "toolpoint/noise.hpp"
+#include "toolpoint/parallel.hpp"
+#include "toolpoint/receptance.hpp"
+#include "toolpoint/signal.hpp"
+
+namespace toolpoint {
+
+// Within one FRF entry, no direction of the residual is weighted more than 1/kWeightFloor times
+// another (see above). Affects efficiency only: the covariance uses the unfloored noise.
+inline constexpr double kWeightFloor = 0.1;
+
+// One measured set-up: G11 = A11 − A12 (A22 + K⁻¹ + B11)⁻¹ A21 on one frequency grid.
+struct JointFitData {
+  std::string label;          // names the set-up in messages and reports, e.g. "overhang 49.0 mm"
+  std::vector<TwoPort> A;     // the free–free component from the model, per frequency of G11
+  BlockSeries B11, G11;       // measured (B11 may come from the model: then b_noise is exact)
+  std::string b_name, g_name; // what they are (file names) for messages
+  BlockNoise b_noise, g_noise;  // their noise on the same grid (noise.hpp)
+};
+
+enum class UncertaintyMethod { Bootstrap, Linearised };
+
+struct JointFitOptions {
+  bool reciprocal = true;              // six parameters (k_θf = k_ym, c_θf = c_ym); false: all eight
+  std::optional<SavgolOptions> filter; // fit Savitzky–Golay filtered data (see above); default: raw
+  UncertaintyMethod uncertainty = UncertaintyMethod::Bootstrap;
+  int bootstrap_samples = 200;         // replicates (≥ 20; the interval's own Monte Carlo error
+                                       // shrinks like 1/√N)
+  std::uint64_t seed = 1;              // of the bootstrap's noise draws (replicate b: stream_seed(seed, b))
+  double confidence = 0.95;            // of the intervals, in (0.5, 1)
+  int max_iterations = 200;            // Levenberg–Marquardt iterations per pass
+  ParallelOptions parallel;            // bootstrap replicates on these threads (results identical for any count)
+  std::function<void(double)> progress;  // fraction of the bootstrap done; the library never prints
+  // Throws InvalidArgument naming the JointFitOptions field.
+  void check() const;
+};
+
+struct ParameterInterval {
+  double estimate = 0.0;   // reported value: bias-corrected (bootstrap) or the fit (linearised)
+  double fitted = 0.0;     // the least-squares value
+  double bias = 0.0;       // bootstrap estimate of fitted's bias (0 when linearised)
+  double std_error = 0.0;  // of estimate, SI units
+  double lower = 0.0, upper = 0.0;  // the interval at JointFit::confidence
+  bool determined = false; // the interval excludes 0 and is narrower than |estimate|
+  bool free = true;        // false: k_θf, c_θf of a reciprocal fit (equal to k_ym, c_ym)
+};
+
+// One set-up fitted alone (several set-ups only).
+struct SetupFit {
+  std::string label;
+  JointParameters fitted;
+  std::array<double, 8> std_error{};  // linearised
+  double residual_ratio = 0.0;        // as JointFit::residual_ratio, for this set-up alone
+  double disagreement = 0.0;          // d_sᵀ C_s⁻¹ d_s of the transfer test
+};
+
+struct JointFit {
+  JointParameters parameters;                  // the estimates (ParameterInterval::estimate)
+  std::array<ParameterInterval, 8> intervals;  // k_yf, c_yf, k_ym, c_ym, k_θf, c_θf, k_θm, c_θm
+  Eigen::Matrix<double, 8, 8> covariance;      // of the estimates, SI units (reciprocal: θf rows = ym rows)
+  double confidence = 0.95;
+  UncertaintyMethod method = UncertaintyMethod::Bootstrap;
+  std::string method_description;              // for reports: how the intervals were made
+  int bootstrap_samples = 0;                   // replicates used (0: linearised)
+  bool reciprocal = true;
+  std::size_t points = 0;                      // frequencies fitted, all set-ups
+  // Weighted residual sum over its expectation under the noise models (≈ 1 when the model and the
+  // noise models explain the data; NaN for exact data). Intervals are widened by √ratio above 1.1.
+  double residual_ratio = 0.0;
+  int iterations = 0;
+  bool converged = false;
+  std::vector<SetupFit> setups;  // each set-up alone (only with several)
+  double transfer_statistic = 0.0, transfer_limit = 0.0;  // Q and its 99.9 % limit (several set-ups)
+  bool transfers = true;                                  // Q ≤ limit
+  std::vector<std::string> warnings;
+
+  Eigen::Matrix<double, 8, 8> correlation() const;
+  bool determined(JointParameter p) const { return intervals[static_cast<std::size_t>(p)].determined; }
+};
+
+// Fits the joint to the set-ups (all on their own grids; give each only the band to be fitted)
+// from the best of `starts` (lowest weighted cost; at least one). Throws InvalidArgument (options,
+// no start, empty data), InputError (sizes that differ, NaN, fewer frequencies than free
+// parameters, a grid that is not increasing), NumericalError (a parameter that does not act on the
+// FRFs in the band, or two that the data cannot tell apart — named; a singular model).
+JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<JointParameters>& starts, const JointFitOptions& options);
+
+// The forward model of the fit at one frequency: G11 = A11 − A12 K (I + (A22 + B11) K)⁻¹ A21.
+Block forward_g11(const TwoPort& A, const Block& B11, const Block& K);
+
+}  // namespace toolpoint

@@ -1,0 +1,106 @@
+// toolpoint: stability of linear time-periodic delay equations by full-discretization — the
+// kernel under the milling stability lobes (stability.hpp), exposed on its own so that it can be
+// checked against published results for other delay equations.
+//
+// The equation, in input–output form (period T equal to the delay τ):
+//     ẋ(t) = A₀ x(t) + B u(t),   u(t) = σ [P(t) C x(t) + Q(t) C x(t − τ)],
+// x ∈ ℝⁿ the state, A₀ constant and block diagonal, C (d × n) the d outputs the feedback reads,
+// B (n × d) where it acts, P(t) and Q(t) (d × d) T-periodic and smooth between breakpoints, σ a
+// scalar gain (the axial depth of cut in milling). Milling: x the modal coordinates and their
+// velocities, C x the tool-tip displacement, u the cutting force, P = −Q = ½K_t A(t) (the
+// regenerative form: u depends on C x(t) − C x(t − τ) only).
+//
+// Discretization (m steps of h = T/m; full-discretization in the sense of Ding, Ding & Zhu,
+// IJMTM 50 (2010) 502–509: only the constant part is exponentiated, so nothing depends on σ but
+// a d × d solve per step): over each step the variation of constants formula
+//     x_{k+1} = e^{A₀h} x_k + ∫₀ʰ e^{A₀(h−s)} B u(t_k + s) ds
+// is evaluated with P(t), Q(t) exact (Gauss–Legendre quadrature split at the breakpoints, as
+// semi-discretization integrates its interval averages exactly) and the outputs y = C x — current
+// and delayed — replaced by their Lagrange interpolant of degree p through the samples
+// y_{k+1−p} … y_{k+1} (and the same samples one period earlier). The newest sample y_{k+1} is
+// implicit; it is found by a d × d solve. p = 1 interpolates linearly: for constant P, Q this is
+// the first-order semi-discretization of Insperger & Stépán (Semi-Discretization for Time-Delay
+// Systems, Springer 2011, §3), the same map. Errors fall like h^{p+1} (observed in the tests).
+//
+// Only outputs are delayed: the map over one period acts on x₀ and the d-vectors y_{−1} …
+// y_{−(m+p−1)}, and of those only the samples some step reads with a non-zero weight (at low
+// radial immersion most steps are out of the cut). Dropped samples are exactly zero multipliers.
+#pragma once
+
+#include <Eigen/Core>
+#include <complex>
+#include <functional>
+#include <vector>
+
+namespace toolpoint {
+
+struct PeriodicDelaySystem {
+  std::vector<Eigen::MatrixXd> a0_blocks;  // A₀ = diag(blocks), each square; n = Σ sizes
+  Eigen::MatrixXd input;                   // B, n × d
+  Eigen::MatrixXd output;                  // C, d × n
+  double period = 0.0;                     // T = τ > 0 [s]
+  // P(t), Q(t) for t in [0, T), d × d; an empty function stands for zero.
+  std::function<Eigen::MatrixXd(double t)> current, delayed;
+  bool regenerative = false;               // Q = −P: `delayed` is not used
+  std::vector<double> breakpoints;         // times in (0, T) where P or Q jump
+  // Throws InvalidArgument naming the member: sizes that disagree, T ≤ 0, non-finite entries, a
+  // block of A₀ that is not diagonalisable with a condition number below 1e8.
+  void check() const;
+};
+
+// The dominant Floquet multiplier of the period map (largest modulus; of a complex pair the one
+// with Im ≥ 0) and its eigenvector (the reduced state, see PeriodMap::size).
+struct DominantMultiplier {
+  double spectral_radius = 0.0;
+  std::complex<double> multiplier;
+  Eigen::VectorXcd vector;  // empty when not asked for
+  bool krylov = false;  // found by the Arnoldi iteration (else: dense eigen-decomposition)
+};
+
+// The discretized period map of a PeriodicDelaySystem at m steps and degree p. Construction does
+// every σ-independent piece of work (e^{A₀h}, the weights ∫ e^{A₀(h−s)} B P ℓ_j ds); applying the
+// map at a gain σ is O(m n d) per vector.
+class PeriodMap {
+ public:
+  // Throws InvalidArgument (bad system, steps outside 2…100000, degree outside 1…3).
+  PeriodMap(const PeriodicDelaySystem& system, int steps, int degree = 2);
+
+  int size() const { return static_cast<int>(n_ + d_ * read_.size()); }  // the reduced state
+  int steps() const { return m_; }
+  int degree() const { return p_; }
+
+  // v = Φ(σ) u for the reduced state (sizes: size()). Scalar: double or std::complex<double>.
+  void apply(double sigma, const double* u, double* v) const;
+  void apply(double sigma, const std::complex<double>* u, std::complex<double>* v) const;
+  // The outputs y_0 … y_m over the period that starts from u (d × (m + 1)), complex.
+  Eigen::MatrixXcd outputs(double sigma, const Eigen::VectorXcd& u) const;
+  // The dense period map (size() × size()).
+  Eigen::MatrixXd matrix(double sigma) const;
+  // Its spectral radius and dominant multiplier: Arnoldi on apply() (no matrix is formed), the
+  // dense eigen-decomposition for small maps or when Arnoldi does not converge (Spectra). Throws
+  // NumericalError when neither converges or the multipliers are not finite.
+  // `vector` false: the eigenvector is left empty (the dense path then skips computing it).
+  DominantMultiplier dominant(double sigma, bool vector = true) const;
+  double spectral_radius(double sigma) const { return dominant(sigma).spectral_radius; }
+
+ private:
+  template <typename S>
+  void run(double sigma, int cols, const S* u, S* v, S* outputs) const;
+  template <typename S>
+  void run_one(double sigma, const S* u, S* v, S* outputs) const;
+
+  int n_ = 0, d_ = 0, m_ = 0, p_ = 0;
+  bool regenerative_ = false;
+  std::vector<int> block_start_, block_size_;
+  std::vector<double> phi_;           // e^{A₀h} blocks, row-major, concatenated
+  Eigen::MatrixXd c_;                 // C (d × n)
+  std::vector<char> active_;          // step k has non-zero weights
+  // Per active step k, per node o = 0…p (sample y_{k+1−p+o}): W^P (n × d, column-major) and,
+  // unless regenerative, W^Q; and the implicit factor (I − σ C W^P_p) parts C W^P_p, C W^Q_p.
+  std::vector<std::vector<double>> wp_, wq_;
+  std::vector<Eigen::MatrixXd> cwp_;  // C W^P for the newest node, d × d
+  std::vector<int> read_;             // buffer samples y_{−i} kept in the reduced state (i ≥ 1)
+  std::vector<int> slot_;             // slot_[i]: position of y_{−i} in the reduced state, or −1
+};
+
+}  // namespace toolpoint

@@ -1,0 +1,139 @@
+// toolpoint: identification of a joint from measured FRFs, as one library call — the seed's
+// procedure (closed form Eq. 6, 15 or 18 read at the mode the joint controls) and the band fit of
+// joint_fit.hpp side by side, with the mode choice, a forward check and a verdict.
+//
+//   holder–tool     Eq. (6):  A = T (tool outside the holder, model), B11 = SH11 (measured), G11 = SHT11 (measured)
+//   spindle–holder  Eq. (15): A = H (holder with the shank, model),   B11 = S11 (model or measured), G11 = SH11
+//   spindle–holder  Eq. (18): A = HT (holder + tool through the assembly's K_ht), B11 = S11,          G11 = SHT11
+//
+// The band the seed reads in: given (`band_hz`), around a given frequency (`at_hz` ± width), around
+// the mode that moves most with the overhang (FRFs at other overhangs: the seed's Fig. 10), or
+// around the mode effect analysis on the model picks (the default; the assembly's joint values are
+// the trial values). The band fit uses every frequency of the data, or `band_hz` when given.
+// Several measured set-ups (e.g. the seed's three overhangs) are fitted together; the seed's
+// read-out and the forward check use the first.
+//
+// Forward check: the identified constants back into the forward model with the measured B11,
+// against the measured G11, both smoothed by one Savitzky–Golay filter (the fit's filter, else
+// 15 points, cubic: the same operator on both, so it cannot bias the comparison), mode by mode.
+// Verdict: fail when the result cannot be a passive joint reproducing the data (a negative
+// diagonal stiffness; a diagonal damping negative beyond its interval; a forward-check error above
+// the fail thresholds; G11 identical to B11; a fit that did not converge), doubtful when something
+// deserves a look (errors above the doubt thresholds, residuals the noise does not explain, a joint
+// that does not transfer between set-ups, a stiffness left undetermined), pass otherwise. (Noise
+// that does not look white is a warning only: low noise on sharp peaks looks so too, and a noise
+// estimate that is too small shows in the residual ratio.) Units: SI; frequencies in Hz; errors as fractions (reports show %).
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "toolpoint/assembly.hpp"
+#include "toolpoint/identify.hpp"
+#include "toolpoint/joint_file.hpp"
+#include "toolpoint/joint_fit.hpp"
+#include "toolpoint/noise.hpp"
+#include "toolpoint/signal.hpp"
+
+namespace toolpoint {
+
+enum class IdentificationMethod { Fit, Seed };
+const char* to_string(IdentificationMethod m);  // "fit", "seed"
+const char* to_string(Route r);                 // "Eq. (6)", "Eq. (15)", "Eq. (18)"
+
+// One measured set-up.
+struct IdentificationData {
+  std::string label;              // names it in reports ("overhang 49.0 mm"); default: from the overhang
+  std::optional<double> overhang_m;  // the tool overhang of this set-up [m]; default: the assembly's
+  BlockSeries G11;                // SHT11 (Eq. 6, 18) or SH11 (Eq. 15), measured
+  std::string g_name;             // e.g. the file name
+  std::optional<BlockSeries> B11; // SH11 (Eq. 6: required) or S11 (Eq. 15, 18: default the model's)
+  std::string b_name;
+};
+
+struct NoiseSpec {
+  enum class Source { Estimated, Stated };
+  Source source = Source::Estimated;
+  NoiseEstimateOptions estimate;  // Estimated: how
+  double magnitude_sigma = 0.0;   // Stated: relative magnitude σ (0.05 = 5 %)
+  double phase_sigma_rad = 0.0;   // Stated: phase σ [rad]
+  void check() const;
+};
+
+struct VerdictThresholds {
+  double doubt_frequency = 0.01, fail_frequency = 0.05;  // forward check, relative natural-frequency error
+  double doubt_peak = 0.15, fail_peak = 0.50;            // forward check, relative peak-height error
+  void check() const;
+};
+
+struct IdentificationOptions {
+  Route route = Route::HolderTool;
+  IdentificationMethod method = IdentificationMethod::Fit;  // which result is `identified`
+  // The seed's read-out band (see above); `band_hz` also bounds the fit.
+  std::optional<std::pair<double, double>> band_hz;
+  std::optional<double> at_hz;
+  double width = 0.02;                     // ± relative around the mode (0.02 = ±2 %)
+  std::vector<FrfSeries> overhang_frfs;    // tool point FRFs at other overhangs (mode choice, Fig. 10)
+  // Savitzky–Golay filter: the seed's read-out reads filtered data (as the seed did); the fit
+  // filters G11 and its model alike (joint_fit.hpp). Default: none.
+  std::optional<SavgolOptions> filter;
+  NoiseSpec noise;                         // of every measured series (the fit needs it)
+  JointFitOptions fit;                     // its `filter` is set from `filter` above
+  ReadoutOptions readout;
+  VerdictThresholds verdict;
+  std::function<void(double)> progress;    // fraction done; the library never prints
+  void check() const;                      // throws InvalidArgument naming the field
+};
+
+// The band and how it was chosen.
+struct ModeChoice {
+  std::string method;  // "band given", "frequency given", "mode that moves most with the overhang", "effect analysis on the model"
+  double center_hz = 0.0, lo_hz = 0.0, hi_hz = 0.0;
+  std::optional<EffectAnalysis> effect;     // when by effect analysis
+  std::optional<OverhangModes> overhang;    // when by overhang FRFs
+};
+
+enum class Verdict { Pass, Doubtful, Fail };
+const char* to_string(Verdict v);  // "pass", "doubtful", "fail"
+
+struct IdentificationVerdict {
+  Verdict verdict = Verdict::Pass;
+  std::vector<std::string> reasons;  // why it is not a pass (empty for a pass)
+};
+
+struct Identification {
+  Route route = Route::HolderTool;
+  IdentificationMethod method = IdentificationMethod::Fit;
+  std::string equation;                // which equation, which data
+  JointSeries closed_form;             // K(ω) by the closed form on the first set-up (filtered if filtering)
+  ModeChoice mode;
+  JointReadout seed;                   // the seed's read-out in mode's band
+  std::optional<JointFit> fit;         // the band fit (method Fit)
+  std::pair<double, double> fit_band_hz{0.0, 0.0};
+  std::vector<BlockNoise> g_noise, b_noise;  // per set-up, as used
+  JointParameters identified;          // the method's result (fit estimates or the read-out's medians)
+  std::vector<ModeComparison> forward_check;  // first set-up, smoothed data against the identified model
+  IdentificationVerdict verdict;
+  std::vector<std::string> warnings;   // everything worth reading, with the noise models' and the read-out's
+};
+
+// Runs the study. Throws InvalidArgument (options; a rigid trial joint where effect analysis needs
+// values; a band without data), InputError (data: grids, NaN, too few points, a missing B11 for
+// Eq. 6), NumericalError (a singular inversion, a parameter the data do not determine at all).
+Identification identify_joint_from_frfs(const Assembly& assembly, const std::vector<IdentificationData>& data,
+                                        const IdentificationOptions& options);
+
+// The identified joint as a joint file: the method's constants, the fit's uncertainty (a band fit
+// only: the seed's read-out has no interval to carry), and how it was identified, with `inputs`
+// (e.g. the data files) listed in [identification].
+JointFile joint_file_of(const Identification& id, const std::vector<std::string>& inputs = {});
+
+// Starting values for the fit from a closed-form series: the median of each parameter over the
+// points in [lo, hi], each point weighted by 1/gain² of that parameter (a weighted median: robust
+// to the wild values where the inversion amplifies noise).
+JointParameters weighted_median_parameters(const JointSeries& series, double lo_hz, double hi_hz);
+
+}  // namespace toolpoint

@@ -1,0 +1,104 @@
+// toolpoint study: milling stability lobes from the tool point dynamics — the procedure behind
+// `toolpoint lobes`, as one library call.
+//
+// In: the tool point FRFs (measured, or of an assembly model: milling_frfs below) and/or modes,
+// the cutting conditions, the method. Out: the zero-order lobes or the time-domain boundary with
+// its error estimate, the stable envelope, the best spindle speeds, the modal model used (fitted
+// with as many modes as the FRF needs, reported with its residual), the data of the figure, and
+// every warning. Units: SI (m, N, s), frequencies in Hz, spindle speeds in rpm (stability.hpp).
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "toolpoint/assembly.hpp"
+#include "toolpoint/modal_fit.hpp"
+#include "toolpoint/parallel.hpp"
+#include "toolpoint/plot.hpp"
+#include "toolpoint/stability.hpp"
+
+namespace toolpoint {
+
+// The tool point FRF of an assembly model (SHT11's H, seed Eq. 5) on `frequency_hz`, for x and y
+// (a round tool on a round spindle), or x alone when `rigid_y`.
+MillingFrfs milling_frfs(const AssemblyModel& model, const std::vector<double>& frequency_hz, bool rigid_y = false);
+
+enum class LobesMethod {
+  ZeroOrder,           // Altintas & Budak 1995, directly from the FRFs
+  FullDiscretization,  // the time-domain boundary of a modal model (stability_boundary)
+};
+
+// Where the dynamics come from. The zero-order method needs `frfs`; the time-domain method takes
+// the modes given, or fits them to `frfs` (x from G_xx, y from G_yy, or the x modes for a
+// symmetric tool, none when rigid in y).
+struct LobesInput {
+  std::optional<MillingFrfs> frfs;
+  std::string frf_name = "tool point FRF";  // names G_xx in messages (a file name, "the tool point FRF of X.toml")
+  std::string frf_y_name = "y FRF";         // names G_yy
+  std::vector<Mode> x_modes, y_modes;
+  bool rigid_y = false;                     // with modes given: the tool is rigid in y
+};
+
+struct LobesStudyOptions {
+  LobesMethod method = LobesMethod::ZeroOrder;
+  CuttingConditions cutting;
+  SpeedRange speeds{0.0, 0.0, 0};  // points 0: 2000 (zero-order envelope) or 200 (time domain)
+  double max_depth_m = 0.0;        // zero-order: lobe points deeper are left out; time domain: search ceiling (0: automatic)
+  int lobes = -1;                  // zero-order: lobes 0…K (−1: enough to cover speeds.min_rpm)
+  // Time domain: the error target and discretization (BoundaryOptions).
+  double tolerance = 0.01;
+  int steps = 0;
+  int degree = 2;
+  // Time domain, modes fitted: at most fit.max_modes per FRF (the fewest whose modal model — no
+  // residual terms — represents the FRF within `fit_target` over fit.band_hz or the whole FRF).
+  ModalFitOptions fit = [] {
+    ModalFitOptions o;
+    o.max_modes = 8;
+    return o;
+  }();
+  double fit_target = 0.02;
+  // The best spindle speeds: envelope maxima rising `pocket_prominence` × their depth above the
+  // valleys beside them, at most `pockets`.
+  double pocket_prominence = 0.02;
+  int pockets = 5;
+  ParallelOptions parallel;
+  std::function<void(double fraction)> progress;  // fraction of the work done, 0…1
+  void check() const;  // throws InvalidArgument naming the field
+};
+
+// How a modal model was fitted to one FRF.
+struct ModalFitSummary {
+  std::string what;            // the FRF's name
+  int modes = 0;
+  double residual = 0.0;       // ‖G_modes − G‖/‖G‖ over the band, residual terms excluded
+  double band_low_hz = 0.0, band_high_hz = 0.0;
+  bool target_met = false;
+};
+
+struct LobesStudyResult {
+  LobesMethod method = LobesMethod::ZeroOrder;
+  CuttingConditions cutting;
+  SpeedRange speeds;
+  std::optional<ZeroOrderResult> zero_order;  // method ZeroOrder
+  std::optional<BoundaryResult> boundary;     // method FullDiscretization
+  ModalModel modes;                           // time domain: the modal model used
+  std::vector<ModalFitSummary> fits;          // time domain: one per fitted FRF
+  std::vector<EnvelopePoint> envelope;        // the stable envelope over speeds
+  std::vector<EnvelopePoint> pockets;         // the best speeds, deepest first
+  plot::LobesFigureData figure;               // depth and chatter-frequency panels' data
+  std::vector<std::string> warnings;
+};
+
+// Runs the study. Throws InvalidArgument (bad options, no FRF for the zero-order method, no modes
+// and no FRF), InputError (bad FRFs, nothing to fit), NumericalError.
+LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOptions& options);
+
+// The modal model of one point FRF for the time-domain method: 1, 2, … modes (up to
+// options.max_modes) until the modes alone represent it within `target`; the best one otherwise,
+// with a warning that says why. Warnings of the fit are prefixed with `what`.
+std::vector<Mode> fit_milling_modes(const FrfSeries& frf, const std::string& what, const ModalFitOptions& options, double target,
+                                    ModalFitSummary& summary, std::vector<std::string>& warnings);
+
+}  // namespace toolpoint

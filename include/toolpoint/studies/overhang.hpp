@@ -1,0 +1,64 @@
+// toolpoint: the overhang study — the tool point FRF for any tool overhang from a measured
+// holder-tip FRF, and the modes followed through the overhangs (the seed's Section 4, Fig. 10).
+//
+// Per overhang L (the tool's length inside the holder kept, so the measured SH11 stays valid),
+// the semi-analytical coupling of Schmitz's RCSA in the seed's Eq. (5):
+//     SHT11(L) = T11 − T12 (T22 + K_ht⁻¹ + SH11)⁻¹ T21
+// with SH11 measured (or finite-differenced) and T the model's free–free tool of overhang L,
+// joined through the assembly's holder–tool joint K_ht. The modes of each SHT11 are the peaks of
+// |H|; they are followed from the overhang nearest the assembly's own, outwards in both
+// directions, to the nearest peak within a relative tolerance (track_modes).
+// Units: overhangs in m; receptances SI (H m/N, L 1/N, N rad/N, P rad/(N·m)); frequencies in Hz.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "toolpoint/assembly.hpp"
+#include "toolpoint/peaks.hpp"
+#include "toolpoint/receptance.hpp"
+#include "toolpoint/studies/study.hpp"
+
+namespace toolpoint {
+
+struct OverhangStudyOptions {
+  // Tool overhangs [m], strictly increasing, each > 0 (a tool must stick out at least 0.1 mm;
+  // Assembly::check decides). Empty: the assembly's own tool.overhang alone.
+  std::vector<double> overhangs_m;
+  PeakOptions peaks{0.1};           // a peak is a mode when it rises 10 % above its valleys: noise in a
+                                    // measured SH11 makes no modes
+  double tracking_tolerance = 0.15; // a mode moves at most this fraction of its frequency per step
+  int threads = 0;                  // overhangs run in parallel on this many threads (ParallelOptions::
+                                    // threads: 0 every core, 1 none); results identical for any count
+  std::string sh11_name = "SH11";   // names the measured SH11 in messages (e.g. its file)
+  // Throws InvalidArgument naming OverhangStudyOptions::<field> and the value.
+  void check() const;
+};
+
+// One overhang's result.
+struct OverhangFrf {
+  double overhang_m = 0.0;
+  BlockSeries sht11;        // the tool point block on SH11's grid
+  std::vector<Peak> modes;  // peaks of |H| (options.peaks), on the grid (no model to refine on)
+};
+
+struct OverhangStudy {
+  double tool_inside_holder_m = 0.0;  // kept for every overhang
+  std::vector<OverhangFrf> overhangs; // in the order of options.overhangs_m
+  std::size_t reference = 0;          // index of the overhang nearest the assembly's own: the modes
+                                      // tracked are its peaks
+  // Tracked mode frequencies [Hz], [mode][overhang]; NaN where the mode was not found.
+  std::vector<std::vector<double>> tracked_modes_hz;
+  std::vector<std::string> warnings;  // modes lost at some overhangs, no peak at the reference
+};
+
+// Runs the study on `assembly` (its tool and holder–tool joint; a rigid joint is rigid coupling)
+// with the measured `sh11` (≥ 3 points). Throws InvalidArgument (options, an overhang the tool
+// cannot have, naming it), InputError (an invalid SH11, naming options.sh11_name),
+// NumericalError (a singular coupling, naming the overhang and frequency). With several failing
+// overhangs, the error is the first overhang's, whatever the thread count.
+OverhangStudy run_overhang_study(const Assembly& assembly, const BlockSeries& sh11, const OverhangStudyOptions& options = {},
+                                 const ProgressCallback& progress = {});
+
+}  // namespace toolpoint

@@ -1,0 +1,49 @@
+// toolpoint: the forward prediction study — an assembly's tool point FRF SHT11 (or its holder-tip
+// FRF SH11) by receptance coupling (seed Eq. 1–5), with its modes.
+//
+//   SH11  = H11 − H12 (H22 + K_sh⁻¹ + S11)⁻¹ H21      holder tip, the tool outside removed (Eq. 1)
+//   SHT11 = T11 − T12 (T22 + K_ht⁻¹ + SH11)⁻¹ T21     tool point (Eq. 5)
+//
+// Units: SI (H m/N, L 1/N, N rad/N, P rad/(N·m)); frequencies in Hz. Sign convention:
+// conventions.hpp.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "toolpoint/assembly.hpp"
+#include "toolpoint/peaks.hpp"
+#include "toolpoint/receptance.hpp"
+#include "toolpoint/studies/study.hpp"
+
+namespace toolpoint {
+
+// Which point receptance of the assembly.
+enum class PredictedFrf {
+  ToolPoint,  // SHT11 at the tool tip, the whole assembly
+  HolderTip,  // SH11 at the holder tip, the tool outside the holder removed
+};
+// "SHT11" or "SH11".
+const char* predicted_frf_name(PredictedFrf frf);
+
+struct PredictOptions {
+  PredictedFrf receptance = PredictedFrf::ToolPoint;
+  PeakOptions peaks{};  // which local maxima of |H| count as modes
+  // Throws InvalidArgument naming PredictOptions::peaks.
+  void check() const;
+};
+
+struct Prediction {
+  PredictedFrf receptance = PredictedFrf::ToolPoint;
+  BlockSeries frf;                 // the 2×2 block [[H, L], [N, P]] on the assembly's grid
+  std::vector<Peak> modes;         // peaks of |H|, each refined on the model between its grid neighbours
+  std::vector<std::string> warnings;  // the model's (AssemblyModel::warnings)
+};
+
+// The prediction on `assembly.grid`, through AssemblyModel's sweeps (SIMD lanes where available;
+// the same values as one frequency at a time up to rounding). Progress is reported per block of
+// frequencies. Throws InvalidArgument (the assembly or options), NumericalError naming the
+// frequency where a coupling is singular.
+Prediction run_prediction(const Assembly& assembly, const PredictOptions& options = {}, const ProgressCallback& progress = {});
+
+}  // namespace toolpoint

@@ -1,0 +1,101 @@
+// toolpoint: a joint's uncertainty carried forward — to the tool point FRF (a band) and to the
+// chatter stability of a cut (quantile envelopes and the probability that a depth is stable).
+//
+// Method: Monte Carlo over the joint (the identified constants with their covariance, joint_file.hpp
+// / joint_fit.hpp): N joints drawn from the multivariate normal N(θ̂, C) — x = θ̂ + V √Λ z with
+// C = V Λ Vᵀ (negative rounding eigenvalues taken as 0: a reciprocal fit's covariance is singular by
+// construction, k_θf ≡ k_ym), z from standard_normals with seed stream_seed(seed, i) for sample i —
+// each pushed through the model, the results summarised per frequency or per spindle speed.
+// Samples run on every core (parallel.hpp) with results identical for any thread count.
+// Only the joint's uncertainty is carried: the other components come from the model as given.
+//
+// Quantiles: linear between order statistics (Hyndman & Fan type 7, numpy's default).
+// Units: SI (depths in m, receptances in m/N), frequencies in Hz, spindle speeds in rpm.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "toolpoint/assembly.hpp"
+#include "toolpoint/joint.hpp"
+#include "toolpoint/joint_file.hpp"
+#include "toolpoint/parallel.hpp"
+#include "toolpoint/receptance.hpp"
+#include "toolpoint/stability.hpp"
+#include "toolpoint/studies/lobes.hpp"
+
+namespace toolpoint {
+
+// `count` joints drawn from N(mean, covariance) (above). Throws InvalidArgument for count < 1, a
+// covariance that is not finite, or one with a clearly negative eigenvalue.
+std::vector<JointParameters> sample_joints(const JointParameters& mean, const Eigen::Matrix<double, 8, 8>& covariance, int count,
+                                           std::uint64_t seed);
+
+// The type-7 quantile at level p in [0, 1] of `values` (sorted here; NaN values are left out; NaN
+// when none is left).
+double quantile(std::vector<double> values, double p);
+
+struct UncertaintyOptions {
+  int samples = 200;                         // Monte Carlo samples, ≥ 10
+  std::uint64_t seed = 1;
+  std::vector<double> levels{0.05, 0.5, 0.95};  // quantile levels, increasing in (0, 1)
+  ParallelOptions parallel;
+  std::function<void(double)> progress;     // fraction of the samples done
+  void check() const;                       // throws InvalidArgument naming the field
+};
+
+// The tool point FRF (H of SHT11) with the joint uncertain.
+struct FrfBand {
+  std::vector<double> frequency_hz;
+  std::vector<double> levels;
+  FrfSeries nominal;                         // with the joint's constants
+  std::vector<std::vector<double>> magnitude;  // [level][frequency] quantiles of |H| [m/N]
+  std::vector<std::vector<double>> phase_rad;  // [level][frequency] quantiles of ∠H, unwrapped around the nominal [rad]
+  int samples = 0;
+};
+
+// Samples the joint of `joint` (its uncertainty must be present) inside `assembly` and returns the
+// quantiles of the tool point FRF on `frequency_hz`. Throws InvalidArgument (options; a joint
+// file without [uncertainty]) and what the model throws.
+FrfBand tool_point_band(const Assembly& assembly, const JointFile& joint, const std::vector<double>& frequency_hz,
+                        const UncertaintyOptions& options);
+
+// The same for a tool point coupled to a measured SH11 (Eq. 5, couple_tool): the holder–tool joint
+// uncertain, the measurement taken as exact.
+FrfBand coupled_tool_point_band(const Assembly& assembly, const JointFile& joint, const BlockSeries& sh11, const std::string& sh_name,
+                                const UncertaintyOptions& options);
+
+// Stability with the joint uncertain: per spindle speed the quantiles of the stable depth (the
+// zero-order envelope of each sample's tool point FRF, a symmetric tool: G_yy = G_xx), and the
+// probability of stability on a speed × depth grid, P(n, a) = the fraction of samples whose
+// envelope at n lies above a.
+struct StabilityUncertainty {
+  std::vector<double> speed_rpm;
+  std::vector<double> levels;
+  std::vector<double> nominal_depth_m;                 // the envelope with the joint's constants
+  std::vector<std::vector<double>> depth_m;            // [level][speed] quantiles of the stable depth [m]
+  std::vector<double> depth_grid_m;                    // the probability map's depths [m]
+  Eigen::MatrixXd probability;                         // (speed, depth) in [0, 1]
+  int samples = 0;
+};
+
+// `frequency_hz`: the grid of the tool point FRFs the lobes come from (fine enough for the modes:
+// a step ≤ ζf/5 near each). `depth_grid_m`: where the probability map is evaluated (increasing, ≥ 0).
+// Throws InvalidArgument (options, an empty or decreasing depth grid, a joint file without
+// uncertainty) and what zero_order_lobes throws.
+StabilityUncertainty stability_uncertainty(const Assembly& assembly, const JointFile& joint, const std::vector<double>& frequency_hz,
+                                           const CuttingConditions& cutting, const ZeroOrderOptions& lobes,
+                                           const std::vector<double>& depth_grid_m, const UncertaintyOptions& options);
+
+// The same by the lobes study (studies/lobes.hpp) with any of its methods: each sample's tool
+// point FRF (x and y, milling_frfs) goes through run_lobes_study with `lobes` (one thread inside:
+// the samples are what runs in parallel); the envelope is the study's (the time-domain boundary
+// where the search reached its ceiling counts as that depth). Same errors as run_lobes_study.
+StabilityUncertainty stability_uncertainty(const Assembly& assembly, const JointFile& joint, const std::vector<double>& frequency_hz,
+                                           const LobesStudyOptions& lobes, const std::vector<double>& depth_grid_m,
+                                           const UncertaintyOptions& options);
+
+}  // namespace toolpoint

@@ -1,0 +1,583 @@
+// toolpoint Python bindings: joint identification — the closed form per frequency (identify.hpp),
+// effect analysis, the identification study with the band fit (studies/identification.hpp,
+// joint_fit.hpp), noise (noise.hpp), joint files (joint_file.hpp), the uncertainty carried to the
+// tool point FRF (uncertainty.hpp) and the seed's case study (case_study.hpp). SI units; Hz.
+#include <algorithm>
+
+#include "common.hpp"
+#include "toolpoint/case_study.hpp"
+#include "toolpoint/identify.hpp"
+#include "toolpoint/joint_file.hpp"
+#include "toolpoint/joint_fit.hpp"
+#include "toolpoint/json.hpp"
+#include "toolpoint/noise.hpp"
+#include "toolpoint/studies/identification.hpp"
+#include "toolpoint/uncertainty.hpp"
+
+namespace toolpoint::python {
+
+namespace {
+
+using namespace pybind11::literals;
+
+const std::vector<std::pair<const char*, Route>> kRoutes{{"holder_tool", Route::HolderTool},
+                                                         {"spindle_holder_sh", Route::SpindleHolderFromSH},
+                                                         {"spindle_holder_sht", Route::SpindleHolderFromSHT}};
+const std::vector<std::pair<const char*, IdentificationMethod>> kIdMethods{{"fit", IdentificationMethod::Fit},
+                                                                           {"seed", IdentificationMethod::Seed}};
+const std::vector<std::pair<const char*, UncertaintyMethod>> kUncertainty{{"bootstrap", UncertaintyMethod::Bootstrap},
+                                                                          {"linearised", UncertaintyMethod::Linearised}};
+const std::vector<std::pair<const char*, JointInterface>> kInterfaces{{"holder_tool", JointInterface::HolderTool},
+                                                                      {"spindle_holder", JointInterface::SpindleHolder}};
+
+template <std::size_t N>
+py::array_t<double> array_of(const std::array<double, N>& a) {
+  return python::array_of(std::vector<double>(a.begin(), a.end()));
+}
+
+// (rows, 8) from a per-row array of 8.
+template <class Rows, class Get>
+py::array_t<double> table8(const Rows& rows, Get get) {
+  py::array_t<double> a({static_cast<py::ssize_t>(rows.size()), py::ssize_t{8}});
+  auto w = a.mutable_unchecked<2>();
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    for (int k = 0; k < 8; ++k) w(static_cast<py::ssize_t>(i), k) = get(rows[i], k);
+  return a;
+}
+
+template <class Rows, class Get>
+py::array_t<double> column(const Rows& rows, Get get) {
+  std::vector<double> v(rows.size());
+  for (std::size_t i = 0; i < rows.size(); ++i) v[i] = get(rows[i]);
+  return python::array_of(v);
+}
+
+py::array_t<double> matrix8(const Eigen::Matrix<double, 8, 8>& c) { return matrix_array(c); }
+
+// An (8, 8) float array (order of JointParameters.names()); InputError naming `name` otherwise.
+Eigen::Matrix<double, 8, 8> matrix8_of(const RealArray& c, const std::string& name) {
+  if (c.ndim() != 2 || c.shape(0) != 8 || c.shape(1) != 8)
+    throw InputError(fmt::format("{}: an (8, 8) array was expected", name),
+                     "order k_yf, c_yf, k_ym, c_ym, k_tf, c_tf, k_tm, c_tm");
+  Eigen::Matrix<double, 8, 8> m;
+  for (int r = 0; r < 8; ++r)
+    for (int k = 0; k < 8; ++k) m(r, k) = c.at(r, k);
+  return m;
+}
+
+// The std::array<ParameterInterval, 8> of a fit as one array per field.
+template <class Get>
+py::array_t<double> interval_field(const JointFit& f, Get get) {
+  std::vector<double> v(8);
+  for (std::size_t k = 0; k < 8; ++k) v[k] = get(f.intervals[k]);
+  return python::array_of(v);
+}
+
+}  // namespace
+
+UncertaintyOptions uncertainty_options(int samples, std::uint64_t seed, std::vector<double> levels, int threads,
+                                       const py::object& progress) {
+  UncertaintyOptions o;
+  o.samples = samples;
+  o.seed = seed;
+  o.levels = std::move(levels);
+  o.parallel.threads = threads;
+  o.progress = progress_of(progress);
+  return o;
+}
+
+void bind_identify(py::module_& m) {
+  // ---- Closed form per frequency (seed Eq. 6, 15, 18) ----------------------------------------------
+  py::class_<JointSeries>(m, "JointSeries",
+                          "K(ω) by the closed form over a grid, with k = Re K, c = Im K/ω per frequency and the conditioning.")
+      .def_property_readonly("frequency_hz", [](const JointSeries& s) { return python::array_of(s.frequency_hz); })
+      .def_property_readonly(
+          "K",
+          [](const JointSeries& s) {
+            std::vector<Block> k(s.size());
+            for (std::size_t i = 0; i < s.size(); ++i) k[i] = s.estimates[i].K;
+            return blocks_array(k);
+          },
+          "complex (n, 2, 2): N/m, N, N/rad, N·m/rad")
+      .def_property_readonly(
+          "parameters",
+          [](const JointSeries& s) { return table8(s.parameters, [](const JointParameters& p, int k) { return p[k]; }); },
+          "(n, 8) in the order of JointParameters.names() (SI)")
+      .def_property_readonly(
+          "noise_gain",
+          [](const JointSeries& s) {
+            return table8(s.estimates, [](const JointEstimate& e, int k) { return e.noise_gain[static_cast<std::size_t>(k)]; });
+          },
+          "(n, 8): relative error of each parameter per unit relative error on every FRF entry (first order)")
+      .def_property_readonly(
+          "cond_difference",
+          [](const JointSeries& s) { return column(s.estimates, [](const JointEstimate& e) { return e.cond_difference; }); },
+          "cond(A11 − G11), Frobenius (n,)")
+      .def_property_readonly("cond_flexibility",
+                             [](const JointSeries& s) {
+                               return column(s.estimates, [](const JointEstimate& e) { return e.cond_flexibility; });
+                             })
+      .def_property_readonly("cond_A12",
+                             [](const JointSeries& s) {
+                               return column(s.estimates, [](const JointEstimate& e) { return e.cond_A12; });
+                             })
+      .def_property_readonly("flexibility_share",
+                             [](const JointSeries& s) {
+                               return column(s.estimates, [](const JointEstimate& e) { return e.flexibility_share; });
+                             })
+      .def("__len__", &JointSeries::size);
+  m.def(
+      "identify_series",
+      [](const RealArray& f, const ComplexArray& A, const ComplexArray& B11, const ComplexArray& G11, const std::string& b_name,
+         const std::string& g_name) {
+        const std::vector<double> grid = vector_of(f, "frequency_hz");
+        const std::vector<TwoPort> a = two_ports_of(A, "A");
+        if (a.size() != grid.size())
+          throw InputError(fmt::format("A: {} two-ports for {} frequencies", a.size(), grid.size()),
+                           "give A on the frequencies of B11 and G11");
+        const BlockSeries b{grid, blocks_of(B11, b_name)}, g{grid, blocks_of(G11, g_name)};
+        py::gil_scoped_release nogil;
+        // A is sampled on the grid (validated increasing by identify_series): look each frequency up.
+        return identify_series(
+            [&](double x) {
+              return a.at(static_cast<std::size_t>(std::lower_bound(grid.begin(), grid.end(), x) - grid.begin()));
+            },
+            b, b_name, g, g_name);
+      },
+      "frequency_hz"_a, "A"_a, "B11"_a, "G11"_a, "b_name"_a = "B11", "g_name"_a = "G11",
+      "The seed's closed form per frequency, K = (A21 (A11 − G11)⁻¹ A12 − A22 − B11)⁻¹: A the free–free component (n, 4, 4) "
+      "(AssemblyModel.tool for Eq. 6, .holder for Eq. 15, .holder_tool for Eq. 18), B11 and G11 blocks (n, 2, 2) on the same "
+      "grid [Hz].");
+
+  py::class_<JointReadout>(m, "JointReadout",
+                           "The eight parameters read in a band: median and robust spread per parameter, diagnostics.")
+      .def_property_readonly("band_hz", [](const JointReadout& r) { return std::make_pair(r.band_lo_hz, r.band_hi_hz); })
+      .def_readonly("points", &JointReadout::points)
+      .def_property_readonly(
+          "median",
+          [](const JointReadout& r) { return column(r.parameters, [](const ParameterReadout& p) { return p.median; }); },
+          "(8,) SI")
+      .def_property_readonly(
+          "spread",
+          [](const JointReadout& r) { return column(r.parameters, [](const ParameterReadout& p) { return p.spread; }); },
+          "(8,) 1.4826 × median absolute deviation")
+      .def_property_readonly(
+          "min", [](const JointReadout& r) { return column(r.parameters, [](const ParameterReadout& p) { return p.min; }); },
+          "(8,) SI")
+      .def_property_readonly(
+          "max", [](const JointReadout& r) { return column(r.parameters, [](const ParameterReadout& p) { return p.max; }); },
+          "(8,) SI")
+      .def_property_readonly(
+          "noise_gain", [](const JointReadout& r) { return array_of(r.noise_gain); }, "(8,) median over the band")
+      .def("medians", &JointReadout::medians, "The medians as JointParameters.")
+      .def_readonly("reciprocity_k", &JointReadout::reciprocity_k)
+      .def_readonly("reciprocity_c", &JointReadout::reciprocity_c)
+      .def_readonly("max_cond_difference", &JointReadout::max_cond_difference)
+      .def_readonly("max_cond_flexibility", &JointReadout::max_cond_flexibility)
+      .def_readonly("warnings", &JointReadout::warnings)
+      .def(
+          "to_dict", [](const JointReadout& r) { return dict_of(r); },
+          "The result as plain data (dicts, lists, floats, str, bool, None; the CLI's --json keys, SI units).");
+  m.def(
+      "read_joint", [](const JointSeries& s, double lo, double hi) { return read_joint(s, lo, hi); }, "series"_a, "band_lo_hz"_a,
+      "band_hi_hz"_a,
+      "The seed's read-out: median and spread of each parameter over lo ≤ f ≤ hi [Hz], with warnings (conditioning, reciprocity, "
+      "gain).");
+
+  py::class_<EffectAnalysis>(m, "EffectAnalysis", "Which mode a joint controls (Ertürk et al. 2007).")
+      .def_property_readonly("frequency_hz",
+                             [](const EffectAnalysis& e) {
+                               return column(e.modes, [](const ModeEffect& x) { return x.frequency_hz; });
+                             })
+      .def_property_readonly(
+          "magnitude", [](const EffectAnalysis& e) { return column(e.modes, [](const ModeEffect& x) { return x.magnitude; }); },
+          "m/N")
+      .def_property_readonly(
+          "stiffness_shift",
+          [](const EffectAnalysis& e) { return column(e.modes, [](const ModeEffect& x) { return x.stiffness_shift; }); },
+          "relative frequency shift per `step` growth of the joint's k's")
+      .def_property_readonly(
+          "damping_effect",
+          [](const EffectAnalysis& e) { return column(e.modes, [](const ModeEffect& x) { return x.damping_effect; }); },
+          "relative peak change per `step` growth of its c's")
+      .def_readonly("dominant", &EffectAnalysis::dominant, "index of the mode the joint controls")
+      .def(
+          "to_dict", [](const EffectAnalysis& e) { return dict_of(e); },
+          "The result as plain data (dicts, lists, floats, str, bool, None; the CLI's --json keys, SI units).");
+  m.def(
+      "effect_analysis",
+      [](Assembly a, const std::string& route, const RealArray& f, double step) {
+        const std::vector<double> grid = vector_of(f, "frequency_hz");
+        const Route r = enum_of(route, kRoutes, "route");
+        py::gil_scoped_release nogil;
+        return effect_analysis(a, r, grid, step);
+      },
+      "assembly"_a, "route"_a, "frequency_hz"_a, "step"_a = 0.1,
+      "Effect analysis: perturb the route's joint's k's (then c's) by `step` in the model and see which peak of the FRF it is "
+      "identified "
+      "from moves most. route 'holder_tool' (Eq. 6), 'spindle_holder_sh' (Eq. 15) or 'spindle_holder_sht' (Eq. 18).");
+
+  py::class_<ModeComparison>(m, "ModeComparison", "A forward check's mode: measured against predicted (relative errors).")
+      .def_readonly("measured_hz", &ModeComparison::measured_hz)
+      .def_readonly("predicted_hz", &ModeComparison::predicted_hz)
+      .def_readonly("frequency_error", &ModeComparison::frequency_error, "relative")
+      .def_readonly("measured_peak", &ModeComparison::measured_peak, "m/N")
+      .def_readonly("predicted_peak", &ModeComparison::predicted_peak, "m/N")
+      .def_readonly("magnitude_error", &ModeComparison::magnitude_error, "relative")
+      .def(
+          "to_dict", [](const ModeComparison& c) { return dict_of(c); },
+          "The result as plain data (dicts, lists, floats, str, bool, None; the CLI's --json keys, SI units).");
+
+  // ---- Noise ---------------------------------------------------------------------------------------
+  py::class_<BlockNoise>(
+      m, "BlockNoise",
+      "The noise of a measured block series: C(f), the 8×8 covariance of the relative errors (Re, Im of ε/x for H, L, N, P).")
+      .def_property_readonly(
+          "relative",
+          [](const BlockNoise& n) {
+            py::array_t<double> a({static_cast<py::ssize_t>(n.size()), py::ssize_t{8}, py::ssize_t{8}});
+            auto w = a.mutable_unchecked<3>();
+            for (std::size_t i = 0; i < n.size(); ++i)
+              for (int r = 0; r < 8; ++r)
+                for (int c = 0; c < 8; ++c) w(static_cast<py::ssize_t>(i), r, c) = n.relative[i](r, c);
+            return a;
+          },
+          "(n, 8, 8), empty for exact data")
+      .def_readonly("source", &BlockNoise::source)
+      .def_property_readonly(
+          "magnitude_sigma", [](const BlockNoise& n) { return array_of(n.magnitude_sigma); },
+          "(4,) H, L, N, P: median relative σ")
+      .def_property_readonly(
+          "phase_sigma_rad", [](const BlockNoise& n) { return array_of(n.phase_sigma_rad); }, "(4,) rad")
+      .def_readonly("residual_correlation", &BlockNoise::residual_correlation)
+      .def_readonly("warnings", &BlockNoise::warnings)
+      .def("exact", &BlockNoise::exact, "True for data from a model (no noise).")
+      .def("__len__", &BlockNoise::size)
+      .def(
+          "to_dict", [](const BlockNoise& n) { return dict_of(n); },
+          "The result as plain data (dicts, lists, floats, str, bool, None; the CLI's --json keys, SI units).");
+  m.def(
+      "estimate_block_noise",
+      [](const RealArray& f, const ComplexArray& blocks, int local_window, int local_order, int window, const std::string& what) {
+        const BlockSeries s = block_series(f, blocks, what);
+        NoiseEstimateOptions o;
+        o.local = {local_window, local_order};
+        o.window = window;
+        py::gil_scoped_release nogil;
+        return estimate_block_noise(s, o, what);
+      },
+      "frequency_hz"_a, "blocks"_a, "local_window"_a = 7, "local_order"_a = 3, "window"_a = 201, "what"_a = "data",
+      "The noise of a measured block series estimated from the data: residuals about a local Savitzky–Golay polynomial "
+      "(local_window points, local_order), averaged over `window` frequency points.");
+  m.def("stated_block_noise", &stated_block_noise, "size"_a, "magnitude_sigma"_a, "phase_sigma_rad"_a,
+        "Noise stated by the user: relative magnitude σ (0.05 = 5 %) and phase σ [rad] on every entry, on `size` frequencies.");
+  m.def(
+      "draw_block_noise",
+      [](const RealArray& f, const ComplexArray& truth, const BlockNoise& noise, std::uint64_t seed) {
+        const BlockSeries s = block_series(f, truth, "truth");
+        BlockSeries out;
+        {
+          py::gil_scoped_release nogil;
+          out = draw_block_noise(s, noise, seed);
+        }
+        return blocks_array(out.blocks);
+      },
+      "frequency_hz"_a, "truth"_a, "noise"_a, "seed"_a,
+      "One reproducible draw truth + ε, ε Gaussian with the noise's covariance.");
+
+  // ---- Joint files ---------------------------------------------------------------------------------
+  py::class_<JointUncertainty>(m, "JointUncertainty", "A joint file's [uncertainty]: intervals and the 8×8 covariance (SI).")
+      .def(py::init<>())
+      .def_readwrite("confidence", &JointUncertainty::confidence)
+      .def_property(
+          "lower", [](const JointUncertainty& u) { return array_of(u.lower); },
+          [](JointUncertainty& u, const std::array<double, 8>& v) { u.lower = v; })
+      .def_property(
+          "upper", [](const JointUncertainty& u) { return array_of(u.upper); },
+          [](JointUncertainty& u, const std::array<double, 8>& v) { u.upper = v; })
+      .def_readwrite("determined", &JointUncertainty::determined)
+      .def_property(
+          "covariance", [](const JointUncertainty& u) { return matrix8(u.covariance); },
+          [](JointUncertainty& u, const RealArray& c) { u.covariance = matrix8_of(c, "covariance"); });
+  py::class_<JointFile>(m, "JointFile",
+                        "An identified joint as a file: its interface, constants, uncertainty and how it was identified.")
+      .def(py::init([](const std::string& interface, const JointParameters& p, std::optional<JointUncertainty> u,
+                       std::vector<std::pair<std::string, std::string>> identification) {
+             JointFile f;
+             f.interface = enum_of(interface, kInterfaces, "interface");
+             f.parameters = p;
+             f.uncertainty = std::move(u);
+             f.identification = std::move(identification);
+             return f;
+           }),
+           "interface"_a, "parameters"_a, "uncertainty"_a = py::none(),
+           "identification"_a = std::vector<std::pair<std::string, std::string>>{})
+      .def_property(
+          "interface", [](const JointFile& f) { return to_string(f.interface); },
+          [](JointFile& f, const std::string& v) { f.interface = enum_of(v, kInterfaces, "interface"); },
+          "'holder_tool' or 'spindle_holder'")
+      .def_readwrite("parameters", &JointFile::parameters)
+      .def_readwrite("uncertainty", &JointFile::uncertainty)
+      .def_readwrite("identification", &JointFile::identification)
+      .def_readonly("source", &JointFile::source);
+  m.def("load_joint_file", &load_joint_file, "path"_a,
+        "Reads a joint file (TOML). Raises InputError with file:line and key, IoError.");
+  m.def("parse_joint_file", &parse_joint_file, "text"_a, "source"_a = "<string>",
+        "Parses joint file TOML text; `source` names it in errors.");
+  m.def("format_joint_file", &format_joint_file, "joint"_a, "The joint file's TOML text (shortest round-trip numbers).");
+  m.def("write_joint_file", &write_joint_file, "path"_a, "joint"_a, "Writes a joint file whole or not at all.");
+
+  // ---- The band fit and the identification study ---------------------------------------------------
+  py::class_<JointFit>(m, "JointFit",
+                       "The band fit of a joint's constants (output error) with intervals; arrays (8,) per field, SI.")
+      .def_readonly("parameters", &JointFit::parameters, "the estimates")
+      .def_property_readonly(
+          "estimate", [](const JointFit& f) { return interval_field(f, [](const ParameterInterval& i) { return i.estimate; }); },
+          "(8,) reported values, SI, order of JointParameters.names(): bias-corrected (bootstrap) or fitted (linearised)")
+      .def_property_readonly(
+          "fitted", [](const JointFit& f) { return interval_field(f, [](const ParameterInterval& i) { return i.fitted; }); },
+          "(8,) least-squares values, SI")
+      .def_property_readonly(
+          "bias", [](const JointFit& f) { return interval_field(f, [](const ParameterInterval& i) { return i.bias; }); },
+          "(8,) bootstrap bias of fitted, SI (0 when linearised)")
+      .def_property_readonly(
+          "std_error",
+          [](const JointFit& f) { return interval_field(f, [](const ParameterInterval& i) { return i.std_error; }); },
+          "(8,) standard errors of estimate, SI")
+      .def_property_readonly(
+          "lower", [](const JointFit& f) { return interval_field(f, [](const ParameterInterval& i) { return i.lower; }); },
+          "(8,) lower ends of the intervals at `confidence`, SI")
+      .def_property_readonly(
+          "upper", [](const JointFit& f) { return interval_field(f, [](const ParameterInterval& i) { return i.upper; }); },
+          "(8,) upper ends of the intervals, SI")
+      .def_property_readonly("determined",
+                             [](const JointFit& f) {
+                               std::vector<bool> v;
+                               for (const auto& i : f.intervals) v.push_back(i.determined);
+                               return v;
+                             })
+      .def_property_readonly("free",
+                             [](const JointFit& f) {
+                               std::vector<bool> v;
+                               for (const auto& i : f.intervals) v.push_back(i.free);
+                               return v;
+                             })
+      .def_property_readonly(
+          "covariance", [](const JointFit& f) { return matrix8(f.covariance); }, "(8, 8) SI")
+      .def_property_readonly("correlation", [](const JointFit& f) { return matrix8(f.correlation()); })
+      .def_readonly("confidence", &JointFit::confidence)
+      .def_property_readonly("method", [](const JointFit& f) { return name_of(f.method, kUncertainty); })
+      .def_readonly("method_description", &JointFit::method_description)
+      .def_readonly("bootstrap_samples", &JointFit::bootstrap_samples)
+      .def_readonly("reciprocal", &JointFit::reciprocal)
+      .def_readonly("points", &JointFit::points)
+      .def_readonly("residual_ratio", &JointFit::residual_ratio)
+      .def_readonly("iterations", &JointFit::iterations)
+      .def_readonly("converged", &JointFit::converged)
+      .def_readonly("transfers", &JointFit::transfers)
+      .def_readonly("transfer_statistic", &JointFit::transfer_statistic)
+      .def_readonly("transfer_limit", &JointFit::transfer_limit)
+      .def_readonly("warnings", &JointFit::warnings)
+      .def(
+          "to_dict", [](const JointFit& f) { return dict_of(f); },
+          "The result as plain data (dicts, lists, floats, str, bool, None; the CLI's --json keys, SI units).");
+
+  py::class_<IdentificationData>(
+      m, "IdentificationData",
+      "One measured set-up: G11 (SHT11 for Eq. 6/18, SH11 for Eq. 15) and B11 (SH11 for Eq. 6; S11 for Eq. 15/18, "
+      "default the model's) as complex (n, 2, 2) on frequency_hz [Hz]; overhang_m [m] default the assembly's.")
+      .def(py::init([](const RealArray& f, const ComplexArray& G11, const std::optional<ComplexArray>& B11,
+                       std::optional<double> overhang_m, std::string label, std::string g_name, std::string b_name) {
+             IdentificationData d;
+             d.G11 = block_series(f, G11, g_name.empty() ? "G11" : g_name);
+             if (B11) d.B11 = block_series(f, *B11, b_name.empty() ? "B11" : b_name);
+             d.overhang_m = overhang_m;
+             d.label = std::move(label);
+             d.g_name = std::move(g_name);
+             d.b_name = std::move(b_name);
+             return d;
+           }),
+           "frequency_hz"_a, "G11"_a, "B11"_a = py::none(), "overhang_m"_a = py::none(), "label"_a = "", "g_name"_a = "",
+           "b_name"_a = "");
+
+  py::class_<Identification>(
+      m, "Identification",
+      "identify_joint_from_frfs' result: the seed's read-out and the band fit side by side, the mode choice, a forward "
+      "check and a verdict. identified: the chosen method's JointParameters.")
+      .def_property_readonly("route", [](const Identification& i) { return name_of(i.route, kRoutes); })
+      .def_property_readonly("method", [](const Identification& i) { return to_string(i.method); })
+      .def_readonly("equation", &Identification::equation)
+      .def_readonly("closed_form", &Identification::closed_form, "JointSeries on the first set-up")
+      .def_property_readonly(
+          "mode", [](const Identification& i) { return dict_of(i.mode); }, "how the band was chosen (dict)")
+      .def_readonly("seed", &Identification::seed, "the seed's read-out (JointReadout)")
+      .def_readonly("fit", &Identification::fit, "the band fit (JointFit) or None")
+      .def_readonly("fit_band_hz", &Identification::fit_band_hz)
+      .def_readonly("g_noise", &Identification::g_noise)
+      .def_readonly("b_noise", &Identification::b_noise)
+      .def_readonly("identified", &Identification::identified)
+      .def_readonly("forward_check", &Identification::forward_check)
+      .def_property_readonly(
+          "verdict", [](const Identification& i) { return to_string(i.verdict.verdict); }, "'pass', 'doubtful' or 'fail'")
+      .def_property_readonly("verdict_reasons", [](const Identification& i) { return i.verdict.reasons; })
+      .def_readonly("warnings", &Identification::warnings)
+      .def(
+          "joint_file", [](const Identification& i, const std::vector<std::string>& inputs) { return joint_file_of(i, inputs); },
+          "inputs"_a = std::vector<std::string>{}, "The identified joint as a JointFile (the fit's covariance when fitted).")
+      .def(
+          "to_dict", [](const Identification& i) { return dict_of(i); }, "toolpoint identify --json's keys.");
+  m.def(
+      "identify_joint_from_frfs",
+      [](Assembly a, const std::vector<IdentificationData>& data, const std::string& route, const std::string& method,
+         std::optional<std::pair<double, double>> band_hz, std::optional<double> at_hz, double width,
+         const std::vector<std::pair<RealArray, ComplexArray>>& overhang_frfs, std::optional<std::pair<int, int>> filter,
+         std::optional<double> magnitude_sigma, double phase_sigma_rad, bool reciprocal, const std::string& uncertainty,
+         int bootstrap_samples, std::uint64_t seed, double confidence, int threads, const py::object& progress) {
+        IdentificationOptions o;
+        o.route = enum_of(route, kRoutes, "route");
+        o.method = enum_of(method, kIdMethods, "method");
+        o.band_hz = band_hz;
+        o.at_hz = at_hz;
+        o.width = width;
+        for (std::size_t k = 0; k < overhang_frfs.size(); ++k)
+          o.overhang_frfs.push_back(
+              frf_series(overhang_frfs[k].first, overhang_frfs[k].second, fmt::format("overhang_frfs[{}]", k)));
+        if (filter) o.filter = SavgolOptions{filter->first, filter->second};
+        if (magnitude_sigma) {
+          o.noise.source = NoiseSpec::Source::Stated;
+          o.noise.magnitude_sigma = *magnitude_sigma;
+          o.noise.phase_sigma_rad = phase_sigma_rad;
+        }
+        o.fit.reciprocal = reciprocal;
+        o.fit.uncertainty = enum_of(uncertainty, kUncertainty, "uncertainty");
+        o.fit.bootstrap_samples = bootstrap_samples;
+        o.fit.seed = seed;
+        o.fit.confidence = confidence;
+        o.fit.parallel.threads = threads;
+        o.progress = progress_of(progress);
+        py::gil_scoped_release nogil;
+        return identify_joint_from_frfs(a, data, o);
+      },
+      "assembly"_a, "data"_a, "route"_a = "holder_tool", "method"_a = "fit", "band_hz"_a = py::none(), "at_hz"_a = py::none(),
+      "width"_a = 0.02, "overhang_frfs"_a = std::vector<std::pair<RealArray, ComplexArray>>{}, "filter"_a = py::none(),
+      "magnitude_sigma"_a = py::none(), "phase_sigma_rad"_a = 0.0, "reciprocal"_a = true, "uncertainty"_a = "bootstrap",
+      "bootstrap_samples"_a = 200, "seed"_a = 1, "confidence"_a = 0.95, "threads"_a = 0, "progress"_a = py::none(),
+      "The identification study (toolpoint identify): the joint of `route` ('holder_tool' Eq. 6, 'spindle_holder_sh' Eq. 15, "
+      "'spindle_holder_sht' Eq. 18) from measured set-ups (list of IdentificationData). The seed's read-out in a band (band_hz "
+      "(lo, hi) [Hz], or ± width around at_hz [Hz], around the mode that moves most across overhang_frfs [(frequency_hz, H)], or "
+      "by effect analysis) and the band fit (method 'fit', default) of the constants to every frequency, with intervals "
+      "('bootstrap' with bootstrap_samples replicates, or 'linearised') at `confidence`. filter (window, order): Savitzky–Golay. "
+      "Noise estimated from the data unless magnitude_sigma (0.05 = 5 %) and phase_sigma_rad [rad] are stated. Six parameters "
+      "(reciprocal) or eight. threads: the bootstrap's (0: every core; results identical for any count).");
+  m.def("weighted_median_parameters", &weighted_median_parameters, "series"_a, "lo_hz"_a, "hi_hz"_a,
+        "The median of each parameter over [lo, hi] Hz, each point weighted by 1/gain²: the fit's starting values.");
+
+  // ---- Uncertainty carried forward ------------------------------------------------------------------
+  py::class_<FrfBand>(m, "FrfBand", "The tool point FRF H with the joint uncertain: quantiles per frequency.")
+      .def_property_readonly("frequency_hz", [](const FrfBand& b) { return python::array_of(b.frequency_hz); })
+      .def_property_readonly("levels", [](const FrfBand& b) { return python::array_of(b.levels); })
+      .def_property_readonly(
+          "nominal", [](const FrfBand& b) { return python::array_of(b.nominal.values); },
+          "H with the joint's constants, complex (n,) m/N")
+      .def_property_readonly(
+          "magnitude", [](const FrfBand& b) { return matrix_array(rows_matrix(b.magnitude)); },
+          "(levels, n) quantiles of |H| [m/N]")
+      .def_property_readonly(
+          "phase_rad", [](const FrfBand& b) { return matrix_array(rows_matrix(b.phase_rad)); }, "(levels, n) [rad]")
+      .def_readonly("samples", &FrfBand::samples)
+      .def(
+          "to_dict", [](const FrfBand& b) { return dict_of(b); },
+          "The result as plain data (dicts, lists, floats, str, bool, None; the CLI's --json keys, SI units).");
+  m.def(
+      "tool_point_band",
+      [](Assembly a, JointFile joint, const RealArray& f, int samples, std::uint64_t seed, std::vector<double> levels,
+         int threads, const py::object& progress) {
+        const std::vector<double> grid = vector_of(f, "frequency_hz");
+        const UncertaintyOptions o = uncertainty_options(samples, seed, std::move(levels), threads, progress);
+        py::gil_scoped_release nogil;
+        return tool_point_band(a, joint, grid, o);
+      },
+      "assembly"_a, "joint"_a, "frequency_hz"_a, "samples"_a = 200, "seed"_a = 1,
+      "levels"_a = std::vector<double>{0.05, 0.5, 0.95}, "threads"_a = 0, "progress"_a = py::none(),
+      "Monte Carlo over the joint of a JointFile with [uncertainty] (samples drawn from N(θ̂, C), seed per sample): quantiles of "
+      "the "
+      "tool point FRF's |H| and phase per frequency [Hz]. Threads: 0 every core; results identical for any count.");
+  m.def(
+      "sample_joints",
+      [](const JointParameters& mean, const RealArray& covariance, int count, std::uint64_t seed) {
+        return sample_joints(mean, matrix8_of(covariance, "covariance"), count, seed);
+      },
+      "mean"_a, "covariance"_a, "count"_a, "seed"_a,
+      "`count` JointParameters drawn from N(mean, covariance) (8×8, SI), reproducibly from `seed`.");
+  m.def("quantile", &quantile, "values"_a, "p"_a, "Type-7 quantile (numpy's default) at level p of values (NaN left out).");
+
+  // ---- Stability with the joint uncertain ------------------------------------------------------------
+  // ---- The seed's case study ------------------------------------------------------------------------
+  py::class_<CaseStudy>(m, "CaseStudy", "run_case_study's result (the seed's Section 3 and the band fit; toolpoint demo).")
+      .def_readonly("assembly", &CaseStudy::assembly)
+      .def_readonly("reference", &CaseStudy::reference, "the holder–tool joint put in (Table 1 in the example)")
+      .def_property_readonly("frequency_hz", [](const CaseStudy& c) { return python::array_of(c.sht_true.frequency_hz); })
+      .def_property_readonly(
+          "sh_true", [](const CaseStudy& c) { return blocks_array(c.sh_true.blocks); }, "complex (n, 2, 2) on frequency_hz")
+      .def_property_readonly(
+          "sht_true", [](const CaseStudy& c) { return blocks_array(c.sht_true.blocks); }, "complex (n, 2, 2) on frequency_hz")
+      .def_property_readonly(
+          "sh_noisy", [](const CaseStudy& c) { return blocks_array(c.sh_noisy.blocks); }, "complex (n, 2, 2) on frequency_hz")
+      .def_property_readonly(
+          "sht_noisy", [](const CaseStudy& c) { return blocks_array(c.sht_noisy.blocks); }, "complex (n, 2, 2) on frequency_hz")
+      .def_property_readonly(
+          "sh_filtered", [](const CaseStudy& c) { return blocks_array(c.sh_filtered.blocks); },
+          "complex (n, 2, 2) on frequency_hz")
+      .def_property_readonly(
+          "sht_filtered", [](const CaseStudy& c) { return blocks_array(c.sht_filtered.blocks); },
+          "complex (n, 2, 2) on frequency_hz")
+      .def_property_readonly(
+          "sht_verified", [](const CaseStudy& c) { return blocks_array(c.sht_verified.blocks); },
+          "complex (n, 2, 2) on frequency_hz")
+      .def_property_readonly(
+          "sht_fitted", [](const CaseStudy& c) { return blocks_array(c.sht_fitted.blocks); }, "complex (n, 2, 2) on frequency_hz")
+      .def_readonly("clean", &CaseStudy::clean)
+      .def_readonly("noisy", &CaseStudy::noisy)
+      .def_readonly("filtered", &CaseStudy::filtered)
+      .def_property_readonly("clean_max_deviation", [](const CaseStudy& c) { return array_of(c.clean_max_deviation); })
+      .def_readonly("effect", &CaseStudy::effect)
+      .def_readonly("mode_hz", &CaseStudy::mode_hz)
+      .def_readonly("clean_readout", &CaseStudy::clean_readout)
+      .def_readonly("noisy_readout", &CaseStudy::noisy_readout)
+      .def_readonly("filtered_readout", &CaseStudy::filtered_readout)
+      .def_readonly("verification", &CaseStudy::verification)
+      .def_readonly("seed", &CaseStudy::seed, "the seed's procedure (Identification)")
+      .def_readonly("fitted", &CaseStudy::fitted, "the band fit (Identification) or None")
+      .def_readonly("fit_verification", &CaseStudy::fit_verification)
+      .def_readonly("warnings", &CaseStudy::warnings);
+  m.def(
+      "run_case_study",
+      [](Assembly a, double noise_sigma, std::uint64_t seed, std::pair<int, int> filter, bool apply_filter, double band_width,
+         bool fit, const std::string& uncertainty, int bootstrap_samples, std::uint64_t fit_seed, int threads,
+         const py::object& progress) {
+        CaseStudyOptions o;
+        o.noise_sigma = noise_sigma;
+        o.seed = seed;
+        o.filter = {filter.first, filter.second};
+        o.apply_filter = apply_filter;
+        o.band_width = band_width;
+        o.fit = fit;
+        o.fit_options.uncertainty = enum_of(uncertainty, kUncertainty, "uncertainty");
+        o.fit_options.bootstrap_samples = bootstrap_samples;
+        o.fit_options.seed = fit_seed;
+        o.fit_options.parallel.threads = threads;
+        o.fit_options.progress = progress_of(progress);
+        py::gil_scoped_release nogil;
+        return run_case_study(a, o);
+      },
+      "assembly"_a, "noise_sigma"_a = 0.05, "seed"_a = 1, "filter"_a = std::make_pair(81, 2), "apply_filter"_a = true,
+      "band_width"_a = 0.02, "fit"_a = true, "uncertainty"_a = "bootstrap", "bootstrap_samples"_a = 200, "fit_seed"_a = 1,
+      "threads"_a = 0, "progress"_a = py::none(),
+      "The seed's analytical case study (Section 3; toolpoint demo): predict, identify noise-free, add noise_sigma "
+      "multiplicative noise "
+      "(SH11 seed, SHT11 seed + 1), Savitzky–Golay filter (window, order), read at the tool mode ± band_width; and the band fit "
+      "to the "
+      "raw noisy data (bootstrap seed fit_seed; the CLI passes its --seed for both).");
+}
+
+}  // namespace toolpoint::python

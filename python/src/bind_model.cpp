@@ -1,0 +1,638 @@
+// toolpoint Python bindings: materials, beam segments, assemblies, joints and the forward model
+// (beam.hpp, assembly.hpp, assembly_file.hpp, joint.hpp, studies/predict.hpp, overhang.hpp,
+// tap_test.hpp). Units SI; frequencies in Hz.
+#include "common.hpp"
+#include "toolpoint/assembly.hpp"
+#include "toolpoint/assembly_file.hpp"
+#include "toolpoint/beam.hpp"
+#include "toolpoint/coupling.hpp"
+#include "toolpoint/joint.hpp"
+#include "toolpoint/joint_file.hpp"
+#include "toolpoint/json.hpp"
+#include "toolpoint/studies/fd_correction.hpp"
+#include "toolpoint/studies/overhang.hpp"
+#include "toolpoint/studies/predict.hpp"
+#include "toolpoint/studies/tap_test.hpp"
+
+namespace toolpoint::python {
+
+namespace {
+
+using namespace pybind11::literals;
+
+const std::vector<std::pair<const char*, ShearModel>> kShearModels{{"hutchinson", ShearModel::Hutchinson},
+                                                                   {"cowper", ShearModel::Cowper}};
+const std::vector<std::pair<const char*, ReceptanceMethod>> kMethods{{"exact", ReceptanceMethod::Exact},
+                                                                     {"modal", ReceptanceMethod::Modal}};
+const std::vector<std::pair<const char*, PredictedFrf>> kPredicted{{"SHT11", PredictedFrf::ToolPoint},
+                                                                   {"SH11", PredictedFrf::HolderTip}};
+const std::vector<std::pair<const char*, TapSide>> kSides{{"tool", TapSide::Tool}, {"holder", TapSide::Holder}};
+const std::vector<std::pair<const char*, HammerPlan>> kHammers{{"roving", HammerPlan::Roving}, {"tip", HammerPlan::Tip}};
+
+// A per-frequency function of the model over an array of frequencies, GIL released.
+template <class F>
+py::array_t<std::complex<double>> blocks_over(const RealArray& frequency_hz, F&& at) {
+  const std::vector<double> f = vector_of(frequency_hz, "frequency_hz");
+  std::vector<Block> out(f.size());
+  {
+    py::gil_scoped_release nogil;
+    for (std::size_t i = 0; i < f.size(); ++i) out[i] = block_at(at, f[i]);
+  }
+  return blocks_array(out);
+}
+
+template <class F>
+py::array_t<std::complex<double>> two_ports_over(const RealArray& frequency_hz, F&& at) {
+  const std::vector<double> f = vector_of(frequency_hz, "frequency_hz");
+  std::vector<TwoPort> out(f.size());
+  {
+    py::gil_scoped_release nogil;
+    for (std::size_t i = 0; i < f.size(); ++i) out[i] = at(f[i]);
+  }
+  return two_ports_array(out);
+}
+
+py::object joint_get(const Joint& j) { return j.rigid ? py::none() : py::cast(j.parameters); }
+Joint joint_set(const py::object& o) {
+  if (o.is_none()) return Joint::make_rigid();
+  return Joint::make_elastic(o.cast<JointParameters>());
+}
+
+std::string repr_parameters(const JointParameters& p) {
+  std::string s = "JointParameters(";
+  for (int k = 0; k < 8; ++k) s += fmt::format("{}{}={:.17g}", k ? ", " : "", JointParameters::name(k), p[k]);
+  return s + ")";
+}
+
+int parameter_index(const py::object& key) {
+  if (py::isinstance<py::str>(key)) {
+    const std::string name = key.cast<std::string>();
+    for (int k = 0; k < 8; ++k)
+      if (name == JointParameters::name(k)) return k;
+    throw py::key_error(fmt::format("'{}' is not a joint parameter (k_yf, c_yf, k_ym, c_ym, k_tf, c_tf, k_tm, c_tm)", name));
+  }
+  const int k = key.cast<int>();
+  if (k < 0 || k > 7) throw py::index_error(fmt::format("joint parameter index {} is outside 0…7", k));
+  return k;
+}
+
+}  // namespace
+
+void bind_model(py::module_& m) {
+  // ---- Joints ------------------------------------------------------------------------------------
+  py::class_<JointParameters>(m, "JointParameters",
+                              "The eight contact parameters of a joint (seed Eq. 8): K(ω) = [[k_yf + iωc_yf, k_ym + iωc_ym], "
+                              "[k_tf + iωc_tf, k_tm + iωc_tm]]. Units: k_yf N/m, c_yf N·s/m, k_ym N, c_ym N·s, k_tf N/rad, "
+                              "c_tf N·s/rad, k_tm N·m/rad, c_tm N·m·s/rad (θ spelt 't'). Index by name or 0…7.")
+      .def(py::init([](double k_yf, double c_yf, double k_ym, double c_ym, py::object k_tf, py::object c_tf, double k_tm,
+                       double c_tm) {
+             JointParameters p{k_yf, c_yf, k_ym, c_ym, 0, 0, k_tm, c_tm};
+             p.k_tf = k_tf.is_none() ? k_ym : k_tf.cast<double>();
+             p.c_tf = c_tf.is_none() ? c_ym : c_tf.cast<double>();
+             return p;
+           }),
+           "k_yf"_a = 0.0, "c_yf"_a = 0.0, "k_ym"_a = 0.0, "c_ym"_a = 0.0, "k_tf"_a = py::none(), "c_tf"_a = py::none(),
+           "k_tm"_a = 0.0, "c_tm"_a = 0.0, "k_tf and c_tf default to k_ym and c_ym (reciprocity), as in an assembly file.")
+      .def_readwrite("k_yf", &JointParameters::k_yf, "N/m")
+      .def_readwrite("c_yf", &JointParameters::c_yf, "N·s/m")
+      .def_readwrite("k_ym", &JointParameters::k_ym, "N")
+      .def_readwrite("c_ym", &JointParameters::c_ym, "N·s")
+      .def_readwrite("k_tf", &JointParameters::k_tf, "N/rad")
+      .def_readwrite("c_tf", &JointParameters::c_tf, "N·s/rad")
+      .def_readwrite("k_tm", &JointParameters::k_tm, "N·m/rad")
+      .def_readwrite("c_tm", &JointParameters::c_tm, "N·m·s/rad")
+      .def("__getitem__", [](const JointParameters& p, const py::object& key) { return p[parameter_index(key)]; })
+      .def("__setitem__", [](JointParameters& p, const py::object& key, double v) { p[parameter_index(key)] = v; })
+      .def("__len__", [](const JointParameters&) { return 8; })
+      .def("__eq__",
+           [](const JointParameters& a, const JointParameters& b) {
+             for (int k = 0; k < 8; ++k)
+               if (!(a[k] == b[k])) return false;
+             return true;
+           })
+      .def("__repr__", &repr_parameters)
+      .def(
+          "to_array",
+          [](const JointParameters& p) {
+            std::vector<double> v(8);
+            for (int k = 0; k < 8; ++k) v[static_cast<std::size_t>(k)] = p[k];
+            return array_of(v);
+          },
+          "The eight values as a float array (8,), order k_yf, c_yf, k_ym, c_ym, k_tf, c_tf, k_tm, c_tm (SI).")
+      .def_static(
+          "from_array",
+          [](const RealArray& a) {
+            const std::vector<double> v = vector_of(a, "values");
+            if (v.size() != 8)
+              throw InputError(fmt::format("values: {} numbers where 8 joint parameters were expected", v.size()),
+                               "give k_yf, c_yf, k_ym, c_ym, k_tf, c_tf, k_tm, c_tm");
+            JointParameters p;
+            for (int k = 0; k < 8; ++k) p[k] = v[static_cast<std::size_t>(k)];
+            return p;
+          },
+          "values"_a, "From a float array (8,) in the order of to_array() (SI).")
+      .def(
+          "to_dict", [](const JointParameters& p) { return dict_of(p); }, "{'k_yf': value, ...} (SI).")
+      .def(
+          "stiffness",
+          [](const JointParameters& p, const RealArray& f) { return blocks_over(f, [&](double x) { return p.stiffness(x); }); },
+          "frequency_hz"_a, "K(ω) of Eq. 8 at each frequency [Hz]: complex (n, 2, 2), entries in N/m, N, N/rad, N·m/rad.")
+      .def("check", &JointParameters::check, "Raises InvalidArgument naming a parameter that is not finite.")
+      .def_static(
+          "names",
+          [] {
+            std::vector<std::string> n;
+            for (int k = 0; k < 8; ++k) n.emplace_back(JointParameters::name(k));
+            return n;
+          },
+          "['k_yf', 'c_yf', 'k_ym', 'c_ym', 'k_tf', 'c_tf', 'k_tm', 'c_tm']")
+      .def_static(
+          "units",
+          [] {
+            std::vector<std::string> n;
+            for (int k = 0; k < 8; ++k) n.emplace_back(JointParameters::unit(k));
+            return n;
+          },
+          "The SI unit of each parameter, in the order of names().");
+  m.def("seed_table1_joint", &seed_table1_joint, "The seed's Table 1 holder–tool joint (Özşahin et al. 2009), SI units.");
+  m.def("joint_warnings", &joint_warnings, "parameters"_a, "name"_a = "joint",
+        "Warnings about a legal but indefinite joint (negative stiffness or damping motions), labelled with `name`.");
+
+  // ---- Materials and segments ---------------------------------------------------------------------
+  py::class_<Material>(m, "Material",
+                       "An isotropic material. E and G in Pa, density in kg/m³, ν and loss factor η dimensionless.")
+      .def(py::init([](std::string name, double E, double nu, double G, double rho, double eta) {
+             return Material{std::move(name), E, nu, G, rho, eta};
+           }),
+           "name"_a = "", "youngs_modulus"_a = 0.0, "poisson"_a = 0.3, "shear_modulus"_a = 0.0, "density"_a = 0.0,
+           "loss_factor"_a = 0.0)
+      .def_readwrite("name", &Material::name)
+      .def_readwrite("youngs_modulus", &Material::youngs_modulus, "E [Pa]")
+      .def_readwrite("poisson", &Material::poisson, "ν, in (−1, 0.5)")
+      .def_readwrite("shear_modulus", &Material::shear_modulus, "G [Pa]; 0 means E/(2(1+ν))")
+      .def_readwrite("density", &Material::density, "ρ [kg/m³]")
+      .def_readwrite("loss_factor", &Material::loss_factor, "η ≥ 0, applied to E and G")
+      .def("G", &Material::G, "The shear modulus used [Pa].")
+      .def("check", &Material::check, "Raises InvalidArgument naming a value out of range.")
+      .def("__repr__", [](const Material& x) {
+        return fmt::format(
+            "Material(name='{}', youngs_modulus={:g}, poisson={:g}, shear_modulus={:g}, density={:g}, loss_factor={:g})", x.name,
+            x.youngs_modulus, x.poisson, x.shear_modulus, x.density, x.loss_factor);
+      });
+
+  py::class_<Annulus>(m, "Annulus", "One concentric layer of a circular section. Diameters in m (inner 0: solid).")
+      .def(py::init([](double outer, double inner, Material material, std::optional<double> kappa) {
+             return Annulus{outer, inner, std::move(material), kappa};
+           }),
+           "outer_diameter"_a, "inner_diameter"_a = 0.0, "material"_a = Material{}, "shear_coefficient"_a = py::none())
+      .def_readwrite("outer_diameter", &Annulus::outer_diameter, "m")
+      .def_readwrite("inner_diameter", &Annulus::inner_diameter, "m")
+      .def_readwrite("material", &Annulus::material)
+      .def_readwrite("shear_coefficient", &Annulus::shear_coefficient, "κ override (None: from the section's shear model)")
+      .def("area", &Annulus::area, "Area [m²].")
+      .def("second_moment", &Annulus::second_moment, "Second moment of area I [m⁴].");
+
+  py::class_<SectionProperties>(m, "SectionProperties", "Per-unit-length section properties of a segment.")
+      .def_readonly("EI", &SectionProperties::EI, "bending stiffness Σ E(1+iη) I [N·m²] (complex)")
+      .def_readonly("kGA", &SectionProperties::kGA, "shear stiffness Σ κ G(1+iη) A [N] (complex)")
+      .def_readonly("rhoA", &SectionProperties::rhoA, "mass per length [kg/m]")
+      .def_readonly("rhoI", &SectionProperties::rhoI, "rotary inertia per length [kg·m]")
+      .def("cutoff_frequency_hz", &SectionProperties::cutoff_frequency_hz, "Ω_c = sqrt(κGA/ρI) in Hz.");
+
+  py::class_<Segment>(m, "Segment",
+                      "A uniform Timoshenko segment: length [m] and concentric layers (Annulus). End 1 is its outer end "
+                      "(towards the tool tip). Lists are copied in and out: assign a whole list to change layers.")
+      .def(py::init([](double length, std::vector<Annulus> layers, std::string name, const std::string& shear) {
+             return Segment{std::move(name), length, std::move(layers), enum_of(shear, kShearModels, "shear_model")};
+           }),
+           "length"_a, "layers"_a, "name"_a = "", "shear_model"_a = "hutchinson")
+      .def_static(
+          "tube",
+          [](double length, double outer, double inner, const Material& mat, std::string name) {
+            return Segment::tube(length, outer, inner, mat, std::move(name));
+          },
+          "length"_a, "outer_diameter"_a, "inner_diameter"_a, "material"_a, "name"_a = "",
+          "A one-layer segment; lengths and diameters in m.")
+      .def_readwrite("name", &Segment::name)
+      .def_readwrite("length", &Segment::length, "m")
+      .def_readwrite("layers", &Segment::layers, "list of Annulus (a copy)")
+      .def_property(
+          "shear_model", [](const Segment& s) { return name_of(s.shear_model, kShearModels); },
+          [](Segment& s, const std::string& v) { s.shear_model = enum_of(v, kShearModels, "shear_model"); },
+          "'hutchinson' or 'cowper'")
+      .def("properties", &Segment::properties, "EI, κGA, ρA, ρI of the section.")
+      .def("check", &Segment::check, "Raises InvalidArgument naming a value out of range.");
+
+  m.def(
+      "exact_receptance",
+      [](Segment s, const RealArray& f) { return two_ports_over(f, [&](double x) { return exact_receptance(s, x); }); },
+      "segment"_a, "frequency_hz"_a,
+      "Free–free end receptances of a uniform Timoshenko segment by the exact (truncation-free) solution, seed Eq. 9–14 "
+      "generalised: complex (n, 4, 4) over (w1, θ1, w2, θ2) = [[T11, T12], [T21, T22]]; H in m/N, L 1/N, N rad/N, P rad/(N·m). "
+      "Frequencies in Hz (> 0).");
+  m.def(
+      "free_free_frequencies",
+      [](const Segment& s, int count) { return array_of(free_free_frequencies(s.properties(), s.length, count)); }, "segment"_a,
+      "count"_a,
+      "The first `count` elastic free–free natural frequencies [Hz] (exact frequency equation, both branches), undamped.");
+  py::class_<ModalBeam, std::shared_ptr<ModalBeam>>(
+      m, "ModalBeam",
+      "A segment's free–free modes (mass-normalised, rigid-body modes plus `modes` elastic ones): "
+      "receptances by modal summation (seed Eq. 11–14).")
+      .def(py::init([](Segment s, int modes, bool static_residual) {
+             ModalOptions o{modes, static_residual};
+             py::gil_scoped_release nogil;
+             return std::make_shared<ModalBeam>(s.properties(), s.length, o);
+           }),
+           "segment"_a, "modes"_a = 100, "static_residual"_a = false)
+      .def(
+          "receptance",
+          [](const ModalBeam& b, const RealArray& f) { return two_ports_over(f, [&](double x) { return b.receptance(x); }); },
+          "frequency_hz"_a, "End receptances by modal summation: complex (n, 4, 4) as exact_receptance. Frequencies in Hz.")
+      .def_property_readonly(
+          "frequency_hz",
+          [](const ModalBeam& b) {
+            std::vector<double> f;
+            for (const FreeMode& x : b.modes()) f.push_back(x.frequency_hz);
+            return array_of(f);
+          },
+          "The elastic modes' undamped natural frequencies [Hz].")
+      .def_property_readonly("loss_factor", &ModalBeam::loss_factor);
+
+  // ---- Assembly -----------------------------------------------------------------------------------
+  py::class_<Bearing>(m, "Bearing", "Springs and dampers to ground at `position` m from the spindle nose.")
+      .def(py::init([](double position, double k, double c, double kr, double cr, std::string name) {
+             return Bearing{std::move(name), position, k, c, kr, cr};
+           }),
+           "position"_a, "stiffness"_a, "damping"_a = 0.0, "rotational_stiffness"_a = 0.0, "rotational_damping"_a = 0.0,
+           "name"_a = "")
+      .def_readwrite("name", &Bearing::name)
+      .def_readwrite("position", &Bearing::position, "m from the spindle nose")
+      .def_readwrite("stiffness", &Bearing::stiffness, "N/m")
+      .def_readwrite("damping", &Bearing::damping, "N·s/m")
+      .def_readwrite("rotational_stiffness", &Bearing::rotational_stiffness, "N·m/rad")
+      .def_readwrite("rotational_damping", &Bearing::rotational_damping, "N·m·s/rad");
+
+  py::class_<Spindle>(m, "Spindle", "Segments from the nose to the rear, and bearings (lists are copied in and out).")
+      .def(py::init([](std::vector<Segment> s, std::vector<Bearing> b) {
+             return Spindle{std::move(s), std::move(b)};
+           }),
+           "segments"_a, "bearings"_a = std::vector<Bearing>{})
+      .def_readwrite("segments", &Spindle::segments)
+      .def_readwrite("bearings", &Spindle::bearings);
+
+  py::class_<Tool>(m, "Tool", "A solid end mill: fluted part (equivalent diameter) from the tip, then the shank. Lengths in m.")
+      .def(py::init([](Material mat, double length, double overhang, double diameter, double shank, double flute, double ratio,
+                       std::optional<double> kappa) {
+             return Tool{std::move(mat), length, overhang, diameter, shank, flute, ratio, kappa};
+           }),
+           "material"_a, "length"_a, "overhang"_a, "diameter"_a, "shank_diameter"_a = 0.0, "flute_length"_a = 0.0,
+           "flute_diameter_ratio"_a = 0.8, "shear_coefficient"_a = py::none())
+      .def_readwrite("material", &Tool::material)
+      .def_readwrite("length", &Tool::length, "total length [m]")
+      .def_readwrite("overhang", &Tool::overhang, "length outside the holder [m]")
+      .def_readwrite("diameter", &Tool::diameter, "nominal diameter [m]")
+      .def_readwrite("shank_diameter", &Tool::shank_diameter, "[m]; 0: the nominal diameter")
+      .def_readwrite("flute_length", &Tool::flute_length, "fluted length from the tip [m]")
+      .def_readwrite("flute_diameter_ratio", &Tool::flute_diameter_ratio, "equivalent fluted diameter / nominal")
+      .def_readwrite("shear_coefficient", &Tool::shear_coefficient);
+
+  py::class_<Assembly>(m, "Assembly",
+                       "A spindle–holder–tool assembly (seed Section 2.1). Joints are JointParameters, or None for rigid. "
+                       "grid = (start_hz, stop_hz, step_hz). Lists (holder segments) are copied in and out.")
+      .def(py::init([](std::string name, Spindle spindle, std::vector<Segment> holder, Tool tool, const py::object& sh,
+                       const py::object& ht, const std::string& shear, const std::string& method, int modal_terms,
+                       std::tuple<double, double, double> grid) {
+             Assembly a;
+             a.name = std::move(name);
+             a.spindle = std::move(spindle);
+             a.holder = std::move(holder);
+             a.tool = std::move(tool);
+             a.spindle_holder = joint_set(sh);
+             a.holder_tool = joint_set(ht);
+             a.shear_model = enum_of(shear, kShearModels, "shear_model");
+             a.method = enum_of(method, kMethods, "method");
+             a.modal_terms = modal_terms;
+             a.grid = {std::get<0>(grid), std::get<1>(grid), std::get<2>(grid)};
+             return a;
+           }),
+           "name"_a, "spindle"_a, "holder"_a, "tool"_a, "spindle_holder"_a = py::none(), "holder_tool"_a = py::none(),
+           "shear_model"_a = "hutchinson", "method"_a = "exact", "modal_terms"_a = 100,
+           "grid"_a = std::make_tuple(10.0, 5000.0, 1.0))
+      .def_readwrite("name", &Assembly::name)
+      .def_readwrite("spindle", &Assembly::spindle)
+      .def_readwrite("holder", &Assembly::holder, "holder segments from its tip (a copy)")
+      .def_readwrite("tool", &Assembly::tool)
+      .def_property(
+          "spindle_holder", [](const Assembly& a) { return joint_get(a.spindle_holder); },
+          [](Assembly& a, const py::object& o) { a.spindle_holder = joint_set(o); }, "JointParameters, or None (rigid)")
+      .def_property(
+          "holder_tool", [](const Assembly& a) { return joint_get(a.holder_tool); },
+          [](Assembly& a, const py::object& o) { a.holder_tool = joint_set(o); }, "JointParameters, or None (rigid)")
+      .def_property(
+          "shear_model", [](const Assembly& a) { return name_of(a.shear_model, kShearModels); },
+          [](Assembly& a, const std::string& v) { a.shear_model = enum_of(v, kShearModels, "shear_model"); })
+      .def_property(
+          "method", [](const Assembly& a) { return name_of(a.method, kMethods); },
+          [](Assembly& a, const std::string& v) { a.method = enum_of(v, kMethods, "method"); }, "'exact' or 'modal'")
+      .def_readwrite("modal_terms", &Assembly::modal_terms)
+      .def_property(
+          "grid", [](const Assembly& a) { return std::make_tuple(a.grid.start_hz, a.grid.stop_hz, a.grid.step_hz); },
+          [](Assembly& a, std::tuple<double, double, double> g) {
+            a.grid = {std::get<0>(g), std::get<1>(g), std::get<2>(g)};
+          },
+          "(start_hz, stop_hz, step_hz)")
+      .def_property_readonly(
+          "frequency_hz",
+          [](const Assembly& a) {
+            a.grid.check();
+            return array_of(a.grid.values());
+          },
+          "The grid's frequencies [Hz], (n,).")
+      .def("check", &Assembly::check, "Raises InvalidArgument naming the offending item.")
+      .def("with_overhang", &with_overhang, "overhang"_a,
+           "The same assembly with the tool sticking out `overhang` m (the length inside the holder kept).")
+      .def("with_joint", &with_joint, "joint"_a, "The assembly with a JointFile's joint in place of the one at its interface.");
+
+  py::class_<LoadedAssembly>(m, "LoadedAssembly",
+                             "An assembly file read: the assembly, warnings (implausible magnitudes) and notes.")
+      .def_readonly("assembly", &LoadedAssembly::assembly)
+      .def_readonly("warnings", &LoadedAssembly::warnings)
+      .def_readonly("notes", &LoadedAssembly::notes);
+  m.def("load_assembly", &load_assembly, "path"_a,
+        "Reads an assembly file (TOML, SI units; examples/bt40_shrinkfit_16mm.toml documents every key). Raises InputError "
+        "naming file, line and key, IoError.");
+  m.def("parse_assembly", &parse_assembly, "text"_a, "source"_a = "<string>",
+        "Parses assembly TOML text; `source` names it in errors.");
+
+  py::class_<AssemblyModel, std::shared_ptr<AssemblyModel>>(
+      m, "AssemblyModel",
+      "An assembly's components built once. Blocks are complex (n, 2, 2) [[H, L], [N, P]] (m/N, 1/N, rad/N, rad/(N·m)); "
+      "two-end components (n, 4, 4) over (w1, θ1, w2, θ2). Frequencies in Hz. The GIL is released while computing.")
+      .def(py::init([](Assembly a) {
+             py::gil_scoped_release nogil;
+             return std::make_shared<AssemblyModel>(a);
+           }),
+           "assembly"_a)
+      .def(
+          "tool_point",
+          [](const AssemblyModel& md, const RealArray& f) {
+            const std::vector<double> v = vector_of(f, "frequency_hz");
+            BlockSeries s;
+            {
+              py::gil_scoped_release nogil;
+              s = md.tool_point(v);
+            }
+            return blocks_array(s.blocks);
+          },
+          "frequency_hz"_a, "SHT11, the tool point (seed Eq. 5), through the SIMD sweep (the same as predict's).")
+      .def(
+          "holder_tip",
+          [](const AssemblyModel& md, const RealArray& f) {
+            const std::vector<double> v = vector_of(f, "frequency_hz");
+            BlockSeries s;
+            {
+              py::gil_scoped_release nogil;
+              s = md.holder_tip(v);
+            }
+            return blocks_array(s.blocks);
+          },
+          "frequency_hz"_a, "SH11, the holder tip with the tool outside removed (seed Eq. 1).")
+      .def(
+          "spindle_nose",
+          [](const AssemblyModel& md, const RealArray& f) {
+            return blocks_over(f, [&](double x) { return md.spindle_nose(x); });
+          },
+          "frequency_hz"_a, "S11, the spindle nose with its bearings.")
+      .def(
+          "holder",
+          [](const AssemblyModel& md, const RealArray& f) { return two_ports_over(f, [&](double x) { return md.holder(x); }); },
+          "frequency_hz"_a, "H, the holder with the shank inside, free–free: (n, 4, 4).")
+      .def(
+          "tool",
+          [](const AssemblyModel& md, const RealArray& f) { return two_ports_over(f, [&](double x) { return md.tool(x); }); },
+          "frequency_hz"_a, "T, the tool outside the holder, free–free: (n, 4, 4).")
+      .def(
+          "holder_tool",
+          [](const AssemblyModel& md, const RealArray& f) {
+            return two_ports_over(f, [&](double x) { return md.holder_tool(x); });
+          },
+          "frequency_hz"_a, "HT, the holder–tool subassembly through K_ht (Eq. 17's HT), free–free: (n, 4, 4).")
+      .def(
+          "tool_stations",
+          [](const AssemblyModel& md, double f, const std::vector<double>& d) {
+            Eigen::MatrixXcd g;
+            {
+              py::gil_scoped_release nogil;
+              g = md.tool_stations(f, d);
+            }
+            py::array_t<std::complex<double>> a({g.rows(), g.cols()});
+            auto w = a.mutable_unchecked<2>();
+            for (Eigen::Index r = 0; r < g.rows(); ++r)
+              for (Eigen::Index c = 0; c < g.cols(); ++c) w(r, c) = g(r, c);
+            return a;
+          },
+          "frequency_hz"_a, "distances_m"_a,
+          "Receptances between stations on the tool at `distances_m` from the tip, the rest attached: complex (2n, 2n), block "
+          "(i, j) the "
+          "response at station i to a load at station j.")
+      .def_property_readonly("warnings", &AssemblyModel::warnings)
+      .def_property_readonly("assembly", &AssemblyModel::assembly);
+
+  m.def(
+      "couple_tool",
+      [](Assembly a, const RealArray& f, const ComplexArray& sh11, const std::string& name) {
+        const BlockSeries s = block_series(f, sh11, name);
+        BlockSeries out;
+        {
+          py::gil_scoped_release nogil;
+          out = couple_tool(a, s, name);
+        }
+        return blocks_array(out.blocks);
+      },
+      "assembly"_a, "frequency_hz"_a, "sh11"_a, "name"_a = "SH11",
+      "SHT11 from a measured SH11 (n, 2, 2) and the model's tool through the holder–tool joint (seed Eq. 5, Schmitz's RCSA), on "
+      "SH11's grid.");
+
+  // ---- Studies: prediction, overhangs, tap test ----------------------------------------------------
+  py::class_<Peak>(m, "Peak", "A resonance peak of |H|: grid index, refined frequency [Hz] and magnitude, prominence (relative).")
+      .def_readonly("index", &Peak::index)
+      .def_readonly("frequency_hz", &Peak::frequency_hz)
+      .def_readonly("magnitude", &Peak::magnitude, "|H| at the peak, the FRF's unit (m/N)")
+      .def_readonly("prominence", &Peak::prominence)
+      .def(
+          "to_dict", [](const Peak& p) { return dict_of(p); },
+          "The result as plain data (dicts, lists, floats, str, bool, None; the CLI's --json keys, SI units).")
+      .def("__repr__", [](const Peak& p) {
+        return fmt::format("Peak(frequency_hz={:.6g}, magnitude={:.6g}, prominence={:.3g})", p.frequency_hz, p.magnitude,
+                           p.prominence);
+      });
+
+  py::class_<Prediction>(m, "Prediction", "run_prediction's result: the block series on the assembly's grid and its modes.")
+      .def_property_readonly(
+          "receptance", [](const Prediction& p) { return predicted_frf_name(p.receptance); }, "'SHT11' or 'SH11'")
+      .def_property_readonly(
+          "frequency_hz", [](const Prediction& p) { return array_of(p.frf.frequency_hz); }, "(n,) Hz")
+      .def_property_readonly(
+          "frf", [](const Prediction& p) { return blocks_array(p.frf.blocks); }, "complex (n, 2, 2)")
+      .def_readonly("modes", &Prediction::modes, "list of Peak (refined on the model)")
+      .def_readonly("warnings", &Prediction::warnings)
+      .def(
+          "to_dict", [](const Prediction& p) { return dict_of(p); },
+          "{'receptance', 'modes', 'warnings'} (toolpoint predict --json's keys).");
+  m.def(
+      "run_prediction",
+      [](Assembly a, const std::string& receptance, double min_prominence, const py::object& progress) {
+        PredictOptions o;
+        o.receptance = enum_of(receptance, kPredicted, "receptance");
+        o.peaks.min_prominence = min_prominence;
+        const ProgressCallback cb = progress_of(progress);
+        py::gil_scoped_release nogil;
+        return run_prediction(a, o, cb);
+      },
+      "assembly"_a, "receptance"_a = "SHT11", "min_prominence"_a = 0.02, "progress"_a = py::none(),
+      "The prediction study (toolpoint predict): SHT11 or SH11 on assembly.grid (seed Eq. 1–5) with its modes (peaks of |H| "
+      "rising "
+      "min_prominence above their valleys, refined on the model). progress(fraction) is called as it goes.");
+
+  py::class_<OverhangFrf>(m, "OverhangFrf", "One overhang of the overhang study.")
+      .def_readonly("overhang_m", &OverhangFrf::overhang_m)
+      .def_property_readonly(
+          "sht11", [](const OverhangFrf& r) { return blocks_array(r.sht11.blocks); }, "complex (n, 2, 2) on SH11's grid")
+      .def_readonly("modes", &OverhangFrf::modes);
+  py::class_<OverhangStudy>(m, "OverhangStudy", "run_overhang_study's result.")
+      .def_readonly("tool_inside_holder_m", &OverhangStudy::tool_inside_holder_m)
+      .def_readonly("overhangs", &OverhangStudy::overhangs)
+      .def_readonly("reference", &OverhangStudy::reference, "index of the overhang the modes are tracked from")
+      .def_property_readonly(
+          "tracked_modes_hz",
+          [](const OverhangStudy& s) {
+            py::array_t<double> a(
+                {static_cast<py::ssize_t>(s.tracked_modes_hz.size()), static_cast<py::ssize_t>(s.overhangs.size())});
+            auto w = a.mutable_unchecked<2>();
+            for (std::size_t i = 0; i < s.tracked_modes_hz.size(); ++i)
+              for (std::size_t j = 0; j < s.overhangs.size(); ++j)
+                w(static_cast<py::ssize_t>(i), static_cast<py::ssize_t>(j)) = s.tracked_modes_hz[i][j];
+            return a;
+          },
+          "(modes, overhangs) Hz, NaN where a mode was not found (the seed's Fig. 10)")
+      .def_readonly("warnings", &OverhangStudy::warnings)
+      .def(
+          "to_dict", [](const OverhangStudy& s) { return dict_of(s); },
+          "The result as plain data (dicts, lists, floats, str, bool, None; the CLI's --json keys, SI units).");
+  m.def(
+      "run_overhang_study",
+      [](Assembly a, const RealArray& f, const ComplexArray& sh11, std::vector<double> overhangs_m, double min_prominence,
+         double tracking_tolerance, int threads, std::string sh11_name, const py::object& progress) {
+        OverhangStudyOptions o;
+        o.overhangs_m = std::move(overhangs_m);
+        o.peaks.min_prominence = min_prominence;
+        o.tracking_tolerance = tracking_tolerance;
+        o.threads = threads;
+        o.sh11_name = std::move(sh11_name);
+        const BlockSeries s = block_series(f, sh11, o.sh11_name);
+        const ProgressCallback cb = progress_of(progress);
+        py::gil_scoped_release nogil;
+        return run_overhang_study(a, s, o, cb);
+      },
+      "assembly"_a, "frequency_hz"_a, "sh11"_a, "overhangs_m"_a = std::vector<double>{}, "min_prominence"_a = 0.1,
+      "tracking_tolerance"_a = 0.15, "threads"_a = 0, "sh11_name"_a = "SH11", "progress"_a = py::none(),
+      "The overhang study (toolpoint couple): SHT11 per tool overhang [m] from a measured SH11 (n, 2, 2) by Eq. 5, modes tracked "
+      "from the assembly's own overhang (Fig. 10). Overhangs run on `threads` threads (0: every core); results identical for any "
+      "count.");
+
+  py::class_<TapTestFrf>(m, "TapTestFrf", "One FRF of the tap test: H_ij = w_i/f_j [m/N], point 0 the tip.")
+      .def_readonly("response", &TapTestFrf::response)
+      .def_readonly("hammer", &TapTestFrf::hammer)
+      .def_property_readonly("frequency_hz", [](const TapTestFrf& r) { return array_of(r.frf.frequency_hz); })
+      .def_property_readonly(
+          "values", [](const TapTestFrf& r) { return array_of(r.frf.values); }, "complex (n,) m/N");
+  py::class_<TapTest>(m, "TapTest", "run_tap_test's result.")
+      .def_property_readonly("side", [](const TapTest& t) { return tap_side_name(t.side); })
+      .def_property_readonly(
+          "distance_m", [](const TapTest& t) { return array_of(t.distance_m); }, "each point's distance from the tip [m]")
+      .def_readonly("frfs", &TapTest::frfs, "list of TapTestFrf, hammer by hammer (tip first)")
+      .def_readonly("shear_stiffness_n", &TapTest::shear_stiffness_n, "smallest κGA [N] under the points (for rotational_frfs)")
+      .def_readonly("crosses_step", &TapTest::crosses_step)
+      .def_readonly("warnings", &TapTest::warnings)
+      .def(
+          "frf",
+          [](const TapTest& t, int response, int hammer) {
+            for (const TapTestFrf& r : t.frfs)
+              if (r.response == response && r.hammer == hammer) return array_of(r.frf.values);
+            throw InvalidArgument(fmt::format("the tap test has no H{}{} (response {}, hammer {})", response, hammer, response,
+                                              hammer),
+                                  "see TapTest.frfs for the pairs measured");
+          },
+          "response"_a, "hammer"_a, "H_ij as complex (n,) [m/N].")
+      .def(
+          "to_dict", [](const TapTest& t) { return dict_of(t); },
+          "The result as plain data (dicts, lists, floats, str, bool, None; the CLI's --json keys, SI units).");
+  m.def(
+      "run_tap_test",
+      [](Assembly a, double spacing_m, const std::string& side, int points, const std::string& hammer, double sigma,
+         std::uint64_t seed, const py::object& progress) {
+        TapTestOptions o;
+        o.side = enum_of(side, kSides, "side");
+        o.spacing_m = spacing_m;
+        o.points = points;
+        o.hammer = enum_of(hammer, kHammers, "hammer");
+        o.sigma = sigma;
+        o.seed = seed;
+        const ProgressCallback cb = progress_of(progress);
+        py::gil_scoped_release nogil;
+        return run_tap_test(a, o, cb);
+      },
+      "assembly"_a, "spacing_m"_a, "side"_a = "tool", "points"_a = 3, "hammer"_a = "roving", "sigma"_a = 0.0, "seed"_a = 1,
+      "progress"_a = py::none(),
+      "The virtual tap test (toolpoint taptest): H_ij at the tip and points spacing_m [m] apart inwards on the tool ('tool') or "
+      "the "
+      "holder without the tool outside ('holder'), hammer at every point ('roving') or the tip ('tip'), multiplicative noise "
+      "sigma "
+      "(0.005 = 0.5 %; FRF k draws from seed + k), on assembly.grid.");
+
+  py::class_<FiniteDifferenceError>(
+      m, "FiniteDifferenceError", "The finite-difference error of a tap test estimated on the model (studies/fd_correction.hpp).")
+      .def_property_readonly(
+          "frequency_hz", [](const FiniteDifferenceError& e) { return array_of(e.error.frequency_hz); }, "(n,) Hz")
+      .def_property_readonly(
+          "error", [](const FiniteDifferenceError& e) { return blocks_array(e.error.blocks); },
+          "E = FD[model's H_ij at the points] − model's tip block, complex (n, 2, 2) (H's entry 0): subtract it from the "
+          "measured block")
+      .def_property_readonly(
+          "exact", [](const FiniteDifferenceError& e) { return blocks_array(e.exact.blocks); },
+          "the model's tip block, complex (n, 2, 2)")
+      .def_property_readonly(
+          "max_relative",
+          [](const FiniteDifferenceError& e) {
+            return array_of(std::vector<double>(e.max_relative.begin(), e.max_relative.end()));
+          },
+          "(4,) H, L, N, P: max over f of |E| over max over f of |exact|")
+      .def_readonly("warnings", &FiniteDifferenceError::warnings, "list of str");
+  m.def(
+      "finite_difference_error",
+      [](Assembly a, const RealArray& f, const std::vector<std::pair<int, int>>& pairs, double spacing, const std::string& side,
+         int order, bool symmetrise, const std::string& p_method, std::optional<double> shear_stiffness) {
+        const std::vector<double> grid = vector_of(f, "frequency_hz");
+        PointFrfs layout;
+        for (const auto& [i, j] : pairs) {
+          if (i < 0 || i > 2 || j < 0 || j > 2)
+            throw InvalidArgument(fmt::format("pairs: ({}, {}) is not (response, force) with points 0, 1, 2", i, j),
+                                  "list the measured H_ij as (response, force), e.g. [(0, 0), (1, 0), (2, 0)]");
+          layout.set(i, j, FrfSeries{grid, {}});
+        }
+        const RotationalOptions o = rotational_options(order, spacing, symmetrise, p_method, shear_stiffness);
+        const TapSide s = enum_of(side, kSides, "side");
+        py::gil_scoped_release nogil;
+        return finite_difference_error(a, s, grid, layout, o);
+      },
+      "assembly"_a, "frequency_hz"_a, "pairs"_a, "spacing"_a, "side"_a = "tool", "order"_a = 2, "symmetrise"_a = false,
+      "p_method"_a = "auto", "shear_stiffness"_a = py::none(),
+      "The model-based finite-difference correction: the error E(f) that the differences of rotational_frfs (same options; pairs "
+      "the "
+      "measured H_ij as (response, force)) make on the model at the same points spaced `spacing` m on the 'tool' or the "
+      "'holder'. "
+      "measured block − E removes it to the extent the model is right near the tip.");
+}
+
+}  // namespace toolpoint::python

@@ -1,0 +1,414 @@
+// toolpoint Python bindings: signal processing (signal.hpp), peaks (peaks.hpp) and files (io.hpp,
+// frf_file.hpp, uff.hpp). Frequencies in Hz; FRF values in their own units (receptance m/N).
+#include "common.hpp"
+#include "toolpoint/frf_file.hpp"
+#include "toolpoint/io.hpp"
+#include "toolpoint/json.hpp"
+#include "toolpoint/peaks.hpp"
+#include "toolpoint/signal.hpp"
+#include "toolpoint/uff.hpp"
+
+namespace toolpoint::python {
+
+namespace {
+
+using namespace pybind11::literals;
+
+const std::vector<std::pair<const char*, PMethod>> kPMethods{{"auto", PMethod::Auto},
+                                                             {"cross_terms", PMethod::CrossTerms},
+                                                             {"schmitz_smith", PMethod::SchmitzSmith}};
+const std::vector<std::pair<const char*, FrfFormat>> kFormats{{"auto", FrfFormat::Auto},
+                                                              {"csv", FrfFormat::Csv},
+                                                              {"uff", FrfFormat::Uff},
+                                                              {"uffb", FrfFormat::UffBinary},
+                                                              {"frf", FrfFormat::Frf}};
+const std::vector<std::pair<const char*, FrfOrdinate>> kOrdinates{{"receptance", FrfOrdinate::Receptance},
+                                                                  {"mobility", FrfOrdinate::Mobility},
+                                                                  {"accelerance", FrfOrdinate::Accelerance}};
+
+// A frequency grid for functions that only need the samples' order: 1, 2, … n.
+std::vector<double> index_grid(std::size_t n) {
+  std::vector<double> f(n);
+  for (std::size_t i = 0; i < n; ++i) f[i] = static_cast<double>(i + 1);
+  return f;
+}
+
+// One series through a signal function, the GIL released; its warnings to `warnings`.
+template <class Series, class F>
+Series signal_run(const Series& s, F on, std::vector<std::string>& warnings) {
+  SignalResult<Series> r;
+  {
+    py::gil_scoped_release nogil;
+    r = on(s);
+  }
+  warnings = std::move(r.warnings);
+  return std::move(r.series);
+}
+
+// Runs a series function on a (n,) or (n, 2, 2) complex array with its frequencies; warnings to Python.
+template <class OnFrf, class OnBlock>
+py::array series_apply(const py::array& values, const std::vector<double>& f, const std::string& what, OnFrf on_frf,
+                       OnBlock on_block) {
+  const ComplexArray v = values.cast<ComplexArray>();
+  std::vector<std::string> warnings;
+  py::array out;
+  if (v.ndim() == 1) out = array_of(signal_run(FrfSeries{f, complex_vector_of(v, what)}, on_frf, warnings).values);
+  else out = blocks_array(signal_run(BlockSeries{f, blocks_of(v, what)}, on_block, warnings).blocks);
+  warn_all(warnings);
+  return out;
+}
+
+py::dict dof_dict(const UffDof& d) {
+  return py::dict("response_node"_a = d.response_node, "response_direction"_a = d.response_direction,
+                  "reference_node"_a = d.reference_node, "reference_direction"_a = d.reference_direction);
+}
+
+UffDof dof_of(const py::object& o) {
+  UffDof d;
+  if (o.is_none()) return d;
+  const py::dict m = o.cast<py::dict>();
+  for (auto [k, v] : m) {
+    const std::string key = k.cast<std::string>();
+    const int x = v.cast<int>();
+    if (key == "response_node") d.response_node = x;
+    else if (key == "response_direction") d.response_direction = x;
+    else if (key == "reference_node") d.reference_node = x;
+    else if (key == "reference_direction") d.reference_direction = x;
+    else
+      throw InvalidArgument(fmt::format("dof: unknown key '{}'", key),
+                            "use response_node, response_direction, reference_node, reference_direction");
+  }
+  return d;
+}
+
+}  // namespace
+
+RotationalOptions rotational_options(int order, double spacing, bool symmetrise, const std::string& p_method,
+                                     std::optional<double> shear_stiffness) {
+  RotationalOptions o;
+  o.order = order;
+  o.spacing = spacing;
+  o.symmetrise = symmetrise;
+  o.p_method = enum_of(p_method, kPMethods, "p_method");
+  o.shear_stiffness = shear_stiffness;
+  return o;
+}
+
+void bind_signal_io(py::module_& m) {
+  // ---- Savitzky–Golay, noise, rotational FRFs ------------------------------------------------------
+  m.def(
+      "savgol_coefficients",
+      [](int window, int order) {
+        return array_of(savgol_coefficients(SavgolOptions{window, order}));
+      },
+      "window"_a = 5, "order"_a = 2,
+      "The Savitzky–Golay interior weights c_{−m..m} (left to right) for an odd `window` [points] and polynomial `order`.");
+  m.def(
+      "savgol_filter",
+      [](const py::array& values, int window, int order, const py::object& frequency_hz) -> py::array {
+        const SavgolOptions o{window, order};
+        const bool is_complex = values.dtype().kind() == 'c';
+        if (!is_complex && values.ndim() == 1 && frequency_hz.is_none()) {
+          const std::vector<double> x = vector_of(values.cast<RealArray>(), "values");
+          std::vector<double> y;
+          {
+            py::gil_scoped_release nogil;
+            y = savgol_filter(std::span<const double>(x), o, "values");
+          }
+          return array_of(y);
+        }
+        const std::size_t n = values.ndim() > 0 ? static_cast<std::size_t>(values.shape(0)) : 0;
+        const std::vector<double> f = frequency_hz.is_none() ? index_grid(n)
+                                                             : vector_of(frequency_hz.cast<RealArray>(), "frequency_hz");
+        return series_apply(
+            values, f, "values", [&](const FrfSeries& s) { return savgol_filter(s, o, "values"); },
+            [&](const BlockSeries& s) { return savgol_filter(s, o, "values"); });
+      },
+      "values"_a, "window"_a = 5, "order"_a = 2, "frequency_hz"_a = py::none(),
+      "Savitzky–Golay smoothing (seed Section 4; matches scipy.signal.savgol_filter(mode='interp')) along the first axis: real "
+      "(n,), "
+      "complex (n,) or a block series (n, 2, 2) (real and imaginary parts separately). `window` in points (odd), `order` the "
+      "polynomial degree. With frequency_hz [Hz] an uneven grid is flagged (toolpoint.Warning).");
+  m.def(
+      "add_measurement_noise",
+      [](const RealArray& f, const py::array& values, double sigma, std::uint64_t seed) {
+        const NoiseOptions o{sigma, seed};
+        return series_apply(
+            values, vector_of(f, "frequency_hz"), "values",
+            [&](const FrfSeries& s) { return add_measurement_noise(s, o, "values"); },
+            [&](const BlockSeries& s) { return add_measurement_noise(s, o, "values"); });
+      },
+      "frequency_hz"_a, "values"_a, "sigma"_a = 0.05, "seed"_a = 1,
+      "The seed's multiplicative noise (Section 3): every entry at every frequency times its own factor 1 + σz, z standard "
+      "normal "
+      "(mt19937_64 + Box–Muller, reproducible from `seed`; order: frequency, then H, L, N, P). values: complex (n,) or (n, 2, "
+      "2).");
+  m.def(
+      "standard_normals", [](std::size_t count, std::uint64_t seed) { return array_of(standard_normals(count, seed)); },
+      "count"_a, "seed"_a, "`count` standard normal numbers from `seed` (Box–Muller on mt19937_64; portable).");
+
+  py::class_<RotationalResult>(m, "RotationalResult", "rotational_frfs' result.")
+      .def_property_readonly("frequency_hz", [](const RotationalResult& r) { return array_of(r.block.frequency_hz); })
+      .def_property_readonly(
+          "block", [](const RotationalResult& r) { return blocks_array(r.block.blocks); }, "[[H00, L], [N, P]] complex (n, 2, 2)")
+      .def_readonly("p_from_cross_terms", &RotationalResult::p_from_cross_terms)
+      .def_readonly("l_equals_n_by_reciprocity", &RotationalResult::l_equals_n_by_reciprocity)
+      .def_readonly("reciprocity_mismatch", &RotationalResult::reciprocity_mismatch)
+      .def_readonly("warnings", &RotationalResult::warnings);
+  m.def(
+      "rotational_frfs",
+      [](const RealArray& f, const py::dict& h, double spacing, int order, bool symmetrise, const std::string& p_method,
+         std::optional<double> shear_stiffness) {
+        const std::vector<double> grid = vector_of(f, "frequency_hz");
+        PointFrfs frfs;
+        for (auto [key, value] : h) {
+          const auto ij = key.cast<std::pair<int, int>>();
+          if (ij.first < 0 || ij.first > 2 || ij.second < 0 || ij.second > 2)
+            throw InvalidArgument(fmt::format("H key ({}, {}) is not (response, force) with points 0, 1, 2", ij.first, ij.second),
+                                  "key H by (response, force), e.g. {(0, 0): h00, (1, 0): h10}");
+          const std::string name = fmt::format("H{}{}", ij.first, ij.second);
+          frfs.set(ij.first, ij.second, FrfSeries{grid, complex_vector_of(value.cast<ComplexArray>(), name)});
+        }
+        const RotationalOptions o = rotational_options(order, spacing, symmetrise, p_method, shear_stiffness);
+        py::gil_scoped_release nogil;
+        return rotational_frfs(frfs, o);
+      },
+      "frequency_hz"_a, "H"_a, "spacing"_a, "order"_a = 2, "symmetrise"_a = false, "p_method"_a = "auto",
+      "shear_stiffness"_a = py::none(),
+      "Rotational FRFs by finite differences (Duarte & Ewins; NOTES §5): H is a dict {(response, force): complex (n,) [m/N]} of "
+      "the "
+      "translational FRFs at points 0 (tip), 1, 2 spaced `spacing` m inwards; order 1 or 2; shear_stiffness κGA [N] removes the "
+      "shear strain (pass TapTest.shear_stiffness_n); p_method 'auto', 'cross_terms' or 'schmitz_smith'.");
+
+  // ---- Peaks --------------------------------------------------------------------------------------
+  m.def(
+      "find_peaks",
+      [](const RealArray& f, const ComplexArray& values, double min_prominence) {
+        const FrfSeries s = frf_series(f, values, "values");
+        return find_peaks(s, PeakOptions{min_prominence});
+      },
+      "frequency_hz"_a, "values"_a, "min_prominence"_a = 0.02,
+      "Local maxima of |values| rising min_prominence (relative) above their valleys, ascending, refined by a parabola through "
+      "log|H|.");
+  m.def(
+      "track_modes",
+      [](const std::vector<std::vector<Peak>>& family, std::size_t reference, double tolerance, bool ordered) {
+        const auto t = track_modes(family, reference, tolerance, ordered);
+        py::array_t<double> a({static_cast<py::ssize_t>(t.size()), static_cast<py::ssize_t>(family.size())});
+        auto w = a.mutable_unchecked<2>();
+        for (std::size_t i = 0; i < t.size(); ++i)
+          for (std::size_t j = 0; j < family.size(); ++j) w(static_cast<py::ssize_t>(i), static_cast<py::ssize_t>(j)) = t[i][j];
+        return a;
+      },
+      "family"_a, "reference"_a, "tolerance"_a = 0.15, "ordered"_a = true,
+      "Modes (the peaks of family[reference]) followed through a family of peak lists: (modes, members) frequencies [Hz], NaN "
+      "where lost.");
+
+  // ---- Files --------------------------------------------------------------------------------------
+  py::class_<FrfFileData>(m, "FrfFile", "An FRF file read: receptance [m/N] against frequency [Hz], and where it came from.")
+      .def_property_readonly("frequency_hz",
+                             [](const FrfFileData& d) {
+                               return array_of(d.is_block ? d.block.frequency_hz : d.single.frequency_hz);
+                             })
+      .def_property_readonly(
+          "values",
+          [](const FrfFileData& d) -> py::array {
+            if (d.is_block) return blocks_array(d.block.blocks);
+            return array_of(d.single.values);
+          },
+          "complex (n,) or, for a block CSV, (n, 2, 2)")
+      .def_readonly("is_block", &FrfFileData::is_block)
+      .def_property_readonly("format", [](const FrfFileData& d) { return frf_format_name(d.format); })
+      .def_property_readonly(
+          "ordinate", [](const FrfFileData& d) { return frf_ordinate_name(d.ordinate); }, "what the file held, before conversion")
+      .def_readonly("description", &FrfFileData::description)
+      .def_property_readonly(
+          "dof", [](const FrfFileData& d) { return dof_dict(d.dof); }, "UFF record 6 labels")
+      .def_readonly("warnings", &FrfFileData::warnings)
+      .def_property_readonly(
+          "metadata",
+          [](const FrfFileData& d) {
+            return py::dict("format"_a = frf_format_name(d.format), "ordinate"_a = frf_ordinate_name(d.ordinate),
+                            "is_block"_a = d.is_block, "description"_a = d.description, "dof"_a = dof_dict(d.dof),
+                            "warnings"_a = d.warnings);
+          },
+          "Everything but the arrays, as a dict.");
+  m.def(
+      "read_frf_file",
+      [](const std::string& path, const std::string& format, const std::optional<std::string>& ordinate,
+         std::optional<std::size_t> dataset, std::optional<int> response_node, std::optional<int> response_direction,
+         std::optional<int> reference_node, std::optional<int> reference_direction) {
+        FrfReadOptions o;
+        o.format = enum_of(format, kFormats, "format");
+        if (ordinate) o.ordinate = enum_of(*ordinate, kOrdinates, "ordinate");
+        o.uff.index = dataset;
+        o.uff.response_node = response_node;
+        o.uff.response_direction = response_direction;
+        o.uff.reference_node = reference_node;
+        o.uff.reference_direction = reference_direction;
+        py::gil_scoped_release nogil;
+        return read_frf_file(path, o);
+      },
+      "path"_a, "format"_a = "auto", "ordinate"_a = py::none(), "dataset"_a = py::none(), "response_node"_a = py::none(),
+      "response_direction"_a = py::none(), "reference_node"_a = py::none(), "reference_direction"_a = py::none(),
+      "Reads an FRF file: FRF CSV (single or 2×2 block), UFF 58/58b (one dataset 58, chosen by `dataset` index among the file's "
+      "datasets 58 and/or node/direction codes), CutPro .frf. format 'auto' (by extension), 'csv', 'uff', 'frf'. Mobility or "
+      "accelerance (from the UFF codes, or ordinate='mobility'/'accelerance') is converted to receptance [m/N]. Raises "
+      "InputError "
+      "naming file, line or dataset; IoError.");
+  m.def(
+      "write_frf_file",
+      [](const std::string& path, const RealArray& f, const py::array& values, const std::string& format,
+         const std::string& description, const std::vector<std::string>& comments, const py::object& dof) {
+        FrfWriteOptions o;
+        o.format = enum_of(format, kFormats, "format");
+        o.description = description;
+        o.comments = comments;
+        o.dof = dof_of(dof);
+        std::vector<std::string> lost;
+        if (values.ndim() == 3) {
+          const BlockSeries s = block_series(f, values.cast<ComplexArray>(), "values");
+          py::gil_scoped_release nogil;
+          lost = write_frf_file(path, s, o);
+        } else {
+          const FrfSeries s = frf_series(f, values.cast<ComplexArray>(), "values");
+          py::gil_scoped_release nogil;
+          lost = write_frf_file(path, s, o);
+        }
+        return lost;
+      },
+      "path"_a, "frequency_hz"_a, "values"_a, "format"_a = "auto", "description"_a = "",
+      "comments"_a = std::vector<std::string>{}, "dof"_a = py::none(),
+      "Writes a receptance [m/N] against frequency [Hz]: complex (n,) as CSV, UFF 58 ('uff'), 58b ('uffb') or CutPro .frf; a "
+      "block "
+      "(n, 2, 2) as FRF CSV only. Written whole or not at all. dof: UFF record 6 labels {'response_node', 'response_direction', "
+      "'reference_node', 'reference_direction'}. Returns what the format lost (list of str).");
+
+  py::class_<UffAxis>(m, "UffAxis", "UFF records 8–11: data characteristics of one axis.")
+      .def(py::init<>())
+      .def_readwrite("data_type", &UffAxis::data_type,
+                     "specific data type (8 displacement, 12 acceleration, 13 force, 18 frequency, ...)")
+      .def_readwrite("length_exponent", &UffAxis::length_exponent)
+      .def_readwrite("force_exponent", &UffAxis::force_exponent)
+      .def_readwrite("temperature_exponent", &UffAxis::temperature_exponent)
+      .def_readwrite("label", &UffAxis::label)
+      .def_readwrite("units", &UffAxis::units);
+  py::class_<UffUnits>(m, "UffUnits", "UFF dataset 164: units in force (SI value = file value / factor).")
+      .def_readonly("code", &UffUnits::code)
+      .def_readonly("description", &UffUnits::description)
+      .def_readonly("length_factor", &UffUnits::length_factor)
+      .def_readonly("force_factor", &UffUnits::force_factor)
+      .def_readonly("temperature_factor", &UffUnits::temperature_factor);
+  py::class_<UffDataset58>(m, "UffDataset58",
+                           "One UFF dataset 58 (function at nodal DOF), as read or to be written: x (abscissa, float (n,)) and y "
+                           "(ordinate, complex (n,)) arrays, the records' fields as attributes, the rest in metadata.")
+      .def(py::init([](const RealArray& x, const ComplexArray& y) {
+             UffDataset58 d;
+             d.x = vector_of(x, "x");
+             d.y = complex_vector_of(y, "y");
+             d.even = false;
+             return d;
+           }),
+           "x"_a, "y"_a, "A complex double FRF dataset with uneven abscissa; set fields (id, nodes, axes) before writing.")
+      .def_property(
+          "x", [](const UffDataset58& d) { return array_of(d.x); },
+          [](UffDataset58& d, const RealArray& a) { d.x = vector_of(a, "x"); })
+      .def_property(
+          "y", [](const UffDataset58& d) { return array_of(d.y); },
+          [](UffDataset58& d, const ComplexArray& a) { d.y = complex_vector_of(a, "y"); })
+      .def_readwrite("id", &UffDataset58::id, "records 1–5 (list of 5 str)")
+      .def_readwrite("function_type", &UffDataset58::function_type)
+      .def_readwrite("function_id", &UffDataset58::function_id)
+      .def_readwrite("version", &UffDataset58::version)
+      .def_readwrite("load_case", &UffDataset58::load_case)
+      .def_readwrite("response_entity", &UffDataset58::response_entity)
+      .def_readwrite("response_node", &UffDataset58::response_node)
+      .def_readwrite("response_direction", &UffDataset58::response_direction)
+      .def_readwrite("reference_entity", &UffDataset58::reference_entity)
+      .def_readwrite("reference_node", &UffDataset58::reference_node)
+      .def_readwrite("reference_direction", &UffDataset58::reference_direction)
+      .def_readwrite("ordinate_data_type", &UffDataset58::ordinate_data_type)
+      .def_readwrite("even", &UffDataset58::even)
+      .def_readwrite("abscissa_min", &UffDataset58::abscissa_min)
+      .def_readwrite("abscissa_increment", &UffDataset58::abscissa_increment)
+      .def_readwrite("z_value", &UffDataset58::z_value)
+      .def_readwrite("abscissa", &UffDataset58::abscissa)
+      .def_readwrite("ordinate", &UffDataset58::ordinate)
+      .def_readwrite("denominator", &UffDataset58::denominator)
+      .def_readwrite("z_axis", &UffDataset58::z_axis)
+      .def_readonly("declared_points", &UffDataset58::declared_points)
+      .def_readonly("index", &UffDataset58::index)
+      .def_readonly("line", &UffDataset58::line)
+      .def_readonly("binary", &UffDataset58::binary)
+      .def_readonly("byte_order", &UffDataset58::byte_order)
+      .def_readonly("units", &UffDataset58::units)
+      .def_readonly("warnings", &UffDataset58::warnings)
+      .def_property_readonly(
+          "metadata",
+          [](const UffDataset58& d) {
+            auto axis = [](const UffAxis& a) {
+              return py::dict("data_type"_a = a.data_type, "data_type_name"_a = uff_data_type_name(a.data_type),
+                              "length_exponent"_a = a.length_exponent, "force_exponent"_a = a.force_exponent,
+                              "temperature_exponent"_a = a.temperature_exponent, "label"_a = a.label, "units"_a = a.units);
+            };
+            py::dict md("id"_a = std::vector<std::string>(d.id.begin(), d.id.end()), "function_type"_a = d.function_type,
+                        "function_type_name"_a = uff_function_type_name(d.function_type), "function_id"_a = d.function_id,
+                        "version"_a = d.version, "load_case"_a = d.load_case, "response_entity"_a = d.response_entity,
+                        "response_node"_a = d.response_node, "response_direction"_a = d.response_direction,
+                        "response_direction_name"_a = uff_direction_name(d.response_direction),
+                        "reference_entity"_a = d.reference_entity, "reference_node"_a = d.reference_node,
+                        "reference_direction"_a = d.reference_direction,
+                        "reference_direction_name"_a = uff_direction_name(d.reference_direction),
+                        "ordinate_data_type"_a = d.ordinate_data_type,
+                        "ordinate_data_type_name"_a = uff_ordinate_type_name(d.ordinate_data_type),
+                        "declared_points"_a = d.declared_points, "even"_a = d.even, "abscissa_min"_a = d.abscissa_min,
+                        "abscissa_increment"_a = d.abscissa_increment, "z_value"_a = d.z_value, "abscissa"_a = axis(d.abscissa),
+                        "ordinate"_a = axis(d.ordinate), "denominator"_a = axis(d.denominator), "z_axis"_a = axis(d.z_axis),
+                        "index"_a = d.index, "line"_a = d.line, "binary"_a = d.binary, "byte_order"_a = d.byte_order,
+                        "warnings"_a = d.warnings);
+            if (d.units)
+              md["units"] = py::dict("code"_a = d.units->code, "description"_a = d.units->description,
+                                     "length_factor"_a = d.units->length_factor, "force_factor"_a = d.units->force_factor,
+                                     "temperature_factor"_a = d.units->temperature_factor);
+            return md;
+          },
+          "Every record field, with names for the codes, as a dict.")
+      .def("check", &UffDataset58::check, "Raises InvalidArgument unless the dataset can be written.");
+  py::class_<UffFile>(m, "UffFile", "A universal file read: its datasets 58, and every problem found.")
+      .def_readonly("source", &UffFile::source)
+      .def_readonly("functions", &UffFile::functions, "list of UffDataset58 (the readable datasets 58/58b, in file order)")
+      .def_property_readonly(
+          "datasets",
+          [](const UffFile& f) {
+            py::list l;
+            for (const UffDatasetEntry& e : f.datasets)
+              l.append(py::dict("type"_a = e.type, "binary"_a = e.binary, "line"_a = e.line, "offset"_a = e.offset));
+            return l;
+          },
+          "every dataset in file order: {'type', 'binary', 'line', 'offset'}")
+      .def_readonly("warnings", &UffFile::warnings)
+      .def_readonly("skipped", &UffFile::skipped);
+  m.def(
+      "read_uff",
+      [](const std::string& path) {
+        py::gil_scoped_release nogil;
+        return read_uff(path);
+      },
+      "path"_a,
+      "Reads a universal file (datasets 58 and 58b; other datasets listed and skipped). Liberal: problems go to warnings, never "
+      "exceptions, except IoError for a file that cannot be read. Values as written (no unit conversion: read_frf_file "
+      "converts).");
+  m.def(
+      "write_uff",
+      [](const std::string& path, const std::vector<UffDataset58>& sets, bool binary, int byte_order) {
+        UffWriteOptions o{binary, byte_order};
+        py::gil_scoped_release nogil;
+        return write_uff(path, sets, o);
+      },
+      "path"_a, "datasets"_a, "binary"_a = false, "byte_order"_a = 1,
+      "Writes datasets 58 (ASCII) or 58b (binary=True; byte_order 1 little, 2 big endian), whole or not at all. Returns what "
+      "ASCII "
+      "rounding lost (list of str).");
+}
+
+}  // namespace toolpoint::python

@@ -1,0 +1,132 @@
+// toolpoint Python bindings: conversions shared by the binding files.
+//
+// Conventions (those of pyFBS/SDynPy, README "Python"): frequencies in Hz as float64 arrays of
+// shape (n,); a 2×2 receptance block series [[H, L], [N, P]] as complex128 (n, 2, 2); a single FRF
+// as complex128 (n,); a two-end component's end receptances as complex128 (n, 4, 4) over
+// (w1, θ1, w2, θ2), i.e. [[b11, b12], [b21, b22]] (coupling.hpp's as_matrix); SI units; enums as
+// lower-case strings. Inputs are copied once into the library's value types (its studies own their
+// data); outputs are new numpy arrays. Long computations run with the GIL released; mutable inputs
+// (Assembly, Segment, JointFile) are taken by value, copied while the GIL is held, so another Python
+// thread changing the object meanwhile cannot race with the computation.
+#pragma once
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <complex>
+#include <cstdint>
+#include <optional>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+#include "toolpoint/receptance.hpp"
+#include "toolpoint/signal.hpp"
+#include "toolpoint/stability.hpp"
+#include "toolpoint/studies/study.hpp"
+
+namespace toolpoint {
+struct UncertaintyOptions;
+}  // namespace toolpoint
+
+namespace toolpoint::python {
+
+namespace py = pybind11;
+
+using RealArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
+using ComplexArray = py::array_t<std::complex<double>, py::array::c_style | py::array::forcecast>;
+
+// A 1-D float array as a vector; InputError naming `name` for another shape.
+std::vector<double> vector_of(const RealArray& a, const std::string& name);
+// A 1-D complex array as a vector; InputError naming `name` for another shape.
+std::vector<Complex> complex_vector_of(const ComplexArray& a, const std::string& name);
+// (n, 2, 2) complex as blocks; InputError naming `name` for another shape.
+std::vector<Block> blocks_of(const ComplexArray& a, const std::string& name);
+// (n, 4, 4) complex as two-ports; InputError naming `name` for another shape.
+std::vector<TwoPort> two_ports_of(const ComplexArray& a, const std::string& name);
+
+py::array_t<double> array_of(const std::vector<double>& v);
+py::array_t<std::complex<double>> array_of(const std::vector<Complex>& v);
+py::array_t<std::complex<double>> blocks_array(const std::vector<Block>& blocks);
+py::array_t<std::complex<double>> block_array(const Block& b);  // (2, 2)
+py::array_t<std::complex<double>> two_ports_array(const std::vector<TwoPort>& t);
+py::array_t<double> matrix_array(const Eigen::MatrixXd& m);  // (rows, cols)
+// [row][column] vectors (rows of equal length) as a matrix.
+Eigen::MatrixXd rows_matrix(const std::vector<std::vector<double>>& rows);
+
+// Series from arrays (no validation here: the library validates and names `what`).
+BlockSeries block_series(const RealArray& frequency_hz, const ComplexArray& blocks, const std::string& what);
+FrfSeries frf_series(const RealArray& frequency_hz, const ComplexArray& values, const std::string& what);
+
+// (min_rpm, max_rpm, points) as a SpeedRange.
+inline SpeedRange speed_range(const std::tuple<double, double, int>& s) {
+  return {std::get<0>(s), std::get<1>(s), std::get<2>(s)};
+}
+
+// RotationalOptions from keyword arguments (p_method 'auto', 'cross_terms', 'schmitz_smith').
+RotationalOptions rotational_options(int order, double spacing, bool symmetrise, const std::string& p_method,
+                                     std::optional<double> shear_stiffness);
+
+// UncertaintyOptions from keyword arguments (bind_identify.cpp).
+UncertaintyOptions uncertainty_options(int samples, std::uint64_t seed, std::vector<double> levels, int threads,
+                                       const py::object& progress);
+
+// nlohmann::json as plain Python objects (dict, list, float, int, str, bool, None).
+py::object to_python(const nlohmann::json& j);
+template <class T>
+py::object dict_of(const T& value) {
+  const nlohmann::json j = value;
+  return to_python(j);
+}
+
+// A Python callable (or None) as a library progress callback: called with the GIL taken, from
+// whichever thread reports; an exception it raises is reported as unraisable and ignored (the
+// library's callbacks must not throw).
+ProgressCallback progress_of(const py::object& callback);
+
+// Each message as a Python warning of category toolpoint.Warning.
+void warn_all(const std::vector<std::string>& warnings);
+
+// The enum spelt as a string: the value whose name equals `text`, else InvalidArgument naming
+// `option` and listing the names.
+template <class E>
+E enum_of(const std::string& text, const std::vector<std::pair<const char*, E>>& names, const std::string& option);
+
+// Binding groups (one file each).
+void bind_errors(py::module_& m);
+void bind_model(py::module_& m);
+void bind_signal_io(py::module_& m);
+void bind_identify(py::module_& m);
+void bind_stability(py::module_& m);
+
+}  // namespace toolpoint::python
+
+// ---- template definitions ----------------------------------------------------------------------
+#include <fmt/format.h>
+
+#include "toolpoint/error.hpp"
+
+namespace toolpoint::python {
+
+template <class E>
+E enum_of(const std::string& text, const std::vector<std::pair<const char*, E>>& names, const std::string& option) {
+  std::string list;
+  for (const auto& [name, value] : names) {
+    if (text == name) return value;
+    list += (list.empty() ? "'" : ", '") + std::string(name) + "'";
+  }
+  throw InvalidArgument(fmt::format("{} '{}' is not one of {}", option, text, list),
+                        fmt::format("give {} as one of {}", option, list));
+}
+
+template <class E>
+const char* name_of(E value, const std::vector<std::pair<const char*, E>>& names) {
+  for (const auto& [name, v] : names)
+    if (v == value) return name;
+  return "?";
+}
+
+}  // namespace toolpoint::python

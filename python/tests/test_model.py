@@ -1,0 +1,178 @@
+"""Assemblies, the forward model, beams, the prediction, overhang and tap-test studies: against the
+CLI (the same code, so the same doubles), against independent algebra, and shapes/dtypes."""
+import numpy as np
+import pytest
+
+import toolpoint as tp
+from conftest import EXAMPLE, read_block_csv, run_cli, run_cli_json
+
+
+def test_prediction_is_the_cli_prediction_to_the_bit(tmp_path, prediction):
+    # The same library call behind both: identical doubles (the CSV keeps shortest round-trip digits).
+    run_cli("predict", EXAMPLE, "--output", tmp_path / "sht11.csv")
+    f, blocks = read_block_csv(tmp_path / "sht11.csv")
+    assert np.array_equal(f, prediction.frequency_hz)
+    assert np.array_equal(blocks, prediction.frf)
+    j = run_cli_json("predict", EXAMPLE)
+    assert [m["frequency_hz"] for m in j["modes"]] == [m.frequency_hz for m in prediction.modes]
+    assert prediction.to_dict()["modes"] == j["modes"]
+
+
+def test_holder_tip_prediction_is_the_cli_one(tmp_path, example):
+    p = tp.run_prediction(example, receptance="SH11")
+    run_cli("predict", EXAMPLE, "--at", "holder", "--output", tmp_path / "sh11.csv")
+    f, blocks = read_block_csv(tmp_path / "sh11.csv")
+    assert p.receptance == "SH11"
+    assert np.array_equal(blocks, p.frf)
+
+
+def test_arrays_have_the_documented_shapes_and_dtypes(model, prediction):
+    f = np.array([100.0, 916.0, 2500.0])
+    assert prediction.frequency_hz.dtype == np.float64 and prediction.frequency_hz.shape == (4991,)
+    assert prediction.frf.dtype == np.complex128 and prediction.frf.shape == (4991, 2, 2)
+    for method in (model.tool_point, model.holder_tip, model.spindle_nose):
+        assert method(f).shape == (3, 2, 2) and method(f).dtype == np.complex128
+    for method in (model.tool, model.holder, model.holder_tool):
+        assert method(f).shape == (3, 4, 4) and method(f).dtype == np.complex128
+    # Lists and integer arrays are accepted as frequencies.
+    assert np.array_equal(model.tool_point([100, 916, 2500]), model.tool_point(f))
+
+
+def couple(A, B11, K):
+    """Seed Eq. 1/5 in numpy: G11 = A11 − A12 (A22 + K⁻¹ + B11)⁻¹ A21, per frequency."""
+    A11, A12, A21, A22 = A[:, :2, :2], A[:, :2, 2:], A[:, 2:, :2], A[:, 2:, 2:]
+    return A11 - A12 @ np.linalg.inv(A22 + np.linalg.inv(K) + B11) @ A21
+
+
+def test_tool_point_is_the_coupling_of_its_components(model, example):
+    # An independent route through the (n, 4, 4) two-ports: Eq. 1 then Eq. 5 in numpy, against
+    # the library's SIMD sweep. The README states the sweep's agreement with per-frequency algebra:
+    # 5e-11 above 300 Hz; numpy's LAPACK inverse rounds differently again, so 1e-8 of each entry's peak.
+    f = np.linspace(300.0, 5000.0, 471)
+    sh11 = couple(model.holder(f), model.spindle_nose(f), example.spindle_holder.stiffness(f))
+    sht11 = couple(model.tool(f), sh11, example.holder_tool.stiffness(f))
+    sweep = model.tool_point(f)
+    scale = np.abs(sweep).max(axis=0)
+    assert np.all(np.abs(sht11 - sweep) <= 1e-8 * scale)
+    assert np.all(np.abs(sh11 - model.holder_tip(f)) <= 1e-8 * np.abs(sh11).max(axis=0))
+
+
+def test_an_assembly_built_from_python_objects_is_the_file_one(example, prediction):
+    # Rebuild the example field by field through the constructors: the same FRF to the bit.
+    def material(m):
+        return tp.Material(m.name, youngs_modulus=m.youngs_modulus, poisson=m.poisson, shear_modulus=m.shear_modulus,
+                           density=m.density, loss_factor=m.loss_factor)
+
+    def segment(s):
+        return tp.Segment(s.length, [tp.Annulus(l.outer_diameter, l.inner_diameter, material(l.material), l.shear_coefficient)
+                                     for l in s.layers], name=s.name, shear_model=s.shear_model)
+
+    t = example.tool
+    a = tp.Assembly(
+        example.name,
+        tp.Spindle([segment(s) for s in example.spindle.segments],
+                   [tp.Bearing(b.position, b.stiffness, b.damping, b.rotational_stiffness, b.rotational_damping, b.name)
+                    for b in example.spindle.bearings]),
+        [segment(s) for s in example.holder],
+        tp.Tool(material(t.material), t.length, t.overhang, t.diameter, t.shank_diameter, t.flute_length, t.flute_diameter_ratio,
+                t.shear_coefficient),
+        spindle_holder=tp.JointParameters.from_array(example.spindle_holder.to_array()),
+        holder_tool=tp.JointParameters(**example.holder_tool.to_dict()),
+        grid=example.grid)
+    assert np.array_equal(tp.run_prediction(a).frf, prediction.frf)
+    # A rigid joint is None; a changed joint changes the FRF.
+    a.holder_tool = None
+    assert a.holder_tool is None
+    assert not np.array_equal(tp.AssemblyModel(a).tool_point([2500.0]), prediction.frf[2490:2491])
+
+
+def test_joint_parameters(example):
+    p = tp.seed_table1_joint()
+    assert p == example.holder_tool  # the example carries the seed's Table 1
+    assert p["k_yf"] == p[0] == p.k_yf == 4.19e7
+    assert tp.JointParameters.names() == ["k_yf", "c_yf", "k_ym", "c_ym", "k_tf", "c_tf", "k_tm", "c_tm"]
+    K = p.stiffness([1000.0])
+    assert K.shape == (1, 2, 2)
+    assert K[0, 0, 0] == p.k_yf + 1j * 2 * np.pi * 1000.0 * p.c_yf  # Eq. 8
+    assert tp.JointParameters(k_ym=2.0, c_ym=3.0).k_tf == 2.0  # reciprocity default
+    with pytest.raises(KeyError):
+        p["k_xx"]
+
+
+def test_beam_against_the_cli_and_the_euler_bernoulli_limit(tmp_path):
+    steel = tp.Material("steel", youngs_modulus=2e11, poisson=0.3, density=7800)
+    s = tp.Segment.tube(0.1, 0.016, 0.0, steel)
+    f = tp.free_free_frequencies(s, 5)
+    j = run_cli_json("beam", "--length", 0.1, "--diameter", 0.016, "--modes", 5)
+    assert list(f) == [m["frequency_hz"] for m in j["natural_frequencies"]]
+    # A slender beam tends to Euler–Bernoulli: β₁L = 4.7300407, f = (β₁L)²/(2πL²) sqrt(EI/ρA).
+    slender = tp.Segment.tube(2.0, 0.016, 0.0, steel)
+    eb = 4.730040745**2 / (2 * np.pi * 2.0**2) * np.sqrt(2e11 * (0.016**2 / 16) / 7800)
+    assert abs(tp.free_free_frequencies(slender, 1)[0] / eb - 1) < 2e-4  # (d/L)² ≈ 6e-5, times a few
+    # Exact against modal summation (independent methods), README tolerance for 300 modes: 1e-2 on H, P.
+    freqs = np.array([200.0, 3000.0, 11000.0])
+    exact = tp.exact_receptance(s, freqs)
+    modal = tp.ModalBeam(s, modes=300).receptance(freqs)
+    assert exact.shape == modal.shape == (3, 4, 4)
+    assert np.all(np.abs(modal[:, 0, 0] - exact[:, 0, 0]) <= 1e-2 * np.abs(exact[:, 0, 0]))
+    run_cli("beam", "--length", 0.1, "--diameter", 0.016, "--frequencies", "200:3000:400", "--output", tmp_path / "t11.csv")
+    fc, t11 = read_block_csv(tmp_path / "t11.csv")
+    assert np.array_equal(tp.exact_receptance(s, fc)[:, :2, :2], t11)
+    run_cli("beam", "--length", 0.1, "--diameter", 0.016, "--frequencies", "200:3000:400", "--method", "modal", "--block", 12,
+            "--output", tmp_path / "m12.csv")
+    _, m12 = read_block_csv(tmp_path / "m12.csv")
+    assert np.array_equal(tp.ModalBeam(s).receptance(fc)[:, :2, 2:], m12)  # T12: rows of end 1, columns of end 2
+
+
+def test_couple_and_overhang_study_are_the_cli_ones(tmp_path, example, model):
+    f = example.frequency_hz
+    sh11 = model.holder_tip(f)
+    tp.write_frf_file(str(tmp_path / "sh11.csv"), f, sh11)
+    run_cli("couple", "--sh", tmp_path / "sh11.csv", "--assembly", EXAMPLE, "--output", tmp_path / "one.csv")
+    _, one = read_block_csv(tmp_path / "one.csv")
+    assert np.array_equal(tp.couple_tool(example, f, sh11), one)
+    # The CLI's sweep START:STOP:STEP is start + i·step (0.044 + 0.005 is not the double 0.049).
+    study = tp.run_overhang_study(example, f, sh11, overhangs_m=[0.044 + i * 0.005 for i in range(3)], threads=2)
+    j = run_cli_json("couple", "--sh", tmp_path / "sh11.csv", "--assembly", EXAMPLE, "--overhang", "0.044:0.054:0.005",
+                     "--output", tmp_path / "sweep")
+    assert study.to_dict()["tracked_modes_hz"] == j["tracked_modes_hz"]
+    _, sweep49 = read_block_csv(tmp_path / "sweep" / "sht11_overhang_49.0mm.csv")
+    assert np.array_equal(study.overhangs[1].sht11, sweep49)
+    assert study.tracked_modes_hz.shape == (len(j["tracked_modes_hz"]), 3)
+    # Coupling the model's own SH11 gives the model's SHT11 (Eq. 5 is exact): the sweep's rounding only.
+    assert np.allclose(study.overhangs[1].sht11[:, 0, 0], model.tool_point(f)[:, 0, 0], rtol=1e-8, atol=0)
+
+
+def test_tap_test_is_the_cli_one(tmp_path, example):
+    t = tp.run_tap_test(example, spacing_m=0.015, sigma=0.005, seed=11)
+    run_cli("taptest", EXAMPLE, "--at", "tool", "--spacing", 0.015, "--sigma", 0.005, "--seed", 11, "--binary",
+            "--output", tmp_path / "tap.uff")
+    u = tp.read_uff(str(tmp_path / "tap.uff"))
+    assert len(u.functions) == len(t.frfs) == 9
+    for d in u.functions:  # binary 58b holds the doubles exactly; node i+1 is point i
+        assert np.array_equal(d.y, t.frf(d.response_node - 1, d.reference_node - 1))
+    assert t.distance_m.tolist() == [0.0, 0.015, 0.03]
+    assert t.frfs[0].values.dtype == np.complex128
+    assert t.to_dict()["shear_stiffness_n"] == t.shear_stiffness_n > 0
+
+
+def test_progress_is_reported(example):
+    seen = []
+    tp.run_prediction(example, progress=seen.append)
+    assert seen and seen[-1] == pytest.approx(1.0) and all(0 < x <= 1 for x in seen)
+
+
+def test_progress_from_worker_threads_and_concurrent_calls(example, prediction):
+    # The overhang study reports progress from its worker threads (the callback takes the GIL).
+    f = example.frequency_hz[::10]
+    sh11 = tp.AssemblyModel(example).holder_tip(f)
+    seen = []
+    one = tp.run_overhang_study(example, f, sh11, overhangs_m=[0.045, 0.05, 0.055, 0.06], threads=2, progress=seen.append)
+    assert len(seen) >= 4 and max(seen) == pytest.approx(1.0)
+    # Python threads may call the library at once (the GIL is released): the same results as alone.
+    from concurrent.futures import ThreadPoolExecutor
+    with ThreadPoolExecutor(2) as pool:
+        runs = list(pool.map(lambda _: tp.run_prediction(example).frf, range(3)))
+    assert all(np.array_equal(r, prediction.frf) for r in runs)
+    again = tp.run_overhang_study(example, f, sh11, overhangs_m=[0.045, 0.05, 0.055, 0.06], threads=1)
+    assert all(np.array_equal(a.sht11, b.sht11) for a, b in zip(one.overhangs, again.overhangs))

@@ -1,0 +1,747 @@
+// toolpoint: joint constants fitted over a band, with bootstrap or linearised intervals
+// (joint_fit.hpp).
+#include "toolpoint/joint_fit.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+#include <limits>
+#include <numeric>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+
+#include "toolpoint/conventions.hpp"
+#include "toolpoint/error.hpp"
+
+namespace toolpoint {
+
+namespace {
+
+using Vec8 = Eigen::Matrix<double, 8, 1>;
+using Jac = Eigen::Matrix<double, 8, Eigen::Dynamic>;
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+// The 8 real parts of a block, entries H, L, N, P (noise.hpp's order).
+Vec8 vec8(const Block& b) {
+  Vec8 v;
+  for (int e = 0; e < 4; ++e) {
+    v(2 * e) = b(e / 2, e % 2).real();
+    v(2 * e + 1) = b(e / 2, e % 2).imag();
+  }
+  return v;
+}
+
+// The standard normal quantile at p in (0.5, 1), by Newton on erfc (to ~1e-12).
+double normal_quantile(double p) {
+  double z = 2.0;
+  for (int i = 0; i < 60; ++i) {
+    const double tail = 0.5 * std::erfc(z / std::sqrt(2.0)), pdf = std::exp(-0.5 * z * z) / std::sqrt(2.0 * kPi);
+    const double dz = (tail - (1.0 - p)) / pdf;
+    z += dz;
+    if (std::abs(dz) < 1e-14) break;
+  }
+  return z;
+}
+
+// ---- Parameters ------------------------------------------------------------------------------
+
+// The free parameters q (scaled to O(1)) and the map to the eight: p_j = scale_k q_k for the
+// free parameter k that j belongs to (k_θf, c_θf belong to k_ym, c_ym in a reciprocal fit).
+struct Parametrization {
+  std::vector<int> free;  // index among the 8 of each free parameter
+  VectorXd scale;         // SI units per unit of q
+  bool reciprocal = true;
+
+  int size() const { return static_cast<int>(free.size()); }
+  // The free parameter (index into q) that value j of the eight belongs to.
+  int owner(int j) const {
+    if (reciprocal && (j == 4 || j == 5)) j -= 2;
+    return static_cast<int>(std::find(free.begin(), free.end(), j) - free.begin());
+  }
+  JointParameters params(const VectorXd& q) const {
+    JointParameters p;
+    for (int j = 0; j < 8; ++j) p[j] = scale(owner(j)) * q(owner(j));
+    return p;
+  }
+  VectorXd from(const JointParameters& p) const {
+    VectorXd q(size());
+    for (int k = 0; k < size(); ++k) {
+      const int j = free[static_cast<std::size_t>(k)];
+      const double v = reciprocal && (j == 2 || j == 3) ? 0.5 * (p[j] + p[j + 2]) : p[j];
+      q(k) = v / scale(k);
+    }
+    return q;
+  }
+  // T (8 × free): ∂p/∂q, for carrying covariances to SI units.
+  MatrixXd jacobian() const {
+    MatrixXd t = MatrixXd::Zero(8, size());
+    for (int j = 0; j < 8; ++j) t(j, owner(j)) = scale(owner(j));
+    return t;
+  }
+};
+
+// Scales from the starting values: a stiffness by its own size; an off-diagonal stiffness no
+// smaller than 10 % of √|k_yf k_θm| (its natural scale, as identify.hpp's noise gains); a damping
+// no smaller than 1e-3 of its entry's stiffness scale over ω at the band's middle.
+Parametrization make_parametrization(const JointParameters& start, bool reciprocal, double omega_mid) {
+  Parametrization par;
+  par.reciprocal = reciprocal;
+  for (int j = 0; j < 8; ++j)
+    if (!(reciprocal && (j == 4 || j == 5))) par.free.push_back(j);
+  par.scale.resize(par.size());
+  const double off = 0.1 * std::sqrt(std::abs(start.k_yf * start.k_tm));
+  for (int k = 0; k < par.size(); ++k) {
+    const int j = par.free[static_cast<std::size_t>(k)];
+    const int kj = j - (j % 2);  // the stiffness of the same entry
+    const bool diagonal = JointParameters::row(j) == JointParameters::column(j);
+    double ks = std::max(std::abs(start[kj]), diagonal ? 0.0 : off);
+    if (reciprocal && kj == 2) ks = std::max(ks, 0.5 * std::abs(start.k_ym + start.k_tf));
+    if (!(ks > 0.0)) ks = 1.0;
+    double s = ks;
+    if (JointParameters::is_damping(j)) s = std::max(std::abs(start[j]), 1e-3 * ks / omega_mid);
+    par.scale(k) = s > 0.0 && std::isfinite(s) ? s : 1.0;
+  }
+  return par;
+}
+
+// ---- The Savitzky–Golay filter as a matrix -------------------------------------------------------
+
+// Rows of S on n points: interior rows are the centred weights; the first and last window/2 rows
+// come from the polynomial fitted to the end windows (signal.hpp), read off by filtering impulses.
+struct FilterRows {
+  std::vector<std::size_t> start;           // first column of row i
+  std::vector<std::vector<double>> weight;  // its weights
+
+  FilterRows(const SavgolOptions& o, std::size_t n) {
+    const auto w = static_cast<std::size_t>(o.window), m = w / 2;
+    const std::vector<double> c = savgol_coefficients(o);
+    std::vector<std::vector<double>> edge(w, std::vector<double>(w));  // edge[i][k] = S(i, k) on w points
+    for (std::size_t k = 0; k < w; ++k) {
+      std::vector<double> impulse(w, 0.0);
+      impulse[k] = 1.0;
+      const std::vector<double> y = savgol_filter(std::span<const double>(impulse), o, "impulse");
+      for (std::size_t i = 0; i < w; ++i) edge[i][k] = y[i];
+    }
+    start.resize(n);
+    weight.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (i < m) {
+        start[i] = 0;
+        weight[i] = edge[i];
+      } else if (i + m >= n) {
+        start[i] = n - w;
+        weight[i] = edge[i - (n - w)];
+      } else {
+        start[i] = i - m;
+        weight[i] = c;
+      }
+    }
+  }
+};
+
+// ---- One set-up ------------------------------------------------------------------------------------
+
+struct Setup {
+  std::string label;
+  std::vector<double> f, omega;
+  std::vector<TwoPort> A;
+  BlockSeries B, G;            // as fitted: B11 enters the model, G11 is compared (filtered if filtering)
+  BlockSeries B_base;          // the bootstrap world's B11: the smoothed raw B11 (exact B11 itself)
+  const BlockNoise* b_noise = nullptr;
+  const BlockNoise* g_noise = nullptr;
+  std::optional<FilterRows> rows;  // when filtering
+  std::vector<Cov8> W;             // whitening per frequency (W Σ_w Wᵀ = I)
+  std::vector<Cov8> sigma;         // noise covariance of the fitted residual at i (filtered: S's diagonal block)
+  std::vector<Cov8> sigma_raw;     // Σ_G + J_B Σ_B J_Bᵀ per frequency, before any filter
+};
+
+// The model at one frequency, G11 = A11 − A12 K V, and when `jm` is given its Jacobian columns
+// vec8(dG11/dq_k) = vec8(−U dK_k V) (p columns of the 8×8; the rest left alone). dK_k has one
+// entry (two for a reciprocal off-diagonal pair), so each column is an outer product of a column
+// of U and a row of V.
+inline Block model_point(const TwoPort& a, const Block& B, const Block& K, double omega, const Parametrization& par, Cov8* jm) {
+  const Block I = Block::Identity();
+  const Block M = a.b22 + B;
+  const Block V = (I + M * K).inverse() * a.b21;
+  const Block g = a.b11 - a.b12 * (K * V);
+  if (jm) {
+    const Block U = a.b12 * (I + K * M).inverse();
+    for (int k = 0; k < par.size(); ++k) {
+      const int j = par.free[static_cast<std::size_t>(k)];
+      const int r = JointParameters::row(j), c = JointParameters::column(j);
+      const Complex unit = JointParameters::is_damping(j) ? Complex(0.0, omega * par.scale(k)) : Complex(par.scale(k), 0.0);
+      Block d = U.col(r) * V.row(c);
+      if (par.reciprocal && (j == 2 || j == 3)) d += U.col(c) * V.row(r);
+      jm->col(k) = vec8(-unit * d);
+    }
+  }
+  return g;
+}
+
+// Model G11 and, when `jac`, its Jacobian columns at every frequency of a set-up, with `B` in the
+// model: the series a filtered fit needs, filtered.
+struct Evaluation {
+  std::vector<Block> g;
+  std::vector<Cov8> jm;  // per frequency, p columns used
+};
+
+void filter_series(std::vector<Block>& s, const SavgolOptions& o) {
+  BlockSeries b;
+  b.blocks = std::move(s);
+  b.frequency_hz.resize(b.blocks.size());
+  std::iota(b.frequency_hz.begin(), b.frequency_hz.end(), 1.0);  // even grid: the filter needs only that
+  s = std::move(savgol_filter(b, o, "model").series.blocks);
+}
+
+Evaluation evaluate(const Setup& s, const BlockSeries& B, const Parametrization& par, const VectorXd& q, bool jac,
+                    const std::optional<SavgolOptions>& filter) {
+  const JointParameters p = par.params(q);
+  const std::size_t n = s.f.size();
+  Evaluation ev;
+  ev.g.resize(n);
+  if (jac) ev.jm.assign(n, Cov8::Zero());
+  for (std::size_t i = 0; i < n; ++i)
+    ev.g[i] = model_point(s.A[i], B.blocks[i], p.stiffness(s.f[i]), s.omega[i], par, jac ? &ev.jm[i] : nullptr);
+  if (filter) {
+    filter_series(ev.g, *filter);
+    if (jac) {
+      // Each Jacobian column is a series of 8 real parts: filtered as a block series of its own.
+      for (int k = 0; k < par.size(); ++k) {
+        std::vector<Block> col(n);
+        for (std::size_t i = 0; i < n; ++i)
+          for (int e = 0; e < 4; ++e) col[i](e / 2, e % 2) = Complex(ev.jm[i](2 * e, k), ev.jm[i](2 * e + 1, k));
+        filter_series(col, *filter);
+        for (std::size_t i = 0; i < n; ++i) ev.jm[i].col(k) = vec8(col[i]);
+      }
+    }
+  }
+  return ev;
+}
+
+// The weighted cost, and when asked the normal matrix and right-hand side (8×8 fixed, the p × p
+// corner used), of the set-ups.
+struct Normal {
+  double cost = 0.0;
+  Cov8 A = Cov8::Zero();
+  Vec8 g = Vec8::Zero();
+};
+
+inline void add_point(const Cov8& W, const Block& data, const Block& model, const Cov8* jm, Normal& out) {
+  const Vec8 r = W * vec8(data - model);
+  out.cost += r.squaredNorm();
+  if (!jm) return;
+  // 8×8 fixed: coefficient-wise products (lazyProduct), not Eigen's packed GEMM, which costs
+  // more than the arithmetic at this size.
+  const Cov8 J = W.lazyProduct(*jm);
+  out.A.noalias() += J.transpose().lazyProduct(J);
+  out.g.noalias() += J.transpose() * r;
+}
+
+void accumulate(const Setup& s, const BlockSeries& B, const BlockSeries& G, const Parametrization& par, const VectorXd& q, bool jac,
+                const std::optional<SavgolOptions>& filter, Normal& out) {
+  if (filter) {
+    const Evaluation ev = evaluate(s, B, par, q, jac, filter);
+    for (std::size_t i = 0; i < s.f.size(); ++i) add_point(s.W[i], G.blocks[i], ev.g[i], jac ? &ev.jm[i] : nullptr, out);
+    return;
+  }
+  // Unfiltered: one frequency at a time, nothing stored.
+  const JointParameters p = par.params(q);
+  Cov8 jm = Cov8::Zero();
+  for (std::size_t i = 0; i < s.f.size(); ++i) {
+    const Block g = model_point(s.A[i], B.blocks[i], p.stiffness(s.f[i]), s.omega[i], par, jac ? &jm : nullptr);
+    add_point(s.W[i], G.blocks[i], g, jac ? &jm : nullptr, out);
+  }
+}
+
+// dG11 = (A12 X) dB11 (X A21) as a real 8×8 map, X = K (I + M K)⁻¹.
+Cov8 b_jacobian(const TwoPort& a, const Block& B, const Block& K) {
+  const Block X = K * (Block::Identity() + (a.b22 + B) * K).inverse();
+  const Block P = a.b12 * X, Q = X * a.b21;
+  Cov8 j;
+  for (int e = 0; e < 4; ++e) {
+    Block E = Block::Zero();
+    E(e / 2, e % 2) = 1.0;
+    const Block d = P * E * Q;
+    j.col(2 * e) = vec8(d);
+    j.col(2 * e + 1) = vec8(Complex(0.0, 1.0) * d);
+  }
+  return j;
+}
+
+// Weights at θ: Σ_raw,i = Σ_G(G_ref) + J_B Σ_B(B_base) J_Bᵀ around the model's values, filtered
+// to S's diagonal blocks when filtering, then floored (kWeightFloor within each entry, 1e-12 of
+// |G_ref|² on each part) and whitened.
+void update_weights(Setup& s, const Parametrization& par, const VectorXd& q) {
+  const JointParameters p = par.params(q);
+  const std::size_t n = s.f.size();
+  s.sigma_raw.resize(n);
+  std::vector<Block> gref(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Block K = p.stiffness(s.f[i]);
+    gref[i] = forward_g11(s.A[i], s.B_base.blocks[i], K);
+    Cov8 sig = s.g_noise->absolute(i, gref[i]);
+    if (!s.b_noise->exact()) {
+      const Cov8 jb = b_jacobian(s.A[i], s.B_base.blocks[i], K);
+      sig.noalias() += jb.lazyProduct(s.b_noise->absolute(i, s.B_base.blocks[i])).lazyProduct(jb.transpose());
+    }
+    s.sigma_raw[i] = sig;
+  }
+  s.sigma = s.sigma_raw;
+  if (s.rows) {
+    for (std::size_t i = 0; i < n; ++i) {
+      Cov8 acc = Cov8::Zero();
+      const auto& w = s.rows->weight[i];
+      for (std::size_t k = 0; k < w.size(); ++k) acc += (w[k] * w[k]) * s.sigma_raw[s.rows->start[i] + k];
+      s.sigma[i] = acc;
+    }
+  }
+  s.W.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    Cov8 w = s.sigma[i];
+    for (int e = 0; e < 4; ++e) {
+      const double t = 0.5 * (w(2 * e, 2 * e) + w(2 * e + 1, 2 * e + 1));
+      const double rel = 1e-12 * std::norm(gref[i](e / 2, e % 2));
+      w(2 * e, 2 * e) += kWeightFloor * t + rel;
+      w(2 * e + 1, 2 * e + 1) += kWeightFloor * t + rel;
+    }
+    const Eigen::LLT<Cov8> llt(w);
+    if (llt.info() != Eigen::Success || !w.allFinite())
+      throw NumericalError(fmt::format("{}: the noise covariance at {} Hz is not positive definite", s.label, s.f[i]),
+                           "check the data for entries that are zero");
+    s.W[i] = llt.matrixL().solve(Cov8::Identity());
+  }
+}
+
+// ---- Levenberg–Marquardt -------------------------------------------------------------------------
+
+struct Solution {
+  VectorXd q;
+  double cost = 0.0;
+  MatrixXd A;  // normal matrix at q
+  int iterations = 0;
+  bool converged = false;
+};
+
+// Minimises the summed cost over the set-ups with their current weights, data (B, G) per set-up.
+Solution minimise(const std::vector<Setup>& setups, const std::vector<const BlockSeries*>& B, const std::vector<const BlockSeries*>& G,
+                  const Parametrization& par, VectorXd q, int max_iterations, const std::optional<SavgolOptions>& filter) {
+  const int p = par.size();
+  struct Current {
+    double cost = 0.0;
+    MatrixXd A;
+    VectorXd g;
+  };
+  auto normal = [&](const VectorXd& x, bool jac) {
+    Normal nm;
+    for (std::size_t s = 0; s < setups.size(); ++s) accumulate(setups[s], *B[s], *G[s], par, x, jac, filter, nm);
+    return Current{nm.cost, nm.A.topLeftCorner(p, p), nm.g.head(p)};
+  };
+  Current cur = normal(q, true);
+  double lambda = 1e-3;
+  Solution sol;
+  for (int it = 1; it <= max_iterations; ++it) {
+    sol.iterations = it;
+    const VectorXd d = cur.A.diagonal().cwiseMax(1e-30 * cur.A.diagonal().maxCoeff());
+    bool accepted = false;
+    VectorXd step;
+    while (lambda < 1e16) {
+      MatrixXd M = cur.A;
+      M.diagonal() += lambda * d;
+      step = M.ldlt().solve(cur.g);
+      if (!step.allFinite()) {
+        lambda *= 10.0;
+        continue;
+      }
+      // The trial with its Jacobian: steps are rarely rejected, so this saves a pass.
+      const VectorXd trial = q + step;
+      Current next = normal(trial, true);
+      if (next.cost <= cur.cost) {
+        q = trial;
+        cur = std::move(next);
+        lambda = std::max(lambda / 10.0, 1e-12);
+        accepted = true;
+        break;
+      }
+      lambda *= 10.0;
+    }
+    if (!accepted) {
+      // No step lowers the cost any more: a minimum to rounding.
+      sol.converged = true;
+      break;
+    }
+    // Converged when the last step moved the parameters by less than 1e-3 of their standard
+    // errors (δᵀ A δ is the step's size in units of the noise; for exact data the 1e-6 relative
+    // weight floor makes that ~1e-9 relative), or below rounding.
+    if (step.dot(cur.A * step) < 1e-6 || step.cwiseAbs().maxCoeff() < 1e-11 * std::max(1.0, q.cwiseAbs().maxCoeff())) {
+      sol.converged = true;
+      break;
+    }
+  }
+  sol.q = q;
+  sol.cost = cur.cost;
+  sol.A = cur.A;
+  return sol;
+}
+
+// The sandwich A⁻¹ (Σ Yᵀ Σ_raw Y) A⁻¹ over the set-ups at q, and tr(Ω Σ) for the residual ratio.
+struct Linearised {
+  MatrixXd covariance;  // of q
+  double expected_cost = 0.0;
+};
+
+Linearised linearise(const std::vector<Setup>& setups, const Parametrization& par, const VectorXd& q, const MatrixXd& A,
+                     const std::optional<SavgolOptions>& filter) {
+  const int p = par.size();
+  MatrixXd middle = MatrixXd::Zero(p, p);
+  double trace = 0.0;
+  for (const Setup& s : setups) {
+    const Evaluation ev = evaluate(s, s.B, par, q, true, filter);
+    const std::size_t n = s.f.size();
+    // Ω J per frequency, 8×8 fixed (columns past p stay zero): small fixed products, no GEMM.
+    std::vector<Cov8> Z(n);
+    Cov8 mid = Cov8::Zero();
+    for (std::size_t i = 0; i < n; ++i) {
+      Z[i] = s.W[i].transpose().lazyProduct(s.W[i].lazyProduct(ev.jm[i]));
+      trace += (s.W[i].lazyProduct(s.sigma[i]).lazyProduct(s.W[i].transpose())).trace();
+    }
+    if (s.rows) {  // Y = Sᵀ Z, column by column along frequency
+      std::vector<Cov8> Y(n, Cov8::Zero());
+      for (std::size_t i = 0; i < n; ++i) {
+        const auto& w = s.rows->weight[i];
+        for (std::size_t k = 0; k < w.size(); ++k) Y[s.rows->start[i] + k] += w[k] * Z[i];
+      }
+      Z = std::move(Y);
+    }
+    for (std::size_t i = 0; i < n; ++i) mid.noalias() += Z[i].transpose().lazyProduct(s.sigma_raw[i].lazyProduct(Z[i]));
+    middle += mid.topLeftCorner(p, p);
+  }
+  const MatrixXd Ainv = A.ldlt().solve(MatrixXd::Identity(p, p));
+  Linearised l;
+  l.covariance = Ainv * middle * Ainv;
+  l.expected_cost = trace - (Ainv * middle).trace();
+  return l;
+}
+
+// Throws NumericalError when a parameter does not act on the fitted FRFs, or two cannot be told
+// apart, naming them.
+void check_identifiable(const MatrixXd& A, const Parametrization& par, const std::vector<Setup>& setups) {
+  const int p = par.size();
+  auto band = [&] {
+    double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
+    for (const Setup& s : setups) lo = std::min(lo, s.f.front()), hi = std::max(hi, s.f.back());
+    return fmt::format("{:g}–{:g} Hz", lo, hi);
+  };
+  for (int k = 0; k < p; ++k)
+    if (!(A(k, k) > 1e-4))
+      throw NumericalError(fmt::format("{} does not act on the fitted FRFs in {}: doubling it moves them by less than 1 % of their noise",
+                                       JointParameters::name(par.free[static_cast<std::size_t>(k)]), band()),
+                           "fit a band that holds the mode the joint controls (the default band: every frequency)");
+  const VectorXd d = A.diagonal().cwiseSqrt().cwiseInverse();
+  const MatrixXd R = d.asDiagonal() * A * d.asDiagonal();
+  const Eigen::SelfAdjointEigenSolver<MatrixXd> es(R);
+  if (es.eigenvalues()(0) < 1e-12) {
+    const VectorXd v = es.eigenvectors().col(0).cwiseAbs();
+    std::vector<int> idx(static_cast<std::size_t>(p));
+    std::iota(idx.begin(), idx.end(), 0);
+    std::sort(idx.begin(), idx.end(), [&](int a, int b) { return v(a) > v(b); });
+    throw NumericalError(fmt::format("{} and {} cannot be told apart by the FRFs in {}: a combination of them has no effect on the "
+                                     "fit (normalised eigenvalue {:.1e})",
+                                     JointParameters::name(par.free[static_cast<std::size_t>(idx[0])]),
+                                     JointParameters::name(par.free[static_cast<std::size_t>(idx[1])]), band(), es.eigenvalues()(0)),
+                         "fit a wider band, or several set-ups together, so that each parameter leaves its own mark");
+  }
+}
+
+double wilson_hilferty_999(double dof) {
+  const double z = 3.090232306167813;  // the standard normal's 99.9 % point
+  const double a = 2.0 / (9.0 * dof);
+  return dof * std::pow(1.0 - a + z * std::sqrt(a), 3.0);
+}
+
+void check_data(const JointFitData& d, std::size_t index) {
+  const std::string label = d.label.empty() ? fmt::format("set-up {}", index + 1) : d.label;
+  const std::string bn = d.b_name.empty() ? "B11" : d.b_name, gn = d.g_name.empty() ? "G11" : d.g_name;
+  validate(d.G11, label + ": " + gn, 1);
+  validate(d.B11, label + ": " + bn, 1);
+  require_same_grid(d.B11.frequency_hz, label + ": " + bn, d.G11.frequency_hz, label + ": " + gn);
+  if (d.A.size() != d.G11.size())
+    throw InputError(fmt::format("{}: {} model component blocks for {} frequencies", label, d.A.size(), d.G11.size()));
+  if (!d.g_noise.exact() && d.g_noise.size() != d.G11.size())
+    throw InputError(fmt::format("{}: the noise of {} covers {} frequencies, the data {}", label, gn, d.g_noise.size(), d.G11.size()));
+  if (!d.b_noise.exact() && d.b_noise.size() != d.B11.size())
+    throw InputError(fmt::format("{}: the noise of {} covers {} frequencies, the data {}", label, bn, d.b_noise.size(), d.B11.size()));
+}
+
+}  // namespace
+
+Block forward_g11(const TwoPort& A, const Block& B11, const Block& K) {
+  return A.b11 - A.b12 * (K * ((Block::Identity() + (A.b22 + B11) * K).inverse() * A.b21));
+}
+
+void JointFitOptions::check() const {
+  if (filter) {
+    try {
+      filter->check();
+    } catch (const InvalidArgument& e) {
+      throw InvalidArgument(fmt::format("JointFitOptions::filter: {}", e.what()), e.hint());
+    }
+  }
+  if (uncertainty == UncertaintyMethod::Bootstrap && (bootstrap_samples < 20 || bootstrap_samples > 100000))
+    throw InvalidArgument(fmt::format("JointFitOptions::bootstrap_samples = {} must lie in 20…100000", bootstrap_samples),
+                          "200 replicates give intervals whose own Monte Carlo error is about 5 %");
+  if (!(confidence > 0.5 && confidence < 1.0))
+    throw InvalidArgument(fmt::format("JointFitOptions::confidence = {} must lie in (0.5, 1)", confidence), "e.g. 0.95");
+  if (max_iterations < 1 || max_iterations > 100000)
+    throw InvalidArgument(fmt::format("JointFitOptions::max_iterations = {} must lie in 1…100000", max_iterations));
+  parallel.check();
+}
+
+Eigen::Matrix<double, 8, 8> JointFit::correlation() const {
+  Eigen::Matrix<double, 8, 8> c = covariance;
+  for (int i = 0; i < 8; ++i)
+    for (int j = 0; j < 8; ++j) {
+      const double d = std::sqrt(covariance(i, i) * covariance(j, j));
+      c(i, j) = d > 0.0 ? covariance(i, j) / d : (i == j ? 1.0 : 0.0);
+    }
+  return c;
+}
+
+JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<JointParameters>& starts, const JointFitOptions& options) {
+  options.check();
+  if (data.empty()) throw InvalidArgument("fit_joint: no set-up given");
+  if (starts.empty()) throw InvalidArgument("fit_joint: no starting values given");
+  for (const auto& s : starts) s.check();
+  std::size_t total = 0;
+  double wlo = std::numeric_limits<double>::infinity(), whi = 0.0;
+  for (std::size_t s = 0; s < data.size(); ++s) {
+    check_data(data[s], s);
+    total += data[s].G11.size();
+    wlo = std::min(wlo, data[s].G11.frequency_hz.front());
+    whi = std::max(whi, data[s].G11.frequency_hz.back());
+  }
+  const int p_free = options.reciprocal ? 6 : 8;
+  if (total < static_cast<std::size_t>(p_free))
+    throw InputError(fmt::format("{} frequencies to fit {} parameters: too few", total, p_free),
+                     "fit a wider band or a finer grid");
+  const Parametrization par = make_parametrization(starts.front(), options.reciprocal, omega_of(std::sqrt(wlo * whi)));
+
+  // Set-ups on their data as fitted.
+  std::vector<Setup> setups(data.size());
+  std::vector<std::string> warnings;
+  for (std::size_t s = 0; s < data.size(); ++s) {
+    const JointFitData& d = data[s];
+    Setup& u = setups[s];
+    u.label = d.label.empty() ? fmt::format("set-up {}", s + 1) : d.label;
+    u.f = d.G11.frequency_hz;
+    for (double x : u.f) u.omega.push_back(omega_of(x));
+    u.A = d.A;
+    u.b_noise = &d.b_noise;
+    u.g_noise = &d.g_noise;
+    const std::size_t n = u.f.size();
+    if (d.b_noise.exact()) {
+      u.B_base = d.B11;
+    } else if (n >= 7) {
+      u.B_base = savgol_filter(d.B11, SavgolOptions{7, 3}, d.b_name).series;
+    } else {
+      throw InputError(fmt::format("{}: {} frequencies are too few for a measured {}", u.label, n, d.b_name), "fit a wider band");
+    }
+    if (options.filter) {
+      if (n < static_cast<std::size_t>(options.filter->window))
+        throw InputError(fmt::format("{}: the band holds {} frequencies, fewer than the filter window of {}", u.label, n,
+                                     options.filter->window),
+                         "fit a wider band or use a shorter filter window");
+      u.B = d.B11;  // B11 enters the model unfiltered (joint_fit.hpp: filtering it distorts the model)
+      u.G = savgol_filter(d.G11, *options.filter, d.g_name).series;
+      u.rows.emplace(*options.filter, n);
+    } else {
+      u.B = d.B11;
+      u.G = d.G11;
+    }
+  }
+  std::vector<const BlockSeries*> Bs, Gs;
+  for (const Setup& u : setups) Bs.push_back(&u.B), Gs.push_back(&u.G);
+
+  // The best start under the weights of the first, then two passes (weights at the solution).
+  VectorXd q = par.from(starts.front());
+  if (starts.size() > 1)
+    for (Setup& u : setups) update_weights(u, par, q);
+  double best = std::numeric_limits<double>::infinity();
+  for (const JointParameters& s : starts) {
+    if (starts.size() == 1) break;
+    const VectorXd x = par.from(s);
+    double c = 0.0;
+    try {
+      Normal nm;
+      for (std::size_t k = 0; k < setups.size(); ++k) accumulate(setups[k], *Bs[k], *Gs[k], par, x, false, options.filter, nm);
+      c = nm.cost;
+    } catch (const NumericalError&) {
+      continue;
+    }
+    if (std::isfinite(c) && c < best) best = c, q = x;
+  }
+  Solution sol;
+  for (int pass = 0; pass < 2; ++pass) {
+    for (Setup& u : setups) update_weights(u, par, q);
+    sol = minimise(setups, Bs, Gs, par, q, options.max_iterations, options.filter);
+    q = sol.q;
+  }
+  check_identifiable(sol.A, par, setups);
+  const Linearised lin = linearise(setups, par, q, sol.A, options.filter);
+
+  JointFit out;
+  out.reciprocal = options.reciprocal;
+  out.confidence = options.confidence;
+  out.points = total;
+  out.iterations = sol.iterations;
+  out.converged = sol.converged;
+  if (!sol.converged)
+    warnings.push_back(fmt::format("the fit did not converge in {} iterations (JointFitOptions::max_iterations)", options.max_iterations));
+  out.residual_ratio = lin.expected_cost > 0.0 ? sol.cost / lin.expected_cost : std::numeric_limits<double>::quiet_NaN();
+  // Widen only for a ratio beyond its own scatter (its standard deviation is √(2/(8n)) for n
+  // frequencies: 0.007 for the whole example grid, 0.05 for a hundred points).
+  const double inflation = std::isfinite(out.residual_ratio) && out.residual_ratio > 1.1 ? std::sqrt(out.residual_ratio) : 1.0;
+  if (std::isfinite(out.residual_ratio) && out.residual_ratio > 1.5)
+    warnings.push_back(fmt::format("the fitted model leaves residuals {:.2g} times what the noise explains: the model (the joint, the "
+                                   "components) or the noise model does not match the data; intervals are widened by {:.2g}",
+                                   out.residual_ratio, inflation));
+
+  const int p = par.size();
+  const double z = normal_quantile(0.5 + 0.5 * options.confidence);
+  VectorXd estimate = q, bias = VectorXd::Zero(p);
+  MatrixXd cov_q = lin.covariance;
+  out.method = options.uncertainty;
+  if (options.uncertainty == UncertaintyMethod::Bootstrap) {
+    const auto N = static_cast<std::size_t>(options.bootstrap_samples);
+    std::vector<VectorXd> rep(N);
+    std::vector<char> ok(N, 0);
+    // The bootstrap world: θ̂ and the smoothed B11, data drawn from the noise models.
+    const JointParameters theta = par.params(q);
+    std::vector<BlockSeries> truth_g(setups.size());
+    for (std::size_t s = 0; s < setups.size(); ++s) {
+      truth_g[s].frequency_hz = setups[s].f;
+      for (std::size_t i = 0; i < setups[s].f.size(); ++i)
+        truth_g[s].blocks.push_back(forward_g11(setups[s].A[i], setups[s].B_base.blocks[i], theta.stiffness(setups[s].f[i])));
+    }
+    parallel_for(
+        N, options.parallel,
+        [&](std::size_t b) {
+          // The whole procedure again on data drawn in the bootstrap world, weights included: they
+          // come from the smoothed B11, whose noise then correlates with the fit's (as it does
+          // in the fit of the measured data) — leaving that out misjudges the bias.
+          std::vector<Setup> local = setups;
+          std::vector<BlockSeries> Bb(setups.size()), Gb(setups.size());
+          std::vector<const BlockSeries*> bp, gp;
+          for (std::size_t s = 0; s < setups.size(); ++s) {
+            const std::uint64_t base = stream_seed(options.seed, b * 1000 + s);
+            Bb[s] = draw_block_noise(setups[s].B_base, *setups[s].b_noise, stream_seed(base, 1));
+            Gb[s] = draw_block_noise(truth_g[s], *setups[s].g_noise, stream_seed(base, 2));
+            if (!setups[s].b_noise->exact()) local[s].B_base = savgol_filter(Bb[s], SavgolOptions{7, 3}, "bootstrap B11").series;
+            if (options.filter) Gb[s] = savgol_filter(Gb[s], *options.filter, "bootstrap G11").series;
+          }
+          for (std::size_t s = 0; s < setups.size(); ++s) bp.push_back(&Bb[s]), gp.push_back(&Gb[s]);
+          try {
+            for (Setup& u : local) update_weights(u, par, q);
+            const Solution r = minimise(local, bp, gp, par, q, options.max_iterations, options.filter);
+            if (r.converged && r.q.allFinite()) rep[b] = r.q, ok[b] = 1;
+          } catch (const NumericalError&) {
+          }
+        },
+        options.progress);
+    std::vector<VectorXd> good;
+    for (std::size_t b = 0; b < N; ++b)
+      if (ok[b]) good.push_back(rep[b]);
+    if (good.size() < N / 2)
+      throw NumericalError(fmt::format("the bootstrap failed: only {} of {} replicates could be refitted", good.size(), N),
+                           "the fit is unstable under its own noise: fit a wider band, or use the linearised intervals");
+    if (good.size() < N)
+      warnings.push_back(fmt::format("{} of {} bootstrap replicates could not be refitted and were left out", N - good.size(), N));
+    VectorXd mean = VectorXd::Zero(p);
+    for (const auto& v : good) mean += v;
+    mean /= static_cast<double>(good.size());
+    MatrixXd c = MatrixXd::Zero(p, p);
+    for (const auto& v : good) c += (v - mean) * (v - mean).transpose();
+    c /= static_cast<double>(good.size() - 1);
+    bias = mean - q;
+    estimate = q - bias;
+    // Each standard error is the larger of the replicates' spread and the linearised one: the
+    // spread of N replicates carries a Monte Carlo error of its own (~1/√(2N): 5 % at 200), which
+    // the linearised error bounds from below; the correlations are the replicates'.
+    Eigen::VectorXd d = Eigen::VectorXd::Ones(p);
+    for (int k = 0; k < p; ++k)
+      if (c(k, k) > 0.0 && lin.covariance(k, k) > c(k, k)) d(k) = std::sqrt(lin.covariance(k, k) / c(k, k));
+    cov_q = d.asDiagonal() * c * d.asDiagonal();
+    out.bootstrap_samples = static_cast<int>(good.size());
+    out.method_description = fmt::format("parametric bootstrap on the fitted model, {} replicates, bias-corrected; ±{:.3g} standard errors "
+                                         "(each the larger of the replicates' and the linearised)",
+                                         good.size(), z);
+  } else {
+    out.method_description = fmt::format("linearised (sandwich covariance at the optimum{}); ±{:.3g} standard errors",
+                                         options.filter ? ", with the filter's correlation" : "", z);
+  }
+  if (inflation > 1.0) {
+    cov_q *= inflation * inflation;
+    out.method_description += fmt::format(", widened ×{:.2g} for the residual ratio", inflation);
+  }
+  const MatrixXd T = par.jacobian();
+  out.covariance = T * cov_q * T.transpose();
+  out.parameters = par.params(estimate);
+  const JointParameters fitted = par.params(q), biases = par.params(bias);
+  for (int j = 0; j < 8; ++j) {
+    ParameterInterval& iv = out.intervals[static_cast<std::size_t>(j)];
+    iv.estimate = out.parameters[j];
+    iv.fitted = fitted[j];
+    iv.bias = biases[j];
+    iv.std_error = std::sqrt(std::max(0.0, out.covariance(j, j)));
+    iv.lower = iv.estimate - z * iv.std_error;
+    iv.upper = iv.estimate + z * iv.std_error;
+    iv.determined = (iv.lower > 0.0 || iv.upper < 0.0) && (iv.upper - iv.lower) < std::abs(iv.estimate);
+    iv.free = !(options.reciprocal && (j == 4 || j == 5));
+  }
+
+  // Several set-ups: each alone, and whether the joint transfers between them.
+  if (setups.size() > 1) {
+    double Q = 0.0;
+    for (std::size_t s = 0; s < setups.size(); ++s) {
+      const std::vector<Setup> one{setups[s]};
+      const Solution r = minimise(one, {&setups[s].B}, {&setups[s].G}, par, q, options.max_iterations, options.filter);
+      SetupFit sf;
+      sf.label = setups[s].label;
+      sf.fitted = par.params(r.q);
+      Linearised l;
+      try {
+        l = linearise(one, par, r.q, r.A, options.filter);
+      } catch (const NumericalError&) {
+        continue;
+      }
+      const MatrixXd cs = T * l.covariance * T.transpose();
+      for (int j = 0; j < 8; ++j) sf.std_error[static_cast<std::size_t>(j)] = std::sqrt(std::max(0.0, cs(j, j)));
+      sf.residual_ratio = l.expected_cost > 0.0 ? r.cost / l.expected_cost : std::numeric_limits<double>::quiet_NaN();
+      const VectorXd dq = r.q - q;
+      sf.disagreement = dq.dot(l.covariance.ldlt().solve(dq));
+      Q += sf.disagreement;
+      out.setups.push_back(sf);
+    }
+    out.transfer_statistic = Q;
+    out.transfer_limit = wilson_hilferty_999(static_cast<double>((setups.size() - 1) * static_cast<std::size_t>(p)));
+    out.transfers = Q <= out.transfer_limit;
+    if (!out.transfers) {
+      std::string worst;
+      double wd = -1.0;
+      for (const auto& sf : out.setups)
+        if (sf.disagreement > wd) wd = sf.disagreement, worst = sf.label;
+      warnings.push_back(fmt::format("the joint does not transfer between the set-ups: fitted alone they disagree beyond their noise "
+                                     "(χ² = {:.3g}, 99.9 % limit {:.3g}; most: {}); the common fit describes none of them well",
+                                     Q, out.transfer_limit, worst));
+    }
+  }
+  for (const JointFitData& d : data)
+    for (const auto* n : {&d.b_noise, &d.g_noise})
+      for (const auto& w : n->warnings) warnings.push_back(w);
+  out.warnings = std::move(warnings);
+  return out;
+}
+
+}  // namespace toolpoint

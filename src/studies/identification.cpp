@@ -1,0 +1,402 @@
+// toolpoint: a joint identified from measured FRFs, seed read-out and band fit (studies/identification.hpp).
+#include "toolpoint/studies/identification.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+#include <numeric>
+
+#include "toolpoint/coupling.hpp"
+#include "toolpoint/error.hpp"
+#include "toolpoint/peaks.hpp"
+#include "toolpoint/version.hpp"
+
+namespace toolpoint {
+
+const char* to_string(IdentificationMethod m) { return m == IdentificationMethod::Fit ? "fit" : "seed"; }
+
+const char* to_string(Route r) {
+  switch (r) {
+    case Route::HolderTool: return "Eq. (6)";
+    case Route::SpindleHolderFromSH: return "Eq. (15)";
+    case Route::SpindleHolderFromSHT: return "Eq. (18)";
+  }
+  return "?";
+}
+
+const char* to_string(Verdict v) { return v == Verdict::Pass ? "pass" : v == Verdict::Doubtful ? "doubtful" : "fail"; }
+
+void NoiseSpec::check() const {
+  if (source == Source::Estimated) {
+    estimate.check();
+    return;
+  }
+  if (!(magnitude_sigma >= 0.0 && std::isfinite(magnitude_sigma)) || !(phase_sigma_rad >= 0.0 && std::isfinite(phase_sigma_rad)) ||
+      magnitude_sigma + phase_sigma_rad == 0.0)
+    throw InvalidArgument(fmt::format("NoiseSpec: stated magnitude σ = {} and phase σ = {} rad must be ≥ 0, not both 0", magnitude_sigma,
+                                      phase_sigma_rad),
+                          "e.g. magnitude σ = 0.02 (2 %) and phase σ = 0.02 rad, or estimate the noise from the data");
+  if (magnitude_sigma > 0.5 || phase_sigma_rad > 0.5)
+    throw InvalidArgument(fmt::format("NoiseSpec: stated magnitude σ = {} or phase σ = {} rad above 0.5: a relative σ, not a percentage",
+                                      magnitude_sigma, phase_sigma_rad),
+                          "give 0.05 for 5 %");
+}
+
+void VerdictThresholds::check() const {
+  if (!(doubt_frequency > 0.0 && doubt_frequency <= fail_frequency && fail_frequency < 1.0))
+    throw InvalidArgument(fmt::format("VerdictThresholds: frequency errors doubt {} ≤ fail {} must lie in (0, 1)", doubt_frequency, fail_frequency));
+  if (!(doubt_peak > 0.0 && doubt_peak <= fail_peak && fail_peak < 10.0))
+    throw InvalidArgument(fmt::format("VerdictThresholds: peak errors doubt {} ≤ fail {} must lie in (0, 10)", doubt_peak, fail_peak));
+}
+
+void IdentificationOptions::check() const {
+  if (band_hz && !(band_hz->first > 0.0 && band_hz->second > band_hz->first && std::isfinite(band_hz->second)))
+    throw InvalidArgument(fmt::format("IdentificationOptions::band_hz {}–{} Hz: the upper frequency must exceed the lower, both > 0",
+                                      band_hz->first, band_hz->second),
+                          "e.g. 2500–2650 Hz");
+  if (at_hz && !(*at_hz > 0.0 && std::isfinite(*at_hz)))
+    throw InvalidArgument(fmt::format("IdentificationOptions::at_hz = {} Hz must be > 0", *at_hz));
+  if (band_hz && at_hz)
+    throw InvalidArgument("IdentificationOptions: band_hz and at_hz both given; the band would ignore at_hz",
+                          "give the band, or the frequency to read around, not both");
+  if (!(width > 0.0 && width < 0.5)) throw InvalidArgument(fmt::format("IdentificationOptions::width = {} must lie in (0, 0.5)", width));
+  if (filter) filter->check();
+  noise.check();
+  JointFitOptions f = fit;
+  f.filter = filter;
+  f.check();
+  readout.check();
+  verdict.check();
+}
+
+JointFile joint_file_of(const Identification& id, const std::vector<std::string>& inputs) {
+  JointFile f;
+  f.interface = id.route == Route::HolderTool ? JointInterface::HolderTool : JointInterface::SpindleHolder;
+  f.parameters = id.identified;
+  auto add = [&](const char* key, std::string value) { f.identification.emplace_back(key, std::move(value)); };
+  add("equation", id.equation);
+  add("method", id.method == IdentificationMethod::Fit ? "band fit (output error, joint_fit.hpp)" : "the seed's closed form read at the mode");
+  if (id.fit) {
+    JointUncertainty u;
+    u.confidence = id.fit->confidence;
+    u.covariance = id.fit->covariance;
+    for (std::size_t k = 0; k < 8; ++k) {
+      u.lower[k] = id.fit->intervals[k].lower;
+      u.upper[k] = id.fit->intervals[k].upper;
+      u.determined[k] = id.fit->intervals[k].determined;
+    }
+    f.uncertainty = u;
+    add("intervals", id.fit->method_description);
+    add("parameters_fitted", id.fit->reciprocal ? "6 (k_tf = k_ym, c_tf = c_ym)" : "8");
+    add("band_hz", fmt::format("{}–{}", id.fit_band_hz.first, id.fit_band_hz.second));
+    add("frequencies", fmt::format("{}", id.fit->points));
+    add("residual_ratio", fmt::format("{:.4g}", id.fit->residual_ratio));
+  } else {
+    add("band_hz", fmt::format("{}–{}", id.seed.band_lo_hz, id.seed.band_hi_hz));
+  }
+  add("verdict", to_string(id.verdict.verdict));
+  for (std::size_t i = 0; i < inputs.size(); ++i) add(fmt::format("input_{}", i + 1).c_str(), inputs[i]);
+  add("toolpoint_version", TOOLPOINT_VERSION);
+  return f;
+}
+
+JointParameters weighted_median_parameters(const JointSeries& s, double lo, double hi) {
+  JointParameters p;
+  for (int k = 0; k < 8; ++k) {
+    std::vector<std::pair<double, double>> vw;  // value, weight
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      if (s.frequency_hz[i] < lo || s.frequency_hz[i] > hi) continue;
+      const double g = s.estimates[i].noise_gain[static_cast<std::size_t>(k)];
+      const double v = s.parameters[i][k];
+      if (std::isfinite(v)) vw.emplace_back(v, std::isfinite(g) && g > 0.0 ? 1.0 / (g * g) : 0.0);
+    }
+    if (vw.empty()) continue;
+    std::sort(vw.begin(), vw.end());
+    double total = 0.0;
+    for (const auto& x : vw) total += x.second;
+    if (!(total > 0.0)) {
+      p[k] = vw[vw.size() / 2].first;
+      continue;
+    }
+    double acc = 0.0;
+    for (const auto& x : vw) {
+      acc += x.second;
+      if (acc >= 0.5 * total) {
+        p[k] = x.first;
+        break;
+      }
+    }
+  }
+  return p;
+}
+
+namespace {
+
+struct SetupModel {
+  Assembly assembly;
+  std::string label;
+  std::vector<TwoPort> A;  // per frequency of G11
+  BlockSeries B;           // measured or the model's S11
+  bool b_measured = true;
+};
+
+BlockSeries smoothed(const BlockSeries& s, const std::optional<SavgolOptions>& filter) {
+  const SavgolOptions o = filter ? *filter : SavgolOptions{15, 3};
+  if (s.size() < static_cast<std::size_t>(o.window)) return s;
+  return savgol_filter(s, o, "FRF").series;
+}
+
+BlockNoise noise_of(const BlockSeries& s, const std::string& name, const NoiseSpec& spec) {
+  if (spec.source == NoiseSpec::Source::Stated) return stated_block_noise(s.size(), spec.magnitude_sigma, spec.phase_sigma_rad);
+  try {
+    return estimate_block_noise(s, spec.estimate, name);
+  } catch (const InputError& e) {
+    throw InputError(e.what(), "state the noise (magnitude and phase σ) when the data are too short to estimate it from");
+  }
+}
+
+std::vector<std::size_t> in_band(const std::vector<double>& f, double lo, double hi) {
+  std::vector<std::size_t> idx;
+  for (std::size_t i = 0; i < f.size(); ++i)
+    if (f[i] >= lo && f[i] <= hi) idx.push_back(i);
+  return idx;
+}
+
+BlockSeries subset(const BlockSeries& s, const std::vector<std::size_t>& idx) {
+  BlockSeries out;
+  for (std::size_t i : idx) out.frequency_hz.push_back(s.frequency_hz[i]), out.blocks.push_back(s.blocks[i]);
+  return out;
+}
+
+void judge(Identification& r, const IdentificationOptions& o, bool same_data) {
+  std::vector<std::string> fail, doubt;
+  if (same_data) fail.push_back("G11 and B11 are the same data (one file given for both?): nothing to identify the joint from");
+  const JointParameters& p = r.identified;
+  for (int k : {0, 6})
+    if (!(p[k] > 0.0))
+      fail.push_back(fmt::format("{} = {:.4g} {} ≤ 0: a joint's diagonal stiffness is positive", JointParameters::name(k), p[k],
+                                 JointParameters::unit(k)));
+  for (int k : {1, 7}) {
+    if (p[k] >= 0.0) continue;
+    const bool certain = r.fit ? r.fit->intervals[static_cast<std::size_t>(k)].upper < 0.0
+                               : r.seed.noise_gain[static_cast<std::size_t>(k)] <= o.readout.gain_warning;
+    (certain ? fail : doubt)
+        .push_back(fmt::format("{} = {:.4g} {} < 0: a passive joint does not feed energy in{}", JointParameters::name(k), p[k],
+                               JointParameters::unit(k), certain ? "" : " (but it is poorly determined by these data)"));
+  }
+  if (r.fit) {
+    if (!r.fit->converged) fail.push_back("the fit did not converge");
+    if (std::isfinite(r.fit->residual_ratio) && r.fit->residual_ratio > 1.5)
+      doubt.push_back(fmt::format("the fitted model leaves residuals {:.2g}× what the noise explains", r.fit->residual_ratio));
+    if (!r.fit->transfers) doubt.push_back("the joint does not transfer between the set-ups");
+    for (int k : {0, 6})
+      if (!r.fit->intervals[static_cast<std::size_t>(k)].determined)
+        doubt.push_back(fmt::format("{} is not determined by these data (its interval is wider than its value or holds 0)",
+                                    JointParameters::name(k)));
+  } else {
+    for (int k : {0, 6})
+      if (r.seed.noise_gain[static_cast<std::size_t>(k)] > o.readout.gain_warning)
+        doubt.push_back(fmt::format("{} is poorly determined in the read-out band (noise gain {:.3g})", JointParameters::name(k),
+                                    r.seed.noise_gain[static_cast<std::size_t>(k)]));
+  }
+  if (r.forward_check.empty()) doubt.push_back("the forward check found no mode to compare");
+  for (const ModeComparison& c : r.forward_check) {
+    const double fe = std::abs(c.frequency_error), pe = std::abs(c.magnitude_error);
+    const std::string what = fmt::format("the mode at {:.1f} Hz comes back at {:.1f} Hz ({:+.2g} %) with its peak {:+.2g} %", c.measured_hz,
+                                         c.predicted_hz, 100 * c.frequency_error, 100 * c.magnitude_error);
+    if (fe > o.verdict.fail_frequency || pe > o.verdict.fail_peak)
+      fail.push_back(fmt::format("forward check: {} (fail above {:g} % / {:g} %)", what, 100 * o.verdict.fail_frequency, 100 * o.verdict.fail_peak));
+    else if (fe > o.verdict.doubt_frequency || pe > o.verdict.doubt_peak)
+      doubt.push_back(fmt::format("forward check: {} (doubtful above {:g} % / {:g} %)", what, 100 * o.verdict.doubt_frequency,
+                                  100 * o.verdict.doubt_peak));
+  }
+  r.verdict.verdict = !fail.empty() ? Verdict::Fail : !doubt.empty() ? Verdict::Doubtful : Verdict::Pass;
+  r.verdict.reasons = fail;
+  r.verdict.reasons.insert(r.verdict.reasons.end(), doubt.begin(), doubt.end());
+}
+
+}  // namespace
+
+Identification identify_joint_from_frfs(const Assembly& assembly, const std::vector<IdentificationData>& data,
+                                        const IdentificationOptions& o) {
+  o.check();
+  if (data.empty()) throw InvalidArgument("identification: no measured FRFs given");
+  auto progress = [&](double x) {
+    if (o.progress) o.progress(x);
+  };
+  const bool ht = o.route == Route::HolderTool;
+  Identification r;
+  r.route = o.route;
+  r.method = o.method;
+  r.equation = ht ? "Eq. (6) from Eq. (5): A = T (tool, model), B11 = SH11, G11 = SHT11"
+               : o.route == Route::SpindleHolderFromSH
+                   ? "Eq. (15): A = H (holder with shank, model), B11 = S11, G11 = SH11"
+                   : "Eq. (18): A = HT (holder + tool through the assembly's K_ht, model), B11 = S11, G11 = SHT11";
+
+  // Each set-up's model and data.
+  std::vector<SetupModel> setups;
+  for (std::size_t s = 0; s < data.size(); ++s) {
+    const IdentificationData& d = data[s];
+    SetupModel u;
+    u.assembly = d.overhang_m ? with_overhang(assembly, *d.overhang_m) : assembly;
+    u.label = !d.label.empty() ? d.label : fmt::format("overhang {:.1f} mm", 1000 * u.assembly.tool.overhang);
+    const std::string gname = d.g_name.empty() ? (ht || o.route == Route::SpindleHolderFromSHT ? "SHT11" : "SH11") : d.g_name;
+    validate(d.G11, gname, 3);
+    const AssemblyModel m(u.assembly);
+    if (d.B11) {
+      validate(*d.B11, d.b_name.empty() ? "B11" : d.b_name, 3);
+      require_same_grid(d.B11->frequency_hz, d.b_name.empty() ? "B11" : d.b_name, d.G11.frequency_hz, gname);
+      u.B = *d.B11;
+    } else if (ht) {
+      throw InputError(fmt::format("{}: Eq. (6) needs the measured SH11 (holder tip, tool outside removed) as well as SHT11", u.label),
+                       "give SH11 with SHT11");
+    } else {
+      u.B = block_series(d.G11.frequency_hz, [&](double f) { return m.spindle_nose(f); });
+      u.b_measured = false;
+    }
+    for (double f : d.G11.frequency_hz)
+      u.A.push_back(ht ? m.tool(f) : o.route == Route::SpindleHolderFromSH ? m.holder(f) : m.holder_tool(f));
+    setups.push_back(std::move(u));
+  }
+  progress(0.05);
+  const IdentificationData& d0 = data.front();
+  const SetupModel& s0 = setups.front();
+  const std::string g0 = d0.g_name.empty() ? "G11" : d0.g_name, b0 = d0.b_name.empty() ? (s0.b_measured ? "B11" : "S11 (model spindle)") : d0.b_name;
+
+  // The seed: closed form on (filtered) data, read in the band at the mode.
+  const BlockSeries G0f = o.filter ? savgol_filter(d0.G11, *o.filter, g0).series : d0.G11;
+  const BlockSeries B0f = o.filter && s0.b_measured ? savgol_filter(s0.B, *o.filter, b0).series : s0.B;
+  bool have_closed_form = true;
+  try {
+    const std::vector<TwoPort>& A0 = s0.A;
+    const auto& f0 = d0.G11.frequency_hz;
+    r.closed_form = identify_series([&](double f) { return A0[static_cast<std::size_t>(std::lower_bound(f0.begin(), f0.end(), f) - f0.begin())]; },
+                                    B0f, b0, G0f, g0);
+  } catch (const NumericalError& e) {
+    if (o.method == IdentificationMethod::Seed) throw;
+    have_closed_form = false;
+    r.warnings.push_back(fmt::format("the closed form failed ({}): no seed read-out; the fit starts from the assembly's joint values", e.what()));
+  }
+  progress(0.15);
+  const BlockSeries G0s = smoothed(d0.G11, o.filter);
+  {
+    ModeChoice& mc = r.mode;
+    if (o.band_hz) {
+      mc.method = "band given";
+      mc.lo_hz = o.band_hz->first;
+      mc.hi_hz = o.band_hz->second;
+      mc.center_hz = 0.5 * (mc.lo_hz + mc.hi_hz);
+    } else {
+      if (o.at_hz) {
+        mc.method = "frequency given";
+        mc.center_hz = *o.at_hz;
+      } else if (!o.overhang_frfs.empty()) {
+        std::vector<FrfSeries> frfs{entry(G0s, 0)};
+        frfs.insert(frfs.end(), o.overhang_frfs.begin(), o.overhang_frfs.end());
+        mc.overhang = overhang_mode(frfs, 0);
+        mc.method = "mode that moves most with the overhang";
+        mc.center_hz = mc.overhang->reference_peaks[mc.overhang->dominant].frequency_hz;
+      } else {
+        mc.effect = effect_analysis(s0.assembly, o.route, d0.G11.frequency_hz);
+        mc.method = "effect analysis on the model";
+        const double model_f = mc.effect->modes[mc.effect->dominant].frequency_hz;
+        const auto peaks = find_peaks(entry(G0s, 0), PeakOptions{0.1});
+        mc.center_hz = model_f;
+        if (peaks.empty())
+          r.warnings.push_back(fmt::format("{}: no resonance peak in |H|: the band is centred on the model's mode at {:.1f} Hz", g0, model_f));
+        else
+          mc.center_hz = std::min_element(peaks.begin(), peaks.end(), [&](const Peak& x, const Peak& y) {
+                           return std::abs(x.frequency_hz - model_f) < std::abs(y.frequency_hz - model_f);
+                         })->frequency_hz;
+      }
+      mc.lo_hz = mc.center_hz * (1.0 - o.width);
+      mc.hi_hz = mc.center_hz * (1.0 + o.width);
+    }
+  }
+  if (have_closed_form) {
+    r.seed = read_joint(r.closed_form, r.mode.lo_hz, r.mode.hi_hz, o.readout);
+    for (const auto& w : r.seed.warnings) r.warnings.push_back("seed read-out: " + w);
+  }
+  progress(0.25);
+
+  // Noise of every measured series (the fit's weights and bootstrap; the verdict reads its warnings).
+  for (std::size_t s = 0; s < setups.size(); ++s) {
+    r.g_noise.push_back(noise_of(data[s].G11, data[s].g_name.empty() ? "G11" : data[s].g_name, o.noise));
+    r.b_noise.push_back(setups[s].b_measured ? noise_of(setups[s].B, data[s].b_name.empty() ? "B11" : data[s].b_name, o.noise)
+                                             : exact_block_noise());
+  }
+  for (const auto* v : {&r.g_noise, &r.b_noise})
+    for (const BlockNoise& n : *v) r.warnings.insert(r.warnings.end(), n.warnings.begin(), n.warnings.end());
+
+  if (o.method == IdentificationMethod::Fit) {
+    double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
+    std::vector<JointFitData> fd;
+    for (std::size_t s = 0; s < setups.size(); ++s) {
+      const auto& f = data[s].G11.frequency_hz;
+      const auto idx = o.band_hz ? in_band(f, o.band_hz->first, o.band_hz->second) : [&] {
+        std::vector<std::size_t> all(f.size());
+        std::iota(all.begin(), all.end(), std::size_t{0});
+        return all;
+      }();
+      if (idx.empty())
+        throw InvalidArgument(fmt::format("{}: the band {}–{} Hz holds none of the data's frequencies ({}–{} Hz)", setups[s].label,
+                                          o.band_hz->first, o.band_hz->second, f.front(), f.back()),
+                              "choose a band inside the data's frequency range");
+      JointFitData x;
+      x.label = setups[s].label;
+      x.G11 = subset(data[s].G11, idx);
+      x.B11 = subset(setups[s].B, idx);
+      x.g_name = data[s].g_name.empty() ? "G11" : data[s].g_name;
+      x.b_name = data[s].b_name.empty() ? (setups[s].b_measured ? "B11" : "S11 (model)") : data[s].b_name;
+      for (std::size_t i : idx) x.A.push_back(setups[s].A[i]);
+      x.g_noise = r.g_noise[s].subset(idx);
+      x.b_noise = r.b_noise[s].subset(idx);
+      lo = std::min(lo, x.G11.frequency_hz.front());
+      hi = std::max(hi, x.G11.frequency_hz.back());
+      fd.push_back(std::move(x));
+    }
+    r.fit_band_hz = {lo, hi};
+    std::vector<JointParameters> starts;
+    auto finite = [](const JointParameters& p) {
+      for (int k = 0; k < 8; ++k)
+        if (!std::isfinite(p[k])) return false;
+      return p.k_yf != 0.0 || p.k_tm != 0.0;
+    };
+    if (have_closed_form) {
+      starts.push_back(r.seed.medians());
+      starts.push_back(weighted_median_parameters(r.closed_form, lo, hi));
+    }
+    const Joint& trial = ht ? assembly.holder_tool : assembly.spindle_holder;
+    if (!trial.rigid) starts.push_back(trial.parameters);
+    starts.erase(std::remove_if(starts.begin(), starts.end(), [&](const JointParameters& p) { return !finite(p); }), starts.end());
+    if (starts.empty())
+      throw InvalidArgument(fmt::format("the fit has no starting values: the closed form failed and joints.{} is rigid in the assembly",
+                                        ht ? "holder_tool" : "spindle_holder"),
+                            "give the joint trial values in the assembly file");
+    JointFitOptions fo = o.fit;
+    fo.filter = o.filter;
+    if (o.progress) fo.progress = [&](double x) { progress(0.3 + 0.6 * x); };
+    r.fit = fit_joint(fd, starts, fo);
+    r.identified = r.fit->parameters;
+    for (const auto& w : r.fit->warnings)
+      if (std::find(r.warnings.begin(), r.warnings.end(), w) == r.warnings.end()) r.warnings.push_back(w);
+  } else {
+    r.identified = r.seed.medians();
+  }
+  progress(0.9);
+
+  // Forward check on the first set-up: the same smoothing on data and prediction.
+  {
+    const Joint joint = Joint::make_elastic(r.identified);
+    BlockSeries pred;
+    pred.frequency_hz = d0.G11.frequency_hz;
+    for (std::size_t i = 0; i < pred.frequency_hz.size(); ++i)
+      pred.blocks.push_back(couple_point(s0.A[i], s0.B.blocks[i], joint, pred.frequency_hz[i]));
+    r.forward_check = compare_modes(entry(G0s, 0), entry(smoothed(pred, o.filter), 0), PeakOptions{0.1});
+  }
+  judge(r, o, s0.b_measured && s0.B.blocks == d0.G11.blocks);
+  progress(1.0);
+  return r;
+}
+
+}  // namespace toolpoint

@@ -1,0 +1,291 @@
+// toolpoint study: milling stability lobes (studies/lobes.hpp). Units: SI, Hz, rpm.
+#include "toolpoint/studies/lobes.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+#include <limits>
+
+#include "toolpoint/error.hpp"
+
+namespace toolpoint {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// ‖Σ modes − G‖/‖G‖ over the FRF points inside `band` (all when none).
+double modal_residual(const FrfSeries& frf, const std::vector<Mode>& modes, const std::optional<std::pair<double, double>>& band) {
+  double num = 0.0, den = 0.0;
+  for (std::size_t i = 0; i < frf.size(); ++i) {
+    const double f = frf.frequency_hz[i];
+    if (band && (f < band->first || f > band->second)) continue;
+    num += std::norm(modal_receptance(modes, f) - frf.values[i]);
+    den += std::norm(frf.values[i]);
+  }
+  return den > 0.0 ? std::sqrt(num / den) : 0.0;
+}
+
+// The top of a lobes figure's depth axis: 5× the shallowest envelope depth (the plot module's own
+// default), so lobe points far above it can be left out of the figure's data.
+double figure_top_m(const std::vector<EnvelopePoint>& envelope) {
+  double floor = std::numeric_limits<double>::infinity();
+  for (const EnvelopePoint& e : envelope)
+    if (std::isfinite(e.depth_m) && e.depth_m > 0.0) floor = std::min(floor, e.depth_m);
+  return 5.0 * floor;
+}
+
+void set_envelope(plot::LobesFigureData& d, const std::vector<EnvelopePoint>& envelope) {
+  for (const EnvelopePoint& e : envelope) {
+    d.envelope_rpm.push_back(e.speed_rpm);
+    d.envelope_depth_m.push_back(e.depth_m);
+  }
+}
+
+// The depth axis: 5× the shallowest depth, raised to cover the best speeds reported (they are
+// read off the figure) up to 50× it; deeper pockets are left above the frame, and the title says so.
+struct DepthAxis {
+  double top_m;
+  bool clipped;
+};
+
+DepthAxis depth_axis(const std::vector<EnvelopePoint>& envelope, const std::vector<EnvelopePoint>& pockets) {
+  const double floor = figure_top_m(envelope) / 5.0;
+  DepthAxis axis{5.0 * floor, false};
+  for (const EnvelopePoint& p : pockets) {
+    if (p.depth_m * 1.1 <= axis.top_m) continue;
+    if (p.depth_m * 1.1 <= 50.0 * floor) axis.top_m = p.depth_m * 1.1;
+    else axis.clipped = true;
+  }
+  if (axis.clipped) axis.top_m = 50.0 * floor;
+  return axis;
+}
+
+void set_depth_axis(plot::LobesFigureData& d, const DepthAxis& axis) {
+  d.depth_max_m = axis.top_m;
+  if (axis.clipped) d.title += fmt::format(" (pockets above {:.3g} mm clipped)", axis.top_m * 1e3);
+}
+
+// Zero-order lobes for the figure: one polyline per lobe, broken (NaN) between its two roots and
+// wherever grid frequencies are skipped (speed out of range, no positive depth, or deeper than
+// twice the axis top: such points only thin the data, the visible part stays whole).
+plot::LobesFigureData zero_order_figure(const ZeroOrderResult& r, double keep_below_m) {
+  plot::LobesFigureData d;
+  set_envelope(d, r.envelope);
+  const std::vector<double>& grid = r.table.chatter_hz;
+  std::size_t last_index = grid.size();
+  int last_root = -1;
+  r.for_each_point([&](const LobePoint& p) {
+    if (!(p.depth_m <= keep_below_m)) return;
+    if (d.lobes.empty() || d.lobes.back().number != p.lobe) {
+      d.lobes.push_back({p.lobe, {}, {}, {}});
+      last_index = grid.size();
+    }
+    plot::Lobe& l = d.lobes.back();
+    const auto index = static_cast<std::size_t>(std::lower_bound(grid.begin(), grid.end(), p.chatter_hz) - grid.begin());
+    if (!l.depth_m.empty() && (p.root != last_root || index != last_index + 1)) {
+      l.spindle_speed_rpm.push_back(kNaN);
+      l.depth_m.push_back(kNaN);
+      l.chatter_frequency_hz.push_back(kNaN);
+    }
+    l.spindle_speed_rpm.push_back(p.speed_rpm);
+    l.depth_m.push_back(p.depth_m);
+    l.chatter_frequency_hz.push_back(p.chatter_hz);
+    last_index = index;
+    last_root = p.root;
+  });
+  d.title = fmt::format("Zero-order stability lobes, k = 0…{}: limit {:.4g} mm at {:.0f} Hz", r.lobes, r.floor_depth_m * 1e3,
+                        r.floor_chatter_hz);
+  return d;
+}
+
+// The time-domain boundary for the figure: one curve per lobe number over the speed grid (NaN at
+// speeds another lobe limits), speeds with no instability left to the envelope alone.
+plot::LobesFigureData boundary_figure(const BoundaryResult& r) {
+  plot::LobesFigureData d;
+  set_envelope(d, boundary_envelope(r));
+  std::vector<int> numbers;
+  for (const BoundaryPoint& b : r.boundary)
+    if (b.kind != BoundaryKind::None && std::find(numbers.begin(), numbers.end(), b.lobe) == numbers.end()) numbers.push_back(b.lobe);
+  std::sort(numbers.begin(), numbers.end());
+  for (int k : numbers) {
+    plot::Lobe l{k, {}, {}, {}};
+    for (const BoundaryPoint& b : r.boundary) {
+      const bool mine = b.kind != BoundaryKind::None && b.lobe == k;
+      l.spindle_speed_rpm.push_back(b.speed_rpm);
+      l.depth_m.push_back(mine ? b.depth_m : kNaN);
+      l.chatter_frequency_hz.push_back(mine ? b.chatter_hz : kNaN);
+    }
+    d.lobes.push_back(std::move(l));
+  }
+  d.title = fmt::format("Stability boundary, full-discretization (error ≤ {:.2g} % estimated)", 100.0 * r.worst_relative_error());
+  return d;
+}
+
+}  // namespace
+
+MillingFrfs milling_frfs(const AssemblyModel& model, const std::vector<double>& frequency_hz, bool rigid_y) {
+  MillingFrfs f;
+  f.xx = entry(model.tool_point(frequency_hz), 0);
+  f.rigid_y = rigid_y;
+  f.check();
+  return f;
+}
+
+void LobesStudyOptions::check() const {
+  cutting.check();
+  if (speeds.points != 0) speeds.check();
+  else SpeedRange{speeds.min_rpm, speeds.max_rpm, 2}.check();
+  if (!std::isfinite(max_depth_m) || max_depth_m < 0.0)
+    throw InvalidArgument(fmt::format("LobesStudyOptions::max_depth_m {} m must be ≥ 0 (0: automatic)", max_depth_m));
+  if (lobes < -1 || lobes > 5000) throw InvalidArgument(fmt::format("LobesStudyOptions::lobes {} must lie in 0…5000 (−1: automatic)", lobes));
+  if (!std::isfinite(fit_target) || !(fit_target > 0.0) || fit_target >= 1.0)
+    throw InvalidArgument(fmt::format("LobesStudyOptions::fit_target {} must lie in (0, 1) (a fraction of the FRF)", fit_target));
+  if (!std::isfinite(pocket_prominence) || pocket_prominence < 0.0 || pocket_prominence >= 1.0)
+    throw InvalidArgument(fmt::format("LobesStudyOptions::pocket_prominence {} must lie in [0, 1) (a fraction of the depth)",
+                                      pocket_prominence));
+  if (pockets < 0 || pockets > 1000) throw InvalidArgument(fmt::format("LobesStudyOptions::pockets {} must lie in 0…1000", pockets));
+  fit.check();
+  parallel.check();
+  if (method == LobesMethod::FullDiscretization) {
+    BoundaryOptions b;
+    b.tolerance = tolerance;
+    b.steps = steps;
+    b.degree = degree;
+    b.speeds = {speeds.min_rpm, speeds.max_rpm, 200};
+    b.check();
+  }
+}
+
+std::vector<Mode> fit_milling_modes(const FrfSeries& frf, const std::string& what, const ModalFitOptions& options, double target,
+                                    ModalFitSummary& summary, std::vector<std::string>& warnings) {
+  summary = {};
+  summary.what = what;
+  std::vector<Mode> best;
+  double best_residual = std::numeric_limits<double>::infinity();
+  std::vector<std::string> best_warnings;
+  std::size_t last_count = 0;
+  for (int k = 1; k <= options.max_modes; ++k) {
+    ModalFitOptions o = options;
+    o.max_modes = k;
+    o.residual_terms = false;  // the time-domain model has no residual terms: fit what it will use
+    const ModalFitResult r = fit_modes(frf, o, what);
+    if (k > 1 && r.modes.size() == last_count) break;  // no further resonance peak to fit
+    last_count = r.modes.size();
+    std::vector<Mode> modes;
+    try {
+      modes = r.modal_model();
+    } catch (const NumericalError&) {
+      if (best.empty() && k == options.max_modes) throw;
+      continue;  // a mode without positive mass at this count: try another
+    }
+    const double residual = modal_residual(frf, modes, options.band_hz);
+    if (residual < best_residual) {
+      best = modes;
+      best_residual = residual;
+      best_warnings = r.warnings;
+      summary.band_low_hz = r.band_low_hz;
+      summary.band_high_hz = r.band_high_hz;
+    }
+    if (residual <= target) break;
+  }
+  if (best.empty())
+    throw InputError(fmt::format("{}: no modal model with positive modal masses could be fitted", what),
+                     "fit a point (direct) FRF, narrow the band to the modes that matter, or give the modes");
+  summary.modes = static_cast<int>(best.size());
+  summary.residual = best_residual;
+  summary.target_met = best_residual <= target;
+  for (const std::string& w : best_warnings)
+    if (w.find("peaks found") == std::string::npos && w.find("overall fit residual") == std::string::npos) warnings.push_back(what + ": " + w);
+  if (!summary.target_met)
+    warnings.push_back(fmt::format(
+        "{}: the best modal model represents the FRF within {:.1f} % over {:g}–{:g} Hz, not the {:.3g} % aimed at: {}. The lobes "
+        "are those of this model. Narrow the fitted band to the modes that matter, or give the modes",
+        what, 100.0 * best_residual, summary.band_low_hz, summary.band_high_hz, 100.0 * target,
+        static_cast<int>(best.size()) >= options.max_modes
+            ? fmt::format("it uses the most modes allowed (ModalFitOptions::max_modes = {})", options.max_modes)
+            : fmt::format("the FRF has {} resonance peak(s) rising {:g} dB or more, one mode each; the rest is the flexibility "
+                          "of modes outside the band, which modes inside it cannot carry",
+                          best.size(), options.min_prominence_db)));
+  return best;
+}
+
+LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOptions& options) {
+  options.check();
+  LobesStudyResult res;
+  res.method = options.method;
+  res.cutting = options.cutting;
+  res.speeds = options.speeds;
+  if (res.speeds.points == 0) res.speeds.points = options.method == LobesMethod::ZeroOrder ? 2000 : 200;
+  if (input.frfs) input.frfs->check();
+  auto progress = [&](double f) {
+    if (options.progress) options.progress(f);
+  };
+
+  if (options.method == LobesMethod::ZeroOrder) {
+    if (!input.frfs)
+      throw InvalidArgument("the zero-order method needs the tool point FRFs (LobesInput::frfs)",
+                            "give the FRFs, or use the time-domain method with modes");
+    if (!input.x_modes.empty() || !input.y_modes.empty())
+      res.warnings.push_back("the modes given are used by the time-domain method only");
+    ZeroOrderOptions zo;
+    zo.lobes = options.lobes;
+    zo.speeds = res.speeds;
+    zo.max_depth_m = options.max_depth_m;
+    res.zero_order = zero_order_lobes(*input.frfs, options.cutting, zo);
+    res.warnings.insert(res.warnings.end(), res.zero_order->warnings.begin(), res.zero_order->warnings.end());
+    res.envelope = res.zero_order->envelope;
+    res.pockets = stability_pockets(res.envelope, options.pockets, options.pocket_prominence);
+    const DepthAxis axis = depth_axis(res.envelope, res.pockets);
+    res.figure = zero_order_figure(*res.zero_order, 2.0 * axis.top_m);
+    set_depth_axis(res.figure, axis);
+    progress(1.0);
+    return res;
+  }
+
+  // The time domain: modes given or fitted (20 % of the progress), then the boundary.
+  if (input.rigid_y && !input.y_modes.empty())
+    throw InvalidArgument("LobesInput: rigid_y and y modes contradict each other", "drop one of them");
+  res.modes.x = input.x_modes;
+  res.modes.y = input.y_modes;
+  if (res.modes.x.empty()) {
+    if (!input.frfs)
+      throw InvalidArgument("the time-domain method needs modes (LobesInput::x_modes) or the FRFs to fit them from",
+                            "give the x modes or the tool point FRF");
+    ModalFitSummary s;
+    res.modes.x = fit_milling_modes(input.frfs->xx, input.frf_name, options.fit, options.fit_target, s, res.warnings);
+    res.fits.push_back(s);
+  }
+  const bool rigid_y = input.rigid_y || (input.frfs && input.frfs->rigid_y);
+  if (res.modes.y.empty() && !rigid_y) {
+    if (input.frfs && input.frfs->yy) {
+      ModalFitSummary s;
+      res.modes.y = fit_milling_modes(*input.frfs->yy, input.frf_y_name, options.fit, options.fit_target, s, res.warnings);
+      res.fits.push_back(s);
+    } else {
+      res.modes.y = res.modes.x;  // a symmetric tool
+    }
+  }
+  if (input.frfs && input.frfs->xy)
+    res.warnings.push_back("the time-domain method uses uncoupled x and y modes: the cross FRFs are ignored");
+  progress(0.2);
+  BoundaryOptions bo;
+  bo.speeds = res.speeds;
+  bo.tolerance = options.tolerance;
+  bo.steps = options.steps;
+  bo.degree = options.degree;
+  bo.max_depth_m = options.max_depth_m;
+  bo.parallel = options.parallel;
+  bo.progress = [&](double f) { progress(0.2 + 0.8 * f); };
+  res.boundary = stability_boundary(res.modes, options.cutting, bo);
+  res.warnings.insert(res.warnings.end(), res.boundary->warnings.begin(), res.boundary->warnings.end());
+  res.envelope = boundary_envelope(*res.boundary);
+  // Speeds stable up to the ceiling form a plateau at the ceiling: a pocket at least that deep
+  // (lobe −1, reported as "≥").
+  res.pockets = stability_pockets(res.envelope, options.pockets, options.pocket_prominence);
+  res.figure = boundary_figure(*res.boundary);
+  set_depth_axis(res.figure, depth_axis(res.envelope, res.pockets));
+  return res;
+}
+
+}  // namespace toolpoint

@@ -1,0 +1,108 @@
+// toolpoint: the overhang study (studies/overhang.hpp).
+#include "toolpoint/studies/overhang.hpp"
+
+#include <cmath>
+#include <fmt/format.h>
+
+#include "toolpoint/error.hpp"
+#include "toolpoint/parallel.hpp"
+
+namespace toolpoint {
+
+void OverhangStudyOptions::check() const {
+  for (std::size_t i = 0; i < overhangs_m.size(); ++i) {
+    const double L = overhangs_m[i];
+    if (!std::isfinite(L) || !(L > 0.0))
+      throw InvalidArgument(fmt::format("OverhangStudyOptions::overhangs_m[{}] = {} m must be > 0", i, L),
+                            "give the tool's length outside the holder in metres, e.g. 0.05");
+    // No end mill sticks out a metre: such a value is millimetres given as metres.
+    if (L > 1.0)
+      throw InvalidArgument(fmt::format("OverhangStudyOptions::overhangs_m[{}] = {} m is over 1 m: millimetres?", i, L),
+                            fmt::format("overhangs are in metres: {} mm is {:g} m", L, L / 1000.0));
+    if (i > 0 && !(L > overhangs_m[i - 1]))
+      throw InvalidArgument(fmt::format("OverhangStudyOptions::overhangs_m must be strictly increasing: [{}] = {} m follows {} m", i, L,
+                                        overhangs_m[i - 1]),
+                            "sort the overhangs and drop repeats (modes are followed from one overhang to the next)");
+  }
+  try {
+    peaks.check();
+  } catch (const InvalidArgument& e) {
+    throw InvalidArgument(fmt::format("OverhangStudyOptions::peaks: {}", e.what()), e.hint());
+  }
+  if (!(tracking_tolerance > 0.0 && tracking_tolerance < 1.0))
+    throw InvalidArgument(fmt::format("OverhangStudyOptions::tracking_tolerance = {} must lie in (0, 1)", tracking_tolerance),
+                          "e.g. 0.15: a mode moves at most 15 % of its frequency from one overhang to the next");
+  if (threads < 0 || threads > 1024)
+    throw InvalidArgument(fmt::format("OverhangStudyOptions::threads = {} must lie in 0…1024 (0: every core)", threads),
+                          "give the number of worker threads, or 0 for every core");
+}
+
+namespace {
+
+std::string millimetres(const std::vector<double>& overhangs, const std::vector<std::size_t>& which) {
+  constexpr std::size_t kShown = 6;
+  std::string s;
+  for (std::size_t k = 0; k < which.size() && k < kShown; ++k) s += fmt::format("{}{:.1f}", k ? ", " : "", 1000.0 * overhangs[which[k]]);
+  if (which.size() > kShown) s += ", …";
+  return s + " mm";
+}
+
+}  // namespace
+
+OverhangStudy run_overhang_study(const Assembly& assembly, const BlockSeries& sh11, const OverhangStudyOptions& options,
+                                 const ProgressCallback& progress) {
+  options.check();
+  validate(sh11, options.sh11_name, 3);
+  const bool own = options.overhangs_m.empty();
+  const std::vector<double> overhangs = own ? std::vector<double>{assembly.tool.overhang} : options.overhangs_m;
+  OverhangStudy s;
+  s.tool_inside_holder_m = assembly.tool.length - assembly.tool.overhang;
+  s.overhangs.resize(overhangs.size());
+  // Each overhang writes its own slot only: identical results for any thread count.
+  parallel_for(
+      overhangs.size(), ParallelOptions{options.threads},
+      [&](std::size_t i) {
+        const double L = overhangs[i];
+        const std::string which = own ? fmt::format("the assembly's tool.overhang = {} m", L)
+                                      : fmt::format("OverhangStudyOptions::overhangs_m[{}] = {} m", i, L);
+        OverhangFrf& r = s.overhangs[i];
+        r.overhang_m = L;
+        Assembly a;
+        try {
+          a = with_overhang(assembly, L);
+        } catch (const InvalidArgument& e) {
+          throw InvalidArgument(fmt::format("{}: {}", which, e.what()), e.hint());
+        }
+        try {
+          r.sht11 = couple_tool(a, sh11, options.sh11_name);
+        } catch (const NumericalError& e) {
+          throw NumericalError(fmt::format("overhang {} m: {}", L, e.what()), e.hint());
+        }
+        r.modes = find_peaks(entry(r.sht11, 0), options.peaks);
+      },
+      progress);
+
+  // Modes followed from the overhang nearest the assembly's own (the first of two equally near).
+  for (std::size_t i = 1; i < overhangs.size(); ++i)
+    if (std::abs(overhangs[i] - assembly.tool.overhang) < std::abs(overhangs[s.reference] - assembly.tool.overhang)) s.reference = i;
+  std::vector<std::vector<Peak>> family;
+  for (const OverhangFrf& r : s.overhangs) family.push_back(r.modes);
+  s.tracked_modes_hz = track_modes(family, s.reference, options.tracking_tolerance, true);
+
+  if (s.overhangs[s.reference].modes.empty())
+    s.warnings.push_back(fmt::format("no peak of |H| rises {:g} % above its valleys at the reference overhang {} m: no modes to follow",
+                                     100.0 * options.peaks.min_prominence, overhangs[s.reference]));
+  for (std::size_t m = 0; m < s.tracked_modes_hz.size(); ++m) {
+    std::vector<std::size_t> lost;
+    for (std::size_t i = 0; i < overhangs.size(); ++i)
+      if (std::isnan(s.tracked_modes_hz[m][i])) lost.push_back(i);
+    if (!lost.empty())
+      s.warnings.push_back(fmt::format("mode {} ({:.1f} Hz at {:.1f} mm) not found within {:g} % at {} of {} overhangs: {}", m + 1,
+                                       s.tracked_modes_hz[m][s.reference], 1000.0 * overhangs[s.reference],
+                                       100.0 * options.tracking_tolerance, lost.size(), overhangs.size(),
+                                       millimetres(overhangs, lost)));
+  }
+  return s;
+}
+
+}  // namespace toolpoint

@@ -1,0 +1,82 @@
+// toolpoint: the virtual tap test (studies/tap_test.hpp).
+#include "toolpoint/studies/tap_test.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+#include <limits>
+
+#include "toolpoint/error.hpp"
+#include "toolpoint/signal.hpp"
+
+namespace toolpoint {
+
+const char* tap_side_name(TapSide side) { return side == TapSide::Tool ? "tool" : "holder"; }
+const char* hammer_plan_name(HammerPlan plan) { return plan == HammerPlan::Roving ? "roving" : "tip"; }
+
+void TapTestOptions::check() const {
+  if (!std::isfinite(spacing_m) || !(spacing_m > 0.0))
+    throw InvalidArgument(fmt::format("TapTestOptions::spacing_m = {} m must be > 0", spacing_m), "e.g. 0.01 for 10 mm");
+  if (points != 2 && points != 3)
+    throw InvalidArgument(fmt::format("TapTestOptions::points = {} must be 2 or 3", points),
+                          "2 for first-order finite differences, 3 for second order");
+  if (!(sigma >= 0.0 && sigma < 1.0))
+    throw InvalidArgument(fmt::format("TapTestOptions::sigma = {} must lie in [0, 1)", sigma), "e.g. 0.005 for 0.5 % noise");
+}
+
+TapTest run_tap_test(const Assembly& assembly, const TapTestOptions& options, const ProgressCallback& progress) {
+  options.check();
+  const AssemblyModel model(assembly);
+  const bool tool = options.side == TapSide::Tool;
+  const Chain& chain = tool ? model.tool_chain() : model.holder_chain();
+  TapTest t;
+  t.side = options.side;
+  for (int i = 0; i < options.points; ++i) t.distance_m.push_back(i * options.spacing_m);
+  const double reach = t.distance_m.back();
+  if (reach > chain.length() * (1.0 + 1e-12))
+    throw InvalidArgument(fmt::format("TapTestOptions::spacing_m = {} m puts point {} {} m from the {} tip, beyond the {} ({} m long)",
+                                      options.spacing_m, options.points - 1, reach, tap_side_name(options.side),
+                                      tool ? "tool's overhang" : "holder", chain.length()),
+                          fmt::format("space the points closer: at most {:g} m (in metres: 10 mm is 0.01)",
+                                      chain.length() / (options.points - 1)));
+  t.warnings = model.warnings();
+
+  // One station solve per frequency gives every H_ij.
+  const std::vector<double> f = assembly.grid.values();
+  const auto n = static_cast<std::size_t>(options.points);
+  std::vector<std::vector<FrfSeries>> h(n, std::vector<FrfSeries>(n));
+  for (auto& row : h)
+    for (FrfSeries& s : row) {
+      s.frequency_hz = f;
+      s.values.reserve(f.size());
+    }
+  for (std::size_t k = 0; k < f.size(); ++k) {
+    const Eigen::MatrixXcd G = tool ? model.tool_stations(f[k], t.distance_m) : model.holder_stations(f[k], t.distance_m);
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t j = 0; j < n; ++j)
+        h[i][j].values.push_back(G(2 * static_cast<Eigen::Index>(i), 2 * static_cast<Eigen::Index>(j)));
+    if (progress && ((k + 1) % 64 == 0 || k + 1 == f.size())) progress(static_cast<double>(k + 1) / static_cast<double>(f.size()));
+  }
+
+  const std::size_t hammers = options.hammer == HammerPlan::Tip ? 1 : n;
+  std::uint64_t k = 0;
+  for (std::size_t j = 0; j < hammers; ++j)
+    for (std::size_t i = 0; i < n; ++i, ++k) {
+      TapTestFrf r{static_cast<int>(i), static_cast<int>(j), std::move(h[i][j])};
+      if (options.sigma > 0.0) {
+        auto noisy = add_measurement_noise(r.frf, NoiseOptions{options.sigma, options.seed + k}, fmt::format("H{}{}", i, j));
+        r.frf = std::move(noisy.series);
+        t.warnings.insert(t.warnings.end(), noisy.warnings.begin(), noisy.warnings.end());
+      }
+      t.frfs.push_back(std::move(r));
+    }
+
+  // The sections under the points: what the finite differences' shear correction needs.
+  const auto under = split_segments(chain.segments(), reach).first;
+  t.shear_stiffness_n = std::numeric_limits<double>::infinity();
+  for (const Segment& s : under) t.shear_stiffness_n = std::min(t.shear_stiffness_n, s.properties().kGA.real());
+  t.crosses_step = under.size() > 1;
+  return t;
+}
+
+}  // namespace toolpoint

@@ -1,0 +1,118 @@
+// Tests of the lobes study (studies/lobes.hpp), in process. Oracles: exact modal data (the fit
+// must find the modes that made the FRF), the library's lower-level calls run on the true modes
+// (an independent path to the same boundary), and the figure's own data.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "toolpoint/error.hpp"
+#include "toolpoint/studies/lobes.hpp"
+
+using namespace toolpoint;
+
+namespace {
+
+const Mode kBench{0.03993, 0.011, 922.0};  // NOTES §7
+const Mode kSecond{0.2, 0.03, 2100.0};
+
+std::vector<double> grid(double lo, double hi, double step) {
+  std::vector<double> f;
+  for (int i = 0; lo + i * step <= hi; ++i) f.push_back(lo + i * step);
+  return f;
+}
+
+LobesStudyOptions options(LobesMethod method, double immersion) {
+  LobesStudyOptions o;
+  o.method = method;
+  o.cutting = {2, 6e8, 1.0 / 3.0, engagement_from_immersion(immersion, MillingDirection::Down)};
+  o.speeds = {6000.0, 24000.0, 0};
+  return o;
+}
+
+}  // namespace
+
+// Exact two-mode data: the fit stops at the two modes that made it (residual ~1e-6, far under the
+// 2 % target), recovers them to 1e-4, and the boundary equals stability_boundary on the true modes
+// within the two results' error estimates (the fitted modes differ from the true ones by 1e-5).
+TEST(LobesStudy, FittedModesAndTheBoundaryFromThem) {
+  LobesInput in;
+  in.frfs = modal_milling_frfs({kBench, kSecond}, {}, grid(300.0, 3000.0, 0.5));
+  in.frf_name = "two.csv";
+  LobesStudyOptions o = options(LobesMethod::FullDiscretization, 0.05);
+  o.speeds.points = 9;
+  const LobesStudyResult r = run_lobes_study(in, o);
+  ASSERT_EQ(r.fits.size(), 1u);
+  EXPECT_EQ(r.fits[0].what, "two.csv");
+  EXPECT_EQ(r.fits[0].modes, 2);
+  EXPECT_LT(r.fits[0].residual, 1e-4);
+  EXPECT_TRUE(r.fits[0].target_met);
+  ASSERT_EQ(r.modes.x.size(), 2u);
+  EXPECT_TRUE(r.modes.y.empty());  // rigid in y, as the FRFs say
+  EXPECT_NEAR(r.modes.x[0].frequency_hz / kBench.frequency_hz, 1.0, 1e-4);
+  EXPECT_NEAR(r.modes.x[1].mass_kg / kSecond.mass_kg, 1.0, 1e-4);
+  BoundaryOptions bo;
+  bo.speeds = {6000.0, 24000.0, 9};
+  const BoundaryResult truth = stability_boundary(ModalModel{{kBench, kSecond}, {}}, o.cutting, bo);
+  ASSERT_TRUE(r.boundary);
+  for (std::size_t i = 0; i < truth.boundary.size(); ++i) {
+    const BoundaryPoint &a = r.boundary->boundary[i], &b = truth.boundary[i];
+    ASSERT_EQ(a.kind, b.kind) << i;
+    if (a.kind != BoundaryKind::None)
+      EXPECT_NEAR(a.depth_m, b.depth_m, a.depth_error_m + b.depth_error_m + 1e-4 * b.depth_m) << a.speed_rpm;
+  }
+  EXPECT_EQ(r.envelope.size(), 9u);
+  EXPECT_FALSE(r.figure.lobes.empty());
+}
+
+// An FRF its resonances alone cannot represent (a large static residual flexibility, 40 % of the
+// peak, as an unmodelled stiff mode would add): no modal model meets 2 %, and the warning says so,
+// naming the FRF, the residual and what to do.
+TEST(LobesStudy, AFitThatCannotMeetTheTargetSaysWhy) {
+  FrfSeries g = modal_frf({kBench}, grid(600.0, 1400.0, 0.5));
+  const double peak = 1.0 / (2.0 * kBench.stiffness() * kBench.damping_ratio);
+  for (Complex& v : g.values) v += 0.4 * peak;
+  ModalFitSummary s;
+  std::vector<std::string> warnings;
+  const std::vector<Mode> modes = fit_milling_modes(g, "stiff.csv", ModalFitOptions{}, 0.02, s, warnings);
+  EXPECT_FALSE(s.target_met);
+  EXPECT_GT(s.residual, 0.02);
+  EXPECT_EQ(static_cast<int>(modes.size()), s.modes);
+  bool said = false;
+  for (const std::string& w : warnings) said |= w.rfind("stiff.csv: the best modal model", 0) == 0 && w.find("not the 2 %") != std::string::npos &&
+            w.find("outside the band") != std::string::npos;
+  EXPECT_TRUE(said);
+}
+
+// The zero-order study is zero_order_lobes plus read-outs: the same envelope, pockets from it, and
+// a figure whose depth axis covers the pockets it reports.
+TEST(LobesStudy, ZeroOrderEnvelopePocketsAndFigureAxis) {
+  LobesInput in;
+  in.frfs = modal_milling_frfs({kBench}, {kBench}, grid(500.0, 2000.0, 0.25));
+  const LobesStudyResult r = run_lobes_study(in, options(LobesMethod::ZeroOrder, 0.05));
+  ZeroOrderOptions zo;
+  zo.speeds = {6000.0, 24000.0, 2000};
+  const ZeroOrderResult z = zero_order_lobes(*in.frfs, options(LobesMethod::ZeroOrder, 0.05).cutting, zo);
+  ASSERT_TRUE(r.zero_order);
+  ASSERT_EQ(r.envelope.size(), z.envelope.size());
+  for (std::size_t i = 0; i < z.envelope.size(); ++i) EXPECT_EQ(r.envelope[i].depth_m, z.envelope[i].depth_m);
+  ASSERT_FALSE(r.pockets.empty());
+  ASSERT_TRUE(r.figure.depth_max_m);
+  const bool clipped = r.figure.title.find("clipped") != std::string::npos;
+  for (const EnvelopePoint& p : r.pockets)
+    if (!clipped) EXPECT_LE(p.depth_m, *r.figure.depth_max_m);
+}
+
+TEST(LobesStudy, MissingInputsAreRefusedNamingTheField) {
+  try {
+    run_lobes_study(LobesInput{}, options(LobesMethod::ZeroOrder, 0.5));
+    ADD_FAILURE();
+  } catch (const InvalidArgument& e) {
+    EXPECT_NE(std::string(e.what()).find("LobesInput::frfs"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(run_lobes_study(LobesInput{}, options(LobesMethod::FullDiscretization, 0.5)), InvalidArgument);
+  LobesStudyOptions bad = options(LobesMethod::FullDiscretization, 0.5);
+  bad.tolerance = 0.0;
+  LobesInput modes;
+  modes.x_modes = {kBench};
+  EXPECT_THROW(run_lobes_study(modes, bad), InvalidArgument);
+}
