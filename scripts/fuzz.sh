@@ -6,7 +6,7 @@
 #   bash scripts/fuzz.sh 600        # each for 10 minutes
 #   FUZZ_RUNS=1000000 bash scripts/fuzz.sh   # each for one million executions
 #
-# Seed corpora come from tests/data and examples; the corpora grow in build-fuzz/corpus/ from run
+# Seed corpora come from tests/data, examples and fuzz/seeds; the corpora grow in build-fuzz/corpus/ from run
 # to run. A crash, a hang (> 10 s per input), a leak or a sanitizer finding stops the script with
 # the input saved in build-fuzz/ and a non-zero exit. Environment: FUZZ_BUILD_DIR, JOBS.
 set -euo pipefail
@@ -34,7 +34,7 @@ seed() {  # seed TARGET FILE...
 seed fuzz_uff tests/data/uff/*.uff tests/data/variants/*.uff
 seed fuzz_frf_csv tests/data/variants/*.csv
 seed fuzz_cutpro tests/data/variants/*.frf
-seed fuzz_assembly_toml examples/*.toml
+seed fuzz_assembly_toml examples/*.toml fuzz/seeds/*.toml
 
 limit=(-max_total_time="$seconds")
 [ -n "${FUZZ_RUNS:-}" ] && limit=(-runs="$FUZZ_RUNS")

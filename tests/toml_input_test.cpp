@@ -13,6 +13,7 @@
 #include "toolpoint/assembly_file.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/io.hpp"
+#include "toolpoint/joint_file.hpp"
 
 using namespace toolpoint;
 
@@ -155,6 +156,16 @@ TEST(TomlGuard, TomlppErrorsBecomeInputErrorsWithLineAndColumn) {
     EXPECT_NE(std::string(e.what()).find("dup.toml:2:"), std::string::npos) << e.what();
     EXPECT_EQ(e.hint(), "see the example");
   }
+  // Through the joint file loader: the same guard.
+  try {
+    parse_joint_file("[joint]\ninterface = \"holder_tool\"\nk_yf = 4.19e7 N/µm\n", "kht.toml");
+    FAIL() << "a unit after a number was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("kht.toml:3:15: TOML syntax error: expected the end of the line"), std::string::npos)
+        << e.what();
+  }
+  const JointFile seed = load_joint_file(std::string(TOOLPOINT_SOURCE_DIR) + "/fuzz/seeds/holder_tool_joint.toml");
+  EXPECT_EQ(seed.parameters.k_yf, 4.19e7);
   // Through the assembly loader, as a user meets it.
   try {
     parse_assembly("[tool]\noverhang = 49 µm\n", "mm.toml");
