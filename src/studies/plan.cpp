@@ -496,7 +496,7 @@ Envelope stable_envelope(const FrfSeries& g, const std::string& name, const Lobe
 }  // namespace
 
 FrfSeries resolved_tool_point(const AssemblyModel& model, const std::vector<double>& grid) {
-  constexpr double kMaxTurn = 2.0 * kPi / 180.0;
+  constexpr double kMaxTurn = 0.25 * kPi / 180.0;
   FrfSeries g = entry(model.tool_point(grid), 0);
   for (int level = 0; level < 4; ++level) {
     const std::size_t n = g.size();
