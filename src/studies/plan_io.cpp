@@ -78,6 +78,13 @@ struct PartReader {
   }
 };
 
+// FNV-1a of text: the part's checksum over its jobs (the header has its fingerprint).
+std::uint64_t text_hash(const std::string& text) {
+  std::uint64_t h = 0xcbf29ce484222325ULL;
+  for (unsigned char c : text) h = (h ^ c) * 0x100000001b3ULL;
+  return h;
+}
+
 nlohmann::json header_json(const PlanHeader& h) {
   const PlanOptions& o = h.options;
   const LobesStudyOptions& l = o.lobes;
@@ -224,6 +231,7 @@ std::string format_plan_part(const PlanPart& part) {
                     {"probability", hexes(job.probability)},
                     {"modes_hz", hexes(job.modes_hz)},
                     {"warnings", job.warnings}});
+  j["checksum"] = fmt::format("{:016x}", text_hash(jobs.dump()));
   j["jobs"] = std::move(jobs);
   return j.dump() + "\n";
 }
@@ -257,6 +265,8 @@ PlanPart parse_plan_part(const std::string& text, const std::string& source) {
   const std::size_t ns = part.header.speeds_rpm.size();
   const nlohmann::json& jobs = r.at(j, "jobs", "");
   if (!jobs.is_array()) r.fail("'jobs' is not an array");
+  if (r.get<std::string>(j, "checksum", "") != fmt::format("{:016x}", text_hash(jobs.dump())))
+    r.fail("the jobs' numbers do not match the part's checksum: edited or damaged");
   for (std::size_t q = 0; q < jobs.size(); ++q) {
     const nlohmann::json& x = jobs[q];
     const std::string p = fmt::format("jobs[{}].", q);
@@ -468,7 +478,8 @@ auto load_named(Reader& r, const toml::table& t, const char* key, const std::str
 int integer(Reader& r, const toml::table& t, const char* key, const std::string& path, int lo, int hi, int fallback) {
   const auto v = r.number(t, key, path, "(count)");
   if (!v) return fallback;
-  if (*v != std::floor(*v) || *v < lo || *v > hi) r.fail(*t.get(key), fmt::format("{} = {} must be an integer in {}…{}", Reader::join(path, key), *v, lo, hi));
+  if (*v != std::floor(*v) || *v < lo || *v > hi)
+    r.fail(*t.get(key), fmt::format("{} = {} must be an integer in {}…{}", Reader::join(path, key), *v, lo, hi), "write a whole number in that range");
   return static_cast<int>(*v);
 }
 
@@ -477,7 +488,7 @@ double checked(Reader& r, const toml::table& t, const char* key, const std::stri
                bool (*ok)(double), const std::string& expected, const std::string& hint = {}) {
   const auto v = required ? std::optional<double>(r.required_number(t, key, path, unit)) : r.number(t, key, path, unit);
   if (!v) return fallback;
-  if (!ok(*v)) r.fail(*t.get(key), fmt::format("{} = {} {}", Reader::join(path, key), *v, expected), hint);
+  if (!ok(*v)) r.fail(*t.get(key), fmt::format("{} = {} {}", Reader::join(path, key), *v, expected), hint.empty() ? kStudyHint : hint);
   return *v;
 }
 
@@ -501,9 +512,9 @@ PlanCandidate read_candidate(Reader& r, const toml::table& t, const std::string&
   // Joint files: identified joints in place of the assembly file's; the one with [uncertainty] is sampled.
   if (const toml::node* jn = t.get("joints")) {
     const toml::array* arr = jn->as_array();
-    if (!arr) r.fail(*jn, fmt::format("{}.joints must be an array of file names, e.g. [\"kht.toml\"]", path));
+    if (!arr) r.fail(*jn, fmt::format("{}.joints must be an array of file names", path), "e.g. joints = [\"kht.toml\"]");
     for (const toml::node& e : *arr) {
-      if (!e.is_string()) r.fail(e, fmt::format("{}.joints must hold file names (strings)", path));
+      if (!e.is_string()) r.fail(e, fmt::format("{}.joints must hold file names (strings)", path), "e.g. joints = [\"kht.toml\"]");
       const std::string jf = resolve(directory, e.as_string()->get());
       JointFile f = load_named(r, t, "joints", path, jf, [](const std::string& x) { return load_joint_file(x); });
       study.inputs.push_back(jf);
@@ -529,20 +540,23 @@ PlanCandidate read_candidate(Reader& r, const toml::table& t, const std::string&
   const bool has_points = t.contains("overhang_points");
   if (const auto one = r.number(t, "overhang", path, "m")) {
     if (lo || hi || step || has_points)
-      r.fail(*t.get("overhang"), fmt::format("{} gives overhang and an overhang range: choose one", path));
+      r.fail(*t.get("overhang"), fmt::format("{} gives overhang and an overhang range: choose one", path),
+             "overhang = L for one, or overhang_min, overhang_max and overhang_step for a range");
     r.plausible(t, "overhang", path, *one, 2e-3, 0.5, "overhangs are in metres (49 mm = 0.049)");
     c.overhangs_m = {*one};
   } else if (lo || hi || step || has_points) {
     if (!lo || !hi) r.fail(t, fmt::format("{}: an overhang range needs overhang_min and overhang_max (m)", path), "e.g. overhang_min = 0.040, overhang_max = 0.090");
-    if (step && has_points) r.fail(*t.get("overhang_step"), fmt::format("{} gives overhang_step and overhang_points: choose one", path));
+    if (step && has_points)
+      r.fail(*t.get("overhang_step"), fmt::format("{} gives overhang_step and overhang_points: choose one", path), "keep one of them");
     if (!step && !has_points) r.fail(t, fmt::format("{}: an overhang range needs overhang_step (m) or overhang_points", path), "e.g. overhang_step = 0.0005");
     r.plausible(t, "overhang_min", path, *lo, 2e-3, 0.5, "overhangs are in metres (40 mm = 0.040)");
     r.plausible(t, "overhang_max", path, *hi, 2e-3, 0.5, "overhangs are in metres (90 mm = 0.090)");
     if (!(*lo > 0.0) || !(*hi > *lo))
-      r.fail(*t.get("overhang_max"), fmt::format("{}: overhang range {} to {} m must have 0 < overhang_min < overhang_max", path, *lo, *hi));
+      r.fail(*t.get("overhang_max"), fmt::format("{}: overhang range {} to {} m must have 0 < overhang_min < overhang_max", path, *lo, *hi),
+             "overhangs are in metres, e.g. overhang_min = 0.040, overhang_max = 0.090");
     int points = 0;
     if (step) {
-      if (!(*step > 0.0)) r.fail(*t.get("overhang_step"), fmt::format("{}.overhang_step = {} m must be > 0", path, *step));
+      if (!(*step > 0.0)) r.fail(*t.get("overhang_step"), fmt::format("{}.overhang_step = {} m must be > 0", path, *step), "e.g. 0.0005 (0.5 mm)");
       const double n = std::floor((*hi - *lo) / *step * (1.0 + 1e-12)) + 1.0;
       if (n > 100000) r.fail(*t.get("overhang_step"), fmt::format("{}: the overhang range gives {:.0f} overhangs; at most 100000", path, n), "use a larger step");
       points = static_cast<int>(n);
@@ -576,7 +590,9 @@ PlanStudy parse_plan_study(const std::string& text, const std::string& source, c
     if (const auto m = r.string(*t, "method", "study")) {
       if (*m == "zoa") l.method = LobesMethod::ZeroOrder;
       else if (*m == "fd") l.method = LobesMethod::FullDiscretization;
-      else r.fail(*t->get("method"), fmt::format("study.method = \"{}\": expected \"zoa\" (zero-order) or \"fd\" (full-discretization)", *m));
+      else
+        r.fail(*t->get("method"), fmt::format("study.method = \"{}\": expected \"zoa\" (zero-order) or \"fd\" (full-discretization)", *m),
+               "zoa is fast and exact where the cut is time-invariant; fd finds the flip lobes of low immersion");
     }
   }
 
@@ -591,20 +607,25 @@ PlanStudy parse_plan_study(const std::string& text, const std::string& source, c
               "K_t is in N/m^2 (aluminium ~7e8, steel ~2e9), not N/mm^2");
   const auto kr = r.number(cut, "radial_ratio", "cut", "(dimensionless)");
   const auto kn = r.number(cut, "normal_coefficient", "cut", "N/m^2");
-  if (kr && kn) r.fail(*cut.get("normal_coefficient"), "[cut] gives radial_ratio and normal_coefficient: choose one");
+  if (kr && kn) r.fail(*cut.get("normal_coefficient"), "[cut] gives radial_ratio and normal_coefficient: choose one", "K_r = K_n/K_t: give one of them");
   if (!kr && !kn) r.fail(cut, "missing key cut.radial_ratio (K_n/K_t) or cut.normal_coefficient (K_n, N/m^2)", "e.g. radial_ratio = 0.3");
   l.cutting.radial_ratio = kr ? *kr : *kn / l.cutting.tangential_coefficient;
   if (!(l.cutting.radial_ratio >= 0.0))
-    r.fail(*cut.get(kr ? "radial_ratio" : "normal_coefficient"), fmt::format("the radial force ratio K_n/K_t = {} must be ≥ 0", l.cutting.radial_ratio));
+    r.fail(*cut.get(kr ? "radial_ratio" : "normal_coefficient"), fmt::format("the radial force ratio K_n/K_t = {} must be ≥ 0", l.cutting.radial_ratio),
+           "e.g. radial_ratio = 0.3");
   o.edge_coefficient_n_per_m = checked(r, cut, "edge_coefficient", "cut", "N/m", false, 0.0, non_negative, "N/m must be ≥ 0");
   r.plausible(cut, "edge_coefficient", "cut", o.edge_coefficient_n_per_m, 1e2, 1e6, "K_te is in N/m (typically 1e4–5e4)");
   const double immersion = checked(r, cut, "radial_immersion", "cut", "(a/D)", true, 0.0, [](double v) { return v > 0.0 && v <= 1.0; },
                                    "must lie in (0, 1]: the radial depth over the tool diameter", "e.g. 0.5 for half immersion, 1 for a slot");
   const auto milling = r.string(cut, "milling", "cut");
-  if (!milling) r.fail(cut, "missing key cut.milling (\"up\" or \"down\")");
-  if (*milling != "up" && *milling != "down") r.fail(*cut.get("milling"), fmt::format("cut.milling = \"{}\": expected \"up\" or \"down\"", *milling));
+  if (!milling) r.fail(cut, "missing key cut.milling (\"up\" or \"down\")", "e.g. milling = \"down\"");
+  if (*milling != "up" && *milling != "down")
+    r.fail(*cut.get("milling"), fmt::format("cut.milling = \"{}\": expected \"up\" or \"down\"", *milling),
+           "down: the tooth leaves the cut at the full chip (climb milling); up: it enters there (conventional)");
   l.cutting.engagement = engagement_from_immersion(immersion, *milling == "up" ? MillingDirection::Up : MillingDirection::Down);
-  o.feed_per_tooth_m = checked(r, cut, "feed_per_tooth", "cut", "m", true, 0.0, positive, "m must be > 0", "e.g. 1e-4 (0.1 mm per tooth)");
+  o.feed_per_tooth_m = checked(r, cut, "feed_per_tooth", "cut", "m", true, 0.0, [](double v) { return v > 0.0 && v <= 0.01; },
+                               "m must lie in (0, 0.01]: no cutter takes more than 10 mm per tooth (millimetres?)",
+                               "the feed per tooth is in metres: 0.1 mm is 1e-4");
   r.plausible(cut, "feed_per_tooth", "cut", o.feed_per_tooth_m, 1e-6, 2e-3, "the feed per tooth is in metres (0.1 mm = 1e-4)");
   o.max_depth_m = checked(r, cut, "max_depth", "cut", "m", false, 0.0, non_negative, "m must be ≥ 0");
   r.plausible(cut, "max_depth", "cut", o.max_depth_m, 1e-4, 0.3, "depths are in metres (20 mm = 0.02)");
@@ -614,7 +635,8 @@ PlanStudy parse_plan_study(const std::string& text, const std::string& source, c
   l.speeds.min_rpm = checked(r, mach, "speed_min", "machine", "rpm", true, 0.0, positive, "rpm must be > 0");
   l.speeds.max_rpm = checked(r, mach, "speed_max", "machine", "rpm", true, 0.0, positive, "rpm must be > 0");
   if (!(l.speeds.max_rpm > l.speeds.min_rpm))
-    r.fail(*mach.get("speed_max"), fmt::format("machine.speed_max = {} rpm must exceed machine.speed_min = {} rpm", l.speeds.max_rpm, l.speeds.min_rpm));
+    r.fail(*mach.get("speed_max"), fmt::format("machine.speed_max = {} rpm must exceed machine.speed_min = {} rpm", l.speeds.max_rpm, l.speeds.min_rpm),
+           "give the spindle's speed range in rpm, e.g. speed_min = 2000, speed_max = 12000");
   r.plausible(mach, "speed_min", "machine", l.speeds.min_rpm, 10.0, 2e5, "spindle speeds are in rpm");
   r.plausible(mach, "speed_max", "machine", l.speeds.max_rpm, 100.0, 2e5, "spindle speeds are in rpm");
   l.speeds.points = integer(r, mach, "speed_points", "machine", 2, 1000000, 0);
@@ -632,7 +654,9 @@ PlanStudy parse_plan_study(const std::string& text, const std::string& source, c
     r.only(*t, "safety", {"factor", "probability", "samples", "seed"});
     const auto f = r.number(*t, "factor", "safety", "(dimensionless)");
     const auto p = r.number(*t, "probability", "safety", "(dimensionless)");
-    if (f && p) r.fail(*t->get("probability"), "[safety] gives factor and probability: choose one rule");
+    if (f && p)
+      r.fail(*t->get("probability"), "[safety] gives factor and probability: choose one rule",
+             "keep factor (the stable depth divided by it) or probability (a joint file with [uncertainty] sampled)");
     if (p) {
       o.safety.kind = SafetyRule::Kind::Probability;
       if (!(*p >= 0.5 && *p < 1.0))
@@ -644,7 +668,7 @@ PlanStudy parse_plan_study(const std::string& text, const std::string& source, c
     }
     if (f) o.safety.factor = *f;
     if ((t->contains("samples") || t->contains("seed")) && !p)
-      r.fail(*t, "safety.samples and safety.seed belong to the probability rule (safety.probability)");
+      r.fail(*t, "safety.samples and safety.seed belong to the probability rule (safety.probability)", "drop them, or give safety.probability");
     o.safety.samples = integer(r, *t, "samples", "safety", 20, 100000, o.safety.samples);
     o.safety.seed = static_cast<std::uint64_t>(integer(r, *t, "seed", "safety", 0, std::numeric_limits<int>::max(), 1));
   }
@@ -664,7 +688,7 @@ PlanStudy parse_plan_study(const std::string& text, const std::string& source, c
   const toml::node* cn = root.get("candidate");
   if (!cn) r.fail(root, "the study has no [[candidate]]", "add a [[candidate]] table with name, assembly and the overhangs");
   const toml::array* arr = cn->as_array();
-  if (!arr || !arr->is_array_of_tables()) r.fail(*cn, "candidate must be an array of tables ([[candidate]])");
+  if (!arr || !arr->is_array_of_tables()) r.fail(*cn, "candidate must be an array of tables ([[candidate]])", "write [[candidate]] above each candidate's keys");
   int i = 0;
   for (const toml::node& e : *arr) {
     ++i;

@@ -211,8 +211,9 @@ PlanPart run_plan_part(const std::vector<PlanCandidate>& candidates, const PlanO
 // shard, repeat one, or hold jobs that do not belong to them.
 PlanResult merge_plan_parts(const std::vector<PlanPart>& parts, const std::vector<std::string>& sources);
 
-// A part as text (JSON; doubles in hexadecimal, so reading gives the same bits) and back. parse
-// throws InputError naming `source` (not a part file, another format version, a damaged entry).
+// A part as text (JSON; doubles in hexadecimal, so reading gives the same bits; the header's
+// fingerprint and a checksum over the jobs) and back. parse throws InputError naming `source` (not
+// a part file, another format version, a damaged or edited entry: the fingerprint or checksum).
 std::string format_plan_part(const PlanPart& part);
 PlanPart parse_plan_part(const std::string& text, const std::string& source);
 
