@@ -31,7 +31,7 @@ constexpr const char* kViridis =
     "set palette defined (0 '#440154', 1 '#472D7B', 2 '#3B528B', 3 '#2C728E', 4 '#21918C', 5 '#28AE80', 6 '#5EC962', "
     "7 '#ADDC30', 8 '#FDE725')\n";
 // Room right of a panel for a colour bar: the box, its tic labels and its rotated label.
-constexpr double kColourBarPx = 135, kColourBoxPx = 18, kColourGapPx = 12;
+constexpr double kColourBarPx = 150, kColourBoxPx = 18, kColourGapPx = 12;
 
 // The shared x range: explicit limits, else the data's extent over every panel, so that the
 // stacked panels line up (gnuplot would autoscale each panel on its own).
@@ -237,7 +237,8 @@ void append_panel(std::string& s, const Figure& fig, std::size_t i, double top, 
     s += kViridis;
     s += c.scale == Scale::Log ? "set logscale cb 10\n" : "unset logscale cb\n";
     s += fmt::format("set cbrange [{}:{}]\n", limit(c.min), limit(c.max));
-    s += fmt::format("set format cb {}\nset cbtics autofreq\nset cblabel {}\n", gp_text(c.scale == Scale::Log ? "10^{%L}" : "%h"),
+    // The label clear of tic labels of up to five characters.
+    s += fmt::format("set format cb {}\nset cbtics autofreq\nset cblabel {} offset 1.5,0\n", gp_text(c.scale == Scale::Log ? "10^{%L}" : "%h"),
                      gp_text(c.label));
     s += fmt::format("set colorbox user origin screen {:.5f}, screen {:.5f} size screen {:.5f}, screen {:.5f} front\n",
                      frame.right + kColourGapPx / fig.width_px, bottom, kColourBoxPx / fig.width_px, top - bottom);

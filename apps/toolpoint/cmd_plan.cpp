@@ -57,7 +57,8 @@ std::string rule_text(const PlanOptions& o) {
                            o.safety.seed);
 }
 
-void print_report(const PlanResult& r, const std::string& name) {
+void print_report(const PlanResult& r) {
+  const std::string& name = r.header.options.name;
   const PlanHeader& h = r.header;
   const PlanOptions& o = h.options;
   std::string limits;
@@ -83,7 +84,7 @@ void print_report(const PlanResult& r, const std::string& name) {
 }
 
 // What a finished plan (whole or merged) writes and says.
-void report(const Globals& g, const PlanArgs& o, const PlanResult& r, const std::string& name) {
+void report(const Globals& g, const PlanArgs& o, const PlanResult& r) {
   warn_all(r.warnings);
   std::vector<std::string> written;
   nlohmann::json j = r;
@@ -100,7 +101,7 @@ void report(const Globals& g, const PlanArgs& o, const PlanResult& r, const std:
     if (!o.plot.empty()) j["plots"] = {o.plot, with_suffix(o.plot, "_tuning")};
     std::cout << j.dump(2) << '\n';
   } else {
-    print_report(r, name);
+    print_report(r);
     if (!written.empty()) info(g, fmt::format("wrote setups.csv, tuning.csv, map.csv and plan.json to {}/", o.output));
   }
   if (!o.plot.empty())
@@ -139,7 +140,7 @@ void run_plan_command(const PlanArgs& o, const Globals& g) {
     }
     const PlanResult r = run_plan(study.candidates, study.options, progress.part());
     progress.done();
-    report(g, o, r, study.name);
+    report(g, o, r);
   } catch (const InvalidArgument& e) {
     rethrow_with_flag(e, {{"ParallelOptions::threads", "--threads"}});
   }
@@ -152,7 +153,7 @@ void run_merge_command(const PlanArgs& o, const Globals& g) {
   for (const std::string& p : o.parts) parts.push_back(parse_plan_part(read_text_file(p), p));
   const PlanResult r = merge_plan_parts(parts, o.parts);
   info(g, fmt::format("merged {} part(s): {} set-ups", parts.size(), r.jobs.size()));
-  report(g, o, r, "");
+  report(g, o, r);
 }
 
 void add_outputs(CLI::App* c, PlanArgs& o) {

@@ -234,6 +234,7 @@ std::uint64_t plan_fingerprint(const PlanHeader& h) {
   Fnv f;
   f.add(std::string("toolpoint plan 1"));
   const PlanOptions& o = h.options;
+  f.add(o.name);
   const LobesStudyOptions& l = o.lobes;
   f.add(static_cast<int>(l.method));
   f.add(l.cutting.teeth); f.add(l.cutting.tangential_coefficient); f.add(l.cutting.radial_ratio);

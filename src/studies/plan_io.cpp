@@ -89,6 +89,7 @@ nlohmann::json header_json(const PlanHeader& h) {
   const PlanOptions& o = h.options;
   const LobesStudyOptions& l = o.lobes;
   nlohmann::json opt = {
+      {"name", o.name},
       {"method", l.method == LobesMethod::ZeroOrder ? "zoa" : "fd"},
       {"teeth", l.cutting.teeth},
       {"tangential_coefficient", hex(l.cutting.tangential_coefficient)},
@@ -142,6 +143,7 @@ PlanHeader parse_header(const PartReader& r, const nlohmann::json& j) {
   const std::string p = "options.";
   PlanOptions& opt = h.options;
   LobesStudyOptions& l = opt.lobes;
+  opt.name = r.get<std::string>(o, "name", p);
   const std::string method = r.get<std::string>(o, "method", p);
   if (method != "zoa" && method != "fd") r.fail(fmt::format("options.method '{}' is neither zoa nor fd", method));
   l.method = method == "zoa" ? LobesMethod::ZeroOrder : LobesMethod::FullDiscretization;
@@ -411,6 +413,7 @@ void to_json(nlohmann::json& j, const PlanResult& r) {
   const PlanOptions& o = h.options;
   const CuttingConditions& c = o.lobes.cutting;
   nlohmann::json options = {
+      {"name", o.name},
       {"method", o.lobes.method == LobesMethod::ZeroOrder ? "zero_order" : "full_discretization"},
       {"cutting",
        {{"teeth", c.teeth},
@@ -587,6 +590,7 @@ PlanStudy parse_plan_study(const std::string& text, const std::string& source, c
   if (const toml::table* t = r.table(root, "study", "", false)) {
     r.only(*t, "study", {"name", "description", "method"});
     s.name = r.string(*t, "name", "study").value_or("");
+    o.name = s.name;
     if (const auto m = r.string(*t, "method", "study")) {
       if (*m == "zoa") l.method = LobesMethod::ZeroOrder;
       else if (*m == "fd") l.method = LobesMethod::FullDiscretization;

@@ -91,6 +91,7 @@ struct SafetyRule {
 };
 
 struct PlanOptions {
+  std::string name;  // the plan's name, for reports and files (a study file's study.name)
   // The cut (cutting conditions: teeth, K_t, K_r, engagement), the speeds (points 0: 2000 zero-order,
   // 200 full-discretization), the method and its settings, the pocket prominence. `lobes.parallel`
   // and `lobes.progress` are not used (the plan's own are).
