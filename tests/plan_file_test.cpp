@@ -1,6 +1,6 @@
 // The plan's files, in process: the study file (what it reads, and the errors a user meets: file,
 // line, key, what was expected, a fix) and the part files of a sharded run (exact round trip,
-// damage and mix-ups refused by name). The CLI's plumbing is in plan_cli_test.cpp.
+// damage and mix-ups refused by name). The CLI's plumbing is in cli_test.cpp (PlanCli).
 // Units: SI, spindle speeds in rpm.
 #include <gtest/gtest.h>
 

@@ -26,7 +26,6 @@ struct PlanArgs {
   std::vector<std::string> parts;  // plan merge
 };
 
-constexpr double kCm3PerMin = 6e7;
 
 // The files a run writes: DIR/setups.csv, tuning.csv, map.csv, plan.json; FILE and FILE_tuning.
 std::vector<std::string> outputs_of(const PlanArgs& o) {
@@ -50,13 +49,6 @@ void check_outputs(const PlanArgs& o, const std::vector<std::string>& inputs) {
     }
 }
 
-std::string rule_text(const PlanOptions& o) {
-  return o.safety.kind == SafetyRule::Kind::Factor
-             ? fmt::format("the stable depth / {:g}", o.safety.factor)
-             : fmt::format("the depth stable with probability >= {:g} ({} joint samples, seed {})", o.safety.probability, o.safety.samples,
-                           o.safety.seed);
-}
-
 void print_report(const PlanResult& r) {
   const std::string& name = r.header.options.name;
   const PlanHeader& h = r.header;
@@ -69,14 +61,14 @@ void print_report(const PlanResult& r) {
   std::cout << fmt::format("plan{}: {} candidate(s), {} set-ups (overhangs) x {} spindle speeds {:g}-{:g} rpm, {}; depth used: {}{}\n",
                            name.empty() ? "" : " '" + name + "'", h.candidates.size(), h.jobs, h.speeds_rpm.size(), h.speeds_rpm.front(),
                            h.speeds_rpm.back(), o.lobes.method == LobesMethod::ZeroOrder ? "zero-order lobes" : "full-discretization boundary",
-                           rule_text(o), limits);
+                           safety_rule_text(o.safety), limits);
   std::cout << "best set-ups, most metal removed first:\n"
                "  rank  candidate                 overhang_mm  speed_rpm  depth_mm  mrr_cm3_per_min  limit      margin_%  "
                "chatter_hz  lobe  window_rpm\n";
   for (std::size_t i = 0; i < r.best.size(); ++i) {
     const PlanSetup& s = r.best[i];
     std::cout << fmt::format("  {:4}  {:24}  {:11.1f}  {:9.0f}  {:8.3f}  {:15.1f}  {:9}  {:8.1f}  {:10.0f}  {:4}  {:.0f}-{:.0f}\n", i + 1,
-                             h.candidates[s.candidate].name, 1e3 * s.overhang_m, s.speed_rpm, 1e3 * s.depth_m, kCm3PerMin * s.mrr_m3_per_s,
+                             h.candidates[s.candidate].name, 1e3 * s.overhang_m, s.speed_rpm, 1e3 * s.depth_m, kCubicCentimetresPerMinute * s.mrr_m3_per_s,
                              to_string(s.limit), 100.0 * s.depth_margin, s.chatter_hz, s.lobe, s.window_low_rpm, s.window_high_rpm);
     if (std::isfinite(s.probability)) std::cout << fmt::format("        probability of stability at this depth: {:.3f}\n", s.probability);
     std::cout << "        why: " << s.reason << "\n";

@@ -84,7 +84,7 @@ void to_json(nlohmann::json& j, const TapTestFrf& r);
 // {"side", "distance_m", "frfs": [TapTestFrf…], "shear_stiffness_n", "crosses_step", "warnings"}
 void to_json(nlohmann::json& j, const TapTest& t);
 
-// ---- The plan (implemented in src/studies/plan_io.cpp) ---------------------------------------------
+// ---- The plan -------------------------------------------------------------------------------------
 
 // {"candidate", "job", "speed_index", "overhang_m", "speed_rpm", "depth_m", "stable_depth_m", "safe_depth_m",
 // "mrr_m3_per_s", "power_w", "torque_nm", "limit" ("stability" | "power" | "torque" | "depth" | "none"),

@@ -100,6 +100,12 @@ const char* to_string(DepthLimit limit) {
   return "none";
 }
 
+std::string safety_rule_text(const SafetyRule& rule) {
+  return rule.kind == SafetyRule::Kind::Factor
+             ? fmt::format("the stable depth / {:g}", rule.factor)
+             : fmt::format("the depth stable with probability >= {:g} ({} joint samples, seed {})", rule.probability, rule.samples, rule.seed);
+}
+
 // ---- The cut's mechanics ------------------------------------------------------------------------
 
 double radial_width_m(const CuttingConditions& cutting, double diameter_m) {
@@ -554,11 +560,16 @@ PlanJob compute_job(const PlanCandidate& cand, const PlanHeader& h, std::size_t 
     throw InvalidArgument(fmt::format("{}: {}", where, e.what()), e.hint());
   }
   const std::string frf_name = fmt::format("the tool point FRF of '{}' at {:.1f} mm", cs.name, 1e3 * job.overhang_m);
+  // The time domain searches depths up to a ceiling: by default the deepest cut the plan could use
+  // (the flute length or the depth cap), not its own guess, so no usable pocket is cut off.
+  LobesStudyOptions lobes = h.options.lobes;
+  if (lobes.method == LobesMethod::FullDiscretization && lobes.max_depth_m == 0.0)
+    lobes.max_depth_m = std::max(cs.flute_length_m, h.options.max_depth_m);
   FrfSeries g;
   Envelope nominal;
   try {
     g = tool_point_frf(cand, a);
-    nominal = stable_envelope(g, frf_name, h.options.lobes);
+    nominal = stable_envelope(g, frf_name, lobes);
   } catch (const NumericalError& e) {
     throw NumericalError(fmt::format("{}: {}", where, e.what()), e.hint());
   }
@@ -587,7 +598,7 @@ PlanJob compute_job(const PlanCandidate& cand, const PlanHeader& h, std::size_t 
         JointFile js = *cand.uncertain_joint;
         js.parameters = samples[s];
         try {
-          depth[s] = stable_envelope(tool_point_frf(cand, with_joint(a, js)), frf_name, h.options.lobes).depth_m;
+          depth[s] = stable_envelope(tool_point_frf(cand, with_joint(a, js)), frf_name, lobes).depth_m;
         } catch (const Error& e) {
           throw NumericalError(fmt::format("{}, joint sample {} of {}: {}", where, s + 1, samples.size(), e.what()), e.hint());
         }

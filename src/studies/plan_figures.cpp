@@ -13,13 +13,6 @@ namespace toolpoint {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kCm3PerMin = 6e7;
-
-std::string rule_text(const PlanOptions& o) {
-  return o.safety.kind == SafetyRule::Kind::Factor
-             ? (o.safety.factor == 1.0 ? std::string("stable depth") : fmt::format("stable depth / {:g}", o.safety.factor))
-             : fmt::format("depth stable with P ≥ {:g} %", 100.0 * o.safety.probability);
-}
 
 // The reach in a title (shorter overhangs are not planned, so the axes start at or above it).
 std::string reach_text(const PlanOptions& o) {
@@ -50,7 +43,7 @@ plot::Figure plan_map_figure(const PlanResult& r) {
   const PlanHeader& h = r.header;
   if (r.jobs.empty()) throw InvalidArgument("plan map figure: the plan has no jobs");
   plot::Figure fig;
-  fig.title = fmt::format("Allowed depth: {}{}", rule_text(h.options), reach_text(h.options));
+  fig.title = fmt::format("Allowed depth: {}{}", safety_rule_text(h.options.safety), reach_text(h.options));
   fig.x.label = "Spindle speed [rpm]";
   fig.width_px = 1200;
   fig.height_px = static_cast<int>(std::min<std::size_t>(20000, 200 + 500 * h.candidates.size()));
@@ -80,7 +73,7 @@ plot::Figure plan_map_figure(const PlanResult& r) {
       best.x.push_back(job.best.speed_rpm);
       best.y.push_back(1e3 * job.overhang_m);
     }
-    m.colour.label = fmt::format("Allowed depth ({}) [mm]", rule_text(h.options));
+    m.colour.label = "Allowed depth [mm]";
     m.colour.min = 0.0;
     if (std::isfinite(top) && top > 0.0) m.colour.max = top;
     p.map = std::move(m);
@@ -91,7 +84,7 @@ plot::Figure plan_map_figure(const PlanResult& r) {
       p.curves.push_back({{s->speed_rpm},
                           {1e3 * s->overhang_m},
                           fmt::format("best: {:.1f} mm, {:.0f} rpm, {:.0f} cm^3/min", 1e3 * s->overhang_m, s->speed_rpm,
-                                      kCm3PerMin * s->mrr_m3_per_s),
+                                      kCubicCentimetresPerMinute * s->mrr_m3_per_s),
                           plot::CurveStyle::Points,
                           1});
     p.legend = plot::Legend::TopLeft;
@@ -105,7 +98,7 @@ plot::Figure plan_tuning_figure(const PlanResult& r) {
   const PlanHeader& h = r.header;
   if (r.jobs.empty()) throw InvalidArgument("plan tuning figure: the plan has no jobs");
   plot::Figure fig;
-  fig.title = fmt::format("Tuning curve: the most metal removed at each overhang ({}{})", rule_text(h.options), reach_text(h.options));
+  fig.title = fmt::format("Tuning curve: the most metal removed at each overhang ({}{})", safety_rule_text(h.options.safety), reach_text(h.options));
   fig.x.label = "Overhang [mm]";
   plot::Panel mrr, speed;
   mrr.y.label = "Best MRR [cm^3/min]";
@@ -123,12 +116,12 @@ plot::Figure plan_tuning_figure(const PlanResult& r) {
     for (std::size_t i = 0; i < cs.overhangs_m.size(); ++i) {
       const PlanSetup& s = r.jobs[j0 + i].best;
       a.x.push_back(1e3 * s.overhang_m);
-      a.y.push_back(kCm3PerMin * s.mrr_m3_per_s);
+      a.y.push_back(kCubicCentimetresPerMinute * s.mrr_m3_per_s);
       n.x.push_back(1e3 * s.overhang_m);
       n.y.push_back(s.speed_rpm);
     }
     if (const PlanSetup* s = best_of(r, c))
-      mrr.labels.push_back({1e3 * s->overhang_m, kCm3PerMin * s->mrr_m3_per_s,
+      mrr.labels.push_back({1e3 * s->overhang_m, kCubicCentimetresPerMinute * s->mrr_m3_per_s,
                             fmt::format("{:.1f} mm, {:.0f} rpm", 1e3 * s->overhang_m, s->speed_rpm), true});
     mrr.curves.push_back(std::move(a));
     speed.curves.push_back(std::move(n));

@@ -13,7 +13,6 @@
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/io.hpp"
-#include "toolpoint/json.hpp"
 #include "toolpoint/studies/plan.hpp"
 #include "toml_reader.hpp"
 
@@ -310,8 +309,6 @@ std::string csv_text(const std::string& s) {
 
 std::string num(double v) { return std::isfinite(v) ? fmt::format("{}", v) : std::string(); }
 
-// cm³/min from m³/s; kW from W.
-constexpr double kCm3PerMin = 6e7;
 
 const char* const kSetupColumns =
     "overhang_mm,spindle_speed_rpm,axial_depth_mm,stable_depth_mm,safe_depth_mm,mrr_cm3_per_min,power_kw,torque_nm,limit,"
@@ -319,17 +316,14 @@ const char* const kSetupColumns =
 
 std::string setup_fields(const PlanSetup& s) {
   return fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}", num(1e3 * s.overhang_m), num(s.speed_rpm), num(1e3 * s.depth_m),
-                     num(1e3 * s.stable_depth_m), num(1e3 * s.safe_depth_m), num(kCm3PerMin * s.mrr_m3_per_s), num(1e-3 * s.power_w),
+                     num(1e3 * s.stable_depth_m), num(1e3 * s.safe_depth_m), num(kCubicCentimetresPerMinute * s.mrr_m3_per_s), num(1e-3 * s.power_w),
                      num(s.torque_nm), to_string(s.limit), num(100.0 * s.depth_margin), num(s.probability), num(s.chatter_hz), s.lobe,
                      num(s.window_low_rpm), num(s.window_high_rpm), csv_text(s.reason));
 }
 
 std::string head(const PlanResult& r, const std::string& what) {
   const PlanOptions& o = r.header.options;
-  std::string rule = o.safety.kind == SafetyRule::Kind::Factor
-                         ? fmt::format("stable depth / {}", o.safety.factor)
-                         : fmt::format("depth stable with probability >= {} ({} joints sampled, seed {})", o.safety.probability,
-                                       o.safety.samples, o.safety.seed);
+  const std::string rule = safety_rule_text(o.safety);
   return fmt::format("# toolpoint plan: {}; units: overhang mm, spindle speed rpm, depths mm, MRR cm^3/min, power kW, torque N m, "
                      "chatter frequency Hz; empty: none\n# safety rule: {}; fingerprint {:016x}\n",
                      what, rule, r.header.fingerprint);
@@ -363,95 +357,13 @@ std::string format_plan_map_csv(const PlanResult& r) {
     const std::string overhang = num(1e3 * job.overhang_m);
     for (std::size_t k = 0; k < r.header.speeds_rpm.size(); ++k) {
       fmt::format_to(out, "{},{},{},{},{},{},{},{},{},{}", name, overhang, num(r.header.speeds_rpm[k]), num(1e3 * job.stable_depth_m[k]),
-                     num(1e3 * job.safe_depth_m[k]), num(1e3 * job.depth_m[k]), to_string(job.limit[k]), num(kCm3PerMin * job.mrr_m3_per_s[k]),
+                     num(1e3 * job.safe_depth_m[k]), num(1e3 * job.depth_m[k]), to_string(job.limit[k]), num(kCubicCentimetresPerMinute * job.mrr_m3_per_s[k]),
                      num(job.chatter_hz[k]), job.lobe[k]);
       if (sampled) fmt::format_to(out, ",{}", num(job.probability[k]));
       s += '\n';
     }
   }
   return s;
-}
-
-// ---- JSON (json.hpp's rule: keys are member names, SI units, NaN as null) ------------------------
-
-namespace {
-
-nlohmann::json value(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
-
-nlohmann::json values(const std::vector<double>& v) {
-  nlohmann::json a = nlohmann::json::array();
-  for (double x : v) a.push_back(value(x));
-  return a;
-}
-
-}  // namespace
-
-void to_json(nlohmann::json& j, const PlanSetup& s) {
-  j = {{"candidate", s.candidate},
-       {"job", s.job},
-       {"speed_index", s.speed_index},
-       {"overhang_m", value(s.overhang_m)},
-       {"speed_rpm", value(s.speed_rpm)},
-       {"depth_m", value(s.depth_m)},
-       {"stable_depth_m", value(s.stable_depth_m)},
-       {"safe_depth_m", value(s.safe_depth_m)},
-       {"mrr_m3_per_s", value(s.mrr_m3_per_s)},
-       {"power_w", value(s.power_w)},
-       {"torque_nm", value(s.torque_nm)},
-       {"limit", to_string(s.limit)},
-       {"depth_margin", value(s.depth_margin)},
-       {"probability", value(s.probability)},
-       {"chatter_hz", value(s.chatter_hz)},
-       {"lobe", s.lobe},
-       {"window_low_rpm", value(s.window_low_rpm)},
-       {"window_high_rpm", value(s.window_high_rpm)},
-       {"reason", s.reason}};
-}
-
-void to_json(nlohmann::json& j, const PlanResult& r) {
-  const PlanHeader& h = r.header;
-  const PlanOptions& o = h.options;
-  const CuttingConditions& c = o.lobes.cutting;
-  nlohmann::json options = {
-      {"name", o.name},
-      {"method", o.lobes.method == LobesMethod::ZeroOrder ? "zero_order" : "full_discretization"},
-      {"cutting",
-       {{"teeth", c.teeth},
-        {"tangential_coefficient", c.tangential_coefficient},
-        {"radial_ratio", c.radial_ratio},
-        {"entry_rad", c.engagement.entry_rad},
-        {"exit_rad", c.engagement.exit_rad}}},
-      {"feed_per_tooth_m", o.feed_per_tooth_m},
-      {"edge_coefficient_n_per_m", o.edge_coefficient_n_per_m},
-      {"max_depth_m", o.max_depth_m},
-      {"machine", {{"power_w", o.machine.power_w}, {"torque_nm", o.machine.torque_nm}, {"min_overhang_m", o.machine.min_overhang_m}}},
-      {"safety",
-       {{"kind", o.safety.kind == SafetyRule::Kind::Factor ? "factor" : "probability"},
-        {"factor", o.safety.factor},
-        {"probability", o.safety.probability},
-        {"samples", o.safety.samples},
-        {"seed", o.safety.seed}}}};
-  nlohmann::json candidates = nlohmann::json::array();
-  for (const PlanCandidateSummary& cs : h.candidates)
-    candidates.push_back({{"name", cs.name},
-                          {"measured_holder", cs.measured_holder},
-                          {"sh11_name", cs.sh11_name},
-                          {"uncertain_joint", cs.uncertain_joint},
-                          {"tool_diameter_m", cs.tool_diameter_m},
-                          {"flute_length_m", cs.flute_length_m},
-                          {"overhangs_m", values(cs.overhangs_m)},
-                          {"left_out", cs.left_out}});
-  nlohmann::json tuning = nlohmann::json::array();
-  for (const PlanJob& job : r.jobs)
-    tuning.push_back({{"candidate", job.candidate}, {"overhang_m", job.overhang_m}, {"modes_hz", values(job.modes_hz)}, {"best", job.best}});
-  j = {{"options", options},
-       {"candidates", candidates},
-       {"speeds_rpm", {{"min", o.lobes.speeds.min_rpm}, {"max", o.lobes.speeds.max_rpm}, {"points", o.lobes.speeds.points}}},
-       {"jobs", h.jobs},
-       {"fingerprint", fmt::format("{:016x}", h.fingerprint)},
-       {"best", r.best},
-       {"tuning", tuning},
-       {"warnings", r.warnings}};
 }
 
 // ---- The study file --------------------------------------------------------------------------------

@@ -9,7 +9,8 @@
 //      model's is refined where its phase turns faster than the lobes can follow
 //      (resolved_tool_point), a measured SH11 keeps its grid;
 //   2. the stable envelope a_lim(n) over the spindle speeds (the lobes study: zero-order by default,
-//      full-discretization on request; a symmetric tool, G_yy = G_xx);
+//      full-discretization on request, its depths searched up to the flute length or the depth cap
+//      unless lobes.max_depth_m is given; a symmetric tool, G_yy = G_xx);
 //   3. the safety rule: the depth allowed a_safe(n) = a_lim(n)/factor, or the depth stable with
 //      probability ≥ p when the joint is uncertain (the type-7 quantile at 1 − p of the envelopes of
 //      `samples` joints drawn from the joint file's covariance, uncertainty.hpp; the same draws for
@@ -243,6 +244,13 @@ double radial_width_m(const CuttingConditions& cutting, double diameter_m);
 double torque_per_depth(const CuttingConditions& cutting, double diameter_m, double feed_per_tooth_m, double edge_n_per_m);
 double power_per_depth(const CuttingConditions& cutting, double diameter_m, double feed_per_tooth_m, double edge_n_per_m,
                        double speed_rpm);
+
+// The safety rule in words, as every output states it: "the stable depth / 1.25", "the depth stable
+// with probability >= 0.95 (200 joint samples, seed 1)".
+std::string safety_rule_text(const SafetyRule& rule);
+
+// cm³/min per m³/s: MRR as machinists read it.
+inline constexpr double kCubicCentimetresPerMinute = 6e7;
 
 // ---- Figures and tables -------------------------------------------------------------------------
 
