@@ -12,6 +12,8 @@
 #include "toolpoint/assembly_file.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/io.hpp"
+#include "toolpoint/joint_file.hpp"
+#include "toolpoint/studies/predict.hpp"
 #include "toolpoint/studies/plan.hpp"
 
 using namespace toolpoint;
@@ -129,6 +131,63 @@ TEST(PlanStudyFile, FilesItNamesAreReadWithTheirOwnErrors) {
   const PlanStudy s = parse_plan_study(study("tangential_coefficient = 6e8", "tangential_coefficient = 600"), "study.toml", "");
   ASSERT_FALSE(s.warnings.empty());
   EXPECT_NE(s.warnings.front().find("study.toml:11: cut.tangential_coefficient = 600"), std::string::npos) << s.warnings.front();
+}
+
+// The measured-holder route and identified joints through the study file: `sh11` (a block CSV) and
+// `joints` (joint files; the one with [uncertainty] is what safety.probability samples).
+TEST(PlanStudyFile, MeasuredHolderAndJointFiles) {
+  const fs::path dir = fs::temp_directory_path() / ("toolpoint_plan_route_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const Assembly a = load_assembly(kExample).assembly;
+  PredictOptions holder;
+  holder.receptance = PredictedFrf::HolderTip;
+  write_frf_csv((dir / "sh11.csv").string(), run_prediction(a, holder).frf);
+  JointFile j;
+  j.parameters = a.holder_tool.parameters;
+  j.parameters.k_yf *= 1.1;
+  JointUncertainty u;
+  for (int k = 0; k < 8; ++k) u.covariance(k, k) = std::pow(0.05 * j.parameters[k], 2);
+  j.uncertainty = u;
+  write_joint_file((dir / "kht.toml").string(), j);
+  j.uncertainty.reset();
+  j.interface = JointInterface::SpindleHolder;
+  j.parameters = a.spindle_holder.parameters;
+  write_joint_file((dir / "ksh.toml").string(), j);
+  const std::string text = study("[cut]\n", "sh11 = \"sh11.csv\"\njoints = [\"kht.toml\", \"ksh.toml\"]\n[cut]\n");
+  // With a probability rule: the SH11, both joints in place, the uncertain one sampled.
+  std::string prob = text;
+  prob.replace(prob.find("factor = 1.25"), 13, "probability = 0.9\nsamples = 20");
+  const PlanStudy p = parse_plan_study(prob, (dir / "study.toml").string(), dir.string());
+  ASSERT_EQ(p.candidates.size(), 1u);
+  const PlanCandidate& c = p.candidates[0];
+  ASSERT_TRUE(c.sh11.has_value());
+  EXPECT_EQ(c.sh11->size(), a.grid.values().size());
+  ASSERT_TRUE(c.uncertain_joint.has_value());
+  EXPECT_EQ(c.assembly.holder_tool.parameters.k_yf, 1.1 * a.holder_tool.parameters.k_yf);
+  EXPECT_EQ(p.inputs.size(), 5u);  // study, assembly, two joint files, SH11
+  EXPECT_EQ(p.options.safety.samples, 20);
+  // The measured-holder route runs with the sampled holder–tool joint: the depth used is stable
+  // for at least 90 % of the draws wherever stability limits it.
+  PlanOptions o = p.options;
+  o.lobes.speeds.points = 20;
+  const PlanResult r = run_plan(p.candidates, o);
+  EXPECT_TRUE(r.header.candidates[0].measured_holder);
+  for (const PlanJob& job : r.jobs)
+    for (std::size_t k = 0; k < job.depth_m.size(); ++k)
+      if (job.limit[k] == DepthLimit::Stability) EXPECT_GE(job.probability[k], 0.9);
+  // Two joints with [uncertainty]: only one can be sampled.
+  write_joint_file((dir / "ksh.toml").string(), [&] {
+    JointFile k = load_joint_file((dir / "ksh.toml").string());
+    k.uncertainty = u;
+    return k;
+  }());
+  try {
+    parse_plan_study(prob, "study.toml", dir.string());
+    ADD_FAILURE() << "two sampled joints accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("only one joint can be sampled"), std::string::npos) << e.what();
+  }
+  fs::remove_all(dir);
 }
 
 // Part files: exact round trip; damage, edits and mix-ups refused, naming the part.
