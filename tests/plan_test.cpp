@@ -5,8 +5,8 @@
 //   * the mean cutting torque integrated numerically over one revolution, tooth by tooth;
 //   * tool tuning: where a pocket must sit (tooth passing = natural frequency / (k + 1)) and which
 //     way the overhang must move, with the modes found by peak picking on the model's own FRF;
-//   * the uncertainty module's stability_uncertainty (the lead's implementation) for the
-//     probability rule;
+//   * the uncertainty module's stability_uncertainty for the probability rule (its own sampling
+//     loop, FRFs on an even grid, lobes per sample);
 //   * the single run for shards merged through part files (bit for bit), and thread counts.
 // Units: SI, spindle speeds in rpm, frequencies in Hz.
 #include <gtest/gtest.h>
