@@ -57,6 +57,76 @@ void to_json(nlohmann::json& j, const TapTest& t) {
        {"warnings", t.warnings}};
 }
 
+// The plan (studies/plan.hpp): the per-speed series go to its CSV files.
+
+void to_json(nlohmann::json& j, const PlanSetup& s) {
+  j = {{"candidate", s.candidate},
+       {"job", s.job},
+       {"speed_index", s.speed_index},
+       {"overhang_m", number(s.overhang_m)},
+       {"speed_rpm", number(s.speed_rpm)},
+       {"depth_m", number(s.depth_m)},
+       {"stable_depth_m", number(s.stable_depth_m)},
+       {"safe_depth_m", number(s.safe_depth_m)},
+       {"mrr_m3_per_s", number(s.mrr_m3_per_s)},
+       {"power_w", number(s.power_w)},
+       {"torque_nm", number(s.torque_nm)},
+       {"limit", to_string(s.limit)},
+       {"depth_margin", number(s.depth_margin)},
+       {"probability", number(s.probability)},
+       {"chatter_hz", number(s.chatter_hz)},
+       {"lobe", s.lobe},
+       {"window_low_rpm", number(s.window_low_rpm)},
+       {"window_high_rpm", number(s.window_high_rpm)},
+       {"reason", s.reason}};
+}
+
+void to_json(nlohmann::json& j, const PlanResult& r) {
+  const PlanHeader& h = r.header;
+  const PlanOptions& o = h.options;
+  const CuttingConditions& c = o.lobes.cutting;
+  nlohmann::json options = {
+      {"name", o.name},
+      {"method", o.lobes.method == LobesMethod::ZeroOrder ? "zero_order" : "full_discretization"},
+      {"cutting",
+       {{"teeth", c.teeth},
+        {"tangential_coefficient", c.tangential_coefficient},
+        {"radial_ratio", c.radial_ratio},
+        {"entry_rad", c.engagement.entry_rad},
+        {"exit_rad", c.engagement.exit_rad}}},
+      {"feed_per_tooth_m", o.feed_per_tooth_m},
+      {"edge_coefficient_n_per_m", o.edge_coefficient_n_per_m},
+      {"max_depth_m", o.max_depth_m},
+      {"machine", {{"power_w", o.machine.power_w}, {"torque_nm", o.machine.torque_nm}, {"min_overhang_m", o.machine.min_overhang_m}}},
+      {"safety",
+       {{"kind", o.safety.kind == SafetyRule::Kind::Factor ? "factor" : "probability"},
+        {"factor", o.safety.factor},
+        {"probability", o.safety.probability},
+        {"samples", o.safety.samples},
+        {"seed", o.safety.seed}}}};
+  nlohmann::json candidates = nlohmann::json::array();
+  for (const PlanCandidateSummary& cs : h.candidates)
+    candidates.push_back({{"name", cs.name},
+                          {"measured_holder", cs.measured_holder},
+                          {"sh11_name", cs.sh11_name},
+                          {"uncertain_joint", cs.uncertain_joint},
+                          {"tool_diameter_m", cs.tool_diameter_m},
+                          {"flute_length_m", cs.flute_length_m},
+                          {"overhangs_m", numbers(cs.overhangs_m)},
+                          {"left_out", cs.left_out}});
+  nlohmann::json tuning = nlohmann::json::array();
+  for (const PlanJob& job : r.jobs)
+    tuning.push_back({{"candidate", job.candidate}, {"overhang_m", job.overhang_m}, {"modes_hz", numbers(job.modes_hz)}, {"best", job.best}});
+  j = {{"options", options},
+       {"candidates", candidates},
+       {"speeds_rpm", {{"min", o.lobes.speeds.min_rpm}, {"max", o.lobes.speeds.max_rpm}, {"points", o.lobes.speeds.points}}},
+       {"jobs", h.jobs},
+       {"fingerprint", fmt::format("{:016x}", h.fingerprint)},
+       {"best", r.best},
+       {"tuning", tuning},
+       {"warnings", r.warnings}};
+}
+
 // ---- Joint identification and uncertainty --------------------------------------------------------
 
 void to_json(nlohmann::json& out, const JointParameters& p) {

@@ -35,6 +35,29 @@ void check_axis(const Axis& a, const std::string& where) {
             fmt::format("{}: tic step {} must be finite and > 0", where, *a.tic_step));
 }
 
+// A map's grid and colour bar (plot.hpp); true when some cell can be drawn.
+bool check_map(const Map& m, const Axis& x, const Axis& y, const std::string& where) {
+  require(x.scale == Scale::Linear && y.scale == Scale::Linear, fmt::format("{}: a map needs linear x and y axes", where),
+          "draw maps on linear axes (the cells are evenly spaced)");
+  auto even = [&](const std::vector<double>& v, const char* name) {
+    require(!v.empty(), fmt::format("{}: the map's {} has no values", where, name));
+    for (double t : v) require(std::isfinite(t), fmt::format("{}: the map's {} holds {}", where, name, t));
+    if (v.size() < 2) return;
+    const double step = (v.back() - v.front()) / static_cast<double>(v.size() - 1);
+    require(step > 0.0, fmt::format("{}: the map's {} must increase", where, name));
+    for (std::size_t k = 1; k < v.size(); ++k)
+      require(std::abs(v[k] - v[k - 1] - step) <= 1e-6 * step,
+              fmt::format("{}: the map's {} is not evenly spaced ({} to {} after {} values)", where, name, v[k - 1], v[k], k),
+              "give map cells on an even grid");
+  };
+  even(m.x, "x");
+  even(m.y, "y");
+  require(m.z.size() == m.x.size() * m.y.size(),
+          fmt::format("{}: the map has {} z values for {} × {} cells", where, m.z.size(), m.x.size(), m.y.size()));
+  check_axis(Axis{m.colour.label, m.colour.scale, m.colour.min, m.colour.max, std::nullopt}, where + " colour bar");
+  return std::any_of(m.z.begin(), m.z.end(), [&](double v) { return plottable(v, m.colour.scale); });
+}
+
 }  // namespace
 
 Format format_for_path(const std::string& path) {
@@ -73,6 +96,7 @@ void Figure::check() const {
         any = any || (plottable(xs[k], x.scale) && plottable(ys[k], p.y.scale));
     };
     for (const Curve& c : p.curves) scan(c.x, c.y, fmt::format("curve '{}'", c.label));
+    if (p.map) any = check_map(*p.map, x, p.y, where) || any;
     for (const Fill& f : p.fills) {
       scan(f.x, f.y, fmt::format("fill '{}'", f.label));
       require(plottable(f.base, p.y.scale), fmt::format("{}: fill '{}' base {} is not drawable on this axis", where,

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <iterator>
 #include <limits>
 #include <optional>
 
@@ -19,6 +20,19 @@ using namespace detail;
 
 namespace {
 
+// The outer edges of a map's cells along one axis (centres ± half a step; ± 0.5 for one cell).
+std::pair<double, double> cell_edges(const std::vector<double>& v) {
+  const double half = v.size() > 1 ? 0.5 * (v.back() - v.front()) / static_cast<double>(v.size() - 1) : 0.5;
+  return {v.front() - half, v.back() + half};
+}
+
+// Viridis (matplotlib's), 9 stops: perceptually uniform, lightness rising with the value.
+constexpr const char* kViridis =
+    "set palette defined (0 '#440154', 1 '#472D7B', 2 '#3B528B', 3 '#2C728E', 4 '#21918C', 5 '#28AE80', 6 '#5EC962', "
+    "7 '#ADDC30', 8 '#FDE725')\n";
+// Room right of a panel for a colour bar: the box, its tic labels and its rotated label.
+constexpr double kColourBarPx = 150, kColourBoxPx = 18, kColourGapPx = 12;
+
 // The shared x range: explicit limits, else the data's extent over every panel, so that the
 // stacked panels line up (gnuplot would autoscale each panel on its own).
 std::pair<double, double> shared_x_range(const Figure& fig) {
@@ -30,6 +44,7 @@ std::pair<double, double> shared_x_range(const Figure& fig) {
   for (const Panel& p : fig.panels) {
     for (const Curve& c : p.curves) take(c.x);
     for (const Fill& f : p.fills) take(f.x);
+    if (p.map) take({cell_edges(p.map->x).first, cell_edges(p.map->x).second});
   }
   if (fig.x.min) lo = *fig.x.min;
   if (fig.x.max) hi = *fig.x.max;
@@ -57,6 +72,21 @@ void append_block(std::string& s, const std::string& name, const std::vector<dou
     if (third) s += ' ' + number(*third);
     s += '\n';
     broken = false;
+  }
+  s += "EOD\n";
+}
+
+// A map's cells as `x y z` rows, one block of x per y (gnuplot's grid order for `with image`); a
+// cell that cannot be coloured is NaN, which gnuplot leaves blank.
+void append_map(std::string& s, const std::string& name, const Map& m) {
+  s += name + " << EOD\n";
+  auto out = std::back_inserter(s);
+  for (std::size_t j = 0; j < m.y.size(); ++j) {
+    for (std::size_t i = 0; i < m.x.size(); ++i) {
+      const double z = m.z[j * m.x.size() + i];
+      fmt::format_to(out, "{} {} {}\n", m.x[i], m.y[j], plottable(z, m.colour.scale) ? number(z) : std::string("NaN"));
+    }
+    s += '\n';
   }
   s += "EOD\n";
 }
@@ -154,10 +184,15 @@ struct Frame {
   double left, right;  // screen fractions of the panels' left and right edges
 };
 
+bool has_map(const Figure& fig) {
+  return std::any_of(fig.panels.begin(), fig.panels.end(), [](const Panel& p) { return p.map.has_value(); });
+}
+
 Frame frame_of(const Figure& fig) {
-  double right_px = kRightPx;
+  const double bar = has_map(fig) ? kColourBarPx : 0.0;
+  double right_px = std::max(kRightPx, bar);
   for (const Panel& p : fig.panels)
-    if (p.legend == Legend::Outside && !legend_texts(p).empty()) right_px = std::max(right_px, legend_width_px(p) + 15.0);
+    if (p.legend == Legend::Outside && !legend_texts(p).empty()) right_px = std::max(right_px, bar + legend_width_px(p) + 15.0);
   return {kLeftPx / fig.width_px, 1.0 - right_px / fig.width_px};
 }
 
@@ -189,19 +224,40 @@ void append_panel(std::string& s, const Figure& fig, std::size_t i, double top, 
   }
   append_axis(s, 'x', x_axis, number(xr.first), number(xr.second),
               fig.x.scale == Scale::Log ? std::log10(xr.second / xr.first) : 0.0, last);
-  append_axis(s, 'y', p.y, limit(p.y.min), limit(p.y.max), y_decades(p), true);
+  Axis y_axis = p.y;
+  if (p.map) {  // the cells' outer edges, unless given
+    const auto [y0, y1] = cell_edges(p.map->y);
+    if (!y_axis.min) y_axis.min = y0;
+    if (!y_axis.max) y_axis.max = y1;
+  }
+  append_axis(s, 'y', y_axis, limit(y_axis.min), limit(y_axis.max), y_decades(p), true);
+  const double bar = has_map(fig) ? kColourBarPx / fig.width_px : 0.0;
+  if (p.map) {
+    const ColourBar& c = p.map->colour;
+    s += kViridis;
+    s += c.scale == Scale::Log ? "set logscale cb 10\n" : "unset logscale cb\n";
+    s += fmt::format("set cbrange [{}:{}]\n", limit(c.min), limit(c.max));
+    // The label clear of tic labels of up to five characters.
+    s += fmt::format("set format cb {}\nset cbtics autofreq\nset cblabel {} offset 1.5,0\n", gp_text(c.scale == Scale::Log ? "10^{%L}" : "%h"),
+                     gp_text(c.label));
+    s += fmt::format("set colorbox user origin screen {:.5f}, screen {:.5f} size screen {:.5f}, screen {:.5f} front\n",
+                     frame.right + kColourGapPx / fig.width_px, bottom, kColourBoxPx / fig.width_px, top - bottom);
+  } else {
+    s += "unset colorbox\n";
+  }
   if (p.legend == Legend::Hidden || legend_texts(p).empty()) {
     s += "unset key\n";
   } else if (p.legend == Legend::Outside) {
     // No box: gnuplot sizes boxes from its own, generous estimate of text width.
     s += fmt::format("set key at screen {:.5f}, screen {:.5f} left top Left reverse nobox samplen {} spacing 1.15\n",
-                     frame.right + 10.0 / fig.width_px, top, kSampleChars);
+                     frame.right + bar + 10.0 / fig.width_px, top, kSampleChars);
   } else {
     s += fmt::format("set key {} opaque box lc rgb \"#A0A0A0\" samplen {} spacing 1.15 width 1\n", key_position(p.legend),
                      kSampleChars);
   }
 
   std::vector<std::string> items;
+  if (p.map) items.push_back(fmt::format("${}m using 1:2:3 with image notitle", id));
   for (std::size_t k = 0; k < p.bands.size(); ++k) {
     const Band& b = p.bands[k];
     s += fmt::format("set object {} rect from first {}, graph 0 to first {}, graph 1 behind fc rgb \"{}\" fs solid 1.0 noborder\n",
@@ -258,6 +314,7 @@ std::string gnuplot_script(const Figure& fig) {
       append_block(s, fmt::format("$p{}c{}", i, k), p.curves[k].x, p.curves[k].y, fig.x.scale, p.y.scale);
     for (std::size_t k = 0; k < p.fills.size(); ++k)
       append_block(s, fmt::format("$p{}f{}", i, k), p.fills[k].x, p.fills[k].y, fig.x.scale, p.y.scale, p.fills[k].base);
+    if (p.map) append_map(s, fmt::format("$p{}m", i), *p.map);
   }
   // House style shared by every panel.
   s += "set grid xtics ytics back lt 1 lw 1 lc rgb \"#E0E0E0\" dt solid\n"

@@ -496,4 +496,71 @@ TEST_F(Cli, ProgressBarOnlyOnATerminal) {
   EXPECT_EQ(quiet.find("full-discretization boundary ["), std::string::npos) << quiet;
 }
 
+// ---- plan ------------------------------------------------------------------------------------------
+// The numbers are tested in process (plan_test.cpp); here a small study (the example study with 7
+// overhangs, 60–120 mm by 10 mm, and 300 speeds) keeps the command to a fraction of a second.
+
+class PlanCli : public Cli {
+ protected:
+  void SetUp() override {
+    Cli::SetUp();
+    std::string s = read_text_file(std::string(TOOLPOINT_SOURCE_DIR) + "/examples/plan_bt40.toml");
+    const auto swap = [&](const std::string& a, const std::string& b) {
+      const std::size_t at = s.find(a);
+      ASSERT_NE(at, std::string::npos) << a;
+      s.replace(at, a.size(), b);
+    };
+    swap("assembly = \"bt40_shrinkfit_16mm.toml\"", "assembly = \"" + kExample + "\"");
+    swap("overhang_min = 0.040", "overhang_min = 0.060");
+    swap("overhang_step = 0.001", "overhang_step = 0.010");
+    swap("speed_points = 2000", "speed_points = 300");
+    write_text_file(path("study.toml"), s);
+  }
+};
+
+// The batch path run locally: shards 0…2 of 3 in a loop (as a Slurm array or an Indexed Job runs
+// them), merged in another order, write the same files as the single run, byte for byte, and the
+// same report; --json names the same best set-up.
+TEST_F(PlanCli, ShardsInALoopThenMergeEqualTheSingleRun) {
+  const Run whole = ok("plan study.toml --output whole --threads 2");
+  EXPECT_NE(whole.out.find("best set-ups"), std::string::npos) << whole.out;
+  EXPECT_NE(whole.out.find("why: "), std::string::npos) << whole.out;
+  for (int i = 0; i < 3; ++i)
+    ok("plan study.toml --threads 1 --shard " + std::to_string(i) + "/3 --part parts/part-" + std::to_string(i) + ".json");
+  const Run merged = ok("plan merge parts/part-2.json parts/part-0.json parts/part-1.json --output merged");
+  EXPECT_EQ(merged.out, whole.out);
+  for (const char* f : {"setups.csv", "tuning.csv", "map.csv", "plan.json"})
+    EXPECT_EQ(read_text_file(path("merged/") + f), read_text_file(path("whole/") + f)) << f;
+  const nlohmann::json j = nlohmann::json::parse(ok("plan merge parts/part-0.json parts/part-1.json parts/part-2.json --json").out);
+  EXPECT_EQ(j["best"].size(), 1u);
+  EXPECT_EQ(j["jobs"], 7);
+  EXPECT_EQ(j["best"][0]["limit"], "stability");
+}
+
+TEST_F(PlanCli, ErrorsNameTheOptionOrFileAndLeaveNothingBehind) {
+  expect_error(run("plan study.toml --shard 3/3 --part p.json"), 2, {"--shard '3/3'", "0 ≤ I < N"});
+  expect_error(run("plan study.toml --shard 0/2"), 2, {"--shard needs --part"});
+  expect_error(run("plan study.toml --shard 0/2 --part p.json --output out"), 2, {"plan merge"});
+  EXPECT_FALSE(exists("p.json"));
+  // An output over an input: refused, the input untouched.
+  const std::string before = read_text_file(path("study.toml"));
+  expect_error(run("plan study.toml --shard 0/1 --part study.toml"), 2, {"is the input", "study.toml"});
+  EXPECT_EQ(read_text_file(path("study.toml")), before);
+  // A bad study file: its line and key.
+  std::string bad = before;
+  bad.replace(bad.find("teeth = 4"), 9, "teeth = 0");
+  write_text_file(path("bad.toml"), bad);
+  expect_error(run("plan bad.toml --output out"), 3, {"bad.toml:", "cut.teeth = 0"});
+  EXPECT_FALSE(exists("out"));
+  // Merging: a missing shard, a file that is no part, no part at all.
+  ok("plan study.toml --shard 0/2 --part p0.json");
+  expect_error(run("plan merge p0.json --output out"), 3, {"shard(s) 1 of 2 missing"});
+  expect_error(run("plan merge study.toml --output out"), 3, {"study.toml", "not a plan part file"});
+  EXPECT_FALSE(exists("out"));
+  const Run none = run("plan merge");  // CLI11's own usage error, with the fix line main adds
+  EXPECT_EQ(none.code, 2);
+  EXPECT_NE(none.err.find("parts is required"), std::string::npos) << none.err;
+  EXPECT_NE(none.err.find("  fix: "), std::string::npos) << none.err;
+}
+
 }  // namespace

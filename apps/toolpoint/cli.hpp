@@ -270,5 +270,6 @@ void add_convert_command(CLI::App& app, Globals& g);
 void add_lobes_command(CLI::App& app, Globals& g);
 void add_modes_command(CLI::App& app, Globals& g);
 void add_resample_command(CLI::App& app, Globals& g);
+void add_plan_command(CLI::App& app, Globals& g);
 
 }  // namespace toolpoint::cli

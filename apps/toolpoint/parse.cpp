@@ -57,4 +57,23 @@ std::pair<double, double> parse_range(const std::string& text, const std::string
   return {parse_number(parts[0], option, text), parse_number(parts[1], option, text)};
 }
 
+std::pair<int, int> parse_shard(const std::string& text, const std::string& option) {
+  const std::size_t slash = text.find('/');
+  int v[2] = {0, 0};
+  for (int k = 0; k < 2; ++k) {
+    const char* first = text.data() + (k == 0 ? 0 : slash + 1);
+    const char* last = text.data() + (k == 0 ? slash : text.size());
+    if (slash == std::string::npos) break;
+    const auto [ptr, ec] = std::from_chars(first, last, v[k]);
+    if (ec != std::errc() || ptr != last || first == last) {
+      v[1] = 0;
+      break;
+    }
+  }
+  if (slash == std::string::npos || v[1] < 1 || v[1] > 100000 || v[0] < 0 || v[0] >= v[1])
+    throw InvalidArgument(fmt::format("{} '{}' is not I/N with 0 ≤ I < N ≤ 100000 (shard I of N, counted from 0)", option, text),
+                          "e.g. --shard 0/8 … --shard 7/8; in a Slurm array --shard $SLURM_ARRAY_TASK_ID/8");
+  return {v[0], v[1]};
+}
+
 }  // namespace toolpoint::cli

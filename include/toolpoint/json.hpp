@@ -27,6 +27,7 @@
 #include "toolpoint/studies/lobes.hpp"
 #include "toolpoint/studies/identification.hpp"
 #include "toolpoint/studies/overhang.hpp"
+#include "toolpoint/studies/plan.hpp"
 #include "toolpoint/studies/predict.hpp"
 #include "toolpoint/studies/tap_test.hpp"
 #include "toolpoint/uncertainty.hpp"
@@ -103,5 +104,14 @@ void to_json(nlohmann::json& j, const BoundaryPoint& b);
 // "max_depth_mm", "tolerance_pct", "worst_error_pct", "degree", "evaluations", "lowest_boundary",
 // "flip_speeds".
 void to_json(nlohmann::json& j, const LobesStudyResult& r);
+// ---- The plan -------------------------------------------------------------------------------------
+
+// {"candidate", "job", "speed_index", "overhang_m", "speed_rpm", "depth_m", "stable_depth_m", "safe_depth_m",
+// "mrr_m3_per_s", "power_w", "torque_nm", "limit" ("stability" | "power" | "torque" | "depth" | "none"),
+// "depth_margin", "probability", "chatter_hz", "lobe", "window_low_rpm", "window_high_rpm", "reason"}
+void to_json(nlohmann::json& j, const PlanSetup& s);
+// {"options", "candidates", "speeds_rpm": {"min", "max", "points"}, "jobs", "fingerprint", "best": [PlanSetup…],
+// "tuning": [{"candidate", "overhang_m", "modes_hz", "best"}…], "warnings"}; the per-speed series go to CSV.
+void to_json(nlohmann::json& j, const PlanResult& r);
 
 }  // namespace toolpoint

@@ -104,6 +104,24 @@ struct TextLabel {
   bool marker = true;
 };
 
+// A colour map (heat map) of z over a regular grid: the cell centred on (x[i], y[j]) is coloured by
+// z[j·x.size() + i], drawn behind the panel's other items (curves, labels and lines go on top), with
+// a colour bar right of the panel labelled with `colour.label` (its unit included). The palette is
+// viridis: perceptually uniform and rising in lightness, so it also reads in greyscale. Cells whose
+// z is not finite (or ≤ 0 on a log colour scale) are left blank. Used for a stable depth over
+// overhang × spindle speed and a probability of stability over spindle speed × depth.
+struct ColourBar {
+  std::string label;               // with its unit, e.g. "Stable depth [mm]"
+  Scale scale = Scale::Linear;
+  std::optional<double> min, max;  // unset: the finite data's range; values beyond are drawn in the end colours
+};
+
+struct Map {
+  std::vector<double> x, y;  // cell centres, increasing and evenly spaced (to 1e-6 of the step); ≥ 1 each
+  std::vector<double> z;     // x.size() × y.size() values, x fastest
+  ColourBar colour;
+};
+
 // Where the legend goes. Inside the panel it has an opaque box; Outside puts it in a column to
 // the right of the panels (all panels narrow alike, so their x axes stay aligned), for panels
 // whose data fill the whole frame. A panel without labelled items shows no legend.
@@ -117,6 +135,7 @@ struct Panel {
   std::vector<Band> bands;
   std::vector<Fill> fills;
   std::vector<TextLabel> labels;
+  std::optional<Map> map;  // drawn first, under everything else
   Legend legend = Legend::TopRight;
   double height = 1.0;  // share of the plotting height relative to the other panels, > 0
 };
@@ -129,7 +148,8 @@ struct Figure {
 
   // Throws InvalidArgument: no panels, a size outside 200…20000 px, x and y of different
   // lengths, a panel with nothing to draw, non-finite or inverted ranges, a non-positive limit or
-  // fill base on a log axis, a non-positive panel height.
+  // fill base on a log axis, a non-positive panel height, a map whose grid is uneven or whose z
+  // has the wrong size.
   void check() const;
 };
 

@@ -1,0 +1,242 @@
+// The plan's files, in process: the study file (what it reads, and the errors a user meets: file,
+// line, key, what was expected, a fix) and the part files of a sharded run (exact round trip,
+// damage and mix-ups refused by name). The CLI's plumbing is in cli_test.cpp (PlanCli).
+// Units: SI, spindle speeds in rpm.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <initializer_list>
+#include <string>
+
+#include "toolpoint/assembly_file.hpp"
+#include "toolpoint/error.hpp"
+#include "toolpoint/io.hpp"
+#include "toolpoint/joint_file.hpp"
+#include "toolpoint/studies/predict.hpp"
+#include "toolpoint/studies/plan.hpp"
+
+using namespace toolpoint;
+
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kExample = std::string(TOOLPOINT_SOURCE_DIR) + "/examples/bt40_shrinkfit_16mm.toml";
+
+// A small valid study on the example; `replace` swaps one line for another (or adds one after
+// `after` when `with` is prefixed by "+").
+std::string study(const std::string& find = "", const std::string& with = "") {
+  std::string s = "[study]\n"                                      // 1
+                  "name = \"test\"\n"                               // 2
+                  "[[candidate]]\n"                                 // 3
+                  "name = \"a\"\n"                                  // 4
+                  "assembly = \"" + kExample + "\"\n"               // 5
+                  "overhang_min = 0.050\n"                          // 6
+                  "overhang_max = 0.060\n"                          // 7
+                  "overhang_step = 0.005\n"                         // 8
+                  "[cut]\n"                                         // 9
+                  "teeth = 4\n"                                     // 10
+                  "tangential_coefficient = 6e8\n"                  // 11
+                  "radial_ratio = 0.3\n"                            // 12
+                  "radial_immersion = 0.5\n"                        // 13
+                  "milling = \"down\"\n"                            // 14
+                  "feed_per_tooth = 1e-4\n"                         // 15
+                  "[machine]\n"                                     // 16
+                  "speed_min = 5000\n"                              // 17
+                  "speed_max = 15000\n"                             // 18
+                  "speed_points = 100\n"                            // 19
+                  "[safety]\n"                                      // 20
+                  "factor = 1.25\n";                                // 21
+  if (!find.empty()) {
+    const std::size_t at = s.find(find);
+    EXPECT_NE(at, std::string::npos) << find;
+    if (at != std::string::npos) s.replace(at, find.size(), with);
+  }
+  return s;
+}
+
+// parse_plan_study must throw E whose message holds every item of `mentions` and which has a hint.
+template <class E>
+void expect_refused(const std::string& text, std::initializer_list<std::string> mentions) {
+  try {
+    parse_plan_study(text, "study.toml", "");
+    ADD_FAILURE() << "accepted; expected an error naming " << *mentions.begin();
+  } catch (const E& e) {
+    const std::string said = std::string(e.what()) + "\n  fix: " + e.hint();
+    for (const auto& m : mentions) EXPECT_NE(said.find(m), std::string::npos) << "'" << m << "' not in: " << said;
+    EXPECT_FALSE(e.hint().empty()) << e.what();
+  }
+}
+
+}  // namespace
+
+TEST(PlanStudyFile, ReadsTheStudy) {
+  const PlanStudy s = parse_plan_study(study(), "study.toml", "");
+  EXPECT_EQ(s.name, "test");
+  ASSERT_EQ(s.candidates.size(), 1u);
+  ASSERT_EQ(s.candidates[0].overhangs_m.size(), 3u);
+  EXPECT_DOUBLE_EQ(s.candidates[0].overhangs_m[2], 0.060);
+  EXPECT_EQ(s.options.lobes.cutting.teeth, 4);
+  EXPECT_EQ(s.options.lobes.speeds.points, 100);
+  EXPECT_EQ(s.options.safety.kind, SafetyRule::Kind::Factor);
+  EXPECT_EQ(s.options.safety.factor, 1.25);
+  EXPECT_EQ(s.inputs.size(), 2u);  // the study and the assembly
+  // The example study shipped in examples/ reads without warnings.
+  const PlanStudy e = load_plan_study(std::string(TOOLPOINT_SOURCE_DIR) + "/examples/plan_bt40.toml");
+  EXPECT_TRUE(e.warnings.empty()) << e.warnings.front();
+  EXPECT_EQ(e.options.machine.power_w, 15e3);
+  EXPECT_EQ(e.candidates[0].overhangs_m.size(), 81u);
+}
+
+// Every kind of mistake: the file and line, the key, what was expected, a fix.
+TEST(PlanStudyFile, MistakesAreNamedWithFileLineAndKey) {
+  expect_refused<InputError>(study("teeth = 4", "teth = 4"), {"study.toml:10", "unknown key 'cut.teth'", "did you mean 'teeth'"});
+  expect_refused<InputError>(study("[machine]", "[machin]"), {"study.toml", "unknown key 'machin'", "did you mean 'machine'"});
+  expect_refused<InputError>(study("overhang_min = 0.050\noverhang_max = 0.060\noverhang_step = 0.005",
+                                   "overhang_min = 50\noverhang_max = 60\noverhang_step = 5"),
+                             {"study.toml:3", "over 1 m: millimetres?"});
+  expect_refused<InputError>(study("feed_per_tooth = 1e-4", "feed_per_tooth = 0.1"), {"study.toml:15", "cut.feed_per_tooth", "millimetres?"});
+  expect_refused<InputError>(study("factor = 1.25", "probability = 95"), {"study.toml:21", "safety.probability = 95", "[0.5, 1)"});
+  expect_refused<InputError>(study("factor = 1.25", "factor = 1.25\nprobability = 0.9"), {"study.toml:22", "choose one"});
+  expect_refused<InputError>(study("factor = 1.25", "probability = 0.9"), {"study.toml:3", "candidate[1]", "[uncertainty]"});
+  expect_refused<InputError>(study("speed_max = 15000", "speed_max = 1500"), {"study.toml:18", "must exceed machine.speed_min"});
+  expect_refused<InputError>(study("teeth = 4", "teeth = 4.5"), {"study.toml:10", "cut.teeth", "integer"});
+  expect_refused<InputError>(study("tangential_coefficient = 6e8", "tangential_coefficient = \"6e8\""),
+                             {"study.toml:11", "must be a number"});
+  expect_refused<InputError>(study("milling = \"down\"", "milling = \"climb\""), {"study.toml:14", "\"up\" or \"down\""});
+  expect_refused<InputError>(study("radial_immersion = 0.5", "radial_immersion = 50"), {"study.toml:13", "(0, 1]"});
+  expect_refused<InputError>(study("[machine]\n", "[machine]\nmin_overhang = 0.07\n"), {"study.toml", "shorter than", "min_overhang"});
+  expect_refused<InputError>(study("[cut]\n", "[[candidate]]\nname = \"a\"\nassembly = \"" + kExample + "\"\n[cut]\n"),
+                             {"both named 'a'"});
+  expect_refused<InputError>(study("speed_points = 100\n", "speed_points = 100\n[[bad\n"), {"study.toml:20", "TOML syntax error"});
+  EXPECT_EQ(parse_plan_study(study("[safety]\nfactor = 1.25\n", ""), "study.toml", "").options.safety.factor, 1.0);  // the default
+}
+
+TEST(PlanStudyFile, FilesItNamesAreReadWithTheirOwnErrors) {
+  // A missing assembly: the study's line and key, and the path.
+  expect_refused<IoError>(study(kExample, "/nonexistent/a.toml"), {"study.toml:5", "candidate[1].assembly", "/nonexistent/a.toml"});
+  // A broken assembly: its own file and line.
+  const fs::path dir = fs::temp_directory_path() / ("toolpoint_plan_file_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::string bad = read_text_file(kExample);
+  bad.replace(bad.find("density = 7800.0"), 16, "densty = 7800.0");
+  write_text_file((dir / "bad.toml").string(), bad);
+  expect_refused<InputError>(study(kExample, (dir / "bad.toml").string()), {"bad.toml:", "densty"});
+  // Relative paths are the study file's folder's.
+  write_text_file((dir / "study.toml").string(), study(kExample, "bad.toml"));
+  EXPECT_THROW(load_plan_study((dir / "study.toml").string()), InputError);
+  fs::remove_all(dir);
+  // A value that looks like another unit is a warning naming the key and line.
+  const PlanStudy s = parse_plan_study(study("tangential_coefficient = 6e8", "tangential_coefficient = 600"), "study.toml", "");
+  ASSERT_FALSE(s.warnings.empty());
+  EXPECT_NE(s.warnings.front().find("study.toml:11: cut.tangential_coefficient = 600"), std::string::npos) << s.warnings.front();
+}
+
+// The measured-holder route and identified joints through the study file: `sh11` (a block CSV) and
+// `joints` (joint files; the one with [uncertainty] is what safety.probability samples).
+TEST(PlanStudyFile, MeasuredHolderAndJointFiles) {
+  const fs::path dir = fs::temp_directory_path() / ("toolpoint_plan_route_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const Assembly a = load_assembly(kExample).assembly;
+  PredictOptions holder;
+  holder.receptance = PredictedFrf::HolderTip;
+  write_frf_csv((dir / "sh11.csv").string(), run_prediction(a, holder).frf);
+  JointFile j;
+  j.parameters = a.holder_tool.parameters;
+  j.parameters.k_yf *= 1.1;
+  JointUncertainty u;
+  for (int k = 0; k < 8; ++k) u.covariance(k, k) = std::pow(0.05 * j.parameters[k], 2);
+  j.uncertainty = u;
+  write_joint_file((dir / "kht.toml").string(), j);
+  j.uncertainty.reset();
+  j.interface = JointInterface::SpindleHolder;
+  j.parameters = a.spindle_holder.parameters;
+  write_joint_file((dir / "ksh.toml").string(), j);
+  const std::string text = study("[cut]\n", "sh11 = \"sh11.csv\"\njoints = [\"kht.toml\", \"ksh.toml\"]\n[cut]\n");
+  // With a probability rule: the SH11, both joints in place, the uncertain one sampled.
+  std::string prob = text;
+  prob.replace(prob.find("factor = 1.25"), 13, "probability = 0.9\nsamples = 20");
+  const PlanStudy p = parse_plan_study(prob, (dir / "study.toml").string(), dir.string());
+  ASSERT_EQ(p.candidates.size(), 1u);
+  const PlanCandidate& c = p.candidates[0];
+  ASSERT_TRUE(c.sh11.has_value());
+  EXPECT_EQ(c.sh11->size(), a.grid.values().size());
+  ASSERT_TRUE(c.uncertain_joint.has_value());
+  EXPECT_EQ(c.assembly.holder_tool.parameters.k_yf, 1.1 * a.holder_tool.parameters.k_yf);
+  EXPECT_EQ(p.inputs.size(), 5u);  // study, assembly, two joint files, SH11
+  EXPECT_EQ(p.options.safety.samples, 20);
+  // The measured-holder route runs with the sampled holder–tool joint: the depth used is stable
+  // for at least 90 % of the draws wherever stability limits it.
+  PlanOptions o = p.options;
+  o.lobes.speeds.points = 20;
+  const PlanResult r = run_plan(p.candidates, o);
+  EXPECT_TRUE(r.header.candidates[0].measured_holder);
+  for (const PlanJob& job : r.jobs)
+    for (std::size_t k = 0; k < job.depth_m.size(); ++k)
+      if (job.limit[k] == DepthLimit::Stability) EXPECT_GE(job.probability[k], 0.9);
+  // Two joints with [uncertainty]: only one can be sampled.
+  write_joint_file((dir / "ksh.toml").string(), [&] {
+    JointFile k = load_joint_file((dir / "ksh.toml").string());
+    k.uncertainty = u;
+    return k;
+  }());
+  try {
+    parse_plan_study(prob, "study.toml", dir.string());
+    ADD_FAILURE() << "two sampled joints accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("only one joint can be sampled"), std::string::npos) << e.what();
+  }
+  fs::remove_all(dir);
+}
+
+// Part files: exact round trip; damage, edits and mix-ups refused, naming the part.
+TEST(PlanPartFile, RoundTripAndRefusals) {
+  PlanStudy s = parse_plan_study(study(), "study.toml", "");
+  const PlanPart p0 = run_plan_part(s.candidates, s.options, 0, 2), p1 = run_plan_part(s.candidates, s.options, 1, 2);
+  EXPECT_EQ(p0.jobs.size(), 2u);
+  EXPECT_EQ(p1.jobs.size(), 1u);
+  const std::string t0 = format_plan_part(p0), t1 = format_plan_part(p1);
+  EXPECT_EQ(format_plan_part(parse_plan_part(t0, "p0")), t0);
+  const auto refused = [](const std::string& text, const std::string& what) {
+    try {
+      parse_plan_part(text, "p.json");
+      ADD_FAILURE() << "accepted; expected " << what;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("p.json"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  };
+  refused(t0.substr(0, t0.size() / 2), "not a plan part file");
+  refused("{\"x\": 1}", "not a plan part file");
+  // One digit of one depth changed: the checksum.
+  std::string edited = t0;
+  const std::size_t at = edited.find("\"stable_depth_m\":[\"0x1.") + 24;
+  edited[at] = edited[at] == '0' ? '1' : '0';
+  refused(edited, "checksum");
+  // The header edited (the feed): the fingerprint.
+  std::string header = t0;
+  const std::size_t feed = header.find("\"feed_per_tooth_m\":\"0x1.") + 24;
+  header[feed] = header[feed] == '0' ? '1' : '0';
+  refused(header, "fingerprint");
+
+  const PlanPart q0 = parse_plan_part(t0, "p0.json"), q1 = parse_plan_part(t1, "p1.json");
+  EXPECT_NO_THROW(merge_plan_parts({q1, q0}, {"p1.json", "p0.json"}));
+  const auto merge_refused = [](const std::vector<PlanPart>& parts, const std::vector<std::string>& names, const std::string& what) {
+    try {
+      merge_plan_parts(parts, names);
+      ADD_FAILURE() << "merged; expected " << what;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+      EXPECT_FALSE(e.hint().empty());
+    }
+  };
+  merge_refused({q0}, {"p0.json"}, "shard(s) 1 of 2 missing");
+  merge_refused({q0, q0, q1}, {"p0.json", "again.json", "p1.json"}, "p0.json and again.json are both shard 0 of 2");
+  PlanOptions other = s.options;
+  other.lobes.speeds.points = 101;
+  const PlanPart r1 = run_plan_part(s.candidates, other, 1, 2);
+  merge_refused({q0, r1}, {"p0.json", "r1.json"}, "belong to different plans");
+  const PlanPart w = run_plan_part(s.candidates, s.options, 1, 3);
+  merge_refused({q0, w}, {"p0.json", "w.json"}, "w.json is shard 1 of 3, but p0.json is of 2");  // the same plan, split twice
+}
