@@ -428,6 +428,102 @@ TEST_F(Cli, UnknownOptionsAndMissingArgumentsAreUsageErrors) {
   EXPECT_NE(none.err.find("fix: see `toolpoint --help`"), std::string::npos) << none.err;
 }
 
+// ---- Outputs: never over an input, format by extension, every byte checked, all or none -------
+
+// The examples of issue 13: an output that is an input is refused before any work, under any
+// name of the file, and the input keeps its bytes.
+TEST_F(Cli, AnOutputThatIsAnInputIsRefused) {
+  ok("taptest '" + kExample + "' --at tool --spacing 0.01 --frequencies 500:3000:25 --output tap.uff");
+  fs::copy_file(kExample, path("my.toml"));
+  const std::string tap = read_text_file(path("tap.uff")), toml = read_text_file(path("my.toml"));
+  expect_error(run("rotational --uff tap.uff --spacing 0.01 --output tap.uff"), 2, {"--output tap.uff is the --uff tap.uff"});
+  expect_error(run("predict my.toml --output my.toml"), 2, {"--output my.toml is the assembly file my.toml"});
+  expect_error(run("predict my.toml --output ./sub/../my.toml"), 2, {"is the assembly file my.toml"});
+  expect_error(run("predict my.toml --output a.csv --band-output ./a.csv --samples 10"), 2, {"are the same file"});
+  write_frf_file(path("h.csv"), modal_frf({kToolMode}, grid(800.0, 1050.0, 1.0)));
+  const std::string h = read_text_file(path("h.csv"));
+  expect_error(run("filter h.csv ./h.csv --window 5 --order 2"), 2, {"output ./h.csv is the input h.csv"});
+  expect_error(run("modes h.csv --output h.csv"), 2, {"--output h.csv is the input h.csv"});
+  expect_error(run("convert tap.uff ./tap.uff"), 2, {"is the input tap.uff"});
+  expect_error(run("lobes --frf h.csv --teeth 2 --kt 6e8 --kn 2e8 --immersion 0.05 --milling down --rpm 5000:25000 "
+                   "--envelope h.csv"),
+               2, {"--envelope h.csv is the --frf h.csv"});
+  EXPECT_EQ(read_text_file(path("tap.uff")), tap);
+  EXPECT_EQ(read_text_file(path("my.toml")), toml);
+  EXPECT_EQ(read_text_file(path("h.csv")), h);
+  EXPECT_FALSE(exists("sub"));
+  EXPECT_FALSE(exists("a.csv"));
+}
+
+// The format follows the extension or is refused, naming what the command can write.
+TEST_F(Cli, TheFormatFollowsTheExtensionOrIsRefused) {
+  expect_error(run("predict '" + kExample + "' --frequencies 500:1500:10 --output x.uff"), 2, {"--output x.uff", ".csv"});
+  expect_error(run("beam --length 0.1 --diameter 0.016 --frequencies 10:100:10 --output x.json"), 2, {"--output x.json", ".csv"});
+  expect_error(run("taptest '" + kExample + "' --spacing 0.01 --frequencies 500:1500:10 --output tap.csv"), 2,
+               {"--output tap.csv", ".uff"});
+  write_frf_file(path("h.csv"), modal_frf({kToolMode}, grid(800.0, 1050.0, 1.0)));
+  expect_error(run("lobes --frf h.csv --teeth 2 --kt 6e8 --kn 2e8 --immersion 0.05 --milling down --rpm 5000:25000 "
+                   "--output lobes.txt"),
+               2, {"--output lobes.txt", ".csv"});
+  expect_error(run("filter h.csv f.txt --window 5 --order 2"), 2, {"f.txt"});
+  EXPECT_FALSE(exists("x.uff") || exists("x.json") || exists("tap.csv") || exists("lobes.txt") || exists("f.txt"));
+  // What can be written in another format is: a single FRF as UFF.
+  ok("modes h.csv --output fit.uff");
+  EXPECT_EQ(read_frf_file(path("fit.uff")).format, FrfFormat::Uff);
+}
+
+// A device is never replaced: /dev/full is refused with an I/O error (5), and stays a device.
+TEST_F(Cli, DevFullIsAnIoErrorAndStaysADevice) {
+  const Run r = run("predict '" + kExample + "' --frequencies 500:1500:10 --output /dev/full");
+  expect_error(r, 5, {"/dev/full", "character device", "nothing was written"});
+  EXPECT_EQ(r.err.find("wrote /dev/full"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::is_character_file("/dev/full"));
+  // Through a symbolic link with the right extension: the same, the link and the device kept.
+  fs::create_symlink("/dev/full", path("full.csv"));
+  expect_error(run("predict '" + kExample + "' --frequencies 500:1500:10 --output full.csv"), 5, {"character device"});
+  EXPECT_TRUE(fs::is_symlink(path("full.csv")));
+  EXPECT_TRUE(fs::is_character_file("/dev/full"));
+  // A folder where the file should go, a folder path through a file: the same, nothing written.
+  fs::create_directories(path("taken.csv"));
+  expect_error(run("predict '" + kExample + "' --frequencies 500:1500:10 --output taken.csv"), 5, {"taken.csv", "a folder"});
+  write_text_file(path("file"), "x");
+  expect_error(run("predict '" + kExample + "' --frequencies 500:1500:10 --output file/p.csv"), 5, {"file/p.csv"});
+  EXPECT_EQ(read_text_file(path("file")), "x");
+}
+
+// A command that writes several files writes them all or none: one file of the set blocked (a
+// folder in its place, or a path through a regular file, which the checks before the work do not
+// see) leaves every other file of the set as it was — absent, or its old content.
+TEST_F(Cli, SeveralFilesAreWrittenAllOrNone) {
+  predict_blocks("500:3000:10");
+  // couple: three FRFs and the table; the table blocked, an old FRF file kept.
+  fs::create_directories(path("sweep/natural_frequencies.csv"));
+  write_text_file(path("sweep/sht11_overhang_50.0mm.csv"), "old\n");
+  expect_error(run("couple --sh sh.csv --assembly '" + kExample + "' --overhang 0.04:0.06:0.01 --output sweep"), 5,
+               {"natural_frequencies.csv", "a folder"});
+  EXPECT_FALSE(exists("sweep/sht11_overhang_40.0mm.csv"));
+  EXPECT_FALSE(exists("sweep/sht11_overhang_60.0mm.csv"));
+  EXPECT_EQ(read_text_file(path("sweep/sht11_overhang_50.0mm.csv")), "old\n");
+  // lobes: lobe points and envelope; the envelope blocked.
+  write_frf_file(path("h.csv"), modal_frf({kToolMode}, grid(800.0, 1050.0, 1.0)));
+  write_text_file(path("blocker"), "x");
+  expect_error(run("lobes --frf h.csv --teeth 2 --kt 6e8 --kn 2e8 --immersion 0.05 --milling down --rpm 5000:25000 "
+                   "--output lobes.csv --envelope blocker/env.csv"),
+               5, {"blocker/env.csv", "nothing was written"});
+  EXPECT_FALSE(exists("lobes.csv"));
+  // predict with its band: the FRF and the band table; the band blocked.
+  ok("identify --assembly '" + kExample + "' --sh sh.csv --sht sht.csv --joint-output j.toml");
+  expect_error(run("predict '" + kExample + "' --frequencies 500:3000:10 --joint holder-tool=j.toml --samples 10 --output p.csv "
+                   "--band-output blocker/band.csv"),
+               5, {"blocker/band.csv"});
+  EXPECT_FALSE(exists("p.csv"));
+  // identify: K(ω) table and joint file; the joint file blocked.
+  expect_error(run("identify --assembly '" + kExample + "' --sh sh.csv --sht sht.csv"
+                   " --output k.csv --joint-output blocker/j2.toml"),
+               5, {"blocker/j2.toml"});
+  EXPECT_FALSE(exists("k.csv"));
+}
+
 // ---- Help ---------------------------------------------------------------------------------------
 
 // The exit codes are documented; every subcommand's help ends with an example, and every one

@@ -25,6 +25,7 @@
 
 #include "toolpoint/error.hpp"
 #include "toolpoint/frf_file.hpp"
+#include "toolpoint/io.hpp"
 #include "toolpoint/identify.hpp"
 #include "toolpoint/joint_file.hpp"
 #include "toolpoint/uncertainty.hpp"
@@ -90,6 +91,8 @@ CLI::Option* add_joint_option(CLI::App* command, std::vector<std::string>& targe
 // Reads the joint files of --joint options (InvalidArgument when the interface named in the option
 // is not the file's, or one interface is given twice) and says which joints are replaced (info).
 std::vector<JointFile> read_joint_options(const Globals& g, const std::vector<std::string>& specs);
+// The files named by --joint options, for check_paths.
+std::vector<RunPath> joint_paths(const std::vector<std::string>& specs);
 // The assembly with the files' joints in place.
 Assembly with_joints(const Assembly& assembly, const std::vector<JointFile>& files);
 
@@ -154,6 +157,21 @@ plot::JointParameterCurve joint_curve(const JointSeries& series, int pair, const
 
 // `path` with `suffix` before its extension: ("lobes.png", "_chatter") → "lobes_chatter.png".
 std::string with_suffix(const std::string& path, const std::string& suffix);
+
+// ---- Output paths ---------------------------------------------------------------------------
+
+// Before any work: no output is one of the inputs and no two outputs are the same file
+// (check_output_paths in io.hpp; an input's "#N" dataset suffix is dropped, empty paths skipped).
+// Every command calls it with all it reads and writes, figures included.
+void check_paths(const std::vector<RunPath>& inputs, const std::vector<RunPath>& outputs);
+
+// Before any work: `path` (given as `option`) must end in one of `extensions` (".csv", …; case
+// insensitive), else InvalidArgument naming the option, the path and `formats` (what the command
+// can write there). An empty path passes.
+void check_output_extension(const std::string& path, const std::string& option, std::initializer_list<const char*> extensions,
+                            const std::string& formats);
+// `formats` for a command that writes a 2×2 block.
+extern const char* const kBlockCsvOutput;
 
 // ---- FRF inputs -----------------------------------------------------------------------------
 
@@ -230,6 +248,7 @@ std::pair<FrfFileData, FrfFileData> process_frf_file(const Globals& g, const std
                                                      Process&& process) {
   check_plot_path(plot_path);
   const FrfFormat format = output_frf_format(output);
+  check_paths({{input, "input"}}, {{output, "output"}, {plot_path, "--plot"}});
   FrfFileData in = read_frf_input(g, input, dataset);
   if (!in.coherence.empty())
     warn(fmt::format("{}: its coherence column is not carried into {}: the values changed", input, output));

@@ -31,6 +31,8 @@ struct BeamOptions {
 
 void run_beam(const BeamOptions& o, const Globals& g) {
   check_plot_path(o.plot);  // before any work: a typo in the figure name should not cost a run
+  check_paths({}, {{o.output, "--output"}, {o.plot, "--plot"}});
+  check_output_extension(o.output, "--output", {".csv"}, "a 2×2 receptance block as FRF CSV (.csv)");
   if (!o.plot.empty() && (o.frequencies.empty() || o.output.empty()))
     throw InvalidArgument("--plot needs --frequencies and --output (the figure draws the receptance written there)",
                           "add --frequencies 10:20000:10 --output tip.csv");

@@ -178,6 +178,7 @@ void run_convert(const ConvertOptions& o, const Globals& g) {
   if (in == FrfFormat::UffBinary)
     throw InvalidArgument("--from uffb is not needed: --from uff reads ASCII 58 and binary 58b", "use --from uff");
   const UffSelection sel = selection_of(o);
+  check_paths({{o.input, "input"}}, {{o.output, "output"}, {o.plot, "--plot"}});
 
   // UFF to UFF: the datasets 58 themselves (all, or the selected one), every field kept.
   if (in == FrfFormat::Uff && (out == FrfFormat::Uff || out == FrfFormat::UffBinary) && !r.ordinate && !r.units) {

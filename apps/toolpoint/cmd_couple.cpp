@@ -73,6 +73,14 @@ void run_couple(const CoupleArgs& o, const Globals& g) {
   const bool sweep = options.overhangs_m.size() > 1 || o.overhang.find(':') != std::string::npos;
   if (sweep && o.output.empty())
     throw InvalidArgument("an overhang sweep needs --output DIR for its files", "add --output overhangs");
+  {
+    std::vector<RunPath> inputs{{o.sh, "--sh"}, {o.assembly, "assembly file"}};
+    for (const RunPath& j : joint_paths(o.joints)) inputs.push_back(j);
+    std::vector<RunPath> outputs{{sweep ? "" : o.output, "--output"}, {o.plot, "--plot"}};
+    if (sweep && !o.plot.empty()) outputs.push_back({with_suffix(o.plot, "_frequencies"), "--plot (frequencies)"});
+    check_paths(inputs, outputs);
+  }
+  if (!sweep) check_output_extension(o.output, "--output", {".csv"}, "the tool point 2×2 block as FRF CSV (.csv)");
   const std::vector<JointFile> joints = read_joint_options(g, o.joints);
   LoadedAssembly loaded = load_assembly(o.assembly);
   report_loaded(g, loaded);

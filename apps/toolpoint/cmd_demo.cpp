@@ -200,7 +200,10 @@ void run_demo(const DemoOptions& o, const Globals& g) {
   } else {
     print_report(o, loaded, cs, warnings, files, figures);
   }
-  if (figure_failure) std::rethrow_exception(figure_failure);
+  if (figure_failure) {
+    if (OutputSet* data = OutputSet::active()) data->commit();  // the data and summary.json stay (see the footer)
+    std::rethrow_exception(figure_failure);
+  }
 }
 
 void print_report(const DemoOptions& o, const LoadedAssembly& loaded, const CaseStudy& cs, const std::vector<std::string>& warnings,

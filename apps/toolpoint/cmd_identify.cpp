@@ -151,11 +151,13 @@ void run_identify(const IdentifyOptions& o, const Globals& g) {
       }
     }
   }
-  for (const std::string& out : {o.output, o.joint_output, o.plot})
-    for (const std::string& in : inputs)
-      if (!out.empty() && std::filesystem::exists(out) && std::filesystem::equivalent(out, in))
-        throw InvalidArgument(fmt::format("the output {} is an input of this run: it would be overwritten", out),
-                              "write the results to a new file");
+  {
+    std::vector<RunPath> in;
+    for (const std::string& p : inputs) in.push_back({p, "input"});
+    for (const std::string& p : o.overhang_frfs) in.push_back({p, "--overhang-frf"});
+    check_paths(in, {{o.output, "--output"}, {o.joint_output, "--joint-output"}, {o.plot, "--plot"}});
+  }
+  check_output_extension(o.output, "--output", {".csv"}, "the joint's K(ω) table as CSV (.csv)");
   if (!o.joint_output.empty() && std::filesystem::path(o.joint_output).extension() != ".toml")
     throw InvalidArgument(fmt::format("--joint-output {}: a joint file is TOML", o.joint_output), "name it FILE.toml");
   for (const auto& p : o.overhang_frfs) io.overhang_frfs.push_back(read_point_frf(g, p));

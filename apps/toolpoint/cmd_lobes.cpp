@@ -220,6 +220,17 @@ void report_uncertain_lobes(const StabilityUncertainty& su, const LobesStudyResu
 
 void run_lobes(const LobesOptions& o, const Globals& g) {
   check_plot_path(o.plot);
+  {
+    std::vector<RunPath> inputs = joint_paths(o.joints);
+    for (const auto& [p, role] : {std::pair{o.frf, "--frf"}, {o.frf_y, "--frf-y"}, {o.frf_xy, "--frf-xy"}, {o.frf_yx, "--frf-yx"},
+                                  {o.assembly, "--assembly"}})
+      inputs.push_back({p, role});
+    check_paths(inputs, {{o.output, "--output"}, {o.envelope, "--envelope"}, {o.probability_output, "--probability-output"},
+                         {o.plot, "--plot"}});
+  }
+  check_output_extension(o.output, "--output", {".csv"}, "the lobe points as CSV (.csv)");
+  check_output_extension(o.envelope, "--envelope", {".csv"}, "the stable envelope as CSV (.csv)");
+  check_output_extension(o.probability_output, "--probability-output", {".csv"}, "the probability table as CSV (.csv)");
   LobesStudyOptions so;
   so.cutting = cutting_conditions(o);
   const auto [min_rpm, max_rpm] = parse_range(o.rpm, "--rpm");

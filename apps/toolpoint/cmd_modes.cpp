@@ -34,6 +34,7 @@ void run_modes(const ModesOptions& o, const Globals& g) {
   fo.check();
   check_plot_path(o.plot);
   const FrfFormat out_format = o.output.empty() ? FrfFormat::Csv : output_frf_format(o.output);
+  check_paths({{o.file, "input"}}, {{o.output, "--output"}, {o.plot, "--plot"}});
   const FrfSeries frf = read_point_frf(g, o.file, o.dataset);
   const ModalFitResult r = fit_modes(frf, fo, o.file);
 

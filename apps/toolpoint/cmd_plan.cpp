@@ -37,16 +37,13 @@ std::vector<std::string> outputs_of(const PlanArgs& o) {
   return out;
 }
 
-// No output may overwrite an input (the study, its assemblies, SH11s and joint files, the parts).
+// No output may overwrite an input (the study, its assemblies, SH11s and joint files, the parts),
+// nor another output.
 void check_outputs(const PlanArgs& o, const std::vector<std::string>& inputs) {
-  namespace fs = std::filesystem;
-  for (const std::string& out : outputs_of(o))
-    for (const std::string& in : inputs) {
-      std::error_code ec;
-      if (fs::weakly_canonical(out, ec) == fs::weakly_canonical(in, ec))
-        throw InvalidArgument(fmt::format("the output {} is the input {}: it would be overwritten", out, in),
-                              "write the results elsewhere (--output DIR, --plot FILE, --part FILE)");
-    }
+  std::vector<RunPath> in, out;
+  for (const std::string& p : inputs) in.push_back({p, "input"});
+  for (const std::string& p : outputs_of(o)) out.push_back({p, "output"});
+  check_paths(in, out);
 }
 
 void print_report(const PlanResult& r) {

@@ -56,6 +56,13 @@ std::vector<plot::FrfTrace> band_traces(const FrfBand& b) {
 
 void run_predict(const PredictArgs& o, const Globals& g) {
   check_plot_path(o.plot);
+  {
+    std::vector<RunPath> inputs = joint_paths(o.joints);
+    inputs.push_back({o.assembly, "assembly file"});
+    check_paths(inputs, {{o.output, "--output"}, {o.band_output, "--band-output"}, {o.plot, "--plot"}});
+  }
+  check_output_extension(o.output, "--output", {".csv"}, kBlockCsvOutput);
+  check_output_extension(o.band_output, "--band-output", {".csv"}, "the quantile table as CSV (.csv)");
   const std::vector<JointFile> joints = read_joint_options(g, o.joints);
   std::optional<UncertaintyOptions> sampling;
   if (o.sampling.samples != 0 || !o.band_output.empty()) {

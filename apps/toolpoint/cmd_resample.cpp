@@ -21,6 +21,7 @@ struct ResampleOptions {
 void run_resample(const ResampleOptions& o, const Globals& g) {
   check_plot_path(o.plot);
   const FrfFormat format = output_frf_format(o.output);
+  check_paths({{o.input, "input"}, {o.onto, "--onto"}}, {{o.output, "output"}, {o.plot, "--plot"}});
   if (o.band.empty() && o.onto.empty() && o.grid.empty())
     throw InvalidArgument("resample needs a band to crop to (--band) or frequencies to interpolate onto (--onto, --grid)",
                           "e.g. --band 500:3000, --onto other.csv or --grid 500:3000:2.5");

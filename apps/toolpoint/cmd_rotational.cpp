@@ -97,6 +97,13 @@ void run_rotational(RotationalCliOptions o, const Globals& g) {
   o.fd.p_method = o.p_method == "cross" ? PMethod::CrossTerms : o.p_method == "n2h" ? PMethod::SchmitzSmith : PMethod::Auto;
   o.fd.check();
   check_plot_path(o.plot);
+  {
+    std::vector<RunPath> inputs{{o.uff, "--uff"}};
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) inputs.push_back({o.files[i][j], fmt::format("--h{}{}", i, j)});
+    check_paths(inputs, {{o.output, "--output"}, {o.plot, "--plot"}});
+  }
+  check_output_extension(o.output, "--output", {".csv"}, kBlockCsvOutput);
   PointFrfs in;
   std::string sources;
   if (!o.uff.empty()) {

@@ -27,6 +27,12 @@ struct TapTestArgs {
 };
 
 void run_taptest(const TapTestArgs& o, const Globals& g) {
+  {
+    std::vector<RunPath> inputs = joint_paths(o.joints);
+    inputs.push_back({o.assembly, "assembly file"});
+    check_paths(inputs, {{o.output, "--output"}});
+  }
+  check_output_extension(o.output, "--output", {".uff", ".unv", ".uf"}, "universal file datasets 58 (.uff, .unv or .uf)");
   const LoadedAssembly loaded = load_assembly_on_grid(g, o.assembly, o.frequencies, read_joint_options(g, o.joints));
   TapTestOptions options;
   options.side = o.at == "tool" ? TapSide::Tool : TapSide::Holder;

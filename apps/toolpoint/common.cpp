@@ -9,6 +9,7 @@
 #include "cli.hpp"
 #include "progress.hpp"
 #include "toolpoint/error.hpp"
+#include "toolpoint/io.hpp"
 
 namespace toolpoint::cli {
 
@@ -92,6 +93,12 @@ std::vector<JointFile> read_joint_options(const Globals& g, const std::vector<st
     files.push_back(std::move(f));
   }
   return files;
+}
+
+std::vector<RunPath> joint_paths(const std::vector<std::string>& specs) {
+  std::vector<RunPath> paths;
+  for (const std::string& spec : specs) paths.push_back({spec.substr(spec.find('=') + 1), "--joint file"});
+  return paths;
 }
 
 Assembly with_joints(const Assembly& assembly, const std::vector<JointFile>& files) {
@@ -206,6 +213,9 @@ std::string listing(const std::vector<std::string>& names) {
 
 void draw_figures(const Globals& g, const std::vector<FigureFile>& figures, const std::vector<std::string>& written,
                   const std::string& skip) {
+  // The data of the run are written first (all or none); then the figures, all or none among themselves.
+  if (OutputSet* data = OutputSet::active()) data->commit();
+  OutputSet staged_figures;
   std::vector<std::string> drawn;
   for (const FigureFile& f : figures) {
     plot::RenderResult r;
@@ -213,7 +223,7 @@ void draw_figures(const Globals& g, const std::vector<FigureFile>& figures, cons
     const auto what_stands = [&] {
       std::string s;
       if (!written.empty()) s += "; the data were written to " + listing(written);
-      if (!drawn.empty()) s += "; figures drawn: " + listing(drawn);
+      if (!drawn.empty()) s += "; figures drawn but not written (all or none): " + listing(drawn);
       return s;
     };
     try {
@@ -231,6 +241,7 @@ void draw_figures(const Globals& g, const std::vector<FigureFile>& figures, cons
     info(g, fmt::format("wrote {} (gnuplot terminal {})", f.path, r.terminal));
     drawn.push_back(f.path);
   }
+  staged_figures.commit();
 }
 
 void draw_frf_overlay(const Globals& g, const std::vector<plot::FrfTrace>& traces, const plot::FrfFigureOptions& options,
@@ -338,6 +349,29 @@ std::pair<std::string, std::optional<std::size_t>> split_dataset_suffix(const st
 }
 
 }  // namespace
+
+void check_paths(const std::vector<RunPath>& inputs, const std::vector<RunPath>& outputs) {
+  std::vector<RunPath> files;
+  for (const RunPath& p : inputs) files.push_back({split_dataset_suffix(p.path).first, p.role});
+  check_output_paths(files, outputs);
+}
+
+const char* const kBlockCsvOutput = "the 2×2 receptance block as FRF CSV (.csv; the one format that carries rotations)";
+
+void check_output_extension(const std::string& path, const std::string& option, std::initializer_list<const char*> extensions,
+                            const std::string& formats) {
+  if (path.empty()) return;
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::string listed;
+  for (const char* e : extensions) {
+    if (ext == e) return;
+    listed += (listed.empty() ? "" : ", ") + std::string(e);
+  }
+  throw InvalidArgument(fmt::format("{} {}: the extension '{}' names a format this command does not write there; it writes {}", option,
+                                    path, ext, formats),
+                        fmt::format("name the file with {}", listed));
+}
 
 FrfFileData read_frf_input(const Globals& g, const std::string& spec, std::optional<std::size_t> dataset) {
   auto [path, suffix] = split_dataset_suffix(spec);

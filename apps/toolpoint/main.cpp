@@ -7,6 +7,7 @@
 
 #include "cli.hpp"
 #include "toolpoint/error.hpp"
+#include "toolpoint/io.hpp"
 #include "toolpoint/version.hpp"
 
 namespace {
@@ -72,7 +73,11 @@ int main(int argc, char** argv) {
   const std::string command = subcommand_named(app, argc, argv);
   const std::string help = command.empty() ? "toolpoint --help" : "toolpoint " + command + " --help";
   try {
+    // Every file of the run is staged and written at the end, all or none (io.hpp OutputSet);
+    // figures are committed separately by draw_figures (the data first, see cli.hpp).
+    toolpoint::OutputSet outputs;
     app.parse(argc, argv);
+    outputs.commit();
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {

@@ -20,7 +20,6 @@
 // names) is an error naming the column and the option that settles it (FrfCsvOptions) — never a
 // guess.
 #pragma once
-#pragma once
 
 #include <optional>
 #include <string>
@@ -55,9 +54,13 @@ class MappedFile {
 
 // Output written whole or not at all: a hidden temporary file beside `target` (same file
 // system, so the final rename is atomic). Fill it through write() or by its path (e.g. from
-// another program), then commit() renames it over the target; destroyed uncommitted, it is
-// removed and the target is untouched. Missing parent folders are created. Throws IoError naming
-// the target.
+// another program), then commit() flushes it to the disk (fsync, every error checked), and
+// renames it over the target; destroyed uncommitted, it is removed and the target is untouched.
+// Missing parent folders are created. A target that exists and is not a regular file (a device
+// such as /dev/full or /dev/stdout, a fifo, a folder) is refused: renaming over it would replace
+// the device, so toolpoint writes regular files only. A symbolic link to a regular file is
+// written through (the file it names is replaced). While an OutputSet is open on this thread,
+// commit() stages the file in it instead of renaming. Throws IoError naming the target.
 class AtomicOutput {
  public:
   explicit AtomicOutput(std::string target);
@@ -66,15 +69,80 @@ class AtomicOutput {
   AtomicOutput& operator=(const AtomicOutput&) = delete;
 
   const std::string& path() const { return path_; }  // the temporary file
+  const std::string& target() const { return target_; }
   void write(const std::string& content);            // replaces the temporary file's content
-  void commit();                                     // mode 0644, renamed over the target
+  void commit();                                     // mode 0644, fsync, renamed over the target
 
  private:
   std::string target_, path_;
+  std::vector<std::string> created_;  // folders made for the target, deepest first: removed (if empty) when discarded
 };
 
 // Writes `content` whole or not at all (AtomicOutput). Throws IoError naming the path.
 void write_text_file(const std::string& path, const std::string& content);
+
+// The files of one run, written all or none. While a set is open (from construction to
+// destruction) on a thread, every AtomicOutput committed on that thread — write_text_file, the
+// FRF, table, joint and UFF writers, plot::render — is staged in it: its temporary file is
+// complete and on disk, the target untouched. commit() then renames every staged file over its
+// target; if one rename fails, the targets already replaced get their old content back (or are
+// removed if they did not exist) and IoError names the file at fault. A set destroyed without
+// commit() removes its temporary files: nothing of the run is written. Sets nest (the innermost
+// is the open one). A set may commit several times (what was staged since the last commit).
+//
+// The set also guards the inputs: a file read on this thread while the set is open
+// (read_text_file, MappedFile) cannot be staged as an output, nor can one target be staged
+// twice (InvalidArgument naming both). check_output_paths says the same before any work.
+class OutputSet {
+ public:
+  OutputSet();
+  ~OutputSet();
+  OutputSet(const OutputSet&) = delete;
+  OutputSet& operator=(const OutputSet&) = delete;
+
+  // Renames every staged file over its target, all or none. Returns the targets written.
+  std::vector<std::string> commit();
+  // The targets staged and not yet committed.
+  std::vector<std::string> staged() const;
+  // The set open on this thread (nullptr: none).
+  static OutputSet* active();
+
+  struct Staged {
+    std::string target, temporary;
+    std::vector<std::string> created;  // folders made for it, deepest first
+  };
+  struct Input {
+    std::string path;
+    unsigned long long device = 0, inode = 0;
+  };
+
+ private:
+  friend class AtomicOutput;
+  friend void note_input_read(const std::string& path);
+  void stage(const std::string& target, std::string temporary, std::vector<std::string> created);
+  void discard();  // removes every staged temporary file and the folders made for them
+  std::vector<Staged> staged_;
+  std::vector<Input> inputs_;
+  std::vector<std::string> committed_;  // canonical targets already written by this set
+  OutputSet* previous_ = nullptr;
+};
+
+// Records that `path` was read as an input of the open OutputSet (if any); read_text_file and
+// MappedFile call it.
+void note_input_read(const std::string& path);
+
+// A file of a run and what names it in messages ("--output", "the assembly file", …).
+struct RunPath {
+  std::string path;
+  std::string role;
+};
+
+// Before any work: throws InvalidArgument when an output is one of the inputs (the same file
+// by std::filesystem::equivalent when both exist, so ./a.csv, a.csv and a hard link match; the
+// same std::filesystem::weakly_canonical path otherwise) or two outputs name the same file.
+// Empty paths are skipped. The message names both roles and paths. An output that exists and is
+// not a regular file (a device, a fifo, a folder) is an IoError, as AtomicOutput would throw.
+void check_output_paths(const std::vector<RunPath>& inputs, const std::vector<RunPath>& outputs);
 
 // What the two value columns of a single-FRF CSV hold: real and imaginary part, magnitude and
 // phase (degrees or radians), or magnitude in dB (20·log10 of |H| in the value units) and phase.
