@@ -5,12 +5,14 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <fmt/format.h>
 #include <random>
 #include <tuple>
 
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
+#include "toolpoint/peaks.hpp"
 
 namespace toolpoint {
 
@@ -126,6 +128,15 @@ void warn_if_uneven(const std::vector<double>& f, const std::string& what, std::
 
 std::vector<double> savgol_coefficients(const SavgolOptions& options) { return SavgolKernel(options).centre(); }
 
+void check_smoothing_window(const SavgolOptions& options, std::size_t points, const std::string& what) {
+  require_window_fits(options, points, what);
+  if (4 * static_cast<std::size_t>(options.window) > points)
+    throw InvalidArgument(fmt::format("SavgolOptions::window {} points is longer than a quarter of {} ({} points, so at most {})",
+                                      options.window, what, points, points / 4),
+                          "use a window much shorter than the data (a few times the points across a resonance's half-power "
+                          "width at most), or give more points");
+}
+
 std::vector<double> savgol_filter(std::span<const double> samples, const SavgolOptions& options, const std::string& what) {
   require_window_fits(options, samples.size(), what);
   for (std::size_t i = 0; i < samples.size(); ++i)
@@ -178,6 +189,91 @@ SignalResult<BlockSeries> savgol_filter(const BlockSeries& series, const SavgolO
       series, options, what, 8,
       [](const BlockSeries& s, std::size_t i, int c) { return part(s.blocks[i](c / 4, (c / 2) % 2), c); },
       [](BlockSeries& s, std::size_t i, int c, double v) { set_part(s.blocks[i](c / 4, (c / 2) % 2), c, v); });
+}
+
+// ---- What the filter did to the peaks -------------------------------------------------------
+
+void PeakChangeOptions::check() const {
+  const auto fraction = [](double v, const char* field) {
+    if (!(v > 0.0 && v < 1.0))
+      throw InvalidArgument(fmt::format("PeakChangeOptions::{} {} must be a fraction in (0, 1)", field, v), "e.g. 0.2");
+  };
+  fraction(min_prominence, "min_prominence");
+  fraction(min_height, "min_height");
+  if (!(warn_above > 0.0) || !std::isfinite(warn_above))
+    throw InvalidArgument(fmt::format("PeakChangeOptions::warn_above {} must be > 0", warn_above), "e.g. 0.02 for 2 %");
+}
+
+namespace {
+
+void peak_changes_of(const FrfSeries& raw, const FrfSeries& filtered, int window, const PeakChangeOptions& o,
+                     const std::string& what, const std::string& entry_name, PeakChangeReport& report) {
+  const std::vector<Peak> found = find_peaks(raw, PeakOptions{o.min_prominence});
+  const std::vector<Peak> after = find_peaks(filtered, PeakOptions{1e-12});
+  double highest = 0.0;
+  for (const Peak& p : found) highest = std::max(highest, p.magnitude);
+  const std::size_t half = static_cast<std::size_t>(std::max(1, window / 2));
+  const std::string label = entry_name.empty() ? what : fmt::format("{} entry {}", what, entry_name);
+  for (const Peak& p : found) {
+    if (p.magnitude < o.min_height * highest || !(p.magnitude > 0.0)) continue;
+    PeakChange c;
+    c.entry = entry_name;
+    c.raw_frequency_hz = p.frequency_hz;
+    c.raw_magnitude = p.magnitude;
+    const Peak* near = nullptr;
+    for (const Peak& q : after) {
+      const std::size_t d = q.index > p.index ? q.index - p.index : p.index - q.index;
+      if (d <= half && (!near || std::abs(q.frequency_hz - p.frequency_hz) < std::abs(near->frequency_hz - p.frequency_hz))) near = &q;
+    }
+    if (near) {
+      c.filtered_frequency_hz = near->frequency_hz;
+      c.filtered_magnitude = near->magnitude;
+      c.frequency_change = (near->frequency_hz - p.frequency_hz) / p.frequency_hz;
+    } else {
+      c.filtered_frequency_hz = std::numeric_limits<double>::quiet_NaN();
+      c.filtered_magnitude = std::abs(filtered.values[p.index]);
+      c.frequency_change = std::numeric_limits<double>::quiet_NaN();
+    }
+    c.height_change = (c.filtered_magnitude - p.magnitude) / p.magnitude;
+    if (!near)
+      report.warnings.push_back(fmt::format("{}: the peak at {:.6g} Hz was smoothed away (no peak within {} points after "
+                                            "filtering; height {:+.1f} %): shorten the window",
+                                            label, p.frequency_hz, half, 100.0 * c.height_change));
+    else if (std::abs(c.height_change) > o.warn_above || std::abs(c.frequency_change) > o.warn_above)
+      report.warnings.push_back(fmt::format("{}: the filter changed the peak at {:.6g} Hz by {:+.1f} % in height and {:+.2f} % in "
+                                            "frequency (more than {:g} %): shorten the window or raise the order",
+                                            label, p.frequency_hz, 100.0 * c.height_change, 100.0 * c.frequency_change,
+                                            100.0 * o.warn_above));
+    report.peaks.push_back(c);
+  }
+}
+
+void require_same_grid(const std::vector<double>& a, const std::vector<double>& b, const std::string& what) {
+  if (a != b)
+    throw InvalidArgument(fmt::format("{}: the raw and filtered series have different frequency grids ({} and {} points)", what,
+                                      a.size(), b.size()),
+                          "compare a series with its own filtered copy");
+}
+
+}  // namespace
+
+PeakChangeReport peak_changes(const FrfSeries& raw, const FrfSeries& filtered, int window, const PeakChangeOptions& options,
+                              const std::string& what) {
+  options.check();
+  require_same_grid(raw.frequency_hz, filtered.frequency_hz, what);
+  PeakChangeReport r;
+  peak_changes_of(raw, filtered, window, options, what, "", r);
+  return r;
+}
+
+PeakChangeReport peak_changes(const BlockSeries& raw, const BlockSeries& filtered, int window, const PeakChangeOptions& options,
+                              const std::string& what) {
+  options.check();
+  require_same_grid(raw.frequency_hz, filtered.frequency_hz, what);
+  PeakChangeReport r;
+  static const char* names[4] = {"H", "L", "N", "P"};
+  for (int k = 0; k < 4; ++k) peak_changes_of(entry(raw, k), entry(filtered, k), window, options, what, names[k], r);
+  return r;
 }
 
 // ---- Simulated measurement noise ------------------------------------------------------------

@@ -14,6 +14,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <initializer_list>
+#include <sstream>
 #include <string>
 #include <unistd.h>
 #include <vector>
@@ -522,6 +523,38 @@ TEST_F(Cli, SeveralFilesAreWrittenAllOrNone) {
                    " --output k.csv --joint-output blocker/j2.toml"),
                5, {"blocker/j2.toml"});
   EXPECT_FALSE(exists("k.csv"));
+}
+
+// ---- Filter honesty ------------------------------------------------------------------------------
+
+// The example's tool point block on its own grid (10–5000 Hz by 1 Hz): the tutorial's 41-point
+// window cuts the 916 Hz peak of H by about 16 %, the demo's 81-point window by about 40 % (issue
+// 13's figures), each a warning naming the entry; every entry H, L, N, P is reported; the figure
+// has a magnitude panel per entry and the phase of H (five panels). A window over a quarter of the
+// 4991 points is refused, naming --window and the length, and nothing is written.
+TEST_F(Cli, FilterReportsWhatItDidToThePeaks) {
+  ok("predict '" + kExample + "' --output sht.csv");
+  const auto height_of_h = [](const std::string& out) {
+    const std::size_t at = out.find("\n  H          916.14");
+    EXPECT_NE(at, std::string::npos) << out;
+    std::istringstream row(out.substr(at + 3));
+    std::string entry;
+    double raw_hz, raw, hz, filtered, height;
+    row >> entry >> raw_hz >> raw >> hz >> filtered >> height;
+    return height;
+  };
+  const Run w41 = ok("filter sht.csv f41.csv --window 41 --order 2 --plot f41.png");
+  EXPECT_NEAR(height_of_h(w41.out), -15.6, 0.5);
+  for (const char* e : {"entry H: the filter changed the peak at 916.14 Hz by -15.6 %", "entry L:", "entry N:", "entry P:"})
+    EXPECT_NE(w41.err.find(e), std::string::npos) << e << "\n" << w41.err;
+  expect_png("f41.png", kTwoPanels + 3 * 170);
+  const Run w81 = ok("filter sht.csv f81.csv --window 81 --order 2");
+  EXPECT_NEAR(height_of_h(w81.out), -38.3, 0.5);
+  EXPECT_NE(w81.err.find("entry H: the filter changed the peak at 916.14 Hz by -38.3 %"), std::string::npos) << w81.err;
+  const Run w5 = ok("filter sht.csv f5.csv --window 5 --order 2");
+  EXPECT_EQ(w5.err.find("the filter changed"), std::string::npos) << w5.err;
+  expect_error(run("filter sht.csv f.csv --window 4991 --order 2"), 2, {"a quarter of sht.csv (4991 points", "--window"});
+  EXPECT_FALSE(exists("f.csv"));
 }
 
 // ---- Help ---------------------------------------------------------------------------------------

@@ -114,6 +114,7 @@ void run_plan_command(const PlanArgs& o, const Globals& g) {
   warn_all(study.warnings);
   for (const std::string& n : study.notes) info(g, "note: " + n);
   check_outputs(o, study.inputs);
+  check_output_extension(o.part, "--part", {".json"}, "a plan part as JSON (.json)");
   if (o.method == "zoa") study.options.lobes.method = LobesMethod::ZeroOrder;
   else if (o.method == "fd") study.options.lobes.method = LobesMethod::FullDiscretization;
   study.options.parallel.threads = o.threads;

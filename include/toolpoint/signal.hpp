@@ -66,6 +66,50 @@ SignalResult<FrfSeries> savgol_filter(const FrfSeries& series, const SavgolOptio
 SignalResult<BlockSeries> savgol_filter(const BlockSeries& series, const SavgolOptions& options,
                                         const std::string& what = "block series");
 
+// The rule for smoothing a measured FRF (the filter command, the case study): a window of at most
+// a quarter of the `points` — a longer one fits the polynomial to the curve itself, not to its
+// noise. Throws InvalidArgument naming SavgolOptions::window, the window and the number of points
+// (and as check()). savgol_filter itself only needs the window to fit the data (scipy's rule), for
+// the short bands the joint fit smooths internally.
+void check_smoothing_window(const SavgolOptions& options, std::size_t points, const std::string& what);
+
+// What a smoothing filter did to the prominent peaks of an FRF. A Savitzky–Golay window of w
+// points fits a degree-p polynomial over w·Δf Hz; a resonance whose half-power width 2ζf_n is not
+// much wider than that is flattened (the polynomial cannot follow the peak). Each peak of
+// |raw| whose prominence is at least `min_prominence` (and whose height is at least `min_height`
+// of the entry's highest peak) is compared with the nearest peak of |filtered| within the
+// window's half-width: height change (filtered − raw)/raw and frequency change
+// (f_filtered − f_raw)/f_raw. A change beyond `warn_above` (either) is a warning naming the entry,
+// the peak, the change and the fix; a peak with no filtered peak near it was smoothed away.
+struct PeakChangeOptions {
+  double min_prominence = 0.2;  // a peak at least 25 % above its higher valley (≈ 1.9 dB): noise ripple is not a mode
+  double min_height = 0.05;     // fraction of the entry's highest peak below which a peak is not reported
+  double warn_above = 0.02;     // |relative change| above which a warning is given (2 %)
+  void check() const;           // fractions in (0, 1), warn_above > 0; InvalidArgument naming PeakChangeOptions::<field>
+};
+
+struct PeakChange {
+  std::string entry;                 // "H", "L", "N", "P" (a block) or "" (a single FRF)
+  double raw_frequency_hz = 0.0;     // refined (parabola through log|H| at three points)
+  double raw_magnitude = 0.0;        // |raw| at the refined peak, in the FRF's units
+  double filtered_frequency_hz = 0.0;
+  double filtered_magnitude = 0.0;   // NaN frequency: no filtered peak within the half-window (height read at f_raw)
+  double height_change = 0.0;       // (filtered − raw)/raw
+  double frequency_change = 0.0;     // (f_filtered − f_raw)/f_raw
+};
+
+struct PeakChangeReport {
+  std::vector<PeakChange> peaks;     // per entry, ascending in frequency
+  std::vector<std::string> warnings;
+};
+
+// `raw` and `filtered` on the same grid; `window` the filter's window in points (the search
+// half-width); `what` names the data in the warnings. Throws InvalidArgument for different grids.
+PeakChangeReport peak_changes(const FrfSeries& raw, const FrfSeries& filtered, int window, const PeakChangeOptions& options = {},
+                              const std::string& what = "FRF");
+PeakChangeReport peak_changes(const BlockSeries& raw, const BlockSeries& filtered, int window,
+                              const PeakChangeOptions& options = {}, const std::string& what = "block series");
+
 // ---- Simulated measurement noise (seed Section 3) --------------------------------------------
 //
 // Each FRF entry at each frequency is multiplied by its own real random factor 1 + σz, z standard
