@@ -17,6 +17,13 @@ void FrequencyGrid::check() const {
   if (!(stop_hz >= start_hz))
     throw InvalidArgument(fmt::format("frequency grid stop {} Hz is below start {} Hz", stop_hz, start_hz));
   if (!(step_hz > 0.0)) throw InvalidArgument(fmt::format("frequency grid step {} Hz must be > 0", step_hz));
+  // Grids are compared to 1e-9 relative (require_same_grid): a finer step would make neighbours equal there,
+  // and below double resolution (2.2e-16 relative) the written frequencies repeat.
+  if (stop_hz > start_hz && step_hz < 1e-9 * stop_hz)
+    throw InvalidArgument(fmt::format("frequency grid step {:g} Hz is below the resolution of frequencies near {:g} Hz "
+                                      "(1e-9 relative, {:g} Hz): the frequencies would repeat or be indistinguishable",
+                                      step_hz, stop_hz, 1e-9 * stop_hz),
+                          "give a step of at least a millionth of a hertz per kHz, e.g. 0.01 Hz");
   if ((stop_hz - start_hz) / step_hz > 1e7)
     throw InvalidArgument(fmt::format("frequency grid {}:{}:{} Hz has more than 10 million points", start_hz, stop_hz, step_hz));
 }

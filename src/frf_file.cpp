@@ -650,6 +650,7 @@ std::vector<std::string> coherence_lost(const std::vector<double>& coherence, co
 
 std::vector<std::string> write_frf_file(const std::string& path, const FrfSeries& h, const FrfWriteOptions& o) {
   const FrfFormat format = o.format == FrfFormat::Auto ? frf_format_of_path(path) : o.format;
+  require_finite_output(h, path);
   validate(h, "the series to write to " + path);
   switch (format) {
     case FrfFormat::Csv: {
@@ -681,6 +682,7 @@ std::vector<std::string> write_frf_file(const std::string& path, const BlockSeri
     throw InvalidArgument(fmt::format("{}: a 2×2 receptance block can only be written as FRF CSV, not {}", path,
                                       frf_format_name(format)),
                           "write to a .csv file");
+  require_finite_output(b, path);
   validate(b, "the series to write to " + path);
   std::vector<std::string> comments = o.comments;
   if (!o.description.empty()) comments.insert(comments.begin(), o.description);

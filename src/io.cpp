@@ -445,13 +445,37 @@ std::string format_frf_csv(const FrfSeries& series, const std::vector<std::strin
   return s;
 }
 
+void require_finite_output(const BlockSeries& series, const std::string& path) {
+  static const char* names[4] = {"H", "L", "N", "P"};
+  for (std::size_t i = 0; i < series.size(); ++i)
+    for (int k = 0; k < 4; ++k) {
+      const Complex z = series.blocks[i](k / 2, k % 2);
+      if (!std::isfinite(z.real()) || !std::isfinite(z.imag()))
+        throw NumericalError(fmt::format("{}: {} at {} Hz is {}: a result out of the range of double precision (beyond "
+                                         "±1.8e308, or undefined); nothing was written",
+                                         path, names[k], series.frequency_hz[i], format_complex(z)),
+                             "check the input's magnitudes and units: values near 1e308 overflow in arithmetic");
+    }
+}
+
+void require_finite_output(const FrfSeries& series, const std::string& path) {
+  for (std::size_t i = 0; i < series.size(); ++i)
+    if (!std::isfinite(series.values[i].real()) || !std::isfinite(series.values[i].imag()))
+      throw NumericalError(fmt::format("{}: the value at {} Hz is {}: a result out of the range of double precision (beyond "
+                                       "±1.8e308, or undefined); nothing was written",
+                                       path, series.frequency_hz[i], format_complex(series.values[i])),
+                           "check the input's magnitudes and units: values near 1e308 overflow in arithmetic");
+}
+
 void write_frf_csv(const std::string& path, const BlockSeries& series, const std::vector<std::string>& comments,
                    const std::vector<double>& coherence) {
+  require_finite_output(series, path);
   write_text_file(path, format_frf_csv(series, comments, coherence));
 }
 
 void write_frf_csv(const std::string& path, const FrfSeries& series, const std::vector<std::string>& comments,
                    const std::vector<double>& coherence) {
+  require_finite_output(series, path);
   write_text_file(path, format_frf_csv(series, comments, coherence));
 }
 

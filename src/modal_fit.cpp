@@ -197,7 +197,9 @@ double normalised_error(const std::vector<Complex>& fit, const std::vector<Compl
 
 }  // namespace
 
-ModalFitResult fit_modes(const FrfSeries& frf, const ModalFitOptions& options, const std::string& what) {
+namespace {
+
+ModalFitResult fit_modes_at_scale(const FrfSeries& frf, const ModalFitOptions& options, const std::string& what) {
   options.check();
   validate(frf, what, 1);
   ModalFitResult res;
@@ -343,6 +345,48 @@ ModalFitResult fit_modes(const FrfSeries& frf, const ModalFitOptions& options, c
     res.warnings.push_back(fmt::format("overall fit residual {:.1f} %: more modes (--max-modes) or a narrower --band may help",
                                        100.0 * res.normalised_residual));
   return res;
+}
+
+}  // namespace
+
+// Scale-aware: the fit runs on the FRF divided by a power of two near its largest magnitude
+// (exact: only the exponent changes), so magnitudes near the limits of double precision (1e-317,
+// 1e300) fit as well as 1e-6 m/N does; the residues and residual terms are multiplied back and the
+// modal masses divided (H = 2^e H' gives A = 2^e A', m = 2^−e m'). FRFs whose largest magnitude lies
+// in [1e-30, 1e10] are fitted as they are (every physical receptance: results unchanged). A modal
+// mass or stiffness that does not fit in a double after scaling back is a NumericalError giving its
+// value in powers of ten, never an infinite mass.
+ModalFitResult fit_modes(const FrfSeries& frf, const ModalFitOptions& options, const std::string& what) {
+  options.check();
+  validate(frf, what, 1);
+  double top = 0.0;
+  for (const Complex& v : frf.values) top = std::max({top, std::abs(v.real()), std::abs(v.imag())});
+  if (top == 0.0 || (top >= 1e-30 && top <= 1e10)) return fit_modes_at_scale(frf, options, what);
+  const int e = std::ilogb(top);
+  FrfSeries scaled = frf;
+  for (Complex& v : scaled.values) v = {std::ldexp(v.real(), -e), std::ldexp(v.imag(), -e)};
+  ModalFitResult r = fit_modes_at_scale(scaled, options, what);
+  const double log2_10 = std::log2(10.0);
+  for (FittedMode& m : r.modes) {
+    const double mass = std::ldexp(m.mode.mass_kg, -e), residue = std::ldexp(m.residue, e);
+    const double stiffness = mass * std::pow(omega_of(m.mode.frequency_hz), 2);
+    if (!std::isfinite(mass) || !std::isfinite(stiffness) || (m.mode.mass_kg != 0.0 && (mass == 0.0 || !std::isnormal(residue))))
+      throw NumericalError(fmt::format("{}: the mode at {:.6g} Hz has a modal mass of about 1e{:.0f} kg (stiffness 1e{:.0f} N/m): out of "
+                                       "the range of double precision (the FRF's largest magnitude is {:.3g}), so it cannot be "
+                                       "reported or used",
+                                       what, m.mode.frequency_hz, std::log10(std::abs(m.mode.mass_kg)) - e / log2_10,
+                                       std::log10(std::abs(m.mode.mass_kg) * std::pow(omega_of(m.mode.frequency_hz), 2)) - e / log2_10,
+                                       top),
+                           "check the FRF's units (a receptance in m/N is typically 1e-9 to 1e-4); rescale the data (--units)");
+    m.mode.mass_kg = mass;
+    m.residue = residue;
+  }
+  r.lower_residual = std::ldexp(r.lower_residual, e);
+  r.upper_residual = std::ldexp(r.upper_residual, e);
+  r.warnings.push_back(fmt::format("{}: its largest magnitude is {:.3g}, far from a receptance in m/N; fitted on the FRF scaled by "
+                                   "2^{} and scaled back",
+                                   what, top, -e));
+  return r;
 }
 
 std::vector<Mode> ModalFitResult::modal_model() const {

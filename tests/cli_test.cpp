@@ -19,6 +19,7 @@
 #include <unistd.h>
 #include <vector>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "toolpoint/assembly_file.hpp"
@@ -555,6 +556,59 @@ TEST_F(Cli, FilterReportsWhatItDidToThePeaks) {
   EXPECT_EQ(w5.err.find("the filter changed"), std::string::npos) << w5.err;
   expect_error(run("filter sht.csv f.csv --window 4991 --order 2"), 2, {"a quarter of sht.csv (4991 points", "--window"});
   EXPECT_FALSE(exists("f.csv"));
+}
+
+// ---- Numbers at the ends of double precision -----------------------------------------------------
+
+// A single-DOF receptance H = 1/(k (1 − r² + 2iζr)) scaled by `scale`, f_n = 916 Hz, ζ = 0.02,
+// k = 1e6 N/m: the modal mass is scale⁻¹ k/ω_n² (closed form).
+FrfSeries scaled_sdof(double scale) {
+  FrfSeries s;
+  for (double f = 700.0; f < 1150.0; f += 1.0) {
+    const double r = f / 916.0;
+    s.frequency_hz.push_back(f);
+    s.values.push_back(scale * 1e-6 / Complex(1.0 - r * r, 0.04 * r));
+  }
+  return s;
+}
+
+// modes fits an FRF of any magnitude (rescaled): at 1e-296 m/N the mass is 1e290 times the
+// closed form's 0.030189 kg (to 1e-6); at 1e-317 (subnormal) the mass would be about 1e309 kg,
+// beyond double precision: an error saying so (4), no "converged" infinite mass, no file. Finite
+// values near 1e308 that overflow in the filter are a numerical error (4) about the range, not
+// "remove the NaN/Inf values"; a frequency step the grid cannot resolve is refused (2) naming the
+// option or the [analysis] key, before any file is written.
+TEST_F(Cli, OverflowAndUnderflowAreHandledOrNamed) {
+  const double m_closed = 1e6 / std::pow(2.0 * M_PI * 916.0, 2);
+  write_frf_file(path("small.csv"), scaled_sdof(1e-290));
+  const Run small = ok("modes small.csv --json");
+  const nlohmann::json j = nlohmann::json::parse(small.out);
+  const double mass = j["modes"][0]["modal_mass_kg"].get<double>();
+  EXPECT_NEAR(mass / (m_closed * 1e290), 1.0, 1e-6) << small.out;
+  EXPECT_NE(small.err.find("scaled by 2^"), std::string::npos) << small.err;
+
+  write_frf_file(path("tiny.csv"), scaled_sdof(1e-311));
+  const Run tiny = run("modes tiny.csv --output fit.csv");
+  expect_error(tiny, 4, {"tiny.csv", "out of the range of double precision", "1e309 kg"});
+  EXPECT_EQ(tiny.out.find("inf"), std::string::npos) << tiny.out;
+  EXPECT_FALSE(exists("fit.csv"));
+
+  std::string big = "frequency_hz,re,im\n";
+  for (int i = 0; i < 40; ++i) big += fmt::format("{},{},0\n", 100 + i, i % 2 ? 1.5e308 : -1.5e308);
+  write_text_file(path("big.csv"), big);
+  const Run overflow = run("filter big.csv out.csv --window 5 --order 2");
+  expect_error(overflow, 4, {"out.csv", "out of the range of double precision"});
+  EXPECT_EQ(overflow.err.find("NaN/Inf values"), std::string::npos) << overflow.err;
+  EXPECT_FALSE(exists("out.csv"));
+
+  expect_error(run("predict '" + kExample + "' --frequencies 1000:1000.000000000001:1e-13 --output p.csv"), 2,
+               {"--frequencies", "below the resolution"});
+  std::string toml = read_text_file(kExample);
+  toml.replace(toml.find("frequency_step = 1.0"), 20, "frequency_step = 1e-13");
+  toml.replace(toml.find("frequency_max = 5000.0"), 22, "frequency_max = 10.000000000001");
+  write_text_file(path("fine.toml"), toml);
+  expect_error(run("predict fine.toml --output p.csv"), 3, {"fine.toml", "[analysis]", "below the resolution"});
+  EXPECT_FALSE(exists("p.csv"));
 }
 
 // ---- Help ---------------------------------------------------------------------------------------

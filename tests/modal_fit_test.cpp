@@ -154,3 +154,28 @@ TEST(ModalFit, BadInputIsRejected) {
   EXPECT_THROW((Mode{0.05, 1.2, 900.0}).check(), InvalidArgument);
   EXPECT_THROW((Mode{0.05, 0.01, -900.0}).check(), InvalidArgument);
 }
+
+// Scale-aware fitting (issue 13): the same single-DOF receptance (f_n = 916 Hz, ζ = 0.02,
+// k = 1e6 N/m) multiplied by 1e300 or 1e-300 gives the same frequency and damping and the modal
+// mass divided by the factor (closed form m = k/ω_n², to 1e-6); one scaled into the subnormal
+// range, whose mass would exceed double precision, is a NumericalError, never an infinite mass.
+TEST(ModalFit, AnyScaleFitsOrIsNamedOutOfRange) {
+  const double m_closed = 1e6 / std::pow(2.0 * 3.141592653589793 * 916.0, 2);
+  const auto sdof = [](double scale) {
+    toolpoint::FrfSeries s;
+    for (double f = 700.0; f < 1150.0; f += 1.0) {
+      const double r = f / 916.0;
+      s.frequency_hz.push_back(f);
+      s.values.push_back(scale * 1e-6 / toolpoint::Complex(1.0 - r * r, 0.04 * r));
+    }
+    return s;
+  };
+  for (const double scale : {1.0, 1e300, 1e-300}) {
+    const toolpoint::ModalFitResult r = toolpoint::fit_modes(sdof(scale), {}, "sdof");
+    ASSERT_EQ(r.modes.size(), 1u) << scale;
+    EXPECT_NEAR(r.modes[0].mode.frequency_hz, 916.0, 1e-6) << scale;
+    EXPECT_NEAR(r.modes[0].mode.damping_ratio, 0.02, 1e-8) << scale;
+    EXPECT_NEAR(r.modes[0].mode.mass_kg * scale / m_closed, 1.0, 1e-6) << scale;
+  }
+  EXPECT_THROW(toolpoint::fit_modes(sdof(1e-312), {}, "sdof"), toolpoint::NumericalError);
+}

@@ -44,8 +44,9 @@ struct FrequencyGrid {
   double stop_hz = 0.0;
   double step_hz = 0.0;
 
-  // Throws InvalidArgument unless 0 < start ≤ stop, step > 0, all finite, and the grid has at
-  // most 10 million points.
+  // Throws InvalidArgument unless 0 < start ≤ stop, step > 0 and at least 1e-9 of stop (the
+  // relative tolerance grids are compared with; finer steps repeat frequencies in double
+  // precision), all finite, and the grid has at most 10 million points.
   void check() const;
   std::vector<double> values() const;
 };

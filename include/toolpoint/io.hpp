@@ -195,6 +195,12 @@ std::string format_frf_csv(const BlockSeries& series, const std::vector<std::str
 std::string format_frf_csv(const FrfSeries& series, const std::vector<std::string>& comments = {},
                            const std::vector<double>& coherence = {});
 
+// A series about to be written must be finite: NumericalError naming `path`, the entry and the
+// frequency otherwise (an overflow or an undefined result, not bad input data). The FRF writers
+// (write_frf_csv, write_frf_file) call it, so no file holds inf or NaN values.
+void require_finite_output(const BlockSeries& series, const std::string& path);
+void require_finite_output(const FrfSeries& series, const std::string& path);
+
 void write_frf_csv(const std::string& path, const BlockSeries& series, const std::vector<std::string>& comments = {},
                    const std::vector<double>& coherence = {});
 void write_frf_csv(const std::string& path, const FrfSeries& series, const std::vector<std::string>& comments = {},
