@@ -127,26 +127,6 @@ Mode parse_mode(const std::string& text, const std::string& option) {
   return m;
 }
 
-// The library's field names in its messages, as this command's options.
-std::string with_flags(std::string text) {
-  static const std::pair<const char*, const char*> kFlags[] = {
-      {"LobesStudyOptions::tolerance", "--tolerance"},     {"BoundaryOptions::tolerance", "--tolerance"},
-      {"BoundaryOptions::steps", "--intervals"},           {"BoundaryOptions::max_steps", "--intervals"},
-      {"LobesStudyOptions::max_depth_m", "--max-depth"},   {"BoundaryOptions::max_depth_m", "--max-depth"},
-      {"LobesStudyOptions::lobes", "--lobes"},             {"LobesStudyOptions::fit_target", "--fit-target"},
-      {"LobesStudyOptions::pocket_prominence", "--pocket-prominence"}, {"ParallelOptions::threads", "--threads"},
-      {"ModalFitOptions::max_modes", "--max-modes"},       {"LobesInput::x_modes", "--mode-x"},
-      {"LobesInput::frfs", "--frf"},                       {"LobesInput: rigid_y and y modes", "--rigid-y and --mode-y"},
-      {"ZeroOrderOptions::lobes", "--lobes"},              {"SpeedRange::min_rpm and max_rpm", "--rpm MIN:MAX"},
-      {"CuttingConditions::radial_ratio", "--kr"}};
-  for (const auto& [field, flag] : kFlags)
-    for (std::size_t at = text.find(field); at != std::string::npos; at = text.find(field, at + std::strlen(flag))) {
-      text.replace(at, std::strlen(field), fmt::format("{} ({})", flag, field));
-      at += std::strlen(field) + 3;
-    }
-  return text;
-}
-
 // ---- Text ------------------------------------------------------------------------------------
 
 void print_summary(const LobesStudyResult& r) {

@@ -24,7 +24,7 @@ void warn(const std::string& message) {
 }
 
 void warn_all(const std::vector<std::string>& messages) {
-  for (const auto& m : messages) warn(m);
+  for (const auto& m : messages) warn(with_flags(m));
 }
 
 // ---- Figures ------------------------------------------------------------------------------------
@@ -273,12 +273,37 @@ void add_frf_read_options(CLI::App* command, Globals& g) {
 }
 
 std::string with_flags(std::string text) {
-  static const std::pair<const char*, const char*> names[] = {
-      {"FrfCsvOptions::columns", "--columns"},      {"FrfCsvOptions::format", "--format"},
-      {"FrfReadOptions::units", "--units"},         {"FrfReadOptions::ordinate", "--ordinate"},
-      {"RotationalOptions::assume_reciprocity", "--assume-reciprocity"}};
-  for (const auto& [field, flag] : names)
-    for (std::size_t at; (at = text.find(field)) != std::string::npos;) text.replace(at, std::string_view(field).size(), flag);
+  // Field → flag, for every command (a field's flag is the same wherever it appears).
+  static const std::pair<std::string_view, std::string_view> kFlags[] = {
+      {"FrfCsvOptions::columns", "--columns"},
+      {"FrfCsvOptions::format", "--format"},
+      {"FrfReadOptions::units", "--units"},
+      {"FrfReadOptions::ordinate", "--ordinate"},
+      {"FrfReadOptions::format", "--from"},
+      {"UffSelection::index", "--dataset"},
+      {"RotationalOptions::assume_reciprocity", "--assume-reciprocity"},
+      {"LobesStudyOptions::tolerance", "--tolerance"},
+      {"BoundaryOptions::tolerance", "--tolerance"},
+      {"BoundaryOptions::steps", "--intervals"},
+      {"BoundaryOptions::max_steps", "--intervals"},
+      {"LobesStudyOptions::max_depth_m", "--max-depth"},
+      {"BoundaryOptions::max_depth_m", "--max-depth"},
+      {"LobesStudyOptions::lobes", "--lobes"},
+      {"LobesStudyOptions::fit_target", "--fit-target"},
+      {"LobesStudyOptions::pocket_prominence", "--pocket-prominence"},
+      {"ParallelOptions::threads", "--threads"},
+      {"ModalFitOptions::max_modes", "--max-modes"},
+      {"ModalFitOptions::band_hz", "--band"},
+      {"IdentificationOptions::band_hz", "--band"},
+      {"LobesInput::x_modes", "--mode-x"},
+      {"LobesInput::frfs", "--frf"},
+      {"LobesInput: rigid_y and y modes", "--rigid-y and --mode-y"},
+      {"ZeroOrderOptions::lobes", "--lobes"},
+      {"SpeedRange::min_rpm and max_rpm", "--rpm MIN:MAX"},
+      {"CuttingConditions::radial_ratio", "--kr"}};
+  for (const auto& [field, flag] : kFlags)
+    for (std::size_t at = text.find(field); at != std::string::npos; at = text.find(field, at + flag.size()))
+      text.replace(at, field.size(), flag);
   return text;
 }
 
