@@ -20,6 +20,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "support/scratch.hpp"
+
 #include "toolpoint/assembly_file.hpp"
 #include "toolpoint/frf_file.hpp"
 #include "toolpoint/io.hpp"
@@ -176,6 +178,20 @@ TEST_F(Cli, IdentifiedJointFileFeedsTheOtherCommands) {
   EXPECT_NE(band.find("frequency_hz,magnitude_q5_m_per_n,magnitude_q50_m_per_n,magnitude_q95_m_per_n"), std::string::npos);
   expect_png("band.png", kTwoPanels);
   ok("couple --sh sh.csv --assembly '" + kExample + "' --joint kht.toml --output coupled.csv");
+  // couple's band (Eq. 5: the model's exact SH11 coupled to the tool) against predict's (the whole
+  // model), the same joint draws (same seed): equal to the coupling's round-off (1e-6 relative;
+  // the two algebras differ, and antiresonances amplify their rounding).
+  ok("couple --sh sh.csv --assembly '" + kExample + "' --joint kht.toml --samples 30 --seed 5 --band-output cband.csv --plot cband.png");
+  ok("predict '" + kExample + "' --joint holder-tool=kht.toml --frequencies 10:5000:5 --samples 30 --seed 5 --band-output pband.csv");
+  const Table cband = test::read_csv_table(path("cband.csv")), pband = test::read_csv_table(path("pband.csv"));
+  ASSERT_EQ(cband.rows.size(), pband.rows.size());
+  ASSERT_EQ(cband.columns, pband.columns);
+  for (std::size_t i = 0; i < cband.rows.size(); i += 7)
+    for (std::size_t c = 1; c <= 3; ++c)  // the magnitude quantiles
+      EXPECT_NEAR(cband.rows[i][c], pband.rows[i][c], 1e-6 * pband.rows[i][c]) << cband.rows[i][0] << " Hz, " << cband.columns[c];
+  expect_png("cband.png", kTwoPanels);
+  expect_error(run("couple --sh sh.csv --assembly '" + kExample + "' --joint kht.toml --samples 30 --overhang 0.04:0.05:0.005 --output d"), 2,
+               {"--samples", "one overhang"});
   ok("taptest '" + kExample + "' --joint holder-tool=kht.toml --spacing 0.01 --frequencies 100:3000:10 --output tap.uff");
   // Lobes with the joint uncertain: the probability of stability on speed × depth, 1 at zero depth
   // and never rising with depth at a speed; the quantile envelopes in the figure.
@@ -185,6 +201,7 @@ TEST_F(Cli, IdentifiedJointFileFeedsTheOtherCommands) {
   const std::string prob = read_text_file(path("prob.csv"));
   EXPECT_NE(prob.find("spindle_speed_rpm,axial_depth_mm,probability_stable"), std::string::npos);
   EXPECT_TRUE(exists("lobes.png"));
+  expect_png("lobes_probability.png", 700);  // one panel, the default height
   // The wrong interface, sampling without a covariance, a joint file that is no such thing.
   expect_error(run("predict '" + kExample + "' --joint spindle-holder=kht.toml"), 2, {"kht.toml", "holder_tool"});
   expect_error(run("predict '" + kExample + "' --samples 20"), 2, {"--samples", "--joint"});

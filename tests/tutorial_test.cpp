@@ -20,6 +20,7 @@
 #include <sstream>
 
 #include "support/joint_data.hpp"
+#include "support/scratch.hpp"
 #include "toolpoint/assembly.hpp"
 #include "toolpoint/io.hpp"
 #include "toolpoint/joint_file.hpp"
@@ -48,21 +49,6 @@ int run_in(const fs::path& dir, const std::string& command) {
   const std::string cmd = "cd '" + dir.string() + "' && " + command;
   const int status = std::system(cmd.c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-std::vector<std::vector<double>> read_numeric_csv(const fs::path& path) {
-  std::ifstream in(path);
-  std::vector<std::vector<double>> rows;
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#' || !(std::isdigit(static_cast<unsigned char>(line[0])) || line[0] == '-')) continue;
-    std::vector<double> row;
-    std::stringstream ss(line);
-    std::string cell;
-    while (std::getline(ss, cell, ',')) row.push_back(std::strtod(cell.c_str(), nullptr));
-    rows.push_back(row);
-  }
-  return rows;
 }
 
 }  // namespace
@@ -119,7 +105,7 @@ TEST(Tutorial, RunsAsWrittenInTheReadme) {
   EXPECT_NE(read_text_file((dir / "raw.txt").string()).find("c_yf"), std::string::npos);
 
   // Step 5: the coupled predictions' modes against the model's at each overhang.
-  const auto table = read_numeric_csv(dir / "overhangs" / "natural_frequencies.csv");
+  const auto table = test::read_csv_table((dir / "overhangs" / "natural_frequencies.csv").string()).rows;
   ASSERT_EQ(table.size(), 6u);
   std::size_t compared = 0;
   for (const auto& row : table) {
@@ -149,7 +135,7 @@ TEST(Tutorial, RunsAsWrittenInTheReadme) {
     ++speeds;
   }
   EXPECT_GE(speeds, 3u);
-  for (const char* f : {"sht11_model.png", "lobes.png", "p.png", "p.csv", "kht.png", "overhangs.png"})
+  for (const char* f : {"sht11_model.png", "lobes.png", "p.png", "p_probability.png", "p.csv", "kht.png", "overhangs.png"})
     EXPECT_TRUE(fs::exists(dir / f)) << f;
 
   // Nothing written into the repository's examples through the symlink.

@@ -337,7 +337,28 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
         d.other_envelopes.push_back({su->depth_m[l], fmt::format("stable with {:g} % probability{}", 100 * (1.0 - su->levels[l]),
                                                                  l == 0 ? fmt::format(" ({} joint samples)", su->samples) : "")});
     }
-    draw_figures(g, {{plot::lobes_figure(d), o.plot}}, written);
+    std::vector<FigureFile> figures{{plot::lobes_figure(d), o.plot}};
+    if (su) {
+      // The probability map, on the envelope's speeds and the map's depths, with the nominal and
+      // the 95 % envelope on top.
+      plot::ProbabilityMapData m;
+      m.title = fmt::format("Probability of stability, the joint of {} uncertain ({} samples)", plot::literal(sampled_source),
+                            su->samples);
+      m.speed_rpm = su->speed_rpm;
+      for (double a : su->depth_grid_m) m.depth_mm.push_back(1e3 * a);
+      for (std::size_t j = 0; j < su->depth_grid_m.size(); ++j)
+        for (std::size_t i = 0; i < su->speed_rpm.size(); ++i)
+          m.probability.push_back(su->probability(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)));
+      auto mm = [](const std::vector<double>& v) {
+        std::vector<double> out;
+        for (double a : v) out.push_back(1e3 * a);
+        return out;
+      };
+      m.envelopes.push_back({mm(su->nominal_depth_m), "nominal envelope"});
+      m.envelopes.push_back({mm(su->depth_m.front()), fmt::format("stable with {:g} % probability", 100 * (1.0 - su->levels.front()))});
+      figures.push_back({plot::probability_map_figure(m), with_suffix(o.plot, "_probability")});
+    }
+    draw_figures(g, figures, written);
   }
 }
 
@@ -409,7 +430,9 @@ void add_lobes_command(CLI::App& app, Globals& g) {
                 "Write the stable envelope here: CSV spindle_speed_rpm,axial_depth_mm,chatter_frequency_hz,lobe (default: none)");
   add_plot_option(c, o->plot,
                   "axial depth [mm] against spindle speed [rpm] with the stable region under the envelope shaded, the "
-                  "lobes (zoa) or the boundary (fd) numbered, and their chatter frequency [Hz] in a second panel");
+                  "lobes (zoa) or the boundary (fd) numbered, and their chatter frequency [Hz] in a second panel; with --samples "
+                  "also the quantile envelopes, and the probability of stability over speed × depth as a colour map in FILE "
+                  "with \"_probability\" before the extension");
   add_joint_option(c, o->joints)->description(
       "With --assembly: an identified joint instead of the assembly file's (holder-tool=FILE.toml or spindle-holder=FILE.toml, "
       "from `toolpoint identify --joint-output`)");
