@@ -89,8 +89,8 @@ CaseStudy run_case_study(const Assembly& assembly, const CaseStudyOptions& o) {
   cs.effect = *cs.seed.mode.effect;
   cs.mode_hz = cs.seed.mode.center_hz;
   const double lo = cs.seed.mode.lo_hz, hi = cs.seed.mode.hi_hz;
-  cs.clean_readout = read_joint(cs.clean, lo, hi);
-  cs.noisy_readout = read_joint(cs.noisy, lo, hi);
+  cs.clean_readout = band_readout(cs.clean, lo, hi);
+  cs.noisy_readout = band_readout(cs.noisy, lo, hi);
   cs.filtered_readout = cs.seed.seed;
 
   // Forward check: the constants into Eq. (5) with the true SH11, against the true SHT11, so that

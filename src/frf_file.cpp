@@ -168,7 +168,7 @@ FrfFormat frf_format_of_path(const std::string& path) {
   if (ext == ".uff" || ext == ".unv" || ext == ".uf") return FrfFormat::Uff;
   if (ext == ".frf") return FrfFormat::Frf;
   throw InvalidArgument(fmt::format("{}: cannot tell the FRF file format from the extension '{}'", path, ext),
-                        "use .csv, .uff/.unv/.uf or .frf, or name the format (--from/--to csv|uff|uffb|frf)");
+                        "use .csv, .uff/.unv/.uf or .frf, or name the format (FrfReadOptions::format: csv, uff or frf)");
 }
 
 FrfOrdinate parse_frf_ordinate(const std::string& text, const std::string& option) {
@@ -306,7 +306,7 @@ UffReceptance uff_receptance(const UffDataset58& d, std::optional<FrfOrdinate> o
     if (labelled && labelled->ordinate != *stated)
       throw InputError(fmt::format("{}: {} states {}, but the units labels say {} ('{}')", what, codes,
                                    frf_ordinate_name(*stated), frf_ordinate_name(labelled->ordinate), labelled->label),
-                       "say which is right: --ordinate receptance|mobility|accelerance, or --units (e.g. g/N)");
+                       "say which is right: FrfReadOptions::ordinate (receptance, mobility, accelerance), or FrfReadOptions::units (e.g. g/N)");
     r.ordinate = *stated;
     if (d.denominator.data_type == 0)
       r.warnings.push_back(fmt::format("{}: record 10 (ordinate denominator) data type 0 (not given); taken as force",
@@ -317,8 +317,8 @@ UffReceptance uff_receptance(const UffDataset58& d, std::optional<FrfOrdinate> o
                                      what, codes, labelled->label, frf_ordinate_name(labelled->ordinate)));
   } else {
     throw InputError(fmt::format("{}: {} is not displacement, velocity or acceleration per force", what, codes),
-                     "if you know what the values are, give the ordinate (--ordinate receptance|mobility|accelerance) "
-                     "or the units (--units, e.g. g/N)");
+                     "if you know what the values are, give the ordinate (FrfReadOptions::ordinate: receptance, mobility, "
+                     "accelerance) or the units (FrfReadOptions::units, e.g. g/N)");
   }
   if (!d.is_complex())
     r.warnings.push_back(fmt::format("{}: the ordinate is real ({}); an FRF is complex — is this a magnitude?", what,
@@ -351,7 +351,7 @@ UffReceptance uff_receptance(const UffDataset58& d, std::optional<FrfOrdinate> o
       for (const UffAxis* a : {&d.ordinate, &d.denominator})
         if (const auto t = non_si_token(a->units))
           r.warnings.push_back(fmt::format("{}: units label '{}' mentions '{}', which is not SI; toolpoint takes the "
-                                           "values as SI (m, s, N) — give --units if they are not",
+                                           "values as SI (m, s, N) — give FrfReadOptions::units if they are not",
                                            what, a->units, *t));
   }
   r.receptance = to_receptance(raw, r.ordinate, r.warnings, what);
@@ -420,7 +420,7 @@ FrfText parse_cutpro_frf(std::string_view text_in, const std::string& source) {
   std::size_t last_line = 0;
   const std::string fix_table =
       "if it is a magnitude/phase or other table, read it as CSV: `toolpoint convert FILE OUT --from csv --format "
-      "mag-phase-deg` (see --columns, --format)";
+      "mag-phase-deg` (FrfCsvOptions::columns, FrfCsvOptions::format)";
   if (text_in.substr(0, 3) == "\xEF\xBB\xBF") text_in.remove_prefix(3);
   bool data_seen = false;
   while (pos < text_in.size()) {
@@ -525,7 +525,7 @@ FrfText parse_cutpro_frf(std::string_view text_in, const std::string& source) {
     throw InputError(fmt::format("{}: looks like magnitude and phase, not real and imaginary parts: every second column "
                                  "value is ≥ 0 (largest {:.3g}), every third within ±180 and up to {:.3g}",
                                  source, max_re, max_im),
-                     fix_table + "; if it really holds real and imaginary parts, read it with --from csv --format re-im");
+                     fix_table + "; if it really holds real and imaginary parts, read it as CSV with FrfCsvOptions::format re-im");
   return out;
 }
 
@@ -564,7 +564,7 @@ FrfFileData read_frf_file(const std::string& path, const FrfReadOptions& o) {
   if (out.format != FrfFormat::Csv && csv_options_given(o.csv))
     throw InvalidArgument(fmt::format("{}: a column or value-format choice only applies to CSV files, not {}", path,
                                       frf_format_name(out.format)),
-                          "drop it, or read the file as CSV (--from csv)");
+                          "drop it, or read the file as CSV (FrfReadOptions::format)");
   switch (out.format) {
     case FrfFormat::Csv: {
       FrfTable t = read_frf_csv(path, o.csv);
@@ -590,7 +590,7 @@ FrfFileData read_frf_file(const std::string& path, const FrfReadOptions& o) {
         file_units = parse_frf_units(t.value_units);
         if (!file_units && !o.units)
           throw InputError(fmt::format("{} gives the units '{}', which toolpoint does not know", where, t.value_units),
-                           "give the units (--units, e.g. mm/N, m/s^2/N, g/N) or correct the header");
+                           "give the units (FrfReadOptions::units, e.g. mm/N, m/s^2/N, g/N) or correct the header");
       }
       const FrfUnits u = resolve_units(file_units, where, o, out.warnings);
       scale_to_si(t.single, u, path, out.warnings);

@@ -145,7 +145,7 @@ double relative_difference(double a, double b, double floor) {
 
 }  // namespace
 
-JointReadout read_joint(const JointSeries& s, double lo, double hi, const ReadoutOptions& options) {
+JointReadout band_readout(const JointSeries& s, double lo, double hi, const ReadoutOptions& options) {
   options.check();
   JointReadout r;
   r.band_lo_hz = lo;
@@ -177,10 +177,10 @@ JointReadout read_joint(const JointSeries& s, double lo, double hi, const Readou
     r.noise_gain[k] = median_of(gains[k]);
   }
   // Against the off-diagonal's natural scale too (10 % of sqrt|k_yf k_θm|), as the noise gain.
-  r.reciprocity_k = relative_difference(r.parameters[2].median, r.parameters[4].median,
-                                        0.1 * std::sqrt(std::abs(r.parameters[0].median * r.parameters[6].median)));
-  r.reciprocity_c = relative_difference(r.parameters[3].median, r.parameters[5].median,
-                                        0.1 * std::sqrt(std::abs(r.parameters[1].median * r.parameters[7].median)));
+  using P = JointParameter;
+  const auto median = [&](P p) { return r.parameters[static_cast<std::size_t>(p)].median; };
+  r.reciprocity_k = relative_difference(median(P::k_ym), median(P::k_tf), 0.1 * std::sqrt(std::abs(median(P::k_yf) * median(P::k_tm))));
+  r.reciprocity_c = relative_difference(median(P::c_ym), median(P::c_tf), 0.1 * std::sqrt(std::abs(median(P::c_yf) * median(P::c_tm))));
   if (r.max_cond_difference > options.cond_warning)
     r.warnings.push_back(fmt::format("cond(A11 − G11) reaches {:.3g} in the band: a 1 % error in the measured FRF can move "
                                      "K by up to that factor; check the band sits on the joint's dominant mode",
@@ -188,10 +188,10 @@ JointReadout read_joint(const JointSeries& s, double lo, double hi, const Readou
   if (r.reciprocity_k > options.reciprocity_warning)
     r.warnings.push_back(fmt::format("k_ym = {:.4g} and k_tf = {:.4g} differ by {:.0f} %: finite-difference error in L/N or a "
                                      "non-linear joint (seed Section 2.2)",
-                                     r.parameters[2].median, r.parameters[4].median, 100 * r.reciprocity_k));
+                                     median(P::k_ym), median(P::k_tf), 100 * r.reciprocity_k));
   if (r.reciprocity_c > options.reciprocity_warning)
-    r.warnings.push_back(fmt::format("c_ym = {:.4g} and c_tf = {:.4g} differ by {:.0f} %", r.parameters[3].median,
-                                     r.parameters[5].median, 100 * r.reciprocity_c));
+    r.warnings.push_back(fmt::format("c_ym = {:.4g} and c_tf = {:.4g} differ by {:.0f} %", median(P::c_ym),
+                                     median(P::c_tf), 100 * r.reciprocity_c));
   for (int k = 0; k < 8; ++k) {
     const auto& p = r.parameters[static_cast<std::size_t>(k)];
     const double gain = r.noise_gain[static_cast<std::size_t>(k)];
@@ -261,7 +261,7 @@ EffectAnalysis effect_analysis(const Assembly& assembly, Route route, const std:
     if (std::abs(r.modes[i].stiffness_shift) > std::abs(r.modes[r.dominant].stiffness_shift)) r.dominant = i;
   if (r.modes[r.dominant].stiffness_shift == 0.0)
     throw InvalidArgument(fmt::format("effect analysis: no mode of the {} FRF moves when joints.{} changes", tool_point_frf ? "tool point" : "holder tip", which),
-                          "the FRF does not depend on this joint; pick the band by hand (--band)");
+                          "the FRF does not depend on this joint; pick the band by hand (IdentificationOptions::band_hz)");
   return r;
 }
 

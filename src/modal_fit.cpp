@@ -56,11 +56,11 @@ FrfSeries modal_frf(const std::vector<Mode>& modes, const std::vector<double>& f
 
 void ModalFitOptions::check() const {
   if (max_modes < 1 || max_modes > 20)
-    throw InvalidArgument(fmt::format("--max-modes {} must lie in 1…20", max_modes));
+    throw InvalidArgument(fmt::format("ModalFitOptions::max_modes = {} must lie in 1…20", max_modes));
   if (band_hz) {
     const auto [lo, hi] = *band_hz;
     if (!std::isfinite(lo) || !std::isfinite(hi) || !(lo >= 0.0) || !(hi > lo))
-      throw InvalidArgument(fmt::format("--band {}:{} Hz must satisfy 0 ≤ F1 < F2", lo, hi), "e.g. --band 500:3000");
+      throw InvalidArgument(fmt::format("ModalFitOptions::band_hz = {}:{} Hz must satisfy 0 ≤ F1 < F2", lo, hi), "e.g. 500:3000");
   }
   if (!std::isfinite(min_prominence_db) || !(min_prominence_db > 0.0))
     throw InvalidArgument(fmt::format("peak prominence {} dB must be positive", min_prominence_db));
@@ -218,7 +218,7 @@ ModalFitResult fit_modes_at_scale(const FrfSeries& frf, const ModalFitOptions& o
     throw InputError(fmt::format("{}: {} point(s) in the fitted band {}, at least 8 needed", what, f.size(),
                                  options.band_hz ? fmt::format("{}–{} Hz", options.band_hz->first, options.band_hz->second)
                                                  : std::string("(whole FRF)")),
-                     "widen --band or give a finer FRF");
+                     "widen ModalFitOptions::band_hz or give a finer FRF");
   res.band_low_hz = f.front();
   res.band_high_hz = f.back();
   res.points = f.size();
@@ -229,7 +229,7 @@ ModalFitResult fit_modes_at_scale(const FrfSeries& frf, const ModalFitOptions& o
   if (peaks.empty())
     throw InputError(fmt::format("{}: no resonance peak rising {} dB above its surroundings in {}–{} Hz", what,
                                  options.min_prominence_db, f.front(), f.back()),
-                     "check the band (--band) and that the file holds a receptance with a resonance inside it");
+                     "check the band (ModalFitOptions::band_hz) and that the file holds a receptance with a resonance inside it");
   std::stable_sort(peaks.begin(), peaks.end(), [](const ModePeak& a, const ModePeak& b) { return a.prominence_db > b.prominence_db; });
   // A peak needs points inside its half-power band for its damping to be seen: fewer than 3 is
   // an under-resolved mode (or a noise spike). Such peaks are set aside; with none left, stop.
@@ -256,7 +256,7 @@ ModalFitResult fit_modes_at_scale(const FrfSeries& frf, const ModalFitOptions& o
                      "measure or compute the FRF on a finer frequency grid around that mode");
   peaks = std::move(resolved);
   if (peaks.size() > static_cast<std::size_t>(options.max_modes)) {
-    res.warnings.push_back(fmt::format("{} peaks found, the {} most prominent kept (raise --max-modes to fit more)",
+    res.warnings.push_back(fmt::format("{} peaks found, the {} most prominent kept (raise ModalFitOptions::max_modes to fit more)",
                                        peaks.size(), options.max_modes));
     peaks.resize(static_cast<std::size_t>(options.max_modes));
   }
@@ -303,7 +303,7 @@ ModalFitResult fit_modes_at_scale(const FrfSeries& frf, const ModalFitOptions& o
                                        static_cast<int>(status), res.evaluations));
   if (!x.allFinite())
     throw NumericalError(fmt::format("{}: the modal fit diverged (non-finite parameters)", what),
-                         "narrow --band around the modes of interest or reduce --max-modes");
+                         "narrow ModalFitOptions::band_hz around the modes of interest or reduce ModalFitOptions::max_modes");
 
   for (int r = 0; r < k; ++r) {
     FittedMode m;
@@ -342,7 +342,7 @@ ModalFitResult fit_modes_at_scale(const FrfSeries& frf, const ModalFitOptions& o
                                          100.0 * m.normalised_residual));
   }
   if (res.normalised_residual > 0.1)
-    res.warnings.push_back(fmt::format("overall fit residual {:.1f} %: more modes (--max-modes) or a narrower --band may help",
+    res.warnings.push_back(fmt::format("overall fit residual {:.1f} %: more modes (ModalFitOptions::max_modes) or a narrower ModalFitOptions::band_hz may help",
                                        100.0 * res.normalised_residual));
   return res;
 }
@@ -395,7 +395,7 @@ std::vector<Mode> ModalFitResult::modal_model() const {
     if (!(m.residue > 0.0))
       throw NumericalError(fmt::format("the fitted mode at {:.2f} Hz has residue {:.4g} 1/kg: it has no positive modal mass",
                                        m.mode.frequency_hz, m.residue),
-                           "fit a point (direct) FRF, narrow --band, or give the modes explicitly");
+                           "fit a point (direct) FRF, narrow ModalFitOptions::band_hz, or give the modes explicitly");
     out.push_back(m.mode);
   }
   return out;

@@ -188,14 +188,29 @@ BlockNoise estimate_block_noise(const BlockSeries& data, const NoiseEstimateOpti
   if (thin == n)
     throw InputError(fmt::format("{}: no frequency has a usable residual to estimate the noise from (an entry is zero throughout?)", what),
                      "state the noise level instead (magnitude and phase σ)");
-  // Lag-1 correlation of the residuals over consecutive kept points.
-  double num = 0.0, den = 0.0;
-  for (std::size_t i = lo; i + 1 < hi; ++i) {
-    if (!keep[i]) continue;
-    den += rho[i].squaredNorm();
-    if (keep[i + 1]) num += rho[i].dot(rho[i + 1]);
+  // Lag-1 correlation of the residuals over consecutive kept points, per chunk of `window`
+  // points, and the median over the chunks. One ratio over the whole band is dominated by the few
+  // frequencies near sharp peaks and antiresonances, where the local polynomial's misfit (smooth,
+  // correlated) outweighs the noise: on clean 0.5 % tap-test data that alone moved it from −0.49
+  // to −0.3. Smoothing or windowing acts on every chunk, so the median still sees it.
+  std::vector<double> chunks;
+  for (std::size_t a = lo; a + 1 < hi; a += 2 * half + 1) {
+    const std::size_t b = std::min(hi, a + 2 * half + 1);
+    double num = 0.0, den = 0.0;
+    for (std::size_t i = a; i + 1 < b; ++i) {
+      if (!keep[i]) continue;
+      den += rho[i].squaredNorm();
+      if (keep[i + 1]) num += rho[i].dot(rho[i + 1]);
+    }
+    if (den > 0.0) chunks.push_back(num / den);
   }
-  out.residual_correlation = den > 0.0 ? num / den : std::numeric_limits<double>::quiet_NaN();
+  if (chunks.empty()) {
+    out.residual_correlation = std::numeric_limits<double>::quiet_NaN();
+  } else {
+    std::sort(chunks.begin(), chunks.end());
+    const std::size_t k = chunks.size();
+    out.residual_correlation = k % 2 ? chunks[k / 2] : 0.5 * (chunks[k / 2 - 1] + chunks[k / 2]);
+  }
   out.source = fmt::format("estimated from the data (residuals about a {}-point order-{} local polynomial, averaged over {} points)",
                            options.local.window, options.local.order, options.window);
   out.warnings = std::move(smooth.warnings);

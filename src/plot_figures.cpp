@@ -450,4 +450,28 @@ Figure lobes_figure(const LobesFigureData& data) {
   return fig;
 }
 
+Figure probability_map_figure(const ProbabilityMapData& d) {
+  if (d.probability.size() != d.speed_rpm.size() * d.depth_mm.size())
+    throw InvalidArgument(fmt::format("probability map: {} values for {} speeds × {} depths", d.probability.size(), d.speed_rpm.size(),
+                                      d.depth_mm.size()));
+  Figure fig;
+  fig.title = d.title;
+  fig.x.label = "Spindle speed [rpm]";
+  Panel p;
+  p.y.label = "Axial depth [mm]";
+  Map m;
+  m.x = d.speed_rpm;
+  m.y = d.depth_mm;
+  m.z = d.probability;
+  m.colour.label = "Probability of stability";
+  m.colour.min = 0.0;
+  m.colour.max = 1.0;
+  p.map = std::move(m);
+  int series = 0;
+  for (const auto& e : d.envelopes) p.curves.push_back({d.speed_rpm, e.depth_mm, e.label, CurveStyle::Line, series++});
+  p.legend = Legend::TopLeft;
+  fig.panels.push_back(std::move(p));
+  return fig;
+}
+
 }  // namespace toolpoint::plot

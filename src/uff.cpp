@@ -1203,7 +1203,7 @@ const UffDataset58& select_dataset58(const UffFile& file, const UffSelection& se
                      "pick an index or node/direction from the list (`toolpoint convert FILE --list`)");
   throw InputError(fmt::format("{}: {} datasets 58 match {}:{}", file.source, match.size(), sel.describe(),
                                candidate_list(match)),
-                   "choose one by index (--dataset N) or add node/direction criteria");
+                   "choose one by index (UffSelection::index) or add node/direction criteria");
 }
 
 void UffWriteOptions::check() const {

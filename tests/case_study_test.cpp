@@ -63,7 +63,7 @@ TEST(CaseStudy, NoisyIdentificationOverManySeeds) {
   for (int seed = 1; seed <= n; ++seed) {
     const auto nsh = savgol_filter(add_measurement_noise(sh, {0.05, 2ull * seed}).series, SavgolOptions{81, 2}).series;
     const auto nsht = savgol_filter(add_measurement_noise(sht, {0.05, 2ull * seed + 1}).series, SavgolOptions{81, 2}).series;
-    const JointReadout r = read_joint(identify_series(tool, nsh, "SH11", nsht, "SHT11"), lo, hi);
+    const JointReadout r = band_readout(identify_series(tool, nsh, "SH11", nsht, "SHT11"), lo, hi);
     const double e = r.parameters[0].median / ref.k_yf - 1.0;
     sum += e;
     sum2 += e * e;

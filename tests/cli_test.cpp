@@ -22,6 +22,8 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "support/scratch.hpp"
+
 #include "toolpoint/assembly_file.hpp"
 #include "toolpoint/frf_file.hpp"
 #include "toolpoint/io.hpp"
@@ -178,6 +180,20 @@ TEST_F(Cli, IdentifiedJointFileFeedsTheOtherCommands) {
   EXPECT_NE(band.find("frequency_hz,magnitude_q5_m_per_n,magnitude_q50_m_per_n,magnitude_q95_m_per_n"), std::string::npos);
   expect_png("band.png", kTwoPanels);
   ok("couple --sh sh.csv --assembly '" + kExample + "' --joint kht.toml --output coupled.csv");
+  // couple's band (Eq. 5: the model's exact SH11 coupled to the tool) against predict's (the whole
+  // model), the same joint draws (same seed): equal to the coupling's round-off (1e-6 relative;
+  // the two algebras differ, and antiresonances amplify their rounding).
+  ok("couple --sh sh.csv --assembly '" + kExample + "' --joint kht.toml --samples 30 --seed 5 --band-output cband.csv --plot cband.png");
+  ok("predict '" + kExample + "' --joint holder-tool=kht.toml --frequencies 10:5000:5 --samples 30 --seed 5 --band-output pband.csv");
+  const Table cband = test::read_csv_table(path("cband.csv")), pband = test::read_csv_table(path("pband.csv"));
+  ASSERT_EQ(cband.rows.size(), pband.rows.size());
+  ASSERT_EQ(cband.columns, pband.columns);
+  for (std::size_t i = 0; i < cband.rows.size(); i += 7)
+    for (std::size_t c = 1; c <= 3; ++c)  // the magnitude quantiles
+      EXPECT_NEAR(cband.rows[i][c], pband.rows[i][c], 1e-6 * pband.rows[i][c]) << cband.rows[i][0] << " Hz, " << cband.columns[c];
+  expect_png("cband.png", kTwoPanels);
+  expect_error(run("couple --sh sh.csv --assembly '" + kExample + "' --joint kht.toml --samples 30 --overhang 0.04:0.05:0.005 --output d"), 2,
+               {"--samples", "one overhang"});
   ok("taptest '" + kExample + "' --joint holder-tool=kht.toml --spacing 0.01 --frequencies 100:3000:10 --output tap.uff");
   // Lobes with the joint uncertain: the probability of stability on speed × depth, 1 at zero depth
   // and never rising with depth at a speed; the quantile envelopes in the figure.
@@ -187,6 +203,7 @@ TEST_F(Cli, IdentifiedJointFileFeedsTheOtherCommands) {
   const std::string prob = read_text_file(path("prob.csv"));
   EXPECT_NE(prob.find("spindle_speed_rpm,axial_depth_mm,probability_stable"), std::string::npos);
   EXPECT_TRUE(exists("lobes.png"));
+  expect_png("lobes_probability.png", 700);  // one panel, the default height
   // The wrong interface, sampling without a covariance, a joint file that is no such thing.
   expect_error(run("predict '" + kExample + "' --joint spindle-holder=kht.toml"), 2, {"kht.toml", "holder_tool"});
   expect_error(run("predict '" + kExample + "' --samples 20"), 2, {"--samples", "--joint"});
@@ -312,6 +329,37 @@ TEST_F(Cli, TaptestThenRotationalFromTheWholeFile) {
     EXPECT_LT(std::abs(H_of(a.blocks[i]) - H_of(m.blocks[i])), 1e-9 * std::abs(H_of(m.blocks[i])));
   }
   expect_error(run("rotational --uff tap.uff --h00 tap.uff#0 --spacing 0.01 --output c.csv"), 2, {"--uff"});
+}
+
+// The model-based finite-difference correction through the CLI: a noise-free virtual tap test on the
+// holder, differenced with and without `--model`, against the model's own SH11 from `predict --at
+// holder` (the coupling path, not the station path the correction differences). Without the
+// correction P is off by the O(s) truncation error (over 1 % here at s = 20 mm); with the model that
+// generated the data it is exact up to round-off (1e-7 of each entry's largest value: station and
+// point coupling are different algebra, and differences of FRFs 20 mm apart lose ~4 digits).
+TEST_F(Cli, RotationalWithTheModelRemovesTheTruncationError) {
+  ok("taptest '" + kExample + "' --at holder --spacing 0.02 --frequencies 200:3000:20 --binary --output tap.uff");
+  ok("predict '" + kExample + "' --at holder --frequencies 200:3000:20 --output sh.csv");
+  ok("rotational --uff tap.uff --spacing 0.02 --order 2 --output raw.csv");
+  const Run fixed = run("rotational --uff tap.uff --spacing 0.02 --order 2 --model '" + kExample + "' --at holder --output fixed.csv");
+  ASSERT_EQ(fixed.code, 0) << fixed.err;
+  EXPECT_NE(fixed.err.find("finite-difference error estimated on the model"), std::string::npos) << fixed.err;
+  EXPECT_NE(read_text_file(path("fixed.csv")).find("# finite-difference error estimated on the model"), std::string::npos);
+  const BlockSeries raw = read_block_csv(path("raw.csv")), corrected = read_block_csv(path("fixed.csv")),
+                    exact = read_block_csv(path("sh.csv"));
+  ASSERT_EQ(raw.size(), exact.size());
+  for (int e = 1; e < 4; ++e) {
+    double scale = 0.0, raw_error = 0.0, corrected_error = 0.0;
+    for (std::size_t i = 0; i < exact.size(); ++i) {
+      const Complex x = exact.blocks[i](e / 2, e % 2);
+      scale = std::max(scale, std::abs(x));
+      raw_error = std::max(raw_error, std::abs(raw.blocks[i](e / 2, e % 2) - x));
+      corrected_error = std::max(corrected_error, std::abs(corrected.blocks[i](e / 2, e % 2) - x));
+    }
+    if (e == 3) EXPECT_GT(raw_error, 0.01 * scale) << "P's truncation error, the point of the correction";
+    EXPECT_LT(corrected_error, 1e-7 * scale) << "entry " << e;
+  }
+  expect_error(run("rotational --uff tap.uff --spacing 0.02 --model '" + kExample + "' --output c.csv"), 2, {"--model", "--at"});
 }
 
 // Dataset 1 of a two-dataset file, to CSV, as written (binary UFF: exact); a block CSV copied

@@ -111,7 +111,7 @@ TEST(FrfFile, OrdinateOverride) {
     FAIL() << "read an ordinate of unknown kind";
   } catch (const InputError& e) {
     EXPECT_TRUE(contains(e.what(), "record 9 ordinate data type 1 (general")) << e.what();
-    EXPECT_TRUE(contains(e.hint(), "--ordinate")) << e.hint();
+    EXPECT_TRUE(contains(e.hint(), "FrfReadOptions::ordinate")) << e.hint();
   }
   EXPECT_NO_THROW(read_frf_file(path, {.ordinate = FrfOrdinate::Accelerance}));
 }
@@ -169,7 +169,7 @@ TEST(FrfFile, UnitsDatasetScalesToSi) {
   // … and one it does not know is reported, not applied.
   d.ordinate.units = "mm/kgf";
   write_uff(path, {d});
-  EXPECT_TRUE(any_contains(read_frf_file(path).warnings, {"'mm/kgf'", "not SI", "--units"}));
+  EXPECT_TRUE(any_contains(read_frf_file(path).warnings, {"'mm/kgf'", "not SI", "FrfReadOptions::units"}));
 }
 
 // CutPro text: liberal in layout, strict about what the columns are, strict in what is written.

@@ -196,7 +196,7 @@ TEST(Identify, ReadoutStatistics) {
     p.k_tf = p.k_ym * 1.5;
     s.parameters.push_back(p);
   }
-  const JointReadout r = read_joint(s, 100.0, 104.0);
+  const JointReadout r = band_readout(s, 100.0, 104.0);
   EXPECT_EQ(r.points, 5u);
   EXPECT_DOUBLE_EQ(r.parameters[0].median, 3.0);
   EXPECT_DOUBLE_EQ(r.parameters[0].spread, 1.4826 * 1.0);  // deviations 2,1,0,1,97 → median 1
@@ -204,8 +204,8 @@ TEST(Identify, ReadoutStatistics) {
   EXPECT_NEAR(r.reciprocity_k, 1.0 / 3.0, 1e-12);
   EXPECT_FALSE(r.warnings.empty());  // reciprocity beyond 10 %
   EXPECT_DOUBLE_EQ(r.max_cond_difference, 50.0);
-  EXPECT_EQ(read_joint(s, 101.0, 102.0).points, 2u);
-  EXPECT_THROW(read_joint(s, 200.0, 300.0), InvalidArgument);
+  EXPECT_EQ(band_readout(s, 101.0, 102.0).points, 2u);
+  EXPECT_THROW(band_readout(s, 200.0, 300.0), InvalidArgument);
 }
 
 // Forward verification: 30 % stiffer joint stiffnesses move the tool mode up by over 1 % (effect
@@ -235,7 +235,7 @@ TEST(Identify, ZeroCouplingTermsAreNotFlagged) {
   const std::vector<double> f = FrequencyGrid{3900.0, 4500.0, 5.0}.values();
   const BlockSeries S = block_series(f, [&](double x) { return m.spindle_nose(x); });
   const BlockSeries SH = m.holder_tip(f);
-  const JointReadout r = read_joint(identify_series([&](double x) { return m.holder(x); }, S, "S11", SH, "SH11"), 4100.0, 4280.0);
+  const JointReadout r = band_readout(identify_series([&](double x) { return m.holder(x); }, S, "S11", SH, "SH11"), 4100.0, 4280.0);
   const JointParameters& p = a.spindle_holder.parameters;
   EXPECT_LT(std::abs(r.parameters[2].median), 1e-6 * std::sqrt(p.k_yf * p.k_tm));
   EXPECT_LT(r.reciprocity_k, 0.1);

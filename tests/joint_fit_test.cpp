@@ -111,7 +111,7 @@ TEST(JointFit, RemovesTheClosedFormsBiasOnAStiffJoint) {
   const EffectAnalysis ea = effect_analysis(a, Route::SpindleHolderFromSH, f);
   const double mode = ea.modes[ea.dominant].frequency_hz;
   const JointSeries js = identify_series([&](double y) { return m.holder(y); }, x.B11, "S11", x.G11, "SH11");
-  const JointReadout seed = read_joint(js, 0.98 * mode, 1.02 * mode);
+  const JointReadout seed = band_readout(js, 0.98 * mode, 1.02 * mode);
   EXPECT_LT(seed.parameters[0].median / d.truth.k_yf - 1.0, -0.2) << "the closed form's bias this test is about";
   const JointFit r = fit_joint({x}, {seed.medians(), offset_start(d.truth)}, linearised());
   for (int k : {0, 6}) {

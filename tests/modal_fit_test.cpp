@@ -112,7 +112,7 @@ TEST(ModalFit, KeepsTheMostProminentPeaks) {
   EXPECT_NEAR(r.modes[0].mode.frequency_hz, 922.0, 1.0);
   EXPECT_NEAR(r.modes[1].mode.frequency_hz, 2400.0, 1.0);
   ASSERT_FALSE(r.warnings.empty());
-  EXPECT_NE(r.warnings[0].find("--max-modes"), std::string::npos);
+  EXPECT_NE(r.warnings[0].find("ModalFitOptions::max_modes"), std::string::npos);
 }
 
 // A negated FRF (wrong sign convention) fits with negative residues: warned, and no modal mass.

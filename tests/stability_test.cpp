@@ -460,7 +460,7 @@ TEST(LobesCommand, WritesLobesAndRejectsBadInputWithExitCodes) {
   EXPECT_NE(assembly.out.find("warning: the tool point FRF of "), std::string::npos) << assembly.out;
   EXPECT_NE(assembly.out.find("estimated discretization error at most"), std::string::npos) << assembly.out;
   const CliRun few_lobes = run_cli(base + " --immersion 0.5 --lobes 1");
-  EXPECT_NE(few_lobes.out.find("--lobes (ZeroOrderOptions::lobes)"), std::string::npos) << few_lobes.out;
+  EXPECT_NE(few_lobes.out.find("--lobes"), std::string::npos) << few_lobes.out;
 
   const CliRun bad_immersion = run_cli(base + " --immersion 1.5");
   EXPECT_EQ(bad_immersion.code, 2) << bad_immersion.out;

@@ -108,6 +108,10 @@ struct SamplingOptions {
 void add_sampling_options(CLI::App* command, SamplingOptions& target, const std::string& what, bool threads_option = true);
 const JointFile& sampled_joint(const std::vector<JointFile>& files);
 UncertaintyOptions uncertainty_options(const SamplingOptions& s);
+// The tool point FRF's quantiles as a table (|H| [m/N] and ∠H [deg] per level) and as FRF traces
+// around the nominal, for --band-output and the figure.
+Table band_table(const FrfBand& b);
+std::vector<plot::FrfTrace> band_traces(const FrfBand& b);
 
 // The command line's spelling of a library field: `e` rethrown with " (FLAG)" after its message
 // when the message names one of the fields (e.g. "OverhangStudyOptions::peaks" → --prominence),

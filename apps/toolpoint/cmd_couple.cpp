@@ -25,7 +25,8 @@ namespace toolpoint::cli {
 namespace {
 
 struct CoupleArgs {
-  std::string sh, assembly, overhang, output, plot;
+  std::string sh, assembly, overhang, output, plot, band_output;
+  SamplingOptions sampling;
   std::vector<std::string> joints;
   double prominence = 0.1;
   bool json = false;
@@ -82,6 +83,12 @@ void run_couple(const CoupleArgs& o, const Globals& g) {
   }
   if (!sweep) check_output_extension(o.output, "--output", {".csv"}, "the tool point 2×2 block as FRF CSV (.csv)");
   const std::vector<JointFile> joints = read_joint_options(g, o.joints);
+  std::optional<UncertaintyOptions> sampling;
+  if (o.sampling.samples != 0 || !o.band_output.empty()) {
+    if (sweep) throw InvalidArgument("--samples: the band is computed for one overhang", "give --overhang one length, e.g. 0.048");
+    sampling = uncertainty_options(o.sampling);
+    sampled_joint(joints);
+  }
   LoadedAssembly loaded = load_assembly(o.assembly);
   report_loaded(g, loaded);
   loaded.assembly = with_joints(loaded.assembly, joints);
@@ -116,6 +123,22 @@ void run_couple(const CoupleArgs& o, const Globals& g) {
     }
     j["overhangs"][i]["file"] = file;
   }
+  // The joint uncertain (one overhang): the quantiles of the coupled tool point FRF.
+  std::optional<FrfBand> band;
+  if (sampling) {
+    const Assembly at = with_overhang(loaded.assembly, study.overhangs.front().overhang_m);
+    band = coupled_tool_point_band(at, sampled_joint(joints), sh, o.sh, *sampling);
+    j["band"] = *band;
+    if (!o.band_output.empty()) {
+      write_table_csv(o.band_output, band_table(*band),
+                      {fmt::format("tool point H from {} + model tool at overhang {} m with the joint of {} uncertain: quantiles over "
+                                   "{} samples",
+                                   o.sh, study.overhangs.front().overhang_m, sampled_joint(joints).source, band->samples),
+                       "frequency Hz, magnitude m/N, phase deg (unwrapped around the nominal)"});
+      written.push_back(o.band_output);
+      j["band_output"] = o.band_output;
+    }
+  }
   const std::vector<std::vector<double>>& modes = study.tracked_modes_hz;
   if (sweep) {
     Table table;
@@ -138,8 +161,17 @@ void run_couple(const CoupleArgs& o, const Globals& g) {
     std::cout << j.dump(2) << '\n';
   } else {
     print_report(o, g, inside, overhangs, modes, sweep);
+    if (band && !o.band_output.empty()) info(g, fmt::format("wrote {} (quantiles of the tool point FRF)", o.band_output));
   }
   if (o.plot.empty()) return;
+  if (band) {
+    plot::FrfFigureOptions fo;
+    fo.symbol = "H^{sht}_{11}";
+    fo.title = fmt::format("Tool point FRF from {} + model tool, the joint uncertain ({} samples)", plot::literal(o.sh), band->samples);
+    fo.mode_labels = 6;
+    draw_figures(g, {{plot::frf_figure(band_traces(*band), fo), o.plot}}, written);
+    return;
+  }
   std::vector<FrfSeries> tool_point_h;
   for (const OverhangFrf& r : study.overhangs) tool_point_h.push_back(entry(r.sht11, 0));
   plot::FrfFigureOptions fo;
@@ -195,6 +227,9 @@ void add_couple_command(CLI::App& app, Globals& g) {
                 "sht11_overhang_<mm>mm.csv per overhang and natural_frequencies.csv (overhang m, peaks Hz). Default: "
                 "the table on stdout only");
   add_joint_option(c, o->joints);
+  add_sampling_options(c, o->sampling, "one overhang: the 5/50/95 % quantiles of the tool point FRF, in --band-output and the figure");
+  c->add_option("--band-output", o->band_output,
+                "With --samples: the quantiles of |H| [m/N] and ∠H [deg] per frequency [Hz] (CSV)");
   add_plot_option(c, o->plot,
                   "|H| [m/N] and phase [deg] of the tool point FRF against frequency [Hz] (one overhang: modes labelled; "
                   "a sweep: every overhang overlaid, and the natural frequencies [Hz] against overhang [mm] in FILE with "

@@ -163,8 +163,8 @@ void run_demo(const DemoOptions& o, const Globals& g) {
                                                : joint_curve(cs.filtered, 0, cs.reference, cs.filtered_readout.medians(), nullptr,
                                                              &cs.filtered_readout);
       if (cs.fitted) {
-        yf.other_stiffness = cs.filtered_readout.parameters[0].median;
-        yf.other_damping = cs.filtered_readout.parameters[1].median;
+        yf.other_stiffness = cs.filtered_readout.parameters[static_cast<std::size_t>(JointParameter::k_yf)].median;
+        yf.other_damping = cs.filtered_readout.parameters[static_cast<std::size_t>(JointParameter::c_yf)].median;
         yf.identified_label = "band fit";
       }
       noisy.parameters.push_back(yf);

@@ -127,26 +127,6 @@ Mode parse_mode(const std::string& text, const std::string& option) {
   return m;
 }
 
-// The library's field names in its messages, as this command's options.
-std::string with_flags(std::string text) {
-  static const std::pair<const char*, const char*> kFlags[] = {
-      {"LobesStudyOptions::tolerance", "--tolerance"},     {"BoundaryOptions::tolerance", "--tolerance"},
-      {"BoundaryOptions::steps", "--intervals"},           {"BoundaryOptions::max_steps", "--intervals"},
-      {"LobesStudyOptions::max_depth_m", "--max-depth"},   {"BoundaryOptions::max_depth_m", "--max-depth"},
-      {"LobesStudyOptions::lobes", "--lobes"},             {"LobesStudyOptions::fit_target", "--fit-target"},
-      {"LobesStudyOptions::pocket_prominence", "--pocket-prominence"}, {"ParallelOptions::threads", "--threads"},
-      {"ModalFitOptions::max_modes", "--max-modes"},       {"LobesInput::x_modes", "--mode-x"},
-      {"LobesInput::frfs", "--frf"},                       {"LobesInput: rigid_y and y modes", "--rigid-y and --mode-y"},
-      {"ZeroOrderOptions::lobes", "--lobes"},              {"SpeedRange::min_rpm and max_rpm", "--rpm MIN:MAX"},
-      {"CuttingConditions::radial_ratio", "--kr"}};
-  for (const auto& [field, flag] : kFlags)
-    for (std::size_t at = text.find(field); at != std::string::npos; at = text.find(field, at + std::strlen(flag))) {
-      text.replace(at, std::strlen(field), fmt::format("{} ({})", flag, field));
-      at += std::strlen(field) + 3;
-    }
-  return text;
-}
-
 // ---- Text ------------------------------------------------------------------------------------
 
 void print_summary(const LobesStudyResult& r) {
@@ -368,7 +348,28 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
         d.other_envelopes.push_back({su->depth_m[l], fmt::format("stable with {:g} % probability{}", 100 * (1.0 - su->levels[l]),
                                                                  l == 0 ? fmt::format(" ({} joint samples)", su->samples) : "")});
     }
-    draw_figures(g, {{plot::lobes_figure(d), o.plot}}, written);
+    std::vector<FigureFile> figures{{plot::lobes_figure(d), o.plot}};
+    if (su) {
+      // The probability map, on the envelope's speeds and the map's depths, with the nominal and
+      // the 95 % envelope on top.
+      plot::ProbabilityMapData m;
+      m.title = fmt::format("Probability of stability, the joint of {} uncertain ({} samples)", plot::literal(sampled_source),
+                            su->samples);
+      m.speed_rpm = su->speed_rpm;
+      for (double a : su->depth_grid_m) m.depth_mm.push_back(1e3 * a);
+      for (std::size_t j = 0; j < su->depth_grid_m.size(); ++j)
+        for (std::size_t i = 0; i < su->speed_rpm.size(); ++i)
+          m.probability.push_back(su->probability(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)));
+      auto mm = [](const std::vector<double>& v) {
+        std::vector<double> out;
+        for (double a : v) out.push_back(1e3 * a);
+        return out;
+      };
+      m.envelopes.push_back({mm(su->nominal_depth_m), "nominal envelope"});
+      m.envelopes.push_back({mm(su->depth_m.front()), fmt::format("stable with {:g} % probability", 100 * (1.0 - su->levels.front()))});
+      figures.push_back({plot::probability_map_figure(m), with_suffix(o.plot, "_probability")});
+    }
+    draw_figures(g, figures, written);
   }
 }
 
@@ -440,7 +441,9 @@ void add_lobes_command(CLI::App& app, Globals& g) {
                 "Write the stable envelope here: CSV spindle_speed_rpm,axial_depth_mm,chatter_frequency_hz,lobe (default: none)");
   add_plot_option(c, o->plot,
                   "axial depth [mm] against spindle speed [rpm] with the stable region under the envelope shaded, the "
-                  "lobes (zoa) or the boundary (fd) numbered, and their chatter frequency [Hz] in a second panel");
+                  "lobes (zoa) or the boundary (fd) numbered, and their chatter frequency [Hz] in a second panel; with --samples "
+                  "also the quantile envelopes, and the probability of stability over speed × depth as a colour map in FILE "
+                  "with \"_probability\" before the extension");
   add_joint_option(c, o->joints)->description(
       "With --assembly: an identified joint instead of the assembly file's (holder-tool=FILE.toml or spindle-holder=FILE.toml, "
       "from `toolpoint identify --joint-output`)");

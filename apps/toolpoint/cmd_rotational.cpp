@@ -14,6 +14,8 @@
 #include "toolpoint/io.hpp"
 #include "toolpoint/plot.hpp"
 #include "toolpoint/signal.hpp"
+#include "toolpoint/assembly_file.hpp"
+#include "toolpoint/studies/fd_correction.hpp"
 
 namespace toolpoint::cli {
 
@@ -23,6 +25,7 @@ struct RotationalCliOptions {
   double shear_stiffness = 0.0;
   std::string files[3][3];  // files[i][j]: H_ij, response at point i, force at point j
   std::string output, p_method = "auto", plot, uff, direction;
+  std::string model, at_site;  // --model A.toml --at tool|holder: the model-based correction
   std::vector<int> nodes;   // --nodes: UFF node numbers of points 0 (tip), 1, 2
   RotationalOptions fd{2, 0.0, false, PMethod::Auto, std::nullopt, false};
 };
@@ -130,11 +133,28 @@ void run_rotational(RotationalCliOptions o, const Globals& g) {
       }
   RotationalOptions fd = o.fd;
   if (o.shear_stiffness != 0.0) fd.shear_stiffness = o.shear_stiffness;
+  if (o.model.empty() != o.at_site.empty())
+    throw InvalidArgument("--model and --at go together: the assembly model and where on it the points are",
+                          "add --at tool (points on the tool, for SHT11) or --at holder (on the holder, for SH11)");
   RotationalResult r;
   try {
     r = rotational_frfs(in, fd);
   } catch (const InputError& e) {
     throw InputError(with_flags(e.what()), with_flags(e.hint()));
+  }
+  std::string correction = "no finite-difference correction";
+  if (!o.model.empty()) {
+    const LoadedAssembly model = load_assembly(o.model);
+    warn_all(model.warnings);
+    const TapSide side = o.at_site == "holder" ? TapSide::Holder : TapSide::Tool;
+    const FiniteDifferenceError e = finite_difference_error(model.assembly, side, r.block.frequency_hz, in, fd);
+    warn_all(e.warnings);
+    r.block = remove_finite_difference_error(r.block, e);
+    correction = fmt::format(
+        "finite-difference error estimated on the model {} (points on the {}) and removed: at most {:.2g} % of |L|, "
+        "{:.2g} % of |N|, {:.2g} % of |P|",
+        o.model, o.at_site, 100.0 * e.max_relative[1], 100.0 * e.max_relative[2], 100.0 * e.max_relative[3]);
+    info(g, correction);
   }
   write_frf_csv(o.output, r.block,
                 {fmt::format("tip block by order-{} finite differences (Duarte & Ewins), spacing s = {} m; points 0 (tip), "
@@ -148,7 +168,8 @@ void run_rotational(RotationalCliOptions o, const Globals& g) {
                  r.filled_by_reciprocity.empty()
                      ? std::string("no measurement filled by reciprocity")
                      : fmt::format("reciprocity assumed (--assume-reciprocity), not measured: {}",
-                                   fmt::join(r.filled_by_reciprocity, ", "))});
+                                   fmt::join(r.filled_by_reciprocity, ", ")),
+                 correction});
   warn_all(r.warnings);
   if (r.reciprocity_mismatch)
     info(g, fmt::format("reciprocity check: max |L - N| / max(|L|, |N|) = {:.3g}", *r.reciprocity_mismatch));
@@ -208,6 +229,15 @@ void add_rotational_command(CLI::App& app, Globals& g) {
                 "Output 2×2 block FRF CSV, the one format that carries rotations (H m/N, L 1/N, N rad/N, P rad/(N m)) "
                 "(required)")
       ->required();
+  c->add_option("--model", o->model,
+                "Assembly file (TOML) of the structure tested: the same differences applied to the model's FRFs at the same "
+                "points, against the model's exact tip block, estimate the truncation error of L, N and P, which is then "
+                "removed (to first order in the model's error); needs --at. Default: no correction")
+      ->option_text("A.toml");
+  c->add_option("--at", o->at_site,
+                "With --model: where the points are: tool (on the tool of the whole assembly, for SHT11) or holder (on the "
+                "holder with the tool removed, for SH11)")
+      ->check(CLI::IsMember({"tool", "holder"}));
   add_plot_option(c, o->plot,
                   "the block: |H| [m/N], |L| and |N| [1/N], |P| [rad/(N·m)] and the four phases [deg] against frequency [Hz]");
   c->footer(std::string(kFigureFooter) +
@@ -222,7 +252,9 @@ void add_rotational_command(CLI::App& app, Globals& g) {
       "  toolpoint rotational --uff testlab.uff --nodes 101,102,103 --direction +Y --spacing 0.02 --output sht11.csv\n"
       "  toolpoint rotational --spacing 0.04 --order 2 --h00 tip.csv --h10 p1.csv --h20 p2.csv \\\n"
       "      --h11 p1p1.csv --h21 p2p1.csv --h22 p2p2.csv --output SHT11.csv --plot SHT11.png\n"
-      "  (with every FRF in one universal file: --h00 tap.uff#0 --h10 tap.uff#1 …)");
+      "  (with every FRF in one universal file: --h00 tap.uff#0 --h10 tap.uff#1 …)\n"
+      "  toolpoint rotational --uff tap_holder.uff --spacing 0.02 --model A.toml --at holder --output sh11.csv\n"
+      "      (the truncation error of the differences, estimated on the model A.toml, removed)");
   c->callback([o, &g] { run_rotational(*o, g); });
 }
 

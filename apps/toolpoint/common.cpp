@@ -25,7 +25,7 @@ void warn(const std::string& message) {
 }
 
 void warn_all(const std::vector<std::string>& messages) {
-  for (const auto& m : messages) warn(m);
+  for (const auto& m : messages) warn(with_flags(m));
 }
 
 // ---- Figures ------------------------------------------------------------------------------------
@@ -284,12 +284,37 @@ void add_frf_read_options(CLI::App* command, Globals& g) {
 }
 
 std::string with_flags(std::string text) {
-  static const std::pair<const char*, const char*> names[] = {
-      {"FrfCsvOptions::columns", "--columns"},      {"FrfCsvOptions::format", "--format"},
-      {"FrfReadOptions::units", "--units"},         {"FrfReadOptions::ordinate", "--ordinate"},
-      {"RotationalOptions::assume_reciprocity", "--assume-reciprocity"}};
-  for (const auto& [field, flag] : names)
-    for (std::size_t at; (at = text.find(field)) != std::string::npos;) text.replace(at, std::string_view(field).size(), flag);
+  // Field → flag, for every command (a field's flag is the same wherever it appears).
+  static const std::pair<std::string_view, std::string_view> kFlags[] = {
+      {"FrfCsvOptions::columns", "--columns"},
+      {"FrfCsvOptions::format", "--format"},
+      {"FrfReadOptions::units", "--units"},
+      {"FrfReadOptions::ordinate", "--ordinate"},
+      {"FrfReadOptions::format", "--from"},
+      {"UffSelection::index", "--dataset"},
+      {"RotationalOptions::assume_reciprocity", "--assume-reciprocity"},
+      {"LobesStudyOptions::tolerance", "--tolerance"},
+      {"BoundaryOptions::tolerance", "--tolerance"},
+      {"BoundaryOptions::steps", "--intervals"},
+      {"BoundaryOptions::max_steps", "--intervals"},
+      {"LobesStudyOptions::max_depth_m", "--max-depth"},
+      {"BoundaryOptions::max_depth_m", "--max-depth"},
+      {"LobesStudyOptions::lobes", "--lobes"},
+      {"LobesStudyOptions::fit_target", "--fit-target"},
+      {"LobesStudyOptions::pocket_prominence", "--pocket-prominence"},
+      {"ParallelOptions::threads", "--threads"},
+      {"ModalFitOptions::max_modes", "--max-modes"},
+      {"ModalFitOptions::band_hz", "--band"},
+      {"IdentificationOptions::band_hz", "--band"},
+      {"LobesInput::x_modes", "--mode-x"},
+      {"LobesInput::frfs", "--frf"},
+      {"LobesInput: rigid_y and y modes", "--rigid-y and --mode-y"},
+      {"ZeroOrderOptions::lobes", "--lobes"},
+      {"SpeedRange::min_rpm and max_rpm", "--rpm MIN:MAX"},
+      {"CuttingConditions::radial_ratio", "--kr"}};
+  for (const auto& [field, flag] : kFlags)
+    for (std::size_t at = text.find(field); at != std::string::npos; at = text.find(field, at + flag.size()))
+      text.replace(at, field.size(), flag);
   return text;
 }
 
@@ -440,6 +465,36 @@ void write_frf_output(const std::string& path, FrfFormat format, const FrfFileDa
   w.description = comment;
   w.coherence = data.coherence;
   warn_all(data.is_block ? write_frf_file(path, data.block, w) : write_frf_file(path, data.single, w));
+}
+
+// ---- The tool point FRF with the joint uncertain (predict, couple) -------------------------------
+
+// The tool point FRF's quantiles as a table: |H| [m/N] and ∠H [deg] per level.
+Table band_table(const FrfBand& b) {
+  Table t;
+  t.columns = {"frequency_hz"};
+  for (double l : b.levels) t.columns.push_back(fmt::format("magnitude_q{:g}_m_per_n", 100 * l));
+  for (double l : b.levels) t.columns.push_back(fmt::format("phase_q{:g}_deg", 100 * l));
+  for (std::size_t i = 0; i < b.frequency_hz.size(); ++i) {
+    std::vector<double> row{b.frequency_hz[i]};
+    for (const auto& m : b.magnitude) row.push_back(m[i]);
+    for (const auto& p : b.phase_rad) row.push_back(p[i] * 180.0 / kPi);
+    t.rows.push_back(std::move(row));
+  }
+  return t;
+}
+
+// FRF traces of the band's quantile levels (magnitude and phase quantiles recombined) around the nominal.
+std::vector<plot::FrfTrace> band_traces(const FrfBand& b) {
+  std::vector<plot::FrfTrace> traces{{b.nominal, "identified joint", plot::CurveStyle::Line}};
+  for (std::size_t l = 0; l < b.levels.size(); ++l) {
+    if (std::abs(b.levels[l] - 0.5) < 1e-9) continue;
+    FrfSeries q;
+    q.frequency_hz = b.frequency_hz;
+    for (std::size_t i = 0; i < b.frequency_hz.size(); ++i) q.values.push_back(std::polar(b.magnitude[l][i], b.phase_rad[l][i]));
+    traces.push_back({q, fmt::format("{:g} % quantile ({} joint samples)", 100 * b.levels[l], b.samples), plot::CurveStyle::Dashed});
+  }
+  return traces;
 }
 
 }  // namespace toolpoint::cli

@@ -14,8 +14,9 @@ namespace {
 
 // `fallback` stands in for errors thrown without a hint, so every error has its fix line.
 int report(const toolpoint::Error& e, int code, const std::string& fallback) {
-  std::cerr << "error: " << e.what() << '\n';
-  std::cerr << "  fix: " << (e.hint().empty() ? fallback : e.hint()) << '\n';
+  // The library names its own fields; here they are spelled as the options that set them.
+  std::cerr << "error: " << toolpoint::cli::with_flags(e.what()) << '\n';
+  std::cerr << "  fix: " << toolpoint::cli::with_flags(e.hint().empty() ? fallback : e.hint()) << '\n';
   return code;
 }
 

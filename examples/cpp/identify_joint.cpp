@@ -33,7 +33,7 @@ int main(int argc, char** argv) {
     // The mode the holder–tool joint controls, and the band around it.
     const toolpoint::EffectAnalysis effect = toolpoint::effect_analysis(assembly, toolpoint::Route::HolderTool, sht.frequency_hz);
     const double mode_hz = effect.modes[effect.dominant].frequency_hz;
-    const toolpoint::JointReadout r = toolpoint::read_joint(k, 0.98 * mode_hz, 1.02 * mode_hz);
+    const toolpoint::JointReadout r = toolpoint::band_readout(k, 0.98 * mode_hz, 1.02 * mode_hz);
 
     std::printf("holder-tool joint read at %.1f Hz (%zu points, %.1f to %.1f Hz)\n", mode_hz, r.points, r.band_lo_hz, r.band_hi_hz);
     for (int i = 0; i < 8; ++i)

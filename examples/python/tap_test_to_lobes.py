@@ -31,23 +31,22 @@ def run(args):
     print(f"2. tap tests: {len(holder.frfs)} FRFs on the holder, {len(tool.frfs)} on the tool; "
           f"κGA under the points {holder.shear_stiffness_n:.4g} N and {tool.shear_stiffness_n:.4g} N")
 
-    # 3. Rotational FRFs by second-order finite differences, shear strain removed (toolpoint rotational).
-    def block(test, spacing):
+    # 3. Rotational FRFs by second-order finite differences, shear strain removed, and the
+    # differences' truncation error estimated on the model and removed
+    # (toolpoint rotational --model A.toml --at holder/tool).
+    def block(test, spacing, side):
         H = {(r.response, r.hammer): r.values for r in test.frfs}
-        return tp.rotational_frfs(f, H, spacing=spacing, order=2, shear_stiffness=test.shear_stiffness_n).block
+        measured = tp.rotational_frfs(f, H, spacing=spacing, order=2, shear_stiffness=test.shear_stiffness_n).block
+        e = tp.finite_difference_error(assembly, f, list(H), spacing, side=side, shear_stiffness=test.shear_stiffness_n)
+        return measured - e.error
 
-    sh11, sht11 = block(holder, 0.02), block(tool, 0.015)
+    sh11, sht11 = block(holder, 0.02, "holder"), block(tool, 0.015, "tool")
 
-    # 4. Savitzky–Golay filter, window 41, order 2 (toolpoint filter).
-    sh11_f = tp.savgol_filter(sh11, 41, 2, frequency_hz=f)
-    sht11_f = tp.savgol_filter(sht11, 41, 2, frequency_hz=f)
-
-    # 5. The holder–tool joint (Eq. 6): the band fit with intervals, the seed's read-out beside it (toolpoint identify).
-    ident = tp.identify_joint_from_frfs(assembly, [tp.IdentificationData(f, sht11_f, B11=sh11_f)],
+    # 4. The holder–tool joint (Eq. 6) from the raw data: the band fit with intervals, the seed's
+    # read-out beside it (toolpoint identify).
+    ident = tp.identify_joint_from_frfs(assembly, [tp.IdentificationData(f, sht11, B11=sh11)],
                                         bootstrap_samples=args.bootstrap, threads=args.threads)
-    # The verdict is printed as it comes: rotational FRFs from finite differences carry model errors
-    # (README, Findings) that a joint fitted to them absorbs, and the verdict says so.
-    print(f"5. holder–tool joint ({ident.equation}), verdict {ident.verdict}" +
+    print(f"4. holder–tool joint ({ident.equation}), verdict {ident.verdict}" +
           "".join(f"\n   - {r}" for r in ident.verdict_reasons) + ":")
     ref = assembly.holder_tool
     for k, (name, unit) in enumerate(zip(tp.JointParameters.names(), tp.JointParameters.units())):
@@ -56,25 +55,27 @@ def run(args):
               f"  (the file's {ref[k]:.4g}; seed read-out {ident.seed.median[k]:.4g})")
     joint = ident.joint_file()
 
-    # 6. The tool point FRF for other overhangs with the identified joint (toolpoint couple --joint).
+    # 5. The tool point FRF for other overhangs with the identified joint, from the measured SH11
+    # filtered by Savitzky–Golay, window 41, order 2 (toolpoint filter; toolpoint couple --joint).
+    sh11_f = tp.savgol_filter(sh11, 41, 2, frequency_hz=f)
     identified = assembly.with_joint(joint)
     overhangs = [0.040 + i * 0.004 for i in range(6)]
     study = tp.run_overhang_study(identified, f, sh11_f, overhangs_m=overhangs, threads=args.threads)
-    print("6. tracked modes [Hz] per overhang [mm]:")
+    print("5. tracked modes [Hz] per overhang [mm]:")
     for o, column in zip(overhangs, study.tracked_modes_hz.T):
         print(f"   {1e3 * o:5.1f} mm: " + ", ".join(f"{x:.1f}" for x in column))
 
-    # 7. Stability lobes at 48 mm: 4 flutes, half immersion, down-milling (toolpoint lobes).
+    # 6. Stability lobes at 48 mm: 4 flutes, half immersion, down-milling (toolpoint lobes).
     H48 = study.overhangs[2].sht11[:, 0, 0]
     cutting = tp.CuttingConditions(4, 6e8, 0.3, immersion=0.5, milling="down")
     lobes = tp.run_lobes_study(cutting, (2000.0, 20000.0, 0), frequency_hz=f, xx=H48)
     z = lobes.zero_order
-    print(f"7. absolute stability limit {1e3 * z.floor_depth_m:.4f} mm (chatter at {z.floor_chatter_hz:.1f} Hz); best speeds:")
+    print(f"6. absolute stability limit {1e3 * z.floor_depth_m:.4f} mm (chatter at {z.floor_chatter_hz:.1f} Hz); best speeds:")
     p = lobes.pockets
     for n, a, fc, k in zip(p["speed_rpm"], p["depth_m"], p["chatter_hz"], p["lobe"]):
         print(f"   {n:7.0f} rpm  {1e3 * a:7.4f} mm  (chatter {fc:.1f} Hz, lobe {k})")
-    draw(f, sht11_f, study, lobes, Path(args.figures))
-    return {"sh11": sh11_f, "sht11": sht11_f, "identification": ident, "study": study, "lobes": lobes}
+    draw(f, sht11, study, lobes, Path(args.figures))
+    return {"sh11": sh11, "sh11_f": sh11_f, "sht11": sht11, "identification": ident, "study": study, "lobes": lobes}
 
 
 def draw(f, sht11, study, lobes, folder):

@@ -118,7 +118,7 @@ struct ReadoutOptions {
 // of |K|; filtered data are smooth, so their spread understates the error and the gain is the
 // better guide).
 // Throws InvalidArgument if the band holds no point.
-JointReadout read_joint(const JointSeries& series, double band_lo_hz, double band_hi_hz, const ReadoutOptions& options = {});
+JointReadout band_readout(const JointSeries& series, double band_lo_hz, double band_hi_hz, const ReadoutOptions& options = {});
 
 // ---- Which mode does the joint control? ---------------------------------------------------------
 

@@ -53,8 +53,9 @@ struct BlockNoise {
   // Median over frequency of each entry's relative magnitude σ (√C radial) and phase σ (√C
   // tangential, rad): H, L, N, P.
   std::array<double, 4> magnitude_sigma{}, phase_sigma_rad{};
-  // Estimated noise only: the lag-1 correlation of the local-fit residuals (white noise: −0.49 for
-  // the 7-point cubic; otherwise smoothed, windowed or noise-free data), NaN otherwise.
+  // Estimated noise only: the lag-1 correlation of the local-fit residuals, the median over chunks
+  // of `window` points (white noise: −0.49 for the 7-point cubic; otherwise smoothed, windowed or
+  // noise-free data), NaN otherwise.
   double residual_correlation = 0.0;
   std::vector<std::string> warnings;
 

@@ -326,4 +326,19 @@ struct LobesFigureData {
 // speed axis spans the envelope; legends sit outside on the right.
 Figure lobes_figure(const LobesFigureData& data);
 
+// The probability that a cut is stable over spindle speed [rpm] × axial depth [mm], as a colour
+// map from 0 to 1, with depth curves on top (the nominal envelope, the depth stable with 95 %
+// probability). The grid must be regular (Map's rule): the envelope's speeds and the map's depths.
+struct ProbabilityMapData {
+  std::string title;
+  std::vector<double> speed_rpm, depth_mm;  // increasing, evenly spaced
+  std::vector<double> probability;          // speed_rpm.size() × depth_mm.size(), speed fastest, in [0, 1]
+  struct Envelope {
+    std::vector<double> depth_mm;  // per speed
+    std::string label;
+  };
+  std::vector<Envelope> envelopes;
+};
+Figure probability_map_figure(const ProbabilityMapData& data);
+
 }  // namespace toolpoint::plot

@@ -26,7 +26,7 @@ def test_closed_form_returns_the_joint_put_in(example, model):
     ref = example.holder_tool.to_array()
     assert s.parameters.shape == (91, 8) and s.K.shape == (91, 2, 2) and s.noise_gain.shape == (91, 8)
     assert np.all(np.abs(s.parameters / ref - 1) < 1e-6)
-    r = tp.read_joint(s, 2500.0, 2650.0)
+    r = tp.band_readout(s, 2500.0, 2650.0)
     assert np.all(np.abs(r.median / ref - 1) < 1e-6) and r.medians() == tp.JointParameters.from_array(r.median)
     e = tp.effect_analysis(example, "holder_tool", example.frequency_hz)
     assert e.frequency_hz[e.dominant] == pytest.approx(2584.6, abs=0.1)  # the tool mode (README)

@@ -53,4 +53,15 @@ FiniteDifferenceError finite_difference_error(const Assembly& assembly, TapSide 
   return r;
 }
 
+BlockSeries remove_finite_difference_error(const BlockSeries& measured, const FiniteDifferenceError& error) {
+  if (measured.frequency_hz != error.error.frequency_hz)
+    throw InvalidArgument(fmt::format("remove_finite_difference_error: the measured block has {} frequencies, the error {} "
+                                      "on another grid",
+                                      measured.size(), error.error.size()),
+                          "compute FiniteDifferenceError on the measurement's own frequencies");
+  BlockSeries r = measured;
+  for (std::size_t k = 0; k < r.size(); ++k) r.blocks[k] -= error.error.blocks[k];
+  return r;
+}
+
 }  // namespace toolpoint

@@ -314,7 +314,7 @@ Identification identify_joint_from_frfs(const Assembly& assembly, const std::vec
     }
   }
   if (have_closed_form) {
-    r.seed = read_joint(r.closed_form, r.mode.lo_hz, r.mode.hi_hz, o.readout);
+    r.seed = band_readout(r.closed_form, r.mode.lo_hz, r.mode.hi_hz, o.readout);
     for (const auto& w : r.seed.warnings) r.warnings.push_back("seed read-out: " + w);
   }
   progress(0.25);

@@ -631,7 +631,7 @@ PlanPart run_plan_part(const std::vector<PlanCandidate>& candidates, const PlanO
     throw InvalidArgument(fmt::format("shard count {} must lie in 1…100000", count), "split the plan into 1 to 100000 parts");
   if (index < 0 || index >= count)
     throw InvalidArgument(fmt::format("shard {} of {} does not exist: shards are numbered 0…{}", index, count, count - 1),
-                          "give an index from 0 to the count less one (Slurm: $SLURM_ARRAY_TASK_ID with --array=0-(N-1))");
+                          "give an index from 0 to the count less one (a Slurm array 0-(N-1) gives $SLURM_ARRAY_TASK_ID so)");
   PlanPart part;
   part.header = plan_header(candidates, options);
   part.index = index;
@@ -696,7 +696,7 @@ PlanResult merge_plan_parts(const std::vector<PlanPart>& parts, const std::vecto
                        "merge only the parts of one run: the same study file, inputs and options, every shard once");
     if (q.count != count)
       throw InputError(fmt::format("{} is shard {} of {}, but {} is of {}", name(p), q.index, q.count, name(0), count),
-                       "merge the parts of one split: the same --shard count N for every part");
+                       "merge the parts of one split: the same shard count N for every part");
     if (q.index < 0 || q.index >= count) throw InputError(fmt::format("{}: shard index {} outside 0…{}", name(p), q.index, count - 1));
     int& s = seen[static_cast<std::size_t>(q.index)];
     if (s >= 0)
@@ -710,7 +710,7 @@ PlanResult merge_plan_parts(const std::vector<PlanPart>& parts, const std::vecto
     if (seen[static_cast<std::size_t>(i)] < 0) missing += (n_missing++ ? ", " : "") + std::to_string(i);
   if (n_missing > 0)
     throw InputError(fmt::format("shard(s) {} of {} missing: {} part(s) given", missing, count, parts.size()),
-                     "run the missing shards (plan --shard I/N --part FILE) and merge every part");
+                     "run the missing shards (run_plan_part with their index; `toolpoint plan --shard I/N`) and merge every part");
   const PlanHeader& h = first.header;
   std::vector<PlanJob> jobs(h.jobs);
   std::vector<bool> have(h.jobs, false);

@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "toolpoint/io.hpp"
+
 namespace toolpoint::test {
 
 // A fresh folder per test (named after the test and the process), removed afterwards.
@@ -48,6 +50,27 @@ inline int run_toolpoint(const std::string& args, std::string* output = nullptr)
   }
   std::filesystem::remove(log);
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// A CSV table as toolpoint writes it ('#' comment lines, one header line, numbers; "nan" read as NaN),
+// read independently of the library's readers.
+inline Table read_csv_table(const std::string& path) {
+  std::ifstream in(path);
+  Table t;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::stringstream ss(line);
+    std::string cell;
+    if (t.columns.empty()) {
+      while (std::getline(ss, cell, ',')) t.columns.push_back(cell);
+      continue;
+    }
+    std::vector<double> row;
+    while (std::getline(ss, cell, ',')) row.push_back(std::strtod(cell.c_str(), nullptr));
+    t.rows.push_back(std::move(row));
+  }
+  return t;
 }
 
 }  // namespace toolpoint::test

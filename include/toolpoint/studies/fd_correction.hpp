@@ -41,4 +41,9 @@ struct FiniteDifferenceError {
 FiniteDifferenceError finite_difference_error(const Assembly& assembly, TapSide side, const std::vector<double>& frequency_hz,
                                               const PointFrfs& layout, const RotationalOptions& options);
 
+// The measured tip block with the estimated error removed: measured − E at every frequency (H is
+// left as measured: E's H entry is 0). Throws InvalidArgument when the two are not on one grid
+// (E must be computed on the measurement's own frequencies).
+BlockSeries remove_finite_difference_error(const BlockSeries& measured, const FiniteDifferenceError& error);
+
 }  // namespace toolpoint
