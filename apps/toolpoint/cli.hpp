@@ -4,7 +4,9 @@
 // House rules every command follows (and states in its --help):
 //   * Units: SI (m, kg, N, Pa, s, rad), frequencies in Hz; every option's help gives its unit and
 //     default.
-//   * Output files are written whole or not at all (write_text_file, plot::render).
+//   * Output files are written whole or not at all (write_text_file, plot::render), and a run's files
+//     all or none (main's OutputSet); no output may be an input or another output (check_paths,
+//     before any work); the format follows the extension or is refused (check_output_extension).
 //   * Figures (--plot FILE.png|svg|pdf): the extension is checked before any work; the data
 //     (files and the report on stdout) come first, the figure last. If the figure cannot be
 //     drawn (gnuplot missing or failing) the data stay written, the error says which files they
