@@ -77,11 +77,12 @@ void run_couple(const CoupleArgs& o, const Globals& g) {
   {
     std::vector<RunPath> inputs{{o.sh, "--sh"}, {o.assembly, "assembly file"}};
     for (const RunPath& j : joint_paths(o.joints)) inputs.push_back(j);
-    std::vector<RunPath> outputs{{sweep ? "" : o.output, "--output"}, {o.plot, "--plot"}};
+    std::vector<RunPath> outputs{{sweep ? "" : o.output, "--output"}, {o.plot, "--plot"}, {o.band_output, "--band-output"}};
     if (sweep && !o.plot.empty()) outputs.push_back({with_suffix(o.plot, "_frequencies"), "--plot (frequencies)"});
     check_paths(inputs, outputs);
   }
   if (!sweep) check_output_extension(o.output, "--output", {".csv"}, "the tool point 2×2 block as FRF CSV (.csv)");
+  check_output_extension(o.band_output, "--band-output", {".csv"}, "the quantile table as CSV (.csv)");
   const std::vector<JointFile> joints = read_joint_options(g, o.joints);
   std::optional<UncertaintyOptions> sampling;
   if (o.sampling.samples != 0 || !o.band_output.empty()) {

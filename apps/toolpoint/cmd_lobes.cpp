@@ -206,7 +206,7 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
                                   {o.assembly, "--assembly"}})
       inputs.push_back({p, role});
     check_paths(inputs, {{o.output, "--output"}, {o.envelope, "--envelope"}, {o.probability_output, "--probability-output"},
-                         {o.plot, "--plot"}});
+                         {o.plot, "--plot"}, {o.plot.empty() ? "" : with_suffix(o.plot, "_probability"), "--plot (probability)"}});
   }
   check_output_extension(o.output, "--output", {".csv"}, "the lobe points as CSV (.csv)");
   check_output_extension(o.envelope, "--envelope", {".csv"}, "the stable envelope as CSV (.csv)");
