@@ -96,7 +96,8 @@ LoadedAssembly parse_assembly(const std::string& text, const std::string& source
     a.name = r.string(*t, "name", "assembly").value_or("");
   }
 
-  if (const toml::table* t = r.table(root, "analysis", "", false)) {
+  const toml::table* analysis = r.table(root, "analysis", "", false);
+  if (const toml::table* t = analysis) {
     r.only(*t, "analysis", {"frequency_min", "frequency_max", "frequency_step", "points"});
     const double fmin = r.number(*t, "frequency_min", "analysis", "Hz").value_or(a.grid.start_hz);
     const double fmax = r.number(*t, "frequency_max", "analysis", "Hz").value_or(a.grid.stop_hz);
@@ -212,6 +213,9 @@ LoadedAssembly parse_assembly(const std::string& text, const std::string& source
     throw InputError(fmt::format("{}: {}", source, e.what()), e.hint());
   }
   std::vector<std::string> notes;
+  if (!analysis)  // a default that changes every result: said once, never silent
+    notes.push_back(fmt::format("{}: no [analysis] table: the default grid {:g}–{:g} Hz in steps of {:g} Hz is used", source,
+                                a.grid.start_hz, a.grid.stop_hz, a.grid.step_hz));
   for (const auto& [joint, name] : {std::pair{&a.spindle_holder, "joints.spindle_holder"}, std::pair{&a.holder_tool, "joints.holder_tool"}})
     if (!joint->rigid)
       for (auto& n : joint_warnings(joint->parameters, fmt::format("{}: {}", source, name))) notes.push_back(std::move(n));
