@@ -23,10 +23,10 @@ Material read_material(Reader& r, const toml::table& t, const std::string& path,
   m.poisson = r.number(t, "poisson", path, "(dimensionless)").value_or(0.3);
   m.shear_modulus = r.number(t, "shear_modulus", path, "Pa").value_or(0.0);
   m.loss_factor = r.number(t, "loss_factor", path, "(dimensionless)").value_or(0.0);
-  r.plausible(t, "youngs_modulus", path, m.youngs_modulus, 1e9, 1.2e12, "Young's modulus is in Pa (steel 2.1e11), not MPa or GPa");
-  r.plausible(t, "density", path, m.density, 500.0, 25000.0, "density is in kg/m^3 (steel 7800)");
-  r.plausible(t, "shear_modulus", path, m.shear_modulus, 4e8, 5e11, "the shear modulus is in Pa (steel 8e10), not MPa or GPa");
-  r.plausible(t, "loss_factor", path, m.loss_factor, 0.0, 0.2, "a structural loss factor is usually 0.001–0.05");
+  r.plausible(t, "youngs_modulus", path, m.youngs_modulus, plausible::kYoungsModulus);
+  r.plausible(t, "density", path, m.density, plausible::kDensity);
+  r.plausible(t, "shear_modulus", path, m.shear_modulus, plausible::kShearModulus);
+  r.plausible(t, "loss_factor", path, m.loss_factor, plausible::kLossFactor);
   try {
     m.check();
   } catch (const InvalidArgument& e) {
@@ -70,9 +70,9 @@ std::vector<Segment> read_segments(Reader& r, const toml::table& comp, const std
     Segment s = Segment::tube(r.required_number(t, "length", path, "m"), r.required_number(t, "outer_diameter", path, "m"),
                               r.number(t, "inner_diameter", path, "m").value_or(0.0), m, path);
     s.layers[0].shear_coefficient = r.number(t, "shear_coefficient", path, "(dimensionless)");
-    r.plausible(t, "length", path, s.length, 1e-4, 2.0, "lengths are in metres (49 mm = 0.049)");
-    r.plausible(t, "outer_diameter", path, s.layers[0].outer_diameter, 1e-3, 0.5, "diameters are in metres (16 mm = 0.016)");
-    r.plausible(t, "inner_diameter", path, s.layers[0].inner_diameter, 1e-4, 0.5, "diameters are in metres");
+    r.plausible(t, "length", path, s.length, plausible::kSegmentLength);
+    r.plausible(t, "outer_diameter", path, s.layers[0].outer_diameter, plausible::kOuterDiameter);
+    r.plausible(t, "inner_diameter", path, s.layers[0].inner_diameter, plausible::kInnerDiameter);
     try {
       s.check();
     } catch (const InvalidArgument& ex) {
@@ -96,7 +96,8 @@ LoadedAssembly parse_assembly(const std::string& text, const std::string& source
     a.name = r.string(*t, "name", "assembly").value_or("");
   }
 
-  if (const toml::table* t = r.table(root, "analysis", "", false)) {
+  const toml::table* analysis = r.table(root, "analysis", "", false);
+  if (const toml::table* t = analysis) {
     r.only(*t, "analysis", {"frequency_min", "frequency_max", "frequency_step", "points"});
     const double fmin = r.number(*t, "frequency_min", "analysis", "Hz").value_or(a.grid.start_hz);
     const double fmax = r.number(*t, "frequency_max", "analysis", "Hz").value_or(a.grid.stop_hz);
@@ -166,7 +167,7 @@ LoadedAssembly parse_assembly(const std::string& text, const std::string& source
       b.damping = r.number(t, "damping", path, "N s/m").value_or(0.0);
       b.rotational_stiffness = r.number(t, "rotational_stiffness", path, "N m/rad").value_or(0.0);
       b.rotational_damping = r.number(t, "rotational_damping", path, "N m s/rad").value_or(0.0);
-      r.plausible(t, "stiffness", path, b.stiffness, 1e6, 1e10, "bearing stiffness is in N/m (typically 1e7–1e9)");
+      r.plausible(t, "stiffness", path, b.stiffness, plausible::kBearingStiffness);
       try {
         b.check();
       } catch (const InvalidArgument& ex) {
@@ -196,9 +197,9 @@ LoadedAssembly parse_assembly(const std::string& text, const std::string& source
   a.tool.flute_length = r.number(to, "flute_length", "tool", "m").value_or(0.0);
   a.tool.flute_diameter_ratio = r.number(to, "flute_diameter_ratio", "tool", "(dimensionless)").value_or(0.8);
   a.tool.shear_coefficient = r.number(to, "shear_coefficient", "tool", "(dimensionless)");
-  r.plausible(to, "length", "tool", a.tool.length, 5e-3, 0.5, "lengths are in metres (123 mm = 0.123)");
-  r.plausible(to, "overhang", "tool", a.tool.overhang, 2e-3, 0.5, "lengths are in metres (49 mm = 0.049)");
-  r.plausible(to, "diameter", "tool", a.tool.diameter, 2e-4, 0.2, "diameters are in metres (16 mm = 0.016)");
+  r.plausible(to, "length", "tool", a.tool.length, plausible::kToolLength);
+  r.plausible(to, "overhang", "tool", a.tool.overhang, plausible::kOverhang);
+  r.plausible(to, "diameter", "tool", a.tool.diameter, plausible::kToolDiameter);
 
   if (const toml::table* t = r.table(root, "joints", "", false)) {
     r.only(*t, "joints", {"spindle_holder", "holder_tool"});
@@ -212,6 +213,9 @@ LoadedAssembly parse_assembly(const std::string& text, const std::string& source
     throw InputError(fmt::format("{}: {}", source, e.what()), e.hint());
   }
   std::vector<std::string> notes;
+  if (!analysis)  // a default that changes every result: said once, never silent
+    notes.push_back(fmt::format("{}: no [analysis] table: the default grid {:g}–{:g} Hz in steps of {:g} Hz is used", source,
+                                a.grid.start_hz, a.grid.stop_hz, a.grid.step_hz));
   for (const auto& [joint, name] : {std::pair{&a.spindle_holder, "joints.spindle_holder"}, std::pair{&a.holder_tool, "joints.holder_tool"}})
     if (!joint->rigid)
       for (auto& n : joint_warnings(joint->parameters, fmt::format("{}: {}", source, name))) notes.push_back(std::move(n));

@@ -21,7 +21,7 @@ Joint read_joint_table(Reader& r, const toml::table* t, const std::string& path,
              "give k_yf, c_yf, k_ym, c_ym, k_tm, c_tm (and k_tf, c_tf if they differ from k_ym, c_ym), or rigid = true");
     p[i] = *v;
   }
-  r.plausible(*t, "k_yf", path, p.k_yf, 1e5, 1e11, "translational stiffness is in N/m");
+  r.plausible(*t, "k_yf", path, p.k_yf, plausible::kJointTranslationalStiffness);
   return Joint::make_elastic(p);
 }
 

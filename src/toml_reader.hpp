@@ -13,6 +13,7 @@
 
 #include "toolpoint/error.hpp"
 #include "toolpoint/joint.hpp"
+#include "toolpoint/plausibility.hpp"
 #include "toml_input.hpp"
 
 namespace toolpoint {
@@ -110,13 +111,16 @@ class Reader {
     return n->as_boolean()->get();
   }
 
-  // Warn about a value that is implausible in SI units (e.g. a length given in mm).
-  void plausible(const toml::table& t, const char* key, const std::string& path, double v, double lo, double hi,
-                 const std::string& likely) {
-    if (v == 0.0 || (v >= lo && v <= hi)) return;
+  // A value outside its usual range in SI units (e.g. a length given in mm): a warning; so far
+  // outside that it cannot be meant: an error at its line (plausibility.hpp, the CLI's rule too).
+  void plausible(const toml::table& t, const char* key, const std::string& path, double v, const PlausibleRange& range) {
+    if (v == 0.0) return;
+    const Plausibility p = judge(range, v);
+    if (p == Plausibility::Usual) return;
     const toml::node* n = t.get(key);
-    warnings.push_back(fmt::format("{}: {} = {:g} is outside the usual range [{:g}, {:g}]{}", n ? where(*n) : source_,
-                                   join(path, key), v, lo, hi, likely.empty() ? "" : "; " + likely));
+    const std::string message = plausibility_message(range, v, join(path, key));
+    if (p == Plausibility::Impossible && n) fail(*n, message, fmt::format("correct the value: {}", range.hint));
+    warnings.push_back(fmt::format("{}: {}", n ? where(*n) : source_, message));
   }
 
   static std::string join(const std::string& path, const char* key) { return path.empty() ? key : path + "." + key; }

@@ -101,14 +101,25 @@ TEST(AssemblyFile, ModalTermsMustBeAnInteger) {
 }
 
 TEST(AssemblyFile, ImplausibleMagnitudesWarnWithTheKey) {
-  // 80 meant in mm: a legal but implausible spindle segment length.
+  // 80 meant in mm cannot be an 80 m spindle segment: refused at its line (plausibility.hpp's
+  // rule: beyond 10× the usual range's top, 2 m).
   const std::string t = replace(example_text(), "length = 0.080\nouter_diameter = 0.045", "length = 80\nouter_diameter = 0.045");
-  const LoadedAssembly la = parse_assembly(t, "mm.toml");
+  try {
+    parse_assembly(t, "mm.toml");
+    ADD_FAILURE() << "an 80 m segment was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("mm.toml:78: spindle.segment[5].length = 80"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("cannot be meant"), std::string::npos) << e.what();
+    EXPECT_NE(e.hint().find("metres"), std::string::npos) << e.hint();
+  }
+  // 3 m is unusual but could be meant: a warning naming the key, file and line.
+  const LoadedAssembly la = parse_assembly(replace(example_text(), "length = 0.080\nouter_diameter = 0.045", "length = 3.0\nouter_diameter = 0.045"), "long.toml");
   ASSERT_EQ(la.warnings.size(), 1u);
-  EXPECT_NE(la.warnings[0].find("spindle.segment[5].length = 80"), std::string::npos) << la.warnings[0];
+  EXPECT_NE(la.warnings[0].find("long.toml:78: spindle.segment[5].length = 3"), std::string::npos) << la.warnings[0];
   EXPECT_NE(la.warnings[0].find("metres"), std::string::npos);
-  EXPECT_NE(la.warnings[0].find("mm.toml:"), std::string::npos);
-  const LoadedAssembly lb = parse_assembly(replace(example_text(), "youngs_modulus = 2.05e11", "youngs_modulus = 205000"), "mpa.toml");
+  // Young's modulus in MPa (205000) cannot be meant; 5e8 Pa (a polymer) is only unusual.
+  EXPECT_THROW(parse_assembly(replace(example_text(), "youngs_modulus = 2.05e11", "youngs_modulus = 205000"), "mpa.toml"), InputError);
+  const LoadedAssembly lb = parse_assembly(replace(example_text(), "youngs_modulus = 2.05e11", "youngs_modulus = 5e8"), "soft.toml");
   ASSERT_EQ(lb.warnings.size(), 1u);
   EXPECT_NE(lb.warnings[0].find("materials.steel.youngs_modulus"), std::string::npos);
 }

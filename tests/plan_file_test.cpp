@@ -95,7 +95,7 @@ TEST(PlanStudyFile, MistakesAreNamedWithFileLineAndKey) {
   expect_refused<InputError>(study("[machine]", "[machin]"), {"study.toml", "unknown key 'machin'", "did you mean 'machine'"});
   expect_refused<InputError>(study("overhang_min = 0.050\noverhang_max = 0.060\noverhang_step = 0.005",
                                    "overhang_min = 50\noverhang_max = 60\noverhang_step = 5"),
-                             {"study.toml:3", "over 1 m: millimetres?"});
+                             {"study.toml:6", "candidate[1].overhang_min = 50", "cannot be meant", "metres"});
   expect_refused<InputError>(study("feed_per_tooth = 1e-4", "feed_per_tooth = 0.1"), {"study.toml:15", "cut.feed_per_tooth", "millimetres?"});
   expect_refused<InputError>(study("factor = 1.25", "probability = 95"), {"study.toml:21", "safety.probability = 95", "[0.5, 1)"});
   expect_refused<InputError>(study("factor = 1.25", "factor = 1.25\nprobability = 0.9"), {"study.toml:22", "choose one"});
@@ -127,10 +127,13 @@ TEST(PlanStudyFile, FilesItNamesAreReadWithTheirOwnErrors) {
   write_text_file((dir / "study.toml").string(), study(kExample, "bad.toml"));
   EXPECT_THROW(load_plan_study((dir / "study.toml").string()), InputError);
   fs::remove_all(dir);
-  // A value that looks like another unit is a warning naming the key and line.
-  const PlanStudy s = parse_plan_study(study("tangential_coefficient = 6e8", "tangential_coefficient = 600"), "study.toml", "");
+  // A value in another unit that cannot be meant (K_t in MPa) is refused at its line; one that is
+  // merely unusual (2e7 N/m^2) is a warning naming the key and line.
+  expect_refused<InputError>(study("tangential_coefficient = 6e8", "tangential_coefficient = 600"),
+                             {"study.toml:11: cut.tangential_coefficient = 600", "cannot be meant", "N/m^2"});
+  const PlanStudy s = parse_plan_study(study("tangential_coefficient = 6e8", "tangential_coefficient = 2e7"), "study.toml", "");
   ASSERT_FALSE(s.warnings.empty());
-  EXPECT_NE(s.warnings.front().find("study.toml:11: cut.tangential_coefficient = 600"), std::string::npos) << s.warnings.front();
+  EXPECT_NE(s.warnings.front().find("study.toml:11: cut.tangential_coefficient = 2e+07"), std::string::npos) << s.warnings.front();
 }
 
 // The measured-holder route and identified joints through the study file: `sh11` (a block CSV) and

@@ -28,6 +28,7 @@
 #include "toolpoint/error.hpp"
 #include "toolpoint/frf_file.hpp"
 #include "toolpoint/io.hpp"
+#include "toolpoint/plausibility.hpp"
 #include "toolpoint/identify.hpp"
 #include "toolpoint/joint_file.hpp"
 #include "toolpoint/uncertainty.hpp"
@@ -198,6 +199,13 @@ FrfReadOptions frf_read_options(const FrfInputOptions& typed);
 // `text` with the library's option fields (FrfCsvOptions::format, …) replaced by the flags that
 // set them (--format, …): library messages name library fields, the CLI its flags.
 std::string with_flags(std::string text);
+
+// A CLI11 check by plausibility.hpp's rule (the files' rule): a value that cannot be meant in the
+// option's unit is refused (exit 2, naming the option, the likely unit slip and the fix), an unusual
+// one is a warning; 0 is left to the option's own rule.
+CLI::Validator plausible_value(const PlausibleRange& range, const std::string& option);
+// Options in the CLI's own units (mm, rpm): their plausible ranges.
+inline constexpr PlausibleRange kDepthMm{0.1, 300.0, 10.0, "this depth is in mm (5 mm = 5, not 0.005)"};
 
 // read_frf_file, its errors naming the command's flags where the library names its fields.
 FrfFileData read_frf_file_for_cli(const std::string& path, const FrfReadOptions& options);

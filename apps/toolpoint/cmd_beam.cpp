@@ -113,20 +113,21 @@ void run_beam(const BeamOptions& o, const Globals& g) {
 void add_beam_command(CLI::App& app, Globals& g) {
   auto o = std::make_shared<BeamOptions>();
   CLI::App* c = app.add_subcommand("beam", "Free–free Timoshenko beam: natural frequencies and end receptances (seed Eq. 9–14)");
-  c->add_option("--length", o->length, "Segment length L [m], > 0 (required)")->required();
-  c->add_option("--diameter", o->diameter, "Outer diameter D [m], > 0 (required)")->required();
-  c->add_option("--inner-diameter", o->inner_diameter, "Inner diameter d [m] (0: a solid section)")->capture_default_str();
-  c->add_option("--youngs-modulus", o->youngs_modulus, "Young's modulus E [Pa]")->capture_default_str();
-  c->add_option("--density", o->density, "Density ρ [kg/m³]")->capture_default_str();
+  c->add_option("--length", o->length, "Segment length L [m], > 0 (required)")->required()->check(plausible_value(plausible::kSegmentLength, "--length"));
+  c->add_option("--diameter", o->diameter, "Outer diameter D [m], > 0 (required)")->required()->check(plausible_value(plausible::kOuterDiameter, "--diameter"));
+  c->add_option("--inner-diameter", o->inner_diameter, "Inner diameter d [m] (0: a solid section)")->capture_default_str()->check(plausible_value(plausible::kInnerDiameter, "--inner-diameter"));
+  c->add_option("--youngs-modulus", o->youngs_modulus, "Young's modulus E [Pa]")->capture_default_str()->check(plausible_value(plausible::kYoungsModulus, "--youngs-modulus"));
+  c->add_option("--density", o->density, "Density ρ [kg/m³]")->capture_default_str()->check(plausible_value(plausible::kDensity, "--density"));
   c->add_option("--poisson", o->poisson, "Poisson's ratio ν [-], in (−1, 0.5)")->capture_default_str();
-  c->add_option("--shear-modulus", o->shear_modulus, "Shear modulus G [Pa] (default: E/(2(1+ν)))");
+  c->add_option("--shear-modulus", o->shear_modulus, "Shear modulus G [Pa] (default: E/(2(1+ν)))")->check(plausible_value(plausible::kShearModulus, "--shear-modulus"));
   c->add_option("--loss-factor", o->loss_factor, "Structural loss factor η [-], ≥ 0 (complex moduli E(1+iη), G(1+iη))")
       ->capture_default_str();
   c->add_option("--shear-coefficient", o->shear_coefficient, "Shear coefficient κ [-] (default: from --shear-model, Poisson's ratio and the diameters)");
   c->add_option("--shear-model", o->shear_model, "κ formula for circular sections: hutchinson or cowper")
       ->check(CLI::IsMember({"hutchinson", "cowper"}))
       ->capture_default_str();
-  c->add_option("--modes", o->modes, "Print the first N free–free natural frequencies [Hz] (default: 5 without --frequencies, else none)");
+  c->add_option("--modes", o->modes, "Print the first N free–free natural frequencies [Hz], ≥ 1 (default: 5 without --frequencies, else none)")
+      ->check(CLI::PositiveNumber);
   c->add_option("--frequencies", o->frequencies, "Frequency grid START:STOP:STEP [Hz] for the receptance output (needs --output)");
   c->add_option("--output", o->output, "Write the receptance block here (FRF CSV; H m/N, L 1/N, N rad/N, P rad/(N m))");
   add_plot_option(c, o->plot,

@@ -35,6 +35,14 @@ struct CoupleArgs {
 void print_report(const CoupleArgs& o, const Globals& g, double inside, const std::vector<double>& overhangs,
                   const std::vector<std::vector<double>>& modes, bool sweep);
 
+// plausibility.hpp's rule for an overhang [m]: a 49 m tool is refused, 0.8 m said to be unusual.
+void check_overhang(double v) {
+  const Plausibility p = judge(plausible::kOverhang, v);
+  if (p == Plausibility::Impossible)
+    throw InvalidArgument(plausibility_message(plausible::kOverhang, v, "--overhang"), fmt::format("did you mean {:g} (m)?", v / 1000.0));
+  if (p == Plausibility::Unusual) warn(plausibility_message(plausible::kOverhang, v, "--overhang"));
+}
+
 // --overhang: one length or a sweep START:STOP:STEP, in m (empty: none given).
 std::vector<double> parse_overhangs(const std::string& text) {
   if (text.empty()) return {};
@@ -48,6 +56,7 @@ std::vector<double> parse_overhangs(const std::string& text) {
     }
     if (v.size() > 1000)
       throw InvalidArgument(fmt::format("--overhang {} gives {} overhangs; at most 1000", text, v.size()), "use a larger STEP");
+    for (double x : {v.front(), v.back()}) check_overhang(x);
     return v;
   }
   std::size_t used = 0;
@@ -62,6 +71,7 @@ std::vector<double> parse_overhangs(const std::string& text) {
                           "e.g. --overhang 0.05 or --overhang 0.040:0.060:0.002 (metres)");
   if (!(v > 0.0) || !std::isfinite(v))
     throw InvalidArgument(fmt::format("--overhang {} m must be > 0", v), "give the tool length outside the holder, e.g. 0.05");
+  check_overhang(v);
   return {v};
 }
 

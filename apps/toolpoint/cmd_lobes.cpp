@@ -101,6 +101,12 @@ CuttingConditions cutting_conditions(const LobesOptions& o) {
     if (o.milling.empty()) throw InvalidArgument("--immersion needs --milling up or --milling down", "add --milling down");
     c.engagement = engagement_from_immersion(o.immersion, o.milling == "up" ? MillingDirection::Up : MillingDirection::Down);
   } else {
+    // Both angles within π: radians meant for degrees (1.57, 3.14 for slotting), or a cut of at
+    // most 3°; said, not refused (a very light finishing cut is possible).
+    if (std::abs(o.entry_deg) <= kPi + 1e-3 && std::abs(o.exit_deg) <= kPi + 1e-3)
+      warn(fmt::format("--entry {} --exit {}: the angles are in degrees, so this is a cut of {:g}°; if they are radians, give "
+                       "--entry {:g} --exit {:g}",
+                       o.entry_deg, o.exit_deg, o.exit_deg - o.entry_deg, o.entry_deg * 180.0 / kPi, o.exit_deg * 180.0 / kPi));
     c.engagement = engagement_from_degrees(o.entry_deg, o.exit_deg);
   }
   c.check();
@@ -214,6 +220,9 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
   LobesStudyOptions so;
   so.cutting = cutting_conditions(o);
   const auto [min_rpm, max_rpm] = parse_range(o.rpm, "--rpm");
+  for (double n : {min_rpm, max_rpm})
+    if (judge(plausible::kSpindleSpeedRpm, n) == Plausibility::Impossible)
+      throw InvalidArgument(plausibility_message(plausible::kSpindleSpeedRpm, n, "--rpm"), "give spindle speeds in rpm, e.g. --rpm 2000:20000");
   so.speeds = {min_rpm, max_rpm, o.speeds};
   if (o.method == "zoa") so.method = LobesMethod::ZeroOrder;
   else so.method = LobesMethod::FullDiscretization;
@@ -390,9 +399,12 @@ void add_lobes_command(CLI::App& app, Globals& g) {
   yx->needs(xy);
   c->add_flag("--rigid-y", o->rigid_y, "The tool is rigid in y: flexible in x only (the 1-DOF model)");
   c->add_option("--teeth", o->teeth, "Number of teeth N [-], ≥ 1 (evenly spaced, straight flutes) (required)")->required();
-  c->add_option("--kt", o->kt, "Tangential cutting coefficient K_t [N/m²], > 0 (required)")->required();
+  c->add_option("--kt", o->kt, "Tangential cutting coefficient K_t [N/m²], > 0 (required)")
+      ->required()
+      ->check(plausible_value(plausible::kCuttingCoefficient, "--kt"));
   auto* kr = c->add_option("--kr", o->kr, "Radial cutting coefficient as the ratio K_r = K_n/K_t [-], ≥ 0 (this or --kn required)");
   auto* kn = c->add_option("--kn", o->kn, "Radial (normal) cutting coefficient K_n [N/m²], ≥ 0 (this or --kr required)");
+  kn->check(plausible_value(plausible::kCuttingCoefficient, "--kn"));
   kr->excludes(kn);
   auto* imm = c->add_option("--immersion", o->immersion, "Radial immersion a/D [-] in (0, 1] (1: slotting); needs --milling (this or --entry/--exit required)");
   auto* entry_opt = c->add_option("--entry", o->entry_deg, "Entry angle φ_st [°], clockwise from the normal (y) direction, with --exit");
@@ -403,7 +415,8 @@ void add_lobes_command(CLI::App& app, Globals& g) {
   imm->excludes(exit_opt);
   c->add_option("--milling", o->milling, "Milling direction with --immersion: up or down (no default)")->check(CLI::IsMember({"up", "down"}));
   c->add_option("--rpm", o->rpm, "Spindle speed range MIN:MAX [rpm] (required)")->required();
-  c->add_option("--speeds", o->speeds, "Points of the speed grid [-] for the envelope (zoa) or the boundary (fd) (default: 2000 zoa, 200 fd)");
+  c->add_option("--speeds", o->speeds, "Points of the speed grid [-], ≥ 2, for the envelope (zoa) or the boundary (fd) (default: 2000 zoa, 200 fd)")
+      ->check(CLI::Range(2, 1000000));
   c->add_option("--lobes", o->lobes, "zoa: lobes k = 0…K [-] (default: enough to cover MIN rpm)");
   c->add_option("--method", o->method,
                 "zoa (zero-order, from the FRF) or fd (full-discretization of a modal model in the time domain: flip lobes, "
@@ -421,7 +434,8 @@ void add_lobes_command(CLI::App& app, Globals& g) {
   c->add_option("--threads", o->threads, "fd: worker threads [-], 0…1024 (default 0: every core); results are identical for any number")
       ->capture_default_str();
   c->add_option("--max-depth", o->max_depth_mm, "Largest axial depth [mm]: zoa drops deeper lobe points, fd searches up to it "
-                                                "(default: zoa all, fd 10 × the zero-order floor)");
+                                                "(default: zoa all, fd 10 × the zero-order floor)")
+      ->check(plausible_value(kDepthMm, "--max-depth"));
   c->add_option("--mode-x", o->mode_x, "fd: an x mode MASS_KG,DAMPING_RATIO,FREQUENCY_HZ (repeatable; default: fitted from --frf)");
   c->add_option("--mode-y", o->mode_y, "fd: a y mode MASS_KG,DAMPING_RATIO,FREQUENCY_HZ (repeatable; default: from --frf-y, else the x modes)");
   c->add_option("--max-modes", o->max_modes,

@@ -204,7 +204,9 @@ void add_rotational_command(CLI::App& app, Globals& g) {
               "Fill a missing H_ij with H_ji (Maxwell–Betti), e.g. L from N when the hammer stayed at the tip; said in "
               "the output file's header. Default: a missing H_0k or H_k0 is an error (nothing is invented)");
   add_frf_read_options(c, g);
-  c->add_option("-s,--spacing", o->fd.spacing, "Distance s between neighbouring points [m], > 0 (required)")->required();
+  c->add_option("-s,--spacing", o->fd.spacing, "Distance s between neighbouring points [m], > 0 (required)")
+      ->required()
+      ->check(plausible_value(plausible::kPointSpacing, "--spacing"));
   c->add_option("--order", o->fd.order, "Finite-difference order: 1 (points 0, 1) or 2 (points 0, 1, 2)")
       ->check(CLI::IsMember({1, 2}))
       ->capture_default_str();

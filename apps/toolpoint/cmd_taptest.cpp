@@ -79,11 +79,11 @@ void run_taptest(const TapTestArgs& o, const Globals& g) {
 void add_taptest_command(CLI::App& app, Globals& g) {
   auto o = std::make_shared<TapTestArgs>();
   CLI::App* c = app.add_subcommand("taptest", "Virtual impact test on the model: translational FRFs at the tip and s, 2s inwards, as UFF 58");
-  c->add_option("assembly", o->assembly, "Assembly file (TOML)")->required()->check(CLI::ExistingFile);
+  c->add_option("assembly", o->assembly, "Assembly file (TOML)")->required();
   c->add_option("--at", o->at, "tool: on the tool of the whole assembly (for SHT11); holder: on the holder, tool outside removed (for SH11)")
       ->check(CLI::IsMember({"tool", "holder"}))
       ->capture_default_str();
-  c->add_option("--spacing", o->spacing, "Distance s between neighbouring points [m]")->required();
+  c->add_option("--spacing", o->spacing, "Distance s between neighbouring points [m]")->required()->check(plausible_value(plausible::kPointSpacing, "--spacing"));
   c->add_option("--points", o->points, "Measurement points: 2 (first-order differences) or 3 (second order)")
       ->check(CLI::IsMember({2, 3}))
       ->capture_default_str();

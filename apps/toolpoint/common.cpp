@@ -318,6 +318,30 @@ std::string with_flags(std::string text) {
   return text;
 }
 
+CLI::Validator plausible_value(const PlausibleRange& range, const std::string& option) {
+  return CLI::Validator(
+      [range, option](std::string& text) -> std::string {
+        double v = 0.0;
+        try {
+          v = std::stod(text);
+        } catch (const std::exception&) {
+          return {};  // not a number: the option's type check says so
+        }
+        if (v == 0.0) return {};
+        switch (judge(range, v)) {
+          case Plausibility::Usual:
+            return {};
+          case Plausibility::Unusual:
+            warn(plausibility_message(range, v, option));
+            return {};
+          case Plausibility::Impossible:
+            break;
+        }
+        return plausibility_message(range, v, "the value");  // CLI11 puts the option's name first
+      },
+      "", "plausible");
+}
+
 FrfReadOptions frf_read_options(const FrfInputOptions& t) {
   FrfReadOptions r;
   if (!t.ordinate.empty()) r.ordinate = parse_frf_ordinate(t.ordinate, "--ordinate");

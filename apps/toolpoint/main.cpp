@@ -86,7 +86,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    app.exit(e);
+    std::cerr << "error: " << e.what() << '\n';  // one form for every error, CLI11's too
     std::cerr << fmt::format("  fix: see `{}` for the options, their units and an example\n", help);
     return kExitUsage;
   } catch (const toolpoint::InvalidArgument& e) {

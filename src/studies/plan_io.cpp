@@ -457,15 +457,15 @@ PlanCandidate read_candidate(Reader& r, const toml::table& t, const std::string&
     if (lo || hi || step || has_points)
       r.fail(*t.get("overhang"), fmt::format("{} gives overhang and an overhang range: choose one", path),
              "overhang = L for one, or overhang_min, overhang_max and overhang_step for a range");
-    r.plausible(t, "overhang", path, *one, 2e-3, 0.5, "overhangs are in metres (49 mm = 0.049)");
+    r.plausible(t, "overhang", path, *one, plausible::kOverhang);
     c.overhangs_m = {*one};
   } else if (lo || hi || step || has_points) {
     if (!lo || !hi) r.fail(t, fmt::format("{}: an overhang range needs overhang_min and overhang_max (m)", path), "e.g. overhang_min = 0.040, overhang_max = 0.090");
     if (step && has_points)
       r.fail(*t.get("overhang_step"), fmt::format("{} gives overhang_step and overhang_points: choose one", path), "keep one of them");
     if (!step && !has_points) r.fail(t, fmt::format("{}: an overhang range needs overhang_step (m) or overhang_points", path), "e.g. overhang_step = 0.0005");
-    r.plausible(t, "overhang_min", path, *lo, 2e-3, 0.5, "overhangs are in metres (40 mm = 0.040)");
-    r.plausible(t, "overhang_max", path, *hi, 2e-3, 0.5, "overhangs are in metres (90 mm = 0.090)");
+    r.plausible(t, "overhang_min", path, *lo, plausible::kOverhang);
+    r.plausible(t, "overhang_max", path, *hi, plausible::kOverhang);
     if (!(*lo > 0.0) || !(*hi > *lo))
       r.fail(*t.get("overhang_max"), fmt::format("{}: overhang range {} to {} m must have 0 < overhang_min < overhang_max", path, *lo, *hi),
              "overhangs are in metres, e.g. overhang_min = 0.040, overhang_max = 0.090");
@@ -519,8 +519,7 @@ PlanStudy parse_plan_study(const std::string& text, const std::string& source, c
   if (!cut.contains("teeth")) r.fail(cut, "missing key cut.teeth (the number of teeth)", "e.g. teeth = 4");
   l.cutting.tangential_coefficient =
       checked(r, cut, "tangential_coefficient", "cut", "N/m^2", true, 0.0, positive, "N/m^2 must be > 0", "K_t in N/m^2, e.g. 6e8");
-  r.plausible(cut, "tangential_coefficient", "cut", l.cutting.tangential_coefficient, 5e7, 1e10,
-              "K_t is in N/m^2 (aluminium ~7e8, steel ~2e9), not N/mm^2");
+  r.plausible(cut, "tangential_coefficient", "cut", l.cutting.tangential_coefficient, plausible::kCuttingCoefficient);
   const auto kr = r.number(cut, "radial_ratio", "cut", "(dimensionless)");
   const auto kn = r.number(cut, "normal_coefficient", "cut", "N/m^2");
   if (kr && kn) r.fail(*cut.get("normal_coefficient"), "[cut] gives radial_ratio and normal_coefficient: choose one", "K_r = K_n/K_t: give one of them");
@@ -530,7 +529,7 @@ PlanStudy parse_plan_study(const std::string& text, const std::string& source, c
     r.fail(*cut.get(kr ? "radial_ratio" : "normal_coefficient"), fmt::format("the radial force ratio K_n/K_t = {} must be ≥ 0", l.cutting.radial_ratio),
            "e.g. radial_ratio = 0.3");
   o.edge_coefficient_n_per_m = checked(r, cut, "edge_coefficient", "cut", "N/m", false, 0.0, non_negative, "N/m must be ≥ 0");
-  r.plausible(cut, "edge_coefficient", "cut", o.edge_coefficient_n_per_m, 1e2, 1e6, "K_te is in N/m (typically 1e4–5e4)");
+  r.plausible(cut, "edge_coefficient", "cut", o.edge_coefficient_n_per_m, plausible::kEdgeCoefficient);
   const double immersion = checked(r, cut, "radial_immersion", "cut", "(a/D)", true, 0.0, [](double v) { return v > 0.0 && v <= 1.0; },
                                    "must lie in (0, 1]: the radial depth over the tool diameter", "e.g. 0.5 for half immersion, 1 for a slot");
   const auto milling = r.string(cut, "milling", "cut");
@@ -542,9 +541,9 @@ PlanStudy parse_plan_study(const std::string& text, const std::string& source, c
   o.feed_per_tooth_m = checked(r, cut, "feed_per_tooth", "cut", "m", true, 0.0, [](double v) { return v > 0.0 && v <= 0.01; },
                                "m must lie in (0, 0.01]: no cutter takes more than 10 mm per tooth (millimetres?)",
                                "the feed per tooth is in metres: 0.1 mm is 1e-4");
-  r.plausible(cut, "feed_per_tooth", "cut", o.feed_per_tooth_m, 1e-6, 2e-3, "the feed per tooth is in metres (0.1 mm = 1e-4)");
+  r.plausible(cut, "feed_per_tooth", "cut", o.feed_per_tooth_m, plausible::kFeedPerTooth);
   o.max_depth_m = checked(r, cut, "max_depth", "cut", "m", false, 0.0, non_negative, "m must be ≥ 0");
-  r.plausible(cut, "max_depth", "cut", o.max_depth_m, 1e-4, 0.3, "depths are in metres (20 mm = 0.02)");
+  r.plausible(cut, "max_depth", "cut", o.max_depth_m, plausible::kDepth);
 
   const toml::table& mach = *r.table(root, "machine", "", true);
   r.only(mach, "machine", {"speed_min", "speed_max", "speed_points", "power", "torque", "min_overhang"});
@@ -553,15 +552,15 @@ PlanStudy parse_plan_study(const std::string& text, const std::string& source, c
   if (!(l.speeds.max_rpm > l.speeds.min_rpm))
     r.fail(*mach.get("speed_max"), fmt::format("machine.speed_max = {} rpm must exceed machine.speed_min = {} rpm", l.speeds.max_rpm, l.speeds.min_rpm),
            "give the spindle's speed range in rpm, e.g. speed_min = 2000, speed_max = 12000");
-  r.plausible(mach, "speed_min", "machine", l.speeds.min_rpm, 10.0, 2e5, "spindle speeds are in rpm");
-  r.plausible(mach, "speed_max", "machine", l.speeds.max_rpm, 100.0, 2e5, "spindle speeds are in rpm");
+  r.plausible(mach, "speed_min", "machine", l.speeds.min_rpm, plausible::kSpindleSpeedRpm);
+  r.plausible(mach, "speed_max", "machine", l.speeds.max_rpm, plausible::kSpindleSpeedRpm);
   l.speeds.points = integer(r, mach, "speed_points", "machine", 2, 1000000, 0);
   o.machine.power_w = checked(r, mach, "power", "machine", "W", false, 0.0, non_negative, "W must be ≥ 0 (absent: no limit)");
-  r.plausible(mach, "power", "machine", o.machine.power_w, 100.0, 5e5, "power is in watts (15 kW = 15e3)");
+  r.plausible(mach, "power", "machine", o.machine.power_w, plausible::kPower);
   o.machine.torque_nm = checked(r, mach, "torque", "machine", "N m", false, 0.0, non_negative, "N m must be ≥ 0 (absent: no limit)");
-  r.plausible(mach, "torque", "machine", o.machine.torque_nm, 0.5, 5000.0, "torque is in N m");
+  r.plausible(mach, "torque", "machine", o.machine.torque_nm, plausible::kTorque);
   o.machine.min_overhang_m = checked(r, mach, "min_overhang", "machine", "m", false, 0.0, non_negative, "m must be ≥ 0");
-  r.plausible(mach, "min_overhang", "machine", o.machine.min_overhang_m, 2e-3, 0.5, "overhangs are in metres (45 mm = 0.045)");
+  r.plausible(mach, "min_overhang", "machine", o.machine.min_overhang_m, plausible::kOverhang);
   if (o.machine.min_overhang_m > 1.0)
     r.fail(*mach.get("min_overhang"), fmt::format("machine.min_overhang = {} m is over 1 m: millimetres?", o.machine.min_overhang_m),
            fmt::format("overhangs are in metres: {} mm is {:g} m", o.machine.min_overhang_m, o.machine.min_overhang_m / 1000.0));

@@ -1,0 +1,60 @@
+// toolpoint: plausible magnitudes of physical inputs in SI units, one table for the assembly and
+// study files and the command line, so that the same value gets the same verdict wherever it is
+// given.
+//
+// Why. A value in the wrong unit (mm for m, MPa for Pa) is the commonest input error and yields
+// results that look like numbers (a 49 m tool, a 1 000 000 mm stable depth). A value outside the
+// usual range draws a warning that names the likely slip; a value so far outside that no machine
+// tool could have it (beyond the range by the range's `slack` factor) cannot be meant and is refused.
+// Zero is left to the caller (it means "none" for some inputs and is invalid for others).
+#pragma once
+
+#include <string>
+
+namespace toolpoint {
+
+struct PlausibleRange {
+  double low = 0.0, high = 0.0;  // the usual range, in SI units (low may be 0)
+  double slack = 10.0;           // beyond [low / slack, high · slack]: cannot be meant
+  const char* hint = "";         // the likely slip and the fix, e.g. "lengths are in metres (49 mm = 0.049)"
+};
+
+enum class Plausibility { Usual, Unusual, Impossible };
+
+// Usual inside [low, high]; Impossible beyond [low / slack, high · slack] (below only when low > 0)
+// or not finite; Unusual otherwise. Zero and negative values are judged by magnitude.
+Plausibility judge(const PlausibleRange& range, double value);
+
+// "<what> = <value> is outside the usual range [low, high]; <hint>" or "… cannot be meant: …".
+std::string plausibility_message(const PlausibleRange& range, double value, const std::string& what);
+
+namespace plausible {
+// Lengths [m]
+inline constexpr PlausibleRange kSegmentLength{1e-4, 2.0, 10.0, "lengths are in metres (49 mm = 0.049)"};
+inline constexpr PlausibleRange kOuterDiameter{1e-3, 0.5, 10.0, "diameters are in metres (16 mm = 0.016)"};
+inline constexpr PlausibleRange kInnerDiameter{1e-4, 0.5, 10.0, "diameters are in metres (8 mm = 0.008)"};
+inline constexpr PlausibleRange kToolLength{5e-3, 0.5, 10.0, "lengths are in metres (123 mm = 0.123)"};
+inline constexpr PlausibleRange kToolDiameter{2e-4, 0.2, 10.0, "diameters are in metres (16 mm = 0.016)"};
+inline constexpr PlausibleRange kOverhang{2e-3, 0.5, 10.0, "overhangs are in metres (49 mm = 0.049)"};
+inline constexpr PlausibleRange kPointSpacing{1e-3, 0.1, 10.0, "the spacing is in metres (15 mm = 0.015)"};
+inline constexpr PlausibleRange kFeedPerTooth{1e-6, 2e-3, 10.0, "the feed per tooth is in metres (0.1 mm = 1e-4)"};
+inline constexpr PlausibleRange kDepth{1e-4, 0.3, 10.0, "depths are in metres (20 mm = 0.02)"};
+// Materials
+inline constexpr PlausibleRange kYoungsModulus{1e9, 1.2e12, 10.0, "Young's modulus is in Pa (steel 2.1e11), not MPa or GPa"};
+inline constexpr PlausibleRange kShearModulus{4e8, 5e11, 10.0, "the shear modulus is in Pa (steel 8e10), not MPa or GPa"};
+inline constexpr PlausibleRange kDensity{500.0, 25000.0, 10.0, "density is in kg/m^3 (steel 7800), not g/cm^3"};
+inline constexpr PlausibleRange kLossFactor{0.0, 0.2, 5.0, "a structural loss factor is usually 0.001–0.05"};
+// Stiffnesses
+inline constexpr PlausibleRange kBearingStiffness{1e6, 1e10, 100.0, "bearing stiffness is in N/m (typically 1e7–1e9)"};
+inline constexpr PlausibleRange kJointTranslationalStiffness{1e5, 1e11, 1e3, "translational stiffness is in N/m"};
+// Cutting
+inline constexpr PlausibleRange kCuttingCoefficient{5e7, 1e10, 100.0,
+                                                    "cutting coefficients are in N/m^2 (aluminium about 7e8, steel 2e9), not N/mm^2 or MPa"};
+inline constexpr PlausibleRange kEdgeCoefficient{1e2, 1e6, 100.0, "K_te is in N/m (typically 1e4–5e4)"};
+// Machine
+inline constexpr PlausibleRange kSpindleSpeedRpm{10.0, 2e5, 10.0, "spindle speeds are in rpm"};
+inline constexpr PlausibleRange kPower{100.0, 5e5, 10.0, "power is in watts (15 kW = 15e3)"};
+inline constexpr PlausibleRange kTorque{0.5, 5000.0, 10.0, "torque is in N m"};
+}  // namespace plausible
+
+}  // namespace toolpoint
