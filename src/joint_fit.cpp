@@ -641,7 +641,10 @@ JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<Join
             if (!setups[s].b_noise->exact()) local[s].B_base = savgol_filter(Bb[s], SavgolOptions{7, 3}, "bootstrap B11").series;
             if (options.filter) Gb[s] = savgol_filter(Gb[s], *options.filter, "bootstrap G11").series;
           }
-          for (std::size_t s = 0; s < setups.size(); ++s) bp.push_back(&Bb[s]), gp.push_back(&Gb[s]);
+          for (std::size_t s = 0; s < setups.size(); ++s) {
+            bp.push_back(&Bb[s]);
+            gp.push_back(&Gb[s]);
+          }
           try {
             for (Setup& u : local) update_weights(u, par, q);
             const Solution r = minimise(local, bp, gp, par, q, options.max_iterations, options.filter);

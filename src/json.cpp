@@ -162,7 +162,10 @@ void to_json(nlohmann::json& out, const JointFit& f) {
   const auto c = f.correlation();
   for (int i = 0; i < 8; ++i) {
     nlohmann::json rc = nlohmann::json::array(), rv = nlohmann::json::array();
-    for (int k = 0; k < 8; ++k) rc.push_back(number(c(i, k))), rv.push_back(number(f.covariance(i, k)));
+    for (int k = 0; k < 8; ++k) {
+      rc.push_back(number(c(i, k)));
+      rv.push_back(number(f.covariance(i, k)));
+    }
     corr.push_back(rc);
     cov.push_back(rv);
   }

@@ -321,7 +321,10 @@ Figure joint_figure(const JointFigureData& data) {
       std::vector<double> lines;
       if (reference) lines.push_back(*reference);
       if (identified) lines.push_back(*identified);
-      if (interval && !undetermined) lines.push_back(interval->first), lines.push_back(interval->second);
+      if (interval && !undetermined) {
+        lines.push_back(interval->first);
+        lines.push_back(interval->second);
+      }
       const auto other = damping ? jp.other_damping : jp.other_stiffness;
       if (other) lines.push_back(*other);
       // The scale comes from the values a reader looks at: the robust range, or all values.

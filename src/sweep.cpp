@@ -244,10 +244,12 @@ BlockSeries sweep(const Plans* plans, const Assembly& a, const std::vector<doubl
       double out[8][kWidth];
       const unsigned bad = batch(*plans, a, f, out);
       for (std::size_t i = 0; i < m; ++i) {
-        if (bad >> i & 1u)
+        if (bad >> i & 1u) {
           one(start + i);
-        else
-          s.blocks[start + i] = make_block({out[0][i], out[4][i]}, {out[1][i], out[5][i]}, {out[2][i], out[6][i]}, {out[3][i], out[7][i]}), ++count.simd;
+        } else {
+          s.blocks[start + i] = make_block({out[0][i], out[4][i]}, {out[1][i], out[5][i]}, {out[2][i], out[6][i]}, {out[3][i], out[7][i]});
+          ++count.simd;
+        }
       }
     }
     if (diagnostics) *diagnostics = count;

@@ -125,7 +125,10 @@ class Guard {
     line_ = 1;
     line_start_ = 0;
     for (std::size_t k = 0; k < at; ++k)
-      if (s_[k] == '\n') ++line_, line_start_ = k + 1;
+      if (s_[k] == '\n') {
+        ++line_;
+        line_start_ = k + 1;
+      }
   }
 
   void end_of_line(const char* where) {

@@ -228,7 +228,10 @@ StabilityUncertainty stability_uncertainty(const Assembly& assembly, const Joint
     in.frfs = milling_frfs(AssemblyModel(a), frequency_hz);
     const LobesStudyResult r = run_lobes_study(in, inner);
     std::vector<double> speeds, d;
-    for (const EnvelopePoint& p : r.envelope) speeds.push_back(p.speed_rpm), d.push_back(p.depth_m);
+    for (const EnvelopePoint& p : r.envelope) {
+      speeds.push_back(p.speed_rpm);
+      d.push_back(p.depth_m);
+    }
     return std::pair{speeds, d};
   });
 }
