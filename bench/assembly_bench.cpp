@@ -32,7 +32,8 @@ void BM_Assembly(benchmark::State& state, R (AssemblyModel::*at)(double) const, 
 }
 
 // A whole grid through the sweep (AssemblyModel::tool_point/holder_tip of a vector: SIMD lanes).
-void BM_Sweep(benchmark::State& state, BlockSeries (AssemblyModel::*sweep)(const std::vector<double>&, AssemblyModel::SweepDiagnostics*) const,
+void BM_Sweep(benchmark::State& state,
+              BlockSeries (AssemblyModel::*sweep)(const std::vector<double>&, AssemblyModel::SweepDiagnostics*) const,
               std::size_t n) {
   const AssemblyModel& m = example_model();
   std::vector<double> f(n);
@@ -47,7 +48,8 @@ void BM_Sweep(benchmark::State& state, BlockSeries (AssemblyModel::*sweep)(const
 BENCHMARK_CAPTURE(BM_Sweep, ExampleToolPointSHT11_10k, &AssemblyModel::tool_point, 10000)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Sweep, ExampleHolderTipSH11_10k, &AssemblyModel::holder_tip, 10000)->Unit(benchmark::kMillisecond);
 // The same one frequency at a time (the per-frequency functions, as evaluate() uses them).
-BENCHMARK_CAPTURE(BM_Assembly, ExampleToolPointSHT11_10k_PerFrequency, &AssemblyModel::tool_point, 10000)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Assembly, ExampleToolPointSHT11_10k_PerFrequency, &AssemblyModel::tool_point, 10000)
+    ->Unit(benchmark::kMillisecond);
 // Its parts, per frequency: the spindle's point sweep (9 pieces, 4 bearings), the holder and
 // tool chains (4 and 2 pieces), SH11 (spindle + holder); and everything at once (S11, H, T, SH11,
 // SHT11) as the identification's forward model uses it.

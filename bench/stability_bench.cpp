@@ -78,8 +78,10 @@ BENCHMARK(BM_Stability_Boundary)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)-
 // tool point FRF (`toolpoint modes`), 4 teeth, K_t 6e8 N/m², K_r 0.3, a/D 0.5 down-milling,
 // 200 speeds 2000–20 000 rpm, 1 % error target; argument: threads. Aim ≤ 1 s on one, ≤ 0.6 s on two.
 static void BM_Stability_ExampleAssemblyBoundary(benchmark::State& state) {
-  const std::vector<Mode> modes = {{0.576061, 0.0117496, 916.596}, {0.0674606, 0.0450853, 2592.11},
-                                   {0.159563, 0.0405189, 3603.0},  {0.196928, 0.035962, 4525.41}};
+  const std::vector<Mode> modes = {{0.576061, 0.0117496, 916.596},
+                                   {0.0674606, 0.0450853, 2592.11},
+                                   {0.159563, 0.0405189, 3603.0},
+                                   {0.196928, 0.035962, 4525.41}};
   const CuttingConditions cut{4, 6e8, 0.3, engagement_from_immersion(0.5, MillingDirection::Down)};
   BoundaryOptions o;
   o.speeds = {2000.0, 20000.0, 200};

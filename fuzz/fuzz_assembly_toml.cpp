@@ -14,11 +14,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::string text(reinterpret_cast<const char*>(data), size);
   try {
     toolpoint::parse_assembly(text, "fuzz.toml");
-  } catch (const toolpoint::InputError&) {
-  }
+  } catch (const toolpoint::InputError&) {}
   try {
     toolpoint::parse_joint_file(text, "fuzz_joint.toml");
-  } catch (const toolpoint::InputError&) {
-  }
+  } catch (const toolpoint::InputError&) {}
   return 0;
 }

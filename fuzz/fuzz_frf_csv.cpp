@@ -61,7 +61,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     for (double g : t.coherence) require(g >= 0.0 && g <= 1.0);
     if (const auto u = parse_frf_units(t.value_units)) require(std::isfinite(u->to_si) && u->to_si > 0.0);
   } catch (const InputError&) {
-  } catch (const InvalidArgument&) {
-  }
+  } catch (const InvalidArgument&) {}
   return 0;
 }

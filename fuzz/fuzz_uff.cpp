@@ -30,21 +30,18 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       try {
         const UffReceptance r = uff_receptance(d, o, "fuzz.uff");
         require(r.receptance.frequency_hz.size() == r.receptance.values.size());
-      } catch (const InputError&) {
-      }
+      } catch (const InputError&) {}
     }
   }
   try {
     select_dataset58(full, {});
-  } catch (const InputError&) {
-  }
+  } catch (const InputError&) {}
   std::vector<UffDataset58> writable;
   for (const UffDataset58& d : full.functions) {
     try {
       d.check();
       writable.push_back(d);
-    } catch (const InvalidArgument&) {
-    }
+    } catch (const InvalidArgument&) {}
   }
   if (!writable.empty()) {
     for (bool binary : {false, true}) {

@@ -101,8 +101,9 @@ void Assembly::check() const {
   const double insertion = tool.length - tool.overhang;
   const double lh = total_length(holder);
   if (insertion > lh + kLengthEps)
-    throw InvalidArgument(fmt::format("tool: {} m of the tool sits inside the holder (length − overhang) but the holder is only {} m long",
-                                      insertion, lh));
+    throw InvalidArgument(
+        fmt::format("tool: {} m of the tool sits inside the holder (length − overhang) but the holder is only {} m long",
+                    insertion, lh));
   spindle_holder.parameters.check();
   holder_tool.parameters.check();
   if (method == ReceptanceMethod::Modal && (modal_terms < 1 || modal_terms > 20000))
@@ -151,9 +152,10 @@ std::vector<Segment> insert_tool(const std::vector<Segment>& holder, const std::
       for (const Annulus& l : h.layers) bore = std::min(bore, l.inner_diameter);
       const double shank = t.layers.front().outer_diameter;
       if (bore <= 0.0)
-        throw InvalidArgument(fmt::format("{}: solid (no bore) at {:.4g} m from the holder tip, but the tool is inserted {:.4g} m deep",
-                                          h.name.empty() ? "holder segment" : h.name, depth, inserted),
-                              "give the holder segments an inner_diameter (the bore) where the shank sits");
+        throw InvalidArgument(
+            fmt::format("{}: solid (no bore) at {:.4g} m from the holder tip, but the tool is inserted {:.4g} m deep",
+                        h.name.empty() ? "holder segment" : h.name, depth, inserted),
+            "give the holder segments an inner_diameter (the bore) where the shank sits");
       if (shank > bore * (1.0 + 1e-9))
         throw InvalidArgument(fmt::format("{}: bore {} m is narrower than the tool part inside it ({} m diameter)",
                                           h.name.empty() ? "holder segment" : h.name, bore, shank));
@@ -178,9 +180,10 @@ Chain::Chain(std::vector<Segment> pieces, ReceptanceMethod method, int modal_ter
     // factor has no such η, so that piece is computed exactly (and said so).
     const double eta_b = p.EI.imag() / p.EI.real(), eta_s = p.kGA.imag() / p.kGA.real();
     if (std::abs(eta_b - eta_s) > 1e-12 * std::max(1.0, std::abs(eta_b))) {
-      warnings_.push_back(fmt::format("{}: its layers have different loss factors, which the modal method cannot represent; "
-                                      "this piece uses the exact solution",
-                                      s.name.empty() ? "segment" : s.name));
+      warnings_.push_back(
+          fmt::format("{}: its layers have different loss factors, which the modal method cannot represent; "
+                      "this piece uses the exact solution",
+                      s.name.empty() ? "segment" : s.name));
       modal_.push_back(nullptr);
       continue;
     }
@@ -189,7 +192,8 @@ Chain::Chain(std::vector<Segment> pieces, ReceptanceMethod method, int modal_ter
 }
 
 void Chain::add_ground(std::size_t node, const Bearing& b) {
-  if (node >= ground_.size()) throw InvalidArgument(fmt::format("ground node {} outside the chain's {} nodes", node, ground_.size()));
+  if (node >= ground_.size())
+    throw InvalidArgument(fmt::format("ground node {} outside the chain's {} nodes", node, ground_.size()));
   ground_[node].push_back(b);
 }
 
@@ -200,7 +204,8 @@ bool Chain::has_modal_pieces() const {
 }
 
 TwoPort Chain::piece(std::size_t i, double frequency_hz) const {
-  return modal_.empty() || !modal_[i] ? exact_receptance(props_[i], pieces_[i].length, frequency_hz) : modal_[i]->receptance(frequency_hz);
+  return modal_.empty() || !modal_[i] ? exact_receptance(props_[i], pieces_[i].length, frequency_hz)
+                                      : modal_[i]->receptance(frequency_hz);
 }
 
 TwoPort Chain::piece(std::size_t i, double frequency_hz, SectionWaves& waves, const SectionProperties*& waves_of) const {
@@ -310,9 +315,13 @@ Block AssemblyModel::holder_tip(double f) const {
   return couple_point(holder_.two_port(f), spindle_.point(f), assembly_.spindle_holder, f);
 }
 
-Block AssemblyModel::tool_point(double f) const { return couple_point(tool_.two_port(f), holder_tip(f), assembly_.holder_tool, f); }
+Block AssemblyModel::tool_point(double f) const {
+  return couple_point(tool_.two_port(f), holder_tip(f), assembly_.holder_tool, f);
+}
 
-TwoPort AssemblyModel::holder_tool(double f) const { return couple(tool_.two_port(f), holder_.two_port(f), assembly_.holder_tool, f); }
+TwoPort AssemblyModel::holder_tool(double f) const {
+  return couple(tool_.two_port(f), holder_.two_port(f), assembly_.holder_tool, f);
+}
 
 AssemblyModel::Receptances AssemblyModel::evaluate(double f) const {
   Receptances r;
@@ -365,12 +374,13 @@ Eigen::MatrixXcd chain_stations(const Chain& chain, double f, const std::vector<
   const auto n = static_cast<Eigen::Index>(cuts.size());
   Eigen::MatrixXcd out(2 * n, 2 * n);
   auto node_of = [&](double d) {
-    return static_cast<Eigen::Index>(std::min_element(nodes.begin(), nodes.end(),
-                                                      [&](double x, double y) { return std::abs(x - d) < std::abs(y - d); }) -
-                                     nodes.begin());
+    return static_cast<Eigen::Index>(
+        std::min_element(nodes.begin(), nodes.end(), [&](double x, double y) { return std::abs(x - d) < std::abs(y - d); }) -
+        nodes.begin());
   };
   for (Eigen::Index i = 0; i < n; ++i)
-    for (Eigen::Index j = 0; j < n; ++j) out.block<2, 2>(2 * i, 2 * j) = G.block<2, 2>(2 * node_of(cuts[i]), 2 * node_of(cuts[j]));
+    for (Eigen::Index j = 0; j < n; ++j)
+      out.block<2, 2>(2 * i, 2 * j) = G.block<2, 2>(2 * node_of(cuts[i]), 2 * node_of(cuts[j]));
   return out;
 }
 
@@ -385,8 +395,7 @@ Eigen::MatrixXcd AssemblyModel::holder_stations(double f, const std::vector<doub
 }
 
 Assembly with_overhang(const Assembly& assembly, double overhang) {
-  if (!std::isfinite(overhang) || !(overhang > 0.0))
-    throw InvalidArgument(fmt::format("overhang {} m must be > 0", overhang));
+  if (!std::isfinite(overhang) || !(overhang > 0.0)) throw InvalidArgument(fmt::format("overhang {} m must be > 0", overhang));
   Assembly a = assembly;
   const double inside = assembly.tool.length - assembly.tool.overhang;
   a.tool.overhang = overhang;

@@ -106,7 +106,8 @@ LoadedAssembly parse_assembly(const std::string& text, const std::string& source
     if (step && points) r.fail(*t, "[analysis] gives both frequency_step and points: choose one");
     a.grid = {fmin, fmax, step ? *step : a.grid.step_hz};
     if (points) {
-      if (*points < 2 || *points != std::floor(*points)) r.fail(*t->get("points"), fmt::format("analysis.points = {} must be an integer ≥ 2", *points));
+      if (*points < 2 || *points != std::floor(*points))
+        r.fail(*t->get("points"), fmt::format("analysis.points = {} must be an integer ≥ 2", *points));
       a.grid.step_hz = (fmax - fmin) / (*points - 1.0);
     }
     try {
@@ -130,7 +131,8 @@ LoadedAssembly parse_assembly(const std::string& text, const std::string& source
     }
     if (auto n = r.number(*t, "modal_terms", "model", "(count)")) {
       if (*n < 1 || *n > 20000 || *n != std::floor(*n))
-        r.fail(*t->get("modal_terms"), fmt::format("model.modal_terms = {} must be an integer in 1..20000", *n), "100 is plenty below ~10 kHz");
+        r.fail(*t->get("modal_terms"), fmt::format("model.modal_terms = {} must be an integer in 1..20000", *n),
+               "100 is plenty below ~10 kHz");
       a.modal_terms = static_cast<int>(*n);
     }
   }
@@ -187,8 +189,9 @@ LoadedAssembly parse_assembly(const std::string& text, const std::string& source
   a.holder = read_segments(r, ho, "holder", mats, ho_mat);
 
   const toml::table& to = *r.table(root, "tool", "", true);
-  r.only(to, "tool", {"material", "length", "overhang", "diameter", "shank_diameter", "flute_length", "flute_diameter_ratio",
-                      "shear_coefficient"});
+  r.only(to, "tool",
+         {"material", "length", "overhang", "diameter", "shank_diameter", "flute_length", "flute_diameter_ratio",
+          "shear_coefficient"});
   a.tool.material = material_ref(r, mats, to, "material", "tool", nullptr);
   a.tool.length = r.required_number(to, "length", "tool", "m");
   a.tool.overhang = r.required_number(to, "overhang", "tool", "m");
@@ -216,7 +219,8 @@ LoadedAssembly parse_assembly(const std::string& text, const std::string& source
   if (!analysis)  // a default that changes every result: said once, never silent
     notes.push_back(fmt::format("{}: no [analysis] table: the default grid {:g}–{:g} Hz in steps of {:g} Hz is used", source,
                                 a.grid.start_hz, a.grid.stop_hz, a.grid.step_hz));
-  for (const auto& [joint, name] : {std::pair{&a.spindle_holder, "joints.spindle_holder"}, std::pair{&a.holder_tool, "joints.holder_tool"}})
+  for (const auto& [joint, name] :
+       {std::pair{&a.spindle_holder, "joints.spindle_holder"}, std::pair{&a.holder_tool, "joints.holder_tool"}})
     if (!joint->rigid)
       for (auto& n : joint_warnings(joint->parameters, fmt::format("{}: {}", source, name))) notes.push_back(std::move(n));
   return {std::move(a), std::move(r.warnings), std::move(notes)};

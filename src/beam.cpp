@@ -42,7 +42,8 @@ void Material::check() const {
     throw InvalidArgument(fmt::format("{}: density = {} kg/m³ must be > 0", who, density), "steel is about 7800 kg/m³");
   if (!(poisson > -1.0 && poisson < 0.5))
     throw InvalidArgument(fmt::format("{}: poisson = {} must lie in (−1, 0.5)", who, poisson), "steel is about 0.3");
-  if (shear_modulus < 0.0) throw InvalidArgument(fmt::format("{}: shear_modulus = {} Pa must be > 0 (or 0 for E/(2(1+ν)))", who, shear_modulus));
+  if (shear_modulus < 0.0)
+    throw InvalidArgument(fmt::format("{}: shear_modulus = {} Pa must be > 0 (or 0 for E/(2(1+ν)))", who, shear_modulus));
   if (loss_factor < 0.0) throw InvalidArgument(fmt::format("{}: loss_factor = {} must be ≥ 0", who, loss_factor));
 }
 
@@ -59,9 +60,7 @@ double shear_coefficient(ShearModel model, double nu, double outer_diameter, dou
   return num / den;
 }
 
-double Annulus::area() const {
-  return kPi / 4.0 * (outer_diameter * outer_diameter - inner_diameter * inner_diameter);
-}
+double Annulus::area() const { return kPi / 4.0 * (outer_diameter * outer_diameter - inner_diameter * inner_diameter); }
 
 double Annulus::second_moment() const {
   const double d4 = outer_diameter * outer_diameter * outer_diameter * outer_diameter;
@@ -75,7 +74,8 @@ void Annulus::check() const {
   if (!std::isfinite(inner_diameter) || inner_diameter < 0.0)
     throw InvalidArgument(fmt::format("inner diameter {} m must be ≥ 0", inner_diameter));
   if (!(inner_diameter < outer_diameter))
-    throw InvalidArgument(fmt::format("inner diameter {} m must be below the outer diameter {} m", inner_diameter, outer_diameter));
+    throw InvalidArgument(
+        fmt::format("inner diameter {} m must be below the outer diameter {} m", inner_diameter, outer_diameter));
   if (shear_coefficient && !(*shear_coefficient > 0.0 && *shear_coefficient <= 1.5))
     throw InvalidArgument(fmt::format("shear coefficient {} must lie in (0, 1.5]", *shear_coefficient),
                           "circular sections have κ ≈ 0.5–0.9");
@@ -99,12 +99,15 @@ SectionProperties Segment::properties() const {
     area += l.area();
     nu_area += l.material.poisson * l.area();
   }
-  const double whole_kappa = layers.size() > 1 && !overridden && area > 0.0 ? shear_coefficient(shear_model, nu_area / area, outer, inner) : 0.0;
+  const double whole_kappa = layers.size() > 1 && !overridden && area > 0.0
+                                 ? shear_coefficient(shear_model, nu_area / area, outer, inner)
+                                 : 0.0;
   for (const Annulus& l : layers) {
     const double A = l.area(), I = l.second_moment();
     const double kappa = l.shear_coefficient ? *l.shear_coefficient
-                         : whole_kappa > 0.0 ? whole_kappa
-                                             : shear_coefficient(shear_model, l.material.poisson, l.outer_diameter, l.inner_diameter);
+                         : whole_kappa > 0.0
+                             ? whole_kappa
+                             : shear_coefficient(shear_model, l.material.poisson, l.outer_diameter, l.inner_diameter);
     const Complex damp(1.0, l.material.loss_factor);
     p.EI += l.material.youngs_modulus * I * damp;
     p.kGA += kappa * l.material.G() * A * damp;
@@ -127,8 +130,7 @@ void Segment::check() const {
   }
 }
 
-Segment Segment::tube(double length, double outer_diameter, double inner_diameter, const Material& material,
-                      std::string name) {
+Segment Segment::tube(double length, double outer_diameter, double inner_diameter, const Material& material, std::string name) {
   Segment s;
   s.name = std::move(name);
   s.length = length;
@@ -155,20 +157,20 @@ inline Complex sqrt_principal(Complex z) {
 //   Re = e^{−x} cos y − 1 = expm1(−x) cos y + (cos y − 1), cos y − 1 = −sin²y/(1 + cos y) for cos y > 0,
 //   Im = −e^{−x} sin y.
 // Both real terms are ≤ 0 for x ≥ 0 and cos y > 0, so they do not cancel. One evaluation per wave
-// gives both c = (1 + e^{−z})/2 and σ = (1 − e^{−z})/2. Each wave has one small part: y is η-small on the evanescent wave, x on the propagating one.
-// For |y| ≤ 1/32, sin y and cos y − 1 come from their Taylor series through y⁷ and y⁸, and for
-// x ≤ 1/32, expm1(−x) through x⁸: the first omitted terms are below 3e-18 relative, and half
-// the libm calls are saved. Products with the rounded ratios of factorials: their 1e-16 errors
-// scale terms ≤ 1/6 of the leading one, at most 2e-4 of it.
+// gives both c = (1 + e^{−z})/2 and σ = (1 − e^{−z})/2. Each wave has one small part: y is η-small on the evanescent wave, x on
+// the propagating one. For |y| ≤ 1/32, sin y and cos y − 1 come from their Taylor series through y⁷ and y⁸, and for x ≤ 1/32,
+// expm1(−x) through x⁸: the first omitted terms are below 3e-18 relative, and half the libm calls are saved. Products with the
+// rounded ratios of factorials: their 1e-16 errors scale terms ≤ 1/6 of the leading one, at most 2e-4 of it.
 inline Complex exp_neg_minus_one(Complex z) {
   const double x = z.real();
   const double em1 =
       std::abs(x) <= 0.03125
-          ? -x * (1.0 - x * 0.5 *
-                            (1.0 - x * (1.0 / 3.0) *
-                                       (1.0 - x * 0.25 *
-                                                  (1.0 - x * 0.2 *
-                                                             (1.0 - x * (1.0 / 6.0) * (1.0 - x * (1.0 / 7.0) * (1.0 - x * 0.125)))))))
+          ? -x * (1.0 -
+                  x * 0.5 *
+                      (1.0 -
+                       x * (1.0 / 3.0) *
+                           (1.0 -
+                            x * 0.25 * (1.0 - x * 0.2 * (1.0 - x * (1.0 / 6.0) * (1.0 - x * (1.0 / 7.0) * (1.0 - x * 0.125)))))))
           : std::expm1(-x);
   const double y = z.imag();
   double sy, cy, cm1;
@@ -191,8 +193,9 @@ SectionWaves section_waves(const SectionProperties& sp, double frequency_hz) {
   // Cheap enough for the per-frequency path; a bad section would otherwise give finite garbage.
   if (!(sp.EI.real() > 0.0 && sp.kGA.real() > 0.0 && sp.rhoA > 0.0 && sp.rhoI > 0.0) || !std::isfinite(sp.EI.imag()) ||
       !std::isfinite(sp.kGA.imag()) || !std::isfinite(sp.EI.real() + sp.kGA.real() + sp.rhoA + sp.rhoI))
-    throw InvalidArgument(fmt::format("section properties EI = {}, κGA = {}, ρA = {}, ρI = {} must be finite with positive real parts",
-                                      format_complex(sp.EI), format_complex(sp.kGA), sp.rhoA, sp.rhoI));
+    throw InvalidArgument(
+        fmt::format("section properties EI = {}, κGA = {}, ρA = {}, ρI = {} must be finite with positive real parts",
+                    format_complex(sp.EI), format_complex(sp.kGA), sp.rhoA, sp.rhoI));
   if (!(frequency_hz > 0.0) || !std::isfinite(frequency_hz))
     throw InvalidArgument(fmt::format("frequency {} Hz must be > 0 (free–free receptances are unbounded at 0 Hz)", frequency_hz));
   const double w2 = omega_of(frequency_hz) * omega_of(frequency_hz);
@@ -274,13 +277,14 @@ TwoPort exact_receptance(const SectionWaves& w, double length) {
                                           "at this frequency",
                                           w.frequency_hz, length),
                               "use a frequency in the range of structural dynamics (mHz to MHz)");
-      throw NumericalError(w.undamped ? fmt::format("{} Hz is a natural frequency of an undamped free–free segment (L = {} m): "
-                                                    "the receptance is unbounded there",
-                                                    w.frequency_hz, length)
-                                      : fmt::format("{} Hz lies so close to a natural frequency of a free–free segment (L = {} m), "
-                                                    "or to 0 Hz where its rigid-body motion is unbounded, that its "
-                                                    "receptance cannot be resolved in double precision",
-                                                    w.frequency_hz, length),
+      throw NumericalError(w.undamped
+                               ? fmt::format("{} Hz is a natural frequency of an undamped free–free segment (L = {} m): "
+                                             "the receptance is unbounded there",
+                                             w.frequency_hz, length)
+                               : fmt::format("{} Hz lies so close to a natural frequency of a free–free segment (L = {} m), "
+                                             "or to 0 Hz where its rigid-body motion is unbounded, that its "
+                                             "receptance cannot be resolved in double precision",
+                                             w.frequency_hz, length),
                            "give the material a (larger) loss factor or move the frequency grid off the resonance");
     }
   const CPair r = detail::reciprocals(d);  // (1/Δ_s, 1/Δ_a)
@@ -292,8 +296,10 @@ TwoPort exact_receptance(const SectionWaves& w, double length) {
   const CPair gd = (both(w.f_d) * r) * pair(cc, lane(prod, 1));
 
   TwoPort t;
-  const Complex h = 0.5 * (lane(ga, 0) + lane(ga, 1)), l = 0.5 * (lane(gb, 0) + lane(gb, 1)), pp = 0.5 * (lane(gd, 0) + lane(gd, 1));
-  const Complex h12 = 0.5 * (lane(ga, 1) - lane(ga, 0)), l12 = 0.5 * (lane(gb, 0) - lane(gb, 1)), p12 = 0.5 * (lane(gd, 0) - lane(gd, 1));
+  const Complex h = 0.5 * (lane(ga, 0) + lane(ga, 1)), l = 0.5 * (lane(gb, 0) + lane(gb, 1)),
+                pp = 0.5 * (lane(gd, 0) + lane(gd, 1));
+  const Complex h12 = 0.5 * (lane(ga, 1) - lane(ga, 0)), l12 = 0.5 * (lane(gb, 0) - lane(gb, 1)),
+                p12 = 0.5 * (lane(gd, 0) - lane(gd, 1));
   t.b11(0, 0) = h, t.b11(0, 1) = l, t.b11(1, 0) = l, t.b11(1, 1) = pp;
   t.b12(0, 0) = h12, t.b12(0, 1) = l12, t.b12(1, 0) = -l12, t.b12(1, 1) = p12;
   t.b21(0, 0) = h12, t.b21(0, 1) = -l12, t.b21(1, 0) = l12, t.b21(1, 1) = p12;
@@ -452,9 +458,10 @@ std::vector<double> frequency_roots(const Dimensionless& d, int count) {
       // with its size a relative 1e-4 away on either side.
       const double scale = std::abs(eq(root * (1.0 - 1e-4))) + std::abs(eq(root * (1.0 + 1e-4)));
       if (!(std::abs(eq(root)) <= 1e-3 * scale))
-        throw NumericalError(fmt::format("free–free frequency equation: root λ = {} of the {} factor does not satisfy the "
-                                         "combined equation ({} against {})",
-                                         root, k ? "even" : "odd", eq(root), scale));
+        throw NumericalError(
+            fmt::format("free–free frequency equation: root λ = {} of the {} factor does not satisfy the "
+                        "combined equation ({} against {})",
+                        root, k ? "even" : "odd", eq(root), scale));
       roots.push_back(root);
     }
     lam = next;
@@ -487,19 +494,39 @@ struct ModeShape {
     if (i < 2) {
       const double m = k2;
       if (!above && expo) {
-        if (i == 0) { phi = std::exp(-m * z); dphi = -m * phi; }
-        else { phi = std::exp(-m * (1.0 - z)); dphi = m * phi; }
+        if (i == 0) {
+          phi = std::exp(-m * z);
+          dphi = -m * phi;
+        } else {
+          phi = std::exp(-m * (1.0 - z));
+          dphi = m * phi;
+        }
       } else if (!above) {
-        if (i == 0) { phi = std::cosh(m * z); dphi = m * std::sinh(m * z); }
-        else { phi = m > 0.0 ? std::sinh(m * z) / m : z; dphi = std::cosh(m * z); }
+        if (i == 0) {
+          phi = std::cosh(m * z);
+          dphi = m * std::sinh(m * z);
+        } else {
+          phi = m > 0.0 ? std::sinh(m * z) / m : z;
+          dphi = std::cosh(m * z);
+        }
       } else {
-        if (i == 0) { phi = std::cos(m * z); dphi = -m * std::sin(m * z); }
-        else { phi = m > 0.0 ? std::sin(m * z) / m : z; dphi = std::cos(m * z); }
+        if (i == 0) {
+          phi = std::cos(m * z);
+          dphi = -m * std::sin(m * z);
+        } else {
+          phi = m > 0.0 ? std::sin(m * z) / m : z;
+          dphi = std::cos(m * z);
+        }
       }
     } else {
       const double o = k1;
-      if (i == 2) { phi = std::cos(o * z); dphi = -o * std::sin(o * z); }
-      else { phi = std::sin(o * z) / o; dphi = std::cos(o * z); }
+      if (i == 2) {
+        phi = std::cos(o * z);
+        dphi = -o * std::sin(o * z);
+      } else {
+        phi = std::sin(o * z) / o;
+        dphi = std::cos(o * z);
+      }
     }
   }
   double ph(int i) const { return i < 2 ? phat[0] : phat[1]; }
@@ -531,7 +558,7 @@ ModeShape mode_shape(const FreqEq& eq, double lambda) {
     for (int end = 0; end < 2; ++end) {
       double f, df;
       m.basis(i, static_cast<double>(end), f, df);
-      A(2 * end, i) = f;                         // shear: −λ φ = 0
+      A(2 * end, i) = f;                            // shear: −λ φ = 0
       A(2 * end + 1, i) = (m.ph(i) + lambda) * df;  // moment: (p̂ + λ) φ' = 0
     }
   }

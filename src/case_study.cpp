@@ -12,7 +12,8 @@ namespace toolpoint {
 void CaseStudyOptions::check() const {
   if (!(noise_sigma >= 0.0 && noise_sigma < 1.0))
     throw InvalidArgument(fmt::format("noise σ = {} must lie in [0, 1)", noise_sigma));
-  if (!(band_width > 0.0 && band_width < 0.5)) throw InvalidArgument(fmt::format("band width {} must lie in (0, 0.5)", band_width));
+  if (!(band_width > 0.0 && band_width < 0.5))
+    throw InvalidArgument(fmt::format("band width {} must lie in (0, 0.5)", band_width));
   filter.check();
   fit_options.check();
 }
@@ -49,8 +50,9 @@ CaseStudy run_case_study(const Assembly& assembly, const CaseStudyOptions& o) {
   for (std::size_t i = 0; i < cs.clean.size(); ++i)
     for (int k = 0; k < 8; ++k)
       if (cs.reference[k] != 0.0)
-        cs.clean_max_deviation[static_cast<std::size_t>(k)] =
-            std::max(cs.clean_max_deviation[static_cast<std::size_t>(k)], std::abs(cs.clean.parameters[i][k] / cs.reference[k] - 1.0));
+        cs.clean_max_deviation[static_cast<std::size_t>(k)] = std::max(cs.clean_max_deviation[static_cast<std::size_t>(k)],
+                                                                       std::abs(cs.clean.parameters[i][k] / cs.reference[k] -
+                                                                                1.0));
 
   auto sh_n = add_measurement_noise(cs.sh_true, NoiseOptions{o.noise_sigma, o.seed}, "SH11");
   auto sht_n = add_measurement_noise(cs.sht_true, NoiseOptions{o.noise_sigma, o.seed + 1}, "SHT11");
@@ -83,7 +85,8 @@ CaseStudy run_case_study(const Assembly& assembly, const CaseStudyOptions& o) {
   io.method = IdentificationMethod::Seed;
   io.width = o.band_width;
   if (o.apply_filter) io.filter = o.filter;
-  const IdentificationData measured{"overhang as modelled", std::nullopt, cs.sht_noisy, "SHT11 (noisy)", cs.sh_noisy, "SH11 (noisy)"};
+  const IdentificationData measured{"overhang as modelled", std::nullopt, cs.sht_noisy,
+                                    "SHT11 (noisy)",        cs.sh_noisy,  "SH11 (noisy)"};
   cs.seed = identify_joint_from_frfs(assembly, {measured}, io);
   cs.filtered = cs.seed.closed_form;
   cs.effect = *cs.seed.mode.effect;

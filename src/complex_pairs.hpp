@@ -63,7 +63,8 @@ inline Complex lane(const CPair& a, int i) { return {a.re[i], a.im[i]}; }
 // reciprocal() of both lanes, with one vector division (the same quotients as two).
 inline CPair reciprocals(const CPair& z) {
   const Lanes n = z.re * z.re + z.im * z.im;
-  if (!(n[0] > 1e-290 && n[0] < 1e290 && n[1] > 1e-290 && n[1] < 1e290)) return pair(reciprocal(lane(z, 0)), reciprocal(lane(z, 1)));
+  if (!(n[0] > 1e-290 && n[0] < 1e290 && n[1] > 1e-290 && n[1] < 1e290))
+    return pair(reciprocal(lane(z, 0)), reciprocal(lane(z, 1)));
   const Lanes r = Lanes{1.0, 1.0} / n;
   return {z.re * r, -z.im * r};
 }
@@ -88,7 +89,8 @@ inline Cols inverse_checked(const Cols& m, const char* what) {
   const CPair adbc = m.c0 * CPair{Lanes{m.c1.re[1], m.c1.re[0]}, Lanes{m.c1.im[1], m.c1.im[0]}};  // (m00 m11, m10 m01)
   const Complex ad = lane(adbc, 0), bc = lane(adbc, 1);
   const Complex det = ad - bc;
-  if (!well_above_roundoff(det, ad, bc) || !std::isfinite(det.real()) || !std::isfinite(det.imag())) throw_singular(block(m), what);
+  if (!well_above_roundoff(det, ad, bc) || !std::isfinite(det.real()) || !std::isfinite(det.imag()))
+    throw_singular(block(m), what);
   const CPair r = both(1.0 / det);
   const Lanes neg{1.0, -1.0};
   // [[m11, −m01], [−m10, m00]] r

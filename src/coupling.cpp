@@ -147,16 +147,23 @@ Eigen::MatrixXcd join_rigid(const Eigen::MatrixXcd& A, Eigen::Index a_node, cons
   for (Eigen::Index q = 0; q < nb; ++q) {
     const Eigen::Index col = bmap[static_cast<std::size_t>(q)];
     const Eigen::MatrixXcd fa = X * Bj.middleCols(2 * q, 2);
-    const Eigen::MatrixXcd fb = (q == b_node ? Eigen::MatrixXcd(Eigen::MatrixXcd::Identity(2, 2)) : Eigen::MatrixXcd::Zero(2, 2)) - fa;
+    const Eigen::MatrixXcd fb = (q == b_node ? Eigen::MatrixXcd(Eigen::MatrixXcd::Identity(2, 2))
+                                             : Eigen::MatrixXcd::Zero(2, 2)) -
+                                fa;
     G.middleCols(2 * col, 2).topRows(2 * na) = Acj * fa;
     for (Eigen::Index k = 0; k < nb; ++k)
-      if (k != b_node) G.block(2 * bmap[static_cast<std::size_t>(k)], 2 * col, 2, 2) = (q == b_node ? Eigen::MatrixXcd(Eigen::MatrixXcd::Zero(2, 2)) : Eigen::MatrixXcd(B.block(2 * k, 2 * q, 2, 2))) + Bcj.middleRows(2 * k, 2) * fb;
+      if (k != b_node)
+        G.block(2 * bmap[static_cast<std::size_t>(k)], 2 * col, 2, 2) = (q == b_node
+                                                                             ? Eigen::MatrixXcd(Eigen::MatrixXcd::Zero(2, 2))
+                                                                             : Eigen::MatrixXcd(B.block(2 * k, 2 * q, 2, 2))) +
+                                                                        Bcj.middleRows(2 * k, 2) * fb;
   }
   return G;
 }
 
 Eigen::MatrixXcd ground_node(const Eigen::MatrixXcd& G, Eigen::Index node, const Block& D) {
-  const Block Y = D * inverse_checked(Block::Identity() + G.block<2, 2>(2 * node, 2 * node) * D, "structural-modification matrix (I + G_nn D)");
+  const Block Y = D * inverse_checked(Block::Identity() + G.block<2, 2>(2 * node, 2 * node) * D,
+                                      "structural-modification matrix (I + G_nn D)");
   return G - G.middleCols(2 * node, 2) * Y * G.middleRows(2 * node, 2);
 }
 

@@ -117,8 +117,7 @@ Role role_of_name(std::string_view raw) {
   if (in({"f", "freq", "frequency", "frequencies", "frq"})) return Role::Frequency;
   if (in({"re", "real", "realpart", "reh", "realh", "refrf", "realfrf"})) return Role::Real;
   if (in({"im", "imag", "imaginary", "imaginarypart", "imh", "imagh", "imfrf", "imagfrf"})) return Role::Imag;
-  if (in({"mag", "magnitude", "abs", "absh", "amplitude", "amp", "modulus", "h", "magh", "magnitudeh"}))
-    return Role::Magnitude;
+  if (in({"mag", "magnitude", "abs", "absh", "amplitude", "amp", "modulus", "h", "magh", "magnitudeh"})) return Role::Magnitude;
   if (in({"db", "magdb", "magnitudedb", "amplitudedb", "level", "leveldb"})) return Role::Db;
   if (in({"phase", "phi", "angle", "arg", "phaseh", "argh", "angleh"})) return Role::Phase;
   if (in({"coherence", "coh", "cohere", "gamma2", "gammasquared", "coherenceh"})) return Role::Coherence;
@@ -152,9 +151,9 @@ bool unitless(std::string_view u) {
 // One header cell understood: what the column holds and in which units.
 struct Column {
   Role role = Role::None;
-  std::string unit;   // as written ("m/N", "deg", "dB re 1 m/N")
-  bool degrees = false;  // phase
-  double to_hz = 1.0;    // frequency
+  std::string unit;         // as written ("m/N", "deg", "dB re 1 m/N")
+  bool degrees = false;     // phase
+  double to_hz = 1.0;       // frequency
   std::string value_units;  // real/imag/magnitude: the unit; dB: what follows "re" (may be empty)
 };
 
@@ -190,8 +189,7 @@ std::optional<Column> with_unit(Role role, std::string_view unit) {
         return c;
       }
       return std::nullopt;
-    case Role::Coherence:
-      return unitless(unit) ? std::optional<Column>(c) : std::nullopt;
+    case Role::Coherence: return unitless(unit) ? std::optional<Column>(c) : std::nullopt;
     case Role::Magnitude:
     case Role::Db:
       if (const auto ref = db_reference(unit)) {
@@ -208,8 +206,7 @@ std::optional<Column> with_unit(Role role, std::string_view unit) {
         return std::nullopt;
       c.value_units = c.unit;
       return c;
-    case Role::None:
-      break;
+    case Role::None: break;
   }
   return std::nullopt;
 }
@@ -257,9 +254,11 @@ bool block_unit_is_si(int k, const std::string& unit) {
   if (unit.empty()) return true;
   std::string a, b;
   for (char c : unit)
-    if (std::isalnum(static_cast<unsigned char>(c)) || c == '/') a += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (std::isalnum(static_cast<unsigned char>(c)) || c == '/')
+      a += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   for (char c : std::string_view(kBlockUnits[k]))
-    if (std::isalnum(static_cast<unsigned char>(c)) || c == '/') b += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (std::isalnum(static_cast<unsigned char>(c)) || c == '/')
+      b += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return a == b || (k >= 2 && k <= 3 && a == "m/nm") || (k >= 6 && a == "rad/nm");
 }
 
@@ -287,9 +286,10 @@ class CsvReader {
     const std::size_t n = table_.is_block ? table_.block.size() : table_.single.size();
     if (n == 0) throw InputError(fmt::format("{}: header but no data lines", source_));
     if (zero_lines_ > 0)
-      table_.warnings.push_back(fmt::format("{}: {} line(s) at 0 Hz dropped (the first: line {}): an FRF series needs "
-                                            "frequencies above 0 Hz",
-                                            source_, zero_lines_, first_zero_line_));
+      table_.warnings.push_back(
+          fmt::format("{}: {} line(s) at 0 Hz dropped (the first: line {}): an FRF series needs "
+                      "frequencies above 0 Hz",
+                      source_, zero_lines_, first_zero_line_));
     return std::move(table_);
   }
 
@@ -363,8 +363,8 @@ class CsvReader {
       if (!e || *e != k) return false;
       if (!block_unit_is_si(k, unit))
         fail(lines_.front().number,
-             fmt::format("column {} ({}) is in '{}'; a block file is read in SI units only ({})", k + 2, kBlockNames[k],
-                         unit, kBlockUnits[k]),
+             fmt::format("column {} ({}) is in '{}'; a block file is read in SI units only ({})", k + 2, kBlockNames[k], unit,
+                         kBlockUnits[k]),
              "convert the block to SI units (toolpoint writes H m/N, L 1/N, N rad/N, P rad/(N m))");
     }
     if (names_.size() == 10) {
@@ -372,9 +372,10 @@ class CsvReader {
       coh_ = 9;
     }
     if (o_.format || !o_.columns.empty())
-      throw InvalidArgument(fmt::format("{}: a 2×2 block file (frequency, H_re … P_im) takes no column or value-format "
-                                        "choice (FrfCsvOptions::columns / format)",
-                                        source_));
+      throw InvalidArgument(
+          fmt::format("{}: a 2×2 block file (frequency, H_re … P_im) takes no column or value-format "
+                      "choice (FrfCsvOptions::columns / format)",
+                      source_));
     const Column f = understand(names_[0]);
     to_hz_ = f.to_hz;
     table_.is_block = true;
@@ -391,17 +392,17 @@ class CsvReader {
     const auto [p, ec] = std::from_chars(entry.data(), entry.data() + entry.size(), k);
     if (ec == std::errc() && p == entry.data() + entry.size()) {
       if (k < 1 || k > columns_)
-        throw InvalidArgument(fmt::format("{}: FrfCsvOptions::columns names column {}, but the file has {} column(s)",
-                                          source_, entry, columns_));
+        throw InvalidArgument(
+            fmt::format("{}: FrfCsvOptions::columns names column {}, but the file has {} column(s)", source_, entry, columns_));
       return k - 1;
     }
     for (std::size_t c = 0; c < names_.size(); ++c)
       if (text::iequal(trim(names_[c]), trim(entry))) return c;
     std::string list;
     for (std::size_t c = 0; c < names_.size(); ++c) list += fmt::format("{}{} '{}'", c ? ", " : "", c + 1, names_[c]);
-    throw InvalidArgument(fmt::format("{}: FrfCsvOptions::columns names '{}', which is {}", source_, entry,
-                                      has_header_ ? "no header cell; the header holds " + list
-                                                  : "not a column number (the file has no header)"));
+    throw InvalidArgument(
+        fmt::format("{}: FrfCsvOptions::columns names '{}', which is {}", source_, entry,
+                    has_header_ ? "no header cell; the header holds " + list : "not a column number (the file has no header)"));
   }
 
   void choose_columns() {
@@ -409,9 +410,10 @@ class CsvReader {
     std::vector<Column> cols(columns_);
     if (has_header_)
       for (std::size_t k = 0; k < columns_; ++k) cols[k] = understand(names_[k]);
-    const std::string settle = "say which columns hold what (FrfCsvOptions::columns: frequency, the two values, "
-                               "optionally coherence) and what the values are (FrfCsvOptions::format: re-im, "
-                               "mag-phase-deg, mag-phase-rad, db-phase)";
+    const std::string settle =
+        "say which columns hold what (FrfCsvOptions::columns: frequency, the two values, "
+        "optionally coherence) and what the values are (FrfCsvOptions::format: re-im, "
+        "mag-phase-deg, mag-phase-rad, db-phase)";
     if (!o_.columns.empty()) {
       f_ = column_named(o_.columns[0]);
       a_ = column_named(o_.columns[1]);
@@ -442,8 +444,7 @@ class CsvReader {
     // What the value columns are: the option, else their names.
     const Column& fc = cols[f_];
     if (has_header_ && !o_.columns.empty() && fc.role != Role::Frequency && fc.role != Role::None)
-      fail(header_line, fmt::format("{} is the {} by its name, not the frequency", column_text(f_), role_name(fc.role)),
-           settle);
+      fail(header_line, fmt::format("{} is the {} by its name, not the frequency", column_text(f_), role_name(fc.role)), settle);
     to_hz_ = fc.role == Role::Frequency ? fc.to_hz : 1.0;
     if (has_header_ && fc.role == Role::Frequency && !fc.unit.empty() && !frequency_unit(fc.unit))
       fail(header_line, fmt::format("{}: frequency unit '{}' not known", column_text(f_), fc.unit), "use Hz, kHz or rad/s");
@@ -483,14 +484,15 @@ class CsvReader {
       const std::string& u = cols[k].value_units;
       if (u.empty()) continue;
       if (!table_.value_units.empty() && table_.value_units != u)
-        fail(header_line, fmt::format("{} is in '{}' but {} in '{}'", table_.value_units_column, table_.value_units,
-                                      column_text(k), u),
+        fail(header_line,
+             fmt::format("{} is in '{}' but {} in '{}'", table_.value_units_column, table_.value_units, column_text(k), u),
              "give both value columns the same units");
       table_.value_units = u;
       table_.value_units_column = column_text(k);
     }
     if (coh_ && has_header_ && cols[*coh_].role != Role::Coherence && !o_.columns.empty() && cols[*coh_].role != Role::None)
-      fail(header_line, fmt::format("{} is the {} by its name, not a coherence", column_text(*coh_), role_name(cols[*coh_].role)));
+      fail(header_line,
+           fmt::format("{} is the {} by its name, not a coherence", column_text(*coh_), role_name(cols[*coh_].role)));
     // Everything else is reported, not read.
     std::vector<std::string> unused;
     for (std::size_t k = 0; k < columns_; ++k)
@@ -510,9 +512,8 @@ class CsvReader {
     auto one = [&](Role r) -> std::optional<std::size_t> {
       const auto& v = by[static_cast<int>(r)];
       if (v.size() > 1)
-        fail(header_line, fmt::format("{} and {} are both the {} by their names", column_text(v[0]), column_text(v[1]),
-                                      role_name(r)),
-             settle);
+        fail(header_line,
+             fmt::format("{} and {} are both the {} by their names", column_text(v[0]), column_text(v[1]), role_name(r)), settle);
       return v.empty() ? std::nullopt : std::optional<std::size_t>(v[0]);
     };
     const auto f = one(Role::Frequency);
@@ -520,8 +521,7 @@ class CsvReader {
       fail(header_line, fmt::format("no frequency column in the header '{}'", text::excerpt(lines_.front().text, 120)),
            "name it (frequency_hz, Freq (Hz), Frequency [Hz], …), or " + settle);
     f_ = *f;
-    const auto re = one(Role::Real), im = one(Role::Imag), mag = one(Role::Magnitude), db = one(Role::Db),
-               ph = one(Role::Phase);
+    const auto re = one(Role::Real), im = one(Role::Imag), mag = one(Role::Magnitude), db = one(Role::Db), ph = one(Role::Phase);
     coh_ = one(Role::Coherence);
     if (mag && db)
       fail(header_line, fmt::format("{} and {} are both magnitudes (linear and dB)", column_text(*mag), column_text(*db)),

@@ -25,8 +25,8 @@ using text::trim;
 // Units labels that are clearly not SI: a file without a units dataset that says "g" or "mm"
 // would otherwise be read silently a factor 9.81 or 1000 off.
 std::optional<std::string> non_si_token(const std::string& label) {
-  static const std::set<std::string> bad = {"g", "mm", "cm", "um", "µm", "in", "inch", "ft", "lb", "lbf", "kgf",
-                                            "mN", "kN", "ips", "mil", "mils"};
+  static const std::set<std::string> bad = {"g",  "mm",  "cm",  "um", "µm", "in",  "inch", "ft",
+                                            "lb", "lbf", "kgf", "mN", "kN", "ips", "mil",  "mils"};
   std::string token;
   for (std::size_t i = 0; i <= label.size(); ++i) {
     const char c = i < label.size() ? label[i] : ' ';
@@ -43,9 +43,9 @@ std::optional<std::string> non_si_token(const std::string& label) {
 
 // ---- units -----------------------------------------------------------------------------------
 
-constexpr double kStandardGravity = 9.80665;        // m/s² per g (CGPM 1901)
-constexpr double kPoundForce = 4.4482216152605;     // N per lbf
-constexpr double kInch = 0.0254;                    // m per inch
+constexpr double kStandardGravity = 9.80665;     // m/s² per g (CGPM 1901)
+constexpr double kPoundForce = 4.4482216152605;  // N per lbf
+constexpr double kInch = 0.0254;                 // m per inch
 
 // Lower case, no blanks or brackets or product signs; µ/μ → u, ² → ^2, ** → ^, "sec" → "s".
 std::string normalise_units(std::string_view in) {
@@ -87,7 +87,7 @@ std::optional<std::pair<FrfOrdinate, double>> response_units(std::string n) {
   if (n.size() >= 2 && n.front() == '(' && n.back() == ')') n = n.substr(1, n.size() - 2);
   if (n == "g") return std::pair{FrfOrdinate::Accelerance, kStandardGravity};
   if (n == "ips") return std::pair{FrfOrdinate::Mobility, kInch};
-  static const std::pair<const char*, double> lengths[] = {{"m", 1.0},   {"mm", 1e-3},  {"um", 1e-6}, {"nm", 1e-9},
+  static const std::pair<const char*, double> lengths[] = {{"m", 1.0},   {"mm", 1e-3},  {"um", 1e-6},   {"nm", 1e-9},
                                                            {"cm", 1e-2}, {"in", kInch}, {"inch", kInch}};
   for (const auto& [name, f] : lengths) {
     const std::string l(name);
@@ -114,10 +114,11 @@ FrfUnits resolve_units(const std::optional<FrfUnits>& file_units, const std::str
   }
   if (file_units) {
     if (o.ordinate && *o.ordinate != file_units->ordinate) {
-      warnings.push_back(fmt::format("{} says the values are in '{}' ({}); the ordinate given, {}, is used, in SI units "
-                                     "({})",
-                                     where, file_units->label, frf_ordinate_name(file_units->ordinate),
-                                     frf_ordinate_name(*o.ordinate), si_label(*o.ordinate)));
+      warnings.push_back(
+          fmt::format("{} says the values are in '{}' ({}); the ordinate given, {}, is used, in SI units "
+                      "({})",
+                      where, file_units->label, frf_ordinate_name(file_units->ordinate), frf_ordinate_name(*o.ordinate),
+                      si_label(*o.ordinate)));
       return {*o.ordinate, 1.0, si_label(*o.ordinate)};
     }
     return *file_units;
@@ -130,8 +131,7 @@ FrfUnits resolve_units(const std::optional<FrfUnits>& file_units, const std::str
 void scale_to_si(FrfSeries& s, const FrfUnits& u, const std::string& what, std::vector<std::string>& warnings) {
   if (u.to_si == 1.0) return;
   for (auto& v : s.values) v *= u.to_si;
-  warnings.push_back(fmt::format("{}: values in '{}' converted to SI ({}): × {}", what, u.label, si_label(u.ordinate),
-                                 u.to_si));
+  warnings.push_back(fmt::format("{}: values in '{}' converted to SI ({}): × {}", what, u.label, si_label(u.ordinate), u.to_si));
 }
 
 std::string uff_what(const std::string& source, const UffDataset58& d) {
@@ -237,8 +237,7 @@ std::optional<FrfOrdinate> uff_ordinate_kind(const UffDataset58& d) {
   }
 }
 
-FrfSeries to_receptance(const FrfSeries& s, FrfOrdinate ordinate, std::vector<std::string>& warnings,
-                        const std::string& what) {
+FrfSeries to_receptance(const FrfSeries& s, FrfOrdinate ordinate, std::vector<std::string>& warnings, const std::string& what) {
   FrfSeries out;
   out.frequency_hz.reserve(s.size());
   out.values.reserve(s.size());
@@ -258,12 +257,12 @@ FrfSeries to_receptance(const FrfSeries& s, FrfOrdinate ordinate, std::vector<st
     out.values.push_back(h);
   }
   if (dropped > 0)
-    warnings.push_back(fmt::format("{}: {} point(s) at 0 Hz dropped: {}", what, dropped,
-                                   ordinate == FrfOrdinate::Receptance
-                                       ? "an FRF series needs frequencies above 0 Hz"
-                                       : fmt::format("{} cannot be converted to receptance at ω = 0 (division by {})",
-                                                     frf_ordinate_name(ordinate),
-                                                     ordinate == FrfOrdinate::Mobility ? "iω" : "−ω²")));
+    warnings.push_back(
+        fmt::format("{}: {} point(s) at 0 Hz dropped: {}", what, dropped,
+                    ordinate == FrfOrdinate::Receptance
+                        ? "an FRF series needs frequencies above 0 Hz"
+                        : fmt::format("{} cannot be converted to receptance at ω = 0 (division by {})",
+                                      frf_ordinate_name(ordinate), ordinate == FrfOrdinate::Mobility ? "iω" : "−ω²")));
   return out;
 }
 
@@ -279,9 +278,10 @@ UffReceptance uff_receptance(const UffDataset58& d, std::optional<FrfOrdinate> o
                                  d.function_type, uff_function_type_name(d.function_type)),
                      list_hint);
   if (d.abscissa.data_type == 0)
-    r.warnings.push_back(fmt::format("{}: record 8 abscissa data type 0 (unknown, units label '{}'); taken as frequency "
-                                     "in Hz",
-                                     what, d.abscissa.units));
+    r.warnings.push_back(
+        fmt::format("{}: record 8 abscissa data type 0 (unknown, units label '{}'); taken as frequency "
+                    "in Hz",
+                    what, d.abscissa.units));
   else if (d.abscissa.data_type != 18)
     throw InputError(fmt::format("{}: record 8 abscissa data type {} ({}), expected 18 (frequency, Hz)", what,
                                  d.abscissa.data_type, uff_data_type_name(d.abscissa.data_type)),
@@ -294,27 +294,27 @@ UffReceptance uff_receptance(const UffDataset58& d, std::optional<FrfOrdinate> o
   const auto labelled = uff_label_units(d.ordinate.units, d.denominator.units);
   const std::string codes =
       fmt::format("record 9 ordinate data type {} ({}, units '{}') over record 10 data type {} ({}, units '{}')",
-                  d.ordinate.data_type, uff_data_type_name(d.ordinate.data_type), d.ordinate.units,
-                  d.denominator.data_type, uff_data_type_name(d.denominator.data_type), d.denominator.units);
+                  d.ordinate.data_type, uff_data_type_name(d.ordinate.data_type), d.ordinate.units, d.denominator.data_type,
+                  uff_data_type_name(d.denominator.data_type), d.denominator.units);
   const std::optional<FrfOrdinate> given = units ? std::optional(units->ordinate) : ordinate;
   if (given) {
     if (stated && *stated != *given)
-      r.warnings.push_back(fmt::format("{}: {} states {}, but {} was given; taken as {}", what, codes,
-                                       frf_ordinate_name(*stated), frf_ordinate_name(*given), frf_ordinate_name(*given)));
+      r.warnings.push_back(fmt::format("{}: {} states {}, but {} was given; taken as {}", what, codes, frf_ordinate_name(*stated),
+                                       frf_ordinate_name(*given), frf_ordinate_name(*given)));
     r.ordinate = *given;
   } else if (stated) {
     if (labelled && labelled->ordinate != *stated)
       throw InputError(fmt::format("{}: {} states {}, but the units labels say {} ('{}')", what, codes,
                                    frf_ordinate_name(*stated), frf_ordinate_name(labelled->ordinate), labelled->label),
-                       "say which is right: FrfReadOptions::ordinate (receptance, mobility, accelerance), or FrfReadOptions::units (e.g. g/N)");
+                       "say which is right: FrfReadOptions::ordinate (receptance, mobility, accelerance), or "
+                       "FrfReadOptions::units (e.g. g/N)");
     r.ordinate = *stated;
     if (d.denominator.data_type == 0)
-      r.warnings.push_back(fmt::format("{}: record 10 (ordinate denominator) data type 0 (not given); taken as force",
-                                       what));
+      r.warnings.push_back(fmt::format("{}: record 10 (ordinate denominator) data type 0 (not given); taken as force", what));
   } else if (labelled) {
     r.ordinate = labelled->ordinate;
-    r.warnings.push_back(fmt::format("{}: {} names no response per force; the units labels ('{}') say {}, taken as such",
-                                     what, codes, labelled->label, frf_ordinate_name(labelled->ordinate)));
+    r.warnings.push_back(fmt::format("{}: {} names no response per force; the units labels ('{}') say {}, taken as such", what,
+                                     codes, labelled->label, frf_ordinate_name(labelled->ordinate)));
   } else {
     throw InputError(fmt::format("{}: {} is not displacement, velocity or acceleration per force", what, codes),
                      "if you know what the values are, give the ordinate (FrfReadOptions::ordinate: receptance, mobility, "
@@ -329,18 +329,19 @@ UffReceptance uff_receptance(const UffDataset58& d, std::optional<FrfOrdinate> o
   raw.values = d.y;
   if (units) {
     if (labelled && !(*labelled == *units))
-      r.warnings.push_back(fmt::format("{}: the units labels say '{}'; the units given, '{}', are used", what,
-                                       labelled->label, units->label));
+      r.warnings.push_back(
+          fmt::format("{}: the units labels say '{}'; the units given, '{}', are used", what, labelled->label, units->label));
     scale_to_si(raw, *units, what, r.warnings);
     r.units = *units;
   } else if (d.units && (d.units->force_factor != d.units->length_factor)) {
     // SI value = file value / factor: X_SI/F_SI = (X/fL)/(F/fF) = (X/F)·fF/fL; time stays in s.
     const double scale = d.units->force_factor / d.units->length_factor;
     for (auto& v : raw.values) v *= scale;
-    r.warnings.push_back(fmt::format("{}: values converted to SI with the units of dataset 164 at line {} (code {}, "
-                                     "'{}'): × force factor {} / length factor {} = × {}",
-                                     what, d.units->line, d.units->code, d.units->description, d.units->force_factor,
-                                     d.units->length_factor, scale));
+    r.warnings.push_back(
+        fmt::format("{}: values converted to SI with the units of dataset 164 at line {} (code {}, "
+                    "'{}'): × force factor {} / length factor {} = × {}",
+                    what, d.units->line, d.units->code, d.units->description, d.units->force_factor, d.units->length_factor,
+                    scale));
     r.units = {r.ordinate, scale, fmt::format("dataset 164 '{}'", d.units->description)};
   } else if (labelled && labelled->ordinate == r.ordinate) {
     scale_to_si(raw, *labelled, what, r.warnings);  // g/N × 9.80665, mm/N × 1e-3, …
@@ -350,9 +351,10 @@ UffReceptance uff_receptance(const UffDataset58& d, std::optional<FrfOrdinate> o
     if (!d.units || d.units->code == 1)
       for (const UffAxis* a : {&d.ordinate, &d.denominator})
         if (const auto t = non_si_token(a->units))
-          r.warnings.push_back(fmt::format("{}: units label '{}' mentions '{}', which is not SI; toolpoint takes the "
-                                           "values as SI (m, s, N) — give FrfReadOptions::units if they are not",
-                                           what, a->units, *t));
+          r.warnings.push_back(
+              fmt::format("{}: units label '{}' mentions '{}', which is not SI; toolpoint takes the "
+                          "values as SI (m, s, N) — give FrfReadOptions::units if they are not",
+                          what, a->units, *t));
   }
   r.receptance = to_receptance(raw, r.ordinate, r.warnings, what);
   validate(r.receptance, what);
@@ -407,8 +409,7 @@ bool is_cutpro_labels(const std::vector<std::string_view>& tokens) {
     if (!joined.empty()) joined += ' ';
     joined += t;
   }
-  return std::any_of(std::begin(kCutProLabels), std::end(kCutProLabels),
-                     [&](const char* l) { return text::iequal(joined, l); });
+  return std::any_of(std::begin(kCutProLabels), std::end(kCutProLabels), [&](const char* l) { return text::iequal(joined, l); });
 }
 
 }  // namespace
@@ -464,8 +465,8 @@ FrfText parse_cutpro_frf(std::string_view text_in, const std::string& source) {
       } else if (header_place) {
         throw InputError(fmt::format("{}:{}: '{}' is not CutPro's header ('{}' or '{}'): the columns may not be "
                                      "frequency, real and imaginary part",
-                                     source, line_no, text::excerpt(line.substr(line.find(labels.front())), 60),
-                                     kCutProLabels[0], kCutProLabels[1]),
+                                     source, line_no, text::excerpt(line.substr(line.find(labels.front())), 60), kCutProLabels[0],
+                                     kCutProLabels[1]),
                          fix_table);
       } else if (parsed == 0) {
         throw InputError(fmt::format("{}:{}: field 1 (frequency [Hz]) is '{}', not a number", source, line_no,
@@ -475,21 +476,20 @@ FrfText parse_cutpro_frf(std::string_view text_in, const std::string& source) {
     }
     const char* names[] = {"frequency [Hz]", "real part [m/N]", "imaginary part [m/N]"};
     if (parsed < fields.size() && parsed < 3)
-      throw InputError(fmt::format("{}:{}: field {} ({}) is '{}', not a number", source, line_no, parsed + 1,
-                                   names[parsed], text::excerpt(fields[parsed], 40)),
+      throw InputError(fmt::format("{}:{}: field {} ({}) is '{}', not a number", source, line_no, parsed + 1, names[parsed],
+                                   text::excerpt(fields[parsed], 40)),
                        "each data line holds three numbers: frequency [Hz], real and imaginary receptance [m/N]");
     if (fields.size() != 3)
-      throw InputError(fmt::format("{}:{}: {} field(s), expected 3 (frequency [Hz], real, imaginary [m/N])", source,
-                                   line_no, fields.size()),
+      throw InputError(fmt::format("{}:{}: {} field(s), expected 3 (frequency [Hz], real, imaginary [m/N])", source, line_no,
+                                   fields.size()),
                        "separate the three numbers by tabs, blanks or commas; use '.' as the decimal point");
     for (std::size_t k = 0; k < 3; ++k)
       if (!std::isfinite(v[k]))
-        throw InputError(fmt::format("{}:{}: field {} ({}) is {}, expected a finite number", source, line_no, k + 1,
-                                     names[k], v[k]),
+        throw InputError(fmt::format("{}:{}: field {} ({}) is {}, expected a finite number", source, line_no, k + 1, names[k],
+                                     v[k]),
                          "remove or repair the NaN/Inf values in the data");
     data_seen = true;
-    if (v[0] < 0.0)
-      throw InputError(fmt::format("{}:{}: frequency {} Hz is negative", source, line_no, v[0]));
+    if (v[0] < 0.0) throw InputError(fmt::format("{}:{}: frequency {} Hz is negative", source, line_no, v[0]));
     if (v[0] == 0.0) {
       ++zero_lines;
       continue;
@@ -504,8 +504,8 @@ FrfText parse_cutpro_frf(std::string_view text_in, const std::string& source) {
     out.series.values.emplace_back(v[1], v[2]);
   }
   if (zero_lines > 0)
-    out.warnings.push_back(fmt::format("{}: {} line(s) at 0 Hz dropped: an FRF series needs frequencies above 0 Hz",
-                                       source, zero_lines));
+    out.warnings.push_back(
+        fmt::format("{}: {} line(s) at 0 Hz dropped: an FRF series needs frequencies above 0 Hz", source, zero_lines));
   if (out.series.size() == 0)
     throw InputError(fmt::format("{}: no data lines ({} line(s){})", source, line_no,
                                  out.labels.empty() ? "" : ", CutPro labels only"),
@@ -525,7 +525,8 @@ FrfText parse_cutpro_frf(std::string_view text_in, const std::string& source) {
     throw InputError(fmt::format("{}: looks like magnitude and phase, not real and imaginary parts: every second column "
                                  "value is ≥ 0 (largest {:.3g}), every third within ±180 and up to {:.3g}",
                                  source, max_re, max_im),
-                     fix_table + "; if it really holds real and imaginary parts, read it as CSV with FrfCsvOptions::format re-im");
+                     fix_table +
+                         "; if it really holds real and imaginary parts, read it as CSV with FrfCsvOptions::format re-im");
   return out;
 }
 
@@ -544,7 +545,7 @@ void FrfReadOptions::check() const {
     throw InvalidArgument(fmt::format("FrfReadOptions::units '{}' are {}, but FrfReadOptions::ordinate is {}", units->label,
                                       frf_ordinate_name(units->ordinate), frf_ordinate_name(*ordinate)),
                           "give the units alone (they say the ordinate), or both alike");
-  if (units && !(units->to_si > 0.0) ) throw InvalidArgument("FrfReadOptions::units: the factor to SI must be > 0");
+  if (units && !(units->to_si > 0.0)) throw InvalidArgument("FrfReadOptions::units: the factor to SI must be > 0");
   csv.check();
 }
 
@@ -559,8 +560,8 @@ FrfFileData read_frf_file(const std::string& path, const FrfReadOptions& o) {
   FrfFileData out;
   out.format = o.format == FrfFormat::Auto ? frf_format_of_path(path) : o.format;
   if (out.format != FrfFormat::Uff && !o.uff.empty())
-    throw InvalidArgument(fmt::format("{}: a dataset selection ({}) only applies to UFF files, not {}", path,
-                                      o.uff.describe(), frf_format_name(out.format)));
+    throw InvalidArgument(fmt::format("{}: a dataset selection ({}) only applies to UFF files, not {}", path, o.uff.describe(),
+                                      frf_format_name(out.format)));
   if (out.format != FrfFormat::Csv && csv_options_given(o.csv))
     throw InvalidArgument(fmt::format("{}: a column or value-format choice only applies to CSV files, not {}", path,
                                       frf_format_name(out.format)),
@@ -605,8 +606,9 @@ FrfFileData read_frf_file(const std::string& path, const FrfReadOptions& o) {
       out.warnings = std::move(t.warnings);
       out.description = path;
       // CutPro's values are receptance in m/N by the format (its labels say so when present).
-      const std::optional<FrfUnits> file_units =
-          t.labels.empty() ? std::nullopt : std::optional<FrfUnits>(FrfUnits{FrfOrdinate::Receptance, 1.0, "m/N"});
+      const std::optional<FrfUnits> file_units = t.labels.empty()
+                                                     ? std::nullopt
+                                                     : std::optional<FrfUnits>(FrfUnits{FrfOrdinate::Receptance, 1.0, "m/N"});
       const FrfUnits u = resolve_units(file_units, fmt::format("{}: CutPro labels '{}'", path, t.labels), o, out.warnings);
       scale_to_si(t.series, u, path, out.warnings);
       out.ordinate = u.ordinate;
@@ -631,8 +633,7 @@ FrfFileData read_frf_file(const std::string& path, const FrfReadOptions& o) {
       break;
     }
     case FrfFormat::Auto:
-    case FrfFormat::UffBinary:
-      break;
+    case FrfFormat::UffBinary: break;
   }
   return out;
 }
@@ -659,9 +660,7 @@ std::vector<std::string> write_frf_file(const std::string& path, const FrfSeries
       write_frf_csv(path, h, comments, o.coherence);
       return {};
     }
-    case FrfFormat::Frf:
-      write_text_file(path, format_cutpro_frf(h));
-      return coherence_lost(o.coherence, path, format);
+    case FrfFormat::Frf: write_text_file(path, format_cutpro_frf(h)); return coherence_lost(o.coherence, path, format);
     case FrfFormat::Uff:
     case FrfFormat::UffBinary: {
       UffWriteOptions w;
@@ -670,8 +669,7 @@ std::vector<std::string> write_frf_file(const std::string& path, const FrfSeries
       for (auto& m : coherence_lost(o.coherence, path, format)) lost.push_back(std::move(m));
       return lost;
     }
-    case FrfFormat::Auto:
-      break;
+    case FrfFormat::Auto: break;
   }
   return {};
 }

@@ -26,10 +26,11 @@ JointEstimate identify_joint(const TwoPort& A, const Block& B11, const Block& G1
   // 1e-12 of them it is round-off, and the joint effectively rigid for these data.
   e.flexibility_share = Kinv.norm() / (detail::block(xinv).norm() + A.b22.norm() + B11.norm());
   if (!(e.flexibility_share > 1e-12))
-    throw NumericalError(fmt::format("the joint flexibility K⁻¹ = X⁻¹ − A22 − B11 is {:.2g} of the terms it is the difference of: "
-                                     "lost in round-off, the joint is effectively rigid for these data",
-                                     e.flexibility_share),
-                         "a rigid connection has no stiffness to identify; if the joint is not rigid, the FRFs do not see it");
+    throw NumericalError(
+        fmt::format("the joint flexibility K⁻¹ = X⁻¹ − A22 − B11 is {:.2g} of the terms it is the difference of: "
+                    "lost in round-off, the joint is effectively rigid for these data",
+                    e.flexibility_share),
+        "a rigid connection has no stiffness to identify; if the joint is not rigid, the FRFs do not see it");
   const Cols k = detail::inverse_checked(cols(Kinv), "joint flexibility K⁻¹");
   e.K = detail::block(k);
   if (!diagnostics) return e;
@@ -65,9 +66,12 @@ JointEstimate identify_joint(const TwoPort& A, const Block& B11, const Block& G1
   const double im_scale = 0.1 * std::sqrt(std::abs(e.K(0, 0).imag() * e.K(1, 1).imag()));
   for (int c = 0; c < 2; ++c) {
     // Both rows' quotients in one vector division each (the same IEEE quotients as one by one).
-    const Lanes re{std::max(std::abs(e.K(0, c).real()), c == 0 ? 0.0 : re_scale), std::max(std::abs(e.K(1, c).real()), c == 1 ? 0.0 : re_scale)},
-                im{std::max(std::abs(e.K(0, c).imag()), c == 0 ? 0.0 : im_scale), std::max(std::abs(e.K(1, c).imag()), c == 1 ? 0.0 : im_scale)};
-    const Lanes gre = Lanes{std::sqrt(sre[c][0]), std::sqrt(sre[c][1])} / re, gim = Lanes{std::sqrt(sim[c][0]), std::sqrt(sim[c][1])} / im;
+    const Lanes re{std::max(std::abs(e.K(0, c).real()), c == 0 ? 0.0 : re_scale),
+                   std::max(std::abs(e.K(1, c).real()), c == 1 ? 0.0 : re_scale)},
+        im{std::max(std::abs(e.K(0, c).imag()), c == 0 ? 0.0 : im_scale),
+           std::max(std::abs(e.K(1, c).imag()), c == 1 ? 0.0 : im_scale)};
+    const Lanes gre = Lanes{std::sqrt(sre[c][0]), std::sqrt(sre[c][1])} / re,
+                gim = Lanes{std::sqrt(sim[c][0]), std::sqrt(sim[c][1])} / im;
     for (int r = 0; r < 2; ++r) {
       const auto g = static_cast<std::size_t>(4 * r + 2 * c);  // (0,0) → k_yf, (0,1) → k_ym, (1,0) → k_θf, (1,1) → k_θm
       e.noise_gain[g] = re[r] > 0.0 ? gre[r] : std::numeric_limits<double>::infinity();
@@ -100,10 +104,11 @@ JointSeries identify_series(const std::function<TwoPort(double)>& A, const Block
 
 Table joint_table(const JointSeries& js) {
   Table t;
-  t.columns = {"frequency_hz",     "k_yf_N_per_m",     "c_yf_N_s_per_m",     "k_ym_N",        "c_ym_N_s",
-               "k_tf_N_per_rad",   "c_tf_N_s_per_rad", "k_tm_N_m_per_rad",   "c_tm_N_m_s_per_rad",
-               "cond_A11_minus_G11", "cond_K_inverse",
-               "gain_k_yf", "gain_c_yf", "gain_k_ym", "gain_c_ym", "gain_k_tf", "gain_c_tf", "gain_k_tm", "gain_c_tm"};
+  t.columns = {"frequency_hz",       "k_yf_N_per_m",       "c_yf_N_s_per_m",   "k_ym_N",
+               "c_ym_N_s",           "k_tf_N_per_rad",     "c_tf_N_s_per_rad", "k_tm_N_m_per_rad",
+               "c_tm_N_m_s_per_rad", "cond_A11_minus_G11", "cond_K_inverse",   "gain_k_yf",
+               "gain_c_yf",          "gain_k_ym",          "gain_c_ym",        "gain_k_tf",
+               "gain_c_tf",          "gain_k_tm",          "gain_c_tm"};
   for (std::size_t i = 0; i < js.size(); ++i) {
     std::vector<double> row{js.frequency_hz[i]};
     for (int k = 0; k < 8; ++k) row.push_back(js.parameters[i][k]);
@@ -124,7 +129,8 @@ JointParameters JointReadout::medians() const {
 void ReadoutOptions::check() const {
   if (!(cond_warning > 1.0)) throw InvalidArgument(fmt::format("condition-number warning level {} must be > 1", cond_warning));
   if (!(gain_warning > 0.0)) throw InvalidArgument(fmt::format("noise-gain warning level {} must be > 0", gain_warning));
-  if (!(reciprocity_warning > 0.0)) throw InvalidArgument(fmt::format("reciprocity warning level {} must be > 0", reciprocity_warning));
+  if (!(reciprocity_warning > 0.0))
+    throw InvalidArgument(fmt::format("reciprocity warning level {} must be > 0", reciprocity_warning));
 }
 
 namespace {
@@ -179,26 +185,31 @@ JointReadout band_readout(const JointSeries& s, double lo, double hi, const Read
   // Against the off-diagonal's natural scale too (10 % of sqrt|k_yf k_θm|), as the noise gain.
   using P = JointParameter;
   const auto median = [&](P p) { return r.parameters[static_cast<std::size_t>(p)].median; };
-  r.reciprocity_k = relative_difference(median(P::k_ym), median(P::k_tf), 0.1 * std::sqrt(std::abs(median(P::k_yf) * median(P::k_tm))));
-  r.reciprocity_c = relative_difference(median(P::c_ym), median(P::c_tf), 0.1 * std::sqrt(std::abs(median(P::c_yf) * median(P::c_tm))));
+  r.reciprocity_k = relative_difference(median(P::k_ym), median(P::k_tf),
+                                        0.1 * std::sqrt(std::abs(median(P::k_yf) * median(P::k_tm))));
+  r.reciprocity_c = relative_difference(median(P::c_ym), median(P::c_tf),
+                                        0.1 * std::sqrt(std::abs(median(P::c_yf) * median(P::c_tm))));
   if (r.max_cond_difference > options.cond_warning)
-    r.warnings.push_back(fmt::format("cond(A11 − G11) reaches {:.3g} in the band: a 1 % error in the measured FRF can move "
-                                     "K by up to that factor; check the band sits on the joint's dominant mode",
-                                     r.max_cond_difference));
+    r.warnings.push_back(
+        fmt::format("cond(A11 − G11) reaches {:.3g} in the band: a 1 % error in the measured FRF can move "
+                    "K by up to that factor; check the band sits on the joint's dominant mode",
+                    r.max_cond_difference));
   if (r.reciprocity_k > options.reciprocity_warning)
-    r.warnings.push_back(fmt::format("k_ym = {:.4g} and k_tf = {:.4g} differ by {:.0f} %: finite-difference error in L/N or a "
-                                     "non-linear joint (seed Section 2.2)",
-                                     median(P::k_ym), median(P::k_tf), 100 * r.reciprocity_k));
+    r.warnings.push_back(
+        fmt::format("k_ym = {:.4g} and k_tf = {:.4g} differ by {:.0f} %: finite-difference error in L/N or a "
+                    "non-linear joint (seed Section 2.2)",
+                    median(P::k_ym), median(P::k_tf), 100 * r.reciprocity_k));
   if (r.reciprocity_c > options.reciprocity_warning)
-    r.warnings.push_back(fmt::format("c_ym = {:.4g} and c_tf = {:.4g} differ by {:.0f} %", median(P::c_ym),
-                                     median(P::c_tf), 100 * r.reciprocity_c));
+    r.warnings.push_back(fmt::format("c_ym = {:.4g} and c_tf = {:.4g} differ by {:.0f} %", median(P::c_ym), median(P::c_tf),
+                                     100 * r.reciprocity_c));
   for (int k = 0; k < 8; ++k) {
     const auto& p = r.parameters[static_cast<std::size_t>(k)];
     const double gain = r.noise_gain[static_cast<std::size_t>(k)];
     if (gain > options.gain_warning)
-      r.warnings.push_back(fmt::format("{}: noise gain {:.3g} — a 1 % error in the FRFs moves it by about {:.3g} %: poorly "
-                                       "determined by measured data in this band",
-                                       JointParameters::name(k), gain, gain));
+      r.warnings.push_back(
+          fmt::format("{}: noise gain {:.3g} — a 1 % error in the FRFs moves it by about {:.3g} %: poorly "
+                      "determined by measured data in this band",
+                      JointParameters::name(k), gain, gain));
     else if (r.points >= 3 && p.spread > std::abs(p.median))
       r.warnings.push_back(fmt::format("{}: spread {:.3g} exceeds the value {:.3g} {} — undetermined by these data in this band",
                                        JointParameters::name(k), p.spread, p.median, JointParameters::unit(k)));
@@ -233,7 +244,8 @@ EffectAnalysis effect_analysis(const Assembly& assembly, Route route, const std:
   const Joint& j = holder_tool ? assembly.holder_tool : assembly.spindle_holder;
   const char* which = holder_tool ? "holder_tool" : "spindle_holder";
   if (j.rigid)
-    throw InvalidArgument(fmt::format("effect analysis needs trial values for joints.{} (it is rigid in the assembly file)", which),
+    throw InvalidArgument(fmt::format("effect analysis needs trial values for joints.{} (it is rigid in the assembly file)",
+                                      which),
                           "give the joint estimated stiffness and damping values in the assembly file");
   if (!(step > 0.0 && step < 1.0)) throw InvalidArgument(fmt::format("effect-analysis step {} must lie in (0, 1)", step));
   const auto base = model_peaks(assembly, tool_point_frf, f);
@@ -260,13 +272,15 @@ EffectAnalysis effect_analysis(const Assembly& assembly, Route route, const std:
   for (std::size_t i = 1; i < r.modes.size(); ++i)
     if (std::abs(r.modes[i].stiffness_shift) > std::abs(r.modes[r.dominant].stiffness_shift)) r.dominant = i;
   if (r.modes[r.dominant].stiffness_shift == 0.0)
-    throw InvalidArgument(fmt::format("effect analysis: no mode of the {} FRF moves when joints.{} changes", tool_point_frf ? "tool point" : "holder tip", which),
+    throw InvalidArgument(fmt::format("effect analysis: no mode of the {} FRF moves when joints.{} changes",
+                                      tool_point_frf ? "tool point" : "holder tip", which),
                           "the FRF does not depend on this joint; pick the band by hand (IdentificationOptions::band_hz)");
   return r;
 }
 
 OverhangModes overhang_mode(const std::vector<FrfSeries>& frfs, std::size_t reference, const PeakOptions& options) {
-  if (frfs.size() < 2) throw InvalidArgument(fmt::format("overhang mode choice needs FRFs at ≥ 2 overhangs, got {}", frfs.size()));
+  if (frfs.size() < 2)
+    throw InvalidArgument(fmt::format("overhang mode choice needs FRFs at ≥ 2 overhangs, got {}", frfs.size()));
   if (reference >= frfs.size()) throw InvalidArgument(fmt::format("reference FRF {} outside 0..{}", reference, frfs.size() - 1));
   std::vector<std::vector<Peak>> family;
   for (const auto& s : frfs) family.push_back(find_peaks(s, options));

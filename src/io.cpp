@@ -27,8 +27,9 @@ std::string read_text_file(const std::string& path) {
   std::error_code ec;
   if (fs::is_directory(path, ec)) throw IoError(fmt::format("{}: is a folder, not a file", path));
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw IoError(fmt::format("{}: cannot open for reading ({})", path, std::strerror(errno)),
-                         "check the path and the file's permissions");
+  if (!in)
+    throw IoError(fmt::format("{}: cannot open for reading ({})", path, std::strerror(errno)),
+                  "check the path and the file's permissions");
   std::ostringstream ss;
   ss << in.rdbuf();
   if (in.bad()) throw IoError(fmt::format("{}: read failed", path));
@@ -101,13 +102,15 @@ void sync_path(const std::string& path, const std::string& target, bool folder) 
   const int fd = ::open(path.c_str(), folder ? (O_RDONLY | O_DIRECTORY) : O_RDONLY);
   if (fd < 0) {
     if (folder) return;  // a folder that cannot be opened for sync is no reason to fail the write
-    throw IoError(fmt::format("{}: cannot reopen its temporary file to flush it ({}); nothing was written", target, std::strerror(errno)));
+    throw IoError(
+        fmt::format("{}: cannot reopen its temporary file to flush it ({}); nothing was written", target, std::strerror(errno)));
   }
   const int rc = ::fsync(fd);
   const int why = errno;
   const int closed = ::close(fd);
   if (!folder && (rc != 0 || closed != 0))
-    throw IoError(fmt::format("{}: flushing to the disk failed ({}); nothing was written", target, std::strerror(rc != 0 ? why : errno)),
+    throw IoError(fmt::format("{}: flushing to the disk failed ({}); nothing was written", target,
+                              std::strerror(rc != 0 ? why : errno)),
                   "check the free space and the device");
 }
 
@@ -141,8 +144,9 @@ AtomicOutput::AtomicOutput(std::string target) : target_(std::move(target)) {
     if (d == d.parent_path()) break;
   }
   fs::create_directories(dir, ec);
-  if (ec) throw IoError(fmt::format("{}: cannot create folder {} ({}); nothing was written", target_, dir.string(), ec.message()),
-                        "check that the folder path is not a file and is writable");
+  if (ec)
+    throw IoError(fmt::format("{}: cannot create folder {} ({}); nothing was written", target_, dir.string(), ec.message()),
+                  "check that the folder path is not a file and is writable");
   std::string leaf(".");  // hidden, beside the target, so rename() stays on one file system
   leaf += t.filename().string();
   leaf += ".tmp.XXXXXX";
@@ -174,7 +178,8 @@ AtomicOutput::~AtomicOutput() {
 
 void AtomicOutput::write(const std::string& content) {
   const int fd = ::open(path_.c_str(), O_WRONLY | O_TRUNC);
-  if (fd < 0) throw IoError(fmt::format("{}: cannot write its temporary file ({}); nothing was written", target_, std::strerror(errno)));
+  if (fd < 0)
+    throw IoError(fmt::format("{}: cannot write its temporary file ({}); nothing was written", target_, std::strerror(errno)));
   std::size_t written = 0;
   while (written < content.size()) {
     const ssize_t n = ::write(fd, content.data() + written, content.size() - written);
@@ -182,7 +187,8 @@ void AtomicOutput::write(const std::string& content) {
       if (errno == EINTR) continue;
       const std::string why = std::strerror(errno);
       ::close(fd);
-      throw IoError(fmt::format("{}: write failed after {} of {} bytes ({}); nothing was written", target_, written, content.size(), why),
+      throw IoError(fmt::format("{}: write failed after {} of {} bytes ({}); nothing was written", target_, written,
+                                content.size(), why),
                     "check the free space and the folder's permissions");
     }
     written += static_cast<std::size_t>(n);
@@ -306,7 +312,8 @@ std::vector<std::string> OutputSet::commit() {
     struct stat st {};
     if (::stat(f.target.c_str(), &st) != 0) continue;
     if (!S_ISREG(st.st_mode)) undo(fmt::format("{}: is {}, not a regular file", f.target, kind_of(st)), "name a regular file");
-    std::string backup = (fs::path(parent_of(f.target)) / ("." + fs::path(f.target).filename().string() + ".old.XXXXXX")).string();
+    std::string backup =
+        (fs::path(parent_of(f.target)) / ("." + fs::path(f.target).filename().string() + ".old.XXXXXX")).string();
     const int fd = ::mkstemp(backup.data());
     if (fd < 0) continue;  // no backup possible: the rename is still atomic for this file
     ::close(fd);
@@ -361,8 +368,7 @@ void check_output_paths(const std::vector<RunPath>& inputs, const std::vector<Ru
 
 namespace {
 
-const std::vector<std::string> kBlockHeader = {"frequency_hz", "H_re", "H_im", "L_re", "L_im",
-                                               "N_re",         "N_im", "P_re", "P_im"};
+const std::vector<std::string> kBlockHeader = {"frequency_hz", "H_re", "H_im", "L_re", "L_im", "N_re", "N_im", "P_re", "P_im"};
 const std::vector<std::string> kSingleHeader = {"frequency_hz", "re", "im"};
 
 std::string join(const std::vector<std::string>& v) {
@@ -387,8 +393,7 @@ BlockSeries read_block_csv(const std::string& path) {
 
 FrfSeries read_single_csv(const std::string& path) {
   FrfTable t = read_frf_csv(path);
-  if (t.is_block)
-    throw InputError(fmt::format("{}: holds a 2×2 block where a single FRF (frequency_hz,re,im) is needed", path));
+  if (t.is_block) throw InputError(fmt::format("{}: holds a 2×2 block where a single FRF (frequency_hz,re,im) is needed", path));
   if ((!t.value_units.empty() && t.value_units != "m/N") || t.format != FrfValueFormat::ReIm)
     throw InputError(fmt::format("{}: values in '{}' ({}), where a receptance in m/N as real and imaginary part is "
                                  "needed here",
@@ -422,9 +427,8 @@ std::string format_frf_csv(const BlockSeries& series, const std::vector<std::str
   s += join(kBlockHeader) + (coherence.empty() ? "\n" : ",coherence\n");
   for (std::size_t i = 0; i < series.size(); ++i) {
     const Block& b = series.blocks[i];
-    fmt::format_to(std::back_inserter(s), "{},{},{},{},{},{},{},{},{}", series.frequency_hz[i], b(0, 0).real(),
-                   b(0, 0).imag(), b(0, 1).real(), b(0, 1).imag(), b(1, 0).real(), b(1, 0).imag(), b(1, 1).real(),
-                   b(1, 1).imag());
+    fmt::format_to(std::back_inserter(s), "{},{},{},{},{},{},{},{},{}", series.frequency_hz[i], b(0, 0).real(), b(0, 0).imag(),
+                   b(0, 1).real(), b(0, 1).imag(), b(1, 0).real(), b(1, 0).imag(), b(1, 1).real(), b(1, 1).imag());
     if (!coherence.empty()) fmt::format_to(std::back_inserter(s), ",{}", coherence[i]);
     s += '\n';
   }
@@ -437,8 +441,7 @@ std::string format_frf_csv(const FrfSeries& series, const std::vector<std::strin
   std::string s = comment_lines("toolpoint FRF; units: frequency Hz, value in the FRF's own units (receptance m/N)", comments);
   s += join(kSingleHeader) + (coherence.empty() ? "\n" : ",coherence\n");
   for (std::size_t i = 0; i < series.size(); ++i) {
-    fmt::format_to(std::back_inserter(s), "{},{},{}", series.frequency_hz[i], series.values[i].real(),
-                   series.values[i].imag());
+    fmt::format_to(std::back_inserter(s), "{},{},{}", series.frequency_hz[i], series.values[i].real(), series.values[i].imag());
     if (!coherence.empty()) fmt::format_to(std::back_inserter(s), ",{}", coherence[i]);
     s += '\n';
   }

@@ -32,7 +32,8 @@ const char* JointParameters::unit(int i) { return (i >= 0 && i < 8) ? kUnits[i] 
 
 void JointParameters::check() const {
   for (int i = 0; i < 8; ++i)
-    if (!std::isfinite((*this)[i])) throw InvalidArgument(fmt::format("joint parameter {} = {} is not finite", kNames[i], (*this)[i]));
+    if (!std::isfinite((*this)[i]))
+      throw InvalidArgument(fmt::format("joint parameter {} = {} is not finite", kNames[i], (*this)[i]));
 }
 
 std::vector<std::string> joint_warnings(const JointParameters& p, const std::string& name) {
@@ -46,16 +47,18 @@ std::vector<std::string> joint_warnings(const JointParameters& p, const std::str
   const bool c_zero = p.c_yf == 0.0 && p.c_ym == 0.0 && p.c_tf == 0.0 && p.c_tm == 0.0;
   if (!k_zero && indefinite(p.k_yf, p.k_ym, p.k_tf, p.k_tm)) {
     const double off = 0.5 * (p.k_ym + p.k_tf);
-    w.push_back(fmt::format("{}: the stiffness matrix is not positive definite (k_yf k_tm − ((k_ym + k_tf)/2)² = {:.3g}): the "
-                            "assembly has a motion of negative stiffness and is statically unstable; its FRFs are still "
-                            "computed, as the seed's Table 1 joint requires",
-                            name, p.k_yf * p.k_tm - off * off));
+    w.push_back(
+        fmt::format("{}: the stiffness matrix is not positive definite (k_yf k_tm − ((k_ym + k_tf)/2)² = {:.3g}): the "
+                    "assembly has a motion of negative stiffness and is statically unstable; its FRFs are still "
+                    "computed, as the seed's Table 1 joint requires",
+                    name, p.k_yf * p.k_tm - off * off));
   }
   if (!c_zero && indefinite(p.c_yf, p.c_ym, p.c_tf, p.c_tm)) {
     const double off = 0.5 * (p.c_ym + p.c_tf);
-    w.push_back(fmt::format("{}: the damping matrix is not positive definite (c_yf c_tm − ((c_ym + c_tf)/2)² = {:.3g}): some "
-                            "motions gain energy from the joint",
-                            name, p.c_yf * p.c_tm - off * off));
+    w.push_back(
+        fmt::format("{}: the damping matrix is not positive definite (c_yf c_tm − ((c_ym + c_tf)/2)² = {:.3g}): some "
+                    "motions gain energy from the joint",
+                    name, p.c_yf * p.c_tm - off * off));
   }
   return w;
 }

@@ -40,7 +40,8 @@ std::string format_joint_file(const JointFile& f) {
                   std::string(f.interface == JointInterface::HolderTool ? "holder-tool" : "spindle-holder") + "=THIS.toml`.\n";
   s += "[joint]\n";
   s += fmt::format("interface = \"{}\"\n", to_string(f.interface));
-  for (int k = 0; k < 8; ++k) s += fmt::format("{} = {}    # {}\n", JointParameters::name(k), f.parameters[k], JointParameters::unit(k));
+  for (int k = 0; k < 8; ++k)
+    s += fmt::format("{} = {}    # {}\n", JointParameters::name(k), f.parameters[k], JointParameters::unit(k));
   if (f.uncertainty) {
     const JointUncertainty& u = *f.uncertainty;
     s += "\n# Order of every list: k_yf, c_yf, k_ym, c_ym, k_tf, c_tf, k_tm, c_tm.\n[uncertainty]\n";
@@ -78,7 +79,9 @@ JointFile parse_joint_file(const std::string& text, const std::string& source) {
   if (!iface) r.fail(*jt, "missing key joint.interface (\"holder_tool\" or \"spindle_holder\")");
   if (*iface == "holder_tool") f.interface = JointInterface::HolderTool;
   else if (*iface == "spindle_holder") f.interface = JointInterface::SpindleHolder;
-  else r.fail(*jt->get("interface"), fmt::format("joint.interface = \"{}\": expected \"holder_tool\" or \"spindle_holder\"", *iface));
+  else
+    r.fail(*jt->get("interface"),
+           fmt::format("joint.interface = \"{}\": expected \"holder_tool\" or \"spindle_holder\"", *iface));
   f.parameters = read_joint_table(r, jt, "joint", true).parameters;
 
   if (const toml::table* ut = r.table(root, "uncertainty", "", false)) {
@@ -112,15 +115,18 @@ JointFile parse_joint_file(const std::string& text, const std::string& source) {
       if (!rows || rows->size() != 8) r.fail(*n, "uncertainty.covariance must be 8 rows of 8 numbers (k_yf … c_tm, SI units)");
       for (std::size_t i = 0; i < 8; ++i) {
         const toml::array* row = rows->get(i)->as_array();
-        if (!row || row->size() != 8) r.fail(*rows->get(i), fmt::format("uncertainty.covariance row {} must hold 8 numbers", i + 1));
+        if (!row || row->size() != 8)
+          r.fail(*rows->get(i), fmt::format("uncertainty.covariance row {} must hold 8 numbers", i + 1));
         for (std::size_t k = 0; k < 8; ++k)
-          u.covariance(static_cast<int>(i), static_cast<int>(k)) = number(*row->get(k), fmt::format("uncertainty.covariance[{}][{}]", i, k));
+          u.covariance(static_cast<int>(i), static_cast<int>(k)) = number(*row->get(k),
+                                                                          fmt::format("uncertainty.covariance[{}][{}]", i, k));
       }
       if ((u.covariance.diagonal().array() < 0.0).any()) r.fail(*n, "uncertainty.covariance has a negative variance");
       const double scale = u.covariance.diagonal().cwiseAbs().maxCoeff();
       for (int i = 0; i < 8; ++i)
         for (int k = 0; k < i; ++k)
-          if (std::abs(u.covariance(i, k) - u.covariance(k, i)) > 1e-9 * std::sqrt(std::abs(u.covariance(i, i) * u.covariance(k, k))) + 1e-300)
+          if (std::abs(u.covariance(i, k) - u.covariance(k, i)) >
+              1e-9 * std::sqrt(std::abs(u.covariance(i, i) * u.covariance(k, k))) + 1e-300)
             r.fail(*n, fmt::format("uncertainty.covariance is not symmetric (row {}, column {})", i + 1, k + 1));
       // Positive semidefinite to rounding, judged on the correlation matrix (entries differ by
       // many orders of magnitude in SI units).

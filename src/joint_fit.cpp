@@ -148,8 +148,8 @@ struct Setup {
   std::string label;
   std::vector<double> f, omega;
   std::vector<TwoPort> A;
-  BlockSeries B, G;            // as fitted: B11 enters the model, G11 is compared (filtered if filtering)
-  BlockSeries B_base;          // the bootstrap world's B11: the smoothed raw B11 (exact B11 itself)
+  BlockSeries B, G;    // as fitted: B11 enters the model, G11 is compared (filtered if filtering)
+  BlockSeries B_base;  // the bootstrap world's B11: the smoothed raw B11 (exact B11 itself)
   const BlockNoise* b_noise = nullptr;
   const BlockNoise* g_noise = nullptr;
   std::optional<FilterRows> rows;  // when filtering
@@ -240,8 +240,8 @@ inline void add_point(const Cov8& W, const Block& data, const Block& model, cons
   out.g.noalias() += J.transpose() * r;
 }
 
-void accumulate(const Setup& s, const BlockSeries& B, const BlockSeries& G, const Parametrization& par, const VectorXd& q, bool jac,
-                const std::optional<SavgolOptions>& filter, Normal& out) {
+void accumulate(const Setup& s, const BlockSeries& B, const BlockSeries& G, const Parametrization& par, const VectorXd& q,
+                bool jac, const std::optional<SavgolOptions>& filter, Normal& out) {
   if (filter) {
     const Evaluation ev = evaluate(s, B, par, q, jac, filter);
     for (std::size_t i = 0; i < s.f.size(); ++i) add_point(s.W[i], G.blocks[i], ev.g[i], jac ? &ev.jm[i] : nullptr, out);
@@ -326,8 +326,9 @@ struct Solution {
 };
 
 // Minimises the summed cost over the set-ups with their current weights, data (B, G) per set-up.
-Solution minimise(const std::vector<Setup>& setups, const std::vector<const BlockSeries*>& B, const std::vector<const BlockSeries*>& G,
-                  const Parametrization& par, VectorXd q, int max_iterations, const std::optional<SavgolOptions>& filter) {
+Solution minimise(const std::vector<Setup>& setups, const std::vector<const BlockSeries*>& B,
+                  const std::vector<const BlockSeries*>& G, const Parametrization& par, VectorXd q, int max_iterations,
+                  const std::optional<SavgolOptions>& filter) {
   const int p = par.size();
   struct Current {
     double cost = 0.0;
@@ -436,9 +437,10 @@ void check_identifiable(const MatrixXd& A, const Parametrization& par, const std
   };
   for (int k = 0; k < p; ++k)
     if (!(A(k, k) > 1e-4))
-      throw NumericalError(fmt::format("{} does not act on the fitted FRFs in {}: doubling it moves them by less than 1 % of their noise",
-                                       JointParameters::name(par.free[static_cast<std::size_t>(k)]), band()),
-                           "fit a band that holds the mode the joint controls (the default band: every frequency)");
+      throw NumericalError(
+          fmt::format("{} does not act on the fitted FRFs in {}: doubling it moves them by less than 1 % of their noise",
+                      JointParameters::name(par.free[static_cast<std::size_t>(k)]), band()),
+          "fit a band that holds the mode the joint controls (the default band: every frequency)");
   const VectorXd d = A.diagonal().cwiseSqrt().cwiseInverse();
   const MatrixXd R = d.asDiagonal() * A * d.asDiagonal();
   const Eigen::SelfAdjointEigenSolver<MatrixXd> es(R);
@@ -447,11 +449,12 @@ void check_identifiable(const MatrixXd& A, const Parametrization& par, const std
     std::vector<int> idx(static_cast<std::size_t>(p));
     std::iota(idx.begin(), idx.end(), 0);
     std::sort(idx.begin(), idx.end(), [&](int a, int b) { return v(a) > v(b); });
-    throw NumericalError(fmt::format("{} and {} cannot be told apart by the FRFs in {}: a combination of them has no effect on the "
-                                     "fit (normalised eigenvalue {:.1e})",
-                                     JointParameters::name(par.free[static_cast<std::size_t>(idx[0])]),
-                                     JointParameters::name(par.free[static_cast<std::size_t>(idx[1])]), band(), es.eigenvalues()(0)),
-                         "fit a wider band, or several set-ups together, so that each parameter leaves its own mark");
+    throw NumericalError(
+        fmt::format("{} and {} cannot be told apart by the FRFs in {}: a combination of them has no effect on the "
+                    "fit (normalised eigenvalue {:.1e})",
+                    JointParameters::name(par.free[static_cast<std::size_t>(idx[0])]),
+                    JointParameters::name(par.free[static_cast<std::size_t>(idx[1])]), band(), es.eigenvalues()(0)),
+        "fit a wider band, or several set-ups together, so that each parameter leaves its own mark");
   }
 }
 
@@ -470,9 +473,11 @@ void check_data(const JointFitData& d, std::size_t index) {
   if (d.A.size() != d.G11.size())
     throw InputError(fmt::format("{}: {} model component blocks for {} frequencies", label, d.A.size(), d.G11.size()));
   if (!d.g_noise.exact() && d.g_noise.size() != d.G11.size())
-    throw InputError(fmt::format("{}: the noise of {} covers {} frequencies, the data {}", label, gn, d.g_noise.size(), d.G11.size()));
+    throw InputError(
+        fmt::format("{}: the noise of {} covers {} frequencies, the data {}", label, gn, d.g_noise.size(), d.G11.size()));
   if (!d.b_noise.exact() && d.b_noise.size() != d.B11.size())
-    throw InputError(fmt::format("{}: the noise of {} covers {} frequencies, the data {}", label, bn, d.b_noise.size(), d.B11.size()));
+    throw InputError(
+        fmt::format("{}: the noise of {} covers {} frequencies, the data {}", label, bn, d.b_noise.size(), d.B11.size()));
 }
 
 }  // namespace
@@ -509,7 +514,8 @@ Eigen::Matrix<double, 8, 8> JointFit::correlation() const {
   return c;
 }
 
-JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<JointParameters>& starts, const JointFitOptions& options) {
+JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<JointParameters>& starts,
+                   const JointFitOptions& options) {
   options.check();
   if (data.empty()) throw InvalidArgument("fit_joint: no set-up given");
   if (starts.empty()) throw InvalidArgument("fit_joint: no starting values given");
@@ -598,15 +604,17 @@ JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<Join
   out.iterations = sol.iterations;
   out.converged = sol.converged;
   if (!sol.converged)
-    warnings.push_back(fmt::format("the fit did not converge in {} iterations (JointFitOptions::max_iterations)", options.max_iterations));
+    warnings.push_back(
+        fmt::format("the fit did not converge in {} iterations (JointFitOptions::max_iterations)", options.max_iterations));
   out.residual_ratio = lin.expected_cost > 0.0 ? sol.cost / lin.expected_cost : std::numeric_limits<double>::quiet_NaN();
   // Widen only for a ratio beyond its own scatter (its standard deviation is √(2/(8n)) for n
   // frequencies: 0.007 for the whole example grid, 0.05 for a hundred points).
   const double inflation = std::isfinite(out.residual_ratio) && out.residual_ratio > 1.1 ? std::sqrt(out.residual_ratio) : 1.0;
   if (std::isfinite(out.residual_ratio) && out.residual_ratio > 1.5)
-    warnings.push_back(fmt::format("the fitted model leaves residuals {:.2g} times what the noise explains: the model (the joint, the "
-                                   "components) or the noise model does not match the data; intervals are widened by {:.2g}",
-                                   out.residual_ratio, inflation));
+    warnings.push_back(
+        fmt::format("the fitted model leaves residuals {:.2g} times what the noise explains: the model (the joint, the "
+                    "components) or the noise model does not match the data; intervals are widened by {:.2g}",
+                    out.residual_ratio, inflation));
 
   const int p = par.size();
   const double z = normal_quantile(0.5 + 0.5 * options.confidence);
@@ -649,8 +657,7 @@ JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<Join
             for (Setup& u : local) update_weights(u, par, q);
             const Solution r = minimise(local, bp, gp, par, q, options.max_iterations, options.filter);
             if (r.converged && r.q.allFinite()) rep[b] = r.q, ok[b] = 1;
-          } catch (const NumericalError&) {
-          }
+          } catch (const NumericalError&) {}
         },
         options.progress);
     std::vector<VectorXd> good;
@@ -660,7 +667,8 @@ JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<Join
       throw NumericalError(fmt::format("the bootstrap failed: only {} of {} replicates could be refitted", good.size(), N),
                            "the fit is unstable under its own noise: fit a wider band, or use the linearised intervals");
     if (good.size() < N)
-      warnings.push_back(fmt::format("{} of {} bootstrap replicates could not be refitted and were left out", N - good.size(), N));
+      warnings.push_back(
+          fmt::format("{} of {} bootstrap replicates could not be refitted and were left out", N - good.size(), N));
     VectorXd mean = VectorXd::Zero(p);
     for (const auto& v : good) mean += v;
     mean /= static_cast<double>(good.size());
@@ -677,9 +685,10 @@ JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<Join
       if (c(k, k) > 0.0 && lin.covariance(k, k) > c(k, k)) d(k) = std::sqrt(lin.covariance(k, k) / c(k, k));
     cov_q = d.asDiagonal() * c * d.asDiagonal();
     out.bootstrap_samples = static_cast<int>(good.size());
-    out.method_description = fmt::format("parametric bootstrap on the fitted model, {} replicates, bias-corrected; ±{:.3g} standard errors "
-                                         "(each the larger of the replicates' and the linearised)",
-                                         good.size(), z);
+    out.method_description = fmt::format(
+        "parametric bootstrap on the fitted model, {} replicates, bias-corrected; ±{:.3g} standard errors "
+        "(each the larger of the replicates' and the linearised)",
+        good.size(), z);
   } else {
     out.method_description = fmt::format("linearised (sandwich covariance at the optimum{}); ±{:.3g} standard errors",
                                          options.filter ? ", with the filter's correlation" : "", z);
@@ -735,9 +744,10 @@ JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<Join
       double wd = -1.0;
       for (const auto& sf : out.setups)
         if (sf.disagreement > wd) wd = sf.disagreement, worst = sf.label;
-      warnings.push_back(fmt::format("the joint does not transfer between the set-ups: fitted alone they disagree beyond their noise "
-                                     "(χ² = {:.3g}, 99.9 % limit {:.3g}; most: {}); the common fit describes none of them well",
-                                     Q, out.transfer_limit, worst));
+      warnings.push_back(
+          fmt::format("the joint does not transfer between the set-ups: fitted alone they disagree beyond their noise "
+                      "(χ² = {:.3g}, 99.9 % limit {:.3g}; most: {}); the common fit describes none of them well",
+                      Q, out.transfer_limit, worst));
     }
   }
   for (const JointFitData& d : data)

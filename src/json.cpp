@@ -20,9 +20,7 @@ nlohmann::json numbers(const std::vector<double>& v) {
   return a;
 }
 
-std::string level_key(const char* side, double confidence) {
-  return fmt::format("{}{}", side, std::lround(100.0 * confidence));
-}
+std::string level_key(const char* side, double confidence) { return fmt::format("{}{}", side, std::lround(100.0 * confidence)); }
 
 }  // namespace
 
@@ -97,7 +95,8 @@ void to_json(nlohmann::json& j, const PlanResult& r) {
       {"feed_per_tooth_m", o.feed_per_tooth_m},
       {"edge_coefficient_n_per_m", o.edge_coefficient_n_per_m},
       {"max_depth_m", o.max_depth_m},
-      {"machine", {{"power_w", o.machine.power_w}, {"torque_nm", o.machine.torque_nm}, {"min_overhang_m", o.machine.min_overhang_m}}},
+      {"machine",
+       {{"power_w", o.machine.power_w}, {"torque_nm", o.machine.torque_nm}, {"min_overhang_m", o.machine.min_overhang_m}}},
       {"safety",
        {{"kind", o.safety.kind == SafetyRule::Kind::Factor ? "factor" : "probability"},
         {"factor", o.safety.factor},
@@ -116,7 +115,8 @@ void to_json(nlohmann::json& j, const PlanResult& r) {
                           {"left_out", cs.left_out}});
   nlohmann::json tuning = nlohmann::json::array();
   for (const PlanJob& job : r.jobs)
-    tuning.push_back({{"candidate", job.candidate}, {"overhang_m", job.overhang_m}, {"modes_hz", numbers(job.modes_hz)}, {"best", job.best}});
+    tuning.push_back(
+        {{"candidate", job.candidate}, {"overhang_m", job.overhang_m}, {"modes_hz", numbers(job.modes_hz)}, {"best", job.best}});
   j = {{"options", options},
        {"candidates", candidates},
        {"speeds_rpm", {{"min", o.lobes.speeds.min_rpm}, {"max", o.lobes.speeds.max_rpm}, {"points", o.lobes.speeds.points}}},
@@ -140,14 +140,14 @@ void to_json(nlohmann::json& out, const JointFit& f) {
   for (int k = 0; k < 8; ++k) {
     const ParameterInterval& iv = f.intervals[static_cast<std::size_t>(k)];
     j["parameters"][JointParameters::name(k)] = {{"estimate", number(iv.estimate)},
-                                                  {level_key("lower", f.confidence), number(iv.lower)},
-                                                  {level_key("upper", f.confidence), number(iv.upper)},
-                                                  {"std_error", number(iv.std_error)},
-                                                  {"fitted", number(iv.fitted)},
-                                                  {"bias", number(iv.bias)},
-                                                  {"determined", iv.determined},
-                                                  {"free", iv.free},
-                                                  {"unit", JointParameters::unit(k)}};
+                                                 {level_key("lower", f.confidence), number(iv.lower)},
+                                                 {level_key("upper", f.confidence), number(iv.upper)},
+                                                 {"std_error", number(iv.std_error)},
+                                                 {"fitted", number(iv.fitted)},
+                                                 {"bias", number(iv.bias)},
+                                                 {"determined", iv.determined},
+                                                 {"free", iv.free},
+                                                 {"unit", JointParameters::unit(k)}};
   }
   j["confidence"] = f.confidence;
   j["interval_method"] = f.method == UncertaintyMethod::Bootstrap ? "bootstrap" : "linearised";
@@ -176,11 +176,16 @@ void to_json(nlohmann::json& out, const JointFit& f) {
     for (const SetupFit& x : f.setups) {
       nlohmann::json se;
       for (int k = 0; k < 8; ++k) se[JointParameters::name(k)] = number(x.std_error[static_cast<std::size_t>(k)]);
-      s.push_back({{"label", x.label}, {"parameters", nlohmann::json(x.fitted)}, {"std_error", se}, {"residual_ratio", number(x.residual_ratio)},
+      s.push_back({{"label", x.label},
+                   {"parameters", nlohmann::json(x.fitted)},
+                   {"std_error", se},
+                   {"residual_ratio", number(x.residual_ratio)},
                    {"disagreement", number(x.disagreement)}});
     }
     j["setups"] = s;
-    j["transfer"] = {{"statistic", number(f.transfer_statistic)}, {"limit_99_9", number(f.transfer_limit)}, {"transfers", f.transfers}};
+    j["transfer"] = {{"statistic", number(f.transfer_statistic)},
+                     {"limit_99_9", number(f.transfer_limit)},
+                     {"transfers", f.transfers}};
   }
   j["warnings"] = f.warnings;
   out = std::move(j);
@@ -192,9 +197,12 @@ void to_json(nlohmann::json& out, const JointReadout& r) {
   j["points"] = r.points;
   for (int k = 0; k < 8; ++k) {
     const auto& p = r.parameters[static_cast<std::size_t>(k)];
-    j["parameters"][JointParameters::name(k)] = {{"median", number(p.median)}, {"spread", number(p.spread)}, {"min", number(p.min)},
-                                                  {"max", number(p.max)},       {"noise_gain", number(r.noise_gain[static_cast<std::size_t>(k)])},
-                                                  {"unit", JointParameters::unit(k)}};
+    j["parameters"][JointParameters::name(k)] = {{"median", number(p.median)},
+                                                 {"spread", number(p.spread)},
+                                                 {"min", number(p.min)},
+                                                 {"max", number(p.max)},
+                                                 {"noise_gain", number(r.noise_gain[static_cast<std::size_t>(k)])},
+                                                 {"unit", JointParameters::unit(k)}};
   }
   j["reciprocity"] = {{"k_ym_vs_k_tf", number(r.reciprocity_k)}, {"c_ym_vs_c_tf", number(r.reciprocity_c)}};
   j["max_condition_numbers"] = {{"A11_minus_G11", number(r.max_cond_difference)}, {"K_inverse", number(r.max_cond_flexibility)}};
@@ -224,15 +232,17 @@ void to_json(nlohmann::json& out, const EffectAnalysis& e) {
 void to_json(nlohmann::json& out, const ModeChoice& c) {
   nlohmann::json j = {{"method", c.method}, {"center_hz", number(c.center_hz)}, {"band_hz", {number(c.lo_hz), number(c.hi_hz)}}};
   if (c.effect) j["effect_analysis"] = nlohmann::json(*c.effect);
-  if (c.overhang) j["overhang_modes"] = {{"relative_variation", numbers(c.overhang->relative_variation)}, {"dominant_index", c.overhang->dominant}};
+  if (c.overhang)
+    j["overhang_modes"] = {{"relative_variation", numbers(c.overhang->relative_variation)},
+                           {"dominant_index", c.overhang->dominant}};
   out = std::move(j);
 }
 
 void to_json(nlohmann::json& out, const BlockNoise& n) {
   out = {{"source", n.source},
-          {"magnitude_sigma", numbers({n.magnitude_sigma.begin(), n.magnitude_sigma.end()})},
-          {"phase_sigma_rad", numbers({n.phase_sigma_rad.begin(), n.phase_sigma_rad.end()})},
-          {"residual_correlation", number(n.residual_correlation)}};
+         {"magnitude_sigma", numbers({n.magnitude_sigma.begin(), n.magnitude_sigma.end()})},
+         {"phase_sigma_rad", numbers({n.phase_sigma_rad.begin(), n.phase_sigma_rad.end()})},
+         {"residual_correlation", number(n.residual_correlation)}};
 }
 
 void to_json(nlohmann::json& out, const Identification& id) {
@@ -252,16 +262,17 @@ void to_json(nlohmann::json& out, const Identification& id) {
       const auto& p = id.seed.parameters[static_cast<std::size_t>(k)];
       const double gain = id.seed.noise_gain[static_cast<std::size_t>(k)];
       j["parameters"][JointParameters::name(k)] = {{"estimate", number(p.median)},
-                                                    {"lower95", nullptr},
-                                                    {"upper95", nullptr},
-                                                    {"determined", gain <= 20.0 && p.spread <= std::abs(p.median)},
-                                                    {"unit", JointParameters::unit(k)}};
+                                                   {"lower95", nullptr},
+                                                   {"upper95", nullptr},
+                                                   {"determined", gain <= 20.0 && p.spread <= std::abs(p.median)},
+                                                   {"unit", JointParameters::unit(k)}};
     }
   }
   if (id.seed.points > 0) j["seed_readout"] = nlohmann::json(id.seed);
   j["mode_choice"] = nlohmann::json(id.mode);
   nlohmann::json noise = nlohmann::json::array();
-  for (std::size_t s = 0; s < id.g_noise.size(); ++s) noise.push_back({{"G11", nlohmann::json(id.g_noise[s])}, {"B11", nlohmann::json(id.b_noise[s])}});
+  for (std::size_t s = 0; s < id.g_noise.size(); ++s)
+    noise.push_back({{"G11", nlohmann::json(id.g_noise[s])}, {"B11", nlohmann::json(id.b_noise[s])}});
   j["noise"] = noise;
   j["forward_check"] = nlohmann::json(id.forward_check);
   j["verdict"] = {{"verdict", to_string(id.verdict.verdict)}, {"reasons", id.verdict.reasons}};
@@ -276,14 +287,22 @@ void to_json(nlohmann::json& out, const FrfBand& b) {
     mag[key] = numbers(b.magnitude[l]);
     ph[key] = numbers(b.phase_rad[l]);
   }
-  out = {{"frequency_hz", numbers(b.frequency_hz)}, {"levels", b.levels}, {"samples", b.samples}, {"magnitude_m_per_n", mag}, {"phase_rad", ph}};
+  out = {{"frequency_hz", numbers(b.frequency_hz)},
+         {"levels", b.levels},
+         {"samples", b.samples},
+         {"magnitude_m_per_n", mag},
+         {"phase_rad", ph}};
 }
 
 void to_json(nlohmann::json& out, const StabilityUncertainty& s) {
   nlohmann::json d = nlohmann::json::object();
   for (std::size_t l = 0; l < s.levels.size(); ++l) d[fmt::format("q{:g}", 100 * s.levels[l])] = numbers(s.depth_m[l]);
-  out = {{"speed_rpm", numbers(s.speed_rpm)}, {"levels", s.levels}, {"samples", s.samples}, {"nominal_depth_m", numbers(s.nominal_depth_m)},
-          {"depth_m", d}, {"depth_grid_m", numbers(s.depth_grid_m)}};
+  out = {{"speed_rpm", numbers(s.speed_rpm)},
+         {"levels", s.levels},
+         {"samples", s.samples},
+         {"nominal_depth_m", numbers(s.nominal_depth_m)},
+         {"depth_m", d},
+         {"depth_grid_m", numbers(s.depth_grid_m)}};
 }
 
 // ---- Stability lobes ------------------------------------------------------------------------------

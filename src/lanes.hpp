@@ -146,7 +146,8 @@ struct C {
 // (detail::well_above_roundoff); lanes that fail it or leave its safe range are marked in `bad`.
 [[gnu::always_inline]] inline void check_well_above_roundoff(C d, C x, C y, Mask& bad) {
   const V nd = norm(d), nx = norm(x), ny = norm(y);
-  const Mask safe = within(nd, 1e-290, 1e290) & (within(nx, 1e-145, 1e145) | (nx == 0.0)) & (within(ny, 1e-145, 1e145) | (ny == 0.0));
+  const Mask safe = within(nd, 1e-290, 1e290) & (within(nx, 1e-145, 1e145) | (nx == 0.0)) &
+                    (within(ny, 1e-145, 1e145) | (ny == 0.0));
   bad |= ~(safe & (nd > 1e-28 * (nx + ny + 2.0 * sqrt(safe ? nx * ny : splat(0.0)))));
 }
 

@@ -230,7 +230,8 @@ ModalFitResult fit_modes_at_scale(const FrfSeries& frf, const ModalFitOptions& o
     throw InputError(fmt::format("{}: no resonance peak rising {} dB above its surroundings in {}–{} Hz", what,
                                  options.min_prominence_db, f.front(), f.back()),
                      "check the band (ModalFitOptions::band_hz) and that the file holds a receptance with a resonance inside it");
-  std::stable_sort(peaks.begin(), peaks.end(), [](const ModePeak& a, const ModePeak& b) { return a.prominence_db > b.prominence_db; });
+  std::stable_sort(peaks.begin(), peaks.end(),
+                   [](const ModePeak& a, const ModePeak& b) { return a.prominence_db > b.prominence_db; });
   // A peak needs points inside its half-power band for its damping to be seen: fewer than 3 is
   // an under-resolved mode (or a noise spike). Such peaks are set aside; with none left, stop.
   auto points_inside = [&](std::size_t p) {
@@ -245,8 +246,10 @@ ModalFitResult fit_modes_at_scale(const FrfSeries& frf, const ModalFitOptions& o
   for (const ModePeak& p : peaks) {
     if (points_inside(p.index) >= 3) resolved.push_back(p);
     else if (resolved.size() < static_cast<std::size_t>(options.max_modes))
-      res.warnings.push_back(fmt::format("the peak at {} Hz has fewer than 3 FRF points within its half-power band and was "
-                                         "not fitted (too coarse a grid there, or noise)", f[p.index]));
+      res.warnings.push_back(
+          fmt::format("the peak at {} Hz has fewer than 3 FRF points within its half-power band and was "
+                      "not fitted (too coarse a grid there, or noise)",
+                      f[p.index]));
   }
   if (resolved.empty())
     throw InputError(fmt::format("{}: the mode near {} Hz has {} FRF point(s) within its half-power band (the grid step "
@@ -256,8 +259,9 @@ ModalFitResult fit_modes_at_scale(const FrfSeries& frf, const ModalFitOptions& o
                      "measure or compute the FRF on a finer frequency grid around that mode");
   peaks = std::move(resolved);
   if (peaks.size() > static_cast<std::size_t>(options.max_modes)) {
-    res.warnings.push_back(fmt::format("{} peaks found, the {} most prominent kept (raise ModalFitOptions::max_modes to fit more)",
-                                       peaks.size(), options.max_modes));
+    res.warnings.push_back(
+        fmt::format("{} peaks found, the {} most prominent kept (raise ModalFitOptions::max_modes to fit more)", peaks.size(),
+                    options.max_modes));
     peaks.resize(static_cast<std::size_t>(options.max_modes));
   }
   std::sort(peaks.begin(), peaks.end(), [](const ModePeak& a, const ModePeak& b) { return a.index < b.index; });
@@ -328,22 +332,26 @@ ModalFitResult fit_modes_at_scale(const FrfSeries& frf, const ModalFitOptions& o
     m.points_in_half_power_band = static_cast<int>(lower(fr * (1.0 + z)) - lower(fr * (1.0 - z)));
     std::size_t lo = lower(fr * (1.0 - 2.0 * z)), hi = lower(fr * (1.0 + 2.0 * z));
     while (hi - lo < 5 && (lo > 0 || hi < f.size())) {  // widen to the 5 nearest points
-      if (lo > 0 && (hi == f.size() || fr - f[lo - 1] < f[hi] - fr)) --lo; else ++hi;
+      if (lo > 0 && (hi == f.size() || fr - f[lo - 1] < f[hi] - fr)) --lo;
+      else ++hi;
     }
     m.normalised_residual = normalised_error(fit, g, lo, hi);
     if (fr < f.front() || fr > f.back())
       res.warnings.push_back(fmt::format("the mode fitted at {:.2f} Hz lies outside the band {}–{} Hz", fr, f.front(), f.back()));
     if (z > 0.3) res.warnings.push_back(fmt::format("the mode at {:.2f} Hz has a large damping ratio {:.3f}", fr, z));
     if (!(m.residue > 0.0))
-      res.warnings.push_back(fmt::format("the mode at {:.2f} Hz has a non-positive residue {:.4g} 1/kg: no modal mass "
-                                         "(is this a point FRF, with the e^{{iωt}} sign convention?)", fr, m.residue));
+      res.warnings.push_back(
+          fmt::format("the mode at {:.2f} Hz has a non-positive residue {:.4g} 1/kg: no modal mass "
+                      "(is this a point FRF, with the e^{{iωt}} sign convention?)",
+                      fr, m.residue));
     if (m.normalised_residual > 0.1)
-      res.warnings.push_back(fmt::format("the mode at {:.2f} Hz is fitted poorly: {:.1f} % residual near it", fr,
-                                         100.0 * m.normalised_residual));
+      res.warnings.push_back(
+          fmt::format("the mode at {:.2f} Hz is fitted poorly: {:.1f} % residual near it", fr, 100.0 * m.normalised_residual));
   }
   if (res.normalised_residual > 0.1)
-    res.warnings.push_back(fmt::format("overall fit residual {:.1f} %: more modes (ModalFitOptions::max_modes) or a narrower ModalFitOptions::band_hz may help",
-                                       100.0 * res.normalised_residual));
+    res.warnings.push_back(fmt::format(
+        "overall fit residual {:.1f} %: more modes (ModalFitOptions::max_modes) or a narrower ModalFitOptions::band_hz may help",
+        100.0 * res.normalised_residual));
   return res;
 }
 
@@ -371,21 +379,22 @@ ModalFitResult fit_modes(const FrfSeries& frf, const ModalFitOptions& options, c
     const double mass = std::ldexp(m.mode.mass_kg, -e), residue = std::ldexp(m.residue, e);
     const double stiffness = mass * std::pow(omega_of(m.mode.frequency_hz), 2);
     if (!std::isfinite(mass) || !std::isfinite(stiffness) || (m.mode.mass_kg != 0.0 && (mass == 0.0 || !std::isnormal(residue))))
-      throw NumericalError(fmt::format("{}: the mode at {:.6g} Hz has a modal mass of about 1e{:.0f} kg (stiffness 1e{:.0f} N/m): out of "
-                                       "the range of double precision (the FRF's largest magnitude is {:.3g}), so it cannot be "
-                                       "reported or used",
-                                       what, m.mode.frequency_hz, std::log10(std::abs(m.mode.mass_kg)) - e / log2_10,
-                                       std::log10(std::abs(m.mode.mass_kg) * std::pow(omega_of(m.mode.frequency_hz), 2)) - e / log2_10,
-                                       top),
-                           "check the FRF's units (a receptance in m/N is typically 1e-9 to 1e-4); rescale the data (--units)");
+      throw NumericalError(
+          fmt::format("{}: the mode at {:.6g} Hz has a modal mass of about 1e{:.0f} kg (stiffness 1e{:.0f} N/m): out of "
+                      "the range of double precision (the FRF's largest magnitude is {:.3g}), so it cannot be "
+                      "reported or used",
+                      what, m.mode.frequency_hz, std::log10(std::abs(m.mode.mass_kg)) - e / log2_10,
+                      std::log10(std::abs(m.mode.mass_kg) * std::pow(omega_of(m.mode.frequency_hz), 2)) - e / log2_10, top),
+          "check the FRF's units (a receptance in m/N is typically 1e-9 to 1e-4); rescale the data (--units)");
     m.mode.mass_kg = mass;
     m.residue = residue;
   }
   r.lower_residual = std::ldexp(r.lower_residual, e);
   r.upper_residual = std::ldexp(r.upper_residual, e);
-  r.warnings.push_back(fmt::format("{}: its largest magnitude is {:.3g}, far from a receptance in m/N; fitted on the FRF scaled by "
-                                   "2^{} and scaled back",
-                                   what, top, -e));
+  r.warnings.push_back(
+      fmt::format("{}: its largest magnitude is {:.3g}, far from a receptance in m/N; fitted on the FRF scaled by "
+                  "2^{} and scaled back",
+                  what, top, -e));
   return r;
 }
 

@@ -107,7 +107,8 @@ BlockNoise estimate_block_noise(const BlockSeries& data, const NoiseEstimateOpti
   const auto need = static_cast<std::size_t>(options.window + options.local.window);
   validate(data, what, 1);
   if (n < need)
-    throw InputError(fmt::format("{}: {} frequencies are too few to estimate the noise from the data (need at least {})", what, n, need),
+    throw InputError(fmt::format("{}: {} frequencies are too few to estimate the noise from the data (need at least {})", what, n,
+                                 need),
                      "state the noise level instead (magnitude and phase σ), or measure on a finer grid");
   auto smooth = savgol_filter(data, options.local, what);
   const std::vector<double> c = savgol_coefficients(options.local);
@@ -186,8 +187,9 @@ BlockNoise estimate_block_noise(const BlockSeries& data, const NoiseEstimateOpti
     out.relative[i] = (sum[b] - sum[a]) / (static_cast<double>(k) * keep_fraction);
   }
   if (thin == n)
-    throw InputError(fmt::format("{}: no frequency has a usable residual to estimate the noise from (an entry is zero throughout?)", what),
-                     "state the noise level instead (magnitude and phase σ)");
+    throw InputError(
+        fmt::format("{}: no frequency has a usable residual to estimate the noise from (an entry is zero throughout?)", what),
+        "state the noise level instead (magnitude and phase σ)");
   // Lag-1 correlation of the residuals over consecutive kept points, per chunk of `window`
   // points, and the median over the chunks. One ratio over the whole band is dominated by the few
   // frequencies near sharp peaks and antiresonances, where the local polynomial's misfit (smooth,
@@ -211,12 +213,13 @@ BlockNoise estimate_block_noise(const BlockSeries& data, const NoiseEstimateOpti
     const std::size_t k = chunks.size();
     out.residual_correlation = k % 2 ? chunks[k / 2] : 0.5 * (chunks[k / 2 - 1] + chunks[k / 2]);
   }
-  out.source = fmt::format("estimated from the data (residuals about a {}-point order-{} local polynomial, averaged over {} points)",
-                           options.local.window, options.local.order, options.window);
+  out.source =
+      fmt::format("estimated from the data (residuals about a {}-point order-{} local polynomial, averaged over {} points)",
+                  options.local.window, options.local.order, options.window);
   out.warnings = std::move(smooth.warnings);
   if (thin > 0)
-    out.warnings.push_back(fmt::format("{}: {} of {} frequencies had too few usable residuals nearby; their noise is taken as zero", what,
-                                       thin, n));
+    out.warnings.push_back(
+        fmt::format("{}: {} of {} frequencies had too few usable residuals nearby; their noise is taken as zero", what, thin, n));
   if (!(out.residual_correlation > -0.6 && out.residual_correlation < -0.4))
     out.warnings.push_back(fmt::format(
         "{}: the noise does not look white (lag-1 correlation of the residuals about a local polynomial {:.2f}; white noise "
@@ -229,7 +232,8 @@ BlockNoise estimate_block_noise(const BlockSeries& data, const NoiseEstimateOpti
 
 BlockNoise stated_block_noise(std::size_t size, double magnitude_sigma, double phase_sigma_rad) {
   if (!(magnitude_sigma >= 0.0 && std::isfinite(magnitude_sigma)) || !(phase_sigma_rad >= 0.0 && std::isfinite(phase_sigma_rad)))
-    throw InvalidArgument(fmt::format("noise σ: magnitude {} and phase {} rad must be finite and ≥ 0", magnitude_sigma, phase_sigma_rad));
+    throw InvalidArgument(
+        fmt::format("noise σ: magnitude {} and phase {} rad must be finite and ≥ 0", magnitude_sigma, phase_sigma_rad));
   if (magnitude_sigma == 0.0 && phase_sigma_rad == 0.0)
     throw InvalidArgument("noise σ: magnitude and phase are both 0", "for exact (model) data use no noise at all");
   Cov8 c = Cov8::Zero();

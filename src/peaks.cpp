@@ -85,7 +85,8 @@ std::vector<std::vector<double>> track_modes(const std::vector<std::vector<Peak>
                                              double tolerance, bool ordered) {
   if (reference >= family.size())
     throw InvalidArgument(fmt::format("mode tracking: reference member {} outside the {} FRFs", reference, family.size()));
-  if (!(tolerance > 0.0 && tolerance < 1.0)) throw InvalidArgument(fmt::format("mode tracking tolerance {} must lie in (0, 1)", tolerance));
+  if (!(tolerance > 0.0 && tolerance < 1.0))
+    throw InvalidArgument(fmt::format("mode tracking tolerance {} must lie in (0, 1)", tolerance));
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const std::size_t modes = family[reference].size(), n = family.size();
   std::vector<std::vector<double>> f(modes, std::vector<double>(n, nan));
@@ -94,9 +95,13 @@ std::vector<std::vector<double>> track_modes(const std::vector<std::vector<Peak>
   for (int dir : {-1, 1}) {
     std::vector<double> last(modes);
     for (std::size_t m = 0; m < modes; ++m) last[m] = f[m][reference];
-    for (std::ptrdiff_t k = static_cast<std::ptrdiff_t>(reference) + dir; k >= 0 && k < static_cast<std::ptrdiff_t>(n); k += dir) {
+    for (std::ptrdiff_t k = static_cast<std::ptrdiff_t>(reference) + dir; k >= 0 && k < static_cast<std::ptrdiff_t>(n);
+         k += dir) {
       const auto& peaks = family[static_cast<std::size_t>(k)];
-      struct Pair { double d; std::size_t m, p; };
+      struct Pair {
+        double d;
+        std::size_t m, p;
+      };
       std::vector<Pair> pairs;
       for (std::size_t m = 0; m < modes; ++m)
         for (std::size_t p = 0; p < peaks.size(); ++p) {

@@ -93,13 +93,13 @@ void PeriodicDelaySystem::check() const {
   for (std::size_t b = 0; b < a0_blocks.size(); ++b) {
     const Eigen::MatrixXd& a = a0_blocks[b];
     if (a.rows() == 0 || a.rows() != a.cols() || !a.allFinite())
-      throw InvalidArgument(fmt::format("PeriodicDelaySystem::a0_blocks[{}] must be square, non-empty and finite ({}×{})", b,
-                                        a.rows(), a.cols()));
+      throw InvalidArgument(
+          fmt::format("PeriodicDelaySystem::a0_blocks[{}] must be square, non-empty and finite ({}×{})", b, a.rows(), a.cols()));
     n += a.rows();
   }
   if (input.rows() != n || input.cols() == 0 || !input.allFinite())
-    throw InvalidArgument(fmt::format("PeriodicDelaySystem::input must be n × d = {} × d, finite (is {}×{})", n, input.rows(),
-                                      input.cols()));
+    throw InvalidArgument(
+        fmt::format("PeriodicDelaySystem::input must be n × d = {} × d, finite (is {}×{})", n, input.rows(), input.cols()));
   if (output.rows() != input.cols() || output.cols() != n || !output.allFinite())
     throw InvalidArgument(fmt::format("PeriodicDelaySystem::output must be d × n = {} × {}, finite (is {}×{})", input.cols(), n,
                                       output.rows(), output.cols()));
@@ -112,8 +112,7 @@ void PeriodicDelaySystem::check() const {
 
 PeriodMap::PeriodMap(const PeriodicDelaySystem& sys, int steps, int degree) {
   sys.check();
-  if (steps < 2 || steps > 100000)
-    throw InvalidArgument(fmt::format("{} discretization steps per period: need 2…100000", steps));
+  if (steps < 2 || steps > 100000) throw InvalidArgument(fmt::format("{} discretization steps per period: need 2…100000", steps));
   if (degree < 1 || degree > 3) throw InvalidArgument(fmt::format("interpolation degree {}: need 1, 2 or 3", degree));
   if (steps < degree) throw InvalidArgument(fmt::format("{} steps are too few for degree {}", steps, degree));
   m_ = steps;
@@ -139,7 +138,8 @@ PeriodMap::PeriodMap(const PeriodicDelaySystem& sys, int steps, int degree) {
   auto exp_b = [&](double t) {
     Eigen::MatrixXd out(n_, d_);
     for (std::size_t b = 0; b < eig.size(); ++b)
-      out.middleRows(block_start_[b], block_size_[b]) = block_exp(eig[b], t) * sys.input.middleRows(block_start_[b], block_size_[b]);
+      out.middleRows(block_start_[b], block_size_[b]) = block_exp(eig[b], t) *
+                                                        sys.input.middleRows(block_start_[b], block_size_[b]);
     return out;
   };
 
@@ -149,7 +149,8 @@ PeriodMap::PeriodMap(const PeriodicDelaySystem& sys, int steps, int degree) {
   auto lagrange = [&](int o, double s) {
     double l = 1.0;
     for (int q = 0; q <= p_; ++q)
-      if (q != o) l *= (s - node[static_cast<std::size_t>(q)]) / (node[static_cast<std::size_t>(o)] - node[static_cast<std::size_t>(q)]);
+      if (q != o)
+        l *= (s - node[static_cast<std::size_t>(q)]) / (node[static_cast<std::size_t>(o)] - node[static_cast<std::size_t>(q)]);
     return l;
   };
   // Quadrature points of [a, b] ⊂ [0, h]: panels no longer than 2/|λ|max, Gauss on each.
@@ -356,7 +357,9 @@ void PeriodMap::run(double sigma, int cols, const S* u, S* v, S* out) const {
   const int n = n_, d = d_, m = m_, p = p_, nd = n * d;
   const auto nc = static_cast<std::size_t>(cols);
   static thread_local std::vector<S> scratch;
-  const std::size_t need = (2 * static_cast<std::size_t>(n) + static_cast<std::size_t>((m + 1) * d) + 3 * static_cast<std::size_t>(d)) * nc;
+  const std::size_t need = (2 * static_cast<std::size_t>(n) + static_cast<std::size_t>((m + 1) * d) +
+                            3 * static_cast<std::size_t>(d)) *
+                           nc;
   if (scratch.size() < need) scratch.resize(need);
   S* y = scratch.data();
   S* z = y + n * nc;
@@ -481,7 +484,8 @@ void PeriodMap::apply(double sigma, const double* u, double* v) const { run_one(
 void PeriodMap::apply(double sigma, const Complex* u, Complex* v) const { run_one(sigma, u, v, static_cast<Complex*>(nullptr)); }
 
 Eigen::MatrixXcd PeriodMap::outputs(double sigma, const Eigen::VectorXcd& u) const {
-  if (u.size() != size()) throw InvalidArgument(fmt::format("PeriodMap::outputs: state of size {}, expected {}", u.size(), size()));
+  if (u.size() != size())
+    throw InvalidArgument(fmt::format("PeriodMap::outputs: state of size {}, expected {}", u.size(), size()));
   Eigen::MatrixXcd out(d_, m_ + 1);  // column-major: sample j's d outputs together, as run() writes them
   run(sigma, 1, u.data(), static_cast<Complex*>(nullptr), out.data());
   return out;

@@ -17,8 +17,8 @@ Plausibility judge(const PlausibleRange& r, double value) {
 std::string plausibility_message(const PlausibleRange& r, double value, const std::string& what) {
   const bool impossible = judge(r, value) == Plausibility::Impossible;
   return fmt::format("{} = {:g} {} the usual range [{:g}, {:g}]{}{}", what, value,
-                     impossible ? "is so far outside" : "is outside", r.low, r.high,
-                     impossible ? " that it cannot be meant" : "", *r.hint ? fmt::format("; {}", r.hint) : "");
+                     impossible ? "is so far outside" : "is outside", r.low, r.high, impossible ? " that it cannot be meant" : "",
+                     *r.hint ? fmt::format("; {}", r.hint) : "");
 }
 
 }  // namespace toolpoint

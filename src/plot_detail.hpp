@@ -22,8 +22,7 @@ inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // pattern and an open marker per series so that grayscale prints stay readable.
 inline constexpr const char* kColours[] = {"#000000", "#D55E00", "#0072B2", "#009E73",
                                            "#CC79A7", "#E69F00", "#56B4E9", "#7F7F7F"};
-inline constexpr const char* kDashes[] = {"solid",     "(10,6)",     "(2,4)",     "(10,4,2,4)",
-                                          "(20,6)",    "(6,3,2,3,2,3)", "(5,5)", "(2,2)"};
+inline constexpr const char* kDashes[] = {"solid", "(10,6)", "(2,4)", "(10,4,2,4)", "(20,6)", "(6,3,2,3,2,3)", "(5,5)", "(2,2)"};
 inline constexpr int kPoints[] = {6, 4, 8, 12, 10, 2, 1, 14};
 inline constexpr std::size_t kSeries = std::size(kColours);
 inline constexpr const char* kFillColours[] = {"#D3EAD3", "#D6E4F2", "#F4E0D0", "#E8E8E8"};

@@ -26,7 +26,7 @@ void check_axis(const Axis& a, const std::string& where) {
     if (lim) {
       require(std::isfinite(*lim), fmt::format("{}: axis limit {} is not finite", where, *lim));
       require(plottable(*lim, a.scale), fmt::format("{}: log axis limit {} must be > 0", where, *lim),
-                "use a positive limit or a linear scale");
+              "use a positive limit or a linear scale");
     }
   if (a.min && a.max)
     require(*a.min < *a.max, fmt::format("{}: axis range [{}, {}] is empty or inverted", where, *a.min, *a.max));
@@ -90,20 +90,19 @@ void Figure::check() const {
     require(std::isfinite(p.height) && p.height > 0.0, fmt::format("{}: height {} must be > 0", where, p.height));
     bool any = false;
     auto scan = [&](const std::vector<double>& xs, const std::vector<double>& ys, const std::string& what) {
-      require(xs.size() == ys.size(),
-              fmt::format("{}: {} has {} x values but {} y values", where, what, xs.size(), ys.size()));
-      for (std::size_t k = 0; k < xs.size(); ++k)
-        any = any || (plottable(xs[k], x.scale) && plottable(ys[k], p.y.scale));
+      require(xs.size() == ys.size(), fmt::format("{}: {} has {} x values but {} y values", where, what, xs.size(), ys.size()));
+      for (std::size_t k = 0; k < xs.size(); ++k) any = any || (plottable(xs[k], x.scale) && plottable(ys[k], p.y.scale));
     };
     for (const Curve& c : p.curves) scan(c.x, c.y, fmt::format("curve '{}'", c.label));
     if (p.map) any = check_map(*p.map, x, p.y, where) || any;
     for (const Fill& f : p.fills) {
       scan(f.x, f.y, fmt::format("fill '{}'", f.label));
-      require(plottable(f.base, p.y.scale), fmt::format("{}: fill '{}' base {} is not drawable on this axis", where,
-                                                        f.label, f.base));
+      require(plottable(f.base, p.y.scale),
+              fmt::format("{}: fill '{}' base {} is not drawable on this axis", where, f.label, f.base));
     }
-    require(any, fmt::format("{}: nothing to draw (no finite point{})", where,
-                             p.y.scale == Scale::Log || x.scale == Scale::Log ? " with positive values on the log axes" : ""),
+    require(any,
+            fmt::format("{}: nothing to draw (no finite point{})", where,
+                        p.y.scale == Scale::Log || x.scale == Scale::Log ? " with positive values on the log axes" : ""),
             "give the panel a curve or fill with data");
     for (const HorizontalLine& h : p.horizontal_lines)
       require(plottable(h.y, p.y.scale), fmt::format("{}: horizontal line '{}' at {} is not drawable", where, h.label, h.y));

@@ -39,8 +39,8 @@ void FrfFigureOptions::check() const {
   if (frequency_range_hz)
     require(std::isfinite(frequency_range_hz->first) && std::isfinite(frequency_range_hz->second) &&
                 frequency_range_hz->first < frequency_range_hz->second,
-            fmt::format("FrfFigureOptions::frequency_range_hz [{}, {}] must be finite and increasing",
-                        frequency_range_hz->first, frequency_range_hz->second));
+            fmt::format("FrfFigureOptions::frequency_range_hz [{}, {}] must be finite and increasing", frequency_range_hz->first,
+                        frequency_range_hz->second));
 }
 
 namespace {
@@ -185,8 +185,7 @@ Figure h_entry_figure(const BlockSeries& series, const std::string& title, const
 
 }  // namespace
 
-Figure receptance_figure(const BlockSeries& series, const std::string& title, const std::string& subscript,
-                         int mode_labels) {
+Figure receptance_figure(const BlockSeries& series, const std::string& title, const std::string& subscript, int mode_labels) {
   Figure fig = h_entry_figure(series, title, subscript, mode_labels, "receptance");
   FrfFigureOptions o;
   o.title = title;
@@ -256,8 +255,7 @@ Figure natural_frequency_figure(const OverhangSweep& sweep) {
     require(sweep.frequency_hz[m].size() == x.size(),
             fmt::format("natural frequency figure: mode {} has {} frequencies for {} overhangs", m + 1,
                         sweep.frequency_hz[m].size(), x.size()));
-    p.curves.push_back({x, sweep.frequency_hz[m],
-                        sweep.mode_names.empty() ? fmt::format("mode {}", m + 1) : sweep.mode_names[m],
+    p.curves.push_back({x, sweep.frequency_hz[m], sweep.mode_names.empty() ? fmt::format("mode {}", m + 1) : sweep.mode_names[m],
                         CurveStyle::LinePoints, -1});
   }
   fig.panels.push_back(std::move(p));
@@ -271,8 +269,7 @@ namespace {
 // narrower than ±5 % around the middle of that range — so a flat (noise-free) result shows flat,
 // as in the seed's Fig. 3, rather than its round-off magnified to fill the panel.
 std::pair<double, double> robust_range(const std::vector<double>& f, const std::vector<double>& v,
-                                       const std::optional<std::pair<double, double>>& band,
-                                       const std::vector<double>& lines) {
+                                       const std::optional<std::pair<double, double>>& band, const std::vector<double>& lines) {
   std::vector<double> kept;
   for (std::size_t k = 0; k < v.size(); ++k)
     if (std::isfinite(v[k]) && (!band || (f[k] >= band->first && f[k] <= band->second))) kept.push_back(v[k]);
@@ -311,9 +308,8 @@ Figure joint_figure(const JointFigureData& data) {
       if (values.empty()) continue;
       const char letter = damping ? 'c' : 'k';
       const std::string& unit = damping ? jp.damping_unit : jp.stiffness_unit;
-      require(values.size() == data.frequency_hz.size(),
-              fmt::format("joint figure: {}_{} has {} values for {} frequencies", letter, jp.name, values.size(),
-                          data.frequency_hz.size()));
+      require(values.size() == data.frequency_hz.size(), fmt::format("joint figure: {}_{} has {} values for {} frequencies",
+                                                                     letter, jp.name, values.size(), data.frequency_hz.size()));
       const auto reference = damping ? jp.reference_damping : jp.reference_stiffness;
       const auto identified = damping ? jp.identified_damping : jp.identified_stiffness;
       const auto interval = damping ? jp.damping_interval : jp.stiffness_interval;
@@ -335,17 +331,19 @@ Figure joint_figure(const JointFigureData& data) {
       Panel p;
       p.legend = Legend::Outside;
       p.y.label = fmt::format("{}_{{{}}} [{}]", letter, jp.name, shown_unit);
-      p.curves.push_back({data.frequency_hz, scaled(values, factor), fmt::format("{}_{{{}}}(f)", letter, jp.name),
-                          CurveStyle::Line, -1});
+      p.curves.push_back(
+          {data.frequency_hz, scaled(values, factor), fmt::format("{}_{{{}}}(f)", letter, jp.name), CurveStyle::Line, -1});
       if (reference)
         p.horizontal_lines.push_back({*reference * factor, fmt::format("reference {:.4g} {}", *reference * factor, shown_unit)});
       if (identified)
-        p.horizontal_lines.push_back({*identified * factor, fmt::format("{} {:.4g} {}{}", jp.identified_label, *identified * factor, shown_unit,
-                                                                       undetermined ? ": UNDETERMINED by these data" : "")});
-      if (other) p.horizontal_lines.push_back({*other * factor, fmt::format("{} {:.4g} {}", jp.other_label, *other * factor, shown_unit)});
+        p.horizontal_lines.push_back(
+            {*identified * factor, fmt::format("{} {:.4g} {}{}", jp.identified_label, *identified * factor, shown_unit,
+                                               undetermined ? ": UNDETERMINED by these data" : "")});
+      if (other)
+        p.horizontal_lines.push_back({*other * factor, fmt::format("{} {:.4g} {}", jp.other_label, *other * factor, shown_unit)});
       if (interval && !undetermined) {
-        p.horizontal_lines.push_back({interval->first * factor, fmt::format("95 %: {:.4g}…{:.4g}", interval->first * factor,
-                                                                            interval->second * factor)});
+        p.horizontal_lines.push_back(
+            {interval->first * factor, fmt::format("95 %: {:.4g}…{:.4g}", interval->first * factor, interval->second * factor)});
         p.horizontal_lines.push_back({interval->second * factor, ""});
       }
       if (data.band_hz)
@@ -444,8 +442,8 @@ Figure lobes_figure(const LobesFigureData& data) {
   if (!data.envelope_rpm.empty()) depth.curves.push_back({data.envelope_rpm, env, "stability limit", CurveStyle::Line, 0});
   int series = 3;
   for (const auto& e : data.other_envelopes) {
-    require(e.depth_m.size() == data.envelope_rpm.size(),
-            fmt::format("lobes figure: envelope '{}' has {} depths for {} speeds", e.label, e.depth_m.size(), data.envelope_rpm.size()));
+    require(e.depth_m.size() == data.envelope_rpm.size(), fmt::format("lobes figure: envelope '{}' has {} depths for {} speeds",
+                                                                      e.label, e.depth_m.size(), data.envelope_rpm.size()));
     depth.curves.push_back({data.envelope_rpm, mm_of(e.depth_m), e.label, CurveStyle::Line, series++});
   }
   fig.panels.push_back(std::move(depth));
@@ -455,8 +453,8 @@ Figure lobes_figure(const LobesFigureData& data) {
 
 Figure probability_map_figure(const ProbabilityMapData& d) {
   if (d.probability.size() != d.speed_rpm.size() * d.depth_mm.size())
-    throw InvalidArgument(fmt::format("probability map: {} values for {} speeds × {} depths", d.probability.size(), d.speed_rpm.size(),
-                                      d.depth_mm.size()));
+    throw InvalidArgument(fmt::format("probability map: {} values for {} speeds × {} depths", d.probability.size(),
+                                      d.speed_rpm.size(), d.depth_mm.size()));
   Figure fig;
   fig.title = d.title;
   fig.x.label = "Spindle speed [rpm]";

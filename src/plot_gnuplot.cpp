@@ -164,8 +164,7 @@ ChildOutcome run_gnuplot(const PlotOptions& o, const std::string& script) {
   }
   in_write.reset();
   int status = 0;
-  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {}
   out.status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
   return out;
 }
@@ -220,8 +219,8 @@ RenderResult render_script(const std::string& body, const std::string& path, int
   const Format format = format_for_path(path);
   check_size(width_px, height_px);
   AtomicOutput tmp(path);
-  const std::string script = terminal_lines(format, width_px, height_px) + "set output " + gp_path(tmp.path()) +
-                             "\n" + body + "\nunset output\n";
+  const std::string script = terminal_lines(format, width_px, height_px) + "set output " + gp_path(tmp.path()) + "\n" + body +
+                             "\nunset output\n";
   const ChildOutcome run = run_gnuplot(options, script);
 
   RenderResult result;
@@ -234,7 +233,9 @@ RenderResult render_script(const std::string& body, const std::string& path, int
     if (end == std::string::npos) end = run.err.size();
     const std::string line = run.err.substr(start, end - start);
     start = end + 1;
-    auto tagged = [&](std::string_view tag) { return line.rfind(tag, 0) == 0 ? trimmed(line.substr(tag.size())) : std::string(); };
+    auto tagged = [&](std::string_view tag) {
+      return line.rfind(tag, 0) == 0 ? trimmed(line.substr(tag.size())) : std::string();
+    };
     if (auto t = tagged("toolpoint-terminal:"); !t.empty()) {
       result.terminal = t;
     } else if (auto n = tagged("toolpoint-note:"); !n.empty()) {
@@ -251,14 +252,13 @@ RenderResult render_script(const std::string& body, const std::string& path, int
                           "install a gnuplot built with cairo (Debian: gnuplot-nox) or write .png/.svg instead");
   if (run.status != 0) {
     if (message.size() > 4000) message = "…" + message.substr(message.size() - 4000);
-    throw IoError(fmt::format("{}: gnuplot failed (exit status {}); nothing was written. gnuplot said:\n{}", path,
-                              run.status, message.empty() ? "(nothing)" : message),
+    throw IoError(fmt::format("{}: gnuplot failed (exit status {}); nothing was written. gnuplot said:\n{}", path, run.status,
+                              message.empty() ? "(nothing)" : message),
                   "the message above names the gnuplot command at fault");
   }
   std::error_code ec;
   const auto size = fs::file_size(tmp.path(), ec);
-  if (ec || size == 0)
-    throw IoError(fmt::format("{}: gnuplot reported success but wrote nothing; nothing was written", path));
+  if (ec || size == 0) throw IoError(fmt::format("{}: gnuplot reported success but wrote nothing; nothing was written", path));
   if (!message.empty()) {
     std::size_t from = 0;
     while (from < message.size()) {

@@ -101,14 +101,10 @@ std::string curve_spec(const Curve& c, std::size_t series) {
   const std::string sparse = series == 0 ? std::string("with lines")
                                          : fmt::format("with linespoints pt {} ps 1.4 pi -{}", pt, interval);
   switch (c.style) {
-    case CurveStyle::Line:
-      return fmt::format("{} lw 2 dt {} {}", sparse, dash, colour);
-    case CurveStyle::Dashed:
-      return fmt::format("with lines lw 2 dt {} {}", series == 0 ? kDashes[1] : dash, colour);
-    case CurveStyle::Points:
-      return fmt::format("with points pt {} ps 1.0 lw 1.5 {}", pt, colour);
-    case CurveStyle::LinePoints:
-      return fmt::format("with linespoints lw 2 dt {} pt {} ps 1.4 pi 1 {}", dash, pt, colour);
+    case CurveStyle::Line: return fmt::format("{} lw 2 dt {} {}", sparse, dash, colour);
+    case CurveStyle::Dashed: return fmt::format("with lines lw 2 dt {} {}", series == 0 ? kDashes[1] : dash, colour);
+    case CurveStyle::Points: return fmt::format("with points pt {} ps 1.0 lw 1.5 {}", pt, colour);
+    case CurveStyle::LinePoints: return fmt::format("with linespoints lw 2 dt {} pt {} ps 1.4 pi 1 {}", dash, pt, colour);
   }
   return "with lines";
 }
@@ -202,8 +198,8 @@ bool has_points(const std::vector<double>& xs, const std::vector<double>& ys, Sc
   return false;
 }
 
-void append_panel(std::string& s, const Figure& fig, std::size_t i, double top, double bottom,
-                  std::pair<double, double> xr, Frame frame) {
+void append_panel(std::string& s, const Figure& fig, std::size_t i, double top, double bottom, std::pair<double, double> xr,
+                  Frame frame) {
   const Panel& p = fig.panels[i];
   const bool last = i + 1 == fig.panels.size();
   const std::string id = fmt::format("p{}", i);
@@ -238,8 +234,8 @@ void append_panel(std::string& s, const Figure& fig, std::size_t i, double top, 
     s += c.scale == Scale::Log ? "set logscale cb 10\n" : "unset logscale cb\n";
     s += fmt::format("set cbrange [{}:{}]\n", limit(c.min), limit(c.max));
     // The label clear of tic labels of up to five characters.
-    s += fmt::format("set format cb {}\nset cbtics autofreq\nset cblabel {} offset 1.5,0\n", gp_text(c.scale == Scale::Log ? "10^{%L}" : "%h"),
-                     gp_text(c.label));
+    s += fmt::format("set format cb {}\nset cbtics autofreq\nset cblabel {} offset 1.5,0\n",
+                     gp_text(c.scale == Scale::Log ? "10^{%L}" : "%h"), gp_text(c.label));
     s += fmt::format("set colorbox user origin screen {:.5f}, screen {:.5f} size screen {:.5f}, screen {:.5f} front\n",
                      frame.right + kColourGapPx / fig.width_px, bottom, kColourBoxPx / fig.width_px, top - bottom);
   } else {
@@ -260,8 +256,9 @@ void append_panel(std::string& s, const Figure& fig, std::size_t i, double top, 
   if (p.map) items.push_back(fmt::format("${}m using 1:2:3 with image notitle", id));
   for (std::size_t k = 0; k < p.bands.size(); ++k) {
     const Band& b = p.bands[k];
-    s += fmt::format("set object {} rect from first {}, graph 0 to first {}, graph 1 behind fc rgb \"{}\" fs solid 1.0 noborder\n",
-                     k + 1, number(b.from), number(b.to), kBandColour);
+    s +=
+        fmt::format("set object {} rect from first {}, graph 0 to first {}, graph 1 behind fc rgb \"{}\" fs solid 1.0 noborder\n",
+                    k + 1, number(b.from), number(b.to), kBandColour);
     if (!b.label.empty())
       items.push_back(fmt::format("keyentry with boxes fs solid 1.0 border lc rgb \"#B0B0B0\" fc rgb \"{}\" {}", kBandColour,
                                   title_of(b.label)));
@@ -269,7 +266,7 @@ void append_panel(std::string& s, const Figure& fig, std::size_t i, double top, 
   for (std::size_t k = 0; k < p.fills.size(); ++k)
     if (has_points(p.fills[k].x, p.fills[k].y, fig.x.scale, p.y.scale))
       items.push_back(fmt::format("${}f{} using 1:2:3 with filledcurves fc rgb \"{}\" fs solid 1.0 noborder {}", id, k,
-                                kFillColours[k % std::size(kFillColours)], title_of(p.fills[k].label)));
+                                  kFillColours[k % std::size(kFillColours)], title_of(p.fills[k].label)));
   std::size_t next_series = 0;
   for (std::size_t k = 0; k < p.curves.size(); ++k) {
     const Curve& c = p.curves[k];
@@ -289,8 +286,7 @@ void append_panel(std::string& s, const Figure& fig, std::size_t i, double top, 
     s += fmt::format("set arrow from first {0}, graph 0 to first {0}, graph 1 nohead front lw 1.5 dt (8,6) lc rgb \"#505050\"\n",
                      number(v.x));
     if (!v.label.empty())
-      s += fmt::format("set label {} at first {}, graph 0.94 left offset 0.4,0 front boxed\n", gp_text(v.label),
-                       number(v.x));
+      s += fmt::format("set label {} at first {}, graph 0.94 left offset 0.4,0 front boxed\n", gp_text(v.label), number(v.x));
   }
   for (const TextLabel& t : p.labels) {
     s += fmt::format("set label {} at first {}, first {} center offset 0,1.1 front{}\n", gp_text(t.text), number(t.x),
@@ -320,7 +316,7 @@ std::string gnuplot_script(const Figure& fig) {
   s += "set grid xtics ytics back lt 1 lw 1 lc rgb \"#E0E0E0\" dt solid\n"
        "set border lw 1.2\n"
        "set tics scale 1.2, 0.6\n"
-       "set samples 2\n"  // horizontal lines are constants: two samples draw them exactly
+       "set samples 2\n"                                   // horizontal lines are constants: two samples draw them exactly
        "set style textbox opaque noborder margins 1,1\n";  // labels on lines stay readable over data
   s += "set multiplot";
   if (!fig.title.empty()) s += fmt::format(" title {} font \",{}\"", gp_text(fig.title), kFontPt + 2);

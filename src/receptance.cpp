@@ -34,8 +34,8 @@ void validate_grid(const std::vector<double>& f, const std::string& what, std::s
       throw InputError(fmt::format("{}: frequency {} at point {} is not a positive finite value in Hz", what, f[i], i + 1),
                        "frequencies must be positive (Hz); drop the 0 Hz line of a measurement");
     if (i > 0 && !(f[i] > f[i - 1]))
-      throw InputError(fmt::format("{}: frequencies not strictly increasing at point {} ({} Hz after {} Hz)", what, i + 1,
-                                   f[i], f[i - 1]));
+      throw InputError(
+          fmt::format("{}: frequencies not strictly increasing at point {} ({} Hz after {} Hz)", what, i + 1, f[i], f[i - 1]));
   }
 }
 
@@ -81,8 +81,8 @@ void require_same_grid(const std::vector<double>& a, const std::string& what_a, 
                      kOneGrid);
   for (std::size_t i = 0; i < a.size(); ++i) {
     if (std::abs(a[i] - b[i]) > 1e-9 * std::max(std::abs(a[i]), std::abs(b[i])))
-      throw InputError(fmt::format("frequency grids differ at point {}: {} has {} Hz, {} has {} Hz", i + 1, what_a, a[i],
-                                   what_b, b[i]),
+      throw InputError(fmt::format("frequency grids differ at point {}: {} has {} Hz, {} has {} Hz", i + 1, what_a, a[i], what_b,
+                                   b[i]),
                        kOneGrid);
   }
 }

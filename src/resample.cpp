@@ -18,8 +18,7 @@ void check_band(double low, double high) {
     throw InvalidArgument(fmt::format("band {}–{} Hz: expected finite LOW ≤ HIGH", low, high), "e.g. 500:3000");
 }
 
-std::pair<std::size_t, std::size_t> kept_range(const std::vector<double>& f, double low, double high,
-                                               const std::string& what) {
+std::pair<std::size_t, std::size_t> kept_range(const std::vector<double>& f, double low, double high, const std::string& what) {
   check_band(low, high);
   const auto first = std::lower_bound(f.begin(), f.end(), low);
   const auto last = std::upper_bound(f.begin(), f.end(), high);
@@ -36,8 +35,8 @@ void check_grid(const std::vector<double>& grid) {
     if (!std::isfinite(grid[i]))
       throw InvalidArgument(fmt::format("target frequency {} (point {}) is not finite", grid[i], i + 1));
     if (i > 0 && !(grid[i] > grid[i - 1]))
-      throw InvalidArgument(fmt::format("target frequencies must increase strictly: {} Hz after {} Hz (point {})", grid[i],
-                                        grid[i - 1], i + 1));
+      throw InvalidArgument(
+          fmt::format("target frequencies must increase strictly: {} Hz after {} Hz (point {})", grid[i], grid[i - 1], i + 1));
   }
 }
 
@@ -48,8 +47,7 @@ void check_inside(const std::vector<double>& f, const std::vector<double>& grid,
       throw InputError(fmt::format("{}: target frequency {} Hz lies outside the measured range {}–{} Hz; FRFs are "
                                    "interpolated, never extrapolated",
                                    what, x, f.front(), f.back()),
-                       fmt::format("crop the target grid to the measured range (a band of at most {}:{})", f.front(),
-                                   f.back()));
+                       fmt::format("crop the target grid to the measured range (a band of at most {}:{})", f.front(), f.back()));
 }
 
 // Second derivatives of the natural cubic spline through (x_i, y_i): M_0 = M_{n−1} = 0 and, for
@@ -174,8 +172,7 @@ BlockSeries resample(const BlockSeries& s, const std::vector<double>& grid, Inte
 std::vector<double> resample_values(const std::vector<double>& f, const std::vector<double>& values,
                                     const std::vector<double>& grid, const std::string& what) {
   if (values.empty()) return {};
-  if (values.size() != f.size())
-    throw InputError(fmt::format("{}: {} values for {} frequencies", what, values.size(), f.size()));
+  if (values.size() != f.size()) throw InputError(fmt::format("{}: {} values for {} frequencies", what, values.size(), f.size()));
   check_grid(grid);
   check_inside(f, grid, what);
   return interpolate(f, values, grid, Interpolation::Linear);

@@ -50,11 +50,10 @@ class SavgolKernel {
     const auto& sv = svd.singularValues();
     const double cond = sv(0) / sv(sv.size() - 1);
     if (!(cond <= 1e8))
-      throw NumericalError(
-          fmt::format("Savitzky–Golay order {} with window {}: Vandermonde condition number {:.3g} is too large "
-                      "for accurate weights",
-                      o.order, w, cond),
-          "use a lower polynomial order (2–6 is usual for smoothing FRFs)");
+      throw NumericalError(fmt::format("Savitzky–Golay order {} with window {}: Vandermonde condition number {:.3g} is too large "
+                                       "for accurate weights",
+                                       o.order, w, cond),
+                           "use a lower polynomial order (2–6 is usual for smoothing FRFs)");
     qr_.compute(v);
     const Eigen::MatrixXd q = qr_.householderQ() * Eigen::MatrixXd::Identity(w, p1);
     // Row `half` of the hat matrix Q Qᵀ: the fitted value at the centre as a weighted sum.
@@ -119,9 +118,10 @@ void warn_if_uneven(const std::vector<double>& f, const std::string& what, std::
     hi = std::max(hi, f[i] - f[i - 1]);
   }
   if (hi - lo > 1e-6 * hi)
-    warnings.push_back(fmt::format("{}: frequency steps vary from {} Hz to {} Hz; Savitzky–Golay treats the points as "
-                                   "evenly spaced",
-                                   what, lo, hi));
+    warnings.push_back(
+        fmt::format("{}: frequency steps vary from {} Hz to {} Hz; Savitzky–Golay treats the points as "
+                    "evenly spaced",
+                    what, lo, hi));
 }
 
 }  // namespace
@@ -150,8 +150,8 @@ namespace {
 
 // Filters `columns` real columns of a series; get(i, c) reads, set(i, c, v) writes.
 template <class Series, class Get, class Set>
-SignalResult<Series> filter_columns(const Series& series, const SavgolOptions& options, const std::string& what,
-                                    int columns, Get get, Set set) {
+SignalResult<Series> filter_columns(const Series& series, const SavgolOptions& options, const std::string& what, int columns,
+                                    Get get, Set set) {
   validate(series, what);
   require_window_fits(options, series.size(), what);
   const SavgolKernel kernel(options);
@@ -169,10 +169,8 @@ SignalResult<Series> filter_columns(const Series& series, const SavgolOptions& o
 // Real (c even) or imaginary (c odd) part of entry c/2 of z.
 double part(const Complex& z, int c) { return c % 2 == 0 ? z.real() : z.imag(); }
 void set_part(Complex& z, int c, double v) {
-  if (c % 2 == 0)
-    z.real(v);
-  else
-    z.imag(v);
+  if (c % 2 == 0) z.real(v);
+  else z.imag(v);
 }
 
 }  // namespace
@@ -223,7 +221,8 @@ void peak_changes_of(const FrfSeries& raw, const FrfSeries& filtered, int window
     const Peak* near = nullptr;
     for (const Peak& q : after) {
       const std::size_t d = q.index > p.index ? q.index - p.index : p.index - q.index;
-      if (d <= half && (!near || std::abs(q.frequency_hz - p.frequency_hz) < std::abs(near->frequency_hz - p.frequency_hz))) near = &q;
+      if (d <= half && (!near || std::abs(q.frequency_hz - p.frequency_hz) < std::abs(near->frequency_hz - p.frequency_hz)))
+        near = &q;
     }
     if (near) {
       c.filtered_frequency_hz = near->frequency_hz;
@@ -236,14 +235,15 @@ void peak_changes_of(const FrfSeries& raw, const FrfSeries& filtered, int window
     }
     c.height_change = (c.filtered_magnitude - p.magnitude) / p.magnitude;
     if (!near)
-      report.warnings.push_back(fmt::format("{}: the peak at {:.6g} Hz was smoothed away (no peak within {} points after "
-                                            "filtering; height {:+.1f} %): shorten the window",
-                                            label, p.frequency_hz, half, 100.0 * c.height_change));
+      report.warnings.push_back(
+          fmt::format("{}: the peak at {:.6g} Hz was smoothed away (no peak within {} points after "
+                      "filtering; height {:+.1f} %): shorten the window",
+                      label, p.frequency_hz, half, 100.0 * c.height_change));
     else if (std::abs(c.height_change) > o.warn_above || std::abs(c.frequency_change) > o.warn_above)
-      report.warnings.push_back(fmt::format("{}: the filter changed the peak at {:.6g} Hz by {:+.1f} % in height and {:+.2f} % in "
-                                            "frequency (more than {:g} %): shorten the window or raise the order",
-                                            label, p.frequency_hz, 100.0 * c.height_change, 100.0 * c.frequency_change,
-                                            100.0 * o.warn_above));
+      report.warnings.push_back(
+          fmt::format("{}: the filter changed the peak at {:.6g} Hz by {:+.1f} % in height and {:+.2f} % in "
+                      "frequency (more than {:g} %): shorten the window or raise the order",
+                      label, p.frequency_hz, 100.0 * c.height_change, 100.0 * c.frequency_change, 100.0 * o.warn_above));
     report.peaks.push_back(c);
   }
 }
@@ -313,8 +313,8 @@ std::vector<double> noise_factors(std::size_t count, const NoiseOptions& o, std:
     if (v <= 0.0) ++non_positive;
   }
   if (non_positive > 0)
-    warnings.push_back(fmt::format("noise sigma {}: {} of {} factors are ≤ 0, so those values changed sign", o.sigma,
-                                   non_positive, count));
+    warnings.push_back(
+        fmt::format("noise sigma {}: {} of {} factors are ≤ 0, so those values changed sign", o.sigma, non_positive, count));
   return f;
 }
 
@@ -418,8 +418,8 @@ RotationalResult rotational_frfs(const PointFrfs& in, const RotationalOptions& o
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
       if (in.h[i][j] && (i >= points || j >= points))
-        r.warnings.push_back(fmt::format("{} is not used by order-{} differences (points 0..{})", in.label(i, j), o.order,
-                                         points - 1));
+        r.warnings.push_back(
+            fmt::format("{} is not used by order-{} differences (points 0..{})", in.label(i, j), o.order, points - 1));
 
   const Available a = gather(in, points, o.assume_reciprocity);
   for (int k = 1; k < points; ++k)
@@ -504,8 +504,7 @@ RotationalResult rotational_frfs(const PointFrfs& in, const RotationalOptions& o
   }
   if (!r.l_equals_n_by_reciprocity) r.reciprocity_mismatch = peak > 0.0 ? mismatch / peak : 0.0;
 
-  if (!filled.empty())
-    r.warnings.push_back(fmt::format("reciprocity H_ij = H_ji assumed for {}", list(filled)));
+  if (!filled.empty()) r.warnings.push_back(fmt::format("reciprocity H_ij = H_ji assumed for {}", list(filled)));
   if (r.l_equals_n_by_reciprocity)
     r.warnings.push_back("L and N come from the same data (reciprocity), so L = N is assumed, not measured");
   if (!r.p_from_cross_terms)

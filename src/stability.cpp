@@ -62,8 +62,8 @@ Eigen::Matrix2d directional_integral(double kr, double phi1, double phi2) {
   auto antiderivative = [kr](double p) {
     const double s = std::sin(2.0 * p), c = std::cos(2.0 * p);
     Eigen::Matrix2d f;
-    f << 0.5 * (c - 2.0 * kr * p + kr * s), 0.5 * (-s - 2.0 * p + kr * c),
-         0.5 * (-s + 2.0 * p + kr * c), 0.5 * (-c - 2.0 * kr * p - kr * s);
+    f << 0.5 * (c - 2.0 * kr * p + kr * s), 0.5 * (-s - 2.0 * p + kr * c), 0.5 * (-s + 2.0 * p + kr * c),
+        0.5 * (-c - 2.0 * kr * p - kr * s);
     return f;
   };
   return antiderivative(phi2) - antiderivative(phi1);
@@ -77,8 +77,7 @@ void SpeedRange::check() const {
   if (!std::isfinite(min_rpm) || !std::isfinite(max_rpm) || !(min_rpm > 0.0) || !(max_rpm > min_rpm))
     throw InvalidArgument(fmt::format("spindle speed range {}:{} rpm is empty or not positive", min_rpm, max_rpm),
                           "give SpeedRange::min_rpm and max_rpm with 0 < min < max, e.g. 5000 and 25000 rpm");
-  if (points < 2 || points > 1000000)
-    throw InvalidArgument(fmt::format("{} speed points: need 2…1000000", points));
+  if (points < 2 || points > 1000000) throw InvalidArgument(fmt::format("{} speed points: need 2…1000000", points));
 }
 
 std::vector<double> SpeedRange::values() const {
@@ -114,7 +113,8 @@ MillingFrfs modal_milling_frfs(const std::vector<Mode>& x_modes, const std::vect
                                const std::vector<double>& frequency_hz) {
   MillingFrfs frfs;
   frfs.xx = modal_frf(x_modes, frequency_hz);
-  if (y_modes.empty()) frfs.rigid_y = true; else frfs.yy = modal_frf(y_modes, frequency_hz);
+  if (y_modes.empty()) frfs.rigid_y = true;
+  else frfs.yy = modal_frf(y_modes, frequency_hz);
   return frfs;
 }
 
@@ -142,7 +142,8 @@ std::vector<double> modal_frequency_grid(const std::vector<Mode>& modes) {
 }
 
 void ZeroOrderOptions::check() const {
-  if (lobes < -1 || lobes > 5000) throw InvalidArgument(fmt::format("ZeroOrderOptions::lobes {} must lie in 0…5000 (−1: automatic)", lobes));
+  if (lobes < -1 || lobes > 5000)
+    throw InvalidArgument(fmt::format("ZeroOrderOptions::lobes {} must lie in 0…5000 (−1: automatic)", lobes));
   speeds.check();
   if (!std::isfinite(max_depth_m) || max_depth_m < 0.0)
     throw InvalidArgument(fmt::format("maximum depth {} m must be ≥ 0 (0: no limit)", max_depth_m));
@@ -180,7 +181,8 @@ LobeTable zero_order_roots(const MillingFrfs& frfs, const CuttingConditions& cut
     // (Squared moduli throughout: comparisons need no square roots.)
     const Complex big = std::norm(half_tr + disc) >= std::norm(half_tr - disc) ? half_tr + disc : half_tr - disc;
     Complex mu[2] = {big, big != 0.0 ? det / big : Complex(0.0)};
-    if (i > 0 && std::norm(mu[0] - prev[0]) + std::norm(mu[1] - prev[1]) > std::norm(mu[0] - prev[1]) + std::norm(mu[1] - prev[0]))
+    if (i > 0 &&
+        std::norm(mu[0] - prev[0]) + std::norm(mu[1] - prev[1]) > std::norm(mu[0] - prev[1]) + std::norm(mu[1] - prev[0]))
       std::swap(mu[0], mu[1]);  // keep each root on its own continuous branch
     prev[0] = mu[0];
     prev[1] = mu[1];
@@ -300,14 +302,16 @@ ZeroOrderResult zero_order_lobes(const MillingFrfs& frfs, const CuttingCondition
   } else {
     res.lobes = options.lobes;
     if (res.lobes < needed)
-      res.warnings.push_back(fmt::format("lobes 0…{} reach down to about {:.0f} rpm at {:.1f} Hz: slower speeds in the range "
-                                         "are not covered (ZeroOrderOptions::lobes {} or more)",
-                                         res.lobes, 60.0 * f_band / (n_teeth * (res.lobes + 1)), f_band, needed));
+      res.warnings.push_back(
+          fmt::format("lobes 0…{} reach down to about {:.0f} rpm at {:.1f} Hz: slower speeds in the range "
+                      "are not covered (ZeroOrderOptions::lobes {} or more)",
+                      res.lobes, 60.0 * f_band / (n_teeth * (res.lobes + 1)), f_band, needed));
   }
   if (near < 5)
-    res.warnings.push_back(fmt::format("only {} FRF point(s) near the critical chatter frequency {:.2f} Hz have a_lim within "
-                                       "2× the floor: the FRF grid is too coarse there and the lobes are inaccurate",
-                                       near, fl.chatter_hz));
+    res.warnings.push_back(
+        fmt::format("only {} FRF point(s) near the critical chatter frequency {:.2f} Hz have a_lim within "
+                    "2× the floor: the FRF grid is too coarse there and the lobes are inaccurate",
+                    near, fl.chatter_hz));
 
   const std::vector<double> grid = options.speeds.values();
   res.envelope.resize(grid.size());
@@ -318,11 +322,13 @@ ZeroOrderResult zero_order_lobes(const MillingFrfs& frfs, const CuttingCondition
     const auto [i0, i1] = lobe_window(t, cutting.teeth, k, n_min, n_max);
     for (int r = 0; r < 2; ++r) lower_envelope(t, k, r, i0, i1, n_min, grid[1] - grid[0], res.envelope, speed, cell);
   }
-  const auto uncovered = std::count_if(res.envelope.begin(), res.envelope.end(), [](const EnvelopePoint& e) { return e.lobe < 0; });
+  const auto uncovered = std::count_if(res.envelope.begin(), res.envelope.end(),
+                                       [](const EnvelopePoint& e) { return e.lobe < 0; });
   if (uncovered > 0)
-    res.warnings.push_back(fmt::format("{} of {} envelope speeds are reached by no lobe (the FRF's frequency range or the "
-                                       "lobe count does not map there); they are left out",
-                                       uncovered, res.envelope.size()));
+    res.warnings.push_back(
+        fmt::format("{} of {} envelope speeds are reached by no lobe (the FRF's frequency range or the "
+                    "lobe count does not map there); they are left out",
+                    uncovered, res.envelope.size()));
   return res;
 }
 
@@ -352,7 +358,6 @@ const char* to_string(BoundaryKind kind) {
   }
   return "none";
 }
-
 
 PeriodicDelaySystem milling_delay_system(const ModalModel& model, const CuttingConditions& cutting, double speed_rpm) {
   model.check();
@@ -415,7 +420,9 @@ FloquetAnalysis floquet(const PeriodMap& map, double depth_m, const DominantMult
   fa.matrix_size = map.size();
   const Complex mu = dm.multiplier;
   // Real multipliers come out of the real Schur form with Im exactly 0.
-  fa.kind = std::abs(mu.imag()) > 1e-9 * std::abs(mu) ? BoundaryKind::Hopf : mu.real() < 0.0 ? BoundaryKind::Flip : BoundaryKind::Fold;
+  fa.kind = std::abs(mu.imag()) > 1e-9 * std::abs(mu) ? BoundaryKind::Hopf
+            : mu.real() < 0.0                         ? BoundaryKind::Flip
+                                                      : BoundaryKind::Fold;
   if (std::abs(mu) == 0.0) return fa;
   const int m = map.steps();
   const Eigen::MatrixXcd r = map.outputs(depth_m, dm.vector);
@@ -462,7 +469,7 @@ struct RadiusCounter {
 Root illinois(const RadiusCounter& rho, double lo, double flo, double hi, const DominantMultiplier& at_hi, double tolerance) {
   double fhi = at_hi.spectral_radius - 1.0;
   double true_lo = flo, true_hi = fhi;  // unhalved, for the slope
-  int side = 0;  // which end was kept last time: −1 lo, +1 hi
+  int side = 0;                         // which end was kept last time: −1 lo, +1 hi
   for (int it = 0; it < 100 && hi - lo > tolerance * hi; ++it) {
     double x = hi - fhi * (hi - lo) / (fhi - flo);
     if (!(x > lo && x < hi)) x = 0.5 * (lo + hi);  // round-off at a tiny bracket
@@ -570,7 +577,8 @@ FloquetAnalysis FullDiscretization::analyse(double speed_rpm, double depth_m) co
   return floquet(map, depth_m, map.dominant(depth_m), 60.0 / (cutting_.teeth * speed_rpm));
 }
 
-Eigen::MatrixXd FullDiscretization::spectral_radius_map(const std::vector<double>& speeds_rpm, const std::vector<double>& depths_m,
+Eigen::MatrixXd FullDiscretization::spectral_radius_map(const std::vector<double>& speeds_rpm,
+                                                        const std::vector<double>& depths_m,
                                                         const ParallelOptions& parallel) const {
   for (double a : depths_m)
     if (!std::isfinite(a) || a < 0.0) throw InvalidArgument(fmt::format("axial depth {} m must be ≥ 0", a));
@@ -673,8 +681,8 @@ SpeedOutcome boundary_at(const ModalModel& model, const CuttingConditions& cutti
   // Roots to 1/100 of the error target: their own error does not blur the estimate.
   const double root_tolerance = std::clamp(1e-2 * o.tolerance, 1e-10, 1e-4);
   const PeriodMap coarse(sys, m, o.degree);
-  std::optional<Root> r1 =
-      lowest_root({coarse, &out.evaluations}, guess.start * guess.depth_m, guess.depth_m, 1.15, max_depth_m, root_tolerance);
+  std::optional<Root> r1 = lowest_root({coarse, &out.evaluations}, guess.start * guess.depth_m, guess.depth_m, 1.15, max_depth_m,
+                                       root_tolerance);
   if (!r1) {
     bp.depth_m = max_depth_m;
     bp.depth_error_m = kNaN;
@@ -746,9 +754,9 @@ BoundaryResult stability_boundary(const ModalModel& model, const CuttingConditio
       const EnvelopePoint& z = zero.envelope[i];
       const bool first = i == b * kBlock || outcomes[i - 1].point.kind == BoundaryKind::None;
       if (first)
-        guess = std::isfinite(z.depth_m) ? Guess{z.depth_m, z.chatter_hz, 0.35} : Guess{zero.floor_depth_m, zero.floor_chatter_hz, 0.35};
-      else
-        guess = {outcomes[i - 1].point.depth_m, outcomes[i - 1].point.chatter_hz, 0.7};
+        guess = std::isfinite(z.depth_m) ? Guess{z.depth_m, z.chatter_hz, 0.35}
+                                         : Guess{zero.floor_depth_m, zero.floor_chatter_hz, 0.35};
+      else guess = {outcomes[i - 1].point.depth_m, outcomes[i - 1].point.chatter_hz, 0.7};
       outcomes[i] = boundary_at(model, cutting, speeds[i], guess, res.max_depth_m, options);
       if (options.progress) {
         std::lock_guard<std::mutex> hold(progress_lock);
@@ -768,13 +776,15 @@ BoundaryResult stability_boundary(const ModalModel& model, const CuttingConditio
     res.warnings.push_back(fmt::format("{} of {} speeds are stable up to the maximum depth {:.4g} mm (kind 'none')", none,
                                        res.boundary.size(), res.max_depth_m * 1e3));
   if (unmet > 0)
-    res.warnings.push_back(fmt::format("at {} speed(s) the estimated discretization error stays above {:.3g} % of the depth "
-                                       "with {} steps per tooth period (BoundaryOptions::max_steps)",
-                                       unmet, 100.0 * options.tolerance, options.max_steps));
+    res.warnings.push_back(
+        fmt::format("at {} speed(s) the estimated discretization error stays above {:.3g} % of the depth "
+                    "with {} steps per tooth period (BoundaryOptions::max_steps)",
+                    unmet, 100.0 * options.tolerance, options.max_steps));
   if (aliased > 0)
-    res.warnings.push_back(fmt::format("at {} speed(s) the chatter period spans fewer than 4 steps: the boundary and chatter "
-                                       "frequency there are at the discretization's limit (raise BoundaryOptions::steps)",
-                                       aliased));
+    res.warnings.push_back(
+        fmt::format("at {} speed(s) the chatter period spans fewer than 4 steps: the boundary and chatter "
+                    "frequency there are at the discretization's limit (raise BoundaryOptions::steps)",
+                    aliased));
   return res;
 }
 
@@ -790,7 +800,8 @@ std::vector<EnvelopePoint> stability_pockets(const std::vector<EnvelopePoint>& e
   // maximum at either end of the range is only the range's edge, not a pocket.
   for (const Peak& p : find_peaks(depth, min_prominence))
     if (p.index > 0 && p.index + 1 < envelope.size()) pockets.push_back(envelope[p.index]);
-  std::stable_sort(pockets.begin(), pockets.end(), [](const EnvelopePoint& a, const EnvelopePoint& b) { return a.depth_m > b.depth_m; });
+  std::stable_sort(pockets.begin(), pockets.end(),
+                   [](const EnvelopePoint& a, const EnvelopePoint& b) { return a.depth_m > b.depth_m; });
   if (pockets.size() > static_cast<std::size_t>(std::max(count, 0))) pockets.resize(static_cast<std::size_t>(std::max(count, 0)));
   return pockets;
 }

@@ -44,7 +44,8 @@ std::string format_boundary_csv(const BoundaryResult& result, const std::vector<
                                        "doubling, none = stable up to {:.6g} mm; lobe −1 where unknown; axial_depth_error_mm: "
                                        "estimated discretization error, target {:.3g} %)",
                                        result.degree, result.max_depth_m * 1e3, 100.0 * result.tolerance),
-                           comments, "lobe,spindle_speed_rpm,axial_depth_mm,chatter_frequency_hz,kind,axial_depth_error_mm,steps");
+                           comments,
+                           "lobe,spindle_speed_rpm,axial_depth_mm,chatter_frequency_hz,kind,axial_depth_error_mm,steps");
   for (const BoundaryPoint& b : result.boundary)
     fmt::format_to(std::back_inserter(s), "{},{},{},{},{},{},{}\n", b.lobe, b.speed_rpm,
                    depth_text_mm(b.depth_m * 1e3, b.depth_error_m * 1e3), optional_number(b.chatter_hz), to_string(b.kind),

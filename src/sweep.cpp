@@ -69,7 +69,9 @@ using lanes::V;
 
 // A joint's K(ω) (joint.hpp, Eq. 8) in lanes: k + iωc per entry.
 B joint_stiffness(const JointParameters& j, V w) {
-  return {{lanes::splat(j.k_yf), j.c_yf * w}, {lanes::splat(j.k_ym), j.c_ym * w}, {lanes::splat(j.k_tf), j.c_tf * w},
+  return {{lanes::splat(j.k_yf), j.c_yf * w},
+          {lanes::splat(j.k_ym), j.c_ym * w},
+          {lanes::splat(j.k_tf), j.c_tf * w},
           {lanes::splat(j.k_tm), j.c_tm * w}};
 }
 
@@ -92,7 +94,7 @@ struct Waves {
   const Complex a = sp.kGA, b = sp.EI, ab = a * b;
   const double mA = sp.rhoA, mI = sp.rhoI;
   const Complex cb = a * mI + b * mA;
-  const C Bq = {cb.real() * w2, cb.imag() * w2};                  // (a ρI + b ρA) Ω²
+  const C Bq = {cb.real() * w2, cb.imag() * w2};                      // (a ρI + b ρA) Ω²
   const C Cq = {mA * w2 * (a.real() - mI * w2), mA * w2 * a.imag()};  // ρA Ω² (a − ρI Ω²)
   const C disc = Bq * Bq + lanes::cplx(4.0 * ab) * Cq;
   C sq = lanes::sqrt_principal(disc, bad);
@@ -195,7 +197,8 @@ Port chain_two_port(const ChainPlan& chain, V w2, Mask& bad) {
 
 // couple_point (coupling.hpp) in lanes: A's end 1 with `b11` attached at its end 2 through `joint`.
 B couple_point(const Port& a, const B& b11, const Joint& joint, V w, Mask& bad) {
-  return joint.rigid ? lanes::couple_rigid_point(a, b11, bad) : lanes::couple_elastic_point(a, b11, joint_stiffness(joint.parameters, w), bad);
+  return joint.rigid ? lanes::couple_rigid_point(a, b11, bad)
+                     : lanes::couple_elastic_point(a, b11, joint_stiffness(joint.parameters, w), bad);
 }
 
 // SH11 (or SHT11 when plans.tool is set) at the kWidth frequencies f_in [Hz]: entry e (H, L, N,
@@ -224,8 +227,9 @@ unsigned batch(const Plans& plans, const Assembly& a, const double* f_in, double
 
 // The series over `frequency_hz`, through the lanes when every chain is exact, with `at` (the
 // per-frequency function) for the lanes they cannot certify or for modal chains.
-BlockSeries sweep(const Plans* plans, const Assembly& a, const std::vector<double>& frequency_hz, Block (AssemblyModel::*at)(double) const,
-                  const AssemblyModel& model, AssemblyModel::SweepDiagnostics* diagnostics) {
+BlockSeries sweep(const Plans* plans, const Assembly& a, const std::vector<double>& frequency_hz,
+                  Block (AssemblyModel::*at)(double) const, const AssemblyModel& model,
+                  AssemblyModel::SweepDiagnostics* diagnostics) {
   AssemblyModel::SweepDiagnostics count;
   BlockSeries s;
   s.frequency_hz = frequency_hz;
@@ -247,7 +251,8 @@ BlockSeries sweep(const Plans* plans, const Assembly& a, const std::vector<doubl
         if (bad >> i & 1u) {
           one(start + i);
         } else {
-          s.blocks[start + i] = make_block({out[0][i], out[4][i]}, {out[1][i], out[5][i]}, {out[2][i], out[6][i]}, {out[3][i], out[7][i]});
+          s.blocks[start + i] = make_block({out[0][i], out[4][i]}, {out[1][i], out[5][i]}, {out[2][i], out[6][i]},
+                                           {out[3][i], out[7][i]});
           ++count.simd;
         }
       }

@@ -21,15 +21,12 @@ const char* const kAsciiHint =
     "text in quotes and remarks after '#'";
 
 bool is_digit(char c) { return c >= '0' && c <= '9'; }
-bool is_bare_key_char(char c) {
-  return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || is_digit(c) || c == '_' || c == '-';
-}
+bool is_bare_key_char(char c) { return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || is_digit(c) || c == '_' || c == '-'; }
 bool is_bare_value_char(char c) { return is_bare_key_char(c) || c == '+' || c == '.' || c == ':'; }
 
 class Guard {
  public:
-  Guard(std::string_view text, const std::string& source, const std::string& hint)
-      : s_(text), source_(source), hint_(hint) {}
+  Guard(std::string_view text, const std::string& source, const std::string& hint) : s_(text), source_(source), hint_(hint) {}
 
   void run() {
     check_characters();
@@ -145,8 +142,7 @@ class Guard {
     else if (peek() == '\'') literal_string();
     else if (!eof() && is_bare_key_char(peek()))
       while (!eof() && is_bare_key_char(peek())) ++i_;
-    else
-      expected("a key (letters, digits, '_' and '-', or a quoted name)");
+    else expected("a key (letters, digits, '_' and '-', or a quoted name)");
   }
   void key() {
     simple_key();
@@ -165,7 +161,8 @@ class Guard {
     skip_ws();
     key();
     skip_ws();
-    if (peek() != ']') expected(array_of_tables ? "']]' closing the [[array of tables]] header" : "']' closing the [table] header");
+    if (peek() != ']')
+      expected(array_of_tables ? "']]' closing the [[array of tables]] header" : "']' closing the [table] header");
     ++i_;
     if (array_of_tables) {
       if (peek() != ']') expected("']]' closing the [[array of tables]] header");
@@ -340,7 +337,8 @@ class Guard {
       while (!eof() && is_bare_value_char(peek())) ++i_;
     } else if (date && token.size() > 10 && (token[10] == 'T' || token[10] == 't') &&
                (token.size() == 11 || !is_digit(token[11]))) {
-      fail_at(start + 11, fmt::format("a date-time needs the time (HH:MM:SS) after '{}', saw {}", token[10], describe(start + 11)));
+      fail_at(start + 11,
+              fmt::format("a date-time needs the time (HH:MM:SS) after '{}', saw {}", token[10], describe(start + 11)));
     }
   }
 

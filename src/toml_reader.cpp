@@ -25,5 +25,4 @@ Joint read_joint_table(Reader& r, const toml::table* t, const std::string& path,
   return Joint::make_elastic(p);
 }
 
-
 }  // namespace toolpoint

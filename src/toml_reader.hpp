@@ -61,7 +61,8 @@ class Reader {
       std::string list;
       for (const char* a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
       fail(v, fmt::format("unknown key '{}{}'", path.empty() ? "" : path + ".", key),
-           best_d <= 3 ? fmt::format("did you mean '{}'? valid keys here: {}", best, list) : fmt::format("valid keys here: {}", list));
+           best_d <= 3 ? fmt::format("did you mean '{}'? valid keys here: {}", best, list)
+                       : fmt::format("valid keys here: {}", list));
     }
   }
 

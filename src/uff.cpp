@@ -155,7 +155,8 @@ std::size_t scan_reals(std::string_view text, std::vector<double>& out) {
     const std::size_t start = i;
     std::size_t k = 0;
     auto put = [&](char ch) __attribute__((always_inline)) {
-      if (k < sizeof(small)) [[likely]] small[k] = ch;
+      if (k < sizeof(small)) [[likely]]
+        small[k] = ch;
       else append_long(long_number, small, k, ch);
       ++k;
     };
@@ -252,8 +253,8 @@ struct Cursor {
   // Moves n bytes on (binary data), keeping the line count of an editor.
   void advance(std::size_t n) {
     n = std::min(n, data.size() - pos);
-    line += static_cast<std::size_t>(std::count(data.begin() + static_cast<std::ptrdiff_t>(pos),
-                                                data.begin() + static_cast<std::ptrdiff_t>(pos + n), '\n'));
+    line += static_cast<std::size_t>(
+        std::count(data.begin() + static_cast<std::ptrdiff_t>(pos), data.begin() + static_cast<std::ptrdiff_t>(pos + n), '\n'));
     pos += n;
   }
 };
@@ -322,8 +323,7 @@ struct DatasetFailure {
 
 class Parser {
  public:
-  Parser(std::string_view bytes, const std::string& source, const UffReadOptions& options)
-      : source_(source), options_(options) {
+  Parser(std::string_view bytes, const std::string& source, const UffReadOptions& options) : source_(source), options_(options) {
     cur_.data = bytes;
     file_.source = source;
   }
@@ -356,9 +356,10 @@ class Parser {
       }
       const auto type = parse_type_line(type_text);
       if (!type) {
-        warn(fmt::format("{}:{}: '{}' after the '    -1' on line {} is not a dataset number; skipped to the next "
-                         "'    -1'",
-                         source_, type_line_no, excerpt(type_text), line));
+        warn(
+            fmt::format("{}:{}: '{}' after the '    -1' on line {} is not a dataset number; skipped to the next "
+                        "'    -1'",
+                        source_, type_line_no, excerpt(type_text), line));
         skip_to_delimiter(fmt::format("the unreadable dataset at line {}", line));
         continue;
       }
@@ -374,13 +375,15 @@ class Parser {
       }
     }
     if (stray_lines > 0)
-      warn(fmt::format("{}:{}: {} line(s) outside any dataset ignored (the first: '{}'); a dataset starts only on the "
-                       "line after a '    -1' delimiter",
-                       source_, first_stray, stray_lines, first_stray_text));
+      warn(
+          fmt::format("{}:{}: {} line(s) outside any dataset ignored (the first: '{}'); a dataset starts only on the "
+                      "line after a '    -1' delimiter",
+                      source_, first_stray, stray_lines, first_stray_text));
     if (file_.datasets.empty())
-      warn(fmt::format("{}: no dataset found (no '    -1' delimiter followed by a dataset number); is this a universal "
-                       "file?",
-                       source_));
+      warn(
+          fmt::format("{}: no dataset found (no '    -1' delimiter followed by a dataset number); is this a universal "
+                      "file?",
+                      source_));
     return std::move(file_);
   }
 
@@ -402,7 +405,7 @@ class Parser {
   void close_binary(const std::string& what, std::size_t data_end, std::vector<std::string>& sink) {
     if (cur_.eof()) {
       sink.push_back(fmt::format("{}: {} has no closing '    -1' after its binary data (the file ends at byte {}; truncated?)",
-                       source_, what, cur_.data.size()));
+                                 source_, what, cur_.data.size()));
       return;
     }
     const std::size_t from = cur_.pos;
@@ -414,9 +417,10 @@ class Parser {
         if (line_pos > from) {
           const std::string_view gap = cur_.data.substr(from, line_pos - from);
           const bool line_break = gap.find_first_not_of(" \t\r\n") == std::string_view::npos;
-          sink.push_back(fmt::format("{}: {}: {} byte(s) {}between the end of the binary data (byte {}) and the closing "
-                           "'    -1'; the 58b format allows none; ignored",
-                           source_, what, gap.size(), line_break ? "(a line break) " : "of unexpected content ", data_end));
+          sink.push_back(
+              fmt::format("{}: {}: {} byte(s) {}between the end of the binary data (byte {}) and the closing "
+                          "'    -1'; the 58b format allows none; ignored",
+                          source_, what, gap.size(), line_break ? "(a line break) " : "of unexpected content ", data_end));
         }
         cur_ = after;
         return;
@@ -424,9 +428,10 @@ class Parser {
       if (after.eof()) break;
       probe = after;
     }
-    sink.push_back(fmt::format("{}: {}: no closing '    -1' after the binary data (byte {}); the rest of the file ({} bytes) was "
-                     "skipped",
-                     source_, what, data_end, cur_.data.size() - from));
+    sink.push_back(
+        fmt::format("{}: {}: no closing '    -1' after the binary data (byte {}); the rest of the file ({} bytes) was "
+                    "skipped",
+                    source_, what, data_end, cur_.data.size() - from));
     cur_.advance(cur_.data.size() - from);
   }
 
@@ -434,8 +439,8 @@ class Parser {
   void skip_binary(const TypeLine& t, std::size_t line) {
     const std::string what = fmt::format("dataset {}b at line {}", t.type, line);
     if (t.fields.size() < 4 || t.fields[2] < 0 || t.fields[3] < 0) {
-      warn(fmt::format("{}:{}: {}: the header line lacks the ASCII line and byte counts; skipped to the next '    -1'",
-                       source_, line + 1, what));
+      warn(fmt::format("{}:{}: {}: the header line lacks the ASCII line and byte counts; skipped to the next '    -1'", source_,
+                       line + 1, what));
       skip_to_delimiter(what);
       return;
     }
@@ -480,9 +485,10 @@ class Parser {
       units_ = u;
     } else {
       units_.reset();
-      warn(fmt::format("{}: {} is unreadable (expected a units code in columns 1–10 and three positive factors on the "
-                       "next line); the datasets after it are taken as SI",
-                       source_, what));
+      warn(
+          fmt::format("{}: {} is unreadable (expected a units code in columns 1–10 and three positive factors on the "
+                      "next line); the datasets after it are taken as SI",
+                      source_, what));
     }
     if (!closed) skip_to_delimiter(what);
   }
@@ -514,12 +520,16 @@ class Parser {
           fail(hl, fmt::format("58b field 3 (byte order) is {}, expected 1 (little endian) or 2 (big endian)", t.fields[0]));
         d.byte_order = static_cast<int>(t.fields[0]);
         if (t.fields[1] != 2)
-          fail(hl, fmt::format("58b field 4 (floating-point format) is {}, expected 2 (IEEE 754); {} is not supported",
-                               t.fields[1], t.fields[1] == 1 ? "DEC VMS" : t.fields[1] == 3 ? "IBM 5/370" : "this code"));
+          fail(hl,
+               fmt::format("58b field 4 (floating-point format) is {}, expected 2 (IEEE 754); {} is not supported", t.fields[1],
+                           t.fields[1] == 1   ? "DEC VMS"
+                           : t.fields[1] == 3 ? "IBM 5/370"
+                                              : "this code"));
         if (t.fields[2] != 11)
-          d.warnings.push_back(fmt::format("{}:{}: 58b field 5 (ASCII line count) is {}, a dataset 58 has 11 header "
-                                           "lines; read 11",
-                                           source_, hl, t.fields[2]));
+          d.warnings.push_back(
+              fmt::format("{}:{}: 58b field 5 (ASCII line count) is {}, a dataset 58 has 11 header "
+                          "lines; read 11",
+                          source_, hl, t.fields[2]));
       }
       // Records 1–11.
       std::array<std::string, 11> rec;
@@ -589,9 +599,10 @@ class Parser {
   void parse_record6(const std::string& s, std::size_t line, UffDataset58& d) const {
     static constexpr std::size_t start[] = {0, 5, 15, 20, 31, 41, 51, 56, 66, 76};
     static constexpr std::size_t width[] = {5, 10, 5, 10, 10, 10, 4, 10, 10, 4};
-    static constexpr const char* names[] = {"function type", "function ID", "version", "load case",
-                                            "response entity", "response node", "response direction",
-                                            "reference entity", "reference node", "reference direction"};
+    static constexpr const char* names[] = {"function type",      "function ID",      "version",
+                                            "load case",          "response entity",  "response node",
+                                            "response direction", "reference entity", "reference node",
+                                            "reference direction"};
     static constexpr bool is_text[] = {false, false, false, false, true, false, false, true, false, false};
     long long v[10] = {};
     std::string_view text[10];
@@ -619,8 +630,8 @@ class Parser {
       if (!ok)
         fail(line, fmt::format("record 6 field {} ({}) is '{}' in columns {}–{}, expected an integer (format "
                                "2(I5,I10),2(1X,10A1,I10,I4))",
-                               bad + 1, names[bad], excerpt(trim(column_field(s, start[bad], width[bad]))),
-                               start[bad] + 1, start[bad] + width[bad]));
+                               bad + 1, names[bad], excerpt(trim(column_field(s, start[bad], width[bad]))), start[bad] + 1,
+                               start[bad] + width[bad]));
     }
     d.function_type = to_int(v[0], line, 6, 1, names[0]);
     d.function_id = to_int(v[1], line, 6, 2, names[1]);
@@ -680,9 +691,10 @@ class Parser {
       fail(line, fmt::format("record 7 fields 4–5 (abscissa minimum {}, increment {}) must be finite for even spacing",
                              d.abscissa_min, d.abscissa_increment));
     if (d.even && d.abscissa_increment == 0.0 && d.declared_points > 1)
-      d.warnings.push_back(fmt::format("{}:{}: record 7 field 5 (abscissa increment) is 0 with even spacing: every "
-                                       "point has the same abscissa {}",
-                                       source_, line, d.abscissa_min));
+      d.warnings.push_back(
+          fmt::format("{}:{}: record 7 field 5 (abscissa increment) is 0 with even spacing: every "
+                      "point has the same abscissa {}",
+                      source_, line, d.abscissa_min));
   }
 
   // Records 8–11, format I10,3I5,2(1X,20A1).
@@ -707,8 +719,8 @@ class Parser {
         if (!x)
           fail(line, fmt::format("record {} field {} ({}) is '{}' in columns {}–{}, expected an integer (format "
                                  "I10,3I5,2(1X,20A1))",
-                                 record, f + 1, names[f], excerpt(trim(column_field(s, start[f], width[f]))),
-                                 start[f] + 1, start[f] + width[f]));
+                                 record, f + 1, names[f], excerpt(trim(column_field(s, start[f], width[f]))), start[f] + 1,
+                                 start[f] + width[f]));
         v[f] = *x;
       }
       a.label = tok.size() > 4 ? std::string(tok[4]) : "NONE";
@@ -724,8 +736,7 @@ class Parser {
   static unsigned long long wanted_values(const UffDataset58& d) {
     const auto per = values_per_point(d.is_complex(), d.even);
     const auto n = static_cast<unsigned long long>(d.declared_points);
-    return n > std::numeric_limits<unsigned long long>::max() / per ? std::numeric_limits<unsigned long long>::max()
-                                                                      : n * per;
+    return n > std::numeric_limits<unsigned long long>::max() / per ? std::numeric_limits<unsigned long long>::max() : n * per;
   }
 
   // Record 12 in ASCII: the values up to the closing delimiter. A record without its closing
@@ -779,20 +790,19 @@ class Parser {
                                       "cut short",
                                       first_line, found, wanted));
     if (found > wanted)
-      d.warnings.push_back(fmt::format("{}:{}: {}: record 12 holds {} values, more than the {} that record 7's {} "
-                                       "points need; the extra values were ignored",
-                                       source_, extra_line, what, found, wanted, d.declared_points));
+      d.warnings.push_back(
+          fmt::format("{}:{}: {}: record 12 holds {} values, more than the {} that record 7's {} "
+                      "points need; the extra values were ignored",
+                      source_, extra_line, what, found, wanted, d.declared_points));
     if (options_.headers_only && !d.even && !first_text.empty()) {
       // The abscissa range of uneven data from the first and the last line alone.
       const std::size_t per = values_per_point(d.is_complex(), d.even);
       std::vector<double> v;
       if (scan_reals(first_text, v) == std::string_view::npos && !v.empty()) d.abscissa_first = v.front();
       v.clear();
-      if (scan_reals(last_text, v) == std::string_view::npos && v.size() >= per)
-        d.abscissa_last = v[(v.size() / per - 1) * per];
+      if (scan_reals(last_text, v) == std::string_view::npos && v.size() >= per) d.abscissa_last = v[(v.size() / per - 1) * per];
       else
-        d.warnings.push_back(fmt::format("{}:{}: {}: the last line of record 12 holds no whole point", source_, last_line,
-                                         what));
+        d.warnings.push_back(fmt::format("{}:{}: {}: the last line of record 12 holds no whole point", source_, last_line, what));
     }
   }
 
@@ -813,16 +823,16 @@ class Parser {
   // num_pts × 8 for complex double, half the real size) are both tried, each also after a stray
   // line break before the data (Test.Lab exports). When neither ends at a delimiter the file may
   // be cut off inside the data (an error) or carry junk after them (read, warned).
-  void read_binary_data(UffDataset58& d, const std::string& what, unsigned long long declared_bytes,
-                        std::vector<double>& values, std::size_t& points_present) {
+  void read_binary_data(UffDataset58& d, const std::string& what, unsigned long long declared_bytes, std::vector<double>& values,
+                        std::size_t& points_present) {
     const std::size_t start = cur_.pos;
     const std::size_t available = cur_.data.size() - start;
     const std::size_t size = d.is_double() ? 8 : 4;
     const std::size_t per = values_per_point(d.is_complex(), d.even);
     const unsigned long long wanted = wanted_values(d);
-    const unsigned long long expected_bytes =
-        wanted > std::numeric_limits<unsigned long long>::max() / size ? std::numeric_limits<unsigned long long>::max()
-                                                                        : wanted * size;
+    const unsigned long long expected_bytes = wanted > std::numeric_limits<unsigned long long>::max() / size
+                                                  ? std::numeric_limits<unsigned long long>::max()
+                                                  : wanted * size;
     const auto fits = [&](std::size_t lead, unsigned long long bytes) {
       return lead <= available && bytes <= available - lead && closes_at(start + lead + static_cast<std::size_t>(bytes));
     };
@@ -842,21 +852,22 @@ class Parser {
       cur_.pos = start + found->first;
       bytes = found->second;
       if (found->first > 0)
-        d.warnings.push_back(fmt::format("{}: {}: {} stray line-break byte(s) before the binary data (byte {}), as some "
-                                         "exporters write; skipped",
-                                         source_, what, found->first, start));
+        d.warnings.push_back(
+            fmt::format("{}: {}: {} stray line-break byte(s) before the binary data (byte {}), as some "
+                        "exporters write; skipped",
+                        source_, what, found->first, start));
       if (bytes == expected_bytes && declared_bytes != expected_bytes)
-        d.warnings.push_back(fmt::format("{}: {}: the 58b byte count disagrees with record 7 ({}); the data present agree "
-                                         "with record 7 (the closing '    -1' follows them), so all {} points were read{}",
-                                         source_, what, counts, d.declared_points,
-                                         declared_bytes * 2 == expected_bytes && d.is_complex()
-                                             ? " (pyuff writes num_pts × 8 bytes for complex data)"
-                                             : ""));
+        d.warnings.push_back(fmt::format(
+            "{}: {}: the 58b byte count disagrees with record 7 ({}); the data present agree "
+            "with record 7 (the closing '    -1' follows them), so all {} points were read{}",
+            source_, what, counts, d.declared_points,
+            declared_bytes * 2 == expected_bytes && d.is_complex() ? " (pyuff writes num_pts × 8 bytes for complex data)" : ""));
       else if (bytes != expected_bytes)
-        d.warnings.push_back(fmt::format("{}: {}: the data present agree with the 58b byte count, not with record 7 ({}); "
-                                         "read {} whole point(s){}",
-                                         source_, what, counts, std::min(bytes, expected_bytes) / (per * size),
-                                         bytes > expected_bytes ? " (record 7's count; the bytes after them ignored)" : ""));
+        d.warnings.push_back(
+            fmt::format("{}: {}: the data present agree with the 58b byte count, not with record 7 ({}); "
+                        "read {} whole point(s){}",
+                        source_, what, counts, std::min(bytes, expected_bytes) / (per * size),
+                        bytes > expected_bytes ? " (record 7's count; the bytes after them ignored)" : ""));
     } else {
       // Neither count ends at a delimiter: the data run to the first `    -1` (written right after
       // the last byte, so not necessarily at a line start) that ends its line.
@@ -876,9 +887,10 @@ class Parser {
       std::size_t e = *end;
       for (int k = 0; k < 2 && e > start && (cur_.data[e - 1] == '\n' || cur_.data[e - 1] == '\r'); ++k) --e;
       bytes = e - start;
-      d.warnings.push_back(fmt::format("{}: {}: the data agree with neither count ({}): the closing '    -1' at byte {} "
-                                       "makes them {} bytes; read {} whole point(s)",
-                                       source_, what, counts, *end, bytes, std::min(bytes, expected_bytes) / (per * size)));
+      d.warnings.push_back(
+          fmt::format("{}: {}: the data agree with neither count ({}): the closing '    -1' at byte {} "
+                      "makes them {} bytes; read {} whole point(s)",
+                      source_, what, counts, *end, bytes, std::min(bytes, expected_bytes) / (per * size)));
     }
     // Never more points than record 7 declares (the extra bytes are passed over).
     const std::size_t count = static_cast<std::size_t>(std::min(bytes, expected_bytes) / size);
@@ -908,8 +920,8 @@ class Parser {
       d.headers_only = true;
       const auto n = present.value_or(static_cast<std::size_t>(std::min<long long>(d.declared_points, 1LL << 40)));
       if (present && *present < static_cast<unsigned long long>(d.declared_points))
-        d.warnings.push_back(fmt::format("{}: {}: record 7 declares {} points but the file holds {}", source_, what,
-                                         d.declared_points, *present));
+        d.warnings.push_back(
+            fmt::format("{}: {}: record 7 declares {} points but the file holds {}", source_, what, d.declared_points, *present));
       if (d.even && n > 0) {
         d.abscissa_first = d.abscissa_min;
         d.abscissa_last = d.abscissa_min + static_cast<double>(n - 1) * d.abscissa_increment;
@@ -918,13 +930,15 @@ class Parser {
     }
     const std::size_t n = values.size() / per;
     if (values.size() % per != 0)
-      d.warnings.push_back(fmt::format("{}: {}: record 12 ends inside a point ({} value(s) left over, {} per point); the "
-                                       "incomplete point was dropped",
-                                       source_, what, values.size() % per, per));
+      d.warnings.push_back(
+          fmt::format("{}: {}: record 12 ends inside a point ({} value(s) left over, {} per point); the "
+                      "incomplete point was dropped",
+                      source_, what, values.size() % per, per));
     if (static_cast<unsigned long long>(n) < static_cast<unsigned long long>(d.declared_points))
-      d.warnings.push_back(fmt::format("{}: {}: record 7 declares {} points but the file holds {}; read the {} present "
-                                       "(the file is truncated or its header is wrong)",
-                                       source_, what, d.declared_points, n, n));
+      d.warnings.push_back(
+          fmt::format("{}: {}: record 7 declares {} points but the file holds {}; read the {} present "
+                      "(the file is truncated or its header is wrong)",
+                      source_, what, d.declared_points, n, n));
     d.x.resize(n);
     d.y.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
@@ -999,8 +1013,8 @@ struct Fields {
     const std::size_t n = char_count(s);
     if (n > width) {
       s = text::cut(s, width);
-      warnings.push_back(fmt::format("UFF dataset {} ('{}'): the {} has {} characters, its field holds {}; written as '{}'",
-                                     k, excerpt(d.id[0]), what, n, width, s));
+      warnings.push_back(fmt::format("UFF dataset {} ('{}'): the {} has {} characters, its field holds {}; written as '{}'", k,
+                                     excerpt(d.id[0]), what, n, width, s));
       return s;
     }
     return s + std::string(width - n, ' ');
@@ -1008,8 +1022,8 @@ struct Fields {
 };
 
 std::string axis_line(const UffAxis& a, const Fields& field, int record) {
-  return fmt::format("{:>10}{:>5}{:>5}{:>5} {} {}\n", a.data_type, a.length_exponent, a.force_exponent,
-                     a.temperature_exponent, field(a.label, 20, fmt::format("record {} axis label", record)),
+  return fmt::format("{:>10}{:>5}{:>5}{:>5} {} {}\n", a.data_type, a.length_exponent, a.force_exponent, a.temperature_exponent,
+                     field(a.label, 20, fmt::format("record {} axis label", record)),
                      field(a.units, 20, fmt::format("record {} units label", record)));
 }
 
@@ -1021,10 +1035,9 @@ void append_dataset(std::string& out, const UffDataset58& d, const UffWriteOptio
   const std::size_t size = dbl ? 8 : 4;
   out += "    -1\n";
   if (o.binary)
-    out += fmt::format("{:>6}b{:>6}{:>6}{:>12}{:>12}{:>6}{:>6}{:>12}{:>12}\n", 58, o.byte_order, 2, 11, n * per * size, 0,
-                       0, 0, 0);
-  else
-    out += "    58\n";
+    out += fmt::format("{:>6}b{:>6}{:>6}{:>12}{:>12}{:>6}{:>6}{:>12}{:>12}\n", 58, o.byte_order, 2, 11, n * per * size, 0, 0, 0,
+                       0);
+  else out += "    58\n";
   const Fields field{d, k, warnings};
   for (std::size_t i = 0; i < d.id.size(); ++i) {
     std::string line = field(d.id[i], 80, fmt::format("ID line {}", i + 1));
@@ -1034,13 +1047,11 @@ void append_dataset(std::string& out, const UffDataset58& d, const UffWriteOptio
     out += line + "\n";
   }
   out += fmt::format("{:>5}{:>10}{:>5}{:>10} {}{:>10}{:>4} {}{:>10}{:>4}\n", d.function_type, d.function_id, d.version,
-                     d.load_case, field(d.response_entity, 10, "response entity name"), d.response_node,
-                     d.response_direction, field(d.reference_entity, 10, "reference entity name"), d.reference_node,
-                     d.reference_direction);
+                     d.load_case, field(d.response_entity, 10, "response entity name"), d.response_node, d.response_direction,
+                     field(d.reference_entity, 10, "reference entity name"), d.reference_node, d.reference_direction);
   const std::string xmin = fortran_e(d.even ? d.abscissa_min : 0.0, 13);
   const std::string xinc = fortran_e(d.even ? d.abscissa_increment : 0.0, 13);
-  out += fmt::format("{:>10}{:>10}{:>10}{}{}{}\n", d.ordinate_data_type, n, d.even ? 1 : 0, xmin, xinc,
-                     fortran_e(d.z_value, 13));
+  out += fmt::format("{:>10}{:>10}{:>10}{}{}{}\n", d.ordinate_data_type, n, d.even ? 1 : 0, xmin, xinc, fortran_e(d.z_value, 13));
   out += axis_line(d.abscissa, field, 8) + axis_line(d.ordinate, field, 9) + axis_line(d.denominator, field, 10) +
          axis_line(d.z_axis, field, 11);
 
@@ -1101,14 +1112,15 @@ void append_dataset(std::string& out, const UffDataset58& d, const UffWriteOptio
   }
   out += "    -1\n";
   if (worst > 1e-12 * scale) {
-    const char* why = d.even ? "record 7 holds the abscissa minimum and increment in 13-column fields (7 significant "
-                               "digits); write uneven binary 58b for exact abscissae"
+    const char* why = d.even     ? "record 7 holds the abscissa minimum and increment in 13-column fields (7 significant "
+                                   "digits); write uneven binary 58b for exact abscissae"
                       : o.binary ? "single precision keeps about 7 significant digits; use ordinate type 4 or 6"
                                  : "ASCII holds uneven abscissae in 13-column fields (7 significant digits); write "
                                    "binary 58b for exact abscissae";
-    warnings.push_back(fmt::format("UFF dataset {} ('{}'): the abscissa as written differs from the given one by up to "
-                                   "{:.3g} (at {:.9g}); {}",
-                                   k, excerpt(d.id[0]), worst, worst_at, why));
+    warnings.push_back(
+        fmt::format("UFF dataset {} ('{}'): the abscissa as written differs from the given one by up to "
+                    "{:.3g} (at {:.9g}); {}",
+                    k, excerpt(d.id[0]), worst, worst_at, why));
   }
 }
 
@@ -1149,8 +1161,7 @@ std::string UffSelection::describe() const {
   if (response_node) parts.push_back(fmt::format("response node {}", *response_node));
   if (response_direction) parts.push_back(fmt::format("response direction {}", uff_direction_name(*response_direction)));
   if (reference_node) parts.push_back(fmt::format("reference node {}", *reference_node));
-  if (reference_direction)
-    parts.push_back(fmt::format("reference direction {}", uff_direction_name(*reference_direction)));
+  if (reference_direction) parts.push_back(fmt::format("reference direction {}", uff_direction_name(*reference_direction)));
   if (parts.empty()) return "no selection";
   std::string s = parts[0];
   for (std::size_t i = 1; i < parts.size(); ++i) s += ", " + parts[i];
@@ -1218,19 +1229,19 @@ void UffDataset58::check() const {
   if (even && !x.empty() && x.size() != y.size())
     throw InvalidArgument(fmt::format("{}: {} abscissa values for {} ordinates", what, x.size(), y.size()));
   if (!even && x.size() != y.size())
-    throw InvalidArgument(fmt::format("{}: uneven spacing needs one abscissa per point: {} for {} ordinates", what,
-                                      x.size(), y.size()));
+    throw InvalidArgument(
+        fmt::format("{}: uneven spacing needs one abscissa per point: {} for {} ordinates", what, x.size(), y.size()));
   if (even) {
     if (!std::isfinite(abscissa_min) || !std::isfinite(abscissa_increment))
-      throw InvalidArgument(fmt::format("{}: abscissa minimum {} and increment {} must be finite", what, abscissa_min,
-                                        abscissa_increment));
+      throw InvalidArgument(
+          fmt::format("{}: abscissa minimum {} and increment {} must be finite", what, abscissa_min, abscissa_increment));
     double scale = std::abs(abscissa_min);
     for (double v : x) scale = std::max(scale, std::abs(v));
     for (std::size_t i = 0; i < x.size(); ++i) {
       const double grid = abscissa_min + static_cast<double>(i) * abscissa_increment;
       if (std::abs(x[i] - grid) > 1e-9 * scale)
-        throw InvalidArgument(fmt::format("{}: point {} has abscissa {}, not {} + {} × {} = {} as even spacing needs", what,
-                                          i, x[i], abscissa_min, i, abscissa_increment, grid),
+        throw InvalidArgument(fmt::format("{}: point {} has abscissa {}, not {} + {} × {} = {} as even spacing needs", what, i,
+                                          x[i], abscissa_min, i, abscissa_increment, grid),
                               "write with uneven spacing, or give x on the even grid");
     }
   }
@@ -1345,11 +1356,23 @@ std::string uff_function_type_name(int t) {
 }
 
 std::string uff_data_type_name(int t) {
-  static const std::map<int, const char*> names = {
-      {0, "unknown"},       {1, "general"},   {2, "stress"},        {3, "strain"},     {5, "temperature"},
-      {6, "heat flux"},     {8, "displacement"}, {9, "reaction force"}, {11, "velocity"}, {12, "acceleration"},
-      {13, "excitation force"}, {15, "pressure"}, {16, "mass"},     {17, "time"},      {18, "frequency"},
-      {19, "rpm"},          {20, "order"}};
+  static const std::map<int, const char*> names = {{0, "unknown"},
+                                                   {1, "general"},
+                                                   {2, "stress"},
+                                                   {3, "strain"},
+                                                   {5, "temperature"},
+                                                   {6, "heat flux"},
+                                                   {8, "displacement"},
+                                                   {9, "reaction force"},
+                                                   {11, "velocity"},
+                                                   {12, "acceleration"},
+                                                   {13, "excitation force"},
+                                                   {15, "pressure"},
+                                                   {16, "mass"},
+                                                   {17, "time"},
+                                                   {18, "frequency"},
+                                                   {19, "rpm"},
+                                                   {20, "order"}};
   const auto it = names.find(t);
   return it == names.end() ? fmt::format("data type {}", t) : std::string(it->second);
 }

@@ -29,10 +29,11 @@ std::vector<JointParameters> sample_joints(const JointParameters& mean, const Ei
       if (d(i) > 0.0 && d(j) > 0.0) r(i, j) = covariance(i, j) / (d(i) * d(j));
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 8, 8>> es(r);
   if (es.eigenvalues()(0) < -1e-6)
-    throw InvalidArgument(fmt::format("sample_joints: the covariance is not positive semidefinite (correlation eigenvalue {:.3g})",
-                                      es.eigenvalues()(0)));
-  const Eigen::Matrix<double, 8, 8> root =
-      d.asDiagonal() * es.eigenvectors() * es.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal();
+    throw InvalidArgument(
+        fmt::format("sample_joints: the covariance is not positive semidefinite (correlation eigenvalue {:.3g})",
+                    es.eigenvalues()(0)));
+  const Eigen::Matrix<double, 8, 8> root = d.asDiagonal() * es.eigenvectors() *
+                                           es.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal();
   std::vector<JointParameters> out;
   out.reserve(static_cast<std::size_t>(count));
   for (int i = 0; i < count; ++i) {
@@ -63,7 +64,8 @@ void UncertaintyOptions::check() const {
   if (levels.empty()) throw InvalidArgument("UncertaintyOptions::levels is empty");
   for (std::size_t i = 0; i < levels.size(); ++i)
     if (!(levels[i] > 0.0 && levels[i] < 1.0) || (i > 0 && !(levels[i] > levels[i - 1])))
-      throw InvalidArgument(fmt::format("UncertaintyOptions::levels must increase within (0, 1); level {} is {}", i + 1, levels[i]));
+      throw InvalidArgument(
+          fmt::format("UncertaintyOptions::levels must increase within (0, 1); level {} is {}", i + 1, levels[i]));
   parallel.check();
 }
 
@@ -71,8 +73,9 @@ namespace {
 
 const JointUncertainty& uncertainty_of(const JointFile& joint) {
   if (!joint.uncertainty)
-    throw InvalidArgument(fmt::format("{}: the joint file has no [uncertainty]: nothing to sample", joint.source.empty() ? "joint" : joint.source),
-                          "identify the joint with `toolpoint identify --joint-output FILE.toml` (the band fit writes the covariance)");
+    throw InvalidArgument(
+        fmt::format("{}: the joint file has no [uncertainty]: nothing to sample", joint.source.empty() ? "joint" : joint.source),
+        "identify the joint with `toolpoint identify --joint-output FILE.toml` (the band fit writes the covariance)");
   return *joint.uncertainty;
 }
 
@@ -130,12 +133,13 @@ FrfBand tool_point_band(const Assembly& assembly, const JointFile& joint, const 
   return band_of(samples, frf(with_joint(assembly, joint)), o.levels);
 }
 
-FrfBand coupled_tool_point_band(const Assembly& assembly, const JointFile& joint, const BlockSeries& sh11, const std::string& sh_name,
-                                const UncertaintyOptions& o) {
+FrfBand coupled_tool_point_band(const Assembly& assembly, const JointFile& joint, const BlockSeries& sh11,
+                                const std::string& sh_name, const UncertaintyOptions& o) {
   o.check();
   if (joint.interface != JointInterface::HolderTool)
-    throw InvalidArgument(fmt::format("{}: coupling a measured SH11 to the tool needs the holder–tool joint, the file holds the {} joint",
-                                      joint.source, to_string(joint.interface)));
+    throw InvalidArgument(
+        fmt::format("{}: coupling a measured SH11 to the tool needs the holder–tool joint, the file holds the {} joint",
+                    joint.source, to_string(joint.interface)));
   auto frf = [&](const Assembly& a) { return entry(couple_tool(a, sh11, sh_name), 0); };
   const auto samples = sampled_frfs(assembly, joint, o, frf);
   return band_of(samples, frf(with_joint(assembly, joint)), o.levels);
@@ -144,8 +148,9 @@ FrfBand coupled_tool_point_band(const Assembly& assembly, const JointFile& joint
 namespace {
 
 // Quantiles and the probability map from each sample's envelope on the common speed grid.
-StabilityUncertainty summarise(std::vector<double> speeds, std::vector<double> nominal, const std::vector<std::vector<double>>& depth,
-                               const std::vector<double>& depth_grid_m, const std::vector<double>& levels) {
+StabilityUncertainty summarise(std::vector<double> speeds, std::vector<double> nominal,
+                               const std::vector<std::vector<double>>& depth, const std::vector<double>& depth_grid_m,
+                               const std::vector<double>& levels) {
   StabilityUncertainty r;
   r.speed_rpm = std::move(speeds);
   r.nominal_depth_m = std::move(nominal);
@@ -163,7 +168,8 @@ StabilityUncertainty summarise(std::vector<double> speeds, std::vector<double> n
     for (std::size_t j = 0; j < depth_grid_m.size(); ++j) {
       // Stable at depth a when the sample's envelope lies above a.
       const auto above = at.end() - std::upper_bound(at.begin(), at.end(), depth_grid_m[j]);
-      r.probability(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(j)) = static_cast<double>(above) / static_cast<double>(at.size());
+      r.probability(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(j)) = static_cast<double>(above) /
+                                                                                  static_cast<double>(at.size());
     }
   }
   return r;
@@ -177,9 +183,9 @@ void check_depth_grid(const std::vector<double>& depth_grid_m) {
 }
 
 // Every sample's envelope through `envelope`, on every core; the nominal's last.
-StabilityUncertainty sample_envelopes(const Assembly& assembly, const JointFile& joint, const std::vector<double>& depth_grid_m,
-                                      const UncertaintyOptions& o,
-                                      const std::function<std::pair<std::vector<double>, std::vector<double>>(const Assembly&)>& envelope) {
+StabilityUncertainty sample_envelopes(
+    const Assembly& assembly, const JointFile& joint, const std::vector<double>& depth_grid_m, const UncertaintyOptions& o,
+    const std::function<std::pair<std::vector<double>, std::vector<double>>(const Assembly&)>& envelope) {
   const JointUncertainty& u = uncertainty_of(joint);
   const std::vector<JointParameters> joints = sample_joints(joint.parameters, u.covariance, o.samples, o.seed);
   std::vector<std::vector<double>> depth(joints.size());
@@ -197,9 +203,10 @@ StabilityUncertainty sample_envelopes(const Assembly& assembly, const JointFile&
 
 }  // namespace
 
-StabilityUncertainty stability_uncertainty(const Assembly& assembly, const JointFile& joint, const std::vector<double>& frequency_hz,
-                                           const CuttingConditions& cutting, const ZeroOrderOptions& lobes,
-                                           const std::vector<double>& depth_grid_m, const UncertaintyOptions& o) {
+StabilityUncertainty stability_uncertainty(const Assembly& assembly, const JointFile& joint,
+                                           const std::vector<double>& frequency_hz, const CuttingConditions& cutting,
+                                           const ZeroOrderOptions& lobes, const std::vector<double>& depth_grid_m,
+                                           const UncertaintyOptions& o) {
   o.check();
   cutting.check();
   lobes.check();
@@ -214,9 +221,9 @@ StabilityUncertainty stability_uncertainty(const Assembly& assembly, const Joint
   });
 }
 
-StabilityUncertainty stability_uncertainty(const Assembly& assembly, const JointFile& joint, const std::vector<double>& frequency_hz,
-                                           const LobesStudyOptions& lobes, const std::vector<double>& depth_grid_m,
-                                           const UncertaintyOptions& o) {
+StabilityUncertainty stability_uncertainty(const Assembly& assembly, const JointFile& joint,
+                                           const std::vector<double>& frequency_hz, const LobesStudyOptions& lobes,
+                                           const std::vector<double>& depth_grid_m, const UncertaintyOptions& o) {
   o.check();
   lobes.check();
   check_depth_grid(depth_grid_m);

@@ -64,7 +64,8 @@ TEST(AssemblyFile, MissingSectionsAndKeys) {
 }
 
 TEST(AssemblyFile, MisspeltKeyGetsASuggestionAndTheLine) {
-  const std::string t = replace(example_text(), "length = 0.040\nouter_diameter = 0.032", "lenght = 0.040\nouter_diameter = 0.032");
+  const std::string t = replace(example_text(), "length = 0.040\nouter_diameter = 0.032",
+                                "lenght = 0.040\nouter_diameter = 0.032");
   expect_error(t, {"bad.toml:", "unknown key 'holder.segment[1].lenght'", "did you mean 'length'"});
   // The line number is the misspelt key's line.
   const std::size_t line = 1 + static_cast<std::size_t>(std::count(t.begin(), t.begin() + t.find("lenght"), '\n'));
@@ -79,7 +80,8 @@ TEST(AssemblyFile, BearingOutsideSpindle) {
 TEST(AssemblyFile, NonPositiveDimensions) {
   expect_error(replace(example_text(), "length = 0.070\nouter_diameter = 0.055", "length = -0.070\nouter_diameter = 0.055"),
                {"bad.toml:", "spindle.segment[4]", "length -0.07 m must be > 0"});
-  expect_error(replace(example_text(), "outer_diameter = 0.032\ninner_diameter = 0.016", "outer_diameter = 0.032\ninner_diameter = 0.040"),
+  expect_error(replace(example_text(), "outer_diameter = 0.032\ninner_diameter = 0.016",
+                       "outer_diameter = 0.032\ninner_diameter = 0.040"),
                {"holder.segment[1]", "inner diameter 0.04 m must be below the outer diameter 0.032 m"});
   expect_error(replace(example_text(), "overhang = 0.049", "overhang = 0"), {"tool.overhang = 0 m must be > 0"});
 }
@@ -97,7 +99,8 @@ TEST(AssemblyFile, WrongTypesAndSyntax) {
 
 TEST(AssemblyFile, ModalTermsMustBeAnInteger) {
   for (const char* bad : {"10.7", "0", "1e12"})
-    expect_error(replace(example_text(), "modal_terms = 100", std::string("modal_terms = ") + bad), {"bad.toml:", "model.modal_terms", "integer"});
+    expect_error(replace(example_text(), "modal_terms = 100", std::string("modal_terms = ") + bad),
+                 {"bad.toml:", "model.modal_terms", "integer"});
 }
 
 TEST(AssemblyFile, ImplausibleMagnitudesWarnWithTheKey) {
@@ -113,13 +116,17 @@ TEST(AssemblyFile, ImplausibleMagnitudesWarnWithTheKey) {
     EXPECT_NE(e.hint().find("metres"), std::string::npos) << e.hint();
   }
   // 3 m is unusual but could be meant: a warning naming the key, file and line.
-  const LoadedAssembly la = parse_assembly(replace(example_text(), "length = 0.080\nouter_diameter = 0.045", "length = 3.0\nouter_diameter = 0.045"), "long.toml");
+  const LoadedAssembly la = parse_assembly(replace(example_text(), "length = 0.080\nouter_diameter = 0.045",
+                                                   "length = 3.0\nouter_diameter = 0.045"),
+                                           "long.toml");
   ASSERT_EQ(la.warnings.size(), 1u);
   EXPECT_NE(la.warnings[0].find("long.toml:78: spindle.segment[5].length = 3"), std::string::npos) << la.warnings[0];
   EXPECT_NE(la.warnings[0].find("metres"), std::string::npos);
   // Young's modulus in MPa (205000) cannot be meant; 5e8 Pa (a polymer) is only unusual.
-  EXPECT_THROW(parse_assembly(replace(example_text(), "youngs_modulus = 2.05e11", "youngs_modulus = 205000"), "mpa.toml"), InputError);
-  const LoadedAssembly lb = parse_assembly(replace(example_text(), "youngs_modulus = 2.05e11", "youngs_modulus = 5e8"), "soft.toml");
+  EXPECT_THROW(parse_assembly(replace(example_text(), "youngs_modulus = 2.05e11", "youngs_modulus = 205000"), "mpa.toml"),
+               InputError);
+  const LoadedAssembly lb = parse_assembly(replace(example_text(), "youngs_modulus = 2.05e11", "youngs_modulus = 5e8"),
+                                           "soft.toml");
   ASSERT_EQ(lb.warnings.size(), 1u);
   EXPECT_NE(lb.warnings[0].find("materials.steel.youngs_modulus"), std::string::npos);
 }

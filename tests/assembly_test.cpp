@@ -69,16 +69,19 @@ TEST(Assembly, StaticLimitOfCantileveredAssembly) {
   const AssemblyModel m(a);
   const Material st = steel(), cb = carbide();
   // (length, EI, κGA) from the tip inwards; joints after the tool (ℓ = 0.05) and the holder (ℓ = 0.13).
-  struct Piece { double len, EI, kGA; };
+  struct Piece {
+    double len, EI, kGA;
+  };
   const std::vector<Piece> tool = {{0.05, EI_of(cb, 0.012, 0), kGA_of(cb, 0.012, 0)}};
   // Where the shank fills the bore the section is one solid 40 mm circle for shear: κ of that
   // circle (ν area-weighted) times Σ G A (Segment's documented rule for composite sections).
   const double a_st = kPi / 4 * (0.04 * 0.04 - 0.012 * 0.012), a_cb = kPi / 4 * 0.012 * 0.012;
-  const double kappa_whole = shear_coefficient(ShearModel::Hutchinson, (st.poisson * a_st + cb.poisson * a_cb) / (a_st + a_cb), 0.04, 0.0);
-  const std::vector<Piece> holder = {
-      {0.03, EI_of(st, 0.04, 0.012) + EI_of(cb, 0.012, 0), kappa_whole * (st.G() * a_st + cb.G() * a_cb)},
-      {0.02, EI_of(st, 0.04, 0.012), kGA_of(st, 0.04, 0.012)},
-      {0.03, EI_of(st, 0.05, 0.012), kGA_of(st, 0.05, 0.012)}};
+  const double kappa_whole = shear_coefficient(ShearModel::Hutchinson, (st.poisson * a_st + cb.poisson * a_cb) / (a_st + a_cb),
+                                               0.04, 0.0);
+  const std::vector<Piece> holder = {{0.03, EI_of(st, 0.04, 0.012) + EI_of(cb, 0.012, 0),
+                                      kappa_whole * (st.G() * a_st + cb.G() * a_cb)},
+                                     {0.02, EI_of(st, 0.04, 0.012), kGA_of(st, 0.04, 0.012)},
+                                     {0.03, EI_of(st, 0.05, 0.012), kGA_of(st, 0.05, 0.012)}};
   const std::vector<Piece> spindle = {{0.2, EI_of(st, 0.06, 0.02), kGA_of(st, 0.06, 0.02)}};
   double z = 0.0, w = 0.0, th = 0.0, p = 0.0;
   auto add = [&](const std::vector<Piece>& ps) {
@@ -318,7 +321,9 @@ TEST(Assembly, AccuracyAgainstAnEightyDigitReference) {
   // The model the reference was computed for.
   std::ifstream model(dir + "example_model.txt");
   ASSERT_TRUE(model) << dir << "example_model.txt";
-  const std::map<std::string, const Chain*> chains{{"spindle", &m.spindle_chain()}, {"holder", &m.holder_chain()}, {"tool", &m.tool_chain()}};
+  const std::map<std::string, const Chain*> chains{{"spindle", &m.spindle_chain()},
+                                                   {"holder", &m.holder_chain()},
+                                                   {"tool", &m.tool_chain()}};
   const Chain* chain = nullptr;
   std::size_t piece = 0;
   std::string line;
@@ -376,7 +381,9 @@ TEST(Assembly, AccuracyAgainstAnEightyDigitReference) {
   const std::vector<double> f = ref.at("frequency_hz").get<std::vector<double>>();
   auto block = [&](const char* key, std::size_t i) {
     const auto& e = ref.at(key).at(i);
-    auto c = [&](int k) { return Complex(std::stod(e.at(k).at(0).get<std::string>()), std::stod(e.at(k).at(1).get<std::string>())); };
+    auto c = [&](int k) {
+      return Complex(std::stod(e.at(k).at(0).get<std::string>()), std::stod(e.at(k).at(1).get<std::string>()));
+    };
     return make_block(c(0), c(1), c(2), c(3));
   };
   AssemblyModel::SweepDiagnostics d;
@@ -385,9 +392,11 @@ TEST(Assembly, AccuracyAgainstAnEightyDigitReference) {
   for (std::size_t i = 0; i < f.size(); ++i) {
     const double tol = 1e-6 / (f[i] * f[i]) + 1e-12;
     const Block r_sht = block("SHT11", i), r_sh = block("SH11", i);
-    EXPECT_TRUE(rel_error(m.tool_point(f[i]), r_sht) < tol) << f[i] << " Hz, per frequency: " << rel_error(m.tool_point(f[i]), r_sht);
+    EXPECT_TRUE(rel_error(m.tool_point(f[i]), r_sht) < tol)
+        << f[i] << " Hz, per frequency: " << rel_error(m.tool_point(f[i]), r_sht);
     EXPECT_TRUE(rel_error(sht.blocks[i], r_sht) < tol) << f[i] << " Hz, swept: " << rel_error(sht.blocks[i], r_sht);
-    EXPECT_TRUE(rel_error(m.holder_tip(f[i]), r_sh) < tol) << f[i] << " Hz, per frequency: " << rel_error(m.holder_tip(f[i]), r_sh);
+    EXPECT_TRUE(rel_error(m.holder_tip(f[i]), r_sh) < tol)
+        << f[i] << " Hz, per frequency: " << rel_error(m.holder_tip(f[i]), r_sh);
     EXPECT_TRUE(rel_error(sh.blocks[i], r_sh) < tol) << f[i] << " Hz, swept: " << rel_error(sh.blocks[i], r_sh);
   }
 }
@@ -448,11 +457,11 @@ TEST(Assembly, CoupleWithModelSh11EqualsPredict) {
     EXPECT_NEAR(b.tool.length - b.tool.overhang, a.tool.length - a.tool.overhang, 1e-15);
     const AssemblyModel mb(b);
     const BlockSeries coupled = couple_tool(b, sh, "SH11");
-    for (std::size_t i = 0; i < f.size(); ++i) EXPECT_LT(rel_error(coupled.blocks[i], mb.tool_point(f[i])), 1e-10) << L << " " << f[i];
+    for (std::size_t i = 0; i < f.size(); ++i)
+      EXPECT_LT(rel_error(coupled.blocks[i], mb.tool_point(f[i])), 1e-10) << L << " " << f[i];
   }
   EXPECT_THROW(with_overhang(a, -0.01), InvalidArgument);
   EXPECT_THROW(with_overhang(a, 1e-10), InvalidArgument);  // not the internal "empty chain" (review)
-
 }
 
 // Rotational FRFs by finite differences (Duarte & Ewins, signal module) on the assembly model:

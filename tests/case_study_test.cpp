@@ -15,10 +15,9 @@ Assembly example() { return load_assembly(std::string(TOOLPOINT_SOURCE_DIR) + "/
 }  // namespace
 
 // One run: noise-free identification flat and equal to Table 1 over the whole band (seed Fig. 3,
-// 1e-6: the issue's round-trip bound); the tool mode chosen (2584.6 Hz in the model, the mode Identify.EffectAnalysisPicksTheToolMode
-// confirms by the overhang criterion; the filtered
-// measurement's peak within 1 %); the identified joint, coupled back, reproduces every mode within
-// 1 % in frequency (filtered read-out, seed 1).
+// 1e-6: the issue's round-trip bound); the tool mode chosen (2584.6 Hz in the model, the mode
+// Identify.EffectAnalysisPicksTheToolMode confirms by the overhang criterion; the filtered measurement's peak within 1 %); the
+// identified joint, coupled back, reproduces every mode within 1 % in frequency (filtered read-out, seed 1).
 TEST(CaseStudy, EndToEnd) {
   const Assembly a = example();
   const CaseStudy cs = run_case_study(a);

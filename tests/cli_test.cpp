@@ -71,8 +71,8 @@ class Cli : public ::testing::Test {
   };
 
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("toolpoint_cli_" + std::to_string(::getpid()) + "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ = fs::temp_directory_path() / ("toolpoint_cli_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -166,7 +166,8 @@ TEST_F(Cli, IdentifiedJointFileFeedsTheOtherCommands) {
   predict_blocks("10:5000:5");
   ok("noise sh.csv shn.csv --sigma 0.02 --seed 3");
   ok("noise sht.csv shtn.csv --sigma 0.02 --seed 4");
-  const Run r = ok("identify --assembly '" + kExample + "' --sh shn.csv --sht shtn.csv --bootstrap 40 --joint-output kht.toml --json");
+  const Run r = ok("identify --assembly '" + kExample +
+                   "' --sh shn.csv --sht shtn.csv --bootstrap 40 --joint-output kht.toml --json");
   const nlohmann::json j = nlohmann::json::parse(r.out);
   const auto& kyf = j["parameters"]["k_yf"];
   EXPECT_LE(kyf["lower95"].get<double>(), 4.19e7);
@@ -175,7 +176,8 @@ TEST_F(Cli, IdentifiedJointFileFeedsTheOtherCommands) {
   const JointFile f = load_joint_file(path("kht.toml"));
   ASSERT_TRUE(f.uncertainty);
   EXPECT_EQ(f.parameters.k_yf, kyf["estimate"].get<double>());
-  ok("predict '" + kExample + "' --joint holder-tool=kht.toml --frequencies 2400:2800:10 --samples 20 --band-output band.csv --plot band.png");
+  ok("predict '" + kExample +
+     "' --joint holder-tool=kht.toml --frequencies 2400:2800:10 --samples 20 --band-output band.csv --plot band.png");
   const std::string band = read_text_file(path("band.csv"));
   EXPECT_NE(band.find("frequency_hz,magnitude_q5_m_per_n,magnitude_q50_m_per_n,magnitude_q95_m_per_n"), std::string::npos);
   expect_png("band.png", kTwoPanels);
@@ -183,8 +185,10 @@ TEST_F(Cli, IdentifiedJointFileFeedsTheOtherCommands) {
   // couple's band (Eq. 5: the model's exact SH11 coupled to the tool) against predict's (the whole
   // model), the same joint draws (same seed): equal to the coupling's round-off (1e-6 relative;
   // the two algebras differ, and antiresonances amplify their rounding).
-  ok("couple --sh sh.csv --assembly '" + kExample + "' --joint kht.toml --samples 30 --seed 5 --band-output cband.csv --plot cband.png");
-  ok("predict '" + kExample + "' --joint holder-tool=kht.toml --frequencies 10:5000:5 --samples 30 --seed 5 --band-output pband.csv");
+  ok("couple --sh sh.csv --assembly '" + kExample +
+     "' --joint kht.toml --samples 30 --seed 5 --band-output cband.csv --plot cband.png");
+  ok("predict '" + kExample +
+     "' --joint holder-tool=kht.toml --frequencies 10:5000:5 --samples 30 --seed 5 --band-output pband.csv");
   const Table cband = test::read_csv_table(path("cband.csv")), pband = test::read_csv_table(path("pband.csv"));
   ASSERT_EQ(cband.rows.size(), pband.rows.size());
   ASSERT_EQ(cband.columns, pband.columns);
@@ -192,13 +196,16 @@ TEST_F(Cli, IdentifiedJointFileFeedsTheOtherCommands) {
     for (std::size_t c = 1; c <= 3; ++c)  // the magnitude quantiles
       EXPECT_NEAR(cband.rows[i][c], pband.rows[i][c], 1e-6 * pband.rows[i][c]) << cband.rows[i][0] << " Hz, " << cband.columns[c];
   expect_png("cband.png", kTwoPanels);
-  expect_error(run("couple --sh sh.csv --assembly '" + kExample + "' --joint kht.toml --samples 30 --overhang 0.04:0.05:0.005 --output d"), 2,
-               {"--samples", "one overhang"});
+  expect_error(run("couple --sh sh.csv --assembly '" + kExample +
+                   "' --joint kht.toml --samples 30 --overhang 0.04:0.05:0.005 --output d"),
+               2, {"--samples", "one overhang"});
   ok("taptest '" + kExample + "' --joint holder-tool=kht.toml --spacing 0.01 --frequencies 100:3000:10 --output tap.uff");
   // Lobes with the joint uncertain: the probability of stability on speed × depth, 1 at zero depth
   // and never rising with depth at a speed; the quantile envelopes in the figure.
-  const Run lobes = ok("lobes --assembly '" + kExample + "' --joint holder-tool=kht.toml --samples 20 --teeth 4 --kt 6e8 --kr 0.3 "
-                       "--immersion 0.5 --milling down --rpm 5000:15000 --speeds 50 --probability-output prob.csv --plot lobes.png");
+  const Run lobes = ok(
+      "lobes --assembly '" + kExample +
+      "' --joint holder-tool=kht.toml --samples 20 --teeth 4 --kt 6e8 --kr 0.3 "
+      "--immersion 0.5 --milling down --rpm 5000:15000 --speeds 50 --probability-output prob.csv --plot lobes.png");
   EXPECT_NE(lobes.out.find("stable with probability 95 %"), std::string::npos) << lobes.out;
   const std::string prob = read_text_file(path("prob.csv"));
   EXPECT_NE(prob.find("spindle_speed_rpm,axial_depth_mm,probability_stable"), std::string::npos);
@@ -216,7 +223,8 @@ TEST_F(Cli, IdentifiedJointFileFeedsTheOtherCommands) {
 TEST_F(Cli, IdentifyJudgesItsResult) {
   predict_blocks("10:5000:10");
   ok("noise sht.csv shtn.csv --sigma 0.01 --seed 4");
-  const std::string same = "identify --assembly '" + kExample + "' --sh shtn.csv --sht shtn.csv --bootstrap 0 --joint-output k.toml";
+  const std::string same = "identify --assembly '" + kExample +
+                           "' --sh shtn.csv --sht shtn.csv --bootstrap 0 --joint-output k.toml";
   expect_error(run(same), 6, {"fails its checks", "same data", "--accept"});
   EXPECT_FALSE(exists("k.toml"));
   const Run accepted = run(same + " --accept");
@@ -306,7 +314,7 @@ TEST_F(Cli, RotationalFromDatasetsOfOneUniversalFile) {
   ASSERT_EQ(b.size(), 3u);
   EXPECT_NEAR(N_of(b.blocks[0]).real(), 151.0 / 300.0, 1e-12);
   EXPECT_NEAR(L_of(b.blocks[0]).real(), 151.0 / 300.0, 1e-12);  // L = N by reciprocity (hammer at the tip only)
-  expect_png("tip.png", kFourPanels);  // |H|, |L| and |N|, |P|, phases
+  expect_png("tip.png", kFourPanels);                           // |H|, |L| and |N|, |P|, phases
 }
 
 // A virtual tap test (taptest) read back whole by `rotational --uff`: nine datasets with response
@@ -341,7 +349,8 @@ TEST_F(Cli, RotationalWithTheModelRemovesTheTruncationError) {
   ok("taptest '" + kExample + "' --at holder --spacing 0.02 --frequencies 200:3000:20 --binary --output tap.uff");
   ok("predict '" + kExample + "' --at holder --frequencies 200:3000:20 --output sh.csv");
   ok("rotational --uff tap.uff --spacing 0.02 --order 2 --output raw.csv");
-  const Run fixed = run("rotational --uff tap.uff --spacing 0.02 --order 2 --model '" + kExample + "' --at holder --output fixed.csv");
+  const Run fixed = run("rotational --uff tap.uff --spacing 0.02 --order 2 --model '" + kExample +
+                        "' --at holder --output fixed.csv");
   ASSERT_EQ(fixed.code, 0) << fixed.err;
   EXPECT_NE(fixed.err.find("finite-difference error estimated on the model"), std::string::npos) << fixed.err;
   EXPECT_NE(read_text_file(path("fixed.csv")).find("# finite-difference error estimated on the model"), std::string::npos);
@@ -365,7 +374,8 @@ TEST_F(Cli, RotationalWithTheModelRemovesTheTruncationError) {
 // Dataset 1 of a two-dataset file, to CSV, as written (binary UFF: exact); a block CSV copied
 // with its four-entry figure.
 TEST_F(Cli, ConvertWithFigures) {
-  const FrfSeries one = modal_frf({kToolMode}, grid(800.0, 1050.0, 2.0)), two = modal_frf({kSecondMode}, grid(800.0, 1050.0, 2.0));
+  const FrfSeries one = modal_frf({kToolMode}, grid(800.0, 1050.0, 2.0)),
+                  two = modal_frf({kSecondMode}, grid(800.0, 1050.0, 2.0));
   write_uff(path("two.uff"), {uff_from_receptance(one, {1, 1, 1, 1}, "a"), uff_from_receptance(two, {2, 1, 1, 1}, "b")},
             UffWriteOptions{.binary = true});
   ok("convert two.uff second.csv --dataset 1 --plot second.png");
@@ -393,7 +403,8 @@ TEST_F(Cli, LobesBothMethodsWithFigures) {
   expect_png("lobes.png", kTwoPanels);
 
   ok("lobes --method sd --mode-x 0.03993,0.011,922 --rigid-y --speeds 40" + cut + " --output sd.csv --plot sd.png");
-  EXPECT_NE(read_text_file(path("sd.csv")).find("\nlobe,spindle_speed_rpm,axial_depth_mm,chatter_frequency_hz,kind,axial_depth_error_mm,steps\n"),
+  EXPECT_NE(read_text_file(path("sd.csv"))
+                .find("\nlobe,spindle_speed_rpm,axial_depth_mm,chatter_frequency_hz,kind,axial_depth_error_mm,steps\n"),
             std::string::npos);
   expect_png("sd.png", kTwoPanels);
 }
@@ -410,7 +421,8 @@ TEST_F(Cli, ModesFitsAUffDatasetAndWritesTheFit) {
   const FrfSeries fit = read_single_csv(path("fit.csv"));
   ASSERT_EQ(fit.size(), h.size());
   double worst = 0.0;
-  for (std::size_t i = 0; i < h.size(); ++i) worst = std::max(worst, std::abs(fit.values[i] - h.values[i]) / std::abs(h.values[i]));
+  for (std::size_t i = 0; i < h.size(); ++i)
+    worst = std::max(worst, std::abs(fit.values[i] - h.values[i]) / std::abs(h.values[i]));
   EXPECT_LT(worst, 1e-6);
   expect_png("fit.png", kTwoPanels);
 }
@@ -430,8 +442,9 @@ TEST_F(Cli, MalformedAndNonFiniteDataNameTheLine) {
   write_text_file(path("nan.csv"), "# a comment\nfrequency_hz,re,im\n1,1,0\n2,nan,0\n3,3,0\n");
   expect_error(run("modes broken.csv --output out.csv"), 3, {"broken.csv:3"});
   expect_error(run("noise nan.csv out.csv --plot out.png"), 3, {"nan.csv:4"});
-  expect_error(run("lobes --frf broken.csv --teeth 2 --kt 6e8 --kr 0.3 --immersion 0.5 --milling up --rpm 1000:2000 --output out.csv"),
-               3, {"broken.csv:3"});
+  expect_error(
+      run("lobes --frf broken.csv --teeth 2 --kt 6e8 --kr 0.3 --immersion 0.5 --milling up --rpm 1000:2000 --output out.csv"), 3,
+      {"broken.csv:3"});
   EXPECT_FALSE(exists("out.csv"));
   EXPECT_FALSE(exists("out.png"));
 }
@@ -459,10 +472,10 @@ TEST_F(Cli, BadValuesAreUsageErrors) {
 
 // The figure's name is checked before any work, so a typo costs nothing and leaves nothing.
 TEST_F(Cli, BadPlotExtensionIsRefusedBeforeAnyWork) {
-  for (const std::string& args :
-       std::vector<std::string>{"predict '" + kExample + "' --output out.csv --plot out.jpg",
-        "lobes --method sd --mode-x 0.03993,0.011,922 --rigid-y --teeth 2 --kt 6e8 --kn 2e8 --immersion 0.05 --milling down "
-        "--rpm 5000:25000 --output out.csv --plot out.jpg"})
+  for (const std::string& args : std::vector<std::string>{
+           "predict '" + kExample + "' --output out.csv --plot out.jpg",
+           "lobes --method sd --mode-x 0.03993,0.011,922 --rigid-y --teeth 2 --kt 6e8 --kn 2e8 --immersion 0.05 --milling down "
+           "--rpm 5000:25000 --output out.csv --plot out.jpg"})
     expect_error(run(args), 2, {"--plot", "out.jpg", ".png, .svg or .pdf"});
   EXPECT_FALSE(exists("out.csv"));
   EXPECT_FALSE(exists("out.jpg"));
@@ -563,12 +576,14 @@ TEST_F(Cli, SeveralFilesAreWrittenAllOrNone) {
   EXPECT_FALSE(exists("lobes.csv"));
   // predict with its band: the FRF and the band table; the band blocked.
   ok("identify --assembly '" + kExample + "' --sh sh.csv --sht sht.csv --joint-output j.toml");
-  expect_error(run("predict '" + kExample + "' --frequencies 500:3000:10 --joint holder-tool=j.toml --samples 10 --output p.csv "
+  expect_error(run("predict '" + kExample +
+                   "' --frequencies 500:3000:10 --joint holder-tool=j.toml --samples 10 --output p.csv "
                    "--band-output blocker/band.csv"),
                5, {"blocker/band.csv"});
   EXPECT_FALSE(exists("p.csv"));
   // identify: K(ω) table and joint file; the joint file blocked.
-  expect_error(run("identify --assembly '" + kExample + "' --sh sh.csv --sht sht.csv"
+  expect_error(run("identify --assembly '" + kExample +
+                   "' --sh sh.csv --sht sht.csv"
                    " --output k.csv --joint-output blocker/j2.toml"),
                5, {"blocker/j2.toml"});
   EXPECT_FALSE(exists("k.csv"));
@@ -690,9 +705,10 @@ TEST_F(Cli, UnitSlipsOnOptionsAreRefusedOrSaid) {
   expect_error(run("lobes --frf sht.csv --kt 6e8 --speeds 0" + cut), 2, {"--speeds"});
   expect_error(run("beam --length 0.1 --diameter 0.016 --modes 0"), 2, {"--modes"});
   // A missing input file: exit 5 from every command that reads one.
-  for (const std::string& c : std::vector<std::string>{"predict missing.toml", "taptest missing.toml --spacing 0.01 --output t.uff",
-                              "couple --sh missing.csv --assembly '" + kExample + "'", "filter missing.csv f.csv --window 5 --order 2",
-                              "lobes --frf missing.csv --kt 6e8" + cut})
+  for (const std::string& c :
+       std::vector<std::string>{"predict missing.toml", "taptest missing.toml --spacing 0.01 --output t.uff",
+                                "couple --sh missing.csv --assembly '" + kExample + "'",
+                                "filter missing.csv f.csv --window 5 --order 2", "lobes --frf missing.csv --kt 6e8" + cut})
     expect_error(run(c), 5, {"missing."});
   // The default grid, said: an assembly file without [analysis].
   std::string text = read_text_file(kExample);
@@ -706,7 +722,8 @@ TEST_F(Cli, HelpDocumentsExitCodesExamplesAndTheFigureRule) {
   const Run top = ok("--help");
   for (const char* s : {"0 success", "1 internal", "2 usage", "3 bad input", "4 numerical", "5 file I/O"})
     EXPECT_NE(top.out.find(s), std::string::npos) << s;
-  for (const char* c : {"beam", "predict", "identify", "demo", "couple", "filter", "noise", "rotational", "convert", "lobes", "modes"}) {
+  for (const char* c :
+       {"beam", "predict", "identify", "demo", "couple", "filter", "noise", "rotational", "convert", "lobes", "modes"}) {
     const Run h = ok(std::string(c) + " --help");
     EXPECT_NE(h.out.find("Example"), std::string::npos) << c;
     EXPECT_NE(h.out.find(std::string("toolpoint ") + c + " "), std::string::npos) << c;
@@ -801,7 +818,8 @@ TEST_F(PlanCli, ShardsInALoopThenMergeEqualTheSingleRun) {
   EXPECT_EQ(merged.out, whole.out);
   for (const char* f : {"setups.csv", "tuning.csv", "map.csv", "plan.json"})
     EXPECT_EQ(read_text_file(path("merged/") + f), read_text_file(path("whole/") + f)) << f;
-  const nlohmann::json j = nlohmann::json::parse(ok("plan merge parts/part-0.json parts/part-1.json parts/part-2.json --json").out);
+  const nlohmann::json j = nlohmann::json::parse(
+      ok("plan merge parts/part-0.json parts/part-1.json parts/part-2.json --json").out);
   EXPECT_EQ(j["best"].size(), 1u);
   EXPECT_EQ(j["jobs"], 7);
   EXPECT_EQ(j["best"][0]["limit"], "stability");

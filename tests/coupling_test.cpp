@@ -107,8 +107,8 @@ TEST(Coupling, ClampedFreeBeamByGroundingAnEnd) {
     c.add_ground(1, Bearing{"clamp", len, 1e16, 0.0, 1e16, 0.0});
     const double beta_ref[] = {1.875104069, 4.694091133, 7.854757438};
     auto hz = [&](double bl) { return bl * bl / (len * len) * std::sqrt(sp.EI.real() / sp.rhoA) / (2 * kPi); };
-    const auto peaks = model_peaks([&](double f) { return std::abs(c.point(f)(0, 0)); }, 0.5 * hz(beta_ref[0]), 1.1 * hz(beta_ref[2]),
-                                   0.01 * hz(beta_ref[0]));
+    const auto peaks = model_peaks([&](double f) { return std::abs(c.point(f)(0, 0)); }, 0.5 * hz(beta_ref[0]),
+                                   1.1 * hz(beta_ref[2]), 0.01 * hz(beta_ref[0]));
     ASSERT_EQ(peaks.size(), 3u);
     for (int r = 0; r < 3; ++r) {
       const double beta = std::sqrt(peaks[r] * 2 * kPi / std::sqrt(sp.EI.real() / sp.rhoA)) * len;
@@ -138,7 +138,8 @@ TEST(Coupling, TwoStiffSupportsGivePinnedPinnedBeam) {
     const double w2 = (-B - std::sqrt(B * B - 4 * A * C)) / (2 * A);
     ref.push_back(std::sqrt(w2) / (2 * kPi));
   }
-  const auto peaks = model_peaks([&](double f) { return std::abs(c.point(f)(1, 1)); }, 0.5 * ref[0], 1.05 * ref[2], 0.01 * ref[0]);
+  const auto peaks = model_peaks([&](double f) { return std::abs(c.point(f)(1, 1)); }, 0.5 * ref[0], 1.05 * ref[2],
+                                 0.01 * ref[0]);
   ASSERT_EQ(peaks.size(), 3u);
   for (int n = 0; n < 3; ++n) EXPECT_NEAR(peaks[n] / ref[n], 1.0, 1e-6) << "mode " << n + 1;
 }

@@ -57,9 +57,9 @@ TEST(FeOracle, ElementMassEqualsFriedmanKosmatka) {
   for (double P : {0.0, 0.7, 3.0}) {
     const double kGA = P > 0.0 ? 12.0 * EI / (P * l * l) : 1e30;
     Eigen::Matrix4d t, r;
-    const double a = 70 * P * P + 147 * P + 78, b = (35 * P * P + 77 * P + 44) * l / 4,
-                 c = 35 * P * P + 63 * P + 27, d = (35 * P * P + 63 * P + 26) * l / 4,
-                 e = (7 * P * P + 14 * P + 8) * l * l / 4, g = (7 * P * P + 14 * P + 6) * l * l / 4;
+    const double a = 70 * P * P + 147 * P + 78, b = (35 * P * P + 77 * P + 44) * l / 4, c = 35 * P * P + 63 * P + 27,
+                 d = (35 * P * P + 63 * P + 26) * l / 4, e = (7 * P * P + 14 * P + 8) * l * l / 4,
+                 g = (7 * P * P + 14 * P + 6) * l * l / 4;
     t << a, b, c, -d, b, e, d, -g, c, d, a, -b, -d, -g, -b, e;
     const double p = (3 - 15 * P) * l, q = (10 * P * P + 5 * P + 4) * l * l, s = (5 * P * P - 5 * P - 1) * l * l;
     r << 36, p, -36, p, p, q, -p, s, -36, -p, 36, -p, p, s, -p, q;

@@ -340,8 +340,8 @@ TEST(FrfFile, ConvertCommand) {
   EXPECT_EQ(copy.functions[0].response_entity, "sine 5 Hz");
 
   EXPECT_EQ(run_cli("convert " + in + " " + dir / "x.csv --dataset 0 --response-node 1", log), 2);  // exclusive
-  EXPECT_EQ(run_cli("convert " + in + " " + dir / "x.xyz --ordinate accelerance", log), 2);        // unknown extension
-  EXPECT_EQ(run_cli("convert " + in, log), 2);                                                       // no OUT
+  EXPECT_EQ(run_cli("convert " + in + " " + dir / "x.xyz --ordinate accelerance", log), 2);         // unknown extension
+  EXPECT_EQ(run_cli("convert " + in, log), 2);                                                      // no OUT
   EXPECT_EQ(run_cli("convert " + dir / "nothing.uff " + dir / "x.csv", log), 5);                    // cannot read
   EXPECT_EQ(run_cli("convert " + in + " " + dir / "x.csv --dataset 3 --ordinate accelerance", log), 3);
   EXPECT_TRUE(contains(slurp(log), "no dataset 58 matches dataset 3")) << slurp(log);

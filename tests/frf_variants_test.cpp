@@ -133,8 +133,8 @@ TEST(FrfVariants, AmbiguousCsvNamesTheColumnAndTheOption) {
   EXPECT_TRUE(contains(error_of("csv_numpy_extra_column.csv", {.csv = {.columns = {"1", "2", "x"}}}),
                        "names 'x', which is no header cell"));
   // The user's units win over the header's, with a warning; units and ordinate must agree.
-  const FrfFileData as_si =
-      read_frf_file(kDir + "csv_mobility_mm_per_s.csv", {.units = parse_frf_units_option("m/s/N", "--units")});
+  const FrfFileData as_si = read_frf_file(kDir + "csv_mobility_mm_per_s.csv",
+                                          {.units = parse_frf_units_option("m/s/N", "--units")});
   EXPECT_NEAR(std::abs(as_si.single.values[3]), 1000.0 * std::abs(sdof(1600.0)), 1e-12 * std::abs(sdof(1600.0)) * 1000.0);
   EXPECT_TRUE(any_contains(as_si.warnings, {"says the values are in 'mm/s/N'", "'m/s/N'", "are used"}));
   EXPECT_THROW(read_frf_file(kDir + "csv_mobility_mm_per_s.csv",
@@ -164,12 +164,16 @@ TEST(FrfVariants, CsvDamageIsAnErrorWithTheLine) {
   EXPECT_TRUE(contains(error_text("time,value\n1,2\n"), "d.csv:1: no frequency column"));
   EXPECT_TRUE(contains(error_text("f,re,im,real\n1,2,3,4\n"), "are both the real part"));
   EXPECT_TRUE(contains(error_text("f,re,im [furlong/N]\n1,2,3\n"), "gives the units 'furlong/N'"));
-  EXPECT_TRUE(contains(error_text("\xFF\xFE" "f"), "UTF-16"));
+  EXPECT_TRUE(contains(error_text("\xFF\xFE"
+                                  "f"),
+                       "UTF-16"));
   // A block file in other units than SI is refused; in SI units, with its units and a coherence, read.
   EXPECT_TRUE(contains(error_text("f,H_re [mm/N],H_im,L_re,L_im,N_re,N_im,P_re,P_im\n1,1,1,1,1,1,1,1,1\n"),
                        "column 2 (H_re) is in 'mm/N'"));
-  write_text_file(dir / "b.csv", "\xEF\xBB\xBF" "Frequency [Hz];H_re [m/N];H_im;L_re [1/N];L_im;N_re;N_im;P_re;P_im;Coherence\r\n"
-                                  "10;1,5;2;3;4;5;6;7;8;0,5\r\n");
+  write_text_file(dir / "b.csv",
+                  "\xEF\xBB\xBF"
+                  "Frequency [Hz];H_re [m/N];H_im;L_re [1/N];L_im;N_re;N_im;P_re;P_im;Coherence\r\n"
+                  "10;1,5;2;3;4;5;6;7;8;0,5\r\n");
   const BlockSeries b = read_block_csv(dir / "b.csv");
   EXPECT_EQ(b.blocks.at(0)(0, 0), Complex(1.5, 2.0));
   EXPECT_EQ(read_frf_file(dir / "b.csv").coherence, std::vector<double>{0.5});
@@ -187,8 +191,8 @@ TEST(FrfVariants, CutProLabelsAndRenamedTables) {
   const std::string bare = error_of("frf_mag_phase_renamed_no_header.frf");
   EXPECT_TRUE(contains(bare, "looks like magnitude and phase")) << bare;
   // Read as the CSV it is, it gives the receptance.
-  expect_sdof(read_frf_file(kDir + "frf_mag_phase_renamed.frf", {.format = FrfFormat::Csv,
-                                                                 .csv = {.format = FrfValueFormat::MagPhaseDeg}}),
+  expect_sdof(read_frf_file(kDir + "frf_mag_phase_renamed.frf",
+                            {.format = FrfFormat::Csv, .csv = {.format = FrfValueFormat::MagPhaseDeg}}),
               1e-13);
 }
 
@@ -230,21 +234,22 @@ TEST(FrfVariants, UffVariantsReadToTheClosedForm) {
   }
   {
     SCOPED_TRACE("the abscissa of even spacing is min + i·Δ, never summed");
-    std::string text = "    -1\n    58\nNONE\nNONE\nNONE\nNONE\nNONE\n"
-                       "    4         0    0         0 NONE               1   3 NONE               1   3\n"
-                       "         4      1001         1  0.00000E+00  1.00000E-01  0.00000E+00\n"
-                       "        18    0    0    0 Frequency            Hz\n"
-                       "         8    0    0    0 Response             m\n"
-                       "        13    0    0    0 Force                N\n"
-                       "         0    0    0    0 NONE                 NONE\n";
+    std::string text =
+        "    -1\n    58\nNONE\nNONE\nNONE\nNONE\nNONE\n"
+        "    4         0    0         0 NONE               1   3 NONE               1   3\n"
+        "         4      1001         1  0.00000E+00  1.00000E-01  0.00000E+00\n"
+        "        18    0    0    0 Frequency            Hz\n"
+        "         8    0    0    0 Response             m\n"
+        "        13    0    0    0 Force                N\n"
+        "         0    0    0    0 NONE                 NONE\n";
     for (int i = 0; i < 1001; ++i) text += "  1.000000000000E+00" + std::string(i % 4 == 3 ? "\n" : "");
     text += "\n    -1\n";
     const UffFile f = parse_uff(text, "even.uff");
     ASSERT_EQ(f.functions.at(0).size(), 1001u);
     double summed = 0.0;
     for (int i = 1; i <= 1000; ++i) summed += 0.1;
-    EXPECT_EQ(f.functions[0].x[1000], 100.0);       // 1000 × 0.1 rounds to 100 exactly
-    EXPECT_NE(f.functions[0].x[1000], summed);      // the running sum is 99.9999999999986
+    EXPECT_EQ(f.functions[0].x[1000], 100.0);   // 1000 × 0.1 rounds to 100 exactly
+    EXPECT_NE(f.functions[0].x[1000], summed);  // the running sum is 99.9999999999986
     for (int i = 0; i <= 1000; ++i) ASSERT_EQ(f.functions[0].x[static_cast<std::size_t>(i)], i * 0.1);
   }
 }
@@ -259,11 +264,9 @@ TEST(FrfVariants, CommandLineExitCodes) {
   EXPECT_EQ(run_cli("convert " + kDir + "frf_mag_phase_renamed.frf " + dir / "x.csv", &out), 3) << out;
   EXPECT_EQ(run_cli("convert " + kDir + "csv_phase_without_unit.csv " + dir / "x.csv", &out), 3) << out;
   EXPECT_TRUE(contains(out, "--format")) << out;
-  EXPECT_EQ(run_cli("convert " + kDir + "csv_phase_without_unit.csv " + dir / "x.csv --format mag-phase-deg", &out), 0)
-      << out;
+  EXPECT_EQ(run_cli("convert " + kDir + "csv_phase_without_unit.csv " + dir / "x.csv --format mag-phase-deg", &out), 0) << out;
   expect_sdof(read_frf_file(dir / "x.csv"), 1e-13);
-  EXPECT_EQ(run_cli("convert " + kDir + "frf_mag_phase_renamed.frf " + dir / "y.csv --from csv --format mag-phase-deg", &out),
-            0)
+  EXPECT_EQ(run_cli("convert " + kDir + "frf_mag_phase_renamed.frf " + dir / "y.csv --from csv --format mag-phase-deg", &out), 0)
       << out;
   expect_sdof(read_frf_file(dir / "y.csv"), 1e-13);
   // A 95-character ID line: copied, cut to 80 characters, with a warning (it used to be exit 2).
@@ -286,8 +289,8 @@ TEST(FrfVariants, RoundTripCsvUffCutProKeepsEveryPoint) {
   }
   write_frf_csv(dir / "a.csv", h, {}, coh);
   std::string out;
-  const char* chain[][2] = {{"a.csv", "b.uff"}, {"b.uff", "c.frf"}, {"c.frf", "d.csv"}, {"d.csv", "e.unv --to uffb"},
-                            {"e.unv", "f.csv"}};
+  const char* chain[][2] = {
+      {"a.csv", "b.uff"}, {"b.uff", "c.frf"}, {"c.frf", "d.csv"}, {"d.csv", "e.unv --to uffb"}, {"e.unv", "f.csv"}};
   for (const auto& step : chain) {
     ASSERT_EQ(run_cli("convert " + dir / step[0] + " " + dir / step[1], &out), 0) << step[0] << ": " << out;
     if (std::string(step[0]) == "a.csv") EXPECT_TRUE(contains(out, "coherence column is not written")) << out;
@@ -438,14 +441,15 @@ TEST(FrfVariants, FuzzFindingsCappedMessagesAndLongNumbers) {
   EXPECT_TRUE(contains(out, "… and 19995 more")) << out;
 
   const std::string one = "0." + std::string(80, '0') + "1E+81";  // 83 characters, exactly 1
-  const std::string text = "    -1\n    58\nNONE\nNONE\nNONE\nNONE\nNONE\n"
-                           "    4         0    0         0 NONE               1   3 NONE               1   3\n"
-                           "         4         1         1  1.00000E+01  1.00000E+00  0.00000E+00\n"
-                           "        18    0    0    0 Frequency            Hz\n"
-                           "         8    0    0    0 Response             m\n"
-                           "        13    0    0    0 Force                N\n"
-                           "         0    0    0    0 NONE                 NONE\n" +
-                           one + "\n    -1\n";
+  const std::string text =
+      "    -1\n    58\nNONE\nNONE\nNONE\nNONE\nNONE\n"
+      "    4         0    0         0 NONE               1   3 NONE               1   3\n"
+      "         4         1         1  1.00000E+01  1.00000E+00  0.00000E+00\n"
+      "        18    0    0    0 Frequency            Hz\n"
+      "         8    0    0    0 Response             m\n"
+      "        13    0    0    0 Force                N\n"
+      "         0    0    0    0 NONE                 NONE\n" +
+      one + "\n    -1\n";
   const UffFile f = parse_uff(text, "long.uff");
   ASSERT_EQ(f.functions.size(), 1u) << (f.skipped.empty() ? "" : f.skipped[0]);
   EXPECT_EQ(f.functions[0].y.at(0), Complex(1.0, 0.0));

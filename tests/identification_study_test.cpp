@@ -45,7 +45,8 @@ TEST(IdentificationStudy, HolderToolEndToEnd) {
   const Identification id = identify_joint_from_frfs(a, {measured(d, 0.02, 3)}, quick(Route::HolderTool));
   EXPECT_EQ(id.verdict.verdict, Verdict::Pass) << (id.verdict.reasons.empty() ? "" : id.verdict.reasons.front());
   ASSERT_TRUE(id.fit);
-  for (int k : {0, 2, 6}) EXPECT_TRUE(covers(id.fit->intervals[static_cast<std::size_t>(k)], d.truth[k])) << JointParameters::name(k);
+  for (int k : {0, 2, 6})
+    EXPECT_TRUE(covers(id.fit->intervals[static_cast<std::size_t>(k)], d.truth[k])) << JointParameters::name(k);
   EXPECT_NEAR(id.mode.center_hz, 2584.6, 15.0);
   EXPECT_EQ(id.mode.method, "effect analysis on the model");
   EXPECT_GT(id.seed.points, 10u);
@@ -121,7 +122,8 @@ TEST(IdentificationStudy, SpindleHolderFromTheToolPoint) {
   const RouteData d = route_data(a, Route::SpindleHolderFromSHT, grid());
   const Identification id = identify_joint_from_frfs(a, {measured(d, 0.02, 9)}, quick(Route::SpindleHolderFromSHT));
   EXPECT_NE(id.verdict.verdict, Verdict::Fail);
-  for (int k : {0, 6}) EXPECT_TRUE(covers(id.fit->intervals[static_cast<std::size_t>(k)], d.truth[k])) << JointParameters::name(k);
+  for (int k : {0, 6})
+    EXPECT_TRUE(covers(id.fit->intervals[static_cast<std::size_t>(k)], d.truth[k])) << JointParameters::name(k);
   EXPECT_EQ(joint_file_of(id).interface, JointInterface::SpindleHolder);
 }
 

@@ -24,7 +24,9 @@ std::vector<double> grid() { return FrequencyGrid{10.0, 5000.0, 10.0}.values(); 
 std::array<double, 8> worst(const JointSeries& s, const JointParameters& ref) {
   std::array<double, 8> e{};
   for (std::size_t i = 0; i < s.size(); ++i)
-    for (int k = 0; k < 8; ++k) e[static_cast<std::size_t>(k)] = std::max(e[static_cast<std::size_t>(k)], std::abs(s.parameters[i][k] - ref[k]) / std::abs(ref[k]));
+    for (int k = 0; k < 8; ++k)
+      e[static_cast<std::size_t>(k)] = std::max(e[static_cast<std::size_t>(k)],
+                                                std::abs(s.parameters[i][k] - ref[k]) / std::abs(ref[k]));
   return e;
 }
 
@@ -61,7 +63,9 @@ TEST(Identify, NoiseFreeRoundTripOfTable1) {
 // damping values, whose ωc is then ~1e-5 of |K|; the seed reads joints at modes of kHz.
 TEST(Identify, NoiseFreeRoundTripOfRandomJoints) {
   std::mt19937_64 rng(20261122);
-  auto logu = [&](double lo, double hi) { return std::exp(std::uniform_real_distribution<double>(std::log(lo), std::log(hi))(rng)); };
+  auto logu = [&](double lo, double hi) {
+    return std::exp(std::uniform_real_distribution<double>(std::log(lo), std::log(hi))(rng));
+  };
   auto sign = [&] { return std::uniform_int_distribution<int>(0, 1)(rng) ? 1.0 : -1.0; };
   auto random_joint = [&](bool symmetric, double kyf_lo, double kyf_hi) {
     JointParameters p;
@@ -88,7 +92,12 @@ TEST(Identify, NoiseFreeRoundTripOfRandomJoints) {
     for (double x : f) {
       const Block S = m.spindle_nose(x), SH = m.holder_tip(x);
       const TwoPort T = m.tool(x), H = m.holder(x), HT = m.holder_tool(x);
-      struct Case { const char* name; TwoPort A; Block B, G; const JointParameters* p; };
+      struct Case {
+        const char* name;
+        TwoPort A;
+        Block B, G;
+        const JointParameters* p;
+      };
       const Case cases[] = {{"Eq. 6", T, SH, couple_point(T, SH, a.holder_tool, x), &a.holder_tool.parameters},
                             {"Eq. 15", H, S, couple_point(H, S, a.spindle_holder, x), &a.spindle_holder.parameters},
                             {"Eq. 18", HT, S, couple_point(HT, S, a.spindle_holder, x), &a.spindle_holder.parameters}};
@@ -96,12 +105,12 @@ TEST(Identify, NoiseFreeRoundTripOfRandomJoints) {
         const JointEstimate e = identify_joint(c.A, c.B, c.G);
         const JointParameters got = parameters_from_stiffness(e.K, x);
         for (int k = 0; k < 8; ++k)
-          EXPECT_LT(std::abs(got[k] - (*c.p)[k]), 1e-6 * std::abs((*c.p)[k])) << "trial " << trial << " " << c.name << " at " << x << " Hz, "
-                                                                           << JointParameters::name(k);
+          EXPECT_LT(std::abs(got[k] - (*c.p)[k]), 1e-6 * std::abs((*c.p)[k]))
+              << "trial " << trial << " " << c.name << " at " << x << " Hz, " << JointParameters::name(k);
       }
     }
   }
-  EXPECT_GT(indefinite, 0);  // the draw covers indefinite…
+  EXPECT_GT(indefinite, 0);   // the draw covers indefinite…
   EXPECT_LT(indefinite, 16);  // …and definite joints
   EXPECT_GT(asymmetric, 0);
 }
@@ -235,7 +244,8 @@ TEST(Identify, ZeroCouplingTermsAreNotFlagged) {
   const std::vector<double> f = FrequencyGrid{3900.0, 4500.0, 5.0}.values();
   const BlockSeries S = block_series(f, [&](double x) { return m.spindle_nose(x); });
   const BlockSeries SH = m.holder_tip(f);
-  const JointReadout r = band_readout(identify_series([&](double x) { return m.holder(x); }, S, "S11", SH, "SH11"), 4100.0, 4280.0);
+  const JointReadout r = band_readout(identify_series([&](double x) { return m.holder(x); }, S, "S11", SH, "SH11"), 4100.0,
+                                      4280.0);
   const JointParameters& p = a.spindle_holder.parameters;
   EXPECT_LT(std::abs(r.parameters[2].median), 1e-6 * std::sqrt(p.k_yf * p.k_tm));
   EXPECT_LT(r.reciprocity_k, 0.1);

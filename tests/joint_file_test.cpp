@@ -64,7 +64,8 @@ TEST(JointFile, RoundTripKeepsEveryBit) {
 
 TEST(JointFile, SixValuesAreAReciprocalJoint) {
   const JointFile f = parse_joint_file(
-      "[joint]\ninterface = \"spindle_holder\"\nk_yf = 6e8\nc_yf = 600\nk_ym = 1e5\nc_ym = 1\nk_tm = 3e6\nc_tm = 30\n", "ksh.toml");
+      "[joint]\ninterface = \"spindle_holder\"\nk_yf = 6e8\nc_yf = 600\nk_ym = 1e5\nc_ym = 1\nk_tm = 3e6\nc_tm = 30\n",
+      "ksh.toml");
   EXPECT_EQ(f.interface, JointInterface::SpindleHolder);
   EXPECT_EQ(f.parameters.k_tf, 1e5);
   EXPECT_EQ(f.parameters.c_tf, 1.0);
@@ -72,15 +73,18 @@ TEST(JointFile, SixValuesAreAReciprocalJoint) {
 }
 
 TEST(JointFile, DamagedFilesNameTheLineAndKey) {
-  const std::string head = "[joint]\ninterface = \"holder_tool\"\nk_yf = 4.19e7\nc_yf = 54\nk_ym = 2.06e6\nc_ym = 22.2\nk_tm = 6.5e4\nc_tm = 1\n";
+  const std::string head =
+      "[joint]\ninterface = \"holder_tool\"\nk_yf = 4.19e7\nc_yf = 54\nk_ym = 2.06e6\nc_ym = 22.2\nk_tm = 6.5e4\nc_tm = 1\n";
   EXPECT_NE(message_of(head + "c_tmm = 3\n").find("kht.toml:9"), std::string::npos);
   EXPECT_NE(message_of(head + "c_tmm = 3\n").find("unknown key 'joint.c_tmm'"), std::string::npos);
-  EXPECT_NE(message_of("[joint]\ninterface = \"holder_tool\"\nk_yf = 4.19e7\n").find("missing key joint.c_yf"), std::string::npos);
+  EXPECT_NE(message_of("[joint]\ninterface = \"holder_tool\"\nk_yf = 4.19e7\n").find("missing key joint.c_yf"),
+            std::string::npos);
   EXPECT_NE(message_of("[joint]\ninterface = \"tool\"\n").find("holder_tool"), std::string::npos);
   EXPECT_NE(message_of(head + "k_tf = \"2e6\"\n").find("number"), std::string::npos);
   EXPECT_NE(message_of("[joint\n").find("kht.toml:1"), std::string::npos);
-  const std::string cov = "\n[uncertainty]\ncovariance = [[1,0,0,0,0,0,0,0],[0,1,0,0,0,0,0,0],[0,0,1,0,0,0,0,0],[0,0,0,1,0,0,0,0],"
-                          "[0,0,0,0,1,0,0,0],[0,0,0,0,0,1,0,0],[0,0,0,0,0,0,1,0],[0,0,0,0,0,0,0,X]]\n";
+  const std::string cov =
+      "\n[uncertainty]\ncovariance = [[1,0,0,0,0,0,0,0],[0,1,0,0,0,0,0,0],[0,0,1,0,0,0,0,0],[0,0,0,1,0,0,0,0],"
+      "[0,0,0,0,1,0,0,0],[0,0,0,0,0,1,0,0],[0,0,0,0,0,0,1,0],[0,0,0,0,0,0,0,X]]\n";
   auto with = [&](const std::string& x) { return std::string(cov).replace(cov.find('X'), 1, x); };
   EXPECT_EQ(message_of(head + with("1")), "no error");
   EXPECT_NE(message_of(head + with("-1")).find("negative variance"), std::string::npos);

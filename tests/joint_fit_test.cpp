@@ -68,7 +68,9 @@ TEST(JointFit, NoiseFreeDataGiveTheJointBack) {
       o.reciprocal = reciprocal;
       const JointFit r = fit_joint({noisy_fit_data(d, 0.0, 0)}, {offset_start(d.truth)}, o);
       EXPECT_TRUE(r.converged) << c.name;
-      for (int k = 0; k < 8; ++k) EXPECT_LT(relative_error(r.parameters, d.truth, k), 1e-8) << c.name << (reciprocal ? " 6" : " 8") << " " << JointParameters::name(k);
+      for (int k = 0; k < 8; ++k)
+        EXPECT_LT(relative_error(r.parameters, d.truth, k), 1e-8)
+            << c.name << (reciprocal ? " 6" : " 8") << " " << JointParameters::name(k);
       EXPECT_TRUE(std::isnan(r.residual_ratio)) << "exact data have no noise to compare the residual with";
     }
 }
@@ -132,13 +134,15 @@ TEST(JointFit, TellsWhetherTheJointTransfersBetweenSetUps) {
     x.label = label;
     return x;
   };
-  const JointFit same = fit_joint({data(a49, 1, "49 mm"), data(a60, 3, "60 mm")}, {offset_start(a49.holder_tool.parameters)}, linearised());
+  const JointFit same = fit_joint({data(a49, 1, "49 mm"), data(a60, 3, "60 mm")}, {offset_start(a49.holder_tool.parameters)},
+                                  linearised());
   EXPECT_TRUE(same.transfers) << same.transfer_statistic << " vs " << same.transfer_limit;
   ASSERT_EQ(same.setups.size(), 2u);
   EXPECT_EQ(same.setups[1].label, "60 mm");
   EXPECT_LT(relative_error(same.parameters, a49.holder_tool.parameters, 0), 0.003);
   a60.holder_tool.parameters.k_yf *= 1.2;
-  const JointFit differ = fit_joint({data(a49, 1, "49 mm"), data(a60, 3, "60 mm")}, {offset_start(a49.holder_tool.parameters)}, linearised());
+  const JointFit differ = fit_joint({data(a49, 1, "49 mm"), data(a60, 3, "60 mm")}, {offset_start(a49.holder_tool.parameters)},
+                                    linearised());
   EXPECT_FALSE(differ.transfers);
   EXPECT_GT(differ.transfer_statistic, 10.0 * differ.transfer_limit);
   ASSERT_FALSE(differ.warnings.empty());
@@ -230,7 +234,8 @@ Coverage coverage(const CoverageCase& c, const JointFitOptions& base, int seeds,
     JointFitOptions o = base;
     o.filter = c.filter;
     o.seed = 1000u + static_cast<std::uint64_t>(s);
-    const JointFit r = fit_joint({noisy_fit_data(d, c.sigma, 100u + 2u * static_cast<std::uint64_t>(s))}, {offset_start(d.truth)}, o);
+    const JointFit r = fit_joint({noisy_fit_data(d, c.sigma, 100u + 2u * static_cast<std::uint64_t>(s))}, {offset_start(d.truth)},
+                                 o);
     for (int k = 0; k < 8; ++k) {
       const auto ks = static_cast<std::size_t>(k);
       const ParameterInterval& iv = r.intervals[ks];
@@ -253,7 +258,8 @@ Coverage coverage(const CoverageCase& c, const JointFitOptions& base, int seeds,
 // 2 binomial standard errors at 98 % (a coverage of 98 % would exceed it once in 40: the estimate
 // itself scatters by 0.7 % at 400 seeds).
 void check(const CoverageCase& c, const Coverage& cv, const std::string& method) {
-  std::string table = fmt::format("{} ({}), {} seeds: parameter coverage determined rms_error mean_error\n", c.name, method, cv.seeds);
+  std::string table = fmt::format("{} ({}), {} seeds: parameter coverage determined rms_error mean_error\n", c.name, method,
+                                  cv.seeds);
   const double n = cv.seeds, lo = 0.95 - 3.0 * std::sqrt(0.95 * 0.05 / n);
   for (int k = 0; k < 8; ++k) {
     const auto ks = static_cast<std::size_t>(k);
@@ -261,7 +267,9 @@ void check(const CoverageCase& c, const Coverage& cv, const std::string& method)
                          cv.determined[ks] / n, 100 * cv.rms[ks], 100 * cv.mean[ks]);
     if (cv.determined[ks] < 0.9 * n) continue;
     EXPECT_GE(cv.covered[ks] / n, lo) << c.name << " " << method << " " << JointParameters::name(k);
-    if (n >= 200) EXPECT_LE(cv.covered[ks] / n, 0.98 + 2.0 * std::sqrt(0.98 * 0.02 / n)) << c.name << " " << method << " " << JointParameters::name(k);
+    if (n >= 200)
+      EXPECT_LE(cv.covered[ks] / n, 0.98 + 2.0 * std::sqrt(0.98 * 0.02 / n))
+          << c.name << " " << method << " " << JointParameters::name(k);
   }
   std::printf("%s", table.c_str());
 }
@@ -270,12 +278,14 @@ std::vector<CoverageCase> coverage_cases() {
   Assembly stiff = example_assembly();
   stiff.spindle_holder = Joint::make_elastic(stiff_spindle_holder());
   return {{"holder–tool (Table 1), Eq. 6, 5 % noise", example_assembly(), Route::HolderTool, 0.05, std::nullopt},
-          {"holder–tool (Table 1), Eq. 6, 5 % noise, filtered 21/2", example_assembly(), Route::HolderTool, 0.05, SavgolOptions{21, 2}},
+          {"holder–tool (Table 1), Eq. 6, 5 % noise, filtered 21/2", example_assembly(), Route::HolderTool, 0.05,
+           SavgolOptions{21, 2}},
           {"spindle–holder (example), Eq. 18, 2 % noise", example_assembly(), Route::SpindleHolderFromSHT, 0.02, std::nullopt},
           {"spindle–holder (example), Eq. 18, 2 % noise, filtered 21/2", example_assembly(), Route::SpindleHolderFromSHT, 0.02,
            SavgolOptions{21, 2}},
           {"stiff spindle–holder, Eq. 15, 2 % noise", stiff, Route::SpindleHolderFromSH, 0.02, std::nullopt},
-          {"stiff spindle–holder, Eq. 15, 2 % noise, filtered 21/2", stiff, Route::SpindleHolderFromSH, 0.02, SavgolOptions{21, 2}}};
+          {"stiff spindle–holder, Eq. 15, 2 % noise, filtered 21/2", stiff, Route::SpindleHolderFromSH, 0.02,
+           SavgolOptions{21, 2}}};
 }
 
 }  // namespace
@@ -296,5 +306,6 @@ TEST(JointFitCoverage, BootstrapIntervals) {
   const auto cases = coverage_cases();
   const bool long_study = std::getenv("TOOLPOINT_COVERAGE_SEEDS") != nullptr;
   for (std::size_t i = 0; i < cases.size(); ++i)
-    if (long_study || i == 0 || i == 4) check(cases[i], coverage(cases[i], o, seeds, 5.0), fmt::format("bootstrap {}", o.bootstrap_samples));
+    if (long_study || i == 0 || i == 4)
+      check(cases[i], coverage(cases[i], o, seeds, 5.0), fmt::format("bootstrap {}", o.bootstrap_samples));
 }

@@ -78,7 +78,8 @@ TEST(LobesStudy, AFitThatCannotMeetTheTargetSaysWhy) {
   EXPECT_GT(s.residual, 0.02);
   EXPECT_EQ(static_cast<int>(modes.size()), s.modes);
   bool said = false;
-  for (const std::string& w : warnings) said |= w.rfind("stiff.csv: the best modal model", 0) == 0 && w.find("not the 2 %") != std::string::npos &&
+  for (const std::string& w : warnings)
+    said |= w.rfind("stiff.csv: the best modal model", 0) == 0 && w.find("not the 2 %") != std::string::npos &&
             w.find("outside the band") != std::string::npos;
   EXPECT_TRUE(said);
 }

@@ -58,7 +58,8 @@ TEST(Parallel, TheLowestFailingItemsExceptionIsRethrownForAnyThreadCount) {
 
 TEST(Parallel, ProgressIsMonotoneAndEndsAtOne) {
   std::vector<double> seen;
-  parallel_for(64, ParallelOptions{2}, [](std::size_t) {}, [&](double f) { seen.push_back(f); });
+  parallel_for(
+      64, ParallelOptions{2}, [](std::size_t) {}, [&](double f) { seen.push_back(f); });
   ASSERT_EQ(seen.size(), 64u);
   for (std::size_t i = 1; i < seen.size(); ++i) EXPECT_GT(seen[i], seen[i - 1]);
   EXPECT_DOUBLE_EQ(seen.back(), 1.0);

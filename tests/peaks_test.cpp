@@ -40,7 +40,9 @@ TEST(Peaks, RefinedPeakOfOneModeMatchesClosedForm) {
   EXPECT_NEAR(p[0].frequency_hz, fn * std::sqrt(1 - 2 * zeta * zeta), 0.05);
   EXPECT_NEAR(p[0].magnitude * 2 * zeta * std::sqrt(1 - zeta * zeta) * k, 1.0, 1e-3);
   // Refinement on the exact magnitude: to 1e-6 Hz.
-  const auto q = find_peaks(s, PeakOptions{}, [&](double f) { return std::abs(modes_frf({{fn, zeta, m}}, f, f, 1.0).values[0]); });
+  const auto q = find_peaks(s, PeakOptions{}, [&](double f) {
+    return std::abs(modes_frf({{fn, zeta, m}}, f, f, 1.0).values[0]);
+  });
   EXPECT_NEAR(q[0].frequency_hz, fn * std::sqrt(1 - 2 * zeta * zeta), 1e-6);
 }
 

@@ -101,7 +101,8 @@ TEST(PeriodicDelay, DelayedMathieuAgreesWithThePublishedValueToItsDefinitionsAcc
 // Arnoldi tolerance (1e-10 relative residual) with the map's modest non-normality.
 TEST(PeriodicDelay, ArnoldiMatchesTheDenseDecomposition) {
   const Mode m{0.03993, 0.011, 922.0};
-  const FullDiscretization fd(ModalModel{{m}, {m}}, {2, 6e8, 1.0 / 3.0, engagement_from_immersion(1.0, MillingDirection::Down)}, 80);
+  const FullDiscretization fd(ModalModel{{m}, {m}}, {2, 6e8, 1.0 / 3.0, engagement_from_immersion(1.0, MillingDirection::Down)},
+                              80);
   const PeriodMap map = fd.period_map(10000.0);
   ASSERT_GT(map.size(), 100);
   for (double depth : {1e-4, 3e-4, 1e-3}) {
@@ -123,8 +124,10 @@ TEST(PeriodicDelay, ArnoldiMatchesTheDenseDecomposition) {
 // at a/D = 0.05 the cut reads a few samples only.
 TEST(PeriodicDelay, UnreadSamplesAreDropped) {
   const Mode m{0.03993, 0.011, 922.0};
-  const FullDiscretization low(ModalModel{{m}, {}}, {2, 6e8, 1.0 / 3.0, engagement_from_immersion(0.05, MillingDirection::Down)}, 40);
-  const FullDiscretization slot(ModalModel{{m}, {}}, {2, 6e8, 1.0 / 3.0, engagement_from_immersion(1.0, MillingDirection::Down)}, 40);
+  const FullDiscretization low(ModalModel{{m}, {}}, {2, 6e8, 1.0 / 3.0, engagement_from_immersion(0.05, MillingDirection::Down)},
+                               40);
+  const FullDiscretization slot(ModalModel{{m}, {}}, {2, 6e8, 1.0 / 3.0, engagement_from_immersion(1.0, MillingDirection::Down)},
+                                40);
   EXPECT_EQ(slot.period_map(10000.0).size(), 2 + 41);
   EXPECT_LT(low.period_map(10000.0).size(), 15);
 }

@@ -27,27 +27,30 @@ const std::string kExample = std::string(TOOLPOINT_SOURCE_DIR) + "/examples/bt40
 // A small valid study on the example; `replace` swaps one line for another (or adds one after
 // `after` when `with` is prefixed by "+").
 std::string study(const std::string& find = "", const std::string& with = "") {
-  std::string s = "[study]\n"                                      // 1
-                  "name = \"test\"\n"                               // 2
-                  "[[candidate]]\n"                                 // 3
-                  "name = \"a\"\n"                                  // 4
-                  "assembly = \"" + kExample + "\"\n"               // 5
-                  "overhang_min = 0.050\n"                          // 6
-                  "overhang_max = 0.060\n"                          // 7
-                  "overhang_step = 0.005\n"                         // 8
-                  "[cut]\n"                                         // 9
-                  "teeth = 4\n"                                     // 10
-                  "tangential_coefficient = 6e8\n"                  // 11
-                  "radial_ratio = 0.3\n"                            // 12
-                  "radial_immersion = 0.5\n"                        // 13
-                  "milling = \"down\"\n"                            // 14
-                  "feed_per_tooth = 1e-4\n"                         // 15
-                  "[machine]\n"                                     // 16
-                  "speed_min = 5000\n"                              // 17
-                  "speed_max = 15000\n"                             // 18
-                  "speed_points = 100\n"                            // 19
-                  "[safety]\n"                                      // 20
-                  "factor = 1.25\n";                                // 21
+  std::string s =
+      "[study]\n"          // 1
+      "name = \"test\"\n"  // 2
+      "[[candidate]]\n"    // 3
+      "name = \"a\"\n"     // 4
+      "assembly = \"" +
+      kExample +
+      "\"\n"                            // 5
+      "overhang_min = 0.050\n"          // 6
+      "overhang_max = 0.060\n"          // 7
+      "overhang_step = 0.005\n"         // 8
+      "[cut]\n"                         // 9
+      "teeth = 4\n"                     // 10
+      "tangential_coefficient = 6e8\n"  // 11
+      "radial_ratio = 0.3\n"            // 12
+      "radial_immersion = 0.5\n"        // 13
+      "milling = \"down\"\n"            // 14
+      "feed_per_tooth = 1e-4\n"         // 15
+      "[machine]\n"                     // 16
+      "speed_min = 5000\n"              // 17
+      "speed_max = 15000\n"             // 18
+      "speed_points = 100\n"            // 19
+      "[safety]\n"                      // 20
+      "factor = 1.25\n";                // 21
   if (!find.empty()) {
     const std::size_t at = s.find(find);
     EXPECT_NE(at, std::string::npos) << find;
@@ -96,8 +99,10 @@ TEST(PlanStudyFile, MistakesAreNamedWithFileLineAndKey) {
   expect_refused<InputError>(study("overhang_min = 0.050\noverhang_max = 0.060\noverhang_step = 0.005",
                                    "overhang_min = 50\noverhang_max = 60\noverhang_step = 5"),
                              {"study.toml:6", "candidate[1].overhang_min = 50", "cannot be meant", "metres"});
-  expect_refused<InputError>(study("feed_per_tooth = 1e-4", "feed_per_tooth = 0.1"), {"study.toml:15", "cut.feed_per_tooth", "millimetres?"});
-  expect_refused<InputError>(study("factor = 1.25", "probability = 95"), {"study.toml:21", "safety.probability = 95", "[0.5, 1)"});
+  expect_refused<InputError>(study("feed_per_tooth = 1e-4", "feed_per_tooth = 0.1"),
+                             {"study.toml:15", "cut.feed_per_tooth", "millimetres?"});
+  expect_refused<InputError>(study("factor = 1.25", "probability = 95"),
+                             {"study.toml:21", "safety.probability = 95", "[0.5, 1)"});
   expect_refused<InputError>(study("factor = 1.25", "factor = 1.25\nprobability = 0.9"), {"study.toml:22", "choose one"});
   expect_refused<InputError>(study("factor = 1.25", "probability = 0.9"), {"study.toml:3", "candidate[1]", "[uncertainty]"});
   expect_refused<InputError>(study("speed_max = 15000", "speed_max = 1500"), {"study.toml:18", "must exceed machine.speed_min"});
@@ -106,16 +111,20 @@ TEST(PlanStudyFile, MistakesAreNamedWithFileLineAndKey) {
                              {"study.toml:11", "must be a number"});
   expect_refused<InputError>(study("milling = \"down\"", "milling = \"climb\""), {"study.toml:14", "\"up\" or \"down\""});
   expect_refused<InputError>(study("radial_immersion = 0.5", "radial_immersion = 50"), {"study.toml:13", "(0, 1]"});
-  expect_refused<InputError>(study("[machine]\n", "[machine]\nmin_overhang = 0.07\n"), {"study.toml", "shorter than", "min_overhang"});
+  expect_refused<InputError>(study("[machine]\n", "[machine]\nmin_overhang = 0.07\n"),
+                             {"study.toml", "shorter than", "min_overhang"});
   expect_refused<InputError>(study("[cut]\n", "[[candidate]]\nname = \"a\"\nassembly = \"" + kExample + "\"\n[cut]\n"),
                              {"both named 'a'"});
-  expect_refused<InputError>(study("speed_points = 100\n", "speed_points = 100\n[[bad\n"), {"study.toml:20", "TOML syntax error"});
-  EXPECT_EQ(parse_plan_study(study("[safety]\nfactor = 1.25\n", ""), "study.toml", "").options.safety.factor, 1.0);  // the default
+  expect_refused<InputError>(study("speed_points = 100\n", "speed_points = 100\n[[bad\n"),
+                             {"study.toml:20", "TOML syntax error"});
+  EXPECT_EQ(parse_plan_study(study("[safety]\nfactor = 1.25\n", ""), "study.toml", "").options.safety.factor,
+            1.0);  // the default
 }
 
 TEST(PlanStudyFile, FilesItNamesAreReadWithTheirOwnErrors) {
   // A missing assembly: the study's line and key, and the path.
-  expect_refused<IoError>(study(kExample, "/nonexistent/a.toml"), {"study.toml:5", "candidate[1].assembly", "/nonexistent/a.toml"});
+  expect_refused<IoError>(study(kExample, "/nonexistent/a.toml"),
+                          {"study.toml:5", "candidate[1].assembly", "/nonexistent/a.toml"});
   // A broken assembly: its own file and line.
   const fs::path dir = fs::temp_directory_path() / ("toolpoint_plan_file_" + std::to_string(::getpid()));
   fs::create_directories(dir);
@@ -133,7 +142,8 @@ TEST(PlanStudyFile, FilesItNamesAreReadWithTheirOwnErrors) {
                              {"study.toml:11: cut.tangential_coefficient = 600", "cannot be meant", "N/m^2"});
   const PlanStudy s = parse_plan_study(study("tangential_coefficient = 6e8", "tangential_coefficient = 2e7"), "study.toml", "");
   ASSERT_FALSE(s.warnings.empty());
-  EXPECT_NE(s.warnings.front().find("study.toml:11: cut.tangential_coefficient = 2e+07"), std::string::npos) << s.warnings.front();
+  EXPECT_NE(s.warnings.front().find("study.toml:11: cut.tangential_coefficient = 2e+07"), std::string::npos)
+      << s.warnings.front();
 }
 
 // The measured-holder route and identified joints through the study file: `sh11` (a block CSV) and
@@ -225,7 +235,8 @@ TEST(PlanPartFile, RoundTripAndRefusals) {
 
   const PlanPart q0 = parse_plan_part(t0, "p0.json"), q1 = parse_plan_part(t1, "p1.json");
   EXPECT_NO_THROW(merge_plan_parts({q1, q0}, {"p1.json", "p0.json"}));
-  const auto merge_refused = [](const std::vector<PlanPart>& parts, const std::vector<std::string>& names, const std::string& what) {
+  const auto merge_refused = [](const std::vector<PlanPart>& parts, const std::vector<std::string>& names,
+                                const std::string& what) {
     try {
       merge_plan_parts(parts, names);
       ADD_FAILURE() << "merged; expected " << what;

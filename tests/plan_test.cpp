@@ -252,7 +252,8 @@ TEST(Plan, BestOverhangMovesAsToolTuningPredicts) {
 // limit switches from torque to power at the base speed P/(2π T/60), as the closed form says.
 TEST(Plan, PowerAndTorqueCutTheEnvelopeWhereTheClosedFormSays) {
   const double d = example().tool.diameter;
-  for (auto [immersion, dir] : {std::pair{0.5, MillingDirection::Down}, std::pair{0.3, MillingDirection::Up}, std::pair{1.0, MillingDirection::Down}}) {
+  for (auto [immersion, dir] :
+       {std::pair{0.5, MillingDirection::Down}, std::pair{0.3, MillingDirection::Up}, std::pair{1.0, MillingDirection::Down}}) {
     const CuttingConditions c{3, 8e8, 0.3, engagement_from_immersion(immersion, dir)};
     for (double edge : {0.0, 3e4}) {
       const double numeric = integrated_torque_per_depth(c, d, 1.2e-4, edge);
@@ -347,7 +348,8 @@ TEST(Plan, ProbabilityRuleIsTheQuantileOfTheSampledJoints) {
   uo.levels = {0.05};
   ZeroOrderOptions zo;
   zo.speeds = o.lobes.speeds;
-  const StabilityUncertainty s = stability_uncertainty(with_overhang(a, 0.049), joint, a.grid.values(), o.lobes.cutting, zo, {0.0}, uo);
+  const StabilityUncertainty s = stability_uncertainty(with_overhang(a, 0.049), joint, a.grid.values(), o.lobes.cutting, zo,
+                                                       {0.0}, uo);
   const PlanJob& job = r.jobs[0];
   for (std::size_t k = 0; k < job.safe_depth_m.size(); ++k) {
     EXPECT_NEAR(job.safe_depth_m[k] / s.depth_m[0][k], 1.0, 0.01) << r.header.speeds_rpm[k];

@@ -76,7 +76,8 @@ TEST(PlotMap, ScriptDrawsTheImageUnderTheCurvesWithAColourBar) {
 }
 
 TEST(PlotMap, GnuplotRendersIt) {
-  const std::string file = (std::filesystem::temp_directory_path() / ("toolpoint_map_" + std::to_string(::getpid()) + ".png")).string();
+  const std::string file =
+      (std::filesystem::temp_directory_path() / ("toolpoint_map_" + std::to_string(::getpid()) + ".png")).string();
   try {
     plot::render(map_figure(), file);
   } catch (const plot::PlotUnavailable& e) {

@@ -87,7 +87,9 @@ XmlRoot parse_xml(const std::string& doc) {
   bool root_seen = false;
   std::size_t i = 0;
   auto fail = [&](const std::string& why) { throw std::runtime_error(why + " at byte " + std::to_string(i)); };
-  auto is_name = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == ':' || c == '-' || c == '.'; };
+  auto is_name = [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == ':' || c == '-' || c == '.';
+  };
   auto check_text = [&](std::size_t from, std::size_t to) {
     for (std::size_t k = from; k < to; ++k) {
       if (doc[k] != '&') continue;
@@ -113,10 +115,23 @@ XmlRoot parse_xml(const std::string& doc) {
       if (end == std::string::npos) fail("unterminated " + close);
       i = end + close.size();
     };
-    if (doc.compare(i, 4, "<!--") == 0) { skip_to("-->"); continue; }
-    if (doc.compare(i, 9, "<![CDATA[") == 0) { if (open.empty()) fail("CDATA outside root"); skip_to("]]>"); continue; }
-    if (doc.compare(i, 2, "<?") == 0) { skip_to("?>"); continue; }
-    if (doc.compare(i, 2, "<!") == 0) { skip_to(">"); continue; }  // DOCTYPE (no internal subset here)
+    if (doc.compare(i, 4, "<!--") == 0) {
+      skip_to("-->");
+      continue;
+    }
+    if (doc.compare(i, 9, "<![CDATA[") == 0) {
+      if (open.empty()) fail("CDATA outside root");
+      skip_to("]]>");
+      continue;
+    }
+    if (doc.compare(i, 2, "<?") == 0) {
+      skip_to("?>");
+      continue;
+    }
+    if (doc.compare(i, 2, "<!") == 0) {
+      skip_to(">");
+      continue;
+    }  // DOCTYPE (no internal subset here)
     const bool closing = doc.compare(i, 2, "</") == 0;
     i += closing ? 2 : 1;
     const std::size_t name_start = i;
@@ -197,8 +212,7 @@ void expect_valid(const std::string& path, Format format, int width, int height)
       EXPECT_EQ(bytes.compare(0, 7, "%PDF-1."), 0) << path;
       EXPECT_NE(bytes.find("%%EOF", bytes.size() - 32), std::string::npos) << path;
       // 72 px per inch: the page is as many points as the PNG is pixels.
-      EXPECT_NE(bytes.find("/MediaBox [ 0 0 " + std::to_string(width) + " " + std::to_string(height) + " ]"),
-                std::string::npos)
+      EXPECT_NE(bytes.find("/MediaBox [ 0 0 " + std::to_string(width) + " " + std::to_string(height) + " ]"), std::string::npos)
           << path;
       break;
     }
@@ -435,11 +449,11 @@ TEST(Plot, JointFigureScalesAndClipsSpikes) {
   ASSERT_EQ(k.horizontal_lines.size(), 1u);
   EXPECT_NEAR(k.horizontal_lines[0].y, 16.0, 1e-9);
   ASSERT_TRUE(k.y.min && k.y.max);
-  EXPECT_LT(*k.y.max, 100.0);                          // the 1.5e6 MN/m spike is off the panel
-  EXPECT_GT(*k.y.max, 16.0);                           // the reference line is on it
-  EXPECT_LT(*k.y.min, 15.0 * 0.99);                    // and so is the band's data
+  EXPECT_LT(*k.y.max, 100.0);        // the 1.5e6 MN/m spike is off the panel
+  EXPECT_GT(*k.y.max, 16.0);         // the reference line is on it
+  EXPECT_LT(*k.y.min, 15.0 * 0.99);  // and so is the band's data
   ASSERT_EQ(k.bands.size(), 1u);
-  EXPECT_EQ(f.panels[1].y.label, "c_{yf} [N·s/m]");   // 120: no prefix needed
+  EXPECT_EQ(f.panels[1].y.label, "c_{yf} [N·s/m]");  // 120: no prefix needed
   EXPECT_EQ(f.panels[1].horizontal_lines.at(0).y, 118.0);
   EXPECT_TRUE(f.panels[1].bands.at(0).label.empty());  // the band is named once
 }
@@ -719,8 +733,8 @@ TEST(PlotCli, BeamPlot) {
   EXPECT_TRUE(fs::exists(dir / "t.csv"));
   expect_valid(dir / "t.png", Format::Png, 1000, 1040);
 
-  const std::string missing = "PATH=/nonexistent " + base + " --output " + (dir / "u.csv") + " --plot " +
-                              (dir / "u.png") + " 2> " + (dir / "err.txt");
+  const std::string missing = "PATH=/nonexistent " + base + " --output " + (dir / "u.csv") + " --plot " + (dir / "u.png") +
+                              " 2> " + (dir / "err.txt");
   const int status = std::system(missing.c_str());
   ASSERT_TRUE(WIFEXITED(status));
   EXPECT_EQ(WEXITSTATUS(status), 5);

@@ -134,8 +134,7 @@ TEST(Resample, CommandLine) {
   write_frf_csv(p("fine.csv"), sampled(1000, 2000, 2.5), {}, std::vector<double>(401, 0.95));
   write_frf_csv(p("coarse.csv"), sampled(1200, 1800, 10));
   std::string out;
-  ASSERT_EQ(run_cli("resample " + p("fine.csv") + " " + p("on.csv") + " --onto " + p("coarse.csv") + " --method cubic", &out),
-            0)
+  ASSERT_EQ(run_cli("resample " + p("fine.csv") + " " + p("on.csv") + " --onto " + p("coarse.csv") + " --method cubic", &out), 0)
       << out;
   const FrfFileData on = read_frf_file(p("on.csv"));
   ASSERT_EQ(on.single.frequency_hz, sampled(1200, 1800, 10).frequency_hz);
@@ -150,18 +149,19 @@ TEST(Resample, CommandLine) {
   EXPECT_NE(out.find("target frequency 1000 Hz lies outside the measured range 1200–1800 Hz"), std::string::npos) << out;
   EXPECT_NE(out.find("--band"), std::string::npos) << out;
   EXPECT_FALSE(fs::exists(p("x.csv")));
-  EXPECT_EQ(run_cli("resample " + p("coarse.csv") + " " + p("x.csv") + " --onto " + p("fine.csv") + " --band 1200:1800", &out),
-            0)
+  EXPECT_EQ(run_cli("resample " + p("coarse.csv") + " " + p("x.csv") + " --onto " + p("fine.csv") + " --band 1200:1800", &out), 0)
       << out;
   EXPECT_EQ(read_frf_file(p("x.csv")).single.size(), 241u);
   EXPECT_EQ(run_cli("resample " + p("coarse.csv") + " " + p("y.csv"), &out), 2);
   EXPECT_EQ(run_cli("resample " + p("coarse.csv") + " " + p("y.csv") + " --grid 1:2:1 --onto " + p("fine.csv"), &out), 2);
   EXPECT_EQ(run_cli("resample " + p("coarse.csv") + " " + p("y.csv") + " --band 1300:1400 --method quadratic", &out), 2);
   // The grid-mismatch error of another command points here.
-  write_text_file(p("b1.csv"), "frequency_hz,H_re,H_im,L_re,L_im,N_re,N_im,P_re,P_im\n10,1,0,1,0,1,0,1,0\n20,1,0,1,0,1,0,1,0\n"
-                              "30,1,0,1,0,1,0,1,0\n");
-  write_text_file(p("b2.csv"), "frequency_hz,H_re,H_im,L_re,L_im,N_re,N_im,P_re,P_im\n10,1,0,1,0,1,0,1,0\n25,1,0,1,0,1,0,1,0\n"
-                              "30,1,0,1,0,1,0,1,0\n");
+  write_text_file(p("b1.csv"),
+                  "frequency_hz,H_re,H_im,L_re,L_im,N_re,N_im,P_re,P_im\n10,1,0,1,0,1,0,1,0\n20,1,0,1,0,1,0,1,0\n"
+                  "30,1,0,1,0,1,0,1,0\n");
+  write_text_file(p("b2.csv"),
+                  "frequency_hz,H_re,H_im,L_re,L_im,N_re,N_im,P_re,P_im\n10,1,0,1,0,1,0,1,0\n25,1,0,1,0,1,0,1,0\n"
+                  "30,1,0,1,0,1,0,1,0\n");
   EXPECT_EQ(run_cli("identify --joint holder-tool --assembly " + std::string(TOOLPOINT_SOURCE_DIR) +
                         "/examples/bt40_shrinkfit_16mm.toml --sh " + p("b1.csv") + " --sht " + p("b2.csv"),
                     &out),

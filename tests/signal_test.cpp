@@ -181,8 +181,8 @@ TEST(Savgol, BlockAndComplexColumnsAreFilteredSeparately) {
   BlockSeries b;
   for (std::size_t i = 0; i < n; ++i) {
     b.frequency_hz.push_back(100.0 + 10.0 * static_cast<double>(i));
-    b.blocks.push_back(make_block({cols[0][i], cols[1][i]}, {cols[2][i], cols[3][i]}, {cols[4][i], cols[5][i]},
-                                  {cols[6][i], cols[7][i]}));
+    b.blocks.push_back(
+        make_block({cols[0][i], cols[1][i]}, {cols[2][i], cols[3][i]}, {cols[4][i], cols[5][i]}, {cols[6][i], cols[7][i]}));
   }
   const auto r = savgol_filter(b, {7, 3});
   ASSERT_EQ(r.series.size(), n);
@@ -577,7 +577,8 @@ TEST(Rotational, SchmitzSmithIsAbout25PercentLowOnStaticCantilever) {
   EXPECT_TRUE(contains(r.warnings, "H01 := H10 (p1.csv)"));
   EXPECT_EQ(r.filled_by_reciprocity, std::vector<std::string>{"H01 := H10 (p1.csv)"});
   // As s → 0 the approximation tends to N²/H = (1/2)²/(1/3) = 3/4 of the true P = 1: 25 % low.
-  PointFrfs fine = point_frfs({1.0}, 1.0, 1e-5, [](double x, double xi, std::size_t) { return Complex(cantilever_static(x, xi)); });
+  PointFrfs fine = point_frfs({1.0}, 1.0, 1e-5,
+                              [](double x, double xi, std::size_t) { return Complex(cantilever_static(x, xi)); });
   const Complex p_ss = P_of(rotational_frfs(fine, fd(2, 1e-5, PMethod::SchmitzSmith)).block.blocks[0]);
   EXPECT_NEAR(p_ss.real(), 0.75, 1e-6);  // second-order N error ~ s² plus round-off ~1e-16/s
 }
@@ -626,7 +627,8 @@ TEST(Rotational, ConvergenceOrdersOnDynamicCantilever) {
         const double want[3] = {nl, nl, 1.0}, tol[3] = {nl > 1 ? 0.15 : 0.1, nl > 1 ? 0.15 : 0.1, 0.1};
         for (int q = 0; q < 3; ++q)
           EXPECT_NEAR(std::log2(std::abs(coarse[f][q]) / std::abs(fine[f][q])), want[q], tol[q])
-              << "x0 " << x0 << " order " << order << " βL " << beta_l[f] << " entry " << "NLP"[q];
+              << "x0 " << x0 << " order " << order << " βL " << beta_l[f] << " entry "
+              << "NLP"[q];
       }
     }
   }
@@ -634,8 +636,10 @@ TEST(Rotational, ConvergenceOrdersOnDynamicCantilever) {
   for (std::size_t f = 0; f < freqs.size(); ++f)
     for (int q = 0; q < 2; ++q) {
       const Complex ratio = first[f][q] / second[f][q];
-      EXPECT_NEAR(ratio.real(), -0.5, 0.05) << "βL " << beta_l[f] << " entry " << "NL"[q];
-      EXPECT_NEAR(ratio.imag(), 0.0, 0.05) << "βL " << beta_l[f] << " entry " << "NL"[q];
+      EXPECT_NEAR(ratio.real(), -0.5, 0.05) << "βL " << beta_l[f] << " entry "
+                                            << "NL"[q];
+      EXPECT_NEAR(ratio.imag(), 0.0, 0.05) << "βL " << beta_l[f] << " entry "
+                                           << "NL"[q];
     }
 }
 
@@ -730,9 +734,8 @@ namespace fs = std::filesystem;
 class SignalCli : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("toolpoint_signal_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ = fs::temp_directory_path() / ("toolpoint_signal_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }

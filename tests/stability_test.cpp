@@ -54,8 +54,8 @@ Eigen::Matrix2d tooth_matrix(double kr, double phi) {
 }
 
 // |det(I + ΛαG)| relative to the size of its terms, Λ = −N a K_t (1 − e^{−iωτ})/(4π).
-double characteristic_residual(const Eigen::Matrix2d& alpha, const Eigen::Matrix2cd& g, int teeth, double kt,
-                               double speed_rpm, double depth_m, double chatter_hz) {
+double characteristic_residual(const Eigen::Matrix2d& alpha, const Eigen::Matrix2cd& g, int teeth, double kt, double speed_rpm,
+                               double depth_m, double chatter_hz) {
   const double tau = 60.0 / (teeth * speed_rpm), w = omega_of(chatter_hz);
   const Complex lam = -teeth * depth_m * kt * (1.0 - std::exp(Complex(0.0, -w * tau))) / (4.0 * kPi);
   const Eigen::Matrix2cd b = alpha.cast<Complex>() * g;
@@ -98,8 +98,8 @@ TEST(Stability, ZeroOrderSlotFloorOfTheBenchmark) {
   other.radial_ratio = kKn / 3e9;
   EXPECT_NEAR(zero_order_floor(frfs, other) / exact, 1.0, 1e-9);
   // The modal grid helper resolves the peak well enough for the floor to 1e-4.
-  EXPECT_NEAR(zero_order_floor(modal_milling_frfs({kBench}, {}, modal_frequency_grid({kBench})), cutting(2, 1.0)) / exact,
-              1.0, 1e-4);
+  EXPECT_NEAR(zero_order_floor(modal_milling_frfs({kBench}, {}, modal_frequency_grid({kBench})), cutting(2, 1.0)) / exact, 1.0,
+              1e-4);
 }
 
 // α from the closed-form antiderivatives against Simpson quadrature of the per-tooth matrix
@@ -120,7 +120,8 @@ TEST(Stability, DirectionalFactorsMatchQuadrature) {
 }
 
 TEST(Stability, EngagementAngles) {
-  const auto up = engagement_from_immersion(0.5, MillingDirection::Up), down = engagement_from_immersion(0.5, MillingDirection::Down);
+  const auto up = engagement_from_immersion(0.5, MillingDirection::Up),
+             down = engagement_from_immersion(0.5, MillingDirection::Down);
   EXPECT_DOUBLE_EQ(up.entry_rad, 0.0);
   EXPECT_NEAR(up.exit_rad, kPi / 2.0, 1e-15);
   EXPECT_NEAR(down.entry_rad, kPi / 2.0, 1e-15);
@@ -167,7 +168,9 @@ TEST(Stability, LobePointsSatisfyTheCharacteristicEquation) {
       ASSERT_LT(i, grid.size());
       Eigen::Matrix2cd g;
       g << c.frfs.xx.values[i], c.frfs.xy ? c.frfs.xy->values[i] : Complex(0.0), c.frfs.yx ? c.frfs.yx->values[i] : Complex(0.0),
-          c.frfs.rigid_y ? Complex(0.0) : c.frfs.yy ? c.frfs.yy->values[i] : c.frfs.xx.values[i];
+          c.frfs.rigid_y ? Complex(0.0)
+          : c.frfs.yy    ? c.frfs.yy->values[i]
+                         : c.frfs.xx.values[i];
       ASSERT_LT(characteristic_residual(r.alpha, g, 3, kKt, p.speed_rpm, p.depth_m, p.chatter_hz), 1e-9)
           << "lobe " << p.lobe << " root " << p.root << " at " << p.speed_rpm << " rpm";
       ++roots_seen[p.root];
@@ -328,7 +331,8 @@ TEST(Stability, LowImmersionFlipLobesThatZeroOrderMisses) {
   so.speeds = {5000.0, 25000.0, 41};
   so.max_depth_m = 0.02;
   const BoundaryResult r = stability_boundary(ModalModel{{kBench}, {}}, cc, so);
-  const auto flips = std::count_if(r.boundary.begin(), r.boundary.end(), [](const BoundaryPoint& b) { return b.kind == BoundaryKind::Flip; });
+  const auto flips = std::count_if(r.boundary.begin(), r.boundary.end(),
+                                   [](const BoundaryPoint& b) { return b.kind == BoundaryKind::Flip; });
   EXPECT_GT(flips, 5);
   EXPECT_NE(format_boundary_csv(r).find(",flip,"), std::string::npos);
 }
@@ -446,15 +450,19 @@ TEST(LobesCommand, WritesLobesAndRejectsBadInputWithExitCodes) {
   EXPECT_NE(read_text_file(dir + "/e.csv").find("\nspindle_speed_rpm,axial_depth_mm,chatter_frequency_hz,lobe\n"),
             std::string::npos);
 
-  const CliRun sd = run_cli(base + " --immersion 0.05 --method sd --rigid-y --speeds 9 --max-depth 10 --output " + dir + "/s.csv");
+  const CliRun sd = run_cli(base + " --immersion 0.05 --method sd --rigid-y --speeds 9 --max-depth 10 --output " + dir +
+                            "/s.csv");
   ASSERT_EQ(sd.code, 0) << sd.out;
-  EXPECT_NE(read_text_file(dir + "/s.csv").find("\nlobe,spindle_speed_rpm,axial_depth_mm,chatter_frequency_hz,kind,axial_depth_error_mm,steps\n"),
+  EXPECT_NE(read_text_file(dir + "/s.csv")
+                .find("\nlobe,spindle_speed_rpm,axial_depth_mm,chatter_frequency_hz,kind,axial_depth_error_mm,steps\n"),
             std::string::npos);
 
   // The modal fit's warnings name the FRF they are about (the assembly's tool point FRF), never an
   // empty name; the library's field names reach the user as the options' spellings.
-  const CliRun assembly = run_cli("lobes --assembly " + std::string(TOOLPOINT_SOURCE_DIR) + "/examples/bt40_shrinkfit_16mm.toml "
-                                  "--method fd --teeth 4 --kt 6e8 --kr 0.3 --immersion 0.5 --milling down --rpm 8000:9000 --speeds 3");
+  const CliRun assembly = run_cli(
+      "lobes --assembly " + std::string(TOOLPOINT_SOURCE_DIR) +
+      "/examples/bt40_shrinkfit_16mm.toml "
+      "--method fd --teeth 4 --kt 6e8 --kr 0.3 --immersion 0.5 --milling down --rpm 8000:9000 --speeds 3");
   ASSERT_EQ(assembly.code, 0) << assembly.out;
   EXPECT_EQ(assembly.out.find("warning: :"), std::string::npos) << assembly.out;
   EXPECT_NE(assembly.out.find("warning: the tool point FRF of "), std::string::npos) << assembly.out;
@@ -465,15 +473,18 @@ TEST(LobesCommand, WritesLobesAndRejectsBadInputWithExitCodes) {
   const CliRun bad_immersion = run_cli(base + " --immersion 1.5");
   EXPECT_EQ(bad_immersion.code, 2) << bad_immersion.out;
   EXPECT_NE(bad_immersion.out.find("immersion"), std::string::npos) << bad_immersion.out;
-  const CliRun empty_rpm = run_cli("lobes --frf " + frf + " --teeth 2 --kt 6e8 --kr 0.3 --immersion 0.5 --milling up --rpm 8000:8000");
+  const CliRun empty_rpm = run_cli("lobes --frf " + frf +
+                                   " --teeth 2 --kt 6e8 --kr 0.3 --immersion 0.5 --milling up --rpm 8000:8000");
   EXPECT_EQ(empty_rpm.code, 2) << empty_rpm.out;
   EXPECT_NE(empty_rpm.out.find("rpm"), std::string::npos) << empty_rpm.out;
   const CliRun negative = run_cli(base + " --immersion 0.5 --kt -6e8");
   EXPECT_EQ(negative.code, 2) << negative.out;
-  const CliRun missing = run_cli("lobes --frf " + dir + "/nope.csv --teeth 2 --kt 6e8 --kr 0.3 --immersion 0.5 --milling up --rpm 1:2");
+  const CliRun missing = run_cli("lobes --frf " + dir +
+                                 "/nope.csv --teeth 2 --kt 6e8 --kr 0.3 --immersion 0.5 --milling up --rpm 1:2");
   EXPECT_EQ(missing.code, 5) << missing.out;
   write_text_file(dir + "/broken.csv", "frequency_hz,re,im\n100,1e-6,-1e-7\n200,oops,0\n");
-  const CliRun broken = run_cli("lobes --frf " + dir + "/broken.csv --teeth 2 --kt 6e8 --kr 0.3 --immersion 0.5 --milling up --rpm 1000:2000");
+  const CliRun broken = run_cli("lobes --frf " + dir +
+                                "/broken.csv --teeth 2 --kt 6e8 --kr 0.3 --immersion 0.5 --milling up --rpm 1000:2000");
   EXPECT_EQ(broken.code, 3) << broken.out;
   EXPECT_NE(broken.out.find("broken.csv:3"), std::string::npos) << broken.out;
   // A failed run leaves no half-written output behind.
@@ -500,7 +511,8 @@ TEST(ModesCommand, FitsAnFrfAndRejectsACoarseOne) {
   const CliRun bad_band = run_cli("modes " + dir + "/two.csv --band 900");
   EXPECT_EQ(bad_band.code, 2) << bad_band.out;
   // An sd run from explicit modes, and a malformed mode.
-  const std::string sd = "lobes --method sd --teeth 2 --kt 6e8 --kn 2e8 --immersion 0.05 --milling down --rpm 17000:18000 --speeds 2 --rigid-y";
+  const std::string sd =
+      "lobes --method sd --teeth 2 --kt 6e8 --kn 2e8 --immersion 0.05 --milling down --rpm 17000:18000 --speeds 2 --rigid-y";
   const CliRun modes_given = run_cli(sd + " --mode-x 0.03993,0.011,922 --max-depth 10 --json");
   ASSERT_EQ(modes_given.code, 0) << modes_given.out;
   EXPECT_NE(modes_given.out.find("\"kind\": \"flip\""), std::string::npos) << modes_given.out;
@@ -589,9 +601,9 @@ TEST(Stability, ToleranceSetsTheStepsAndBadOptionsAreRefused) {
   EXPECT_LE(tight.worst_relative_error(), 1e-4);
   for (std::size_t i = 0; i < 3; ++i) EXPECT_GE(tight.boundary[i].steps, loose.boundary[i].steps);
   using Edit = std::function<void(BoundaryOptions&)>;
-  for (const Edit& bad : std::vector<Edit>{[](BoundaryOptions& b) { b.tolerance = 0.0; }, [](BoundaryOptions& b) { b.steps = 3; },
-                                           [](BoundaryOptions& b) { b.degree = 4; },
-                                           [](BoundaryOptions& b) { b.parallel.threads = -1; }}) {
+  for (const Edit& bad :
+       std::vector<Edit>{[](BoundaryOptions& b) { b.tolerance = 0.0; }, [](BoundaryOptions& b) { b.steps = 3; },
+                         [](BoundaryOptions& b) { b.degree = 4; }, [](BoundaryOptions& b) { b.parallel.threads = -1; }}) {
     BoundaryOptions b = o;
     bad(b);
     EXPECT_THROW(b.check(), InvalidArgument);
@@ -628,8 +640,9 @@ TEST(Stability, PocketsNeedProminence) {
 // TOOLPOINT_PROGRESS_DELAY seconds (0 here; 5 by default, so short runs print none), and a closing
 // line; --quiet prints none. The data on stdout are untouched.
 TEST(LobesCommand, ProgressLinesWhenStderrIsNotATerminal) {
-  const std::string args = " lobes --method fd --mode-x 0.04,0.011,922 --rigid-y --teeth 2 --kt 6e8 --kn 2e8 --immersion 0.05 "
-                           "--milling down --rpm 5000:25000 --speeds 24 2>&1 >/dev/null";
+  const std::string args =
+      " lobes --method fd --mode-x 0.04,0.011,922 --rigid-y --teeth 2 --kt 6e8 --kn 2e8 --immersion 0.05 "
+      "--milling down --rpm 5000:25000 --speeds 24 2>&1 >/dev/null";
   const auto run = [](const std::string& cmd) {
     FILE* p = ::popen(cmd.c_str(), "r");
     std::string out;

@@ -161,7 +161,9 @@ TEST(OverhangStudy, TrackedModesAreEachOverhangsModelPeaks) {
   EXPECT_LT(worst, 2e-5);
   // The tool mode: the one near 2585 Hz at 49 mm.
   const auto& tool_mode = *std::min_element(s.tracked_modes_hz.begin(), s.tracked_modes_hz.end(),
-                                            [](const auto& x, const auto& y) { return std::abs(x[3] - 2585.0) < std::abs(y[3] - 2585.0); });
+                                            [](const auto& x, const auto& y) {
+                                              return std::abs(x[3] - 2585.0) < std::abs(y[3] - 2585.0);
+                                            });
   EXPECT_NEAR(tool_mode[3], 2585.0, 5.0);
   for (std::size_t i = 1; i < tool_mode.size(); ++i) EXPECT_LT(tool_mode[i], tool_mode[i - 1]) << o.overhangs_m[i];
   EXPECT_TRUE(s.warnings.empty()) << s.warnings.front();
@@ -211,7 +213,9 @@ TEST(OverhangStudy, ALostModeIsNaNAndWarned) {
 TEST(OverhangStudy, BadInputNamesTheField) {
   const Assembly a = example({500.0, 1500.0, 10.0});
   const BlockSeries sh = model_sh11(a);
-  const auto message = [&](const OverhangStudyOptions& o) { return invalid_argument_message([&] { run_overhang_study(a, sh, o); }); };
+  const auto message = [&](const OverhangStudyOptions& o) {
+    return invalid_argument_message([&] { run_overhang_study(a, sh, o); });
+  };
   OverhangStudyOptions o;
   o.overhangs_m = {0.05, 0.04};
   EXPECT_TRUE(contains(message(o), "OverhangStudyOptions::overhangs_m must be strictly increasing"));
@@ -333,8 +337,8 @@ TEST(TapTestStudy, HolderStationsMatchTheFiniteElementSubassembly) {
 // the FRFs' factors are independent. With n = 2501 frequencies: the mean within 4σ/√n, the
 // standard deviation within 4σ/√(2n) (its own standard error), the correlation of two FRFs'
 // factors within 4/√n (seed 11: means 3.4e-4 and 3.0e-4 against 4.0e-3, standard deviations
-// 0.0498 and 0.0481 against 0.05 ± 0.0028, correlation 0.031 against 0.08). FRF k draws from seed + k (add_measurement_noise with that seed gives the
-// same bits); the same seed repeats, another differs.
+// 0.0498 and 0.0481 against 0.05 ± 0.0028, correlation 0.031 against 0.08). FRF k draws from seed + k (add_measurement_noise with
+// that seed gives the same bits); the same seed repeats, another differs.
 TEST(TapTestStudy, NoiseHasTheSeedsStatistics) {
   const Assembly a = example({500.0, 3000.0, 1.0});
   TapTestOptions o;
@@ -424,8 +428,9 @@ TEST(StudiesJson, KeysAreTheMembersNames) {
   EXPECT_EQ(keys(peak), (Keys{"index", "frequency_hz", "magnitude", "prominence"}));
   EXPECT_EQ(peak["frequency_hz"], 916.5);
   // A forward check's errors in per cent, said in the key (issue 13: one unit for forward checks).
-  EXPECT_EQ(keys(nlohmann::json(ModeComparison{})), (Keys{"measured_hz", "predicted_hz", "frequency_error_percent", "measured_peak_m_per_n",
-                                                          "predicted_peak_m_per_n", "peak_error_percent"}));
+  EXPECT_EQ(keys(nlohmann::json(ModeComparison{})),
+            (Keys{"measured_hz", "predicted_hz", "frequency_error_percent", "measured_peak_m_per_n", "predicted_peak_m_per_n",
+                  "peak_error_percent"}));
   EXPECT_EQ(nlohmann::json(ModeComparison{1000.0, 1010.0, 0.01, 1.0, 1.0, 0.0})["frequency_error_percent"], 1.0);
 
   Prediction p;

@@ -72,13 +72,13 @@ TEST(TomlGuard, FuzzFindingsAreRefusedWithLineAndColumn) {
             std::string::npos)
       << guard_message("a = \"x\\µ\"");
   EXPECT_NE(guard_message("a = \"\"\"x\\ \t µ\"\"\"").find("not an escape sequence"), std::string::npos);
-  EXPECT_NE(guard_message("a = \"\"\"x\\  \n\n   µm\"\"\"").find("3:4: TOML syntax error: 'µ' (U+00B5) right after a "
-                                                               "line-ending backslash"),
+  EXPECT_NE(guard_message("a = \"\"\"x\\  \n\n   µm\"\"\"")
+                .find("3:4: TOML syntax error: 'µ' (U+00B5) right after a "
+                      "line-ending backslash"),
             std::string::npos)
       << guard_message("a = \"\"\"x\\  \n\n   µm\"\"\"");
   // A date, a space and one digit: toml++ reads on past the digit unchecked.
-  EXPECT_NE(guard_message("y=1979-05-27 7 # c").find("1:15: TOML syntax error: a date-time needs the time"),
-            std::string::npos)
+  EXPECT_NE(guard_message("y=1979-05-27 7 # c").find("1:15: TOML syntax error: a date-time needs the time"), std::string::npos)
       << guard_message("y=1979-05-27 7 # c");
   const std::string m = guard_message("[tool]\noverhang = 49 µm\n");
   EXPECT_NE(m.find("t.toml:2:15: TOML syntax error: expected the end of the line"), std::string::npos) << m;
@@ -102,11 +102,13 @@ TEST(TomlGuard, LetsValidTomlThrough) {
   // Valid TOML 1.0 (mostly the specification's examples); toml++ parses every one.
   const std::vector<std::string> valid = {
       "",
-      "\xEF\xBB\xBF" "a = 1\n",
+      "\xEF\xBB\xBF"
+      "a = 1\n",
       "# only a comment: µm, °, – and tabs\t\n",
       "a = 1\r\nb = 2\r\n",
       "key = \"value\"\nbare_key = \"value\"\nbare-key = \"value\"\n1234 = \"value\"\n",
-      "\"127.0.0.1\" = \"value\"\n\"character encoding\" = \"value\"\n\"ʎǝʞ\" = \"value\"\n'key2' = \"value\"\n'quoted \"value\"' = \"value\"\n",
+      "\"127.0.0.1\" = \"value\"\n\"character encoding\" = \"value\"\n\"ʎǝʞ\" = \"value\"\n'key2' = \"value\"\n'quoted "
+      "\"value\"' = \"value\"\n",
       "name = \"Orange\"\nphysical.color = \"orange\"\nsite.\"google.com\" = true\n fruit . flavor = \"banana\"\n",
       "str = \"I'm a string. \\\"You can quote me\\\". Name\\tJos\\u00E9\\nLocation\\tSF.\"\n",
       "str1 = \"\"\"\nRoses are red\nViolets are blue\"\"\"\n",
@@ -115,7 +117,8 @@ TEST(TomlGuard, LetsValidTomlThrough) {
       "str5 = \"\"\"Here are three quotation marks: \"\"\\\".\"\"\"\n",
       "str7 = \"\"\"\"This,\" she said, \"is just a pointless statement.\"\"\"\"\n",
       "winpath = 'C:\\Users\\nodejs\\templates'\nregex = '<\\i\\c*\\s*>'\n",
-      "lines = '''\nThe first newline is\ntrimmed in raw strings.\n'''\nquot15 = '''Here are fifteen quotation marks: \"\"\"\"\"\"\"\"\"\"\"\"\"\"\"'''\n"
+      "lines = '''\nThe first newline is\ntrimmed in raw strings.\n'''\nquot15 = '''Here are fifteen quotation marks: "
+      "\"\"\"\"\"\"\"\"\"\"\"\"\"\"\"'''\n"
       "apos15 = \"Here are fifteen apostrophes: '''''''''''''''\"\nstr = ''''That,' she said, 'is still pointless.''''\n",
       "int1 = +99\nint2 = 42\nint3 = 0\nint4 = -17\nint5 = 1_000\nhex1 = 0xDEADBEEF\noct1 = 0o755\nbin1 = 0b11010110\n",
       "flt1 = +1.0\nflt2 = 3.1415\nflt3 = -0.01\nflt4 = 5e+22\nflt5 = 1e06\nflt6 = -2E-2\nflt7 = 6.626e-34\n"
@@ -124,16 +127,19 @@ TEST(TomlGuard, LetsValidTomlThrough) {
       "odt1 = 1979-05-27T07:32:00Z\nodt2 = 1979-05-27T00:32:00-07:00\nodt3 = 1979-05-27T00:32:00.999999-07:00\n"
       "odt4 = 1979-05-27 07:32:00Z\nldt1 = 1979-05-27T07:32:00\nld1 = 1979-05-27\nlt1 = 07:32:00\nlt2 = 00:32:00.999999\n",
       "integers = [ 1, 2, 3 ]\ncolors = [ \"red\", \"yellow\", \"green\" ]\nnested_arrays_of_ints = [ [ 1, 2 ], [3, 4, 5] ]\n"
-      "nested_mixed_array = [ [ 1, 2 ], [\"a\", \"b\", \"c\"] ]\nstring_array = [ \"all\", 'strings', \"\"\"are the same\"\"\", '''type''' ]\n"
+      "nested_mixed_array = [ [ 1, 2 ], [\"a\", \"b\", \"c\"] ]\nstring_array = [ \"all\", 'strings', \"\"\"are the same\"\"\", "
+      "'''type''' ]\n"
       "numbers = [ 0.1, 0.2, 0.5, 1, 2, 5 ]\ncontributors = [\n  \"Foo Bar <foo@example.com>\",\n  { name = \"Baz Qux\", email = "
       "\"bazqux@example.com\", url = \"https://example.com/bazqux\" }\n]\n",
       "integers2 = [\n  1, 2, 3\n]\nintegers3 = [\n  1,\n  2, # this is ok\n]\nempty = []\nempty2 = [ # c\n]\n",
       "[table-1]\nkey1 = \"some string\"\nkey2 = 123\n\n[table-2]\nkey1 = \"another string\"\nkey2 = 456\n",
       "[dog.\"tater.man\"]\ntype.name = \"pug\"\n[a.b.c]\n[ d.e.f ]\n[ g .  h  . i ]\n[ j . \"ʞ\" . 'l' ]\n",
-      "name = { first = \"Tom\", last = \"Preston-Werner\" }\npoint = { x = 1, y = 2 }\nanimal = { type.name = \"pug\" }\nempty = {}\n",
+      "name = { first = \"Tom\", last = \"Preston-Werner\" }\npoint = { x = 1, y = 2 }\nanimal = { type.name = \"pug\" }\nempty "
+      "= {}\n",
       "[[products]]\nname = \"Hammer\"\nsku = 738594937\n\n[[products]]  # empty table within the array\n\n[[ products ]]\n"
       "name = \"Nail\"\n",
-      "[[fruits]]\nname = \"apple\"\n[fruits.physical]  # subtable\ncolor = \"red\"\n[[fruits.varieties]]  # nested array of tables\n"
+      "[[fruits]]\nname = \"apple\"\n[fruits.physical]  # subtable\ncolor = \"red\"\n[[fruits.varieties]]  # nested array of "
+      "tables\n"
       "name = \"red delicious\"\n",
       "a = \"µm in a string, ° and – too\" # and µ in a comment\n",
       "points = [ { x = 1, y = 2, z = 3 },\n           { x = 7, y = 8, z = 9 } ]\n",

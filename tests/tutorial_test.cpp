@@ -61,9 +61,7 @@ TEST(Tutorial, RunsAsWrittenInTheReadme) {
   fs::create_directories(dir / "build");
   fs::create_symlink(TOOLPOINT_CLI, dir / "build" / "toolpoint");
   fs::create_directory_symlink(std::string(TOOLPOINT_SOURCE_DIR) + "/examples", dir / "examples");
-  {
-    std::ofstream(dir / "tutorial.sh") << script;
-  }
+  { std::ofstream(dir / "tutorial.sh") << script; }
   const auto count_examples = [] {
     std::size_t n = 0;
     for (const auto& e : fs::directory_iterator(std::string(TOOLPOINT_SOURCE_DIR) + "/examples")) n += e.exists();
@@ -94,12 +92,14 @@ TEST(Tutorial, RunsAsWrittenInTheReadme) {
     EXPECT_TRUE(kht.uncertainty->determined[k]) << JointParameters::name(k);
   }
   // The same without the correction: refused, exit 6, no joint file.
-  ASSERT_EQ(run_in(dir, "build/toolpoint rotational --uff tap_holder.uff --spacing 0.02 --order 2 --shear-stiffness 8.801e7 "
-                        "--output sh11_raw.csv 2>/dev/null && build/toolpoint rotational --uff tap_tool.uff --spacing 0.015 "
-                        "--order 2 --shear-stiffness 2.778e7 --output sht11_raw.csv 2>/dev/null"),
+  ASSERT_EQ(run_in(dir,
+                   "build/toolpoint rotational --uff tap_holder.uff --spacing 0.02 --order 2 --shear-stiffness 8.801e7 "
+                   "--output sh11_raw.csv 2>/dev/null && build/toolpoint rotational --uff tap_tool.uff --spacing 0.015 "
+                   "--order 2 --shear-stiffness 2.778e7 --output sht11_raw.csv 2>/dev/null"),
             0);
-  EXPECT_EQ(run_in(dir, "build/toolpoint identify --joint holder-tool --assembly examples/bt40_shrinkfit_16mm.toml --sh "
-                        "sh11_raw.csv --sht sht11_raw.csv --bootstrap 0 --joint-output raw.toml > raw.txt 2>&1"),
+  EXPECT_EQ(run_in(dir,
+                   "build/toolpoint identify --joint holder-tool --assembly examples/bt40_shrinkfit_16mm.toml --sh "
+                   "sh11_raw.csv --sht sht11_raw.csv --bootstrap 0 --joint-output raw.toml > raw.txt 2>&1"),
             6);
   EXPECT_FALSE(fs::exists(dir / "raw.toml"));
   EXPECT_NE(read_text_file((dir / "raw.txt").string()).find("c_yf"), std::string::npos);

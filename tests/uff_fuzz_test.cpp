@@ -30,10 +30,10 @@ std::string file_head(const std::string& name, std::size_t max_bytes) {
 // written file of every layout, ASCII and binary.
 std::vector<std::string> uff_seeds() {
   std::vector<std::string> seeds;
-  for (const char* name : {"Sample_UFF58_ascii.uff", "Sample_UFF58b_bin.uff", "binary8byte.uff",
-                           "dataset_milestone_in_header.uff", "mpstd_58b_wrong_byte_count.uff", "non_ascii_header.uff",
-                           "nx_simulation_mixed_datasets.uff", "sample_dataset58_psd.uff",
-                           "time-history-not-all-columns-filled.uff"})
+  for (const char* name :
+       {"Sample_UFF58_ascii.uff", "Sample_UFF58b_bin.uff", "binary8byte.uff", "dataset_milestone_in_header.uff",
+        "mpstd_58b_wrong_byte_count.uff", "non_ascii_header.uff", "nx_simulation_mixed_datasets.uff", "sample_dataset58_psd.uff",
+        "time-history-not-all-columns-filled.uff"})
     seeds.push_back(file_head(name, 12000));
   for (int type : {2, 4, 5, 6})
     for (bool even : {true, false})
@@ -52,9 +52,16 @@ std::vector<std::string> uff_seeds() {
   return seeds;
 }
 
-const char* const kInserts[] = {"    -1\n", "    58\n", "    58b     1     2          11  999999999999     0\n",
-                                "    58b     2     2          11           8\n", "\r\n", "   164\n",
-                                "         6 999999999         1  0.0E+00  1.0E+00\n", "-1.0E+999", "nan ", "\xB2",
+const char* const kInserts[] = {"    -1\n",
+                                "    58\n",
+                                "    58b     1     2          11  999999999999     0\n",
+                                "    58b     2     2          11           8\n",
+                                "\r\n",
+                                "   164\n",
+                                "         6 999999999         1  0.0E+00  1.0E+00\n",
+                                "-1.0E+999",
+                                "nan ",
+                                "\xB2",
                                 "\xC3\x28"};
 
 std::string mutate(std::string s, std::mt19937& rng) {
@@ -67,7 +74,8 @@ std::string mutate(std::string s, std::mt19937& rng) {
         if (!s.empty()) s[pick(s.size())] = static_cast<char>(pick(256));
         break;
       case 1:  // insert random bytes
-        for (std::size_t k = 1 + pick(8); k > 0; --k) s.insert(s.begin() + static_cast<std::ptrdiff_t>(at), static_cast<char>(pick(256)));
+        for (std::size_t k = 1 + pick(8); k > 0; --k)
+          s.insert(s.begin() + static_cast<std::ptrdiff_t>(at), static_cast<char>(pick(256)));
         break;
       case 2:  // delete a range
         s.erase(at, 1 + pick(64));
@@ -132,8 +140,7 @@ std::string exercise(const std::string& bytes) {
     try {
       d.check();
       writable.push_back(d);
-    } catch (const InvalidArgument&) {
-    }
+    } catch (const InvalidArgument&) {}
   }
   if (!writable.empty()) {
     const UffFile again = parse_uff(format_uff(writable, {.binary = writable.size() % 2 == 0}).bytes, "again.uff");
@@ -169,11 +176,17 @@ TEST(UffFuzz, MutatedAndTruncatedFilesNeverCrashTheReader) {
 
 TEST(UffFuzz, RandomBytesAndRandomLines) {
   std::mt19937 rng(7);
-  const char* const lines[] = {"    -1", "    58", "    58b     1     2          11          16     0     0",
+  const char* const lines[] = {"    -1",
+                               "    58",
+                               "    58b     1     2          11          16     0     0",
                                "    4         0    0         0 NONE               1   3 NONE               2   1",
                                "         6         2         1  1.00000E+01  5.00000E+00  0.00000E+00",
-                               "        18    0    0    0 Frequency            Hz", " 1.0E+00 2.0E+00 3.0E+00",
-                               "NONE", "  2414", "", "\x01\x02\xff\xfe"};
+                               "        18    0    0    0 Frequency            Hz",
+                               " 1.0E+00 2.0E+00 3.0E+00",
+                               "NONE",
+                               "  2414",
+                               "",
+                               "\x01\x02\xff\xfe"};
   for (int k = 0; k < 1500; ++k) {
     std::string s;
     if (k % 2 == 0) {

@@ -147,8 +147,7 @@ TEST(Uff, AsciiAndBinaryCopiesOfOneRecordAgree) {
   EXPECT_TRUE(b.functions[0].binary);
   ASSERT_EQ(a.functions[0].size(), b.functions[0].size());
   for (std::size_t i = 0; i < a.functions[0].size(); ++i)
-    ASSERT_NEAR(a.functions[0].y[i].real(), b.functions[0].y[i].real(), 5e-6 * std::abs(b.functions[0].y[i].real()))
-        << i;
+    ASSERT_NEAR(a.functions[0].y[i].real(), b.functions[0].y[i].real(), 5e-6 * std::abs(b.functions[0].y[i].real())) << i;
 }
 
 // The damaged files: what can be read is read, and the warnings say what is wrong and where.
@@ -170,9 +169,9 @@ TEST(Uff, DamagedFilesAreReadWithClearWarnings) {
   EXPECT_TRUE(w.file_warnings.empty());
   EXPECT_EQ(w.warnings_for({&w.functions[2]}), w.functions[2].warnings);  // a caller of #2 hears about #2 only
   // The well-formed files read without a single warning.
-  for (const char* name : {"Sample_UFF58_ascii.uff", "Sample_UFF58b_bin.uff", "binary8byte.uff", "non_ascii_header.uff",
-                           "sample_dataset58_psd.uff", "time-history-not-all-columns-filled.uff",
-                           "nx_simulation_mixed_datasets.uff"})
+  for (const char* name :
+       {"Sample_UFF58_ascii.uff", "Sample_UFF58b_bin.uff", "binary8byte.uff", "non_ascii_header.uff", "sample_dataset58_psd.uff",
+        "time-history-not-all-columns-filled.uff", "nx_simulation_mixed_datasets.uff"})
     EXPECT_TRUE(read_uff(kDir + name).warnings.empty()) << name;
 }
 
@@ -210,9 +209,8 @@ const char* kHeader58 =
 // A dataset starts only on the line after a "    -1": a "    58" inside another dataset, and
 // text between datasets, are not datasets.
 TEST(Uff, ADatasetStartsOnlyAfterADelimiter) {
-  const std::string text = std::string("    -1\n  2414\n    58\n") + kHeader58 +
-                           "    -1\nstray text\n    58\n    -1\n    58\n" + kHeader58 +
-                           " 1.0E+00 2.0E+00 3.0E+00 4.0E+00\n    -1\n";
+  const std::string text = std::string("    -1\n  2414\n    58\n") + kHeader58 + "    -1\nstray text\n    58\n    -1\n    58\n" +
+                           kHeader58 + " 1.0E+00 2.0E+00 3.0E+00 4.0E+00\n    -1\n";
   const UffFile f = parse_uff(text, "t.uff");
   ASSERT_EQ(f.datasets.size(), 2u);
   EXPECT_EQ(f.datasets[0].type, 2414);
@@ -317,8 +315,7 @@ TEST(Uff, LyingBinaryCountsAreBoundedByTheBytesPresent) {
 
   const UffFile cut = parse_uff(head + recs + data, "cut.uff");
   EXPECT_TRUE(cut.functions.empty());
-  EXPECT_TRUE(any_contains(cut.skipped, {"cut.uff:", "record 12", "cut off", "40 bytes into the data"}))
-      << cut.skipped.at(0);
+  EXPECT_TRUE(any_contains(cut.skipped, {"cut.uff:", "record 12", "cut off", "40 bytes into the data"})) << cut.skipped.at(0);
 }
 
 // Byte order and float format against bit patterns written by hand: 1.5f is 3F C0 00 00, −2.0
@@ -326,8 +323,7 @@ TEST(Uff, LyingBinaryCountsAreBoundedByTheBytesPresent) {
 TEST(Uff, BinaryByteOrders) {
   auto file = [](int order, int type, const std::string& bytes) {
     std::string recs = kHeader58;
-    recs.replace(recs.find("         6         2         1"), 30,
-                 "         " + std::to_string(type) + "         1         1");
+    recs.replace(recs.find("         6         2         1"), 30, "         " + std::to_string(type) + "         1         1");
     return "    -1\n    58b     " + std::to_string(order) + "     2          11" +
            std::string(12 - std::to_string(bytes.size()).size(), ' ') + std::to_string(bytes.size()) +
            "     0     0           0           0\n" + recs + bytes + "    -1\n";
@@ -409,12 +405,12 @@ TEST(Uff, WrittenAsciiFollowsTheFixedColumns) {
     for (const auto& l : lines) EXPECT_LE(l.size(), 80u) << l;
     EXPECT_EQ(lines[0], "    -1");
     EXPECT_EQ(lines[1], "    58");
-    EXPECT_EQ(std::atoi(lines[7].substr(41, 10).c_str()), 7);   // record 6 field 6, response node: I10
-    EXPECT_EQ(std::atoi(lines[7].substr(51, 4).c_str()), -3);   // field 7, response direction: I4
+    EXPECT_EQ(std::atoi(lines[7].substr(41, 10).c_str()), 7);      // record 6 field 6, response node: I10
+    EXPECT_EQ(std::atoi(lines[7].substr(51, 4).c_str()), -3);      // field 7, response direction: I4
     EXPECT_EQ(std::atoi(lines[8].substr(0, 10).c_str()), c.type);  // record 7: 3I10
     EXPECT_EQ(std::atoi(lines[8].substr(10, 10).c_str()), 12);
     EXPECT_EQ(std::atoi(lines[8].substr(20, 10).c_str()), c.even ? 1 : 0);
-    EXPECT_EQ(std::atoi(lines[10].substr(0, 10).c_str()), 12);   // record 9 data type: I10
+    EXPECT_EQ(std::atoi(lines[10].substr(0, 10).c_str()), 12);    // record 9 data type: I10
     EXPECT_EQ(lines[10].substr(26, 20), "Acceleration        ");  // label: 1X,20A1 from column 27
     // Record 12 by columns, in the order the specification gives.
     std::vector<double> expected;

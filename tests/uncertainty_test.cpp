@@ -148,7 +148,8 @@ TEST(Uncertainty, ProbabilityOfStabilityIsConsistent) {
   const StabilityUncertainty e = stability_uncertainty(a, exact, f, cut, lobes, depths, o);
   for (std::size_t i = 0; i < e.speed_rpm.size(); ++i)
     for (std::size_t j = 0; j < depths.size(); ++j)
-      ASSERT_EQ(e.probability(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)), depths[j] < e.nominal_depth_m[i] ? 1.0 : 0.0)
+      ASSERT_EQ(e.probability(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)),
+                depths[j] < e.nominal_depth_m[i] ? 1.0 : 0.0)
           << i << "," << j;
   // Identical for any thread count.
   o.parallel.threads = 1;

@@ -61,7 +61,7 @@ struct FrfInputOptions {
 
 // Options every subcommand sees.
 struct Globals {
-  bool quiet = false;  // --quiet: no progress, no informational messages (warnings still shown)
+  bool quiet = false;   // --quiet: no progress, no informational messages (warnings still shown)
   FrfInputOptions frf;  // the FRF reading options of the command run (only one runs per call)
 };
 

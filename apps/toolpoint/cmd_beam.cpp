@@ -91,8 +91,8 @@ void run_beam(const BeamOptions& o, const Globals& g) {
                                                                  o.static_residual ? " + static residual" : "")
                                                    : "exact"),
                    fmt::format("L = {} m, D = {} m, d = {} m, E = {} Pa, nu = {}, rho = {} kg/m^3, eta = {}, kappa = {}",
-                               o.length, o.diameter, o.inner_diameter, o.youngs_modulus, o.poisson, o.density,
-                               o.loss_factor, kappa)});
+                               o.length, o.diameter, o.inner_diameter, o.youngs_modulus, o.poisson, o.density, o.loss_factor,
+                               kappa)});
     out["output"] = o.output;
     out["points"] = f.size();
     info(g, fmt::format("wrote {} ({} frequencies, block T{})", o.output, f.size(), o.block));
@@ -101,8 +101,9 @@ void run_beam(const BeamOptions& o, const Globals& g) {
   if (o.json) std::cout << out.dump(2) << '\n';
   if (!o.plot.empty())
     draw_figures(g,
-                 {{plot::receptance_figure(s, fmt::format("Free–free Timoshenko beam, block T_{{{}}}: L = {} m, D = {} m",
-                                                               o.block, o.length, o.diameter),
+                 {{plot::receptance_figure(s,
+                                           fmt::format("Free–free Timoshenko beam, block T_{{{}}}: L = {} m, D = {} m", o.block,
+                                                       o.length, o.diameter),
                                            o.block),
                    o.plot}},
                  {o.output});
@@ -113,22 +114,36 @@ void run_beam(const BeamOptions& o, const Globals& g) {
 void add_beam_command(CLI::App& app, Globals& g) {
   auto o = std::make_shared<BeamOptions>();
   CLI::App* c = app.add_subcommand("beam", "Free–free Timoshenko beam: natural frequencies and end receptances (seed Eq. 9–14)");
-  c->add_option("--length", o->length, "Segment length L [m], > 0 (required)")->required()->check(plausible_value(plausible::kSegmentLength, "--length"));
-  c->add_option("--diameter", o->diameter, "Outer diameter D [m], > 0 (required)")->required()->check(plausible_value(plausible::kOuterDiameter, "--diameter"));
-  c->add_option("--inner-diameter", o->inner_diameter, "Inner diameter d [m] (0: a solid section)")->capture_default_str()->check(plausible_value(plausible::kInnerDiameter, "--inner-diameter"));
-  c->add_option("--youngs-modulus", o->youngs_modulus, "Young's modulus E [Pa]")->capture_default_str()->check(plausible_value(plausible::kYoungsModulus, "--youngs-modulus"));
-  c->add_option("--density", o->density, "Density ρ [kg/m³]")->capture_default_str()->check(plausible_value(plausible::kDensity, "--density"));
+  c->add_option("--length", o->length, "Segment length L [m], > 0 (required)")
+      ->required()
+      ->check(plausible_value(plausible::kSegmentLength, "--length"));
+  c->add_option("--diameter", o->diameter, "Outer diameter D [m], > 0 (required)")
+      ->required()
+      ->check(plausible_value(plausible::kOuterDiameter, "--diameter"));
+  c->add_option("--inner-diameter", o->inner_diameter, "Inner diameter d [m] (0: a solid section)")
+      ->capture_default_str()
+      ->check(plausible_value(plausible::kInnerDiameter, "--inner-diameter"));
+  c->add_option("--youngs-modulus", o->youngs_modulus, "Young's modulus E [Pa]")
+      ->capture_default_str()
+      ->check(plausible_value(plausible::kYoungsModulus, "--youngs-modulus"));
+  c->add_option("--density", o->density, "Density ρ [kg/m³]")
+      ->capture_default_str()
+      ->check(plausible_value(plausible::kDensity, "--density"));
   c->add_option("--poisson", o->poisson, "Poisson's ratio ν [-], in (−1, 0.5)")->capture_default_str();
-  c->add_option("--shear-modulus", o->shear_modulus, "Shear modulus G [Pa] (default: E/(2(1+ν)))")->check(plausible_value(plausible::kShearModulus, "--shear-modulus"));
+  c->add_option("--shear-modulus", o->shear_modulus, "Shear modulus G [Pa] (default: E/(2(1+ν)))")
+      ->check(plausible_value(plausible::kShearModulus, "--shear-modulus"));
   c->add_option("--loss-factor", o->loss_factor, "Structural loss factor η [-], ≥ 0 (complex moduli E(1+iη), G(1+iη))")
       ->capture_default_str();
-  c->add_option("--shear-coefficient", o->shear_coefficient, "Shear coefficient κ [-] (default: from --shear-model, Poisson's ratio and the diameters)");
+  c->add_option("--shear-coefficient", o->shear_coefficient,
+                "Shear coefficient κ [-] (default: from --shear-model, Poisson's ratio and the diameters)");
   c->add_option("--shear-model", o->shear_model, "κ formula for circular sections: hutchinson or cowper")
       ->check(CLI::IsMember({"hutchinson", "cowper"}))
       ->capture_default_str();
-  c->add_option("--modes", o->modes, "Print the first N free–free natural frequencies [Hz], ≥ 1 (default: 5 without --frequencies, else none)")
+  c->add_option("--modes", o->modes,
+                "Print the first N free–free natural frequencies [Hz], ≥ 1 (default: 5 without --frequencies, else none)")
       ->check(CLI::PositiveNumber);
-  c->add_option("--frequencies", o->frequencies, "Frequency grid START:STOP:STEP [Hz] for the receptance output (needs --output)");
+  c->add_option("--frequencies", o->frequencies,
+                "Frequency grid START:STOP:STEP [Hz] for the receptance output (needs --output)");
   c->add_option("--output", o->output, "Write the receptance block here (FRF CSV; H m/N, L 1/N, N rad/N, P rad/(N m))");
   add_plot_option(c, o->plot,
                   "the receptance (needs --frequencies and --output): |H| [m/N], phase of H [deg], |P| [rad/(N·m)], "
@@ -143,10 +158,10 @@ void add_beam_command(CLI::App& app, Globals& g) {
   c->add_flag("--static-residual", o->static_residual, "--method modal: add the truncated modes' static flexibility");
   c->add_flag("--json", o->json, "Machine-readable output on stdout");
   c->footer(std::string(kFigureFooter) +
-      "Examples:\n"
-      "  toolpoint beam --length 0.1 --diameter 0.05 --modes 6\n"
-      "  toolpoint beam --length 0.123 --diameter 0.016 --youngs-modulus 5.8e11 --density 14500 \\\n"
-      "      --loss-factor 0.002 --frequencies 10:20000:10 --output tool_T11.csv --plot tool_T11.png");
+            "Examples:\n"
+            "  toolpoint beam --length 0.1 --diameter 0.05 --modes 6\n"
+            "  toolpoint beam --length 0.123 --diameter 0.016 --youngs-modulus 5.8e11 --density 14500 \\\n"
+            "      --loss-factor 0.002 --frequencies 10:20000:10 --output tool_T11.csv --plot tool_T11.png");
   c->callback([o, &g] { run_beam(*o, g); });
 }
 

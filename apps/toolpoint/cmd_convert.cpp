@@ -50,12 +50,12 @@ std::string other_types(const UffFile& f) {
 std::string points_text(const UffDataset58& d) {
   if (d.headers_only) return fmt::format("{}", d.declared_points);
   return static_cast<long long>(d.size()) == d.declared_points ? fmt::format("{}", d.size())
-                                                                : fmt::format("{} of {}", d.size(), d.declared_points);
+                                                               : fmt::format("{} of {}", d.size(), d.declared_points);
 }
 
 // Messages for a person: the first `shown` of `items`, then how many more.
-void print_capped(const std::vector<std::string>& items, std::size_t shown, const std::string& prefix,
-                  const std::string& more, bool as_warnings) {
+void print_capped(const std::vector<std::string>& items, std::size_t shown, const std::string& prefix, const std::string& more,
+                  bool as_warnings) {
   for (std::size_t i = 0; i < items.size() && i < shown; ++i) {
     if (as_warnings) warn(items[i]);
     else std::cout << prefix << items[i] << '\n';
@@ -118,19 +118,18 @@ void run_list(const ConvertOptions& o) {
                            f.datasets.size() - f.functions.size() - f.skipped.size(),
                            other_types(f).empty() ? "" : " (" + other_types(f) + ")");
   if (!f.functions.empty())
-    std::cout << fmt::format("{:>5}  {:<32} {:<12} {:<12} {:>17}  {:<15} {:<28} {:<34} {}\n", "index",
-                             "function (type)", "response", "reference", "points", "values", "ordinate",
-                             "abscissa first..last [units]", "ID line 1");
+    std::cout << fmt::format("{:>5}  {:<32} {:<12} {:<12} {:>17}  {:<15} {:<28} {:<34} {}\n", "index", "function (type)",
+                             "response", "reference", "points", "values", "ordinate", "abscissa first..last [units]",
+                             "ID line 1");
   for (const auto& d : f.functions) {
-    const std::string range =
-        d.declared_points == 0 ? std::string("-")
-                               : fmt::format("{:.6g}..{:.6g} [{}]", d.abscissa_first, d.abscissa_last, d.abscissa.units);
+    const std::string range = d.declared_points == 0
+                                  ? std::string("-")
+                                  : fmt::format("{:.6g}..{:.6g} [{}]", d.abscissa_first, d.abscissa_last, d.abscissa.units);
     std::cout << fmt::format("{:>5}  {:<32} {:<12} {:<12} {:>17}  {:<15} {:<28} {:<34} {}\n", d.index,
                              fmt::format("{} ({})", uff_function_type_name(d.function_type), d.function_type),
                              fmt::format("{} {}", d.response_node, uff_direction_name(d.response_direction)),
-                             fmt::format("{} {}", d.reference_node, uff_direction_name(d.reference_direction)),
-                             points_text(d), uff_ordinate_type_name(d.ordinate_data_type), ordinate_text(d), range,
-                             d.id[0]);
+                             fmt::format("{} {}", d.reference_node, uff_direction_name(d.reference_direction)), points_text(d),
+                             uff_ordinate_type_name(d.ordinate_data_type), ordinate_text(d), range, d.id[0]);
   }
   print_capped(f.skipped, 10, "skipped: ", "datasets 58 skipped", false);
   std::vector<std::string> problems = f.file_warnings;  // linear: no search of one list in another
@@ -145,10 +144,11 @@ plot::Figure copied_datasets_figure(const ConvertOptions& o, const std::vector<U
   for (const UffDataset58& d : sets) {
     try {
       UffReceptance r = uff_receptance(d, std::nullopt, o.input);
-      traces.push_back({std::move(r.receptance),
-                        fmt::format("dataset {}: {} {} / {} {}", d.index, d.response_node, uff_direction_name(d.response_direction),
-                                    d.reference_node, uff_direction_name(d.reference_direction)),
-                        plot::CurveStyle::Line});
+      traces.push_back(
+          {std::move(r.receptance),
+           fmt::format("dataset {}: {} {} / {} {}", d.index, d.response_node, uff_direction_name(d.response_direction),
+                       d.reference_node, uff_direction_name(d.reference_direction)),
+           plot::CurveStyle::Line});
     } catch (const InputError& e) {
       warn(fmt::format("not drawn: {}", e.what()));
     }
@@ -186,8 +186,7 @@ void run_convert(const ConvertOptions& o, const Globals& g) {
     std::vector<const UffDataset58*> chosen;
     if (sel.empty() && !f.functions.empty())
       for (const auto& d : f.functions) chosen.push_back(&d);
-    else
-      chosen.push_back(&select_dataset58(f, sel));
+    else chosen.push_back(&select_dataset58(f, sel));
     warn_all(f.warnings_for(chosen));
     std::vector<UffDataset58> sets;
     for (const UffDataset58* d : chosen) sets.push_back(*d);
@@ -217,9 +216,10 @@ void run_convert(const ConvertOptions& o, const Globals& g) {
       throw InvalidArgument("--dataset selects a dataset of a UFF input file; " + o.input + " is not UFF",
                             "drop --dataset for CSV and .frf inputs");
     if (out != FrfFormat::Uff && out != FrfFormat::UffBinary)
-      throw InvalidArgument("--response-node/--reference-node/--*-dir apply to a UFF input (selection) or a UFF output "
-                            "(labels); here neither is UFF",
-                            "drop them, or write a .uff file to label its dataset");
+      throw InvalidArgument(
+          "--response-node/--reference-node/--*-dir apply to a UFF input (selection) or a UFF output "
+          "(labels); here neither is UFF",
+          "drop them, or write a .uff file to label its dataset");
   }
   const FrfFileData data = read_frf_file_for_cli(o.input, r);
   w.dof = data.dof;
@@ -256,10 +256,10 @@ void run_convert(const ConvertOptions& o, const Globals& g) {
 
 void add_convert_command(CLI::App& app, Globals& g) {
   auto o = std::make_shared<ConvertOptions>();
-  CLI::App* c = app.add_subcommand(
-      "convert",
-      "Measured FRF files between formats: FRF CSV, UFF dataset 58 (ASCII) / 58b (binary), CutPro .frf; "
-      "UFF datasets listed with --list");
+  CLI::App* c =
+      app.add_subcommand("convert",
+                         "Measured FRF files between formats: FRF CSV, UFF dataset 58 (ASCII) / 58b (binary), CutPro .frf; "
+                         "UFF datasets listed with --list");
   c->add_option("IN", o->input,
                 "Input file (required): .csv (FRF CSV, single or 2×2 block), .uff/.unv/.uf (UFF 58 or 58b), .frf "
                 "(CutPro text)")
@@ -274,11 +274,14 @@ void add_convert_command(CLI::App& app, Globals& g) {
                            "UFF input: the dataset 58 to read, by index from 0 as --list shows (default: the only one)");
   auto* rn = c->add_option("--response-node", o->response_node,
                            "UFF input: select by response node; UFF output from CSV/.frf: label (default: any / 0)");
-  auto* rd = c->add_option("--response-dir", o->response_dir,
-                           "Response direction: +X, Y-, Z, +RZ, scalar or a code -6..6 (selection or label as above; default: any / 0, "
-                           "scalar); write a leading minus as --response-dir=-Y");
-  auto* fn = c->add_option("--reference-node", o->reference_node, "Reference (excitation) node (selection or label as above; default: any / 0)");
-  auto* fd = c->add_option("--reference-dir", o->reference_dir, "Reference direction, as --response-dir (default: any / 0, scalar)");
+  auto* rd =
+      c->add_option("--response-dir", o->response_dir,
+                    "Response direction: +X, Y-, Z, +RZ, scalar or a code -6..6 (selection or label as above; default: any / 0, "
+                    "scalar); write a leading minus as --response-dir=-Y");
+  auto* fn = c->add_option("--reference-node", o->reference_node,
+                           "Reference (excitation) node (selection or label as above; default: any / 0)");
+  auto* fd = c->add_option("--reference-dir", o->reference_dir,
+                           "Reference direction, as --response-dir (default: any / 0, scalar)");
   for (auto* opt : {rn, rd, fn, fd}) ds->excludes(opt);
   add_frf_read_options(c, g);
   c->add_flag("--list", o->list,
@@ -290,13 +293,13 @@ void add_convert_command(CLI::App& app, Globals& g) {
                   "the FRF written, as receptance: |H| [m/N] and phase [deg] against frequency [Hz], modes labelled "
                   "(a block: all four entries; UFF to UFF: every dataset copied, overlaid)");
   c->footer(std::string(kFigureFooter) +
-      "Points at 0 Hz are dropped (with a warning). UFF to UFF copies the datasets 58 unchanged (all of them, or\n"
-      "the selected one); with --ordinate or --units the selected FRF is converted to receptance instead.\n"
-      "Examples:\n"
-      "  toolpoint convert tap_test.uff --list\n"
-      "  toolpoint convert tap_test.uff tool_tip.csv --response-node 1 --response-dir +X --ordinate accelerance\n"
-      "  toolpoint convert tool_tip.csv tool_tip.frf --plot tool_tip.png\n"
-      "  toolpoint convert export.csv tool_tip.csv --format mag-phase-deg --units g/N    # what the header cannot say");
+            "Points at 0 Hz are dropped (with a warning). UFF to UFF copies the datasets 58 unchanged (all of them, or\n"
+            "the selected one); with --ordinate or --units the selected FRF is converted to receptance instead.\n"
+            "Examples:\n"
+            "  toolpoint convert tap_test.uff --list\n"
+            "  toolpoint convert tap_test.uff tool_tip.csv --response-node 1 --response-dir +X --ordinate accelerance\n"
+            "  toolpoint convert tool_tip.csv tool_tip.frf --plot tool_tip.png\n"
+            "  toolpoint convert export.csv tool_tip.csv --format mag-phase-deg --units g/N    # what the header cannot say");
   c->callback([o, &g] { run_convert(*o, g); });
 }
 

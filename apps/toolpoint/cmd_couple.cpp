@@ -39,7 +39,8 @@ void print_report(const CoupleArgs& o, const Globals& g, double inside, const st
 void check_overhang(double v) {
   const Plausibility p = judge(plausible::kOverhang, v);
   if (p == Plausibility::Impossible)
-    throw InvalidArgument(plausibility_message(plausible::kOverhang, v, "--overhang"), fmt::format("did you mean {:g} (m)?", v / 1000.0));
+    throw InvalidArgument(plausibility_message(plausible::kOverhang, v, "--overhang"),
+                          fmt::format("did you mean {:g} (m)?", v / 1000.0));
   if (p == Plausibility::Unusual) warn(plausibility_message(plausible::kOverhang, v, "--overhang"));
 }
 
@@ -96,7 +97,8 @@ void run_couple(const CoupleArgs& o, const Globals& g) {
   const std::vector<JointFile> joints = read_joint_options(g, o.joints);
   std::optional<UncertaintyOptions> sampling;
   if (o.sampling.samples != 0 || !o.band_output.empty()) {
-    if (sweep) throw InvalidArgument("--samples: the band is computed for one overhang", "give --overhang one length, e.g. 0.048");
+    if (sweep)
+      throw InvalidArgument("--samples: the band is computed for one overhang", "give --overhang one length, e.g. 0.048");
     sampling = uncertainty_options(o.sampling);
     sampled_joint(joints);
   }
@@ -128,8 +130,8 @@ void run_couple(const CoupleArgs& o, const Globals& g) {
     if (!o.output.empty()) {
       file = sweep ? fmt::format("{}/sht11_overhang_{:.1f}mm.csv", o.output, 1000 * r.overhang_m) : o.output;
       write_frf_csv(file, r.sht11,
-                    {fmt::format("tool point SHT11: measured SH11 ({}) + model tool, overhang {} m (tool length {} m), Eq. (5)", o.sh,
-                                 r.overhang_m, inside + r.overhang_m)});
+                    {fmt::format("tool point SHT11: measured SH11 ({}) + model tool, overhang {} m (tool length {} m), Eq. (5)",
+                                 o.sh, r.overhang_m, inside + r.overhang_m)});
       written.push_back(file);
     }
     j["overhangs"][i]["file"] = file;
@@ -141,11 +143,12 @@ void run_couple(const CoupleArgs& o, const Globals& g) {
     band = coupled_tool_point_band(at, sampled_joint(joints), sh, o.sh, *sampling);
     j["band"] = *band;
     if (!o.band_output.empty()) {
-      write_table_csv(o.band_output, band_table(*band),
-                      {fmt::format("tool point H from {} + model tool at overhang {} m with the joint of {} uncertain: quantiles over "
-                                   "{} samples",
-                                   o.sh, study.overhangs.front().overhang_m, sampled_joint(joints).source, band->samples),
-                       "frequency Hz, magnitude m/N, phase deg (unwrapped around the nominal)"});
+      write_table_csv(
+          o.band_output, band_table(*band),
+          {fmt::format("tool point H from {} + model tool at overhang {} m with the joint of {} uncertain: quantiles over "
+                       "{} samples",
+                       o.sh, study.overhangs.front().overhang_m, sampled_joint(joints).source, band->samples),
+           "frequency Hz, magnitude m/N, phase deg (unwrapped around the nominal)"});
       written.push_back(o.band_output);
       j["band_output"] = o.band_output;
     }
@@ -178,7 +181,8 @@ void run_couple(const CoupleArgs& o, const Globals& g) {
   if (band) {
     plot::FrfFigureOptions fo;
     fo.symbol = "H^{sht}_{11}";
-    fo.title = fmt::format("Tool point FRF from {} + model tool, the joint uncertain ({} samples)", plot::literal(o.sh), band->samples);
+    fo.title = fmt::format("Tool point FRF from {} + model tool, the joint uncertain ({} samples)", plot::literal(o.sh),
+                           band->samples);
     fo.mode_labels = 6;
     draw_figures(g, {{plot::frf_figure(band_traces(*band), fo), o.plot}}, written);
     return;
@@ -202,24 +206,27 @@ void run_couple(const CoupleArgs& o, const Globals& g) {
 
 void print_report(const CoupleArgs& o, const Globals& g, double inside, const std::vector<double>& overhangs,
                   const std::vector<std::vector<double>>& modes, bool sweep) {
-  std::cout << fmt::format("tool point FRF from {} + model tool ({:.1f} mm inside the holder) + holder–tool joint (Eq. 5)\n", o.sh,
-                           1000 * inside);
+  std::cout << fmt::format("tool point FRF from {} + model tool ({:.1f} mm inside the holder) + holder–tool joint (Eq. 5)\n",
+                           o.sh, 1000 * inside);
   std::cout << "overhang_mm  natural frequencies (peaks of |H|, followed mode by mode) [Hz]\n";
   for (std::size_t i = 0; i < overhangs.size(); ++i) {
     std::cout << fmt::format("{:11.1f} ", 1000 * overhangs[i]);
-    for (const auto& mode : modes) std::cout << (std::isnan(mode[i]) ? fmt::format(" {:>9}", "-") : fmt::format(" {:9.1f}", mode[i]));
+    for (const auto& mode : modes)
+      std::cout << (std::isnan(mode[i]) ? fmt::format(" {:>9}", "-") : fmt::format(" {:9.1f}", mode[i]));
     std::cout << "\n";
   }
   std::cout << std::flush;
-  if (!o.output.empty()) info(g, sweep ? fmt::format("wrote {} FRFs and natural_frequencies.csv to {}/", overhangs.size(), o.output)
-                                       : fmt::format("wrote {}", o.output));
+  if (!o.output.empty())
+    info(g, sweep ? fmt::format("wrote {} FRFs and natural_frequencies.csv to {}/", overhangs.size(), o.output)
+                  : fmt::format("wrote {}", o.output));
 }
 
 }  // namespace
 
 void add_couple_command(CLI::App& app, Globals& g) {
   auto o = std::make_shared<CoupleArgs>();
-  CLI::App* c = app.add_subcommand("couple", "Tool point FRF from a measured SH11 and the model's tool, for any overhang (seed Eq. 5, Fig. 10)");
+  CLI::App* c = app.add_subcommand(
+      "couple", "Tool point FRF from a measured SH11 and the model's tool, for any overhang (seed Eq. 5, Fig. 10)");
   add_frf_read_options(c, g);
   c->add_option("--sh", o->sh,
                 std::string("SH11 at the holder tip, measured (e.g. via `toolpoint rotational`) (required): ") + kBlockCsvHelp)
@@ -238,7 +245,8 @@ void add_couple_command(CLI::App& app, Globals& g) {
                 "sht11_overhang_<mm>mm.csv per overhang and natural_frequencies.csv (overhang m, peaks Hz). Default: "
                 "the table on stdout only");
   add_joint_option(c, o->joints);
-  add_sampling_options(c, o->sampling, "one overhang: the 5/50/95 % quantiles of the tool point FRF, in --band-output and the figure");
+  add_sampling_options(c, o->sampling,
+                       "one overhang: the 5/50/95 % quantiles of the tool point FRF, in --band-output and the figure");
   c->add_option("--band-output", o->band_output,
                 "With --samples: the quantiles of |H| [m/N] and ∠H [deg] per frequency [Hz] (CSV)");
   add_plot_option(c, o->plot,

@@ -31,8 +31,9 @@ struct DemoOptions {
 
 std::string pct(double x) { return fmt::format("{:+.2g} %", 100.0 * x); }
 
-void print_report(const DemoOptions& o, const LoadedAssembly& loaded, const CaseStudy& cs, const std::vector<std::string>& warnings,
-                  const std::vector<std::string>& files, const std::vector<std::string>& figures);
+void print_report(const DemoOptions& o, const LoadedAssembly& loaded, const CaseStudy& cs,
+                  const std::vector<std::string>& warnings, const std::vector<std::string>& files,
+                  const std::vector<std::string>& figures);
 
 void run_demo(const DemoOptions& o, const Globals& g) {
   LoadedAssembly loaded = o.assembly.empty() ? parse_assembly(example_assembly_toml(), example_assembly_name())
@@ -74,13 +75,17 @@ void run_demo(const DemoOptions& o, const Globals& g) {
   block_file("sh11_true.csv", cs.sh_true, "SH11, holder tip of spindle + holder (tool outside removed), noise-free model");
   block_file("sht11_true.csv", cs.sht_true, "SHT11, tool point, noise-free model");
   block_file("sh11_noisy.csv", cs.sh_noisy, fmt::format("SH11 with {} % multiplicative noise, seed {}", 100 * o.sigma, o.seed));
-  block_file("sht11_noisy.csv", cs.sht_noisy, fmt::format("SHT11 with {} % multiplicative noise, seed {}", 100 * o.sigma, o.seed + 1));
-  block_file("sh11_filtered.csv", cs.sh_filtered, fmt::format("SH11 noisy, Savitzky-Golay window {} points, order {}", o.window, o.order));
-  block_file("sht11_filtered.csv", cs.sht_filtered, fmt::format("SHT11 noisy, Savitzky-Golay window {} points, order {}", o.window, o.order));
+  block_file("sht11_noisy.csv", cs.sht_noisy,
+             fmt::format("SHT11 with {} % multiplicative noise, seed {}", 100 * o.sigma, o.seed + 1));
+  block_file("sh11_filtered.csv", cs.sh_filtered,
+             fmt::format("SH11 noisy, Savitzky-Golay window {} points, order {}", o.window, o.order));
+  block_file("sht11_filtered.csv", cs.sht_filtered,
+             fmt::format("SHT11 noisy, Savitzky-Golay window {} points, order {}", o.window, o.order));
   block_file("sht11_identified.csv", cs.sht_verified, "SHT11 from Eq. (5) with the joint read from the filtered data");
   if (cs.fitted) block_file("sht11_fitted.csv", cs.sht_fitted, "SHT11 from Eq. (5) with the joint fitted to the raw noisy data");
   auto joint_file = [&](const std::string& name, const JointSeries& s, const std::string& what) {
-    write_table_csv(path(name), joint_table(s), {note[0], "holder-tool joint K(omega) by Eq. (6): " + what, "k = Re K, c = Im K / omega (SI)"});
+    write_table_csv(path(name), joint_table(s),
+                    {note[0], "holder-tool joint K(omega) by Eq. (6): " + what, "k = Re K, c = Im K / omega (SI)"});
     files.push_back(name);
   };
   joint_file("kht_noise_free.csv", cs.clean, "noise-free FRFs");
@@ -101,16 +106,15 @@ void run_demo(const DemoOptions& o, const Globals& g) {
   j["effect_analysis"] = nlohmann::json(cs.effect);
   for (int k = 0; k < 8; ++k) {
     const auto ks = static_cast<std::size_t>(k);
-    j["parameters"][JointParameters::name(k)] = {
-        {"unit", JointParameters::unit(k)},
-        {"reference", cs.reference[k]},
-        {"noise_free_max_relative_deviation_over_band", cs.clean_max_deviation[ks]},
-        {"noise_free", cs.clean_readout.parameters[ks].median},
-        {"noisy", cs.noisy_readout.parameters[ks].median},
-        {"noisy_spread", cs.noisy_readout.parameters[ks].spread},
-        {"filtered", cs.filtered_readout.parameters[ks].median},
-        {"filtered_spread", cs.filtered_readout.parameters[ks].spread},
-        {"noise_gain_in_band", cs.clean_readout.noise_gain[ks]}};
+    j["parameters"][JointParameters::name(k)] = {{"unit", JointParameters::unit(k)},
+                                                 {"reference", cs.reference[k]},
+                                                 {"noise_free_max_relative_deviation_over_band", cs.clean_max_deviation[ks]},
+                                                 {"noise_free", cs.clean_readout.parameters[ks].median},
+                                                 {"noisy", cs.noisy_readout.parameters[ks].median},
+                                                 {"noisy_spread", cs.noisy_readout.parameters[ks].spread},
+                                                 {"filtered", cs.filtered_readout.parameters[ks].median},
+                                                 {"filtered_spread", cs.filtered_readout.parameters[ks].spread},
+                                                 {"noise_gain_in_band", cs.clean_readout.noise_gain[ks]}};
   }
   j["seed"] = nlohmann::json(cs.seed);
   j["forward_check"] = nlohmann::json(cs.verification);
@@ -157,11 +161,14 @@ void run_demo(const DemoOptions& o, const Globals& g) {
       todo.push_back({plot::joint_figure(clean), path("fig3_joint_noise_free.png")});
       plot::JointFigureData noisy;
       noisy.frequency_hz = f;
-      noisy.title = cs.fitted ? fmt::format("k_{{yf}}, c_{{yf}} at {:g} % noise: seed read-out and band fit (seed Fig. 5)", 100 * o.sigma)
-                              : fmt::format("k_{{yf}}, c_{{yf}} from {:g} % noise, filtered; read at the tool mode (seed Fig. 5)", 100 * o.sigma);
-      plot::JointParameterCurve yf = cs.fitted ? joint_curve(cs.filtered, 0, cs.reference, cs.fitted->identified, &*cs.fitted->fit)
-                                               : joint_curve(cs.filtered, 0, cs.reference, cs.filtered_readout.medians(), nullptr,
-                                                             &cs.filtered_readout);
+      noisy.title = cs.fitted ? fmt::format("k_{{yf}}, c_{{yf}} at {:g} % noise: seed read-out and band fit (seed Fig. 5)",
+                                            100 * o.sigma)
+                              : fmt::format("k_{{yf}}, c_{{yf}} from {:g} % noise, filtered; read at the tool mode (seed Fig. 5)",
+                                            100 * o.sigma);
+      plot::JointParameterCurve yf = cs.fitted
+                                         ? joint_curve(cs.filtered, 0, cs.reference, cs.fitted->identified, &*cs.fitted->fit)
+                                         : joint_curve(cs.filtered, 0, cs.reference, cs.filtered_readout.medians(), nullptr,
+                                                       &cs.filtered_readout);
       if (cs.fitted) {
         yf.other_stiffness = cs.filtered_readout.parameters[static_cast<std::size_t>(JointParameter::k_yf)].median;
         yf.other_damping = cs.filtered_readout.parameters[static_cast<std::size_t>(JointParameter::c_yf)].median;
@@ -171,10 +178,10 @@ void run_demo(const DemoOptions& o, const Globals& g) {
       noisy.band_hz = std::make_pair(cs.filtered_readout.band_lo_hz, cs.filtered_readout.band_hi_hz);
       todo.push_back({plot::joint_figure(noisy), path("fig5_joint_filtered.png")});
       std::vector<plot::FrfTrace> check{{entry(cs.sht_true, 0), "true tool point FRF", plot::CurveStyle::Line},
-                                        {entry(cs.sht_verified, 0), "Eq. (5), joint by the seed's read-out", plot::CurveStyle::Dashed}};
+                                        {entry(cs.sht_verified, 0), "Eq. (5), joint by the seed's read-out",
+                                         plot::CurveStyle::Dashed}};
       if (cs.fitted) check.push_back({entry(cs.sht_fitted, 0), "Eq. (5), joint by the band fit", plot::CurveStyle::Points});
-      frf_fig("fig_verification.png", check,
-              "Forward check: identified holder-tool joint coupled back", "H^{sht}_{11}", 6);
+      frf_fig("fig_verification.png", check, "Forward check: identified holder-tool joint coupled back", "H^{sht}_{11}", 6);
     }
     const std::vector<std::string> written{fmt::format("{}/ ({} data files; summary.json follows)", dir, files.size())};
     for (std::size_t i = 0; i < todo.size(); ++i) {
@@ -206,30 +213,36 @@ void run_demo(const DemoOptions& o, const Globals& g) {
   }
 }
 
-void print_report(const DemoOptions& o, const LoadedAssembly& loaded, const CaseStudy& cs, const std::vector<std::string>& warnings,
-                  const std::vector<std::string>& files, const std::vector<std::string>& figures) {
+void print_report(const DemoOptions& o, const LoadedAssembly& loaded, const CaseStudy& cs,
+                  const std::vector<std::string>& warnings, const std::vector<std::string>& files,
+                  const std::vector<std::string>& figures) {
   const auto& f = cs.sht_true.frequency_hz;
   const std::string& dir = o.output;
   std::cout << fmt::format("toolpoint demo: the seed's analytical case study (Özşahin et al. 2009, Section 3)\n");
-  std::cout << fmt::format("assembly: {} ({})\n\n", loaded.assembly.name, o.assembly.empty() ? example_assembly_name() : o.assembly);
-  std::cout << fmt::format("1. Forward model (Eq. 1–5): SH11 and SHT11 at {} frequencies, {:g}–{:g} Hz.\n", f.size(), f.front(), f.back());
+  std::cout << fmt::format("assembly: {} ({})\n\n", loaded.assembly.name,
+                           o.assembly.empty() ? example_assembly_name() : o.assembly);
+  std::cout << fmt::format("1. Forward model (Eq. 1–5): SH11 and SHT11 at {} frequencies, {:g}–{:g} Hz.\n", f.size(), f.front(),
+                           f.back());
   std::cout << "   tool point modes:";
   for (std::size_t i = 0; i < cs.effect.modes.size(); ++i)
     std::cout << fmt::format(" {:.1f} Hz{}", cs.effect.modes[i].frequency_hz, i == cs.effect.dominant ? " (tool mode)" : "");
   std::cout << "\n";
   double worst = 0.0;
   for (double d : cs.clean_max_deviation) worst = std::max(worst, d);
-  std::cout << fmt::format("2. Identification from noise-free FRFs (Eq. 6) over the whole band: all 8 parameters equal the\n"
-                           "   holder-tool joint put in, within {:.1e} relative at every frequency (seed Fig. 3).\n",
-                           worst);
-  std::cout << fmt::format("3. {:g} % noise on every entry of SH11 and SHT11 (seeds {}, {}); Savitzky-Golay filter,\n"
-                           "   window {} points ({:g} Hz), order {}.\n",
-                           100 * o.sigma, o.seed, o.seed + 1, o.window, o.window * (f[1] - f[0]), o.order);
+  std::cout << fmt::format(
+      "2. Identification from noise-free FRFs (Eq. 6) over the whole band: all 8 parameters equal the\n"
+      "   holder-tool joint put in, within {:.1e} relative at every frequency (seed Fig. 3).\n",
+      worst);
+  std::cout << fmt::format(
+      "3. {:g} % noise on every entry of SH11 and SHT11 (seeds {}, {}); Savitzky-Golay filter,\n"
+      "   window {} points ({:g} Hz), order {}.\n",
+      100 * o.sigma, o.seed, o.seed + 1, o.window, o.window * (f[1] - f[0]), o.order);
   const auto& dm = cs.effect.modes[cs.effect.dominant];
-  std::cout << fmt::format("4. Effect analysis: the holder-tool joint controls the {:.1f} Hz mode (+10 % joint stiffness moves it\n"
-                           "   {}); read in {:.0f}–{:.0f} Hz (±{:g} % around {:.1f} Hz).\n\n",
-                           dm.frequency_hz, pct(dm.stiffness_shift), cs.filtered_readout.band_lo_hz, cs.filtered_readout.band_hi_hz,
-                           100 * o.width, cs.mode_hz);
+  std::cout << fmt::format(
+      "4. Effect analysis: the holder-tool joint controls the {:.1f} Hz mode (+10 % joint stiffness moves it\n"
+      "   {}); read in {:.0f}–{:.0f} Hz (±{:g} % around {:.1f} Hz).\n\n",
+      dm.frequency_hz, pct(dm.stiffness_shift), cs.filtered_readout.band_lo_hz, cs.filtered_readout.band_hi_hz, 100 * o.width,
+      cs.mode_hz);
   std::cout << "parameter  unit         Table 1      noise-free  error      noisy       error      filtered    error      gain\n";
   for (int k = 0; k < 8; ++k) {
     const auto ks = static_cast<std::size_t>(k);
@@ -238,8 +251,9 @@ void print_report(const DemoOptions& o, const LoadedAssembly& loaded, const Case
       const double v = r.parameters[ks].median;
       return fmt::format("{:>10.4g}  {:>9}", v, ref != 0.0 ? pct(v / ref - 1.0) : std::string("-"));
     };
-    std::cout << fmt::format("{:<9}  {:<10}  {:>10.4g}  {}  {}  {}  {:>8.3g}\n", JointParameters::name(k), JointParameters::unit(k), ref,
-                             col(cs.clean_readout), col(cs.noisy_readout), col(cs.filtered_readout), cs.clean_readout.noise_gain[ks]);
+    std::cout << fmt::format("{:<9}  {:<10}  {:>10.4g}  {}  {}  {}  {:>8.3g}\n", JointParameters::name(k),
+                             JointParameters::unit(k), ref, col(cs.clean_readout), col(cs.noisy_readout),
+                             col(cs.filtered_readout), cs.clean_readout.noise_gain[ks]);
   }
   std::cout << "gain: relative error of the parameter per unit relative error on every FRF entry, to first order\n"
                "(JointEstimate::noise_gain, median in the band). Damping whose ωc is a few % of |K| has a gain of\n"
@@ -251,29 +265,35 @@ void print_report(const DemoOptions& o, const LoadedAssembly& loaded, const Case
         "\n6. Band fit (beyond the seed): the joint's constants fitted to the raw noisy SH11 and SHT11 at all {} frequencies\n"
         "   (output error on Eq. 5, noise estimated from the data, {} parameters); intervals: {}.\n\n",
         fit.points, fit.reciprocal ? 6 : 8, fit.method_description);
-    std::cout << "parameter  unit         Table 1     seed read-out  error      band fit    error       95 % interval              holds Table 1  verdict\n";
+    std::cout << "parameter  unit         Table 1     seed read-out  error      band fit    error       95 % interval            "
+                 "  holds Table 1  verdict\n";
     for (int k = 0; k < 8; ++k) {
       const auto ks = static_cast<std::size_t>(k);
       const double ref = cs.reference[k];
       const ParameterInterval& iv = fit.intervals[ks];
       const double seed_v = cs.filtered_readout.parameters[ks].median;
       auto err = [&](double v) { return ref != 0.0 ? pct(v / ref - 1.0) : std::string("-"); };
-      std::cout << fmt::format("{:<9}  {:<10}  {:>10.4g}  {:>12.4g}  {:>9}  {:>10.5g}  {:>10}  [{:>10.5g}, {:>10.5g}]  {:<13}  {}\n",
-                               JointParameters::name(k), JointParameters::unit(k), ref, seed_v, err(seed_v), iv.estimate, err(iv.estimate),
-                               iv.lower, iv.upper, iv.lower <= ref && ref <= iv.upper ? "yes" : "NO",
-                               iv.determined ? "determined" : "undetermined");
+      std::cout << fmt::format(
+          "{:<9}  {:<10}  {:>10.4g}  {:>12.4g}  {:>9}  {:>10.5g}  {:>10}  [{:>10.5g}, {:>10.5g}]  {:<13}  {}\n",
+          JointParameters::name(k), JointParameters::unit(k), ref, seed_v, err(seed_v), iv.estimate, err(iv.estimate), iv.lower,
+          iv.upper, iv.lower <= ref && ref <= iv.upper ? "yes" : "NO", iv.determined ? "determined" : "undetermined");
     }
-    std::cout << fmt::format("band fit verdict: {}; residual ratio {:.3g} (≈ 1: the model and the estimated noise explain the data)\n",
-                             to_string(cs.fitted->verdict.verdict), fit.residual_ratio);
+    std::cout << fmt::format(
+        "band fit verdict: {}; residual ratio {:.3g} (≈ 1: the model and the estimated noise explain the data)\n",
+        to_string(cs.fitted->verdict.verdict), fit.residual_ratio);
   }
-  std::cout << "\n" << (cs.fitted ? "7" : "5")
+  std::cout << "\n"
+            << (cs.fitted ? "7" : "5")
             << ". Forward check: each identified joint coupled back (Eq. 5) against the true tool point FRF\n"
-               "   mode   true_hz   seed: freq_error   peak_error" << (cs.fitted ? "     fit: freq_error   peak_error" : "") << "\n";
+               "   mode   true_hz   seed: freq_error   peak_error"
+            << (cs.fitted ? "     fit: freq_error   peak_error" : "") << "\n";
   for (std::size_t i = 0; i < cs.verification.size(); ++i) {
     const auto& c = cs.verification[i];
-    std::cout << fmt::format("   {:4d}  {:8.1f}  {:>17}  {:>11}", i + 1, c.measured_hz, pct(c.frequency_error), pct(c.magnitude_error));
+    std::cout << fmt::format("   {:4d}  {:8.1f}  {:>17}  {:>11}", i + 1, c.measured_hz, pct(c.frequency_error),
+                             pct(c.magnitude_error));
     if (cs.fitted && i < cs.fit_verification.size())
-      std::cout << fmt::format("  {:>17}  {:>11}", pct(cs.fit_verification[i].frequency_error), pct(cs.fit_verification[i].magnitude_error));
+      std::cout << fmt::format("  {:>17}  {:>11}", pct(cs.fit_verification[i].frequency_error),
+                               pct(cs.fit_verification[i].magnitude_error));
     std::cout << "\n";
   }
   if (!warnings.empty()) {
@@ -292,22 +312,27 @@ void print_report(const DemoOptions& o, const LoadedAssembly& loaded, const Case
 
 void add_demo_command(CLI::App& app, Globals& g) {
   auto o = std::make_shared<DemoOptions>();
-  CLI::App* c = app.add_subcommand("demo", "The seed's analytical case study end to end: predict, identify, add noise, filter, identify again, verify");
-  c->add_option("--assembly", o->assembly, "Assembly file (TOML, SI units; default: the built-in examples/bt40_shrinkfit_16mm.toml)");
+  CLI::App* c = app.add_subcommand(
+      "demo", "The seed's analytical case study end to end: predict, identify, add noise, filter, identify again, verify");
+  c->add_option("--assembly", o->assembly,
+                "Assembly file (TOML, SI units; default: the built-in examples/bt40_shrinkfit_16mm.toml)");
   c->add_option("--output", o->output, "Folder for the CSV data, summary.json and figures")->capture_default_str();
-  c->add_option("--sigma", o->sigma, "Standard deviation of the multiplicative noise [-] (0.05 = 5 %, the seed's)")->capture_default_str();
+  c->add_option("--sigma", o->sigma, "Standard deviation of the multiplicative noise [-] (0.05 = 5 %, the seed's)")
+      ->capture_default_str();
   c->add_option("--seed", o->seed, "Random seed (SH11 uses it, SHT11 seed + 1)")->capture_default_str();
   c->add_option("--window", o->window, "Savitzky-Golay window [frequency points, odd]")->capture_default_str();
   c->add_option("--order", o->order, "Savitzky-Golay polynomial order [-]")->capture_default_str();
-  c->add_option("--width", o->width, "Read-out band half-width around the tool mode, relative [-] (0.02 = ±2 %)")->capture_default_str();
+  c->add_option("--width", o->width, "Read-out band half-width around the tool mode, relative [-] (0.02 = ±2 %)")
+      ->capture_default_str();
   c->add_option("--bootstrap", o->bootstrap, "Band fit intervals: bootstrap replicates (≥ 20), or 0 for linearised intervals")
       ->capture_default_str();
   c->add_option("--threads", o->threads, "Worker threads for the bootstrap (0: every core; the same result for any number)")
       ->capture_default_str();
   c->add_flag("--no-fit", o->no_fit, "Only the seed's procedure, without the band fit");
-  add_joint_option(c, o->joints)->description(
-      "The joint(s) the study identifies, from joint files instead of the assembly's (holder-tool=FILE.toml; its "
-      "constants are then the reference)");
+  add_joint_option(c, o->joints)
+      ->description(
+          "The joint(s) the study identifies, from joint files instead of the assembly's (holder-tool=FILE.toml; its "
+          "constants are then the reference)");
   c->add_flag("--no-plots", o->no_plots, "Write the data only, no figures (default: draw the five figures, which needs gnuplot)");
   c->add_flag("--json", o->json, "Print summary.json on stdout instead of the table");
   c->footer(

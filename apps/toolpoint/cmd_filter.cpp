@@ -58,17 +58,16 @@ plot::Figure filter_figure(const FrfFileData& in, const FrfFileData& out, const 
 
 void run_filter(const FilterOptions& o, const Globals& g) {
   o.savgol.check();
-  const std::string comment =
-      fmt::format("Savitzky-Golay filtered (window {} points, order {}, scipy savgol_filter mode='interp'; real and "
-                  "imaginary parts separately) from {}",
-                  o.savgol.window, o.savgol.order, o.input);
+  const std::string comment = fmt::format(
+      "Savitzky-Golay filtered (window {} points, order {}, scipy savgol_filter mode='interp'; real and "
+      "imaginary parts separately) from {}",
+      o.savgol.window, o.savgol.order, o.input);
   std::pair<FrfFileData, FrfFileData> io;
   try {
-    io = process_frf_file(g, o.input, o.dataset, o.output, o.plot, comment,
-                          [&](const auto& series) {
-                            check_smoothing_window(o.savgol, series.size(), o.input);
-                            return savgol_filter(series, o.savgol, o.input);
-                          });
+    io = process_frf_file(g, o.input, o.dataset, o.output, o.plot, comment, [&](const auto& series) {
+      check_smoothing_window(o.savgol, series.size(), o.input);
+      return savgol_filter(series, o.savgol, o.input);
+    });
   } catch (const InvalidArgument& e) {
     rethrow_with_flag(e, {{"SavgolOptions::window", "--window"}});
   }
@@ -84,9 +83,9 @@ void run_filter(const FilterOptions& o, const Globals& g) {
                            o.savgol.order);
   std::cout << "  entry  raw_hz      raw_magnitude  filtered_hz  filtered_magnitude  height_%  frequency_%\n";
   for (const PeakChange& c : peaks.peaks)
-    std::cout << fmt::format("  {:5}  {:10.6g}  {:13.6g}  {:11.6g}  {:18.6g}  {:+8.2f}  {:+11.3f}\n", c.entry.empty() ? "-" : c.entry,
-                             c.raw_frequency_hz, c.raw_magnitude, c.filtered_frequency_hz, c.filtered_magnitude,
-                             100.0 * c.height_change, 100.0 * c.frequency_change);
+    std::cout << fmt::format("  {:5}  {:10.6g}  {:13.6g}  {:11.6g}  {:18.6g}  {:+8.2f}  {:+11.3f}\n",
+                             c.entry.empty() ? "-" : c.entry, c.raw_frequency_hz, c.raw_magnitude, c.filtered_frequency_hz,
+                             c.filtered_magnitude, 100.0 * c.height_change, 100.0 * c.frequency_change);
   if (peaks.peaks.empty()) std::cout << "  (no prominent peak)\n";
   warn_all(peaks.warnings);
   if (o.plot.empty()) return;
@@ -105,8 +104,7 @@ void add_filter_command(CLI::App& app, Globals& g) {
   c->add_option("-w,--window", o->savgol.window,
                 "Window length [frequency points]: odd, > --order, ≤ the number of points (required, no default)")
       ->required();
-  c->add_option("-p,--order", o->savgol.order, "Polynomial order [-], ≥ 0 and < --window (required, no default)")
-      ->required();
+  c->add_option("-p,--order", o->savgol.order, "Polynomial order [-], ≥ 0 and < --window (required, no default)")->required();
   add_plot_option(c, o->plot,
                   "the input (points) and the filtered FRF (line), |H| [m/N] and phase [deg] against frequency [Hz]; a "
                   "block: |H|, |L|, |N|, |P| and the phase of H");

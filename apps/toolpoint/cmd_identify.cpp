@@ -58,7 +58,8 @@ SavgolOptions parse_filter(const std::string& text) {
   int w = 0, p = 0;
   char comma = 0, extra = 0;
   if (std::sscanf(text.c_str(), "%d %c %d %c", &w, &comma, &p, &extra) != 3 || comma != ',')
-    throw InvalidArgument(fmt::format("--filter '{}' is not WINDOW,ORDER", text), "e.g. --filter 41,2 (41 frequency points, quadratic)");
+    throw InvalidArgument(fmt::format("--filter '{}' is not WINDOW,ORDER", text),
+                          "e.g. --filter 41,2 (41 frequency points, quadratic)");
   SavgolOptions o{w, p};
   try {
     o.check();
@@ -82,11 +83,13 @@ void run_identify(const IdentifyOptions& o, const Globals& g) {
   if (!o.band.empty()) {
     io.band_hz = parse_range(o.band, "--band");
     if (!(io.band_hz->second > io.band_hz->first && io.band_hz->first > 0.0))
-      throw InvalidArgument(fmt::format("--band {}: the upper frequency must exceed the lower, both > 0 Hz", o.band), "e.g. --band 2500:2650");
+      throw InvalidArgument(fmt::format("--band {}: the upper frequency must exceed the lower, both > 0 Hz", o.band),
+                            "e.g. --band 2500:2650");
     if (o.at) throw InvalidArgument("--at and --band both given: the band would ignore --at", "give one of them");
   }
   if (o.at) {
-    if (!(*o.at > 0.0)) throw InvalidArgument(fmt::format("--at {} Hz must be > 0", *o.at), "omit --at to read at the mode effect analysis picks");
+    if (!(*o.at > 0.0))
+      throw InvalidArgument(fmt::format("--at {} Hz must be > 0", *o.at), "omit --at to read at the mode effect analysis picks");
     io.at_hz = *o.at;
   }
   if (!o.filter.empty()) io.filter = parse_filter(o.filter);
@@ -97,7 +100,8 @@ void run_identify(const IdentifyOptions& o, const Globals& g) {
     if (io.noise.magnitude_sigma > 0.5)
       throw InvalidArgument(fmt::format("--sigma {} is a fraction of the magnitude: {} would be {:g} %", io.noise.magnitude_sigma,
                                         io.noise.magnitude_sigma, 100 * io.noise.magnitude_sigma),
-                            fmt::format("for {:g} % give --sigma {:g}", io.noise.magnitude_sigma, io.noise.magnitude_sigma / 100));
+                            fmt::format("for {:g} % give --sigma {:g}", io.noise.magnitude_sigma,
+                                        io.noise.magnitude_sigma / 100));
     if (o.phase_sigma_deg && *o.phase_sigma_deg > 30.0)
       throw InvalidArgument(fmt::format("--phase-sigma {}° is implausible for a measured FRF", *o.phase_sigma_deg),
                             "the phase noise is in degrees, e.g. --phase-sigma 1");
@@ -105,7 +109,8 @@ void run_identify(const IdentifyOptions& o, const Globals& g) {
   if (o.bootstrap == 0) {
     io.fit.uncertainty = UncertaintyMethod::Linearised;
   } else if (o.bootstrap < 20) {
-    throw InvalidArgument(fmt::format("--bootstrap {}: use 0 (linearised intervals) or ≥ 20 replicates", o.bootstrap), "e.g. --bootstrap 200");
+    throw InvalidArgument(fmt::format("--bootstrap {}: use 0 (linearised intervals) or ≥ 20 replicates", o.bootstrap),
+                          "e.g. --bootstrap 200");
   } else {
     io.fit.bootstrap_samples = o.bootstrap;
   }
@@ -218,32 +223,36 @@ void print_report(const IdentifyOptions& o, const Identification& id) {
       return fmt::format("magnitude σ {:.3g} % (H) … {:.3g} % (P), phase σ {:.3g}° (H); {}", 100 * n.magnitude_sigma[0],
                          100 * n.magnitude_sigma[3], n.phase_sigma_rad[0] * 180 / kPi, n.source);
     };
-    std::cout << fmt::format("noise, set-up {}: G11 {}\n                B11 {}\n", s + 1, line(id.g_noise[s]), line(id.b_noise[s]));
+    std::cout << fmt::format("noise, set-up {}: G11 {}\n                B11 {}\n", s + 1, line(id.g_noise[s]),
+                             line(id.b_noise[s]));
   }
   const bool seed_ok = id.seed.points > 0;
   if (seed_ok)
-    std::cout << fmt::format("seed read-out: {:.1f}–{:.1f} Hz ({} points; {}, centre {:.1f} Hz)\n", id.seed.band_lo_hz, id.seed.band_hi_hz,
-                             id.seed.points, id.mode.method, id.mode.center_hz);
+    std::cout << fmt::format("seed read-out: {:.1f}–{:.1f} Hz ({} points; {}, centre {:.1f} Hz)\n", id.seed.band_lo_hz,
+                             id.seed.band_hi_hz, id.seed.points, id.mode.method, id.mode.center_hz);
   if (id.fit) {
     const JointFit& f = *id.fit;
-    std::cout << fmt::format("band fit: {} frequencies, {:g}–{:g} Hz, {} parameters{}; residual ratio {:.3g}\n  intervals: {}\n", f.points,
-                             id.fit_band_hz.first, id.fit_band_hz.second, f.reciprocal ? 6 : 8,
+    std::cout << fmt::format("band fit: {} frequencies, {:g}–{:g} Hz, {} parameters{}; residual ratio {:.3g}\n  intervals: {}\n",
+                             f.points, id.fit_band_hz.first, id.fit_band_hz.second, f.reciprocal ? 6 : 8,
                              f.reciprocal ? " (k_tf = k_ym, c_tf = c_ym)" : "", f.residual_ratio, f.method_description);
-    std::cout << "\nparameter  estimate      95 % interval                  unit        verdict       seed read-out (noise gain)\n";
+    std::cout
+        << "\nparameter  estimate      95 % interval                  unit        verdict       seed read-out (noise gain)\n";
     for (int k = 0; k < 8; ++k) {
       const ParameterInterval& iv = f.intervals[static_cast<std::size_t>(k)];
-      std::cout << fmt::format("{:<9}  {:>11.5g}  [{:>11.5g}, {:>11.5g}]  {:<10}  {:<12}  {}\n", JointParameters::name(k), iv.estimate, iv.lower,
-                               iv.upper, JointParameters::unit(k), iv.determined ? "determined" : "UNDETERMINED",
+      std::cout << fmt::format("{:<9}  {:>11.5g}  [{:>11.5g}, {:>11.5g}]  {:<10}  {:<12}  {}\n", JointParameters::name(k),
+                               iv.estimate, iv.lower, iv.upper, JointParameters::unit(k),
+                               iv.determined ? "determined" : "UNDETERMINED",
                                seed_ok ? fmt::format("{:.4g} ({:.3g})", id.seed.parameters[static_cast<std::size_t>(k)].median,
                                                      id.seed.noise_gain[static_cast<std::size_t>(k)])
                                        : std::string("-"));
     }
     if (f.setups.size() > 1) {
-      std::cout << fmt::format("\nset-ups fitted alone (transfer test χ² = {:.3g}, 99.9 % limit {:.3g}: {})\n", f.transfer_statistic,
-                               f.transfer_limit, f.transfers ? "the joint transfers" : "the joint does NOT transfer");
+      std::cout << fmt::format("\nset-ups fitted alone (transfer test χ² = {:.3g}, 99.9 % limit {:.3g}: {})\n",
+                               f.transfer_statistic, f.transfer_limit,
+                               f.transfers ? "the joint transfers" : "the joint does NOT transfer");
       for (const SetupFit& s : f.setups)
-        std::cout << fmt::format("  {:<22} k_yf {:.5g} ± {:.2g}, k_tm {:.5g} ± {:.2g}, c_tm {:.4g} ± {:.2g}\n", s.label, s.fitted.k_yf,
-                                 s.std_error[0], s.fitted.k_tm, s.std_error[6], s.fitted.c_tm, s.std_error[7]);
+        std::cout << fmt::format("  {:<22} k_yf {:.5g} ± {:.2g}, k_tm {:.5g} ± {:.2g}, c_tm {:.4g} ± {:.2g}\n", s.label,
+                                 s.fitted.k_yf, s.std_error[0], s.fitted.k_tm, s.std_error[6], s.fitted.c_tm, s.std_error[7]);
     }
   } else {
     std::cout << "\nparameter  median         spread       unit        noise gain\n";
@@ -252,15 +261,16 @@ void print_report(const IdentifyOptions& o, const Identification& id) {
       std::cout << fmt::format("{:<9}  {:>12.5g}  {:>11.3g}  {:<10}  {:>8.3g}\n", JointParameters::name(k), p.median, p.spread,
                                JointParameters::unit(k), id.seed.noise_gain[static_cast<std::size_t>(k)]);
     }
-    std::cout << fmt::format("reciprocity: k_ym vs k_tf {:.2g}, c_ym vs c_tf {:.2g} (relative difference); cond(A11 - G11) ≤ {:.3g}\n",
-                             id.seed.reciprocity_k, id.seed.reciprocity_c, id.seed.max_cond_difference);
+    std::cout << fmt::format(
+        "reciprocity: k_ym vs k_tf {:.2g}, c_ym vs c_tf {:.2g} (relative difference); cond(A11 - G11) ≤ {:.3g}\n",
+        id.seed.reciprocity_k, id.seed.reciprocity_c, id.seed.max_cond_difference);
   }
   std::cout << "\nforward check (identified joint back into the forward model, both sides smoothed alike):\n"
                "  mode  measured_hz  predicted_hz  freq_error  peak_error\n";
   int i = 1;
   for (const auto& c : id.forward_check)
-    std::cout << fmt::format("  {:4d}  {:11.1f}  {:12.1f}  {:>8.2g} %  {:>8.2g} %\n", i++, c.measured_hz, c.predicted_hz, 100 * c.frequency_error,
-                             100 * c.magnitude_error);
+    std::cout << fmt::format("  {:4d}  {:11.1f}  {:12.1f}  {:>8.2g} %  {:>8.2g} %\n", i++, c.measured_hz, c.predicted_hz,
+                             100 * c.frequency_error, 100 * c.magnitude_error);
   std::cout << fmt::format("\nverdict: {}\n", to_string(id.verdict.verdict));
   for (const auto& r : id.verdict.reasons) std::cout << "  - " << r << "\n";
   std::cout << std::flush;
@@ -270,7 +280,9 @@ void print_report(const IdentifyOptions& o, const Identification& id) {
 
 void add_identify_command(CLI::App& app, Globals& g) {
   auto o = std::make_shared<IdentifyOptions>();
-  CLI::App* c = app.add_subcommand("identify", "Joint stiffness and damping from measured FRFs: band fit with intervals, or the seed's closed form (Eq. 6, 15, 18)");
+  CLI::App* c = app.add_subcommand(
+      "identify",
+      "Joint stiffness and damping from measured FRFs: band fit with intervals, or the seed's closed form (Eq. 6, 15, 18)");
   c->add_option("--joint", o->joint, "holder-tool (Eq. 6) or spindle-holder (Eq. 15 with --sh, Eq. 18 with --sht)")
       ->check(CLI::IsMember({"holder-tool", "spindle-holder"}))
       ->capture_default_str();
@@ -283,28 +295,38 @@ void add_identify_command(CLI::App& app, Globals& g) {
                 "Assembly file (TOML, SI units): the model's free–free components; its joint values serve as trial values "
                 "(required)")
       ->required();
-  c->add_option("--sh", o->sh, std::string("SH11, holder tip of spindle + holder with the tool outside removed: ") + kBlockCsvHelp);
+  c->add_option("--sh", o->sh,
+                std::string("SH11, holder tip of spindle + holder with the tool outside removed: ") + kBlockCsvHelp);
   add_frf_read_options(c, g);
   c->add_option("--sht", o->sht,
                 std::string("SHT11, tool point of the whole assembly; repeat for other overhangs as FILE@OVERHANG [m] (fitted "
-                            "together; the first is the reference): ") + kBlockCsvHelp);
-  c->add_option("--s", o->s, std::string("S11, spindle nose alone (spindle-holder joint; default: the model's spindle): ") + kBlockCsvHelp);
-  c->add_option("--band", o->band, "Identify in F1:F2 [Hz]: the seed's read-out band and the fit's band (default: the read-out around "
-                                   "the mode the joint controls, the fit over every frequency)");
-  c->add_option("--at", o->at, "Read the seed's parameters around this frequency [Hz] (default: the mode chosen by effect analysis or --overhang-frfs)");
+                            "together; the first is the reference): ") +
+                    kBlockCsvHelp);
+  c->add_option("--s", o->s,
+                std::string("S11, spindle nose alone (spindle-holder joint; default: the model's spindle): ") + kBlockCsvHelp);
+  c->add_option("--band", o->band,
+                "Identify in F1:F2 [Hz]: the seed's read-out band and the fit's band (default: the read-out around "
+                "the mode the joint controls, the fit over every frequency)");
+  c->add_option(
+      "--at", o->at,
+      "Read the seed's parameters around this frequency [Hz] (default: the mode chosen by effect analysis or --overhang-frfs)");
   c->add_option("--width", o->width, "Half-width of the read-out band around the mode, relative [-] (0.02 = ±2 %), in (0, 0.5)")
       ->capture_default_str();
   c->add_option("--overhang-frfs", o->overhang_frfs,
                 std::string("Tool point FRFs at other overhangs, comma-separated: choose the mode that moves most with the "
-                            "overhang (seed Fig. 10). Each: ") + kPointFrfHelp)
+                            "overhang (seed Fig. 10). Each: ") +
+                    kPointFrfHelp)
       ->delimiter(',');
-  c->add_option("--filter", o->filter,
-                "Savitzky–Golay filter WINDOW,ORDER [frequency points, -] applied to the data (the seed's read-out) and, alike, to "
-                "data and model in the fit (default: none; give raw data, the fit needs no filter)");
+  c->add_option(
+      "--filter", o->filter,
+      "Savitzky–Golay filter WINDOW,ORDER [frequency points, -] applied to the data (the seed's read-out) and, alike, to "
+      "data and model in the fit (default: none; give raw data, the fit needs no filter)");
   c->add_option("--sigma", o->sigma,
                 "State the noise: relative magnitude σ of every FRF entry [-] (0.02 = 2 %; default: estimated from the data)");
-  c->add_option("--phase-sigma", o->phase_sigma_deg, "State the noise: phase σ of every FRF entry [degrees] (default: estimated from the data)");
-  c->add_option("--bootstrap", o->bootstrap, "Fit intervals: bootstrap replicates (≥ 20), or 0 for linearised intervals")->capture_default_str();
+  c->add_option("--phase-sigma", o->phase_sigma_deg,
+                "State the noise: phase σ of every FRF entry [degrees] (default: estimated from the data)");
+  c->add_option("--bootstrap", o->bootstrap, "Fit intervals: bootstrap replicates (≥ 20), or 0 for linearised intervals")
+      ->capture_default_str();
   c->add_option("--parameters", o->parameters, "6: k_tf = k_ym and c_tf = c_ym (reciprocity); 8: all eight free")
       ->check(CLI::IsMember({6, 8}))
       ->capture_default_str();
@@ -318,9 +340,10 @@ void add_identify_command(CLI::App& app, Globals& g) {
                 "Write the identified joint (constants, covariance, how it was identified) to this TOML file, for "
                 "`--joint holder-tool=FILE` of predict, couple, taptest, lobes and demo (default: none)");
   c->add_flag("--accept", o->accept, "Write the results even when the verdict is fail (exit 0 then)");
-  add_plot_option(c, o->plot,
-                  "k(f) and c(f) of the four pairs yf, ym, θf, θm by the closed form against frequency [Hz] (SI units on each "
-                  "axis), the read-out band shaded, the identified values as lines with their 95 % interval (the seed's Fig. 11–12)");
+  add_plot_option(
+      c, o->plot,
+      "k(f) and c(f) of the four pairs yf, ym, θf, θm by the closed form against frequency [Hz] (SI units on each "
+      "axis), the read-out band shaded, the identified values as lines with their 95 % interval (the seed's Fig. 11–12)");
   c->add_flag("--json", o->json, "Machine-readable output on stdout");
   c->footer(std::string(kFigureFooter) +
             "Verdict: pass, doubtful or fail (a negative diagonal stiffness, a forward-check error above 5 % in frequency\n"

@@ -67,7 +67,8 @@ void tool_point_frfs(const LobesOptions& o, const Globals& g, const std::vector<
                         input.frfs->xx.size(), input.frfs->xx.frequency_hz.front(), input.frfs->xx.frequency_hz.back()));
     return;
   }
-  if (!joints.empty()) throw InvalidArgument("--joint needs --assembly (the joint goes into the model)", "add --assembly FILE.toml");
+  if (!joints.empty())
+    throw InvalidArgument("--joint needs --assembly (the joint goes into the model)", "add --assembly FILE.toml");
   if (o.frf.empty()) {
     if (!o.frf_y.empty() || !o.frf_xy.empty() || !o.frf_yx.empty())
       throw InvalidArgument("--frf-y/--frf-xy/--frf-yx need --frf (the x direct FRF)", "add --frf tool_point_x.csv");
@@ -104,9 +105,10 @@ CuttingConditions cutting_conditions(const LobesOptions& o) {
     // Both angles within π: radians meant for degrees (1.57, 3.14 for slotting), or a cut of at
     // most 3°; said, not refused (a very light finishing cut is possible).
     if (std::abs(o.entry_deg) <= kPi + 1e-3 && std::abs(o.exit_deg) <= kPi + 1e-3)
-      warn(fmt::format("--entry {} --exit {}: the angles are in degrees, so this is a cut of {:g}°; if they are radians, give "
-                       "--entry {:g} --exit {:g}",
-                       o.entry_deg, o.exit_deg, o.exit_deg - o.entry_deg, o.entry_deg * 180.0 / kPi, o.exit_deg * 180.0 / kPi));
+      warn(
+          fmt::format("--entry {} --exit {}: the angles are in degrees, so this is a cut of {:g}°; if they are radians, give "
+                      "--entry {:g} --exit {:g}",
+                      o.entry_deg, o.exit_deg, o.exit_deg - o.entry_deg, o.entry_deg * 180.0 / kPi, o.exit_deg * 180.0 / kPi));
     c.engagement = engagement_from_degrees(o.entry_deg, o.exit_deg);
   }
   c.check();
@@ -120,7 +122,8 @@ Mode parse_mode(const std::string& text, const std::string& option) {
   for (int k = 0; k < 3; ++k) {
     const std::size_t end = k < 2 ? text.find(',', start) : text.size();
     if (end == std::string::npos || (k == 2 && text.find(',', start) != std::string::npos))
-      throw InvalidArgument(fmt::format("{} '{}' is not MASS_KG,DAMPING_RATIO,FREQUENCY_HZ", option, text), "e.g. 0.04,0.011,922");
+      throw InvalidArgument(fmt::format("{} '{}' is not MASS_KG,DAMPING_RATIO,FREQUENCY_HZ", option, text),
+                            "e.g. 0.04,0.011,922");
     const char* first = text.data() + start;
     const auto [ptr, ec] = std::from_chars(first, text.data() + end, v[k]);
     if (ec != std::errc() || ptr != text.data() + end || first == ptr)
@@ -148,20 +151,22 @@ void print_summary(const LobesStudyResult& r) {
   const BoundaryResult& b = *r.boundary;
   const auto lowest = std::min_element(b.boundary.begin(), b.boundary.end(),
                                        [](const BoundaryPoint& x, const BoundaryPoint& y) { return x.depth_m < y.depth_m; });
-  const auto flips = std::count_if(b.boundary.begin(), b.boundary.end(), [](const BoundaryPoint& x) { return x.kind == BoundaryKind::Flip; });
-  std::cout << fmt::format("stability boundary by full-discretization ({} speeds, depths up to {:.4g} mm; estimated "
-                           "discretization error at most {:.2g} % of the depth, target {:.3g} %): lowest {} mm at {:.0f} rpm "
-                           "({}); period-doubling (flip) boundary at {} speed(s)\n",
-                           b.boundary.size(), b.max_depth_m * 1e3, 100.0 * b.worst_relative_error(), 100.0 * b.tolerance,
-                           depth_text_mm(lowest->depth_m * 1e3, lowest->depth_error_m * 1e3), lowest->speed_rpm,
-                           to_string(lowest->kind), flips);
+  const auto flips = std::count_if(b.boundary.begin(), b.boundary.end(),
+                                   [](const BoundaryPoint& x) { return x.kind == BoundaryKind::Flip; });
+  std::cout << fmt::format(
+      "stability boundary by full-discretization ({} speeds, depths up to {:.4g} mm; estimated "
+      "discretization error at most {:.2g} % of the depth, target {:.3g} %): lowest {} mm at {:.0f} rpm "
+      "({}); period-doubling (flip) boundary at {} speed(s)\n",
+      b.boundary.size(), b.max_depth_m * 1e3, 100.0 * b.worst_relative_error(), 100.0 * b.tolerance,
+      depth_text_mm(lowest->depth_m * 1e3, lowest->depth_error_m * 1e3), lowest->speed_rpm, to_string(lowest->kind), flips);
 }
 
 void print_pockets(const LobesStudyResult& r, double prominence) {
   if (r.pockets.empty()) return;
-  std::cout << fmt::format("best spindle speeds in {}–{} rpm (envelope maxima rising {:g} % of their depth or more above "
-                           "the valleys beside them):\n",
-                           r.speeds.min_rpm, r.speeds.max_rpm, 100.0 * prominence);
+  std::cout << fmt::format(
+      "best spindle speeds in {}–{} rpm (envelope maxima rising {:g} % of their depth or more above "
+      "the valleys beside them):\n",
+      r.speeds.min_rpm, r.speeds.max_rpm, 100.0 * prominence);
   std::cout << "  spindle_speed_rpm  axial_depth_mm  chatter_frequency_hz  lobe\n";
   for (const EnvelopePoint& p : r.pockets) {
     // The time domain's depths carry their error estimate: print the digits it supports.
@@ -172,7 +177,7 @@ void print_pockets(const LobesStudyResult& r, double prominence) {
     // lobe −1: no instability up to the ceiling searched there.
     const bool capped = p.lobe < 0;
     const std::string depth = (capped ? ">= " : "") + (r.boundary && !capped ? depth_text_mm(p.depth_m * 1e3, error * 1e3)
-                                                                               : fmt::format("{:.4f}", p.depth_m * 1e3));
+                                                                             : fmt::format("{:.4f}", p.depth_m * 1e3));
     std::cout << fmt::format("  {:17.0f}  {:>14}  {:>20}  {:>4}\n", p.speed_rpm, depth,
                              capped ? std::string("-") : fmt::format("{:.1f}", p.chatter_hz),
                              capped ? std::string("-") : std::to_string(p.lobe));
@@ -182,8 +187,9 @@ void print_pockets(const LobesStudyResult& r, double prominence) {
 // What the joint's uncertainty does to the best speeds: at each, the nominal depth and the depths
 // stable with 95 % and 50 % probability.
 void report_uncertain_lobes(const StabilityUncertainty& su, const LobesStudyResult& r, const std::string& source) {
-  std::cout << fmt::format("with the joint of {} uncertain ({} samples): depth stable with probability 95 % / 50 % at the best speeds\n",
-                           source, su.samples);
+  std::cout << fmt::format(
+      "with the joint of {} uncertain ({} samples): depth stable with probability 95 % / 50 % at the best speeds\n", source,
+      su.samples);
   std::cout << "  spindle_speed_rpm  nominal_mm  p95_mm  p50_mm\n";
   std::size_t q05 = 0, q50 = 0;
   for (std::size_t l = 0; l < su.levels.size(); ++l) {
@@ -194,8 +200,8 @@ void report_uncertain_lobes(const StabilityUncertainty& su, const LobesStudyResu
     const auto it = std::min_element(su.speed_rpm.begin(), su.speed_rpm.end(),
                                      [&](double a, double b) { return std::abs(a - p.speed_rpm) < std::abs(b - p.speed_rpm); });
     const auto k = static_cast<std::size_t>(it - su.speed_rpm.begin());
-    std::cout << fmt::format("  {:17.0f}  {:10.4f}  {:6.4f}  {:6.4f}\n", p.speed_rpm, 1e3 * su.nominal_depth_m[k], 1e3 * su.depth_m[q05][k],
-                             1e3 * su.depth_m[q50][k]);
+    std::cout << fmt::format("  {:17.0f}  {:10.4f}  {:6.4f}  {:6.4f}\n", p.speed_rpm, 1e3 * su.nominal_depth_m[k],
+                             1e3 * su.depth_m[q05][k], 1e3 * su.depth_m[q50][k]);
   }
   std::size_t worst = 0;
   for (std::size_t k = 0; k < su.speed_rpm.size(); ++k)
@@ -208,11 +214,17 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
   check_plot_path(o.plot);
   {
     std::vector<RunPath> inputs = joint_paths(o.joints);
-    for (const auto& [p, role] : {std::pair{o.frf, "--frf"}, {o.frf_y, "--frf-y"}, {o.frf_xy, "--frf-xy"}, {o.frf_yx, "--frf-yx"},
+    for (const auto& [p, role] : {std::pair{o.frf, "--frf"},
+                                  {o.frf_y, "--frf-y"},
+                                  {o.frf_xy, "--frf-xy"},
+                                  {o.frf_yx, "--frf-yx"},
                                   {o.assembly, "--assembly"}})
       inputs.push_back({p, role});
-    check_paths(inputs, {{o.output, "--output"}, {o.envelope, "--envelope"}, {o.probability_output, "--probability-output"},
-                         {o.plot, "--plot"}, {o.plot.empty() ? "" : with_suffix(o.plot, "_probability"), "--plot (probability)"}});
+    check_paths(inputs, {{o.output, "--output"},
+                         {o.envelope, "--envelope"},
+                         {o.probability_output, "--probability-output"},
+                         {o.plot, "--plot"},
+                         {o.plot.empty() ? "" : with_suffix(o.plot, "_probability"), "--plot (probability)"}});
   }
   check_output_extension(o.output, "--output", {".csv"}, "the lobe points as CSV (.csv)");
   check_output_extension(o.envelope, "--envelope", {".csv"}, "the stable envelope as CSV (.csv)");
@@ -222,13 +234,15 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
   const auto [min_rpm, max_rpm] = parse_range(o.rpm, "--rpm");
   for (double n : {min_rpm, max_rpm})
     if (judge(plausible::kSpindleSpeedRpm, n) == Plausibility::Impossible)
-      throw InvalidArgument(plausibility_message(plausible::kSpindleSpeedRpm, n, "--rpm"), "give spindle speeds in rpm, e.g. --rpm 2000:20000");
+      throw InvalidArgument(plausibility_message(plausible::kSpindleSpeedRpm, n, "--rpm"),
+                            "give spindle speeds in rpm, e.g. --rpm 2000:20000");
   so.speeds = {min_rpm, max_rpm, o.speeds};
   if (o.method == "zoa") so.method = LobesMethod::ZeroOrder;
   else so.method = LobesMethod::FullDiscretization;
   so.max_depth_m = o.max_depth_mm * 1e-3;
   if (!std::isfinite(so.max_depth_m) || so.max_depth_m < 0.0)
-    throw InvalidArgument(fmt::format("--max-depth {} mm must be ≥ 0", o.max_depth_mm), "e.g. --max-depth 10, or 0 for automatic");
+    throw InvalidArgument(fmt::format("--max-depth {} mm must be ≥ 0", o.max_depth_mm),
+                          "e.g. --max-depth 10, or 0 for automatic");
   so.lobes = o.lobes;
   so.tolerance = o.tolerance_pct / 100.0;
   so.steps = o.intervals;
@@ -241,7 +255,8 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
   const bool uncertain = o.sampling.samples != 0 || !o.probability_output.empty();
   if (uncertain) {
     if (o.assembly.empty())
-      throw InvalidArgument("--samples needs --assembly (the joint is sampled inside the model)", "give --assembly FILE.toml --joint holder-tool=kht.toml");
+      throw InvalidArgument("--samples needs --assembly (the joint is sampled inside the model)",
+                            "give --assembly FILE.toml --joint holder-tool=kht.toml");
     if (so.method != LobesMethod::ZeroOrder)
       throw InvalidArgument("--samples runs the zero-order method (a time-domain boundary per sample would take minutes)",
                             "drop --method fd, or --samples");
@@ -278,8 +293,11 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
   }
   progress.done();
   for (std::string& w : r.warnings) w = with_flags(w);
-  if (so.method != LobesMethod::ZeroOrder && o.lobes >= 0) r.warnings.push_back("--lobes is used by --method zoa only (fd derives lobe numbers)");
-  if (o.depth_steps > 0) r.warnings.push_back("--depth-steps is no longer used: the boundary is bracketed by a geometric scan from the neighbouring speed's limit");
+  if (so.method != LobesMethod::ZeroOrder && o.lobes >= 0)
+    r.warnings.push_back("--lobes is used by --method zoa only (fd derives lobe numbers)");
+  if (o.depth_steps > 0)
+    r.warnings.push_back(
+        "--depth-steps is no longer used: the boundary is bracketed by a geometric scan from the neighbouring speed's limit");
 
   // The joint uncertain: the stable depth's quantiles per speed, and the probability of stability
   // on a speed × depth grid up to 1.5 × the nominal envelope's highest point.
@@ -298,14 +316,16 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
     su = stability_uncertainty(*assembly, sampled, assembly->grid.values(), so, depths, *sampling);
     sprog.done();
   }
-  const std::vector<std::string> comments = {
-      fmt::format("teeth {}, K_t {} N/m^2, K_r {}, entry {:.4f} deg, exit {:.4f} deg", so.cutting.teeth,
-                  so.cutting.tangential_coefficient, so.cutting.radial_ratio, so.cutting.engagement.entry_rad * 180.0 / kPi,
-                  so.cutting.engagement.exit_rad * 180.0 / kPi),
-      input.frfs ? fmt::format("tool point FRF {}", input.frf_name) : std::string("modal model from --mode-x/--mode-y")};
+  const std::vector<std::string> comments = {fmt::format("teeth {}, K_t {} N/m^2, K_r {}, entry {:.4f} deg, exit {:.4f} deg",
+                                                         so.cutting.teeth, so.cutting.tangential_coefficient,
+                                                         so.cutting.radial_ratio, so.cutting.engagement.entry_rad * 180.0 / kPi,
+                                                         so.cutting.engagement.exit_rad * 180.0 / kPi),
+                                             input.frfs ? fmt::format("tool point FRF {}", input.frf_name)
+                                                        : std::string("modal model from --mode-x/--mode-y")};
   std::vector<std::string> written;
   if (!o.output.empty()) {
-    write_text_file(o.output, r.zero_order ? format_lobes_csv(*r.zero_order, comments) : format_boundary_csv(*r.boundary, comments));
+    write_text_file(o.output,
+                    r.zero_order ? format_lobes_csv(*r.zero_order, comments) : format_boundary_csv(*r.boundary, comments));
     written.push_back(o.output);
   }
   if (!o.envelope.empty()) {
@@ -317,11 +337,15 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
     t.columns = {"spindle_speed_rpm", "axial_depth_mm", "probability_stable"};
     for (std::size_t i = 0; i < su->speed_rpm.size(); ++i)
       for (std::size_t j = 0; j < su->depth_grid_m.size(); ++j)
-        t.rows.push_back({su->speed_rpm[i], 1e3 * su->depth_grid_m[j], su->probability(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j))});
-    write_table_csv(o.probability_output, t,
-                    {fmt::format("probability that the cut is stable, over {} samples of the joint of {} (zero-order envelope of each sample's "
-                                 "tool point FRF)", su->samples, sampled_source),
-                     "spindle speed rpm, axial depth mm, probability 0..1"});
+        t.rows.push_back({su->speed_rpm[i], 1e3 * su->depth_grid_m[j],
+                          su->probability(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j))});
+    write_table_csv(
+        o.probability_output, t,
+        {fmt::format(
+             "probability that the cut is stable, over {} samples of the joint of {} (zero-order envelope of each sample's "
+             "tool point FRF)",
+             su->samples, sampled_source),
+         "spindle speed rpm, axial depth mm, probability 0..1"});
     written.push_back(o.probability_output);
     info(g, fmt::format("wrote {} (probability of stability)", o.probability_output));
   }
@@ -339,14 +363,16 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
   } else {
     print_summary(r);
     if (!o.output.empty())
-      info(g, r.zero_order ? fmt::format("wrote {} (lobe points)", o.output) : fmt::format("wrote {} ({} speeds)", o.output, r.boundary->boundary.size()));
+      info(g, r.zero_order ? fmt::format("wrote {} (lobe points)", o.output)
+                           : fmt::format("wrote {} ({} speeds)", o.output, r.boundary->boundary.size()));
     if (!o.envelope.empty()) info(g, fmt::format("wrote {} (stable envelope)", o.envelope));
     print_pockets(r, so.pocket_prominence);
     if (su) report_uncertain_lobes(*su, r, sampled_source);
     std::cout << std::flush;
     if (o.output.empty() && o.plot.empty())
-      info(g, "give --output lobes.csv for every lobe point, --envelope env.csv for the stable envelope, --plot lobes.png for "
-              "the figure");
+      info(g,
+           "give --output lobes.csv for every lobe point, --envelope env.csv for the stable envelope, --plot lobes.png for "
+           "the figure");
   }
   warn_all(r.warnings);
   if (!o.plot.empty()) {
@@ -375,7 +401,8 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
         return out;
       };
       m.envelopes.push_back({mm(su->nominal_depth_m), "nominal envelope"});
-      m.envelopes.push_back({mm(su->depth_m.front()), fmt::format("stable with {:g} % probability", 100 * (1.0 - su->levels.front()))});
+      m.envelopes.push_back(
+          {mm(su->depth_m.front()), fmt::format("stable with {:g} % probability", 100 * (1.0 - su->levels.front()))});
       figures.push_back({plot::probability_map_figure(m), with_suffix(o.plot, "_probability")});
     }
     draw_figures(g, figures, written);
@@ -386,7 +413,8 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
 
 void add_lobes_command(CLI::App& app, Globals& g) {
   auto o = std::make_shared<LobesOptions>();
-  CLI::App* c = app.add_subcommand("lobes", "Milling stability lobes from the tool point FRF: zero-order (zoa) or full-discretization (fd)");
+  CLI::App* c = app.add_subcommand(
+      "lobes", "Milling stability lobes from the tool point FRF: zero-order (zoa) or full-discretization (fd)");
   c->add_option("--assembly", o->assembly,
                 "Assembly file (TOML, SI units): its tool point FRF (SHT11's H, Eq. 5) on its [analysis] grid, for x and y "
                 "(instead of --frf)");
@@ -402,20 +430,26 @@ void add_lobes_command(CLI::App& app, Globals& g) {
   c->add_option("--kt", o->kt, "Tangential cutting coefficient K_t [N/m²], > 0 (required)")
       ->required()
       ->check(plausible_value(plausible::kCuttingCoefficient, "--kt"));
-  auto* kr = c->add_option("--kr", o->kr, "Radial cutting coefficient as the ratio K_r = K_n/K_t [-], ≥ 0 (this or --kn required)");
+  auto* kr = c->add_option("--kr", o->kr,
+                           "Radial cutting coefficient as the ratio K_r = K_n/K_t [-], ≥ 0 (this or --kn required)");
   auto* kn = c->add_option("--kn", o->kn, "Radial (normal) cutting coefficient K_n [N/m²], ≥ 0 (this or --kr required)");
   kn->check(plausible_value(plausible::kCuttingCoefficient, "--kn"));
   kr->excludes(kn);
-  auto* imm = c->add_option("--immersion", o->immersion, "Radial immersion a/D [-] in (0, 1] (1: slotting); needs --milling (this or --entry/--exit required)");
-  auto* entry_opt = c->add_option("--entry", o->entry_deg, "Entry angle φ_st [°], clockwise from the normal (y) direction, with --exit");
+  auto* imm =
+      c->add_option("--immersion", o->immersion,
+                    "Radial immersion a/D [-] in (0, 1] (1: slotting); needs --milling (this or --entry/--exit required)");
+  auto* entry_opt = c->add_option("--entry", o->entry_deg,
+                                  "Entry angle φ_st [°], clockwise from the normal (y) direction, with --exit");
   auto* exit_opt = c->add_option("--exit", o->exit_deg, "Exit angle φ_ex [°] (0 ≤ entry < exit ≤ 180)");
   entry_opt->needs(exit_opt);
   exit_opt->needs(entry_opt);
   imm->excludes(entry_opt);
   imm->excludes(exit_opt);
-  c->add_option("--milling", o->milling, "Milling direction with --immersion: up or down (no default)")->check(CLI::IsMember({"up", "down"}));
+  c->add_option("--milling", o->milling, "Milling direction with --immersion: up or down (no default)")
+      ->check(CLI::IsMember({"up", "down"}));
   c->add_option("--rpm", o->rpm, "Spindle speed range MIN:MAX [rpm] (required)")->required();
-  c->add_option("--speeds", o->speeds, "Points of the speed grid [-], ≥ 2, for the envelope (zoa) or the boundary (fd) (default: 2000 zoa, 200 fd)")
+  c->add_option("--speeds", o->speeds,
+                "Points of the speed grid [-], ≥ 2, for the envelope (zoa) or the boundary (fd) (default: 2000 zoa, 200 fd)")
       ->check(CLI::Range(2, 1000000));
   c->add_option("--lobes", o->lobes, "zoa: lobes k = 0…K [-] (default: enough to cover MIN rpm)");
   c->add_option("--method", o->method,
@@ -431,13 +465,17 @@ void add_lobes_command(CLI::App& app, Globals& g) {
                 "fd: steps per tooth period at the first of the two levels compared [-], 4…2000 (default 0: 12 per chatter wave)")
       ->capture_default_str();
   c->add_option("--depth-steps", o->depth_steps, "No longer used (kept so old scripts run; a warning says so)");
-  c->add_option("--threads", o->threads, "fd: worker threads [-], 0…1024 (default 0: every core); results are identical for any number")
+  c->add_option("--threads", o->threads,
+                "fd: worker threads [-], 0…1024 (default 0: every core); results are identical for any number")
       ->capture_default_str();
-  c->add_option("--max-depth", o->max_depth_mm, "Largest axial depth [mm]: zoa drops deeper lobe points, fd searches up to it "
-                                                "(default: zoa all, fd 10 × the zero-order floor)")
+  c->add_option("--max-depth", o->max_depth_mm,
+                "Largest axial depth [mm]: zoa drops deeper lobe points, fd searches up to it "
+                "(default: zoa all, fd 10 × the zero-order floor)")
       ->check(plausible_value(kDepthMm, "--max-depth"));
-  c->add_option("--mode-x", o->mode_x, "fd: an x mode MASS_KG,DAMPING_RATIO,FREQUENCY_HZ (repeatable; default: fitted from --frf)");
-  c->add_option("--mode-y", o->mode_y, "fd: a y mode MASS_KG,DAMPING_RATIO,FREQUENCY_HZ (repeatable; default: from --frf-y, else the x modes)");
+  c->add_option("--mode-x", o->mode_x,
+                "fd: an x mode MASS_KG,DAMPING_RATIO,FREQUENCY_HZ (repeatable; default: fitted from --frf)");
+  c->add_option("--mode-y", o->mode_y,
+                "fd: a y mode MASS_KG,DAMPING_RATIO,FREQUENCY_HZ (repeatable; default: from --frf-y, else the x modes)");
   c->add_option("--max-modes", o->max_modes,
                 "fd: at most N modes [-] fitted per FRF, 1…20 (the fewest that meet --fit-target are used)")
       ->capture_default_str();
@@ -458,9 +496,11 @@ void add_lobes_command(CLI::App& app, Globals& g) {
                   "lobes (zoa) or the boundary (fd) numbered, and their chatter frequency [Hz] in a second panel; with --samples "
                   "also the quantile envelopes, and the probability of stability over speed × depth as a colour map in FILE "
                   "with \"_probability\" before the extension");
-  add_joint_option(c, o->joints)->description(
-      "With --assembly: an identified joint instead of the assembly file's (holder-tool=FILE.toml or spindle-holder=FILE.toml, "
-      "from `toolpoint identify --joint-output`)");
+  add_joint_option(c, o->joints)
+      ->description(
+          "With --assembly: an identified joint instead of the assembly file's (holder-tool=FILE.toml or "
+          "spindle-holder=FILE.toml, "
+          "from `toolpoint identify --joint-output`)");
   add_sampling_options(c, o->sampling,
                        "zoa with --assembly: the envelope's 5/50/95 % quantiles (drawn in the figure) and the probability of "
                        "stability (--probability-output); --threads applies to them",
@@ -470,11 +510,11 @@ void add_lobes_command(CLI::App& app, Globals& g) {
                 "(CSV spindle_speed_rpm,axial_depth_mm,probability_stable)");
   c->add_flag("--json", o->json, "Machine-readable summary on stdout");
   c->footer(std::string(kFigureFooter) +
-      "Examples:\n"
-      "  toolpoint lobes --frf tool_point.csv --teeth 2 --kt 6e8 --kn 2e8 --immersion 0.05 --milling down \\\n"
-      "      --rpm 5000:25000 --output lobes.csv --envelope envelope.csv --plot lobes.png\n"
-      "  toolpoint lobes --method fd --mode-x 0.03993,0.011,922 --rigid-y --teeth 2 --kt 6e8 --kn 2e8 \\\n"
-      "      --immersion 0.05 --milling down --rpm 5000:25000 --output boundary.csv");
+            "Examples:\n"
+            "  toolpoint lobes --frf tool_point.csv --teeth 2 --kt 6e8 --kn 2e8 --immersion 0.05 --milling down \\\n"
+            "      --rpm 5000:25000 --output lobes.csv --envelope envelope.csv --plot lobes.png\n"
+            "  toolpoint lobes --method fd --mode-x 0.03993,0.011,922 --rigid-y --teeth 2 --kt 6e8 --kn 2e8 \\\n"
+            "      --immersion 0.05 --milling down --rpm 5000:25000 --output boundary.csv");
   c->callback([o, &g] { run_lobes(*o, g); });
 }
 

@@ -92,10 +92,12 @@ void run_modes(const ModesOptions& o, const Globals& g) {
                                m.mode.damping_ratio, m.mode.mass_kg, m.mode.stiffness(), 100.0 * m.normalised_residual,
                                m.points_in_half_power_band);
     if (fo.residual_terms)
-      std::cout << fmt::format("residual terms: lower {:.6g} 1/kg (−L/ω²), upper {:.6g} m/N\n", r.lower_residual, r.upper_residual);
+      std::cout << fmt::format("residual terms: lower {:.6g} 1/kg (−L/ω²), upper {:.6g} m/N\n", r.lower_residual,
+                               r.upper_residual);
     std::string as_options;
     for (const FittedMode& m : r.modes)
-      if (m.residue > 0.0) as_options += fmt::format(" --mode-x {:.6g},{:.6g},{:.6g}", m.mode.mass_kg, m.mode.damping_ratio, m.mode.frequency_hz);
+      if (m.residue > 0.0)
+        as_options += fmt::format(" --mode-x {:.6g},{:.6g},{:.6g}", m.mode.mass_kg, m.mode.damping_ratio, m.mode.frequency_hz);
     if (!as_options.empty()) std::cout << "for `toolpoint lobes --method sd`:" << as_options << '\n';
     std::cout << std::flush;
   }
@@ -118,15 +120,18 @@ void run_modes(const ModesOptions& o, const Globals& g) {
 
 void add_modes_command(CLI::App& app, Globals& g) {
   auto o = std::make_shared<ModesOptions>();
-  CLI::App* c = app.add_subcommand("modes", "Modal parameters of a point FRF: natural frequency [Hz], damping ratio, modal mass [kg], with fit quality");
+  CLI::App* c = app.add_subcommand(
+      "modes", "Modal parameters of a point FRF: natural frequency [Hz], damping ratio, modal mass [kg], with fit quality");
   c->add_option("frf", o->file, std::string("The point FRF to fit (required): ") + kPointFrfHelp)->required();
   add_dataset_option(c, o->dataset);
   add_frf_read_options(c, g);
   c->add_option("--max-modes", o->max_modes, "Fit at most N modes (the most prominent peaks) [-], 1…20")->capture_default_str();
   c->add_option("--band", o->band, "Fit only F1 ≤ f ≤ F2, as F1:F2 [Hz] (default: the whole FRF)");
-  c->add_option("--min-prominence", o->min_prominence_db, "A peak must rise this much [dB] above its valleys on both sides to count as a mode")
+  c->add_option("--min-prominence", o->min_prominence_db,
+                "A peak must rise this much [dB] above its valleys on both sides to count as a mode")
       ->capture_default_str();
-  c->add_flag("--no-residuals", o->no_residuals, "Do not fit the residual terms −L/ω² + U for out-of-band modes (default: fit them)");
+  c->add_flag("--no-residuals", o->no_residuals,
+              "Do not fit the residual terms −L/ω² + U for out-of-band modes (default: fit them)");
   c->add_option("--output", o->output,
                 "Write the fitted receptance [m/N] (residual terms included) on the measured frequencies [Hz] of the band "
                 "here: .csv, .uff/.unv/.uf or .frf by extension (default: none)");

@@ -20,10 +20,10 @@ struct NoiseCliOptions {
 
 void run_noise(const NoiseCliOptions& o, const Globals& g) {
   o.noise.check();
-  const std::string comment =
-      fmt::format("simulated measurement noise: each entry times (1 + sigma z), z standard normal (Box-Muller on "
-                  "mt19937_64), sigma = {}, seed = {}; from {}",
-                  o.noise.sigma, o.noise.seed, o.input);
+  const std::string comment = fmt::format(
+      "simulated measurement noise: each entry times (1 + sigma z), z standard normal (Box-Muller on "
+      "mt19937_64), sigma = {}, seed = {}; from {}",
+      o.noise.sigma, o.noise.seed, o.input);
   const auto [in, out] = process_frf_file(g, o.input, o.dataset, o.output, o.plot, comment,
                                           [&](const auto& series) { return add_measurement_noise(series, o.noise, o.input); });
   info(g, fmt::format("wrote {} (sigma {}, seed {})", o.output, o.noise.sigma, o.noise.seed));
@@ -46,8 +46,7 @@ void add_noise_command(CLI::App& app, Globals& g) {
       "noise", "Simulated measurement noise: multiply every FRF entry by 1 + sigma·z (seed Section 3), reproducibly");
   add_frf_file_arguments(c, g, o->input, o->output, o->dataset, "every entry distorted");
   c->add_option("--sigma", o->noise.sigma, "Standard deviation of the factor [-] (0.05 = 5 %), ≥ 0")->capture_default_str();
-  c->add_option("--seed", o->noise.seed, "Random seed (mt19937_64); the same seed gives the same noise")
-      ->capture_default_str();
+  c->add_option("--seed", o->noise.seed, "Random seed (mt19937_64); the same seed gives the same noise")->capture_default_str();
   add_plot_option(c, o->plot,
                   "the noisy (points) and the clean FRF (line), |H| [m/N] and phase [deg] against frequency [Hz] (the H "
                   "entry of a block)");

@@ -26,12 +26,12 @@ struct PlanArgs {
   std::vector<std::string> parts;  // plan merge
 };
 
-
 // The files a run writes: DIR/setups.csv, tuning.csv, map.csv, plan.json; FILE and FILE_tuning.
 std::vector<std::string> outputs_of(const PlanArgs& o) {
   std::vector<std::string> out;
   if (!o.output.empty())
-    for (const char* f : {"setups.csv", "tuning.csv", "map.csv", "plan.json"}) out.push_back((std::filesystem::path(o.output) / f).string());
+    for (const char* f : {"setups.csv", "tuning.csv", "map.csv", "plan.json"})
+      out.push_back((std::filesystem::path(o.output) / f).string());
   if (!o.plot.empty()) out.insert(out.end(), {o.plot, with_suffix(o.plot, "_tuning")});
   if (!o.part.empty()) out.push_back(o.part);
   return out;
@@ -55,19 +55,23 @@ void print_report(const PlanResult& r) {
   if (o.machine.torque_nm > 0.0) limits += fmt::format(", torque {:g} N m", o.machine.torque_nm);
   if (o.machine.min_overhang_m > 0.0) limits += fmt::format(", minimum overhang {:g} mm", 1e3 * o.machine.min_overhang_m);
   if (o.max_depth_m > 0.0) limits += fmt::format(", depth at most {:g} mm", 1e3 * o.max_depth_m);
-  std::cout << fmt::format("plan{}: {} candidate(s), {} set-ups (overhangs) x {} spindle speeds {:g}-{:g} rpm, {}; depth used: {}{}\n",
-                           name.empty() ? "" : " '" + name + "'", h.candidates.size(), h.jobs, h.speeds_rpm.size(), h.speeds_rpm.front(),
-                           h.speeds_rpm.back(), o.lobes.method == LobesMethod::ZeroOrder ? "zero-order lobes" : "full-discretization boundary",
-                           safety_rule_text(o.safety), limits);
+  std::cout << fmt::format(
+      "plan{}: {} candidate(s), {} set-ups (overhangs) x {} spindle speeds {:g}-{:g} rpm, {}; depth used: {}{}\n",
+      name.empty() ? "" : " '" + name + "'", h.candidates.size(), h.jobs, h.speeds_rpm.size(), h.speeds_rpm.front(),
+      h.speeds_rpm.back(), o.lobes.method == LobesMethod::ZeroOrder ? "zero-order lobes" : "full-discretization boundary",
+      safety_rule_text(o.safety), limits);
   std::cout << "best set-ups, most metal removed first:\n"
                "  rank  candidate                 overhang_mm  speed_rpm  depth_mm  mrr_cm3_per_min  limit      margin_%  "
                "chatter_hz  lobe  window_rpm\n";
   for (std::size_t i = 0; i < r.best.size(); ++i) {
     const PlanSetup& s = r.best[i];
-    std::cout << fmt::format("  {:4}  {:24}  {:11.1f}  {:9.0f}  {:8.3f}  {:15.1f}  {:9}  {:8.1f}  {:10.0f}  {:4}  {:.0f}-{:.0f}\n", i + 1,
-                             h.candidates[s.candidate].name, 1e3 * s.overhang_m, s.speed_rpm, 1e3 * s.depth_m, kCubicCentimetresPerMinute * s.mrr_m3_per_s,
-                             to_string(s.limit), 100.0 * s.depth_margin, s.chatter_hz, s.lobe, s.window_low_rpm, s.window_high_rpm);
-    if (std::isfinite(s.probability)) std::cout << fmt::format("        probability of stability at this depth: {:.3f}\n", s.probability);
+    std::cout << fmt::format(
+        "  {:4}  {:24}  {:11.1f}  {:9.0f}  {:8.3f}  {:15.1f}  {:9}  {:8.1f}  {:10.0f}  {:4}  {:.0f}-{:.0f}\n", i + 1,
+        h.candidates[s.candidate].name, 1e3 * s.overhang_m, s.speed_rpm, 1e3 * s.depth_m,
+        kCubicCentimetresPerMinute * s.mrr_m3_per_s, to_string(s.limit), 100.0 * s.depth_margin, s.chatter_hz, s.lobe,
+        s.window_low_rpm, s.window_high_rpm);
+    if (std::isfinite(s.probability))
+      std::cout << fmt::format("        probability of stability at this depth: {:.3f}\n", s.probability);
     std::cout << "        why: " << s.reason << "\n";
   }
 }
@@ -98,12 +102,14 @@ void report(const Globals& g, const PlanArgs& o, const PlanResult& r) {
 }
 
 void run_plan_command(const PlanArgs& o, const Globals& g) {
-  if (o.study.empty()) throw InvalidArgument("give the study file: toolpoint plan STUDY.toml", "see `toolpoint plan --help` for its format");
+  if (o.study.empty())
+    throw InvalidArgument("give the study file: toolpoint plan STUDY.toml", "see `toolpoint plan --help` for its format");
   check_plot_path(o.plot);
   int index = 0, count = 1;
   if (!o.shard.empty()) {
     std::tie(index, count) = parse_shard(o.shard, "--shard");
-    if (o.part.empty()) throw InvalidArgument("--shard needs --part FILE: where this shard's part of the plan goes", "add --part part-I.json");
+    if (o.part.empty())
+      throw InvalidArgument("--shard needs --part FILE: where this shard's part of the plan goes", "add --part part-I.json");
     if (!o.output.empty() || !o.plot.empty() || o.json)
       throw InvalidArgument("--shard writes only its --part file: --output, --plot and --json belong to `toolpoint plan merge`",
                             "drop them here and give them to `toolpoint plan merge PARTS...`");
@@ -125,7 +131,8 @@ void run_plan_command(const PlanArgs& o, const Globals& g) {
       const PlanPart part = run_plan_part(study.candidates, study.options, index, count, progress.part());
       progress.done();
       write_text_file(o.part, format_plan_part(part));
-      info(g, fmt::format("shard {}/{}: {} of {} set-ups written to {}", index, count, part.jobs.size(), part.header.jobs, o.part));
+      info(g,
+           fmt::format("shard {}/{}: {} of {} set-ups written to {}", index, count, part.jobs.size(), part.header.jobs, o.part));
       return;
     }
     const PlanResult r = run_plan(study.candidates, study.options, progress.part());
@@ -147,13 +154,15 @@ void run_merge_command(const PlanArgs& o, const Globals& g) {
 }
 
 void add_outputs(CLI::App* c, PlanArgs& o) {
-  c->add_option("--output", o.output,
-                "Write DIR/setups.csv (the best set-up per candidate), tuning.csv (the best per overhang), map.csv (every overhang and "
-                "speed: stable, allowed and used depth [mm], limit, MRR [cm^3/min], chatter [Hz], lobe) and plan.json (default: none)")
+  c->add_option(
+       "--output", o.output,
+       "Write DIR/setups.csv (the best set-up per candidate), tuning.csv (the best per overhang), map.csv (every overhang and "
+       "speed: stable, allowed and used depth [mm], limit, MRR [cm^3/min], chatter [Hz], lobe) and plan.json (default: none)")
       ->option_text("DIR");
-  add_plot_option(c, o.plot,
-                  "the allowed depth [mm] as a map over spindle speed [rpm] and overhang [mm] with the best speeds marked; the tuning "
-                  "curve (best MRR [cm^3/min] and its speed [rpm] against overhang [mm]) in FILE with \"_tuning\" before the extension");
+  add_plot_option(
+      c, o.plot,
+      "the allowed depth [mm] as a map over spindle speed [rpm] and overhang [mm] with the best speeds marked; the tuning "
+      "curve (best MRR [cm^3/min] and its speed [rpm] against overhang [mm]) in FILE with \"_tuning\" before the extension");
   c->add_flag("--json", o.json, "Machine-readable result on stdout");
 }
 
@@ -163,9 +172,10 @@ void add_plan_command(CLI::App& app, Globals& g) {
   auto o = std::make_shared<PlanArgs>();
   CLI::App* c = app.add_subcommand(
       "plan", "The set-up (overhang) and spindle speed that remove the most metal without chatter, from a study file");
-  c->add_option("study", o->study,
-                "Study file (TOML, SI units, spindle speeds in rpm): candidates (assemblies and their overhang ranges, or a measured "
-                "SH11 + the model's tool), the cut, the machine's speeds and limits, the safety rule; see examples/plan_bt40.toml");
+  c->add_option(
+      "study", o->study,
+      "Study file (TOML, SI units, spindle speeds in rpm): candidates (assemblies and their overhang ranges, or a measured "
+      "SH11 + the model's tool), the cut, the machine's speeds and limits, the safety rule; see examples/plan_bt40.toml");
   c->add_option("--method", o->method, "Override the study's method: zoa (zero-order lobes) or fd (full-discretization)")
       ->check(CLI::IsMember({"zoa", "fd"}));
   c->add_option("--threads", o->threads, "Worker threads (0: every core; the same result for any number)")->capture_default_str();
@@ -175,16 +185,18 @@ void add_plan_command(CLI::App& app, Globals& g) {
       ->option_text("I/N");
   c->add_option("--part", o->part, "With --shard: the part file to write (JSON, numbers exact)")->option_text("FILE");
   add_outputs(c, *o);
-  c->footer(std::string(kFigureFooter) +
-            "The depth used at each speed is the smallest of: the allowed depth (the stable depth / safety.factor, or the depth\n"
-            "stable with probability >= safety.probability for the sampled joint), the spindle's torque and power limits (mean\n"
-            "cutting torque from K_t, the feed and the engagement), the tool's flute length and cut.max_depth.\n"
-            "MRR = depth x radial width x feed per tooth x teeth x speed. Results are identical for any --threads and any sharding.\n"
-            "Examples:\n"
-            "  toolpoint plan examples/plan_bt40.toml --output plan --plot plan.png\n"
-            "  toolpoint plan examples/plan_bt40.toml --shard 3/8 --part parts/part-3.json     (one of 8 batch tasks)\n"
-            "  toolpoint plan merge parts/part-*.json --output plan --plot plan.png");
-  CLI::App* m = c->add_subcommand("merge", "Combine the part files of `plan --shard` into the whole plan (identical to an unsharded run)");
+  c->footer(
+      std::string(kFigureFooter) +
+      "The depth used at each speed is the smallest of: the allowed depth (the stable depth / safety.factor, or the depth\n"
+      "stable with probability >= safety.probability for the sampled joint), the spindle's torque and power limits (mean\n"
+      "cutting torque from K_t, the feed and the engagement), the tool's flute length and cut.max_depth.\n"
+      "MRR = depth x radial width x feed per tooth x teeth x speed. Results are identical for any --threads and any sharding.\n"
+      "Examples:\n"
+      "  toolpoint plan examples/plan_bt40.toml --output plan --plot plan.png\n"
+      "  toolpoint plan examples/plan_bt40.toml --shard 3/8 --part parts/part-3.json     (one of 8 batch tasks)\n"
+      "  toolpoint plan merge parts/part-*.json --output plan --plot plan.png");
+  CLI::App* m = c->add_subcommand("merge",
+                                  "Combine the part files of `plan --shard` into the whole plan (identical to an unsharded run)");
   m->add_option("parts", o->parts, "The part files, every shard once, any order")->required();
   add_outputs(m, *o);
   m->callback([o, &g] { run_merge_command(*o, g); });

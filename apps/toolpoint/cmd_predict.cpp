@@ -38,7 +38,8 @@ void run_predict(const PredictArgs& o, const Globals& g) {
   const std::vector<JointFile> joints = read_joint_options(g, o.joints);
   std::optional<UncertaintyOptions> sampling;
   if (o.sampling.samples != 0 || !o.band_output.empty()) {
-    if (o.at != "tool") throw InvalidArgument("--samples: the band is computed for the tool point (--at tool)", "drop --at holder");
+    if (o.at != "tool")
+      throw InvalidArgument("--samples: the band is computed for the tool point (--at tool)", "drop --at holder");
     sampling = uncertainty_options(o.sampling);
     sampled_joint(joints);
   }
@@ -122,8 +123,7 @@ void add_predict_command(CLI::App& app, Globals& g) {
   c->add_option("--output", o->output,
                 "Write the 2×2 block [[H, L], [N, P]] per frequency here (FRF CSV; H m/N, L 1/N, N rad/N, P rad/(N m)); "
                 "default: only the table of modes on stdout");
-  c->add_option("--frequencies", o->frequencies,
-                "Frequency grid START:STOP:STEP [Hz] (default: the file's [analysis] grid)");
+  c->add_option("--frequencies", o->frequencies, "Frequency grid START:STOP:STEP [Hz] (default: the file's [analysis] grid)");
   add_plot_option(c, o->plot,
                   "the block: |H| [m/N] and phase of H [deg], |P| [rad/(N·m)] and phase of P [deg] against frequency "
                   "[Hz], modes (peaks of |H|) labelled [Hz]");

@@ -25,8 +25,7 @@ void run_resample(const ResampleOptions& o, const Globals& g) {
   if (o.band.empty() && o.onto.empty() && o.grid.empty())
     throw InvalidArgument("resample needs a band to crop to (--band) or frequencies to interpolate onto (--onto, --grid)",
                           "e.g. --band 500:3000, --onto other.csv or --grid 500:3000:2.5");
-  if (!o.onto.empty() && !o.grid.empty())
-    throw InvalidArgument("give either --onto FILE or --grid START:STOP:STEP, not both");
+  if (!o.onto.empty() && !o.grid.empty()) throw InvalidArgument("give either --onto FILE or --grid START:STOP:STEP, not both");
   const Interpolation method = parse_interpolation(o.method, "--method");
   std::optional<std::pair<double, double>> band;
   if (!o.band.empty()) band = parse_range(o.band, "--band");
@@ -94,17 +93,16 @@ void run_resample(const ResampleOptions& o, const Globals& g) {
 void add_resample_command(CLI::App& app, Globals& g) {
   auto o = std::make_shared<ResampleOptions>();
   CLI::App* c = app.add_subcommand(
-      "resample", "An FRF on another frequency grid: cropped to a band, or interpolated onto another file's frequencies or a "
-                  "given grid (only inside the measured range)");
-  c->add_option("input", o->input, std::string("Input FRF (required): ") + kSingleFrfHelp + ", or a 2×2 block CSV")
-      ->required();
+      "resample",
+      "An FRF on another frequency grid: cropped to a band, or interpolated onto another file's frequencies or a "
+      "given grid (only inside the measured range)");
+  c->add_option("input", o->input, std::string("Input FRF (required): ") + kSingleFrfHelp + ", or a 2×2 block CSV")->required();
   c->add_option("output", o->output,
                 "Output file (required), same form as the input, format by extension: .csv, .uff/.unv/.uf or .frf; .csv "
                 "for a block")
       ->required();
   c->add_option("--band", o->band, "Keep F1 ≤ f ≤ F2 only, as F1:F2 [Hz] (crops the input, or the target grid)");
-  c->add_option("--onto", o->onto,
-                "Interpolate onto the frequencies of this FRF file (any format; FILE#N for a UFF dataset)");
+  c->add_option("--onto", o->onto, "Interpolate onto the frequencies of this FRF file (any format; FILE#N for a UFF dataset)");
   c->add_option("--grid", o->grid, "Interpolate onto START:STOP:STEP [Hz]");
   c->add_option("--method", o->method,
                 "Interpolation of real and imaginary parts: linear (second order, no overshoot) or cubic (natural "

@@ -26,7 +26,7 @@ struct RotationalCliOptions {
   std::string files[3][3];  // files[i][j]: H_ij, response at point i, force at point j
   std::string output, p_method = "auto", plot, uff, direction;
   std::string model, at_site;  // --model A.toml --at tool|holder: the model-based correction
-  std::vector<int> nodes;   // --nodes: UFF node numbers of points 0 (tip), 1, 2
+  std::vector<int> nodes;      // --nodes: UFF node numbers of points 0 (tip), 1, 2
   RotationalOptions fd{2, 0.0, false, PMethod::Auto, std::nullopt, false};
 };
 
@@ -70,9 +70,8 @@ void read_tap_test_file(const RotationalCliOptions& o, const Globals& g, PointFr
       throw InputError(fmt::format("{}: datasets {} and {} both have response node {} and reference node {} (directions "
                                    "{}/{} and {}/{})",
                                    o.uff, other->index, d.index, d.response_node, d.reference_node,
-                                   uff_direction_name(other->response_direction),
-                                   uff_direction_name(other->reference_direction), uff_direction_name(d.response_direction),
-                                   uff_direction_name(d.reference_direction)),
+                                   uff_direction_name(other->response_direction), uff_direction_name(other->reference_direction),
+                                   uff_direction_name(d.response_direction), uff_direction_name(d.reference_direction)),
                        "pick the direction measured (--direction, e.g. +Y), or keep one dataset per pair of points");
     used[i][j] = &d;
   }
@@ -165,10 +164,9 @@ void run_rotational(RotationalCliOptions o, const Globals& g) {
                                                          : "as measured (L from H0j, N from Hi0)",
                              r.p_from_cross_terms ? "from cross terms" : "approximated as N*L/H00 (Schmitz & Smith)"),
                  "inputs:" + sources,
-                 r.filled_by_reciprocity.empty()
-                     ? std::string("no measurement filled by reciprocity")
-                     : fmt::format("reciprocity assumed (--assume-reciprocity), not measured: {}",
-                                   fmt::join(r.filled_by_reciprocity, ", ")),
+                 r.filled_by_reciprocity.empty() ? std::string("no measurement filled by reciprocity")
+                                                 : fmt::format("reciprocity assumed (--assume-reciprocity), not measured: {}",
+                                                               fmt::join(r.filled_by_reciprocity, ", ")),
                  correction});
   warn_all(r.warnings);
   if (r.reciprocity_mismatch)
@@ -243,20 +241,22 @@ void add_rotational_command(CLI::App& app, Globals& g) {
   add_plot_option(c, o->plot,
                   "the block: |H| [m/N], |L| and |N| [1/N], |P| [rad/(N·m)] and the four phases [deg] against frequency [Hz]");
   c->footer(std::string(kFigureFooter) +
-      "Points: 0 at the tool tip, 1 and 2 at s and 2s towards the spindle; H_ij = w_i/f_j. N needs\n"
-      "H10 (and H20), L needs H01 (and H02); a missing one is an error unless --assume-reciprocity\n"
-      "takes it from H_ji (with the hammer at the tip only, that makes L = N). P needs H11 (and H12,\n"
-      "H21, H22) too; otherwise P ~ N*L/H00, which is about 25 % low on a static cantilever (a warning\n"
-      "says so). All inputs share one grid (`toolpoint resample` puts them on one).\n"
-      "Input formats: " + std::string(kSingleFrfHelp) + ".\n"
-      "Example:\n"
-      "  toolpoint rotational --uff tap_tool.uff --spacing 0.01 --order 2 --output sht11.csv\n"
-      "  toolpoint rotational --uff testlab.uff --nodes 101,102,103 --direction +Y --spacing 0.02 --output sht11.csv\n"
-      "  toolpoint rotational --spacing 0.04 --order 2 --h00 tip.csv --h10 p1.csv --h20 p2.csv \\\n"
-      "      --h11 p1p1.csv --h21 p2p1.csv --h22 p2p2.csv --output SHT11.csv --plot SHT11.png\n"
-      "  (with every FRF in one universal file: --h00 tap.uff#0 --h10 tap.uff#1 …)\n"
-      "  toolpoint rotational --uff tap_holder.uff --spacing 0.02 --model A.toml --at holder --output sh11.csv\n"
-      "      (the truncation error of the differences, estimated on the model A.toml, removed)");
+            "Points: 0 at the tool tip, 1 and 2 at s and 2s towards the spindle; H_ij = w_i/f_j. N needs\n"
+            "H10 (and H20), L needs H01 (and H02); a missing one is an error unless --assume-reciprocity\n"
+            "takes it from H_ji (with the hammer at the tip only, that makes L = N). P needs H11 (and H12,\n"
+            "H21, H22) too; otherwise P ~ N*L/H00, which is about 25 % low on a static cantilever (a warning\n"
+            "says so). All inputs share one grid (`toolpoint resample` puts them on one).\n"
+            "Input formats: " +
+            std::string(kSingleFrfHelp) +
+            ".\n"
+            "Example:\n"
+            "  toolpoint rotational --uff tap_tool.uff --spacing 0.01 --order 2 --output sht11.csv\n"
+            "  toolpoint rotational --uff testlab.uff --nodes 101,102,103 --direction +Y --spacing 0.02 --output sht11.csv\n"
+            "  toolpoint rotational --spacing 0.04 --order 2 --h00 tip.csv --h10 p1.csv --h20 p2.csv \\\n"
+            "      --h11 p1p1.csv --h21 p2p1.csv --h22 p2p2.csv --output SHT11.csv --plot SHT11.png\n"
+            "  (with every FRF in one universal file: --h00 tap.uff#0 --h10 tap.uff#1 …)\n"
+            "  toolpoint rotational --uff tap_holder.uff --spacing 0.02 --model A.toml --at holder --output sh11.csv\n"
+            "      (the truncation error of the differences, estimated on the model A.toml, removed)");
   c->callback([o, &g] { run_rotational(*o, g); });
 }
 

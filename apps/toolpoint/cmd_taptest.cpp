@@ -52,10 +52,10 @@ void run_taptest(const TapTestArgs& o, const Globals& g) {
   const bool tool = options.side == TapSide::Tool;
   std::vector<UffDataset58> sets;
   for (const TapTestFrf& r : t.frfs)
-    sets.push_back(uff_from_receptance(
-        r.frf, UffDof{r.response + 1, 2, r.hammer + 1, 2},
-        fmt::format("toolpoint taptest H{}{}: {} point {} ({} mm in), hammer at point {}", r.response, r.hammer, tool ? "tool" : "holder",
-                    r.response, 1000 * t.distance_m[static_cast<std::size_t>(r.response)], r.hammer)));
+    sets.push_back(uff_from_receptance(r.frf, UffDof{r.response + 1, 2, r.hammer + 1, 2},
+                                       fmt::format("toolpoint taptest H{}{}: {} point {} ({} mm in), hammer at point {}",
+                                                   r.response, r.hammer, tool ? "tool" : "holder", r.response,
+                                                   1000 * t.distance_m[static_cast<std::size_t>(r.response)], r.hammer)));
   UffWriteOptions wo;
   wo.binary = o.binary;
   const auto w = write_uff(o.output, sets, wo);
@@ -70,27 +70,34 @@ void run_taptest(const TapTestArgs& o, const Globals& g) {
     std::cout << fmt::format("{}node {} at {:g} mm from the tip", i ? "; " : "", i + 1, 1000 * t.distance_m[i]);
   std::cout << fmt::format("\nUFF datasets: response node i+1, reference (hammer) node j+1, direction +Y; wrote {}\n", o.output);
   // The section under the points: what `rotational --shear-stiffness` needs to turn dw/dx into ψ.
-  std::cout << fmt::format("shear stiffness κGA under the points: {:.4g} N{} (give it to `toolpoint rotational --shear-stiffness`)\n",
-                           t.shear_stiffness_n, t.crosses_step ? " (smallest of the sections spanned: the points cross a step)" : "");
+  std::cout << fmt::format(
+      "shear stiffness κGA under the points: {:.4g} N{} (give it to `toolpoint rotational --shear-stiffness`)\n",
+      t.shear_stiffness_n, t.crosses_step ? " (smallest of the sections spanned: the points cross a step)" : "");
 }
 
 }  // namespace
 
 void add_taptest_command(CLI::App& app, Globals& g) {
   auto o = std::make_shared<TapTestArgs>();
-  CLI::App* c = app.add_subcommand("taptest", "Virtual impact test on the model: translational FRFs at the tip and s, 2s inwards, as UFF 58");
+  CLI::App* c = app.add_subcommand(
+      "taptest", "Virtual impact test on the model: translational FRFs at the tip and s, 2s inwards, as UFF 58");
   c->add_option("assembly", o->assembly, "Assembly file (TOML)")->required();
-  c->add_option("--at", o->at, "tool: on the tool of the whole assembly (for SHT11); holder: on the holder, tool outside removed (for SH11)")
+  c->add_option("--at", o->at,
+                "tool: on the tool of the whole assembly (for SHT11); holder: on the holder, tool outside removed (for SH11)")
       ->check(CLI::IsMember({"tool", "holder"}))
       ->capture_default_str();
-  c->add_option("--spacing", o->spacing, "Distance s between neighbouring points [m]")->required()->check(plausible_value(plausible::kPointSpacing, "--spacing"));
+  c->add_option("--spacing", o->spacing, "Distance s between neighbouring points [m]")
+      ->required()
+      ->check(plausible_value(plausible::kPointSpacing, "--spacing"));
   c->add_option("--points", o->points, "Measurement points: 2 (first-order differences) or 3 (second order)")
       ->check(CLI::IsMember({2, 3}))
       ->capture_default_str();
-  c->add_option("--hammer", o->hammer, "roving: the hammer at every point (all H_ij, for P by cross terms); tip: only at the tip (H_i0)")
+  c->add_option("--hammer", o->hammer,
+                "roving: the hammer at every point (all H_ij, for P by cross terms); tip: only at the tip (H_i0)")
       ->check(CLI::IsMember({"roving", "tip"}))
       ->capture_default_str();
-  c->add_option("--sigma", o->sigma, "Multiplicative noise on each FRF, standard deviation (0.02 = 2 %; default 0: exact)")->capture_default_str();
+  c->add_option("--sigma", o->sigma, "Multiplicative noise on each FRF, standard deviation (0.02 = 2 %; default 0: exact)")
+      ->capture_default_str();
   c->add_option("--seed", o->seed, "Random seed of the noise (FRF k uses seed + k)")->capture_default_str();
   c->add_option("--frequencies", o->frequencies, "Override the file's [analysis] grid: START:STOP:STEP [Hz]");
   c->add_option("--output", o->output, "UFF file to write (.uff)")->required();

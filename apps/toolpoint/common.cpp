@@ -48,7 +48,8 @@ LoadedAssembly load_assembly_on_grid(const Globals& g, const std::string& path, 
   return loaded;
 }
 
-LoadedModel load_model(const Globals& g, const std::string& path, const std::string& frequencies, const std::vector<JointFile>& joints) {
+LoadedModel load_model(const Globals& g, const std::string& path, const std::string& frequencies,
+                       const std::vector<JointFile>& joints) {
   LoadedAssembly loaded = load_assembly_on_grid(g, path, frequencies, joints);
   AssemblyModel model(loaded.assembly);
   warn_all(model.warnings());
@@ -82,11 +83,12 @@ std::vector<JointFile> read_joint_options(const Globals& g, const std::vector<st
     if (named && *named != f.interface)
       throw InvalidArgument(fmt::format("--joint {}: {} holds the {} joint, not the {} joint", spec, path, to_string(f.interface),
                                         to_string(*named)),
-                            fmt::format("write --joint {}={}", f.interface == JointInterface::HolderTool ? "holder-tool" : "spindle-holder",
-                                        path));
+                            fmt::format("write --joint {}={}",
+                                        f.interface == JointInterface::HolderTool ? "holder-tool" : "spindle-holder", path));
     for (const JointFile& other : files)
       if (other.interface == f.interface)
-        throw InvalidArgument(fmt::format("--joint: two files for the {} joint ({} and {})", to_string(f.interface), other.source, path),
+        throw InvalidArgument(fmt::format("--joint: two files for the {} joint ({} and {})", to_string(f.interface), other.source,
+                                          path),
                               "give one file per joint");
     info(g, fmt::format("joints.{}: the identified joint of {}{}", to_string(f.interface), path,
                         f.uncertainty ? " (with its covariance)" : ""));
@@ -108,13 +110,17 @@ Assembly with_joints(const Assembly& assembly, const std::vector<JointFile>& fil
 }
 
 void add_sampling_options(CLI::App* command, SamplingOptions& target, const std::string& what, bool threads_option) {
-  command->add_option("--samples", target.samples,
-                      "Carry the --joint file's uncertainty forward by this many Monte Carlo samples of the joint (≥ 10; 0: "
-                      "none): " + what)
+  command
+      ->add_option("--samples", target.samples,
+                   "Carry the --joint file's uncertainty forward by this many Monte Carlo samples of the joint (≥ 10; 0: "
+                   "none): " +
+                       what)
       ->capture_default_str();
   command->add_option("--seed", target.seed, "Random seed of the joint samples")->capture_default_str();
   if (threads_option)
-    command->add_option("--threads", target.threads, "Worker threads for the samples (0: every core; the same result for any number)")
+    command
+        ->add_option("--threads", target.threads,
+                     "Worker threads for the samples (0: every core; the same result for any number)")
         ->capture_default_str();
 }
 
@@ -123,14 +129,15 @@ const JointFile& sampled_joint(const std::vector<JointFile>& files) {
   for (const JointFile& f : files)
     if (f.uncertainty) {
       if (found)
-        throw InvalidArgument(fmt::format("--samples: both {} and {} carry an uncertainty; one joint is sampled at a time", found->source,
-                                          f.source),
+        throw InvalidArgument(fmt::format("--samples: both {} and {} carry an uncertainty; one joint is sampled at a time",
+                                          found->source, f.source),
                               "give the other joint without --samples, or as assembly-file values");
       found = &f;
     }
   if (!found)
-    throw InvalidArgument("--samples needs a --joint file with an [uncertainty] (a band fit's covariance)",
-                          "identify the joint with `toolpoint identify --joint-output FILE.toml` and pass --joint holder-tool=FILE.toml");
+    throw InvalidArgument(
+        "--samples needs a --joint file with an [uncertainty] (a band fit's covariance)",
+        "identify the joint with `toolpoint identify --joint-output FILE.toml` and pass --joint holder-tool=FILE.toml");
   return *found;
 }
 
@@ -173,7 +180,8 @@ std::string with_suffix(const std::string& path, const std::string& suffix) {
 }
 
 plot::JointParameterCurve joint_curve(const JointSeries& series, int pair, const std::optional<JointParameters>& reference,
-                                      const std::optional<JointParameters>& identified, const JointFit* fit, const JointReadout* seed) {
+                                      const std::optional<JointParameters>& identified, const JointFit* fit,
+                                      const JointReadout* seed) {
   static const char* subscripts[4] = {"yf", "ym", "{/Symbol q}f", "{/Symbol q}m"};
   plot::JointParameterCurve c;
   c.name = subscripts[pair];
@@ -251,9 +259,9 @@ void draw_frf_overlay(const Globals& g, const std::vector<plot::FrfTrace>& trace
 
 // ---- FRF inputs -----------------------------------------------------------------------------
 
-#define TOOLPOINT_SINGLE_FRF_FORMATS                                                                     \
+#define TOOLPOINT_SINGLE_FRF_FORMATS                                                                       \
   "FRF CSV (frequency_hz,re,im), UFF dataset 58/58b (.uff/.unv/.uf; FILE#N picks dataset N, numbered as "  \
-  "`toolpoint convert FILE --list` shows; mobility/accelerance converted) or CutPro .frf; receptance m/N "  \
+  "`toolpoint convert FILE --list` shows; mobility/accelerance converted) or CutPro .frf; receptance m/N " \
   "against frequency Hz"
 const char* const kSingleFrfHelp = TOOLPOINT_SINGLE_FRF_FORMATS;
 const char* const kPointFrfHelp = TOOLPOINT_SINGLE_FRF_FORMATS ", or a 2×2 block CSV (its H entry, w/f, is used)";
@@ -275,10 +283,11 @@ void add_frf_read_options(CLI::App* command, Globals& g) {
   command->add_option("--format", g.frf.format,
                       "CSV input: what the two value columns hold where the header does not say: re-im, mag-phase-deg, "
                       "mag-phase-rad, db-phase (dB of |H| in the units, phase in degrees) or db-phase-rad");
-  command->add_option("--columns", g.frf.columns,
-                      "CSV input: the frequency column, the two value columns and optionally a coherence column, by "
-                      "number from 1 or by header text, comma-separated, e.g. 1,4,5 (default: found by the header's "
-                      "names)")
+  command
+      ->add_option("--columns", g.frf.columns,
+                   "CSV input: the frequency column, the two value columns and optionally a coherence column, by "
+                   "number from 1 or by header text, comma-separated, e.g. 1,4,5 (default: found by the header's "
+                   "names)")
       ->delimiter(',')
       ->expected(3, 4);
 }
@@ -329,13 +338,9 @@ CLI::Validator plausible_value(const PlausibleRange& range, const std::string& o
         }
         if (v == 0.0) return {};
         switch (judge(range, v)) {
-          case Plausibility::Usual:
-            return {};
-          case Plausibility::Unusual:
-            warn(plausibility_message(range, v, option));
-            return {};
-          case Plausibility::Impossible:
-            break;
+          case Plausibility::Usual: return {};
+          case Plausibility::Unusual: warn(plausibility_message(range, v, option)); return {};
+          case Plausibility::Impossible: break;
         }
         return plausibility_message(range, v, "the value");  // CLI11 puts the option's name first
       },
@@ -368,7 +373,9 @@ FrfFileData read_frf_file_for_cli(const std::string& path, const FrfReadOptions&
 
 void add_frf_file_arguments(CLI::App* command, Globals& g, std::string& input, std::string& output,
                             std::optional<std::size_t>& dataset, const std::string& block_note) {
-  command->add_option("input", input, std::string("Input FRF (required): ") + kSingleFrfHelp + ", or a 2×2 block CSV (" + block_note + ")")
+  command
+      ->add_option("input", input,
+                   std::string("Input FRF (required): ") + kSingleFrfHelp + ", or a 2×2 block CSV (" + block_note + ")")
       ->required();
   command
       ->add_option("output", output,
@@ -417,8 +424,8 @@ void check_output_extension(const std::string& path, const std::string& option, 
     if (ext == e) return;
     listed += (listed.empty() ? "" : ", ") + std::string(e);
   }
-  throw InvalidArgument(fmt::format("{} {}: the extension '{}' names a format this command does not write there; it writes {}", option,
-                                    path, ext, formats),
+  throw InvalidArgument(fmt::format("{} {}: the extension '{}' names a format this command does not write there; it writes {}",
+                                    option, path, ext, formats),
                         fmt::format("name the file with {}", listed));
 }
 
@@ -431,13 +438,14 @@ FrfFileData read_frf_input(const Globals& g, const std::string& spec, std::optio
   try {
     r.format = frf_format_of_path(path);
   } catch (const InvalidArgument& e) {
-    throw InvalidArgument(e.what(), "give an FRF CSV (.csv), a universal file (.uff, .unv, .uf) or a CutPro file (.frf); "
-                                    "`toolpoint convert --from FORMAT` reads files with other names");
+    throw InvalidArgument(e.what(),
+                          "give an FRF CSV (.csv), a universal file (.uff, .unv, .uf) or a CutPro file (.frf); "
+                          "`toolpoint convert --from FORMAT` reads files with other names");
   }
   r.uff.index = suffix ? suffix : dataset;
   if (r.uff.index && r.format != FrfFormat::Uff)
-    throw InvalidArgument(fmt::format("{}: dataset {} asked for, but only UFF files have datasets ({} is {})", spec,
-                                      *r.uff.index, path, frf_format_name(r.format)),
+    throw InvalidArgument(fmt::format("{}: dataset {} asked for, but only UFF files have datasets ({} is {})", spec, *r.uff.index,
+                                      path, frf_format_name(r.format)),
                           "drop --dataset / #N for CSV and .frf files");
   FrfFileData d = read_frf_file_for_cli(path, r);
   warn_all(d.warnings);
@@ -469,8 +477,9 @@ FrfFormat output_frf_format(const std::string& path) {
   try {
     return frf_format_of_path(path);
   } catch (const InvalidArgument& e) {
-    throw InvalidArgument(e.what(), "name the output .csv (FRF CSV), .uff/.unv/.uf (ASCII UFF 58) or .frf (CutPro); "
-                                    "`toolpoint convert --to uffb` writes binary UFF");
+    throw InvalidArgument(e.what(),
+                          "name the output .csv (FRF CSV), .uff/.unv/.uf (ASCII UFF 58) or .frf (CutPro); "
+                          "`toolpoint convert --to uffb` writes binary UFF");
   }
 }
 
@@ -516,7 +525,8 @@ std::vector<plot::FrfTrace> band_traces(const FrfBand& b) {
     FrfSeries q;
     q.frequency_hz = b.frequency_hz;
     for (std::size_t i = 0; i < b.frequency_hz.size(); ++i) q.values.push_back(std::polar(b.magnitude[l][i], b.phase_rad[l][i]));
-    traces.push_back({q, fmt::format("{:g} % quantile ({} joint samples)", 100 * b.levels[l], b.samples), plot::CurveStyle::Dashed});
+    traces.push_back(
+        {q, fmt::format("{:g} % quantile ({} joint samples)", 100 * b.levels[l], b.samples), plot::CurveStyle::Dashed});
   }
   return traces;
 }

@@ -90,7 +90,8 @@ int main(int argc, char** argv) {
     std::cerr << fmt::format("  fix: see `{}` for the options, their units and an example\n", help);
     return kExitUsage;
   } catch (const toolpoint::InvalidArgument& e) {
-    return report(e, kExitUsage, fmt::format("correct the value named above; `{}` gives each option's unit, range and default", help));
+    return report(e, kExitUsage,
+                  fmt::format("correct the value named above; `{}` gives each option's unit, range and default", help));
   } catch (const toolpoint::InputError& e) {
     return report(e, kExitInput, fmt::format("correct the file at the place named above; `{}` describes the formats read", help));
   } catch (const toolpoint::NumericalError& e) {
@@ -102,7 +103,8 @@ int main(int argc, char** argv) {
   } catch (const toolpoint::Error& e) {
     return report(e, kExitInternal, "this is a bug in toolpoint; please report it with the command line");
   } catch (const std::exception& e) {
-    std::cerr << "error: internal: " << e.what() << "\n  fix: this is a bug in toolpoint; please report it with the command line\n";
+    std::cerr << "error: internal: " << e.what()
+              << "\n  fix: this is a bug in toolpoint; please report it with the command line\n";
     return kExitInternal;
   }
   return kExitOk;

@@ -45,7 +45,8 @@ std::string progress_line(const std::string& label, double fraction, double elap
   fraction = std::clamp(fraction, 0.0, 1.0);
   std::string tail = fmt::format(" {:3.0f} %  {:.0f} s", 100.0 * fraction, std::floor(elapsed_s));
   // A remaining-time guess only once there is something to extrapolate from.
-  if (fraction >= 0.02 && fraction < 1.0) tail += fmt::format(", about {:.0f} s left", std::ceil(elapsed_s * (1.0 - fraction) / fraction));
+  if (fraction >= 0.02 && fraction < 1.0)
+    tail += fmt::format(", about {:.0f} s left", std::ceil(elapsed_s * (1.0 - fraction) / fraction));
   // One column is kept free: writing the last one makes some terminals wrap.
   const int room = columns - 1 - static_cast<int>(tail.size());
   std::string name = label;
@@ -112,7 +113,8 @@ void Progress::done() {
 void Progress::line() {
   const double elapsed = seconds_since(start_);
   std::string text = fmt::format("{}: {:.0f} % after {:.0f} s", label_, std::floor(100.0 * fraction_), std::floor(elapsed));
-  if (fraction_ >= 0.02 && fraction_ < 1.0) text += fmt::format(", about {:.0f} s left", std::ceil(elapsed * (1.0 - fraction_) / fraction_));
+  if (fraction_ >= 0.02 && fraction_ < 1.0)
+    text += fmt::format(", about {:.0f} s left", std::ceil(elapsed * (1.0 - fraction_) / fraction_));
   std::fputs((text + "\n").c_str(), stderr);
   std::fflush(stderr);
   lines_written_ = true;

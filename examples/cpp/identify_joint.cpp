@@ -27,15 +27,16 @@ int main(int argc, char** argv) {
     const toolpoint::AssemblyModel model(assembly);
 
     // K_ht(ω) at every frequency: A = T (the model's tool), B11 = SH11, G11 = SHT11.
-    const toolpoint::JointSeries k =
-        toolpoint::identify_series([&](double f) { return model.tool(f); }, sh, argv[2], sht, argv[3]);
+    const toolpoint::JointSeries k = toolpoint::identify_series([&](double f) { return model.tool(f); }, sh, argv[2], sht,
+                                                                argv[3]);
 
     // The mode the holder–tool joint controls, and the band around it.
     const toolpoint::EffectAnalysis effect = toolpoint::effect_analysis(assembly, toolpoint::Route::HolderTool, sht.frequency_hz);
     const double mode_hz = effect.modes[effect.dominant].frequency_hz;
     const toolpoint::JointReadout r = toolpoint::band_readout(k, 0.98 * mode_hz, 1.02 * mode_hz);
 
-    std::printf("holder-tool joint read at %.1f Hz (%zu points, %.1f to %.1f Hz)\n", mode_hz, r.points, r.band_lo_hz, r.band_hi_hz);
+    std::printf("holder-tool joint read at %.1f Hz (%zu points, %.1f to %.1f Hz)\n", mode_hz, r.points, r.band_lo_hz,
+                r.band_hi_hz);
     for (int i = 0; i < 8; ++i)
       std::printf("%-5s %12.6g %-10s (noise gain %.3g)\n", toolpoint::JointParameters::name(i), r.parameters[i].median,
                   toolpoint::JointParameters::unit(i), r.noise_gain[i]);

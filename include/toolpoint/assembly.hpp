@@ -121,7 +121,7 @@ class Chain {
   std::vector<Segment> pieces_;
   std::vector<SectionProperties> props_;
   std::vector<std::shared_ptr<const ModalBeam>> modal_;  // per piece under the modal method; null: exact
-  std::vector<std::vector<Bearing>> ground_;              // per node, size n + 1
+  std::vector<std::vector<Bearing>> ground_;             // per node, size n + 1
   ReceptanceMethod method_ = ReceptanceMethod::Exact;
   int modal_terms_ = 0;
   std::vector<std::string> warnings_;
@@ -145,8 +145,8 @@ class AssemblyModel {
   };
   Receptances evaluate(double frequency_hz) const;
 
-  Block tool_point(double frequency_hz) const;   // SHT11
-  Block holder_tip(double frequency_hz) const;   // SH11
+  Block tool_point(double frequency_hz) const;  // SHT11
+  Block holder_tip(double frequency_hz) const;  // SH11
   // The same over a grid of frequencies [Hz], as a series (what predict, lobes and the effect
   // analysis need). Under the exact method the frequencies go four at a time through SIMD lanes
   // (sweep.cpp), by the same closed forms and the same coupling order as the per-frequency
@@ -164,9 +164,9 @@ class AssemblyModel {
   };
   BlockSeries tool_point(const std::vector<double>& frequency_hz, SweepDiagnostics* diagnostics = nullptr) const;
   BlockSeries holder_tip(const std::vector<double>& frequency_hz, SweepDiagnostics* diagnostics = nullptr) const;
-  Block spindle_nose(double frequency_hz) const; // S11
-  TwoPort holder(double frequency_hz) const;     // H
-  TwoPort tool(double frequency_hz) const;       // T
+  Block spindle_nose(double frequency_hz) const;   // S11
+  TwoPort holder(double frequency_hz) const;       // H
+  TwoPort tool(double frequency_hz) const;         // T
   TwoPort holder_tool(double frequency_hz) const;  // HT = T ⊕ H through K_ht (Eq. 17's HT)
 
   // Receptances between stations on the tool outside the holder, at `distances` from the tip

@@ -127,8 +127,8 @@ TwoPort exact_receptance(const SectionWaves& waves, double length);
 // ---- Modal summation (seed Eq. 11–14) ---------------------------------------------------------
 
 struct ModalOptions {
-  int modes = 100;              // elastic free–free modes kept, N ≥ 1
-  bool static_residual = false; // add the truncated modes' quasi-static part (see below)
+  int modes = 100;               // elastic free–free modes kept, N ≥ 1
+  bool static_residual = false;  // add the truncated modes' quasi-static part (see below)
   void check() const;
 };
 

@@ -24,13 +24,13 @@
 namespace toolpoint {
 
 struct CaseStudyOptions {
-  double noise_sigma = 0.05;            // σ of the multiplicative noise (0.05 = 5 %, the seed's)
-  std::uint64_t seed = 1;               // SH11 uses `seed`, SHT11 `seed + 1`
-  SavgolOptions filter{81, 2};          // window in frequency points (81 Hz on a 1 Hz grid), order
+  double noise_sigma = 0.05;    // σ of the multiplicative noise (0.05 = 5 %, the seed's)
+  std::uint64_t seed = 1;       // SH11 uses `seed`, SHT11 `seed + 1`
+  SavgolOptions filter{81, 2};  // window in frequency points (81 Hz on a 1 Hz grid), order
   bool apply_filter = true;
-  double band_width = 0.02;             // read-out band: tool mode × (1 ± band_width)
-  bool fit = true;                      // also fit the joint to the raw noisy data (the band fit)
-  JointFitOptions fit_options;          // its intervals (bootstrap by default), threads, seed
+  double band_width = 0.02;     // read-out band: tool mode × (1 ± band_width)
+  bool fit = true;              // also fit the joint to the raw noisy data (the band fit)
+  JointFitOptions fit_options;  // its intervals (bootstrap by default), threads, seed
   void check() const;
 };
 
@@ -38,17 +38,17 @@ struct CaseStudy {
   Assembly assembly;
   JointParameters reference;  // the assembly's holder–tool joint (Table 1 in the example)
   BlockSeries sh_true, sht_true, sh_noisy, sht_noisy, sh_filtered, sht_filtered;
-  JointSeries clean, noisy, filtered;  // K_ht(ω) from true, noisy and filtered data
-  std::array<double, 8> clean_max_deviation{};  // max over the band of |p(ω)/p_ref − 1|
-  EffectAnalysis effect;                        // which mode the holder–tool joint controls
-  double mode_hz = 0.0;                         // that mode in the (filtered) measured SHT11
+  JointSeries clean, noisy, filtered;                           // K_ht(ω) from true, noisy and filtered data
+  std::array<double, 8> clean_max_deviation{};                  // max over the band of |p(ω)/p_ref − 1|
+  EffectAnalysis effect;                                        // which mode the holder–tool joint controls
+  double mode_hz = 0.0;                                         // that mode in the (filtered) measured SHT11
   JointReadout clean_readout, noisy_readout, filtered_readout;  // read in the band at the mode
-  BlockSeries sht_verified;                     // SHT11 with the filtered read-out constants
-  std::vector<ModeComparison> verification;     // true SHT11 against sht_verified
-  Identification seed;                          // the seed's procedure on the noisy, filtered data
-  std::optional<Identification> fitted;         // the band fit on the raw noisy data (options.fit)
-  BlockSeries sht_fitted;                       // SHT11 with the fitted constants
-  std::vector<ModeComparison> fit_verification; // true SHT11 against sht_fitted
+  BlockSeries sht_verified;                                     // SHT11 with the filtered read-out constants
+  std::vector<ModeComparison> verification;                     // true SHT11 against sht_verified
+  Identification seed;                                          // the seed's procedure on the noisy, filtered data
+  std::optional<Identification> fitted;                         // the band fit on the raw noisy data (options.fit)
+  BlockSeries sht_fitted;                                       // SHT11 with the fitted constants
+  std::vector<ModeComparison> fit_verification;                 // true SHT11 against sht_fitted
   std::vector<std::string> warnings;
 };
 

@@ -11,8 +11,7 @@ namespace toolpoint {
 // hint(): one sentence on how to fix it (may be empty).
 class Error : public std::runtime_error {
  public:
-  explicit Error(const std::string& what, std::string hint = {})
-      : std::runtime_error(what), hint_(std::move(hint)) {}
+  explicit Error(const std::string& what, std::string hint = {}) : std::runtime_error(what), hint_(std::move(hint)) {}
   const std::string& hint() const noexcept { return hint_; }
 
  private:

@@ -103,11 +103,11 @@ FrfSeries to_receptance(const FrfSeries& series, FrfOrdinate ordinate, std::vect
 struct UffReceptance {
   FrfSeries receptance;
   FrfOrdinate ordinate = FrfOrdinate::Receptance;  // what the dataset held (after any override)
-  FrfUnits units;                                   // the units its values were read in
+  FrfUnits units;                                  // the units its values were read in
   std::vector<std::string> warnings;
 };
-UffReceptance uff_receptance(const UffDataset58& dataset, std::optional<FrfOrdinate> ordinate,
-                             const std::string& source, const std::optional<FrfUnits>& units = std::nullopt);
+UffReceptance uff_receptance(const UffDataset58& dataset, std::optional<FrfOrdinate> ordinate, const std::string& source,
+                             const std::optional<FrfUnits>& units = std::nullopt);
 
 // Record 6 labels of a written dataset.
 struct UffDof {
@@ -131,31 +131,31 @@ std::string format_cutpro_frf(const FrfSeries& series);
 
 // Reading any supported file. The same options for every format: one reader for every command.
 struct FrfReadOptions {
-  FrfFormat format = FrfFormat::Auto;     // Auto: by extension
-  UffSelection uff;                       // which dataset 58 (UFF only; empty: the only one)
-  std::optional<FrfOrdinate> ordinate;    // what the values are; default: the file's units or codes, else receptance
-  std::optional<FrfUnits> units;          // the values' units (they imply the ordinate); default: the file's, else SI
-  FrfCsvOptions csv;                      // CSV only: columns and value format where the header cannot say
+  FrfFormat format = FrfFormat::Auto;   // Auto: by extension
+  UffSelection uff;                     // which dataset 58 (UFF only; empty: the only one)
+  std::optional<FrfOrdinate> ordinate;  // what the values are; default: the file's units or codes, else receptance
+  std::optional<FrfUnits> units;        // the values' units (they imply the ordinate); default: the file's, else SI
+  FrfCsvOptions csv;                    // CSV only: columns and value format where the header cannot say
   // Throws InvalidArgument: a units/ordinate contradiction (g/N as receptance), CSV options for
   // another format is checked by read_frf_file.
   void check() const;
 };
 
 struct FrfFileData {
-  FrfFormat format = FrfFormat::Csv;       // the format read
-  bool is_block = false;                   // a 2×2 block CSV
-  FrfSeries single;                        // receptance [m/N] vs frequency [Hz] (when !is_block)
-  BlockSeries block;                       // when is_block
+  FrfFormat format = FrfFormat::Csv;  // the format read
+  bool is_block = false;              // a 2×2 block CSV
+  FrfSeries single;                   // receptance [m/N] vs frequency [Hz] (when !is_block)
+  BlockSeries block;                  // when is_block
   // Coherence γ² (0…1) per frequency of `single` or `block`, when the file has a coherence column
   // (CSV), else empty. Read, kept and written (CSV) but not used by the reader: identification
   // can take it as a noise estimate, since the relative random error of |H| from n averages is
   // about sqrt((1 − γ²) / (2 n γ²)) (Bendat & Piersol).
   std::vector<double> coherence;
   FrfOrdinate ordinate = FrfOrdinate::Receptance;  // what the file held, before conversion
-  FrfUnits units;                          // the units the values were read in (converted to SI)
-  std::string description;                 // where the data came from (UFF: dataset, DOFs, ID line 1)
-  UffDof dof;                              // UFF: record 6 labels of the dataset read
-  std::vector<std::string> warnings;       // everything questionable about the file and the conversion
+  FrfUnits units;                                  // the units the values were read in (converted to SI)
+  std::string description;                         // where the data came from (UFF: dataset, DOFs, ID line 1)
+  UffDof dof;                                      // UFF: record 6 labels of the dataset read
+  std::vector<std::string> warnings;               // everything questionable about the file and the conversion
 };
 
 // Reads `path` (validated: f > 0 strictly increasing, finite values). Throws InputError (content,
@@ -164,11 +164,11 @@ FrfFileData read_frf_file(const std::string& path, const FrfReadOptions& options
 
 // Writing.
 struct FrfWriteOptions {
-  FrfFormat format = FrfFormat::Auto;   // Auto: by extension (.uff/.unv/.uf → ASCII UFF)
-  UffDof dof;                           // UFF record 6 labels
-  std::string description;              // UFF ID line 1; CSV comment line
-  std::vector<std::string> comments;    // CSV comment lines
-  std::vector<double> coherence;        // per frequency, or empty: a CSV column; UFF and .frf cannot hold it
+  FrfFormat format = FrfFormat::Auto;  // Auto: by extension (.uff/.unv/.uf → ASCII UFF)
+  UffDof dof;                          // UFF record 6 labels
+  std::string description;             // UFF ID line 1; CSV comment line
+  std::vector<std::string> comments;   // CSV comment lines
+  std::vector<double> coherence;       // per frequency, or empty: a CSV column; UFF and .frf cannot hold it
 };
 
 // Writes a receptance series (validated first). Returns what the format lost (ASCII UFF rounds

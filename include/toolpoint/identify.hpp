@@ -105,10 +105,10 @@ struct JointReadout {
 };
 
 struct ReadoutOptions {
-  double cond_warning = 1e6;        // warn when cond(A11 − G11) exceeds this in the band
-  double reciprocity_warning = 0.1; // warn when k_ym and k_θf (or c) differ by more than this
-  double gain_warning = 20.0;       // warn when a parameter's noise gain exceeds this (a 5 % FRF
-                                    // error then moves it by 100 %)
+  double cond_warning = 1e6;         // warn when cond(A11 − G11) exceeds this in the band
+  double reciprocity_warning = 0.1;  // warn when k_ym and k_θf (or c) differ by more than this
+  double gain_warning = 20.0;        // warn when a parameter's noise gain exceeds this (a 5 % FRF
+                                     // error then moves it by 100 %)
   void check() const;
 };
 
@@ -123,10 +123,10 @@ JointReadout band_readout(const JointSeries& series, double band_lo_hz, double b
 // ---- Which mode does the joint control? ---------------------------------------------------------
 
 struct ModeEffect {
-  double frequency_hz = 0.0;      // peak of the model FRF
-  double magnitude = 0.0;         // m/N
-  double stiffness_shift = 0.0;   // relative frequency shift when the joint's k's grow by `step`
-  double damping_effect = 0.0;    // relative peak-magnitude change when its c's grow by `step`
+  double frequency_hz = 0.0;     // peak of the model FRF
+  double magnitude = 0.0;        // m/N
+  double stiffness_shift = 0.0;  // relative frequency shift when the joint's k's grow by `step`
+  double damping_effect = 0.0;   // relative peak-magnitude change when its c's grow by `step`
 };
 
 struct EffectAnalysis {
@@ -139,8 +139,7 @@ struct EffectAnalysis {
 // FRF the joint is identified from (see Route) moves most. Peaks on `frequency_hz`, refined on the
 // model. Throws InvalidArgument if the joint is rigid in the model (give it trial values), the
 // FRF has no peak, or no mode moves at all (the FRF does not depend on the joint).
-EffectAnalysis effect_analysis(const Assembly& assembly, Route route, const std::vector<double>& frequency_hz,
-                               double step = 0.1);
+EffectAnalysis effect_analysis(const Assembly& assembly, Route route, const std::vector<double>& frequency_hz, double step = 0.1);
 
 // The mode that moves most with the tool overhang (the seed's Fig. 10): the reference FRF's peaks
 // found in each FRF (any order; track_modes against the reference within 25 %), the one whose

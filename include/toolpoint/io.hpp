@@ -49,7 +49,7 @@ class MappedFile {
  private:
   const char* data_ = nullptr;  // the mapping, for a regular file
   std::size_t size_ = 0;
-  std::string copy_;            // a pipe or device read whole instead
+  std::string copy_;  // a pipe or device read whole instead
 };
 
 // Output written whole or not at all: a hidden temporary file beside `target` (same file
@@ -70,8 +70,8 @@ class AtomicOutput {
 
   const std::string& path() const { return path_; }  // the temporary file
   const std::string& target() const { return target_; }
-  void write(const std::string& content);            // replaces the temporary file's content
-  void commit();                                     // mode 0644, fsync, renamed over the target
+  void write(const std::string& content);  // replaces the temporary file's content
+  void commit();                           // mode 0644, fsync, renamed over the target
 
  private:
   std::string target_, path_;
@@ -170,8 +170,8 @@ struct FrfTable {
   // Coherence per frequency (0…1) when the file has a coherence column, else empty. Kept for
   // callers that use it as a noise estimate (with γ², Var|H|/|H|² ≈ (1 − γ²)/(2 n_avg γ²)).
   std::vector<double> coherence;
-  std::string value_units;         // the values' units as the header gives them ("mm/N"); empty: not given
-  std::string value_units_column;  // the header cell that gave them, for messages
+  std::string value_units;                       // the values' units as the header gives them ("mm/N"); empty: not given
+  std::string value_units_column;                // the header cell that gave them, for messages
   FrfValueFormat format = FrfValueFormat::ReIm;  // how the file stored the values
   std::vector<std::string> warnings;             // dropped 0 Hz lines, unused columns, …
 };

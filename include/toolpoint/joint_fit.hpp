@@ -85,38 +85,38 @@ inline constexpr double kWeightFloor = 0.1;
 
 // One measured set-up: G11 = A11 − A12 (A22 + K⁻¹ + B11)⁻¹ A21 on one frequency grid.
 struct JointFitData {
-  std::string label;          // names the set-up in messages and reports, e.g. "overhang 49.0 mm"
-  std::vector<TwoPort> A;     // the free–free component from the model, per frequency of G11
-  BlockSeries B11, G11;       // measured (B11 may come from the model: then b_noise is exact)
-  std::string b_name, g_name; // what they are (file names) for messages
+  std::string label;            // names the set-up in messages and reports, e.g. "overhang 49.0 mm"
+  std::vector<TwoPort> A;       // the free–free component from the model, per frequency of G11
+  BlockSeries B11, G11;         // measured (B11 may come from the model: then b_noise is exact)
+  std::string b_name, g_name;   // what they are (file names) for messages
   BlockNoise b_noise, g_noise;  // their noise on the same grid (noise.hpp)
 };
 
 enum class UncertaintyMethod { Bootstrap, Linearised };
 
 struct JointFitOptions {
-  bool reciprocal = true;              // six parameters (k_θf = k_ym, c_θf = c_ym); false: all eight
-  std::optional<SavgolOptions> filter; // fit Savitzky–Golay filtered data (see above); default: raw
+  bool reciprocal = true;               // six parameters (k_θf = k_ym, c_θf = c_ym); false: all eight
+  std::optional<SavgolOptions> filter;  // fit Savitzky–Golay filtered data (see above); default: raw
   UncertaintyMethod uncertainty = UncertaintyMethod::Bootstrap;
-  int bootstrap_samples = 200;         // replicates (≥ 20; the interval's own Monte Carlo error
-                                       // shrinks like 1/√N)
-  std::uint64_t seed = 1;              // of the bootstrap's noise draws (replicate b: stream_seed(seed, b))
-  double confidence = 0.95;            // of the intervals, in (0.5, 1)
-  int max_iterations = 200;            // Levenberg–Marquardt iterations per pass
-  ParallelOptions parallel;            // bootstrap replicates on these threads (results identical for any count)
+  int bootstrap_samples = 200;           // replicates (≥ 20; the interval's own Monte Carlo error
+                                         // shrinks like 1/√N)
+  std::uint64_t seed = 1;                // of the bootstrap's noise draws (replicate b: stream_seed(seed, b))
+  double confidence = 0.95;              // of the intervals, in (0.5, 1)
+  int max_iterations = 200;              // Levenberg–Marquardt iterations per pass
+  ParallelOptions parallel;              // bootstrap replicates on these threads (results identical for any count)
   std::function<void(double)> progress;  // fraction of the bootstrap done; the library never prints
   // Throws InvalidArgument naming the JointFitOptions field.
   void check() const;
 };
 
 struct ParameterInterval {
-  double estimate = 0.0;   // reported value: bias-corrected (bootstrap) or the fit (linearised)
-  double fitted = 0.0;     // the least-squares value
-  double bias = 0.0;       // bootstrap estimate of fitted's bias (0 when linearised)
-  double std_error = 0.0;  // of estimate, SI units
+  double estimate = 0.0;            // reported value: bias-corrected (bootstrap) or the fit (linearised)
+  double fitted = 0.0;              // the least-squares value
+  double bias = 0.0;                // bootstrap estimate of fitted's bias (0 when linearised)
+  double std_error = 0.0;           // of estimate, SI units
   double lower = 0.0, upper = 0.0;  // the interval at JointFit::confidence
-  bool determined = false; // the interval excludes 0 and is narrower than |estimate|
-  bool free = true;        // false: k_θf, c_θf of a reciprocal fit (equal to k_ym, c_ym)
+  bool determined = false;          // the interval excludes 0 and is narrower than |estimate|
+  bool free = true;                 // false: k_θf, c_θf of a reciprocal fit (equal to k_ym, c_ym)
 };
 
 // One set-up fitted alone (several set-ups only).
@@ -134,16 +134,16 @@ struct JointFit {
   Eigen::Matrix<double, 8, 8> covariance;      // of the estimates, SI units (reciprocal: θf rows = ym rows)
   double confidence = 0.95;
   UncertaintyMethod method = UncertaintyMethod::Bootstrap;
-  std::string method_description;              // for reports: how the intervals were made
-  int bootstrap_samples = 0;                   // replicates used (0: linearised)
+  std::string method_description;  // for reports: how the intervals were made
+  int bootstrap_samples = 0;       // replicates used (0: linearised)
   bool reciprocal = true;
-  std::size_t points = 0;                      // frequencies fitted, all set-ups
+  std::size_t points = 0;  // frequencies fitted, all set-ups
   // Weighted residual sum over its expectation under the noise models (≈ 1 when the model and the
   // noise models explain the data; NaN for exact data). Intervals are widened by √ratio above 1.1.
   double residual_ratio = 0.0;
   int iterations = 0;
   bool converged = false;
-  std::vector<SetupFit> setups;  // each set-up alone (only with several)
+  std::vector<SetupFit> setups;                           // each set-up alone (only with several)
   double transfer_statistic = 0.0, transfer_limit = 0.0;  // Q and its 99.9 % limit (several set-ups)
   bool transfers = true;                                  // Q ≤ limit
   std::vector<std::string> warnings;
@@ -157,7 +157,8 @@ struct JointFit {
 // no start, empty data), InputError (sizes that differ, NaN, fewer frequencies than free
 // parameters, a grid that is not increasing), NumericalError (a parameter that does not act on the
 // FRFs in the band, or two that the data cannot tell apart — named; a singular model).
-JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<JointParameters>& starts, const JointFitOptions& options);
+JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<JointParameters>& starts,
+                   const JointFitOptions& options);
 
 // The forward model of the fit at one frequency: G11 = A11 − A12 K (I + (A22 + B11) K)⁻¹ A21.
 Block forward_g11(const TwoPort& A, const Block& B11, const Block& K);

@@ -38,21 +38,21 @@ Complex modal_receptance(const std::vector<Mode>& modes, double frequency_hz);
 FrfSeries modal_frf(const std::vector<Mode>& modes, const std::vector<double>& frequency_hz);
 
 struct ModalFitOptions {
-  int max_modes = 3;                                  // at most this many modes, 1…20
-  std::optional<std::pair<double, double>> band_hz;   // fit only F1 ≤ f ≤ F2 [Hz]; default: all points
-  double min_prominence_db = 3.0;  // a peak of |G| must rise this much [dB] above the valleys on both
-                                   // sides to count as a mode (3 dB: it has a half-power band)
-  bool residual_terms = true;      // fit L and U (out-of-band modes)
-  int max_evaluations = 2000;      // Levenberg–Marquardt function evaluations
+  int max_modes = 3;                                 // at most this many modes, 1…20
+  std::optional<std::pair<double, double>> band_hz;  // fit only F1 ≤ f ≤ F2 [Hz]; default: all points
+  double min_prominence_db = 3.0;                    // a peak of |G| must rise this much [dB] above the valleys on both
+                                                     // sides to count as a mode (3 dB: it has a half-power band)
+  bool residual_terms = true;                        // fit L and U (out-of-band modes)
+  int max_evaluations = 2000;                        // Levenberg–Marquardt function evaluations
   // Throws InvalidArgument naming the option and value.
   void check() const;
 };
 
 struct FittedMode {
-  Mode mode;                    // modal mass from the residue: m_r = 1/A_r (only meaningful for A_r > 0)
-  double residue = 0.0;         // A_r [1/kg]
-  double initial_frequency_hz;  // peak-picking estimate
-  double initial_damping_ratio; // half-power estimate
+  Mode mode;                          // modal mass from the residue: m_r = 1/A_r (only meaningful for A_r > 0)
+  double residue = 0.0;               // A_r [1/kg]
+  double initial_frequency_hz;        // peak-picking estimate
+  double initial_damping_ratio;       // half-power estimate
   int points_in_half_power_band = 0;  // measured points within f_r(1 ± ζ_r)
   // ‖G_fit − G‖/‖G‖ over the points within f_r(1 ± 2ζ_r) (at least the 5 nearest points): how well
   // this mode's neighbourhood is reproduced; 0.01 is 1 % of the response there.
@@ -65,8 +65,8 @@ struct ModalFitResult {
   double upper_residual = 0.0;       // U [m/N]
   double normalised_residual = 0.0;  // ‖G_fit − G‖/‖G‖ over the fitted band
   double band_low_hz = 0.0, band_high_hz = 0.0;
-  std::size_t points = 0;            // measured points in the band
-  int evaluations = 0;               // Levenberg–Marquardt function evaluations used
+  std::size_t points = 0;  // measured points in the band
+  int evaluations = 0;     // Levenberg–Marquardt function evaluations used
   bool converged = false;
   std::vector<std::string> warnings;
 

@@ -41,8 +41,8 @@ struct PeriodicDelaySystem {
   double period = 0.0;                     // T = τ > 0 [s]
   // P(t), Q(t) for t in [0, T), d × d; an empty function stands for zero.
   std::function<Eigen::MatrixXd(double t)> current, delayed;
-  bool regenerative = false;               // Q = −P: `delayed` is not used
-  std::vector<double> breakpoints;         // times in (0, T) where P or Q jump
+  bool regenerative = false;        // Q = −P: `delayed` is not used
+  std::vector<double> breakpoints;  // times in (0, T) where P or Q jump
   // Throws InvalidArgument naming the member: sizes that disagree, T ≤ 0, non-finite entries, a
   // block of A₀ that is not diagonalisable with a condition number below 1e8.
   void check() const;
@@ -54,7 +54,7 @@ struct DominantMultiplier {
   double spectral_radius = 0.0;
   std::complex<double> multiplier;
   Eigen::VectorXcd vector;  // empty when not asked for
-  bool krylov = false;  // found by the Arnoldi iteration (else: dense eigen-decomposition)
+  bool krylov = false;      // found by the Arnoldi iteration (else: dense eigen-decomposition)
 };
 
 // The discretized period map of a PeriodicDelaySystem at m steps and degree p. Construction does
@@ -92,9 +92,9 @@ class PeriodMap {
   int n_ = 0, d_ = 0, m_ = 0, p_ = 0;
   bool regenerative_ = false;
   std::vector<int> block_start_, block_size_;
-  std::vector<double> phi_;           // e^{A₀h} blocks, row-major, concatenated
-  Eigen::MatrixXd c_;                 // C (d × n)
-  std::vector<char> active_;          // step k has non-zero weights
+  std::vector<double> phi_;   // e^{A₀h} blocks, row-major, concatenated
+  Eigen::MatrixXd c_;         // C (d × n)
+  std::vector<char> active_;  // step k has non-zero weights
   // Per active step k, per node o = 0…p (sample y_{k+1−p+o}): W^P (n × d, column-major) and,
   // unless regenerative, W^Q; and the implicit factor (I − σ C W^P_p) parts C W^P_p, C W^Q_p.
   std::vector<std::vector<double>> wp_, wq_;

@@ -48,8 +48,8 @@ inline constexpr PlausibleRange kLossFactor{0.0, 0.2, 5.0, "a structural loss fa
 inline constexpr PlausibleRange kBearingStiffness{1e6, 1e10, 100.0, "bearing stiffness is in N/m (typically 1e7–1e9)"};
 inline constexpr PlausibleRange kJointTranslationalStiffness{1e5, 1e11, 1e3, "translational stiffness is in N/m"};
 // Cutting
-inline constexpr PlausibleRange kCuttingCoefficient{5e7, 1e10, 100.0,
-                                                    "cutting coefficients are in N/m^2 (aluminium about 7e8, steel 2e9), not N/mm^2 or MPa"};
+inline constexpr PlausibleRange kCuttingCoefficient{
+    5e7, 1e10, 100.0, "cutting coefficients are in N/m^2 (aluminium about 7e8, steel 2e9), not N/mm^2 or MPa"};
 inline constexpr PlausibleRange kEdgeCoefficient{1e2, 1e6, 100.0, "K_te is in N/m (typically 1e4–5e4)"};
 // Machine
 inline constexpr PlausibleRange kSpindleSpeedRpm{10.0, 2e5, 10.0, "spindle speeds are in rpm"};

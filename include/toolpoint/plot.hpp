@@ -51,7 +51,7 @@ Format format_for_path(const std::string& path);
 enum class Scale { Linear, Log };
 
 struct Axis {
-  std::string label;               // with its unit, e.g. "Frequency [Hz]"
+  std::string label;  // with its unit, e.g. "Frequency [Hz]"
   Scale scale = Scale::Linear;
   std::optional<double> min, max;  // unset: autoscale
   std::optional<double> tic_step;  // major tic spacing (linear axes), e.g. 90 for phase in degrees
@@ -66,7 +66,7 @@ struct Curve {
   std::vector<double> x, y;  // equal length; a non-finite value (or ≤ 0 on a log axis) breaks the line
   std::string label;         // legend text; empty: not in the legend
   CurveStyle style = CurveStyle::Line;
-  int series = -1;           // house style index (colour, dash, marker); −1: next in the panel
+  int series = -1;  // house style index (colour, dash, marker); −1: next in the panel
 };
 
 // A constant y across the panel, drawn and listed in the legend like a curve (its style is the
@@ -111,7 +111,7 @@ struct TextLabel {
 // z is not finite (or ≤ 0 on a log colour scale) are left blank. Used for a stable depth over
 // overhang × spindle speed and a probability of stability over spindle speed × depth.
 struct ColourBar {
-  std::string label;               // with its unit, e.g. "Stable depth [mm]"
+  std::string label;  // with its unit, e.g. "Stable depth [mm]"
   Scale scale = Scale::Linear;
   std::optional<double> min, max;  // unset: the finite data's range; values beyond are drawn in the end colours
 };
@@ -214,12 +214,12 @@ enum class FrfView {
 struct FrfFigureOptions {
   FrfView view = FrfView::MagnitudePhase;
   std::string title;
-  std::string symbol = "H";   // enhanced text for the FRF in axis labels: "H_{11}", "P^{sht}_{11}"
-  std::string unit = "m/N";   // the FRF's unit
+  std::string symbol = "H";  // enhanced text for the FRF in axis labels: "H_{11}", "P^{sht}_{11}"
+  std::string unit = "m/N";  // the FRF's unit
   Scale frequency_scale = Scale::Linear;
   std::optional<std::pair<double, double>> frequency_range_hz;
-  int mode_labels = 0;          // label up to this many peaks (frequency in Hz) of trace `peak_trace`,
-                                // sought within frequency_range_hz when given
+  int mode_labels = 0;  // label up to this many peaks (frequency in Hz) of trace `peak_trace`,
+                        // sought within frequency_range_hz when given
   std::size_t peak_trace = 0;
   double min_peak_ratio = 2.0;  // see peak_indices(); 2 = 6 dB above the surrounding valleys
   void check() const;           // throws InvalidArgument
@@ -243,8 +243,7 @@ Figure receptance_figure(const BlockSeries& series, const std::string& title, co
 // [1/N = rad/N] (equal for a point receptance, by reciprocity), |P| [rad/(N·m)], and the four
 // phases [deg] overlaid, all on log magnitude axes against frequency [Hz]. `subscript` (enhanced
 // text, e.g. "11") goes on every symbol. Throws InputError for an invalid series.
-Figure block_figure(const BlockSeries& series, const std::string& title, const std::string& subscript = "",
-                    int mode_labels = 6);
+Figure block_figure(const BlockSeries& series, const std::string& title, const std::string& subscript = "", int mode_labels = 6);
 
 // Tool point FRFs for several tool overhangs overlaid (the seed's Fig. 10): trace i is labelled
 // "overhang <overhang_m[i] in mm> mm". `options.mode_labels` applies to options.peak_trace.
@@ -253,9 +252,9 @@ Figure overhang_frf_figure(const std::vector<double>& overhang_m, const std::vec
 
 // Natural frequencies against tool overhang, one curve per mode.
 struct OverhangSweep {
-  std::vector<double> overhang_m;                // x, in m (plotted in mm)
+  std::vector<double> overhang_m;                 // x, in m (plotted in mm)
   std::vector<std::vector<double>> frequency_hz;  // [mode][overhang index], Hz; NaN: not found
-  std::vector<std::string> mode_names;           // legend per mode; empty: "mode 1", "mode 2", …
+  std::vector<std::string> mode_names;            // legend per mode; empty: "mode 1", "mode 2", …
   std::string title;
 };
 Figure natural_frequency_figure(const OverhangSweep& sweep);
@@ -264,10 +263,10 @@ Figure natural_frequency_figure(const OverhangSweep& sweep);
 // entry of K(ω) = k + iωc; `name` is its subscript, e.g. "yf" → panels "k_{yf}", "c_{yf}".
 struct JointParameterCurve {
   std::string name;
-  std::string stiffness_unit;  // e.g. "N/m"
-  std::string damping_unit;    // e.g. "N·s/m"
-  std::vector<double> stiffness;  // per frequency; empty: no stiffness panel
-  std::vector<double> damping;    // per frequency; empty: no damping panel
+  std::string stiffness_unit;                                      // e.g. "N/m"
+  std::string damping_unit;                                        // e.g. "N·s/m"
+  std::vector<double> stiffness;                                   // per frequency; empty: no stiffness panel
+  std::vector<double> damping;                                     // per frequency; empty: no damping panel
   std::optional<double> reference_stiffness, reference_damping;    // drawn as horizontal lines
   std::optional<double> identified_stiffness, identified_damping;  // ditto
   // The identified values' intervals (drawn as two lines when the value is determined) and whether
@@ -300,9 +299,9 @@ Figure joint_figure(const JointFigureData& data);
 
 // Stability lobes (zero-order or semi-discretization): depth of cut against spindle speed.
 struct Lobe {
-  int number = 0;                          // lobe index k, printed at the lobe's lowest point
-  std::vector<double> spindle_speed_rpm;   // rpm
-  std::vector<double> depth_m;             // axial depth of cut limit, m (plotted in mm)
+  int number = 0;                            // lobe index k, printed at the lobe's lowest point
+  std::vector<double> spindle_speed_rpm;     // rpm
+  std::vector<double> depth_m;               // axial depth of cut limit, m (plotted in mm)
   std::vector<double> chatter_frequency_hz;  // Hz, same length; empty: not drawn
 };
 
@@ -311,7 +310,7 @@ struct LobesFigureData {
   std::vector<double> envelope_rpm;      // the lower envelope of all lobes: the stability limit
   std::vector<double> envelope_depth_m;  // m
   std::string title;
-  std::optional<double> depth_max_m;     // top of the depth axis; default: 5× the envelope's minimum
+  std::optional<double> depth_max_m;  // top of the depth axis; default: 5× the envelope's minimum
   // Other envelopes over envelope_rpm (the quantiles of the stable depth when a joint is
   // uncertain), drawn as lines in the house style's next colours, in the legend.
   struct Envelope {

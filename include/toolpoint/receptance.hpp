@@ -68,7 +68,7 @@ void validate(const BlockSeries& series, const std::string& what, std::size_t mi
 void validate(const FrfSeries& series, const std::string& what, std::size_t min_points = 1);
 
 // Throws InputError unless the two grids hold the same frequencies (relative tolerance 1e-9).
-void require_same_grid(const std::vector<double>& a, const std::string& what_a,
-                       const std::vector<double>& b, const std::string& what_b);
+void require_same_grid(const std::vector<double>& a, const std::string& what_a, const std::vector<double>& b,
+                       const std::string& what_b);
 
 }  // namespace toolpoint

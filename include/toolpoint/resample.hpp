@@ -37,8 +37,7 @@ std::vector<double> crop_values(const std::vector<double>& frequency_hz, const s
 // The series at `grid_hz` (strictly increasing). The series needs ≥ 2 points (≥ 3 for cubic).
 // Throws InputError naming `what` and the first target frequency outside the measured range,
 // InvalidArgument for a target grid that is not strictly increasing and finite.
-FrfSeries resample(const FrfSeries& series, const std::vector<double>& grid_hz, Interpolation method,
-                   const std::string& what);
+FrfSeries resample(const FrfSeries& series, const std::vector<double>& grid_hz, Interpolation method, const std::string& what);
 BlockSeries resample(const BlockSeries& series, const std::vector<double>& grid_hz, Interpolation method,
                      const std::string& what);
 // Real values (a coherence) at `grid_hz`, linearly.

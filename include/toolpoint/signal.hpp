@@ -61,8 +61,7 @@ std::vector<double> savgol_filter(std::span<const double> samples, const SavgolO
 
 // Filters an FRF (real and imaginary parts separately) or every entry of a 2×2 block series
 // (eight real columns). The frequency grid is kept. Validates the series (validate()).
-SignalResult<FrfSeries> savgol_filter(const FrfSeries& series, const SavgolOptions& options,
-                                      const std::string& what = "FRF");
+SignalResult<FrfSeries> savgol_filter(const FrfSeries& series, const SavgolOptions& options, const std::string& what = "FRF");
 SignalResult<BlockSeries> savgol_filter(const BlockSeries& series, const SavgolOptions& options,
                                         const std::string& what = "block series");
 
@@ -89,17 +88,17 @@ struct PeakChangeOptions {
 };
 
 struct PeakChange {
-  std::string entry;                 // "H", "L", "N", "P" (a block) or "" (a single FRF)
-  double raw_frequency_hz = 0.0;     // refined (parabola through log|H| at three points)
-  double raw_magnitude = 0.0;        // |raw| at the refined peak, in the FRF's units
+  std::string entry;              // "H", "L", "N", "P" (a block) or "" (a single FRF)
+  double raw_frequency_hz = 0.0;  // refined (parabola through log|H| at three points)
+  double raw_magnitude = 0.0;     // |raw| at the refined peak, in the FRF's units
   double filtered_frequency_hz = 0.0;
-  double filtered_magnitude = 0.0;   // NaN frequency: no filtered peak within the half-window (height read at f_raw)
+  double filtered_magnitude = 0.0;  // NaN frequency: no filtered peak within the half-window (height read at f_raw)
   double height_change = 0.0;       // (filtered − raw)/raw
-  double frequency_change = 0.0;     // (f_filtered − f_raw)/f_raw
+  double frequency_change = 0.0;    // (f_filtered − f_raw)/f_raw
 };
 
 struct PeakChangeReport {
-  std::vector<PeakChange> peaks;     // per entry, ascending in frequency
+  std::vector<PeakChange> peaks;  // per entry, ascending in frequency
   std::vector<std::string> warnings;
 };
 
@@ -171,9 +170,9 @@ enum class PMethod {
 };
 
 struct RotationalOptions {
-  int order = 2;                      // finite-difference order: 1 or 2
-  double spacing = 0.0;               // s [m] between neighbouring points, > 0 (no default)
-  bool symmetrise = false;            // replace L and N by their mean (reciprocity L = N)
+  int order = 2;            // finite-difference order: 1 or 2
+  double spacing = 0.0;     // s [m] between neighbouring points, > 0 (no default)
+  bool symmetrise = false;  // replace L and N by their mean (reciprocity L = N)
   PMethod p_method = PMethod::Auto;
   // κGA [N] of the section the points lie on. Differences of displacements measure the total
   // slope dw/dx, but the Timoshenko rotation θ = ψ that the coupling equations use differs from it
@@ -185,7 +184,7 @@ struct RotationalOptions {
   // Unset: the total-slope quantities, as printed in NOTES §5 (fine for slender tools, where
   // 1/κGA is far below N).
   std::optional<double> shear_stiffness;
-  bool assume_reciprocity = false;    // fill a missing H_ij with H_ji (default: refuse, see above)
+  bool assume_reciprocity = false;  // fill a missing H_ij with H_ji (default: refuse, see above)
 
   // Throws InvalidArgument naming `order`, `spacing` or `shear_stiffness`.
   void check() const;
@@ -194,7 +193,7 @@ struct RotationalOptions {
 // The translational FRFs measured on points 0, 1, 2. Unused slots stay empty.
 struct PointFrfs {
   std::array<std::array<std::optional<FrfSeries>, 3>, 3> h;  // h[i][j] = H_ij
-  std::array<std::array<std::string, 3>, 3> source;           // where each came from (errors)
+  std::array<std::array<std::string, 3>, 3> source;          // where each came from (errors)
 
   // Stores H_{response,force}; `source` (a file name) defaults to "H<response><force>".
   void set(int response, int force, FrfSeries series, std::string source = {});
@@ -203,14 +202,14 @@ struct PointFrfs {
 };
 
 struct RotationalResult {
-  BlockSeries block;              // [[H00, L], [N, P]] on H00's frequency grid
-  bool p_from_cross_terms = false;  // false: P ≈ N·L/H00 (Schmitz & Smith)
+  BlockSeries block;                       // [[H00, L], [N, P]] on H00's frequency grid
+  bool p_from_cross_terms = false;         // false: P ≈ N·L/H00 (Schmitz & Smith)
   bool l_equals_n_by_reciprocity = false;  // L or N (or both) built from transposed data
   // max_f |L − N| / max_f max(|L|, |N|) when L and N came from independent data before any
   // symmetrising (a reciprocity and measurement-quality check); empty otherwise.
   std::optional<double> reciprocity_mismatch;
   std::vector<std::string> filled_by_reciprocity;  // "H01 := H10 (tip.csv)", with assume_reciprocity only
-  std::vector<std::string> warnings;  // reciprocity fills, the P approximation, unused inputs
+  std::vector<std::string> warnings;               // reciprocity fills, the P approximation, unused inputs
 };
 
 // Builds the tip block. Throws InvalidArgument (options), InputError (a needed H_ij missing,

@@ -78,11 +78,11 @@ struct SpeedRange {
 
 // The tool point FRFs the zero-order method works from, all on one frequency grid [Hz], in m/N.
 struct MillingFrfs {
-  FrfSeries xx;                   // G_xx
-  std::optional<FrfSeries> yy;    // G_yy; absent: G_yy = G_xx (a symmetric tool)
-  std::optional<FrfSeries> xy;    // cross FRFs G_xy, G_yx: both or neither; absent: zero
+  FrfSeries xx;                 // G_xx
+  std::optional<FrfSeries> yy;  // G_yy; absent: G_yy = G_xx (a symmetric tool)
+  std::optional<FrfSeries> xy;  // cross FRFs G_xy, G_yx: both or neither; absent: zero
   std::optional<FrfSeries> yx;
-  bool rigid_y = false;           // G_yy = G_xy = G_yx = 0: flexible in x only (the 1-DOF model)
+  bool rigid_y = false;  // G_yy = G_xy = G_yx = 0: flexible in x only (the 1-DOF model)
 
   // Throws InputError (data: NaN, grids that differ, one cross FRF without the other).
   void check() const;
@@ -105,15 +105,15 @@ struct LobePoint {
 
 struct EnvelopePoint {
   double speed_rpm = 0.0;
-  double depth_m = 0.0;      // minimum over all lobes at this speed [m]; +inf where no lobe reaches
-  double chatter_hz = 0.0;   // of the limiting lobe (NaN where none)
-  int lobe = -1;             // the limiting lobe k (−1 where none)
+  double depth_m = 0.0;     // minimum over all lobes at this speed [m]; +inf where no lobe reaches
+  double chatter_hz = 0.0;  // of the limiting lobe (NaN where none)
+  int lobe = -1;            // the limiting lobe k (−1 where none)
 };
 
 struct ZeroOrderOptions {
-  int lobes = -1;            // K: lobes k = 0…K; −1 chooses K so the lobes cover speeds.min_rpm
+  int lobes = -1;                     // K: lobes k = 0…K; −1 chooses K so the lobes cover speeds.min_rpm
   SpeedRange speeds{0.0, 0.0, 2000};  // where lobe points are kept, and the envelope's grid
-  double max_depth_m = 0.0;  // lobe points deeper than this are left out (0: keep all)
+  double max_depth_m = 0.0;           // lobe points deeper than this are left out (0: keep all)
   void check() const;
 };
 
@@ -121,21 +121,21 @@ struct ZeroOrderOptions {
 // has the same depth and chatter frequency at speed n_k = speed_factor / (phase + k), so the lobe
 // points are a view of this table (1 division each), not stored.
 struct LobeTable {
-  std::vector<double> chatter_hz;     // the FRF grid [Hz]
-  std::vector<double> speed_factor;   // 60 f/N [rpm]
-  std::vector<double> depth_m[2];     // a_lim [m]; NaN where Λ_R ≥ 0 (no positive depth) or no root
-  std::vector<double> phase[2];       // ε/2π in (0, 1)
+  std::vector<double> chatter_hz;    // the FRF grid [Hz]
+  std::vector<double> speed_factor;  // 60 f/N [rpm]
+  std::vector<double> depth_m[2];    // a_lim [m]; NaN where Λ_R ≥ 0 (no positive depth) or no root
+  std::vector<double> phase[2];      // ε/2π in (0, 1)
 };
 
 struct ZeroOrderResult {
-  Eigen::Matrix2d alpha;             // directional factors α over the engagement
-  double floor_depth_m = 0.0;        // absolute stability limit: min over ω_c and both roots of a_lim
-  double floor_chatter_hz = 0.0;     // … and its chatter frequency
-  int lobes = 0;                     // K used
+  Eigen::Matrix2d alpha;          // directional factors α over the engagement
+  double floor_depth_m = 0.0;     // absolute stability limit: min over ω_c and both roots of a_lim
+  double floor_chatter_hz = 0.0;  // … and its chatter frequency
+  int lobes = 0;                  // K used
   LobeTable table;
-  int teeth = 0;                     // N
-  SpeedRange speeds;                 // the range lobe points are kept in
-  double max_depth_m = 0.0;          // lobe points deeper than this are left out (0: none)
+  int teeth = 0;             // N
+  SpeedRange speeds;         // the range lobe points are kept in
+  double max_depth_m = 0.0;  // lobe points deeper than this are left out (0: none)
   std::vector<EnvelopePoint> envelope;
   std::vector<std::string> warnings;
 
@@ -214,12 +214,12 @@ const char* to_string(BoundaryKind kind);
 
 // What the period map says at one speed and depth.
 struct FloquetAnalysis {
-  double spectral_radius = 0.0;  // max |μ|; < 1 is asymptotically stable
-  Complex critical_multiplier;   // the multiplier of largest modulus (Im ≥ 0 of a pair)
+  double spectral_radius = 0.0;            // max |μ|; < 1 is asymptotically stable
+  Complex critical_multiplier;             // the multiplier of largest modulus (Im ≥ 0 of a pair)
   BoundaryKind kind = BoundaryKind::None;  // Hopf, Flip or Fold from the critical multiplier's phase
-  double chatter_hz = 0.0;       // dominant frequency of the critical Floquet solution
-  int lobe = -1;                 // floor(chatter_hz · τ): whole waves per tooth period (−1 if unknown)
-  int matrix_size = 0;           // size of the reduced period map whose multipliers were taken
+  double chatter_hz = 0.0;                 // dominant frequency of the critical Floquet solution
+  int lobe = -1;                           // floor(chatter_hz · τ): whole waves per tooth period (−1 if unknown)
+  int matrix_size = 0;                     // size of the reduced period map whose multipliers were taken
 };
 
 struct BoundaryPoint {
@@ -230,11 +230,11 @@ struct BoundaryPoint {
   // Estimated discretization error [m]: |a_{2m} − a_m|/(2^{p+1} − 1), the error of a_{2m} by
   // Richardson; an upper estimate for depth_m, whose leading error term is removed. NaN for None.
   double depth_error_m = 0.0;
-  int steps = 0;             // 2m, the finer level (0 when found at one fixed level)
-  double chatter_hz = 0.0;   // NaN when kind is None
+  int steps = 0;            // 2m, the finer level (0 when found at one fixed level)
+  double chatter_hz = 0.0;  // NaN when kind is None
   int lobe = -1;
   BoundaryKind kind = BoundaryKind::None;
-  Complex multiplier;        // critical multiplier just above the boundary
+  Complex multiplier;  // critical multiplier just above the boundary
 };
 
 // The milling equation at one speed as a PeriodicDelaySystem: per mode the block
@@ -281,9 +281,9 @@ struct BoundaryOptions {
   // Target for the estimated discretization error of each depth, relative to it (0.01: 1 %). The
   // steps per tooth period are doubled until the estimate meets it (or max_steps is reached).
   double tolerance = 0.01;
-  int steps = 0;          // steps m of the first level; 0: 12 per chatter wave per tooth period, ≥ 16
-  int max_steps = 4000;   // no level finer than this
-  int degree = 2;         // interpolation degree p (1…3); the error falls like m^−(p+1)
+  int steps = 0;             // steps m of the first level; 0: 12 per chatter wave per tooth period, ≥ 16
+  int max_steps = 4000;      // no level finer than this
+  int degree = 2;            // interpolation degree p (1…3); the error falls like m^−(p+1)
   double max_depth_m = 0.0;  // depths searched up to this [m]; 0: 10 × the zero-order floor of the model
   ParallelOptions parallel;  // speeds on this many threads; results identical for any count
   // Called with the fraction of speeds done (0…1], one call at a time (the library never prints).
@@ -291,13 +291,12 @@ struct BoundaryOptions {
   void check() const;  // throws InvalidArgument naming the field
 };
 
-
 struct BoundaryResult {
   std::vector<BoundaryPoint> boundary;  // one per speed of the grid
   double max_depth_m = 0.0;             // the ceiling searched
   double tolerance = 0.0;               // the error target (relative)
   int degree = 0;
-  long evaluations = 0;                 // spectral radii computed
+  long evaluations = 0;  // spectral radii computed
   std::vector<std::string> warnings;
   // The largest depth_error_m/depth_m over the speeds with a boundary (0 if none).
   double worst_relative_error() const;
@@ -317,8 +316,7 @@ BoundaryResult stability_boundary(const ModalModel& model, const CuttingConditio
 // The best spindle speeds: local maxima of the envelope depth whose prominence — the depth above
 // the higher of the lowest envelope points separating them from a deeper maximum (or the range
 // end) — is at least `min_prominence` × their depth (0.02: 2 %). Deepest first, at most `count`.
-std::vector<EnvelopePoint> stability_pockets(const std::vector<EnvelopePoint>& envelope, int count,
-                                             double min_prominence = 0.02);
+std::vector<EnvelopePoint> stability_pockets(const std::vector<EnvelopePoint>& envelope, int count, double min_prominence = 0.02);
 
 // The stability boundary as an envelope (kind None rows keep depth = the search ceiling, lobe −1).
 std::vector<EnvelopePoint> boundary_envelope(const BoundaryResult& result);

@@ -69,9 +69,9 @@ struct UffDataset58 {
   int reference_node = 0, reference_direction = 0;
   // Record 7. The writer takes the point count from `y` and, with even spacing, the abscissa from
   // abscissa_min and abscissa_increment (x must agree with them).
-  int ordinate_data_type = 6;    // 2 real single, 4 real double, 5 complex single, 6 complex double
-  long long declared_points = 0; // reading: the point count record 7 declares (may differ from y.size())
-  bool even = true;              // abscissa spacing: true even (1), false uneven (0)
+  int ordinate_data_type = 6;     // 2 real single, 4 real double, 5 complex single, 6 complex double
+  long long declared_points = 0;  // reading: the point count record 7 declares (may differ from y.size())
+  bool even = true;               // abscissa spacing: true even (1), false uneven (0)
   double abscissa_min = 0.0, abscissa_increment = 0.0, z_value = 0.0;
   // Records 8–11.
   UffAxis abscissa, ordinate, denominator, z_axis;
@@ -80,11 +80,11 @@ struct UffDataset58 {
   std::vector<Complex> y;
 
   // Where it came from (reading only; ignored by the writer).
-  std::size_t index = 0;  // position among the datasets 58 of its file, from 0 (skipped ones count)
-  std::size_t line = 0;   // line of its opening `    -1`
-  bool binary = false;    // read from a 58b dataset
-  int byte_order = 1;     // 58b: 1 little endian, 2 big endian
-  std::optional<UffUnits> units;    // the dataset 164 in force, if any
+  std::size_t index = 0;              // position among the datasets 58 of its file, from 0 (skipped ones count)
+  std::size_t line = 0;               // line of its opening `    -1`
+  bool binary = false;                // read from a 58b dataset
+  int byte_order = 1;                 // 58b: 1 little endian, 2 big endian
+  std::optional<UffUnits> units;      // the dataset 164 in force, if any
   std::vector<std::string> warnings;  // what was wrong with it (also in UffFile::warnings)
   bool headers_only = false;          // read with UffReadOptions::headers_only: x, y empty
   // The first and last abscissa of record 12 (also when read headers only; 0 without points).
@@ -103,20 +103,20 @@ struct UffDataset58 {
 
 // One dataset of any type, as listed in the file.
 struct UffDatasetEntry {
-  int type = 0;           // 58, 151, 164, 2411, …
-  bool binary = false;    // written as e.g. `58b`
-  std::size_t line = 0;   // line of its opening `    -1`
-  std::size_t offset = 0; // byte offset of its opening `    -1`
+  int type = 0;            // 58, 151, 164, 2411, …
+  bool binary = false;     // written as e.g. `58b`
+  std::size_t line = 0;    // line of its opening `    -1`
+  std::size_t offset = 0;  // byte offset of its opening `    -1`
 };
 
 // A parsed universal file.
 struct UffFile {
-  std::string source;                        // file name, for messages
-  std::vector<UffDatasetEntry> datasets;     // every dataset in file order, whatever its type
-  std::vector<UffDataset58> functions;       // the readable datasets 58/58b, in file order
-  std::vector<std::string> warnings;         // every problem found, with file, line/byte, record, field
-  std::vector<std::string> skipped;          // the datasets 58 that could not be read, and why
-  std::vector<std::string> file_warnings;    // the problems not about one dataset 58 (stray text, other datasets)
+  std::string source;                      // file name, for messages
+  std::vector<UffDatasetEntry> datasets;   // every dataset in file order, whatever its type
+  std::vector<UffDataset58> functions;     // the readable datasets 58/58b, in file order
+  std::vector<std::string> warnings;       // every problem found, with file, line/byte, record, field
+  std::vector<std::string> skipped;        // the datasets 58 that could not be read, and why
+  std::vector<std::string> file_warnings;  // the problems not about one dataset 58 (stray text, other datasets)
 
   // What a caller using `sets` should report: file_warnings, the warnings of each of `sets`, and
   // how many datasets 58 were skipped.
@@ -185,8 +185,8 @@ int parse_uff_direction(const std::string& text, const std::string& option);
 std::string uff_direction_name(int direction);
 
 // Names for messages and listings.
-std::string uff_function_type_name(int function_type);        // 4 → "frequency response function"
-std::string uff_data_type_name(int specific_data_type);       // 12 → "acceleration"
-std::string uff_ordinate_type_name(int ordinate_data_type);   // 6 → "complex double"
+std::string uff_function_type_name(int function_type);       // 4 → "frequency response function"
+std::string uff_data_type_name(int specific_data_type);      // 12 → "acceleration"
+std::string uff_ordinate_type_name(int ordinate_data_type);  // 6 → "complex double"
 
 }  // namespace toolpoint

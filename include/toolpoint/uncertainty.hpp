@@ -39,19 +39,19 @@ std::vector<JointParameters> sample_joints(const JointParameters& mean, const Ei
 double quantile(std::vector<double> values, double p);
 
 struct UncertaintyOptions {
-  int samples = 200;                         // Monte Carlo samples, ≥ 10
+  int samples = 200;  // Monte Carlo samples, ≥ 10
   std::uint64_t seed = 1;
   std::vector<double> levels{0.05, 0.5, 0.95};  // quantile levels, increasing in (0, 1)
   ParallelOptions parallel;
-  std::function<void(double)> progress;     // fraction of the samples done
-  void check() const;                       // throws InvalidArgument naming the field
+  std::function<void(double)> progress;  // fraction of the samples done
+  void check() const;                    // throws InvalidArgument naming the field
 };
 
 // The tool point FRF (H of SHT11) with the joint uncertain.
 struct FrfBand {
   std::vector<double> frequency_hz;
   std::vector<double> levels;
-  FrfSeries nominal;                         // with the joint's constants
+  FrfSeries nominal;                           // with the joint's constants
   std::vector<std::vector<double>> magnitude;  // [level][frequency] quantiles of |H| [m/N]
   std::vector<std::vector<double>> phase_rad;  // [level][frequency] quantiles of ∠H, unwrapped around the nominal [rad]
   int samples = 0;
@@ -65,8 +65,8 @@ FrfBand tool_point_band(const Assembly& assembly, const JointFile& joint, const 
 
 // The same for a tool point coupled to a measured SH11 (Eq. 5, couple_tool): the holder–tool joint
 // uncertain, the measurement taken as exact.
-FrfBand coupled_tool_point_band(const Assembly& assembly, const JointFile& joint, const BlockSeries& sh11, const std::string& sh_name,
-                                const UncertaintyOptions& options);
+FrfBand coupled_tool_point_band(const Assembly& assembly, const JointFile& joint, const BlockSeries& sh11,
+                                const std::string& sh_name, const UncertaintyOptions& options);
 
 // Stability with the joint uncertain: per spindle speed the quantiles of the stable depth (the
 // zero-order envelope of each sample's tool point FRF, a symmetric tool: G_yy = G_xx), and the
@@ -75,10 +75,10 @@ FrfBand coupled_tool_point_band(const Assembly& assembly, const JointFile& joint
 struct StabilityUncertainty {
   std::vector<double> speed_rpm;
   std::vector<double> levels;
-  std::vector<double> nominal_depth_m;                 // the envelope with the joint's constants
-  std::vector<std::vector<double>> depth_m;            // [level][speed] quantiles of the stable depth [m]
-  std::vector<double> depth_grid_m;                    // the probability map's depths [m]
-  Eigen::MatrixXd probability;                         // (speed, depth) in [0, 1]
+  std::vector<double> nominal_depth_m;       // the envelope with the joint's constants
+  std::vector<std::vector<double>> depth_m;  // [level][speed] quantiles of the stable depth [m]
+  std::vector<double> depth_grid_m;          // the probability map's depths [m]
+  Eigen::MatrixXd probability;               // (speed, depth) in [0, 1]
   int samples = 0;
 };
 
@@ -86,16 +86,17 @@ struct StabilityUncertainty {
 // a step ≤ ζf/5 near each). `depth_grid_m`: where the probability map is evaluated (increasing, ≥ 0).
 // Throws InvalidArgument (options, an empty or decreasing depth grid, a joint file without
 // uncertainty) and what zero_order_lobes throws.
-StabilityUncertainty stability_uncertainty(const Assembly& assembly, const JointFile& joint, const std::vector<double>& frequency_hz,
-                                           const CuttingConditions& cutting, const ZeroOrderOptions& lobes,
-                                           const std::vector<double>& depth_grid_m, const UncertaintyOptions& options);
+StabilityUncertainty stability_uncertainty(const Assembly& assembly, const JointFile& joint,
+                                           const std::vector<double>& frequency_hz, const CuttingConditions& cutting,
+                                           const ZeroOrderOptions& lobes, const std::vector<double>& depth_grid_m,
+                                           const UncertaintyOptions& options);
 
 // The same by the lobes study (studies/lobes.hpp) with any of its methods: each sample's tool
 // point FRF (x and y, milling_frfs) goes through run_lobes_study with `lobes` (one thread inside:
 // the samples are what runs in parallel); the envelope is the study's (the time-domain boundary
 // where the search reached its ceiling counts as that depth). Same errors as run_lobes_study.
-StabilityUncertainty stability_uncertainty(const Assembly& assembly, const JointFile& joint, const std::vector<double>& frequency_hz,
-                                           const LobesStudyOptions& lobes, const std::vector<double>& depth_grid_m,
-                                           const UncertaintyOptions& options);
+StabilityUncertainty stability_uncertainty(const Assembly& assembly, const JointFile& joint,
+                                           const std::vector<double>& frequency_hz, const LobesStudyOptions& lobes,
+                                           const std::vector<double>& depth_grid_m, const UncertaintyOptions& options);
 
 }  // namespace toolpoint

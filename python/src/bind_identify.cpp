@@ -179,8 +179,8 @@ void bind_identify(py::module_& m) {
           "to_dict", [](const JointReadout& r) { return dict_of(r); },
           "The result as plain data (dicts, lists, floats, str, bool, None; the CLI's --json keys, SI units).");
   m.def(
-      "band_readout", [](const JointSeries& s, double lo, double hi) { return band_readout(s, lo, hi); }, "series"_a, "band_lo_hz"_a,
-      "band_hi_hz"_a,
+      "band_readout", [](const JointSeries& s, double lo, double hi) { return band_readout(s, lo, hi); }, "series"_a,
+      "band_lo_hz"_a, "band_hi_hz"_a,
       "The seed's read-out: median and spread of each parameter over lo ≤ f ≤ hi [Hz], with warnings (conditioning, reciprocity, "
       "gain).");
 

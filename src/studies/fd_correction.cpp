@@ -47,7 +47,9 @@ FiniteDifferenceError finite_difference_error(const Assembly& assembly, TapSide 
     }
   }
   for (int q = 0; q < 4; ++q)
-    r.max_relative[static_cast<std::size_t>(q)] = xmax[static_cast<std::size_t>(q)] > 0.0 ? emax[static_cast<std::size_t>(q)] / xmax[static_cast<std::size_t>(q)] : 0.0;
+    r.max_relative[static_cast<std::size_t>(q)] = xmax[static_cast<std::size_t>(q)] > 0.0
+                                                      ? emax[static_cast<std::size_t>(q)] / xmax[static_cast<std::size_t>(q)]
+                                                      : 0.0;
   r.warnings = fd.warnings;
   for (const auto& w : model.warnings()) r.warnings.push_back(w);
   return r;

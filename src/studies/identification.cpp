@@ -31,35 +31,40 @@ void NoiseSpec::check() const {
     estimate.check();
     return;
   }
-  if (!(magnitude_sigma >= 0.0 && std::isfinite(magnitude_sigma)) || !(phase_sigma_rad >= 0.0 && std::isfinite(phase_sigma_rad)) ||
-      magnitude_sigma + phase_sigma_rad == 0.0)
-    throw InvalidArgument(fmt::format("NoiseSpec: stated magnitude σ = {} and phase σ = {} rad must be ≥ 0, not both 0", magnitude_sigma,
-                                      phase_sigma_rad),
+  if (!(magnitude_sigma >= 0.0 && std::isfinite(magnitude_sigma)) ||
+      !(phase_sigma_rad >= 0.0 && std::isfinite(phase_sigma_rad)) || magnitude_sigma + phase_sigma_rad == 0.0)
+    throw InvalidArgument(fmt::format("NoiseSpec: stated magnitude σ = {} and phase σ = {} rad must be ≥ 0, not both 0",
+                                      magnitude_sigma, phase_sigma_rad),
                           "e.g. magnitude σ = 0.02 (2 %) and phase σ = 0.02 rad, or estimate the noise from the data");
   if (magnitude_sigma > 0.5 || phase_sigma_rad > 0.5)
-    throw InvalidArgument(fmt::format("NoiseSpec: stated magnitude σ = {} or phase σ = {} rad above 0.5: a relative σ, not a percentage",
-                                      magnitude_sigma, phase_sigma_rad),
-                          "give 0.05 for 5 %");
+    throw InvalidArgument(
+        fmt::format("NoiseSpec: stated magnitude σ = {} or phase σ = {} rad above 0.5: a relative σ, not a percentage",
+                    magnitude_sigma, phase_sigma_rad),
+        "give 0.05 for 5 %");
 }
 
 void VerdictThresholds::check() const {
   if (!(doubt_frequency > 0.0 && doubt_frequency <= fail_frequency && fail_frequency < 1.0))
-    throw InvalidArgument(fmt::format("VerdictThresholds: frequency errors doubt {} ≤ fail {} must lie in (0, 1)", doubt_frequency, fail_frequency));
+    throw InvalidArgument(fmt::format("VerdictThresholds: frequency errors doubt {} ≤ fail {} must lie in (0, 1)",
+                                      doubt_frequency, fail_frequency));
   if (!(doubt_peak > 0.0 && doubt_peak <= fail_peak && fail_peak < 10.0))
-    throw InvalidArgument(fmt::format("VerdictThresholds: peak errors doubt {} ≤ fail {} must lie in (0, 10)", doubt_peak, fail_peak));
+    throw InvalidArgument(
+        fmt::format("VerdictThresholds: peak errors doubt {} ≤ fail {} must lie in (0, 10)", doubt_peak, fail_peak));
 }
 
 void IdentificationOptions::check() const {
   if (band_hz && !(band_hz->first > 0.0 && band_hz->second > band_hz->first && std::isfinite(band_hz->second)))
-    throw InvalidArgument(fmt::format("IdentificationOptions::band_hz {}–{} Hz: the upper frequency must exceed the lower, both > 0",
-                                      band_hz->first, band_hz->second),
-                          "e.g. 2500–2650 Hz");
+    throw InvalidArgument(
+        fmt::format("IdentificationOptions::band_hz {}–{} Hz: the upper frequency must exceed the lower, both > 0",
+                    band_hz->first, band_hz->second),
+        "e.g. 2500–2650 Hz");
   if (at_hz && !(*at_hz > 0.0 && std::isfinite(*at_hz)))
     throw InvalidArgument(fmt::format("IdentificationOptions::at_hz = {} Hz must be > 0", *at_hz));
   if (band_hz && at_hz)
     throw InvalidArgument("IdentificationOptions: band_hz and at_hz both given; the band would ignore at_hz",
                           "give the band, or the frequency to read around, not both");
-  if (!(width > 0.0 && width < 0.5)) throw InvalidArgument(fmt::format("IdentificationOptions::width = {} must lie in (0, 0.5)", width));
+  if (!(width > 0.0 && width < 0.5))
+    throw InvalidArgument(fmt::format("IdentificationOptions::width = {} must lie in (0, 0.5)", width));
   if (filter) filter->check();
   noise.check();
   JointFitOptions f = fit;
@@ -75,7 +80,8 @@ JointFile joint_file_of(const Identification& id, const std::vector<std::string>
   f.parameters = id.identified;
   auto add = [&](const char* key, std::string value) { f.identification.emplace_back(key, std::move(value)); };
   add("equation", id.equation);
-  add("method", id.method == IdentificationMethod::Fit ? "band fit (output error, joint_fit.hpp)" : "the seed's closed form read at the mode");
+  add("method", id.method == IdentificationMethod::Fit ? "band fit (output error, joint_fit.hpp)"
+                                                       : "the seed's closed form read at the mode");
   if (id.fit) {
     JointUncertainty u;
     u.confidence = id.fit->confidence;
@@ -202,10 +208,11 @@ void judge(Identification& r, const IdentificationOptions& o, bool same_data) {
   if (r.forward_check.empty()) doubt.push_back("the forward check found no mode to compare");
   for (const ModeComparison& c : r.forward_check) {
     const double fe = std::abs(c.frequency_error), pe = std::abs(c.magnitude_error);
-    const std::string what = fmt::format("the mode at {:.1f} Hz comes back at {:.1f} Hz ({:+.2g} %) with its peak {:+.2g} %", c.measured_hz,
-                                         c.predicted_hz, 100 * c.frequency_error, 100 * c.magnitude_error);
+    const std::string what = fmt::format("the mode at {:.1f} Hz comes back at {:.1f} Hz ({:+.2g} %) with its peak {:+.2g} %",
+                                         c.measured_hz, c.predicted_hz, 100 * c.frequency_error, 100 * c.magnitude_error);
     if (fe > o.verdict.fail_frequency || pe > o.verdict.fail_peak)
-      fail.push_back(fmt::format("forward check: {} (fail above {:g} % / {:g} %)", what, 100 * o.verdict.fail_frequency, 100 * o.verdict.fail_peak));
+      fail.push_back(fmt::format("forward check: {} (fail above {:g} % / {:g} %)", what, 100 * o.verdict.fail_frequency,
+                                 100 * o.verdict.fail_peak));
     else if (fe > o.verdict.doubt_frequency || pe > o.verdict.doubt_peak)
       doubt.push_back(fmt::format("forward check: {} (doubtful above {:g} % / {:g} %)", what, 100 * o.verdict.doubt_frequency,
                                   100 * o.verdict.doubt_peak));
@@ -248,7 +255,8 @@ Identification identify_joint_from_frfs(const Assembly& assembly, const std::vec
       require_same_grid(d.B11->frequency_hz, d.b_name.empty() ? "B11" : d.b_name, d.G11.frequency_hz, gname);
       u.B = *d.B11;
     } else if (ht) {
-      throw InputError(fmt::format("{}: Eq. (6) needs the measured SH11 (holder tip, tool outside removed) as well as SHT11", u.label),
+      throw InputError(fmt::format("{}: Eq. (6) needs the measured SH11 (holder tip, tool outside removed) as well as SHT11",
+                                   u.label),
                        "give SH11 with SHT11");
     } else {
       u.B = block_series(d.G11.frequency_hz, [&](double f) { return m.spindle_nose(f); });
@@ -261,7 +269,8 @@ Identification identify_joint_from_frfs(const Assembly& assembly, const std::vec
   progress(0.05);
   const IdentificationData& d0 = data.front();
   const SetupModel& s0 = setups.front();
-  const std::string g0 = d0.g_name.empty() ? "G11" : d0.g_name, b0 = d0.b_name.empty() ? (s0.b_measured ? "B11" : "S11 (model spindle)") : d0.b_name;
+  const std::string g0 = d0.g_name.empty() ? "G11" : d0.g_name,
+                    b0 = d0.b_name.empty() ? (s0.b_measured ? "B11" : "S11 (model spindle)") : d0.b_name;
 
   // The seed: closed form on (filtered) data, read in the band at the mode.
   const BlockSeries G0f = o.filter ? savgol_filter(d0.G11, *o.filter, g0).series : d0.G11;
@@ -270,12 +279,14 @@ Identification identify_joint_from_frfs(const Assembly& assembly, const std::vec
   try {
     const std::vector<TwoPort>& A0 = s0.A;
     const auto& f0 = d0.G11.frequency_hz;
-    r.closed_form = identify_series([&](double f) { return A0[static_cast<std::size_t>(std::lower_bound(f0.begin(), f0.end(), f) - f0.begin())]; },
-                                    B0f, b0, G0f, g0);
+    r.closed_form = identify_series(
+        [&](double f) { return A0[static_cast<std::size_t>(std::lower_bound(f0.begin(), f0.end(), f) - f0.begin())]; }, B0f, b0,
+        G0f, g0);
   } catch (const NumericalError& e) {
     if (o.method == IdentificationMethod::Seed) throw;
     have_closed_form = false;
-    r.warnings.push_back(fmt::format("the closed form failed ({}): no seed read-out; the fit starts from the assembly's joint values", e.what()));
+    r.warnings.push_back(
+        fmt::format("the closed form failed ({}): no seed read-out; the fit starts from the assembly's joint values", e.what()));
   }
   progress(0.15);
   const BlockSeries G0s = smoothed(d0.G11, o.filter);
@@ -303,7 +314,8 @@ Identification identify_joint_from_frfs(const Assembly& assembly, const std::vec
         const auto peaks = find_peaks(entry(G0s, 0), PeakOptions{0.1});
         mc.center_hz = model_f;
         if (peaks.empty())
-          r.warnings.push_back(fmt::format("{}: no resonance peak in |H|: the band is centred on the model's mode at {:.1f} Hz", g0, model_f));
+          r.warnings.push_back(
+              fmt::format("{}: no resonance peak in |H|: the band is centred on the model's mode at {:.1f} Hz", g0, model_f));
         else
           mc.center_hz = std::min_element(peaks.begin(), peaks.end(), [&](const Peak& x, const Peak& y) {
                            return std::abs(x.frequency_hz - model_f) < std::abs(y.frequency_hz - model_f);
@@ -339,8 +351,8 @@ Identification identify_joint_from_frfs(const Assembly& assembly, const std::vec
         return all;
       }();
       if (idx.empty())
-        throw InvalidArgument(fmt::format("{}: the band {}–{} Hz holds none of the data's frequencies ({}–{} Hz)", setups[s].label,
-                                          o.band_hz->first, o.band_hz->second, f.front(), f.back()),
+        throw InvalidArgument(fmt::format("{}: the band {}–{} Hz holds none of the data's frequencies ({}–{} Hz)",
+                                          setups[s].label, o.band_hz->first, o.band_hz->second, f.front(), f.back()),
                               "choose a band inside the data's frequency range");
       JointFitData x;
       x.label = setups[s].label;
@@ -368,11 +380,13 @@ Identification identify_joint_from_frfs(const Assembly& assembly, const std::vec
     }
     const Joint& trial = ht ? assembly.holder_tool : assembly.spindle_holder;
     if (!trial.rigid) starts.push_back(trial.parameters);
-    starts.erase(std::remove_if(starts.begin(), starts.end(), [&](const JointParameters& p) { return !finite(p); }), starts.end());
+    starts.erase(std::remove_if(starts.begin(), starts.end(), [&](const JointParameters& p) { return !finite(p); }),
+                 starts.end());
     if (starts.empty())
-      throw InvalidArgument(fmt::format("the fit has no starting values: the closed form failed and joints.{} is rigid in the assembly",
-                                        ht ? "holder_tool" : "spindle_holder"),
-                            "give the joint trial values in the assembly file");
+      throw InvalidArgument(
+          fmt::format("the fit has no starting values: the closed form failed and joints.{} is rigid in the assembly",
+                      ht ? "holder_tool" : "spindle_holder"),
+          "give the joint trial values in the assembly file");
     JointFitOptions fo = o.fit;
     fo.filter = o.filter;
     if (o.progress) fo.progress = [&](double x) { progress(0.3 + 0.6 * x); };

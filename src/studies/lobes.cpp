@@ -15,7 +15,8 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // ‖Σ modes − G‖/‖G‖ over the FRF points inside `band` (all when none).
-double modal_residual(const FrfSeries& frf, const std::vector<Mode>& modes, const std::optional<std::pair<double, double>>& band) {
+double modal_residual(const FrfSeries& frf, const std::vector<Mode>& modes,
+                      const std::optional<std::pair<double, double>>& band) {
   double num = 0.0, den = 0.0;
   for (std::size_t i = 0; i < frf.size(); ++i) {
     const double f = frf.frequency_hz[i];
@@ -106,7 +107,8 @@ plot::LobesFigureData boundary_figure(const BoundaryResult& r) {
   set_envelope(d, boundary_envelope(r));
   std::vector<int> numbers;
   for (const BoundaryPoint& b : r.boundary)
-    if (b.kind != BoundaryKind::None && std::find(numbers.begin(), numbers.end(), b.lobe) == numbers.end()) numbers.push_back(b.lobe);
+    if (b.kind != BoundaryKind::None && std::find(numbers.begin(), numbers.end(), b.lobe) == numbers.end())
+      numbers.push_back(b.lobe);
   std::sort(numbers.begin(), numbers.end());
   for (int k : numbers) {
     plot::Lobe l{k, {}, {}, {}};
@@ -138,13 +140,15 @@ void LobesStudyOptions::check() const {
   else SpeedRange{speeds.min_rpm, speeds.max_rpm, 2}.check();
   if (!std::isfinite(max_depth_m) || max_depth_m < 0.0)
     throw InvalidArgument(fmt::format("LobesStudyOptions::max_depth_m {} m must be ≥ 0 (0: automatic)", max_depth_m));
-  if (lobes < -1 || lobes > 5000) throw InvalidArgument(fmt::format("LobesStudyOptions::lobes {} must lie in 0…5000 (−1: automatic)", lobes));
+  if (lobes < -1 || lobes > 5000)
+    throw InvalidArgument(fmt::format("LobesStudyOptions::lobes {} must lie in 0…5000 (−1: automatic)", lobes));
   if (!std::isfinite(fit_target) || !(fit_target > 0.0) || fit_target >= 1.0)
     throw InvalidArgument(fmt::format("LobesStudyOptions::fit_target {} must lie in (0, 1) (a fraction of the FRF)", fit_target));
   if (!std::isfinite(pocket_prominence) || pocket_prominence < 0.0 || pocket_prominence >= 1.0)
-    throw InvalidArgument(fmt::format("LobesStudyOptions::pocket_prominence {} must lie in [0, 1) (a fraction of the depth)",
-                                      pocket_prominence));
-  if (pockets < 0 || pockets > 1000) throw InvalidArgument(fmt::format("LobesStudyOptions::pockets {} must lie in 0…1000", pockets));
+    throw InvalidArgument(
+        fmt::format("LobesStudyOptions::pocket_prominence {} must lie in [0, 1) (a fraction of the depth)", pocket_prominence));
+  if (pockets < 0 || pockets > 1000)
+    throw InvalidArgument(fmt::format("LobesStudyOptions::pockets {} must lie in 0…1000", pockets));
   fit.check();
   parallel.check();
   if (method == LobesMethod::FullDiscretization) {
@@ -196,7 +200,8 @@ std::vector<Mode> fit_milling_modes(const FrfSeries& frf, const std::string& wha
   summary.residual = best_residual;
   summary.target_met = best_residual <= target;
   for (const std::string& w : best_warnings)
-    if (w.find("peaks found") == std::string::npos && w.find("overall fit residual") == std::string::npos) warnings.push_back(what + ": " + w);
+    if (w.find("peaks found") == std::string::npos && w.find("overall fit residual") == std::string::npos)
+      warnings.push_back(what + ": " + w);
   if (!summary.target_met)
     warnings.push_back(fmt::format(
         "{}: the best modal model represents the FRF within {:.1f} % over {:g}–{:g} Hz, not the {:.3g} % aimed at: {}. The lobes "

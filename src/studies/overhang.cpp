@@ -20,8 +20,8 @@ void OverhangStudyOptions::check() const {
       throw InvalidArgument(fmt::format("OverhangStudyOptions::overhangs_m[{}] = {} m is over 1 m: millimetres?", i, L),
                             fmt::format("overhangs are in metres: {} mm is {:g} m", L, L / 1000.0));
     if (i > 0 && !(L > overhangs_m[i - 1]))
-      throw InvalidArgument(fmt::format("OverhangStudyOptions::overhangs_m must be strictly increasing: [{}] = {} m follows {} m", i, L,
-                                        overhangs_m[i - 1]),
+      throw InvalidArgument(fmt::format("OverhangStudyOptions::overhangs_m must be strictly increasing: [{}] = {} m follows {} m",
+                                        i, L, overhangs_m[i - 1]),
                             "sort the overhangs and drop repeats (modes are followed from one overhang to the next)");
   }
   try {
@@ -42,7 +42,8 @@ namespace {
 std::string millimetres(const std::vector<double>& overhangs, const std::vector<std::size_t>& which) {
   constexpr std::size_t kShown = 6;
   std::string s;
-  for (std::size_t k = 0; k < which.size() && k < kShown; ++k) s += fmt::format("{}{:.1f}", k ? ", " : "", 1000.0 * overhangs[which[k]]);
+  for (std::size_t k = 0; k < which.size() && k < kShown; ++k)
+    s += fmt::format("{}{:.1f}", k ? ", " : "", 1000.0 * overhangs[which[k]]);
   if (which.size() > kShown) s += ", …";
   return s + " mm";
 }
@@ -84,21 +85,23 @@ OverhangStudy run_overhang_study(const Assembly& assembly, const BlockSeries& sh
 
   // Modes followed from the overhang nearest the assembly's own (the first of two equally near).
   for (std::size_t i = 1; i < overhangs.size(); ++i)
-    if (std::abs(overhangs[i] - assembly.tool.overhang) < std::abs(overhangs[s.reference] - assembly.tool.overhang)) s.reference = i;
+    if (std::abs(overhangs[i] - assembly.tool.overhang) < std::abs(overhangs[s.reference] - assembly.tool.overhang))
+      s.reference = i;
   std::vector<std::vector<Peak>> family;
   for (const OverhangFrf& r : s.overhangs) family.push_back(r.modes);
   s.tracked_modes_hz = track_modes(family, s.reference, options.tracking_tolerance, true);
 
   if (s.overhangs[s.reference].modes.empty())
-    s.warnings.push_back(fmt::format("no peak of |H| rises {:g} % above its valleys at the reference overhang {} m: no modes to follow",
-                                     100.0 * options.peaks.min_prominence, overhangs[s.reference]));
+    s.warnings.push_back(
+        fmt::format("no peak of |H| rises {:g} % above its valleys at the reference overhang {} m: no modes to follow",
+                    100.0 * options.peaks.min_prominence, overhangs[s.reference]));
   for (std::size_t m = 0; m < s.tracked_modes_hz.size(); ++m) {
     std::vector<std::size_t> lost;
     for (std::size_t i = 0; i < overhangs.size(); ++i)
       if (std::isnan(s.tracked_modes_hz[m][i])) lost.push_back(i);
     if (!lost.empty())
-      s.warnings.push_back(fmt::format("mode {} ({:.1f} Hz at {:.1f} mm) not found within {:g} % at {} of {} overhangs: {}", m + 1,
-                                       s.tracked_modes_hz[m][s.reference], 1000.0 * overhangs[s.reference],
+      s.warnings.push_back(fmt::format("mode {} ({:.1f} Hz at {:.1f} mm) not found within {:g} % at {} of {} overhangs: {}",
+                                       m + 1, s.tracked_modes_hz[m][s.reference], 1000.0 * overhangs[s.reference],
                                        100.0 * options.tracking_tolerance, lost.size(), overhangs.size(),
                                        millimetres(overhangs, lost)));
   }

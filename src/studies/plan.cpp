@@ -33,35 +33,84 @@ struct Fnv {
     const auto* c = static_cast<const unsigned char*>(p);
     for (std::size_t i = 0; i < n; ++i) h = (h ^ c[i]) * 0x100000001b3ULL;
   }
-  void add(double x) { const auto b = std::bit_cast<std::uint64_t>(x); bytes(&b, sizeof b); }
+  void add(double x) {
+    const auto b = std::bit_cast<std::uint64_t>(x);
+    bytes(&b, sizeof b);
+  }
   void add(std::uint64_t x) { bytes(&x, sizeof x); }
   void add(std::int64_t x) { bytes(&x, sizeof x); }
   void add(int x) { add(static_cast<std::int64_t>(x)); }
   void add(bool x) { add(static_cast<std::int64_t>(x)); }
-  void add(const std::string& s) { add(static_cast<std::uint64_t>(s.size())); bytes(s.data(), s.size()); }
-  void add(const std::optional<double>& x) { add(x.has_value()); if (x) add(*x); }
-  void add(const std::vector<double>& v) { add(static_cast<std::uint64_t>(v.size())); for (double x : v) add(x); }
-  void add(const Material& m) { add(m.name); add(m.youngs_modulus); add(m.poisson); add(m.shear_modulus); add(m.density); add(m.loss_factor); }
+  void add(const std::string& s) {
+    add(static_cast<std::uint64_t>(s.size()));
+    bytes(s.data(), s.size());
+  }
+  void add(const std::optional<double>& x) {
+    add(x.has_value());
+    if (x) add(*x);
+  }
+  void add(const std::vector<double>& v) {
+    add(static_cast<std::uint64_t>(v.size()));
+    for (double x : v) add(x);
+  }
+  void add(const Material& m) {
+    add(m.name);
+    add(m.youngs_modulus);
+    add(m.poisson);
+    add(m.shear_modulus);
+    add(m.density);
+    add(m.loss_factor);
+  }
   void add(const Segment& s) {
     add(s.length);
     add(static_cast<int>(s.shear_model));
     add(static_cast<std::uint64_t>(s.layers.size()));
-    for (const Annulus& l : s.layers) { add(l.outer_diameter); add(l.inner_diameter); add(l.material); add(l.shear_coefficient); }
+    for (const Annulus& l : s.layers) {
+      add(l.outer_diameter);
+      add(l.inner_diameter);
+      add(l.material);
+      add(l.shear_coefficient);
+    }
   }
-  void add(const std::vector<Segment>& v) { add(static_cast<std::uint64_t>(v.size())); for (const Segment& s : v) add(s); }
-  void add(const JointParameters& p) { for (int k = 0; k < 8; ++k) add(p[k]); }
-  void add(const Joint& j) { add(j.rigid); add(j.parameters); }
+  void add(const std::vector<Segment>& v) {
+    add(static_cast<std::uint64_t>(v.size()));
+    for (const Segment& s : v) add(s);
+  }
+  void add(const JointParameters& p) {
+    for (int k = 0; k < 8; ++k) add(p[k]);
+  }
+  void add(const Joint& j) {
+    add(j.rigid);
+    add(j.parameters);
+  }
   void add(const Assembly& a) {
     add(a.spindle.segments);
     add(static_cast<std::uint64_t>(a.spindle.bearings.size()));
-    for (const Bearing& b : a.spindle.bearings) { add(b.position); add(b.stiffness); add(b.damping); add(b.rotational_stiffness); add(b.rotational_damping); }
+    for (const Bearing& b : a.spindle.bearings) {
+      add(b.position);
+      add(b.stiffness);
+      add(b.damping);
+      add(b.rotational_stiffness);
+      add(b.rotational_damping);
+    }
     add(a.holder);
     const Tool& t = a.tool;
-    add(t.material); add(t.length); add(t.overhang); add(t.diameter); add(t.shank_diameter); add(t.flute_length);
-    add(t.flute_diameter_ratio); add(t.shear_coefficient);
-    add(a.spindle_holder); add(a.holder_tool);
-    add(static_cast<int>(a.shear_model)); add(static_cast<int>(a.method)); add(a.modal_terms);
-    add(a.grid.start_hz); add(a.grid.stop_hz); add(a.grid.step_hz);
+    add(t.material);
+    add(t.length);
+    add(t.overhang);
+    add(t.diameter);
+    add(t.shank_diameter);
+    add(t.flute_length);
+    add(t.flute_diameter_ratio);
+    add(t.shear_coefficient);
+    add(a.spindle_holder);
+    add(a.holder_tool);
+    add(static_cast<int>(a.shear_model));
+    add(static_cast<int>(a.method));
+    add(a.modal_terms);
+    add(a.grid.start_hz);
+    add(a.grid.stop_hz);
+    add(a.grid.step_hz);
   }
 };
 
@@ -72,7 +121,10 @@ std::uint64_t candidate_content(const PlanCandidate& c) {
   if (c.sh11) {
     f.add(c.sh11->frequency_hz);
     for (const Block& b : c.sh11->blocks)
-      for (int k = 0; k < 4; ++k) { f.add(b(k / 2, k % 2).real()); f.add(b(k / 2, k % 2).imag()); }
+      for (int k = 0; k < 4; ++k) {
+        f.add(b(k / 2, k % 2).real());
+        f.add(b(k / 2, k % 2).imag());
+      }
   }
   f.add(c.uncertain_joint.has_value());
   if (c.uncertain_joint) {
@@ -103,7 +155,8 @@ const char* to_string(DepthLimit limit) {
 std::string safety_rule_text(const SafetyRule& rule) {
   return rule.kind == SafetyRule::Kind::Factor
              ? fmt::format("the stable depth / {:g}", rule.factor)
-             : fmt::format("the depth stable with probability >= {:g} ({} joint samples, seed {})", rule.probability, rule.samples, rule.seed);
+             : fmt::format("the depth stable with probability >= {:g} ({} joint samples, seed {})", rule.probability,
+                           rule.samples, rule.seed);
 }
 
 // ---- The cut's mechanics ------------------------------------------------------------------------
@@ -133,7 +186,8 @@ void PlanOptions::check() const {
                           "give the feed per tooth in metres, e.g. 1e-4 (0.1 mm)");
   // No milling cutter takes a centimetre per tooth: such a value is millimetres given as metres.
   if (feed_per_tooth_m > 0.01)
-    throw InvalidArgument(fmt::format("PlanOptions::feed_per_tooth_m = {} m is over 10 mm per tooth: millimetres?", feed_per_tooth_m),
+    throw InvalidArgument(fmt::format("PlanOptions::feed_per_tooth_m = {} m is over 10 mm per tooth: millimetres?",
+                                      feed_per_tooth_m),
                           fmt::format("the feed is in metres: {} mm is {:g} m", feed_per_tooth_m, feed_per_tooth_m / 1000.0));
   if (!std::isfinite(edge_coefficient_n_per_m) || edge_coefficient_n_per_m < 0.0)
     throw InvalidArgument(fmt::format("PlanOptions::edge_coefficient_n_per_m = {} N/m must be ≥ 0", edge_coefficient_n_per_m),
@@ -183,7 +237,8 @@ PlanHeader plan_header(const std::vector<PlanCandidate>& candidates, const PlanO
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     const PlanCandidate& in = candidates[c];
     const std::string who = fmt::format("candidates[{}] ('{}')", c, in.name);
-    if (in.name.empty()) throw InvalidArgument(fmt::format("candidates[{}] has no name", c), "name every candidate (its rows in the tables)");
+    if (in.name.empty())
+      throw InvalidArgument(fmt::format("candidates[{}] has no name", c), "name every candidate (its rows in the tables)");
     for (std::size_t k = 0; k < c; ++k)
       if (candidates[k].name == in.name)
         throw InvalidArgument(fmt::format("{}: the name is also candidates[{}]'s", who, k), "give each candidate its own name");
@@ -196,28 +251,35 @@ PlanHeader plan_header(const std::vector<PlanCandidate>& candidates, const PlanO
     for (std::size_t i = 0; i < all.size(); ++i) {
       const double L = all[i];
       if (!finite_positive(L))
-        throw InvalidArgument(fmt::format("{}: overhangs_m[{}] = {} m must be > 0", who, i, L), "give the tool's length outside the holder in metres");
+        throw InvalidArgument(fmt::format("{}: overhangs_m[{}] = {} m must be > 0", who, i, L),
+                              "give the tool's length outside the holder in metres");
       if (L > 1.0)
         throw InvalidArgument(fmt::format("{}: overhangs_m[{}] = {} m is over 1 m: millimetres?", who, i, L),
                               fmt::format("overhangs are in metres: {} mm is {:g} m", L, L / 1000.0));
       if (i > 0 && !(L > all[i - 1]))
-        throw InvalidArgument(fmt::format("{}: overhangs_m must be strictly increasing: [{}] = {} m follows {} m", who, i, L, all[i - 1]),
+        throw InvalidArgument(fmt::format("{}: overhangs_m must be strictly increasing: [{}] = {} m follows {} m", who, i, L,
+                                          all[i - 1]),
                               "sort the overhangs and drop repeats");
     }
     if (options.safety.kind == SafetyRule::Kind::Probability) {
       if (!in.uncertain_joint || !in.uncertain_joint->uncertainty)
-        throw InvalidArgument(fmt::format("{}: SafetyRule::probability needs a joint with uncertainty to sample (PlanCandidate::uncertain_joint)", who),
-                              "give the candidate a joint file with [uncertainty] (toolpoint identify --joint-output), or use a safety factor");
+        throw InvalidArgument(
+            fmt::format("{}: SafetyRule::probability needs a joint with uncertainty to sample (PlanCandidate::uncertain_joint)",
+                        who),
+            "give the candidate a joint file with [uncertainty] (toolpoint identify --joint-output), or use a safety factor");
     }
     if (in.uncertain_joint && in.sh11 && in.uncertain_joint->interface != JointInterface::HolderTool)
-      throw InvalidArgument(fmt::format("{}: with a measured SH11 only the holder–tool joint can be sampled; {} holds the {} joint", who,
-                                        in.uncertain_joint->source, to_string(in.uncertain_joint->interface)),
-                            "the spindle–holder joint is inside the measured SH11: sample the holder–tool joint");
+      throw InvalidArgument(
+          fmt::format("{}: with a measured SH11 only the holder–tool joint can be sampled; {} holds the {} joint", who,
+                      in.uncertain_joint->source, to_string(in.uncertain_joint->interface)),
+          "the spindle–holder joint is inside the measured SH11: sample the holder–tool joint");
     PlanCandidateSummary s;
     s.name = in.name;
     s.measured_holder = in.sh11.has_value();
     s.sh11_name = in.sh11 ? in.sh11_name : std::string();
-    s.uncertain_joint = in.uncertain_joint ? (in.uncertain_joint->source.empty() ? std::string("joint") : in.uncertain_joint->source) : std::string();
+    s.uncertain_joint = in.uncertain_joint
+                            ? (in.uncertain_joint->source.empty() ? std::string("joint") : in.uncertain_joint->source)
+                            : std::string();
     s.tool_diameter_m = in.assembly.tool.diameter;
     s.flute_length_m = in.assembly.tool.flute_length;
     // Overhang grids built as START + i·STEP land a rounding away from the minimum: 1e-9 relative.
@@ -225,8 +287,8 @@ PlanHeader plan_header(const std::vector<PlanCandidate>& candidates, const PlanO
       if (L >= reach * (1.0 - 1e-9)) s.overhangs_m.push_back(L);
       else ++s.left_out;
     if (s.overhangs_m.empty())
-      throw InvalidArgument(fmt::format("{}: every overhang ({} to {}) is shorter than MachineLimits::min_overhang_m = {}", who, mm(all.front()),
-                                        mm(all.back()), mm(reach)),
+      throw InvalidArgument(fmt::format("{}: every overhang ({} to {}) is shorter than MachineLimits::min_overhang_m = {}", who,
+                                        mm(all.front()), mm(all.back()), mm(reach)),
                             "extend the candidate's overhangs to the reach the part needs, or lower the minimum overhang");
     s.content = candidate_content(in);
     h.jobs += s.overhangs_m.size();
@@ -243,22 +305,53 @@ std::uint64_t plan_fingerprint(const PlanHeader& h) {
   f.add(o.name);
   const LobesStudyOptions& l = o.lobes;
   f.add(static_cast<int>(l.method));
-  f.add(l.cutting.teeth); f.add(l.cutting.tangential_coefficient); f.add(l.cutting.radial_ratio);
-  f.add(l.cutting.engagement.entry_rad); f.add(l.cutting.engagement.exit_rad);
-  f.add(l.speeds.min_rpm); f.add(l.speeds.max_rpm); f.add(l.speeds.points);
-  f.add(l.max_depth_m); f.add(l.lobes); f.add(l.tolerance); f.add(l.steps); f.add(l.degree);
-  f.add(l.fit.max_modes); f.add(l.fit.band_hz.has_value());
-  if (l.fit.band_hz) { f.add(l.fit.band_hz->first); f.add(l.fit.band_hz->second); }
-  f.add(l.fit.min_prominence_db); f.add(l.fit.residual_terms); f.add(l.fit.max_evaluations);
-  f.add(l.fit_target); f.add(l.pocket_prominence); f.add(l.pockets);
-  f.add(o.feed_per_tooth_m); f.add(o.edge_coefficient_n_per_m); f.add(o.max_depth_m);
-  f.add(o.machine.power_w); f.add(o.machine.torque_nm); f.add(o.machine.min_overhang_m);
-  f.add(static_cast<int>(o.safety.kind)); f.add(o.safety.factor); f.add(o.safety.probability); f.add(o.safety.samples);
+  f.add(l.cutting.teeth);
+  f.add(l.cutting.tangential_coefficient);
+  f.add(l.cutting.radial_ratio);
+  f.add(l.cutting.engagement.entry_rad);
+  f.add(l.cutting.engagement.exit_rad);
+  f.add(l.speeds.min_rpm);
+  f.add(l.speeds.max_rpm);
+  f.add(l.speeds.points);
+  f.add(l.max_depth_m);
+  f.add(l.lobes);
+  f.add(l.tolerance);
+  f.add(l.steps);
+  f.add(l.degree);
+  f.add(l.fit.max_modes);
+  f.add(l.fit.band_hz.has_value());
+  if (l.fit.band_hz) {
+    f.add(l.fit.band_hz->first);
+    f.add(l.fit.band_hz->second);
+  }
+  f.add(l.fit.min_prominence_db);
+  f.add(l.fit.residual_terms);
+  f.add(l.fit.max_evaluations);
+  f.add(l.fit_target);
+  f.add(l.pocket_prominence);
+  f.add(l.pockets);
+  f.add(o.feed_per_tooth_m);
+  f.add(o.edge_coefficient_n_per_m);
+  f.add(o.max_depth_m);
+  f.add(o.machine.power_w);
+  f.add(o.machine.torque_nm);
+  f.add(o.machine.min_overhang_m);
+  f.add(static_cast<int>(o.safety.kind));
+  f.add(o.safety.factor);
+  f.add(o.safety.probability);
+  f.add(o.safety.samples);
   f.add(o.safety.seed);
   f.add(static_cast<std::uint64_t>(h.candidates.size()));
   for (const PlanCandidateSummary& c : h.candidates) {
-    f.add(c.name); f.add(c.measured_holder); f.add(c.sh11_name); f.add(c.uncertain_joint); f.add(c.tool_diameter_m);
-    f.add(c.flute_length_m); f.add(c.overhangs_m); f.add(static_cast<std::uint64_t>(c.left_out)); f.add(c.content);
+    f.add(c.name);
+    f.add(c.measured_holder);
+    f.add(c.sh11_name);
+    f.add(c.uncertain_joint);
+    f.add(c.tool_diameter_m);
+    f.add(c.flute_length_m);
+    f.add(c.overhangs_m);
+    f.add(static_cast<std::uint64_t>(c.left_out));
+    f.add(c.content);
   }
   f.add(h.speeds_rpm);
   f.add(static_cast<std::uint64_t>(h.jobs));
@@ -319,13 +412,14 @@ std::string reason_for(const PlanJob& job, const PlanHeader& h, const PlanSetup&
   const PlanOptions& o = h.options;
   const std::size_t k = s.speed_index, ns = h.speeds_rpm.size();
   const int teeth = o.lobes.cutting.teeth;
-  const std::string at_limit =
-      s.lobe >= 0 ? fmt::format("lobe {}, chatter at {:.0f} Hz", s.lobe, s.chatter_hz) : std::string("no instability found below the ceiling");
+  const std::string at_limit = s.lobe >= 0 ? fmt::format("lobe {}, chatter at {:.0f} Hz", s.lobe, s.chatter_hz)
+                                           : std::string("no instability found below the ceiling");
   switch (s.limit) {
     case DepthLimit::Stability: {
       if (k + 1 == ns)
-        return fmt::format("the top of the speed range ({:.0f} rpm): the stable depth does not fall faster than the speed rises there ({})",
-                           s.speed_rpm, at_limit);
+        return fmt::format(
+            "the top of the speed range ({:.0f} rpm): the stable depth does not fall faster than the speed rises there ({})",
+            s.speed_rpm, at_limit);
       if (k == 0) return fmt::format("the bottom of the speed range ({:.0f} rpm) ({})", s.speed_rpm, at_limit);
       // Climb the allowed depth from the best speed to the pocket's peak.
       const std::vector<double>& a = job.safe_depth_m;
@@ -336,17 +430,19 @@ std::string reason_for(const PlanJob& job, const PlanHeader& h, const PlanSetup&
         if ((dir > 0 && p + 1 >= ns) || (dir < 0 && p == 0) || !(a[q] > a[p])) break;
         p = q;
       }
-      return fmt::format("the stability pocket above lobe {}: the allowed depth peaks at {:.2f} mm at {:.0f} rpm (tooth passing {:.0f} Hz); "
-                         "depth × speed is largest at {:.0f} rpm ({})",
-                         s.lobe, 1e3 * a[p], h.speeds_rpm[p], teeth * h.speeds_rpm[p] / 60.0, s.speed_rpm, at_limit);
+      return fmt::format(
+          "the stability pocket above lobe {}: the allowed depth peaks at {:.2f} mm at {:.0f} rpm (tooth passing {:.0f} Hz); "
+          "depth × speed is largest at {:.0f} rpm ({})",
+          s.lobe, 1e3 * a[p], h.speeds_rpm[p], teeth * h.speeds_rpm[p] / 60.0, s.speed_rpm, at_limit);
     }
     case DepthLimit::Power:
-      return fmt::format("the spindle's power ({:.3g} kW) limits the depth: the MRR is the same at every power-limited speed, and this one "
-                         "keeps the most distance from the stability limit ({:.0f} % above the depth used; {})",
-                         1e-3 * o.machine.power_w, 100.0 * s.depth_margin, at_limit);
+      return fmt::format(
+          "the spindle's power ({:.3g} kW) limits the depth: the MRR is the same at every power-limited speed, and this one "
+          "keeps the most distance from the stability limit ({:.0f} % above the depth used; {})",
+          1e-3 * o.machine.power_w, 100.0 * s.depth_margin, at_limit);
     case DepthLimit::Torque:
-      return fmt::format("the spindle's torque ({:.3g} N·m) limits the depth to {:.2f} mm; stable to {:.2f} mm here ({})", o.machine.torque_nm,
-                         1e3 * s.depth_m, 1e3 * s.stable_depth_m, at_limit);
+      return fmt::format("the spindle's torque ({:.3g} N·m) limits the depth to {:.2f} mm; stable to {:.2f} mm here ({})",
+                         o.machine.torque_nm, 1e3 * s.depth_m, 1e3 * s.stable_depth_m, at_limit);
     case DepthLimit::Depth: {
       const PlanCandidateSummary& cs = h.candidates[job.candidate];
       const bool flute = cs.flute_length_m > 0.0 && (o.max_depth_m <= 0.0 || cs.flute_length_m <= o.max_depth_m);
@@ -413,7 +509,8 @@ std::string overhang_list(const PlanCandidateSummary& cs, const std::vector<std:
   if (which.size() == cs.overhangs_m.size()) return "every overhang";
   std::string s;
   constexpr std::size_t kShown = 5;
-  for (std::size_t q = 0; q < which.size() && q < kShown; ++q) s += fmt::format("{}{:.1f}", q ? ", " : "", 1e3 * cs.overhangs_m[which[q]]);
+  for (std::size_t q = 0; q < which.size() && q < kShown; ++q)
+    s += fmt::format("{}{:.1f}", q ? ", " : "", 1e3 * cs.overhangs_m[which[q]]);
   if (which.size() > kShown) s += fmt::format(", … ({} of {})", which.size(), cs.overhangs_m.size());
   return s + " mm";
 }
@@ -429,8 +526,9 @@ PlanResult assemble(PlanHeader header, std::vector<PlanJob> jobs) {
     const PlanCandidateSummary& cs = h.candidates[c];
     const std::size_t nj = cs.overhangs_m.size();
     if (cs.left_out > 0)
-      r.warnings.push_back(fmt::format("candidate '{}': {} overhang(s) shorter than the minimum overhang {:.1f} mm were not planned", cs.name,
-                                       cs.left_out, 1e3 * h.options.machine.min_overhang_m));
+      r.warnings.push_back(
+          fmt::format("candidate '{}': {} overhang(s) shorter than the minimum overhang {:.1f} mm were not planned", cs.name,
+                      cs.left_out, 1e3 * h.options.machine.min_overhang_m));
     // Job warnings, each message once with the overhangs it came from.
     std::vector<std::pair<std::string, std::vector<std::size_t>>> seen;
     for (std::size_t i = 0; i < nj; ++i)
@@ -439,7 +537,8 @@ PlanResult assemble(PlanHeader header, std::vector<PlanJob> jobs) {
         if (it == seen.end()) seen.push_back({w, {i}});
         else it->second.push_back(i);
       }
-    for (const auto& [w, which] : seen) r.warnings.push_back(fmt::format("candidate '{}' ({}): {}", cs.name, overhang_list(cs, which), w));
+    for (const auto& [w, which] : seen)
+      r.warnings.push_back(fmt::format("candidate '{}' ({}): {}", cs.name, overhang_list(cs, which), w));
     std::vector<double> mrr(nj), margin(nj);
     for (std::size_t i = 0; i < nj; ++i) {
       mrr[i] = r.jobs[j0 + i].best.mrr_m3_per_s;
@@ -451,12 +550,14 @@ PlanResult assemble(PlanHeader header, std::vector<PlanJob> jobs) {
     } else {
       r.best.push_back(r.jobs[j0 + i].best);
       if (nj > 1 && (i == 0 || i + 1 == nj) && !(i == 0 && cs.left_out > 0))
-        r.warnings.push_back(fmt::format("candidate '{}': the best overhang, {:.1f} mm, is the {} one planned: a {} overhang may remove more",
-                                         cs.name, 1e3 * cs.overhangs_m[i], i == 0 ? "shortest" : "longest", i == 0 ? "shorter" : "longer"));
+        r.warnings.push_back(
+            fmt::format("candidate '{}': the best overhang, {:.1f} mm, is the {} one planned: a {} overhang may remove more",
+                        cs.name, 1e3 * cs.overhangs_m[i], i == 0 ? "shortest" : "longest", i == 0 ? "shorter" : "longer"));
     }
     j0 += nj;
   }
-  std::stable_sort(r.best.begin(), r.best.end(), [](const PlanSetup& a, const PlanSetup& b) { return a.mrr_m3_per_s > b.mrr_m3_per_s; });
+  std::stable_sort(r.best.begin(), r.best.end(),
+                   [](const PlanSetup& a, const PlanSetup& b) { return a.mrr_m3_per_s > b.mrr_m3_per_s; });
   return r;
 }
 
@@ -525,7 +626,8 @@ FrfSeries resolved_tool_point(const AssemblyModel& model, const std::vector<doub
       const bool take_old = q == e.size() || (p < n && g.frequency_hz[p] <= e.frequency_hz[q]);
       const FrfSeries& from = take_old ? g : e;
       const std::size_t k = take_old ? p++ : q++;
-      if (!merged.frequency_hz.empty() && !(from.frequency_hz[k] > merged.frequency_hz.back())) continue;  // a point already there
+      if (!merged.frequency_hz.empty() && !(from.frequency_hz[k] > merged.frequency_hz.back()))
+        continue;  // a point already there
       merged.frequency_hz.push_back(from.frequency_hz[k]);
       merged.values.push_back(from.values[k]);
     }
@@ -545,8 +647,9 @@ FrfSeries tool_point_frf(const PlanCandidate& c, const Assembly& a) {
 
 // What needs the model: the envelopes (nominal and sampled), the allowed depth, the probability
 // at the depth used, the modes. `samples` on `sample_threads` (the probability rule).
-PlanJob compute_job(const PlanCandidate& cand, const PlanHeader& h, std::size_t c, std::size_t i, const std::vector<JointParameters>& samples,
-                    const ParallelOptions& sample_threads, const ProgressCallback& progress) {
+PlanJob compute_job(const PlanCandidate& cand, const PlanHeader& h, std::size_t c, std::size_t i,
+                    const std::vector<JointParameters>& samples, const ParallelOptions& sample_threads,
+                    const ProgressCallback& progress) {
   const PlanCandidateSummary& cs = h.candidates[c];
   PlanJob job;
   job.candidate = c;
@@ -579,7 +682,8 @@ PlanJob compute_job(const PlanCandidate& cand, const PlanHeader& h, std::size_t 
   job.lobe = std::move(nominal.lobe);
   job.warnings = std::move(nominal.warnings);
   if (std::none_of(job.stable_depth_m.begin(), job.stable_depth_m.end(), [](double d) { return std::isfinite(d); }))
-    throw NumericalError(fmt::format("{}: no lobe reaches any speed of {}–{} rpm", where, h.speeds_rpm.front(), h.speeds_rpm.back()),
+    throw NumericalError(fmt::format("{}: no lobe reaches any speed of {}–{} rpm", where, h.speeds_rpm.front(),
+                                     h.speeds_rpm.back()),
                          "widen the FRF's frequency range or the speed range");
 
   const std::size_t ns = h.speeds_rpm.size();
@@ -662,15 +766,15 @@ PlanPart run_plan_part(const std::vector<PlanCandidate>& candidates, const PlanO
       const auto part_progress = [&](double f) {
         if (progress) progress((static_cast<double>(q) + f) / n);
       };
-      part.jobs[q] = compute_job(candidates[mine[q].candidate], h, mine[q].candidate, mine[q].overhang, samples[mine[q].candidate],
-                                 options.parallel, part_progress);
+      part.jobs[q] = compute_job(candidates[mine[q].candidate], h, mine[q].candidate, mine[q].overhang,
+                                 samples[mine[q].candidate], options.parallel, part_progress);
     }
   } else {
     parallel_for(
         mine.size(), options.parallel,
         [&](std::size_t q) {
-          part.jobs[q] = compute_job(candidates[mine[q].candidate], h, mine[q].candidate, mine[q].overhang, samples[mine[q].candidate],
-                                     ParallelOptions{1}, {});
+          part.jobs[q] = compute_job(candidates[mine[q].candidate], h, mine[q].candidate, mine[q].overhang,
+                                     samples[mine[q].candidate], ParallelOptions{1}, {});
         },
         progress);
   }
@@ -697,10 +801,12 @@ PlanResult merge_plan_parts(const std::vector<PlanPart>& parts, const std::vecto
     if (q.count != count)
       throw InputError(fmt::format("{} is shard {} of {}, but {} is of {}", name(p), q.index, q.count, name(0), count),
                        "merge the parts of one split: the same shard count N for every part");
-    if (q.index < 0 || q.index >= count) throw InputError(fmt::format("{}: shard index {} outside 0…{}", name(p), q.index, count - 1));
+    if (q.index < 0 || q.index >= count)
+      throw InputError(fmt::format("{}: shard index {} outside 0…{}", name(p), q.index, count - 1));
     int& s = seen[static_cast<std::size_t>(q.index)];
     if (s >= 0)
-      throw InputError(fmt::format("{} and {} are both shard {} of {}", name(static_cast<std::size_t>(s)), name(p), q.index, count),
+      throw InputError(fmt::format("{} and {} are both shard {} of {}", name(static_cast<std::size_t>(s)), name(p), q.index,
+                                   count),
                        "give each part file once");
     s = static_cast<int>(p);
   }
@@ -709,15 +815,17 @@ PlanResult merge_plan_parts(const std::vector<PlanPart>& parts, const std::vecto
   for (int i = 0; i < count; ++i)
     if (seen[static_cast<std::size_t>(i)] < 0) missing += (n_missing++ ? ", " : "") + std::to_string(i);
   if (n_missing > 0)
-    throw InputError(fmt::format("shard(s) {} of {} missing: {} part(s) given", missing, count, parts.size()),
-                     "run the missing shards (run_plan_part with their index; `toolpoint plan --shard I/N`) and merge every part");
+    throw InputError(
+        fmt::format("shard(s) {} of {} missing: {} part(s) given", missing, count, parts.size()),
+        "run the missing shards (run_plan_part with their index; `toolpoint plan --shard I/N`) and merge every part");
   const PlanHeader& h = first.header;
   std::vector<PlanJob> jobs(h.jobs);
   std::vector<bool> have(h.jobs, false);
   for (std::size_t p = 0; p < parts.size(); ++p)
     for (const PlanJob& job : parts[p].jobs) {
       if (job.candidate >= h.candidates.size() || job.overhang_index >= h.candidates[job.candidate].overhangs_m.size())
-        throw InputError(fmt::format("{}: a job of candidate {} overhang {} that the plan does not have", name(p), job.candidate, job.overhang_index));
+        throw InputError(fmt::format("{}: a job of candidate {} overhang {} that the plan does not have", name(p), job.candidate,
+                                     job.overhang_index));
       const std::size_t j = plan_job_index(h, job.candidate, job.overhang_index);
       if (j % static_cast<std::size_t>(count) != static_cast<std::size_t>(parts[p].index) || have[j])
         throw InputError(fmt::format("{}: job {} does not belong to shard {} of {}", name(p), j, parts[p].index, count),
@@ -726,7 +834,8 @@ PlanResult merge_plan_parts(const std::vector<PlanPart>& parts, const std::vecto
       jobs[j] = job;
     }
   for (std::size_t j = 0; j < h.jobs; ++j)
-    if (!have[j]) throw InputError(fmt::format("job {} is in none of the parts", j), "the part files are damaged: run their shards again");
+    if (!have[j])
+      throw InputError(fmt::format("job {} is in none of the parts", j), "the part files are damaged: run their shards again");
   return assemble(h, std::move(jobs));
 }
 

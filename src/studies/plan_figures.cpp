@@ -98,7 +98,8 @@ plot::Figure plan_tuning_figure(const PlanResult& r) {
   const PlanHeader& h = r.header;
   if (r.jobs.empty()) throw InvalidArgument("plan tuning figure: the plan has no jobs");
   plot::Figure fig;
-  fig.title = fmt::format("Tuning curve: the most metal removed at each overhang ({}{})", safety_rule_text(h.options.safety), reach_text(h.options));
+  fig.title = fmt::format("Tuning curve: the most metal removed at each overhang ({}{})", safety_rule_text(h.options.safety),
+                          reach_text(h.options));
   fig.x.label = "Overhang [mm]";
   plot::Panel mrr, speed;
   mrr.y.label = "Best MRR [cm^3/min]";

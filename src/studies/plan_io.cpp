@@ -59,7 +59,9 @@ struct PartReader {
     if (ec != std::errc() || end != s.data() + s.size()) fail(fmt::format("{} = '{}' is not a hexadecimal number", what, s));
     return negative ? -v : v;
   }
-  double number(const nlohmann::json& j, const char* key, const std::string& path) const { return number(at(j, key, path), path + key); }
+  double number(const nlohmann::json& j, const char* key, const std::string& path) const {
+    return number(at(j, key, path), path + key);
+  }
   std::vector<double> numbers(const nlohmann::json& j, const char* key, const std::string& path) const {
     const nlohmann::json& a = at(j, key, path);
     if (!a.is_array()) fail(fmt::format("'{}{}' is not an array", path, key));
@@ -87,41 +89,41 @@ std::uint64_t text_hash(const std::string& text) {
 nlohmann::json header_json(const PlanHeader& h) {
   const PlanOptions& o = h.options;
   const LobesStudyOptions& l = o.lobes;
-  nlohmann::json opt = {
-      {"name", o.name},
-      {"method", l.method == LobesMethod::ZeroOrder ? "zoa" : "fd"},
-      {"teeth", l.cutting.teeth},
-      {"tangential_coefficient", hex(l.cutting.tangential_coefficient)},
-      {"radial_ratio", hex(l.cutting.radial_ratio)},
-      {"entry_rad", hex(l.cutting.engagement.entry_rad)},
-      {"exit_rad", hex(l.cutting.engagement.exit_rad)},
-      {"speed_min_rpm", hex(l.speeds.min_rpm)},
-      {"speed_max_rpm", hex(l.speeds.max_rpm)},
-      {"speed_points", l.speeds.points},
-      {"lobes_max_depth_m", hex(l.max_depth_m)},
-      {"lobes", l.lobes},
-      {"tolerance", hex(l.tolerance)},
-      {"steps", l.steps},
-      {"degree", l.degree},
-      {"fit_max_modes", l.fit.max_modes},
-      {"fit_band_hz", l.fit.band_hz ? nlohmann::json{hex(l.fit.band_hz->first), hex(l.fit.band_hz->second)} : nlohmann::json(nullptr)},
-      {"fit_min_prominence_db", hex(l.fit.min_prominence_db)},
-      {"fit_residual_terms", l.fit.residual_terms},
-      {"fit_max_evaluations", l.fit.max_evaluations},
-      {"fit_target", hex(l.fit_target)},
-      {"pocket_prominence", hex(l.pocket_prominence)},
-      {"pockets", l.pockets},
-      {"feed_per_tooth_m", hex(o.feed_per_tooth_m)},
-      {"edge_coefficient_n_per_m", hex(o.edge_coefficient_n_per_m)},
-      {"max_depth_m", hex(o.max_depth_m)},
-      {"power_w", hex(o.machine.power_w)},
-      {"torque_nm", hex(o.machine.torque_nm)},
-      {"min_overhang_m", hex(o.machine.min_overhang_m)},
-      {"safety", o.safety.kind == SafetyRule::Kind::Factor ? "factor" : "probability"},
-      {"factor", hex(o.safety.factor)},
-      {"probability", hex(o.safety.probability)},
-      {"samples", o.safety.samples},
-      {"seed", std::to_string(o.safety.seed)}};
+  nlohmann::json opt = {{"name", o.name},
+                        {"method", l.method == LobesMethod::ZeroOrder ? "zoa" : "fd"},
+                        {"teeth", l.cutting.teeth},
+                        {"tangential_coefficient", hex(l.cutting.tangential_coefficient)},
+                        {"radial_ratio", hex(l.cutting.radial_ratio)},
+                        {"entry_rad", hex(l.cutting.engagement.entry_rad)},
+                        {"exit_rad", hex(l.cutting.engagement.exit_rad)},
+                        {"speed_min_rpm", hex(l.speeds.min_rpm)},
+                        {"speed_max_rpm", hex(l.speeds.max_rpm)},
+                        {"speed_points", l.speeds.points},
+                        {"lobes_max_depth_m", hex(l.max_depth_m)},
+                        {"lobes", l.lobes},
+                        {"tolerance", hex(l.tolerance)},
+                        {"steps", l.steps},
+                        {"degree", l.degree},
+                        {"fit_max_modes", l.fit.max_modes},
+                        {"fit_band_hz", l.fit.band_hz ? nlohmann::json{hex(l.fit.band_hz->first), hex(l.fit.band_hz->second)}
+                                                      : nlohmann::json(nullptr)},
+                        {"fit_min_prominence_db", hex(l.fit.min_prominence_db)},
+                        {"fit_residual_terms", l.fit.residual_terms},
+                        {"fit_max_evaluations", l.fit.max_evaluations},
+                        {"fit_target", hex(l.fit_target)},
+                        {"pocket_prominence", hex(l.pocket_prominence)},
+                        {"pockets", l.pockets},
+                        {"feed_per_tooth_m", hex(o.feed_per_tooth_m)},
+                        {"edge_coefficient_n_per_m", hex(o.edge_coefficient_n_per_m)},
+                        {"max_depth_m", hex(o.max_depth_m)},
+                        {"power_w", hex(o.machine.power_w)},
+                        {"torque_nm", hex(o.machine.torque_nm)},
+                        {"min_overhang_m", hex(o.machine.min_overhang_m)},
+                        {"safety", o.safety.kind == SafetyRule::Kind::Factor ? "factor" : "probability"},
+                        {"factor", hex(o.safety.factor)},
+                        {"probability", hex(o.safety.probability)},
+                        {"samples", o.safety.samples},
+                        {"seed", std::to_string(o.safety.seed)}};
   nlohmann::json cands = nlohmann::json::array();
   for (const PlanCandidateSummary& c : h.candidates)
     cands.push_back({{"name", c.name},
@@ -178,7 +180,8 @@ PlanHeader parse_header(const PartReader& r, const nlohmann::json& j) {
   opt.machine.torque_nm = r.number(o, "torque_nm", p);
   opt.machine.min_overhang_m = r.number(o, "min_overhang_m", p);
   const std::string safety = r.get<std::string>(o, "safety", p);
-  if (safety != "factor" && safety != "probability") r.fail(fmt::format("options.safety '{}' is neither factor nor probability", safety));
+  if (safety != "factor" && safety != "probability")
+    r.fail(fmt::format("options.safety '{}' is neither factor nor probability", safety));
   opt.safety.kind = safety == "factor" ? SafetyRule::Kind::Factor : SafetyRule::Kind::Probability;
   opt.safety.factor = r.number(o, "factor", p);
   opt.safety.probability = r.number(o, "probability", p);
@@ -250,16 +253,19 @@ PlanPart parse_plan_part(const std::string& text, const std::string& source) {
     throw InputError(fmt::format("{}: not a plan part file (no \"format\": \"{}\")", source, kPartFormat),
                      "give the files `toolpoint plan --shard I/N --part FILE` wrote");
   if (r.get<int>(j, "version", "") != kPartVersion)
-    throw InputError(fmt::format("{}: plan part format version {} (this toolpoint reads {})", source, j["version"].dump(), kPartVersion),
+    throw InputError(fmt::format("{}: plan part format version {} (this toolpoint reads {})", source, j["version"].dump(),
+                                 kPartVersion),
                      "merge with the toolpoint version that wrote the parts, or run the shards again");
   PlanPart part;
   part.header = parse_header(r, r.at(j, "header", ""));
   const std::string fp = r.get<std::string>(j, "fingerprint", "");
   std::uint64_t stored = 0;
-  if (std::from_chars(fp.data(), fp.data() + fp.size(), stored, 16).ec != std::errc()) r.fail("'fingerprint' is not a hexadecimal hash");
+  if (std::from_chars(fp.data(), fp.data() + fp.size(), stored, 16).ec != std::errc())
+    r.fail("'fingerprint' is not a hexadecimal hash");
   part.header.fingerprint = plan_fingerprint(part.header);
   if (part.header.fingerprint != stored)
-    r.fail(fmt::format("the header does not match its fingerprint ({:016x}, computed {:016x}): edited or damaged", stored, part.header.fingerprint));
+    r.fail(fmt::format("the header does not match its fingerprint ({:016x}, computed {:016x}): edited or damaged", stored,
+                       part.header.fingerprint));
   const nlohmann::json& shard = r.at(j, "shard", "");
   part.index = r.get<int>(shard, "index", "shard.");
   part.count = r.get<int>(shard, "count", "shard.");
@@ -274,12 +280,14 @@ PlanPart parse_plan_part(const std::string& text, const std::string& source) {
     PlanJob job;
     job.candidate = r.get<std::size_t>(x, "candidate", p);
     job.overhang_index = r.get<std::size_t>(x, "overhang_index", p);
-    if (job.candidate >= part.header.candidates.size() || job.overhang_index >= part.header.candidates[job.candidate].overhangs_m.size())
+    if (job.candidate >= part.header.candidates.size() ||
+        job.overhang_index >= part.header.candidates[job.candidate].overhangs_m.size())
       r.fail(fmt::format("{}: candidate {} overhang {} is not in the plan", p, job.candidate, job.overhang_index));
     if (r.get<std::size_t>(x, "job", p) != plan_job_index(part.header, job.candidate, job.overhang_index))
       r.fail(p + "job does not match its candidate and overhang");
     job.overhang_m = r.number(x, "overhang_m", p);
-    if (job.overhang_m != part.header.candidates[job.candidate].overhangs_m[job.overhang_index]) r.fail(p + "overhang_m is not the plan's");
+    if (job.overhang_m != part.header.candidates[job.candidate].overhangs_m[job.overhang_index])
+      r.fail(p + "overhang_m is not the plan's");
     job.stable_depth_m = r.numbers(x, "stable_depth_m", p);
     job.safe_depth_m = r.numbers(x, "safe_depth_m", p);
     job.chatter_hz = r.numbers(x, "chatter_hz", p);
@@ -288,8 +296,8 @@ PlanPart parse_plan_part(const std::string& text, const std::string& source) {
     job.modes_hz = r.numbers(x, "modes_hz", p);
     job.warnings = r.get<std::vector<std::string>>(x, "warnings", p);
     const bool sampled = part.header.options.safety.kind == SafetyRule::Kind::Probability;
-    if (job.stable_depth_m.size() != ns || job.safe_depth_m.size() != ns || job.chatter_hz.size() != ns || job.lobe.size() != ns ||
-        job.probability.size() != (sampled ? ns : 0))
+    if (job.stable_depth_m.size() != ns || job.safe_depth_m.size() != ns || job.chatter_hz.size() != ns ||
+        job.lobe.size() != ns || job.probability.size() != (sampled ? ns : 0))
       r.fail(fmt::format("{}: arrays of the wrong length (the plan has {} speeds)", p, ns));
     part.jobs.push_back(std::move(job));
   }
@@ -309,24 +317,25 @@ std::string csv_text(const std::string& s) {
 
 std::string num(double v) { return std::isfinite(v) ? fmt::format("{}", v) : std::string(); }
 
-
 const char* const kSetupColumns =
     "overhang_mm,spindle_speed_rpm,axial_depth_mm,stable_depth_mm,safe_depth_mm,mrr_cm3_per_min,power_kw,torque_nm,limit,"
     "depth_margin_percent,probability,chatter_frequency_hz,lobe,window_low_rpm,window_high_rpm,reason";
 
 std::string setup_fields(const PlanSetup& s) {
-  return fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}", num(1e3 * s.overhang_m), num(s.speed_rpm), num(1e3 * s.depth_m),
-                     num(1e3 * s.stable_depth_m), num(1e3 * s.safe_depth_m), num(kCubicCentimetresPerMinute * s.mrr_m3_per_s), num(1e-3 * s.power_w),
-                     num(s.torque_nm), to_string(s.limit), num(100.0 * s.depth_margin), num(s.probability), num(s.chatter_hz), s.lobe,
+  return fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}", num(1e3 * s.overhang_m), num(s.speed_rpm),
+                     num(1e3 * s.depth_m), num(1e3 * s.stable_depth_m), num(1e3 * s.safe_depth_m),
+                     num(kCubicCentimetresPerMinute * s.mrr_m3_per_s), num(1e-3 * s.power_w), num(s.torque_nm),
+                     to_string(s.limit), num(100.0 * s.depth_margin), num(s.probability), num(s.chatter_hz), s.lobe,
                      num(s.window_low_rpm), num(s.window_high_rpm), csv_text(s.reason));
 }
 
 std::string head(const PlanResult& r, const std::string& what) {
   const PlanOptions& o = r.header.options;
   const std::string rule = safety_rule_text(o.safety);
-  return fmt::format("# toolpoint plan: {}; units: overhang mm, spindle speed rpm, depths mm, MRR cm^3/min, power kW, torque N m, "
-                     "chatter frequency Hz; empty: none\n# safety rule: {}; fingerprint {:016x}\n",
-                     what, rule, r.header.fingerprint);
+  return fmt::format(
+      "# toolpoint plan: {}; units: overhang mm, spindle speed rpm, depths mm, MRR cm^3/min, power kW, torque N m, "
+      "chatter frequency Hz; empty: none\n# safety rule: {}; fingerprint {:016x}\n",
+      what, rule, r.header.fingerprint);
 }
 
 }  // namespace
@@ -342,23 +351,26 @@ std::string format_plan_setups_csv(const PlanResult& r) {
 std::string format_plan_tuning_csv(const PlanResult& r) {
   std::string s = head(r, "the best set-up at each overhang (the tuning curve)");
   s += std::string("candidate,") + kSetupColumns + "\n";
-  for (const PlanJob& job : r.jobs) s += fmt::format("{},{}\n", csv_text(r.header.candidates[job.candidate].name), setup_fields(job.best));
+  for (const PlanJob& job : r.jobs)
+    s += fmt::format("{},{}\n", csv_text(r.header.candidates[job.candidate].name), setup_fields(job.best));
   return s;
 }
 
 std::string format_plan_map_csv(const PlanResult& r) {
   const bool sampled = r.header.options.safety.kind == SafetyRule::Kind::Probability;
   std::string s = head(r, "every overhang and speed");
-  s += "candidate,overhang_mm,spindle_speed_rpm,stable_depth_mm,safe_depth_mm,axial_depth_mm,limit,mrr_cm3_per_min,chatter_frequency_hz,lobe";
+  s += "candidate,overhang_mm,spindle_speed_rpm,stable_depth_mm,safe_depth_mm,axial_depth_mm,limit,mrr_cm3_per_min,chatter_"
+       "frequency_hz,lobe";
   s += sampled ? ",probability\n" : "\n";
   auto out = std::back_inserter(s);
   for (const PlanJob& job : r.jobs) {
     const std::string name = csv_text(r.header.candidates[job.candidate].name);
     const std::string overhang = num(1e3 * job.overhang_m);
     for (std::size_t k = 0; k < r.header.speeds_rpm.size(); ++k) {
-      fmt::format_to(out, "{},{},{},{},{},{},{},{},{},{}", name, overhang, num(r.header.speeds_rpm[k]), num(1e3 * job.stable_depth_m[k]),
-                     num(1e3 * job.safe_depth_m[k]), num(1e3 * job.depth_m[k]), to_string(job.limit[k]), num(kCubicCentimetresPerMinute * job.mrr_m3_per_s[k]),
-                     num(job.chatter_hz[k]), job.lobe[k]);
+      fmt::format_to(out, "{},{},{},{},{},{},{},{},{},{}", name, overhang, num(r.header.speeds_rpm[k]),
+                     num(1e3 * job.stable_depth_m[k]), num(1e3 * job.safe_depth_m[k]), num(1e3 * job.depth_m[k]),
+                     to_string(job.limit[k]), num(kCubicCentimetresPerMinute * job.mrr_m3_per_s[k]), num(job.chatter_hz[k]),
+                     job.lobe[k]);
       if (sampled) fmt::format_to(out, ",{}", num(job.probability[k]));
       s += '\n';
     }
@@ -394,29 +406,34 @@ int integer(Reader& r, const toml::table& t, const char* key, const std::string&
   const auto v = r.number(t, key, path, "(count)");
   if (!v) return fallback;
   if (*v != std::floor(*v) || *v < lo || *v > hi)
-    r.fail(*t.get(key), fmt::format("{} = {} must be an integer in {}…{}", Reader::join(path, key), *v, lo, hi), "write a whole number in that range");
+    r.fail(*t.get(key), fmt::format("{} = {} must be an integer in {}…{}", Reader::join(path, key), *v, lo, hi),
+           "write a whole number in that range");
   return static_cast<int>(*v);
 }
 
 // A number required to satisfy `ok`, failing at its key with `expected`.
-double checked(Reader& r, const toml::table& t, const char* key, const std::string& path, const char* unit, bool required, double fallback,
-               bool (*ok)(double), const std::string& expected, const std::string& hint = {}) {
+double checked(Reader& r, const toml::table& t, const char* key, const std::string& path, const char* unit, bool required,
+               double fallback, bool (*ok)(double), const std::string& expected, const std::string& hint = {}) {
   const auto v = required ? std::optional<double>(r.required_number(t, key, path, unit)) : r.number(t, key, path, unit);
   if (!v) return fallback;
-  if (!ok(*v)) r.fail(*t.get(key), fmt::format("{} = {} {}", Reader::join(path, key), *v, expected), hint.empty() ? kStudyHint : hint);
+  if (!ok(*v))
+    r.fail(*t.get(key), fmt::format("{} = {} {}", Reader::join(path, key), *v, expected), hint.empty() ? kStudyHint : hint);
   return *v;
 }
 
 bool positive(double v) { return v > 0.0; }
 bool non_negative(double v) { return v >= 0.0; }
 
-PlanCandidate read_candidate(Reader& r, const toml::table& t, const std::string& path, const std::string& directory, PlanStudy& study,
-                             int number) {
-  r.only(t, path, {"name", "assembly", "overhang", "overhang_min", "overhang_max", "overhang_step", "overhang_points", "sh11", "joints"});
+PlanCandidate read_candidate(Reader& r, const toml::table& t, const std::string& path, const std::string& directory,
+                             PlanStudy& study, int number) {
+  r.only(t, path,
+         {"name", "assembly", "overhang", "overhang_min", "overhang_max", "overhang_step", "overhang_points", "sh11", "joints"});
   PlanCandidate c;
   c.name = r.string(t, "name", path).value_or(fmt::format("candidate {}", number));
   const auto assembly = r.string(t, "assembly", path);
-  if (!assembly) r.fail(t, fmt::format("missing key {}.assembly (the assembly file, TOML)", path), "e.g. assembly = \"bt40_shrinkfit_16mm.toml\"");
+  if (!assembly)
+    r.fail(t, fmt::format("missing key {}.assembly (the assembly file, TOML)", path),
+           "e.g. assembly = \"bt40_shrinkfit_16mm.toml\"");
   const std::string file = resolve(directory, *assembly);
   LoadedAssembly loaded = load_named(r, t, "assembly", path, file, [](const std::string& f) { return load_assembly(f); });
   study.inputs.push_back(file);
@@ -429,14 +446,17 @@ PlanCandidate read_candidate(Reader& r, const toml::table& t, const std::string&
     const toml::array* arr = jn->as_array();
     if (!arr) r.fail(*jn, fmt::format("{}.joints must be an array of file names", path), "e.g. joints = [\"kht.toml\"]");
     for (const toml::node& e : *arr) {
-      if (!e.is_string()) r.fail(e, fmt::format("{}.joints must hold file names (strings)", path), "e.g. joints = [\"kht.toml\"]");
+      if (!e.is_string())
+        r.fail(e, fmt::format("{}.joints must hold file names (strings)", path), "e.g. joints = [\"kht.toml\"]");
       const std::string jf = resolve(directory, e.as_string()->get());
       JointFile f = load_named(r, t, "joints", path, jf, [](const std::string& x) { return load_joint_file(x); });
       study.inputs.push_back(jf);
       c.assembly = with_joint(c.assembly, f);
       if (f.uncertainty) {
         if (c.uncertain_joint)
-          r.fail(e, fmt::format("{}.joints: {} and {} both carry [uncertainty]; only one joint can be sampled", path, c.uncertain_joint->source, jf),
+          r.fail(e,
+                 fmt::format("{}.joints: {} and {} both carry [uncertainty]; only one joint can be sampled", path,
+                             c.uncertain_joint->source, jf),
                  "give one of them without its [uncertainty] table, or plan them separately");
         c.uncertain_joint = std::move(f);
       }
@@ -460,20 +480,29 @@ PlanCandidate read_candidate(Reader& r, const toml::table& t, const std::string&
     r.plausible(t, "overhang", path, *one, plausible::kOverhang);
     c.overhangs_m = {*one};
   } else if (lo || hi || step || has_points) {
-    if (!lo || !hi) r.fail(t, fmt::format("{}: an overhang range needs overhang_min and overhang_max (m)", path), "e.g. overhang_min = 0.040, overhang_max = 0.090");
+    if (!lo || !hi)
+      r.fail(t, fmt::format("{}: an overhang range needs overhang_min and overhang_max (m)", path),
+             "e.g. overhang_min = 0.040, overhang_max = 0.090");
     if (step && has_points)
-      r.fail(*t.get("overhang_step"), fmt::format("{} gives overhang_step and overhang_points: choose one", path), "keep one of them");
-    if (!step && !has_points) r.fail(t, fmt::format("{}: an overhang range needs overhang_step (m) or overhang_points", path), "e.g. overhang_step = 0.0005");
+      r.fail(*t.get("overhang_step"), fmt::format("{} gives overhang_step and overhang_points: choose one", path),
+             "keep one of them");
+    if (!step && !has_points)
+      r.fail(t, fmt::format("{}: an overhang range needs overhang_step (m) or overhang_points", path),
+             "e.g. overhang_step = 0.0005");
     r.plausible(t, "overhang_min", path, *lo, plausible::kOverhang);
     r.plausible(t, "overhang_max", path, *hi, plausible::kOverhang);
     if (!(*lo > 0.0) || !(*hi > *lo))
-      r.fail(*t.get("overhang_max"), fmt::format("{}: overhang range {} to {} m must have 0 < overhang_min < overhang_max", path, *lo, *hi),
+      r.fail(*t.get("overhang_max"),
+             fmt::format("{}: overhang range {} to {} m must have 0 < overhang_min < overhang_max", path, *lo, *hi),
              "overhangs are in metres, e.g. overhang_min = 0.040, overhang_max = 0.090");
     int points = 0;
     if (step) {
-      if (!(*step > 0.0)) r.fail(*t.get("overhang_step"), fmt::format("{}.overhang_step = {} m must be > 0", path, *step), "e.g. 0.0005 (0.5 mm)");
+      if (!(*step > 0.0))
+        r.fail(*t.get("overhang_step"), fmt::format("{}.overhang_step = {} m must be > 0", path, *step), "e.g. 0.0005 (0.5 mm)");
       const double n = std::floor((*hi - *lo) / *step * (1.0 + 1e-12)) + 1.0;
-      if (n > 100000) r.fail(*t.get("overhang_step"), fmt::format("{}: the overhang range gives {:.0f} overhangs; at most 100000", path, n), "use a larger step");
+      if (n > 100000)
+        r.fail(*t.get("overhang_step"), fmt::format("{}: the overhang range gives {:.0f} overhangs; at most 100000", path, n),
+               "use a larger step");
       points = static_cast<int>(n);
       for (int i = 0; i < points; ++i) c.overhangs_m.push_back(*lo + i * *step);
     } else {
@@ -484,7 +513,8 @@ PlanCandidate read_candidate(Reader& r, const toml::table& t, const std::string&
   if (c.overhangs_m.empty()) c.overhangs_m = {c.assembly.tool.overhang};
   for (double L : c.overhangs_m)
     if (L > 1.0)
-      r.fail(t, fmt::format("{}: overhang {} m is over 1 m: millimetres?", path, L), fmt::format("overhangs are in metres: {} mm is {:g} m", L, L / 1000.0));
+      r.fail(t, fmt::format("{}: overhang {} m is over 1 m: millimetres?", path, L),
+             fmt::format("overhangs are in metres: {} mm is {:g} m", L, L / 1000.0));
   return c;
 }
 
@@ -507,40 +537,47 @@ PlanStudy parse_plan_study(const std::string& text, const std::string& source, c
       if (*m == "zoa") l.method = LobesMethod::ZeroOrder;
       else if (*m == "fd") l.method = LobesMethod::FullDiscretization;
       else
-        r.fail(*t->get("method"), fmt::format("study.method = \"{}\": expected \"zoa\" (zero-order) or \"fd\" (full-discretization)", *m),
+        r.fail(*t->get("method"),
+               fmt::format("study.method = \"{}\": expected \"zoa\" (zero-order) or \"fd\" (full-discretization)", *m),
                "zoa is fast and exact where the cut is time-invariant; fd finds the flip lobes of low immersion");
     }
   }
 
   const toml::table& cut = *r.table(root, "cut", "", true);
-  r.only(cut, "cut", {"teeth", "tangential_coefficient", "radial_ratio", "normal_coefficient", "edge_coefficient", "radial_immersion",
-                      "milling", "feed_per_tooth", "max_depth"});
+  r.only(cut, "cut",
+         {"teeth", "tangential_coefficient", "radial_ratio", "normal_coefficient", "edge_coefficient", "radial_immersion",
+          "milling", "feed_per_tooth", "max_depth"});
   l.cutting.teeth = integer(r, cut, "teeth", "cut", 1, 1000, 0);
   if (!cut.contains("teeth")) r.fail(cut, "missing key cut.teeth (the number of teeth)", "e.g. teeth = 4");
-  l.cutting.tangential_coefficient =
-      checked(r, cut, "tangential_coefficient", "cut", "N/m^2", true, 0.0, positive, "N/m^2 must be > 0", "K_t in N/m^2, e.g. 6e8");
+  l.cutting.tangential_coefficient = checked(r, cut, "tangential_coefficient", "cut", "N/m^2", true, 0.0, positive,
+                                             "N/m^2 must be > 0", "K_t in N/m^2, e.g. 6e8");
   r.plausible(cut, "tangential_coefficient", "cut", l.cutting.tangential_coefficient, plausible::kCuttingCoefficient);
   const auto kr = r.number(cut, "radial_ratio", "cut", "(dimensionless)");
   const auto kn = r.number(cut, "normal_coefficient", "cut", "N/m^2");
-  if (kr && kn) r.fail(*cut.get("normal_coefficient"), "[cut] gives radial_ratio and normal_coefficient: choose one", "K_r = K_n/K_t: give one of them");
-  if (!kr && !kn) r.fail(cut, "missing key cut.radial_ratio (K_n/K_t) or cut.normal_coefficient (K_n, N/m^2)", "e.g. radial_ratio = 0.3");
+  if (kr && kn)
+    r.fail(*cut.get("normal_coefficient"), "[cut] gives radial_ratio and normal_coefficient: choose one",
+           "K_r = K_n/K_t: give one of them");
+  if (!kr && !kn)
+    r.fail(cut, "missing key cut.radial_ratio (K_n/K_t) or cut.normal_coefficient (K_n, N/m^2)", "e.g. radial_ratio = 0.3");
   l.cutting.radial_ratio = kr ? *kr : *kn / l.cutting.tangential_coefficient;
   if (!(l.cutting.radial_ratio >= 0.0))
-    r.fail(*cut.get(kr ? "radial_ratio" : "normal_coefficient"), fmt::format("the radial force ratio K_n/K_t = {} must be ≥ 0", l.cutting.radial_ratio),
-           "e.g. radial_ratio = 0.3");
+    r.fail(*cut.get(kr ? "radial_ratio" : "normal_coefficient"),
+           fmt::format("the radial force ratio K_n/K_t = {} must be ≥ 0", l.cutting.radial_ratio), "e.g. radial_ratio = 0.3");
   o.edge_coefficient_n_per_m = checked(r, cut, "edge_coefficient", "cut", "N/m", false, 0.0, non_negative, "N/m must be ≥ 0");
   r.plausible(cut, "edge_coefficient", "cut", o.edge_coefficient_n_per_m, plausible::kEdgeCoefficient);
-  const double immersion = checked(r, cut, "radial_immersion", "cut", "(a/D)", true, 0.0, [](double v) { return v > 0.0 && v <= 1.0; },
-                                   "must lie in (0, 1]: the radial depth over the tool diameter", "e.g. 0.5 for half immersion, 1 for a slot");
+  const double immersion = checked(
+      r, cut, "radial_immersion", "cut", "(a/D)", true, 0.0, [](double v) { return v > 0.0 && v <= 1.0; },
+      "must lie in (0, 1]: the radial depth over the tool diameter", "e.g. 0.5 for half immersion, 1 for a slot");
   const auto milling = r.string(cut, "milling", "cut");
   if (!milling) r.fail(cut, "missing key cut.milling (\"up\" or \"down\")", "e.g. milling = \"down\"");
   if (*milling != "up" && *milling != "down")
     r.fail(*cut.get("milling"), fmt::format("cut.milling = \"{}\": expected \"up\" or \"down\"", *milling),
            "down: the tooth leaves the cut at the full chip (climb milling); up: it enters there (conventional)");
   l.cutting.engagement = engagement_from_immersion(immersion, *milling == "up" ? MillingDirection::Up : MillingDirection::Down);
-  o.feed_per_tooth_m = checked(r, cut, "feed_per_tooth", "cut", "m", true, 0.0, [](double v) { return v > 0.0 && v <= 0.01; },
-                               "m must lie in (0, 0.01]: no cutter takes more than 10 mm per tooth (millimetres?)",
-                               "the feed per tooth is in metres: 0.1 mm is 1e-4");
+  o.feed_per_tooth_m = checked(
+      r, cut, "feed_per_tooth", "cut", "m", true, 0.0, [](double v) { return v > 0.0 && v <= 0.01; },
+      "m must lie in (0, 0.01]: no cutter takes more than 10 mm per tooth (millimetres?)",
+      "the feed per tooth is in metres: 0.1 mm is 1e-4");
   r.plausible(cut, "feed_per_tooth", "cut", o.feed_per_tooth_m, plausible::kFeedPerTooth);
   o.max_depth_m = checked(r, cut, "max_depth", "cut", "m", false, 0.0, non_negative, "m must be ≥ 0");
   r.plausible(cut, "max_depth", "cut", o.max_depth_m, plausible::kDepth);
@@ -550,19 +587,22 @@ PlanStudy parse_plan_study(const std::string& text, const std::string& source, c
   l.speeds.min_rpm = checked(r, mach, "speed_min", "machine", "rpm", true, 0.0, positive, "rpm must be > 0");
   l.speeds.max_rpm = checked(r, mach, "speed_max", "machine", "rpm", true, 0.0, positive, "rpm must be > 0");
   if (!(l.speeds.max_rpm > l.speeds.min_rpm))
-    r.fail(*mach.get("speed_max"), fmt::format("machine.speed_max = {} rpm must exceed machine.speed_min = {} rpm", l.speeds.max_rpm, l.speeds.min_rpm),
+    r.fail(*mach.get("speed_max"),
+           fmt::format("machine.speed_max = {} rpm must exceed machine.speed_min = {} rpm", l.speeds.max_rpm, l.speeds.min_rpm),
            "give the spindle's speed range in rpm, e.g. speed_min = 2000, speed_max = 12000");
   r.plausible(mach, "speed_min", "machine", l.speeds.min_rpm, plausible::kSpindleSpeedRpm);
   r.plausible(mach, "speed_max", "machine", l.speeds.max_rpm, plausible::kSpindleSpeedRpm);
   l.speeds.points = integer(r, mach, "speed_points", "machine", 2, 1000000, 0);
   o.machine.power_w = checked(r, mach, "power", "machine", "W", false, 0.0, non_negative, "W must be ≥ 0 (absent: no limit)");
   r.plausible(mach, "power", "machine", o.machine.power_w, plausible::kPower);
-  o.machine.torque_nm = checked(r, mach, "torque", "machine", "N m", false, 0.0, non_negative, "N m must be ≥ 0 (absent: no limit)");
+  o.machine.torque_nm = checked(r, mach, "torque", "machine", "N m", false, 0.0, non_negative,
+                                "N m must be ≥ 0 (absent: no limit)");
   r.plausible(mach, "torque", "machine", o.machine.torque_nm, plausible::kTorque);
   o.machine.min_overhang_m = checked(r, mach, "min_overhang", "machine", "m", false, 0.0, non_negative, "m must be ≥ 0");
   r.plausible(mach, "min_overhang", "machine", o.machine.min_overhang_m, plausible::kOverhang);
   if (o.machine.min_overhang_m > 1.0)
-    r.fail(*mach.get("min_overhang"), fmt::format("machine.min_overhang = {} m is over 1 m: millimetres?", o.machine.min_overhang_m),
+    r.fail(*mach.get("min_overhang"),
+           fmt::format("machine.min_overhang = {} m is over 1 m: millimetres?", o.machine.min_overhang_m),
            fmt::format("overhangs are in metres: {} mm is {:g} m", o.machine.min_overhang_m, o.machine.min_overhang_m / 1000.0));
 
   if (const toml::table* t = r.table(root, "safety", "", false)) {
@@ -579,11 +619,13 @@ PlanStudy parse_plan_study(const std::string& text, const std::string& source, c
       o.safety.probability = *p;
     } else if (f) {
       if (!(*f >= 1.0 && *f <= 100.0))
-        r.fail(*t->get("factor"), fmt::format("safety.factor = {} must lie in 1…100", *f), "the depth used is the stable depth divided by it, e.g. 1.25");
+        r.fail(*t->get("factor"), fmt::format("safety.factor = {} must lie in 1…100", *f),
+               "the depth used is the stable depth divided by it, e.g. 1.25");
     }
     if (f) o.safety.factor = *f;
     if ((t->contains("samples") || t->contains("seed")) && !p)
-      r.fail(*t, "safety.samples and safety.seed belong to the probability rule (safety.probability)", "drop them, or give safety.probability");
+      r.fail(*t, "safety.samples and safety.seed belong to the probability rule (safety.probability)",
+             "drop them, or give safety.probability");
     o.safety.samples = integer(r, *t, "samples", "safety", 20, 100000, o.safety.samples);
     o.safety.seed = static_cast<std::uint64_t>(integer(r, *t, "seed", "safety", 0, std::numeric_limits<int>::max(), 1));
   }
@@ -591,19 +633,23 @@ PlanStudy parse_plan_study(const std::string& text, const std::string& source, c
   if (const toml::table* t = r.table(root, "lobes", "", false)) {
     r.only(*t, "lobes", {"lobes", "tolerance", "max_modes", "fit_target", "pocket_prominence"});
     l.lobes = integer(r, *t, "lobes", "lobes", 0, 5000, -1);
-    l.tolerance = checked(r, *t, "tolerance", "lobes", "(fraction)", false, l.tolerance, [](double v) { return v > 0.0 && v < 0.5; },
-                          "must lie in (0, 0.5): the time domain's error target as a fraction of the depth", "e.g. 0.01 (1 %)");
+    l.tolerance = checked(
+        r, *t, "tolerance", "lobes", "(fraction)", false, l.tolerance, [](double v) { return v > 0.0 && v < 0.5; },
+        "must lie in (0, 0.5): the time domain's error target as a fraction of the depth", "e.g. 0.01 (1 %)");
     l.fit.max_modes = integer(r, *t, "max_modes", "lobes", 1, 20, l.fit.max_modes);
-    l.fit_target = checked(r, *t, "fit_target", "lobes", "(fraction)", false, l.fit_target, [](double v) { return v > 0.0 && v < 1.0; },
-                           "must lie in (0, 1): a fraction of the FRF");
-    l.pocket_prominence = checked(r, *t, "pocket_prominence", "lobes", "(fraction)", false, l.pocket_prominence,
-                                  [](double v) { return v >= 0.0 && v < 1.0; }, "must lie in [0, 1): a fraction of the depth");
+    l.fit_target = checked(
+        r, *t, "fit_target", "lobes", "(fraction)", false, l.fit_target, [](double v) { return v > 0.0 && v < 1.0; },
+        "must lie in (0, 1): a fraction of the FRF");
+    l.pocket_prominence = checked(
+        r, *t, "pocket_prominence", "lobes", "(fraction)", false, l.pocket_prominence,
+        [](double v) { return v >= 0.0 && v < 1.0; }, "must lie in [0, 1): a fraction of the depth");
   }
 
   const toml::node* cn = root.get("candidate");
   if (!cn) r.fail(root, "the study has no [[candidate]]", "add a [[candidate]] table with name, assembly and the overhangs");
   const toml::array* arr = cn->as_array();
-  if (!arr || !arr->is_array_of_tables()) r.fail(*cn, "candidate must be an array of tables ([[candidate]])", "write [[candidate]] above each candidate's keys");
+  if (!arr || !arr->is_array_of_tables())
+    r.fail(*cn, "candidate must be an array of tables ([[candidate]])", "write [[candidate]] above each candidate's keys");
   int i = 0;
   for (const toml::node& e : *arr) {
     ++i;
@@ -612,14 +658,17 @@ PlanStudy parse_plan_study(const std::string& text, const std::string& source, c
   for (std::size_t a = 0; a < s.candidates.size(); ++a)
     for (std::size_t b = 0; b < a; ++b)
       if (s.candidates[a].name == s.candidates[b].name)
-        r.fail(*arr->get(a), fmt::format("candidate[{}] and candidate[{}] are both named '{}'", b + 1, a + 1, s.candidates[a].name),
+        r.fail(*arr->get(a),
+               fmt::format("candidate[{}] and candidate[{}] are both named '{}'", b + 1, a + 1, s.candidates[a].name),
                "give each candidate its own name");
   if (o.safety.kind == SafetyRule::Kind::Probability)
     for (std::size_t a = 0; a < s.candidates.size(); ++a)
       if (!s.candidates[a].uncertain_joint)
-        r.fail(*arr->get(a), fmt::format("candidate[{}] ('{}'): safety.probability needs a joint file with [uncertainty] in candidate.joints", a + 1,
-                                         s.candidates[a].name),
-               "identify the joint with `toolpoint identify --joint-output kht.toml` and add joints = [\"kht.toml\"], or use safety.factor");
+        r.fail(*arr->get(a),
+               fmt::format("candidate[{}] ('{}'): safety.probability needs a joint file with [uncertainty] in candidate.joints",
+                           a + 1, s.candidates[a].name),
+               "identify the joint with `toolpoint identify --joint-output kht.toml` and add joints = [\"kht.toml\"], or use "
+               "safety.factor");
   try {
     o.check();
     plan_header(s.candidates, o);

@@ -35,7 +35,8 @@ Prediction run_prediction(const Assembly& assembly, const PredictOptions& option
   constexpr std::size_t kBlock = 4096;
   for (std::size_t start = 0; start < grid.size(); start += kBlock) {
     const std::size_t stop = std::min(grid.size(), start + kBlock);
-    const std::vector<double> part(grid.begin() + static_cast<std::ptrdiff_t>(start), grid.begin() + static_cast<std::ptrdiff_t>(stop));
+    const std::vector<double> part(grid.begin() + static_cast<std::ptrdiff_t>(start),
+                                   grid.begin() + static_cast<std::ptrdiff_t>(stop));
     const BlockSeries s = tool ? model.tool_point(part) : model.holder_tip(part);
     p.frf.blocks.insert(p.frf.blocks.end(), s.blocks.begin(), s.blocks.end());
     if (progress) progress(static_cast<double>(stop) / static_cast<double>(grid.size()));

@@ -34,11 +34,11 @@ TapTest run_tap_test(const Assembly& assembly, const TapTestOptions& options, co
   for (int i = 0; i < options.points; ++i) t.distance_m.push_back(i * options.spacing_m);
   const double reach = t.distance_m.back();
   if (reach > chain.length() * (1.0 + 1e-12))
-    throw InvalidArgument(fmt::format("TapTestOptions::spacing_m = {} m puts point {} {} m from the {} tip, beyond the {} ({} m long)",
-                                      options.spacing_m, options.points - 1, reach, tap_side_name(options.side),
-                                      tool ? "tool's overhang" : "holder", chain.length()),
-                          fmt::format("space the points closer: at most {:g} m (in metres: 10 mm is 0.01)",
-                                      chain.length() / (options.points - 1)));
+    throw InvalidArgument(
+        fmt::format("TapTestOptions::spacing_m = {} m puts point {} {} m from the {} tip, beyond the {} ({} m long)",
+                    options.spacing_m, options.points - 1, reach, tap_side_name(options.side),
+                    tool ? "tool's overhang" : "holder", chain.length()),
+        fmt::format("space the points closer: at most {:g} m (in metres: 10 mm is 0.01)", chain.length() / (options.points - 1)));
   t.warnings = model.warnings();
 
   // One station solve per frequency gives every H_ij.
@@ -55,7 +55,8 @@ TapTest run_tap_test(const Assembly& assembly, const TapTestOptions& options, co
     for (std::size_t i = 0; i < n; ++i)
       for (std::size_t j = 0; j < n; ++j)
         h[i][j].values.push_back(G(2 * static_cast<Eigen::Index>(i), 2 * static_cast<Eigen::Index>(j)));
-    if (progress && ((k + 1) % 64 == 0 || k + 1 == f.size())) progress(static_cast<double>(k + 1) / static_cast<double>(f.size()));
+    if (progress && ((k + 1) % 64 == 0 || k + 1 == f.size()))
+      progress(static_cast<double>(k + 1) / static_cast<double>(f.size()));
   }
 
   const std::size_t hammers = options.hammer == HammerPlan::Tip ? 1 : n;

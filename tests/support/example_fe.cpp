@@ -56,7 +56,8 @@ std::pair<fe_oracle::Chain, std::vector<int>> add_chain_from_tip(fe_oracle::FeMo
   for (double d : stations) {
     // cuts[k] from the tip is node (cuts.size() − 1 − k) counted from the inner end.
     const auto k = static_cast<std::size_t>(
-        std::min_element(cuts.begin(), cuts.end(), [&](double a, double b) { return std::abs(a - d) < std::abs(b - d); }) - cuts.begin());
+        std::min_element(cuts.begin(), cuts.end(), [&](double a, double b) { return std::abs(a - d) < std::abs(b - d); }) -
+        cuts.begin());
     nodes.push_back(chain.nodes[cuts.size() - 1 - k]);
   }
   return {chain, nodes};
@@ -78,34 +79,36 @@ ExampleFe build_example_fe(fe_oracle::FeModel& fem, const Assembly& a, const Exa
   ExampleFe out;
   // Spindle, from the nose inwards (0.485 m), cut at the bearings 0.080, 0.120, 0.355, 0.395 m.
   const std::vector<double> bearings = {0.080, 0.120, 0.355, 0.395};
-  auto [spindle, bearing_nodes] = add_chain_from_tip(
-      fem,
-      {{0.065, {ring(0.090, 0.010, st)}}, {0.070, {ring(0.070, 0.030, st)}}, {0.200, {ring(0.070, 0.025, st)}},
-       {0.070, {ring(0.055, 0.025, st)}}, {0.080, {ring(0.045, 0.020, st)}}},
-      bearings, h);
+  auto [spindle, bearing_nodes] = add_chain_from_tip(fem,
+                                                     {{0.065, {ring(0.090, 0.010, st)}},
+                                                      {0.070, {ring(0.070, 0.030, st)}},
+                                                      {0.200, {ring(0.070, 0.025, st)}},
+                                                      {0.070, {ring(0.055, 0.025, st)}},
+                                                      {0.080, {ring(0.045, 0.020, st)}}},
+                                                     bearings, h);
   out.spindle = spindle;
   for (const Bearing& b : a.spindle.bearings) {
     const auto k = std::find_if(bearings.begin(), bearings.end(), [&](double x) { return std::abs(x - b.position) < 1e-12; });
     if (k == bearings.end()) throw std::invalid_argument("bearing position not in the typed-in example geometry");
-    fem.add_ground_spring(bearing_nodes[static_cast<std::size_t>(k - bearings.begin())], b.stiffness, b.rotational_stiffness, b.damping,
-                          b.rotational_damping);
+    fem.add_ground_spring(bearing_nodes[static_cast<std::size_t>(k - bearings.begin())], b.stiffness, b.rotational_stiffness,
+                          b.damping, b.rotational_damping);
   }
   // Holder from its tip inwards; the shank fills the bore over the outer 74 mm.
-  std::tie(out.holder, out.holder_stations) = add_chain_from_tip(
-      fem,
-      {{0.040, {ring(0.032, 0.016, st), ring(0.016, 0.0, cb)}},
-       {0.030, {ring(0.044, 0.016, st), ring(0.016, 0.0, cb)}},
-       {0.004, {ring(0.063, 0.016, st), ring(0.016, 0.0, cb)}},
-       {0.012, {ring(0.063, 0.016, st)}}},
-      o.holder_stations_m, h);
+  std::tie(out.holder, out.holder_stations) = add_chain_from_tip(fem,
+                                                                 {{0.040, {ring(0.032, 0.016, st), ring(0.016, 0.0, cb)}},
+                                                                  {0.030, {ring(0.044, 0.016, st), ring(0.016, 0.0, cb)}},
+                                                                  {0.004, {ring(0.063, 0.016, st), ring(0.016, 0.0, cb)}},
+                                                                  {0.012, {ring(0.063, 0.016, st)}}},
+                                                                 o.holder_stations_m, h);
   add_joint(fem, out.holder.first(), out.spindle.last(), a.spindle_holder.parameters);
   if (!o.with_tool) {
     if (!o.tool_stations_m.empty()) throw std::invalid_argument("tool stations without the tool");
     return out;
   }
   // Tool outside the holder, from its tip: 32 mm fluted (0.8 × 16 mm), then 17 mm of shank.
-  std::tie(out.tool, out.tool_stations) =
-      add_chain_from_tip(fem, {{0.032, {ring(0.0128, 0.0, cb)}}, {0.017, {ring(0.016, 0.0, cb)}}}, o.tool_stations_m, h);
+  std::tie(out.tool, out.tool_stations) = add_chain_from_tip(fem,
+                                                             {{0.032, {ring(0.0128, 0.0, cb)}}, {0.017, {ring(0.016, 0.0, cb)}}},
+                                                             o.tool_stations_m, h);
   add_joint(fem, out.tool.first(), out.holder.last(), a.holder_tool.parameters);
   return out;
 }

@@ -25,10 +25,10 @@ struct ExampleFe {
 };
 
 struct ExampleFeOptions {
-  double element_length = 0.002;           // m
-  bool with_tool = true;                   // false: the spindle–holder subassembly (for SH11)
-  std::vector<double> tool_stations_m;     // distances from the tool tip that get nodes, in [0, 0.049]
-  std::vector<double> holder_stations_m;   // distances from the holder tip that get nodes, in [0, 0.086]
+  double element_length = 0.002;          // m
+  bool with_tool = true;                  // false: the spindle–holder subassembly (for SH11)
+  std::vector<double> tool_stations_m;    // distances from the tool tip that get nodes, in [0, 0.049]
+  std::vector<double> holder_stations_m;  // distances from the holder tip that get nodes, in [0, 0.086]
 };
 
 // Builds the model into `fem` (mesh not set: call fem.set_mesh).

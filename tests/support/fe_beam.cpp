@@ -44,9 +44,9 @@ ElementMatrices timoshenko_element(Complex EI, Complex kGA, double rhoA, double 
   const Complex phi = 12.0 * EI / (kGA * l * l);
   const Complex s = EI / ((1.0 + phi) * l * l * l);
   const double l2 = l * l;
-  e.stiffness << 12.0, 6.0 * l, -12.0, 6.0 * l,                              //
-      6.0 * l, (4.0 + phi) * l2, -6.0 * l, (2.0 - phi) * l2,                 //
-      -12.0, -6.0 * l, 12.0, -6.0 * l,                                       //
+  e.stiffness << 12.0, 6.0 * l, -12.0, 6.0 * l,               //
+      6.0 * l, (4.0 + phi) * l2, -6.0 * l, (2.0 - phi) * l2,  //
+      -12.0, -6.0 * l, 12.0, -6.0 * l,                        //
       6.0 * l, (2.0 - phi) * l2, -6.0 * l, (4.0 + phi) * l2;
   e.stiffness *= s;
 
@@ -55,9 +55,9 @@ ElementMatrices timoshenko_element(Complex EI, Complex kGA, double rhoA, double 
   // equations: κGA(w′ − ψ) = −6EI a₃/l³ is constant and balances EIψ″).
   const double phi_m = 12.0 * EI.real() / (kGA.real() * l2);
   Eigen::Matrix4d T;
-  T << 1.0, 0.0, 0.0, 0.0,                                  //
-      0.0, 1.0 / l, 0.0, 0.5 * phi_m / l,                   //
-      1.0, 1.0, 1.0, 1.0,                                   //
+  T << 1.0, 0.0, 0.0, 0.0,                 //
+      0.0, 1.0 / l, 0.0, 0.5 * phi_m / l,  //
+      1.0, 1.0, 1.0, 1.0,                  //
       0.0, 1.0 / l, 2.0 / l, (3.0 + 0.5 * phi_m) / l;
   const Eigen::Matrix4d Tinv = T.inverse();
   // 4-point Gauss–Legendre on [0, 1]: exact for the degree-6 products of cubic shapes.
@@ -75,9 +75,7 @@ ElementMatrices timoshenko_element(Complex EI, Complex kGA, double rhoA, double 
 
 // ---- Model description ---------------------------------------------------------------------------
 
-void MeshOptions::check() const {
-  require(refinement >= 1, fmt::format("MeshOptions: refinement = {} must be ≥ 1", refinement));
-}
+void MeshOptions::check() const { require(refinement >= 1, fmt::format("MeshOptions: refinement = {} must be ≥ 1", refinement)); }
 
 // Everything derived from the model description at one refinement, rebuilt after any change.
 struct FeModel::Assembly {
@@ -275,9 +273,8 @@ const FeModel::Assembly& FeModel::assembly(int refinement) const {
 namespace {
 
 // Lower bound on cond(D⁻¹AD⁻¹) from the solved columns x (unit loads rhs); see solve().
-double condition_estimate(const Eigen::SparseMatrix<Complex>& A, const std::vector<Complex>& k,
-                          const std::vector<double>& c, const std::vector<double>& m, double w,
-                          const Eigen::MatrixXcd& x, const Eigen::MatrixXcd& rhs) {
+double condition_estimate(const Eigen::SparseMatrix<Complex>& A, const std::vector<Complex>& k, const std::vector<double>& c,
+                          const std::vector<double>& m, double w, const Eigen::MatrixXcd& x, const Eigen::MatrixXcd& rhs) {
   const Complex* v0 = A.valuePtr();
   Eigen::VectorXd d = Eigen::VectorXd::Zero(A.rows());
   for (Eigen::Index j = 0; j < A.outerSize(); ++j)
@@ -302,8 +299,8 @@ double condition_estimate(const Eigen::SparseMatrix<Complex>& A, const std::vect
 
 }  // namespace
 
-Eigen::MatrixXcd FeModel::solve(double f_hz, const std::vector<int>& response_nodes,
-                                const std::vector<int>& load_nodes, int refinement) const {
+Eigen::MatrixXcd FeModel::solve(double f_hz, const std::vector<int>& response_nodes, const std::vector<int>& load_nodes,
+                                int refinement) const {
   Assembly& a = const_cast<Assembly&>(assembly(refinement));  // the LU workspace is a cache
   const double w = kTwoPi * f_hz;
   Complex* v = a.pattern.valuePtr();
@@ -329,8 +326,10 @@ Eigen::MatrixXcd FeModel::solve(double f_hz, const std::vector<int>& response_no
   // error below ~2e-4.
   const double cond = condition_estimate(a.pattern, a.k, a.c, a.m, w, x, rhs);
   if (cond > 1e11)
-    throw std::runtime_error(fmt::format("FeModel: dynamic stiffness is numerically singular at {} Hz (scaled "
-                                         "condition number ≥ {:.2g}); is a body free at 0 Hz?", f_hz, cond));
+    throw std::runtime_error(
+        fmt::format("FeModel: dynamic stiffness is numerically singular at {} Hz (scaled "
+                    "condition number ≥ {:.2g}); is a body free at 0 Hz?",
+                    f_hz, cond));
 
   const auto nr = static_cast<Eigen::Index>(response_nodes.size());
   Eigen::MatrixXcd out = Eigen::MatrixXcd::Zero(2 * nr, 2 * nl);
@@ -340,8 +339,7 @@ Eigen::MatrixXcd FeModel::solve(double f_hz, const std::vector<int>& response_no
   return out;
 }
 
-Eigen::MatrixXcd FeModel::solve(double f_hz, const std::vector<int>& response_nodes,
-                                const std::vector<int>& load_nodes) const {
+Eigen::MatrixXcd FeModel::solve(double f_hz, const std::vector<int>& response_nodes, const std::vector<int>& load_nodes) const {
   require(std::isfinite(f_hz) && f_hz >= 0.0, fmt::format("FeModel: frequency {} Hz must be ≥ 0", f_hz));
   for (int r : response_nodes) require_node(r, "receptance: response");
   for (int l : load_nodes) require_node(l, "receptance: load");
@@ -354,9 +352,7 @@ toolpoint::Block FeModel::receptance(double f_hz, int response_node, int load_no
   return solve(f_hz, {response_node}, {load_node});
 }
 
-Eigen::MatrixXcd FeModel::receptance_all(double f_hz, const std::vector<int>& nodes) const {
-  return solve(f_hz, nodes, nodes);
-}
+Eigen::MatrixXcd FeModel::receptance_all(double f_hz, const std::vector<int>& nodes) const { return solve(f_hz, nodes, nodes); }
 
 toolpoint::BlockSeries FeModel::receptance_series(const std::vector<double>& frequencies_hz, int response_node,
                                                   int load_node) const {
@@ -372,7 +368,8 @@ std::vector<double> FeModel::natural_frequencies_hz() const {
   const double asym = (a.k_undamped - a.k_undamped.transpose()).norm();
   require(asym <= 1e-12 * a.k_undamped.norm(),
           fmt::format("FeModel::natural_frequencies_hz: Re K is not symmetric (‖K − Kᵀ‖ = {}); "
-                      "a joint with non-symmetric Re K has no real modes", asym));
+                      "a joint with non-symmetric Re K has no real modes",
+                      asym));
   // The solver factors M by Cholesky without reporting failure, so check it first.
   if (Eigen::LLT<Eigen::MatrixXd>(a.m_dense).info() != Eigen::Success)
     throw std::runtime_error("FeModel::natural_frequencies_hz: mass matrix not positive definite (a DOF without mass?)");
@@ -380,8 +377,7 @@ std::vector<double> FeModel::natural_frequencies_hz() const {
   if (es.info() != Eigen::Success)
     throw std::runtime_error("FeModel::natural_frequencies_hz: the generalised eigensolver did not converge");
   std::vector<double> f;
-  for (Eigen::Index i = 0; i < es.eigenvalues().size(); ++i)
-    f.push_back(std::sqrt(std::max(es.eigenvalues()(i), 0.0)) / kTwoPi);
+  for (Eigen::Index i = 0; i < es.eigenvalues().size(); ++i) f.push_back(std::sqrt(std::max(es.eigenvalues()(i), 0.0)) / kTwoPi);
   std::sort(f.begin(), f.end());
   return f;
 }

@@ -137,8 +137,7 @@ class FeModel {
 
   // Joint Z = K + iΩC between nodes a and b: force on b = Z (x_a − x_b), x = (w, ψ).
   // K [[N/m, N/rad], [N·m/m, N·m/rad]], C the same per (rad/s).
-  void add_joint(int node_a, int node_b, const Eigen::Matrix2cd& K,
-                 const Eigen::Matrix2d& C = Eigen::Matrix2d::Zero());
+  void add_joint(int node_a, int node_b, const Eigen::Matrix2cd& K, const Eigen::Matrix2d& C = Eigen::Matrix2d::Zero());
 
   // Rigid connection: nodes a and b share both DOFs (w and ψ equal).
   void add_rigid_link(int node_a, int node_b);
@@ -159,8 +158,7 @@ class FeModel {
   // (w_0, ψ_0, w_1, ψ_1, …) over `nodes`; block (i, j) = receptance(f, nodes[i], nodes[j]).
   Eigen::MatrixXcd receptance_all(double f_hz, const std::vector<int>& nodes) const;
   // receptance() over a frequency grid [Hz].
-  toolpoint::BlockSeries receptance_series(const std::vector<double>& frequencies_hz, int response_node,
-                                           int load_node) const;
+  toolpoint::BlockSeries receptance_series(const std::vector<double>& frequencies_hz, int response_node, int load_node) const;
 
   // Natural frequencies [Hz] of the undamped model (Re EI, Re κGA, Re of springs and joints, no
   // dampers) at mesh().refinement (no extrapolation), ascending, one per free DOF; rigid-body
@@ -186,8 +184,7 @@ class FeModel {
   const Assembly& assembly(int refinement) const;
   Eigen::MatrixXcd solve(double f_hz, const std::vector<int>& response_nodes, const std::vector<int>& load_nodes,
                          int refinement) const;
-  Eigen::MatrixXcd solve(double f_hz, const std::vector<int>& response_nodes,
-                         const std::vector<int>& load_nodes) const;
+  Eigen::MatrixXcd solve(double f_hz, const std::vector<int>& response_nodes, const std::vector<int>& load_nodes) const;
 
   std::vector<double> x_;
   std::vector<ChainData> chains_;

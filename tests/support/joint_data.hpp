@@ -61,7 +61,8 @@ enum class NoiseKnowledge { Estimated, Stated };
 
 // The fit's input for one noise draw (the seed's multiplicative noise σ, seeds `seed` for G11 and
 // `seed + 1` for B11 when measured). σ = 0: exact data.
-inline JointFitData noisy_fit_data(const RouteData& d, double sigma, std::uint64_t seed, NoiseKnowledge knowledge = NoiseKnowledge::Estimated) {
+inline JointFitData noisy_fit_data(const RouteData& d, double sigma, std::uint64_t seed,
+                                   NoiseKnowledge knowledge = NoiseKnowledge::Estimated) {
   JointFitData x;
   x.label = "test";
   x.A = d.A;

@@ -38,12 +38,26 @@ inline std::vector<double> model_peaks(const std::function<double(double)>& mag,
       const double g = (std::sqrt(5.0) - 1.0) / 2.0;
       double c = b - g * (b - a), d = a + g * (b - a), fc = mag(c), fd = mag(d);
       while (b - a > 1e-10 * b) {
-        if (fc > fd) { b = d; d = c; fd = fc; c = b - g * (b - a); fc = mag(c); }
-        else { a = c; c = d; fc = fd; d = a + g * (b - a); fd = mag(d); }
+        if (fc > fd) {
+          b = d;
+          d = c;
+          fd = fc;
+          c = b - g * (b - a);
+          fc = mag(c);
+        } else {
+          a = c;
+          c = d;
+          fc = fd;
+          d = a + g * (b - a);
+          fd = mag(d);
+        }
       }
       out.push_back(0.5 * (a + b));
     }
-    f0 = f1; m0 = m1; f1 = f2; m1 = m2;
+    f0 = f1;
+    m0 = m1;
+    f1 = f2;
+    m1 = m2;
   }
   return out;
 }

@@ -28,8 +28,8 @@
 namespace toolpoint {
 
 struct FiniteDifferenceError {
-  BlockSeries error;                 // E per frequency (H's entry is 0: H00 is measured, not differenced)
-  BlockSeries exact;                 // the model's tip block
+  BlockSeries error;                     // E per frequency (H's entry is 0: H00 is measured, not differenced)
+  BlockSeries exact;                     // the model's tip block
   std::array<double, 4> max_relative{};  // max over f of |E_e| / max over f of |exact_e|, e = H, L, N, P
   std::vector<std::string> warnings;
 };

@@ -46,11 +46,11 @@ const char* to_string(Route r);                 // "Eq. (6)", "Eq. (15)", "Eq. (
 
 // One measured set-up.
 struct IdentificationData {
-  std::string label;              // names it in reports ("overhang 49.0 mm"); default: from the overhang
+  std::string label;                 // names it in reports ("overhang 49.0 mm"); default: from the overhang
   std::optional<double> overhang_m;  // the tool overhang of this set-up [m]; default: the assembly's
-  BlockSeries G11;                // SHT11 (Eq. 6, 18) or SH11 (Eq. 15), measured
-  std::string g_name;             // e.g. the file name
-  std::optional<BlockSeries> B11; // SH11 (Eq. 6: required) or S11 (Eq. 15, 18: default the model's)
+  BlockSeries G11;                   // SHT11 (Eq. 6, 18) or SH11 (Eq. 15), measured
+  std::string g_name;                // e.g. the file name
+  std::optional<BlockSeries> B11;    // SH11 (Eq. 6: required) or S11 (Eq. 15, 18: default the model's)
   std::string b_name;
 };
 
@@ -75,25 +75,26 @@ struct IdentificationOptions {
   // The seed's read-out band (see above); `band_hz` also bounds the fit.
   std::optional<std::pair<double, double>> band_hz;
   std::optional<double> at_hz;
-  double width = 0.02;                     // ± relative around the mode (0.02 = ±2 %)
-  std::vector<FrfSeries> overhang_frfs;    // tool point FRFs at other overhangs (mode choice, Fig. 10)
+  double width = 0.02;                   // ± relative around the mode (0.02 = ±2 %)
+  std::vector<FrfSeries> overhang_frfs;  // tool point FRFs at other overhangs (mode choice, Fig. 10)
   // Savitzky–Golay filter: the seed's read-out reads filtered data (as the seed did); the fit
   // filters G11 and its model alike (joint_fit.hpp). Default: none.
   std::optional<SavgolOptions> filter;
-  NoiseSpec noise;                         // of every measured series (the fit needs it)
-  JointFitOptions fit;                     // its `filter` is set from `filter` above
+  NoiseSpec noise;      // of every measured series (the fit needs it)
+  JointFitOptions fit;  // its `filter` is set from `filter` above
   ReadoutOptions readout;
   VerdictThresholds verdict;
-  std::function<void(double)> progress;    // fraction done; the library never prints
-  void check() const;                      // throws InvalidArgument naming the field
+  std::function<void(double)> progress;  // fraction done; the library never prints
+  void check() const;                    // throws InvalidArgument naming the field
 };
 
 // The band and how it was chosen.
 struct ModeChoice {
-  std::string method;  // "band given", "frequency given", "mode that moves most with the overhang", "effect analysis on the model"
+  std::string
+      method;  // "band given", "frequency given", "mode that moves most with the overhang", "effect analysis on the model"
   double center_hz = 0.0, lo_hz = 0.0, hi_hz = 0.0;
-  std::optional<EffectAnalysis> effect;     // when by effect analysis
-  std::optional<OverhangModes> overhang;    // when by overhang FRFs
+  std::optional<EffectAnalysis> effect;   // when by effect analysis
+  std::optional<OverhangModes> overhang;  // when by overhang FRFs
 };
 
 enum class Verdict { Pass, Doubtful, Fail };
@@ -107,17 +108,17 @@ struct IdentificationVerdict {
 struct Identification {
   Route route = Route::HolderTool;
   IdentificationMethod method = IdentificationMethod::Fit;
-  std::string equation;                // which equation, which data
-  JointSeries closed_form;             // K(ω) by the closed form on the first set-up (filtered if filtering)
+  std::string equation;     // which equation, which data
+  JointSeries closed_form;  // K(ω) by the closed form on the first set-up (filtered if filtering)
   ModeChoice mode;
-  JointReadout seed;                   // the seed's read-out in mode's band
-  std::optional<JointFit> fit;         // the band fit (method Fit)
+  JointReadout seed;            // the seed's read-out in mode's band
+  std::optional<JointFit> fit;  // the band fit (method Fit)
   std::pair<double, double> fit_band_hz{0.0, 0.0};
-  std::vector<BlockNoise> g_noise, b_noise;  // per set-up, as used
-  JointParameters identified;          // the method's result (fit estimates or the read-out's medians)
+  std::vector<BlockNoise> g_noise, b_noise;   // per set-up, as used
+  JointParameters identified;                 // the method's result (fit estimates or the read-out's medians)
   std::vector<ModeComparison> forward_check;  // first set-up, smoothed data against the identified model
   IdentificationVerdict verdict;
-  std::vector<std::string> warnings;   // everything worth reading, with the noise models' and the read-out's
+  std::vector<std::string> warnings;  // everything worth reading, with the noise models' and the read-out's
 };
 
 // Runs the study. Throws InvalidArgument (options; a rigid trial joint where effect analysis needs

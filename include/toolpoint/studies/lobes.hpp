@@ -38,7 +38,7 @@ struct LobesInput {
   std::string frf_name = "tool point FRF";  // names G_xx in messages (a file name, "the tool point FRF of X.toml")
   std::string frf_y_name = "y FRF";         // names G_yy
   std::vector<Mode> x_modes, y_modes;
-  bool rigid_y = false;                     // with modes given: the tool is rigid in y
+  bool rigid_y = false;  // with modes given: the tool is rigid in y
 };
 
 struct LobesStudyOptions {
@@ -65,14 +65,14 @@ struct LobesStudyOptions {
   int pockets = 5;
   ParallelOptions parallel;
   std::function<void(double fraction)> progress;  // fraction of the work done, 0…1
-  void check() const;  // throws InvalidArgument naming the field
+  void check() const;                             // throws InvalidArgument naming the field
 };
 
 // How a modal model was fitted to one FRF.
 struct ModalFitSummary {
-  std::string what;            // the FRF's name
+  std::string what;  // the FRF's name
   int modes = 0;
-  double residual = 0.0;       // ‖G_modes − G‖/‖G‖ over the band, residual terms excluded
+  double residual = 0.0;  // ‖G_modes − G‖/‖G‖ over the band, residual terms excluded
   double band_low_hz = 0.0, band_high_hz = 0.0;
   bool target_met = false;
 };

@@ -26,12 +26,12 @@ struct OverhangStudyOptions {
   // Tool overhangs [m], strictly increasing, each > 0 (a tool must stick out at least 0.1 mm;
   // Assembly::check decides). Empty: the assembly's own tool.overhang alone.
   std::vector<double> overhangs_m;
-  PeakOptions peaks{0.1};           // a peak is a mode when it rises 10 % above its valleys: noise in a
-                                    // measured SH11 makes no modes
-  double tracking_tolerance = 0.15; // a mode moves at most this fraction of its frequency per step
-  int threads = 0;                  // overhangs run in parallel on this many threads (ParallelOptions::
-                                    // threads: 0 every core, 1 none); results identical for any count
-  std::string sh11_name = "SH11";   // names the measured SH11 in messages (e.g. its file)
+  PeakOptions peaks{0.1};            // a peak is a mode when it rises 10 % above its valleys: noise in a
+                                     // measured SH11 makes no modes
+  double tracking_tolerance = 0.15;  // a mode moves at most this fraction of its frequency per step
+  int threads = 0;                   // overhangs run in parallel on this many threads (ParallelOptions::
+                                     // threads: 0 every core, 1 none); results identical for any count
+  std::string sh11_name = "SH11";    // names the measured SH11 in messages (e.g. its file)
   // Throws InvalidArgument naming OverhangStudyOptions::<field> and the value.
   void check() const;
 };
@@ -44,10 +44,10 @@ struct OverhangFrf {
 };
 
 struct OverhangStudy {
-  double tool_inside_holder_m = 0.0;  // kept for every overhang
-  std::vector<OverhangFrf> overhangs; // in the order of options.overhangs_m
-  std::size_t reference = 0;          // index of the overhang nearest the assembly's own: the modes
-                                      // tracked are its peaks
+  double tool_inside_holder_m = 0.0;   // kept for every overhang
+  std::vector<OverhangFrf> overhangs;  // in the order of options.overhangs_m
+  std::size_t reference = 0;           // index of the overhang nearest the assembly's own: the modes
+                                       // tracked are its peaks
   // Tracked mode frequencies [Hz], [mode][overhang]; NaN where the mode was not found.
   std::vector<std::vector<double>> tracked_modes_hz;
   std::vector<std::string> warnings;  // modes lost at some overhangs, no peak at the reference

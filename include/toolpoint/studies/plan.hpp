@@ -97,9 +97,9 @@ struct PlanOptions {
   // 200 full-discretization), the method and its settings, the pocket prominence. `lobes.parallel`
   // and `lobes.progress` are not used (the plan's own are).
   LobesStudyOptions lobes;
-  double feed_per_tooth_m = 0.0;           // c > 0 [m]
-  double edge_coefficient_n_per_m = 0.0;   // K_te ≥ 0 [N/m]: tangential edge force per unit depth (torque, power)
-  double max_depth_m = 0.0;                // a cap on the depth [m] (the feature's height); 0: none
+  double feed_per_tooth_m = 0.0;          // c > 0 [m]
+  double edge_coefficient_n_per_m = 0.0;  // K_te ≥ 0 [N/m]: tangential edge force per unit depth (torque, power)
+  double max_depth_m = 0.0;               // a cap on the depth [m] (the feature's height); 0: none
   MachineLimits machine;
   SafetyRule safety;
   ParallelOptions parallel;  // jobs (or one job's samples) on this many threads; results identical for any count
@@ -114,7 +114,7 @@ const char* to_string(DepthLimit limit);  // "stability", "power", "torque", "de
 // The candidate as the plan saw it: what the results need without the assembly.
 struct PlanCandidateSummary {
   std::string name;
-  bool measured_holder = false;     // the SH11 route
+  bool measured_holder = false;  // the SH11 route
   std::string sh11_name;
   std::string uncertain_joint;      // the sampled joint file's source ("" when none is sampled)
   double tool_diameter_m = 0.0;     // D
@@ -126,11 +126,11 @@ struct PlanCandidateSummary {
 
 // Everything a plan's results depend on besides the jobs' numbers (what a part file carries).
 struct PlanHeader {
-  PlanOptions options;               // as given, speeds.points resolved
+  PlanOptions options;  // as given, speeds.points resolved
   std::vector<PlanCandidateSummary> candidates;
-  std::vector<double> speeds_rpm;    // the grid
-  std::size_t jobs = 0;              // Σ overhangs planned
-  std::uint64_t fingerprint = 0;     // of the options and candidates (plan_fingerprint)
+  std::vector<double> speeds_rpm;  // the grid
+  std::size_t jobs = 0;            // Σ overhangs planned
+  std::uint64_t fingerprint = 0;   // of the options and candidates (plan_fingerprint)
 };
 
 // The job index of (candidate c, overhang i): candidates in order, overhangs in order.
@@ -138,26 +138,26 @@ std::size_t plan_job_index(const PlanHeader& header, std::size_t candidate, std:
 
 // A set-up: one candidate, overhang and spindle speed.
 struct PlanSetup {
-  std::size_t candidate = 0;       // index into PlanHeader::candidates
-  std::size_t job = 0;             // index into PlanResult::jobs
+  std::size_t candidate = 0;  // index into PlanHeader::candidates
+  std::size_t job = 0;        // index into PlanResult::jobs
   std::size_t speed_index = 0;
   double overhang_m = 0.0;
   double speed_rpm = 0.0;
-  double depth_m = 0.0;            // used
-  double stable_depth_m = 0.0;     // a_lim with the joints' constants
-  double safe_depth_m = 0.0;       // a_safe
+  double depth_m = 0.0;         // used
+  double stable_depth_m = 0.0;  // a_lim with the joints' constants
+  double safe_depth_m = 0.0;    // a_safe
   double mrr_m3_per_s = 0.0;
-  double power_w = 0.0;            // P(depth, speed)
-  double torque_nm = 0.0;          // T(depth)
+  double power_w = 0.0;    // P(depth, speed)
+  double torque_nm = 0.0;  // T(depth)
   DepthLimit limit = DepthLimit::None;
-  double depth_margin = 0.0;       // stable_depth/depth − 1
-  double probability = 0.0;        // P(stable at depth): the fraction of sampled joints whose envelope lies above (NaN unless sampled)
-  double chatter_hz = 0.0;         // of the stability limit above (the lobe limiting at this speed)
+  double depth_margin = 0.0;  // stable_depth/depth − 1
+  double probability = 0.0;   // P(stable at depth): the fraction of sampled joints whose envelope lies above (NaN unless sampled)
+  double chatter_hz = 0.0;    // of the stability limit above (the lobe limiting at this speed)
   int lobe = -1;
   // The speeds around it where `depth` stays below the stable depth a_lim: how far the speed may
   // drift (or the lobes be off in speed) before this depth chatters.
   double window_low_rpm = 0.0, window_high_rpm = 0.0;
-  std::string reason;              // why it is best: the pocket, the speed range's end, the limit
+  std::string reason;  // why it is best: the pocket, the speed range's end, the limit
 };
 
 // One job's result. Primary (computed; what a part file keeps): stable_depth_m, safe_depth_m,
@@ -168,13 +168,13 @@ struct PlanJob {
   double overhang_m = 0.0;
   std::vector<double> stable_depth_m;  // per speed; +inf where no lobe reaches
   std::vector<double> safe_depth_m;
-  std::vector<double> chatter_hz;      // of the limiting lobe (NaN where none)
+  std::vector<double> chatter_hz;  // of the limiting lobe (NaN where none)
   std::vector<int> lobe;
-  std::vector<double> probability;     // P(stable at depth_m) per speed (SafetyRule::Probability only; else empty)
-  std::vector<double> modes_hz;        // peaks of the tool point |H| rising 10 % above their valleys
-  std::vector<std::string> warnings;   // prefixed with the candidate and overhang
+  std::vector<double> probability;    // P(stable at depth_m) per speed (SafetyRule::Probability only; else empty)
+  std::vector<double> modes_hz;       // peaks of the tool point |H| rising 10 % above their valleys
+  std::vector<std::string> warnings;  // prefixed with the candidate and overhang
   // Derived.
-  std::vector<double> depth_m;         // used (NaN where the envelope is not finite)
+  std::vector<double> depth_m;  // used (NaN where the envelope is not finite)
   std::vector<DepthLimit> limit;
   std::vector<double> mrr_m3_per_s;
   PlanSetup best;
@@ -182,8 +182,8 @@ struct PlanJob {
 
 struct PlanResult {
   PlanHeader header;
-  std::vector<PlanJob> jobs;     // by job index
-  std::vector<PlanSetup> best;   // the best set-up of each candidate, largest MRR first
+  std::vector<PlanJob> jobs;    // by job index
+  std::vector<PlanSetup> best;  // the best set-up of each candidate, largest MRR first
   std::vector<std::string> warnings;
 };
 
@@ -191,7 +191,7 @@ struct PlanResult {
 struct PlanPart {
   PlanHeader header;
   int index = 0, count = 1;
-  std::vector<PlanJob> jobs;     // primary members only, in job order
+  std::vector<PlanJob> jobs;  // primary members only, in job order
 };
 
 // The header of the plan run_plan would compute: checks the options and candidates (InvalidArgument
@@ -202,7 +202,8 @@ PlanHeader plan_header(const std::vector<PlanCandidate>& candidates, const PlanO
 // Runs the whole plan on every core. Throws InvalidArgument (options, candidates), InputError (an
 // SH11 that is not a valid series), NumericalError (no positive stable depth anywhere: naming the
 // candidate and overhang). Several failing jobs: the first job's error, for any thread count.
-PlanResult run_plan(const std::vector<PlanCandidate>& candidates, const PlanOptions& options, const ProgressCallback& progress = {});
+PlanResult run_plan(const std::vector<PlanCandidate>& candidates, const PlanOptions& options,
+                    const ProgressCallback& progress = {});
 
 // Shard `index` of `count` (0 ≤ index < count ≤ 100000): its jobs' primary results.
 PlanPart run_plan_part(const std::vector<PlanCandidate>& candidates, const PlanOptions& options, int index, int count,
@@ -279,9 +280,9 @@ struct PlanStudy {
   std::string name;
   std::vector<PlanCandidate> candidates;
   PlanOptions options;
-  std::vector<std::string> inputs;     // every file read (the study, assemblies, SH11s, joint files)
-  std::vector<std::string> warnings;   // implausible values ("file:line: key = …"), the assemblies' warnings
-  std::vector<std::string> notes;      // the assemblies' notes (indefinite joints)
+  std::vector<std::string> inputs;    // every file read (the study, assemblies, SH11s, joint files)
+  std::vector<std::string> warnings;  // implausible values ("file:line: key = …"), the assemblies' warnings
+  std::vector<std::string> notes;     // the assemblies' notes (indefinite joints)
 };
 
 // Parses study TOML; paths inside are relative to `directory`. Throws InputError "file:line: …" for

@@ -35,8 +35,8 @@ struct PredictOptions {
 
 struct Prediction {
   PredictedFrf receptance = PredictedFrf::ToolPoint;
-  BlockSeries frf;                 // the 2×2 block [[H, L], [N, P]] on the assembly's grid
-  std::vector<Peak> modes;         // peaks of |H|, each refined on the model between its grid neighbours
+  BlockSeries frf;                    // the 2×2 block [[H, L], [N, P]] on the assembly's grid
+  std::vector<Peak> modes;            // peaks of |H|, each refined on the model between its grid neighbours
   std::vector<std::string> warnings;  // the model's (AssemblyModel::warnings)
 };
 

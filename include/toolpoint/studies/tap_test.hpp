@@ -59,7 +59,7 @@ struct TapTest {
   // The smallest shear stiffness κGA [N] of the sections under the points (real part): what
   // finite differences need to turn dw/dx into ψ (rotational_frfs' shear correction).
   double shear_stiffness_n = 0.0;
-  bool crosses_step = false;       // the points span more than one section
+  bool crosses_step = false;          // the points span more than one section
   std::vector<std::string> warnings;  // the model's and the noise's
 };
 
