@@ -428,7 +428,8 @@ Figure lobes_figure(const LobesFigureData& data) {
   const double x_range = fig.x.min && fig.x.max ? *fig.x.max - *fig.x.min : rpm_hi - rpm_lo;
   const double digit_width = 0.03 * x_range, line_height = 0.07 * top * 1000.0;
   std::vector<TextLabel> placed;
-  for (const auto& [number, label] : lowest) {
+  for (const auto& entry : lowest) {
+    const TextLabel& label = entry.second;  // a reference, not a structured binding: clang 14 cannot capture those
     const double half_width = 0.5 * digit_width * static_cast<double>(label.text.size() + 1);
     const bool overlaps = std::any_of(placed.begin(), placed.end(), [&](const TextLabel& p) {
       const double other_half = 0.5 * digit_width * static_cast<double>(p.text.size() + 1);
