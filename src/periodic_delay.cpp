@@ -85,6 +85,25 @@ Eigen::Index dominant_index(const Eigen::VectorXcd& ev) {
   return k;
 }
 
+// The eigenvector of a (real, square) for its eigenvalue mu by inverse iteration with the shift
+// mu + 1e-9 max(|mu|, ‖a‖) (a shift, since a − mu I is singular to rounding): three solves, then
+// the residual ‖a v − mu v‖ ≤ 1e-8 ‖a‖ with ‖v‖ = 1. Empty when the residual is larger.
+Eigen::VectorXcd inverse_iteration(const Eigen::MatrixXd& a, Complex mu) {
+  const double scale = std::max(std::abs(mu), a.norm());
+  Eigen::MatrixXcd shifted = a.cast<Complex>();
+  shifted.diagonal().array() -= mu + Complex(1e-9 * scale, 0.0);
+  const Eigen::PartialPivLU<Eigen::MatrixXcd> lu(shifted);
+  Eigen::VectorXcd v = start_vector(static_cast<int>(a.rows())).cast<Complex>();
+  for (int it = 0; it < 3; ++it) {
+    v = lu.solve(v);
+    const double norm = v.norm();
+    if (!std::isfinite(norm) || norm == 0.0) return {};
+    v /= norm;
+  }
+  if ((a * v - mu * v).norm() > 1e-8 * scale) return {};
+  return v;
+}
+
 }  // namespace
 
 void PeriodicDelaySystem::check() const {
@@ -169,6 +188,8 @@ PeriodMap::PeriodMap(const PeriodicDelaySystem& sys, int steps, int degree) {
   const std::vector<Point> whole = points(0.0, h);
   std::vector<Eigen::MatrixXd> whole_eb;
   for (const Point& pt : whole) whole_eb.push_back(exp_b(h - pt.s));
+  std::vector<const Eigen::MatrixXd*> whole_eb_ptr;
+  for (const auto& e : whole_eb) whole_eb_ptr.push_back(&e);
 
   std::vector<double> cuts = sys.breakpoints;
   std::sort(cuts.begin(), cuts.end());
@@ -177,43 +198,54 @@ PeriodMap::PeriodMap(const PeriodicDelaySystem& sys, int steps, int degree) {
   wq_.resize(static_cast<std::size_t>(m_));
   cwp_.resize(static_cast<std::size_t>(m_));
   const int nd = n_ * d_;
+  // Scratch reused across steps: a map is built per speed, and allocations were half its cost.
+  std::vector<double> ends, wp, wq;
+  std::vector<Point> pts;
+  std::vector<const Eigen::MatrixXd*> eb;
+  std::vector<Eigen::MatrixXd> local;
+  Eigen::MatrixXd coef(d_, d_), g(n_, d_);
   for (int k = 0; k < m_; ++k) {
     const double t0 = k * h;
     // Pieces of the step between breakpoints (a breakpoint within 1e-12 h of an end is the end).
-    std::vector<double> ends = {0.0};
+    ends.assign(1, 0.0);
     for (double t : cuts)
       if (t > t0 + 1e-12 * h && t < t0 + h - 1e-12 * h) ends.push_back(t - t0);
     ends.push_back(h);
-    std::vector<Point> pts;
-    std::vector<const Eigen::MatrixXd*> eb;
-    std::vector<Eigen::MatrixXd> local;
-    if (ends.size() == 2) {
-      pts = whole;
-      for (const auto& e : whole_eb) eb.push_back(&e);
-    } else {
+    const std::vector<Point>* step_points = &whole;
+    const Eigen::MatrixXd* const* step_eb = whole_eb_ptr.data();
+    if (ends.size() > 2) {
+      pts.clear();
       for (std::size_t j = 0; j + 1 < ends.size(); ++j)
         for (const Point& pt : points(ends[j], ends[j + 1])) pts.push_back(pt);
-      local.reserve(pts.size());
+      local.clear();
       for (const Point& pt : pts) local.push_back(exp_b(h - pt.s));
+      eb.clear();
       for (const auto& e : local) eb.push_back(&e);
+      step_points = &pts;
+      step_eb = eb.data();
     }
-    std::vector<double> wp(static_cast<std::size_t>((p_ + 1) * nd), 0.0), wq(regenerative_ ? 0 : wp.size(), 0.0);
     bool any = false;
-    for (std::size_t q = 0; q < pts.size(); ++q) {
-      const double t = t0 + pts[q].s;
+    for (std::size_t q = 0; q < step_points->size(); ++q) {
+      const Point& pt = (*step_points)[q];
+      const double t = t0 + pt.s;
       for (int pass = 0; pass < (regenerative_ ? 1 : 2); ++pass) {
         const auto& f = pass == 0 ? sys.current : sys.delayed;
         if (!f) continue;
-        const Eigen::MatrixXd coef = f(t);
+        coef.setZero();
+        f(t, coef);
         if (coef.rows() != d_ || coef.cols() != d_ || !coef.allFinite())
           throw InvalidArgument(fmt::format("PeriodicDelaySystem::{}({} s) must be a finite {}×{} matrix (is {}×{})",
                                             pass == 0 ? "current" : "delayed", t, d_, d_, coef.rows(), coef.cols()));
         if (coef.isZero(0.0)) continue;
-        any = true;
-        const Eigen::MatrixXd g = pts[q].w * (*eb[q]) * coef;  // n × d
+        if (!any) {  // the first non-zero coefficient of this step: its weights start from zero
+          wp.assign(static_cast<std::size_t>((p_ + 1) * nd), 0.0);
+          wq.assign(regenerative_ ? 0 : wp.size(), 0.0);
+          any = true;
+        }
+        g.noalias() = pt.w * (*step_eb[q]) * coef;  // n × d
         std::vector<double>& w = pass == 0 ? wp : wq;
         for (int o = 0; o <= p_; ++o) {
-          const double l = lagrange(o, pts[q].s);
+          const double l = lagrange(o, pt.s);
           double* dst = w.data() + o * nd;
           for (int c = 0; c < d_; ++c)
             for (int r = 0; r < n_; ++r) dst[c * n_ + r] += l * g(r, c);
@@ -224,8 +256,8 @@ PeriodMap::PeriodMap(const PeriodicDelaySystem& sys, int steps, int degree) {
     const auto kk = static_cast<std::size_t>(k);
     active_[kk] = 1;
     cwp_[kk] = c_ * Eigen::Map<const Eigen::MatrixXd>(wp.data() + p_ * nd, n_, d_);
-    wp_[kk] = std::move(wp);
-    wq_[kk] = std::move(wq);
+    wp_[kk] = wp;
+    wq_[kk] = wq;
   }
 
   // Buffer samples y_{−i}, i = 1…m+p−1, that an active step reads; a sample that a later period
@@ -248,6 +280,33 @@ PeriodMap::PeriodMap(const PeriodicDelaySystem& sys, int steps, int degree) {
       slot_[static_cast<std::size_t>(i)] = n_ + d_ * static_cast<int>(read_.size());
       read_.push_back(i);
     }
+
+  // Jumps over steps out of the cut: there the state only evolves freely, so when no output in
+  // between is read (by a later step of this period or as a delayed sample of the next), k steps
+  // are one multiplication by e^{A₀kh}. At low radial immersion most of the period is skipped.
+  std::vector<char> read_output(static_cast<std::size_t>(m_ + 1), 0);  // r_j = y_j, j = 0…m, is read
+  for (int k = 0; k < m_; ++k)
+    if (active_[static_cast<std::size_t>(k)])
+      for (int j = std::max(0, k + 1 - p_); j <= k; ++j) read_output[static_cast<std::size_t>(j)] = 1;
+  for (int i : read_)
+    if (i <= m_) read_output[static_cast<std::size_t>(m_ - i)] = 1;
+  jump_.assign(static_cast<std::size_t>(m_), 0);
+  jump_phi_.resize(static_cast<std::size_t>(m_));
+  for (int k = 0; k < m_;) {
+    int len = 0;
+    while (k + len < m_ && !active_[static_cast<std::size_t>(k + len)] &&
+           (len == 0 || !read_output[static_cast<std::size_t>(k + len)]))
+      ++len;
+    if (len >= 2) {
+      jump_[static_cast<std::size_t>(k)] = len;
+      for (const EigenBlock& b : eig) {
+        const Eigen::MatrixXd e = block_exp(b, len * h);
+        for (Eigen::Index r = 0; r < e.rows(); ++r)
+          for (Eigen::Index c = 0; c < e.cols(); ++c) jump_phi_[static_cast<std::size_t>(k)].push_back(e(r, c));
+      }
+    }
+    k += std::max(len, 1);
+  }
 }
 
 // One state at a time: the path Arnoldi takes (plain loops, no column dimension).
@@ -274,10 +333,8 @@ void PeriodMap::run_one(double sigma, const S* u, S* v, S* out) const {
       dst[i] = acc;
     }
   };
-  outputs_of(y, r.data());
-  for (int k = 0; k < m; ++k) {
-    // z = e^{A₀h} y, block by block.
-    const double* ph = phi_.data();
+  // z = e^{A₀t} y, block by block (ph: the blocks of e^{A₀t}).
+  auto propagate = [&](const double* ph) {
     for (std::size_t b = 0; b < block_start_.size(); ++b) {
       const int s0 = block_start_[b], bs = block_size_[b];
       for (int i = 0; i < bs; ++i) {
@@ -287,8 +344,19 @@ void PeriodMap::run_one(double sigma, const S* u, S* v, S* out) const {
       }
       ph += bs * bs;
     }
-    S* rk1 = r.data() + (k + 1) * d;
+  };
+  outputs_of(y, r.data());
+  for (int k = 0; k < m; ++k) {
     const auto kk = static_cast<std::size_t>(k);
+    if (!out && jump_[kk] > 0) {  // free motion over jump_[k] steps whose outputs nobody reads
+      propagate(jump_phi_[kk].data());
+      y.swap(z);
+      k += jump_[kk] - 1;
+      outputs_of(y, r.data() + (k + 1) * d);
+      continue;
+    }
+    propagate(phi_.data());
+    S* rk1 = r.data() + (k + 1) * d;
     if (!active_[kk]) {
       y.swap(z);
       outputs_of(y, rk1);
@@ -399,10 +467,8 @@ void PeriodMap::run(double sigma, int cols, const S* u, S* v, S* out) const {
       }
     }
   };
-  outputs_of(y, r);
-  for (int k = 0; k < m; ++k) {
-    // z = e^{A₀h} y, block by block.
-    const double* ph = phi_.data();
+  // z = e^{A₀t} y, block by block (ph: the blocks of e^{A₀t}).
+  auto propagate = [&](const double* ph) {
     for (std::size_t b = 0; b < block_start_.size(); ++b) {
       const int s0 = block_start_[b], bs = block_size_[b];
       for (int i = 0; i < bs; ++i) {
@@ -416,8 +482,19 @@ void PeriodMap::run(double sigma, int cols, const S* u, S* v, S* out) const {
       }
       ph += bs * bs;
     }
-    S* rk1 = r + static_cast<std::size_t>((k + 1) * d) * nc;
+  };
+  outputs_of(y, r);
+  for (int k = 0; k < m; ++k) {
     const auto kk = static_cast<std::size_t>(k);
+    if (!out && jump_[kk] > 0) {  // free motion over jump_[k] steps whose outputs nobody reads
+      propagate(jump_phi_[kk].data());
+      std::swap(y, z);
+      k += jump_[kk] - 1;
+      outputs_of(y, r + static_cast<std::size_t>((k + 1) * d) * nc);
+      continue;
+    }
+    propagate(phi_.data());
+    S* rk1 = r + static_cast<std::size_t>((k + 1) * d) * nc;
     if (!active_[kk]) {
       std::swap(y, z);
       outputs_of(y, rk1);
@@ -515,11 +592,22 @@ DominantMultiplier PeriodMap::dominant(double sigma, bool vector) const {
     return out;
   };
   auto dense = [&] {
-    Eigen::EigenSolver<Eigen::MatrixXd> es(matrix(sigma), vector);
+    Eigen::EigenSolver<Eigen::MatrixXd> es;
+    const Eigen::MatrixXd a = matrix(sigma);
+    es.compute(a, false);
+    if (es.info() != Eigen::Success)
+      throw NumericalError(fmt::format("the multipliers of the {}×{} period map at gain {} did not converge", n, n, sigma));
+    const Complex mu = es.eigenvalues()(dominant_index(es.eigenvalues()));
+    if (!vector) return finish(mu, Eigen::VectorXcd());
+    // Its eigenvector alone by inverse iteration (cheaper than every eigenvector from the Schur
+    // vectors); the full decomposition when the residual says it did not converge (a multiplier
+    // with a close neighbour).
+    if (const Eigen::VectorXcd v = inverse_iteration(a, mu); v.size() > 0) return finish(mu, v);
+    es.compute(a, true);
     if (es.info() != Eigen::Success)
       throw NumericalError(fmt::format("the multipliers of the {}×{} period map at gain {} did not converge", n, n, sigma));
     const Eigen::Index k = dominant_index(es.eigenvalues());
-    return finish(es.eigenvalues()(k), vector ? Eigen::VectorXcd(es.eigenvectors().col(k)) : Eigen::VectorXcd());
+    return finish(es.eigenvalues()(k), Eigen::VectorXcd(es.eigenvectors().col(k)));
   };
   // Small maps: forming the matrix and decomposing it costs less than the iteration.
   if (n <= kDenseUpTo) return dense();

@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 #include <limits>
 #include <mutex>
+#include <unsupported/Eigen/FFT>
 #include <optional>
 
 #include "toolpoint/conventions.hpp"
@@ -385,7 +386,7 @@ PeriodicDelaySystem milling_delay_system(const ModalModel& model, const CuttingC
   const double kt = cutting.tangential_coefficient, kr = cutting.radial_ratio;
   const double st = cutting.engagement.entry_rad, ex = cutting.engagement.exit_rad;
   // P(t) = ½K_t Σ_j g_j A(φ_j), φ_j = Ωt + 2πj/N (tooth 0 at φ = 0 when t = 0).
-  sys.current = [=](double t) {
+  sys.current = [=](double t, Eigen::MatrixXd& out) {
     Eigen::Matrix2d sum = Eigen::Matrix2d::Zero();
     for (int j = 0; j < teeth; ++j) {
       const double phi = std::fmod(spin * t + j * pitch, 2.0 * kPi);
@@ -396,8 +397,7 @@ PeriodicDelaySystem milling_delay_system(const ModalModel& model, const CuttingC
       sum(1, 0) += (1.0 - c2) - kr * s2;
       sum(1, 1) += s2 - kr * (1.0 + c2);
     }
-    sum *= 0.5 * kt;
-    return d == 1 ? Eigen::MatrixXd(sum.topLeftCorner(1, 1)) : Eigen::MatrixXd(sum);
+    out = 0.5 * kt * sum.topLeftCorner(d, d);
   };
   // Within one tooth period each of the evenly spaced teeth enters and leaves once in turn: the
   // cut changes at Ωt ≡ φ_st and φ_ex (mod the pitch).
@@ -433,13 +433,22 @@ FloquetAnalysis floquet(const PeriodMap& map, double depth_m, const DominantMult
     p.col(i) = r.col(i) / scale;
     scale *= root;
   }
+  // The DFT of each output row by FFT (Eigen's kissfft: any m, O(m log m); a direct sum cost m²
+  // sines and was a third of a boundary's time). Harmonic j ≥ m − m/2 is j − m.
+  Eigen::FFT<double> fft;
+  Eigen::VectorXd power = Eigen::VectorXd::Zero(m);
+  std::vector<Complex> row(static_cast<std::size_t>(m)), spectrum;
+  for (Eigen::Index q = 0; q < p.rows(); ++q) {
+    for (int i = 0; i < m; ++i) row[static_cast<std::size_t>(i)] = p(q, i);
+    fft.fwd(spectrum, row);
+    for (int j = 0; j < m; ++j) power(j) += std::norm(spectrum[static_cast<std::size_t>(j)]);
+  }
   int best_j = 0;
   double best = -1.0;
   for (int j = -m / 2; j < m - m / 2; ++j) {
-    Eigen::VectorXcd c = Eigen::VectorXcd::Zero(r.rows());
-    for (int i = 0; i < m; ++i) c += p.col(i) * std::polar(1.0, -2.0 * kPi * j * i / m);
-    if (c.squaredNorm() > best) {
-      best = c.squaredNorm();
+    const double c = power(j < 0 ? j + m : j);
+    if (c > best) {
+      best = c;
       best_j = j;
     }
   }
@@ -448,13 +457,12 @@ FloquetAnalysis floquet(const PeriodMap& map, double depth_m, const DominantMult
   return fa;
 }
 
-// The root of ρ(a) = 1 in a bracket lo < hi (ρ(lo) < 1 ≤ ρ(hi)) by regula falsi with the Illinois
-// modification, to a relative width `tolerance`. Returns the bracket's midpoint and the dominant
-// multiplier at its upper end.
+// A root of ρ(a) = 1.
 struct Root {
   double depth_m = 0.0;
-  double hi = 0.0;     // the bracket's upper end, where ρ ≥ 1
-  double slope = 0.0;  // dρ/da across the last bracket [1/m] (secant of the true values)
+  double hi = 0.0;     // where the critical multiplier is read: the bracket's upper end (ρ ≥ 1), or
+                       // the evaluated depth nearest the root (within the tolerance)
+  double slope = 0.0;  // dρ/da across the last two values [1/m] (secant of the true values)
 };
 
 struct RadiusCounter {
@@ -466,23 +474,34 @@ struct RadiusCounter {
   }
 };
 
-Root illinois(const RadiusCounter& rho, double lo, double flo, double hi, const DominantMultiplier& at_hi, double tolerance) {
+// The root of ρ(a) = 1 in a bracket lo < hi (ρ(lo) < 1 ≤ ρ(hi)) by regula falsi with the
+// Anderson–Björck modification (the end kept twice has its value scaled by 1 − f_new/f_old, or
+// halved), to a relative width `tolerance`. Returns the bracket's midpoint.
+Root narrow_bracket(const RadiusCounter& rho, double lo, double flo, double hi, const DominantMultiplier& at_hi,
+                    double tolerance) {
+  auto AB = [](double fnew, double fold) {
+    const double m = 1.0 - fnew / fold;
+    return m > 0.0 ? m : 0.5;
+  };
   double fhi = at_hi.spectral_radius - 1.0;
   double true_lo = flo, true_hi = fhi;  // unhalved, for the slope
   int side = 0;                         // which end was kept last time: −1 lo, +1 hi
   for (int it = 0; it < 100 && hi - lo > tolerance * hi; ++it) {
     double x = hi - fhi * (hi - lo) / (fhi - flo);
+    // Regula falsi approaches from one side; once an end has moved, aim a little past the estimate
+    // so that the other end moves too and the bracket closes within the tolerance.
+    if (side != 0) x -= side * 0.4 * tolerance * hi;
     if (!(x > lo && x < hi)) x = 0.5 * (lo + hi);  // round-off at a tiny bracket
     const double f = rho(x).spectral_radius - 1.0;
     if (f < 0.0) {
       lo = x;
+      if (side == -1) fhi *= AB(f, flo);
       flo = true_lo = f;
-      if (side == -1) fhi *= 0.5;
       side = -1;
     } else {
       hi = x;
+      if (side == 1) flo *= AB(f, fhi);
       fhi = true_hi = f;
-      if (side == 1) flo *= 0.5;
       side = 1;
     }
   }
@@ -502,7 +521,7 @@ std::optional<Root> lowest_root(const RadiusCounter& rho, double start, double e
     for (int it = 0; it < 60; ++it) {
       a *= 0.5;
       dm = rho(a);
-      if (dm.spectral_radius < 1.0) return illinois(rho, a, dm.spectral_radius - 1.0, hi, hi_dm, tolerance);
+      if (dm.spectral_radius < 1.0) return narrow_bracket(rho, a, dm.spectral_radius - 1.0, hi, hi_dm, tolerance);
       hi = a;
       hi_dm = dm;
     }
@@ -516,15 +535,19 @@ std::optional<Root> lowest_root(const RadiusCounter& rho, double start, double e
     a = std::min(first && expected > a * 1.05 ? expected : a * growth, max_depth_m);
     first = false;
     dm = rho(a);
-    if (dm.spectral_radius >= 1.0) return illinois(rho, lo, flo, a, dm, tolerance);
+    if (dm.spectral_radius >= 1.0) return narrow_bracket(rho, lo, flo, a, dm, tolerance);
   }
 }
 
 // The root at a finer level near the coarser level's root `near`, where ρ has slope `slope`: a
-// secant step from ρ(near) predicts it (overshooting 20 % so that one more value usually brackets
-// it); else a bracket grown outwards in steps doubling from 0.5 % (at most ±25 %); then narrowed.
-// Failing all that, the lowest root at this level by a scan up from 70 % of `near`. nullopt when no
-// instability below max_depth_m.
+// step from ρ(near) along that slope predicts it, and the secant through the two values corrects
+// the prediction. The levels' roots differ by the discretization error (well under 1 % at the
+// default steps), so the secant's own error, of the order of the product of the two points'
+// errors, is far below the tolerance: when the correction is within half the tolerance, that is
+// the root, found with two spectral radii. Else the two values are a bracket, or one is grown
+// outwards in steps doubling from 0.5 % (at most ±25 %), and narrowed. Failing all that, the
+// lowest root at this level by a scan up from 70 % of `near`. nullopt when no instability below
+// max_depth_m.
 std::optional<Root> root_near(const RadiusCounter& rho, double near, double slope, double max_depth_m, double tolerance) {
   const double a = std::min(near, max_depth_m);
   const DominantMultiplier dm = rho(a);
@@ -532,15 +555,21 @@ std::optional<Root> root_near(const RadiusCounter& rho, double near, double slop
   const double fa = dm.spectral_radius - 1.0;
   auto bracket = [&](double b, const DominantMultiplier& db) -> std::optional<Root> {
     const double fb = db.spectral_radius - 1.0;
-    if (unstable && fb < 0.0) return illinois(rho, b, fb, a, dm, tolerance);
-    if (!unstable && fb >= 0.0) return illinois(rho, a, fa, b, db, tolerance);
+    if (unstable && fb < 0.0) return narrow_bracket(rho, b, fb, a, dm, tolerance);
+    if (!unstable && fb >= 0.0) return narrow_bracket(rho, a, fa, b, db, tolerance);
     return std::nullopt;
   };
   if (std::isfinite(slope) && slope > 0.0) {
-    const double step = std::clamp(-1.2 * fa / slope, -0.25 * a, 0.25 * a);
+    const double step = std::clamp(-fa / slope, -0.25 * a, 0.25 * a);
     const double b = std::min(a + (std::abs(step) > 1e-6 * a ? step : (unstable ? -1e-6 : 1e-6) * a), max_depth_m);
-    if (b != a && (b < a) == unstable)
-      if (auto r = bracket(b, rho(b))) return r;
+    if (b != a && (b < a) == unstable) {
+      const DominantMultiplier db = rho(b);
+      const double fb = db.spectral_radius - 1.0;
+      const double x = b - fb * (b - a) / (fb - fa);
+      if (fb != fa && std::abs(x - b) <= 0.5 * tolerance * b && x > 0.0 && x < max_depth_m)
+        return Root{x, b, (fb - fa) / (b - a)};
+      if (auto r = bracket(b, db)) return r;
+    }
   }
   for (double step = 0.005; step < 0.26; step *= 2.0) {
     const double b = unstable ? a * (1.0 - step) : std::min(a * (1.0 + step), max_depth_m);
@@ -611,7 +640,7 @@ BoundaryPoint FullDiscretization::boundary(double speed_rpm, double max_depth_m,
       flo = dm.spectral_radius - 1.0;
       continue;
     }
-    const Root root = illinois(rho, lo, flo, a, dm, tolerance);
+    const Root root = narrow_bracket(rho, lo, flo, a, dm, tolerance);
     const FloquetAnalysis fa = floquet(map, root.hi, map.dominant(root.hi), 60.0 / (cutting_.teeth * speed_rpm));
     bp.depth_m = root.depth_m;
     bp.depth_error_m = kNaN;
@@ -678,11 +707,12 @@ SpeedOutcome boundary_at(const ModalModel& model, const CuttingConditions& cutti
   // m: 12 steps per chatter wave within a tooth period (at least 16), unless given.
   const double waves = std::isfinite(guess.chatter_hz) ? guess.chatter_hz * tau : 1.0;
   int m = o.steps > 0 ? o.steps : std::clamp(static_cast<int>(std::ceil(12.0 * waves)), 16, o.max_steps / 2);
-  // Roots to 1/100 of the error target: their own error does not blur the estimate.
-  const double root_tolerance = std::clamp(1e-2 * o.tolerance, 1e-10, 1e-4);
+  // Roots to brackets of 0.1 (finer level) and 0.3 (coarser) of the error target: the reported
+  // a₂ + (a₂ − a₁)/7 then carries at most (0.05·8/7 + 0.15/7) ≈ 0.08 of the target from the roots.
+  const double root_tolerance = std::clamp(1e-1 * o.tolerance, 1e-10, 1e-3);
   const PeriodMap coarse(sys, m, o.degree);
   std::optional<Root> r1 = lowest_root({coarse, &out.evaluations}, guess.start * guess.depth_m, guess.depth_m, 1.15, max_depth_m,
-                                       root_tolerance);
+                                       3.0 * root_tolerance);
   if (!r1) {
     bp.depth_m = max_depth_m;
     bp.depth_error_m = kNaN;

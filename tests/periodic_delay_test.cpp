@@ -25,7 +25,7 @@ PeriodicDelaySystem hayes(double a, double b) {
   s.input = Eigen::MatrixXd::Ones(1, 1);
   s.output = Eigen::MatrixXd::Ones(1, 1);
   s.period = 1.0;
-  s.delayed = [b](double) { return Eigen::MatrixXd::Constant(1, 1, b); };
+  s.delayed = [b](double, Eigen::MatrixXd& out) { out(0, 0) = b; };
   return s;
 }
 
@@ -41,8 +41,8 @@ PeriodicDelaySystem mathieu(double delta, double eps, double b0, double a1) {
   s.output = Eigen::MatrixXd(1, 2);
   s.output << 1.0, 0.0;
   s.period = 2.0 * kPi;
-  s.current = [eps](double t) { return Eigen::MatrixXd::Constant(1, 1, -eps * std::cos(t)); };
-  s.delayed = [b0](double) { return Eigen::MatrixXd::Constant(1, 1, b0); };
+  s.current = [eps](double t, Eigen::MatrixXd& out) { out(0, 0) = -eps * std::cos(t); };
+  s.delayed = [b0](double, Eigen::MatrixXd& out) { out(0, 0) = b0; };
   return s;
 }
 
@@ -132,6 +132,31 @@ TEST(PeriodicDelay, UnreadSamplesAreDropped) {
   EXPECT_LT(low.period_map(10000.0).size(), 15);
 }
 
+// Two propagation paths agree: the map (as applied for the eigenvalues) jumps over the steps out
+// of the cut with e^{A₀kh}; outputs() steps through them one by one. For the dominant eigenvector
+// v (found densely: inverse iteration on the shifted map), the output after one period must be μ
+// times the output at its start. Also, v is Eigen's eigenvector up to a complex factor.
+// Tolerances: 1e-9 relative, the rounding of ~50 steps and of the eigen-decomposition.
+TEST(PeriodicDelay, FreeMotionJumpsAgreeWithStepping) {
+  const Mode m{0.03993, 0.011, 922.0};
+  const FullDiscretization fd(ModalModel{{m}, {}}, {2, 6e8, 1.0 / 3.0, engagement_from_immersion(0.05, MillingDirection::Down)},
+                              50);
+  const PeriodMap map = fd.period_map(7000.0);
+  ASSERT_LT(map.size(), 40);  // the dense path
+  for (double depth : {5e-4, 2e-3, 6e-3}) {
+    const DominantMultiplier dm = map.dominant(depth);
+    EXPECT_FALSE(dm.krylov);
+    const Eigen::MatrixXcd r = map.outputs(depth, dm.vector);
+    EXPECT_LT(std::abs(r(0, map.steps()) - dm.multiplier * r(0, 0)), 1e-9 * std::abs(r(0, 0))) << depth;
+    Eigen::EigenSolver<Eigen::MatrixXd> es(map.matrix(depth), true);
+    Eigen::Index k = 0;
+    for (Eigen::Index i = 0; i < es.eigenvalues().size(); ++i)
+      if (std::abs(es.eigenvalues()(i) - dm.multiplier) < std::abs(es.eigenvalues()(k) - dm.multiplier)) k = i;
+    const Eigen::VectorXcd v = es.eigenvectors().col(k);
+    EXPECT_NEAR(std::abs(v.dot(dm.vector)) / (v.norm() * dm.vector.norm()), 1.0, 1e-9) << depth;
+  }
+}
+
 TEST(PeriodicDelay, BadSystemsAreRejected) {
   PeriodicDelaySystem s = hayes(-1.0, -1.0);
   s.period = 0.0;
@@ -152,6 +177,6 @@ TEST(PeriodicDelay, BadSystemsAreRejected) {
   EXPECT_THROW(PeriodMap(hayes(-1.0, -1.0), 1, 1), InvalidArgument);
   EXPECT_THROW(PeriodMap(hayes(-1.0, -1.0), 10, 4), InvalidArgument);
   s = hayes(-1.0, -1.0);
-  s.delayed = [](double) { return Eigen::MatrixXd::Constant(2, 2, 1.0); };  // wrong size
+  s.delayed = [](double, Eigen::MatrixXd& out) { out = Eigen::MatrixXd::Constant(2, 2, 1.0); };  // wrong size
   EXPECT_THROW(PeriodMap(s, 10, 1), InvalidArgument);
 }

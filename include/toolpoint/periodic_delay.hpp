@@ -39,8 +39,10 @@ struct PeriodicDelaySystem {
   Eigen::MatrixXd input;                   // B, n × d
   Eigen::MatrixXd output;                  // C, d × n
   double period = 0.0;                     // T = τ > 0 [s]
-  // P(t), Q(t) for t in [0, T), d × d; an empty function stands for zero.
-  std::function<Eigen::MatrixXd(double t)> current, delayed;
+  // P(t), Q(t) for t in [0, T): the function writes the d × d matrix into `out`, which arrives
+  // sized d × d and zeroed (so a function may leave it untouched where the coefficient is zero).
+  // An empty function stands for zero. Called a few times per step when a map is built.
+  std::function<void(double t, Eigen::MatrixXd&out)> current, delayed;
   bool regenerative = false;        // Q = −P: `delayed` is not used
   std::vector<double> breakpoints;  // times in (0, T) where P or Q jump
   // Throws InvalidArgument naming the member: sizes that disagree, T ≤ 0, non-finite entries, a
@@ -81,7 +83,7 @@ class PeriodMap {
   // NumericalError when neither converges or the multipliers are not finite.
   // `vector` false: the eigenvector is left empty (the dense path then skips computing it).
   DominantMultiplier dominant(double sigma, bool vector = true) const;
-  double spectral_radius(double sigma) const { return dominant(sigma).spectral_radius; }
+  double spectral_radius(double sigma) const { return dominant(sigma, false).spectral_radius; }
 
  private:
   template <typename S>
@@ -101,6 +103,8 @@ class PeriodMap {
   std::vector<Eigen::MatrixXd> cwp_;  // C W^P for the newest node, d × d
   std::vector<int> read_;             // buffer samples y_{−i} kept in the reduced state (i ≥ 1)
   std::vector<int> slot_;             // slot_[i]: position of y_{−i} in the reduced state, or −1
+  std::vector<int> jump_;             // jump_[k] ≥ 2: steps k… are free motion with no output read
+  std::vector<std::vector<double>> jump_phi_;  // e^{A₀ jump_[k] h} blocks for such k
 };
 
 }  // namespace toolpoint

@@ -261,7 +261,7 @@ class FullDiscretization {
                                       const ParallelOptions& parallel = {}) const;
   // The lowest depth where ρ reaches 1 at this speed, ρ scanned up from 0 in `depth_steps` equal
   // steps to max_depth_m, the first stable → unstable step then narrowed by regula falsi
-  // (Illinois) to a relative width of `tolerance`. Kind None (depth = max_depth_m) when ρ < 1
+  // (Anderson–Björck) to a relative width of `tolerance`. Kind None (depth = max_depth_m) when ρ < 1
   // throughout. No error estimate (see stability_boundary).
   BoundaryPoint boundary(double speed_rpm, double max_depth_m, int depth_steps = 50, double tolerance = 1e-7) const;
 
