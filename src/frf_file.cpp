@@ -11,6 +11,7 @@
 
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
+#include "toolpoint/plausibility.hpp"
 #include "toolpoint/io.hpp"
 #include "text.hpp"
 
@@ -555,6 +556,30 @@ bool csv_options_given(const FrfCsvOptions& c) { return c.format.has_value() || 
 
 }  // namespace
 
+namespace {
+
+// The largest |H| of what was read (the H entry of a block) against the plausible range of a tool
+// point receptance: a unit slip (µm/N read as m/N) or data that is not a receptance at all. An
+// impossible magnitude is refused, since every result downstream would be out of range too.
+void judge_peak_receptance(FrfFileData& data, const std::string& path) {
+  double peak = 0.0;
+  if (data.is_block)
+    for (const Block& b : data.block.blocks) peak = std::max(peak, std::abs(H_of(b)));
+  else
+    for (const Complex& v : data.single.values) peak = std::max(peak, std::abs(v));
+  const PlausibleRange& range = plausible::kPeakReceptance;
+  const std::string what = fmt::format("{}: the largest receptance magnitude |H| [m/N]", path);
+  switch (judge(range, peak)) {
+    case Plausibility::Usual: break;
+    case Plausibility::Unusual: data.warnings.push_back(plausibility_message(range, peak, what)); break;
+    case Plausibility::Impossible:
+      throw InputError(plausibility_message(range, peak, what),
+                       "read the file in its units (FrfReadOptions::units, e.g. um/N or mm/N), or check that it holds an FRF");
+  }
+}
+
+}  // namespace
+
 FrfFileData read_frf_file(const std::string& path, const FrfReadOptions& o) {
   o.check();
   FrfFileData out;
@@ -635,6 +660,7 @@ FrfFileData read_frf_file(const std::string& path, const FrfReadOptions& o) {
     case FrfFormat::Auto:
     case FrfFormat::UffBinary: break;
   }
+  judge_peak_receptance(out, path);
   return out;
 }
 

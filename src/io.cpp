@@ -1,6 +1,7 @@
 // toolpoint: whole-file I/O, atomic writes, FRF CSV.
 #include "toolpoint/io.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -482,6 +483,22 @@ void write_frf_csv(const std::string& path, const FrfSeries& series, const std::
   write_text_file(path, format_frf_csv(series, comments, coherence));
 }
 
+void require_finite_output(const Table& table, const std::string& path) {
+  for (std::size_t r = 0; r < table.rows.size(); ++r)
+    for (std::size_t c = 0; c < table.rows[r].size(); ++c) {
+      const double v = table.rows[r][c];
+      if (std::isfinite(v)) continue;
+      const std::string column = c < table.columns.size() ? table.columns[c] : fmt::format("#{}", c + 1);
+      const bool optional =
+          std::find(table.may_be_empty.begin(), table.may_be_empty.end(), column) != table.may_be_empty.end();
+      if (std::isnan(v) && optional) continue;
+      throw NumericalError(fmt::format("{}: the value of '{}' in data row {} is {}: a result out of the range of double "
+                                       "precision or undefined; nothing was written",
+                                       path, column, r + 1, v),
+                           "check the inputs' magnitudes and units");
+    }
+}
+
 std::string format_table_csv(const Table& table, const std::vector<std::string>& comments) {
   std::string s;
   for (const auto& c : comments) s += "# " + c + "\n";
@@ -489,7 +506,7 @@ std::string format_table_csv(const Table& table, const std::vector<std::string>&
   for (const auto& row : table.rows) {
     for (std::size_t c = 0; c < row.size(); ++c) {
       if (c) s += ',';
-      fmt::format_to(std::back_inserter(s), "{}", row[c]);
+      if (!std::isnan(row[c])) fmt::format_to(std::back_inserter(s), "{}", row[c]);  // NaN: no value, an empty cell
     }
     s += '\n';
   }
@@ -497,6 +514,7 @@ std::string format_table_csv(const Table& table, const std::vector<std::string>&
 }
 
 void write_table_csv(const std::string& path, const Table& table, const std::vector<std::string>& comments) {
+  require_finite_output(table, path);
   write_text_file(path, format_table_csv(table, comments));
 }
 

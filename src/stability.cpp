@@ -166,12 +166,24 @@ LobeTable zero_order_roots(const MillingFrfs& frfs, const CuttingConditions& cut
     t.depth_m[r].assign(n, kNaN);
     t.phase[r].assign(n, kNaN);
   }
+  // The FRFs scaled to a largest modulus near 1, so that squared moduli neither overflow nor
+  // underflow whatever the units (μ scales with G, the depth as 1/G, the phase not).
+  double g_max = 0.0;
+  for (const FrfSeries* f : {&frfs.xx, frfs.yy ? &*frfs.yy : nullptr, frfs.xy ? &*frfs.xy : nullptr, frfs.yx ? &*frfs.yx : nullptr})
+    if (f)
+      for (const Complex& v : f->values) g_max = std::max(g_max, std::abs(v));
+  if (!(g_max > 0.0) || !std::isfinite(g_max))
+    throw NumericalError(fmt::format("the milling FRFs' largest modulus is {} m/N: no chatter is possible", g_max),
+                         "check the FRF: a receptance in m/N that is not zero everywhere");
+  const int g_exp = std::ilogb(g_max);  // scaling by 2^−g_exp (ldexp) is exact, even from subnormals
+  bool out_of_range = false;  // a root with Λ_R < 0 whose depth does not fit in a double
   Complex prev[2] = {0.0, 0.0};
   for (std::size_t i = 0; i < n; ++i) {
-    const Complex gxx = frfs.xx.values[i];
-    const Complex gyy = frfs.rigid_y ? Complex(0.0) : frfs.yy ? frfs.yy->values[i] : gxx;
-    const Complex gxy = frfs.xy ? frfs.xy->values[i] : Complex(0.0);
-    const Complex gyx = frfs.yx ? frfs.yx->values[i] : Complex(0.0);
+    auto scaled = [g_exp](Complex v) { return Complex(std::ldexp(v.real(), -g_exp), std::ldexp(v.imag(), -g_exp)); };
+    const Complex gxx = scaled(frfs.xx.values[i]);
+    const Complex gyy = frfs.rigid_y ? Complex(0.0) : frfs.yy ? scaled(frfs.yy->values[i]) : gxx;
+    const Complex gxy = frfs.xy ? scaled(frfs.xy->values[i]) : Complex(0.0);
+    const Complex gyx = frfs.yx ? scaled(frfs.yx->values[i]) : Complex(0.0);
     // B = α G; det(I + ΛB) = 0 ⇔ μ = −1/Λ is an eigenvalue of B.
     const Complex b00 = a(0, 0) * gxx + a(0, 1) * gyx, b01 = a(0, 0) * gxy + a(0, 1) * gyy;
     const Complex b10 = a(1, 0) * gxx + a(1, 1) * gyx, b11 = a(1, 0) * gxy + a(1, 1) * gyy;
@@ -192,9 +204,24 @@ LobeTable zero_order_roots(const MillingFrfs& frfs, const CuttingConditions& cut
       if (!(std::norm(mu[r]) > 1e-24 * scale2)) continue;  // |μ| ≤ 1e-12 max|μ|: a vanishing root
       const Complex lam = -1.0 / mu[r];
       if (!(lam.real() < 0.0)) continue;  // Λ_R ≥ 0: no positive depth from this root here
-      t.depth_m[r][i] = -2.0 * kPi * std::norm(lam) / (lam.real() * nkt);
+      const double depth = std::ldexp(-2.0 * kPi * std::norm(lam) / (lam.real() * nkt), -g_exp);
+      if (!std::isfinite(depth)) {
+        out_of_range = true;
+        continue;
+      }
+      t.depth_m[r][i] = depth;
       t.phase[r][i] = std::atan2(-lam.real(), -lam.imag()) / kPi;  // ε/2π, ε = 2 atan2(−Λ_R, −Λ_I)
     }
+  }
+  if (out_of_range) {
+    bool any = false;
+    for (int r = 0; r < 2; ++r)
+      for (double d : t.depth_m[r]) any = any || std::isfinite(d);
+    if (!any)
+      throw NumericalError(fmt::format("the limiting depths lie beyond the range of double precision: the FRF's largest "
+                                       "modulus is {:.3g} m/N (a tool point receptance is typically 1e-8 to 1e-5 m/N)",
+                                       g_max),
+                           "check the FRF's units and scale, and the cutting coefficient (N/m²)");
   }
   return t;
 }

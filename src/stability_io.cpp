@@ -6,6 +6,8 @@
 #include <fmt/format.h>
 #include <iterator>
 
+#include "toolpoint/error.hpp"
+
 namespace toolpoint {
 
 namespace {
@@ -21,7 +23,11 @@ std::string optional_number(double v) { return std::isfinite(v) ? fmt::format("{
 }  // namespace
 
 std::string depth_text_mm(double depth_mm, double error_mm) {
-  if (!std::isfinite(depth_mm)) return "nan";
+  if (!std::isfinite(depth_mm))
+    throw NumericalError(fmt::format("an axial depth of {} mm cannot be written: a result out of the range of double "
+                                     "precision or undefined",
+                                     depth_mm),
+                         "check the modal model's and the cutting coefficients' magnitudes and units");
   if (!(std::isfinite(error_mm) && error_mm > 0.0) || depth_mm == 0.0) return fmt::format("{}", depth_mm);
   // Decimal places that keep two significant digits of the error, within 3…9 significant digits.
   const int magnitude = static_cast<int>(std::floor(std::log10(std::abs(depth_mm))));
@@ -34,6 +40,11 @@ std::string format_lobes_csv(const ZeroOrderResult& result, const std::vector<st
   std::string s = csv_head("stability lobes, zero-order approximation (root: which eigenvalue of the quadratic)", comments,
                            "lobe,spindle_speed_rpm,axial_depth_mm,chatter_frequency_hz,root");
   result.for_each_point([&](const LobePoint& p) {
+    if (!std::isfinite(p.speed_rpm) || !std::isfinite(p.depth_m) || !std::isfinite(p.chatter_hz))
+      throw NumericalError(fmt::format("lobe {} has a point that is not finite ({} rpm, {} m, {} Hz): a result out of the "
+                                       "range of double precision; nothing was written",
+                                       p.lobe, p.speed_rpm, p.depth_m, p.chatter_hz),
+                           "check the FRF's and the cutting coefficients' magnitudes and units");
     fmt::format_to(std::back_inserter(s), "{},{},{},{},{}\n", p.lobe, p.speed_rpm, p.depth_m * 1e3, p.chatter_hz, p.root);
   });
   return s;

@@ -102,6 +102,35 @@ TEST(Stability, ZeroOrderSlotFloorOfTheBenchmark) {
               1e-4);
 }
 
+// Zero-order lobes of an FRF in any units: the depth scales as 1/G, so the floor of G·2^−990
+// (~1e-298 m/N) is the floor of G times 2^990, exactly (scaling by a power of two is exact, and
+// every step of the computation is homogeneous in G); a 2-DOF FRF likewise. Where the depths
+// themselves leave double precision (G·1e-318: a peak of 3e-323, subnormal), the error says so and does not blame
+// the sign of Im G.
+TEST(Stability, ZeroOrderLobesAreScaleAware) {
+  const std::vector<double> grid = modal_frequency_grid({kBench});
+  const Mode other{0.05, 0.02, 1100.0};
+  for (const bool two_dof : {false, true}) {
+    MillingFrfs frfs = two_dof ? modal_milling_frfs({kBench}, {other}, grid) : modal_milling_frfs({kBench}, {}, grid);
+    const double floor = zero_order_floor(frfs, cutting(2, 1.0));
+    auto scale = [](FrfSeries& f, double by) {
+      for (Complex& v : f.values) v *= by;
+    };
+    scale(frfs.xx, std::ldexp(1.0, -990));
+    if (frfs.yy) scale(*frfs.yy, std::ldexp(1.0, -990));
+    EXPECT_EQ(zero_order_floor(frfs, cutting(2, 1.0)), std::ldexp(floor, 990)) << two_dof;
+  }
+  MillingFrfs tiny = modal_milling_frfs({kBench}, {}, grid);
+  for (Complex& v : tiny.xx.values) v *= 1e-318;
+  try {
+    zero_order_floor(tiny, cutting(2, 1.0));
+    ADD_FAILURE() << "no error";
+  } catch (const NumericalError& e) {
+    EXPECT_NE(std::string(e.what()).find("beyond the range of double precision"), std::string::npos) << e.what();
+    EXPECT_EQ(std::string(e.what()).find("Λ_R ≥ 0"), std::string::npos) << e.what();
+  }
+}
+
 // α from the closed-form antiderivatives against Simpson quadrature of the per-tooth matrix
 // written from the force model (2000 panels: error ~1e-13), and the slotting values
 // α = π[[−K_r, −1], [1, −K_r]].

@@ -158,6 +158,7 @@ void run_couple(const CoupleArgs& o, const Globals& g) {
     Table table;
     table.columns = {"overhang_m"};
     for (std::size_t m = 0; m < modes.size(); ++m) table.columns.push_back(fmt::format("mode_{}_hz", m + 1));
+    table.may_be_empty.assign(table.columns.begin() + 1, table.columns.end());
     for (std::size_t i = 0; i < overhangs.size(); ++i) {
       std::vector<double> row{overhangs[i]};
       for (const auto& mode : modes) row.push_back(mode[i]);
@@ -165,7 +166,7 @@ void run_couple(const CoupleArgs& o, const Globals& g) {
     }
     write_table_csv(o.output + "/natural_frequencies.csv", table,
                     {"modes of the coupled tool point FRF against tool overhang (seed Fig. 10): peaks of |H| followed from "
-                     "the overhang nearest the assembly file's to within 15 % per step; nan: not found",
+                     "the overhang nearest the assembly file's to within 15 % per step; an empty cell: not found",
                      "overhang in m, frequencies in Hz"});
     j["natural_frequencies_file"] = o.output + "/natural_frequencies.csv";
     written.push_back(o.output + "/natural_frequencies.csv");

@@ -207,10 +207,15 @@ void write_frf_csv(const std::string& path, const FrfSeries& series, const std::
                    const std::vector<double>& coherence = {});
 
 // A generic numeric table writer for other results (k(ω), lobes, …): header names carry units.
+// A NaN in a column named in `may_be_empty` means "no value" (a mode not found at an overhang) and
+// is written as an empty cell; any other non-finite value is an error (NumericalError naming the
+// file, column and row), so no table holds inf or NaN.
 struct Table {
   std::vector<std::string> columns;
   std::vector<std::vector<double>> rows;
+  std::vector<std::string> may_be_empty;
 };
+void require_finite_output(const Table& table, const std::string& path);
 std::string format_table_csv(const Table& table, const std::vector<std::string>& comments = {});
 void write_table_csv(const std::string& path, const Table& table, const std::vector<std::string>& comments = {});
 

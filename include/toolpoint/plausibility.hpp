@@ -55,6 +55,10 @@ inline constexpr PlausibleRange kEdgeCoefficient{1e2, 1e6, 100.0, "K_te is in N/
 inline constexpr PlausibleRange kSpindleSpeedRpm{10.0, 2e5, 10.0, "spindle speeds are in rpm"};
 inline constexpr PlausibleRange kPower{100.0, 5e5, 10.0, "power is in watts (15 kW = 15e3)"};
 inline constexpr PlausibleRange kTorque{0.5, 5000.0, 10.0, "torque is in N m"};
+// Measurements: the largest |H| of a translational receptance over its band [m/N] (a tool point's
+// peak is typically 1e-8…1e-5 m/N; refused beyond 1e-14 and 10 m/N)
+inline constexpr PlausibleRange kPeakReceptance{
+    1e-10, 1e-3, 1e4, "receptances are in m/N (1 µm/N = 1e-6 m/N): check the file's units or give them (FrfReadOptions::units)"};
 }  // namespace plausible
 
 }  // namespace toolpoint

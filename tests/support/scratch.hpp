@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -66,8 +67,15 @@ inline Table read_csv_table(const std::string& path) {
       while (std::getline(ss, cell, ',')) t.columns.push_back(cell);
       continue;
     }
+    // Every cell, a trailing empty one included; an empty cell (no value) reads as NaN.
     std::vector<double> row;
-    while (std::getline(ss, cell, ',')) row.push_back(std::strtod(cell.c_str(), nullptr));
+    for (std::size_t start = 0;;) {
+      const std::size_t comma = line.find(',', start);
+      cell = line.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+      row.push_back(cell.empty() ? std::nan("") : std::strtod(cell.c_str(), nullptr));
+      if (comma == std::string::npos) break;
+      start = comma + 1;
+    }
     t.rows.push_back(std::move(row));
   }
   return t;
