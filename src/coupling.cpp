@@ -2,6 +2,7 @@
 #include "toolpoint/coupling.hpp"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
 #include <vector>
@@ -37,6 +38,21 @@ Block inverse_checked(const Block& m, const char* what) { return block(detail::i
 
 void detail::throw_singular(const Block& m, const char* what) {
   const Complex det = m(0, 0) * m(1, 1) - m(0, 1) * m(1, 0);
+  // A determinant that overflows, or underflows while the entries do not vanish, is a matter of
+  // range, not of a singular matrix: say so rather than blame a resonance.
+  double largest = 0.0;
+  bool finite = true;
+  for (int r = 0; r < 2; ++r)
+    for (int c = 0; c < 2; ++c) {
+      finite = finite && std::isfinite(m(r, c).real()) && std::isfinite(m(r, c).imag());
+      largest = std::max(largest, std::abs(m(r, c)));
+    }
+  if (!finite || !std::isfinite(std::abs(det)) || (largest > 0.0 && largest < 1e-145))
+    throw NumericalError(fmt::format("{} cannot be inverted in double precision: its entries reach {:.3g}, and its "
+                                     "determinant {}: out of the range of double precision",
+                                     what, largest,
+                                     std::isfinite(std::abs(det)) ? fmt::format("is {:.3g}", std::abs(det)) : "overflows"),
+                         "check the magnitudes and units of the receptances (m/N, rad/(N m)) and joint values given");
   throw NumericalError(fmt::format("{} is singular: {} (|det| = {:.3g})", what, format_block(m), std::abs(det)),
                        "the structure has an undamped resonance exactly at this frequency, or the data are "
                        "inconsistent; add damping or move the frequency grid");

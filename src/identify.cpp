@@ -25,6 +25,11 @@ JointEstimate identify_joint(const TwoPort& A, const Block& B11, const Block& G1
   // K⁻¹ is the difference X⁻¹ − A22 − B11 of much larger terms when the joint is stiff: below
   // 1e-12 of them it is round-off, and the joint effectively rigid for these data.
   e.flexibility_share = Kinv.norm() / (detail::block(xinv).norm() + A.b22.norm() + B11.norm());
+  if (!std::isfinite(e.flexibility_share))  // inf/inf: an overflow, not a rigid joint
+    throw NumericalError(fmt::format("the joint flexibility K⁻¹ = X⁻¹ − A22 − B11 is out of the range of double precision "
+                                     "(‖K⁻¹‖ = {:.3g}, ‖A22‖ = {:.3g}, ‖B11‖ = {:.3g})",
+                                     Kinv.norm(), A.b22.norm(), B11.norm()),
+                         "check the magnitudes and units of the FRFs (m/N, 1/N, rad/(N m)) and the component model");
   if (!(e.flexibility_share > 1e-12))
     throw NumericalError(
         fmt::format("the joint flexibility K⁻¹ = X⁻¹ − A22 − B11 is {:.2g} of the terms it is the difference of: "

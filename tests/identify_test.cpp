@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <tuple>
 
 #include "support/test_util.hpp"
 #include "toolpoint/assembly_file.hpp"
@@ -296,4 +297,28 @@ TEST(Identify, BadDataIsRefused) {
   Assembly r = a;
   r.holder_tool = Joint::make_rigid();
   EXPECT_THROW(effect_analysis(r, Route::HolderTool, f), InvalidArgument);
+}
+
+// Receptances far out of range (a unit slip by 1e200, say) are an overflow, and the error says
+// so: not "effectively rigid" (the old diagnosis, from a flexibility share of inf/inf = NaN) nor
+// "an undamped resonance" (from a determinant that overflowed).
+TEST(Identify, OverflowIsNamedAsSuch) {
+  const AssemblyModel m(example());
+  const double x = 900.0;
+  const TwoPort t = m.tool(x);
+  const Block sh = m.holder_tip(x), sht = m.tool_point(x);
+  for (const auto& [what, B11, G11] : {std::tuple{"B11 × 1e200", Block(sh * 1e200), sht},
+                                       std::tuple{"B11 and G11 × 1e300", Block(sh * 1e300), Block(sht * 1e300)}}) {
+    try {
+      identify_joint(t, B11, G11);
+      ADD_FAILURE() << what << ": no error";
+    } catch (const NumericalError& e) {
+      const std::string msg = e.what();
+      EXPECT_NE(msg.find("out of the range of double precision"), std::string::npos) << what << ": " << msg;
+      EXPECT_EQ(msg.find("rigid"), std::string::npos) << what << ": " << msg;
+      EXPECT_EQ(msg.find("undamped resonance"), std::string::npos) << what << ": " << msg;
+    }
+  }
+  // The same data in range identify the file's joint (the test is not refusing everything).
+  EXPECT_NO_THROW(identify_joint(t, sh, sht));
 }
