@@ -202,16 +202,35 @@ std::vector<Mode> fit_milling_modes(const FrfSeries& frf, const std::string& wha
   for (const std::string& w : best_warnings)
     if (w.find("peaks found") == std::string::npos && w.find("overall fit residual") == std::string::npos)
       warnings.push_back(what + ": " + w);
-  if (!summary.target_met)
+  if (!summary.target_met) {
+    // Why: too few modes allowed, or else what is left once every peak has its mode. Refitting
+    // the same modes with residual terms (−L/ω² + U, the flexibility of modes outside the band)
+    // tells whether that is what the time-domain model misses, or the peaks' shape itself.
+    std::string why;
+    if (static_cast<int>(best.size()) >= options.max_modes) {
+      why = fmt::format("it uses the most modes allowed (ModalFitOptions::max_modes = {})", options.max_modes);
+    } else {
+      ModalFitOptions o = options;
+      o.max_modes = static_cast<int>(best.size());
+      o.residual_terms = true;
+      const double with_residuals = fit_modes(frf, o, what).normalised_residual;
+      why = fmt::format("the FRF has {} resonance peak(s) rising {:g} dB or more, one mode each; ", best.size(),
+                        options.min_prominence_db);
+      why += with_residuals <= target
+                 ? fmt::format("the rest is the flexibility of modes outside the band (with residual terms for it the same "
+                               "modes leave {:.2f} %), which the time-domain model cannot carry",
+                               100.0 * with_residuals)
+                 : fmt::format("the flexibility of modes outside the band is not what is missing (with residual terms for "
+                               "it the same modes still leave {:.2f} %); what is missing is in the peaks' shape, which modes "
+                               "with real modal constants cannot match (complex modes, from non-proportional damping), "
+                               "or in peaks lower than {:g} dB, which get no mode",
+                               100.0 * with_residuals, options.min_prominence_db);
+    }
     warnings.push_back(fmt::format(
         "{}: the best modal model represents the FRF within {:.1f} % over {:g}–{:g} Hz, not the {:.3g} % aimed at: {}. The lobes "
-        "are those of this model. Narrow the fitted band to the modes that matter, or give the modes",
-        what, 100.0 * best_residual, summary.band_low_hz, summary.band_high_hz, 100.0 * target,
-        static_cast<int>(best.size()) >= options.max_modes
-            ? fmt::format("it uses the most modes allowed (ModalFitOptions::max_modes = {})", options.max_modes)
-            : fmt::format("the FRF has {} resonance peak(s) rising {:g} dB or more, one mode each; the rest is the flexibility "
-                          "of modes outside the band, which modes inside it cannot carry",
-                          best.size(), options.min_prominence_db)));
+        "are those of this model. Narrow the fitted band to the modes that matter, or give the modes (LobesInput::x_modes)",
+        what, 100.0 * best_residual, summary.band_low_hz, summary.band_high_hz, 100.0 * target, why));
+  }
   return best;
 }
 
