@@ -53,13 +53,15 @@ std::string format_lobes_csv(const ZeroOrderResult& result, const std::vector<st
 std::string format_boundary_csv(const BoundaryResult& result, const std::vector<std::string>& comments) {
   std::string s = csv_head(fmt::format("stability boundary, full-discretization of degree {} (kind: hopf, flip = period "
                                        "doubling, none = stable up to {:.6g} mm; lobe −1 where unknown; axial_depth_error_mm: "
-                                       "estimated discretization error, target {:.3g} %)",
+                                       "estimated discretization error, target {:.3g} %; depths to the digits their error "
+                                       "supports, chatter frequencies to 0.1 Hz)",
                                        result.degree, result.max_depth_m * 1e3, 100.0 * result.tolerance),
                            comments,
                            "lobe,spindle_speed_rpm,axial_depth_mm,chatter_frequency_hz,kind,axial_depth_error_mm,steps");
   for (const BoundaryPoint& b : result.boundary)
     fmt::format_to(std::back_inserter(s), "{},{},{},{},{},{},{}\n", b.lobe, b.speed_rpm,
-                   depth_text_mm(b.depth_m * 1e3, b.depth_error_m * 1e3), optional_number(b.chatter_hz), to_string(b.kind),
+                   depth_text_mm(b.depth_m * 1e3, b.depth_error_m * 1e3),
+                   std::isfinite(b.chatter_hz) ? fmt::format("{:.1f}", b.chatter_hz) : std::string(), to_string(b.kind),
                    std::isfinite(b.depth_error_m) ? fmt::format("{:.2g}", b.depth_error_m * 1e3) : std::string(), b.steps);
   return s;
 }
