@@ -2,6 +2,7 @@
 // Units: frequencies in Hz, values in the file's own units (unchanged; receptance m/N for UFF
 // inputs after conversion); the window counts frequency points. --plot overlays the input and
 // the filtered FRF (H of a block).
+#include <cmath>
 #include <fmt/format.h>
 #include <iostream>
 #include <memory>
@@ -81,12 +82,18 @@ void run_filter(const FilterOptions& o, const Globals& g) {
                                              : peak_changes(in.single, out.single, o.savgol.window, {}, o.input);
   std::cout << fmt::format("peaks of {} before and after filtering (window {} points, order {}):\n", o.input, o.savgol.window,
                            o.savgol.order);
-  std::cout << "  entry  raw_hz      raw_magnitude  filtered_hz  filtered_magnitude  height_%  frequency_%\n";
-  for (const PeakChange& c : peaks.peaks)
-    std::cout << fmt::format("  {:5}  {:10.6g}  {:13.6g}  {:11.6g}  {:18.6g}  {:+8.2f}  {:+11.3f}\n",
-                             c.entry.empty() ? "-" : c.entry, c.raw_frequency_hz, c.raw_magnitude, c.filtered_frequency_hz,
-                             c.filtered_magnitude, 100.0 * c.height_change, 100.0 * c.frequency_change);
+  std::cout << "  entry  raw_hz      raw_magnitude  filtered_hz  filtered_magnitude  height_%  frequency_%  noise_%\n";
+  for (const PeakChange& c : peaks.peaks) {
+    const bool gone = std::isnan(c.filtered_frequency_hz);  // smoothed away: no filtered peak near it
+    std::cout << fmt::format("  {:5}  {:10.6g}  {:13.6g}  {:>11}  {:18.6g}  {:+8.2f}  {:>11}  {:7.2f}\n",
+                             c.entry.empty() ? "-" : c.entry, c.raw_frequency_hz, c.raw_magnitude,
+                             gone ? std::string("gone") : fmt::format("{:.6g}", c.filtered_frequency_hz), c.filtered_magnitude,
+                             100.0 * c.height_change, gone ? std::string("-") : fmt::format("{:+.3f}", 100.0 * c.frequency_change),
+                             100.0 * c.noise);
+  }
   if (peaks.peaks.empty()) std::cout << "  (no prominent peak)\n";
+  std::cout << "  (noise_%: the raw data's magnitude noise σ at the peak, estimated from the data; a peak must rise 8σ above "
+               "its valleys to be listed)\n";
   warn_all(peaks.warnings);
   if (o.plot.empty()) return;
   const std::string title = fmt::format("Savitzky–Golay filter, window {} points, order {}: {}", o.savgol.window, o.savgol.order,
