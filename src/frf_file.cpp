@@ -562,11 +562,18 @@ namespace {
 // point receptance: a unit slip (µm/N read as m/N) or data that is not a receptance at all. An
 // impossible magnitude is refused, since every result downstream would be out of range too.
 void judge_peak_receptance(FrfFileData& data, const std::string& path) {
+  // From 5 Hz up: below, a mobility or accelerance converted to receptance (÷ω, ÷ω²) is its noise
+  // magnified, and no structural mode of a machine tool lies there.
+  constexpr double kFrom = 5.0;
   double peak = 0.0;
-  if (data.is_block)
-    for (const Block& b : data.block.blocks) peak = std::max(peak, std::abs(H_of(b)));
-  else
-    for (const Complex& v : data.single.values) peak = std::max(peak, std::abs(v));
+  if (data.is_block) {
+    for (std::size_t i = 0; i < data.block.size(); ++i)
+      if (data.block.frequency_hz[i] >= kFrom) peak = std::max(peak, std::abs(H_of(data.block.blocks[i])));
+  } else {
+    for (std::size_t i = 0; i < data.single.size(); ++i)
+      if (data.single.frequency_hz[i] >= kFrom) peak = std::max(peak, std::abs(data.single.values[i]));
+  }
+  if (peak == 0.0) return;  // nothing above 5 Hz, or an all-zero file (refused where it is used)
   const PlausibleRange& range = plausible::kPeakReceptance;
   const std::string what = fmt::format("{}: the largest receptance magnitude |H| [m/N]", path);
   switch (judge(range, peak)) {

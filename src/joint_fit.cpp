@@ -594,6 +594,13 @@ JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<Join
     sol = minimise(setups, Bs, Gs, par, q, options.max_iterations, options.filter);
     q = sol.q;
   }
+  // A cost that overflowed leaves the fit where it started (every step looks as bad): values far
+  // out of range in the data (a unit slip by many orders) or in the noise, not a joint.
+  if (!std::isfinite(sol.cost))
+    throw NumericalError(fmt::format("the band fit's residuals are out of the range of double precision (weighted cost {}): "
+                                     "the data's magnitudes or their noise are far from a receptance's",
+                                     sol.cost),
+                         "check the FRFs' units (m/N, 1/N, rad/(N m)) and how their rotational entries were made");
   check_identifiable(sol.A, par, setups);
   const Linearised lin = linearise(setups, par, q, sol.A, options.filter);
 

@@ -33,6 +33,9 @@ std::string depth_text_mm(double depth_mm, double error_mm) {
   const int magnitude = static_cast<int>(std::floor(std::log10(std::abs(depth_mm))));
   const int error_place = static_cast<int>(std::floor(std::log10(error_mm))) - 1;
   const int significant = std::clamp(magnitude - error_place + 1, 3, 9);
+  // Fixed decimals up to a metre and more; beyond 1e9 mm (a unit slip, said elsewhere) the same
+  // significant digits in exponent form rather than a row of meaningless zeros.
+  if (magnitude >= 9) return fmt::format("{:.{}e}", depth_mm, significant - 1);
   return fmt::format("{:.{}f}", depth_mm, std::max(0, significant - magnitude - 1));
 }
 

@@ -725,6 +725,50 @@ TEST_F(Cli, UnitSlipsOnOptionsAreRefusedOrSaid) {
   EXPECT_NE(grid.err.find("no [analysis] table: the default grid 10–5000 Hz in steps of 1 Hz"), std::string::npos) << grid.err;
 }
 
+// The options a review found unguarded (issue 13): K_r as a percentage, modes with a mass or a
+// frequency no structure has, a shear stiffness of 1e-300 N, a loss factor of 2, a noise σ of 5
+// (5 % meant), a grid to 50 MHz, a prominence given in % beyond 100, an FRF in µm/N read as m/N
+// (a tool point peak of 2.2e-6 m/N read as 2.2 m/N): each refused naming the option and the unit;
+// K_r = 3 and a repeated --mode-x said. A mass in grams (39.93 kg, usual for a mode) is not
+// refused, but the lobes it makes start at 1.6 m, and the result says so.
+TEST_F(Cli, UnguardedOptionsAreRefusedOrSaid) {
+  predict_blocks("500:3000:10");
+  const std::string cut = " --teeth 4 --kt 6e8 --immersion 0.5 --milling down --rpm 2000:20000";
+  const std::string fd = "lobes --method fd --rigid-y --teeth 2 --kt 6e8 --kn 2e8 --immersion 0.05 --milling down "
+                         "--rpm 5000:25000 --speeds 5 ";
+  expect_error(run("lobes --frf sht.csv --kr 30" + cut), 2, {"--kr", "30", "cannot be meant", "ratio"});
+  const Run kr3 = ok("lobes --frf sht.csv --kr 3" + cut);
+  EXPECT_NE(kr3.err.find("warning: --kr = 3 is outside the usual range"), std::string::npos) << kr3.err;
+  expect_error(run(fd + "--mode-x 1e300,0.01,900 --output b.csv"), 2, {"--mode-x", "modal mass", "kg"});
+  expect_error(run(fd + "--mode-x 1e-300,0.01,900 --output b.csv"), 2, {"--mode-x", "modal mass", "kg"});
+  expect_error(run(fd + "--mode-x 0.04,0.01,1e300 --output b.csv"), 2, {"--mode-x", "natural frequency", "rad/s"});
+  EXPECT_FALSE(exists("b.csv"));
+  const Run twice = ok(fd + "--mode-x 0.03993,0.011,922 --mode-x 0.03993,0.011,922");
+  EXPECT_NE(twice.err.find("--mode-x 0.03993,0.011,922 is given twice"), std::string::npos) << twice.err;
+  const Run grams = ok(fd + "--mode-x 39.93,0.011,922");
+  EXPECT_NE(grams.err.find("beyond any cutting edge"), std::string::npos) << grams.err;
+  EXPECT_NE(grams.err.find("modal mass kg"), std::string::npos) << grams.err;
+  expect_error(run("rotational --spacing 0.015 --h00 sht.csv --h10 sht.csv --order 1 --assume-reciprocity "
+                   "--shear-stiffness 1e-300 -o r.csv"),
+               2, {"--shear-stiffness", "κGA is in N"});
+  EXPECT_FALSE(exists("r.csv"));
+  expect_error(run("beam --length 0.1 --diameter 0.016 --loss-factor 2"), 2, {"--loss-factor"});
+  expect_error(run("noise sht.csv n.csv --sigma 5"), 2, {"--sigma", "fraction", "0.05"});
+  expect_error(run("predict '" + kExample + "' --frequencies 10:5e7:10000 --output p.csv"), 2, {"--frequencies", "Hz"});
+  EXPECT_FALSE(exists("p.csv"));
+  expect_error(run("lobes --frf sht.csv --kr 0.3 --pocket-prominence 200" + cut), 2, {"--pocket-prominence 200 %", "[0, 100)"});
+  std::string micro = "frequency_hz,re,im\n";
+  for (int f = 800; f <= 1000; ++f) {
+    const double r = f / 916.0;
+    const Complex h = 1e6 / (4e7 * Complex(1.0 - r * r, 2.0 * 0.011 * r));  // µm/N, written as if m/N
+    micro += fmt::format("{},{},{}\n", f, h.real(), h.imag());
+  }
+  write_text_file(path("um.csv"), micro);
+  expect_error(run("lobes --frf um.csv --kr 0.3 --output l.csv" + cut), 3, {"um.csv", "cannot be meant", "µm/N", "--units"});
+  EXPECT_FALSE(exists("l.csv"));
+  ok("lobes --frf um.csv --units um/N --kr 0.3" + cut);
+}
+
 TEST_F(Cli, HelpDocumentsExitCodesExamplesAndTheFigureRule) {
   const Run top = ok("--help");
   for (const char* s : {"0 success", "1 internal", "2 usage", "3 bad input", "4 numerical", "5 file I/O"})

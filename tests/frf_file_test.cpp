@@ -267,7 +267,7 @@ TEST(FrfFile, ReadAndWriteEveryFormat) {
   // A block CSV comes back as a block; it can only be written as CSV.
   BlockSeries b;
   b.frequency_hz = {10.0, 20.0};
-  b.blocks = {make_block(1, 2, 3, 4), make_block(5, 6, 7, 8)};
+  b.blocks = {make_block(1e-6, 2, 3, 4), make_block(5e-6, 6, 7, 8)};  // H a plausible receptance [m/N]
   write_frf_csv(dir / "blk.csv", b);
   const FrfFileData rb = read_frf_file(dir / "blk.csv");
   EXPECT_TRUE(rb.is_block);
@@ -275,7 +275,7 @@ TEST(FrfFile, ReadAndWriteEveryFormat) {
   EXPECT_THROW(write_frf_file(dir / "blk.frf", b), InvalidArgument);
 
   // Unknown extension, unless the format is named.
-  write_text_file(dir / "tap.txt", "10\t1\t2\n");
+  write_text_file(dir / "tap.txt", "10\t1e-6\t2e-6\n");
   EXPECT_THROW(read_frf_file(dir / "tap.txt"), InvalidArgument);
   EXPECT_EQ(read_frf_file(dir / "tap.txt", {.format = FrfFormat::Frf}).single.size(), 1u);
   EXPECT_THROW(read_frf_file(dir / "tap.txt", {.format = FrfFormat::Frf, .uff = {.index = 0}}), InvalidArgument);

@@ -861,7 +861,7 @@ TEST_F(SignalCli, FilterReproducesOracle) {
 // Bad input: a clear message naming the option or the file and line, the documented exit code,
 // and no output file.
 TEST_F(SignalCli, FilterRejectsBadInput) {
-  write("x.csv", "frequency_hz,re,im\n1,1,0\n2,2,0\n3,3,0\n4,4,0\n5,5,0\n6,6,0\n7,7,0\n");
+  write("x.csv", "frequency_hz,re,im\n1,1e-6,0\n2,2e-6,0\n3,3e-6,0\n4,4e-6,0\n5,5e-6,0\n6,6e-6,0\n7,7e-6,0\n");
   write("nan.csv", "# a comment\nfrequency_hz,re,im\n1,1,0\n2,nan,0\n3,3,0\n");
   EXPECT_EQ(run("filter x.csv y.csv --window 4 --order 2"), 2);
   EXPECT_TRUE(err_has("window 4")) << err_;

@@ -204,6 +204,9 @@ std::string with_flags(std::string text);
 // option's unit is refused (exit 2, naming the option, the likely unit slip and the fix), an unusual
 // one is a warning; 0 is left to the option's own rule.
 CLI::Validator plausible_value(const PlausibleRange& range, const std::string& option);
+// The same rule for a value parsed by the command itself (a sweep, a list, a mode): throws
+// InvalidArgument naming `what` when it cannot be meant, with `fix`; warns when unusual.
+void check_plausible(const PlausibleRange& range, double value, const std::string& what, const std::string& fix);
 // Options in the CLI's own units (mm, rpm): their plausible ranges.
 inline constexpr PlausibleRange kDepthMm{0.1, 300.0, 10.0, "this depth is in mm (5 mm = 5, not 0.005)"};
 

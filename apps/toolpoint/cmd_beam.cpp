@@ -133,9 +133,11 @@ void add_beam_command(CLI::App& app, Globals& g) {
   c->add_option("--shear-modulus", o->shear_modulus, "Shear modulus G [Pa] (default: E/(2(1+ν)))")
       ->check(plausible_value(plausible::kShearModulus, "--shear-modulus"));
   c->add_option("--loss-factor", o->loss_factor, "Structural loss factor η [-], ≥ 0 (complex moduli E(1+iη), G(1+iη))")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(plausible_value(plausible::kLossFactor, "--loss-factor"));
   c->add_option("--shear-coefficient", o->shear_coefficient,
-                "Shear coefficient κ [-] (default: from --shear-model, Poisson's ratio and the diameters)");
+                "Shear coefficient κ [-] (default: from --shear-model, Poisson's ratio and the diameters)")
+      ->check(plausible_value(plausible::kShearCoefficient, "--shear-coefficient"));
   c->add_option("--shear-model", o->shear_model, "κ formula for circular sections: hutchinson or cowper")
       ->check(CLI::IsMember({"hutchinson", "cowper"}))
       ->capture_default_str();

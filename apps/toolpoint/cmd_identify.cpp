@@ -102,8 +102,8 @@ void run_identify(const IdentifyOptions& o, const Globals& g) {
                                         io.noise.magnitude_sigma, 100 * io.noise.magnitude_sigma),
                             fmt::format("for {:g} % give --sigma {:g}", io.noise.magnitude_sigma,
                                         io.noise.magnitude_sigma / 100));
-    if (o.phase_sigma_deg && *o.phase_sigma_deg > 30.0)
-      throw InvalidArgument(fmt::format("--phase-sigma {}° is implausible for a measured FRF", *o.phase_sigma_deg),
+    if (o.phase_sigma_deg && *o.phase_sigma_deg > 0.5 * 180.0 / kPi)
+      throw InvalidArgument(fmt::format("--phase-sigma {}° is implausible for a measured FRF (above 28.6°)", *o.phase_sigma_deg),
                             "the phase noise is in degrees, e.g. --phase-sigma 1");
   }
   if (o.bootstrap == 0) {
@@ -322,9 +322,12 @@ void add_identify_command(CLI::App& app, Globals& g) {
       "Savitzky–Golay filter WINDOW,ORDER [frequency points, -] applied to the data (the seed's read-out) and, alike, to "
       "data and model in the fit (default: none; give raw data, the fit needs no filter)");
   c->add_option("--sigma", o->sigma,
-                "State the noise: relative magnitude σ of every FRF entry [-] (0.02 = 2 %; default: estimated from the data)");
+                "State the noise: relative magnitude σ of every FRF entry [-] (0.02 = 2 %; default: estimated from the data). "
+                "Stated noise is the same on every entry, and what is not stated is zero: --sigma alone means no phase noise")
+      ->check(plausible_value(plausible::kRelativeNoise, "--sigma"));
   c->add_option("--phase-sigma", o->phase_sigma_deg,
-                "State the noise: phase σ of every FRF entry [degrees] (default: estimated from the data)");
+                "State the noise: phase σ of every FRF entry [degrees] (default: estimated from the data); --phase-sigma "
+                "alone means no magnitude noise");
   c->add_option("--bootstrap", o->bootstrap, "Fit intervals: bootstrap replicates (≥ 20), or 0 for linearised intervals")
       ->capture_default_str();
   c->add_option("--parameters", o->parameters, "6: k_tf = k_ym and c_tf = c_ym (reciprocity); 8: all eight free")

@@ -133,6 +133,10 @@ Mode parse_mode(const std::string& text, const std::string& option) {
   }
   Mode m{v[0], v[1], v[2]};
   m.check(option);
+  check_plausible(plausible::kModalMass, m.mass_kg, fmt::format("{} {}: the modal mass [kg]", option, text),
+                  "write MASS_KG,DAMPING_RATIO,FREQUENCY_HZ, e.g. 0.04,0.011,922");
+  check_plausible(plausible::kNaturalFrequency, m.frequency_hz, fmt::format("{} {}: the natural frequency [Hz]", option, text),
+                  "write MASS_KG,DAMPING_RATIO,FREQUENCY_HZ, e.g. 0.04,0.011,922");
   return m;
 }
 
@@ -233,9 +237,11 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
   so.cutting = cutting_conditions(o);
   const auto [min_rpm, max_rpm] = parse_range(o.rpm, "--rpm");
   for (double n : {min_rpm, max_rpm})
-    if (judge(plausible::kSpindleSpeedRpm, n) == Plausibility::Impossible)
-      throw InvalidArgument(plausibility_message(plausible::kSpindleSpeedRpm, n, "--rpm"),
-                            "give spindle speeds in rpm, e.g. --rpm 2000:20000");
+    check_plausible(plausible::kSpindleSpeedRpm, n, "--rpm", "give spindle speeds in rpm, e.g. --rpm 2000:20000");
+  if (!(o.prominence_pct >= 0.0 && o.prominence_pct < 100.0))
+    throw InvalidArgument(fmt::format("--pocket-prominence {} % must lie in [0, 100)", o.prominence_pct), "e.g. 2 (%)");
+  if (!(o.tolerance_pct >= 1e-4 && o.tolerance_pct <= 50.0))
+    throw InvalidArgument(fmt::format("--tolerance {} % must lie in 1e-4…50 (%)", o.tolerance_pct), "e.g. 1 (%)");
   so.speeds = {min_rpm, max_rpm, o.speeds};
   if (o.method == "zoa") so.method = LobesMethod::ZeroOrder;
   else so.method = LobesMethod::FullDiscretization;
@@ -273,8 +279,16 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
   std::optional<Assembly> assembly;
   tool_point_frfs(o, g, joints, input, assembly);
   if (o.rigid_y && !o.mode_y.empty()) throw InvalidArgument("--rigid-y and --mode-y contradict each other", "drop one of them");
-  for (const auto& t : o.mode_x) input.x_modes.push_back(parse_mode(t, "--mode-x"));
-  for (const auto& t : o.mode_y) input.y_modes.push_back(parse_mode(t, "--mode-y"));
+  for (const auto& [texts, option, modes] : {std::tuple{&o.mode_x, "--mode-x", &input.x_modes}, {&o.mode_y, "--mode-y", &input.y_modes}})
+    for (std::size_t i = 0; i < texts->size(); ++i) {
+      modes->push_back(parse_mode((*texts)[i], option));
+      // The same mode twice is twice as flexible: a repeated argument, most likely.
+      for (std::size_t j = 0; j < i; ++j)
+        if ((*modes)[j].mass_kg == modes->back().mass_kg && (*modes)[j].damping_ratio == modes->back().damping_ratio &&
+            (*modes)[j].frequency_hz == modes->back().frequency_hz)
+          warn(fmt::format("{} {} is given twice: both are used (a mode of half the mass); drop one if that is not meant",
+                           option, (*texts)[i]));
+    }
   input.rigid_y = o.rigid_y;
   if (so.method == LobesMethod::ZeroOrder && !input.frfs)
     throw InvalidArgument("--method zoa needs the tool point FRF: --frf FILE.csv",
@@ -434,6 +448,7 @@ void add_lobes_command(CLI::App& app, Globals& g) {
                            "Radial cutting coefficient as the ratio K_r = K_n/K_t [-], ≥ 0 (this or --kn required)");
   auto* kn = c->add_option("--kn", o->kn, "Radial (normal) cutting coefficient K_n [N/m²], ≥ 0 (this or --kr required)");
   kn->check(plausible_value(plausible::kCuttingCoefficient, "--kn"));
+  kr->check(plausible_value(plausible::kRadialRatio, "--kr"));
   kr->excludes(kn);
   auto* imm =
       c->add_option("--immersion", o->immersion,

@@ -45,7 +45,9 @@ void add_noise_command(CLI::App& app, Globals& g) {
   CLI::App* c = app.add_subcommand(
       "noise", "Simulated measurement noise: multiply every FRF entry by 1 + sigma·z (seed Section 3), reproducibly");
   add_frf_file_arguments(c, g, o->input, o->output, o->dataset, "every entry distorted");
-  c->add_option("--sigma", o->noise.sigma, "Standard deviation of the factor [-] (0.05 = 5 %), ≥ 0")->capture_default_str();
+  c->add_option("--sigma", o->noise.sigma, "Standard deviation of the factor [-] (0.05 = 5 %), ≥ 0")
+      ->capture_default_str()
+      ->check(plausible_value(plausible::kRelativeNoise, "--sigma"));
   c->add_option("--seed", o->noise.seed, "Random seed (mt19937_64); the same seed gives the same noise")->capture_default_str();
   add_plot_option(c, o->plot,
                   "the noisy (points) and the clean FRF (line), |H| [m/N] and phase [deg] against frequency [Hz] (the H "

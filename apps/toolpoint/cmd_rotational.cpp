@@ -219,7 +219,8 @@ void add_rotational_command(CLI::App& app, Globals& g) {
   c->add_flag("--symmetrise", o->fd.symmetrise, "Replace L and N by their mean (reciprocity); default keeps both");
   c->add_option("--shear-stiffness", o->shear_stiffness,
                 "κGA [N] of the section under the points: removes the shear strain from N, L (1/κGA) and P (c/(s κGA)), "
-                "giving the section rotation the coupling equations use; default: none (total slope dw/dx)");
+                "giving the section rotation the coupling equations use; default: none (total slope dw/dx)")
+      ->check(plausible_value(plausible::kShearStiffness, "--shear-stiffness"));
   c->add_option("--p-method", o->p_method,
                 "P from: auto (cross terms if all H_ij are given, else N*L/H00), cross (cross terms, error if "
                 "missing), n2h (always N*L/H00, Schmitz & Smith)")

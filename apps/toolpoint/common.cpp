@@ -44,7 +44,11 @@ LoadedAssembly load_assembly_on_grid(const Globals& g, const std::string& path, 
   LoadedAssembly loaded = load_assembly(path);
   report_loaded(g, loaded);
   loaded.assembly = with_joints(loaded.assembly, joints);
-  if (!frequencies.empty()) loaded.assembly.grid = parse_frequency_grid(frequencies, "--frequencies");
+  if (!frequencies.empty()) {
+    loaded.assembly.grid = parse_frequency_grid(frequencies, "--frequencies");
+    check_plausible(plausible::kTopFrequency, loaded.assembly.grid.stop_hz, "--frequencies: the top frequency [Hz]",
+                    "give START:STOP:STEP in Hz, e.g. 10:5000:1");
+  }
   return loaded;
 }
 
@@ -325,6 +329,14 @@ std::string with_flags(std::string text) {
     for (std::size_t at = text.find(field); at != std::string::npos; at = text.find(field, at + flag.size()))
       text.replace(at, field.size(), flag);
   return text;
+}
+
+void check_plausible(const PlausibleRange& range, double value, const std::string& what, const std::string& fix) {
+  switch (judge(range, value)) {
+    case Plausibility::Usual: return;
+    case Plausibility::Unusual: warn(plausibility_message(range, value, what)); return;
+    case Plausibility::Impossible: throw InvalidArgument(plausibility_message(range, value, what), fix);
+  }
 }
 
 CLI::Validator plausible_value(const PlausibleRange& range, const std::string& option) {

@@ -55,10 +55,22 @@ inline constexpr PlausibleRange kEdgeCoefficient{1e2, 1e6, 100.0, "K_te is in N/
 inline constexpr PlausibleRange kSpindleSpeedRpm{10.0, 2e5, 10.0, "spindle speeds are in rpm"};
 inline constexpr PlausibleRange kPower{100.0, 5e5, 10.0, "power is in watts (15 kW = 15e3)"};
 inline constexpr PlausibleRange kTorque{0.5, 5000.0, 10.0, "torque is in N m"};
+inline constexpr PlausibleRange kRadialRatio{0.05, 1.5, 10.0, "K_r = K_n/K_t is a ratio, typically 0.2–0.6 (30 % = 0.3)"};
+// Modal models
+inline constexpr PlausibleRange kModalMass{1e-3, 1e3, 1e3, "modal masses are in kg (40 g = 0.04)"};
+inline constexpr PlausibleRange kNaturalFrequency{5.0, 2e4, 100.0, "frequencies are in Hz, not rad/s (922 Hz = 5793 rad/s)"};
 // Measurements: the largest |H| of a translational receptance over its band [m/N] (a tool point's
-// peak is typically 1e-8…1e-5 m/N; refused beyond 1e-14 and 10 m/N)
+// peak is typically 1e-8…1e-5 m/N: a 0.1 mm/N peak is a very slender tool; refused beyond 1e-14
+// and 1 m/N, where a µm/N file of a tool point read as m/N lands)
 inline constexpr PlausibleRange kPeakReceptance{
-    1e-10, 1e-3, 1e4, "receptances are in m/N (1 µm/N = 1e-6 m/N): check the file's units or give them (FrfReadOptions::units)"};
+    1e-10, 1e-4, 1e4, "receptances are in m/N (1 µm/N = 1e-6 m/N): check the file's units or give them (FrfReadOptions::units)"};
+inline constexpr PlausibleRange kRelativeNoise{1e-4, 0.2, 5.0, "σ is a fraction (5 % = 0.05)"};
+// The top of a frequency grid [Hz]: tool point FRFs are measured to a few kHz
+inline constexpr PlausibleRange kTopFrequency{100.0, 2e4, 10.0, "frequencies are in Hz (5 kHz = 5000)"};
+// κGA of a beam section [N]: a 2 mm carbide tool 6e5, a 16 mm one 2.8e7, a spindle shaft 1e9
+inline constexpr PlausibleRange kShearStiffness{1e5, 1e10, 100.0,
+                                                "κGA is in N: the shear modulus [Pa] × the area [m²] × κ (a 16 mm carbide tool: 2.8e7)"};
+inline constexpr PlausibleRange kShearCoefficient{0.3, 1.0, 3.0, "κ is the Timoshenko shear coefficient, about 0.9 for a solid round section"};
 }  // namespace plausible
 
 }  // namespace toolpoint

@@ -36,11 +36,15 @@ void NoiseSpec::check() const {
     throw InvalidArgument(fmt::format("NoiseSpec: stated magnitude σ = {} and phase σ = {} rad must be ≥ 0, not both 0",
                                       magnitude_sigma, phase_sigma_rad),
                           "e.g. magnitude σ = 0.02 (2 %) and phase σ = 0.02 rad, or estimate the noise from the data");
-  if (magnitude_sigma > 0.5 || phase_sigma_rad > 0.5)
-    throw InvalidArgument(
-        fmt::format("NoiseSpec: stated magnitude σ = {} or phase σ = {} rad above 0.5: a relative σ, not a percentage",
-                    magnitude_sigma, phase_sigma_rad),
-        "give 0.05 for 5 %");
+  if (magnitude_sigma > 0.5)
+    throw InvalidArgument(fmt::format("NoiseSpec::magnitude_sigma {} is above 0.5: it is a relative σ, not a percentage",
+                                      magnitude_sigma),
+                          "give 0.05 for 5 %");
+  if (phase_sigma_rad > 0.5)
+    throw InvalidArgument(fmt::format("NoiseSpec::phase_sigma_rad {} rad ({:.3g}°) is above 0.5 rad: no measured FRF's phase "
+                                      "is that noisy",
+                                      phase_sigma_rad, phase_sigma_rad * 180.0 / kPi),
+                          "the phase σ is in radians (1° = 0.01745 rad)");
 }
 
 void VerdictThresholds::check() const {

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "toolpoint/error.hpp"
+#include "toolpoint/plausibility.hpp"
 
 namespace toolpoint {
 
@@ -234,6 +235,24 @@ std::vector<Mode> fit_milling_modes(const FrfSeries& frf, const std::string& wha
   return best;
 }
 
+namespace {
+
+// A lowest stable depth beyond any cutting edge (plausibility.hpp's kDepth) is not a result but
+// a unit slip in what made it: said, since the lobes themselves are computed correctly.
+void judge_lowest_depth(LobesStudyResult& res) {
+  double lowest = std::numeric_limits<double>::infinity();
+  for (const EnvelopePoint& e : res.envelope)
+    if (std::isfinite(e.depth_m)) lowest = std::min(lowest, e.depth_m);
+  if (std::isfinite(lowest) && lowest > plausible::kDepth.high)
+    res.warnings.push_back(fmt::format(
+        "the lowest stable depth is {:.4g} mm, beyond any cutting edge (usually up to {:g} mm): the FRF or modes are far too "
+        "stiff or the cutting coefficients far too small for a real cut; check their units (receptance m/N, modal mass kg, "
+        "frequency Hz, K_t N/m²)",
+        lowest * 1e3, plausible::kDepth.high * 1e3));
+}
+
+}  // namespace
+
 LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOptions& options) {
   options.check();
   LobesStudyResult res;
@@ -263,6 +282,7 @@ LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOption
     const DepthAxis axis = depth_axis(res.envelope, res.pockets);
     res.figure = zero_order_figure(*res.zero_order, 2.0 * axis.top_m);
     set_depth_axis(res.figure, axis);
+    judge_lowest_depth(res);
     progress(1.0);
     return res;
   }
@@ -309,6 +329,7 @@ LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOption
   res.pockets = stability_pockets(res.envelope, options.pockets, options.pocket_prominence);
   res.figure = boundary_figure(*res.boundary);
   set_depth_axis(res.figure, depth_axis(res.envelope, res.pockets));
+  judge_lowest_depth(res);
   return res;
 }
 
