@@ -206,6 +206,14 @@ TEST(JointFit, BadInputGetsAClearMessage) {
   EXPECT_NE(message({good}, o).find("confidence"), std::string::npos);
   EXPECT_THROW(fit_joint({}, start, linearised()), InvalidArgument);
   EXPECT_THROW(fit_joint({good}, {}, linearised()), InvalidArgument);
+  // P out of range by 1e250 (a rotational entry made with a κGA of 1e-300 N): the weighted cost
+  // overflows and the fit cannot move from its start. Refused as out of range, not returned as
+  // the start with "residual ratio inf".
+  JointFitData huge = good;
+  for (Block& b : huge.G11.blocks) b(1, 1) *= 1e250;
+  EXPECT_THROW(fit_joint({huge}, start, linearised()), NumericalError);
+  EXPECT_NE(message({huge}, linearised()).find("out of the range of double precision"), std::string::npos)
+      << message({huge}, linearised());
 }
 
 // ---- Coverage over noise seeds ------------------------------------------------------------------
