@@ -54,6 +54,15 @@ def test_identification_study_is_the_cli_one(measured, example):
         assert ours.verdict in ("pass", "doubtful", "fail")
 
 
+def test_case_study_is_the_cli_demo(tmp_path, example):
+    # to_dict is demo --json's JSON, less what the CLI adds about its run (options echoed, files).
+    cli = run_cli_json("demo", "--assembly", EXAMPLE, "--no-plots", "--bootstrap", 0, "--output", tmp_path / "demo")
+    cs = tp.run_case_study(example, uncertainty="linearised", threads=1)
+    run = {"case_study", "assembly", "units", "frequency_range_hz", "points", "noise", "filter", "files", "figures"}
+    assert cs.to_dict() == {k: v for k, v in cli.items() if k not in run}
+    assert cs.to_dict()["fitted"] == cs.fitted.to_dict() and cs.to_dict()["seed"]["method"] == "seed"
+
+
 def test_joint_file_round_trip_and_band(tmp_path, measured, example, prediction):
     f, sh, sht, _ = measured
     id_ = tp.identify_joint_from_frfs(example, [tp.IdentificationData(f, sht, B11=sh)], uncertainty="linearised")
