@@ -186,6 +186,7 @@ JointReadout band_readout(const JointSeries& s, double lo, double hi, const Read
     p.min = *std::min_element(vals[k].begin(), vals[k].end());
     p.max = *std::max_element(vals[k].begin(), vals[k].end());
     r.noise_gain[k] = median_of(gains[k]);
+    p.determined = r.noise_gain[k] <= options.gain_warning && p.spread <= std::abs(p.median);
   }
   // Against the off-diagonal's natural scale too (10 % of sqrt|k_yf k_θm|), as the noise gain.
   using P = JointParameter;

@@ -5,8 +5,6 @@
 #include <cmath>
 #include <fmt/format.h>
 
-#include "toolpoint/conventions.hpp"
-
 namespace toolpoint {
 
 namespace {
@@ -14,18 +12,214 @@ namespace {
 // NaN and ±inf are not JSON numbers: null.
 nlohmann::json number(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
 
-nlohmann::json numbers(const std::vector<double>& v) {
+template <class Values>
+nlohmann::json numbers(const Values& v) {
   nlohmann::json a = nlohmann::json::array();
   for (double x : v) a.push_back(number(x));
   return a;
 }
 
-std::string level_key(const char* side, double confidence) { return fmt::format("{}{}", side, std::lround(100.0 * confidence)); }
+// {"k_yf": value(0), …}: one value per joint parameter.
+template <class Value>
+nlohmann::json per_parameter(Value value) {
+  nlohmann::json j = nlohmann::json::object();
+  for (int k = 0; k < 8; ++k) j[JointParameters::name(k)] = value(k, static_cast<std::size_t>(k));
+  return j;
+}
+
+// An object per parameter with its unit.
+nlohmann::json with_unit(nlohmann::json j, int k) {
+  j["unit"] = JointParameters::unit(k);
+  return j;
+}
+
+template <class Matrix>
+nlohmann::json matrix(const Matrix& m) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (Eigen::Index i = 0; i < m.rows(); ++i) {
+    nlohmann::json row = nlohmann::json::array();
+    for (Eigen::Index k = 0; k < m.cols(); ++k) row.push_back(number(m(i, k)));
+    rows.push_back(row);
+  }
+  return rows;
+}
 
 }  // namespace
 
 void to_json(nlohmann::json& j, const Peak& p) {
   j = {{"index", p.index}, {"frequency_hz", p.frequency_hz}, {"magnitude", p.magnitude}, {"prominence", p.prominence}};
+}
+
+void to_json(nlohmann::json& j, const ModeComparison& c) {
+  j = {{"measured_hz", number(c.measured_hz)},         {"predicted_hz", number(c.predicted_hz)},
+       {"frequency_error", number(c.frequency_error)}, {"measured_peak", number(c.measured_peak)},
+       {"predicted_peak", number(c.predicted_peak)},   {"magnitude_error", number(c.magnitude_error)}};
+}
+
+void to_json(nlohmann::json& j, const JointParameters& p) {
+  j = per_parameter([&](int k, std::size_t) { return number(p[k]); });
+}
+
+void to_json(nlohmann::json& j, const ModeEffect& m) {
+  j = {{"frequency_hz", number(m.frequency_hz)},
+       {"magnitude", number(m.magnitude)},
+       {"stiffness_shift", number(m.stiffness_shift)},
+       {"damping_effect", number(m.damping_effect)}};
+}
+
+void to_json(nlohmann::json& j, const EffectAnalysis& e) { j = {{"modes", e.modes}, {"dominant", e.dominant}}; }
+
+void to_json(nlohmann::json& j, const OverhangModes& m) {
+  j = {{"reference_peaks", m.reference_peaks}, {"relative_variation", numbers(m.relative_variation)}, {"dominant", m.dominant}};
+}
+
+void to_json(nlohmann::json& j, const BlockNoise& n) {
+  j = {{"source", n.source},
+       {"magnitude_sigma", numbers(n.magnitude_sigma)},
+       {"phase_sigma_rad", numbers(n.phase_sigma_rad)},
+       {"residual_correlation", number(n.residual_correlation)},
+       {"warnings", n.warnings}};
+}
+
+// ---- Joint identification ------------------------------------------------------------------------
+
+void to_json(nlohmann::json& j, const ParameterInterval& i) {
+  j = {{"estimate", number(i.estimate)}, {"fitted", number(i.fitted)},
+       {"bias", number(i.bias)},         {"std_error", number(i.std_error)},
+       {"lower", number(i.lower)},       {"upper", number(i.upper)},
+       {"determined", i.determined},     {"free", i.free}};
+}
+
+void to_json(nlohmann::json& j, const SetupFit& s) {
+  j = {{"label", s.label},
+       {"fitted", s.fitted},
+       {"std_error", per_parameter([&](int, std::size_t k) { return number(s.std_error[k]); })},
+       {"residual_ratio", number(s.residual_ratio)},
+       {"disagreement", number(s.disagreement)}};
+}
+
+void to_json(nlohmann::json& j, const JointFit& f) {
+  j = {{"intervals", per_parameter([&](int k, std::size_t ks) { return with_unit(f.intervals[ks], k); })},
+       {"confidence", f.confidence},
+       {"method", f.method == UncertaintyMethod::Bootstrap ? "bootstrap" : "linearised"},
+       {"method_description", f.method_description},
+       {"bootstrap_samples", f.bootstrap_samples},
+       {"reciprocal", f.reciprocal},
+       {"points", f.points},
+       {"residual_ratio", number(f.residual_ratio)},
+       {"iterations", f.iterations},
+       {"converged", f.converged},
+       {"correlation", matrix(f.correlation())},
+       {"covariance", matrix(f.covariance)},
+       {"warnings", f.warnings}};
+  if (!f.setups.empty()) {
+    j["setups"] = f.setups;
+    j["transfer_statistic"] = number(f.transfer_statistic);
+    j["transfer_limit"] = number(f.transfer_limit);
+    j["transfers"] = f.transfers;
+  }
+}
+
+void to_json(nlohmann::json& j, const JointReadout& r) {
+  j = {{"band_lo_hz", r.band_lo_hz},
+       {"band_hi_hz", r.band_hi_hz},
+       {"points", r.points},
+       {"parameters", per_parameter([&](int k, std::size_t ks) {
+          const ParameterReadout& p = r.parameters[ks];
+          return with_unit({{"median", number(p.median)},
+                            {"spread", number(p.spread)},
+                            {"min", number(p.min)},
+                            {"max", number(p.max)},
+                            {"determined", p.determined},
+                            {"noise_gain", number(r.noise_gain[ks])}},
+                           k);
+        })},
+       {"reciprocity_k", number(r.reciprocity_k)},
+       {"reciprocity_c", number(r.reciprocity_c)},
+       {"max_cond_difference", number(r.max_cond_difference)},
+       {"max_cond_flexibility", number(r.max_cond_flexibility)},
+       {"warnings", r.warnings}};
+}
+
+void to_json(nlohmann::json& j, const ModeChoice& c) {
+  j = {{"method", c.method}, {"center_hz", number(c.center_hz)}, {"lo_hz", number(c.lo_hz)}, {"hi_hz", number(c.hi_hz)}};
+  if (c.effect) j["effect"] = *c.effect;
+  if (c.overhang) j["overhang"] = *c.overhang;
+}
+
+void to_json(nlohmann::json& j, const IdentificationVerdict& v) {
+  j = {{"verdict", to_string(v.verdict)}, {"reasons", v.reasons}};
+}
+
+void to_json(nlohmann::json& j, const Identification& id) {
+  j = {{"interface", to_string(id.route == Route::HolderTool ? JointInterface::HolderTool : JointInterface::SpindleHolder)},
+       {"route", to_string(id.route)},
+       {"equation", id.equation},
+       {"method", to_string(id.method)},
+       {"mode", id.mode},
+       {"g_noise", id.g_noise},
+       {"b_noise", id.b_noise},
+       {"forward_check", id.forward_check},
+       {"verdict", id.verdict},
+       {"warnings", id.warnings}};
+  if (id.fit) {
+    j["fit"] = *id.fit;
+    j["fit_band_hz"] = {id.fit_band_hz.first, id.fit_band_hz.second};
+    j["parameters"] = j["fit"]["intervals"];
+  } else {
+    j["parameters"] = per_parameter([&](int k, std::size_t ks) {
+      const ParameterReadout& p = id.seed.parameters[ks];
+      return with_unit({{"estimate", number(p.median)}, {"lower", nullptr}, {"upper", nullptr}, {"determined", p.determined}}, k);
+    });
+  }
+  if (id.seed.points > 0) j["seed"] = id.seed;
+}
+
+void to_json(nlohmann::json& j, const CaseStudy& cs) {
+  j = {{"reference", cs.reference},
+       {"clean_max_deviation", per_parameter([&](int, std::size_t k) { return number(cs.clean_max_deviation[k]); })},
+       {"effect", cs.effect},
+       {"mode_hz", cs.mode_hz},
+       {"clean_readout", cs.clean_readout},
+       {"noisy_readout", cs.noisy_readout},
+       {"filtered_readout", cs.filtered_readout},
+       {"verification", cs.verification},
+       {"seed", cs.seed},
+       {"warnings", cs.warnings}};
+  if (cs.fitted) {
+    j["fitted"] = *cs.fitted;
+    j["fit_verification"] = cs.fit_verification;
+  }
+}
+
+// ---- Uncertainty carried forward -----------------------------------------------------------------
+
+namespace {
+
+// {"q5": […], "q50": […], …}: one series per quantile level.
+nlohmann::json quantiles(const std::vector<double>& levels, const std::vector<std::vector<double>>& values) {
+  nlohmann::json q = nlohmann::json::object();
+  for (std::size_t l = 0; l < levels.size(); ++l) q[fmt::format("q{:g}", 100 * levels[l])] = numbers(values[l]);
+  return q;
+}
+
+}  // namespace
+
+void to_json(nlohmann::json& j, const FrfBand& b) {
+  j = {{"frequency_hz", numbers(b.frequency_hz)},
+       {"levels", b.levels},
+       {"samples", b.samples},
+       {"magnitude", quantiles(b.levels, b.magnitude)},
+       {"phase_rad", quantiles(b.levels, b.phase_rad)}};
+}
+
+void to_json(nlohmann::json& j, const StabilityUncertainty& s) {
+  j = {{"speed_rpm", numbers(s.speed_rpm)},
+       {"levels", s.levels},
+       {"samples", s.samples},
+       {"nominal_depth_m", numbers(s.nominal_depth_m)},
+       {"depth_m", quantiles(s.levels, s.depth_m)},
+       {"depth_grid_m", numbers(s.depth_grid_m)}};
 }
 
 // ---- Studies ------------------------------------------------------------------------------------
@@ -55,7 +249,123 @@ void to_json(nlohmann::json& j, const TapTest& t) {
        {"warnings", t.warnings}};
 }
 
-// The plan (studies/plan.hpp): the per-speed series go to its CSV files.
+void to_json(nlohmann::json& j, const RotationalResult& r) {
+  j = {{"p_from_cross_terms", r.p_from_cross_terms},
+       {"l_equals_n_by_reciprocity", r.l_equals_n_by_reciprocity},
+       {"reciprocity_mismatch", r.reciprocity_mismatch ? number(*r.reciprocity_mismatch) : nlohmann::json(nullptr)},
+       {"filled_by_reciprocity", r.filled_by_reciprocity},
+       {"warnings", r.warnings}};
+}
+
+void to_json(nlohmann::json& j, const FiniteDifferenceError& e) {
+  j = {{"max_relative", numbers(e.max_relative)}, {"warnings", e.warnings}};
+}
+
+// ---- Modal fit and stability lobes ----------------------------------------------------------------
+
+void to_json(nlohmann::json& j, const Mode& m) {
+  j = {{"mass_kg", number(m.mass_kg)}, {"damping_ratio", number(m.damping_ratio)}, {"frequency_hz", number(m.frequency_hz)}};
+}
+
+void to_json(nlohmann::json& j, const FittedMode& m) {
+  j = {{"mode", m.mode},
+       {"residue", number(m.residue)},
+       {"initial_frequency_hz", number(m.initial_frequency_hz)},
+       {"initial_damping_ratio", number(m.initial_damping_ratio)},
+       {"points_in_half_power_band", m.points_in_half_power_band},
+       {"normalised_residual", number(m.normalised_residual)}};
+}
+
+void to_json(nlohmann::json& j, const ModalFitResult& r) {
+  j = {{"modes", r.modes},
+       {"lower_residual", number(r.lower_residual)},
+       {"upper_residual", number(r.upper_residual)},
+       {"normalised_residual", number(r.normalised_residual)},
+       {"band_low_hz", r.band_low_hz},
+       {"band_high_hz", r.band_high_hz},
+       {"points", r.points},
+       {"evaluations", r.evaluations},
+       {"converged", r.converged},
+       {"warnings", r.warnings}};
+}
+
+void to_json(nlohmann::json& j, const ModalModel& m) { j = {{"x", m.x}, {"y", m.y}}; }
+
+void to_json(nlohmann::json& j, const ModalFitSummary& s) {
+  j = {{"what", s.what},
+       {"modes", s.modes},
+       {"residual", number(s.residual)},
+       {"band_low_hz", s.band_low_hz},
+       {"band_high_hz", s.band_high_hz},
+       {"target_met", s.target_met}};
+}
+
+void to_json(nlohmann::json& j, const Engagement& e) { j = {{"entry_rad", e.entry_rad}, {"exit_rad", e.exit_rad}}; }
+
+void to_json(nlohmann::json& j, const CuttingConditions& c) {
+  j = {{"teeth", c.teeth},
+       {"tangential_coefficient", c.tangential_coefficient},
+       {"radial_ratio", c.radial_ratio},
+       {"engagement", c.engagement}};
+}
+
+void to_json(nlohmann::json& j, const SpeedRange& s) {
+  j = {{"min_rpm", s.min_rpm}, {"max_rpm", s.max_rpm}, {"points", s.points}};
+}
+
+void to_json(nlohmann::json& j, const EnvelopePoint& p) {
+  j = {{"speed_rpm", p.speed_rpm}, {"depth_m", number(p.depth_m)}, {"chatter_hz", number(p.chatter_hz)}, {"lobe", p.lobe}};
+}
+
+void to_json(nlohmann::json& j, const BoundaryPoint& b) {
+  j = {{"speed_rpm", b.speed_rpm}, {"depth_m", number(b.depth_m)},       {"depth_error_m", number(b.depth_error_m)},
+       {"steps", b.steps},         {"chatter_hz", number(b.chatter_hz)}, {"lobe", b.lobe},
+       {"kind", to_string(b.kind)}};
+}
+
+void to_json(nlohmann::json& j, const ZeroOrderResult& r) {
+  std::size_t points = 0;
+  r.for_each_point([&](const LobePoint&) { ++points; });
+  j = {{"alpha", matrix(r.alpha)},
+       {"floor_depth_m", number(r.floor_depth_m)},
+       {"floor_chatter_hz", number(r.floor_chatter_hz)},
+       {"lobes", r.lobes},
+       {"teeth", r.teeth},
+       {"speeds", r.speeds},
+       {"max_depth_m", r.max_depth_m},
+       {"lobe_points", points},
+       {"warnings", r.warnings}};
+}
+
+void to_json(nlohmann::json& j, const BoundaryResult& r) {
+  j = {{"max_depth_m", r.max_depth_m},
+       {"tolerance", r.tolerance},
+       {"degree", r.degree},
+       {"evaluations", r.evaluations},
+       {"worst_relative_error", number(r.worst_relative_error())},
+       {"flip_speeds",
+        std::count_if(r.boundary.begin(), r.boundary.end(), [](const BoundaryPoint& x) { return x.kind == BoundaryKind::Flip; })},
+       {"warnings", r.warnings}};
+  const auto lowest = std::min_element(r.boundary.begin(), r.boundary.end(),
+                                       [](const BoundaryPoint& x, const BoundaryPoint& y) { return x.depth_m < y.depth_m; });
+  if (lowest != r.boundary.end()) j["lowest_boundary"] = *lowest;
+}
+
+void to_json(nlohmann::json& j, const LobesStudyResult& r) {
+  j = {{"method", to_string(r.method)},
+       {"cutting", r.cutting},
+       {"speeds", r.speeds},
+       {"pockets", r.pockets},
+       {"warnings", r.warnings}};
+  if (r.zero_order) j["zero_order"] = *r.zero_order;
+  if (r.boundary) {
+    j["boundary"] = *r.boundary;
+    j["modes"] = r.modes;
+    j["fits"] = r.fits;
+  }
+}
+
+// ---- The plan (studies/plan.hpp): the per-speed series go to its CSV files. ---------------------------
 
 void to_json(nlohmann::json& j, const PlanSetup& s) {
   j = {{"candidate", s.candidate},
@@ -79,19 +389,23 @@ void to_json(nlohmann::json& j, const PlanSetup& s) {
        {"reason", s.reason}};
 }
 
+void to_json(nlohmann::json& j, const PlanJob& job) {
+  j = {{"candidate", job.candidate},
+       {"overhang_index", job.overhang_index},
+       {"overhang_m", number(job.overhang_m)},
+       {"modes_hz", numbers(job.modes_hz)},
+       {"best", job.best},
+       {"warnings", job.warnings}};
+}
+
 void to_json(nlohmann::json& j, const PlanResult& r) {
   const PlanHeader& h = r.header;
   const PlanOptions& o = h.options;
-  const CuttingConditions& c = o.lobes.cutting;
-  nlohmann::json options = {
+  const nlohmann::json options = {
       {"name", o.name},
-      {"method", o.lobes.method == LobesMethod::ZeroOrder ? "zero_order" : "full_discretization"},
-      {"cutting",
-       {{"teeth", c.teeth},
-        {"tangential_coefficient", c.tangential_coefficient},
-        {"radial_ratio", c.radial_ratio},
-        {"entry_rad", c.engagement.entry_rad},
-        {"exit_rad", c.engagement.exit_rad}}},
+      {"method", to_string(o.lobes.method)},
+      {"cutting", o.lobes.cutting},
+      {"speeds", o.lobes.speeds},
       {"feed_per_tooth_m", o.feed_per_tooth_m},
       {"edge_coefficient_n_per_m", o.edge_coefficient_n_per_m},
       {"max_depth_m", o.max_depth_m},
@@ -113,272 +427,101 @@ void to_json(nlohmann::json& j, const PlanResult& r) {
                           {"flute_length_m", cs.flute_length_m},
                           {"overhangs_m", numbers(cs.overhangs_m)},
                           {"left_out", cs.left_out}});
-  nlohmann::json tuning = nlohmann::json::array();
-  for (const PlanJob& job : r.jobs)
-    tuning.push_back(
-        {{"candidate", job.candidate}, {"overhang_m", job.overhang_m}, {"modes_hz", numbers(job.modes_hz)}, {"best", job.best}});
-  j = {{"options", options},
-       {"candidates", candidates},
-       {"speeds_rpm", {{"min", o.lobes.speeds.min_rpm}, {"max", o.lobes.speeds.max_rpm}, {"points", o.lobes.speeds.points}}},
-       {"jobs", h.jobs},
-       {"fingerprint", fmt::format("{:016x}", h.fingerprint)},
-       {"best", r.best},
-       {"tuning", tuning},
-       {"warnings", r.warnings}};
+  j = {{"options", options}, {"candidates", candidates}, {"fingerprint", fmt::format("{:016x}", h.fingerprint)},
+       {"jobs", r.jobs},     {"best", r.best},           {"warnings", r.warnings}};
 }
 
-// ---- Joint identification and uncertainty --------------------------------------------------------
+// ---- Files ----------------------------------------------------------------------------------------
 
-void to_json(nlohmann::json& out, const JointParameters& p) {
-  nlohmann::json j;
-  for (int k = 0; k < 8; ++k) j[JointParameters::name(k)] = number(p[k]);
-  out = std::move(j);
+void to_json(nlohmann::json& j, const FreeMode& m) {
+  j = {{"frequency_hz", m.frequency_hz}, {"w1", m.w1}, {"psi1", m.psi1}, {"w2", m.w2}, {"psi2", m.psi2},
+       {"above_cutoff", m.above_cutoff}};
 }
 
-void to_json(nlohmann::json& out, const JointFit& f) {
-  nlohmann::json j;
-  for (int k = 0; k < 8; ++k) {
-    const ParameterInterval& iv = f.intervals[static_cast<std::size_t>(k)];
-    j["parameters"][JointParameters::name(k)] = {{"estimate", number(iv.estimate)},
-                                                 {level_key("lower", f.confidence), number(iv.lower)},
-                                                 {level_key("upper", f.confidence), number(iv.upper)},
-                                                 {"std_error", number(iv.std_error)},
-                                                 {"fitted", number(iv.fitted)},
-                                                 {"bias", number(iv.bias)},
-                                                 {"determined", iv.determined},
-                                                 {"free", iv.free},
-                                                 {"unit", JointParameters::unit(k)}};
-  }
-  j["confidence"] = f.confidence;
-  j["interval_method"] = f.method == UncertaintyMethod::Bootstrap ? "bootstrap" : "linearised";
-  j["interval_description"] = f.method_description;
-  j["bootstrap_samples"] = f.bootstrap_samples;
-  j["reciprocal"] = f.reciprocal;
-  j["points"] = f.points;
-  j["residual_ratio"] = number(f.residual_ratio);
-  j["iterations"] = f.iterations;
-  j["converged"] = f.converged;
-  nlohmann::json corr = nlohmann::json::array(), cov = nlohmann::json::array();
-  const auto c = f.correlation();
-  for (int i = 0; i < 8; ++i) {
-    nlohmann::json rc = nlohmann::json::array(), rv = nlohmann::json::array();
-    for (int k = 0; k < 8; ++k) {
-      rc.push_back(number(c(i, k)));
-      rv.push_back(number(f.covariance(i, k)));
-    }
-    corr.push_back(rc);
-    cov.push_back(rv);
-  }
-  j["correlation"] = corr;
-  j["covariance"] = cov;
-  if (!f.setups.empty()) {
-    nlohmann::json s = nlohmann::json::array();
-    for (const SetupFit& x : f.setups) {
-      nlohmann::json se;
-      for (int k = 0; k < 8; ++k) se[JointParameters::name(k)] = number(x.std_error[static_cast<std::size_t>(k)]);
-      s.push_back({{"label", x.label},
-                   {"parameters", nlohmann::json(x.fitted)},
-                   {"std_error", se},
-                   {"residual_ratio", number(x.residual_ratio)},
-                   {"disagreement", number(x.disagreement)}});
-    }
-    j["setups"] = s;
-    j["transfer"] = {{"statistic", number(f.transfer_statistic)},
-                     {"limit_99_9", number(f.transfer_limit)},
-                     {"transfers", f.transfers}};
-  }
-  j["warnings"] = f.warnings;
-  out = std::move(j);
+void to_json(nlohmann::json& j, const UffDof& d) {
+  j = {{"response_node", d.response_node},
+       {"response_direction", d.response_direction},
+       {"reference_node", d.reference_node},
+       {"reference_direction", d.reference_direction}};
 }
 
-void to_json(nlohmann::json& out, const JointReadout& r) {
-  nlohmann::json j;
-  j["band_hz"] = {r.band_lo_hz, r.band_hi_hz};
-  j["points"] = r.points;
-  for (int k = 0; k < 8; ++k) {
-    const auto& p = r.parameters[static_cast<std::size_t>(k)];
-    j["parameters"][JointParameters::name(k)] = {{"median", number(p.median)},
-                                                 {"spread", number(p.spread)},
-                                                 {"min", number(p.min)},
-                                                 {"max", number(p.max)},
-                                                 {"noise_gain", number(r.noise_gain[static_cast<std::size_t>(k)])},
-                                                 {"unit", JointParameters::unit(k)}};
-  }
-  j["reciprocity"] = {{"k_ym_vs_k_tf", number(r.reciprocity_k)}, {"c_ym_vs_c_tf", number(r.reciprocity_c)}};
-  j["max_condition_numbers"] = {{"A11_minus_G11", number(r.max_cond_difference)}, {"K_inverse", number(r.max_cond_flexibility)}};
-  j["warnings"] = r.warnings;
-  out = std::move(j);
+void to_json(nlohmann::json& j, const FrfUnits& u) {
+  j = {{"ordinate", frf_ordinate_name(u.ordinate)}, {"to_si", u.to_si}, {"label", u.label}};
 }
 
-void to_json(nlohmann::json& out, const ModeComparison& c) {
-  out = {{"measured_hz", number(c.measured_hz)},
-         {"predicted_hz", number(c.predicted_hz)},
-         {"frequency_error_percent", number(100 * c.frequency_error)},
-         {"measured_peak_m_per_n", number(c.measured_peak)},
-         {"predicted_peak_m_per_n", number(c.predicted_peak)},
-         {"peak_error_percent", number(100 * c.magnitude_error)}};
+void to_json(nlohmann::json& j, const FrfFileData& d) {
+  j = {{"format", frf_format_name(d.format)},
+       {"is_block", d.is_block},
+       {"ordinate", frf_ordinate_name(d.ordinate)},
+       {"units", d.units},
+       {"description", d.description},
+       {"dof", d.dof},
+       {"warnings", d.warnings}};
 }
 
-void to_json(nlohmann::json& out, const EffectAnalysis& e) {
-  nlohmann::json modes = nlohmann::json::array();
-  for (const ModeEffect& m : e.modes)
-    modes.push_back({{"frequency_hz", number(m.frequency_hz)},
-                     {"peak_m_per_n", number(m.magnitude)},
-                     {"shift_percent_per_10_percent_k", number(100 * m.stiffness_shift)},
-                     {"peak_change_percent_per_10_percent_c", number(100 * m.damping_effect)}});
-  out = {{"modes", modes}, {"dominant_index", e.dominant}, {"dominant_hz", number(e.modes.at(e.dominant).frequency_hz)}};
+void to_json(nlohmann::json& j, const UffAxis& a) {
+  j = {{"data_type", a.data_type},
+       {"data_type_name", uff_data_type_name(a.data_type)},
+       {"length_exponent", a.length_exponent},
+       {"force_exponent", a.force_exponent},
+       {"temperature_exponent", a.temperature_exponent},
+       {"label", a.label},
+       {"units", a.units}};
 }
 
-void to_json(nlohmann::json& out, const ModeChoice& c) {
-  nlohmann::json j = {{"method", c.method}, {"center_hz", number(c.center_hz)}, {"band_hz", {number(c.lo_hz), number(c.hi_hz)}}};
-  if (c.effect) j["effect_analysis"] = nlohmann::json(*c.effect);
-  if (c.overhang)
-    j["overhang_modes"] = {{"relative_variation", numbers(c.overhang->relative_variation)},
-                           {"dominant_index", c.overhang->dominant}};
-  out = std::move(j);
+void to_json(nlohmann::json& j, const UffUnits& u) {
+  j = {{"code", u.code},
+       {"description", u.description},
+       {"length_factor", u.length_factor},
+       {"force_factor", u.force_factor},
+       {"temperature_factor", u.temperature_factor},
+       {"line", u.line}};
 }
 
-void to_json(nlohmann::json& out, const BlockNoise& n) {
-  out = {{"source", n.source},
-         {"magnitude_sigma", numbers({n.magnitude_sigma.begin(), n.magnitude_sigma.end()})},
-         {"phase_sigma_rad", numbers({n.phase_sigma_rad.begin(), n.phase_sigma_rad.end()})},
-         {"residual_correlation", number(n.residual_correlation)}};
+void to_json(nlohmann::json& j, const UffDataset58& d) {
+  j = {{"id", d.id},
+       {"function_type", d.function_type},
+       {"function_type_name", uff_function_type_name(d.function_type)},
+       {"function_id", d.function_id},
+       {"version", d.version},
+       {"load_case", d.load_case},
+       {"response_entity", d.response_entity},
+       {"response_node", d.response_node},
+       {"response_direction", d.response_direction},
+       {"response_direction_name", uff_direction_name(d.response_direction)},
+       {"reference_entity", d.reference_entity},
+       {"reference_node", d.reference_node},
+       {"reference_direction", d.reference_direction},
+       {"reference_direction_name", uff_direction_name(d.reference_direction)},
+       {"ordinate_data_type", d.ordinate_data_type},
+       {"ordinate_data_type_name", uff_ordinate_type_name(d.ordinate_data_type)},
+       {"declared_points", d.declared_points},
+       {"even", d.even},
+       {"abscissa_min", d.abscissa_min},
+       {"abscissa_increment", d.abscissa_increment},
+       {"z_value", d.z_value},
+       {"abscissa", d.abscissa},
+       {"ordinate", d.ordinate},
+       {"denominator", d.denominator},
+       {"z_axis", d.z_axis},
+       {"index", d.index},
+       {"line", d.line},
+       {"binary", d.binary},
+       {"byte_order", d.byte_order},
+       {"units", d.units ? nlohmann::json(*d.units) : nlohmann::json(nullptr)},
+       {"warnings", d.warnings},
+       {"headers_only", d.headers_only},
+       {"abscissa_first", d.abscissa_first},
+       {"abscissa_last", d.abscissa_last}};
 }
 
-void to_json(nlohmann::json& out, const Identification& id) {
-  nlohmann::json j;
-  j["interface"] = id.route == Route::HolderTool ? "holder_tool" : "spindle_holder";
-  j["route"] = to_string(id.route);
-  j["equation"] = id.equation;
-  j["method"] = to_string(id.method);
-  if (id.fit) {
-    nlohmann::json f = nlohmann::json(*id.fit);
-    j["parameters"] = f["parameters"];
-    f.erase("parameters");
-    f["band_hz"] = {id.fit_band_hz.first, id.fit_band_hz.second};
-    j["fit"] = f;
-  } else {
-    for (int k = 0; k < 8; ++k) {
-      const auto& p = id.seed.parameters[static_cast<std::size_t>(k)];
-      const double gain = id.seed.noise_gain[static_cast<std::size_t>(k)];
-      j["parameters"][JointParameters::name(k)] = {{"estimate", number(p.median)},
-                                                   {"lower95", nullptr},
-                                                   {"upper95", nullptr},
-                                                   {"determined", gain <= 20.0 && p.spread <= std::abs(p.median)},
-                                                   {"unit", JointParameters::unit(k)}};
-    }
-  }
-  if (id.seed.points > 0) j["seed_readout"] = nlohmann::json(id.seed);
-  j["mode_choice"] = nlohmann::json(id.mode);
-  nlohmann::json noise = nlohmann::json::array();
-  for (std::size_t s = 0; s < id.g_noise.size(); ++s)
-    noise.push_back({{"G11", nlohmann::json(id.g_noise[s])}, {"B11", nlohmann::json(id.b_noise[s])}});
-  j["noise"] = noise;
-  j["forward_check"] = nlohmann::json(id.forward_check);
-  j["verdict"] = {{"verdict", to_string(id.verdict.verdict)}, {"reasons", id.verdict.reasons}};
-  j["warnings"] = id.warnings;
-  out = std::move(j);
+void to_json(nlohmann::json& j, const UffDatasetEntry& e) {
+  j = {{"type", e.type}, {"binary", e.binary}, {"line", e.line}, {"offset", e.offset}};
 }
 
-void to_json(nlohmann::json& out, const FrfBand& b) {
-  nlohmann::json mag = nlohmann::json::object(), ph = nlohmann::json::object();
-  for (std::size_t l = 0; l < b.levels.size(); ++l) {
-    const std::string key = fmt::format("q{:g}", 100 * b.levels[l]);
-    mag[key] = numbers(b.magnitude[l]);
-    ph[key] = numbers(b.phase_rad[l]);
-  }
-  out = {{"frequency_hz", numbers(b.frequency_hz)},
-         {"levels", b.levels},
-         {"samples", b.samples},
-         {"magnitude_m_per_n", mag},
-         {"phase_rad", ph}};
-}
-
-void to_json(nlohmann::json& out, const StabilityUncertainty& s) {
-  nlohmann::json d = nlohmann::json::object();
-  for (std::size_t l = 0; l < s.levels.size(); ++l) d[fmt::format("q{:g}", 100 * s.levels[l])] = numbers(s.depth_m[l]);
-  out = {{"speed_rpm", numbers(s.speed_rpm)},
-         {"levels", s.levels},
-         {"samples", s.samples},
-         {"nominal_depth_m", numbers(s.nominal_depth_m)},
-         {"depth_m", d},
-         {"depth_grid_m", numbers(s.depth_grid_m)}};
-}
-
-// ---- Stability lobes ------------------------------------------------------------------------------
-
-void to_json(nlohmann::json& j, const Mode& m) {
-  j = {{"modal_mass_kg", m.mass_kg}, {"damping_ratio", m.damping_ratio}, {"frequency_hz", m.frequency_hz}};
-}
-
-void to_json(nlohmann::json& j, const ModalFitSummary& s) {
-  j = {{"frf", s.what},
-       {"modes", s.modes},
-       {"normalised_residual", s.residual},
-       {"band_low_hz", s.band_low_hz},
-       {"band_high_hz", s.band_high_hz},
-       {"target_met", s.target_met}};
-}
-
-void to_json(nlohmann::json& j, const CuttingConditions& c) {
-  j = {{"teeth", c.teeth},
-       {"tangential_coefficient_n_per_m2", c.tangential_coefficient},
-       {"radial_ratio", c.radial_ratio},
-       {"entry_deg", c.engagement.entry_rad * 180.0 / kPi},
-       {"exit_deg", c.engagement.exit_rad * 180.0 / kPi}};
-}
-
-void to_json(nlohmann::json& j, const EnvelopePoint& p) {
-  j = {{"spindle_speed_rpm", p.speed_rpm},
-       {"axial_depth_mm", p.depth_m * 1e3},
-       {"chatter_frequency_hz", p.chatter_hz},
-       {"lobe", p.lobe}};
-}
-
-void to_json(nlohmann::json& j, const BoundaryPoint& b) {
-  j = {{"spindle_speed_rpm", b.speed_rpm},
-       {"axial_depth_mm", b.depth_m * 1e3},
-       {"axial_depth_error_mm", number(b.depth_error_m * 1e3)},
-       {"chatter_frequency_hz", number(b.chatter_hz)},
-       {"lobe", b.lobe},
-       {"kind", to_string(b.kind)},
-       {"steps", b.steps}};
-}
-
-void to_json(nlohmann::json& j, const LobesStudyResult& r) {
-  nlohmann::json out;
-  out["units"] = "spindle speed rpm, axial depth mm, chatter frequency Hz";
-  out["cutting"] = r.cutting;
-  out["pockets"] = r.pockets;
-  out["warnings"] = r.warnings;
-  if (r.zero_order) {
-    const ZeroOrderResult& z = *r.zero_order;
-    out["method"] = "zoa";
-    out["floor_depth_mm"] = z.floor_depth_m * 1e3;
-    out["floor_chatter_frequency_hz"] = z.floor_chatter_hz;
-    std::size_t points = 0;
-    z.for_each_point([&](const LobePoint&) { ++points; });
-    out["lobes"] = z.lobes;
-    out["lobe_points"] = points;
-  }
-  if (r.boundary) {
-    const BoundaryResult& b = *r.boundary;
-    out["method"] = "fd";
-    out["modes_x"] = r.modes.x;
-    out["modes_y"] = r.modes.y;
-    out["modal_fit"] = r.fits;
-    out["max_depth_mm"] = b.max_depth_m * 1e3;
-    out["tolerance_pct"] = 100.0 * b.tolerance;
-    out["worst_error_pct"] = 100.0 * b.worst_relative_error();
-    out["degree"] = b.degree;
-    out["evaluations"] = b.evaluations;
-    const auto lowest = std::min_element(b.boundary.begin(), b.boundary.end(),
-                                         [](const BoundaryPoint& x, const BoundaryPoint& y) { return x.depth_m < y.depth_m; });
-    if (lowest != b.boundary.end()) out["lowest_boundary"] = *lowest;
-    out["flip_speeds"] = std::count_if(b.boundary.begin(), b.boundary.end(),
-                                       [](const BoundaryPoint& x) { return x.kind == BoundaryKind::Flip; });
-  }
-  j = std::move(out);
+void to_json(nlohmann::json& j, const UffFile& f) {
+  j = {{"source", f.source},     {"datasets", f.datasets}, {"functions", f.functions},
+       {"warnings", f.warnings}, {"skipped", f.skipped},   {"file_warnings", f.file_warnings}};
 }
 
 }  // namespace toolpoint

@@ -14,12 +14,15 @@
 #include <cstdlib>
 #include <filesystem>
 #include <initializer_list>
+#include <regex>
+#include <set>
 #include <sstream>
 #include <string>
 #include <unistd.h>
 #include <vector>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
 #include "support/scratch.hpp"
@@ -61,6 +64,47 @@ std::pair<unsigned, unsigned> png_size(const std::string& bytes) {
     return v;
   };
   return {be32(16), be32(20)};
+}
+
+// Every identifier in the code of the public headers (comments and string literals left out): the
+// members, their types and functions — the names json.hpp's rule allows as keys.
+std::set<std::string> header_identifiers() {
+  static const std::regex noise(R"(//[^\n]*|/\*[\s\S]*?\*/|"(?:[^"\\]|\\.)*")"), word("[A-Za-z_][A-Za-z0-9_]*");
+  std::set<std::string> ids;
+  for (const auto& e : fs::recursive_directory_iterator(std::string(TOOLPOINT_SOURCE_DIR) + "/include/toolpoint")) {
+    if (e.path().extension() != ".hpp") continue;
+    const std::string code = std::regex_replace(read_text_file(e.path().string()), noise, " ");
+    for (auto it = std::sregex_iterator(code.begin(), code.end(), word); it != std::sregex_iterator(); ++it)
+      ids.insert(it->str());
+  }
+  return ids;
+}
+
+// The keys of `j` (at any depth) that are no identifier of the headers and not in `allowed`, with
+// their paths. Quantile levels ("q5", "q95") are keys by value, not by name.
+void foreign_keys(const nlohmann::json& j, const std::string& at, const std::set<std::string>& ids,
+                  const std::set<std::string>& allowed, std::vector<std::string>& out) {
+  static const std::regex level("q[0-9.]+");
+  if (j.is_array())
+    for (std::size_t i = 0; i < j.size(); ++i) foreign_keys(j[i], at + "[" + std::to_string(i) + "]", ids, allowed, out);
+  if (!j.is_object()) return;
+  for (auto it = j.begin(); it != j.end(); ++it) {
+    if (!ids.count(it.key()) && !allowed.count(it.key()) && !std::regex_match(it.key(), level))
+      out.push_back(at + "/" + it.key());
+    foreign_keys(it.value(), at + "/" + it.key(), ids, allowed, out);
+  }
+}
+
+// The shape of a JSON value: objects by their keys, recursively; arrays by their first element;
+// every number, string, bool or null alike.
+nlohmann::json shape(const nlohmann::json& j) {
+  if (j.is_object()) {
+    nlohmann::json s = nlohmann::json::object();
+    for (auto it = j.begin(); it != j.end(); ++it) s[it.key()] = shape(it.value());
+    return s;
+  }
+  if (j.is_array()) return j.empty() ? nlohmann::json::array() : nlohmann::json::array({shape(j.front())});
+  return nullptr;
 }
 
 class Cli : public ::testing::Test {
@@ -151,7 +195,7 @@ TEST_F(Cli, IdentifyRecoversTheFileJointAndDrawsIt) {
     // The band fit (the default) and the seed's read-out, under their own keys.
     const double fit = j["parameters"][JointParameters::name(k)]["estimate"].get<double>();
     EXPECT_NEAR(fit, truth[k], 1e-6 * std::abs(truth[k])) << JointParameters::name(k);
-    const double seed = j["seed_readout"]["parameters"][JointParameters::name(k)]["median"].get<double>();
+    const double seed = j["seed"]["parameters"][JointParameters::name(k)]["median"].get<double>();
     EXPECT_NEAR(seed, truth[k], 1e-6 * std::abs(truth[k])) << JointParameters::name(k);
   }
   EXPECT_EQ(j["plot"], "kht.png");
@@ -170,8 +214,8 @@ TEST_F(Cli, IdentifiedJointFileFeedsTheOtherCommands) {
                    "' --sh shn.csv --sht shtn.csv --bootstrap 40 --joint-output kht.toml --json");
   const nlohmann::json j = nlohmann::json::parse(r.out);
   const auto& kyf = j["parameters"]["k_yf"];
-  EXPECT_LE(kyf["lower95"].get<double>(), 4.19e7);
-  EXPECT_GE(kyf["upper95"].get<double>(), 4.19e7);
+  EXPECT_LE(kyf["lower"].get<double>(), 4.19e7);
+  EXPECT_GE(kyf["upper"].get<double>(), 4.19e7);
   EXPECT_EQ(j["verdict"]["verdict"], "pass");
   const JointFile f = load_joint_file(path("kht.toml"));
   ASSERT_TRUE(f.uncertainty);
@@ -240,6 +284,89 @@ TEST_F(Cli, IdentifyJudgesItsResult) {
 // the full model's SHT11: both are exact receptance coupling of the same beams, 1e-9 relative
 // covers the rounding of two different evaluation orders. A sweep writes one file per overhang,
 // the natural-frequency table, and two figures (FILE and FILE_frequencies).
+// ---- JSON: one spelling per field (json.hpp) -------------------------------------------------------
+
+// The demo's two identifications are identify's: `toolpoint identify` on the demo's noisy files,
+// with the demo's options (the seed's filter; the fit around the demo's mode), prints objects of
+// the same shape, key for key, as the demo's "seed" and "fitted"; and the same numbers for the
+// fit (the same data through the same study: the CSV files hold shortest round-trip numbers).
+// The demo's read-outs and its forward checks (against the true SHT11) are the types identify
+// prints under "seed" and "forward_check", with the same keys.
+TEST_F(Cli, DemoAndIdentifySpellTheSameThingsAlike) {
+  const Run demo = ok("demo --output demo --no-plots --bootstrap 20 --json");
+  const nlohmann::json d = nlohmann::json::parse(demo.out);
+  EXPECT_EQ(d, nlohmann::json::parse(read_text_file(path("demo/summary.json"))));
+  const std::string data = "identify --assembly '" + kExample + "' --sh demo/sh11_noisy.csv --sht demo/sht11_noisy.csv --json";
+  const nlohmann::json seed = nlohmann::json::parse(ok(data + " --method seed --filter 81,2").out);
+  const nlohmann::json fit = nlohmann::json::parse(
+      ok(data + " --bootstrap 20 --at " + fmt::format("{}", d["mode_hz"].get<double>())).out);
+  const auto cli_only = [](nlohmann::json j) {
+    for (const char* k : {"joint", "output", "joint_output", "plot"}) j.erase(k);
+    return j;
+  };
+  EXPECT_EQ(shape(d["seed"]), shape(cli_only(seed)));
+  ASSERT_TRUE(d.contains("fitted"));
+  EXPECT_EQ(shape(d["fitted"]), shape(cli_only(fit)));
+  EXPECT_EQ(d["fitted"]["parameters"], fit["parameters"]);
+  EXPECT_EQ(d["fitted"]["fit"]["correlation"], fit["fit"]["correlation"]);
+  for (const char* readout : {"clean_readout", "noisy_readout", "filtered_readout"})
+    EXPECT_EQ(shape(d[readout]), shape(seed["seed"])) << readout;
+  EXPECT_EQ(d["filtered_readout"], d["seed"]["seed"]);  // the same read-out, not a copy spelt anew
+  for (const char* check : {"verification", "fit_verification"}) {
+    ASSERT_FALSE(d[check].empty()) << check;
+    EXPECT_EQ(shape(d[check][0]), shape(fit["forward_check"][0])) << check;
+  }
+  EXPECT_EQ(d["mode_hz"], d["seed"]["mode"]["center_hz"]);
+  // The seed's "determined" is the read-out's own, as the fit's is its interval's.
+  for (int k = 0; k < 8; ++k) {
+    const std::string name = JointParameters::name(k);
+    EXPECT_EQ(seed["parameters"][name]["determined"], seed["seed"]["parameters"][name]["determined"]) << name;
+    EXPECT_EQ(fit["parameters"][name], fit["fit"]["intervals"][name]) << name;
+  }
+}
+
+// Every key of every command's --json is a name from the public headers' code (a member, its
+// type or a member function) — no unit or spelling of the command's own (a "_mm", "_pct",
+// "lower95") — apart from what the command adds about its run (files, options echoed) and the
+// few derived summaries json.hpp names.
+TEST_F(Cli, EveryJsonKeyIsAHeaderName) {
+  const std::set<std::string> ids = header_identifiers();
+  ASSERT_TRUE(ids.count("frequency_error") && ids.count("mass_kg") && ids.count("depth_error_m"));
+  ASSERT_FALSE(ids.count("axial_depth_mm") || ids.count("lower95") || ids.count("modal_mass_kg"));
+  // Added by the commands about their run, and json.hpp's derived summaries.
+  const std::set<std::string> allowed{// the run: inputs, outputs, options echoed, units said
+                                      "assembly", "file", "files", "figures", "output", "plot", "plots", "joint_output", "band",
+                                      "band_output", "sh11", "envelope", "natural_frequencies_file", "units", "case_study",
+                                      "frequency_range_hz", "seed_sh11", "seed_sht11", "window_points",
+                                      // derived (json.hpp)
+                                      "lobe_points", "flip_speeds", "lowest_boundary", "data_type_name", "function_type_name",
+                                      "response_direction_name", "reference_direction_name", "ordinate_data_type_name"};
+  predict_blocks("100:3500:5");
+  ok("noise sh.csv shn.csv --sigma 0.02 --seed 3");
+  ok("noise sht.csv shtn.csv --sigma 0.02 --seed 4");
+  write_frf_file(path("tool.csv"), modal_frf({kToolMode}, grid(600.0, 1400.0, 0.5)));
+  write_frf_file(path("tool.uff"), modal_frf({kToolMode}, grid(600.0, 1400.0, 0.5)), FrfWriteOptions{.format = FrfFormat::Uff});
+  const std::string cut = " --teeth 2 --kt 6e8 --kn 2e8 --immersion 0.05 --milling down --rpm 5000:25000";
+  for (const std::string& command : std::vector<std::string>{
+           "identify --assembly '" + kExample + "' --sh shn.csv --sht shtn.csv --bootstrap 20 --joint-output kht.toml",
+           "identify --assembly '" + kExample + "' --sh shn.csv --sht shtn.csv --method seed --filter 21,2 --accept",
+           "demo --output demo --no-plots --bootstrap 0",
+           "predict '" + kExample + "' --joint holder-tool=kht.toml --frequencies 2400:2800:10 --samples 20",
+           "couple --sh sh.csv --assembly '" + kExample + "' --overhang 0.04:0.06:0.01 --output sweep",
+           "couple --sh sh.csv --assembly '" + kExample + "' --joint kht.toml --samples 20", "lobes --frf tool.csv" + cut,
+           "lobes --method sd --mode-x 0.03993,0.011,922 --rigid-y --speeds 20" + cut,
+           "lobes --method fd --frf tool.csv --speeds 20" + cut,
+           "lobes --assembly '" + kExample +
+               "' --joint holder-tool=kht.toml --samples 20 --teeth 4 --kt 6e8 --kr 0.3 "
+               "--immersion 0.5 --milling down --rpm 5000:20000",
+           "modes tool.csv", "beam --length 0.1 --diameter 0.016 --modes 3", "convert tool.uff --list"}) {
+    const Run r = ok(command + " --json");
+    std::vector<std::string> foreign;
+    foreign_keys(nlohmann::json::parse(r.out), "", ids, allowed, foreign);
+    EXPECT_TRUE(foreign.empty()) << command << ": " << fmt::format("{}", fmt::join(foreign, ", "));
+  }
+}
+
 TEST_F(Cli, CoupleOneOverhangAndASweep) {
   predict_blocks("500:3000:10");
   ok("couple --sh sh.csv --assembly '" + kExample + "' --output one.csv --plot one.png");
@@ -647,7 +774,7 @@ TEST_F(Cli, OverflowAndUnderflowAreHandledOrNamed) {
   write_frf_file(path("small.csv"), scaled_sdof(1e-7));
   const Run small = ok("modes small.csv --json");
   const nlohmann::json j = nlohmann::json::parse(small.out);
-  const double mass = j["modes"][0]["modal_mass_kg"].get<double>();
+  const double mass = j["modes"][0]["mode"]["mass_kg"].get<double>();
   EXPECT_NEAR(mass / (m_closed * 1e7), 1.0, 1e-6) << small.out;
   EXPECT_NE(small.err.find("warning: small.csv: the largest receptance magnitude |H| [m/N] = 2.5e-12 is outside the usual"),
             std::string::npos)
@@ -872,7 +999,7 @@ TEST_F(PlanCli, ShardsInALoopThenMergeEqualTheSingleRun) {
   const nlohmann::json j = nlohmann::json::parse(
       ok("plan merge parts/part-0.json parts/part-1.json parts/part-2.json --json").out);
   EXPECT_EQ(j["best"].size(), 1u);
-  EXPECT_EQ(j["jobs"], 7);
+  EXPECT_EQ(j["jobs"].size(), 7u);
   EXPECT_EQ(j["best"][0]["limit"], "stability");
 }
 

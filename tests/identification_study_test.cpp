@@ -57,12 +57,15 @@ TEST(IdentificationStudy, HolderToolEndToEnd) {
   }
   const nlohmann::json j = id;
   for (int k = 0; k < 8; ++k)
-    for (const char* key : {"estimate", "lower95", "upper95", "unit", "determined"})
+    for (const char* key : {"estimate", "lower", "upper", "unit", "determined"})
       EXPECT_TRUE(j["parameters"][JointParameters::name(k)].contains(key)) << JointParameters::name(k) << " " << key;
-  EXPECT_TRUE(j["seed_readout"]["parameters"]["k_yf"].contains("median"));
+  EXPECT_EQ(j["parameters"], j["fit"]["intervals"]);
+  EXPECT_EQ(j["parameters"]["k_yf"]["lower"], id.fit->intervals[0].lower);
+  EXPECT_TRUE(j["seed"]["parameters"]["k_yf"].contains("median"));
   EXPECT_EQ(j["verdict"]["verdict"], "pass");
   EXPECT_EQ(j["method"], "fit");
-  EXPECT_TRUE(j["forward_check"][0].contains("frequency_error_percent"));
+  // Relative errors as the member holds them (a fraction), under the member's name.
+  EXPECT_EQ(j["forward_check"][0]["frequency_error"], id.forward_check[0].frequency_error);
 
   // The joint file carries the fit's covariance and says how it was identified.
   const JointFile f = parse_joint_file(format_joint_file(joint_file_of(id, {"sh11.csv", "sht11.csv"})), "kht.toml");
@@ -86,7 +89,11 @@ TEST(IdentificationStudy, SeedMethod) {
   EXPECT_FALSE(id.fit);
   EXPECT_EQ(id.identified.k_yf, id.seed.parameters[0].median);
   const nlohmann::json j = id;
-  EXPECT_TRUE(j["parameters"]["k_yf"]["lower95"].is_null());
+  EXPECT_TRUE(j["parameters"]["k_yf"]["lower"].is_null());
+  // "determined" is the read-out's own (ParameterReadout::determined), not a rule applied here.
+  for (int k = 0; k < 8; ++k)
+    EXPECT_EQ(j["parameters"][JointParameters::name(k)]["determined"], id.seed.parameters[static_cast<std::size_t>(k)].determined)
+        << JointParameters::name(k);
   EXPECT_FALSE(joint_file_of(id).uncertainty) << "a read-out has no interval to carry";
 }
 

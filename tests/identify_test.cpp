@@ -200,13 +200,20 @@ TEST(Identify, ReadoutStatistics) {
     JointEstimate e;
     e.K = Block::Identity();
     e.cond_difference = 10.0 * (i + 1);
+    e.noise_gain[1] = 30.0;  // c_yf: a 1 % error in the FRFs moves it by 30 %
     s.estimates.push_back(e);
     JointParameters p;
     for (int k = 0; k < 8; ++k) p[k] = vals[i] * (k + 1);
     p.k_tf = p.k_ym * 1.5;
+    p.c_tm = (i % 2 ? 1.0 : -1.0) * vals[i];  // −1, 2, −3, 4, −100: median −1, spread 1.4826 × 3
     s.parameters.push_back(p);
   }
   const JointReadout r = band_readout(s, 100.0, 104.0);
+  // Determined: noise gain at most ReadoutOptions::gain_warning (20) and spread at most |median|.
+  EXPECT_TRUE(r.parameters[0].determined);
+  EXPECT_FALSE(r.parameters[1].determined);  // gain 30
+  EXPECT_FALSE(r.parameters[7].determined);  // spread 4.4 > |−1|
+  EXPECT_TRUE(band_readout(s, 100.0, 104.0, ReadoutOptions{.gain_warning = 40.0}).parameters[1].determined);
   EXPECT_EQ(r.points, 5u);
   EXPECT_DOUBLE_EQ(r.parameters[0].median, 3.0);
   EXPECT_DOUBLE_EQ(r.parameters[0].spread, 1.4826 * 1.0);  // deviations 2,1,0,1,97 → median 1

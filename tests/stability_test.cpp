@@ -529,7 +529,7 @@ TEST(ModesCommand, FitsAnFrfAndRejectsACoarseOne) {
   write_frf_csv(dir + "/two.csv", modal_frf({kBench, Mode{0.2, 0.03, 2100.0}}, uniform_grid(300.0, 3000.0, 1.0)));
   const CliRun ok = run_cli("modes " + dir + "/two.csv --max-modes 2 --json");
   ASSERT_EQ(ok.code, 0) << ok.out;
-  EXPECT_NE(ok.out.find("\"modal_mass_kg\": 0.0399"), std::string::npos) << ok.out;
+  EXPECT_NE(ok.out.find("\"mass_kg\": 0.0399"), std::string::npos) << ok.out;
   const CliRun text = run_cli("modes " + dir + "/two.csv");
   ASSERT_EQ(text.code, 0) << text.out;
   EXPECT_NE(text.out.find("--mode-x 0.03993,0.011,922 --mode-x 0.2,0.03,2100"), std::string::npos) << text.out;

@@ -427,11 +427,10 @@ TEST(StudiesJson, KeysAreTheMembersNames) {
   const nlohmann::json peak = Peak{7, 916.5, 1.5e-6, 0.9};
   EXPECT_EQ(keys(peak), (Keys{"index", "frequency_hz", "magnitude", "prominence"}));
   EXPECT_EQ(peak["frequency_hz"], 916.5);
-  // A forward check's errors in per cent, said in the key (issue 13: one unit for forward checks).
+  // A forward check's errors as the members hold them (fractions), one unit for every forward check.
   EXPECT_EQ(keys(nlohmann::json(ModeComparison{})),
-            (Keys{"measured_hz", "predicted_hz", "frequency_error_percent", "measured_peak_m_per_n", "predicted_peak_m_per_n",
-                  "peak_error_percent"}));
-  EXPECT_EQ(nlohmann::json(ModeComparison{1000.0, 1010.0, 0.01, 1.0, 1.0, 0.0})["frequency_error_percent"], 1.0);
+            (Keys{"measured_hz", "predicted_hz", "frequency_error", "measured_peak", "predicted_peak", "magnitude_error"}));
+  EXPECT_EQ(nlohmann::json(ModeComparison{1000.0, 1010.0, 0.01, 1.0, 1.0, 0.0})["frequency_error"], 0.01);
 
   Prediction p;
   p.receptance = PredictedFrf::HolderTip;

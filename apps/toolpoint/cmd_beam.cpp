@@ -12,6 +12,7 @@
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/io.hpp"
+#include "toolpoint/json.hpp"
 #include "toolpoint/plot.hpp"
 
 namespace toolpoint::cli {
@@ -49,10 +50,12 @@ void run_beam(const BeamOptions& o, const Globals& g) {
 
   nlohmann::json out;
   out["units"] = "SI: m, kg, N, Pa; frequencies in Hz";
-  out["section"] = {{"area_m2", seg.layers[0].area()},
-                    {"second_moment_m4", seg.layers[0].second_moment()},
+  // The section's (Annulus, SectionProperties) values under the members' and functions' names.
+  out["section"] = {{"area", seg.layers[0].area()},
+                    {"second_moment", seg.layers[0].second_moment()},
                     {"shear_coefficient", kappa},
-                    {"mass_per_length_kg_per_m", sp.rhoA},
+                    {"rhoA", sp.rhoA},
+                    {"rhoI", sp.rhoI},
                     {"cutoff_frequency_hz", sp.cutoff_frequency_hz()}};
 
   const int n_modes = o.modes > 0 ? o.modes : (o.frequencies.empty() ? 5 : 0);
@@ -66,12 +69,14 @@ void run_beam(const BeamOptions& o, const Globals& g) {
     }
     int i = 1;
     for (const FreeMode& m : modal.modes()) {
-      list.push_back({{"mode", i}, {"frequency_hz", m.frequency_hz}, {"above_cutoff", m.above_cutoff}});
+      nlohmann::json mode = m;
+      mode["mode"] = i;
+      list.push_back(mode);
       if (!o.json)
         std::cout << fmt::format("{:4d}  {:12.3f}  {}\n", i, m.frequency_hz, m.above_cutoff ? "above cut-off" : "below cut-off");
       ++i;
     }
-    out["natural_frequencies"] = list;
+    out["modes"] = list;  // ModalBeam::modes()
   }
 
   BlockSeries s;  // the receptance written (and drawn)

@@ -11,6 +11,7 @@
 #include "cli.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/frf_file.hpp"
+#include "toolpoint/json.hpp"
 #include "toolpoint/plot.hpp"
 #include "toolpoint/uff.hpp"
 
@@ -81,36 +82,8 @@ void run_list(const ConvertOptions& o) {
                           "give a .uff/.unv/.uf file or --from uff");
   const UffFile f = read_uff(o.input, {.headers_only = true});
   if (o.json) {
-    nlohmann::json out;
-    out["file"] = f.source;
-    out["units"] = "abscissa in the file's own units (see abscissa_units); frequency in Hz for FRFs";
-    out["dataset_types"] = nlohmann::json::array();
-    for (const auto& d : f.datasets) out["dataset_types"].push_back(d.type);
-    out["datasets58"] = nlohmann::json::array();
-    for (const auto& d : f.functions)
-      out["datasets58"].push_back({{"index", d.index},
-                                   {"line", d.line},
-                                   {"binary", d.binary},
-                                   {"function_type", d.function_type},
-                                   {"function", uff_function_type_name(d.function_type)},
-                                   {"response_node", d.response_node},
-                                   {"response_direction", d.response_direction},
-                                   {"reference_node", d.reference_node},
-                                   {"reference_direction", d.reference_direction},
-                                   {"points", d.declared_points},
-                                   {"declared_points", d.declared_points},
-                                   {"ordinate_data_type", d.ordinate_data_type},
-                                   {"ordinate_numerator_type", d.ordinate.data_type},
-                                   {"ordinate_denominator_type", d.denominator.data_type},
-                                   {"ordinate", ordinate_text(d)},
-                                   {"abscissa_type", d.abscissa.data_type},
-                                   {"abscissa_units", d.abscissa.units},
-                                   {"abscissa_first", d.abscissa_first},
-                                   {"abscissa_last", d.abscissa_last},
-                                   {"id1", d.id[0]},
-                                   {"warnings", d.warnings}});
-    out["skipped"] = f.skipped;
-    out["warnings"] = f.warnings;
+    nlohmann::json out = f;
+    out["units"] = "abscissa in the file's own units (see abscissa.units); frequency in Hz for FRFs";
     std::cout << out.dump(2) << '\n';
     return;
   }

@@ -365,6 +365,7 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
   }
   if (o.json) {
     nlohmann::json out = r;
+    out["units"] = "SI: depths m, speeds rpm, frequencies Hz, angles rad";
     if (su) {
       out["uncertainty"] = *su;
       out["uncertainty"]["joint"] = sampled_source;
@@ -372,7 +373,6 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
     out["output"] = o.output;
     out["envelope"] = o.envelope;
     out["plot"] = o.plot;
-    out["warnings"] = r.warnings;
     std::cout << out.dump(2) << '\n';
   } else {
     print_summary(r);

@@ -10,6 +10,7 @@
 #include "cli.hpp"
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/io.hpp"
+#include "toolpoint/json.hpp"
 #include "toolpoint/modal_fit.hpp"
 #include "toolpoint/plot.hpp"
 
@@ -55,29 +56,9 @@ void run_modes(const ModesOptions& o, const Globals& g) {
   }
 
   if (o.json) {
-    nlohmann::json out;
-    out["units"] = "frequency Hz, modal mass kg, stiffness N/m, residue 1/kg, lower residual 1/kg, upper residual m/N";
+    nlohmann::json out = r;
+    out["units"] = "SI: frequency Hz, mass kg, residue 1/kg, lower_residual 1/kg, upper_residual m/N";
     out["file"] = o.file;
-    out["band_hz"] = {r.band_low_hz, r.band_high_hz};
-    out["points"] = r.points;
-    nlohmann::json modes = nlohmann::json::array();
-    for (const FittedMode& m : r.modes)
-      modes.push_back({{"frequency_hz", m.mode.frequency_hz},
-                       {"damping_ratio", m.mode.damping_ratio},
-                       {"modal_mass_kg", m.mode.mass_kg},
-                       {"stiffness_n_per_m", m.mode.stiffness()},
-                       {"residue_per_kg", m.residue},
-                       {"normalised_residual", m.normalised_residual},
-                       {"points_in_half_power_band", m.points_in_half_power_band},
-                       {"initial_frequency_hz", m.initial_frequency_hz},
-                       {"initial_damping_ratio", m.initial_damping_ratio}});
-    out["modes"] = modes;
-    out["lower_residual_per_kg"] = r.lower_residual;
-    out["upper_residual_m_per_n"] = r.upper_residual;
-    out["normalised_residual"] = r.normalised_residual;
-    out["converged"] = r.converged;
-    out["evaluations"] = r.evaluations;
-    out["warnings"] = r.warnings;
     if (!o.output.empty()) out["output"] = o.output;
     if (!o.plot.empty()) out["plot"] = o.plot;
     std::cout << out.dump(2) << '\n';

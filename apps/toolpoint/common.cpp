@@ -204,11 +204,8 @@ plot::JointParameterCurve joint_curve(const JointSeries& series, int pair, const
     c.stiffness_undetermined = !fit->intervals[k].determined;
     c.damping_undetermined = !fit->intervals[d].determined;
   } else if (seed) {
-    auto undetermined = [&](std::size_t i) {
-      return seed->noise_gain[i] > 20.0 || seed->parameters[i].spread > std::abs(seed->parameters[i].median);
-    };
-    c.stiffness_undetermined = undetermined(k);
-    c.damping_undetermined = undetermined(d);
+    c.stiffness_undetermined = !seed->parameters[k].determined;
+    c.damping_undetermined = !seed->parameters[d].determined;
   }
   return c;
 }

@@ -90,6 +90,9 @@ Table joint_table(const JointSeries& series);
 // deviation, the standard deviation for Gaussian scatter).
 struct ParameterReadout {
   double median = 0.0, spread = 0.0, min = 0.0, max = 0.0;
+  // Its noise gain (JointReadout::noise_gain) at most ReadoutOptions::gain_warning and its spread
+  // at most |median|: what the band's data determine.
+  bool determined = false;
 };
 
 struct JointReadout {

@@ -1,74 +1,103 @@
 // toolpoint: results as JSON (nlohmann::json), for the CLI's --json output, summary files and
 // anyone who wants a result as plain data. `nlohmann::json j = result;` finds these by ADL.
 //
-// One spelling per field, by one rule:
+// One to_json per result type, one spelling per field, by one rule:
 //   * a key is the C++ member's name (Peak::frequency_hz → "frequency_hz"), and its value is in
-//     the member's unit (SI; Hz for frequencies; in the name where the name has one, else in the
-//     member's header comment). The same field therefore has the same key in every command;
-//   * enums are lower-case strings or the receptance's name: PredictedFrf "SHT11" / "SH11",
-//     TapSide "tool" / "holder", HammerPlan "roving" / "tip";
+//     the member's unit (SI; Hz for frequencies; rpm for speeds named _rpm; relative errors and
+//     tolerances as fractions, like the members). A member that is a struct is an object under its
+//     name (CuttingConditions::engagement → "engagement": {"entry_rad", "exit_rad"}); a member
+//     function's value, where given, is under the function's name (BoundaryResult::
+//     worst_relative_error). The same field therefore has the same key in every command, and
+//     the same type the same keys wherever it appears (a CaseStudy's `seed` is an Identification
+//     as `toolpoint identify` prints it);
+//   * enums are strings, the library's to_string where it has one: PredictedFrf "SHT11" / "SH11",
+//     TapSide "tool" / "holder", LobesMethod "zoa" / "fd", BoundaryKind "hopf" / …;
+//   * a joint's eight parameters are keyed k_yf, c_yf, k_ym, c_ym, k_tf, c_tf, k_tm, c_tm (θ as
+//     "t"; JointParameters::name), each with its "unit" where the value is an object;
 //   * NaN (a mode not found) and ±inf become null: JSON has no NaN;
-//   * relative errors are percentages, their keys ending "_percent" (a forward check's
-//     "frequency_error_percent"); a joint parameter is always spelt k_yf, c_yf, k_ym, c_ym, k_tf,
-//     c_tf, k_tm, c_tm (θ as "t") with its "unit";
-//   * sampled series (BlockSeries, FrfSeries members) are left out: they go to FRF files
-//     (io.hpp, frf_file.hpp, uff.hpp) or, in Python, to arrays. What a caller adds (file names,
-//     the assembly's path, units) it adds under its own keys.
-// Units: SI; frequencies in Hz.
+//   * sampled series (BlockSeries, FrfSeries, JointSeries members; the per-speed envelope and
+//     boundary; the lobe points) are left out: they go to FRF and CSV files or, in Python, to
+//     arrays. A few derived summaries are added under their own keys and said below
+//     (Identification's "parameters", BoundaryResult's "lowest_boundary"). What a caller adds
+//     (file names, the assembly's path, options it echoes) it adds under its own keys.
 #pragma once
 
 #include <nlohmann/json.hpp>
 
+#include "toolpoint/beam.hpp"
+#include "toolpoint/case_study.hpp"
+#include "toolpoint/frf_file.hpp"
 #include "toolpoint/identify.hpp"
 #include "toolpoint/joint_fit.hpp"
+#include "toolpoint/modal_fit.hpp"
 #include "toolpoint/noise.hpp"
 #include "toolpoint/peaks.hpp"
+#include "toolpoint/signal.hpp"
 #include "toolpoint/stability.hpp"
-#include "toolpoint/studies/lobes.hpp"
+#include "toolpoint/studies/fd_correction.hpp"
 #include "toolpoint/studies/identification.hpp"
+#include "toolpoint/studies/lobes.hpp"
 #include "toolpoint/studies/overhang.hpp"
 #include "toolpoint/studies/plan.hpp"
 #include "toolpoint/studies/predict.hpp"
 #include "toolpoint/studies/tap_test.hpp"
+#include "toolpoint/uff.hpp"
 #include "toolpoint/uncertainty.hpp"
 
 namespace toolpoint {
 
 // {"index", "frequency_hz", "magnitude", "prominence"}
 void to_json(nlohmann::json& j, const Peak& p);
-// A forward check's mode: {"measured_hz", "predicted_hz", "frequency_error_percent",
-// "measured_peak_m_per_n", "predicted_peak_m_per_n", "peak_error_percent"}.
+// A forward check's mode: {"measured_hz", "predicted_hz", "frequency_error", "measured_peak",
+// "predicted_peak", "magnitude_error"} (errors relative, as fractions; peaks in m/N).
 void to_json(nlohmann::json& j, const ModeComparison& c);
 // {"k_yf": value, …}
 void to_json(nlohmann::json& j, const JointParameters& p);
-// {"modes": [{"frequency_hz", "peak_m_per_n", "shift_percent_per_10_percent_k",
-// "peak_change_percent_per_10_percent_c"}…], "dominant_index", "dominant_hz"}
+// {"frequency_hz", "magnitude", "stiffness_shift", "damping_effect"}
+void to_json(nlohmann::json& j, const ModeEffect& m);
+// {"modes": [ModeEffect…], "dominant"}
 void to_json(nlohmann::json& j, const EffectAnalysis& e);
-// {"source", "magnitude_sigma": [H, L, N, P], "phase_sigma_rad": […], "residual_correlation"}
+// {"reference_peaks": [Peak…], "relative_variation", "dominant"}
+void to_json(nlohmann::json& j, const OverhangModes& m);
+// {"source", "magnitude_sigma": [H, L, N, P], "phase_sigma_rad": […], "residual_correlation", "warnings"}
 void to_json(nlohmann::json& j, const BlockNoise& n);
 
 // ---- Joint identification ------------------------------------------------------------------------
 
-// Per parameter {"estimate", "lower95", "upper95", "std_error", "fitted", "bias", "determined",
-// "free", "unit"} under "parameters" (the interval's confidence in the key when not 95 %:
-// "lower90"), and the fit's diagnostics: "confidence", "interval_method", "interval_description",
+// {"estimate", "fitted", "bias", "std_error", "lower", "upper", "determined", "free"}
+void to_json(nlohmann::json& j, const ParameterInterval& i);
+// {"label", "fitted": {"k_yf": …}, "std_error": {"k_yf": …}, "residual_ratio", "disagreement"}
+void to_json(nlohmann::json& j, const SetupFit& s);
+// "intervals": per parameter ParameterInterval and its "unit" (the estimates, JointFit::parameters,
+// are its "estimate"s); "confidence", "method" ("bootstrap" | "linearised"), "method_description",
 // "bootstrap_samples", "reciprocal", "points", "residual_ratio", "iterations", "converged",
-// "correlation", "covariance" (8×8, SI), "setups" and "transfer" (several set-ups), "warnings".
+// "correlation" and "covariance" (8×8, SI), "warnings"; with several set-ups also "setups",
+// "transfer_statistic", "transfer_limit", "transfers".
 void to_json(nlohmann::json& j, const JointFit& fit);
-// The seed's read-out: "band_hz", "points", per parameter {"median", "spread", "min", "max",
-// "noise_gain", "unit"}, "reciprocity", "max_condition_numbers", "warnings".
+// The seed's read-out: "band_lo_hz", "band_hi_hz", "points", "parameters": per parameter
+// {"median", "spread", "min", "max", "determined", "noise_gain", "unit"}, "reciprocity_k",
+// "reciprocity_c", "max_cond_difference", "max_cond_flexibility", "warnings".
 void to_json(nlohmann::json& j, const JointReadout& r);
-// {"method", "center_hz", "band_hz", "effect_analysis" | "overhang_modes"}
+// {"method", "center_hz", "lo_hz", "hi_hz", "effect" | "overhang"}
 void to_json(nlohmann::json& j, const ModeChoice& c);
-// The whole study: "interface", "route", "equation", "method", "parameters" (the chosen method's
-// values in JointFit's spelling; for the seed's read-out estimate = the median, no interval,
-// determined from its noise gain and spread), "fit", "seed_readout", "mode_choice", "noise",
-// "forward_check", "verdict", "warnings".
+// {"verdict": "pass" | "doubtful" | "fail", "reasons"}
+void to_json(nlohmann::json& j, const IdentificationVerdict& v);
+// The whole study: "interface" ("holder_tool" | "spindle_holder"), "route", "equation", "method"
+// ("fit" | "seed"), "fit" (JointFit) and "fit_band_hz" (method fit), "seed" (the read-out, when
+// one was made), "mode", "g_noise" and "b_noise" (per set-up), "forward_check", "verdict",
+// "warnings"; and, derived, "parameters": the chosen method's values per parameter — the fit's
+// intervals (ParameterInterval's keys and "unit"), or for the read-out {"estimate" (the median),
+// "lower": null, "upper": null, "determined" (ParameterReadout::determined), "unit"}.
 void to_json(nlohmann::json& j, const Identification& id);
+// The seed's case study: "reference", "clean_max_deviation" (per parameter), "effect", "mode_hz",
+// "clean_readout", "noisy_readout", "filtered_readout" (JointReadout), "verification" (the
+// read-out coupled back against the true SHT11), "seed" (Identification), "fitted" and
+// "fit_verification" (the band fit, when run), "warnings".
+void to_json(nlohmann::json& j, const CaseStudy& cs);
 
 // ---- Uncertainty carried forward ---------------------------------------------------------------
 
-// {"frequency_hz", "levels", "samples", "magnitude_m_per_n": {"q5": […], …}, "phase_rad": {…}}
+// {"frequency_hz", "levels", "samples", "magnitude": {"q5": […], …}, "phase_rad": {…}}
 void to_json(nlohmann::json& j, const FrfBand& b);
 // {"speed_rpm", "levels", "samples", "nominal_depth_m", "depth_m": {"q5": […], …}, "depth_grid_m"}
 void to_json(nlohmann::json& j, const StabilityUncertainty& s);
@@ -85,33 +114,80 @@ void to_json(nlohmann::json& j, const OverhangStudy& s);
 void to_json(nlohmann::json& j, const TapTestFrf& r);
 // {"side", "distance_m", "frfs": [TapTestFrf…], "shear_stiffness_n", "crosses_step", "warnings"}
 void to_json(nlohmann::json& j, const TapTest& t);
+// {"p_from_cross_terms", "l_equals_n_by_reciprocity", "reciprocity_mismatch" (null: none), "filled_by_reciprocity",
+// "warnings"}
+void to_json(nlohmann::json& j, const RotationalResult& r);
+// {"max_relative": [H, L, N, P], "warnings"}
+void to_json(nlohmann::json& j, const FiniteDifferenceError& e);
 
-// ---- Stability lobes (the keys of `toolpoint lobes --json`: depths in mm, speeds in rpm, as in its
-// CSV files; the exception to the member-name rule, kept so scripts reading that output keep working)
+// ---- Modal fit and stability lobes --------------------------------------------------------------
 
-// {"modal_mass_kg", "damping_ratio", "frequency_hz"}
+// {"mass_kg", "damping_ratio", "frequency_hz"}
 void to_json(nlohmann::json& j, const Mode& m);
-// {"frf", "modes", "normalised_residual", "band_low_hz", "band_high_hz", "target_met"}
+// {"mode": Mode, "residue", "initial_frequency_hz", "initial_damping_ratio", "points_in_half_power_band",
+// "normalised_residual"}
+void to_json(nlohmann::json& j, const FittedMode& m);
+// {"modes": [FittedMode…], "lower_residual", "upper_residual", "normalised_residual", "band_low_hz", "band_high_hz",
+// "points", "evaluations", "converged", "warnings"}
+void to_json(nlohmann::json& j, const ModalFitResult& r);
+// {"x": [Mode…], "y": [Mode…]}
+void to_json(nlohmann::json& j, const ModalModel& m);
+// {"what", "modes", "residual", "band_low_hz", "band_high_hz", "target_met"}
 void to_json(nlohmann::json& j, const ModalFitSummary& s);
-// {"teeth", "tangential_coefficient_n_per_m2", "radial_ratio", "entry_deg", "exit_deg"}
+// {"entry_rad", "exit_rad"}
+void to_json(nlohmann::json& j, const Engagement& e);
+// {"teeth", "tangential_coefficient", "radial_ratio", "engagement"}
 void to_json(nlohmann::json& j, const CuttingConditions& c);
-// {"spindle_speed_rpm", "axial_depth_mm", "chatter_frequency_hz", "lobe"}
+// {"min_rpm", "max_rpm", "points"}
+void to_json(nlohmann::json& j, const SpeedRange& s);
+// {"speed_rpm", "depth_m", "chatter_hz", "lobe"}
 void to_json(nlohmann::json& j, const EnvelopePoint& p);
-// {"spindle_speed_rpm", "axial_depth_mm", "axial_depth_error_mm", "chatter_frequency_hz", "lobe", "kind", "steps"}
+// {"speed_rpm", "depth_m", "depth_error_m", "steps", "chatter_hz", "lobe", "kind"} (the multiplier left out)
 void to_json(nlohmann::json& j, const BoundaryPoint& b);
-// {"units", "cutting", "pockets", "warnings", "method": "zoa" | "fd"}, and for zoa "floor_depth_mm",
-// "floor_chatter_frequency_hz", "lobes", "lobe_points"; for fd "modes_x", "modes_y", "modal_fit",
-// "max_depth_mm", "tolerance_pct", "worst_error_pct", "degree", "evaluations", "lowest_boundary",
-// "flip_speeds".
+// {"alpha" (2×2), "floor_depth_m", "floor_chatter_hz", "lobes", "teeth", "speeds", "max_depth_m", "warnings"} and,
+// derived, "lobe_points": how many lobe points there are (the points themselves go to CSV).
+void to_json(nlohmann::json& j, const ZeroOrderResult& r);
+// {"max_depth_m", "tolerance", "degree", "evaluations", "worst_relative_error", "warnings"} and, derived from
+// the boundary (which goes to CSV), "lowest_boundary" (BoundaryPoint) and "flip_speeds" (how many are flips).
+void to_json(nlohmann::json& j, const BoundaryResult& r);
+// {"method", "cutting", "speeds", "pockets": [EnvelopePoint…], "warnings"} and "zero_order" (method zoa), or
+// "boundary", "modes" and "fits" (method fd).
 void to_json(nlohmann::json& j, const LobesStudyResult& r);
+
 // ---- The plan -------------------------------------------------------------------------------------
 
 // {"candidate", "job", "speed_index", "overhang_m", "speed_rpm", "depth_m", "stable_depth_m", "safe_depth_m",
 // "mrr_m3_per_s", "power_w", "torque_nm", "limit" ("stability" | "power" | "torque" | "depth" | "none"),
 // "depth_margin", "probability", "chatter_hz", "lobe", "window_low_rpm", "window_high_rpm", "reason"}
 void to_json(nlohmann::json& j, const PlanSetup& s);
-// {"options", "candidates", "speeds_rpm": {"min", "max", "points"}, "jobs", "fingerprint", "best": [PlanSetup…],
-// "tuning": [{"candidate", "overhang_m", "modes_hz", "best"}…], "warnings"}; the per-speed series go to CSV.
+// {"candidate", "overhang_index", "overhang_m", "modes_hz", "best": PlanSetup, "warnings"}; the per-speed
+// series go to CSV.
+void to_json(nlohmann::json& j, const PlanJob& job);
+// The header's {"options", "candidates", "fingerprint"} ("options": PlanOptions' members, with its
+// LobesStudyOptions' "method", "cutting" and "speeds"), then {"jobs": [PlanJob…], "best": [PlanSetup…],
+// "warnings"}.
 void to_json(nlohmann::json& j, const PlanResult& r);
+
+// ---- Files ----------------------------------------------------------------------------------------
+
+// {"frequency_hz", "w1", "psi1", "w2", "psi2", "above_cutoff"}
+void to_json(nlohmann::json& j, const FreeMode& m);
+// {"response_node", "response_direction", "reference_node", "reference_direction"}
+void to_json(nlohmann::json& j, const UffDof& d);
+// {"ordinate", "to_si", "label"}
+void to_json(nlohmann::json& j, const FrfUnits& u);
+// Everything but the series: {"format", "is_block", "ordinate", "units", "description", "dof", "warnings"}.
+void to_json(nlohmann::json& j, const FrfFileData& d);
+// {"data_type", "data_type_name", "length_exponent", "force_exponent", "temperature_exponent", "label", "units"}
+void to_json(nlohmann::json& j, const UffAxis& a);
+// {"code", "description", "length_factor", "force_factor", "temperature_factor", "line"}
+void to_json(nlohmann::json& j, const UffUnits& u);
+// Every field but x and y, with names beside the codes ("function_type_name", "response_direction_name",
+// "reference_direction_name", "ordinate_data_type_name"); "units": null without a dataset 164.
+void to_json(nlohmann::json& j, const UffDataset58& d);
+// {"type", "binary", "line", "offset"}
+void to_json(nlohmann::json& j, const UffDatasetEntry& e);
+// {"source", "datasets", "functions", "warnings", "skipped", "file_warnings"}
+void to_json(nlohmann::json& j, const UffFile& f);
 
 }  // namespace toolpoint

@@ -52,6 +52,14 @@ py::array_t<double> column(const Rows& rows, Get get) {
   return python::array_of(v);
 }
 
+// One bool per row, as a list.
+template <class Rows, class Get>
+std::vector<bool> flags(const Rows& rows, Get get) {
+  std::vector<bool> v;
+  for (const auto& r : rows) v.push_back(get(r));
+  return v;
+}
+
 py::array_t<double> matrix8(const Eigen::Matrix<double, 8, 8>& c) { return matrix_array(c); }
 
 // An (8, 8) float array (order of JointParameters.names()); InputError naming `name` otherwise.
@@ -169,6 +177,10 @@ void bind_identify(py::module_& m) {
           "(8,) SI")
       .def_property_readonly(
           "noise_gain", [](const JointReadout& r) { return array_of(r.noise_gain); }, "(8,) median over the band")
+      .def_property_readonly(
+          "determined",
+          [](const JointReadout& r) { return flags(r.parameters, [](const ParameterReadout& p) { return p.determined; }); },
+          "(8,) noise gain at most the warning level (20) and spread at most |median|")
       .def("medians", &JointReadout::medians, "The medians as JointParameters.")
       .def_readonly("reciprocity_k", &JointReadout::reciprocity_k)
       .def_readonly("reciprocity_c", &JointReadout::reciprocity_c)
@@ -352,15 +364,11 @@ void bind_identify(py::module_& m) {
           "(8,) upper ends of the intervals, SI")
       .def_property_readonly("determined",
                              [](const JointFit& f) {
-                               std::vector<bool> v;
-                               for (const auto& i : f.intervals) v.push_back(i.determined);
-                               return v;
+                               return flags(f.intervals, [](const ParameterInterval& i) { return i.determined; });
                              })
       .def_property_readonly("free",
                              [](const JointFit& f) {
-                               std::vector<bool> v;
-                               for (const auto& i : f.intervals) v.push_back(i.free);
-                               return v;
+                               return flags(f.intervals, [](const ParameterInterval& i) { return i.free; });
                              })
       .def_property_readonly(
           "covariance", [](const JointFit& f) { return matrix8(f.covariance); }, "(8, 8) SI")
@@ -549,7 +557,10 @@ void bind_identify(py::module_& m) {
       .def_readonly("seed", &CaseStudy::seed, "the seed's procedure (Identification)")
       .def_readonly("fitted", &CaseStudy::fitted, "the band fit (Identification) or None")
       .def_readonly("fit_verification", &CaseStudy::fit_verification)
-      .def_readonly("warnings", &CaseStudy::warnings);
+      .def_readonly("warnings", &CaseStudy::warnings)
+      .def(
+          "to_dict", [](const CaseStudy& c) { return dict_of(c); },
+          "The result as plain data, the series left out (toolpoint demo --json's keys, less what the CLI adds; SI units).");
   m.def(
       "run_case_study",
       [](Assembly a, double noise_sigma, std::uint64_t seed, std::pair<int, int> filter, bool apply_filter, double band_width,

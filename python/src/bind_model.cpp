@@ -608,7 +608,10 @@ void bind_model(py::module_& m) {
             return array_of(std::vector<double>(e.max_relative.begin(), e.max_relative.end()));
           },
           "(4,) H, L, N, P: max over f of |E| over max over f of |exact|")
-      .def_readonly("warnings", &FiniteDifferenceError::warnings, "list of str");
+      .def_readonly("warnings", &FiniteDifferenceError::warnings, "list of str")
+      .def(
+          "to_dict", [](const FiniteDifferenceError& e) { return dict_of(e); },
+          "The result as plain data, the series left out (SI units).");
   m.def(
       "finite_difference_error",
       [](Assembly a, const RealArray& f, const std::vector<std::pair<int, int>>& pairs, double spacing, const std::string& side,

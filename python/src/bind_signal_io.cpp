@@ -58,11 +58,6 @@ py::array series_apply(const py::array& values, const std::vector<double>& f, co
   return out;
 }
 
-py::dict dof_dict(const UffDof& d) {
-  return py::dict("response_node"_a = d.response_node, "response_direction"_a = d.response_direction,
-                  "reference_node"_a = d.reference_node, "reference_direction"_a = d.reference_direction);
-}
-
 UffDof dof_of(const py::object& o) {
   UffDof d;
   if (o.is_none()) return d;
@@ -154,7 +149,9 @@ void bind_signal_io(py::module_& m) {
       .def_readonly("p_from_cross_terms", &RotationalResult::p_from_cross_terms)
       .def_readonly("l_equals_n_by_reciprocity", &RotationalResult::l_equals_n_by_reciprocity)
       .def_readonly("reciprocity_mismatch", &RotationalResult::reciprocity_mismatch)
-      .def_readonly("warnings", &RotationalResult::warnings);
+      .def_readonly("warnings", &RotationalResult::warnings)
+      .def(
+          "to_dict", [](const RotationalResult& r) { return dict_of(r); }, "The result as plain data, the block left out.");
   m.def(
       "rotational_frfs",
       [](const RealArray& f, const py::dict& h, double spacing, int order, bool symmetrise, const std::string& p_method,
@@ -223,16 +220,10 @@ void bind_signal_io(py::module_& m) {
           "ordinate", [](const FrfFileData& d) { return frf_ordinate_name(d.ordinate); }, "what the file held, before conversion")
       .def_readonly("description", &FrfFileData::description)
       .def_property_readonly(
-          "dof", [](const FrfFileData& d) { return dof_dict(d.dof); }, "UFF record 6 labels")
+          "dof", [](const FrfFileData& d) { return dict_of(d.dof); }, "UFF record 6 labels")
       .def_readonly("warnings", &FrfFileData::warnings)
       .def_property_readonly(
-          "metadata",
-          [](const FrfFileData& d) {
-            return py::dict("format"_a = frf_format_name(d.format), "ordinate"_a = frf_ordinate_name(d.ordinate),
-                            "is_block"_a = d.is_block, "description"_a = d.description, "dof"_a = dof_dict(d.dof),
-                            "warnings"_a = d.warnings);
-          },
-          "Everything but the arrays, as a dict.");
+          "metadata", [](const FrfFileData& d) { return dict_of(d); }, "Everything but the arrays, as a dict (json.hpp).");
   m.def(
       "read_frf_file",
       [](const std::string& path, const std::string& format, const std::optional<std::string>& ordinate,
@@ -344,47 +335,14 @@ void bind_signal_io(py::module_& m) {
       .def_readonly("units", &UffDataset58::units)
       .def_readonly("warnings", &UffDataset58::warnings)
       .def_property_readonly(
-          "metadata",
-          [](const UffDataset58& d) {
-            auto axis = [](const UffAxis& a) {
-              return py::dict("data_type"_a = a.data_type, "data_type_name"_a = uff_data_type_name(a.data_type),
-                              "length_exponent"_a = a.length_exponent, "force_exponent"_a = a.force_exponent,
-                              "temperature_exponent"_a = a.temperature_exponent, "label"_a = a.label, "units"_a = a.units);
-            };
-            py::dict md("id"_a = std::vector<std::string>(d.id.begin(), d.id.end()), "function_type"_a = d.function_type,
-                        "function_type_name"_a = uff_function_type_name(d.function_type), "function_id"_a = d.function_id,
-                        "version"_a = d.version, "load_case"_a = d.load_case, "response_entity"_a = d.response_entity,
-                        "response_node"_a = d.response_node, "response_direction"_a = d.response_direction,
-                        "response_direction_name"_a = uff_direction_name(d.response_direction),
-                        "reference_entity"_a = d.reference_entity, "reference_node"_a = d.reference_node,
-                        "reference_direction"_a = d.reference_direction,
-                        "reference_direction_name"_a = uff_direction_name(d.reference_direction),
-                        "ordinate_data_type"_a = d.ordinate_data_type,
-                        "ordinate_data_type_name"_a = uff_ordinate_type_name(d.ordinate_data_type),
-                        "declared_points"_a = d.declared_points, "even"_a = d.even, "abscissa_min"_a = d.abscissa_min,
-                        "abscissa_increment"_a = d.abscissa_increment, "z_value"_a = d.z_value, "abscissa"_a = axis(d.abscissa),
-                        "ordinate"_a = axis(d.ordinate), "denominator"_a = axis(d.denominator), "z_axis"_a = axis(d.z_axis),
-                        "index"_a = d.index, "line"_a = d.line, "binary"_a = d.binary, "byte_order"_a = d.byte_order,
-                        "warnings"_a = d.warnings);
-            if (d.units)
-              md["units"] = py::dict("code"_a = d.units->code, "description"_a = d.units->description,
-                                     "length_factor"_a = d.units->length_factor, "force_factor"_a = d.units->force_factor,
-                                     "temperature_factor"_a = d.units->temperature_factor);
-            return md;
-          },
-          "Every record field, with names for the codes, as a dict.")
+          "metadata", [](const UffDataset58& d) { return dict_of(d); },
+          "Every record field but x and y, with names for the codes, as a dict (json.hpp; toolpoint convert --list --json).")
       .def("check", &UffDataset58::check, "Raises InvalidArgument unless the dataset can be written.");
   py::class_<UffFile>(m, "UffFile", "A universal file read: its datasets 58, and every problem found.")
       .def_readonly("source", &UffFile::source)
       .def_readonly("functions", &UffFile::functions, "list of UffDataset58 (the readable datasets 58/58b, in file order)")
       .def_property_readonly(
-          "datasets",
-          [](const UffFile& f) {
-            py::list l;
-            for (const UffDatasetEntry& e : f.datasets)
-              l.append(py::dict("type"_a = e.type, "binary"_a = e.binary, "line"_a = e.line, "offset"_a = e.offset));
-            return l;
-          },
+          "datasets", [](const UffFile& f) { return dict_of(f.datasets); },
           "every dataset in file order: {'type', 'binary', 'line', 'offset'}")
       .def_readonly("warnings", &UffFile::warnings)
       .def_readonly("skipped", &UffFile::skipped);

@@ -143,6 +143,9 @@ void bind_stability(py::module_& m) {
       .def_readonly("evaluations", &ModalFitResult::evaluations)
       .def_readonly("converged", &ModalFitResult::converged)
       .def_readonly("warnings", &ModalFitResult::warnings)
+      .def(
+          "to_dict", [](const ModalFitResult& r) { return dict_of(r); },
+          "The result as plain data (dicts, lists, floats, str, bool, None; toolpoint modes --json's keys, SI units).")
       .def("modal_model", &ModalFitResult::modal_model,
            "The fitted modes without residual terms (raises NumericalError for a non-positive residue).")
       .def(
@@ -232,7 +235,10 @@ void bind_stability(py::module_& m) {
           },
           "every lobe point in range: {'lobe', 'root', 'speed_rpm', 'depth_m', 'chatter_hz'} arrays (toolpoint lobes --output's "
           "rows)")
-      .def_readonly("warnings", &ZeroOrderResult::warnings);
+      .def_readonly("warnings", &ZeroOrderResult::warnings)
+      .def(
+          "to_dict", [](const ZeroOrderResult& r) { return dict_of(r); },
+          "The result as plain data, the lobe points and envelope left out (toolpoint lobes --json's zero_order, SI units).");
   m.def(
       "zero_order_lobes",
       [](const RealArray& f, const ComplexArray& xx, const CuttingConditions& cutting, std::tuple<double, double, int> speeds,
@@ -264,7 +270,10 @@ void bind_stability(py::module_& m) {
       .def_readonly("evaluations", &BoundaryResult::evaluations, "spectral radii computed")
       .def_readonly("warnings", &BoundaryResult::warnings)
       .def("worst_relative_error", &BoundaryResult::worst_relative_error,
-           "The largest depth_error_m/depth_m over the speeds with a boundary.");
+           "The largest depth_error_m/depth_m over the speeds with a boundary.")
+      .def(
+          "to_dict", [](const BoundaryResult& r) { return dict_of(r); },
+          "The result as plain data, the per-speed boundary left out (toolpoint lobes --json's boundary, SI units).");
   m.def(
       "stability_boundary",
       [](const std::vector<Mode>& x_modes, const std::vector<Mode>& y_modes, const CuttingConditions& cutting,
@@ -340,7 +349,10 @@ void bind_stability(py::module_& m) {
       .def_readonly("modes", &ModalFitSummary::modes)
       .def_readonly("residual", &ModalFitSummary::residual)
       .def_property_readonly("band_hz", [](const ModalFitSummary& s) { return std::make_pair(s.band_low_hz, s.band_high_hz); })
-      .def_readonly("target_met", &ModalFitSummary::target_met);
+      .def_readonly("target_met", &ModalFitSummary::target_met)
+      .def(
+          "to_dict", [](const ModalFitSummary& s) { return dict_of(s); },
+          "The result as plain data (dicts, lists, floats, str, bool, None; the CLI's --json keys, SI units).");
   py::class_<LobesStudyResult>(m, "LobesStudyResult", "run_lobes_study's result.")
       .def_property_readonly("method", [](const LobesStudyResult& r) { return name_of(r.method, kLobesMethods); })
       .def_readonly("cutting", &LobesStudyResult::cutting)
@@ -355,7 +367,7 @@ void bind_stability(py::module_& m) {
       .def_readonly("warnings", &LobesStudyResult::warnings)
       .def(
           "to_dict", [](const LobesStudyResult& r) { return dict_of(r); },
-          "toolpoint lobes --json's keys (depths in mm there, as in its CSV).");
+          "toolpoint lobes --json's keys (SI: depths in m; the envelope and figure data left out).");
   m.def(
       "run_lobes_study",
       [](const CuttingConditions& cutting, std::tuple<double, double, int> speeds, const std::string& method,

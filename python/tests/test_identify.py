@@ -41,7 +41,7 @@ def test_identification_study_is_the_cli_one(measured, example):
         data = tp.IdentificationData(f, sht, B11=sh, g_name=sht_path, b_name=sh_path)
         ours = tp.identify_joint_from_frfs(example, [data], method=method, bootstrap_samples=20, threads=1)
         j = ours.to_dict()
-        for key in ("parameters", "verdict", "mode_choice", "seed_readout", "forward_check", "noise", "warnings"):
+        for key in ("parameters", "verdict", "mode", "seed", "forward_check", "g_noise", "b_noise", "warnings"):
             assert j[key] == cli[key], (method, key)
         if method == "fit":
             assert j["fit"] == cli["fit"]
@@ -52,6 +52,15 @@ def test_identification_study_is_the_cli_one(measured, example):
                 assert ours.fit.lower[k] <= ref[k] <= ours.fit.upper[k]
             assert ours.identified == ours.fit.parameters
         assert ours.verdict in ("pass", "doubtful", "fail")
+
+
+def test_case_study_is_the_cli_demo(tmp_path, example):
+    # to_dict is demo --json's JSON, less what the CLI adds about its run (options echoed, files).
+    cli = run_cli_json("demo", "--assembly", EXAMPLE, "--no-plots", "--bootstrap", 0, "--output", tmp_path / "demo")
+    cs = tp.run_case_study(example, uncertainty="linearised", threads=1)
+    run = {"case_study", "assembly", "units", "frequency_range_hz", "points", "noise", "filter", "files", "figures"}
+    assert cs.to_dict() == {k: v for k, v in cli.items() if k not in run}
+    assert cs.to_dict()["fitted"] == cs.fitted.to_dict() and cs.to_dict()["seed"]["method"] == "seed"
 
 
 def test_joint_file_round_trip_and_band(tmp_path, measured, example, prediction):

@@ -32,8 +32,9 @@ def test_zero_order_lobes_are_the_cli_ones(tmp_path, model, example):
     cli = run_cli_json("lobes", "--assembly", EXAMPLE, "--teeth", 4, "--kt", 6e8, "--kr", 0.3, "--immersion", 0.5, "--milling",
                        "down", "--rpm", "2000:20000")
     d = study.to_dict()
-    for key in ("pockets", "floor_depth_mm", "lobes", "lobe_points", "cutting", "method"):
+    for key in ("pockets", "zero_order", "cutting", "speeds", "method"):
         assert d[key] == cli[key], key
+    assert d["zero_order"] == study.zero_order.to_dict() and cli["zero_order"]["floor_depth_m"] == r.floor_depth_m
     assert study.zero_order.floor_depth_m == r.floor_depth_m
 
 
@@ -52,8 +53,10 @@ def test_time_domain_boundary_is_the_cli_one():
     cli = run_cli_json("lobes", "--method", "fd", "--mode-x", "0.03993,0.011,922", "--rigid-y", "--teeth", 2, "--kt", 6e8,
                        "--kn", 2e8, "--immersion", 0.05, "--milling", "down", "--rpm", "5000:25000", "--threads", 1)
     d = study.to_dict()
-    for key in ("pockets", "lowest_boundary", "worst_error_pct", "evaluations", "flip_speeds", "max_depth_mm"):
+    for key in ("pockets", "boundary", "modes", "fits", "cutting"):
         assert d[key] == cli[key], key  # identical for any thread count (2 here, 1 in the CLI)
+    assert d["boundary"] == study.boundary.to_dict()
+    assert d["boundary"]["worst_relative_error"] == study.boundary.worst_relative_error()
     b = study.boundary.boundary
     assert b["depth_m"].shape == (200,) and b["kind"][0] in ("hopf", "flip", "fold", "none")
     assert np.all(b["depth_error_m"] <= 0.01 * b["depth_m"] + 1e-15)
@@ -71,8 +74,9 @@ def test_modal_fit_is_the_cli_one(tmp_path, prediction):
     cli = run_cli_json("modes", tmp_path / "h.csv")
     r = tp.fit_modes(prediction.frequency_hz, prediction.frf[:, 0, 0])
     assert [(m.frequency_hz, m.damping_ratio, m.mass_kg) for m in r.modes] == [
-        (m["frequency_hz"], m["damping_ratio"], m["modal_mass_kg"]) for m in cli["modes"]]
-    assert r.lower_residual == cli["lower_residual_per_kg"]
+        (m["mode"]["frequency_hz"], m["mode"]["damping_ratio"], m["mode"]["mass_kg"]) for m in cli["modes"]]
+    assert r.lower_residual == cli["lower_residual"]
+    assert r.to_dict() == {k: v for k, v in cli.items() if k not in ("units", "file")}  # what the CLI adds
 
 
 def test_modal_fit_recovers_the_modes_it_is_given():

@@ -11,6 +11,8 @@
 
 namespace toolpoint {
 
+const char* to_string(LobesMethod m) { return m == LobesMethod::ZeroOrder ? "zoa" : "fd"; }
+
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();

@@ -90,7 +90,7 @@ nlohmann::json header_json(const PlanHeader& h) {
   const PlanOptions& o = h.options;
   const LobesStudyOptions& l = o.lobes;
   nlohmann::json opt = {{"name", o.name},
-                        {"method", l.method == LobesMethod::ZeroOrder ? "zoa" : "fd"},
+                        {"method", to_string(l.method)},
                         {"teeth", l.cutting.teeth},
                         {"tangential_coefficient", hex(l.cutting.tangential_coefficient)},
                         {"radial_ratio", hex(l.cutting.radial_ratio)},

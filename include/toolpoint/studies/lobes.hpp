@@ -29,6 +29,7 @@ enum class LobesMethod {
   ZeroOrder,           // Altintas & Budak 1995, directly from the FRFs
   FullDiscretization,  // the time-domain boundary of a modal model (stability_boundary)
 };
+const char* to_string(LobesMethod m);  // "zoa", "fd" (as the CLI's --method and a study file's options.method)
 
 // Where the dynamics come from. The zero-order method needs `frfs`; the time-domain method takes
 // the modes given, or fits them to `frfs` (x from G_xx, y from G_yy, or the x modes for a
