@@ -92,12 +92,61 @@ std::vector<double> SpeedRange::values() const {
 
 // ---- Zero-order approximation ---------------------------------------------------------------
 
-void MillingFrfs::check() const {
+std::optional<PassivityViolation> passivity_violation(const FrfSeries& g) {
+  double largest = 0.0;
+  for (const Complex& v : g.values) largest = std::max(largest, std::abs(v));
+  PassivityViolation out;
+  std::optional<PassivityViolation> first;
+  for (const Peak& p : find_peaks(g, PeakOptions{0.3})) {
+    const Complex v = g.values[p.index];
+    if (std::abs(v) < 0.01 * largest) continue;
+    ++out.peaks;
+    if (!(v.imag() > 0.0)) continue;
+    ++out.violating;
+    if (!first) first = PassivityViolation{g.frequency_hz[p.index], v, std::abs(v) / largest, 0, 0};
+  }
+  if (!first) return std::nullopt;
+  first->violating = out.violating;
+  first->peaks = out.peaks;
+  return first;
+}
+
+std::string PassivityViolation::describe(const std::string& what) const {
+  const std::string where = fmt::format("{}: Im G = {:.4g} > 0 at its resonance peak at {:.6g} Hz (|G| {:.0f} % of the largest; "
+                                        "{} of its {} resonance peaks so): a direct receptance of a passive structure has "
+                                        "Im G < 0 at every frequency in the e^{{iωt}} sign convention",
+                                        what, value.imag(), frequency_hz, 100.0 * share, violating, peaks);
+  return violating == peaks ? where + "; every peak shows it, as data in the conjugate convention e^{−iωt} or of the opposite "
+                                      "sign do"
+                            : where + "; the others do not, so the structure feeds energy in at this mode (negative "
+                                      "damping, as a joint whose damping matrix is not positive definite gives): it is "
+                                      "unstable at any depth of cut";
+}
+
+namespace {
+
+// The zero-order lobes of non-passive data look like lobes (4× too deep for the example's
+// conjugate), so they are refused.
+void require_passive_point_frf(const FrfSeries& g, const std::string& what) {
+  if (const auto v = passivity_violation(g))
+    throw InputError(v->describe(what),
+                     v->violating == v->peaks
+                         ? "if the data use e^{−iωt} (some analysers), conjugate them (Im → −Im); if the response or force "
+                           "direction was reversed, negate them; a cross FRF is not a direct one"
+                         : "check the joint's damping (its matrix must be positive definite) and stiffness, or the "
+                           "measurement at that frequency");
+}
+
+}  // namespace
+
+void MillingFrfs::check(const std::string& x_name, const std::string& y_name) const {
   validate(xx, "G_xx", 2);
+  require_passive_point_frf(xx, x_name);
   if (rigid_y && (yy || xy || yx))
     throw InvalidArgument("a tool rigid in y cannot also have y or cross FRFs", "drop the y/cross FRFs or the rigid-y option");
   if (yy) {
     validate(*yy, "G_yy", 2);
+    require_passive_point_frf(*yy, y_name);
     require_same_grid(xx.frequency_hz, "G_xx", yy->frequency_hz, "G_yy");
   }
   if (xy.has_value() != yx.has_value())

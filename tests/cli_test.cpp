@@ -894,6 +894,16 @@ TEST_F(Cli, UnguardedOptionsAreRefusedOrSaid) {
   expect_error(run("lobes --frf um.csv --kr 0.3 --output l.csv" + cut), 3, {"um.csv", "cannot be meant", "µm/N", "--units"});
   EXPECT_FALSE(exists("l.csv"));
   ok("lobes --frf um.csv --units um/N --kr 0.3" + cut);
+  // The same FRF in the conjugate sign convention (e^{−iωt}): refused by the file's name, not drawn.
+  std::string conj = "frequency_hz,re,im\n";
+  for (int f = 800; f <= 1000; ++f) {
+    const double r = f / 916.0;
+    const Complex h = std::conj(1.0 / (4e7 * Complex(1.0 - r * r, 2.0 * 0.011 * r)));
+    conj += fmt::format("{},{},{}\n", f, h.real(), h.imag());
+  }
+  write_text_file(path("conj.csv"), conj);
+  expect_error(run("lobes --frf conj.csv --kr 0.3 --output l.csv" + cut), 3, {"conj.csv", "Im G", "e^{iωt}", "conjugate"});
+  EXPECT_FALSE(exists("l.csv"));
 }
 
 TEST_F(Cli, HelpDocumentsExitCodesExamplesAndTheFigureRule) {

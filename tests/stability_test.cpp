@@ -131,6 +131,45 @@ TEST(Stability, ZeroOrderLobesAreScaleAware) {
   }
 }
 
+// Data that are not a passive point receptance in the e^{iωt} convention are refused by the
+// zero-order lobes, which would otherwise draw lobes from them (4× too deep for the example's
+// conjugate, in review): the benchmark's FRF conjugated (every peak says so: the convention) or
+// negated (a sign slip), and a second mode of negative damping beside a passive first (the
+// structure feeds energy in: unstable at any depth). The passive FRF itself passes.
+TEST(Stability, NonPassiveFrfsAreRefused) {
+  const std::vector<double> grid = modal_frequency_grid({kBench, Mode{0.05, 0.02, 2000.0}});
+  const MillingFrfs good = modal_milling_frfs({kBench, Mode{0.05, 0.02, 2000.0}}, {}, grid);
+  EXPECT_NO_THROW(good.check("g.csv"));
+  EXPECT_FALSE(passivity_violation(good.xx).has_value());
+  auto message = [](const MillingFrfs& f) {
+    try {
+      zero_order_floor(f, cutting(2, 1.0));
+    } catch (const InputError& e) {
+      return std::string(e.what()) + " | " + e.hint();
+    }
+    return std::string("no error");
+  };
+  MillingFrfs conjugate = good, negated = good, unstable = good;
+  for (Complex& v : conjugate.xx.values) v = std::conj(v);
+  for (Complex& v : negated.xx.values) v = -v;
+  EXPECT_NE(message(conjugate).find("conjugate"), std::string::npos) << message(conjugate);
+  EXPECT_NE(message(conjugate).find("2 of its 2 resonance peaks"), std::string::npos) << message(conjugate);
+  EXPECT_NE(message(negated).find("negate"), std::string::npos) << message(negated);
+  for (std::size_t i = 0; i < grid.size(); ++i) {  // the 2000 Hz mode with ζ = −0.02
+    const Mode m{0.05, 0.02, 2000.0};
+    const double r = grid[i] / m.frequency_hz;
+    const Complex passive = 1.0 / (m.stiffness() * Complex(1.0 - r * r, 2.0 * m.damping_ratio * r));
+    const Complex active = 1.0 / (m.stiffness() * Complex(1.0 - r * r, -2.0 * m.damping_ratio * r));
+    unstable.xx.values[i] += active - passive;
+  }
+  const std::string u = message(unstable);
+  EXPECT_NE(u.find("negative damping"), std::string::npos) << u;
+  EXPECT_NE(u.find("1 of its 2 resonance peaks"), std::string::npos) << u;
+  const auto v = passivity_violation(unstable.xx);
+  ASSERT_TRUE(v.has_value());
+  EXPECT_NEAR(v->frequency_hz, 2000.0, 2.0);
+}
+
 // α from the closed-form antiderivatives against Simpson quadrature of the per-tooth matrix
 // written from the force model (2000 panels: error ~1e-13), and the slotting values
 // α = π[[−K_r, −1], [1, −K_r]].

@@ -80,7 +80,7 @@ void tool_point_frfs(const LobesOptions& o, const Globals& g, const std::vector<
   if (!o.frf_xy.empty()) f.xy = read_point_frf(g, o.frf_xy);
   if (!o.frf_yx.empty()) f.yx = read_point_frf(g, o.frf_yx);
   f.rigid_y = o.rigid_y;
-  f.check();
+  f.check(o.frf, o.frf_y.empty() ? "--frf-y" : o.frf_y);
   input.frfs = std::move(f);
   input.frf_name = o.frf;
   input.frf_y_name = o.frf_y;

@@ -84,9 +84,28 @@ struct MillingFrfs {
   std::optional<FrfSeries> yx;
   bool rigid_y = false;  // G_yy = G_xy = G_yx = 0: flexible in x only (the 1-DOF model)
 
-  // Throws InputError (data: NaN, grids that differ, one cross FRF without the other).
-  void check() const;
+  // Throws InputError (data: NaN, grids that differ, one cross FRF without the other, a direct
+  // FRF that is not a passive point receptance in the e^{iωt} convention: Im G > 0 at its largest
+  // |G|, as the conjugate convention e^{−iωt} or a sign slip gives). `x_name`, `y_name` name G_xx
+  // and G_yy in the messages (a file name).
+  void check(const std::string& x_name = "G_xx", const std::string& y_name = "G_yy") const;
 };
+
+// A direct (point) receptance of a passive structure dissipates: Im G(ω) < 0 at every ω > 0 in the
+// e^{iωt} convention (conventions.hpp). Measurement noise can tip the sign where |G| is small, never
+// at a resonance peak; there Im G > 0 means the conjugate convention e^{−iωt} or a sign slip
+// (every peak shows it), or a structure that feeds energy in at that mode (negative damping: an
+// assembly whose joint damping matrix is not positive definite), which chatters at any depth.
+// The first resonance peak (prominence ≥ 0.3, ≈ 3 dB; at least 1 % of the largest |G|) with
+// Im G > 0, if any.
+struct PassivityViolation {
+  double frequency_hz = 0.0;
+  Complex value;              // G at that peak [m/N]
+  double share = 0.0;         // |G| there / the largest |G|
+  int violating = 0, peaks = 0;  // how many of the resonance peaks have Im G > 0, of how many
+  std::string describe(const std::string& what) const;  // the message, naming `what`
+};
+std::optional<PassivityViolation> passivity_violation(const FrfSeries& direct_frf);
 
 // The FRFs of a modal model (x and y modes uncoupled, G_xy = G_yx = 0) on a frequency grid.
 MillingFrfs modal_milling_frfs(const std::vector<Mode>& x_modes, const std::vector<Mode>& y_modes,

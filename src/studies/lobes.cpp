@@ -262,7 +262,7 @@ LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOption
   res.cutting = options.cutting;
   res.speeds = options.speeds;
   if (res.speeds.points == 0) res.speeds.points = options.method == LobesMethod::ZeroOrder ? 2000 : 200;
-  if (input.frfs) input.frfs->check();
+  if (input.frfs) input.frfs->check(input.frf_name, input.frf_y_name);
   auto progress = [&](double f) {
     if (options.progress) options.progress(f);
   };

@@ -501,7 +501,9 @@ void finish_job(PlanJob& job, const PlanHeader& h, std::size_t job_index) {
   std::vector<double> margin(job.depth_m.size());
   for (std::size_t k = 0; k < margin.size(); ++k) margin[k] = job.stable_depth_m[k] / job.depth_m[k];
   const std::size_t k = best_of(job.mrr_m3_per_s, margin);
-  job.best = k == std::string::npos ? no_setup(job, job_index) : setup_at(job, h, job_index, k);
+  // Nothing removed at any speed (no stable depth: a set-up unstable on its own) is no set-up,
+  // not the slowest speed at depth 0.
+  job.best = k == std::string::npos || !(job.mrr_m3_per_s[k] > 0.0) ? no_setup(job, job_index) : setup_at(job, h, job_index, k);
 }
 
 // "40.0–45.5 mm" for the overhangs of a candidate's jobs (listed by index).
@@ -569,10 +571,28 @@ struct Envelope {
   std::vector<std::string> warnings;
 };
 
-// The stable envelope of a symmetric tool with tool point FRF `g` (the lobes study's method).
+// The stable envelope of a symmetric tool with tool point FRF `g` (the lobes study's method). A
+// set-up whose tool point is not passive (a mode with negative damping: passivity_violation's
+// second case) chatters at any depth: its stable depth is 0 at every speed, and it says why, so a
+// long overhang of a doubtful joint loses the plan instead of stopping it.
 Envelope stable_envelope(const FrfSeries& g, const std::string& name, const LobesStudyOptions& lo) {
   std::vector<EnvelopePoint> env;
   Envelope out;
+  if (const auto v = passivity_violation(g)) {
+    out.depth_m.assign(lo.speeds.points, 0.0);
+    out.chatter_hz.assign(lo.speeds.points, v->frequency_hz);
+    out.lobe.assign(lo.speeds.points, -1);
+    // Without the numbers, so that the plan's summary groups the overhangs it holds for.
+    (void)name;
+    out.warnings.push_back(
+        v->violating == v->peaks
+            ? "the tool point FRF has Im G > 0 at every resonance peak: not a passive point receptance in the e^{iωt} "
+              "convention (data in the conjugate convention, or of the opposite sign?); its stable depth is taken as 0"
+            : "the tool point FRF has Im G > 0 at a resonance peak beside passive ones: a mode of negative damping (as a "
+              "joint whose damping matrix is not positive definite gives), so the set-up is unstable at any depth of cut; "
+              "its stable depth is taken as 0");
+    return out;
+  }
   MillingFrfs frfs;
   frfs.xx = g;
   if (lo.method == LobesMethod::ZeroOrder) {

@@ -98,8 +98,7 @@ plot::Figure plan_tuning_figure(const PlanResult& r) {
   const PlanHeader& h = r.header;
   if (r.jobs.empty()) throw InvalidArgument("plan tuning figure: the plan has no jobs");
   plot::Figure fig;
-  fig.title = fmt::format("Tuning curve: the most metal removed at each overhang ({}{})", safety_rule_text(h.options.safety),
-                          reach_text(h.options));
+  fig.title = fmt::format("Best MRR at each overhang ({}{})", safety_rule_text(h.options.safety), reach_text(h.options));
   fig.x.label = "Overhang [mm]";
   plot::Panel mrr, speed;
   mrr.y.label = "Best MRR [cm^3/min]";
@@ -117,7 +116,8 @@ plot::Figure plan_tuning_figure(const PlanResult& r) {
     for (std::size_t i = 0; i < cs.overhangs_m.size(); ++i) {
       const PlanSetup& s = r.jobs[j0 + i].best;
       a.x.push_back(1e3 * s.overhang_m);
-      a.y.push_back(kCubicCentimetresPerMinute * s.mrr_m3_per_s);
+      // No set-up (nothing stable at any speed) removes nothing: 0 on the curve, no speed below.
+      a.y.push_back(std::isfinite(s.mrr_m3_per_s) ? kCubicCentimetresPerMinute * s.mrr_m3_per_s : 0.0);
       n.x.push_back(1e3 * s.overhang_m);
       n.y.push_back(s.speed_rpm);
     }
