@@ -646,17 +646,6 @@ class CsvReader {
 
 }  // namespace
 
-FrfValueFormat parse_frf_value_format(const std::string& text_in, const std::string& option) {
-  const std::string s = lower(trim(text_in));
-  if (s == "re-im" || s == "reim") return FrfValueFormat::ReIm;
-  if (s == "mag-phase-deg") return FrfValueFormat::MagPhaseDeg;
-  if (s == "mag-phase-rad") return FrfValueFormat::MagPhaseRad;
-  if (s == "db-phase" || s == "db-phase-deg") return FrfValueFormat::DbPhaseDeg;
-  if (s == "db-phase-rad") return FrfValueFormat::DbPhaseRad;
-  throw InvalidArgument(fmt::format("{} '{}' is not a value format", option, text_in),
-                        "use re-im, mag-phase-deg, mag-phase-rad, db-phase (dB and degrees) or db-phase-rad");
-}
-
 std::string frf_value_format_name(FrfValueFormat f) {
   switch (f) {
     case FrfValueFormat::ReIm: return "re-im";

@@ -141,17 +141,6 @@ std::string uff_what(const std::string& source, const UffDataset58& d) {
 
 }  // namespace
 
-FrfFormat parse_frf_format(const std::string& text, const std::string& option) {
-  const std::string s = lower(trim(text));
-  if (s == "auto") return FrfFormat::Auto;
-  if (s == "csv") return FrfFormat::Csv;
-  if (s == "uff" || s == "unv" || s == "uf") return FrfFormat::Uff;
-  if (s == "uffb" || s == "uff-binary" || s == "58b") return FrfFormat::UffBinary;
-  if (s == "frf" || s == "cutpro") return FrfFormat::Frf;
-  throw InvalidArgument(fmt::format("{} '{}' is not a known FRF file format", option, text),
-                        "use csv, uff (ASCII dataset 58), uffb (binary 58b) or frf (CutPro text)");
-}
-
 std::string frf_format_name(FrfFormat f) {
   switch (f) {
     case FrfFormat::Auto: return "auto";
@@ -170,15 +159,6 @@ FrfFormat frf_format_of_path(const std::string& path) {
   if (ext == ".frf") return FrfFormat::Frf;
   throw InvalidArgument(fmt::format("{}: cannot tell the FRF file format from the extension '{}'", path, ext),
                         "use .csv, .uff/.unv/.uf or .frf, or name the format (FrfReadOptions::format: csv, uff or frf)");
-}
-
-FrfOrdinate parse_frf_ordinate(const std::string& text, const std::string& option) {
-  const std::string s = lower(trim(text));
-  if (s == "receptance" || s == "compliance") return FrfOrdinate::Receptance;
-  if (s == "mobility") return FrfOrdinate::Mobility;
-  if (s == "accelerance" || s == "inertance") return FrfOrdinate::Accelerance;
-  throw InvalidArgument(fmt::format("{} '{}' is not an FRF ordinate", option, text),
-                        "use receptance (m/N), mobility ((m/s)/N) or accelerance ((m/s²)/N)");
 }
 
 std::string frf_ordinate_name(FrfOrdinate o) {

@@ -1289,32 +1289,6 @@ std::vector<std::string> write_uff(const std::string& path, const std::vector<Uf
 
 double uff_field13_roundtrip(double v) { return reparse(fortran_e(v, 13)); }
 
-int parse_uff_direction(const std::string& text, const std::string& option) {
-  std::string s;
-  for (char c : trim(text)) s += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (const auto v = parse_integer(s); v && !s.empty()) {
-    if (*v < -6 || *v > 6)
-      throw InvalidArgument(fmt::format("{} {}: a UFF direction code is −6..6", option, *v),
-                            "0 scalar, 1/2/3 +X/+Y/+Z, 4/5/6 +RX/+RY/+RZ, negative for the minus directions");
-    return static_cast<int>(*v);
-  }
-  if (s == "scalar" || s == "s") return 0;
-  int sign = 1;
-  if (!s.empty() && (s.front() == '+' || s.front() == '-')) {
-    sign = s.front() == '-' ? -1 : 1;
-    s.erase(0, 1);
-  } else if (!s.empty() && (s.back() == '+' || s.back() == '-')) {
-    sign = s.back() == '-' ? -1 : 1;
-    s.pop_back();
-  }
-  static const std::map<std::string, int> names = {{"x", 1}, {"y", 2}, {"z", 3}, {"rx", 4}, {"ry", 5}, {"rz", 6}};
-  const auto it = names.find(s);
-  if (it == names.end())
-    throw InvalidArgument(fmt::format("{} '{}' is not a UFF direction", option, text),
-                          "give +X, -Y, Z, +RZ, scalar, or a code −6..6");
-  return sign * it->second;
-}
-
 std::string uff_direction_name(int d) {
   static const char* names[] = {"X", "Y", "Z", "RX", "RY", "RZ"};
   if (d == 0) return "scalar";

@@ -3,13 +3,18 @@
 
 #include <charconv>
 #include <fmt/format.h>
+#include <map>
 #include <vector>
 
+#include "../../src/text.hpp"
 #include "toolpoint/error.hpp"
 
 namespace toolpoint::cli {
 
 namespace {
+
+using text::lower;
+using text::trim;
 
 double parse_number(const std::string& text, const std::string& option, const std::string& whole) {
   double v = 0.0;
@@ -74,6 +79,74 @@ std::pair<int, int> parse_shard(const std::string& text, const std::string& opti
     throw InvalidArgument(fmt::format("{} '{}' is not I/N with 0 ≤ I < N ≤ 100000 (shard I of N, counted from 0)", option, text),
                           "e.g. --shard 0/8 … --shard 7/8; in a Slurm array --shard $SLURM_ARRAY_TASK_ID/8");
   return {v[0], v[1]};
+}
+
+FrfFormat parse_frf_format(const std::string& text, const std::string& option) {
+  const std::string s = lower(trim(text));
+  if (s == "auto") return FrfFormat::Auto;
+  if (s == "csv") return FrfFormat::Csv;
+  if (s == "uff" || s == "unv" || s == "uf") return FrfFormat::Uff;
+  if (s == "uffb" || s == "uff-binary" || s == "58b") return FrfFormat::UffBinary;
+  if (s == "frf" || s == "cutpro") return FrfFormat::Frf;
+  throw InvalidArgument(fmt::format("{} '{}' is not a known FRF file format", option, text),
+                        "use csv, uff (ASCII dataset 58), uffb (binary 58b) or frf (CutPro text)");
+}
+
+FrfOrdinate parse_frf_ordinate(const std::string& text, const std::string& option) {
+  const std::string s = lower(trim(text));
+  if (s == "receptance" || s == "compliance") return FrfOrdinate::Receptance;
+  if (s == "mobility") return FrfOrdinate::Mobility;
+  if (s == "accelerance" || s == "inertance") return FrfOrdinate::Accelerance;
+  throw InvalidArgument(fmt::format("{} '{}' is not an FRF ordinate", option, text),
+                        "use receptance (m/N), mobility ((m/s)/N) or accelerance ((m/s²)/N)");
+}
+
+FrfValueFormat parse_frf_value_format(const std::string& text, const std::string& option) {
+  const std::string s = lower(trim(text));
+  if (s == "re-im" || s == "reim") return FrfValueFormat::ReIm;
+  if (s == "mag-phase-deg") return FrfValueFormat::MagPhaseDeg;
+  if (s == "mag-phase-rad") return FrfValueFormat::MagPhaseRad;
+  if (s == "db-phase" || s == "db-phase-deg") return FrfValueFormat::DbPhaseDeg;
+  if (s == "db-phase-rad") return FrfValueFormat::DbPhaseRad;
+  throw InvalidArgument(fmt::format("{} '{}' is not a value format", option, text),
+                        "use re-im, mag-phase-deg, mag-phase-rad, db-phase (dB and degrees) or db-phase-rad");
+}
+
+Interpolation parse_interpolation(const std::string& text, const std::string& option) {
+  const std::string s = lower(trim(text));
+  if (s == "linear") return Interpolation::Linear;
+  if (s == "cubic" || s == "spline") return Interpolation::Cubic;
+  throw InvalidArgument(fmt::format("{} '{}' is not an interpolation", option, text),
+                        "use linear (no overshoot) or cubic (natural cubic spline)");
+}
+
+int parse_uff_direction(const std::string& text, const std::string& option) {
+  std::string s = lower(trim(text));
+  // A code: an integer with an optional sign.
+  const char* first = s.data() + (!s.empty() && s.front() == '+' ? 1 : 0);
+  const char* last = s.data() + s.size();
+  long long code = 0;
+  if (const auto [ptr, ec] = std::from_chars(first, last, code); first != last && ec == std::errc() && ptr == last) {
+    if (code < -6 || code > 6)
+      throw InvalidArgument(fmt::format("{} {}: a UFF direction code is −6..6", option, code),
+                            "0 scalar, 1/2/3 +X/+Y/+Z, 4/5/6 +RX/+RY/+RZ, negative for the minus directions");
+    return static_cast<int>(code);
+  }
+  if (s == "scalar" || s == "s") return 0;
+  int sign = 1;
+  if (!s.empty() && (s.front() == '+' || s.front() == '-')) {
+    sign = s.front() == '-' ? -1 : 1;
+    s.erase(0, 1);
+  } else if (!s.empty() && (s.back() == '+' || s.back() == '-')) {
+    sign = s.back() == '-' ? -1 : 1;
+    s.pop_back();
+  }
+  static const std::map<std::string, int> names = {{"x", 1}, {"y", 2}, {"z", 3}, {"rx", 4}, {"ry", 5}, {"rz", 6}};
+  const auto it = names.find(s);
+  if (it == names.end())
+    throw InvalidArgument(fmt::format("{} '{}' is not a UFF direction", option, text),
+                          "give +X, -Y, Z, +RZ, scalar, or a code −6..6");
+  return sign * it->second;
 }
 
 }  // namespace toolpoint::cli
