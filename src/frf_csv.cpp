@@ -99,12 +99,13 @@ const char* role_name(Role r) {
   return "unused";
 }
 
-// Lower-case letters and digits only: "Re(H)" → "reh", "|H|" → "h", "Freq." → "freq".
-std::string squeeze(std::string_view s) {
-  std::string out;
+// Lower-case letters and digits only (and the characters of `also`): "Re(H)" → "reh", "|H|" → "h",
+// "Freq." → "freq".
+std::string squeeze(std::string_view s, std::string_view also = {}) {
+  std::string kept;
   for (char c : s)
-    if (std::isalnum(static_cast<unsigned char>(c))) out += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return out;
+    if (std::isalnum(static_cast<unsigned char>(c)) || also.find(c) != std::string_view::npos) kept += c;
+  return lower(kept);
 }
 
 Role role_of_name(std::string_view raw) {
@@ -252,13 +253,7 @@ std::optional<int> block_entry(std::string_view cell, std::string& unit) {
 // Units of a block column as written: SI only (spaces, '·', '*' and brackets ignored).
 bool block_unit_is_si(int k, const std::string& unit) {
   if (unit.empty()) return true;
-  std::string a, b;
-  for (char c : unit)
-    if (std::isalnum(static_cast<unsigned char>(c)) || c == '/')
-      a += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  for (char c : std::string_view(kBlockUnits[k]))
-    if (std::isalnum(static_cast<unsigned char>(c)) || c == '/')
-      b += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::string a = squeeze(unit, "/"), b = squeeze(kBlockUnits[k], "/");
   return a == b || (k >= 2 && k <= 3 && a == "m/nm") || (k >= 6 && a == "rad/nm");
 }
 

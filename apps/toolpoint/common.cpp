@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <iostream>
 
+#include "../../src/text.hpp"
 #include "cli.hpp"
 #include "progress.hpp"
 #include "toolpoint/error.hpp"
@@ -417,8 +418,7 @@ const char* const kBlockCsvOutput = "the 2×2 receptance block as FRF CSV (.csv;
 void check_output_extension(const std::string& path, const std::string& option, std::initializer_list<const char*> extensions,
                             const std::string& formats) {
   if (path.empty()) return;
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const std::string ext = text::lower(std::filesystem::path(path).extension().string());
   std::string listed;
   for (const char* e : extensions) {
     if (ext == e) return;
