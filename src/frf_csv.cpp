@@ -464,7 +464,7 @@ class CsvReader {
                                           "{}",
                                           source_, frf_value_format_name(*named), column_text(a_), column_text(b_),
                                           frf_value_format_name(*o_.format)),
-                              "drop the format option, or correct the header");
+                              "drop FrfCsvOptions::format, or correct the header");
       table_.format = *o_.format;
     } else if (named) {
       table_.format = *named;

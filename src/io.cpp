@@ -388,7 +388,7 @@ BlockSeries read_block_csv(const std::string& path) {
   FrfTable t = read_frf_csv(path);
   if (!t.is_block)
     throw InputError(fmt::format("{}: holds a single FRF where a 2×2 block is needed", path),
-                     fmt::format("give a file with columns {} (e.g. from `toolpoint rotational`)", join(kBlockHeader)));
+                     fmt::format("give a file with columns {} (e.g. the block of rotational_frfs)", join(kBlockHeader)));
   return std::move(t.block);
 }
 

@@ -95,7 +95,7 @@ std::vector<double> SpeedRange::values() const {
 void MillingFrfs::check() const {
   validate(xx, "G_xx", 2);
   if (rigid_y && (yy || xy || yx))
-    throw InvalidArgument("a tool rigid in y cannot also have y or cross FRFs", "drop the y/cross FRFs or the rigid-y option");
+    throw InvalidArgument("a tool rigid in y cannot also have y or cross FRFs", "drop the y/cross FRFs or MillingFrfs::rigid_y");
   if (yy) {
     validate(*yy, "G_yy", 2);
     require_same_grid(xx.frequency_hz, "G_xx", yy->frequency_hz, "G_yy");

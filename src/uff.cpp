@@ -1142,12 +1142,12 @@ std::vector<std::string> UffFile::warnings_for(const std::vector<const UffDatase
   constexpr std::size_t kShown = 10;  // messages for a person: the first few, then a count
   std::vector<std::string> out(file_warnings.begin(), file_warnings.begin() + std::min(file_warnings.size(), kShown));
   if (file_warnings.size() > kShown)
-    out.push_back(fmt::format("{}: … and {} more problems in the file (see `toolpoint convert {} --list`)", source,
-                              file_warnings.size() - kShown, source));
+    out.push_back(fmt::format("{}: … and {} more problems in the file (see UffFile::file_warnings)", source,
+                              file_warnings.size() - kShown));
   for (const UffDataset58* d : sets) out.insert(out.end(), d->warnings.begin(), d->warnings.end());
   if (!skipped.empty())
-    out.push_back(fmt::format("{}: {} dataset(s) 58 could not be read and were skipped (see `toolpoint convert {} --list`)",
-                              source, skipped.size(), source));
+    out.push_back(
+        fmt::format("{}: {} dataset(s) 58 could not be read and were skipped (see UffFile::skipped)", source, skipped.size()));
   return out;
 }
 
@@ -1191,8 +1191,7 @@ const UffDataset58& select_dataset58(const UffFile& file, const UffSelection& se
   constexpr std::size_t kShown = 5;  // the first few reasons, then a count
   std::string skipped;
   for (std::size_t i = 0; i < file.skipped.size() && i < kShown; ++i) skipped += "\n  " + file.skipped[i];
-  if (file.skipped.size() > kShown)
-    skipped += fmt::format("\n  … and {} more (`toolpoint convert {} --list`)", file.skipped.size() - kShown, file.source);
+  if (file.skipped.size() > kShown) skipped += fmt::format("\n  … and {} more (UffFile::skipped)", file.skipped.size() - kShown);
   if (file.functions.empty())
     throw InputError(fmt::format("{}: no readable dataset 58 (function at nodal DOF) in the file ({} dataset(s) of "
                                  "other types, {} dataset(s) 58 unreadable){}",
@@ -1211,7 +1210,7 @@ const UffDataset58& select_dataset58(const UffFile& file, const UffSelection& se
   if (match.empty())
     throw InputError(fmt::format("{}: no dataset 58 matches {}; the file holds:{}{}", file.source, sel.describe(),
                                  candidate_list(all), skipped.empty() ? "" : "\nskipped:" + skipped),
-                     "pick an index or node/direction from the list (`toolpoint convert FILE --list`)");
+                     "pick an index or node/direction from the list (UffFile::functions)");
   throw InputError(fmt::format("{}: {} datasets 58 match {}:{}", file.source, match.size(), sel.describe(),
                                candidate_list(match)),
                    "choose one by index (UffSelection::index) or add node/direction criteria");

@@ -73,9 +73,9 @@ namespace {
 
 const JointUncertainty& uncertainty_of(const JointFile& joint) {
   if (!joint.uncertainty)
-    throw InvalidArgument(
-        fmt::format("{}: the joint file has no [uncertainty]: nothing to sample", joint.source.empty() ? "joint" : joint.source),
-        "identify the joint with `toolpoint identify --joint-output FILE.toml` (the band fit writes the covariance)");
+    throw InvalidArgument(fmt::format("{}: the joint file has no [uncertainty]: nothing to sample",
+                                      joint.source.empty() ? "joint" : joint.source),
+                          "write a band-fitted joint with write_joint_file: the fit's covariance is its [uncertainty]");
   return *joint.uncertainty;
 }
 

@@ -294,8 +294,20 @@ void add_frf_read_options(CLI::App* command, Globals& g) {
 }
 
 std::string with_flags(std::string text) {
-  // Field → flag, for every command (a field's flag is the same wherever it appears).
+  // Field → flag, for every command (a field's flag is the same wherever it appears); a library
+  // function → the command that does it. In order: a longer name before a name it starts with.
   static const std::pair<std::string_view, std::string_view> kFlags[] = {
+      {"FrfReadOptions::format = FrfFormat::Csv", "`toolpoint convert FILE OUT --from csv`"},
+      {"UffFile::functions", "`toolpoint convert FILE --list`"},
+      {"UffFile::skipped", "`toolpoint convert FILE --list`"},
+      {"UffFile::file_warnings", "`toolpoint convert FILE --list`"},
+      {"rotational_frfs", "`toolpoint rotational`"},
+      {"write_joint_file", "`toolpoint identify --joint-output FILE.toml`"},
+      {"run_plan_part", "`toolpoint plan --shard I/N`"},
+      {"format_plan_part", "`toolpoint plan --shard I/N --part FILE`"},
+      {"resample()", "`toolpoint resample IN OUT --onto OTHER`"},
+      {"crop()", "`toolpoint resample IN OUT --band F1:F2`"},
+      {"MillingFrfs::rigid_y", "--rigid-y"},
       {"FrfCsvOptions::columns", "--columns"},
       {"FrfCsvOptions::format", "--format"},
       {"FrfReadOptions::units", "--units"},
