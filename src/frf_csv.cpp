@@ -431,7 +431,9 @@ class CsvReader {
                          columns_, columns_ == 4 ? ", and coherence" : ""),
              "say what the values are (FrfCsvOptions::format: re-im, mag-phase-deg, mag-phase-rad, db-phase), or add a "
              "header line such as frequency_hz,re,im");
-      f_ = 0, a_ = 1, b_ = 2;
+      f_ = 0;
+      a_ = 1;
+      b_ = 2;
       if (columns_ == 4) coh_ = 3;
     } else {
       find_by_name(cols, header_line, settle);
@@ -522,9 +524,11 @@ class CsvReader {
       fail(header_line, fmt::format("{} and {} are both magnitudes (linear and dB)", column_text(*mag), column_text(*db)),
            settle);
     if (re && im) {
-      a_ = *re, b_ = *im;
+      a_ = *re;
+      b_ = *im;
     } else if ((mag || db) && ph) {
-      a_ = mag ? *mag : *db, b_ = *ph;
+      a_ = mag ? *mag : *db;
+      b_ = *ph;
     } else {
       std::string found;
       for (std::size_t k = 0; k < cols.size(); ++k)

@@ -298,7 +298,10 @@ OverhangModes overhang_mode(const std::vector<FrfSeries>& frfs, std::size_t refe
   for (const auto& mode : track_modes(family, reference, 0.25, false)) {
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;
     for (double f : mode)
-      if (!std::isnan(f)) lo = std::min(lo, f), hi = std::max(hi, f);
+      if (!std::isnan(f)) {
+        lo = std::min(lo, f);
+        hi = std::max(hi, f);
+      }
     r.relative_variation.push_back((hi - lo) / mode[reference]);
   }
   r.dominant = static_cast<std::size_t>(std::max_element(r.relative_variation.begin(), r.relative_variation.end()) -

@@ -432,7 +432,10 @@ void check_identifiable(const MatrixXd& A, const Parametrization& par, const std
   const int p = par.size();
   auto band = [&] {
     double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
-    for (const Setup& s : setups) lo = std::min(lo, s.f.front()), hi = std::max(hi, s.f.back());
+    for (const Setup& s : setups) {
+      lo = std::min(lo, s.f.front());
+      hi = std::max(hi, s.f.back());
+    }
     return fmt::format("{:g}–{:g} Hz", lo, hi);
   };
   for (int k = 0; k < p; ++k)
@@ -568,7 +571,10 @@ JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<Join
     }
   }
   std::vector<const BlockSeries*> Bs, Gs;
-  for (const Setup& u : setups) Bs.push_back(&u.B), Gs.push_back(&u.G);
+  for (const Setup& u : setups) {
+    Bs.push_back(&u.B);
+    Gs.push_back(&u.G);
+  }
 
   // The best start under the weights of the first, then two passes (weights at the solution).
   VectorXd q = par.from(starts.front());
@@ -586,7 +592,10 @@ JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<Join
     } catch (const NumericalError&) {
       continue;
     }
-    if (std::isfinite(c) && c < best) best = c, q = x;
+    if (std::isfinite(c) && c < best) {
+      best = c;
+      q = x;
+    }
   }
   Solution sol;
   for (int pass = 0; pass < 2; ++pass) {
@@ -656,7 +665,10 @@ JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<Join
           try {
             for (Setup& u : local) update_weights(u, par, q);
             const Solution r = minimise(local, bp, gp, par, q, options.max_iterations, options.filter);
-            if (r.converged && r.q.allFinite()) rep[b] = r.q, ok[b] = 1;
+            if (r.converged && r.q.allFinite()) {
+              rep[b] = r.q;
+              ok[b] = 1;
+            }
           } catch (const NumericalError&) {}
         },
         options.progress);
@@ -743,7 +755,10 @@ JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<Join
       std::string worst;
       double wd = -1.0;
       for (const auto& sf : out.setups)
-        if (sf.disagreement > wd) wd = sf.disagreement, worst = sf.label;
+        if (sf.disagreement > wd) {
+          wd = sf.disagreement;
+          worst = sf.label;
+        }
       warnings.push_back(
           fmt::format("the joint does not transfer between the set-ups: fitted alone they disagree beyond their noise "
                       "(χ² = {:.3g}, 99.9 % limit {:.3g}; most: {}); the common fit describes none of them well",

@@ -21,7 +21,10 @@ Eigen::Matrix<double, 8, 8> covariance_of(const JointParameters& p, double rel) 
   Eigen::Matrix<double, 8, 8> c = Eigen::Matrix<double, 8, 8>::Zero();
   for (int k : {0, 1, 2, 3, 6, 7}) c(k, k) = std::pow(rel * p[k], 2);
   c(0, 6) = c(6, 0) = 0.5 * std::sqrt(c(0, 0) * c(6, 6));
-  for (int k = 0; k < 8; ++k) c(4, k) = c(k, 4) = c(2, k), c(5, k) = c(k, 5) = c(3, k);
+  for (int k = 0; k < 8; ++k) {
+    c(4, k) = c(k, 4) = c(2, k);
+    c(5, k) = c(k, 5) = c(3, k);
+  }
   c(4, 4) = c(2, 2);
   c(5, 5) = c(3, 3);
   c(4, 2) = c(2, 4) = c(2, 2);

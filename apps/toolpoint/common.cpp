@@ -192,8 +192,14 @@ plot::JointParameterCurve joint_curve(const JointSeries& series, int pair, const
     c.stiffness.push_back(p[2 * pair]);
     c.damping.push_back(p[2 * pair + 1]);
   }
-  if (reference) c.reference_stiffness = (*reference)[2 * pair], c.reference_damping = (*reference)[2 * pair + 1];
-  if (identified) c.identified_stiffness = (*identified)[2 * pair], c.identified_damping = (*identified)[2 * pair + 1];
+  if (reference) {
+    c.reference_stiffness = (*reference)[2 * pair];
+    c.reference_damping = (*reference)[2 * pair + 1];
+  }
+  if (identified) {
+    c.identified_stiffness = (*identified)[2 * pair];
+    c.identified_damping = (*identified)[2 * pair + 1];
+  }
   const auto k = static_cast<std::size_t>(2 * pair), d = k + 1;
   if (fit) {
     c.stiffness_interval = std::make_pair(fit->intervals[k].lower, fit->intervals[k].upper);

@@ -170,7 +170,10 @@ std::vector<std::size_t> in_band(const std::vector<double>& f, double lo, double
 
 BlockSeries subset(const BlockSeries& s, const std::vector<std::size_t>& idx) {
   BlockSeries out;
-  for (std::size_t i : idx) out.frequency_hz.push_back(s.frequency_hz[i]), out.blocks.push_back(s.blocks[i]);
+  for (std::size_t i : idx) {
+    out.frequency_hz.push_back(s.frequency_hz[i]);
+    out.blocks.push_back(s.blocks[i]);
+  }
   return out;
 }
 

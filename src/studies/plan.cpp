@@ -382,12 +382,21 @@ void derive_depths(PlanJob& job, const PlanHeader& h) {
     if (!(std::isfinite(safe) && safe >= 0.0)) continue;  // no lobe reaches this speed: its stability is unknown
     double a = safe;
     DepthLimit limit = DepthLimit::Stability;
-    if (a_torque < a) a = a_torque, limit = DepthLimit::Torque;
+    if (a_torque < a) {
+      a = a_torque;
+      limit = DepthLimit::Torque;
+    }
     if (o.machine.power_w > 0.0) {
       const double a_power = o.machine.power_w / (t1 * 2.0 * kPi * n / 60.0);
-      if (a_power < a) a = a_power, limit = DepthLimit::Power;
+      if (a_power < a) {
+        a = a_power;
+        limit = DepthLimit::Power;
+      }
     }
-    if (a_cap < a) a = a_cap, limit = DepthLimit::Depth;
+    if (a_cap < a) {
+      a = a_cap;
+      limit = DepthLimit::Depth;
+    }
     job.depth_m[k] = a;
     job.limit[k] = limit;
     job.mrr_m3_per_s[k] = a * width * o.feed_per_tooth_m * cut.teeth * n / 60.0;
