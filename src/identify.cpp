@@ -78,9 +78,10 @@ JointEstimate identify_joint(const TwoPort& A, const Block& B11, const Block& G1
     const Lanes gre = Lanes{std::sqrt(sre[c][0]), std::sqrt(sre[c][1])} / re,
                 gim = Lanes{std::sqrt(sim[c][0]), std::sqrt(sim[c][1])} / im;
     for (int r = 0; r < 2; ++r) {
-      const auto g = static_cast<std::size_t>(4 * r + 2 * c);  // (0,0) → k_yf, (0,1) → k_ym, (1,0) → k_θf, (1,1) → k_θm
-      e.noise_gain[g] = re[r] > 0.0 ? gre[r] : std::numeric_limits<double>::infinity();
-      e.noise_gain[g + 1] = im[r] > 0.0 ? gim[r] : std::numeric_limits<double>::infinity();
+      const auto stiffness = static_cast<std::size_t>(JointParameters::stiffness_of(r, c));
+      const auto damping = static_cast<std::size_t>(JointParameters::damping_of(r, c));
+      e.noise_gain[stiffness] = re[r] > 0.0 ? gre[r] : std::numeric_limits<double>::infinity();
+      e.noise_gain[damping] = im[r] > 0.0 ? gim[r] : std::numeric_limits<double>::infinity();
     }
   }
   return e;
@@ -261,7 +262,8 @@ EffectAnalysis effect_analysis(const Assembly& assembly, Route route, const std:
   auto perturbed = [&](bool stiffness) {
     Assembly a = assembly;
     JointParameters& p = (holder_tool ? a.holder_tool : a.spindle_holder).parameters;
-    for (int i = stiffness ? 0 : 1; i < 8; i += 2) p[i] *= 1.0 + step;
+    for (int i = 0; i < 8; ++i)
+      if (JointParameters::is_damping(i) != stiffness) p[i] *= 1.0 + step;
     return model_peaks(a, tool_point_frf, f);
   };
   const auto pk = perturbed(true), pc = perturbed(false);

@@ -180,27 +180,29 @@ std::string with_suffix(const std::string& path, const std::string& suffix) {
   return (p.parent_path() / (p.stem().string() + suffix + p.extension().string())).string();
 }
 
-plot::JointParameterCurve joint_curve(const JointSeries& series, int pair, const std::optional<JointParameters>& reference,
+plot::JointParameterCurve joint_curve(const JointSeries& series, int row, int column,
+                                      const std::optional<JointParameters>& reference,
                                       const std::optional<JointParameters>& identified, const JointFit* fit,
                                       const JointReadout* seed) {
-  static const char* subscripts[4] = {"yf", "ym", "{/Symbol q}f", "{/Symbol q}m"};
+  static const char* subscripts[2][2] = {{"yf", "ym"}, {"{/Symbol q}f", "{/Symbol q}m"}};
+  const int stiffness = JointParameters::stiffness_of(row, column), damping = JointParameters::damping_of(row, column);
   plot::JointParameterCurve c;
-  c.name = subscripts[pair];
-  c.stiffness_unit = JointParameters::unit(2 * pair);
-  c.damping_unit = JointParameters::unit(2 * pair + 1);
+  c.name = subscripts[row][column];
+  c.stiffness_unit = JointParameters::unit(stiffness);
+  c.damping_unit = JointParameters::unit(damping);
   for (const auto& p : series.parameters) {
-    c.stiffness.push_back(p[2 * pair]);
-    c.damping.push_back(p[2 * pair + 1]);
+    c.stiffness.push_back(p[stiffness]);
+    c.damping.push_back(p[damping]);
   }
   if (reference) {
-    c.reference_stiffness = (*reference)[2 * pair];
-    c.reference_damping = (*reference)[2 * pair + 1];
+    c.reference_stiffness = (*reference)[stiffness];
+    c.reference_damping = (*reference)[damping];
   }
   if (identified) {
-    c.identified_stiffness = (*identified)[2 * pair];
-    c.identified_damping = (*identified)[2 * pair + 1];
+    c.identified_stiffness = (*identified)[stiffness];
+    c.identified_damping = (*identified)[damping];
   }
-  const auto k = static_cast<std::size_t>(2 * pair), d = k + 1;
+  const auto k = static_cast<std::size_t>(stiffness), d = static_cast<std::size_t>(damping);
   if (fit) {
     c.stiffness_interval = std::make_pair(fit->intervals[k].lower, fit->intervals[k].upper);
     c.damping_interval = std::make_pair(fit->intervals[d].lower, fit->intervals[d].upper);
