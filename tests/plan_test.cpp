@@ -26,6 +26,7 @@
 #include "toolpoint/json.hpp"
 #include "toolpoint/peaks.hpp"
 #include "toolpoint/studies/plan.hpp"
+#include "toolpoint/studies/plan_io.hpp"
 #include "toolpoint/studies/predict.hpp"
 #include "toolpoint/uncertainty.hpp"
 

@@ -13,6 +13,7 @@
 #include "cli.hpp"
 #include "progress.hpp"
 #include "toolpoint/error.hpp"
+#include "toolpoint/identify_io.hpp"
 #include "toolpoint/io.hpp"
 #include "toolpoint/joint_file.hpp"
 #include "toolpoint/json.hpp"

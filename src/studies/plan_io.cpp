@@ -14,6 +14,7 @@
 #include "toolpoint/error.hpp"
 #include "toolpoint/io.hpp"
 #include "toolpoint/studies/plan.hpp"
+#include "toolpoint/studies/plan_io.hpp"
 #include "toml_reader.hpp"
 
 namespace toolpoint {
