@@ -3,7 +3,10 @@
 
 #include <charconv>
 #include <fmt/format.h>
+#include <initializer_list>
 #include <map>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 #include "../../src/text.hpp"
@@ -38,6 +41,16 @@ std::vector<std::string> split_colon(const std::string& text) {
     start = pos + 1;
   }
   return parts;
+}
+
+// One of `names` (case and surrounding blanks ignored), or InvalidArgument "OPTION 'TEXT' is not WHAT".
+template <class E>
+E parse_name(const std::string& text, const std::string& option, std::initializer_list<std::pair<std::string_view, E>> names,
+             const char* what, const char* hint) {
+  const std::string s = lower(trim(text));
+  for (const auto& [name, value] : names)
+    if (s == name) return value;
+  throw InvalidArgument(fmt::format("{} '{}' is not {}", option, text, what), hint);
 }
 
 }  // namespace
@@ -82,42 +95,48 @@ std::pair<int, int> parse_shard(const std::string& text, const std::string& opti
 }
 
 FrfFormat parse_frf_format(const std::string& text, const std::string& option) {
-  const std::string s = lower(trim(text));
-  if (s == "auto") return FrfFormat::Auto;
-  if (s == "csv") return FrfFormat::Csv;
-  if (s == "uff" || s == "unv" || s == "uf") return FrfFormat::Uff;
-  if (s == "uffb" || s == "uff-binary" || s == "58b") return FrfFormat::UffBinary;
-  if (s == "frf" || s == "cutpro") return FrfFormat::Frf;
-  throw InvalidArgument(fmt::format("{} '{}' is not a known FRF file format", option, text),
-                        "use csv, uff (ASCII dataset 58), uffb (binary 58b) or frf (CutPro text)");
+  return parse_name<FrfFormat>(text, option,
+                               {{"auto", FrfFormat::Auto},
+                                {"csv", FrfFormat::Csv},
+                                {"uff", FrfFormat::Uff},
+                                {"unv", FrfFormat::Uff},
+                                {"uf", FrfFormat::Uff},
+                                {"uffb", FrfFormat::UffBinary},
+                                {"uff-binary", FrfFormat::UffBinary},
+                                {"58b", FrfFormat::UffBinary},
+                                {"frf", FrfFormat::Frf},
+                                {"cutpro", FrfFormat::Frf}},
+                               "a known FRF file format",
+                               "use csv, uff (ASCII dataset 58), uffb (binary 58b) or frf (CutPro text)");
 }
 
 FrfOrdinate parse_frf_ordinate(const std::string& text, const std::string& option) {
-  const std::string s = lower(trim(text));
-  if (s == "receptance" || s == "compliance") return FrfOrdinate::Receptance;
-  if (s == "mobility") return FrfOrdinate::Mobility;
-  if (s == "accelerance" || s == "inertance") return FrfOrdinate::Accelerance;
-  throw InvalidArgument(fmt::format("{} '{}' is not an FRF ordinate", option, text),
-                        "use receptance (m/N), mobility ((m/s)/N) or accelerance ((m/s²)/N)");
+  return parse_name<FrfOrdinate>(text, option,
+                                 {{"receptance", FrfOrdinate::Receptance},
+                                  {"compliance", FrfOrdinate::Receptance},
+                                  {"mobility", FrfOrdinate::Mobility},
+                                  {"accelerance", FrfOrdinate::Accelerance},
+                                  {"inertance", FrfOrdinate::Accelerance}},
+                                 "an FRF ordinate", "use receptance (m/N), mobility ((m/s)/N) or accelerance ((m/s²)/N)");
 }
 
 FrfValueFormat parse_frf_value_format(const std::string& text, const std::string& option) {
-  const std::string s = lower(trim(text));
-  if (s == "re-im" || s == "reim") return FrfValueFormat::ReIm;
-  if (s == "mag-phase-deg") return FrfValueFormat::MagPhaseDeg;
-  if (s == "mag-phase-rad") return FrfValueFormat::MagPhaseRad;
-  if (s == "db-phase" || s == "db-phase-deg") return FrfValueFormat::DbPhaseDeg;
-  if (s == "db-phase-rad") return FrfValueFormat::DbPhaseRad;
-  throw InvalidArgument(fmt::format("{} '{}' is not a value format", option, text),
-                        "use re-im, mag-phase-deg, mag-phase-rad, db-phase (dB and degrees) or db-phase-rad");
+  return parse_name<FrfValueFormat>(text, option,
+                                    {{"re-im", FrfValueFormat::ReIm},
+                                     {"reim", FrfValueFormat::ReIm},
+                                     {"mag-phase-deg", FrfValueFormat::MagPhaseDeg},
+                                     {"mag-phase-rad", FrfValueFormat::MagPhaseRad},
+                                     {"db-phase", FrfValueFormat::DbPhaseDeg},
+                                     {"db-phase-deg", FrfValueFormat::DbPhaseDeg},
+                                     {"db-phase-rad", FrfValueFormat::DbPhaseRad}},
+                                    "a value format",
+                                    "use re-im, mag-phase-deg, mag-phase-rad, db-phase (dB and degrees) or db-phase-rad");
 }
 
 Interpolation parse_interpolation(const std::string& text, const std::string& option) {
-  const std::string s = lower(trim(text));
-  if (s == "linear") return Interpolation::Linear;
-  if (s == "cubic" || s == "spline") return Interpolation::Cubic;
-  throw InvalidArgument(fmt::format("{} '{}' is not an interpolation", option, text),
-                        "use linear (no overshoot) or cubic (natural cubic spline)");
+  return parse_name<Interpolation>(
+      text, option, {{"linear", Interpolation::Linear}, {"cubic", Interpolation::Cubic}, {"spline", Interpolation::Cubic}},
+      "an interpolation", "use linear (no overshoot) or cubic (natural cubic spline)");
 }
 
 int parse_uff_direction(const std::string& text, const std::string& option) {
