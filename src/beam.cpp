@@ -254,7 +254,10 @@ TwoPort exact_receptance(const SectionWaves& w, double length) {
     const Complex m1 = exp_neg_minus_one(w.s[j] * length);  // e^{−sL} − 1
     c[j] = 1.0 + 0.5 * m1;
     pS_S[j] = both(-0.5 * m1) * pair(w.s[j], w.inv_s[j]);
-    if (w.inv_s[j] == Complex(0.0, 0.0)) pS_S[j].re[1] = 0.5 * length, pS_S[j].im[1] = 0.0;  // S → L/2 as s → 0
+    if (w.inv_s[j] == Complex(0.0, 0.0)) {  // S → L/2 as s → 0
+      pS_S[j].re[1] = 0.5 * length;
+      pS_S[j].im[1] = 0.0;
+    }
   }
   // Lane 0 symmetric, lane 1 antisymmetric: X = (P, U) − (Q, V) and Δ = e_1 (P, U) − e_0 (Q, V)
   // with P = c_0 pS_1, Q = c_1 pS_0, U = c_1 S_0, V = c_0 S_1.
@@ -300,10 +303,10 @@ TwoPort exact_receptance(const SectionWaves& w, double length) {
                 pp = 0.5 * (lane(gd, 0) + lane(gd, 1));
   const Complex h12 = 0.5 * (lane(ga, 1) - lane(ga, 0)), l12 = 0.5 * (lane(gb, 0) - lane(gb, 1)),
                 p12 = 0.5 * (lane(gd, 0) - lane(gd, 1));
-  t.b11(0, 0) = h, t.b11(0, 1) = l, t.b11(1, 0) = l, t.b11(1, 1) = pp;
-  t.b12(0, 0) = h12, t.b12(0, 1) = l12, t.b12(1, 0) = -l12, t.b12(1, 1) = p12;
-  t.b21(0, 0) = h12, t.b21(0, 1) = -l12, t.b21(1, 0) = l12, t.b21(1, 1) = p12;
-  t.b22(0, 0) = h, t.b22(0, 1) = -l, t.b22(1, 0) = -l, t.b22(1, 1) = pp;
+  t.b11 << h, l, l, pp;  // Eigen's comma initializer, row by row
+  t.b12 << h12, l12, -l12, p12;
+  t.b21 << h12, -l12, l12, p12;
+  t.b22 << h, -l, -l, pp;
   return t;
 }
 

@@ -99,12 +99,13 @@ const char* role_name(Role r) {
   return "unused";
 }
 
-// Lower-case letters and digits only: "Re(H)" → "reh", "|H|" → "h", "Freq." → "freq".
-std::string squeeze(std::string_view s) {
-  std::string out;
+// Lower-case letters and digits only (and the characters of `also`): "Re(H)" → "reh", "|H|" → "h",
+// "Freq." → "freq".
+std::string squeeze(std::string_view s, std::string_view also = {}) {
+  std::string kept;
   for (char c : s)
-    if (std::isalnum(static_cast<unsigned char>(c))) out += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return out;
+    if (std::isalnum(static_cast<unsigned char>(c)) || also.find(c) != std::string_view::npos) kept += c;
+  return lower(kept);
 }
 
 Role role_of_name(std::string_view raw) {
@@ -252,13 +253,7 @@ std::optional<int> block_entry(std::string_view cell, std::string& unit) {
 // Units of a block column as written: SI only (spaces, '·', '*' and brackets ignored).
 bool block_unit_is_si(int k, const std::string& unit) {
   if (unit.empty()) return true;
-  std::string a, b;
-  for (char c : unit)
-    if (std::isalnum(static_cast<unsigned char>(c)) || c == '/')
-      a += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  for (char c : std::string_view(kBlockUnits[k]))
-    if (std::isalnum(static_cast<unsigned char>(c)) || c == '/')
-      b += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::string a = squeeze(unit, "/"), b = squeeze(kBlockUnits[k], "/");
   return a == b || (k >= 2 && k <= 3 && a == "m/nm") || (k >= 6 && a == "rad/nm");
 }
 
@@ -436,7 +431,9 @@ class CsvReader {
                          columns_, columns_ == 4 ? ", and coherence" : ""),
              "say what the values are (FrfCsvOptions::format: re-im, mag-phase-deg, mag-phase-rad, db-phase), or add a "
              "header line such as frequency_hz,re,im");
-      f_ = 0, a_ = 1, b_ = 2;
+      f_ = 0;
+      a_ = 1;
+      b_ = 2;
       if (columns_ == 4) coh_ = 3;
     } else {
       find_by_name(cols, header_line, settle);
@@ -469,7 +466,7 @@ class CsvReader {
                                           "{}",
                                           source_, frf_value_format_name(*named), column_text(a_), column_text(b_),
                                           frf_value_format_name(*o_.format)),
-                              "drop the format option, or correct the header");
+                              "drop FrfCsvOptions::format, or correct the header");
       table_.format = *o_.format;
     } else if (named) {
       table_.format = *named;
@@ -527,9 +524,11 @@ class CsvReader {
       fail(header_line, fmt::format("{} and {} are both magnitudes (linear and dB)", column_text(*mag), column_text(*db)),
            settle);
     if (re && im) {
-      a_ = *re, b_ = *im;
+      a_ = *re;
+      b_ = *im;
     } else if ((mag || db) && ph) {
-      a_ = mag ? *mag : *db, b_ = *ph;
+      a_ = mag ? *mag : *db;
+      b_ = *ph;
     } else {
       std::string found;
       for (std::size_t k = 0; k < cols.size(); ++k)
@@ -645,17 +644,6 @@ class CsvReader {
 };
 
 }  // namespace
-
-FrfValueFormat parse_frf_value_format(const std::string& text_in, const std::string& option) {
-  const std::string s = lower(trim(text_in));
-  if (s == "re-im" || s == "reim") return FrfValueFormat::ReIm;
-  if (s == "mag-phase-deg") return FrfValueFormat::MagPhaseDeg;
-  if (s == "mag-phase-rad") return FrfValueFormat::MagPhaseRad;
-  if (s == "db-phase" || s == "db-phase-deg") return FrfValueFormat::DbPhaseDeg;
-  if (s == "db-phase-rad") return FrfValueFormat::DbPhaseRad;
-  throw InvalidArgument(fmt::format("{} '{}' is not a value format", option, text_in),
-                        "use re-im, mag-phase-deg, mag-phase-rad, db-phase (dB and degrees) or db-phase-rad");
-}
 
 std::string frf_value_format_name(FrfValueFormat f) {
   switch (f) {

@@ -141,17 +141,6 @@ std::string uff_what(const std::string& source, const UffDataset58& d) {
 
 }  // namespace
 
-FrfFormat parse_frf_format(const std::string& text, const std::string& option) {
-  const std::string s = lower(trim(text));
-  if (s == "auto") return FrfFormat::Auto;
-  if (s == "csv") return FrfFormat::Csv;
-  if (s == "uff" || s == "unv" || s == "uf") return FrfFormat::Uff;
-  if (s == "uffb" || s == "uff-binary" || s == "58b") return FrfFormat::UffBinary;
-  if (s == "frf" || s == "cutpro") return FrfFormat::Frf;
-  throw InvalidArgument(fmt::format("{} '{}' is not a known FRF file format", option, text),
-                        "use csv, uff (ASCII dataset 58), uffb (binary 58b) or frf (CutPro text)");
-}
-
 std::string frf_format_name(FrfFormat f) {
   switch (f) {
     case FrfFormat::Auto: return "auto";
@@ -170,15 +159,6 @@ FrfFormat frf_format_of_path(const std::string& path) {
   if (ext == ".frf") return FrfFormat::Frf;
   throw InvalidArgument(fmt::format("{}: cannot tell the FRF file format from the extension '{}'", path, ext),
                         "use .csv, .uff/.unv/.uf or .frf, or name the format (FrfReadOptions::format: csv, uff or frf)");
-}
-
-FrfOrdinate parse_frf_ordinate(const std::string& text, const std::string& option) {
-  const std::string s = lower(trim(text));
-  if (s == "receptance" || s == "compliance") return FrfOrdinate::Receptance;
-  if (s == "mobility") return FrfOrdinate::Mobility;
-  if (s == "accelerance" || s == "inertance") return FrfOrdinate::Accelerance;
-  throw InvalidArgument(fmt::format("{} '{}' is not an FRF ordinate", option, text),
-                        "use receptance (m/N), mobility ((m/s)/N) or accelerance ((m/s²)/N)");
 }
 
 std::string frf_ordinate_name(FrfOrdinate o) {
@@ -271,7 +251,7 @@ UffReceptance uff_receptance(const UffDataset58& d, std::optional<FrfOrdinate> o
                              const std::optional<FrfUnits>& units) {
   UffReceptance r;
   const std::string what = uff_what(source, d);
-  const std::string list_hint = fmt::format("list the datasets with `toolpoint convert {} --list` and pick an FRF", source);
+  const std::string list_hint = fmt::format("pick an FRF among the datasets 58 of {} (UffFile::functions)", source);
   if (d.function_type == 0)
     r.warnings.push_back(fmt::format("{}: record 6 function type 0 (general or unknown); taken as an FRF", what));
   else if (d.function_type != 4)
@@ -421,8 +401,8 @@ FrfText parse_cutpro_frf(std::string_view text_in, const std::string& source) {
   double last_f = -1.0;
   std::size_t last_line = 0;
   const std::string fix_table =
-      "if it is a magnitude/phase or other table, read it as CSV: `toolpoint convert FILE OUT --from csv --format "
-      "mag-phase-deg` (FrfCsvOptions::columns, FrfCsvOptions::format)";
+      "if it is a magnitude/phase or other table, read it as CSV: FrfReadOptions::format = FrfFormat::Csv with "
+      "FrfCsvOptions::format (e.g. mag-phase-deg) and FrfCsvOptions::columns";
   if (text_in.substr(0, 3) == "\xEF\xBB\xBF") text_in.remove_prefix(3);
   bool data_seen = false;
   while (pos < text_in.size()) {
@@ -611,7 +591,7 @@ FrfFileData read_frf_file(const std::string& path, const FrfReadOptions& o) {
           throw InvalidArgument(fmt::format("{}: a 2×2 block CSV holds receptances in SI units; it cannot be read as {} "
                                             "in '{}'",
                                             path, frf_ordinate_name(u.ordinate), u.label),
-                                "drop the ordinate and units options for block files");
+                                "drop FrfReadOptions::ordinate and FrfReadOptions::units for block files");
         out.ordinate = u.ordinate;
         out.units = u;
         out.block = std::move(t.block);

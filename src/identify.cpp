@@ -78,9 +78,10 @@ JointEstimate identify_joint(const TwoPort& A, const Block& B11, const Block& G1
     const Lanes gre = Lanes{std::sqrt(sre[c][0]), std::sqrt(sre[c][1])} / re,
                 gim = Lanes{std::sqrt(sim[c][0]), std::sqrt(sim[c][1])} / im;
     for (int r = 0; r < 2; ++r) {
-      const auto g = static_cast<std::size_t>(4 * r + 2 * c);  // (0,0) → k_yf, (0,1) → k_ym, (1,0) → k_θf, (1,1) → k_θm
-      e.noise_gain[g] = re[r] > 0.0 ? gre[r] : std::numeric_limits<double>::infinity();
-      e.noise_gain[g + 1] = im[r] > 0.0 ? gim[r] : std::numeric_limits<double>::infinity();
+      const auto stiffness = static_cast<std::size_t>(JointParameters::stiffness_of(r, c));
+      const auto damping = static_cast<std::size_t>(JointParameters::damping_of(r, c));
+      e.noise_gain[stiffness] = re[r] > 0.0 ? gre[r] : std::numeric_limits<double>::infinity();
+      e.noise_gain[damping] = im[r] > 0.0 ? gim[r] : std::numeric_limits<double>::infinity();
     }
   }
   return e;
@@ -105,24 +106,6 @@ JointSeries identify_series(const std::function<TwoPort(double)>& A, const Block
     s.parameters.push_back(parameters_from_stiffness(s.estimates.back().K, f));
   }
   return s;
-}
-
-Table joint_table(const JointSeries& js) {
-  Table t;
-  t.columns = {"frequency_hz",       "k_yf_N_per_m",       "c_yf_N_s_per_m",   "k_ym_N",
-               "c_ym_N_s",           "k_tf_N_per_rad",     "c_tf_N_s_per_rad", "k_tm_N_m_per_rad",
-               "c_tm_N_m_s_per_rad", "cond_A11_minus_G11", "cond_K_inverse",   "gain_k_yf",
-               "gain_c_yf",          "gain_k_ym",          "gain_c_ym",        "gain_k_tf",
-               "gain_c_tf",          "gain_k_tm",          "gain_c_tm"};
-  for (std::size_t i = 0; i < js.size(); ++i) {
-    std::vector<double> row{js.frequency_hz[i]};
-    for (int k = 0; k < 8; ++k) row.push_back(js.parameters[i][k]);
-    row.push_back(js.estimates[i].cond_difference);
-    row.push_back(js.estimates[i].cond_flexibility);
-    for (double gk : js.estimates[i].noise_gain) row.push_back(gk);
-    t.rows.push_back(std::move(row));
-  }
-  return t;
 }
 
 JointParameters JointReadout::medians() const {
@@ -262,7 +245,8 @@ EffectAnalysis effect_analysis(const Assembly& assembly, Route route, const std:
   auto perturbed = [&](bool stiffness) {
     Assembly a = assembly;
     JointParameters& p = (holder_tool ? a.holder_tool : a.spindle_holder).parameters;
-    for (int i = stiffness ? 0 : 1; i < 8; i += 2) p[i] *= 1.0 + step;
+    for (int i = 0; i < 8; ++i)
+      if (JointParameters::is_damping(i) != stiffness) p[i] *= 1.0 + step;
     return model_peaks(a, tool_point_frf, f);
   };
   const auto pk = perturbed(true), pc = perturbed(false);
@@ -299,7 +283,10 @@ OverhangModes overhang_mode(const std::vector<FrfSeries>& frfs, std::size_t refe
   for (const auto& mode : track_modes(family, reference, 0.25, false)) {
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;
     for (double f : mode)
-      if (!std::isnan(f)) lo = std::min(lo, f), hi = std::max(hi, f);
+      if (!std::isnan(f)) {
+        lo = std::min(lo, f);
+        hi = std::max(hi, f);
+      }
     r.relative_variation.push_back((hi - lo) / mode[reference]);
   }
   r.dominant = static_cast<std::size_t>(std::max_element(r.relative_variation.begin(), r.relative_variation.end()) -

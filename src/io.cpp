@@ -314,7 +314,7 @@ std::vector<std::string> OutputSet::commit() {
     if (::stat(f.target.c_str(), &st) != 0) continue;
     if (!S_ISREG(st.st_mode)) undo(fmt::format("{}: is {}, not a regular file", f.target, kind_of(st)), "name a regular file");
     std::string backup =
-        (fs::path(parent_of(f.target)) / ("." + fs::path(f.target).filename().string() + ".old.XXXXXX")).string();
+        (fs::path(parent_of(f.target)) / fmt::format(".{}.old.XXXXXX", fs::path(f.target).filename().string())).string();
     const int fd = ::mkstemp(backup.data());
     if (fd < 0) continue;  // no backup possible: the rename is still atomic for this file
     ::close(fd);
@@ -388,7 +388,7 @@ BlockSeries read_block_csv(const std::string& path) {
   FrfTable t = read_frf_csv(path);
   if (!t.is_block)
     throw InputError(fmt::format("{}: holds a single FRF where a 2×2 block is needed", path),
-                     fmt::format("give a file with columns {} (e.g. from `toolpoint rotational`)", join(kBlockHeader)));
+                     fmt::format("give a file with columns {} (e.g. the block of rotational_frfs)", join(kBlockHeader)));
   return std::move(t.block);
 }
 

@@ -69,7 +69,7 @@ std::string format_joint_file(const JointFile& f) {
 void write_joint_file(const std::string& path, const JointFile& f) { write_text_file(path, format_joint_file(f)); }
 
 JointFile parse_joint_file(const std::string& text, const std::string& source) {
-  const toml::table root = parse_toml(text, source, "a joint file is written by `toolpoint identify --joint-output FILE.toml`");
+  const toml::table root = parse_toml(text, source, "a joint file is written by write_joint_file");
   Reader r(source);
   r.only(root, "", {"joint", "uncertainty", "identification"});
   JointFile f;

@@ -56,9 +56,11 @@ struct Parametrization {
   bool reciprocal = true;
 
   int size() const { return static_cast<int>(free.size()); }
+  // Whether value j is not free but its transposed counterpart's (k_θf, c_θf in a reciprocal fit).
+  bool tied(int j) const { return reciprocal && JointParameters::row(j) > JointParameters::column(j); }
   // The free parameter (index into q) that value j of the eight belongs to.
   int owner(int j) const {
-    if (reciprocal && (j == 4 || j == 5)) j -= 2;
+    if (tied(j)) j = JointParameters::transposed(j);
     return static_cast<int>(std::find(free.begin(), free.end(), j) - free.begin());
   }
   JointParameters params(const VectorXd& q) const {
@@ -70,7 +72,8 @@ struct Parametrization {
     VectorXd q(size());
     for (int k = 0; k < size(); ++k) {
       const int j = free[static_cast<std::size_t>(k)];
-      const double v = reciprocal && (j == 2 || j == 3) ? 0.5 * (p[j] + p[j + 2]) : p[j];
+      const bool off_diagonal = JointParameters::row(j) != JointParameters::column(j);
+      const double v = reciprocal && off_diagonal ? 0.5 * (p[j] + p[JointParameters::transposed(j)]) : p[j];
       q(k) = v / scale(k);
     }
     return q;
@@ -90,15 +93,15 @@ Parametrization make_parametrization(const JointParameters& start, bool reciproc
   Parametrization par;
   par.reciprocal = reciprocal;
   for (int j = 0; j < 8; ++j)
-    if (!(reciprocal && (j == 4 || j == 5))) par.free.push_back(j);
+    if (!par.tied(j)) par.free.push_back(j);
   par.scale.resize(par.size());
   const double off = 0.1 * std::sqrt(std::abs(start.k_yf * start.k_tm));
   for (int k = 0; k < par.size(); ++k) {
     const int j = par.free[static_cast<std::size_t>(k)];
-    const int kj = j - (j % 2);  // the stiffness of the same entry
-    const bool diagonal = JointParameters::row(j) == JointParameters::column(j);
-    double ks = std::max(std::abs(start[kj]), diagonal ? 0.0 : off);
-    if (reciprocal && kj == 2) ks = std::max(ks, 0.5 * std::abs(start.k_ym + start.k_tf));
+    const int r = JointParameters::row(j), c = JointParameters::column(j);
+    const bool diagonal = r == c;
+    double ks = std::max(std::abs(start[JointParameters::stiffness_of(r, c)]), diagonal ? 0.0 : off);
+    if (reciprocal && !diagonal) ks = std::max(ks, 0.5 * std::abs(start.k_ym + start.k_tf));  // k_ym stands for k_θf too
     if (!(ks > 0.0)) ks = 1.0;
     double s = ks;
     if (JointParameters::is_damping(j)) s = std::max(std::abs(start[j]), 1e-3 * ks / omega_mid);
@@ -174,7 +177,7 @@ inline Block model_point(const TwoPort& a, const Block& B, const Block& K, doubl
       const int r = JointParameters::row(j), c = JointParameters::column(j);
       const Complex unit = JointParameters::is_damping(j) ? Complex(0.0, omega * par.scale(k)) : Complex(par.scale(k), 0.0);
       Block d = U.col(r) * V.row(c);
-      if (par.reciprocal && (j == 2 || j == 3)) d += U.col(c) * V.row(r);
+      if (par.reciprocal && r != c) d += U.col(c) * V.row(r);  // k_ym, c_ym: also the transposed entry
       jm->col(k) = vec8(-unit * d);
     }
   }
@@ -432,7 +435,10 @@ void check_identifiable(const MatrixXd& A, const Parametrization& par, const std
   const int p = par.size();
   auto band = [&] {
     double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
-    for (const Setup& s : setups) lo = std::min(lo, s.f.front()), hi = std::max(hi, s.f.back());
+    for (const Setup& s : setups) {
+      lo = std::min(lo, s.f.front());
+      hi = std::max(hi, s.f.back());
+    }
     return fmt::format("{:g}–{:g} Hz", lo, hi);
   };
   for (int k = 0; k < p; ++k)
@@ -568,7 +574,10 @@ JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<Join
     }
   }
   std::vector<const BlockSeries*> Bs, Gs;
-  for (const Setup& u : setups) Bs.push_back(&u.B), Gs.push_back(&u.G);
+  for (const Setup& u : setups) {
+    Bs.push_back(&u.B);
+    Gs.push_back(&u.G);
+  }
 
   // The best start under the weights of the first, then two passes (weights at the solution).
   VectorXd q = par.from(starts.front());
@@ -586,7 +595,10 @@ JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<Join
     } catch (const NumericalError&) {
       continue;
     }
-    if (std::isfinite(c) && c < best) best = c, q = x;
+    if (std::isfinite(c) && c < best) {
+      best = c;
+      q = x;
+    }
   }
   Solution sol;
   for (int pass = 0; pass < 2; ++pass) {
@@ -663,7 +675,10 @@ JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<Join
           try {
             for (Setup& u : local) update_weights(u, par, q);
             const Solution r = minimise(local, bp, gp, par, q, options.max_iterations, options.filter);
-            if (r.converged && r.q.allFinite()) rep[b] = r.q, ok[b] = 1;
+            if (r.converged && r.q.allFinite()) {
+              rep[b] = r.q;
+              ok[b] = 1;
+            }
           } catch (const NumericalError&) {}
         },
         options.progress);
@@ -717,7 +732,7 @@ JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<Join
     iv.lower = iv.estimate - z * iv.std_error;
     iv.upper = iv.estimate + z * iv.std_error;
     iv.determined = (iv.lower > 0.0 || iv.upper < 0.0) && (iv.upper - iv.lower) < std::abs(iv.estimate);
-    iv.free = !(options.reciprocal && (j == 4 || j == 5));
+    iv.free = !par.tied(j);
   }
 
   // Several set-ups: each alone, and whether the joint transfers between them.
@@ -750,7 +765,10 @@ JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<Join
       std::string worst;
       double wd = -1.0;
       for (const auto& sf : out.setups)
-        if (sf.disagreement > wd) wd = sf.disagreement, worst = sf.label;
+        if (sf.disagreement > wd) {
+          wd = sf.disagreement;
+          worst = sf.label;
+        }
       warnings.push_back(
           fmt::format("the joint does not transfer between the set-ups: fitted alone they disagree beyond their noise "
                       "(χ² = {:.3g}, 99.9 % limit {:.3g}; most: {}); the common fit describes none of them well",

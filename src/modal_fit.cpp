@@ -385,7 +385,7 @@ ModalFitResult fit_modes(const FrfSeries& frf, const ModalFitOptions& options, c
                       "reported or used",
                       what, m.mode.frequency_hz, std::log10(std::abs(m.mode.mass_kg)) - e / log2_10,
                       std::log10(std::abs(m.mode.mass_kg) * std::pow(omega_of(m.mode.frequency_hz), 2)) - e / log2_10, top),
-          "check the FRF's units (a receptance in m/N is typically 1e-9 to 1e-4); rescale the data (--units)");
+          "check the FRF's units (a receptance in m/N is typically 1e-9 to 1e-4); rescale the data (FrfReadOptions::units)");
     m.mode.mass_kg = mass;
     m.residue = residue;
   }

@@ -2,13 +2,13 @@
 #include "toolpoint/plot.hpp"
 
 #include <algorithm>
-#include <cctype>
 #include <cstring>
 #include <filesystem>
 
 #include <fmt/format.h>
 
 #include "plot_detail.hpp"
+#include "text.hpp"
 
 namespace toolpoint::plot {
 
@@ -61,8 +61,7 @@ bool check_map(const Map& m, const Axis& x, const Axis& y, const std::string& wh
 }  // namespace
 
 Format format_for_path(const std::string& path) {
-  std::string ext = fs::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const std::string ext = text::lower(fs::path(path).extension().string());
   if (ext == ".png") return Format::Png;
   if (ext == ".svg") return Format::Svg;
   if (ext == ".pdf") return Format::Pdf;

@@ -114,7 +114,10 @@ Figure frf_figure(const std::vector<FrfTrace>& traces, const FrfFigureOptions& o
   Figure fig;
   fig.title = o.title;
   fig.x = Axis{"Frequency [Hz]", o.frequency_scale, std::nullopt, std::nullopt, std::nullopt};
-  if (o.frequency_range_hz) fig.x.min = o.frequency_range_hz->first, fig.x.max = o.frequency_range_hz->second;
+  if (o.frequency_range_hz) {
+    fig.x.min = o.frequency_range_hz->first;
+    fig.x.max = o.frequency_range_hz->second;
+  }
   Panel upper, lower;
   upper.height = 1.6;
   lower.legend = Legend::Hidden;
@@ -132,7 +135,11 @@ Figure frf_figure(const std::vector<FrfTrace>& traces, const FrfFigureOptions& o
   upper.y.scale = polar ? Scale::Log : Scale::Linear;
   lower.y.label = polar ? fmt::format("∠{} [deg]", o.symbol) : fmt::format("Im {} [{}]", o.symbol, unit);
   // A little beyond ±180° so that a phase lying at −180° is not hidden in the frame.
-  if (polar) lower.y.min = -198.0, lower.y.max = 198.0, lower.y.tic_step = 90.0;
+  if (polar) {
+    lower.y.min = -198.0;
+    lower.y.max = 198.0;
+    lower.y.tic_step = 90.0;
+  }
   for (const FrfTrace& tr : traces) {
     Curve a{tr.frf.frequency_hz, {}, tr.label, tr.style, -1}, b{{}, {}, tr.label, tr.style, -1};
     for (const Complex& v : tr.frf.values) a.y.push_back(polar ? std::abs(v) : v.real() * factor);
@@ -283,7 +290,10 @@ std::pair<double, double> robust_range(const std::vector<double>& f, const std::
     lo = at(0.02);
     hi = at(0.98);
   }
-  for (double l : lines) lo = std::min(lo, l), hi = std::max(hi, l);
+  for (double l : lines) {
+    lo = std::min(lo, l);
+    hi = std::max(hi, l);
+  }
   double span = hi - lo;
   if (!(span > 0.0)) span = std::max(std::abs(hi) * 0.2, 1e-300);
   lo -= 0.25 * span;
@@ -388,7 +398,10 @@ Figure lobes_figure(const LobesFigureData& data) {
   // The envelope spans the speeds of interest; lobes computed beyond it are cut at its ends.
   if (data.envelope_rpm.size() >= 2) {
     const auto [lo, hi] = std::minmax_element(data.envelope_rpm.begin(), data.envelope_rpm.end());
-    if (std::isfinite(*lo) && std::isfinite(*hi) && *lo < *hi) fig.x.min = *lo, fig.x.max = *hi;
+    if (std::isfinite(*lo) && std::isfinite(*hi) && *lo < *hi) {
+      fig.x.min = *lo;
+      fig.x.max = *hi;
+    }
   }
   Panel depth, chatter;
   depth.height = 1.8;
@@ -410,7 +423,10 @@ Figure lobes_figure(const LobesFigureData& data) {
       if (std::isfinite(mm[k]) && std::isfinite(l.spindle_speed_rpm[k]) && (low == mm.size() || mm[k] < mm[low])) low = k;
     if (low == mm.size()) continue;  // nothing to draw
     for (double r : l.spindle_speed_rpm)
-      if (std::isfinite(r)) rpm_lo = std::min(rpm_lo, r), rpm_hi = std::max(rpm_hi, r);
+      if (std::isfinite(r)) {
+        rpm_lo = std::min(rpm_lo, r);
+        rpm_hi = std::max(rpm_hi, r);
+      }
     if (low > 0 && low + 1 < mm.size() && mm[low] < top * 1000.0) {
       auto it = lowest.find(l.number);
       if (it == lowest.end() || mm[low] < it->second.y)

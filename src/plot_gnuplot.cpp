@@ -20,6 +20,7 @@
 
 #include "toolpoint/io.hpp"
 #include "plot_detail.hpp"
+#include "text.hpp"
 
 extern char** environ;
 
@@ -205,12 +206,6 @@ std::string terminal_lines(Format format, int w, int h) {
   return {};
 }
 
-std::string trimmed(std::string_view s) {
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
-  return std::string(s);
-}
-
 }  // namespace
 
 RenderResult render_script(const std::string& body, const std::string& path, int width_px, int height_px,
@@ -226,7 +221,8 @@ RenderResult render_script(const std::string& body, const std::string& path, int
   RenderResult result;
   result.path = path;
   result.format = format;
-  std::string unavailable, message;
+  std::string unavailable;
+  std::vector<std::string> said;  // gnuplot's own lines (not toolpoint-tagged)
   std::size_t start = 0;
   while (start < run.err.size()) {
     std::size_t end = run.err.find('\n', start);
@@ -234,7 +230,7 @@ RenderResult render_script(const std::string& body, const std::string& path, int
     const std::string line = run.err.substr(start, end - start);
     start = end + 1;
     auto tagged = [&](std::string_view tag) {
-      return line.rfind(tag, 0) == 0 ? trimmed(line.substr(tag.size())) : std::string();
+      return line.rfind(tag, 0) == 0 ? std::string(text::trim(std::string_view(line).substr(tag.size()))) : std::string();
     };
     if (auto t = tagged("toolpoint-terminal:"); !t.empty()) {
       result.terminal = t;
@@ -243,10 +239,16 @@ RenderResult render_script(const std::string& body, const std::string& path, int
     } else if (auto u = tagged("toolpoint-unavailable:"); !u.empty()) {
       unavailable = u;
     } else {
-      message += line + '\n';
+      said.push_back(line);
     }
   }
-  message = trimmed(message);
+  // What gnuplot said, without blank lines or blanks around it.
+  while (!said.empty() && text::is_blank(said.back())) said.pop_back();
+  std::size_t first = 0;
+  while (first < said.size() && text::is_blank(said[first])) ++first;
+  std::string message;
+  for (std::size_t i = first; i < said.size(); ++i) message += (i > first ? "\n" : "") + said[i];
+  message = std::string(text::trim(message));
   if (!unavailable.empty())
     throw PlotUnavailable(fmt::format("{}: {} ('{}')", path, unavailable, options.gnuplot),
                           "install a gnuplot built with cairo (Debian: gnuplot-nox) or write .png/.svg instead");
@@ -259,14 +261,8 @@ RenderResult render_script(const std::string& body, const std::string& path, int
   std::error_code ec;
   const auto size = fs::file_size(tmp.path(), ec);
   if (ec || size == 0) throw IoError(fmt::format("{}: gnuplot reported success but wrote nothing; nothing was written", path));
-  if (!message.empty()) {
-    std::size_t from = 0;
-    while (from < message.size()) {
-      const std::size_t to = std::min(message.find('\n', from), message.size());
-      if (auto w = trimmed(std::string_view(message).substr(from, to - from)); !w.empty()) result.warnings.push_back(w);
-      from = to + 1;
-    }
-  }
+  for (const std::string& line : said)
+    if (const std::string_view w = text::trim(line); !w.empty()) result.warnings.emplace_back(w);
   tmp.commit();
   return result;
 }

@@ -39,7 +39,10 @@ std::pair<double, double> shared_x_range(const Figure& fig) {
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   auto take = [&](const std::vector<double>& xs) {
     for (double v : xs)
-      if (plottable(v, fig.x.scale)) lo = std::min(lo, v), hi = std::max(hi, v);
+      if (plottable(v, fig.x.scale)) {
+        lo = std::min(lo, v);
+        hi = std::max(hi, v);
+      }
   };
   for (const Panel& p : fig.panels) {
     for (const Curve& c : p.curves) take(c.x);
@@ -144,7 +147,10 @@ double y_decades(const Panel& p) {
   if (p.y.scale != Scale::Log) return 0.0;
   double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
   auto take = [&](double v) {
-    if (plottable(v, Scale::Log)) lo = std::min(lo, v), hi = std::max(hi, v);
+    if (plottable(v, Scale::Log)) {
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+    }
   };
   for (const Curve& c : p.curves) std::for_each(c.y.begin(), c.y.end(), take);
   for (const Fill& f : p.fills) std::for_each(f.y.begin(), f.y.end(), take);

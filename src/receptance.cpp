@@ -67,10 +67,8 @@ void validate(const FrfSeries& series, const std::string& what, std::size_t min_
 
 namespace {
 
-// Where the grid-mismatch error points: the library function and the command that do it.
-const char* const kOneGrid =
-    "put them on one grid: resample() / `toolpoint resample IN OUT --onto OTHER` (interpolation), or --band F1:F2 "
-    "(cropping)";
+// Where the grid-mismatch error points: the library functions that do it (resample.hpp).
+const char* const kOneGrid = "put them on one grid: resample() (interpolation) or crop() (cropping)";
 
 }  // namespace
 

@@ -6,7 +6,6 @@
 
 #include <fmt/format.h>
 
-#include "text.hpp"
 #include "toolpoint/error.hpp"
 
 namespace toolpoint {
@@ -100,18 +99,6 @@ std::vector<T> interpolate(const std::vector<double>& x, const std::vector<T>& y
   }
   return out;
 }
-
-}  // namespace
-
-Interpolation parse_interpolation(const std::string& text_in, const std::string& option) {
-  const std::string s = text::lower(text::trim(text_in));
-  if (s == "linear") return Interpolation::Linear;
-  if (s == "cubic" || s == "spline") return Interpolation::Cubic;
-  throw InvalidArgument(fmt::format("{} '{}' is not an interpolation", option, text_in),
-                        "use linear (no overshoot) or cubic (natural cubic spline)");
-}
-
-namespace {
 
 template <class V>
 V slice(const V& v, std::size_t begin, std::size_t end) {

@@ -143,7 +143,7 @@ void MillingFrfs::check(const std::string& x_name, const std::string& y_name) co
   validate(xx, "G_xx", 2);
   require_passive_point_frf(xx, x_name);
   if (rigid_y && (yy || xy || yx))
-    throw InvalidArgument("a tool rigid in y cannot also have y or cross FRFs", "drop the y/cross FRFs or the rigid-y option");
+    throw InvalidArgument("a tool rigid in y cannot also have y or cross FRFs", "drop the y/cross FRFs or MillingFrfs::rigid_y");
   if (yy) {
     validate(*yy, "G_yy", 2);
     require_passive_point_frf(*yy, y_name);

@@ -78,7 +78,12 @@ B joint_stiffness(const JointParameters& j, V w) {
 // The summed dynamic stiffness of the bearings at one node, diag(k + iωc, k_θ + iωc_θ).
 B ground_stiffness(const std::vector<Bearing>& node, V w) {
   double k = 0.0, c = 0.0, kt = 0.0, ct = 0.0;
-  for (const Bearing& b : node) k += b.stiffness, c += b.damping, kt += b.rotational_stiffness, ct += b.rotational_damping;
+  for (const Bearing& b : node) {
+    k += b.stiffness;
+    c += b.damping;
+    kt += b.rotational_stiffness;
+    ct += b.rotational_damping;
+  }
   const C zero = lanes::cplx(0.0, 0.0);
   return {{lanes::splat(k), c * w}, zero, zero, {lanes::splat(kt), ct * w}};
 }
@@ -217,7 +222,10 @@ unsigned batch(const Plans& plans, const Assembly& a, const double* f_in, double
   if (plans.tool) g = couple_point(chain_two_port(*plans.tool, w2, bad), g, a.holder_tool, w, bad);
   const C e[4] = {g.a, g.b, g.c, g.d};
   for (int k = 0; k < 4; ++k)
-    for (int i = 0; i < kWidth; ++i) out[k][i] = e[k].re[i], out[k + 4][i] = e[k].im[i];
+    for (int i = 0; i < kWidth; ++i) {
+      out[k][i] = e[k].re[i];
+      out[k + 4][i] = e[k].im[i];
+    }
   return static_cast<unsigned>(_mm256_movemask_pd((__m256d)bad));
 }
 

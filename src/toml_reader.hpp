@@ -56,7 +56,10 @@ class Reader {
       std::size_t best_d = 99;
       for (const char* a : allowed) {
         const std::size_t d = edit_distance(key, a);
-        if (d < best_d) best_d = d, best = a;
+        if (d < best_d) {
+          best_d = d;
+          best = a;
+        }
       }
       std::string list;
       for (const char* a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);

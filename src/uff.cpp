@@ -1142,12 +1142,12 @@ std::vector<std::string> UffFile::warnings_for(const std::vector<const UffDatase
   constexpr std::size_t kShown = 10;  // messages for a person: the first few, then a count
   std::vector<std::string> out(file_warnings.begin(), file_warnings.begin() + std::min(file_warnings.size(), kShown));
   if (file_warnings.size() > kShown)
-    out.push_back(fmt::format("{}: … and {} more problems in the file (see `toolpoint convert {} --list`)", source,
-                              file_warnings.size() - kShown, source));
+    out.push_back(fmt::format("{}: … and {} more problems in the file (see UffFile::file_warnings)", source,
+                              file_warnings.size() - kShown));
   for (const UffDataset58* d : sets) out.insert(out.end(), d->warnings.begin(), d->warnings.end());
   if (!skipped.empty())
-    out.push_back(fmt::format("{}: {} dataset(s) 58 could not be read and were skipped (see `toolpoint convert {} --list`)",
-                              source, skipped.size(), source));
+    out.push_back(
+        fmt::format("{}: {} dataset(s) 58 could not be read and were skipped (see UffFile::skipped)", source, skipped.size()));
   return out;
 }
 
@@ -1191,8 +1191,7 @@ const UffDataset58& select_dataset58(const UffFile& file, const UffSelection& se
   constexpr std::size_t kShown = 5;  // the first few reasons, then a count
   std::string skipped;
   for (std::size_t i = 0; i < file.skipped.size() && i < kShown; ++i) skipped += "\n  " + file.skipped[i];
-  if (file.skipped.size() > kShown)
-    skipped += fmt::format("\n  … and {} more (`toolpoint convert {} --list`)", file.skipped.size() - kShown, file.source);
+  if (file.skipped.size() > kShown) skipped += fmt::format("\n  … and {} more (UffFile::skipped)", file.skipped.size() - kShown);
   if (file.functions.empty())
     throw InputError(fmt::format("{}: no readable dataset 58 (function at nodal DOF) in the file ({} dataset(s) of "
                                  "other types, {} dataset(s) 58 unreadable){}",
@@ -1211,7 +1210,7 @@ const UffDataset58& select_dataset58(const UffFile& file, const UffSelection& se
   if (match.empty())
     throw InputError(fmt::format("{}: no dataset 58 matches {}; the file holds:{}{}", file.source, sel.describe(),
                                  candidate_list(all), skipped.empty() ? "" : "\nskipped:" + skipped),
-                     "pick an index or node/direction from the list (`toolpoint convert FILE --list`)");
+                     "pick an index or node/direction from the list (UffFile::functions)");
   throw InputError(fmt::format("{}: {} datasets 58 match {}:{}", file.source, match.size(), sel.describe(),
                                candidate_list(match)),
                    "choose one by index (UffSelection::index) or add node/direction criteria");
@@ -1288,32 +1287,6 @@ std::vector<std::string> write_uff(const std::string& path, const std::vector<Uf
 }
 
 double uff_field13_roundtrip(double v) { return reparse(fortran_e(v, 13)); }
-
-int parse_uff_direction(const std::string& text, const std::string& option) {
-  std::string s;
-  for (char c : trim(text)) s += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (const auto v = parse_integer(s); v && !s.empty()) {
-    if (*v < -6 || *v > 6)
-      throw InvalidArgument(fmt::format("{} {}: a UFF direction code is −6..6", option, *v),
-                            "0 scalar, 1/2/3 +X/+Y/+Z, 4/5/6 +RX/+RY/+RZ, negative for the minus directions");
-    return static_cast<int>(*v);
-  }
-  if (s == "scalar" || s == "s") return 0;
-  int sign = 1;
-  if (!s.empty() && (s.front() == '+' || s.front() == '-')) {
-    sign = s.front() == '-' ? -1 : 1;
-    s.erase(0, 1);
-  } else if (!s.empty() && (s.back() == '+' || s.back() == '-')) {
-    sign = s.back() == '-' ? -1 : 1;
-    s.pop_back();
-  }
-  static const std::map<std::string, int> names = {{"x", 1}, {"y", 2}, {"z", 3}, {"rx", 4}, {"ry", 5}, {"rz", 6}};
-  const auto it = names.find(s);
-  if (it == names.end())
-    throw InvalidArgument(fmt::format("{} '{}' is not a UFF direction", option, text),
-                          "give +X, -Y, Z, +RZ, scalar, or a code −6..6");
-  return sign * it->second;
-}
 
 std::string uff_direction_name(int d) {
   static const char* names[] = {"X", "Y", "Z", "RX", "RY", "RZ"};

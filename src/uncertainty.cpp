@@ -73,9 +73,9 @@ namespace {
 
 const JointUncertainty& uncertainty_of(const JointFile& joint) {
   if (!joint.uncertainty)
-    throw InvalidArgument(
-        fmt::format("{}: the joint file has no [uncertainty]: nothing to sample", joint.source.empty() ? "joint" : joint.source),
-        "identify the joint with `toolpoint identify --joint-output FILE.toml` (the band fit writes the covariance)");
+    throw InvalidArgument(fmt::format("{}: the joint file has no [uncertainty]: nothing to sample",
+                                      joint.source.empty() ? "joint" : joint.source),
+                          "write a band-fitted joint with write_joint_file: the fit's covariance is its [uncertainty]");
   return *joint.uncertainty;
 }
 
@@ -182,10 +182,14 @@ void check_depth_grid(const std::vector<double>& depth_grid_m) {
       throw InvalidArgument("stability_uncertainty: the depth grid must increase from ≥ 0 m");
 }
 
+}  // namespace
+
 // Every sample's envelope through `envelope`, on every core; the nominal's last.
-StabilityUncertainty sample_envelopes(
-    const Assembly& assembly, const JointFile& joint, const std::vector<double>& depth_grid_m, const UncertaintyOptions& o,
-    const std::function<std::pair<std::vector<double>, std::vector<double>>(const Assembly&)>& envelope) {
+StabilityUncertainty envelope_uncertainty(const Assembly& assembly, const JointFile& joint,
+                                          const std::function<StabilityEnvelope(const Assembly&)>& envelope,
+                                          const std::vector<double>& depth_grid_m, const UncertaintyOptions& o) {
+  o.check();
+  check_depth_grid(depth_grid_m);
   const JointUncertainty& u = uncertainty_of(joint);
   const std::vector<JointParameters> joints = sample_joints(joint.parameters, u.covariance, o.samples, o.seed);
   std::vector<std::vector<double>> depth(joints.size());
@@ -201,8 +205,6 @@ StabilityUncertainty sample_envelopes(
   return summarise(std::move(speeds), std::move(nominal), depth, depth_grid_m, o.levels);
 }
 
-}  // namespace
-
 StabilityUncertainty stability_uncertainty(const Assembly& assembly, const JointFile& joint,
                                            const std::vector<double>& frequency_hz, const CuttingConditions& cutting,
                                            const ZeroOrderOptions& lobes, const std::vector<double>& depth_grid_m,
@@ -210,37 +212,15 @@ StabilityUncertainty stability_uncertainty(const Assembly& assembly, const Joint
   o.check();
   cutting.check();
   lobes.check();
-  check_depth_grid(depth_grid_m);
-  return sample_envelopes(assembly, joint, depth_grid_m, o, [&](const Assembly& a) {
+  const auto envelope = [&](const Assembly& a) {
     MillingFrfs m;
     m.xx = entry(AssemblyModel(a).tool_point(frequency_hz), 0);
     const ZeroOrderResult z = zero_order_lobes(m, cutting, lobes);
     std::vector<double> d;
     for (const EnvelopePoint& p : z.envelope) d.push_back(p.depth_m);
-    return std::pair{lobes.speeds.values(), d};
-  });
-}
-
-StabilityUncertainty stability_uncertainty(const Assembly& assembly, const JointFile& joint,
-                                           const std::vector<double>& frequency_hz, const LobesStudyOptions& lobes,
-                                           const std::vector<double>& depth_grid_m, const UncertaintyOptions& o) {
-  o.check();
-  lobes.check();
-  check_depth_grid(depth_grid_m);
-  LobesStudyOptions inner = lobes;
-  inner.parallel.threads = 1;
-  inner.progress = {};
-  return sample_envelopes(assembly, joint, depth_grid_m, o, [&](const Assembly& a) {
-    LobesInput in;
-    in.frfs = milling_frfs(AssemblyModel(a), frequency_hz);
-    const LobesStudyResult r = run_lobes_study(in, inner);
-    std::vector<double> speeds, d;
-    for (const EnvelopePoint& p : r.envelope) {
-      speeds.push_back(p.speed_rpm);
-      d.push_back(p.depth_m);
-    }
-    return std::pair{speeds, d};
-  });
+    return StabilityEnvelope{lobes.speeds.values(), d};
+  };
+  return envelope_uncertainty(assembly, joint, envelope, depth_grid_m, o);
 }
 
 }  // namespace toolpoint

@@ -355,8 +355,12 @@ TEST(Assembly, AccuracyAgainstAnEightyDigitReference) {
       double v[4];
       in >> node >> count >> v[0] >> v[1] >> v[2] >> v[3];
       double sum[4] = {};
-      for (const Bearing& b : chain->grounds(node))
-        sum[0] += b.stiffness, sum[1] += b.damping, sum[2] += b.rotational_stiffness, sum[3] += b.rotational_damping;
+      for (const Bearing& b : chain->grounds(node)) {
+        sum[0] += b.stiffness;
+        sum[1] += b.damping;
+        sum[2] += b.rotational_stiffness;
+        sum[3] += b.rotational_damping;
+      }
       EXPECT_EQ(chain->grounds(node).size(), count) << line;
       for (int k = 0; k < 4; ++k) EXPECT_EQ(sum[k], v[k]) << line;
     } else if (kind == "joint") {

@@ -597,6 +597,22 @@ TEST_F(Cli, BadValuesAreUsageErrors) {
   EXPECT_FALSE(exists("c.csv"));
 }
 
+// The library's messages name its own fields and functions; the CLI spells them as its flags and
+// commands. Checked on the text the user sees: what to run, with which options.
+TEST_F(Cli, LibraryNamesAreSpeltAsFlagsAndCommands) {
+  // A CutPro file that is a magnitude/phase table: read it as CSV, by the command that can.
+  write_text_file(path("table.frf"), "Frequency Magnitude Phase\n100 1e-6 -90\n200 2e-6 -80\n300 1e-6 -100\n");
+  Run r = run("modes table.frf --output out.csv");
+  expect_error(r, 3, {"table.frf:1", "`toolpoint convert FILE OUT --from csv` with --format (e.g. mag-phase-deg) and --columns"});
+  EXPECT_EQ(r.err.find("Options::"), std::string::npos) << r.err;
+  // A damaged joint file: where joint files come from.
+  write_text_file(path("bad.toml"), "[joint\n");
+  r = run("predict '" + kExample + "' --joint holder-tool=bad.toml --output out.csv");
+  expect_error(r, 3, {"bad.toml:1", "a joint file is written by `toolpoint identify --joint-output FILE.toml`"});
+  EXPECT_EQ(r.err.find("write_joint_file"), std::string::npos) << r.err;
+  EXPECT_FALSE(exists("out.csv"));
+}
+
 // The figure's name is checked before any work, so a typo costs nothing and leaves nothing.
 TEST_F(Cli, BadPlotExtensionIsRefusedBeforeAnyWork) {
   for (const std::string& args : std::vector<std::string>{
@@ -1030,8 +1046,12 @@ TEST_F(PlanCli, ErrorsNameTheOptionOrFileAndLeaveNothingBehind) {
   EXPECT_FALSE(exists("out"));
   // Merging: a missing shard, a file that is no part, no part at all.
   ok("plan study.toml --shard 0/2 --part p0.json");
-  expect_error(run("plan merge p0.json --output out"), 3, {"shard(s) 1 of 2 missing"});
-  expect_error(run("plan merge study.toml --output out"), 3, {"study.toml", "not a plan part file"});
+  Run r = run("plan merge p0.json --output out");
+  expect_error(r, 3, {"shard(s) 1 of 2 missing", "`toolpoint plan --shard I/N` with their index"});
+  EXPECT_EQ(r.err.find("run_plan_part"), std::string::npos) << r.err;
+  r = run("plan merge study.toml --output out");
+  expect_error(r, 3, {"study.toml", "not a plan part file", "give what `toolpoint plan --shard I/N --part FILE` wrote"});
+  EXPECT_EQ(r.err.find("format_plan_part"), std::string::npos) << r.err;
   EXPECT_FALSE(exists("out"));
   const Run none = run("plan merge");  // CLI11's own usage error, with the fix line main adds
   EXPECT_EQ(none.code, 2);

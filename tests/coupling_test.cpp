@@ -193,3 +193,22 @@ TEST(Joint, DefinitenessWarnings) {
   ASSERT_EQ(w.size(), 1u);
   EXPECT_NE(w[0].find("not positive definite"), std::string::npos);
 }
+
+// The index helpers against K itself: Eq. (8) at 1/(2π) Hz (ω = 1) puts k + i c of each entry in
+// K, so a parameter set with every value distinct shows which value sits where.
+TEST(Joint, IndexHelpersFollowTheLayoutOfK) {
+  JointParameters p;
+  for (int i = 0; i < 8; ++i) p[i] = 10.0 * (i + 1);
+  const Block K = p.stiffness(1.0 / (2.0 * kPi));
+  for (int r = 0; r < 2; ++r)
+    for (int c = 0; c < 2; ++c) {
+      EXPECT_NEAR(p[JointParameters::stiffness_of(r, c)], K(r, c).real(), 1e-12) << r << c;
+      EXPECT_NEAR(p[JointParameters::damping_of(r, c)], K(r, c).imag(), 1e-12) << r << c;
+      EXPECT_NEAR(p[JointParameters::transposed(JointParameters::stiffness_of(r, c))], K(c, r).real(), 1e-12) << r << c;
+      EXPECT_NEAR(p[JointParameters::transposed(JointParameters::damping_of(r, c))], K(c, r).imag(), 1e-12) << r << c;
+    }
+  EXPECT_EQ(JointParameters::stiffness_of(0, 1), static_cast<int>(JointParameter::k_ym));
+  EXPECT_EQ(JointParameters::damping_of(1, 0), static_cast<int>(JointParameter::c_tf));
+  EXPECT_EQ(JointParameters::transposed(static_cast<int>(JointParameter::c_ym)), static_cast<int>(JointParameter::c_tf));
+  EXPECT_EQ(JointParameters::transposed(static_cast<int>(JointParameter::k_tm)), static_cast<int>(JointParameter::k_tm));
+}

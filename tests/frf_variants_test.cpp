@@ -187,7 +187,8 @@ TEST(FrfVariants, CutProLabelsAndRenamedTables) {
   expect_sdof(read_frf_file(kDir + "frf_cutpro_labels_own_line.frf"), 1e-15);
   const std::string named = error_of("frf_mag_phase_renamed.frf");
   EXPECT_TRUE(contains(named, "frf_mag_phase_renamed.frf:1: 'Frequency?Magnitude?Phase' is not CutPro's header")) << named;
-  EXPECT_TRUE(contains(named, "--from csv --format mag-phase-deg")) << named;
+  EXPECT_TRUE(contains(named, "FrfReadOptions::format = FrfFormat::Csv with FrfCsvOptions::format (e.g. mag-phase-deg)"))
+      << named;
   const std::string bare = error_of("frf_mag_phase_renamed_no_header.frf");
   EXPECT_TRUE(contains(bare, "looks like magnitude and phase")) << bare;
   // Read as the CSV it is, it gives the receptance.

@@ -20,7 +20,10 @@ IdentificationData measured(const RouteData& d, double sigma, std::uint64_t seed
   IdentificationData m;
   m.G11 = x.G11;
   m.g_name = "sht11.csv";
-  if (d.b_measured) m.B11 = x.B11, m.b_name = "sh11.csv";
+  if (d.b_measured) {
+    m.B11 = x.B11;
+    m.b_name = "sh11.csv";
+  }
   return m;
 }
 

@@ -26,6 +26,7 @@
 #include "toolpoint/json.hpp"
 #include "toolpoint/peaks.hpp"
 #include "toolpoint/studies/plan.hpp"
+#include "toolpoint/studies/plan_io.hpp"
 #include "toolpoint/studies/predict.hpp"
 #include "toolpoint/uncertainty.hpp"
 
@@ -199,7 +200,11 @@ TEST(Plan, BestSetUpIsTheBruteForceMaximum) {
       const double a = fixed_speed_depth(g, o.lobes.cutting, n);
       worst_depth_error = std::max(worst_depth_error, std::abs(a / r.jobs[i].stable_depth_m[k] - 1.0));
       const double mrr = a / 1.25 * width * 1e-4 * 4 * n / 60.0;
-      if (mrr > best) best = mrr, best_i = i, best_k = k;
+      if (mrr > best) {
+        best = mrr;
+        best_i = i;
+        best_k = k;
+      }
     }
   }
   EXPECT_LT(worst_depth_error, 0.01) << "the lobes' envelope against the fixed-speed roots";
@@ -223,7 +228,11 @@ TEST(Plan, BestSetUpIsTheBruteForceMaximum) {
     for (std::size_t k = 0; k < p.jobs[j].depth_m.size(); ++k) {
       if (!(p.jobs[j].mrr_m3_per_s[k] >= top * (1.0 - 1e-9))) continue;
       const double m = p.jobs[j].stable_depth_m[k] / p.jobs[j].depth_m[k];
-      if (m > margin) margin = m, pick_j = j, pick_k = k;
+      if (m > margin) {
+        margin = m;
+        pick_j = j;
+        pick_k = k;
+      }
     }
   EXPECT_EQ(p.best[0].job, pick_j);
   EXPECT_EQ(p.best[0].speed_index, pick_k);

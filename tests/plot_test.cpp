@@ -614,7 +614,10 @@ TEST(PlotRender, JointAndLobesFigures) {
         if ((rpm - a) * (rpm - b) <= 0.0 && a != b)
           best = std::min(best, l.depth_m[q - 1] + (rpm - a) / (b - a) * (l.depth_m[q] - l.depth_m[q - 1]));
       }
-    if (std::isfinite(best)) L.envelope_rpm.push_back(rpm), L.envelope_depth_m.push_back(best);
+    if (std::isfinite(best)) {
+      L.envelope_rpm.push_back(rpm);
+      L.envelope_depth_m.push_back(best);
+    }
   }
   L.title = "Stability lobes";
   render_everywhere(lobes_figure(L), "lobes", true);

@@ -395,7 +395,11 @@ TEST(Noise, DrawsAreNormalAndIndependent) {
     double sa = 0, sc = 0, saa = 0, scc = 0, sac = 0;
     for (std::size_t i = 0; i < count; ++i) {
       const double x = a(i), y = c(i);
-      sa += x, sc += y, saa += x * x, scc += y * y, sac += x * y;
+      sa += x;
+      sc += y;
+      saa += x * x;
+      scc += y * y;
+      sac += x * y;
     }
     const double k = static_cast<double>(count);
     return (sac / k - sa / k * sc / k) / std::sqrt((saa / k - sa * sa / k / k) * (scc / k - sc * sc / k / k));

@@ -493,18 +493,6 @@ TEST(Uff, SelectionByIndexNodeAndDirection) {
   EXPECT_THROW(pick({.index = 4}), InputError);
 }
 
-TEST(Uff, DirectionNames) {
-  EXPECT_EQ(parse_uff_direction("+X", "--d"), 1);
-  EXPECT_EQ(parse_uff_direction("z", "--d"), 3);
-  EXPECT_EQ(parse_uff_direction("-ry", "--d"), -5);
-  EXPECT_EQ(parse_uff_direction("Y-", "--d"), -2);
-  EXPECT_EQ(parse_uff_direction("-6", "--d"), -6);
-  EXPECT_EQ(parse_uff_direction("scalar", "--d"), 0);
-  EXPECT_THROW(parse_uff_direction("7", "--d"), InvalidArgument);
-  EXPECT_THROW(parse_uff_direction("+W", "--d"), InvalidArgument);
-  for (int d = -6; d <= 6; ++d) EXPECT_EQ(parse_uff_direction(uff_direction_name(d), "--d"), d);
-}
-
 // The writer refuses what the format cannot hold.
 TEST(Uff, WriterRejectsWhatDoesNotFit) {
   UffDataset58 d = synthetic(4, true, 3, 2);

@@ -4,6 +4,7 @@
 // stability is consistent with the depth quantiles and with an exactly known case.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "support/joint_data.hpp"
@@ -21,7 +22,10 @@ Eigen::Matrix<double, 8, 8> covariance_of(const JointParameters& p, double rel) 
   Eigen::Matrix<double, 8, 8> c = Eigen::Matrix<double, 8, 8>::Zero();
   for (int k : {0, 1, 2, 3, 6, 7}) c(k, k) = std::pow(rel * p[k], 2);
   c(0, 6) = c(6, 0) = 0.5 * std::sqrt(c(0, 0) * c(6, 6));
-  for (int k = 0; k < 8; ++k) c(4, k) = c(k, 4) = c(2, k), c(5, k) = c(k, 5) = c(3, k);
+  for (int k = 0; k < 8; ++k) {
+    c(4, k) = c(k, 4) = c(2, k);
+    c(5, k) = c(k, 5) = c(3, k);
+  }
   c(4, 4) = c(2, 2);
   c(5, 5) = c(3, 3);
   c(4, 2) = c(2, 4) = c(2, 2);
@@ -158,4 +162,40 @@ TEST(Uncertainty, ProbabilityOfStabilityIsConsistent) {
   const StabilityUncertainty three = stability_uncertainty(a, uncertain_joint(0.05), f, cut, lobes, depths, o);
   EXPECT_EQ(one.probability, three.probability);
   EXPECT_EQ(one.depth_m, three.depth_m);
+}
+
+// envelope_uncertainty with an envelope known in closed form (depth k_yf × 1e-12 m at 1000 rpm,
+// twice that at 2000 rpm): its quantiles and P(stable) are those of the k_yf of the joints
+// sample_joints draws from the file's covariance with the same seed, counted here.
+TEST(Uncertainty, EnvelopeUncertaintyOfAKnownEnvelope) {
+  const Assembly a = example_assembly();
+  const JointFile joint = uncertain_joint(0.05);
+  const auto envelope = [](const Assembly& x) {
+    const double d = x.holder_tool.parameters.k_yf * 1e-12;
+    return StabilityEnvelope{{1000.0, 2000.0}, {d, 2.0 * d}};
+  };
+  UncertaintyOptions o;
+  o.samples = 50;
+  o.seed = 3;
+  const double nominal = joint.parameters.k_yf * 1e-12;
+  const std::vector<double> grid{0.0, nominal, 1.0};
+  const StabilityUncertainty s = envelope_uncertainty(a, joint, envelope, grid, o);
+  std::vector<double> depth;
+  for (const JointParameters& p : sample_joints(joint.parameters, joint.uncertainty->covariance, 50, 3))
+    depth.push_back(p.k_yf * 1e-12);
+  ASSERT_EQ(s.speed_rpm, (std::vector<double>{1000.0, 2000.0}));
+  EXPECT_EQ(s.samples, 50);
+  EXPECT_EQ(s.nominal_depth_m, (std::vector<double>{nominal, 2.0 * nominal}));
+  for (std::size_t l = 0; l < o.levels.size(); ++l) {
+    EXPECT_DOUBLE_EQ(s.depth_m[l][0], quantile(depth, o.levels[l])) << l;
+    EXPECT_DOUBLE_EQ(s.depth_m[l][1], 2.0 * quantile(depth, o.levels[l])) << l;
+  }
+  const auto above = static_cast<double>(std::count_if(depth.begin(), depth.end(), [&](double d) { return d > nominal; }));
+  EXPECT_GT(above, 5.0);  // the nominal lies inside the samples: the count is not trivially 0 or 50
+  EXPECT_LT(above, 45.0);
+  EXPECT_EQ(s.probability(0, 0), 1.0);
+  EXPECT_EQ(s.probability(0, 1), above / 50.0);
+  EXPECT_EQ(s.probability(1, 1), 1.0);  // 2 k_yf × 1e-12 > k_yf × 1e-12 for every sample
+  EXPECT_EQ(s.probability(0, 2), 0.0);
+  EXPECT_THROW(envelope_uncertainty(a, joint, envelope, {1.0, 0.5}, o), InvalidArgument);  // a decreasing grid
 }

@@ -11,6 +11,7 @@
 #include "cli.hpp"
 #include "toolpoint/assembly_file.hpp"
 #include "toolpoint/case_study.hpp"
+#include "toolpoint/identify_io.hpp"
 #include "toolpoint/io.hpp"
 #include "toolpoint/json.hpp"
 #include "toolpoint/plot.hpp"
@@ -135,7 +136,9 @@ void run_demo(const DemoOptions& o, const Globals& g) {
       plot::JointFigureData clean;
       clean.frequency_hz = f;
       clean.title = "Holder-tool joint from noise-free FRFs, Eq. (6) (seed Fig. 3)";
-      for (int pair = 0; pair < 4; ++pair) clean.parameters.push_back(joint_curve(cs.clean, pair, cs.reference, std::nullopt));
+      for (int row = 0; row < 2; ++row)
+        for (int column = 0; column < 2; ++column)
+          clean.parameters.push_back(joint_curve(cs.clean, row, column, cs.reference, std::nullopt));
       todo.push_back({plot::joint_figure(clean), path("fig3_joint_noise_free.png")});
       plot::JointFigureData noisy;
       noisy.frequency_hz = f;
@@ -144,8 +147,8 @@ void run_demo(const DemoOptions& o, const Globals& g) {
                               : fmt::format("k_{{yf}}, c_{{yf}} from {:g} % noise, filtered; read at the tool mode (seed Fig. 5)",
                                             100 * o.sigma);
       plot::JointParameterCurve yf = cs.fitted
-                                         ? joint_curve(cs.filtered, 0, cs.reference, cs.fitted->identified, &*cs.fitted->fit)
-                                         : joint_curve(cs.filtered, 0, cs.reference, cs.filtered_readout.medians(), nullptr,
+                                         ? joint_curve(cs.filtered, 0, 0, cs.reference, cs.fitted->identified, &*cs.fitted->fit)
+                                         : joint_curve(cs.filtered, 0, 0, cs.reference, cs.filtered_readout.medians(), nullptr,
                                                        &cs.filtered_readout);
       if (cs.fitted) {
         yf.other_stiffness = cs.filtered_readout.parameters[static_cast<std::size_t>(JointParameter::k_yf)].median;

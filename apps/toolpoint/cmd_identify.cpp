@@ -13,6 +13,7 @@
 #include "cli.hpp"
 #include "progress.hpp"
 #include "toolpoint/error.hpp"
+#include "toolpoint/identify_io.hpp"
 #include "toolpoint/io.hpp"
 #include "toolpoint/joint_file.hpp"
 #include "toolpoint/json.hpp"
@@ -204,9 +205,10 @@ void run_identify(const IdentifyOptions& o, const Globals& g) {
     if (id.seed.points > 0) d.band_hz = std::make_pair(id.seed.band_lo_hz, id.seed.band_hi_hz);
     d.title = fmt::format("{} joint, {}: closed form and {}", ht ? "Holder–tool" : "Spindle–holder", to_string(id.route),
                           id.fit ? "band fit (95 % interval)" : "seed read-out (shaded band)");
-    for (int pair = 0; pair < 4; ++pair)
-      d.parameters.push_back(joint_curve(id.closed_form, pair, std::nullopt, id.identified, id.fit ? &*id.fit : nullptr,
-                                         id.seed.points > 0 ? &id.seed : nullptr));
+    for (int row = 0; row < 2; ++row)
+      for (int column = 0; column < 2; ++column)
+        d.parameters.push_back(joint_curve(id.closed_form, row, column, std::nullopt, id.identified, id.fit ? &*id.fit : nullptr,
+                                           id.seed.points > 0 ? &id.seed : nullptr));
     draw_figures(g, {{plot::joint_figure(d), o.plot}}, written);
   }
   if (refuse)
@@ -250,9 +252,12 @@ void print_report(const IdentifyOptions& o, const Identification& id) {
       std::cout << fmt::format("\nset-ups fitted alone (transfer test χ² = {:.3g}, 99.9 % limit {:.3g}: {})\n",
                                f.transfer_statistic, f.transfer_limit,
                                f.transfers ? "the joint transfers" : "the joint does NOT transfer");
-      for (const SetupFit& s : f.setups)
+      for (const SetupFit& s : f.setups) {
+        const auto se = [&](JointParameter p) { return s.std_error[static_cast<std::size_t>(p)]; };
         std::cout << fmt::format("  {:<22} k_yf {:.5g} ± {:.2g}, k_tm {:.5g} ± {:.2g}, c_tm {:.4g} ± {:.2g}\n", s.label,
-                                 s.fitted.k_yf, s.std_error[0], s.fitted.k_tm, s.std_error[6], s.fitted.c_tm, s.std_error[7]);
+                                 s.fitted.k_yf, se(JointParameter::k_yf), s.fitted.k_tm, se(JointParameter::k_tm), s.fitted.c_tm,
+                                 se(JointParameter::c_tm));
+      }
     }
   } else {
     std::cout << "\nparameter  median         spread       unit        noise gain\n";

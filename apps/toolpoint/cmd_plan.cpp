@@ -14,6 +14,7 @@
 #include "toolpoint/io.hpp"
 #include "toolpoint/json.hpp"
 #include "toolpoint/studies/plan.hpp"
+#include "toolpoint/studies/plan_io.hpp"
 
 namespace toolpoint::cli {
 

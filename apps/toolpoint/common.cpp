@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <iostream>
 
+#include "../../src/text.hpp"
 #include "cli.hpp"
 #include "progress.hpp"
 #include "toolpoint/error.hpp"
@@ -183,21 +184,29 @@ std::string with_suffix(const std::string& path, const std::string& suffix) {
   return (p.parent_path() / (p.stem().string() + suffix + p.extension().string())).string();
 }
 
-plot::JointParameterCurve joint_curve(const JointSeries& series, int pair, const std::optional<JointParameters>& reference,
+plot::JointParameterCurve joint_curve(const JointSeries& series, int row, int column,
+                                      const std::optional<JointParameters>& reference,
                                       const std::optional<JointParameters>& identified, const JointFit* fit,
                                       const JointReadout* seed) {
-  static const char* subscripts[4] = {"yf", "ym", "{/Symbol q}f", "{/Symbol q}m"};
+  static const char* subscripts[2][2] = {{"yf", "ym"}, {"{/Symbol q}f", "{/Symbol q}m"}};
+  const int stiffness = JointParameters::stiffness_of(row, column), damping = JointParameters::damping_of(row, column);
   plot::JointParameterCurve c;
-  c.name = subscripts[pair];
-  c.stiffness_unit = JointParameters::unit(2 * pair);
-  c.damping_unit = JointParameters::unit(2 * pair + 1);
+  c.name = subscripts[row][column];
+  c.stiffness_unit = JointParameters::unit(stiffness);
+  c.damping_unit = JointParameters::unit(damping);
   for (const auto& p : series.parameters) {
-    c.stiffness.push_back(p[2 * pair]);
-    c.damping.push_back(p[2 * pair + 1]);
+    c.stiffness.push_back(p[stiffness]);
+    c.damping.push_back(p[damping]);
   }
-  if (reference) c.reference_stiffness = (*reference)[2 * pair], c.reference_damping = (*reference)[2 * pair + 1];
-  if (identified) c.identified_stiffness = (*identified)[2 * pair], c.identified_damping = (*identified)[2 * pair + 1];
-  const auto k = static_cast<std::size_t>(2 * pair), d = k + 1;
+  if (reference) {
+    c.reference_stiffness = (*reference)[stiffness];
+    c.reference_damping = (*reference)[damping];
+  }
+  if (identified) {
+    c.identified_stiffness = (*identified)[stiffness];
+    c.identified_damping = (*identified)[damping];
+  }
+  const auto k = static_cast<std::size_t>(stiffness), d = static_cast<std::size_t>(damping);
   if (fit) {
     c.stiffness_interval = std::make_pair(fit->intervals[k].lower, fit->intervals[k].upper);
     c.damping_interval = std::make_pair(fit->intervals[d].lower, fit->intervals[d].upper);
@@ -294,8 +303,20 @@ void add_frf_read_options(CLI::App* command, Globals& g) {
 }
 
 std::string with_flags(std::string text) {
-  // Field → flag, for every command (a field's flag is the same wherever it appears).
+  // Field → flag, for every command (a field's flag is the same wherever it appears); a library
+  // function → the command that does it. In order: a longer name before a name it starts with.
   static const std::pair<std::string_view, std::string_view> kFlags[] = {
+      {"FrfReadOptions::format = FrfFormat::Csv", "`toolpoint convert FILE OUT --from csv`"},
+      {"UffFile::functions", "`toolpoint convert FILE --list`"},
+      {"UffFile::skipped", "`toolpoint convert FILE --list`"},
+      {"UffFile::file_warnings", "`toolpoint convert FILE --list`"},
+      {"rotational_frfs", "`toolpoint rotational`"},
+      {"write_joint_file", "`toolpoint identify --joint-output FILE.toml`"},
+      {"run_plan_part", "`toolpoint plan --shard I/N`"},
+      {"format_plan_part", "`toolpoint plan --shard I/N --part FILE`"},
+      {"resample()", "`toolpoint resample IN OUT --onto OTHER`"},
+      {"crop()", "`toolpoint resample IN OUT --band F1:F2`"},
+      {"MillingFrfs::rigid_y", "--rigid-y"},
       {"FrfCsvOptions::columns", "--columns"},
       {"FrfCsvOptions::format", "--format"},
       {"FrfReadOptions::units", "--units"},
@@ -426,8 +447,7 @@ const char* const kBlockCsvOutput = "the 2×2 receptance block as FRF CSV (.csv;
 void check_output_extension(const std::string& path, const std::string& option, std::initializer_list<const char*> extensions,
                             const std::string& formats) {
   if (path.empty()) return;
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const std::string ext = text::lower(std::filesystem::path(path).extension().string());
   std::string listed;
   for (const char* e : extensions) {
     if (ext == e) return;

@@ -3,13 +3,21 @@
 
 #include <charconv>
 #include <fmt/format.h>
+#include <initializer_list>
+#include <map>
+#include <string_view>
+#include <utility>
 #include <vector>
 
+#include "../../src/text.hpp"
 #include "toolpoint/error.hpp"
 
 namespace toolpoint::cli {
 
 namespace {
+
+using text::lower;
+using text::trim;
 
 double parse_number(const std::string& text, const std::string& option, const std::string& whole) {
   double v = 0.0;
@@ -33,6 +41,16 @@ std::vector<std::string> split_colon(const std::string& text) {
     start = pos + 1;
   }
   return parts;
+}
+
+// One of `names` (case and surrounding blanks ignored), or InvalidArgument "OPTION 'TEXT' is not WHAT".
+template <class E>
+E parse_name(const std::string& text, const std::string& option, std::initializer_list<std::pair<std::string_view, E>> names,
+             const char* what, const char* hint) {
+  const std::string s = lower(trim(text));
+  for (const auto& [name, value] : names)
+    if (s == name) return value;
+  throw InvalidArgument(fmt::format("{} '{}' is not {}", option, text, what), hint);
 }
 
 }  // namespace
@@ -74,6 +92,80 @@ std::pair<int, int> parse_shard(const std::string& text, const std::string& opti
     throw InvalidArgument(fmt::format("{} '{}' is not I/N with 0 ≤ I < N ≤ 100000 (shard I of N, counted from 0)", option, text),
                           "e.g. --shard 0/8 … --shard 7/8; in a Slurm array --shard $SLURM_ARRAY_TASK_ID/8");
   return {v[0], v[1]};
+}
+
+FrfFormat parse_frf_format(const std::string& text, const std::string& option) {
+  return parse_name<FrfFormat>(text, option,
+                               {{"auto", FrfFormat::Auto},
+                                {"csv", FrfFormat::Csv},
+                                {"uff", FrfFormat::Uff},
+                                {"unv", FrfFormat::Uff},
+                                {"uf", FrfFormat::Uff},
+                                {"uffb", FrfFormat::UffBinary},
+                                {"uff-binary", FrfFormat::UffBinary},
+                                {"58b", FrfFormat::UffBinary},
+                                {"frf", FrfFormat::Frf},
+                                {"cutpro", FrfFormat::Frf}},
+                               "a known FRF file format",
+                               "use csv, uff (ASCII dataset 58), uffb (binary 58b) or frf (CutPro text)");
+}
+
+FrfOrdinate parse_frf_ordinate(const std::string& text, const std::string& option) {
+  return parse_name<FrfOrdinate>(text, option,
+                                 {{"receptance", FrfOrdinate::Receptance},
+                                  {"compliance", FrfOrdinate::Receptance},
+                                  {"mobility", FrfOrdinate::Mobility},
+                                  {"accelerance", FrfOrdinate::Accelerance},
+                                  {"inertance", FrfOrdinate::Accelerance}},
+                                 "an FRF ordinate", "use receptance (m/N), mobility ((m/s)/N) or accelerance ((m/s²)/N)");
+}
+
+FrfValueFormat parse_frf_value_format(const std::string& text, const std::string& option) {
+  return parse_name<FrfValueFormat>(text, option,
+                                    {{"re-im", FrfValueFormat::ReIm},
+                                     {"reim", FrfValueFormat::ReIm},
+                                     {"mag-phase-deg", FrfValueFormat::MagPhaseDeg},
+                                     {"mag-phase-rad", FrfValueFormat::MagPhaseRad},
+                                     {"db-phase", FrfValueFormat::DbPhaseDeg},
+                                     {"db-phase-deg", FrfValueFormat::DbPhaseDeg},
+                                     {"db-phase-rad", FrfValueFormat::DbPhaseRad}},
+                                    "a value format",
+                                    "use re-im, mag-phase-deg, mag-phase-rad, db-phase (dB and degrees) or db-phase-rad");
+}
+
+Interpolation parse_interpolation(const std::string& text, const std::string& option) {
+  return parse_name<Interpolation>(
+      text, option, {{"linear", Interpolation::Linear}, {"cubic", Interpolation::Cubic}, {"spline", Interpolation::Cubic}},
+      "an interpolation", "use linear (no overshoot) or cubic (natural cubic spline)");
+}
+
+int parse_uff_direction(const std::string& text, const std::string& option) {
+  std::string s = lower(trim(text));
+  // A code: an integer with an optional sign.
+  const char* first = s.data() + (!s.empty() && s.front() == '+' ? 1 : 0);
+  const char* last = s.data() + s.size();
+  long long code = 0;
+  if (const auto [ptr, ec] = std::from_chars(first, last, code); first != last && ec == std::errc() && ptr == last) {
+    if (code < -6 || code > 6)
+      throw InvalidArgument(fmt::format("{} {}: a UFF direction code is −6..6", option, code),
+                            "0 scalar, 1/2/3 +X/+Y/+Z, 4/5/6 +RX/+RY/+RZ, negative for the minus directions");
+    return static_cast<int>(code);
+  }
+  if (s == "scalar" || s == "s") return 0;
+  int sign = 1;
+  if (!s.empty() && (s.front() == '+' || s.front() == '-')) {
+    sign = s.front() == '-' ? -1 : 1;
+    s.erase(0, 1);
+  } else if (!s.empty() && (s.back() == '+' || s.back() == '-')) {
+    sign = s.back() == '-' ? -1 : 1;
+    s.pop_back();
+  }
+  static const std::map<std::string, int> names = {{"x", 1}, {"y", 2}, {"z", 3}, {"rx", 4}, {"ry", 5}, {"rz", 6}};
+  const auto it = names.find(s);
+  if (it == names.end())
+    throw InvalidArgument(fmt::format("{} '{}' is not a UFF direction", option, text),
+                          "give +X, -Y, Z, +RZ, scalar, or a code −6..6");
+  return sign * it->second;
 }
 
 }  // namespace toolpoint::cli

@@ -7,6 +7,9 @@
 #include <utility>
 
 #include "toolpoint/conventions.hpp"
+#include "toolpoint/frf_file.hpp"
+#include "toolpoint/io.hpp"
+#include "toolpoint/resample.hpp"
 
 namespace toolpoint::cli {
 
@@ -19,5 +22,24 @@ std::pair<double, double> parse_range(const std::string& text, const std::string
 
 // Parses "I/N" (shard I of N, 0 ≤ I < N ≤ 100000) into (I, N). Throws InvalidArgument naming `option`.
 std::pair<int, int> parse_shard(const std::string& text, const std::string& option);
+
+// "auto", "csv", "uff" (also "unv", "uf"), "uffb" (also "uff-binary", "58b"), "frf" (also
+// "cutpro"); case-insensitive. Throws InvalidArgument naming `option`.
+FrfFormat parse_frf_format(const std::string& text, const std::string& option);
+
+// "receptance" (also "compliance"), "mobility", "accelerance" (also "inertance");
+// case-insensitive. Throws InvalidArgument naming `option`.
+FrfOrdinate parse_frf_ordinate(const std::string& text, const std::string& option);
+
+// "re-im" (also "reim"), "mag-phase-deg", "mag-phase-rad", "db-phase" (also "db-phase-deg"),
+// "db-phase-rad"; case-insensitive. Throws InvalidArgument naming `option`.
+FrfValueFormat parse_frf_value_format(const std::string& text, const std::string& option);
+
+// "linear" or "cubic" (also "spline"); case-insensitive. Throws InvalidArgument naming `option`.
+Interpolation parse_interpolation(const std::string& text, const std::string& option);
+
+// "+X", "x", "Y-", "-Z", "+RX", "-ry", "scalar" or an integer −6..6 → the UFF record 6 direction
+// code (uff_direction_name is the inverse). Throws InvalidArgument naming `option`.
+int parse_uff_direction(const std::string& text, const std::string& option);
 
 }  // namespace toolpoint::cli

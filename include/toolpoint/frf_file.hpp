@@ -51,16 +51,13 @@ namespace toolpoint {
 
 enum class FrfFormat { Auto, Csv, Uff, UffBinary, Frf };
 
-// "auto", "csv", "uff", "uffb", "frf" (case-insensitive). Throws InvalidArgument naming `option`.
-FrfFormat parse_frf_format(const std::string& text, const std::string& option);
+// "auto", "csv", "uff", "uffb", "frf".
 std::string frf_format_name(FrfFormat format);
 // By extension: .csv, .uff/.unv/.uf, .frf (case-insensitive). Throws InvalidArgument for others.
 FrfFormat frf_format_of_path(const std::string& path);
 
 enum class FrfOrdinate { Receptance, Mobility, Accelerance };
 
-// "receptance", "mobility", "accelerance" (case-insensitive). Throws InvalidArgument naming `option`.
-FrfOrdinate parse_frf_ordinate(const std::string& text, const std::string& option);
 std::string frf_ordinate_name(FrfOrdinate ordinate);   // "mobility"
 std::string frf_ordinate_units(FrfOrdinate ordinate);  // "(m/s)/N"
 

@@ -22,7 +22,6 @@
 #include <vector>
 
 #include "toolpoint/assembly.hpp"
-#include "toolpoint/io.hpp"
 #include "toolpoint/joint.hpp"
 #include "toolpoint/peaks.hpp"
 #include "toolpoint/receptance.hpp"
@@ -81,10 +80,6 @@ struct JointSeries {
 // Throws InputError for mismatched grids, NaN or fewer than 3 points (naming `b_name`, `g_name`).
 JointSeries identify_series(const std::function<TwoPort(double)>& A, const BlockSeries& B11, const std::string& b_name,
                             const BlockSeries& G11, const std::string& g_name);
-
-// K(ω) as a table: frequency_hz, the eight parameters (units in the column names) and the
-// condition numbers and noise gains per frequency.
-Table joint_table(const JointSeries& series);
 
 // The eight parameters read in a band: median and a robust spread (1.4826 × median absolute
 // deviation, the standard deviation for Gaussian scatter).

@@ -148,9 +148,7 @@ void check_output_paths(const std::vector<RunPath>& inputs, const std::vector<Ru
 // phase (degrees or radians), or magnitude in dB (20·log10 of |H| in the value units) and phase.
 enum class FrfValueFormat { ReIm, MagPhaseDeg, MagPhaseRad, DbPhaseDeg, DbPhaseRad };
 
-// "re-im", "mag-phase-deg", "mag-phase-rad", "db-phase" (degrees), "db-phase-deg", "db-phase-rad".
-// Throws InvalidArgument naming `option`.
-FrfValueFormat parse_frf_value_format(const std::string& text, const std::string& option);
+// "re-im", "mag-phase-deg", "mag-phase-rad", "db-phase" (dB and degrees), "db-phase-rad".
 std::string frf_value_format_name(FrfValueFormat format);
 
 // What the header of a CSV cannot say.

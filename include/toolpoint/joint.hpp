@@ -44,6 +44,13 @@ struct JointParameters {
   static bool is_damping(int i) { return i % 2 == 1; }
   static int row(int i) { return i / 4; }
   static int column(int i) { return (i / 2) % 2; }
+  // The inverse: the index of the stiffness and of the damping of the entry (row, column) of K
+  // ((0, 1) → k_ym, c_ym; (1, 0) → k_θf, c_θf).
+  static int stiffness_of(int row, int column) { return 4 * row + 2 * column; }
+  static int damping_of(int row, int column) { return stiffness_of(row, column) + 1; }
+  // Value i's counterpart in the transposed entry of K, the value reciprocity makes equal to it
+  // (k_ym ↔ k_θf, c_ym ↔ c_θf); a diagonal value is its own.
+  static int transposed(int i) { return is_damping(i) ? damping_of(column(i), row(i)) : stiffness_of(column(i), row(i)); }
 };
 
 // A joint between two components: elastic with parameters, or rigid (K⁻¹ = 0).

@@ -23,9 +23,6 @@ namespace toolpoint {
 
 enum class Interpolation { Linear, Cubic };
 
-// "linear" or "cubic". Throws InvalidArgument naming `option`.
-Interpolation parse_interpolation(const std::string& text, const std::string& option);
-
 // The points with low ≤ f ≤ high [Hz]. Throws InvalidArgument for an empty or inverted band,
 // InputError (naming `what` and the measured range) when no point lies in it.
 FrfSeries crop(const FrfSeries& series, double low_hz, double high_hz, const std::string& what);

@@ -178,10 +178,7 @@ std::vector<std::string> write_uff(const std::string& path, const std::vector<Uf
 // increment, uneven ASCII abscissae): 7 significant digits for positive values, 6 for negative.
 double uff_field13_roundtrip(double v);
 
-// "+X", "x", "-Z", "+RX", "-ry", "scalar" or an integer −6..6 → the record 6 direction code.
-// Throws InvalidArgument naming `option`.
-int parse_uff_direction(const std::string& text, const std::string& option);
-// The inverse: 0 → "scalar", 3 → "+Z", −4 → "-RX"; codes outside −6..6 → "code N".
+// The record 6 direction code as text: 0 → "scalar", 3 → "+Z", −4 → "-RX"; codes outside −6..6 → "code N".
 std::string uff_direction_name(int direction);
 
 // Names for messages and listings.

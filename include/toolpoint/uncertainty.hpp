@@ -15,6 +15,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -25,7 +26,6 @@
 #include "toolpoint/parallel.hpp"
 #include "toolpoint/receptance.hpp"
 #include "toolpoint/stability.hpp"
-#include "toolpoint/studies/lobes.hpp"
 
 namespace toolpoint {
 
@@ -91,12 +91,16 @@ StabilityUncertainty stability_uncertainty(const Assembly& assembly, const Joint
                                            const ZeroOrderOptions& lobes, const std::vector<double>& depth_grid_m,
                                            const UncertaintyOptions& options);
 
-// The same by the lobes study (studies/lobes.hpp) with any of its methods: each sample's tool
-// point FRF (x and y, milling_frfs) goes through run_lobes_study with `lobes` (one thread inside:
-// the samples are what runs in parallel); the envelope is the study's (the time-domain boundary
-// where the search reached its ceiling counts as that depth). Same errors as run_lobes_study.
-StabilityUncertainty stability_uncertainty(const Assembly& assembly, const JointFile& joint,
-                                           const std::vector<double>& frequency_hz, const LobesStudyOptions& lobes,
-                                           const std::vector<double>& depth_grid_m, const UncertaintyOptions& options);
+// One assembly's stable envelope: the spindle speeds [rpm] and the stable depth at each [m].
+using StabilityEnvelope = std::pair<std::vector<double>, std::vector<double>>;
+
+// The same by any method: `envelope` gives the envelope of each sample's assembly, and of the
+// nominal's (the same speeds for all; it is called from every core at once). The lobes study's
+// stability_uncertainty (studies/lobes.hpp) is this with the study's envelope. Throws
+// InvalidArgument (options, the depth grid, a joint file without uncertainty) and what `envelope`
+// throws.
+StabilityUncertainty envelope_uncertainty(const Assembly& assembly, const JointFile& joint,
+                                          const std::function<StabilityEnvelope(const Assembly&)>& envelope,
+                                          const std::vector<double>& depth_grid_m, const UncertaintyOptions& options);
 
 }  // namespace toolpoint

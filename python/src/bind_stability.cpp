@@ -43,7 +43,10 @@ py::dict envelope_dict(const std::vector<EnvelopePoint>& e) {
 py::dict boundary_dict(const std::vector<BoundaryPoint>& b) {
   std::vector<std::string> kind;
   std::vector<Complex> mult;
-  for (const BoundaryPoint& p : b) kind.emplace_back(to_string(p.kind)), mult.push_back(p.multiplier);
+  for (const BoundaryPoint& p : b) {
+    kind.emplace_back(to_string(p.kind));
+    mult.push_back(p.multiplier);
+  }
   return py::dict("speed_rpm"_a = column(b, [](const BoundaryPoint& p) { return p.speed_rpm; }),
                   "depth_m"_a = column(b, [](const BoundaryPoint& p) { return p.depth_m; }),
                   "depth_error_m"_a = column(b, [](const BoundaryPoint& p) { return p.depth_error_m; }),

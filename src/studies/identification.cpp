@@ -174,7 +174,10 @@ std::vector<std::size_t> in_band(const std::vector<double>& f, double lo, double
 
 BlockSeries subset(const BlockSeries& s, const std::vector<std::size_t>& idx) {
   BlockSeries out;
-  for (std::size_t i : idx) out.frequency_hz.push_back(s.frequency_hz[i]), out.blocks.push_back(s.blocks[i]);
+  for (std::size_t i : idx) {
+    out.frequency_hz.push_back(s.frequency_hz[i]);
+    out.blocks.push_back(s.blocks[i]);
+  }
   return out;
 }
 
@@ -182,11 +185,11 @@ void judge(Identification& r, const IdentificationOptions& o, bool same_data) {
   std::vector<std::string> fail, doubt;
   if (same_data) fail.push_back("G11 and B11 are the same data (one file given for both?): nothing to identify the joint from");
   const JointParameters& p = r.identified;
-  for (int k : {0, 6})
+  for (JointParameter k : {JointParameter::k_yf, JointParameter::k_tm})
     if (!(p[k] > 0.0))
       fail.push_back(fmt::format("{} = {:.4g} {} ≤ 0: a joint's diagonal stiffness is positive", JointParameters::name(k), p[k],
                                  JointParameters::unit(k)));
-  for (int k : {1, 7}) {
+  for (JointParameter k : {JointParameter::c_yf, JointParameter::c_tm}) {
     if (p[k] >= 0.0) continue;
     const bool certain = r.fit ? r.fit->intervals[static_cast<std::size_t>(k)].upper < 0.0
                                : r.seed.noise_gain[static_cast<std::size_t>(k)] <= o.readout.gain_warning;
@@ -199,12 +202,12 @@ void judge(Identification& r, const IdentificationOptions& o, bool same_data) {
     if (std::isfinite(r.fit->residual_ratio) && r.fit->residual_ratio > 1.5)
       doubt.push_back(fmt::format("the fitted model leaves residuals {:.2g}× what the noise explains", r.fit->residual_ratio));
     if (!r.fit->transfers) doubt.push_back("the joint does not transfer between the set-ups");
-    for (int k : {0, 6})
+    for (JointParameter k : {JointParameter::k_yf, JointParameter::k_tm})
       if (!r.fit->intervals[static_cast<std::size_t>(k)].determined)
         doubt.push_back(fmt::format("{} is not determined by these data (its interval is wider than its value or holds 0)",
                                     JointParameters::name(k)));
   } else {
-    for (int k : {0, 6})
+    for (JointParameter k : {JointParameter::k_yf, JointParameter::k_tm})
       if (r.seed.noise_gain[static_cast<std::size_t>(k)] > o.readout.gain_warning)
         doubt.push_back(fmt::format("{} is poorly determined in the read-out band (noise gain {:.3g})", JointParameters::name(k),
                                     r.seed.noise_gain[static_cast<std::size_t>(k)]));

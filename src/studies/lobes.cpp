@@ -335,4 +335,26 @@ LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOption
   return res;
 }
 
+StabilityUncertainty stability_uncertainty(const Assembly& assembly, const JointFile& joint,
+                                           const std::vector<double>& frequency_hz, const LobesStudyOptions& lobes,
+                                           const std::vector<double>& depth_grid_m, const UncertaintyOptions& o) {
+  o.check();
+  lobes.check();
+  LobesStudyOptions inner = lobes;
+  inner.parallel.threads = 1;
+  inner.progress = {};
+  const auto envelope = [&](const Assembly& a) {
+    LobesInput in;
+    in.frfs = milling_frfs(AssemblyModel(a), frequency_hz);
+    const LobesStudyResult r = run_lobes_study(in, inner);
+    std::vector<double> speeds, d;
+    for (const EnvelopePoint& p : r.envelope) {
+      speeds.push_back(p.speed_rpm);
+      d.push_back(p.depth_m);
+    }
+    return StabilityEnvelope{speeds, d};
+  };
+  return envelope_uncertainty(assembly, joint, envelope, depth_grid_m, o);
+}
+
 }  // namespace toolpoint

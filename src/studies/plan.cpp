@@ -266,7 +266,7 @@ PlanHeader plan_header(const std::vector<PlanCandidate>& candidates, const PlanO
         throw InvalidArgument(
             fmt::format("{}: SafetyRule::probability needs a joint with uncertainty to sample (PlanCandidate::uncertain_joint)",
                         who),
-            "give the candidate a joint file with [uncertainty] (toolpoint identify --joint-output), or use a safety factor");
+            "give the candidate a band-fitted joint with [uncertainty] (write_joint_file), or use a safety factor");
     }
     if (in.uncertain_joint && in.sh11 && in.uncertain_joint->interface != JointInterface::HolderTool)
       throw InvalidArgument(
@@ -382,12 +382,21 @@ void derive_depths(PlanJob& job, const PlanHeader& h) {
     if (!(std::isfinite(safe) && safe >= 0.0)) continue;  // no lobe reaches this speed: its stability is unknown
     double a = safe;
     DepthLimit limit = DepthLimit::Stability;
-    if (a_torque < a) a = a_torque, limit = DepthLimit::Torque;
+    if (a_torque < a) {
+      a = a_torque;
+      limit = DepthLimit::Torque;
+    }
     if (o.machine.power_w > 0.0) {
       const double a_power = o.machine.power_w / (t1 * 2.0 * kPi * n / 60.0);
-      if (a_power < a) a = a_power, limit = DepthLimit::Power;
+      if (a_power < a) {
+        a = a_power;
+        limit = DepthLimit::Power;
+      }
     }
-    if (a_cap < a) a = a_cap, limit = DepthLimit::Depth;
+    if (a_cap < a) {
+      a = a_cap;
+      limit = DepthLimit::Depth;
+    }
     job.depth_m[k] = a;
     job.limit[k] = limit;
     job.mrr_m3_per_s[k] = a * width * o.feed_per_tooth_m * cut.teeth * n / 60.0;
@@ -835,9 +844,8 @@ PlanResult merge_plan_parts(const std::vector<PlanPart>& parts, const std::vecto
   for (int i = 0; i < count; ++i)
     if (seen[static_cast<std::size_t>(i)] < 0) missing += (n_missing++ ? ", " : "") + std::to_string(i);
   if (n_missing > 0)
-    throw InputError(
-        fmt::format("shard(s) {} of {} missing: {} part(s) given", missing, count, parts.size()),
-        "run the missing shards (run_plan_part with their index; `toolpoint plan --shard I/N`) and merge every part");
+    throw InputError(fmt::format("shard(s) {} of {} missing: {} part(s) given", missing, count, parts.size()),
+                     "run the missing shards (run_plan_part with their index) and merge every part");
   const PlanHeader& h = first.header;
   std::vector<PlanJob> jobs(h.jobs);
   std::vector<bool> have(h.jobs, false);

@@ -14,6 +14,7 @@
 #include "toolpoint/error.hpp"
 #include "toolpoint/io.hpp"
 #include "toolpoint/studies/plan.hpp"
+#include "toolpoint/studies/plan_io.hpp"
 #include "toml_reader.hpp"
 
 namespace toolpoint {
@@ -245,13 +246,12 @@ PlanPart parse_plan_part(const std::string& text, const std::string& source) {
   try {
     j = nlohmann::json::parse(text);
   } catch (const nlohmann::json::parse_error& e) {
-    throw InputError(fmt::format("{}: not a plan part file (JSON: {})", source, e.what()),
-                     "give the files `toolpoint plan --shard I/N --part FILE` wrote");
+    throw InputError(fmt::format("{}: not a plan part file (JSON: {})", source, e.what()), "give what format_plan_part wrote");
   }
   const PartReader r{source};
   if (!j.is_object() || !j.contains("format") || j["format"] != kPartFormat)
     throw InputError(fmt::format("{}: not a plan part file (no \"format\": \"{}\")", source, kPartFormat),
-                     "give the files `toolpoint plan --shard I/N --part FILE` wrote");
+                     "give what format_plan_part wrote");
   if (r.get<int>(j, "version", "") != kPartVersion)
     throw InputError(fmt::format("{}: plan part format version {} (this toolpoint reads {})", source, j["version"].dump(),
                                  kPartVersion),
@@ -667,7 +667,7 @@ PlanStudy parse_plan_study(const std::string& text, const std::string& source, c
         r.fail(*arr->get(a),
                fmt::format("candidate[{}] ('{}'): safety.probability needs a joint file with [uncertainty] in candidate.joints",
                            a + 1, s.candidates[a].name),
-               "identify the joint with `toolpoint identify --joint-output kht.toml` and add joints = [\"kht.toml\"], or use "
+               "write a band-fitted joint to kht.toml (write_joint_file) and add joints = [\"kht.toml\"], or use "
                "safety.factor");
   try {
     o.check();

@@ -18,6 +18,7 @@
 #include "toolpoint/parallel.hpp"
 #include "toolpoint/plot.hpp"
 #include "toolpoint/stability.hpp"
+#include "toolpoint/uncertainty.hpp"
 
 namespace toolpoint {
 
@@ -95,6 +96,15 @@ struct LobesStudyResult {
 // Runs the study. Throws InvalidArgument (bad options, no FRF for the zero-order method, no modes
 // and no FRF), InputError (bad FRFs, nothing to fit), NumericalError.
 LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOptions& options);
+
+// Stability with the joint of `joint` uncertain (uncertainty.hpp) by this study with any of its
+// methods: each sample's tool point FRF (x and y, milling_frfs) goes through run_lobes_study with
+// `lobes` (one thread inside: the samples are what runs in parallel); the envelope is the study's
+// (the time-domain boundary where the search reached its ceiling counts as that depth). Same
+// errors as run_lobes_study, and envelope_uncertainty's.
+StabilityUncertainty stability_uncertainty(const Assembly& assembly, const JointFile& joint,
+                                           const std::vector<double>& frequency_hz, const LobesStudyOptions& lobes,
+                                           const std::vector<double>& depth_grid_m, const UncertaintyOptions& options);
 
 // The modal model of one point FRF for the time-domain method: 1, 2, … modes (up to
 // options.max_modes) until the modes alone represent it within `target`; the best one otherwise,

@@ -253,7 +253,7 @@ std::string safety_rule_text(const SafetyRule& rule);
 // cm³/min per m³/s: MRR as machinists read it.
 inline constexpr double kCubicCentimetresPerMinute = 6e7;
 
-// ---- Figures and tables -------------------------------------------------------------------------
+// ---- Figures -------------------------------------------------------------------------------------
 
 // The stable depth (after the safety rule) [mm] as a map over spindle speed [rpm] × overhang [mm],
 // one panel per candidate, with each overhang's best speed marked and the best set-up labelled.
@@ -261,17 +261,6 @@ plot::Figure plan_map_figure(const PlanResult& result);
 // The tuning curve: the best MRR [cm³/min] and its spindle speed [rpm] against overhang [mm], one
 // curve per candidate, the minimum overhang and the best set-up marked.
 plot::Figure plan_tuning_figure(const PlanResult& result);
-
-// CSV text (units in the column names; text quoted where needed):
-//   best set-ups: rank,candidate,overhang_mm,spindle_speed_rpm,axial_depth_mm,stable_depth_mm,
-//     safe_depth_mm,mrr_cm3_per_min,power_kw,torque_nm,limit,depth_margin_percent,probability,
-//     chatter_frequency_hz,lobe,window_low_rpm,window_high_rpm,reason
-//   per job (the tuning curve): candidate,overhang_mm, then the best set-up's columns as above
-//   per job and speed: candidate,overhang_mm,spindle_speed_rpm,stable_depth_mm,safe_depth_mm,
-//     axial_depth_mm,limit,mrr_cm3_per_min,chatter_frequency_hz,lobe[,probability]
-std::string format_plan_setups_csv(const PlanResult& result);
-std::string format_plan_tuning_csv(const PlanResult& result);
-std::string format_plan_map_csv(const PlanResult& result);
 
 // ---- The study file ------------------------------------------------------------------------------
 
