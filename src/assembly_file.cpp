@@ -170,6 +170,7 @@ LoadedAssembly parse_assembly(const std::string& text, const std::string& source
       b.rotational_stiffness = r.number(t, "rotational_stiffness", path, "N m/rad").value_or(0.0);
       b.rotational_damping = r.number(t, "rotational_damping", path, "N m s/rad").value_or(0.0);
       r.plausible(t, "stiffness", path, b.stiffness, plausible::kBearingStiffness);
+      r.plausible(t, "damping", path, b.damping, plausible::kBearingDamping);
       try {
         b.check();
       } catch (const InvalidArgument& ex) {
@@ -203,6 +204,13 @@ LoadedAssembly parse_assembly(const std::string& text, const std::string& source
   r.plausible(to, "length", "tool", a.tool.length, plausible::kToolLength);
   r.plausible(to, "overhang", "tool", a.tool.overhang, plausible::kOverhang);
   r.plausible(to, "diameter", "tool", a.tool.diameter, plausible::kToolDiameter);
+  // Held over less than its diameter (0 when the overhang is the whole length): no holder grips a
+  // tool so, so a length or an overhang is most likely mistyped.
+  if (const double held = a.tool.length - a.tool.overhang; held >= 0.0 && held < a.tool.diameter && to.get("overhang"))
+    r.warnings.push_back(fmt::format("{}: the tool is held over {:.4g} mm (tool.length {} m − tool.overhang {} m), less than its "
+                                     "diameter {:.4g} mm: check both",
+                                     r.where(*to.get("overhang")), 1e3 * held, a.tool.length, a.tool.overhang,
+                                     1e3 * a.tool.diameter));
 
   if (const toml::table* t = r.table(root, "joints", "", false)) {
     r.only(*t, "joints", {"spindle_holder", "holder_tool"});

@@ -338,7 +338,12 @@ ModalFitResult fit_modes_at_scale(const FrfSeries& frf, const ModalFitOptions& o
     m.normalised_residual = normalised_error(fit, g, lo, hi);
     if (fr < f.front() || fr > f.back())
       res.warnings.push_back(fmt::format("the mode fitted at {:.2f} Hz lies outside the band {}–{} Hz", fr, f.front(), f.back()));
-    if (z > 0.3) res.warnings.push_back(fmt::format("the mode at {:.2f} Hz has a large damping ratio {:.3f}", fr, z));
+    if (z >= 1.0)
+      res.warnings.push_back(fmt::format("the mode fitted at {:.2f} Hz has a damping ratio of {:.3g}: overdamped, not a "
+                                         "resonance (the fit spent a mode on the background; fewer modes or a narrower band)",
+                                         fr, z));
+    else if (z > 0.3)
+      res.warnings.push_back(fmt::format("the mode at {:.2f} Hz has a large damping ratio {:.3f}", fr, z));
     if (!(m.residue > 0.0))
       res.warnings.push_back(
           fmt::format("the mode at {:.2f} Hz has a non-positive residue {:.4g} 1/kg: no modal mass "
@@ -405,6 +410,10 @@ std::vector<Mode> ModalFitResult::modal_model() const {
       throw NumericalError(fmt::format("the fitted mode at {:.2f} Hz has residue {:.4g} 1/kg: it has no positive modal mass",
                                        m.mode.frequency_hz, m.residue),
                            "fit a point (direct) FRF, narrow ModalFitOptions::band_hz, or give the modes explicitly");
+    if (!(m.mode.damping_ratio < 1.0))  // a fit's artefact, not the caller's input: no Mode::check message about it
+      throw NumericalError(fmt::format("the fitted mode at {:.2f} Hz has a damping ratio of {:.3g}: overdamped, not a resonance",
+                                       m.mode.frequency_hz, m.mode.damping_ratio),
+                           "fit fewer modes (ModalFitOptions::max_modes) or a narrower ModalFitOptions::band_hz");
     out.push_back(m.mode);
   }
   return out;

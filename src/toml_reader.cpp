@@ -22,6 +22,9 @@ Joint read_joint_table(Reader& r, const toml::table* t, const std::string& path,
     p[i] = *v;
   }
   r.plausible(*t, "k_yf", path, p.k_yf, plausible::kJointTranslationalStiffness);
+  r.plausible(*t, "k_tm", path, p.k_tm, plausible::kJointRotationalStiffness);
+  r.plausible(*t, "c_yf", path, p.c_yf, plausible::kJointTranslationalDamping);
+  r.plausible(*t, "c_tm", path, p.c_tm, plausible::kJointRotationalDamping);
   return Joint::make_elastic(p);
 }
 

@@ -130,3 +130,22 @@ TEST(AssemblyFile, ImplausibleMagnitudesWarnWithTheKey) {
   ASSERT_EQ(lb.warnings.size(), 1u);
   EXPECT_NE(lb.warnings[0].find("materials.steel.youngs_modulus"), std::string::npos);
 }
+
+// Dampings got the stiffnesses' rule (review of issue 13): a joint's c_yf of 5.4e9 N s/m (the
+// seed's is 54) and a bearing damping of 5e12 N s/m cannot be meant and are refused at their
+// line; and a tool held over nothing (overhang = length, a mistyped overhang) is said.
+TEST(AssemblyFile, DampingsAndTheClampedLengthAreJudged) {
+  expect_error(replace(example_text(), "c_yf = 54.0", "c_yf = 5.4e9"), {"bad.toml:", "c_yf = 5.4e+09", "cannot be meant", "N s/m"});
+  const std::string text = example_text();
+  const std::size_t bearing = text.find("[[spindle.bearing]]");
+  ASSERT_NE(bearing, std::string::npos);
+  const std::size_t damping = text.find("damping = ", bearing);
+  ASSERT_NE(damping, std::string::npos);
+  std::string huge = text;
+  huge.replace(damping, text.find('\n', damping) - damping, "damping = 5e12");
+  expect_error(huge, {"bad.toml:", "damping = 5e+12", "cannot be meant", "bearing damping"});
+  const LoadedAssembly held = parse_assembly(replace(example_text(), "overhang = 0.049", "overhang = 0.123"), "held.toml");
+  bool said = false;
+  for (const std::string& w : held.warnings) said |= w.find("the tool is held over 0 mm") != std::string::npos;
+  EXPECT_TRUE(said);
+}

@@ -179,3 +179,21 @@ TEST(ModalFit, AnyScaleFitsOrIsNamedOutOfRange) {
   }
   EXPECT_THROW(toolpoint::fit_modes(sdof(1e-312), {}, "sdof"), toolpoint::NumericalError);
 }
+
+// A fitted mode that is overdamped (ζ ≥ 1: the fit spent a mode on the background, as on the
+// example's FRF at 110 mm in review) is no resonance: the modal model refuses it as a fit's
+// NumericalError (which the lobes study's mode-count search steps over), not as the caller's bad
+// Mode (InvalidArgument "give ζ as a fraction", which blamed the user for the fit's result).
+TEST(ModalFit, AnOverdampedFittedModeIsTheFitsNotTheCallers) {
+  ModalFitResult r;
+  FittedMode m;
+  m.mode = {0.5, 1.65, 700.0};
+  m.residue = 2.0;
+  r.modes = {m};
+  try {
+    r.modal_model();
+    ADD_FAILURE() << "no error";
+  } catch (const NumericalError& e) {
+    EXPECT_NE(std::string(e.what()).find("overdamped"), std::string::npos) << e.what();
+  }
+}

@@ -69,7 +69,7 @@ void run_modes(const ModesOptions& o, const Globals& g) {
     std::cout << "mode  frequency_hz  damping_ratio  modal_mass_kg  stiffness_n_per_m  residual_pct  half_power_points\n";
     int i = 1;
     for (const FittedMode& m : r.modes)
-      std::cout << fmt::format("{:4d}  {:12.3f}  {:13.6f}  {:13.6g}  {:17.6g}  {:12.3f}  {:17d}\n", i++, m.mode.frequency_hz,
+      std::cout << fmt::format("{:4d}  {:12.3f}  {:13.6g}  {:13.6g}  {:17.6g}  {:12.3f}  {:17d}\n", i++, m.mode.frequency_hz,
                                m.mode.damping_ratio, m.mode.mass_kg, m.mode.stiffness(), 100.0 * m.normalised_residual,
                                m.points_in_half_power_band);
     if (fo.residual_terms)
@@ -77,7 +77,7 @@ void run_modes(const ModesOptions& o, const Globals& g) {
                                r.upper_residual);
     std::string as_options;
     for (const FittedMode& m : r.modes)
-      if (m.residue > 0.0)
+      if (m.residue > 0.0 && m.mode.damping_ratio < 1.0)  // the modes lobes accepts
         as_options += fmt::format(" --mode-x {:.6g},{:.6g},{:.6g}", m.mode.mass_kg, m.mode.damping_ratio, m.mode.frequency_hz);
     if (!as_options.empty()) std::cout << "for `toolpoint lobes --method sd`:" << as_options << '\n';
     std::cout << std::flush;

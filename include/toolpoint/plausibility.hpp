@@ -47,6 +47,11 @@ inline constexpr PlausibleRange kLossFactor{0.0, 0.2, 5.0, "a structural loss fa
 // Stiffnesses
 inline constexpr PlausibleRange kBearingStiffness{1e6, 1e10, 100.0, "bearing stiffness is in N/m (typically 1e7–1e9)"};
 inline constexpr PlausibleRange kJointTranslationalStiffness{1e5, 1e11, 1e3, "translational stiffness is in N/m"};
+inline constexpr PlausibleRange kJointRotationalStiffness{1e3, 1e9, 1e3, "rotational stiffness is in N m/rad"};
+// Damping
+inline constexpr PlausibleRange kJointTranslationalDamping{0.1, 1e5, 1e3, "translational damping is in N s/m (the seed's joint: 54)"};
+inline constexpr PlausibleRange kJointRotationalDamping{1e-4, 1e2, 1e3, "rotational damping is in N m s/rad (the seed's joint: 1)"};
+inline constexpr PlausibleRange kBearingDamping{10.0, 1e6, 100.0, "bearing damping is in N s/m (typically 1e2–1e4)"};
 // Cutting
 inline constexpr PlausibleRange kCuttingCoefficient{
     5e7, 1e10, 100.0, "cutting coefficients are in N/m^2 (aluminium about 7e8, steel 2e9), not N/mm^2 or MPa"};
