@@ -21,12 +21,12 @@ namespace toolpoint {
 
 void SavgolOptions::check() const {
   if (window < 1 || window % 2 == 0)
-    throw InvalidArgument(fmt::format("Savitzky–Golay window {} must be a positive odd number of points", window),
+    throw InvalidArgument(fmt::format("SavgolOptions::window {} must be a positive odd number of points", window),
                           "use an odd window such as 5, 11 or 21 points");
   if (order < 0)
-    throw InvalidArgument(fmt::format("Savitzky–Golay order {} must be ≥ 0", order), "use a polynomial order such as 2 or 3");
+    throw InvalidArgument(fmt::format("SavgolOptions::order {} must be ≥ 0", order), "use a polynomial order such as 2 or 3");
   if (order >= window)
-    throw InvalidArgument(fmt::format("Savitzky–Golay order {} must be less than the window {} points", order, window),
+    throw InvalidArgument(fmt::format("SavgolOptions::order {} must be less than SavgolOptions::window {} points", order, window),
                           "lower the order or widen the window (a window of w points fits at most degree w − 1)");
 }
 

@@ -910,6 +910,14 @@ TEST_F(Cli, UnguardedOptionsAreRefusedOrSaid) {
   expect_error(run("lobes --frf um.csv --kr 0.3 --output l.csv" + cut), 3, {"um.csv", "cannot be meant", "µm/N", "--units"});
   EXPECT_FALSE(exists("l.csv"));
   ok("lobes --frf um.csv --units um/N --kr 0.3" + cut);
+  // Library fields in messages are spelt as the command's flags (with_flags), one at fault named.
+  expect_error(run("demo --sigma 2"), 2, {"--sigma 2 must lie in [0, 1)"});
+  EXPECT_EQ(run("demo --sigma 2").err.find("--window"), std::string::npos);
+  expect_error(run("taptest '" + kExample + "' --spacing 0.015 --sigma 1.5 --output t.uff"), 2, {"--sigma = 1.5"});
+  expect_error(run("identify --joint holder-tool --assembly '" + kExample + "' --sh sh.csv --sht sht.csv --sigma 0"), 2,
+               {"--sigma 0 and --phase-sigma 0 rad must be ≥ 0, not both 0"});
+  expect_error(run("identify --joint holder-tool --assembly '" + kExample + "' --sh sh.csv --sht sht.csv --filter 4,2"), 2,
+               {"--filter 4,2: WINDOW 4"});
   // The same FRF in the conjugate sign convention (e^{−iωt}): refused by the file's name, not drawn.
   std::string conj = "frequency_hz,re,im\n";
   for (int f = 800; f <= 1000; ++f) {

@@ -116,15 +116,6 @@ UncertaintyOptions uncertainty_options(const SamplingOptions& s);
 Table band_table(const FrfBand& b);
 std::vector<plot::FrfTrace> band_traces(const FrfBand& b);
 
-// The command line's spelling of a library field: `e` rethrown with " (FLAG)" after its message
-// when the message names one of the fields (e.g. "OverhangStudyOptions::peaks" → --prominence),
-// unchanged otherwise. For a library call's InvalidArgument, so the user sees which flag to fix.
-struct FieldFlag {
-  const char* field;
-  const char* flag;
-};
-[[noreturn]] void rethrow_with_flag(const InvalidArgument& e, std::initializer_list<FieldFlag> fields);
-
 // The example assembly compiled into the binary (examples/bt40_shrinkfit_16mm.toml).
 const char* example_assembly_toml();
 const char* example_assembly_name();

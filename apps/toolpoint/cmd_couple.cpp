@@ -103,11 +103,7 @@ void run_couple(const CoupleArgs& o, const Globals& g) {
 
   Progress progress(g, "couple: overhangs");
   OverhangStudy study;
-  try {
-    study = run_overhang_study(loaded.assembly, sh, options, progress.part());
-  } catch (const InvalidArgument& e) {
-    rethrow_with_flag(e, {{"OverhangStudyOptions::overhangs_m", "--overhang"}, {"OverhangStudyOptions::peaks", "--prominence"}});
-  }
+  study = run_overhang_study(loaded.assembly, sh, options, progress.part());
   progress.done();
   warn_all(study.warnings);
 

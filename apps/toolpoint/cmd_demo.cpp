@@ -51,11 +51,7 @@ void run_demo(const DemoOptions& o, const Globals& g) {
   else co.fit_options.bootstrap_samples = o.bootstrap;
   co.fit_options.parallel.threads = o.threads;
   co.fit_options.seed = o.seed;
-  try {
-    co.check();
-  } catch (const InvalidArgument& e) {
-    throw InvalidArgument(fmt::format("{} (--sigma, --window, --order, --width, --bootstrap, --threads)", e.what()), e.hint());
-  }
+  co.check();
   info(g, "toolpoint demo: running the seed's analytical case study (Özşahin et al. 2009, Section 3)…");
   // The stages and the share of the run each takes (the figures dominate).
   Progress progress(g, "demo: case study");

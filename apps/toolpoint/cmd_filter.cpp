@@ -63,16 +63,10 @@ void run_filter(const FilterOptions& o, const Globals& g) {
       "Savitzky-Golay filtered (window {} points, order {}, scipy savgol_filter mode='interp'; real and "
       "imaginary parts separately) from {}",
       o.savgol.window, o.savgol.order, o.input);
-  std::pair<FrfFileData, FrfFileData> io;
-  try {
-    io = process_frf_file(g, o.input, o.dataset, o.output, o.plot, comment, [&](const auto& series) {
-      check_smoothing_window(o.savgol, series.size(), o.input);
-      return savgol_filter(series, o.savgol, o.input);
-    });
-  } catch (const InvalidArgument& e) {
-    rethrow_with_flag(e, {{"SavgolOptions::window", "--window"}});
-  }
-  const auto& [in, out] = io;
+  const auto [in, out] = process_frf_file(g, o.input, o.dataset, o.output, o.plot, comment, [&](const auto& series) {
+    check_smoothing_window(o.savgol, series.size(), o.input);
+    return savgol_filter(series, o.savgol, o.input);
+  });
   double gain = 0.0;  // Σc²: white noise variance after / before, interior points
   for (double c : savgol_coefficients(o.savgol)) gain += c * c;
   info(g, fmt::format("wrote {} ({}, {} points filtered; interior white-noise variance × {:.4g})", o.output,

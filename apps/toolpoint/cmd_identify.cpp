@@ -4,6 +4,7 @@
 // Units: SI (k in N/m, N, N/rad, N·m/rad; c in N·s/m, N·s, N·s/rad, N·m·s/rad); frequencies in
 // Hz; the stated phase noise in degrees (said in its help). --plot draws k(f) and c(f) of the
 // closed form (the seed's Fig. 11–12) with the identified values and their intervals.
+#include <cstring>
 #include <filesystem>
 #include <fmt/format.h>
 #include <iostream>
@@ -64,8 +65,11 @@ SavgolOptions parse_filter(const std::string& text) {
   SavgolOptions o{w, p};
   try {
     o.check();
-  } catch (const InvalidArgument& e) {
-    throw InvalidArgument(fmt::format("--filter {}: {}", text, e.what()), e.hint());
+  } catch (const InvalidArgument& e) {  // the window and order are the two numbers of --filter here, not --window/--order
+    std::string what = e.what();
+    for (const auto& [field, name] : {std::pair{"SavgolOptions::window", "WINDOW"}, {"SavgolOptions::order", "ORDER"}})
+      for (std::size_t at = what.find(field); at != std::string::npos; at = what.find(field)) what.replace(at, std::strlen(field), name);
+    throw InvalidArgument(fmt::format("--filter {}: {}", text, what), e.hint());
   }
   return o;
 }

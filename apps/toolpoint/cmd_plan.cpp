@@ -127,21 +127,17 @@ void run_plan_command(const PlanArgs& o, const Globals& g) {
   study.options.parallel.threads = o.threads;
 
   Progress progress(g, o.shard.empty() ? "plan: set-ups" : fmt::format("plan: shard {}/{}", index, count));
-  try {
-    if (!o.shard.empty()) {
-      const PlanPart part = run_plan_part(study.candidates, study.options, index, count, progress.part());
-      progress.done();
-      write_text_file(o.part, format_plan_part(part));
-      info(g,
-           fmt::format("shard {}/{}: {} of {} set-ups written to {}", index, count, part.jobs.size(), part.header.jobs, o.part));
-      return;
-    }
-    const PlanResult r = run_plan(study.candidates, study.options, progress.part());
+  if (!o.shard.empty()) {
+    const PlanPart part = run_plan_part(study.candidates, study.options, index, count, progress.part());
     progress.done();
-    report(g, o, r);
-  } catch (const InvalidArgument& e) {
-    rethrow_with_flag(e, {{"ParallelOptions::threads", "--threads"}});
+    write_text_file(o.part, format_plan_part(part));
+    info(g,
+         fmt::format("shard {}/{}: {} of {} set-ups written to {}", index, count, part.jobs.size(), part.header.jobs, o.part));
+    return;
   }
+  const PlanResult r = run_plan(study.candidates, study.options, progress.part());
+  progress.done();
+  report(g, o, r);
 }
 
 void run_merge_command(const PlanArgs& o, const Globals& g) {

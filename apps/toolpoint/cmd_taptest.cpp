@@ -43,11 +43,7 @@ void run_taptest(const TapTestArgs& o, const Globals& g) {
   options.seed = o.seed;
   Progress progress(g, "taptest");
   TapTest t;
-  try {
-    t = run_tap_test(loaded.assembly, options, progress.part());
-  } catch (const InvalidArgument& e) {
-    rethrow_with_flag(e, {{"TapTestOptions::spacing_m", "--spacing"}, {"TapTestOptions::sigma", "--sigma"}});
-  }
+  t = run_tap_test(loaded.assembly, options, progress.part());
   progress.done();
   const bool tool = options.side == TapSide::Tool;
   std::vector<UffDataset58> sets;

@@ -156,13 +156,6 @@ UncertaintyOptions uncertainty_options(const SamplingOptions& s) {
   return o;
 }
 
-void rethrow_with_flag(const InvalidArgument& e, std::initializer_list<FieldFlag> fields) {
-  const std::string what = e.what();
-  for (const FieldFlag& f : fields)
-    if (what.find(f.field) != std::string::npos) throw InvalidArgument(fmt::format("{} ({})", what, f.flag), e.hint());
-  throw e;
-}
-
 CLI::Option* add_plot_option(CLI::App* command, std::string& target, const std::string& what) {
   return command
       ->add_option("--plot", target,
@@ -317,6 +310,16 @@ std::string with_flags(std::string text) {
       {"resample()", "`toolpoint resample IN OUT --onto OTHER`"},
       {"crop()", "`toolpoint resample IN OUT --band F1:F2`"},
       {"MillingFrfs::rigid_y", "--rigid-y"},
+      {"TapTestOptions::spacing_m", "--spacing"},
+      {"TapTestOptions::sigma", "--sigma"},
+      {"OverhangStudyOptions::overhangs_m", "--overhang"},
+      {"OverhangStudyOptions::peaks", "--prominence"},
+      {"SavgolOptions::window", "--window"},
+      {"SavgolOptions::order", "--order"},
+      {"CaseStudyOptions::noise_sigma", "--sigma"},
+      {"CaseStudyOptions::band_width", "--width"},
+      {"NoiseSpec::magnitude_sigma", "--sigma"},
+      {"NoiseSpec::phase_sigma_rad", "--phase-sigma"},
       {"FrfCsvOptions::columns", "--columns"},
       {"FrfCsvOptions::format", "--format"},
       {"FrfReadOptions::units", "--units"},

@@ -33,7 +33,8 @@ void NoiseSpec::check() const {
   }
   if (!(magnitude_sigma >= 0.0 && std::isfinite(magnitude_sigma)) ||
       !(phase_sigma_rad >= 0.0 && std::isfinite(phase_sigma_rad)) || magnitude_sigma + phase_sigma_rad == 0.0)
-    throw InvalidArgument(fmt::format("NoiseSpec: stated magnitude σ = {} and phase σ = {} rad must be ≥ 0, not both 0",
+    throw InvalidArgument(fmt::format("NoiseSpec::magnitude_sigma {} and NoiseSpec::phase_sigma_rad {} rad must be ≥ 0, not "
+                                      "both 0",
                                       magnitude_sigma, phase_sigma_rad),
                           "e.g. magnitude σ = 0.02 (2 %) and phase σ = 0.02 rad, or estimate the noise from the data");
   if (magnitude_sigma > 0.5)
