@@ -504,7 +504,9 @@ PlanCandidate read_candidate(Reader& r, const toml::table& t, const std::string&
         r.fail(*t.get("overhang_step"), fmt::format("{}: the overhang range gives {:.0f} overhangs; at most 100000", path, n),
                "use a larger step");
       points = static_cast<int>(n);
-      for (int i = 0; i < points; ++i) c.overhangs_m.push_back(*lo + i * *step);
+      // lo + i·step carries the step's binary error (0.102 becomes 0.10200000000000001, printed so
+      // in every table); the overhang meant is the decimal one, to a nanometre.
+      for (int i = 0; i < points; ++i) c.overhangs_m.push_back(std::round((*lo + i * *step) * 1e9) / 1e9);
     } else {
       points = integer(r, t, "overhang_points", path, 2, 100000, 2);
       for (int i = 0; i < points; ++i) c.overhangs_m.push_back(*lo + (*hi - *lo) * i / (points - 1));
