@@ -179,8 +179,28 @@ std::string frf_ordinate_units(FrfOrdinate o) {
   return "?";
 }
 
+namespace {
+
+// Products some analysers write, "(1/N)*(m/s²)" or "(m/s²)*(1/N)" (normalised: no '*', no
+// spaces), and "(m/s^2)/(N)", as "m/s^2/N".
+std::string quotient_form(std::string n) {
+  const auto unwrap = [](std::string_view v) {
+    return v.size() >= 2 && v.front() == '(' && v.back() == ')' ? std::string(v.substr(1, v.size() - 2)) : std::string(v);
+  };
+  if (const std::size_t mid = n.find(")("); mid != std::string::npos && n.front() == '(' && n.back() == ')') {
+    const std::string a = unwrap(std::string_view(n).substr(0, mid + 1)), b = unwrap(std::string_view(n).substr(mid + 1));
+    if (a.rfind("1/", 0) == 0) return b + "/" + a.substr(2);
+    if (b.rfind("1/", 0) == 0) return a + "/" + b.substr(2);
+  }
+  if (const std::size_t mid = n.find(")/("); mid != std::string::npos && n.front() == '(' && n.back() == ')')
+    return unwrap(std::string_view(n).substr(0, mid + 1)) + "/" + unwrap(std::string_view(n).substr(mid + 2));
+  return n;
+}
+
+}  // namespace
+
 std::optional<FrfUnits> parse_frf_units(std::string_view text) {
-  const std::string n = normalise_units(text);
+  const std::string n = quotient_form(normalise_units(text));
   const std::size_t slash = n.rfind('/');
   if (slash == std::string::npos) return std::nullopt;
   const auto force = force_factor(n.substr(slash + 1));
