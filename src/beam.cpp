@@ -319,6 +319,35 @@ TwoPort exact_receptance(const Segment& segment, double frequency_hz) {
   return exact_receptance(segment.properties(), segment.length, frequency_hz);
 }
 
+const Block& end_block(const TwoPort& ports, EndBlock block) {
+  switch (block) {
+    case EndBlock::T11: return ports.b11;
+    case EndBlock::T12: return ports.b12;
+    case EndBlock::T21: return ports.b21;
+    case EndBlock::T22: return ports.b22;
+  }
+  return ports.b11;
+}
+
+namespace {
+
+// One end block of `at(f)` at every frequency of the grid.
+template <class At>
+BlockSeries end_block_series(const std::vector<double>& frequency_hz, EndBlock block, At&& at) {
+  BlockSeries s;
+  s.frequency_hz = frequency_hz;
+  s.blocks.reserve(frequency_hz.size());
+  for (double f : frequency_hz) s.blocks.push_back(end_block(at(f), block));
+  return s;
+}
+
+}  // namespace
+
+BlockSeries exact_receptance(const SectionProperties& section, double length, const std::vector<double>& frequency_hz,
+                             EndBlock block) {
+  return end_block_series(frequency_hz, block, [&](double f) { return exact_receptance(section, length, f); });
+}
+
 // ---- Modal summation ----------------------------------------------------------------------------
 
 void ModalOptions::check() const {
@@ -667,6 +696,10 @@ TwoPort ModalBeam::receptance(double frequency_hz) const {
     t.b22 += residual_.b22;
   }
   return t;
+}
+
+BlockSeries ModalBeam::receptance(const std::vector<double>& frequency_hz, EndBlock block) const {
+  return end_block_series(frequency_hz, block, [&](double f) { return receptance(f); });
 }
 
 }  // namespace toolpoint

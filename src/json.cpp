@@ -261,6 +261,17 @@ void to_json(nlohmann::json& j, const FiniteDifferenceError& e) {
   j = {{"max_relative", numbers(e.max_relative)}, {"warnings", e.warnings}};
 }
 
+void to_json(nlohmann::json& j, const RotationalStudy& s) {
+  j = {{"differences", s.differences},
+       {"correction", s.correction ? nlohmann::json(*s.correction) : nlohmann::json(nullptr)},
+       {"order", s.order},
+       {"spacing_m", s.spacing_m},
+       {"method", s.method},
+       {"reciprocity", s.reciprocity},
+       {"correction_note", s.correction_note},
+       {"warnings", s.warnings}};
+}
+
 // ---- Modal fit and stability lobes ----------------------------------------------------------------
 
 void to_json(nlohmann::json& j, const Mode& m) {

@@ -426,4 +426,27 @@ Complex ModalFitResult::receptance(double frequency_hz) const {
   return g;
 }
 
+FrfSeries ModalFitResult::fitted_frf(const std::vector<double>& frequency_hz) const {
+  FrfSeries s;
+  for (double f : frequency_hz)
+    if (f >= band_low_hz && f <= band_high_hz) {
+      s.frequency_hz.push_back(f);
+      s.values.push_back(receptance(f));
+    }
+  return s;
+}
+
+plot::Figure modal_fit_figure(const FrfSeries& measured, const ModalFitResult& fit, const std::string& what) {
+  plot::FrfFigureOptions po;
+  po.title = fmt::format("Modal fit of {}: {} mode(s), residual {:.3g} %", plot::literal(what), fit.modes.size(),
+                         100.0 * fit.normalised_residual);
+  plot::Figure fig = plot::frf_figure({{measured, "measured", plot::CurveStyle::Points},
+                                       {fit.fitted_frf(measured.frequency_hz), "fitted modal model", plot::CurveStyle::Line}},
+                                      po);
+  for (const FittedMode& m : fit.modes)
+    fig.panels[0].labels.push_back({m.mode.frequency_hz, std::abs(fit.receptance(m.mode.frequency_hz)),
+                                    fmt::format("{:.1f} Hz, ζ {:.3g}", m.mode.frequency_hz, m.mode.damping_ratio), true});
+  return fig;
+}
+
 }  // namespace toolpoint

@@ -236,6 +236,56 @@ Figure block_figure(const BlockSeries& series, const std::string& title, const s
   return fig;
 }
 
+namespace {
+
+// The input (points) and the filtered series (line) of each entry, one magnitude panel per entry
+// (legend in the first), the phase of the first entry last.
+Figure filter_entries(const std::vector<FrfSeries>& raw, const std::vector<FrfSeries>& filtered,
+                      const std::vector<std::pair<const char*, const char*>>& symbols_units, const std::string& title) {
+  Figure fig;
+  const std::size_t entries = raw.size();
+  for (std::size_t k = 0; k < entries; ++k) {
+    FrfFigureOptions fo;
+    fo.title = title;
+    fo.mode_labels = k == 0 ? 6 : 0;
+    fo.peak_trace = 1;  // the filtered trace: noise makes spurious peaks on the input
+    fo.symbol = symbols_units[k].first;
+    fo.unit = symbols_units[k].second;
+    Figure one = frf_figure({{raw[k], "input", CurveStyle::Points}, {filtered[k], "filtered", CurveStyle::Line}}, fo);
+    if (k == 0) {
+      fig = one;
+      if (entries > 1) fig.panels.resize(1);
+    } else {
+      fig.panels.push_back(one.panels[0]);
+      fig.panels.back().legend = Legend::Hidden;  // the first panel's legend says it for all
+    }
+  }
+  if (entries > 1) {  // the phase of the first entry last: the x axis is labelled on the bottom panel
+    FrfFigureOptions fo;
+    fo.peak_trace = 1;
+    const Figure first = frf_figure({{raw[0], "input", CurveStyle::Points}, {filtered[0], "filtered", CurveStyle::Line}}, fo);
+    fig.panels.push_back(first.panels[1]);
+    fig.panels.back().legend = Legend::Hidden;
+  }
+  fig.height_px = height_for_panels(fig.panels.size());
+  return fig;
+}
+
+}  // namespace
+
+Figure filter_figure(const FrfSeries& raw, const FrfSeries& filtered, const std::string& title) {
+  return filter_entries({raw}, {filtered}, {{"H", "m/N"}}, title);
+}
+
+Figure filter_figure(const BlockSeries& raw, const BlockSeries& filtered, const std::string& title) {
+  std::vector<FrfSeries> a, b;
+  for (int k = 0; k < 4; ++k) {
+    a.push_back(entry(raw, k));
+    b.push_back(entry(filtered, k));
+  }
+  return filter_entries(a, b, {{"H", "m/N"}, {"L", "1/N"}, {"N", "rad/N"}, {"P", "rad/(N·m)"}}, title);
+}
+
 Figure overhang_frf_figure(const std::vector<double>& overhang_m, const std::vector<FrfSeries>& frfs,
                            const FrfFigureOptions& options) {
   require(overhang_m.size() == frfs.size(),

@@ -337,3 +337,35 @@ TEST(Beam, BadInputIsRejected) {
   EXPECT_THROW(ModalBeam(mixed.properties(), 0.1, {10, false}), InvalidArgument);
   EXPECT_NO_THROW(exact_receptance(mixed, 100.0));
 }
+
+// One end block over a grid, by either method, against the rigid-body closed form of
+// RigidBodyLimitAtLowFrequency at 0.5, 0.75 and 1 Hz (the elastic part grows like f²: at most
+// 4e-8 of the total there, in P; 1e-7 relative): EndBlock T_jk picks the response at end j to loads at end k.
+TEST(Beam, EndBlocksOverAGrid) {
+  const double L = 0.1;
+  const SectionProperties sp = Segment::tube(L, 0.05, 0.02, steel(0.01)).properties();
+  const double m = sp.rhoA * L, J = sp.rhoA * L * L * L / 12.0 + sp.rhoI * L, h = L / 2.0;
+  const double v1[2][2] = {{1.0 / std::sqrt(m), 0.0}, {h / std::sqrt(J), 1.0 / std::sqrt(J)}};
+  const double v2[2][2] = {{1.0 / std::sqrt(m), 0.0}, {-h / std::sqrt(J), 1.0 / std::sqrt(J)}};
+  const std::vector<double> f = {0.5, 0.75, 1.0};
+  const ModalBeam modal(sp, L, ModalOptions{50, true});
+  const EndBlock blocks[4] = {EndBlock::T11, EndBlock::T12, EndBlock::T21, EndBlock::T22};
+  for (int j = 0; j < 4; ++j) {
+    const auto& a = (j == 0 || j == 1) ? v1 : v2;  // response end
+    const auto& b = (j == 0 || j == 2) ? v1 : v2;  // load end
+    for (const BlockSeries& s : {exact_receptance(sp, L, f, blocks[j]), modal.receptance(f, blocks[j])}) {
+      ASSERT_EQ(s.frequency_hz, f);
+      ASSERT_EQ(s.blocks.size(), f.size());
+      for (std::size_t i = 0; i < f.size(); ++i) {
+        const double W2 = omega_of(f[i]) * omega_of(f[i]);
+        for (int k = 0; k < 4; ++k) {
+          const int r = k / 2, c = k % 2;
+          const double rigid = -(a[0][r] * b[0][c] + a[1][r] * b[1][c]) / W2;
+          EXPECT_NEAR(entry_of(s.blocks[i], k).real(), rigid, 1e-7 * std::abs(rigid) + 1e-300)
+              << "block " << j << " entry " << k << " at " << f[i] << " Hz";
+        }
+      }
+    }
+  }
+  EXPECT_THROW(exact_receptance(sp, L, std::vector<double>{0.0}, EndBlock::T11), InvalidArgument);
+}

@@ -145,16 +145,6 @@ struct FigureFile {
 void draw_figures(const Globals& g, const std::vector<FigureFile>& figures, const std::vector<std::string>& written,
                   const std::string& skip = "drop --plot");
 
-// The stiffness/damping pair of the entry (row, column) of an identified K(ω) ((0, 0) yf, (0, 1) ym,
-// (1, 0) θf, (1, 1) θm) as a joint-figure curve, with optional reference and identified values
-// drawn as lines.
-// With `fit`, the identified values' intervals and verdicts; with `seed` (a read-out), a value whose
-// noise gain exceeds 20 or whose spread exceeds it is marked undetermined.
-plot::JointParameterCurve joint_curve(const JointSeries& series, int row, int column,
-                                      const std::optional<JointParameters>& reference,
-                                      const std::optional<JointParameters>& identified, const JointFit* fit = nullptr,
-                                      const JointReadout* seed = nullptr);
-
 // `path` with `suffix` before its extension: ("lobes.png", "_chatter") → "lobes_chatter.png".
 std::string with_suffix(const std::string& path, const std::string& suffix);
 

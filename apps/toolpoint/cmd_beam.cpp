@@ -82,14 +82,12 @@ void run_beam(const BeamOptions& o, const Globals& g) {
   BlockSeries s;  // the receptance written (and drawn)
   if (!o.frequencies.empty()) {
     const std::vector<double> f = parse_frequency_grid(o.frequencies, "--frequencies").values();
-    std::unique_ptr<ModalBeam> modal;
-    if (o.method == "modal") modal = std::make_unique<ModalBeam>(sp, o.length, ModalOptions{o.modal_terms, o.static_residual});
-    s.frequency_hz = f;
-    s.blocks.reserve(f.size());
-    for (double fi : f) {
-      const TwoPort t = modal ? modal->receptance(fi) : exact_receptance(sp, o.length, fi);
-      s.blocks.push_back(o.block == "11" ? t.b11 : o.block == "12" ? t.b12 : o.block == "21" ? t.b21 : t.b22);
-    }
+    const EndBlock block = o.block == "11"   ? EndBlock::T11
+                           : o.block == "12" ? EndBlock::T12
+                           : o.block == "21" ? EndBlock::T21
+                                             : EndBlock::T22;
+    s = o.method == "modal" ? ModalBeam(sp, o.length, ModalOptions{o.modal_terms, o.static_residual}).receptance(f, block)
+                            : exact_receptance(sp, o.length, f, block);
     write_frf_csv(o.output, s,
                   {fmt::format("free-free Timoshenko beam, block T{} (end 1 = x = L, the outer end), method {}", o.block,
                                o.method == "modal" ? fmt::format("modal ({} modes{})", o.modal_terms,

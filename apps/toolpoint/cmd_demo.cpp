@@ -108,58 +108,12 @@ void run_demo(const DemoOptions& o, const Globals& g) {
   std::vector<std::string> figures;
   std::exception_ptr figure_failure;
   if (!o.no_plots) {
-    std::vector<FigureFile> todo;
-    {
-      auto frf_fig = [&](const std::string& name, const std::vector<plot::FrfTrace>& traces, const std::string& title,
-                         const std::string& symbol, int labels) {
-        plot::FrfFigureOptions fo;
-        fo.title = title;
-        fo.symbol = symbol;
-        fo.mode_labels = labels;
-        fo.peak_trace = 0;
-        todo.push_back({plot::frf_figure(traces, fo), path(name)});
-      };
-      frf_fig("fig2a_tool_point_frf.png",
-              {{entry(cs.sht_true, 0), "model (noise-free)", plot::CurveStyle::Line},
-               {entry(cs.sht_noisy, 0), fmt::format("{:g} % noise", 100 * o.sigma), plot::CurveStyle::Points},
-               {entry(cs.sht_filtered, 0), "Savitzky-Golay filtered", plot::CurveStyle::Dashed}},
-              "Tool point FRF H_{11}^{sht} (seed Fig. 2a, 4b)", "H^{sht}_{11}", 6);
-      frf_fig("fig2b_holder_tip_frf.png",
-              {{entry(cs.sh_true, 0), "model (noise-free)", plot::CurveStyle::Line},
-               {entry(cs.sh_noisy, 0), fmt::format("{:g} % noise", 100 * o.sigma), plot::CurveStyle::Points},
-               {entry(cs.sh_filtered, 0), "Savitzky-Golay filtered", plot::CurveStyle::Dashed}},
-              "Holder tip FRF H_{11}^{sh}, tool outside removed (seed Fig. 2b, 4a)", "H^{sh}_{11}", 6);
-      plot::JointFigureData clean;
-      clean.frequency_hz = f;
-      clean.title = "Holder-tool joint from noise-free FRFs, Eq. (6) (seed Fig. 3)";
-      for (int row = 0; row < 2; ++row)
-        for (int column = 0; column < 2; ++column)
-          clean.parameters.push_back(joint_curve(cs.clean, row, column, cs.reference, std::nullopt));
-      todo.push_back({plot::joint_figure(clean), path("fig3_joint_noise_free.png")});
-      plot::JointFigureData noisy;
-      noisy.frequency_hz = f;
-      noisy.title = cs.fitted ? fmt::format("k_{{yf}}, c_{{yf}} at {:g} % noise: seed read-out and band fit (seed Fig. 5)",
-                                            100 * o.sigma)
-                              : fmt::format("k_{{yf}}, c_{{yf}} from {:g} % noise, filtered; read at the tool mode (seed Fig. 5)",
-                                            100 * o.sigma);
-      plot::JointParameterCurve yf = cs.fitted
-                                         ? joint_curve(cs.filtered, 0, 0, cs.reference, cs.fitted->identified, &*cs.fitted->fit)
-                                         : joint_curve(cs.filtered, 0, 0, cs.reference, cs.filtered_readout.medians(), nullptr,
-                                                       &cs.filtered_readout);
-      if (cs.fitted) {
-        yf.other_stiffness = cs.filtered_readout.parameters[static_cast<std::size_t>(JointParameter::k_yf)].median;
-        yf.other_damping = cs.filtered_readout.parameters[static_cast<std::size_t>(JointParameter::c_yf)].median;
-        yf.identified_label = "band fit";
-      }
-      noisy.parameters.push_back(yf);
-      noisy.band_hz = std::make_pair(cs.filtered_readout.band_lo_hz, cs.filtered_readout.band_hi_hz);
-      todo.push_back({plot::joint_figure(noisy), path("fig5_joint_filtered.png")});
-      std::vector<plot::FrfTrace> check{{entry(cs.sht_true, 0), "true tool point FRF", plot::CurveStyle::Line},
-                                        {entry(cs.sht_verified, 0), "Eq. (5), joint by the seed's read-out",
-                                         plot::CurveStyle::Dashed}};
-      if (cs.fitted) check.push_back({entry(cs.sht_fitted, 0), "Eq. (5), joint by the band fit", plot::CurveStyle::Points});
-      frf_fig("fig_verification.png", check, "Forward check: identified holder-tool joint coupled back", "H^{sht}_{11}", 6);
-    }
+    const CaseStudyFigures figs = case_study_figures(cs, co);
+    const std::vector<FigureFile> todo{{figs.tool_point_frf, path("fig2a_tool_point_frf.png")},
+                                       {figs.holder_tip_frf, path("fig2b_holder_tip_frf.png")},
+                                       {figs.joint_noise_free, path("fig3_joint_noise_free.png")},
+                                       {figs.joint_filtered, path("fig5_joint_filtered.png")},
+                                       {figs.verification, path("fig_verification.png")}};
     const std::vector<std::string> written{fmt::format("{}/ ({} data files; summary.json follows)", dir, files.size())};
     for (std::size_t i = 0; i < todo.size(); ++i) {
       progress.stage(fmt::format("demo: figure {} of {}", i + 1, todo.size()),

@@ -20,43 +20,6 @@ struct FilterOptions {
   SavgolOptions savgol;
 };
 
-// Every entry of a block (H, L, N, P) or the single FRF: |input| as points, |filtered| as a line,
-// one magnitude panel per entry, the phase of the first below.
-plot::Figure filter_figure(const FrfFileData& in, const FrfFileData& out, const std::string& title) {
-  static const char* symbols[4] = {"H", "L", "N", "P"};
-  static const char* units[4] = {"m/N", "1/N", "rad/N", "rad/(N·m)"};
-  const int entries = in.is_block ? 4 : 1;
-  plot::Figure fig;
-  for (int k = 0; k < entries; ++k) {
-    plot::FrfFigureOptions fo;
-    fo.title = title;
-    fo.mode_labels = k == 0 ? 6 : 0;
-    fo.peak_trace = 1;  // the filtered trace: noise makes spurious peaks on the input
-    fo.symbol = in.is_block ? symbols[k] : "H";
-    fo.unit = in.is_block ? units[k] : "m/N";
-    const FrfSeries a = in.is_block ? entry(in.block, k) : in.single, b = out.is_block ? entry(out.block, k) : out.single;
-    plot::Figure one = plot::frf_figure({{a, "input", plot::CurveStyle::Points}, {b, "filtered", plot::CurveStyle::Line}}, fo);
-    if (k == 0) {
-      fig = one;
-      if (entries > 1) fig.panels.resize(1);
-    } else {
-      fig.panels.push_back(one.panels[0]);
-      fig.panels.back().legend = plot::Legend::Hidden;  // the first panel's legend says it for all
-    }
-    if (k == entries - 1 && entries > 1) {  // the phase of H last: the x axis is labelled on the bottom panel
-      plot::FrfFigureOptions fo0;
-      fo0.peak_trace = 1;
-      plot::Figure h = plot::frf_figure({{entry(in.block, 0), "input", plot::CurveStyle::Points},
-                                         {entry(out.block, 0), "filtered", plot::CurveStyle::Line}},
-                                        fo0);
-      fig.panels.push_back(h.panels[1]);
-      fig.panels.back().legend = plot::Legend::Hidden;
-    }
-  }
-  fig.height_px = 700 + 170 * static_cast<int>(fig.panels.size() - 2);  // the house size: 170 px per panel beyond two
-  return fig;
-}
-
 void run_filter(const FilterOptions& o, const Globals& g) {
   o.savgol.check();
   const std::string comment = fmt::format(
@@ -92,7 +55,11 @@ void run_filter(const FilterOptions& o, const Globals& g) {
   if (o.plot.empty()) return;
   const std::string title = fmt::format("Savitzky–Golay filter, window {} points, order {}: {}", o.savgol.window, o.savgol.order,
                                         plot::literal(o.input));
-  draw_figures(g, {{filter_figure(in, out, title), o.plot}}, {o.output});
+  draw_figures(g,
+               {{in.is_block ? plot::filter_figure(in.block, out.block, title)
+                             : plot::filter_figure(in.single, out.single, title),
+                 o.plot}},
+               {o.output});
 }
 
 }  // namespace

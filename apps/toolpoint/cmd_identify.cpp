@@ -83,30 +83,14 @@ void run_identify(const IdentifyOptions& o, const Globals& g) {
   IdentificationOptions io;
   io.method = o.method == "seed" ? IdentificationMethod::Seed : IdentificationMethod::Fit;
   io.width = o.width;
-  if (!(o.width > 0.0 && o.width < 0.5))
-    throw InvalidArgument(fmt::format("--width {} must lie in (0, 0.5)", o.width), "e.g. --width 0.02 for ±2 % around the mode");
-  if (!o.band.empty()) {
-    io.band_hz = parse_range(o.band, "--band");
-    if (!(io.band_hz->second > io.band_hz->first && io.band_hz->first > 0.0))
-      throw InvalidArgument(fmt::format("--band {}: the upper frequency must exceed the lower, both > 0 Hz", o.band),
-                            "e.g. --band 2500:2650");
-    if (o.at) throw InvalidArgument("--at and --band both given: the band would ignore --at", "give one of them");
-  }
-  if (o.at) {
-    if (!(*o.at > 0.0))
-      throw InvalidArgument(fmt::format("--at {} Hz must be > 0", *o.at), "omit --at to read at the mode effect analysis picks");
-    io.at_hz = *o.at;
-  }
+  if (!o.band.empty()) io.band_hz = parse_range(o.band, "--band");
+  io.at_hz = o.at;
   if (!o.filter.empty()) io.filter = parse_filter(o.filter);
   if (o.sigma || o.phase_sigma_deg) {
     io.noise.source = NoiseSpec::Source::Stated;
     io.noise.magnitude_sigma = o.sigma.value_or(0.0);
     io.noise.phase_sigma_rad = o.phase_sigma_deg.value_or(0.0) * kPi / 180.0;
-    if (io.noise.magnitude_sigma > 0.5)
-      throw InvalidArgument(fmt::format("--sigma {} is a fraction of the magnitude: {} would be {:g} %", io.noise.magnitude_sigma,
-                                        io.noise.magnitude_sigma, 100 * io.noise.magnitude_sigma),
-                            fmt::format("for {:g} % give --sigma {:g}", io.noise.magnitude_sigma,
-                                        io.noise.magnitude_sigma / 100));
+    // The phase in the flag's unit, degrees (NoiseSpec::check speaks radians).
     if (o.phase_sigma_deg && *o.phase_sigma_deg > 0.5 * 180.0 / kPi)
       throw InvalidArgument(fmt::format("--phase-sigma {}° is implausible for a measured FRF (above 28.6°)", *o.phase_sigma_deg),
                             "the phase noise is in degrees, e.g. --phase-sigma 1");
@@ -122,7 +106,7 @@ void run_identify(const IdentifyOptions& o, const Globals& g) {
   io.fit.reciprocal = o.parameters == 6;
   io.fit.seed = o.seed;
   io.fit.parallel.threads = o.threads;
-  if (o.threads < 0) throw InvalidArgument(fmt::format("--threads {} must be ≥ 0 (0: every core)", o.threads));
+  io.check();  // before any work; its messages name the fields, spelt as the flags by with_flags
 
   // Inputs, and outputs that must not overwrite them.
   std::vector<IdentificationData> data;
@@ -203,18 +187,7 @@ void run_identify(const IdentifyOptions& o, const Globals& g) {
     print_report(o, id);
   }
   for (const auto& w : written) info(g, "wrote " + w);
-  if (!refuse && !o.plot.empty()) {
-    plot::JointFigureData d;
-    d.frequency_hz = id.closed_form.frequency_hz;
-    if (id.seed.points > 0) d.band_hz = std::make_pair(id.seed.band_lo_hz, id.seed.band_hi_hz);
-    d.title = fmt::format("{} joint, {}: closed form and {}", ht ? "Holder–tool" : "Spindle–holder", to_string(id.route),
-                          id.fit ? "band fit (95 % interval)" : "seed read-out (shaded band)");
-    for (int row = 0; row < 2; ++row)
-      for (int column = 0; column < 2; ++column)
-        d.parameters.push_back(joint_curve(id.closed_form, row, column, std::nullopt, id.identified, id.fit ? &*id.fit : nullptr,
-                                           id.seed.points > 0 ? &id.seed : nullptr));
-    draw_figures(g, {{plot::joint_figure(d), o.plot}}, written);
-  }
+  if (!refuse && !o.plot.empty()) draw_figures(g, {{identification_figure(id), o.plot}}, written);
   if (refuse)
     throw VerdictFailure(fmt::format("the identified joint fails its checks: {}", fmt::join(id.verdict.reasons, "; ")),
                          "check the data and the assembly (units, the right files for SH11 and SHT11, the band); --accept writes "

@@ -39,14 +39,9 @@ void run_modes(const ModesOptions& o, const Globals& g) {
   const FrfSeries frf = read_point_frf(g, o.file, o.dataset);
   const ModalFitResult r = fit_modes(frf, fo, o.file);
 
-  // The fitted receptance on the measured frequencies of the band.
-  FrfFileData fitted;
-  for (std::size_t i = 0; i < frf.size(); ++i)
-    if (frf.frequency_hz[i] >= r.band_low_hz && frf.frequency_hz[i] <= r.band_high_hz) {
-      fitted.single.frequency_hz.push_back(frf.frequency_hz[i]);
-      fitted.single.values.push_back(r.receptance(frf.frequency_hz[i]));
-    }
   if (!o.output.empty()) {
+    FrfFileData fitted;
+    fitted.single = r.fitted_frf(frf.frequency_hz);
     std::string modes;
     for (const FittedMode& m : r.modes)
       modes += fmt::format("{}{:.6g} Hz, zeta {:.4g}, {:.4g} kg", modes.empty() ? "" : "; ", m.mode.frequency_hz,
@@ -84,17 +79,8 @@ void run_modes(const ModesOptions& o, const Globals& g) {
   }
   warn_all(r.warnings);
   if (o.plot.empty()) return;
-  plot::FrfFigureOptions po;
-  po.title = fmt::format("Modal fit of {}: {} mode(s), residual {:.3g} %", plot::literal(o.file), r.modes.size(),
-                         100.0 * r.normalised_residual);
-  plot::Figure fig = plot::frf_figure({{frf, "measured", plot::CurveStyle::Points},
-                                       {fitted.single, "fitted modal model", plot::CurveStyle::Line}},
-                                      po);
-  // Each fitted mode labelled at its natural frequency on the fitted curve.
-  for (const FittedMode& m : r.modes)
-    fig.panels[0].labels.push_back({m.mode.frequency_hz, std::abs(r.receptance(m.mode.frequency_hz)),
-                                    fmt::format("{:.1f} Hz, ζ {:.3g}", m.mode.frequency_hz, m.mode.damping_ratio), true});
-  draw_figures(g, {{fig, o.plot}}, o.output.empty() ? std::vector<std::string>{} : std::vector<std::string>{o.output});
+  draw_figures(g, {{modal_fit_figure(frf, r, o.file), o.plot}},
+               o.output.empty() ? std::vector<std::string>{} : std::vector<std::string>{o.output});
 }
 
 }  // namespace

@@ -2,9 +2,7 @@
 // tip and at points s and 2s inward, by Duarte & Ewins finite differences (seed Section 4).
 // Units: spacing in m; FRFs in m/N in, block out in m/N, 1/N, rad/N, rad/(N·m); frequencies Hz.
 // --plot draws the four entries of the block written.
-#include <algorithm>
 #include <fmt/format.h>
-#include <fmt/ranges.h>
 #include <memory>
 
 #include "cli.hpp"
@@ -15,7 +13,7 @@
 #include "toolpoint/plot.hpp"
 #include "toolpoint/signal.hpp"
 #include "toolpoint/assembly_file.hpp"
-#include "toolpoint/studies/fd_correction.hpp"
+#include "toolpoint/studies/rotational.hpp"
 
 namespace toolpoint::cli {
 
@@ -30,71 +28,6 @@ struct RotationalCliOptions {
   RotationalOptions fd{2, 0.0, false, PMethod::Auto, std::nullopt, false};
 };
 
-// H_ij from one tap-test file: the dataset whose response node is point i's and whose reference
-// node is point j's (--nodes, tip first; default 1, 2, 3), in one direction (--direction, or the
-// only one there is). Anything ambiguous is refused, naming the datasets.
-void read_tap_test_file(const RotationalCliOptions& o, const Globals& g, PointFrfs& in, std::string& sources) {
-  const UffFile file = read_uff(o.uff);
-  warn_all(file.warnings_for({}));
-  const int points = o.fd.order + 1;
-  std::vector<int> nodes = o.nodes.empty() ? std::vector<int>{1, 2, 3} : o.nodes;
-  if (nodes.size() < static_cast<std::size_t>(points))
-    throw InvalidArgument(fmt::format("--nodes gives {} node(s); order-{} differences need {} (the tip first)", nodes.size(),
-                                      o.fd.order, points),
-                          "e.g. --nodes 101,102,103");
-  nodes.resize(static_cast<std::size_t>(points));
-  for (int a = 0; a < points; ++a)
-    for (int b = a + 1; b < points; ++b)
-      if (nodes[a] == nodes[b]) throw InvalidArgument(fmt::format("--nodes names node {} twice", nodes[a]));
-  const bool by_direction = !o.direction.empty();
-  const int direction = by_direction ? parse_uff_direction(o.direction, "--direction") : 0;
-  const FrfReadOptions read = frf_read_options(g.frf);
-  if (read.csv.format || !read.csv.columns.empty())
-    throw InvalidArgument("--format and --columns apply to CSV inputs, not to --uff", "drop them");
-  const auto point_of = [&](int node) {
-    const auto it = std::find(nodes.begin(), nodes.end(), node);
-    return it == nodes.end() ? -1 : static_cast<int>(it - nodes.begin());
-  };
-  const UffDataset58* used[3][3] = {};
-  std::string seen;  // the node pairs the file holds, for the message when the tip is missing
-  std::size_t listed = 0;
-  for (const UffDataset58& d : file.functions) {
-    if (listed < 20)
-      seen += fmt::format("{}{}/{} {}", listed ? ", " : "", d.response_node, d.reference_node,
-                          uff_direction_name(d.response_direction));
-    ++listed;
-    const int i = point_of(d.response_node), j = point_of(d.reference_node);
-    if (i < 0 || j < 0) continue;
-    if (by_direction && (d.response_direction != direction || d.reference_direction != direction)) continue;
-    if (const UffDataset58* other = used[i][j])
-      throw InputError(fmt::format("{}: datasets {} and {} both have response node {} and reference node {} (directions "
-                                   "{}/{} and {}/{})",
-                                   o.uff, other->index, d.index, d.response_node, d.reference_node,
-                                   uff_direction_name(other->response_direction), uff_direction_name(other->reference_direction),
-                                   uff_direction_name(d.response_direction), uff_direction_name(d.reference_direction)),
-                       "pick the direction measured (--direction, e.g. +Y), or keep one dataset per pair of points");
-    used[i][j] = &d;
-  }
-  if (listed > 20) seen += fmt::format(" … and {} more", listed - 20);
-  if (!used[0][0])
-    throw InputError(fmt::format("{}: no dataset with response and reference node {} (the tip: the first of --nodes {}){}; "
-                                 "the file holds response/reference nodes {}",
-                                 o.uff, nodes[0], fmt::join(nodes, ","),
-                                 by_direction ? fmt::format(" in direction {}", uff_direction_name(direction)) : "",
-                                 seen.empty() ? "(none: no readable dataset 58)" : seen),
-                     "give the node numbers of the tip and the points inward, tip first, e.g. --nodes 101,102,103");
-  for (int i = 0; i < points; ++i)
-    for (int j = 0; j < points; ++j) {
-      const UffDataset58* d = used[i][j];
-      if (!d) continue;
-      UffReceptance r = uff_receptance(*d, read.ordinate, o.uff, read.units);
-      warn_all(r.warnings);
-      in.set(i, j, std::move(r.receptance),
-             fmt::format("{} dataset {} (nodes {}/{})", o.uff, d->index, d->response_node, d->reference_node));
-      sources += fmt::format(" H{}{}={}#{}", i, j, o.uff, d->index);
-    }
-}
-
 void run_rotational(RotationalCliOptions o, const Globals& g) {
   o.fd.p_method = o.p_method == "cross" ? PMethod::CrossTerms : o.p_method == "n2h" ? PMethod::SchmitzSmith : PMethod::Auto;
   o.fd.check();
@@ -106,13 +39,30 @@ void run_rotational(RotationalCliOptions o, const Globals& g) {
     check_paths(inputs, {{o.output, "--output"}, {o.plot, "--plot"}});
   }
   check_output_extension(o.output, "--output", {".csv"}, kBlockCsvOutput);
-  PointFrfs in;
+  RotationalInput in;
   std::string sources;
   if (!o.uff.empty()) {
     for (const auto& f : o.files)
       for (const auto& name : f)
         if (!name.empty()) throw InvalidArgument("give either --uff or --hij files, not both", "use --uff for one tap-test file");
-    read_tap_test_file(o, g, in, sources);
+    // H_ij: the dataset whose response node is point i's and whose reference node is point j's.
+    const UffFile file = read_uff(o.uff);
+    warn_all(file.warnings_for({}));
+    TapTestFileOptions t;
+    if (!o.nodes.empty()) t.nodes = o.nodes;
+    if (!o.direction.empty()) t.direction = parse_uff_direction(o.direction, "--direction");
+    t.order = o.fd.order;
+    const FrfReadOptions read = frf_read_options(g.frf);
+    if (read.csv.format || !read.csv.columns.empty())
+      throw InvalidArgument("--format and --columns apply to CSV inputs, not to --uff", "drop them");
+    t.ordinate = read.ordinate;
+    t.units = read.units;
+    TapTestFileFrfs tap = tap_test_frfs(file, t);
+    warn_all(tap.warnings);
+    in.frfs = std::move(tap.frfs);
+    for (std::size_t i = 0; i < 3; ++i)
+      for (std::size_t j = 0; j < 3; ++j)
+        if (tap.dataset[i][j]) sources += fmt::format(" H{}{}={}#{}", i, j, o.uff, *tap.dataset[i][j]);
   } else if (!o.nodes.empty() || !o.direction.empty()) {
     throw InvalidArgument("--nodes and --direction select datasets of a --uff file", "give --uff FILE, or drop them");
   }
@@ -127,59 +77,34 @@ void run_rotational(RotationalCliOptions o, const Globals& g) {
           throw InputError(fmt::format("--h{}{} {}: holds a 2×2 block, expected a single translational FRF H{}{} [m/N]", i, j,
                                        o.files[i][j], i, j),
                            "give the measured FRF (frequency_hz,re,im CSV, a UFF dataset or a .frf file)");
-        in.set(i, j, std::move(d.single), o.files[i][j]);
+        in.frfs.set(i, j, std::move(d.single), o.files[i][j]);
         sources += fmt::format(" H{}{}={}", i, j, o.files[i][j]);
       }
-  RotationalOptions fd = o.fd;
-  if (o.shear_stiffness != 0.0) fd.shear_stiffness = o.shear_stiffness;
+  RotationalStudyOptions so;
+  so.differences = o.fd;
+  if (o.shear_stiffness != 0.0) so.differences.shear_stiffness = o.shear_stiffness;
   if (o.model.empty() != o.at_site.empty())
     throw InvalidArgument("--model and --at go together: the assembly model and where on it the points are",
                           "add --at tool (points on the tool, for SHT11) or --at holder (on the holder, for SH11)");
-  RotationalResult r;
-  try {
-    r = rotational_frfs(in, fd);
-  } catch (const InputError& e) {
-    throw InputError(with_flags(e.what()), with_flags(e.hint()));
-  }
-  std::string correction = "no finite-difference correction";
   if (!o.model.empty()) {
-    const LoadedAssembly model = load_assembly(o.model);
+    LoadedAssembly model = load_assembly(o.model);
     warn_all(model.warnings);
-    const TapSide side = o.at_site == "holder" ? TapSide::Holder : TapSide::Tool;
-    const FiniteDifferenceError e = finite_difference_error(model.assembly, side, r.block.frequency_hz, in, fd);
-    warn_all(e.warnings);
-    r.block = remove_finite_difference_error(r.block, e);
-    correction = fmt::format(
-        "finite-difference error estimated on the model {} (points on the {}) and removed: at most {:.2g} % of |L|, "
-        "{:.2g} % of |N|, {:.2g} % of |P|",
-        o.model, o.at_site, 100.0 * e.max_relative[1], 100.0 * e.max_relative[2], 100.0 * e.max_relative[3]);
-    info(g, correction);
+    in.model = std::move(model.assembly);
+    in.side = o.at_site == "holder" ? TapSide::Holder : TapSide::Tool;
+    in.model_name = o.model;
   }
-  write_frf_csv(o.output, r.block,
-                {fmt::format("tip block by order-{} finite differences (Duarte & Ewins), spacing s = {} m; points 0 (tip), "
-                             "1, 2 at s, 2s inward; L and N {}; P {}",
-                             o.fd.order, o.fd.spacing,
-                             r.l_equals_n_by_reciprocity ? "from the same data (L = N by reciprocity)"
-                             : o.fd.symmetrise           ? "symmetrised (their mean)"
-                                                         : "as measured (L from H0j, N from Hi0)",
-                             r.p_from_cross_terms ? "from cross terms" : "approximated as N*L/H00 (Schmitz & Smith)"),
-                 "inputs:" + sources,
-                 r.filled_by_reciprocity.empty() ? std::string("no measurement filled by reciprocity")
-                                                 : fmt::format("reciprocity assumed (--assume-reciprocity), not measured: {}",
-                                                               fmt::join(r.filled_by_reciprocity, ", ")),
-                 correction});
-  warn_all(r.warnings);
-  if (r.reciprocity_mismatch)
-    info(g, fmt::format("reciprocity check: max |L - N| / max(|L|, |N|) = {:.3g}", *r.reciprocity_mismatch));
+  const RotationalStudy r = run_rotational_study(in, so);
+  // r.warnings are the correction's, then the differences': each said where it belongs.
+  if (r.correction) {
+    warn_all(r.correction->warnings);
+    info(g, r.correction_note);
+  }
+  write_frf_csv(o.output, r.block, {r.method, "inputs:" + sources, with_flags(r.reciprocity), r.correction_note});
+  warn_all(r.differences.warnings);
+  if (r.differences.reciprocity_mismatch)
+    info(g, fmt::format("reciprocity check: max |L - N| / max(|L|, |N|) = {:.3g}", *r.differences.reciprocity_mismatch));
   info(g, fmt::format("wrote {} ({} frequencies)", o.output, r.block.size()));
-  if (!o.plot.empty())
-    draw_figures(g,
-                 {{plot::block_figure(r.block,
-                                      fmt::format("Tip block by order-{} finite differences, s = {:g} mm", o.fd.order,
-                                                  1000.0 * o.fd.spacing),
-                                      "00"),
-                   o.plot}},
-                 {o.output});
+  if (!o.plot.empty()) draw_figures(g, {{rotational_figure(r), o.plot}}, {o.output});
 }
 
 }  // namespace

@@ -177,41 +177,6 @@ std::string with_suffix(const std::string& path, const std::string& suffix) {
   return (p.parent_path() / (p.stem().string() + suffix + p.extension().string())).string();
 }
 
-plot::JointParameterCurve joint_curve(const JointSeries& series, int row, int column,
-                                      const std::optional<JointParameters>& reference,
-                                      const std::optional<JointParameters>& identified, const JointFit* fit,
-                                      const JointReadout* seed) {
-  static const char* subscripts[2][2] = {{"yf", "ym"}, {"{/Symbol q}f", "{/Symbol q}m"}};
-  const int stiffness = JointParameters::stiffness_of(row, column), damping = JointParameters::damping_of(row, column);
-  plot::JointParameterCurve c;
-  c.name = subscripts[row][column];
-  c.stiffness_unit = JointParameters::unit(stiffness);
-  c.damping_unit = JointParameters::unit(damping);
-  for (const auto& p : series.parameters) {
-    c.stiffness.push_back(p[stiffness]);
-    c.damping.push_back(p[damping]);
-  }
-  if (reference) {
-    c.reference_stiffness = (*reference)[stiffness];
-    c.reference_damping = (*reference)[damping];
-  }
-  if (identified) {
-    c.identified_stiffness = (*identified)[stiffness];
-    c.identified_damping = (*identified)[damping];
-  }
-  const auto k = static_cast<std::size_t>(stiffness), d = static_cast<std::size_t>(damping);
-  if (fit) {
-    c.stiffness_interval = std::make_pair(fit->intervals[k].lower, fit->intervals[k].upper);
-    c.damping_interval = std::make_pair(fit->intervals[d].lower, fit->intervals[d].upper);
-    c.stiffness_undetermined = !fit->intervals[k].determined;
-    c.damping_undetermined = !fit->intervals[d].determined;
-  } else if (seed) {
-    c.stiffness_undetermined = !seed->parameters[k].determined;
-    c.damping_undetermined = !seed->parameters[d].determined;
-  }
-  return c;
-}
-
 namespace {
 
 std::string listing(const std::vector<std::string>& names) {
@@ -327,6 +292,9 @@ std::string with_flags(std::string text) {
       {"FrfReadOptions::format", "--from"},
       {"UffSelection::index", "--dataset"},
       {"RotationalOptions::assume_reciprocity", "--assume-reciprocity"},
+      {"TapTestFileOptions::nodes", "--nodes"},
+      {"TapTestFileOptions::direction", "--direction"},
+      {"TapTestFileOptions::order", "--order"},
       {"LobesStudyOptions::tolerance", "--tolerance"},
       {"BoundaryOptions::tolerance", "--tolerance"},
       {"BoundaryOptions::steps", "--intervals"},
@@ -340,6 +308,8 @@ std::string with_flags(std::string text) {
       {"ModalFitOptions::max_modes", "--max-modes"},
       {"ModalFitOptions::band_hz", "--band"},
       {"IdentificationOptions::band_hz", "--band"},
+      {"IdentificationOptions::at_hz", "--at"},
+      {"IdentificationOptions::width", "--width"},
       {"LobesInput::x_modes", "--mode-x"},
       {"LobesInput::frfs", "--frf"},
       {"LobesInput: rigid_y and y modes", "--rigid-y and --mode-y"},

@@ -102,6 +102,14 @@ struct Segment {
 TwoPort exact_receptance(const SectionProperties& section, double length, double frequency_hz);
 TwoPort exact_receptance(const Segment& segment, double frequency_hz);
 
+// Which end block of a TwoPort: T_jk, the response at end j to loads at end k.
+enum class EndBlock { T11, T12, T21, T22 };
+const Block& end_block(const TwoPort& ports, EndBlock block);
+
+// One end block over a frequency grid [Hz] (each > 0), as exact_receptance gives it at each.
+BlockSeries exact_receptance(const SectionProperties& section, double length, const std::vector<double>& frequency_hz,
+                             EndBlock block);
+
 // The length-independent part of the above at one frequency: the two wavenumbers s_j (p_j = s_j²,
 // roots of κGA EI p² + (κGA ρI + EI ρA) Ω² p − ρA Ω² (κGA − ρI Ω²) = 0) and the constants the end
 // receptances need from them. A segment cut into pieces (at bearings, at the tool's insertion)
@@ -156,6 +164,8 @@ class ModalBeam {
   // static_residual, the truncated modes' static flexibility Σ_{r>N} φφ/(ω_r²(1+iη)) is added,
   // taken from the exact solution near 0 Hz (so P converges like 1/N³ instead of 1/N).
   TwoPort receptance(double frequency_hz) const;
+  // One end block over a frequency grid [Hz] (each > 0).
+  BlockSeries receptance(const std::vector<double>& frequency_hz, EndBlock block) const;
 
   const std::vector<FreeMode>& modes() const { return modes_; }
   double loss_factor() const { return eta_; }

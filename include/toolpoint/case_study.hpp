@@ -18,6 +18,7 @@
 
 #include "toolpoint/assembly.hpp"
 #include "toolpoint/identify.hpp"
+#include "toolpoint/plot.hpp"
 #include "toolpoint/signal.hpp"
 #include "toolpoint/studies/identification.hpp"
 
@@ -55,5 +56,17 @@ struct CaseStudy {
 // Runs the case study on `assembly` (its holder–tool joint must be elastic: it is the reference).
 // Throws InvalidArgument for a rigid reference joint or bad options.
 CaseStudy run_case_study(const Assembly& assembly, const CaseStudyOptions& options = {});
+
+// The case study's figures (plot.hpp): frequency in Hz, FRFs in m/N, the joint's parameters in
+// their SI units (JointParameters::unit). `options` as the study ran (its noise level is in the
+// legends and titles).
+struct CaseStudyFigures {
+  plot::Figure tool_point_frf;    // seed Fig. 2a, 4b: H of SHT11 noise-free, noisy, filtered
+  plot::Figure holder_tip_frf;    // seed Fig. 2b, 4a: H of SH11 likewise
+  plot::Figure joint_noise_free;  // seed Fig. 3: the eight parameters from noise-free FRFs (Eq. 6), the reference as lines
+  plot::Figure joint_filtered;    // seed Fig. 5: k_yf, c_yf from the filtered noisy FRFs, the read-out (and the band fit)
+  plot::Figure verification;      // the true H of SHT11 and the identified joints coupled back (Eq. 5)
+};
+CaseStudyFigures case_study_figures(const CaseStudy& study, const CaseStudyOptions& options);
 
 }  // namespace toolpoint

@@ -40,6 +40,7 @@
 #include "toolpoint/studies/overhang.hpp"
 #include "toolpoint/studies/plan.hpp"
 #include "toolpoint/studies/predict.hpp"
+#include "toolpoint/studies/rotational.hpp"
 #include "toolpoint/studies/tap_test.hpp"
 #include "toolpoint/uff.hpp"
 #include "toolpoint/uncertainty.hpp"
@@ -119,6 +120,9 @@ void to_json(nlohmann::json& j, const TapTest& t);
 void to_json(nlohmann::json& j, const RotationalResult& r);
 // {"max_relative": [H, L, N, P], "warnings"}
 void to_json(nlohmann::json& j, const FiniteDifferenceError& e);
+// {"differences": RotationalResult, "correction": FiniteDifferenceError | null, "order", "spacing_m", "method",
+// "reciprocity", "correction_note", "warnings"}
+void to_json(nlohmann::json& j, const RotationalStudy& s);
 
 // ---- Modal fit and stability lobes --------------------------------------------------------------
 

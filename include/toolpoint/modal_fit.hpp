@@ -17,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "toolpoint/plot.hpp"
 #include "toolpoint/receptance.hpp"
 
 namespace toolpoint {
@@ -75,6 +76,9 @@ struct ModalFitResult {
   std::vector<Mode> modal_model() const;
   // The fitted receptance, residual terms included [m/N].
   Complex receptance(double frequency_hz) const;
+  // The same at those of `frequency_hz` (> 0) that lie in the fitted band [band_low_hz,
+  // band_high_hz]: on the measured grid, the FRF the fit reproduces.
+  FrfSeries fitted_frf(const std::vector<double>& frequency_hz) const;
 };
 
 // Identifies up to `max_modes` modes of a point receptance [m/N] (Hz grid):
@@ -90,5 +94,10 @@ struct ModalFitResult {
 // that mode's damping). Warnings: a mode that left the band, ζ > 0.3, a non-positive residue,
 // a poor fit.
 ModalFitResult fit_modes(const FrfSeries& frf, const ModalFitOptions& options = {}, const std::string& what = "FRF");
+
+// The fit's figure: `measured` (points) and fit.fitted_frf on its grid (line), |H| [m/N] and phase
+// [deg] over frequency [Hz], each fitted mode labelled on the fitted curve with its frequency [Hz]
+// and damping ratio; the title names `what` (a file name, printed verbatim).
+plot::Figure modal_fit_figure(const FrfSeries& measured, const ModalFitResult& fit, const std::string& what);
 
 }  // namespace toolpoint

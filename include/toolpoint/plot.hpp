@@ -245,6 +245,13 @@ Figure receptance_figure(const BlockSeries& series, const std::string& title, co
 // text, e.g. "11") goes on every symbol. Throws InputError for an invalid series.
 Figure block_figure(const BlockSeries& series, const std::string& title, const std::string& subscript = "", int mode_labels = 6);
 
+// What a filter (Savitzky–Golay smoothing) did: the input's magnitude as points and the filtered
+// one as a line over frequency [Hz], one panel per entry — H [m/N] of a single FRF, or H [m/N],
+// L [1/N], N [rad/N], P [rad/(N·m)] of a block — with up to 6 peaks of the filtered H labelled,
+// and the phase of H [deg] last. Throws InputError for an invalid series.
+Figure filter_figure(const FrfSeries& raw, const FrfSeries& filtered, const std::string& title);
+Figure filter_figure(const BlockSeries& raw, const BlockSeries& filtered, const std::string& title);
+
 // Tool point FRFs for several tool overhangs overlaid (the seed's Fig. 10): trace i is labelled
 // "overhang <overhang_m[i] in mm> mm". `options.mode_labels` applies to options.peak_trace.
 Figure overhang_frf_figure(const std::vector<double>& overhang_m, const std::vector<FrfSeries>& frfs,

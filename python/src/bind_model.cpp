@@ -12,6 +12,7 @@
 #include "toolpoint/studies/fd_correction.hpp"
 #include "toolpoint/studies/overhang.hpp"
 #include "toolpoint/studies/predict.hpp"
+#include "toolpoint/studies/rotational.hpp"
 #include "toolpoint/studies/tap_test.hpp"
 
 namespace toolpoint::python {
@@ -636,6 +637,48 @@ void bind_model(py::module_& m) {
       "measured H_ij as (response, force)) make on the model at the same points spaced `spacing` m on the 'tool' or the "
       "'holder'. "
       "measured block − E removes it to the extent the model is right near the tip.");
+
+  py::class_<RotationalStudy>(m, "RotationalStudy", "run_rotational_study's result (studies/rotational.hpp).")
+      .def_property_readonly(
+          "frequency_hz", [](const RotationalStudy& r) { return array_of(r.block.frequency_hz); }, "(n,) Hz")
+      .def_property_readonly(
+          "block", [](const RotationalStudy& r) { return blocks_array(r.block.blocks); },
+          "the tip block [[H00, L], [N, P]], complex (n, 2, 2), the model's error removed when a model was given")
+      .def_readonly("differences", &RotationalStudy::differences, "RotationalResult: the differences before any correction")
+      .def_readonly("correction", &RotationalStudy::correction, "FiniteDifferenceError removed, or None")
+      .def_readonly("order", &RotationalStudy::order)
+      .def_readonly("spacing_m", &RotationalStudy::spacing_m)
+      .def_readonly("method", &RotationalStudy::method, "how the block was made (order, spacing, where L, N and P came from)")
+      .def_readonly("reciprocity", &RotationalStudy::reciprocity, "the measurements filled by reciprocity")
+      .def_readonly("correction_note", &RotationalStudy::correction_note, "the correction and its size")
+      .def_readonly("warnings", &RotationalStudy::warnings)
+      .def(
+          "to_dict", [](const RotationalStudy& r) { return dict_of(r); },
+          "The result as plain data, the block left out (SI units).");
+  m.def(
+      "run_rotational_study",
+      [](const RealArray& f, const py::dict& h, double spacing, int order, bool symmetrise, const std::string& p_method,
+         std::optional<double> shear_stiffness, bool assume_reciprocity, std::optional<Assembly> model, const std::string& side,
+         const std::string& model_name, const py::object& progress) {
+        RotationalInput in;
+        in.frfs = point_frfs_of(vector_of(f, "frequency_hz"), h);
+        in.model = std::move(model);
+        in.side = enum_of(side, kSides, "side");
+        in.model_name = model_name;
+        RotationalStudyOptions o;
+        o.differences = rotational_options(order, spacing, symmetrise, p_method, shear_stiffness);
+        o.differences.assume_reciprocity = assume_reciprocity;
+        const ProgressCallback cb = progress_of(progress);
+        py::gil_scoped_release nogil;
+        return run_rotational_study(in, o, cb);
+      },
+      "frequency_hz"_a, "H"_a, "spacing"_a, "order"_a = 2, "symmetrise"_a = false, "p_method"_a = "auto",
+      "shear_stiffness"_a = py::none(), "assume_reciprocity"_a = false, "model"_a = py::none(), "side"_a = "tool",
+      "model_name"_a = "the model", "progress"_a = py::none(),
+      "The rotational study (toolpoint rotational): the tip block by finite differences of H = {(response, force): complex (n,) "
+      "[m/N]} at points 0 (tip), 1, 2 spaced `spacing` m inwards (rotational_frfs' options; assume_reciprocity fills a missing "
+      "H_ij with H_ji), and with `model` (an Assembly) the differences' truncation error estimated on it at the same points on "
+      "the 'tool' or the 'holder' and removed (finite_difference_error).");
 }
 
 }  // namespace toolpoint::python

@@ -6,6 +6,7 @@
 #include "toolpoint/json.hpp"
 #include "toolpoint/peaks.hpp"
 #include "toolpoint/signal.hpp"
+#include "toolpoint/studies/rotational.hpp"
 #include "toolpoint/uff.hpp"
 
 namespace toolpoint::python {
@@ -89,6 +90,28 @@ RotationalOptions rotational_options(int order, double spacing, bool symmetrise,
   return o;
 }
 
+PointFrfs point_frfs_of(const std::vector<double>& frequency_hz, const py::dict& H) {
+  PointFrfs frfs;
+  for (auto [key, value] : H) {
+    const auto ij = key.cast<std::pair<int, int>>();
+    if (ij.first < 0 || ij.first > 2 || ij.second < 0 || ij.second > 2)
+      throw InvalidArgument(fmt::format("H key ({}, {}) is not (response, force) with points 0, 1, 2", ij.first, ij.second),
+                            "key H by (response, force), e.g. {(0, 0): h00, (1, 0): h10}");
+    const std::string name = fmt::format("H{}{}", ij.first, ij.second);
+    frfs.set(ij.first, ij.second, FrfSeries{frequency_hz, complex_vector_of(value.cast<ComplexArray>(), name)});
+  }
+  return frfs;
+}
+
+py::dict point_frfs_dict(const PointFrfs& frfs) {
+  py::dict H;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (const auto& h = frfs.h[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)])
+        H[py::make_tuple(i, j)] = array_of(h->values);
+  return H;
+}
+
 void bind_signal_io(py::module_& m) {
   // ---- Savitzky–Golay, noise, rotational FRFs ------------------------------------------------------
   m.def(
@@ -156,16 +179,7 @@ void bind_signal_io(py::module_& m) {
       "rotational_frfs",
       [](const RealArray& f, const py::dict& h, double spacing, int order, bool symmetrise, const std::string& p_method,
          std::optional<double> shear_stiffness) {
-        const std::vector<double> grid = vector_of(f, "frequency_hz");
-        PointFrfs frfs;
-        for (auto [key, value] : h) {
-          const auto ij = key.cast<std::pair<int, int>>();
-          if (ij.first < 0 || ij.first > 2 || ij.second < 0 || ij.second > 2)
-            throw InvalidArgument(fmt::format("H key ({}, {}) is not (response, force) with points 0, 1, 2", ij.first, ij.second),
-                                  "key H by (response, force), e.g. {(0, 0): h00, (1, 0): h10}");
-          const std::string name = fmt::format("H{}{}", ij.first, ij.second);
-          frfs.set(ij.first, ij.second, FrfSeries{grid, complex_vector_of(value.cast<ComplexArray>(), name)});
-        }
+        const PointFrfs frfs = point_frfs_of(vector_of(f, "frequency_hz"), h);
         const RotationalOptions o = rotational_options(order, spacing, symmetrise, p_method, shear_stiffness);
         py::gil_scoped_release nogil;
         return rotational_frfs(frfs, o);
@@ -356,6 +370,39 @@ void bind_signal_io(py::module_& m) {
       "Reads a universal file (datasets 58 and 58b; other datasets listed and skipped). Liberal: problems go to warnings, never "
       "exceptions, except IoError for a file that cannot be read. Values as written (no unit conversion: read_frf_file "
       "converts).");
+  py::class_<TapTestFileFrfs>(m, "TapTestFileFrfs", "A tap test's FRFs picked from one universal file (tap_test_frfs).")
+      .def_property_readonly(
+          "frequency_hz", [](const TapTestFileFrfs& t) { return array_of(t.frfs.h[0][0]->frequency_hz); }, "H00's grid [Hz]")
+      .def_property_readonly(
+          "H", [](const TapTestFileFrfs& t) { return point_frfs_dict(t.frfs); },
+          "{(response, force): complex (n,) [m/N]}, as rotational_frfs and run_rotational_study take it")
+      .def_property_readonly(
+          "dataset",
+          [](const TapTestFileFrfs& t) {
+            py::dict d;
+            for (std::size_t i = 0; i < 3; ++i)
+              for (std::size_t j = 0; j < 3; ++j)
+                if (t.dataset[i][j]) d[py::make_tuple(i, j)] = *t.dataset[i][j];
+            return d;
+          },
+          "{(response, force): index of the dataset among UffFile.functions}")
+      .def_readonly("warnings", &TapTestFileFrfs::warnings, "the conversions' (the file's own are UffFile.warnings)");
+  m.def(
+      "tap_test_frfs",
+      [](const UffFile& file, const std::vector<int>& nodes, std::optional<int> direction, int order,
+         const std::optional<std::string>& ordinate) {
+        TapTestFileOptions o;
+        o.nodes = nodes;
+        o.direction = direction;
+        o.order = order;
+        if (ordinate) o.ordinate = enum_of(*ordinate, kOrdinates, "ordinate");
+        py::gil_scoped_release nogil;
+        return tap_test_frfs(file, o);
+      },
+      "file"_a, "nodes"_a = std::vector<int>{1, 2, 3}, "direction"_a = py::none(), "order"_a = 2, "ordinate"_a = py::none(),
+      "The tap test in one universal file (read_uff): H_ij is the dataset whose response node is nodes[i] and whose reference "
+      "node is nodes[j] (tip first), in `direction` (record 6 code, +Y = 2; None: any), for points 0…order, as receptance "
+      "[m/N]. Raises InputError for two datasets of one pair of points or none for the tip (listing the nodes present).");
   m.def(
       "write_uff",
       [](const std::string& path, const std::vector<UffDataset58>& sets, bool binary, int byte_order) {

@@ -70,6 +70,12 @@ inline SpeedRange speed_range(const std::tuple<double, double, int>& s) {
 RotationalOptions rotational_options(int order, double spacing, bool symmetrise, const std::string& p_method,
                                      std::optional<double> shear_stiffness);
 
+// Translational FRFs on `frequency_hz` from a dict {(response, force): complex (n,)} (points 0, 1, 2;
+// InvalidArgument for another key), as rotational_frfs and the rotational study take them.
+PointFrfs point_frfs_of(const std::vector<double>& frequency_hz, const py::dict& H);
+// The same dict from PointFrfs: {(response, force): complex (n,)} for the FRFs it holds.
+py::dict point_frfs_dict(const PointFrfs& frfs);
+
 // UncertaintyOptions from keyword arguments (bind_identify.cpp).
 UncertaintyOptions uncertainty_options(int samples, std::uint64_t seed, std::vector<double> levels, int threads,
                                        const py::object& progress);

@@ -145,3 +145,38 @@ def test_finite_difference_correction_restores_the_model_block():
     assert np.all(np.abs(corrected - e.exact) <= tolerance)
     assert np.allclose(e.exact, tp.AssemblyModel(a).tool_point(t.frfs[0].frequency_hz), rtol=1e-8, atol=0)
     assert e.max_relative[2] > 1e-3  # the differences do err (N at 15 mm)
+
+
+def test_rotational_study_is_the_cli_and_the_correction_called_directly(tmp_path):
+    # A noise-free virtual tap test on the holder, as the CLI writes it, read back by node; the study with the model
+    # that made the data is `toolpoint rotational --model` (the same doubles), is rotational_frfs minus
+    # finite_difference_error called directly (one subtraction: bit for bit), and is the model's own SH11 by the
+    # coupling path to 1e-7 of each entry's largest value (station and point coupling are different algebra;
+    # differences 20 mm apart lose ~4 digits), where the uncorrected P is off by more than 1 %.
+    run_cli("taptest", EXAMPLE, "--at", "holder", "--spacing", 0.02, "--frequencies", "200:3000:20", "--binary",
+            "--output", tmp_path / "tap.uff")
+    run_cli("rotational", "--uff", tmp_path / "tap.uff", "--spacing", 0.02, "--order", 2, "--model", EXAMPLE, "--at",
+            "holder", "--output", tmp_path / "fixed.csv")
+    _, cli = read_block_csv(tmp_path / "fixed.csv")
+    a = tp.load_assembly(str(EXAMPLE)).assembly
+    t = tp.tap_test_frfs(tp.read_uff(str(tmp_path / "tap.uff")))
+    assert sorted(t.H) == [(i, j) for i in range(3) for j in range(3)] and t.dataset[(1, 0)] == 1
+    s = tp.run_rotational_study(t.frequency_hz, t.H, spacing=0.02, model=a, side="holder", model_name="A.toml")
+    assert np.array_equal(s.block, cli)
+    raw = tp.rotational_frfs(t.frequency_hz, t.H, spacing=0.02)
+    e = tp.finite_difference_error(a, t.frequency_hz, list(t.H), 0.02, side="holder")
+    assert np.array_equal(s.differences.block, raw.block)
+    assert np.array_equal(s.block, raw.block - e.error)
+    exact = tp.AssemblyModel(a).holder_tip(t.frequency_hz)
+    scale = np.abs(exact).max(axis=0)
+    assert np.all(np.abs(s.block - exact).max(axis=0)[[0, 1, 1], [1, 0, 1]] < 1e-7 * scale[[0, 1, 1], [1, 0, 1]])
+    assert np.abs(raw.block - exact).max(axis=0)[1, 1] > 0.01 * scale[1, 1]
+    d = s.to_dict()
+    assert d["correction"]["max_relative"] == list(e.max_relative) and d["order"] == 2 and d["spacing_m"] == 0.02
+    assert "estimated on the model A.toml (points on the holder)" in s.correction_note
+    # Without a model: the differences themselves, and the study says so.
+    plain = tp.run_rotational_study(t.frequency_hz, t.H, spacing=0.02)
+    assert np.array_equal(plain.block, raw.block) and plain.correction is None
+    assert plain.correction_note == "no finite-difference correction"
+    with pytest.raises(tp.InputError, match="no dataset with response and reference node 101"):
+        tp.tap_test_frfs(tp.read_uff(str(tmp_path / "tap.uff")), nodes=[101, 102, 103])

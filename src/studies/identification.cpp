@@ -64,12 +64,16 @@ void IdentificationOptions::check() const {
                     band_hz->first, band_hz->second),
         "e.g. 2500–2650 Hz");
   if (at_hz && !(*at_hz > 0.0 && std::isfinite(*at_hz)))
-    throw InvalidArgument(fmt::format("IdentificationOptions::at_hz = {} Hz must be > 0", *at_hz));
+    throw InvalidArgument(fmt::format("IdentificationOptions::at_hz {} Hz must be > 0", *at_hz),
+                          "omit IdentificationOptions::at_hz to read at the mode effect analysis picks");
   if (band_hz && at_hz)
-    throw InvalidArgument("IdentificationOptions: band_hz and at_hz both given; the band would ignore at_hz",
-                          "give the band, or the frequency to read around, not both");
+    throw InvalidArgument(
+        "IdentificationOptions::at_hz and IdentificationOptions::band_hz both given: the band would ignore "
+        "IdentificationOptions::at_hz",
+        "give one of them");
   if (!(width > 0.0 && width < 0.5))
-    throw InvalidArgument(fmt::format("IdentificationOptions::width = {} must lie in (0, 0.5)", width));
+    throw InvalidArgument(fmt::format("IdentificationOptions::width {} must lie in (0, 0.5)", width),
+                          "e.g. IdentificationOptions::width 0.02 for ±2 % around the mode");
   if (filter) filter->check();
   noise.check();
   JointFitOptions f = fit;

@@ -36,6 +36,7 @@
 #include "toolpoint/joint_file.hpp"
 #include "toolpoint/joint_fit.hpp"
 #include "toolpoint/noise.hpp"
+#include "toolpoint/plot.hpp"
 #include "toolpoint/signal.hpp"
 
 namespace toolpoint {
@@ -131,6 +132,22 @@ Identification identify_joint_from_frfs(const Assembly& assembly, const std::vec
 // only: the seed's read-out has no interval to carry), and how it was identified, with `inputs`
 // (e.g. the data files) listed in [identification].
 JointFile joint_file_of(const Identification& id, const std::vector<std::string>& inputs = {});
+
+// ---- Figures -------------------------------------------------------------------------------------
+
+// The stiffness/damping pair of the entry (row, column) of an identified K(ω) ((0, 0) yf, (0, 1) ym,
+// (1, 0) θf, (1, 1) θm) as a joint-figure curve (plot::joint_figure; units JointParameters::unit),
+// with optional reference and identified values drawn as lines. With `fit`, the identified
+// values' intervals and verdicts; with `seed` (a read-out), a value the read-out left
+// undetermined (ParameterReadout::determined) is said so.
+plot::JointParameterCurve joint_curve(const JointSeries& series, int row, int column,
+                                      const std::optional<JointParameters>& reference,
+                                      const std::optional<JointParameters>& identified, const JointFit* fit = nullptr,
+                                      const JointReadout* seed = nullptr);
+
+// The study's figure (the seed's Fig. 11–12): k(f) and c(f) of the four pairs yf, ym, θf, θm by the
+// closed form, the read-out band shaded, the identified values as lines with the fit's intervals.
+plot::Figure identification_figure(const Identification& id);
 
 // Starting values for the fit from a closed-form series: the median of each parameter over the
 // points in [lo, hi], each point weighted by 1/gain² of that parameter (a weighted median: robust
