@@ -18,6 +18,7 @@
 #include "toolpoint/json.hpp"
 #include "toolpoint/plot.hpp"
 #include "toolpoint/studies/overhang.hpp"
+#include "toolpoint/uncertainty_io.hpp"
 #include "progress.hpp"
 
 namespace toolpoint::cli {

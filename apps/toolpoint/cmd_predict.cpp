@@ -14,6 +14,7 @@
 #include "toolpoint/json.hpp"
 #include "toolpoint/plot.hpp"
 #include "toolpoint/studies/predict.hpp"
+#include "toolpoint/uncertainty_io.hpp"
 
 namespace toolpoint::cli {
 
