@@ -6,7 +6,9 @@
 // Units: SI (m, N; receptance m/N); frequencies in Hz.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <fmt/format.h>
 #include <limits>
 #include <set>
 #include <string>
@@ -14,6 +16,7 @@
 
 #include "support/example_fe.hpp"
 #include "support/fe_beam.hpp"
+#include "support/joint_data.hpp"
 #include "support/test_util.hpp"
 #include "toolpoint/assembly_file.hpp"
 #include "toolpoint/error.hpp"
@@ -22,6 +25,7 @@
 #include "toolpoint/studies/overhang.hpp"
 #include "toolpoint/studies/predict.hpp"
 #include "toolpoint/studies/tap_test.hpp"
+#include "toolpoint/uncertainty.hpp"
 
 using namespace toolpoint;
 using namespace toolpoint::test;
@@ -109,6 +113,42 @@ TEST(PredictStudy, ModesAreTheModelsPeaksFoundIndependently) {
                          run_prediction(a, o);
                        }),
                        "PredictOptions::peaks"));
+}
+
+// With the joint uncertain, the prediction carries the band tool_point_band gives on its own for
+// the same joint, grid and draws (bit for bit), around the prediction's own H (the joint's
+// constants in the assembly); the block itself is the one without a band. Progress runs on to 1
+// through the samples. The holder tip has no band.
+TEST(PredictStudy, TheBandIsToolPointBandOnThePredictionsGrid) {
+  const JointFile joint = uncertain_joint(0.02);
+  const Assembly a = with_joint(example({2000.0, 3000.0, 5.0}), joint);
+  PredictOptions o;
+  o.uncertain_joint = joint;
+  o.band.samples = 20;
+  o.band.seed = 4;
+  std::vector<double> fractions;
+  const Prediction p = run_prediction(a, o, [&](double x) { fractions.push_back(x); });
+  ASSERT_TRUE(p.band);
+  UncertaintyOptions direct;
+  direct.samples = 20;
+  direct.seed = 4;
+  const FrfBand b = tool_point_band(a, joint, a.grid.values(), direct);
+  EXPECT_EQ(p.band->magnitude, b.magnitude);
+  EXPECT_EQ(p.band->phase_rad, b.phase_rad);
+  EXPECT_EQ(p.band->samples, 20);
+  EXPECT_EQ(p.band->nominal.values, entry(p.frf, 0).values);
+  EXPECT_EQ(p.frf.blocks, run_prediction(a).frf.blocks);
+  ASSERT_FALSE(fractions.empty());
+  EXPECT_TRUE(std::is_sorted(fractions.begin(), fractions.end()));
+  EXPECT_DOUBLE_EQ(fractions.back(), 1.0);
+  EXPECT_LE(fractions.front(), 1.0 / 21.0 + 1e-12);  // the prediction is one of 21 units of work
+  EXPECT_TRUE(nlohmann::json(p).contains("band"));
+  EXPECT_FALSE(run_prediction(a).band);
+  o.receptance = PredictedFrf::HolderTip;
+  EXPECT_TRUE(contains(invalid_argument_message([&] { run_prediction(a, o); }), "PredictOptions::uncertain_joint"));
+  o.receptance = PredictedFrf::ToolPoint;
+  o.band.samples = 5;
+  EXPECT_TRUE(contains(invalid_argument_message([&] { run_prediction(a, o); }), "UncertaintyOptions::samples"));
 }
 
 // ---- Overhang study -------------------------------------------------------------------------------

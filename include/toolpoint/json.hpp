@@ -104,7 +104,7 @@ void to_json(nlohmann::json& j, const StabilityUncertainty& s);
 
 // ---- Studies ------------------------------------------------------------------------------------
 
-// {"receptance": "SHT11" | "SH11", "modes": [Peak…], "warnings"}
+// {"receptance": "SHT11" | "SH11", "modes": [Peak…], "warnings"} and "band" (FrfBand) when computed
 void to_json(nlohmann::json& j, const Prediction& p);
 // {"overhang_m", "modes": [Peak…]}
 void to_json(nlohmann::json& j, const OverhangFrf& r);

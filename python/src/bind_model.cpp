@@ -476,24 +476,31 @@ void bind_model(py::module_& m) {
       .def_property_readonly(
           "frf", [](const Prediction& p) { return blocks_array(p.frf.blocks); }, "complex (n, 2, 2)")
       .def_readonly("modes", &Prediction::modes, "list of Peak (refined on the model)")
+      .def_readonly("band", &Prediction::band, "FrfBand (with `joint`) or None")
       .def_readonly("warnings", &Prediction::warnings)
       .def(
           "to_dict", [](const Prediction& p) { return dict_of(p); },
           "{'receptance', 'modes', 'warnings'} (toolpoint predict --json's keys).");
   m.def(
       "run_prediction",
-      [](Assembly a, const std::string& receptance, double min_prominence, const py::object& progress) {
+      [](Assembly a, const std::string& receptance, double min_prominence, std::optional<JointFile> joint, int samples,
+         std::uint64_t seed, std::vector<double> levels, int threads, const py::object& progress) {
         PredictOptions o;
         o.receptance = enum_of(receptance, kPredicted, "receptance");
         o.peaks.min_prominence = min_prominence;
+        o.uncertain_joint = std::move(joint);
+        o.band = uncertainty_options(samples, seed, std::move(levels), threads, py::none());
         const ProgressCallback cb = progress_of(progress);
         py::gil_scoped_release nogil;
         return run_prediction(a, o, cb);
       },
-      "assembly"_a, "receptance"_a = "SHT11", "min_prominence"_a = 0.02, "progress"_a = py::none(),
+      "assembly"_a, "receptance"_a = "SHT11", "min_prominence"_a = 0.02, "joint"_a = py::none(), "samples"_a = 200, "seed"_a = 1,
+      "levels"_a = std::vector<double>{0.05, 0.5, 0.95}, "threads"_a = 0, "progress"_a = py::none(),
       "The prediction study (toolpoint predict): SHT11 or SH11 on assembly.grid (seed Eq. 1–5) with its modes (peaks of |H| "
       "rising "
-      "min_prominence above their valleys, refined on the model). progress(fraction) is called as it goes.");
+      "min_prominence above their valleys, refined on the model). With `joint` (a JointFile with [uncertainty]): also the band "
+      "of the tool point FRF over `samples` joints drawn from its covariance (tool_point_band; threads: 0 every core). "
+      "progress(fraction) is called as it goes.");
 
   py::class_<OverhangFrf>(m, "OverhangFrf", "One overhang of the overhang study.")
       .def_readonly("overhang_m", &OverhangFrf::overhang_m)
