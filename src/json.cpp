@@ -237,6 +237,7 @@ void to_json(nlohmann::json& j, const OverhangStudy& s) {
        {"reference", s.reference},
        {"tracked_modes_hz", s.tracked_modes_hz},
        {"warnings", s.warnings}};
+  if (s.band) j["band"] = *s.band;
 }
 
 void to_json(nlohmann::json& j, const TapTestFrf& r) { j = {{"response", r.response}, {"hammer", r.hammer}}; }

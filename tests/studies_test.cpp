@@ -291,6 +291,75 @@ TEST(OverhangStudy, BadInputNamesTheField) {
   }
 }
 
+// With the holder–tool joint uncertain (one overhang), the study carries the band
+// coupled_tool_point_band gives on its own for that overhang, SH11 and draws (bit for bit); a
+// sweep has none (refused, naming the field).
+TEST(OverhangStudy, TheBandIsCoupledToolPointBandAtTheOverhang) {
+  const JointFile joint = uncertain_joint(0.02);
+  const Assembly a = with_joint(example({500.0, 3500.0, 5.0}), joint);
+  const BlockSeries sh = model_sh11(a);
+  OverhangStudyOptions o;
+  o.overhangs_m = {0.045};
+  o.sh11_name = "sh.csv";
+  o.uncertain_joint = joint;
+  o.band.samples = 15;
+  o.band.seed = 9;
+  std::vector<double> fractions;
+  const OverhangStudy s = run_overhang_study(a, sh, o, [&](double x) { fractions.push_back(x); });
+  ASSERT_TRUE(s.band);
+  UncertaintyOptions direct;
+  direct.samples = 15;
+  direct.seed = 9;
+  const FrfBand b = coupled_tool_point_band(with_overhang(a, 0.045), joint, sh, "sh.csv", direct);
+  EXPECT_EQ(s.band->magnitude, b.magnitude);
+  EXPECT_EQ(s.band->phase_rad, b.phase_rad);
+  EXPECT_EQ(s.band->nominal.values, entry(s.overhangs[0].sht11, 0).values);
+  EXPECT_DOUBLE_EQ(fractions.back(), 1.0);
+  EXPECT_TRUE(std::is_sorted(fractions.begin(), fractions.end()));
+  EXPECT_TRUE(nlohmann::json(s).contains("band"));
+  o.overhangs_m = {0.045, 0.05};
+  EXPECT_TRUE(contains(invalid_argument_message([&] { run_overhang_study(a, sh, o); }), "OverhangStudyOptions::uncertain_joint"));
+}
+
+// A sweep's overhangs are the decimal lengths it names: start + i·step to the nanometre, so
+// 0.04:0.06:0.002 holds the double 0.052 (0.04 + 6 × 0.002 is 0.052000000000000005), and so does
+// the natural-frequency table written from a study on it (its CSV text). The table is the tracked
+// modes, column by column; the figure data too.
+TEST(OverhangStudy, SweepValuesAreTheDecimalLengthsAndTheTableShowsThem) {
+  const std::vector<double> v = overhang_sweep(0.04, 0.06, 0.002);
+  ASSERT_EQ(v.size(), 11u);
+  for (std::size_t i = 0; i < v.size(); ++i) EXPECT_EQ(v[i], std::stod(fmt::format("0.0{}", 40 + 2 * i))) << i;
+  EXPECT_NE(0.04 + 6 * 0.002, 0.052);  // what the rounding removes
+  EXPECT_EQ(overhang_sweep(0.05, 0.05, 0.01), std::vector<double>{0.05});
+  EXPECT_EQ(overhang_sweep(0.044, 0.054, 0.005), (std::vector<double>{0.044, 0.049, 0.054}));
+  EXPECT_THROW(overhang_sweep(0.05, 0.04, 0.001), InvalidArgument);
+  EXPECT_THROW(overhang_sweep(0.04, 0.05, 1e-10), InvalidArgument);
+  EXPECT_THROW(overhang_sweep(0.0, 0.05, 0.01), InvalidArgument);
+
+  const Assembly a = example({500.0, 3500.0, 5.0});
+  OverhangStudyOptions o;
+  o.overhangs_m = overhang_sweep(0.048, 0.056, 0.002);
+  const OverhangStudy s = run_overhang_study(a, model_sh11(a), o);
+  const Table t = natural_frequency_table(s);
+  ASSERT_EQ(t.columns.size(), 1 + s.tracked_modes_hz.size());
+  EXPECT_EQ(t.columns[0], "overhang_m");
+  EXPECT_EQ(t.columns[1], "mode_1_hz");
+  ASSERT_EQ(t.rows.size(), 5u);
+  for (std::size_t i = 0; i < t.rows.size(); ++i) {
+    EXPECT_EQ(t.rows[i][0], o.overhangs_m[i]);
+    for (std::size_t m = 0; m < s.tracked_modes_hz.size(); ++m) EXPECT_EQ(t.rows[i][m + 1], s.tracked_modes_hz[m][i]);
+  }
+  const std::string csv = format_table_csv(t);
+  EXPECT_TRUE(contains(csv, "\n0.052,")) << csv;
+  EXPECT_FALSE(contains(csv, "0.05200000")) << csv;
+  const plot::OverhangSweep fig = natural_frequency_sweep(s);
+  EXPECT_EQ(fig.overhang_m, o.overhangs_m);
+  EXPECT_EQ(nlohmann::json(fig.frequency_hz).dump(), nlohmann::json(s.tracked_modes_hz).dump());
+  const std::vector<FrfSeries> h = tool_point_frfs(s);
+  ASSERT_EQ(h.size(), 5u);
+  EXPECT_EQ(h[2].values, entry(s.overhangs[2].sht11, 0).values);
+}
+
 // ---- Virtual tap test -----------------------------------------------------------------------------
 
 // Tool side, 3 points 10 mm apart, roving hammer: nine FRFs, hammer by hammer. Against the
