@@ -226,6 +226,7 @@ void to_json(nlohmann::json& j, const StabilityUncertainty& s) {
 
 void to_json(nlohmann::json& j, const Prediction& p) {
   j = {{"receptance", predicted_frf_name(p.receptance)}, {"modes", p.modes}, {"warnings", p.warnings}};
+  if (p.band) j["band"] = *p.band;
 }
 
 void to_json(nlohmann::json& j, const OverhangFrf& r) { j = {{"overhang_m", r.overhang_m}, {"modes", r.modes}}; }
@@ -236,6 +237,7 @@ void to_json(nlohmann::json& j, const OverhangStudy& s) {
        {"reference", s.reference},
        {"tracked_modes_hz", s.tracked_modes_hz},
        {"warnings", s.warnings}};
+  if (s.band) j["band"] = *s.band;
 }
 
 void to_json(nlohmann::json& j, const TapTestFrf& r) { j = {{"response", r.response}, {"hammer", r.hammer}}; }

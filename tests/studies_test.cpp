@@ -6,7 +6,9 @@
 // Units: SI (m, N; receptance m/N); frequencies in Hz.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <fmt/format.h>
 #include <limits>
 #include <set>
 #include <string>
@@ -14,6 +16,7 @@
 
 #include "support/example_fe.hpp"
 #include "support/fe_beam.hpp"
+#include "support/joint_data.hpp"
 #include "support/test_util.hpp"
 #include "toolpoint/assembly_file.hpp"
 #include "toolpoint/error.hpp"
@@ -22,6 +25,7 @@
 #include "toolpoint/studies/overhang.hpp"
 #include "toolpoint/studies/predict.hpp"
 #include "toolpoint/studies/tap_test.hpp"
+#include "toolpoint/uncertainty.hpp"
 
 using namespace toolpoint;
 using namespace toolpoint::test;
@@ -109,6 +113,42 @@ TEST(PredictStudy, ModesAreTheModelsPeaksFoundIndependently) {
                          run_prediction(a, o);
                        }),
                        "PredictOptions::peaks"));
+}
+
+// With the joint uncertain, the prediction carries the band tool_point_band gives on its own for
+// the same joint, grid and draws (bit for bit), around the prediction's own H (the joint's
+// constants in the assembly); the block itself is the one without a band. Progress runs on to 1
+// through the samples. The holder tip has no band.
+TEST(PredictStudy, TheBandIsToolPointBandOnThePredictionsGrid) {
+  const JointFile joint = uncertain_joint(0.02);
+  const Assembly a = with_joint(example({2000.0, 3000.0, 5.0}), joint);
+  PredictOptions o;
+  o.uncertain_joint = joint;
+  o.band.samples = 20;
+  o.band.seed = 4;
+  std::vector<double> fractions;
+  const Prediction p = run_prediction(a, o, [&](double x) { fractions.push_back(x); });
+  ASSERT_TRUE(p.band);
+  UncertaintyOptions direct;
+  direct.samples = 20;
+  direct.seed = 4;
+  const FrfBand b = tool_point_band(a, joint, a.grid.values(), direct);
+  EXPECT_EQ(p.band->magnitude, b.magnitude);
+  EXPECT_EQ(p.band->phase_rad, b.phase_rad);
+  EXPECT_EQ(p.band->samples, 20);
+  EXPECT_EQ(p.band->nominal.values, entry(p.frf, 0).values);
+  EXPECT_EQ(p.frf.blocks, run_prediction(a).frf.blocks);
+  ASSERT_FALSE(fractions.empty());
+  EXPECT_TRUE(std::is_sorted(fractions.begin(), fractions.end()));
+  EXPECT_DOUBLE_EQ(fractions.back(), 1.0);
+  EXPECT_LE(fractions.front(), 1.0 / 21.0 + 1e-12);  // the prediction is one of 21 units of work
+  EXPECT_TRUE(nlohmann::json(p).contains("band"));
+  EXPECT_FALSE(run_prediction(a).band);
+  o.receptance = PredictedFrf::HolderTip;
+  EXPECT_TRUE(contains(invalid_argument_message([&] { run_prediction(a, o); }), "PredictOptions::uncertain_joint"));
+  o.receptance = PredictedFrf::ToolPoint;
+  o.band.samples = 5;
+  EXPECT_TRUE(contains(invalid_argument_message([&] { run_prediction(a, o); }), "UncertaintyOptions::samples"));
 }
 
 // ---- Overhang study -------------------------------------------------------------------------------
@@ -249,6 +289,75 @@ TEST(OverhangStudy, BadInputNamesTheField) {
   } catch (const InputError& e) {
     EXPECT_TRUE(contains(e.what(), "sh11.csv")) << e.what();
   }
+}
+
+// With the holder–tool joint uncertain (one overhang), the study carries the band
+// coupled_tool_point_band gives on its own for that overhang, SH11 and draws (bit for bit); a
+// sweep has none (refused, naming the field).
+TEST(OverhangStudy, TheBandIsCoupledToolPointBandAtTheOverhang) {
+  const JointFile joint = uncertain_joint(0.02);
+  const Assembly a = with_joint(example({500.0, 3500.0, 5.0}), joint);
+  const BlockSeries sh = model_sh11(a);
+  OverhangStudyOptions o;
+  o.overhangs_m = {0.045};
+  o.sh11_name = "sh.csv";
+  o.uncertain_joint = joint;
+  o.band.samples = 15;
+  o.band.seed = 9;
+  std::vector<double> fractions;
+  const OverhangStudy s = run_overhang_study(a, sh, o, [&](double x) { fractions.push_back(x); });
+  ASSERT_TRUE(s.band);
+  UncertaintyOptions direct;
+  direct.samples = 15;
+  direct.seed = 9;
+  const FrfBand b = coupled_tool_point_band(with_overhang(a, 0.045), joint, sh, "sh.csv", direct);
+  EXPECT_EQ(s.band->magnitude, b.magnitude);
+  EXPECT_EQ(s.band->phase_rad, b.phase_rad);
+  EXPECT_EQ(s.band->nominal.values, entry(s.overhangs[0].sht11, 0).values);
+  EXPECT_DOUBLE_EQ(fractions.back(), 1.0);
+  EXPECT_TRUE(std::is_sorted(fractions.begin(), fractions.end()));
+  EXPECT_TRUE(nlohmann::json(s).contains("band"));
+  o.overhangs_m = {0.045, 0.05};
+  EXPECT_TRUE(contains(invalid_argument_message([&] { run_overhang_study(a, sh, o); }), "OverhangStudyOptions::uncertain_joint"));
+}
+
+// A sweep's overhangs are the decimal lengths it names: start + i·step to the nanometre, so
+// 0.04:0.06:0.002 holds the double 0.052 (0.04 + 6 × 0.002 is 0.052000000000000005), and so does
+// the natural-frequency table written from a study on it (its CSV text). The table is the tracked
+// modes, column by column; the figure data too.
+TEST(OverhangStudy, SweepValuesAreTheDecimalLengthsAndTheTableShowsThem) {
+  const std::vector<double> v = overhang_sweep(0.04, 0.06, 0.002);
+  ASSERT_EQ(v.size(), 11u);
+  for (std::size_t i = 0; i < v.size(); ++i) EXPECT_EQ(v[i], std::stod(fmt::format("0.0{}", 40 + 2 * i))) << i;
+  EXPECT_NE(0.04 + 6 * 0.002, 0.052);  // what the rounding removes
+  EXPECT_EQ(overhang_sweep(0.05, 0.05, 0.01), std::vector<double>{0.05});
+  EXPECT_EQ(overhang_sweep(0.044, 0.054, 0.005), (std::vector<double>{0.044, 0.049, 0.054}));
+  EXPECT_THROW(overhang_sweep(0.05, 0.04, 0.001), InvalidArgument);
+  EXPECT_THROW(overhang_sweep(0.04, 0.05, 1e-10), InvalidArgument);
+  EXPECT_THROW(overhang_sweep(0.0, 0.05, 0.01), InvalidArgument);
+
+  const Assembly a = example({500.0, 3500.0, 5.0});
+  OverhangStudyOptions o;
+  o.overhangs_m = overhang_sweep(0.048, 0.056, 0.002);
+  const OverhangStudy s = run_overhang_study(a, model_sh11(a), o);
+  const Table t = natural_frequency_table(s);
+  ASSERT_EQ(t.columns.size(), 1 + s.tracked_modes_hz.size());
+  EXPECT_EQ(t.columns[0], "overhang_m");
+  EXPECT_EQ(t.columns[1], "mode_1_hz");
+  ASSERT_EQ(t.rows.size(), 5u);
+  for (std::size_t i = 0; i < t.rows.size(); ++i) {
+    EXPECT_EQ(t.rows[i][0], o.overhangs_m[i]);
+    for (std::size_t m = 0; m < s.tracked_modes_hz.size(); ++m) EXPECT_EQ(t.rows[i][m + 1], s.tracked_modes_hz[m][i]);
+  }
+  const std::string csv = format_table_csv(t);
+  EXPECT_TRUE(contains(csv, "\n0.052,")) << csv;
+  EXPECT_FALSE(contains(csv, "0.05200000")) << csv;
+  const plot::OverhangSweep fig = natural_frequency_sweep(s);
+  EXPECT_EQ(fig.overhang_m, o.overhangs_m);
+  EXPECT_EQ(nlohmann::json(fig.frequency_hz).dump(), nlohmann::json(s.tracked_modes_hz).dump());
+  const std::vector<FrfSeries> h = tool_point_frfs(s);
+  ASSERT_EQ(h.size(), 5u);
+  EXPECT_EQ(h[2].values, entry(s.overhangs[2].sht11, 0).values);
 }
 
 // ---- Virtual tap test -----------------------------------------------------------------------------

@@ -10,40 +10,10 @@
 #include "support/joint_data.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/uncertainty.hpp"
+#include "toolpoint/uncertainty_io.hpp"
 
 using namespace toolpoint;
 using namespace toolpoint::test;
-
-namespace {
-
-// A covariance of relative size `rel` on every parameter of p, with a correlation between k_yf
-// and k_tm, for a reciprocal joint (k_tf ≡ k_ym, c_tf ≡ c_ym: perfectly correlated, singular).
-Eigen::Matrix<double, 8, 8> covariance_of(const JointParameters& p, double rel) {
-  Eigen::Matrix<double, 8, 8> c = Eigen::Matrix<double, 8, 8>::Zero();
-  for (int k : {0, 1, 2, 3, 6, 7}) c(k, k) = std::pow(rel * p[k], 2);
-  c(0, 6) = c(6, 0) = 0.5 * std::sqrt(c(0, 0) * c(6, 6));
-  for (int k = 0; k < 8; ++k) {
-    c(4, k) = c(k, 4) = c(2, k);
-    c(5, k) = c(k, 5) = c(3, k);
-  }
-  c(4, 4) = c(2, 2);
-  c(5, 5) = c(3, 3);
-  c(4, 2) = c(2, 4) = c(2, 2);
-  c(5, 3) = c(3, 5) = c(3, 3);
-  return c;
-}
-
-JointFile uncertain_joint(double rel) {
-  JointFile f;
-  f.parameters = seed_table1_joint();
-  JointUncertainty u;
-  u.covariance = covariance_of(f.parameters, rel);
-  f.uncertainty = u;
-  f.source = "test";
-  return f;
-}
-
-}  // namespace
 
 // 20 000 draws: the sample mean within 4 standard errors of the mean, the sample covariance of
 // every entry within 5 % of its scale (the standard error of a variance estimate is √(2/N) = 1 %).
@@ -198,4 +168,41 @@ TEST(Uncertainty, EnvelopeUncertaintyOfAKnownEnvelope) {
   EXPECT_EQ(s.probability(1, 1), 1.0);  // 2 k_yf × 1e-12 > k_yf × 1e-12 for every sample
   EXPECT_EQ(s.probability(0, 2), 0.0);
   EXPECT_THROW(envelope_uncertainty(a, joint, envelope, {1.0, 0.5}, o), InvalidArgument);  // a decreasing grid
+}
+
+// The I/O layer (uncertainty_io.hpp) on hand-made results: the band as a table (|H| per level,
+// then ∠H in degrees: π/2 rad is 90°) and as traces (the nominal, then every level but the median,
+// |H|∠H recombined), the probability map as one row per (speed, depth), speed slowest, depth in mm.
+TEST(Uncertainty, TablesAndTracesOfHandMadeResults) {
+  FrfBand b;
+  b.frequency_hz = {100.0, 200.0};
+  b.levels = {0.05, 0.5, 0.95};
+  b.samples = 12;
+  b.nominal = FrfSeries{b.frequency_hz, {Complex(1e-6, 0.0), Complex(0.0, -2e-6)}};
+  b.magnitude = {{1.0, 2.0}, {3.0, 4.0}, {5.0, 6.0}};
+  b.phase_rad = {{0.0, M_PI / 2}, {M_PI, -M_PI / 2}, {0.0, 0.0}};
+  const Table t = band_table(b);
+  EXPECT_EQ(t.columns, (std::vector<std::string>{"frequency_hz", "magnitude_q5_m_per_n", "magnitude_q50_m_per_n",
+                                                 "magnitude_q95_m_per_n", "phase_q5_deg", "phase_q50_deg", "phase_q95_deg"}));
+  ASSERT_EQ(t.rows.size(), 2u);
+  EXPECT_EQ(t.rows[1], (std::vector<double>{200.0, 2.0, 4.0, 6.0, 90.0, -90.0, 0.0}));
+  const std::vector<plot::FrfTrace> traces = band_traces(b);
+  ASSERT_EQ(traces.size(), 3u);  // the nominal, q5, q95
+  EXPECT_EQ(traces[0].label, "identified joint");
+  EXPECT_EQ(traces[0].frf.values, b.nominal.values);
+  EXPECT_EQ(traces[2].label, "95 % quantile (12 joint samples)");
+  EXPECT_EQ(traces[2].style, plot::CurveStyle::Dashed);
+  EXPECT_NEAR(traces[1].frf.values[1].imag(), 2.0, 1e-15);  // 2 at +90°
+  EXPECT_NEAR(traces[1].frf.values[1].real(), 0.0, 1e-15);
+
+  StabilityUncertainty s;
+  s.speed_rpm = {1000.0, 2000.0};
+  s.depth_grid_m = {0.0, 1e-3, 2e-3};
+  s.probability = Eigen::MatrixXd(2, 3);
+  s.probability << 1.0, 0.5, 0.0, 1.0, 1.0, 0.25;
+  const Table p = probability_table(s);
+  EXPECT_EQ(p.columns, (std::vector<std::string>{"spindle_speed_rpm", "axial_depth_mm", "probability_stable"}));
+  ASSERT_EQ(p.rows.size(), 6u);
+  EXPECT_EQ(p.rows[1], (std::vector<double>{1000.0, 1.0, 0.5}));
+  EXPECT_EQ(p.rows[5], (std::vector<double>{2000.0, 2.0, 0.25}));
 }

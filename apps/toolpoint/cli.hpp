@@ -111,10 +111,6 @@ struct SamplingOptions {
 void add_sampling_options(CLI::App* command, SamplingOptions& target, const std::string& what, bool threads_option = true);
 const JointFile& sampled_joint(const std::vector<JointFile>& files);
 UncertaintyOptions uncertainty_options(const SamplingOptions& s);
-// The tool point FRF's quantiles as a table (|H| [m/N] and ∠H [deg] per level) and as FRF traces
-// around the nominal, for --band-output and the figure.
-Table band_table(const FrfBand& b);
-std::vector<plot::FrfTrace> band_traces(const FrfBand& b);
 
 // The example assembly compiled into the binary (examples/bt40_shrinkfit_16mm.toml).
 const char* example_assembly_toml();

@@ -18,6 +18,7 @@
 #include "toolpoint/json.hpp"
 #include "toolpoint/plot.hpp"
 #include "toolpoint/studies/overhang.hpp"
+#include "toolpoint/uncertainty_io.hpp"
 #include "progress.hpp"
 
 namespace toolpoint::cli {
@@ -43,11 +44,17 @@ std::vector<double> parse_overhangs(const std::string& text) {
   if (text.empty()) return {};
   if (text.find(':') != std::string::npos) {
     // Reuse the grid parser's checks with its own wording.
-    std::vector<double> v;
+    FrequencyGrid sweep;
     try {
-      v = parse_frequency_grid(text, "--overhang").values();
+      sweep = parse_frequency_grid(text, "--overhang");
     } catch (const InvalidArgument& e) {
       throw InvalidArgument(std::string(e.what()) + " (here in metres, not Hz)", "e.g. --overhang 0.040:0.060:0.002");
+    }
+    std::vector<double> v;
+    try {
+      v = overhang_sweep(sweep.start_hz, sweep.stop_hz, sweep.step_hz);
+    } catch (const InvalidArgument& e) {
+      throw InvalidArgument(fmt::format("--overhang {}: {}", text, e.what()), e.hint());
     }
     if (v.size() > 1000)
       throw InvalidArgument(fmt::format("--overhang {} gives {} overhangs; at most 1000", text, v.size()), "use a larger STEP");
@@ -89,12 +96,11 @@ void run_couple(const CoupleArgs& o, const Globals& g) {
   if (!sweep) check_output_extension(o.output, "--output", {".csv"}, "the tool point 2×2 block as FRF CSV (.csv)");
   check_output_extension(o.band_output, "--band-output", {".csv"}, "the quantile table as CSV (.csv)");
   const std::vector<JointFile> joints = read_joint_options(g, o.joints);
-  std::optional<UncertaintyOptions> sampling;
   if (o.sampling.samples != 0 || !o.band_output.empty()) {
     if (sweep)
       throw InvalidArgument("--samples: the band is computed for one overhang", "give --overhang one length, e.g. 0.048");
-    sampling = uncertainty_options(o.sampling);
-    sampled_joint(joints);
+    options.band = uncertainty_options(o.sampling);
+    options.uncertain_joint = sampled_joint(joints);
   }
   LoadedAssembly loaded = load_assembly(o.assembly);
   report_loaded(g, loaded);
@@ -102,8 +108,7 @@ void run_couple(const CoupleArgs& o, const Globals& g) {
   const BlockSeries sh = read_block_input(g, o.sh);
 
   Progress progress(g, "couple: overhangs");
-  OverhangStudy study;
-  study = run_overhang_study(loaded.assembly, sh, options, progress.part());
+  const OverhangStudy study = run_overhang_study(loaded.assembly, sh, options, progress.part());
   progress.done();
   warn_all(study.warnings);
 
@@ -126,35 +131,17 @@ void run_couple(const CoupleArgs& o, const Globals& g) {
     }
     j["overhangs"][i]["file"] = file;
   }
-  // The joint uncertain (one overhang): the quantiles of the coupled tool point FRF.
-  std::optional<FrfBand> band;
-  if (sampling) {
-    const Assembly at = with_overhang(loaded.assembly, study.overhangs.front().overhang_m);
-    band = coupled_tool_point_band(at, sampled_joint(joints), sh, o.sh, *sampling);
-    j["band"] = *band;
-    if (!o.band_output.empty()) {
-      write_table_csv(
-          o.band_output, band_table(*band),
-          {fmt::format("tool point H from {} + model tool at overhang {} m with the joint of {} uncertain: quantiles over "
-                       "{} samples",
-                       o.sh, study.overhangs.front().overhang_m, sampled_joint(joints).source, band->samples),
-           "frequency Hz, magnitude m/N, phase deg (unwrapped around the nominal)"});
-      written.push_back(o.band_output);
-      j["band_output"] = o.band_output;
-    }
+  if (study.band && !o.band_output.empty()) {
+    write_table_csv(o.band_output, band_table(*study.band),
+                    {fmt::format("tool point H from {} + model tool at overhang {} m with the joint of {} uncertain: quantiles "
+                                 "over {} samples",
+                                 o.sh, overhangs.front(), options.uncertain_joint->source, study.band->samples),
+                     "frequency Hz, magnitude m/N, phase deg (unwrapped around the nominal)"});
+    written.push_back(o.band_output);
+    j["band_output"] = o.band_output;
   }
-  const std::vector<std::vector<double>>& modes = study.tracked_modes_hz;
   if (sweep) {
-    Table table;
-    table.columns = {"overhang_m"};
-    for (std::size_t m = 0; m < modes.size(); ++m) table.columns.push_back(fmt::format("mode_{}_hz", m + 1));
-    table.may_be_empty.assign(table.columns.begin() + 1, table.columns.end());
-    for (std::size_t i = 0; i < overhangs.size(); ++i) {
-      std::vector<double> row{overhangs[i]};
-      for (const auto& mode : modes) row.push_back(mode[i]);
-      table.rows.push_back(row);
-    }
-    write_table_csv(o.output + "/natural_frequencies.csv", table,
+    write_table_csv(o.output + "/natural_frequencies.csv", natural_frequency_table(study),
                     {"modes of the coupled tool point FRF against tool overhang (seed Fig. 10): peaks of |H| followed from "
                      "the overhang nearest the assembly file's to within 15 % per step; an empty cell: not found",
                      "overhang in m, frequencies in Hz"});
@@ -165,33 +152,24 @@ void run_couple(const CoupleArgs& o, const Globals& g) {
   if (o.json) {
     std::cout << j.dump(2) << '\n';
   } else {
-    print_report(o, g, inside, overhangs, modes, sweep);
-    if (band && !o.band_output.empty()) info(g, fmt::format("wrote {} (quantiles of the tool point FRF)", o.band_output));
+    print_report(o, g, inside, overhangs, study.tracked_modes_hz, sweep);
+    if (study.band && !o.band_output.empty()) info(g, fmt::format("wrote {} (quantiles of the tool point FRF)", o.band_output));
   }
   if (o.plot.empty()) return;
-  if (band) {
-    plot::FrfFigureOptions fo;
-    fo.symbol = "H^{sht}_{11}";
-    fo.title = fmt::format("Tool point FRF from {} + model tool, the joint uncertain ({} samples)", plot::literal(o.sh),
-                           band->samples);
-    fo.mode_labels = 6;
-    draw_figures(g, {{plot::frf_figure(band_traces(*band), fo), o.plot}}, written);
-    return;
-  }
-  std::vector<FrfSeries> tool_point_h;
-  for (const OverhangFrf& r : study.overhangs) tool_point_h.push_back(entry(r.sht11, 0));
   plot::FrfFigureOptions fo;
   fo.symbol = "H^{sht}_{11}";
+  if (study.band) {
+    fo.title = fmt::format("Tool point FRF from {} + model tool, the joint uncertain ({} samples)", plot::literal(o.sh),
+                           study.band->samples);
+    fo.mode_labels = 6;
+    draw_figures(g, {{plot::frf_figure(band_traces(*study.band), fo), o.plot}}, written);
+    return;
+  }
   fo.title = fmt::format("Tool point FRF from {} + model tool (Eq. 5)", plot::literal(o.sh));
   fo.mode_labels = sweep ? 0 : 6;  // on an overlay, labels of one trace would be misread as all
-  std::vector<FigureFile> figures{{plot::overhang_frf_figure(overhangs, tool_point_h, fo), o.plot}};
-  if (sweep) {
-    plot::OverhangSweep sw;
-    sw.overhang_m = overhangs;
-    sw.frequency_hz = modes;
-    sw.title = "Modes of H^{sht}_{11} against tool overhang (seed Fig. 10)";
-    if (!modes.empty()) figures.push_back({plot::natural_frequency_figure(sw), with_suffix(o.plot, "_frequencies")});
-  }
+  std::vector<FigureFile> figures{{plot::overhang_frf_figure(overhangs, tool_point_frfs(study), fo), o.plot}};
+  if (sweep && !study.tracked_modes_hz.empty())
+    figures.push_back({plot::natural_frequency_figure(natural_frequency_sweep(study)), with_suffix(o.plot, "_frequencies")});
   draw_figures(g, figures, written);
 }
 

@@ -14,6 +14,7 @@
 #include "toolpoint/json.hpp"
 #include "toolpoint/plot.hpp"
 #include "toolpoint/studies/predict.hpp"
+#include "toolpoint/uncertainty_io.hpp"
 
 namespace toolpoint::cli {
 
@@ -36,16 +37,15 @@ void run_predict(const PredictArgs& o, const Globals& g) {
   check_output_extension(o.output, "--output", {".csv"}, kBlockCsvOutput);
   check_output_extension(o.band_output, "--band-output", {".csv"}, "the quantile table as CSV (.csv)");
   const std::vector<JointFile> joints = read_joint_options(g, o.joints);
-  std::optional<UncertaintyOptions> sampling;
+  toolpoint::PredictOptions options;
   if (o.sampling.samples != 0 || !o.band_output.empty()) {
     if (o.at != "tool")
       throw InvalidArgument("--samples: the band is computed for the tool point (--at tool)", "drop --at holder");
-    sampling = uncertainty_options(o.sampling);
-    sampled_joint(joints);
+    options.band = uncertainty_options(o.sampling);
+    options.uncertain_joint = sampled_joint(joints);
   }
   const LoadedAssembly loaded = load_assembly_on_grid(g, o.assembly, o.frequencies, joints);
   const bool tool = o.at == "tool";
-  toolpoint::PredictOptions options;
   options.receptance = tool ? PredictedFrf::ToolPoint : PredictedFrf::HolderTip;
   Progress progress(g, "predict");
   const Prediction p = run_prediction(loaded.assembly, options, progress.part());
@@ -61,22 +61,17 @@ void run_predict(const PredictArgs& o, const Globals& g) {
     info(g, fmt::format("wrote {} ({} frequencies, {})", o.output, series.size(), what));
     written.push_back(o.output);
   }
-  std::optional<FrfBand> band;
-  if (sampling) {
-    band = tool_point_band(loaded.assembly, sampled_joint(joints), series.frequency_hz, *sampling);
-    if (!o.band_output.empty()) {
-      write_table_csv(o.band_output, band_table(*band),
-                      {fmt::format("tool point H of {} with the joint of {} uncertain: quantiles over {} samples", o.assembly,
-                                   sampled_joint(joints).source, band->samples),
-                       "magnitude in m/N, phase in degrees, frequency in Hz"});
-      info(g, fmt::format("wrote {} (quantiles of the tool point FRF)", o.band_output));
-      written.push_back(o.band_output);
-    }
+  if (p.band && !o.band_output.empty()) {
+    write_table_csv(o.band_output, band_table(*p.band),
+                    {fmt::format("tool point H of {} with the joint of {} uncertain: quantiles over {} samples", o.assembly,
+                                 options.uncertain_joint->source, p.band->samples),
+                     "magnitude in m/N, phase in degrees, frequency in Hz"});
+    info(g, fmt::format("wrote {} (quantiles of the tool point FRF)", o.band_output));
+    written.push_back(o.band_output);
   }
   if (o.json) {
     nlohmann::json j = p;
     j["assembly"] = o.assembly;
-    if (band) j["band"] = *band;
     j["units"] = "frequency Hz, magnitude m/N";
     j["points"] = series.size();
     if (!o.output.empty()) j["output"] = o.output;
@@ -99,12 +94,12 @@ void run_predict(const PredictArgs& o, const Globals& g) {
   if (!o.plot.empty()) {
     const std::string title = fmt::format("{} of {}", tool ? "Tool point FRF SHT_{11}" : "Holder tip FRF SH_{11}",
                                           plot::literal(loaded.assembly.name));
-    if (band) {
+    if (p.band) {
       plot::FrfFigureOptions fo;
-      fo.title = fmt::format("Tool point FRF, the joint uncertain ({} samples)", band->samples);
+      fo.title = fmt::format("Tool point FRF, the joint uncertain ({} samples)", p.band->samples);
       fo.symbol = "H^{sht}_{11}";
       fo.mode_labels = 6;
-      draw_figures(g, {{plot::frf_figure(band_traces(*band), fo), o.plot}}, written);
+      draw_figures(g, {{plot::frf_figure(band_traces(*p.band), fo), o.plot}}, written);
     } else {
       draw_figures(g, {{plot::receptance_figure(series, title, "11", 6), o.plot}}, written);
     }

@@ -502,35 +502,4 @@ void write_frf_output(const std::string& path, FrfFormat format, const FrfFileDa
   warn_all(data.is_block ? write_frf_file(path, data.block, w) : write_frf_file(path, data.single, w));
 }
 
-// ---- The tool point FRF with the joint uncertain (predict, couple) -------------------------------
-
-// The tool point FRF's quantiles as a table: |H| [m/N] and ∠H [deg] per level.
-Table band_table(const FrfBand& b) {
-  Table t;
-  t.columns = {"frequency_hz"};
-  for (double l : b.levels) t.columns.push_back(fmt::format("magnitude_q{:g}_m_per_n", 100 * l));
-  for (double l : b.levels) t.columns.push_back(fmt::format("phase_q{:g}_deg", 100 * l));
-  for (std::size_t i = 0; i < b.frequency_hz.size(); ++i) {
-    std::vector<double> row{b.frequency_hz[i]};
-    for (const auto& m : b.magnitude) row.push_back(m[i]);
-    for (const auto& p : b.phase_rad) row.push_back(p[i] * 180.0 / kPi);
-    t.rows.push_back(std::move(row));
-  }
-  return t;
-}
-
-// FRF traces of the band's quantile levels (magnitude and phase quantiles recombined) around the nominal.
-std::vector<plot::FrfTrace> band_traces(const FrfBand& b) {
-  std::vector<plot::FrfTrace> traces{{b.nominal, "identified joint", plot::CurveStyle::Line}};
-  for (std::size_t l = 0; l < b.levels.size(); ++l) {
-    if (std::abs(b.levels[l] - 0.5) < 1e-9) continue;
-    FrfSeries q;
-    q.frequency_hz = b.frequency_hz;
-    for (std::size_t i = 0; i < b.frequency_hz.size(); ++i) q.values.push_back(std::polar(b.magnitude[l][i], b.phase_rad[l][i]));
-    traces.push_back(
-        {q, fmt::format("{:g} % quantile ({} joint samples)", 100 * b.levels[l], b.samples), plot::CurveStyle::Dashed});
-  }
-  return traces;
-}
-
 }  // namespace toolpoint::cli

@@ -105,11 +105,12 @@ void to_json(nlohmann::json& j, const StabilityUncertainty& s);
 
 // ---- Studies ------------------------------------------------------------------------------------
 
-// {"receptance": "SHT11" | "SH11", "modes": [Peak…], "warnings"}
+// {"receptance": "SHT11" | "SH11", "modes": [Peak…], "warnings"} and "band" (FrfBand) when computed
 void to_json(nlohmann::json& j, const Prediction& p);
 // {"overhang_m", "modes": [Peak…]}
 void to_json(nlohmann::json& j, const OverhangFrf& r);
-// {"tool_inside_holder_m", "overhangs": [OverhangFrf…], "reference", "tracked_modes_hz", "warnings"}
+// {"tool_inside_holder_m", "overhangs": [OverhangFrf…], "reference", "tracked_modes_hz", "warnings"} and "band"
+// (FrfBand) when computed
 void to_json(nlohmann::json& j, const OverhangStudy& s);
 // {"response", "hammer"}
 void to_json(nlohmann::json& j, const TapTestFrf& r);

@@ -477,24 +477,31 @@ void bind_model(py::module_& m) {
       .def_property_readonly(
           "frf", [](const Prediction& p) { return blocks_array(p.frf.blocks); }, "complex (n, 2, 2)")
       .def_readonly("modes", &Prediction::modes, "list of Peak (refined on the model)")
+      .def_readonly("band", &Prediction::band, "FrfBand (with `joint`) or None")
       .def_readonly("warnings", &Prediction::warnings)
       .def(
           "to_dict", [](const Prediction& p) { return dict_of(p); },
           "{'receptance', 'modes', 'warnings'} (toolpoint predict --json's keys).");
   m.def(
       "run_prediction",
-      [](Assembly a, const std::string& receptance, double min_prominence, const py::object& progress) {
+      [](Assembly a, const std::string& receptance, double min_prominence, std::optional<JointFile> joint, int samples,
+         std::uint64_t seed, std::vector<double> levels, int threads, const py::object& progress) {
         PredictOptions o;
         o.receptance = enum_of(receptance, kPredicted, "receptance");
         o.peaks.min_prominence = min_prominence;
+        o.uncertain_joint = std::move(joint);
+        o.band = uncertainty_options(samples, seed, std::move(levels), threads, py::none());
         const ProgressCallback cb = progress_of(progress);
         py::gil_scoped_release nogil;
         return run_prediction(a, o, cb);
       },
-      "assembly"_a, "receptance"_a = "SHT11", "min_prominence"_a = 0.02, "progress"_a = py::none(),
+      "assembly"_a, "receptance"_a = "SHT11", "min_prominence"_a = 0.02, "joint"_a = py::none(), "samples"_a = 200, "seed"_a = 1,
+      "levels"_a = std::vector<double>{0.05, 0.5, 0.95}, "threads"_a = 0, "progress"_a = py::none(),
       "The prediction study (toolpoint predict): SHT11 or SH11 on assembly.grid (seed Eq. 1–5) with its modes (peaks of |H| "
       "rising "
-      "min_prominence above their valleys, refined on the model). progress(fraction) is called as it goes.");
+      "min_prominence above their valleys, refined on the model). With `joint` (a JointFile with [uncertainty]): also the band "
+      "of the tool point FRF over `samples` joints drawn from its covariance (tool_point_band; threads: 0 every core). "
+      "progress(fraction) is called as it goes.");
 
   py::class_<OverhangFrf>(m, "OverhangFrf", "One overhang of the overhang study.")
       .def_readonly("overhang_m", &OverhangFrf::overhang_m)
@@ -517,6 +524,7 @@ void bind_model(py::module_& m) {
             return a;
           },
           "(modes, overhangs) Hz, NaN where a mode was not found (the seed's Fig. 10)")
+      .def_readonly("band", &OverhangStudy::band, "FrfBand (with `joint`) or None")
       .def_readonly("warnings", &OverhangStudy::warnings)
       .def(
           "to_dict", [](const OverhangStudy& s) { return dict_of(s); },
@@ -524,23 +532,31 @@ void bind_model(py::module_& m) {
   m.def(
       "run_overhang_study",
       [](Assembly a, const RealArray& f, const ComplexArray& sh11, std::vector<double> overhangs_m, double min_prominence,
-         double tracking_tolerance, int threads, std::string sh11_name, const py::object& progress) {
+         double tracking_tolerance, int threads, std::string sh11_name, std::optional<JointFile> joint, int samples,
+         std::uint64_t seed, std::vector<double> levels, const py::object& progress) {
         OverhangStudyOptions o;
         o.overhangs_m = std::move(overhangs_m);
         o.peaks.min_prominence = min_prominence;
         o.tracking_tolerance = tracking_tolerance;
         o.threads = threads;
         o.sh11_name = std::move(sh11_name);
+        o.uncertain_joint = std::move(joint);
+        o.band = uncertainty_options(samples, seed, std::move(levels), threads, py::none());
         const BlockSeries s = block_series(f, sh11, o.sh11_name);
         const ProgressCallback cb = progress_of(progress);
         py::gil_scoped_release nogil;
         return run_overhang_study(a, s, o, cb);
       },
       "assembly"_a, "frequency_hz"_a, "sh11"_a, "overhangs_m"_a = std::vector<double>{}, "min_prominence"_a = 0.1,
-      "tracking_tolerance"_a = 0.15, "threads"_a = 0, "sh11_name"_a = "SH11", "progress"_a = py::none(),
+      "tracking_tolerance"_a = 0.15, "threads"_a = 0, "sh11_name"_a = "SH11", "joint"_a = py::none(), "samples"_a = 200,
+      "seed"_a = 1, "levels"_a = std::vector<double>{0.05, 0.5, 0.95}, "progress"_a = py::none(),
       "The overhang study (toolpoint couple): SHT11 per tool overhang [m] from a measured SH11 (n, 2, 2) by Eq. 5, modes tracked "
-      "from the assembly's own overhang (Fig. 10). Overhangs run on `threads` threads (0: every core); results identical for any "
-      "count.");
+      "from the assembly's own overhang (Fig. 10). With `joint` (a holder–tool JointFile with [uncertainty]; one overhang): "
+      "also the band of the coupled tool point FRF over `samples` joints drawn from its covariance (coupled_tool_point_band). "
+      "Overhangs and samples run on `threads` threads (0: every core); results identical for any count.");
+  m.def("overhang_sweep", &overhang_sweep, "start_m"_a, "stop_m"_a, "step_m"_a,
+        "The overhangs [m] of a sweep START:STOP:STEP as toolpoint couple --overhang makes them: start + i·step up to stop, each "
+        "rounded to a nanometre.");
 
   py::class_<TapTestFrf>(m, "TapTestFrf", "One FRF of the tap test: H_ij = w_i/f_j [m/N], point 0 the tip.")
       .def_readonly("response", &TapTestFrf::response)

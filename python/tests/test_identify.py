@@ -83,6 +83,10 @@ def test_joint_file_round_trip_and_band(tmp_path, measured, example, prediction)
     full = tp.tool_point_band(with_file, back, f, samples=20, seed=1)
     cli = read_csv(tmp_path / "band.csv")  # frequency, |H| q5, q50, q95 [m/N], phase q5, q50, q95 [deg]
     assert np.array_equal(cli[:, 0], full.frequency_hz) and np.array_equal(cli[:, 1:4].T, full.magnitude)
+    # The prediction study with the joint carries the same band (predict --samples is that one call).
+    p = tp.run_prediction(with_file, joint=back, samples=20, seed=1)
+    assert np.array_equal(p.band.magnitude, full.magnitude) and np.array_equal(p.band.phase_rad, full.phase_rad)
+    assert tp.run_prediction(with_file).band is None
 
 
 def test_bad_identification_input_raises():

@@ -131,8 +131,10 @@ def test_couple_and_overhang_study_are_the_cli_ones(tmp_path, example, model):
     run_cli("couple", "--sh", tmp_path / "sh11.csv", "--assembly", EXAMPLE, "--output", tmp_path / "one.csv")
     _, one = read_block_csv(tmp_path / "one.csv")
     assert np.array_equal(tp.couple_tool(example, f, sh11), one)
-    # The CLI's sweep START:STOP:STEP is start + i·step (0.044 + 0.005 is not the double 0.049).
-    study = tp.run_overhang_study(example, f, sh11, overhangs_m=[0.044 + i * 0.005 for i in range(3)], threads=2)
+    # The CLI's sweep START:STOP:STEP is start + i·step rounded to a nanometre (0.044 + 0.005 is not the
+    # double 0.049, the sweep's second overhang is).
+    assert tp.overhang_sweep(0.044, 0.054, 0.005) == [0.044, 0.049, 0.054] != [0.044 + i * 0.005 for i in range(3)]
+    study = tp.run_overhang_study(example, f, sh11, overhangs_m=tp.overhang_sweep(0.044, 0.054, 0.005), threads=2)
     j = run_cli_json("couple", "--sh", tmp_path / "sh11.csv", "--assembly", EXAMPLE, "--overhang", "0.044:0.054:0.005",
                      "--output", tmp_path / "sweep")
     assert study.to_dict()["tracked_modes_hz"] == j["tracked_modes_hz"]

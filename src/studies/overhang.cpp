@@ -35,6 +35,12 @@ void OverhangStudyOptions::check() const {
   if (threads < 0 || threads > 1024)
     throw InvalidArgument(fmt::format("OverhangStudyOptions::threads = {} must lie in 0…1024 (0: every core)", threads),
                           "give the number of worker threads, or 0 for every core");
+  if (!uncertain_joint) return;
+  if (overhangs_m.size() > 1)
+    throw InvalidArgument(fmt::format("OverhangStudyOptions::uncertain_joint: the band is computed for one overhang, not {}",
+                                      overhangs_m.size()),
+                          "give one overhang, or leave uncertain_joint empty");
+  band.check();
 }
 
 namespace {
@@ -56,6 +62,12 @@ OverhangStudy run_overhang_study(const Assembly& assembly, const BlockSeries& sh
   validate(sh11, options.sh11_name, 3);
   const bool own = options.overhangs_m.empty();
   const std::vector<double> overhangs = own ? std::vector<double>{assembly.tool.overhang} : options.overhangs_m;
+  // With a band, each overhang is one unit of work and each joint sample another.
+  const double share = options.uncertain_joint
+                           ? static_cast<double>(overhangs.size()) / static_cast<double>(overhangs.size() + options.band.samples)
+                           : 1.0;
+  ProgressCallback overhang_progress;
+  if (progress) overhang_progress = [&](double f) { progress(share * f); };
   OverhangStudy s;
   s.tool_inside_holder_m = assembly.tool.length - assembly.tool.overhang;
   s.overhangs.resize(overhangs.size());
@@ -81,7 +93,7 @@ OverhangStudy run_overhang_study(const Assembly& assembly, const BlockSeries& sh
         }
         r.modes = find_peaks(entry(r.sht11, 0), options.peaks);
       },
-      progress);
+      overhang_progress);
 
   // Modes followed from the overhang nearest the assembly's own (the first of two equally near).
   for (std::size_t i = 1; i < overhangs.size(); ++i)
@@ -105,7 +117,55 @@ OverhangStudy run_overhang_study(const Assembly& assembly, const BlockSeries& sh
                                        100.0 * options.tracking_tolerance, lost.size(), overhangs.size(),
                                        millimetres(overhangs, lost)));
   }
+  if (options.uncertain_joint) {
+    UncertaintyOptions band = options.band;
+    band.progress = {};
+    if (progress) band.progress = [&](double f) { progress(share + (1.0 - share) * f); };
+    s.band = coupled_tool_point_band(with_overhang(assembly, overhangs.front()), *options.uncertain_joint, sh11,
+                                     options.sh11_name, band);
+  }
   return s;
+}
+
+std::vector<double> overhang_sweep(double start_m, double stop_m, double step_m) {
+  if (!std::isfinite(start_m) || !std::isfinite(stop_m) || !std::isfinite(step_m) || !(start_m > 0.0) || !(stop_m >= start_m))
+    throw InvalidArgument(fmt::format("overhang sweep {}:{}:{} m: the overhangs must satisfy 0 < start ≤ stop", start_m, stop_m,
+                                      step_m),
+                          "give START:STOP:STEP in metres, e.g. 0.040:0.060:0.002");
+  if (!(step_m >= 1e-9))
+    throw InvalidArgument(fmt::format("overhang sweep step {} m is below a nanometre", step_m),
+                          "give the step in metres, e.g. 0.002 (2 mm)");
+  const auto n = static_cast<std::size_t>(std::floor((stop_m - start_m) / step_m * (1.0 + 1e-12) + 1e-9)) + 1;
+  std::vector<double> v(n);
+  for (std::size_t i = 0; i < n; ++i) v[i] = std::round((start_m + static_cast<double>(i) * step_m) * 1e9) / 1e9;
+  return v;
+}
+
+Table natural_frequency_table(const OverhangStudy& study) {
+  Table table;
+  table.columns = {"overhang_m"};
+  for (std::size_t m = 0; m < study.tracked_modes_hz.size(); ++m) table.columns.push_back(fmt::format("mode_{}_hz", m + 1));
+  table.may_be_empty.assign(table.columns.begin() + 1, table.columns.end());
+  for (std::size_t i = 0; i < study.overhangs.size(); ++i) {
+    std::vector<double> row{study.overhangs[i].overhang_m};
+    for (const auto& mode : study.tracked_modes_hz) row.push_back(mode[i]);
+    table.rows.push_back(row);
+  }
+  return table;
+}
+
+plot::OverhangSweep natural_frequency_sweep(const OverhangStudy& study) {
+  plot::OverhangSweep sweep;
+  for (const OverhangFrf& r : study.overhangs) sweep.overhang_m.push_back(r.overhang_m);
+  sweep.frequency_hz = study.tracked_modes_hz;
+  sweep.title = "Modes of H^{sht}_{11} against tool overhang (seed Fig. 10)";
+  return sweep;
+}
+
+std::vector<FrfSeries> tool_point_frfs(const OverhangStudy& study) {
+  std::vector<FrfSeries> frfs;
+  for (const OverhangFrf& r : study.overhangs) frfs.push_back(entry(r.sht11, 0));
+  return frfs;
 }
 
 }  // namespace toolpoint

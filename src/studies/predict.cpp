@@ -17,6 +17,11 @@ void PredictOptions::check() const {
   } catch (const InvalidArgument& e) {
     throw InvalidArgument(fmt::format("PredictOptions::peaks: {}", e.what()), e.hint());
   }
+  if (!uncertain_joint) return;
+  if (receptance != PredictedFrf::ToolPoint)
+    throw InvalidArgument("PredictOptions::uncertain_joint: the band is computed for the tool point, not the holder tip",
+                          "set PredictOptions::receptance to ToolPoint, or leave uncertain_joint empty");
+  band.check();
 }
 
 Prediction run_prediction(const Assembly& assembly, const PredictOptions& options, const ProgressCallback& progress) {
@@ -24,6 +29,8 @@ Prediction run_prediction(const Assembly& assembly, const PredictOptions& option
   const AssemblyModel model(assembly);
   const bool tool = options.receptance == PredictedFrf::ToolPoint;
   const std::vector<double> grid = assembly.grid.values();
+  // With a band, the prediction is one unit of work and each joint sample another.
+  const double share = options.uncertain_joint ? 1.0 / (options.band.samples + 1.0) : 1.0;
   Prediction p;
   p.receptance = options.receptance;
   p.warnings = model.warnings();
@@ -39,10 +46,16 @@ Prediction run_prediction(const Assembly& assembly, const PredictOptions& option
                                    grid.begin() + static_cast<std::ptrdiff_t>(stop));
     const BlockSeries s = tool ? model.tool_point(part) : model.holder_tip(part);
     p.frf.blocks.insert(p.frf.blocks.end(), s.blocks.begin(), s.blocks.end());
-    if (progress) progress(static_cast<double>(stop) / static_cast<double>(grid.size()));
+    if (progress) progress(share * static_cast<double>(stop) / static_cast<double>(grid.size()));
   }
   const auto magnitude = [&](double f) { return std::abs((tool ? model.tool_point(f) : model.holder_tip(f))(0, 0)); };
   p.modes = find_peaks(entry(p.frf, 0), options.peaks, magnitude);
+  if (options.uncertain_joint) {
+    UncertaintyOptions band = options.band;
+    band.progress = {};
+    if (progress) band.progress = [&](double f) { progress(share + (1.0 - share) * f); };
+    p.band = tool_point_band(assembly, *options.uncertain_joint, grid, band);
+  }
   return p;
 }
 

@@ -2,11 +2,13 @@
 // spindle–holder joint), the three identification routes, and the seed's multiplicative noise.
 #pragma once
 
+#include <cmath>
 #include <string>
 #include <vector>
 
 #include "toolpoint/assembly_file.hpp"
 #include "toolpoint/identify.hpp"
+#include "toolpoint/joint_file.hpp"
 #include "toolpoint/joint_fit.hpp"
 #include "toolpoint/signal.hpp"
 
@@ -93,6 +95,34 @@ inline JointParameters offset_start(const JointParameters& t) {
   if (t.k_ym == 0.0) s.k_ym = s.k_tf = 0.05 * std::sqrt(std::abs(t.k_yf * t.k_tm));
   if (t.c_ym == 0.0) s.c_ym = s.c_tf = 0.05 * std::sqrt(std::abs(t.c_yf * t.c_tm));
   return s;
+}
+
+// A covariance of relative size `rel` on every parameter of p, with a correlation between k_yf
+// and k_tm, for a reciprocal joint (k_tf ≡ k_ym, c_tf ≡ c_ym: perfectly correlated, singular).
+inline Eigen::Matrix<double, 8, 8> covariance_of(const JointParameters& p, double rel) {
+  Eigen::Matrix<double, 8, 8> c = Eigen::Matrix<double, 8, 8>::Zero();
+  for (int k : {0, 1, 2, 3, 6, 7}) c(k, k) = std::pow(rel * p[k], 2);
+  c(0, 6) = c(6, 0) = 0.5 * std::sqrt(c(0, 0) * c(6, 6));
+  for (int k = 0; k < 8; ++k) {
+    c(4, k) = c(k, 4) = c(2, k);
+    c(5, k) = c(k, 5) = c(3, k);
+  }
+  c(4, 4) = c(2, 2);
+  c(5, 5) = c(3, 3);
+  c(4, 2) = c(2, 4) = c(2, 2);
+  c(5, 3) = c(3, 5) = c(3, 3);
+  return c;
+}
+
+// The seed's Table 1 joint with covariance_of(·, rel) as its [uncertainty], source "test".
+inline JointFile uncertain_joint(double rel) {
+  JointFile f;
+  f.parameters = seed_table1_joint();
+  JointUncertainty u;
+  u.covariance = covariance_of(f.parameters, rel);
+  f.uncertainty = u;
+  f.source = "test";
+  return f;
 }
 
 }  // namespace toolpoint::test

@@ -7,18 +7,25 @@
 // with SH11 measured (or finite-differenced) and T the model's free–free tool of overhang L,
 // joined through the assembly's holder–tool joint K_ht. The modes of each SHT11 are the peaks of
 // |H|; they are followed from the overhang nearest the assembly's own, outwards in both
-// directions, to the nearest peak within a relative tolerance (track_modes).
+// directions, to the nearest peak within a relative tolerance (track_modes). With the holder–tool
+// joint uncertain (one overhang), also the band of the coupled tool point FRF: the quantiles of |H|
+// and ∠H over joints drawn from the joint file's covariance (coupled_tool_point_band).
 // Units: overhangs in m; receptances SI (H m/N, L 1/N, N rad/N, P rad/(N·m)); frequencies in Hz.
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "toolpoint/assembly.hpp"
+#include "toolpoint/io.hpp"
+#include "toolpoint/joint_file.hpp"
 #include "toolpoint/peaks.hpp"
+#include "toolpoint/plot.hpp"
 #include "toolpoint/receptance.hpp"
 #include "toolpoint/studies/study.hpp"
+#include "toolpoint/uncertainty.hpp"
 
 namespace toolpoint {
 
@@ -32,6 +39,11 @@ struct OverhangStudyOptions {
   int threads = 0;                   // overhangs run in parallel on this many threads (ParallelOptions::
                                      // threads: 0 every core, 1 none); results identical for any count
   std::string sh11_name = "SH11";    // names the measured SH11 in messages (e.g. its file)
+  // The holder–tool joint uncertain (one overhang only): the band of the coupled tool point FRF over
+  // joints drawn from this file's [uncertainty], the measured SH11 taken as exact, with the file's
+  // joint in place for the nominal. None: no band.
+  std::optional<JointFile> uncertain_joint;
+  UncertaintyOptions band;  // the band's samples, seed, levels and threads (its progress: the study's)
   // Throws InvalidArgument naming OverhangStudyOptions::<field> and the value.
   void check() const;
 };
@@ -50,6 +62,7 @@ struct OverhangStudy {
                                        // tracked are its peaks
   // Tracked mode frequencies [Hz], [mode][overhang]; NaN where the mode was not found.
   std::vector<std::vector<double>> tracked_modes_hz;
+  std::optional<FrfBand> band;        // with options.uncertain_joint: the tool point FRF's quantiles on SH11's grid
   std::vector<std::string> warnings;  // modes lost at some overhangs, no peak at the reference
 };
 
@@ -57,8 +70,25 @@ struct OverhangStudy {
 // with the measured `sh11` (≥ 3 points). Throws InvalidArgument (options, an overhang the tool
 // cannot have, naming it), InputError (an invalid SH11, naming options.sh11_name),
 // NumericalError (a singular coupling, naming the overhang and frequency). With several failing
-// overhangs, the error is the first overhang's, whatever the thread count.
+// overhangs, the error is the first overhang's, whatever the thread count. Progress: per overhang,
+// then per joint sample of the band.
 OverhangStudy run_overhang_study(const Assembly& assembly, const BlockSeries& sh11, const OverhangStudyOptions& options = {},
                                  const ProgressCallback& progress = {});
+
+// The overhangs of a sweep start, start + step, … up to stop [m] (stop included when a whole number
+// of steps away, to 1e-12 relative), each rounded to a nanometre: the lengths the sweep means,
+// without the float noise of repeated steps (0.04 + 6 × 0.002 is 0.052, not 0.052000000000000005).
+// Throws InvalidArgument unless 0 < start ≤ stop, all finite, and step ≥ 1 nm.
+std::vector<double> overhang_sweep(double start_m, double stop_m, double step_m);
+
+// The tracked modes as a table (the seed's Fig. 10): overhang_m, then mode_<k>_hz per tracked mode
+// (an empty cell where the mode was not found).
+Table natural_frequency_table(const OverhangStudy& study);
+
+// The same as figure data (plot::natural_frequency_figure), with its title; no modes: none to draw.
+plot::OverhangSweep natural_frequency_sweep(const OverhangStudy& study);
+
+// The tool point FRF (SHT11's H) of each overhang, for plot::overhang_frf_figure.
+std::vector<FrfSeries> tool_point_frfs(const OverhangStudy& study);
 
 }  // namespace toolpoint

@@ -4,17 +4,23 @@
 //   SH11  = H11 − H12 (H22 + K_sh⁻¹ + S11)⁻¹ H21      holder tip, the tool outside removed (Eq. 1)
 //   SHT11 = T11 − T12 (T22 + K_ht⁻¹ + SH11)⁻¹ T21     tool point (Eq. 5)
 //
+// With a joint uncertain (PredictOptions::uncertain_joint), also the band of the tool point FRF:
+// the quantiles of |H| and ∠H over joints drawn from the joint file's covariance (uncertainty.hpp).
+//
 // Units: SI (H m/N, L 1/N, N rad/N, P rad/(N·m)); frequencies in Hz. Sign convention:
 // conventions.hpp.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "toolpoint/assembly.hpp"
+#include "toolpoint/joint_file.hpp"
 #include "toolpoint/peaks.hpp"
 #include "toolpoint/receptance.hpp"
 #include "toolpoint/studies/study.hpp"
+#include "toolpoint/uncertainty.hpp"
 
 namespace toolpoint {
 
@@ -29,7 +35,12 @@ const char* predicted_frf_name(PredictedFrf frf);
 struct PredictOptions {
   PredictedFrf receptance = PredictedFrf::ToolPoint;
   PeakOptions peaks{};  // which local maxima of |H| count as modes
-  // Throws InvalidArgument naming PredictOptions::peaks.
+  // The joint uncertain: the band of the tool point FRF (receptance ToolPoint only) over joints drawn
+  // from this file's [uncertainty] (tool_point_band), with the file's joint in place at its
+  // interface for the nominal. None: no band.
+  std::optional<JointFile> uncertain_joint;
+  UncertaintyOptions band;  // the band's samples, seed, levels and threads (its progress: the study's)
+  // Throws InvalidArgument naming PredictOptions::<field>.
   void check() const;
 };
 
@@ -37,13 +48,15 @@ struct Prediction {
   PredictedFrf receptance = PredictedFrf::ToolPoint;
   BlockSeries frf;                    // the 2×2 block [[H, L], [N, P]] on the assembly's grid
   std::vector<Peak> modes;            // peaks of |H|, each refined on the model between its grid neighbours
+  std::optional<FrfBand> band;        // with options.uncertain_joint: the tool point FRF's quantiles on the grid
   std::vector<std::string> warnings;  // the model's (AssemblyModel::warnings)
 };
 
 // The prediction on `assembly.grid`, through AssemblyModel's sweeps (SIMD lanes where available;
 // the same values as one frequency at a time up to rounding). Progress is reported per block of
-// frequencies. Throws InvalidArgument (the assembly or options), NumericalError naming the
-// frequency where a coupling is singular.
+// frequencies, then per joint sample of the band. Throws InvalidArgument (the assembly or options,
+// a joint file without [uncertainty]), NumericalError naming the frequency where a coupling is
+// singular.
 Prediction run_prediction(const Assembly& assembly, const PredictOptions& options = {}, const ProgressCallback& progress = {});
 
 }  // namespace toolpoint
