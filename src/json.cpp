@@ -376,6 +376,10 @@ void to_json(nlohmann::json& j, const LobesStudyResult& r) {
     j["modes"] = r.modes;
     j["fits"] = r.fits;
   }
+  if (r.uncertainty) {
+    j["uncertainty"] = *r.uncertainty;
+    j["uncertain_joint"] = r.uncertain_joint;
+  }
 }
 
 // ---- The plan (studies/plan.hpp): the per-speed series go to its CSV files. ---------------------------

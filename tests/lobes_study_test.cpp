@@ -5,8 +5,14 @@
 
 #include <cmath>
 
+#include <algorithm>
+#include <nlohmann/json.hpp>
+
+#include "support/joint_data.hpp"
 #include "toolpoint/error.hpp"
+#include "toolpoint/json.hpp"
 #include "toolpoint/studies/lobes.hpp"
+#include "toolpoint/uncertainty_io.hpp"
 
 using namespace toolpoint;
 
@@ -130,4 +136,77 @@ TEST(LobesStudy, MissingInputsAreRefusedNamingTheField) {
   LobesInput modes;
   modes.x_modes = {kBench};
   EXPECT_THROW(run_lobes_study(modes, bad), InvalidArgument);
+}
+
+// The joint uncertain: the study's quantiles and probability map are those of the zero-order
+// stability_uncertainty (uncertainty.hpp: zero_order_lobes on each sample's FRF, a path that does not
+// go through the study) on the grid the study documents (201 depths to 1.5 × the nominal's highest
+// point), draw for draw; the nominal is the study's own envelope; the figure gains the quantile
+// envelopes and a probability map on the same numbers; progress rises to 1; rigid in y carries to
+// every sample; an uncertain joint without its assembly is refused naming the field.
+TEST(LobesStudy, TheJointUncertainIsTheZeroOrderUncertaintyOnTheDocumentedGrid) {
+  const JointFile joint = toolpoint::test::uncertain_joint(0.05);
+  Assembly a = with_joint(toolpoint::test::example_assembly(), joint);
+  a.grid = FrequencyGrid{200.0, 5000.0, 2.0};
+  LobesInput in;
+  in.frfs = milling_frfs(AssemblyModel(a), a.grid.values());
+  in.assembly = a;
+  in.uncertain_joint = joint;
+  LobesStudyOptions o = options(LobesMethod::ZeroOrder, 0.5);
+  o.cutting.teeth = 4;
+  o.speeds = {5000.0, 20000.0, 120};
+  o.uncertainty.samples = 30;
+  o.uncertainty.seed = 4;
+  std::vector<double> fractions;
+  o.progress = [&](double x) { fractions.push_back(x); };
+  const LobesStudyResult r = run_lobes_study(in, o);
+  ASSERT_TRUE(r.uncertainty);
+  EXPECT_EQ(r.uncertain_joint, "test");
+
+  double top = 0.0;
+  for (const EnvelopePoint& p : r.envelope) top = std::max(top, p.depth_m);
+  std::vector<double> depths;
+  for (int j = 0; j <= 200; ++j) depths.push_back(1.5 * top * j / 200);
+  ZeroOrderOptions zo;
+  zo.speeds = o.speeds;
+  UncertaintyOptions uo;
+  uo.samples = 30;
+  uo.seed = 4;
+  const StabilityUncertainty direct = stability_uncertainty(a, joint, a.grid.values(), o.cutting, zo, depths, uo);
+  EXPECT_EQ(r.uncertainty->depth_grid_m, depths);
+  EXPECT_EQ(r.uncertainty->speed_rpm, direct.speed_rpm);
+  EXPECT_EQ(r.uncertainty->depth_m, direct.depth_m);
+  EXPECT_EQ(r.uncertainty->probability, direct.probability);
+  for (std::size_t i = 0; i < r.envelope.size(); ++i) ASSERT_EQ(r.uncertainty->nominal_depth_m[i], r.envelope[i].depth_m) << i;
+
+  const auto quantiles = quantile_envelopes(*r.uncertainty);
+  ASSERT_GE(r.figure.other_envelopes.size(), quantiles.size());
+  EXPECT_EQ(r.figure.other_envelopes.back().depth_m, r.uncertainty->depth_m.back());
+  ASSERT_TRUE(r.probability_figure);
+  EXPECT_EQ(r.probability_figure->speed_rpm, r.uncertainty->speed_rpm);
+  EXPECT_EQ(r.probability_figure->probability.size(), depths.size() * r.envelope.size());
+  EXPECT_EQ(r.probability_figure->probability[5 * r.envelope.size() + 7], r.uncertainty->probability(7, 5));
+  EXPECT_DOUBLE_EQ(fractions.back(), 1.0);
+  EXPECT_TRUE(std::is_sorted(fractions.begin(), fractions.end()));
+  const nlohmann::json j = r;
+  EXPECT_TRUE(j.contains("uncertainty"));
+  EXPECT_EQ(j["uncertain_joint"], "test");
+
+  // Rigid in y: every sample's FRFs are too. With a covariance of zeros every sample is the
+  // nominal joint, so each quantile is the rigid study's envelope (a flexible y would lower it).
+  in.frfs = milling_frfs(AssemblyModel(a), a.grid.values(), true);
+  in.rigid_y = true;
+  in.uncertain_joint = toolpoint::test::uncertain_joint(0.0);
+  o.uncertainty.samples = 10;
+  const LobesStudyResult rigid = run_lobes_study(in, o);
+  for (const auto& q : rigid.uncertainty->depth_m)
+    for (std::size_t i = 0; i < rigid.envelope.size(); ++i) ASSERT_EQ(q[i], rigid.envelope[i].depth_m) << i;
+
+  in.assembly.reset();
+  try {
+    run_lobes_study(in, o);
+    FAIL() << "no assembly accepted";
+  } catch (const InvalidArgument& e) {
+    EXPECT_NE(std::string(e.what()).find("LobesInput::assembly"), std::string::npos) << e.what();
+  }
 }

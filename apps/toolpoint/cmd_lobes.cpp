@@ -20,6 +20,7 @@
 #include "toolpoint/json.hpp"
 #include "toolpoint/stability_io.hpp"
 #include "toolpoint/studies/lobes.hpp"
+#include "toolpoint/uncertainty_io.hpp"
 #include "toolpoint/uncertainty.hpp"
 
 namespace toolpoint::cli {
@@ -53,15 +54,14 @@ struct LobesOptions {
 // point FRF (SHT11's H, seed Eq. 5) serves both directions (a round tool on a round spindle).
 // Fills input.frfs (left empty when no FRF is given: the time domain may run from --mode-x alone)
 // and the names used in messages.
-void tool_point_frfs(const LobesOptions& o, const Globals& g, const std::vector<JointFile>& joints, LobesInput& input,
-                     std::optional<Assembly>& assembly) {
+void tool_point_frfs(const LobesOptions& o, const Globals& g, const std::vector<JointFile>& joints, LobesInput& input) {
   if (!o.assembly.empty()) {
     if (!o.frf.empty() || !o.frf_y.empty() || !o.frf_xy.empty() || !o.frf_yx.empty())
       throw InvalidArgument("give either --assembly or --frf (with --frf-y, --frf-xy, --frf-yx), not both",
                             "drop --assembly to use measured FRFs, or drop the --frf options");
     const LoadedModel lm = load_model(g, o.assembly, {}, joints);
     input.frfs = milling_frfs(lm.model, lm.loaded.assembly.grid.values(), o.rigid_y);
-    assembly = lm.loaded.assembly;
+    input.assembly = lm.loaded.assembly;
     input.frf_name = "the tool point FRF of " + o.assembly;
     info(g, fmt::format("tool point FRF from {} ({} frequencies, {:g}–{:g} Hz), used for x and y", o.assembly,
                         input.frfs->xx.size(), input.frfs->xx.frequency_hz.front(), input.frfs->xx.frequency_hz.back()));
@@ -268,16 +268,14 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
                             "drop --method fd, or --samples");
   }
   const std::vector<JointFile> joints = read_joint_options(g, o.joints);
-  std::optional<UncertaintyOptions> sampling;
+  LobesInput input;
   if (uncertain) {
-    sampled_joint(joints);
+    input.uncertain_joint = sampled_joint(joints);
     SamplingOptions so_threads = o.sampling;
     so_threads.threads = o.threads;
-    sampling = uncertainty_options(so_threads);
+    so.uncertainty = uncertainty_options(so_threads);
   }
-  LobesInput input;
-  std::optional<Assembly> assembly;
-  tool_point_frfs(o, g, joints, input, assembly);
+  tool_point_frfs(o, g, joints, input);
   if (o.rigid_y && !o.mode_y.empty()) throw InvalidArgument("--rigid-y and --mode-y contradict each other", "drop one of them");
   for (const auto& [texts, option, modes] : {std::tuple{&o.mode_x, "--mode-x", &input.x_modes}, {&o.mode_y, "--mode-y", &input.y_modes}})
     for (std::size_t i = 0; i < texts->size(); ++i) {
@@ -297,7 +295,9 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
     throw InvalidArgument("--method fd needs modes: --mode-x MASS,ZETA,FN (repeatable) or --frf to fit them from",
                           "e.g. --mode-x 0.04,0.011,922, or --frf tool_point.csv");
 
-  Progress progress(g, so.method == LobesMethod::ZeroOrder ? "lobes: zero-order" : "lobes: full-discretization boundary");
+  Progress progress(g, uncertain ? fmt::format("lobes: zero-order, nominal and {} joint samples", so.uncertainty.samples)
+                       : so.method == LobesMethod::ZeroOrder ? "lobes: zero-order"
+                                                             : "lobes: full-discretization boundary");
   so.progress = progress.part();
   LobesStudyResult r;
   try {
@@ -313,23 +313,7 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
     r.warnings.push_back(
         "--depth-steps is no longer used: the boundary is bracketed by a geometric scan from the neighbouring speed's limit");
 
-  // The joint uncertain: the stable depth's quantiles per speed, and the probability of stability
-  // on a speed × depth grid up to 1.5 × the nominal envelope's highest point.
-  std::optional<StabilityUncertainty> su;
-  std::string sampled_source;
-  if (sampling) {
-    const JointFile& sampled = sampled_joint(joints);
-    sampled_source = sampled.source;
-    Progress sprog(g, fmt::format("lobes: {} joint samples", sampling->samples));
-    sampling->progress = sprog.part();
-    double top = 0.0;
-    for (const EnvelopePoint& p : r.envelope)
-      if (std::isfinite(p.depth_m)) top = std::max(top, p.depth_m);
-    std::vector<double> depths;
-    for (int j = 0; j <= 200; ++j) depths.push_back(1.5 * top * j / 200);
-    su = stability_uncertainty(*assembly, sampled, assembly->grid.values(), so, depths, *sampling);
-    sprog.done();
-  }
+  const std::optional<StabilityUncertainty>& su = r.uncertainty;
   const std::vector<std::string> comments = {fmt::format("teeth {}, K_t {} N/m^2, K_r {}, entry {:.4f} deg, exit {:.4f} deg",
                                                          so.cutting.teeth, so.cutting.tangential_coefficient,
                                                          so.cutting.radial_ratio, so.cutting.engagement.entry_rad * 180.0 / kPi,
@@ -347,18 +331,12 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
     written.push_back(o.envelope);
   }
   if (su && !o.probability_output.empty()) {
-    Table t;
-    t.columns = {"spindle_speed_rpm", "axial_depth_mm", "probability_stable"};
-    for (std::size_t i = 0; i < su->speed_rpm.size(); ++i)
-      for (std::size_t j = 0; j < su->depth_grid_m.size(); ++j)
-        t.rows.push_back({su->speed_rpm[i], 1e3 * su->depth_grid_m[j],
-                          su->probability(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j))});
     write_table_csv(
-        o.probability_output, t,
+        o.probability_output, probability_table(*su),
         {fmt::format(
              "probability that the cut is stable, over {} samples of the joint of {} (zero-order envelope of each sample's "
              "tool point FRF)",
-             su->samples, sampled_source),
+             su->samples, r.uncertain_joint),
          "spindle speed rpm, axial depth mm, probability 0..1"});
     written.push_back(o.probability_output);
     info(g, fmt::format("wrote {} (probability of stability)", o.probability_output));
@@ -366,10 +344,6 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
   if (o.json) {
     nlohmann::json out = r;
     out["units"] = "SI: depths m, speeds rpm, frequencies Hz, angles rad";
-    if (su) {
-      out["uncertainty"] = *su;
-      out["uncertainty"]["joint"] = sampled_source;
-    }
     out["output"] = o.output;
     out["envelope"] = o.envelope;
     out["plot"] = o.plot;
@@ -381,7 +355,7 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
                            : fmt::format("wrote {} ({} speeds)", o.output, r.boundary->boundary.size()));
     if (!o.envelope.empty()) info(g, fmt::format("wrote {} (stable envelope)", o.envelope));
     print_pockets(r, so.pocket_prominence);
-    if (su) report_uncertain_lobes(*su, r, sampled_source);
+    if (su) report_uncertain_lobes(*su, r, r.uncertain_joint);
     std::cout << std::flush;
     if (o.output.empty() && o.plot.empty())
       info(g,
@@ -390,35 +364,9 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
   }
   warn_all(r.warnings);
   if (!o.plot.empty()) {
-    plot::LobesFigureData d = r.figure;
-    if (su) {
-      // The title is full already: the legend says how the quantiles were made.
-      for (std::size_t l = 0; l < su->levels.size(); ++l)
-        d.other_envelopes.push_back({su->depth_m[l], fmt::format("stable with {:g} % probability{}", 100 * (1.0 - su->levels[l]),
-                                                                 l == 0 ? fmt::format(" ({} joint samples)", su->samples) : "")});
-    }
-    std::vector<FigureFile> figures{{plot::lobes_figure(d), o.plot}};
-    if (su) {
-      // The probability map, on the envelope's speeds and the map's depths, with the nominal and
-      // the 95 % envelope on top.
-      plot::ProbabilityMapData m;
-      m.title = fmt::format("Probability of stability, the joint of {} uncertain ({} samples)", plot::literal(sampled_source),
-                            su->samples);
-      m.speed_rpm = su->speed_rpm;
-      for (double a : su->depth_grid_m) m.depth_mm.push_back(1e3 * a);
-      for (std::size_t j = 0; j < su->depth_grid_m.size(); ++j)
-        for (std::size_t i = 0; i < su->speed_rpm.size(); ++i)
-          m.probability.push_back(su->probability(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)));
-      auto mm = [](const std::vector<double>& v) {
-        std::vector<double> out;
-        for (double a : v) out.push_back(1e3 * a);
-        return out;
-      };
-      m.envelopes.push_back({mm(su->nominal_depth_m), "nominal envelope"});
-      m.envelopes.push_back(
-          {mm(su->depth_m.front()), fmt::format("stable with {:g} % probability", 100 * (1.0 - su->levels.front()))});
-      figures.push_back({plot::probability_map_figure(m), with_suffix(o.plot, "_probability")});
-    }
+    std::vector<FigureFile> figures{{plot::lobes_figure(r.figure), o.plot}};
+    if (r.probability_figure)
+      figures.push_back({plot::probability_map_figure(*r.probability_figure), with_suffix(o.plot, "_probability")});
     draw_figures(g, figures, written);
   }
 }

@@ -156,7 +156,8 @@ void to_json(nlohmann::json& j, const ZeroOrderResult& r);
 // the boundary (which goes to CSV), "lowest_boundary" (BoundaryPoint) and "flip_speeds" (how many are flips).
 void to_json(nlohmann::json& j, const BoundaryResult& r);
 // {"method", "cutting", "speeds", "pockets": [EnvelopePoint…], "warnings"} and "zero_order" (method zoa), or
-// "boundary", "modes" and "fits" (method fd).
+// "boundary", "modes" and "fits" (method fd); "uncertainty" (StabilityUncertainty) and "uncertain_joint"
+// when the joint was uncertain.
 void to_json(nlohmann::json& j, const LobesStudyResult& r);
 
 // ---- The plan -------------------------------------------------------------------------------------

@@ -5,6 +5,7 @@
 // spindle speed rpm, axial depth mm, probability 0…1.
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include "toolpoint/io.hpp"
@@ -24,5 +25,14 @@ std::vector<plot::FrfTrace> band_traces(const FrfBand& band);
 // The probability of stability, one row per (speed, depth), speed slowest:
 // spindle_speed_rpm, axial_depth_mm, probability_stable.
 Table probability_table(const StabilityUncertainty& stability);
+
+// The quantile envelopes as extra curves of a lobes figure (plot::LobesFigureData::other_envelopes):
+// level q is "stable with (1 − q) probability", the first naming the sample count.
+std::vector<plot::LobesFigureData::Envelope> quantile_envelopes(const StabilityUncertainty& stability);
+
+// The probability map as figure data (plot::probability_map_figure) on the envelope's speeds and the
+// map's depths, with the nominal envelope and the lowest level's ("stable with 95 % probability")
+// on top; `joint_source` names the sampled joint in the title.
+plot::ProbabilityMapData probability_map(const StabilityUncertainty& stability, const std::string& joint_source);
 
 }  // namespace toolpoint

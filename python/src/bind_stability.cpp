@@ -367,6 +367,8 @@ void bind_stability(py::module_& m) {
       .def_property_readonly("envelope", [](const LobesStudyResult& r) { return envelope_dict(r.envelope); })
       .def_property_readonly(
           "pockets", [](const LobesStudyResult& r) { return envelope_dict(r.pockets); }, "the best speeds, deepest first")
+      .def_readonly("uncertainty", &LobesStudyResult::uncertainty, "StabilityUncertainty (with `joint`) or None")
+      .def_readonly("uncertain_joint", &LobesStudyResult::uncertain_joint, "the joint file sampled (with `joint`)")
       .def_readonly("warnings", &LobesStudyResult::warnings)
       .def(
           "to_dict", [](const LobesStudyResult& r) { return dict_of(r); },
@@ -378,8 +380,11 @@ void bind_stability(py::module_& m) {
          const std::optional<ComplexArray>& xy, const std::optional<ComplexArray>& yx, std::vector<Mode> x_modes,
          std::vector<Mode> y_modes, bool rigid_y, std::string frf_name, double max_depth_m, int lobes, double tolerance,
          int steps, int degree, int max_modes, std::optional<std::pair<double, double>> band_hz, double fit_target,
-         double pocket_prominence, int pockets, int threads, const py::object& progress) {
+         double pocket_prominence, int pockets, int threads, std::optional<Assembly> assembly, std::optional<JointFile> joint,
+         int samples, std::uint64_t seed, std::vector<double> levels, const py::object& progress) {
         LobesInput in;
+        in.assembly = std::move(assembly);
+        in.uncertain_joint = std::move(joint);
         if (xx) {
           if (!f) throw InvalidArgument("run_lobes_study: xx needs frequency_hz", "pass frequency_hz [Hz] with the FRFs");
           in.frfs = milling_of(*f, *xx, yy, xy, yx, rigid_y);
@@ -393,6 +398,7 @@ void bind_stability(py::module_& m) {
         o.pocket_prominence = pocket_prominence;
         o.pockets = pockets;
         o.parallel.threads = threads;
+        o.uncertainty = uncertainty_options(samples, seed, std::move(levels), threads, py::none());
         o.progress = progress_of(progress);
         py::gil_scoped_release nogil;
         return run_lobes_study(in, o);
@@ -401,14 +407,17 @@ void bind_stability(py::module_& m) {
       "xy"_a = py::none(), "yx"_a = py::none(), "x_modes"_a = std::vector<Mode>{}, "y_modes"_a = std::vector<Mode>{},
       "rigid_y"_a = false, "frf_name"_a = "tool point FRF", "max_depth_m"_a = 0.0, "lobes"_a = -1, "tolerance"_a = 0.01,
       "steps"_a = 0, "degree"_a = 2, "max_modes"_a = 8, "band_hz"_a = py::none(), "fit_target"_a = 0.02,
-      "pocket_prominence"_a = 0.02, "pockets"_a = 5, "threads"_a = 0, "progress"_a = py::none(),
+      "pocket_prominence"_a = 0.02, "pockets"_a = 5, "threads"_a = 0, "assembly"_a = py::none(), "joint"_a = py::none(),
+      "samples"_a = 200, "seed"_a = 1, "levels"_a = std::vector<double>{0.05, 0.5, 0.95}, "progress"_a = py::none(),
       "The lobes study (toolpoint lobes): method 'zoa' (zero-order, from the FRFs xx[, yy, xy, yx] [m/N] on frequency_hz [Hz]) "
       "or 'fd' "
       "(time-domain boundary of x_modes/y_modes, or of modes fitted to the FRFs: at most max_modes, the fewest within "
       "fit_target). "
       "speeds = (min_rpm, max_rpm, points; 0 points: 2000 zoa, 200 fd). Depths in m. The best speeds rise pocket_prominence "
       "above "
-      "their valleys.");
+      "their valleys. With `assembly` (whose tool point FRF xx is) and `joint` (a JointFile with [uncertainty]): also the "
+      "stable depth's quantiles and the probability of stability over `samples` joints drawn from its covariance "
+      "(result.uncertainty, as toolpoint lobes --samples).");
   m.def(
       "milling_frfs",
       [](const AssemblyModel& md, const RealArray& f, bool rigid_y) {

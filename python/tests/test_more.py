@@ -72,8 +72,12 @@ def test_stability_uncertainty_is_the_cli_one(tmp_path, example):
     top = max(d for d in nominal.envelope["depth_m"] if np.isfinite(d))
     depths = [1.5 * top * j / 200 for j in range(201)]  # the CLI's grid (cmd_lobes.cpp)
     s = tp.stability_uncertainty(a, jf, f, cut, (2000.0, 20000.0, 300), depths, samples=20)
-    expected = {k: v for k, v in cli["uncertainty"].items() if k != "joint"}
-    assert s.to_dict() == expected
+    assert s.to_dict() == cli["uncertainty"]
+    assert cli["uncertain_joint"] == str(tmp_path / "kht.toml")
+    # The study with the joint uncertain is the same numbers (and the CLI is it).
+    study = tp.run_lobes_study(cut, (2000.0, 20000.0, 300), frequency_hz=f, xx=tp.milling_frfs(tp.AssemblyModel(a), f),
+                               assembly=a, joint=jf, samples=20)
+    assert study.uncertainty.to_dict() == cli["uncertainty"]
     assert s.probability.shape == (300, 201) and s.depth_m.shape == (3, 300)
 
 

@@ -8,6 +8,7 @@
 
 #include "toolpoint/error.hpp"
 #include "toolpoint/plausibility.hpp"
+#include "toolpoint/uncertainty_io.hpp"
 
 namespace toolpoint {
 
@@ -253,10 +254,8 @@ void judge_lowest_depth(LobesStudyResult& res) {
         lowest * 1e3, plausible::kDepth.high * 1e3));
 }
 
-}  // namespace
-
-LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOptions& options) {
-  options.check();
+// The study with the joint's constants: the zero-order lobes or the time-domain boundary.
+LobesStudyResult nominal_lobes_study(const LobesInput& input, const LobesStudyOptions& options) {
   LobesStudyResult res;
   res.method = options.method;
   res.cutting = options.cutting;
@@ -335,9 +334,43 @@ LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOption
   return res;
 }
 
+}  // namespace
+
+LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOptions& options) {
+  options.check();
+  if (!input.uncertain_joint) return nominal_lobes_study(input, options);
+  if (!input.assembly)
+    throw InvalidArgument("LobesInput::uncertain_joint needs LobesInput::assembly (the joint is sampled inside the model)",
+                          "give the assembly whose tool point FRF LobesInput::frfs is");
+  options.uncertainty.check();
+  // Each joint sample is one more study like the nominal one.
+  const double share = 1.0 / (1.0 + options.uncertainty.samples);
+  LobesStudyOptions nominal = options;
+  if (options.progress) nominal.progress = [&](double f) { options.progress(share * f); };
+  LobesStudyResult res = nominal_lobes_study(input, nominal);
+
+  double top = 0.0;
+  for (const EnvelopePoint& p : res.envelope)
+    if (std::isfinite(p.depth_m)) top = std::max(top, p.depth_m);
+  std::vector<double> depths;
+  for (int j = 0; j <= 200; ++j) depths.push_back(1.5 * top * j / 200);
+  UncertaintyOptions draws = options.uncertainty;
+  draws.progress = {};
+  if (options.progress) draws.progress = [&](double f) { options.progress(share + (1.0 - share) * f); };
+  const bool rigid_y = input.rigid_y || (input.frfs && input.frfs->rigid_y);
+  res.uncertainty = stability_uncertainty(*input.assembly, *input.uncertain_joint, input.assembly->grid.values(), options,
+                                          depths, draws, rigid_y);
+  res.uncertain_joint = input.uncertain_joint->source;
+  const auto quantiles = quantile_envelopes(*res.uncertainty);
+  res.figure.other_envelopes.insert(res.figure.other_envelopes.end(), quantiles.begin(), quantiles.end());
+  res.probability_figure = probability_map(*res.uncertainty, res.uncertain_joint);
+  return res;
+}
+
 StabilityUncertainty stability_uncertainty(const Assembly& assembly, const JointFile& joint,
                                            const std::vector<double>& frequency_hz, const LobesStudyOptions& lobes,
-                                           const std::vector<double>& depth_grid_m, const UncertaintyOptions& o) {
+                                           const std::vector<double>& depth_grid_m, const UncertaintyOptions& o,
+                                           bool rigid_y) {
   o.check();
   lobes.check();
   LobesStudyOptions inner = lobes;
@@ -345,8 +378,8 @@ StabilityUncertainty stability_uncertainty(const Assembly& assembly, const Joint
   inner.progress = {};
   const auto envelope = [&](const Assembly& a) {
     LobesInput in;
-    in.frfs = milling_frfs(AssemblyModel(a), frequency_hz);
-    const LobesStudyResult r = run_lobes_study(in, inner);
+    in.frfs = milling_frfs(AssemblyModel(a), frequency_hz, rigid_y);
+    const LobesStudyResult r = nominal_lobes_study(in, inner);
     std::vector<double> speeds, d;
     for (const EnvelopePoint& p : r.envelope) {
       speeds.push_back(p.speed_rpm);

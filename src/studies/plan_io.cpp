@@ -13,6 +13,7 @@
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/io.hpp"
+#include "toolpoint/studies/overhang.hpp"
 #include "toolpoint/studies/plan.hpp"
 #include "toolpoint/studies/plan_io.hpp"
 #include "toml_reader.hpp"
@@ -495,7 +496,6 @@ PlanCandidate read_candidate(Reader& r, const toml::table& t, const std::string&
       r.fail(*t.get("overhang_max"),
              fmt::format("{}: overhang range {} to {} m must have 0 < overhang_min < overhang_max", path, *lo, *hi),
              "overhangs are in metres, e.g. overhang_min = 0.040, overhang_max = 0.090");
-    int points = 0;
     if (step) {
       if (!(*step > 0.0))
         r.fail(*t.get("overhang_step"), fmt::format("{}.overhang_step = {} m must be > 0", path, *step), "e.g. 0.0005 (0.5 mm)");
@@ -503,12 +503,13 @@ PlanCandidate read_candidate(Reader& r, const toml::table& t, const std::string&
       if (n > 100000)
         r.fail(*t.get("overhang_step"), fmt::format("{}: the overhang range gives {:.0f} overhangs; at most 100000", path, n),
                "use a larger step");
-      points = static_cast<int>(n);
-      // lo + i·step carries the step's binary error (0.102 becomes 0.10200000000000001, printed so
-      // in every table); the overhang meant is the decimal one, to a nanometre.
-      for (int i = 0; i < points; ++i) c.overhangs_m.push_back(std::round((*lo + i * *step) * 1e9) / 1e9);
+      if (!(*step >= 1e-9))
+        r.fail(*t.get("overhang_step"), fmt::format("{}.overhang_step = {} m is below a nanometre", path, *step),
+               "give the step in metres, e.g. 0.0005 (0.5 mm)");
+      // The decimal overhangs meant, not lo + i·step with its binary error (0.10200000000000001).
+      c.overhangs_m = overhang_sweep(*lo, *hi, *step);
     } else {
-      points = integer(r, t, "overhang_points", path, 2, 100000, 2);
+      const int points = integer(r, t, "overhang_points", path, 2, 100000, 2);
       for (int i = 0; i < points; ++i) c.overhangs_m.push_back(*lo + (*hi - *lo) * i / (points - 1));
     }
   }

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "toolpoint/assembly.hpp"
+#include "toolpoint/joint_file.hpp"
 #include "toolpoint/modal_fit.hpp"
 #include "toolpoint/parallel.hpp"
 #include "toolpoint/plot.hpp"
@@ -41,6 +42,10 @@ struct LobesInput {
   std::string frf_y_name = "y FRF";         // names G_yy
   std::vector<Mode> x_modes, y_modes;
   bool rigid_y = false;  // with modes given: the tool is rigid in y
+  // The joint uncertain: the assembly whose tool point FRF `frfs` is (milling_frfs on its grid, as
+  // every sample's is), and a joint file with [uncertainty] whose joint is drawn. Both or neither.
+  std::optional<Assembly> assembly;
+  std::optional<JointFile> uncertain_joint;
 };
 
 struct LobesStudyOptions {
@@ -66,6 +71,10 @@ struct LobesStudyOptions {
   double pocket_prominence = 0.02;
   int pockets = 5;
   ParallelOptions parallel;
+  // With LobesInput::uncertain_joint: the samples, seed, quantile levels and threads of the draws
+  // (its progress unused: the study's covers them). The probability map's depths: 201 from 0 to
+  // 1.5 × the nominal envelope's highest point.
+  UncertaintyOptions uncertainty;
   std::function<void(double fraction)> progress;  // fraction of the work done, 0…1
   void check() const;                             // throws InvalidArgument naming the field
 };
@@ -89,12 +98,19 @@ struct LobesStudyResult {
   std::vector<ModalFitSummary> fits;          // time domain: one per fitted FRF
   std::vector<EnvelopePoint> envelope;        // the stable envelope over speeds
   std::vector<EnvelopePoint> pockets;         // the best speeds, deepest first
-  plot::LobesFigureData figure;               // depth and chatter-frequency panels' data
+  plot::LobesFigureData figure;               // depth and chatter-frequency panels' data (with the
+                                              // quantile envelopes when the joint is uncertain)
+  // With LobesInput::uncertain_joint: the stable depth's quantiles per speed and the probability of
+  // stability (stability_uncertainty below), the joint file they were drawn from, and the map's data.
+  std::optional<StabilityUncertainty> uncertainty;
+  std::string uncertain_joint;
+  std::optional<plot::ProbabilityMapData> probability_figure;
   std::vector<std::string> warnings;
 };
 
 // Runs the study. Throws InvalidArgument (bad options, no FRF for the zero-order method, no modes
-// and no FRF), InputError (bad FRFs, nothing to fit), NumericalError.
+// and no FRF, an uncertain joint without its assembly), InputError (bad FRFs, nothing to fit),
+// NumericalError. Progress: the nominal study, then each joint sample.
 LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOptions& options);
 
 // Stability with the joint of `joint` uncertain (uncertainty.hpp) by this study with any of its
@@ -102,9 +118,11 @@ LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOption
 // `lobes` (one thread inside: the samples are what runs in parallel); the envelope is the study's
 // (the time-domain boundary where the search reached its ceiling counts as that depth). Same
 // errors as run_lobes_study, and envelope_uncertainty's.
+// `rigid_y`: each sample's tool is rigid in y (milling_frfs).
 StabilityUncertainty stability_uncertainty(const Assembly& assembly, const JointFile& joint,
                                            const std::vector<double>& frequency_hz, const LobesStudyOptions& lobes,
-                                           const std::vector<double>& depth_grid_m, const UncertaintyOptions& options);
+                                           const std::vector<double>& depth_grid_m, const UncertaintyOptions& options,
+                                           bool rigid_y = false);
 
 // The modal model of one point FRF for the time-domain method: 1, 2, … modes (up to
 // options.max_modes) until the modes alone represent it within `target`; the best one otherwise,
