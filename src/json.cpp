@@ -376,10 +376,17 @@ void to_json(nlohmann::json& j, const LobesStudyResult& r) {
     j["modes"] = r.modes;
     j["fits"] = r.fits;
   }
+  if (r.boundary) j["pocket_depth_error_m"] = numbers(r.pocket_depth_error_m);
   if (r.uncertainty) {
     j["uncertainty"] = *r.uncertainty;
     j["uncertain_joint"] = r.uncertain_joint;
+    j["pocket_quantiles"] = r.pocket_quantiles;
+    if (r.worst_speed) j["worst_speed"] = *r.worst_speed;
   }
+}
+
+void to_json(nlohmann::json& j, const SpeedQuantiles& q) {
+  j = {{"speed_rpm", q.speed_rpm}, {"nominal_depth_m", number(q.nominal_depth_m)}, {"depth_m", numbers(q.depth_m)}};
 }
 
 // ---- The plan (studies/plan.hpp): the per-speed series go to its CSV files. ---------------------------

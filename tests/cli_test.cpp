@@ -249,8 +249,10 @@ TEST_F(Cli, IdentifiedJointFileFeedsTheOtherCommands) {
   const Run lobes = ok(
       "lobes --assembly '" + kExample +
       "' --joint holder-tool=kht.toml --samples 20 --teeth 4 --kt 6e8 --kr 0.3 "
-      "--immersion 0.5 --milling down --rpm 5000:15000 --speeds 50 --probability-output prob.csv --plot lobes.png");
+      "--immersion 0.5 --milling down --rpm 5000:15000 --speeds 50 --probability-output prob.csv --plot lobes.png "
+      "--output points.csv");
   EXPECT_NE(lobes.out.find("stable with probability 95 %"), std::string::npos) << lobes.out;
+  EXPECT_NE(read_text_file(path("points.csv")).find("# tool point FRF the tool point FRF of"), std::string::npos);
   const std::string prob = read_text_file(path("prob.csv"));
   EXPECT_NE(prob.find("spindle_speed_rpm,axial_depth_mm,probability_stable"), std::string::npos);
   EXPECT_TRUE(exists("lobes.png"));

@@ -68,6 +68,11 @@ TEST(LobesStudy, FittedModesAndTheBoundaryFromThem) {
   }
   EXPECT_EQ(r.envelope.size(), 9u);
   EXPECT_FALSE(r.figure.lobes.empty());
+  // Each best speed carries the error estimate of the boundary point it is.
+  ASSERT_EQ(r.pocket_depth_error_m.size(), r.pockets.size());
+  for (std::size_t i = 0; i < r.pockets.size(); ++i)
+    for (const BoundaryPoint& b : r.boundary->boundary)
+      if (b.speed_rpm == r.pockets[i].speed_rpm && r.pockets[i].lobe >= 0) EXPECT_EQ(r.pocket_depth_error_m[i], b.depth_error_m);
 }
 
 // An FRF its resonances alone cannot represent (a large static residual flexibility, 40 % of the
@@ -188,9 +193,30 @@ TEST(LobesStudy, TheJointUncertainIsTheZeroOrderUncertaintyOnTheDocumentedGrid) 
   EXPECT_EQ(r.probability_figure->probability[5 * r.envelope.size() + 7], r.uncertainty->probability(7, 5));
   EXPECT_DOUBLE_EQ(fractions.back(), 1.0);
   EXPECT_TRUE(std::is_sorted(fractions.begin(), fractions.end()));
+  // The read-outs: each best speed's quantiles at the nearest of the map's speeds (the same grid
+  // here), and the speed where the 5 % quantile (95 % sure) is lowest.
+  ASSERT_EQ(r.pocket_quantiles.size(), r.pockets.size());
+  for (std::size_t i = 0; i < r.pockets.size(); ++i) {
+    const auto k = static_cast<std::size_t>(
+        std::find(direct.speed_rpm.begin(), direct.speed_rpm.end(), r.pockets[i].speed_rpm) - direct.speed_rpm.begin());
+    ASSERT_LT(k, direct.speed_rpm.size());
+    EXPECT_EQ(r.pocket_quantiles[i].nominal_depth_m, r.pockets[i].depth_m);
+    for (std::size_t l = 0; l < direct.levels.size(); ++l) EXPECT_EQ(r.pocket_quantiles[i].depth_m[l], direct.depth_m[l][k]);
+  }
+  ASSERT_TRUE(r.worst_speed);
+  EXPECT_EQ(r.worst_speed->depth_m[0], *std::min_element(direct.depth_m[0].begin(), direct.depth_m[0].end()));
   const nlohmann::json j = r;
   EXPECT_TRUE(j.contains("uncertainty"));
   EXPECT_EQ(j["uncertain_joint"], "test");
+
+  // The assembly alone: its tool point FRF is the one milling_frfs gives (the same study).
+  LobesInput model_only;
+  model_only.assembly = a;
+  LobesStudyOptions plain = options(LobesMethod::ZeroOrder, 0.5);
+  plain.cutting.teeth = 4;
+  plain.speeds = o.speeds;
+  const LobesStudyResult from_model = run_lobes_study(model_only, plain);
+  for (std::size_t i = 0; i < r.envelope.size(); ++i) ASSERT_EQ(from_model.envelope[i].depth_m, r.envelope[i].depth_m) << i;
 
   // Rigid in y: every sample's FRFs are too. With a covariance of zeros every sample is the
   // nominal joint, so each quantile is the rigid study's envelope (a flexible y would lower it).

@@ -52,19 +52,18 @@ struct LobesOptions {
 
 // The one place the tool point FRFs enter the command: FRF files, or an assembly file whose tool
 // point FRF (SHT11's H, seed Eq. 5) serves both directions (a round tool on a round spindle).
-// Fills input.frfs (left empty when no FRF is given: the time domain may run from --mode-x alone)
-// and the names used in messages.
+// Fills input.frfs or input.assembly (neither when no FRF is given: the time domain may run from
+// --mode-x alone) and the names used in messages.
 void tool_point_frfs(const LobesOptions& o, const Globals& g, const std::vector<JointFile>& joints, LobesInput& input) {
   if (!o.assembly.empty()) {
     if (!o.frf.empty() || !o.frf_y.empty() || !o.frf_xy.empty() || !o.frf_yx.empty())
       throw InvalidArgument("give either --assembly or --frf (with --frf-y, --frf-xy, --frf-yx), not both",
                             "drop --assembly to use measured FRFs, or drop the --frf options");
-    const LoadedModel lm = load_model(g, o.assembly, {}, joints);
-    input.frfs = milling_frfs(lm.model, lm.loaded.assembly.grid.values(), o.rigid_y);
-    input.assembly = lm.loaded.assembly;
+    input.assembly = load_assembly_on_grid(g, o.assembly, {}, joints).assembly;
     input.frf_name = "the tool point FRF of " + o.assembly;
-    info(g, fmt::format("tool point FRF from {} ({} frequencies, {:g}–{:g} Hz), used for x and y", o.assembly,
-                        input.frfs->xx.size(), input.frfs->xx.frequency_hz.front(), input.frfs->xx.frequency_hz.back()));
+    const std::vector<double> f = input.assembly->grid.values();
+    info(g, fmt::format("tool point FRF from {} ({} frequencies, {:g}–{:g} Hz), used for x and y", o.assembly, f.size(),
+                        f.front(), f.back()));
     return;
   }
   if (!joints.empty())
@@ -172,12 +171,10 @@ void print_pockets(const LobesStudyResult& r, double prominence) {
       "the valleys beside them):\n",
       r.speeds.min_rpm, r.speeds.max_rpm, 100.0 * prominence);
   std::cout << "  spindle_speed_rpm  axial_depth_mm  chatter_frequency_hz  lobe\n";
-  for (const EnvelopePoint& p : r.pockets) {
+  for (std::size_t i = 0; i < r.pockets.size(); ++i) {
+    const EnvelopePoint& p = r.pockets[i];
     // The time domain's depths carry their error estimate: print the digits it supports.
-    double error = std::nan("");
-    if (r.boundary)
-      for (const BoundaryPoint& b : r.boundary->boundary)
-        if (b.speed_rpm == p.speed_rpm) error = b.depth_error_m;
+    const double error = r.pocket_depth_error_m[i];
     // lobe −1: no instability up to the ceiling searched there.
     const bool capped = p.lobe < 0;
     const std::string depth = (capped ? ">= " : "") + (r.boundary && !capped ? depth_text_mm(p.depth_m * 1e3, error * 1e3)
@@ -189,29 +186,18 @@ void print_pockets(const LobesStudyResult& r, double prominence) {
 }
 
 // What the joint's uncertainty does to the best speeds: at each, the nominal depth and the depths
-// stable with 95 % and 50 % probability.
-void report_uncertain_lobes(const StabilityUncertainty& su, const LobesStudyResult& r, const std::string& source) {
+// stable with 95 % and 50 % probability (the default levels 0.05, 0.5, 0.95).
+void report_uncertain_lobes(const LobesStudyResult& r) {
   std::cout << fmt::format(
-      "with the joint of {} uncertain ({} samples): depth stable with probability 95 % / 50 % at the best speeds\n", source,
-      su.samples);
+      "with the joint of {} uncertain ({} samples): depth stable with probability 95 % / 50 % at the best speeds\n",
+      r.uncertain_joint, r.uncertainty->samples);
   std::cout << "  spindle_speed_rpm  nominal_mm  p95_mm  p50_mm\n";
-  std::size_t q05 = 0, q50 = 0;
-  for (std::size_t l = 0; l < su.levels.size(); ++l) {
-    if (std::abs(su.levels[l] - 0.05) < 1e-9) q05 = l;
-    if (std::abs(su.levels[l] - 0.5) < 1e-9) q50 = l;
-  }
-  for (const EnvelopePoint& p : r.pockets) {
-    const auto it = std::min_element(su.speed_rpm.begin(), su.speed_rpm.end(),
-                                     [&](double a, double b) { return std::abs(a - p.speed_rpm) < std::abs(b - p.speed_rpm); });
-    const auto k = static_cast<std::size_t>(it - su.speed_rpm.begin());
-    std::cout << fmt::format("  {:17.0f}  {:10.4f}  {:6.4f}  {:6.4f}\n", p.speed_rpm, 1e3 * su.nominal_depth_m[k],
-                             1e3 * su.depth_m[q05][k], 1e3 * su.depth_m[q50][k]);
-  }
-  std::size_t worst = 0;
-  for (std::size_t k = 0; k < su.speed_rpm.size(); ++k)
-    if (su.depth_m[q05][k] < su.depth_m[q05][worst]) worst = k;
-  std::cout << fmt::format("  lowest depth stable with 95 % probability: {:.4f} mm at {:.0f} rpm\n", 1e3 * su.depth_m[q05][worst],
-                           su.speed_rpm[worst]);
+  for (const SpeedQuantiles& q : r.pocket_quantiles)
+    std::cout << fmt::format("  {:17.0f}  {:10.4f}  {:6.4f}  {:6.4f}\n", q.speed_rpm, 1e3 * q.nominal_depth_m, 1e3 * q.depth_m[0],
+                             1e3 * q.depth_m[1]);
+  if (r.worst_speed)
+    std::cout << fmt::format("  lowest depth stable with 95 % probability: {:.4f} mm at {:.0f} rpm\n",
+                             1e3 * r.worst_speed->depth_m[0], r.worst_speed->speed_rpm);
 }
 
 void run_lobes(const LobesOptions& o, const Globals& g) {
@@ -288,10 +274,11 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
                            option, (*texts)[i]));
     }
   input.rigid_y = o.rigid_y;
-  if (so.method == LobesMethod::ZeroOrder && !input.frfs)
+  const bool has_frf = input.frfs || input.assembly;
+  if (so.method == LobesMethod::ZeroOrder && !has_frf)
     throw InvalidArgument("--method zoa needs the tool point FRF: --frf FILE.csv",
                           "add --frf tool_point.csv (or --assembly FILE.toml), or use --method fd with --mode-x");
-  if (so.method != LobesMethod::ZeroOrder && input.x_modes.empty() && !input.frfs)
+  if (so.method != LobesMethod::ZeroOrder && input.x_modes.empty() && !has_frf)
     throw InvalidArgument("--method fd needs modes: --mode-x MASS,ZETA,FN (repeatable) or --frf to fit them from",
                           "e.g. --mode-x 0.04,0.011,922, or --frf tool_point.csv");
 
@@ -318,7 +305,7 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
                                                          so.cutting.teeth, so.cutting.tangential_coefficient,
                                                          so.cutting.radial_ratio, so.cutting.engagement.entry_rad * 180.0 / kPi,
                                                          so.cutting.engagement.exit_rad * 180.0 / kPi),
-                                             input.frfs ? fmt::format("tool point FRF {}", input.frf_name)
+                                             has_frf ? fmt::format("tool point FRF {}", input.frf_name)
                                                         : std::string("modal model from --mode-x/--mode-y")};
   std::vector<std::string> written;
   if (!o.output.empty()) {
@@ -355,7 +342,7 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
                            : fmt::format("wrote {} ({} speeds)", o.output, r.boundary->boundary.size()));
     if (!o.envelope.empty()) info(g, fmt::format("wrote {} (stable envelope)", o.envelope));
     print_pockets(r, so.pocket_prominence);
-    if (su) report_uncertain_lobes(*su, r, r.uncertain_joint);
+    if (su) report_uncertain_lobes(r);
     std::cout << std::flush;
     if (o.output.empty() && o.plot.empty())
       info(g,

@@ -156,9 +156,11 @@ void to_json(nlohmann::json& j, const ZeroOrderResult& r);
 // the boundary (which goes to CSV), "lowest_boundary" (BoundaryPoint) and "flip_speeds" (how many are flips).
 void to_json(nlohmann::json& j, const BoundaryResult& r);
 // {"method", "cutting", "speeds", "pockets": [EnvelopePoint…], "warnings"} and "zero_order" (method zoa), or
-// "boundary", "modes" and "fits" (method fd); "uncertainty" (StabilityUncertainty) and "uncertain_joint"
-// when the joint was uncertain.
+// "boundary", "modes", "fits" and "pocket_depth_error_m" (method fd); "uncertainty" (StabilityUncertainty),
+// "uncertain_joint", "pocket_quantiles" and "worst_speed" when the joint was uncertain.
 void to_json(nlohmann::json& j, const LobesStudyResult& r);
+// {"speed_rpm", "nominal_depth_m", "depth_m": per level}
+void to_json(nlohmann::json& j, const SpeedQuantiles& q);
 
 // ---- The plan -------------------------------------------------------------------------------------
 

@@ -280,6 +280,7 @@ LobesStudyResult nominal_lobes_study(const LobesInput& input, const LobesStudyOp
     res.warnings.insert(res.warnings.end(), res.zero_order->warnings.begin(), res.zero_order->warnings.end());
     res.envelope = res.zero_order->envelope;
     res.pockets = stability_pockets(res.envelope, options.pockets, options.pocket_prominence);
+    res.pocket_depth_error_m.assign(res.pockets.size(), kNaN);
     const DepthAxis axis = depth_axis(res.envelope, res.pockets);
     res.figure = zero_order_figure(*res.zero_order, 2.0 * axis.top_m);
     set_depth_axis(res.figure, axis);
@@ -328,6 +329,13 @@ LobesStudyResult nominal_lobes_study(const LobesInput& input, const LobesStudyOp
   // Speeds stable up to the ceiling form a plateau at the ceiling: a pocket at least that deep
   // (lobe −1, reported as "≥").
   res.pockets = stability_pockets(res.envelope, options.pockets, options.pocket_prominence);
+  for (const EnvelopePoint& p : res.pockets) {
+    double error = kNaN;
+    if (p.lobe >= 0)
+      for (const BoundaryPoint& b : res.boundary->boundary)
+        if (b.speed_rpm == p.speed_rpm) error = b.depth_error_m;
+    res.pocket_depth_error_m.push_back(error);
+  }
   res.figure = boundary_figure(*res.boundary);
   set_depth_axis(res.figure, depth_axis(res.envelope, res.pockets));
   judge_lowest_depth(res);
@@ -338,10 +346,18 @@ LobesStudyResult nominal_lobes_study(const LobesInput& input, const LobesStudyOp
 
 LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOptions& options) {
   options.check();
-  if (!input.uncertain_joint) return nominal_lobes_study(input, options);
-  if (!input.assembly)
+  if (input.uncertain_joint && !input.assembly)
     throw InvalidArgument("LobesInput::uncertain_joint needs LobesInput::assembly (the joint is sampled inside the model)",
                           "give the assembly whose tool point FRF LobesInput::frfs is");
+  if (!input.frfs && input.assembly) {
+    LobesInput with_frfs = input;
+    const AssemblyModel model(*input.assembly);
+    with_frfs.frfs = milling_frfs(model, input.assembly->grid.values(), input.rigid_y);
+    LobesStudyResult r = run_lobes_study(with_frfs, options);
+    r.warnings.insert(r.warnings.begin(), model.warnings().begin(), model.warnings().end());
+    return r;
+  }
+  if (!input.uncertain_joint) return nominal_lobes_study(input, options);
   options.uncertainty.check();
   // Each joint sample is one more study like the nominal one.
   const double share = 1.0 / (1.0 + options.uncertainty.samples);
@@ -364,6 +380,22 @@ LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOption
   const auto quantiles = quantile_envelopes(*res.uncertainty);
   res.figure.other_envelopes.insert(res.figure.other_envelopes.end(), quantiles.begin(), quantiles.end());
   res.probability_figure = probability_map(*res.uncertainty, res.uncertain_joint);
+  const StabilityUncertainty& u = *res.uncertainty;
+  const auto at = [&](std::size_t k) {
+    SpeedQuantiles q{u.speed_rpm[k], u.nominal_depth_m[k], {}};
+    for (const auto& level : u.depth_m) q.depth_m.push_back(level[k]);
+    return q;
+  };
+  for (const EnvelopePoint& p : res.pockets) {
+    const auto it = std::min_element(u.speed_rpm.begin(), u.speed_rpm.end(), [&](double a, double b) {
+      return std::abs(a - p.speed_rpm) < std::abs(b - p.speed_rpm);
+    });
+    res.pocket_quantiles.push_back(at(static_cast<std::size_t>(it - u.speed_rpm.begin())));
+  }
+  if (!u.depth_m.empty() && !u.speed_rpm.empty()) {
+    const auto& first = u.depth_m.front();
+    res.worst_speed = at(static_cast<std::size_t>(std::min_element(first.begin(), first.end()) - first.begin()));
+  }
   return res;
 }
 

@@ -33,17 +33,19 @@ enum class LobesMethod {
 };
 const char* to_string(LobesMethod m);  // "zoa", "fd" (as the CLI's --method and a study file's options.method)
 
-// Where the dynamics come from. The zero-order method needs `frfs`; the time-domain method takes
-// the modes given, or fits them to `frfs` (x from G_xx, y from G_yy, or the x modes for a
-// symmetric tool, none when rigid in y).
+// Where the dynamics come from. The zero-order method needs `frfs` (or `assembly`, whose tool point
+// FRF milling_frfs gives on its grid when `frfs` is empty); the time-domain method takes the modes
+// given, or fits them to `frfs` (x from G_xx, y from G_yy, or the x modes for a symmetric tool,
+// none when rigid in y).
 struct LobesInput {
   std::optional<MillingFrfs> frfs;
   std::string frf_name = "tool point FRF";  // names G_xx in messages (a file name, "the tool point FRF of X.toml")
   std::string frf_y_name = "y FRF";         // names G_yy
   std::vector<Mode> x_modes, y_modes;
   bool rigid_y = false;  // with modes given: the tool is rigid in y
-  // The joint uncertain: the assembly whose tool point FRF `frfs` is (milling_frfs on its grid, as
-  // every sample's is), and a joint file with [uncertainty] whose joint is drawn. Both or neither.
+  // An assembly model: the tool point FRF when `frfs` is empty (milling_frfs on its grid, for x and
+  // y, x alone when rigid_y), and the model each joint sample goes into. With the joint uncertain:
+  // a joint file with [uncertainty] whose joint is drawn (needs `assembly`).
   std::optional<Assembly> assembly;
   std::optional<JointFile> uncertain_joint;
 };
@@ -88,6 +90,14 @@ struct ModalFitSummary {
   bool target_met = false;
 };
 
+// The joint's uncertainty at one spindle speed: the nominal envelope's depth and each quantile
+// level's [m] (StabilityUncertainty::levels; level q: stable with probability 1 − q).
+struct SpeedQuantiles {
+  double speed_rpm = 0.0;
+  double nominal_depth_m = 0.0;
+  std::vector<double> depth_m;
+};
+
 struct LobesStudyResult {
   LobesMethod method = LobesMethod::ZeroOrder;
   CuttingConditions cutting;
@@ -98,12 +108,16 @@ struct LobesStudyResult {
   std::vector<ModalFitSummary> fits;          // time domain: one per fitted FRF
   std::vector<EnvelopePoint> envelope;        // the stable envelope over speeds
   std::vector<EnvelopePoint> pockets;         // the best speeds, deepest first
+  std::vector<double> pocket_depth_error_m;   // per best speed: the time domain's depth error estimate
+                                              // (NaN for the zero-order method and a capped speed)
   plot::LobesFigureData figure;               // depth and chatter-frequency panels' data (with the
                                               // quantile envelopes when the joint is uncertain)
   // With LobesInput::uncertain_joint: the stable depth's quantiles per speed and the probability of
   // stability (stability_uncertainty below), the joint file they were drawn from, and the map's data.
   std::optional<StabilityUncertainty> uncertainty;
   std::string uncertain_joint;
+  std::vector<SpeedQuantiles> pocket_quantiles;  // per best speed, at the nearest of the uncertainty's speeds
+  std::optional<SpeedQuantiles> worst_speed;     // where the first level's depth (95 % sure) is lowest
   std::optional<plot::ProbabilityMapData> probability_figure;
   std::vector<std::string> warnings;
 };
