@@ -112,6 +112,9 @@ run(COMMAND ${consumer}/identify_joint ${example} sh.csv sht.csv WORKING_DIRECTO
 foreach(expected "k_yf +4\\.19e\\+07 " "c_yf +54 " "k_ym +2\\.06e\\+06 " "k_tm +65000 ")
   expect_match("${joint}" "${expected}" "identify_joint (noise-free data give back the file's joint)")
 endforeach()
+# The library's band rule (the measured peak nearest the mode effect analysis names) and its verdict.
+expect_match("${joint}" "effect analysis on the model" "identify_joint's band choice")
+expect_match("${joint}" "verdict: pass" "identify_joint's verdict")
 
 # ---- 3. A pkg-config consumer --------------------------------------------------------------------
 get_filename_component(pc_dir ${pc_files} DIRECTORY)
