@@ -115,6 +115,12 @@ CaseStudy run_case_study(const Assembly& assembly, const CaseStudyOptions& o) {
     cs.fitted = identify_joint_from_frfs(assembly, {measured}, fo);
     cs.fit_verification = couple_back(cs.fitted->identified, cs.sht_fitted);
   }
+  // Every warning in one list: the identifications' too (the fit's own, since it repeats the
+  // read-out's, which the seed's identification already gave).
+  cs.warnings.insert(cs.warnings.end(), cs.seed.warnings.begin(), cs.seed.warnings.end());
+  if (cs.fitted)
+    for (const std::string& w : cs.fitted->warnings)
+      if (w.rfind("seed read-out: ", 0) != 0) cs.warnings.push_back("band fit: " + w);
   return cs;
 }
 

@@ -98,11 +98,7 @@ void run_demo(const DemoOptions& o, const Globals& g) {
   j["points"] = f.size();
   j["noise"] = {{"sigma", o.sigma}, {"seed_sh11", o.seed}, {"seed_sht11", o.seed + 1}};
   j["filter"] = {{"method", "Savitzky-Golay"}, {"window_points", o.window}, {"order", o.order}};
-  std::vector<std::string> warnings = cs.warnings;
-  for (const auto& w : cs.seed.warnings) warnings.push_back(w);
-  if (cs.fitted)
-    for (const auto& w : cs.fitted->warnings)
-      if (w.rfind("seed read-out: ", 0) != 0) warnings.push_back("band fit: " + w);
+  const std::vector<std::string>& warnings = cs.warnings;
 
   // Figures (the seed's Fig. 2–5). A failure is kept until summary.json and the report are out.
   std::vector<std::string> figures;
@@ -158,8 +154,7 @@ void print_report(const DemoOptions& o, const LoadedAssembly& loaded, const Case
   for (std::size_t i = 0; i < cs.effect.modes.size(); ++i)
     std::cout << fmt::format(" {:.1f} Hz{}", cs.effect.modes[i].frequency_hz, i == cs.effect.dominant ? " (tool mode)" : "");
   std::cout << "\n";
-  double worst = 0.0;
-  for (double d : cs.clean_max_deviation) worst = std::max(worst, d);
+  const double worst = *std::max_element(cs.clean_max_deviation.begin(), cs.clean_max_deviation.end());
   std::cout << fmt::format(
       "2. Identification from noise-free FRFs (Eq. 6) over the whole band: all 8 parameters equal the\n"
       "   holder-tool joint put in, within {:.1e} relative at every frequency (seed Fig. 3).\n",

@@ -158,8 +158,8 @@ void run_identify(const IdentifyOptions& o, const Globals& g) {
 
   Progress progress(g, "identify");
   io.progress = progress.part(0.05, 0.95);
-  const LoadedModel lm = load_model(g, o.assembly);
-  const Identification id = identify_joint_from_frfs(lm.loaded.assembly, data, io);
+  const LoadedAssembly loaded = load_assembly_on_grid(g, o.assembly);
+  const Identification id = identify_joint_from_frfs(loaded.assembly, data, io);
   progress.done();
   warn_all(id.warnings);
 

@@ -88,9 +88,7 @@ def report(cs, args, assembly_path):
             v = cs.fit_verification[i]
             line += f"  {pct(v.frequency_error):>17}  {pct(v.magnitude_error):>11}"
         p(line)
-    warnings = list(cs.warnings) + list(cs.seed.warnings)
-    if fitted:
-        warnings += ["band fit: " + w for w in cs.fitted.warnings if not w.startswith("seed read-out: ")]
+    warnings = list(cs.warnings)  # every one: the identifications' included
     if warnings:
         p("")
         p("notes:")

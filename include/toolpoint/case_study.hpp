@@ -50,7 +50,7 @@ struct CaseStudy {
   std::optional<Identification> fitted;                         // the band fit on the raw noisy data (options.fit)
   BlockSeries sht_fitted;                                       // SHT11 with the fitted constants
   std::vector<ModeComparison> fit_verification;                 // true SHT11 against sht_fitted
-  std::vector<std::string> warnings;
+  std::vector<std::string> warnings;                            // every one, the identifications' included
 };
 
 // Runs the case study on `assembly` (its holder–tool joint must be elastic: it is the reference).

@@ -262,6 +262,8 @@ Identification identify_joint_from_frfs(const Assembly& assembly, const std::vec
     const std::string gname = d.g_name.empty() ? (ht || o.route == Route::SpindleHolderFromSHT ? "SHT11" : "SH11") : d.g_name;
     validate(d.G11, gname, 3);
     const AssemblyModel m(u.assembly);
+    // The model's own remarks (a piece computed exactly, …), once: they are the assembly's.
+    if (s == 0) r.warnings.insert(r.warnings.end(), m.warnings().begin(), m.warnings().end());
     if (d.B11) {
       validate(*d.B11, d.b_name.empty() ? "B11" : d.b_name, 3);
       require_same_grid(d.B11->frequency_hz, d.b_name.empty() ? "B11" : d.b_name, d.G11.frequency_hz, gname);
