@@ -207,10 +207,10 @@ LoadedAssembly parse_assembly(const std::string& text, const std::string& source
   // Held over less than its diameter (0 when the overhang is the whole length): no holder grips a
   // tool so, so a length or an overhang is most likely mistyped.
   if (const double held = a.tool.length - a.tool.overhang; held >= 0.0 && held < a.tool.diameter && to.get("overhang"))
-    r.warnings.push_back(fmt::format("{}: the tool is held over {:.4g} mm (tool.length {} m − tool.overhang {} m), less than its "
-                                     "diameter {:.4g} mm: check both",
-                                     r.where(*to.get("overhang")), 1e3 * held, a.tool.length, a.tool.overhang,
-                                     1e3 * a.tool.diameter));
+    r.warnings.push_back(
+        fmt::format("{}: the tool is held over {:.4g} mm (tool.length {} m − tool.overhang {} m), less than its "
+                    "diameter {:.4g} mm: check both",
+                    r.where(*to.get("overhang")), 1e3 * held, a.tool.length, a.tool.overhang, 1e3 * a.tool.diameter));
 
   if (const toml::table* t = r.table(root, "joints", "", false)) {
     r.only(*t, "joints", {"spindle_holder", "holder_tool"});

@@ -11,7 +11,8 @@ namespace toolpoint {
 
 void CaseStudyOptions::check() const {
   if (!(noise_sigma >= 0.0 && noise_sigma < 1.0))
-    throw InvalidArgument(fmt::format("CaseStudyOptions::noise_sigma {} must lie in [0, 1) (a fraction: 0.05 = 5 %)", noise_sigma));
+    throw InvalidArgument(
+        fmt::format("CaseStudyOptions::noise_sigma {} must lie in [0, 1) (a fraction: 0.05 = 5 %)", noise_sigma));
   if (!(band_width > 0.0 && band_width < 0.5))
     throw InvalidArgument(fmt::format("CaseStudyOptions::band_width {} must lie in (0, 0.5)", band_width));
   filter.check();

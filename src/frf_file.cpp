@@ -210,13 +210,6 @@ std::optional<FrfUnits> parse_frf_units(std::string_view text) {
   return FrfUnits{response->first, response->second / *force, std::string(trim(text))};
 }
 
-FrfUnits parse_frf_units_option(const std::string& text, const std::string& option) {
-  if (const auto u = parse_frf_units(text)) return *u;
-  throw InvalidArgument(fmt::format("{} '{}' are not FRF units toolpoint knows", option, text),
-                        "use m/N, mm/N, um/N (receptance); m/s/N, mm/s/N (mobility); m/s^2/N, g/N (accelerance); "
-                        "force N, kN or lbf, e.g. in/lbf");
-}
-
 std::optional<FrfUnits> uff_label_units(const std::string& numerator, const std::string& denominator) {
   if (const auto whole = parse_frf_units(numerator)) return whole;
   const auto response = response_units(normalise_units(numerator));

@@ -489,8 +489,7 @@ void require_finite_output(const Table& table, const std::string& path) {
       const double v = table.rows[r][c];
       if (std::isfinite(v)) continue;
       const std::string column = c < table.columns.size() ? table.columns[c] : fmt::format("#{}", c + 1);
-      const bool optional =
-          std::find(table.may_be_empty.begin(), table.may_be_empty.end(), column) != table.may_be_empty.end();
+      const bool optional = std::find(table.may_be_empty.begin(), table.may_be_empty.end(), column) != table.may_be_empty.end();
       if (std::isnan(v) && optional) continue;
       throw NumericalError(fmt::format("{}: the value of '{}' in data row {} is {}: a result out of the range of double "
                                        "precision or undefined; nothing was written",

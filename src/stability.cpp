@@ -112,15 +112,18 @@ std::optional<PassivityViolation> passivity_violation(const FrfSeries& g) {
 }
 
 std::string PassivityViolation::describe(const std::string& what) const {
-  const std::string where = fmt::format("{}: Im G = {:.4g} > 0 at its resonance peak at {:.6g} Hz (|G| {:.0f} % of the largest; "
-                                        "{} of its {} resonance peaks so): a direct receptance of a passive structure has "
-                                        "Im G < 0 at every frequency in the e^{{iωt}} sign convention",
-                                        what, value.imag(), frequency_hz, 100.0 * share, violating, peaks);
-  return violating == peaks ? where + "; every peak shows it, as data in the conjugate convention e^{−iωt} or of the opposite "
-                                      "sign do"
-                            : where + "; the others do not, so the structure feeds energy in at this mode (negative "
-                                      "damping, as a joint whose damping matrix is not positive definite gives): it is "
-                                      "unstable at any depth of cut";
+  const std::string where = fmt::format(
+      "{}: Im G = {:.4g} > 0 at its resonance peak at {:.6g} Hz (|G| {:.0f} % of the largest; "
+      "{} of its {} resonance peaks so): a direct receptance of a passive structure has "
+      "Im G < 0 at every frequency in the e^{{iωt}} sign convention",
+      what, value.imag(), frequency_hz, 100.0 * share, violating, peaks);
+  return violating == peaks ? where +
+                                  "; every peak shows it, as data in the conjugate convention e^{−iωt} or of the opposite "
+                                  "sign do"
+                            : where +
+                                  "; the others do not, so the structure feeds energy in at this mode (negative "
+                                  "damping, as a joint whose damping matrix is not positive definite gives): it is "
+                                  "unstable at any depth of cut";
 }
 
 namespace {
@@ -218,14 +221,15 @@ LobeTable zero_order_roots(const MillingFrfs& frfs, const CuttingConditions& cut
   // The FRFs scaled to a largest modulus near 1, so that squared moduli neither overflow nor
   // underflow whatever the units (μ scales with G, the depth as 1/G, the phase not).
   double g_max = 0.0;
-  for (const FrfSeries* f : {&frfs.xx, frfs.yy ? &*frfs.yy : nullptr, frfs.xy ? &*frfs.xy : nullptr, frfs.yx ? &*frfs.yx : nullptr})
+  for (const FrfSeries* f :
+       {&frfs.xx, frfs.yy ? &*frfs.yy : nullptr, frfs.xy ? &*frfs.xy : nullptr, frfs.yx ? &*frfs.yx : nullptr})
     if (f)
       for (const Complex& v : f->values) g_max = std::max(g_max, std::abs(v));
   if (!(g_max > 0.0) || !std::isfinite(g_max))
     throw NumericalError(fmt::format("the milling FRFs' largest modulus is {} m/N: no chatter is possible", g_max),
                          "check the FRF: a receptance in m/N that is not zero everywhere");
   const int g_exp = std::ilogb(g_max);  // scaling by 2^−g_exp (ldexp) is exact, even from subnormals
-  bool out_of_range = false;  // a root with Λ_R < 0 whose depth does not fit in a double
+  bool out_of_range = false;            // a root with Λ_R < 0 whose depth does not fit in a double
   Complex prev[2] = {0.0, 0.0};
   for (std::size_t i = 0; i < n; ++i) {
     auto scaled = [g_exp](Complex v) { return Complex(std::ldexp(v.real(), -g_exp), std::ldexp(v.imag(), -g_exp)); };

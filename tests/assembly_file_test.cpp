@@ -135,7 +135,8 @@ TEST(AssemblyFile, ImplausibleMagnitudesWarnWithTheKey) {
 // seed's is 54) and a bearing damping of 5e12 N s/m cannot be meant and are refused at their
 // line; and a tool held over nothing (overhang = length, a mistyped overhang) is said.
 TEST(AssemblyFile, DampingsAndTheClampedLengthAreJudged) {
-  expect_error(replace(example_text(), "c_yf = 54.0", "c_yf = 5.4e9"), {"bad.toml:", "c_yf = 5.4e+09", "cannot be meant", "N s/m"});
+  expect_error(replace(example_text(), "c_yf = 54.0", "c_yf = 5.4e9"),
+               {"bad.toml:", "c_yf = 5.4e+09", "cannot be meant", "N s/m"});
   const std::string text = example_text();
   const std::size_t bearing = text.find("[[spindle.bearing]]");
   ASSERT_NE(bearing, std::string::npos);

@@ -879,8 +879,9 @@ TEST_F(Cli, UnitSlipsOnOptionsAreRefusedOrSaid) {
 TEST_F(Cli, UnguardedOptionsAreRefusedOrSaid) {
   predict_blocks("500:3000:10");
   const std::string cut = " --teeth 4 --kt 6e8 --immersion 0.5 --milling down --rpm 2000:20000";
-  const std::string fd = "lobes --method fd --rigid-y --teeth 2 --kt 6e8 --kn 2e8 --immersion 0.05 --milling down "
-                         "--rpm 5000:25000 --speeds 5 ";
+  const std::string fd =
+      "lobes --method fd --rigid-y --teeth 2 --kt 6e8 --kn 2e8 --immersion 0.05 --milling down "
+      "--rpm 5000:25000 --speeds 5 ";
   expect_error(run("lobes --frf sht.csv --kr 30" + cut), 2, {"--kr", "30", "cannot be meant", "ratio"});
   const Run kr3 = ok("lobes --frf sht.csv --kr 3" + cut);
   EXPECT_NE(kr3.err.find("warning: --kr = 3 is outside the usual range"), std::string::npos) << kr3.err;

@@ -133,12 +133,11 @@ TEST(FrfVariants, AmbiguousCsvNamesTheColumnAndTheOption) {
   EXPECT_TRUE(contains(error_of("csv_numpy_extra_column.csv", {.csv = {.columns = {"1", "2", "x"}}}),
                        "names 'x', which is no header cell"));
   // The user's units win over the header's, with a warning; units and ordinate must agree.
-  const FrfFileData as_si = read_frf_file(kDir + "csv_mobility_mm_per_s.csv",
-                                          {.units = parse_frf_units_option("m/s/N", "--units")});
+  const FrfFileData as_si = read_frf_file(kDir + "csv_mobility_mm_per_s.csv", {.units = parse_frf_units("m/s/N").value()});
   EXPECT_NEAR(std::abs(as_si.single.values[3]), 1000.0 * std::abs(sdof(1600.0)), 1e-12 * std::abs(sdof(1600.0)) * 1000.0);
   EXPECT_TRUE(any_contains(as_si.warnings, {"says the values are in 'mm/s/N'", "'m/s/N'", "are used"}));
   EXPECT_THROW(read_frf_file(kDir + "csv_mobility_mm_per_s.csv",
-                             {.ordinate = FrfOrdinate::Receptance, .units = parse_frf_units_option("g/N", "--units")}),
+                             {.ordinate = FrfOrdinate::Receptance, .units = parse_frf_units("g/N").value()}),
                InvalidArgument);
 }
 

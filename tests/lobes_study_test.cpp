@@ -197,8 +197,8 @@ TEST(LobesStudy, TheJointUncertainIsTheZeroOrderUncertaintyOnTheDocumentedGrid) 
   // here), and the speed where the 5 % quantile (95 % sure) is lowest.
   ASSERT_EQ(r.pocket_quantiles.size(), r.pockets.size());
   for (std::size_t i = 0; i < r.pockets.size(); ++i) {
-    const auto k = static_cast<std::size_t>(
-        std::find(direct.speed_rpm.begin(), direct.speed_rpm.end(), r.pockets[i].speed_rpm) - direct.speed_rpm.begin());
+    const auto k = static_cast<std::size_t>(std::find(direct.speed_rpm.begin(), direct.speed_rpm.end(), r.pockets[i].speed_rpm) -
+                                            direct.speed_rpm.begin());
     ASSERT_LT(k, direct.speed_rpm.size());
     EXPECT_EQ(r.pocket_quantiles[i].nominal_depth_m, r.pockets[i].depth_m);
     for (std::size_t l = 0; l < direct.levels.size(); ++l) EXPECT_EQ(r.pocket_quantiles[i].depth_m[l], direct.depth_m[l][k]);

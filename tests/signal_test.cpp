@@ -231,8 +231,7 @@ TEST(Savgol, PeakChangesIgnoreNoisePeaks) {
   for (std::uint64_t seed = 1; seed <= 40; ++seed) {
     FrfSeries noisy = clean;
     const std::vector<double> z = standard_normals(2 * noisy.size(), seed);
-    for (std::size_t i = 0; i < noisy.size(); ++i)
-      noisy.values[i] += sigma / std::sqrt(2.0) * Complex(z[2 * i], z[2 * i + 1]);
+    for (std::size_t i = 0; i < noisy.size(); ++i) noisy.values[i] += sigma / std::sqrt(2.0) * Complex(z[2 * i], z[2 * i + 1]);
     const FrfSeries filtered = savgol_filter(noisy, {21, 2}).series;
     const PeakChangeReport r = peak_changes(noisy, filtered, 21);
     ASSERT_EQ(r.peaks.size(), 1u) << "seed " << seed;

@@ -37,7 +37,9 @@ void print_report(const CoupleArgs& o, const Globals& g, double inside, const st
                   const std::vector<std::vector<double>>& modes, bool sweep);
 
 // plausibility.hpp's rule for an overhang [m]: a 49 m tool is refused, 0.8 m said to be unusual.
-void check_overhang(double v) { check_plausible(plausible::kOverhang, v, "--overhang", fmt::format("did you mean {:g} (m)?", v / 1000.0)); }
+void check_overhang(double v) {
+  check_plausible(plausible::kOverhang, v, "--overhang", fmt::format("did you mean {:g} (m)?", v / 1000.0));
+}
 
 // --overhang: one length or a sweep START:STOP:STEP, in m (empty: none given).
 std::vector<double> parse_overhangs(const std::string& text) {

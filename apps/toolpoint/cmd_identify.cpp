@@ -68,7 +68,8 @@ SavgolOptions parse_filter(const std::string& text) {
   } catch (const InvalidArgument& e) {  // the window and order are the two numbers of --filter here, not --window/--order
     std::string what = e.what();
     for (const auto& [field, name] : {std::pair{"SavgolOptions::window", "WINDOW"}, {"SavgolOptions::order", "ORDER"}})
-      for (std::size_t at = what.find(field); at != std::string::npos; at = what.find(field)) what.replace(at, std::strlen(field), name);
+      for (std::size_t at = what.find(field); at != std::string::npos; at = what.find(field))
+        what.replace(at, std::strlen(field), name);
     throw InvalidArgument(fmt::format("--filter {}: {}", text, what), e.hint());
   }
   return o;

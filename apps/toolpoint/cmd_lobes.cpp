@@ -263,15 +263,16 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
   }
   tool_point_frfs(o, g, joints, input);
   if (o.rigid_y && !o.mode_y.empty()) throw InvalidArgument("--rigid-y and --mode-y contradict each other", "drop one of them");
-  for (const auto& [texts, option, modes] : {std::tuple{&o.mode_x, "--mode-x", &input.x_modes}, {&o.mode_y, "--mode-y", &input.y_modes}})
+  for (const auto& [texts, option, modes] :
+       {std::tuple{&o.mode_x, "--mode-x", &input.x_modes}, {&o.mode_y, "--mode-y", &input.y_modes}})
     for (std::size_t i = 0; i < texts->size(); ++i) {
       modes->push_back(parse_mode((*texts)[i], option));
       // The same mode twice is twice as flexible: a repeated argument, most likely.
       for (std::size_t j = 0; j < i; ++j)
         if ((*modes)[j].mass_kg == modes->back().mass_kg && (*modes)[j].damping_ratio == modes->back().damping_ratio &&
             (*modes)[j].frequency_hz == modes->back().frequency_hz)
-          warn(fmt::format("{} {} is given twice: both are used (a mode of half the mass); drop one if that is not meant",
-                           option, (*texts)[i]));
+          warn(fmt::format("{} {} is given twice: both are used (a mode of half the mass); drop one if that is not meant", option,
+                           (*texts)[i]));
     }
   input.rigid_y = o.rigid_y;
   const bool has_frf = input.frfs || input.assembly;
@@ -306,7 +307,7 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
                                                          so.cutting.radial_ratio, so.cutting.engagement.entry_rad * 180.0 / kPi,
                                                          so.cutting.engagement.exit_rad * 180.0 / kPi),
                                              has_frf ? fmt::format("tool point FRF {}", input.frf_name)
-                                                        : std::string("modal model from --mode-x/--mode-y")};
+                                                     : std::string("modal model from --mode-x/--mode-y")};
   std::vector<std::string> written;
   if (!o.output.empty()) {
     write_text_file(o.output,

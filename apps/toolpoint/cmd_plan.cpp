@@ -131,8 +131,7 @@ void run_plan_command(const PlanArgs& o, const Globals& g) {
     const PlanPart part = run_plan_part(study.candidates, study.options, index, count, progress.part());
     progress.done();
     write_text_file(o.part, format_plan_part(part));
-    info(g,
-         fmt::format("shard {}/{}: {} of {} set-ups written to {}", index, count, part.jobs.size(), part.header.jobs, o.part));
+    info(g, fmt::format("shard {}/{}: {} of {} set-ups written to {}", index, count, part.jobs.size(), part.header.jobs, o.part));
     return;
   }
   const PlanResult r = run_plan(study.candidates, study.options, progress.part());

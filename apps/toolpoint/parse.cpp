@@ -94,6 +94,13 @@ std::pair<int, int> parse_shard(const std::string& text, const std::string& opti
   return {v[0], v[1]};
 }
 
+FrfUnits parse_frf_units_option(const std::string& text, const std::string& option) {
+  if (const auto u = parse_frf_units(text)) return *u;
+  throw InvalidArgument(fmt::format("{} '{}' are not FRF units toolpoint knows", option, text),
+                        "use m/N, mm/N, um/N (receptance); m/s/N, mm/s/N (mobility); m/s^2/N, g/N (accelerance); "
+                        "force N, kN or lbf, e.g. in/lbf");
+}
+
 FrfFormat parse_frf_format(const std::string& text, const std::string& option) {
   return parse_name<FrfFormat>(text, option,
                                {{"auto", FrfFormat::Auto},

@@ -27,6 +27,10 @@ std::pair<int, int> parse_shard(const std::string& text, const std::string& opti
 // "cutpro"); case-insensitive. Throws InvalidArgument naming `option`.
 FrfFormat parse_frf_format(const std::string& text, const std::string& option);
 
+// FRF units as parse_frf_units reads them ("m/N", "g/N", "in/lbf", …). Throws InvalidArgument
+// naming `option` and listing the accepted forms.
+FrfUnits parse_frf_units_option(const std::string& text, const std::string& option);
+
 // "receptance" (also "compliance"), "mobility", "accelerance" (also "inertance");
 // case-insensitive. Throws InvalidArgument naming `option`.
 FrfOrdinate parse_frf_ordinate(const std::string& text, const std::string& option);

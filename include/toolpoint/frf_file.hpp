@@ -74,8 +74,6 @@ struct FrfUnits {
 // "m/s^2/N" ("m/s²/N", "m/s2/N", "(m/s^2)/N"), "mm/s^2/N", "g/N", "g/lbf"; force in N, kN, mN or
 // lbf; blanks, brackets and "·"/"*" ignored. nullopt for anything else.
 std::optional<FrfUnits> parse_frf_units(std::string_view text);
-// The same for a user's option: InvalidArgument naming `option` and listing the accepted forms.
-FrfUnits parse_frf_units_option(const std::string& text, const std::string& option);
 // The units two UFF labels state: record 9's (the response, or the whole FRF "g/N") over record
 // 10's (the force; blank or NONE read as N). nullopt when they state nothing recognisable.
 std::optional<FrfUnits> uff_label_units(const std::string& numerator, const std::string& denominator);

@@ -100,10 +100,10 @@ class PeriodMap {
   // Per active step k, per node o = 0…p (sample y_{k+1−p+o}): W^P (n × d, column-major) and,
   // unless regenerative, W^Q; and the implicit factor (I − σ C W^P_p) parts C W^P_p, C W^Q_p.
   std::vector<std::vector<double>> wp_, wq_;
-  std::vector<Eigen::MatrixXd> cwp_;  // C W^P for the newest node, d × d
-  std::vector<int> read_;             // buffer samples y_{−i} kept in the reduced state (i ≥ 1)
-  std::vector<int> slot_;             // slot_[i]: position of y_{−i} in the reduced state, or −1
-  std::vector<int> jump_;             // jump_[k] ≥ 2: steps k… are free motion with no output read
+  std::vector<Eigen::MatrixXd> cwp_;           // C W^P for the newest node, d × d
+  std::vector<int> read_;                      // buffer samples y_{−i} kept in the reduced state (i ≥ 1)
+  std::vector<int> slot_;                      // slot_[i]: position of y_{−i} in the reduced state, or −1
+  std::vector<int> jump_;                      // jump_[k] ≥ 2: steps k… are free motion with no output read
   std::vector<std::vector<double>> jump_phi_;  // e^{A₀ jump_[k] h} blocks for such k
 };
 

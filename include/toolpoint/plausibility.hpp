@@ -49,8 +49,10 @@ inline constexpr PlausibleRange kBearingStiffness{1e6, 1e10, 100.0, "bearing sti
 inline constexpr PlausibleRange kJointTranslationalStiffness{1e5, 1e11, 1e3, "translational stiffness is in N/m"};
 inline constexpr PlausibleRange kJointRotationalStiffness{1e3, 1e9, 1e3, "rotational stiffness is in N m/rad"};
 // Damping
-inline constexpr PlausibleRange kJointTranslationalDamping{0.1, 1e5, 1e3, "translational damping is in N s/m (the seed's joint: 54)"};
-inline constexpr PlausibleRange kJointRotationalDamping{1e-4, 1e2, 1e3, "rotational damping is in N m s/rad (the seed's joint: 1)"};
+inline constexpr PlausibleRange kJointTranslationalDamping{0.1, 1e5, 1e3,
+                                                           "translational damping is in N s/m (the seed's joint: 54)"};
+inline constexpr PlausibleRange kJointRotationalDamping{1e-4, 1e2, 1e3,
+                                                        "rotational damping is in N m s/rad (the seed's joint: 1)"};
 inline constexpr PlausibleRange kBearingDamping{10.0, 1e6, 100.0, "bearing damping is in N s/m (typically 1e2–1e4)"};
 // Cutting
 inline constexpr PlausibleRange kCuttingCoefficient{
@@ -73,9 +75,10 @@ inline constexpr PlausibleRange kRelativeNoise{1e-4, 0.2, 5.0, "σ is a fraction
 // The top of a frequency grid [Hz]: tool point FRFs are measured to a few kHz
 inline constexpr PlausibleRange kTopFrequency{100.0, 2e4, 10.0, "frequencies are in Hz (5 kHz = 5000)"};
 // κGA of a beam section [N]: a 2 mm carbide tool 6e5, a 16 mm one 2.8e7, a spindle shaft 1e9
-inline constexpr PlausibleRange kShearStiffness{1e5, 1e10, 100.0,
-                                                "κGA is in N: the shear modulus [Pa] × the area [m²] × κ (a 16 mm carbide tool: 2.8e7)"};
-inline constexpr PlausibleRange kShearCoefficient{0.3, 1.0, 3.0, "κ is the Timoshenko shear coefficient, about 0.9 for a solid round section"};
+inline constexpr PlausibleRange kShearStiffness{
+    1e5, 1e10, 100.0, "κGA is in N: the shear modulus [Pa] × the area [m²] × κ (a 16 mm carbide tool: 2.8e7)"};
+inline constexpr PlausibleRange kShearCoefficient{0.3, 1.0, 3.0,
+                                                  "κ is the Timoshenko shear coefficient, about 0.9 for a solid round section"};
 }  // namespace plausible
 
 }  // namespace toolpoint

@@ -100,9 +100,9 @@ struct MillingFrfs {
 // Im G > 0, if any.
 struct PassivityViolation {
   double frequency_hz = 0.0;
-  Complex value;              // G at that peak [m/N]
-  double share = 0.0;         // |G| there / the largest |G|
-  int violating = 0, peaks = 0;  // how many of the resonance peaks have Im G > 0, of how many
+  Complex value;                                        // G at that peak [m/N]
+  double share = 0.0;                                   // |G| there / the largest |G|
+  int violating = 0, peaks = 0;                         // how many of the resonance peaks have Im G > 0, of how many
   std::string describe(const std::string& what) const;  // the message, naming `what`
 };
 std::optional<PassivityViolation> passivity_violation(const FrfSeries& direct_frf);

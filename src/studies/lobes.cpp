@@ -221,14 +221,16 @@ std::vector<Mode> fit_milling_modes(const FrfSeries& frf, const std::string& wha
       why = fmt::format("the FRF has {} resonance peak(s) rising {:g} dB or more, one mode each; ", best.size(),
                         options.min_prominence_db);
       why += with_residuals <= target
-                 ? fmt::format("the rest is the flexibility of modes outside the band (with residual terms for it the same "
-                               "modes leave {:.2f} %), which the time-domain model cannot carry",
-                               100.0 * with_residuals)
-                 : fmt::format("the flexibility of modes outside the band is not what is missing (with residual terms for "
-                               "it the same modes still leave {:.2f} %); what is missing is in the peaks' shape, which modes "
-                               "with real modal constants cannot match (complex modes, from non-proportional damping), "
-                               "or in peaks lower than {:g} dB, which get no mode",
-                               100.0 * with_residuals, options.min_prominence_db);
+                 ? fmt::format(
+                       "the rest is the flexibility of modes outside the band (with residual terms for it the same "
+                       "modes leave {:.2f} %), which the time-domain model cannot carry",
+                       100.0 * with_residuals)
+                 : fmt::format(
+                       "the flexibility of modes outside the band is not what is missing (with residual terms for "
+                       "it the same modes still leave {:.2f} %); what is missing is in the peaks' shape, which modes "
+                       "with real modal constants cannot match (complex modes, from non-proportional damping), "
+                       "or in peaks lower than {:g} dB, which get no mode",
+                       100.0 * with_residuals, options.min_prominence_db);
     }
     warnings.push_back(fmt::format(
         "{}: the best modal model represents the FRF within {:.1f} % over {:g}–{:g} Hz, not the {:.3g} % aimed at: {}. The lobes "
@@ -374,8 +376,8 @@ LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOption
   draws.progress = {};
   if (options.progress) draws.progress = [&](double f) { options.progress(share + (1.0 - share) * f); };
   const bool rigid_y = input.rigid_y || (input.frfs && input.frfs->rigid_y);
-  res.uncertainty = stability_uncertainty(*input.assembly, *input.uncertain_joint, input.assembly->grid.values(), options,
-                                          depths, draws, rigid_y);
+  res.uncertainty = stability_uncertainty(*input.assembly, *input.uncertain_joint, input.assembly->grid.values(), options, depths,
+                                          draws, rigid_y);
   res.uncertain_joint = input.uncertain_joint->source;
   const auto quantiles = quantile_envelopes(*res.uncertainty);
   res.figure.other_envelopes.insert(res.figure.other_envelopes.end(), quantiles.begin(), quantiles.end());
@@ -387,9 +389,8 @@ LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOption
     return q;
   };
   for (const EnvelopePoint& p : res.pockets) {
-    const auto it = std::min_element(u.speed_rpm.begin(), u.speed_rpm.end(), [&](double a, double b) {
-      return std::abs(a - p.speed_rpm) < std::abs(b - p.speed_rpm);
-    });
+    const auto it = std::min_element(u.speed_rpm.begin(), u.speed_rpm.end(),
+                                     [&](double a, double b) { return std::abs(a - p.speed_rpm) < std::abs(b - p.speed_rpm); });
     res.pocket_quantiles.push_back(at(static_cast<std::size_t>(it - u.speed_rpm.begin())));
   }
   if (!u.depth_m.empty() && !u.speed_rpm.empty()) {
@@ -401,8 +402,7 @@ LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOption
 
 StabilityUncertainty stability_uncertainty(const Assembly& assembly, const JointFile& joint,
                                            const std::vector<double>& frequency_hz, const LobesStudyOptions& lobes,
-                                           const std::vector<double>& depth_grid_m, const UncertaintyOptions& o,
-                                           bool rigid_y) {
+                                           const std::vector<double>& depth_grid_m, const UncertaintyOptions& o, bool rigid_y) {
   o.check();
   lobes.check();
   LobesStudyOptions inner = lobes;
