@@ -163,8 +163,7 @@ TEST(LobesStudy, TheJointUncertainIsTheZeroOrderUncertaintyOnTheDocumentedGrid) 
   o.uncertainty.samples = 30;
   o.uncertainty.seed = 4;
   std::vector<double> fractions;
-  o.progress = [&](double x) { fractions.push_back(x); };
-  const LobesStudyResult r = run_lobes_study(in, o);
+  const LobesStudyResult r = run_lobes_study(in, o, [&](double x) { fractions.push_back(x); });
   ASSERT_TRUE(r.uncertainty);
   EXPECT_EQ(r.uncertain_joint, "test");
 

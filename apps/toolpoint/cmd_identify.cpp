@@ -158,9 +158,8 @@ void run_identify(const IdentifyOptions& o, const Globals& g) {
   for (const auto& p : o.overhang_frfs) io.overhang_frfs.push_back(read_point_frf(g, p));
 
   Progress progress(g, "identify");
-  io.progress = progress.part(0.05, 0.95);
   const LoadedAssembly loaded = load_assembly_on_grid(g, o.assembly);
-  const Identification id = identify_joint_from_frfs(loaded.assembly, data, io);
+  const Identification id = identify_joint_from_frfs(loaded.assembly, data, io, progress.part(0.05, 0.95));
   progress.done();
   warn_all(id.warnings);
 

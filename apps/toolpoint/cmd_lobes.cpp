@@ -286,10 +286,9 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
   Progress progress(g, uncertain ? fmt::format("lobes: zero-order, nominal and {} joint samples", so.uncertainty.samples)
                        : so.method == LobesMethod::ZeroOrder ? "lobes: zero-order"
                                                              : "lobes: full-discretization boundary");
-  so.progress = progress.part();
   LobesStudyResult r;
   try {
-    r = run_lobes_study(input, so);
+    r = run_lobes_study(input, so, progress.part());
   } catch (const InvalidArgument& e) {
     throw InvalidArgument(with_flags(e.what()), with_flags(e.hint()));
   }

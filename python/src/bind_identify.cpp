@@ -462,9 +462,9 @@ void bind_identify(py::module_& m) {
         o.fit.seed = seed;
         o.fit.confidence = confidence;
         o.fit.parallel.threads = threads;
-        o.progress = progress_of(progress);
+        const ProgressCallback cb = progress_of(progress);
         py::gil_scoped_release nogil;
-        return identify_joint_from_frfs(a, data, o);
+        return identify_joint_from_frfs(a, data, o, cb);
       },
       "assembly"_a, "data"_a, "route"_a = "holder_tool", "method"_a = "fit", "band_hz"_a = py::none(), "at_hz"_a = py::none(),
       "width"_a = 0.02, "overhang_frfs"_a = std::vector<std::pair<RealArray, ComplexArray>>{}, "filter"_a = py::none(),

@@ -399,9 +399,9 @@ void bind_stability(py::module_& m) {
         o.pockets = pockets;
         o.parallel.threads = threads;
         o.uncertainty = uncertainty_options(samples, seed, std::move(levels), threads, py::none());
-        o.progress = progress_of(progress);
+        const ProgressCallback cb = progress_of(progress);
         py::gil_scoped_release nogil;
-        return run_lobes_study(in, o);
+        return run_lobes_study(in, o, cb);
       },
       "cutting"_a, "speeds"_a, "method"_a = "zoa", "frequency_hz"_a = py::none(), "xx"_a = py::none(), "yy"_a = py::none(),
       "xy"_a = py::none(), "yx"_a = py::none(), "x_modes"_a = std::vector<Mode>{}, "y_modes"_a = std::vector<Mode>{},

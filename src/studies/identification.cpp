@@ -237,11 +237,11 @@ void judge(Identification& r, const IdentificationOptions& o, bool same_data) {
 }  // namespace
 
 Identification identify_joint_from_frfs(const Assembly& assembly, const std::vector<IdentificationData>& data,
-                                        const IdentificationOptions& o) {
+                                        const IdentificationOptions& o, const ProgressCallback& report) {
   o.check();
   if (data.empty()) throw InvalidArgument("identification: no measured FRFs given");
   auto progress = [&](double x) {
-    if (o.progress) o.progress(x);
+    if (report) report(x);
   };
   const bool ht = o.route == Route::HolderTool;
   Identification r;
@@ -403,7 +403,7 @@ Identification identify_joint_from_frfs(const Assembly& assembly, const std::vec
           "give the joint trial values in the assembly file");
     JointFitOptions fo = o.fit;
     fo.filter = o.filter;
-    if (o.progress) fo.progress = [&](double x) { progress(0.3 + 0.6 * x); };
+    if (report) fo.progress = [&](double x) { progress(0.3 + 0.6 * x); };
     r.fit = fit_joint(fd, starts, fo);
     r.identified = r.fit->parameters;
     for (const auto& w : r.fit->warnings)

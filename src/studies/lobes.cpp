@@ -257,7 +257,8 @@ void judge_lowest_depth(LobesStudyResult& res) {
 }
 
 // The study with the joint's constants: the zero-order lobes or the time-domain boundary.
-LobesStudyResult nominal_lobes_study(const LobesInput& input, const LobesStudyOptions& options) {
+LobesStudyResult nominal_lobes_study(const LobesInput& input, const LobesStudyOptions& options,
+                                     const ProgressCallback& report) {
   LobesStudyResult res;
   res.method = options.method;
   res.cutting = options.cutting;
@@ -265,7 +266,7 @@ LobesStudyResult nominal_lobes_study(const LobesInput& input, const LobesStudyOp
   if (res.speeds.points == 0) res.speeds.points = options.method == LobesMethod::ZeroOrder ? 2000 : 200;
   if (input.frfs) input.frfs->check(input.frf_name, input.frf_y_name);
   auto progress = [&](double f) {
-    if (options.progress) options.progress(f);
+    if (report) report(f);
   };
 
   if (options.method == LobesMethod::ZeroOrder) {
@@ -346,7 +347,8 @@ LobesStudyResult nominal_lobes_study(const LobesInput& input, const LobesStudyOp
 
 }  // namespace
 
-LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOptions& options) {
+LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOptions& options,
+                                 const ProgressCallback& progress) {
   options.check();
   if (input.uncertain_joint && !input.assembly)
     throw InvalidArgument("LobesInput::uncertain_joint needs LobesInput::assembly (the joint is sampled inside the model)",
@@ -355,17 +357,17 @@ LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOption
     LobesInput with_frfs = input;
     const AssemblyModel model(*input.assembly);
     with_frfs.frfs = milling_frfs(model, input.assembly->grid.values(), input.rigid_y);
-    LobesStudyResult r = run_lobes_study(with_frfs, options);
+    LobesStudyResult r = run_lobes_study(with_frfs, options, progress);
     r.warnings.insert(r.warnings.begin(), model.warnings().begin(), model.warnings().end());
     return r;
   }
-  if (!input.uncertain_joint) return nominal_lobes_study(input, options);
+  if (!input.uncertain_joint) return nominal_lobes_study(input, options, progress);
   options.uncertainty.check();
   // Each joint sample is one more study like the nominal one.
   const double share = 1.0 / (1.0 + options.uncertainty.samples);
-  LobesStudyOptions nominal = options;
-  if (options.progress) nominal.progress = [&](double f) { options.progress(share * f); };
-  LobesStudyResult res = nominal_lobes_study(input, nominal);
+  ProgressCallback nominal;
+  if (progress) nominal = [&](double f) { progress(share * f); };
+  LobesStudyResult res = nominal_lobes_study(input, options, nominal);
 
   double top = 0.0;
   for (const EnvelopePoint& p : res.envelope)
@@ -374,7 +376,7 @@ LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOption
   for (int j = 0; j <= 200; ++j) depths.push_back(1.5 * top * j / 200);
   UncertaintyOptions draws = options.uncertainty;
   draws.progress = {};
-  if (options.progress) draws.progress = [&](double f) { options.progress(share + (1.0 - share) * f); };
+  if (progress) draws.progress = [&](double f) { progress(share + (1.0 - share) * f); };
   const bool rigid_y = input.rigid_y || (input.frfs && input.frfs->rigid_y);
   res.uncertainty = stability_uncertainty(*input.assembly, *input.uncertain_joint, input.assembly->grid.values(), options, depths,
                                           draws, rigid_y);
@@ -407,11 +409,10 @@ StabilityUncertainty stability_uncertainty(const Assembly& assembly, const Joint
   lobes.check();
   LobesStudyOptions inner = lobes;
   inner.parallel.threads = 1;
-  inner.progress = {};
   const auto envelope = [&](const Assembly& a) {
     LobesInput in;
     in.frfs = milling_frfs(AssemblyModel(a), frequency_hz, rigid_y);
-    const LobesStudyResult r = nominal_lobes_study(in, inner);
+    const LobesStudyResult r = nominal_lobes_study(in, inner, {});
     std::vector<double> speeds, d;
     for (const EnvelopePoint& p : r.envelope) {
       speeds.push_back(p.speed_rpm);

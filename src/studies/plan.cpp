@@ -227,7 +227,6 @@ PlanHeader plan_header(const std::vector<PlanCandidate>& candidates, const PlanO
   if (candidates.empty()) throw InvalidArgument("the plan has no candidates", "give at least one assembly to plan");
   PlanHeader h;
   h.options = options;
-  h.options.lobes.progress = {};
   h.options.parallel = {};
   h.options.lobes.parallel = {};
   SpeedRange& sp = h.options.lobes.speeds;

@@ -38,6 +38,7 @@
 #include "toolpoint/noise.hpp"
 #include "toolpoint/plot.hpp"
 #include "toolpoint/signal.hpp"
+#include "toolpoint/studies/study.hpp"
 
 namespace toolpoint {
 
@@ -85,8 +86,7 @@ struct IdentificationOptions {
   JointFitOptions fit;  // its `filter` is set from `filter` above
   ReadoutOptions readout;
   VerdictThresholds verdict;
-  std::function<void(double)> progress;  // fraction done; the library never prints
-  void check() const;                    // throws InvalidArgument naming the field
+  void check() const;  // throws InvalidArgument naming the field
 };
 
 // The band and how it was chosen.
@@ -126,7 +126,7 @@ struct Identification {
 // values; a band without data), InputError (data: grids, NaN, too few points, a missing B11 for
 // Eq. 6), NumericalError (a singular inversion, a parameter the data do not determine at all).
 Identification identify_joint_from_frfs(const Assembly& assembly, const std::vector<IdentificationData>& data,
-                                        const IdentificationOptions& options);
+                                        const IdentificationOptions& options = {}, const ProgressCallback& progress = {});
 
 // The identified joint as a joint file: the method's constants, the fit's uncertainty (a band fit
 // only: the seed's read-out has no interval to carry), and how it was identified, with `inputs`

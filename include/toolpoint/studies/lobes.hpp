@@ -19,6 +19,7 @@
 #include "toolpoint/parallel.hpp"
 #include "toolpoint/plot.hpp"
 #include "toolpoint/stability.hpp"
+#include "toolpoint/studies/study.hpp"
 #include "toolpoint/uncertainty.hpp"
 
 namespace toolpoint {
@@ -77,8 +78,7 @@ struct LobesStudyOptions {
   // (its progress unused: the study's covers them). The probability map's depths: 201 from 0 to
   // 1.5 × the nominal envelope's highest point.
   UncertaintyOptions uncertainty;
-  std::function<void(double fraction)> progress;  // fraction of the work done, 0…1
-  void check() const;                             // throws InvalidArgument naming the field
+  void check() const;  // throws InvalidArgument naming the field
 };
 
 // How a modal model was fitted to one FRF.
@@ -125,7 +125,8 @@ struct LobesStudyResult {
 // Runs the study. Throws InvalidArgument (bad options, no FRF for the zero-order method, no modes
 // and no FRF, an uncertain joint without its assembly), InputError (bad FRFs, nothing to fit),
 // NumericalError. Progress: the nominal study, then each joint sample.
-LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOptions& options);
+LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOptions& options,
+                                 const ProgressCallback& progress = {});
 
 // Stability with the joint of `joint` uncertain (uncertainty.hpp) by this study with any of its
 // methods: each sample's tool point FRF (x and y, milling_frfs) goes through run_lobes_study with
