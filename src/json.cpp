@@ -455,6 +455,25 @@ void to_json(nlohmann::json& j, const FreeMode& m) {
        {"above_cutoff", m.above_cutoff}};
 }
 
+void to_json(nlohmann::json& j, const BeamSection& s) {
+  j = {{"area", s.area},
+       {"second_moment", s.second_moment},
+       {"shear_coefficient", s.shear_coefficient},
+       {"rhoA", s.rhoA},
+       {"rhoI", s.rhoI},
+       {"cutoff_frequency_hz", s.cutoff_frequency_hz}};
+}
+
+void to_json(nlohmann::json& j, const BeamStudy& s) {
+  nlohmann::json modes = nlohmann::json::array();
+  for (std::size_t i = 0; i < s.modes.size(); ++i) {
+    nlohmann::json m = s.modes[i];
+    m["mode"] = i + 1;  // numbered as printed: mode 1 is the lowest elastic mode
+    modes.push_back(std::move(m));
+  }
+  j = {{"section", s.section}, {"modes", modes}, {"method", s.method}, {"warnings", s.warnings}};
+}
+
 void to_json(nlohmann::json& j, const UffDof& d) {
   j = {{"response_node", d.response_node},
        {"response_direction", d.response_direction},

@@ -34,6 +34,7 @@
 #include "toolpoint/peaks.hpp"
 #include "toolpoint/signal.hpp"
 #include "toolpoint/stability.hpp"
+#include "toolpoint/studies/beam.hpp"
 #include "toolpoint/studies/fd_correction.hpp"
 #include "toolpoint/studies/identification.hpp"
 #include "toolpoint/studies/lobes.hpp"
@@ -178,6 +179,11 @@ void to_json(nlohmann::json& j, const PlanResult& r);
 
 // {"frequency_hz", "w1", "psi1", "w2", "psi2", "above_cutoff"}
 void to_json(nlohmann::json& j, const FreeMode& m);
+// {"area", "second_moment", "shear_coefficient", "rhoA", "rhoI", "cutoff_frequency_hz"}
+void to_json(nlohmann::json& j, const BeamSection& s);
+// {"section": BeamSection, "modes": [FreeMode… each with its "mode" number, 1 first], "method", "warnings"}; the
+// segment, its complex SectionProperties and the receptance are left out (the receptance goes to an FRF file).
+void to_json(nlohmann::json& j, const BeamStudy& s);
 // {"response_node", "response_direction", "reference_node", "reference_direction"}
 void to_json(nlohmann::json& j, const UffDof& d);
 // {"ordinate", "to_si", "label"}
