@@ -274,6 +274,31 @@ void to_json(nlohmann::json& j, const RotationalStudy& s) {
        {"warnings", s.warnings}};
 }
 
+// ---- Filter -------------------------------------------------------------------------------------
+
+void to_json(nlohmann::json& j, const PeakChange& c) {
+  j = {{"entry", c.entry},
+       {"raw_frequency_hz", number(c.raw_frequency_hz)},
+       {"raw_magnitude", number(c.raw_magnitude)},
+       {"filtered_frequency_hz", number(c.filtered_frequency_hz)},
+       {"filtered_magnitude", number(c.filtered_magnitude)},
+       {"height_change", number(c.height_change)},
+       {"frequency_change", number(c.frequency_change)},
+       {"noise", number(c.noise)}};
+}
+
+void to_json(nlohmann::json& j, const PeakChangeReport& r) { j = {{"peaks", r.peaks}, {"warnings", r.warnings}}; }
+
+namespace {
+template <class Series>
+nlohmann::json filter_study_json(const FilterStudy<Series>& s) {
+  return {{"noise_gain", s.noise_gain}, {"peaks", s.peaks}, {"warnings", s.warnings}};
+}
+}  // namespace
+
+void to_json(nlohmann::json& j, const FilterStudy<FrfSeries>& s) { j = filter_study_json(s); }
+void to_json(nlohmann::json& j, const FilterStudy<BlockSeries>& s) { j = filter_study_json(s); }
+
 // ---- Modal fit and stability lobes ----------------------------------------------------------------
 
 void to_json(nlohmann::json& j, const Mode& m) {

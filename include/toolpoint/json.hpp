@@ -36,6 +36,7 @@
 #include "toolpoint/stability.hpp"
 #include "toolpoint/studies/beam.hpp"
 #include "toolpoint/studies/fd_correction.hpp"
+#include "toolpoint/studies/filter.hpp"
 #include "toolpoint/studies/identification.hpp"
 #include "toolpoint/studies/lobes.hpp"
 #include "toolpoint/studies/overhang.hpp"
@@ -125,6 +126,17 @@ void to_json(nlohmann::json& j, const FiniteDifferenceError& e);
 // {"differences": RotationalResult, "correction": FiniteDifferenceError | null, "order", "spacing_m", "method",
 // "reciprocity", "correction_note", "warnings"}
 void to_json(nlohmann::json& j, const RotationalStudy& s);
+
+// ---- Filter -------------------------------------------------------------------------------------
+
+// {"entry", "raw_frequency_hz", "raw_magnitude", "filtered_frequency_hz" (null: smoothed away), "filtered_magnitude",
+// "height_change", "frequency_change" (null: smoothed away), "noise"} (changes and noise relative, as fractions)
+void to_json(nlohmann::json& j, const PeakChange& c);
+// {"peaks": [PeakChange…], "warnings"}
+void to_json(nlohmann::json& j, const PeakChangeReport& r);
+// {"noise_gain", "peaks": PeakChangeReport, "warnings"}; the filtered series goes to an FRF file.
+void to_json(nlohmann::json& j, const FilterStudy<FrfSeries>& s);
+void to_json(nlohmann::json& j, const FilterStudy<BlockSeries>& s);
 
 // ---- Modal fit and stability lobes --------------------------------------------------------------
 

@@ -32,6 +32,29 @@ def test_savgol_filter_reproduces_polynomials_and_the_cli(tmp_path, example, pre
     assert np.array_equal(h, cli[:, 0, 0])
 
 
+def test_filter_study_is_the_cli_one(tmp_path, prediction):
+    """run_filter_study gives what `toolpoint filter` writes (the same doubles) and prints (its peak
+    table, as printed: 6 significant digits, changes in % to 2 decimals)."""
+    f, blocks = prediction.frequency_hz, prediction.frf
+    noisy = tp.add_measurement_noise(f, blocks, sigma=0.05, seed=3)
+    tp.write_frf_file(str(tmp_path / "noisy.csv"), f, noisy)
+    out = run_cli("filter", tmp_path / "noisy.csv", tmp_path / "filtered.csv", "--window", 41, "--order", 2)
+    _, cli = read_block_csv(tmp_path / "filtered.csv")
+    r = tp.run_filter_study(f, noisy, 41, 2, what=str(tmp_path / "noisy.csv"))
+    assert isinstance(r, tp.BlockFilterStudy) and np.array_equal(r.filtered, cli)
+    assert r.noise_gain == pytest.approx(np.sum(tp.savgol_coefficients(41, 2) ** 2), rel=1e-15)
+    rows = [line.split() for line in out.splitlines()[2:] if line.startswith("  ") and not line.startswith("  (")]
+    peaks = r.to_dict()["peaks"]["peaks"]
+    assert len(rows) == len(peaks) > 0
+    for row, p in zip(rows, peaks):
+        assert row[0] == p["entry"] and row[1] == f"{p['raw_frequency_hz']:.6g}"
+        assert row[5] == f"{100 * p['height_change']:+.2f}"
+    # A window of 41 flattens the sharp peaks by more than 2 %: said in the result's warnings.
+    assert r.to_dict()["peaks"]["warnings"] and all(w in r.warnings for w in r.to_dict()["peaks"]["warnings"])
+    single = tp.run_filter_study(f, noisy[:, 0, 0], 5, 2)
+    assert isinstance(single, tp.FilterStudy) and single.filtered.shape == (len(f),)
+
+
 def test_noise_is_the_cli_noise(tmp_path, prediction):
     f, h = prediction.frequency_hz, prediction.frf[:, 0, 0]
     tp.write_frf_file(str(tmp_path / "h.csv"), f, h)
