@@ -148,6 +148,8 @@ void to_json(nlohmann::json& j, const FittedMode& m);
 // {"modes": [FittedMode…], "lower_residual", "upper_residual", "normalised_residual", "band_low_hz", "band_high_hz",
 // "points", "evaluations", "converged", "warnings"}
 void to_json(nlohmann::json& j, const ModalFitResult& r);
+// {"fit": ModalFitResult, "model": [Mode…], "warnings"}; the fitted series goes to an FRF file.
+void to_json(nlohmann::json& j, const ModalFitStudy& s);
 // {"x": [Mode…], "y": [Mode…]}
 void to_json(nlohmann::json& j, const ModalModel& m);
 // {"what", "modes", "residual", "band_low_hz", "band_high_hz", "target_met"}
