@@ -281,6 +281,8 @@ std::string with_flags(std::string text) {
       {"OverhangStudyOptions::peaks", "--prominence"},
       {"SavgolOptions::window", "--window"},
       {"SavgolOptions::order", "--order"},
+      {"FrfResampleOptions::band_hz", "--band"},
+      {"FrfResampleOptions::target_hz", "--onto or --grid"},
       {"BeamStudyOptions::modal.modes", "--modal-terms"},
       {"BeamStudyOptions::modes", "--modes"},
       {"BeamStudyOptions::shear_coefficient", "--shear-coefficient"},

@@ -5,6 +5,7 @@
 #include "toolpoint/io.hpp"
 #include "toolpoint/json.hpp"
 #include "toolpoint/peaks.hpp"
+#include "toolpoint/resample.hpp"
 #include "toolpoint/signal.hpp"
 #include "toolpoint/studies/filter.hpp"
 #include "toolpoint/studies/rotational.hpp"
@@ -27,6 +28,9 @@ const std::vector<std::pair<const char*, FrfFormat>> kFormats{{"auto", FrfFormat
 const std::vector<std::pair<const char*, FrfOrdinate>> kOrdinates{{"receptance", FrfOrdinate::Receptance},
                                                                   {"mobility", FrfOrdinate::Mobility},
                                                                   {"accelerance", FrfOrdinate::Accelerance}};
+
+const std::vector<std::pair<const char*, Interpolation>> kInterpolations{{"linear", Interpolation::Linear},
+                                                                        {"cubic", Interpolation::Cubic}};
 
 // A frequency grid for functions that only need the samples' order: 1, 2, … n.
 std::vector<double> index_grid(std::size_t n) {
@@ -312,6 +316,29 @@ void bind_signal_io(py::module_& m) {
       "accelerance (from the UFF codes, or ordinate='mobility'/'accelerance') is converted to receptance [m/N]. Raises "
       "InputError "
       "naming file, line or dataset; IoError.");
+  py::class_<FrfResampled>(m, "FrfResampled", "resample_frf's result (resample.hpp).")
+      .def_readonly("file", &FrfResampled::data, "FrfFile: the FRF on the new grid, in the input's form")
+      .def_property_readonly(
+          "coherence", [](const FrfResampled& r) { return array_of(r.data.coherence); }, "(n,) or empty")
+      .def_readonly("description", &FrfResampled::description, "what was done (the CLI's comment line)")
+      .def_readonly("warnings", &FrfResampled::warnings);
+  m.def(
+      "resample_frf",
+      [](const FrfFileData& file, std::optional<std::pair<double, double>> band_hz, const py::object& target_hz,
+         const std::string& target_name, const std::string& method, const std::string& what) {
+        FrfResampleOptions o;
+        o.band_hz = band_hz;
+        if (!target_hz.is_none()) o.target_hz = vector_of(target_hz.cast<RealArray>(), "target_hz");
+        o.target_name = target_name;
+        o.method = enum_of(method, kInterpolations, "method");
+        py::gil_scoped_release nogil;
+        return resample_frf(file, o, what);
+      },
+      "file"_a, "band_hz"_a = py::none(), "target_hz"_a = py::none(), "target_name"_a = "the target grid",
+      "method"_a = "linear", "what"_a = "FRF",
+      "An FRF file's data (read_frf_file) on another grid (toolpoint resample): with target_hz [Hz], cropped to band_hz "
+      "(low, high) when given, the FRF and its coherence interpolated onto it ('linear' or 'cubic', real and imaginary parts, "
+      "never extrapolated); without, the FRF and its coherence cropped to band_hz.");
   m.def(
       "write_frf_file",
       [](const std::string& path, const RealArray& f, const py::array& values, const std::string& format,

@@ -55,6 +55,32 @@ def test_filter_study_is_the_cli_one(tmp_path, prediction):
     assert isinstance(single, tp.FilterStudy) and single.filtered.shape == (len(f),)
 
 
+def test_resample_frf_is_the_cli_one(tmp_path, prediction):
+    """resample_frf gives what `toolpoint resample` writes: interpolated onto a grid cropped to a band,
+    or cropped, the coherence carried (CSV: shortest round-trip doubles, so equality is exact)."""
+    f, h = prediction.frequency_hz[::10], prediction.frf[::10, 0, 0]
+    coh = np.linspace(0.5, 1.0, len(f))
+    rows = "".join(f"{x!r},{v.real!r},{v.imag!r},{c!r}\n" for x, v, c in zip(f, h, coh))
+    (tmp_path / "h.csv").write_text("frequency_hz,re,im,coherence\n" + rows)
+    data = tp.read_frf_file(str(tmp_path / "h.csv"))
+    run_cli("resample", tmp_path / "h.csv", tmp_path / "g.csv", "--grid", "1:5000:4", "--band", "300:4000",
+            "--method", "cubic")
+    r = tp.resample_frf(data, band_hz=(300.0, 4000.0), target_hz=np.arange(1.0, 5000.0, 4.0), method="cubic",
+                        target_name="--grid 1:5000:4", what=str(tmp_path / "h.csv"))
+    d = read_csv(tmp_path / "g.csv")
+    assert np.array_equal(r.file.frequency_hz, d[:, 0]) and np.array_equal(r.file.values, d[:, 1] + 1j * d[:, 2])
+    assert np.array_equal(r.coherence, d[:, 3])
+    assert f"h.csv {r.description}" in (tmp_path / "g.csv").read_text() and r.warnings == []
+    assert r.description == "cubic interpolation of real and imaginary parts onto --grid 1:5000:4, within 300–4000 Hz"
+    run_cli("resample", tmp_path / "h.csv", tmp_path / "c.csv", "--band", "300:4000")
+    r = tp.resample_frf(data, band_hz=(300.0, 4000.0))
+    d = read_csv(tmp_path / "c.csv")
+    assert np.array_equal(r.file.values, d[:, 1] + 1j * d[:, 2]) and np.array_equal(r.coherence, d[:, 3])
+    assert r.description == "cropped to 300–4000 Hz"
+    with pytest.raises(tp.InputError, match="FrfResampleOptions::band_hz"):
+        tp.resample_frf(data, band_hz=(1.0, 2.0), target_hz=[5000.0, 6000.0])
+
+
 def test_noise_is_the_cli_noise(tmp_path, prediction):
     f, h = prediction.frequency_hz, prediction.frf[:, 0, 0]
     tp.write_frf_file(str(tmp_path / "h.csv"), f, h)
