@@ -274,6 +274,31 @@ void to_json(nlohmann::json& j, const RotationalStudy& s) {
        {"warnings", s.warnings}};
 }
 
+// ---- Filter -------------------------------------------------------------------------------------
+
+void to_json(nlohmann::json& j, const PeakChange& c) {
+  j = {{"entry", c.entry},
+       {"raw_frequency_hz", number(c.raw_frequency_hz)},
+       {"raw_magnitude", number(c.raw_magnitude)},
+       {"filtered_frequency_hz", number(c.filtered_frequency_hz)},
+       {"filtered_magnitude", number(c.filtered_magnitude)},
+       {"height_change", number(c.height_change)},
+       {"frequency_change", number(c.frequency_change)},
+       {"noise", number(c.noise)}};
+}
+
+void to_json(nlohmann::json& j, const PeakChangeReport& r) { j = {{"peaks", r.peaks}, {"warnings", r.warnings}}; }
+
+namespace {
+template <class Series>
+nlohmann::json filter_study_json(const FilterStudy<Series>& s) {
+  return {{"noise_gain", s.noise_gain}, {"peaks", s.peaks}, {"warnings", s.warnings}};
+}
+}  // namespace
+
+void to_json(nlohmann::json& j, const FilterStudy<FrfSeries>& s) { j = filter_study_json(s); }
+void to_json(nlohmann::json& j, const FilterStudy<BlockSeries>& s) { j = filter_study_json(s); }
+
 // ---- Modal fit and stability lobes ----------------------------------------------------------------
 
 void to_json(nlohmann::json& j, const Mode& m) {
@@ -300,6 +325,10 @@ void to_json(nlohmann::json& j, const ModalFitResult& r) {
        {"evaluations", r.evaluations},
        {"converged", r.converged},
        {"warnings", r.warnings}};
+}
+
+void to_json(nlohmann::json& j, const ModalFitStudy& s) {
+  j = {{"fit", s.fit}, {"model", s.model}, {"warnings", s.warnings}};
 }
 
 void to_json(nlohmann::json& j, const ModalModel& m) { j = {{"x", m.x}, {"y", m.y}}; }
@@ -460,6 +489,25 @@ void to_json(nlohmann::json& j, const PlanResult& r) {
 void to_json(nlohmann::json& j, const FreeMode& m) {
   j = {{"frequency_hz", m.frequency_hz}, {"w1", m.w1}, {"psi1", m.psi1}, {"w2", m.w2}, {"psi2", m.psi2},
        {"above_cutoff", m.above_cutoff}};
+}
+
+void to_json(nlohmann::json& j, const BeamSection& s) {
+  j = {{"area", s.area},
+       {"second_moment", s.second_moment},
+       {"shear_coefficient", s.shear_coefficient},
+       {"rhoA", s.rhoA},
+       {"rhoI", s.rhoI},
+       {"cutoff_frequency_hz", s.cutoff_frequency_hz}};
+}
+
+void to_json(nlohmann::json& j, const BeamStudy& s) {
+  nlohmann::json modes = nlohmann::json::array();
+  for (std::size_t i = 0; i < s.modes.size(); ++i) {
+    nlohmann::json m = s.modes[i];
+    m["mode"] = i + 1;  // numbered as printed: mode 1 is the lowest elastic mode
+    modes.push_back(std::move(m));
+  }
+  j = {{"section", s.section}, {"modes", modes}, {"method", s.method}, {"warnings", s.warnings}};
 }
 
 void to_json(nlohmann::json& j, const UffDof& d) {

@@ -403,9 +403,16 @@ ModalFitResult fit_modes(const FrfSeries& frf, const ModalFitOptions& options, c
   return r;
 }
 
+bool FittedMode::is_resonance() const { return residue > 0.0 && mode.damping_ratio < 1.0; }
+
 std::vector<Mode> ModalFitResult::modal_model() const {
   std::vector<Mode> out;
   for (const FittedMode& m : modes) {
+    if (m.is_resonance()) {
+      out.push_back(m.mode);
+      continue;
+    }
+    // Which half of the rule failed, for the message.
     if (!(m.residue > 0.0))
       throw NumericalError(fmt::format("the fitted mode at {:.2f} Hz has residue {:.4g} 1/kg: it has no positive modal mass",
                                        m.mode.frequency_hz, m.residue),
@@ -414,9 +421,18 @@ std::vector<Mode> ModalFitResult::modal_model() const {
       throw NumericalError(fmt::format("the fitted mode at {:.2f} Hz has a damping ratio of {:.3g}: overdamped, not a resonance",
                                        m.mode.frequency_hz, m.mode.damping_ratio),
                            "fit fewer modes (ModalFitOptions::max_modes) or a narrower ModalFitOptions::band_hz");
-    out.push_back(m.mode);
   }
   return out;
+}
+
+ModalFitStudy run_modal_fit_study(const FrfSeries& frf, const ModalFitOptions& options, const std::string& what) {
+  ModalFitStudy r;
+  r.fit = fit_modes(frf, options, what);
+  r.fitted = r.fit.fitted_frf(frf.frequency_hz);
+  for (const FittedMode& m : r.fit.modes)
+    if (m.is_resonance()) r.model.push_back(m.mode);
+  r.warnings = r.fit.warnings;
+  return r;
 }
 
 Complex ModalFitResult::receptance(double frequency_hz) const {

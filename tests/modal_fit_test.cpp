@@ -197,3 +197,52 @@ TEST(ModalFit, AnOverdampedFittedModeIsTheFitsNotTheCallers) {
     EXPECT_NE(std::string(e.what()).find("overdamped"), std::string::npos) << e.what();
   }
 }
+
+// The study (run_modal_fit_study) on noise-free modes: its model is the modes given (1e-9 relative,
+// as RecoversThreeModesExactly), and its fitted series is the given FRF on the band's grid (1e-9
+// of the largest response: the fit reproduces round-off-exact data) — the same values as
+// fit_modes + fitted_frf called directly.
+TEST(ModalFitStudy, ModelAndFittedSeriesFromTheGivenModes) {
+  const FrfSeries frf = modal_frf(kModes, grid(100.0, 4000.0, 1.0));
+  ModalFitOptions o;
+  o.band_hz = std::make_pair(500.0, 3000.0);
+  const ModalFitStudy s = run_modal_fit_study(frf, o, "three modes");
+  ASSERT_EQ(s.model.size(), 3u);
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_NEAR(s.model[i].frequency_hz / kModes[i].frequency_hz, 1.0, 1e-9) << i;
+    EXPECT_NEAR(s.model[i].damping_ratio / kModes[i].damping_ratio, 1.0, 1e-9) << i;
+    EXPECT_NEAR(s.model[i].mass_kg / kModes[i].mass_kg, 1.0, 1e-9) << i;
+  }
+  ASSERT_EQ(s.fitted.frequency_hz, grid(500.0, 3000.0, 1.0));
+  double top = 0.0;
+  for (const Complex& v : frf.values) top = std::max(top, std::abs(v));
+  for (std::size_t i = 0; i < s.fitted.size(); ++i)
+    EXPECT_LT(std::abs(s.fitted.values[i] - modal_receptance(kModes, s.fitted.frequency_hz[i])), 1e-9 * top) << i;
+  const ModalFitResult direct = fit_modes(frf, o, "three modes");
+  EXPECT_EQ(s.fitted.values, direct.fitted_frf(frf.frequency_hz).values);
+  EXPECT_EQ(s.warnings, direct.warnings);
+}
+
+// One rule for what a modal model holds: a negated FRF's mode (negative residue) is left out of the
+// study's model, and modal_model() refuses it; a positive residue with ζ < 1 is a resonance, ζ ≥ 1
+// or a residue ≤ 0 is not.
+TEST(ModalFitStudy, OneRuleForResonances) {
+  FrfSeries frf = modal_frf({kModes[1]}, grid(700.0, 1200.0, 0.5));
+  for (auto& v : frf.values) v = -v;
+  const ModalFitStudy s = run_modal_fit_study(frf);
+  ASSERT_EQ(s.fit.modes.size(), 1u);
+  EXPECT_FALSE(s.fit.modes[0].is_resonance());
+  EXPECT_TRUE(s.model.empty());
+  EXPECT_THROW(s.fit.modal_model(), NumericalError);
+  FittedMode m{};
+  m.mode = {0.05, 0.5, 900.0};
+  m.residue = 20.0;
+  EXPECT_TRUE(m.is_resonance());
+  m.mode.damping_ratio = 1.0;
+  EXPECT_FALSE(m.is_resonance());
+  m.mode.damping_ratio = 0.5;
+  m.residue = 0.0;
+  EXPECT_FALSE(m.is_resonance());
+  m.residue = std::nan("");
+  EXPECT_FALSE(m.is_resonance());
+}

@@ -168,3 +168,91 @@ TEST(Resample, CommandLine) {
             3);
   EXPECT_NE(out.find("toolpoint resample IN OUT --onto OTHER"), std::string::npos) << out;
 }
+
+// resample_frf (a file's FRF on another grid, one call) against closed forms and the lower-level
+// calls: a straight line H = a + b·f and a linear coherence interpolate exactly (1e-14 relative:
+// a few roundings per value), the target first cropped to the band; the same values as resample()
+// and resample_values() on the cropped grid called directly; crop as crop(); the band named in
+// the refusals.
+TEST(ResampleFrf, TargetCroppedToTheBandThenInterpolated) {
+  const Complex a(1e-6, 2e-6), b(3e-9, -1e-9);
+  FrfFileData in;
+  for (int i = 0; i <= 100; ++i) {
+    const double f = 1000.0 + 10.0 * i;
+    in.single.frequency_hz.push_back(f);
+    in.single.values.push_back(a + b * f);
+    in.coherence.push_back(0.5 + f / 4000.0);
+  }
+  in.dof.response_node = 7;
+  FrfResampleOptions o;
+  o.band_hz = std::make_pair(1000.0, 2000.0);
+  o.target_hz = std::vector<double>{};
+  for (int i = 0; i <= 404; ++i) o.target_hz->push_back(995.0 + 2.5 * i);  // 995…2005 Hz: beyond the data at both ends
+  o.target_name = "the frequencies of t.csv";
+  const FrfResampled r = resample_frf(in, o, "line.csv");
+  const std::vector<double>& f = r.data.single.frequency_hz;
+  ASSERT_EQ(f.size(), 401u);  // 1000…2000 Hz
+  EXPECT_EQ(f.front(), 1000.0);
+  EXPECT_EQ(f.back(), 2000.0);
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    EXPECT_LT(std::abs(r.data.single.values[i] - (a + b * f[i])), 1e-14 * std::abs(a + b * f[i])) << f[i];
+    EXPECT_NEAR(r.data.coherence[i], 0.5 + f[i] / 4000.0, 1e-14) << f[i];
+  }
+  EXPECT_EQ(r.data.single.values, resample(in.single, f, Interpolation::Linear, "line.csv").values);
+  EXPECT_EQ(r.data.coherence, resample_values(in.single.frequency_hz, in.coherence, f, "line.csv"));
+  EXPECT_EQ(r.data.dof.response_node, 7);
+  EXPECT_FALSE(r.data.is_block);
+  EXPECT_EQ(r.description,
+            "linear interpolation of real and imaginary parts onto the frequencies of t.csv, within 1000–2000 Hz");
+  EXPECT_TRUE(r.warnings.empty());
+
+  // Without the band the target reaches outside the data: refused, the fix naming the band.
+  o.band_hz.reset();
+  try {
+    resample_frf(in, o, "line.csv");
+    ADD_FAILURE() << "no exception";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("target frequency 995 Hz"), std::string::npos) << e.what();
+    EXPECT_NE(e.hint().find("FrfResampleOptions::band_hz"), std::string::npos) << e.hint();
+  }
+  // A band that misses the target entirely names both.
+  o.band_hz = std::make_pair(3000.0, 4000.0);
+  try {
+    resample_frf(in, o, "line.csv");
+    ADD_FAILURE() << "no exception";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("FrfResampleOptions::band_hz 3000:4000"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("the frequencies of t.csv spans 995–2005 Hz"), std::string::npos) << e.what();
+  }
+
+  // No target: cropped, as crop() and crop_values() give it.
+  o.target_hz.reset();
+  o.band_hz = std::make_pair(1200.0, 1500.0);
+  const FrfResampled c = resample_frf(in, o, "line.csv");
+  EXPECT_EQ(c.data.single.values, crop(in.single, 1200.0, 1500.0, "line.csv").values);
+  EXPECT_EQ(c.data.coherence, crop_values(in.single.frequency_hz, in.coherence, 1200.0, 1500.0));
+  EXPECT_EQ(c.data.single.size(), 31u);
+  EXPECT_EQ(c.description, "cropped to 1200–1500 Hz");
+
+  o.band_hz.reset();
+  EXPECT_THROW(resample_frf(in, o, "line.csv"), InvalidArgument);  // neither a band nor a target
+}
+
+// A block: every entry, as resample() of the block gives it.
+TEST(ResampleFrf, Block) {
+  const FrfSeries s = sampled(1000.0, 2000.0, 10.0);
+  FrfFileData in;
+  in.is_block = true;
+  in.block.frequency_hz = s.frequency_hz;
+  for (const Complex& v : s.values) in.block.blocks.push_back((Block() << v, 2.0 * v, 3.0 * v, 4.0 * v).finished());
+  FrfResampleOptions o;
+  o.target_hz = std::vector<double>{1001.0, 1500.5, 1999.0};
+  o.method = Interpolation::Cubic;
+  const FrfResampled r = resample_frf(in, o, "block.csv");
+  ASSERT_TRUE(r.data.is_block);
+  const BlockSeries direct = resample(in.block, *o.target_hz, Interpolation::Cubic, "block.csv");
+  ASSERT_EQ(r.data.block.size(), 3u);
+  for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(r.data.block.blocks[i], direct.blocks[i]);
+  EXPECT_TRUE(r.data.coherence.empty());
+  EXPECT_EQ(r.description, "cubic interpolation of real and imaginary parts onto the target grid");
+}

@@ -14,6 +14,7 @@
 #include "toolpoint/io.hpp"
 #include "toolpoint/json.hpp"
 #include "toolpoint/plot.hpp"
+#include "toolpoint/studies/beam.hpp"
 
 namespace toolpoint::cli {
 
@@ -39,72 +40,58 @@ void run_beam(const BeamOptions& o, const Globals& g) {
                           "add --frequencies 10:20000:10 --output tip.csv");
   if (!o.frequencies.empty() && o.output.empty())
     throw InvalidArgument("--frequencies needs --output FILE.csv for the receptance", "add --output tip.csv");
-  Material mat{"beam", o.youngs_modulus, o.poisson, o.shear_modulus, o.density, o.loss_factor};
-  Segment seg = Segment::tube(o.length, o.diameter, o.inner_diameter, mat);
-  seg.shear_model = o.shear_model == "cowper" ? ShearModel::Cowper : ShearModel::Hutchinson;
-  if (o.shear_coefficient != 0.0) seg.layers[0].shear_coefficient = o.shear_coefficient;
-  seg.check();
-  const SectionProperties sp = seg.properties();
-  const double kappa = seg.layers[0].shear_coefficient.value_or(
-      shear_coefficient(seg.shear_model, o.poisson, o.diameter, o.inner_diameter));
+  BeamStudyOptions so;
+  so.length = o.length;
+  so.outer_diameter = o.diameter;
+  so.inner_diameter = o.inner_diameter;
+  so.material = {"beam", o.youngs_modulus, o.poisson, o.shear_modulus, o.density, o.loss_factor};
+  if (o.shear_coefficient != 0.0) so.shear_coefficient = o.shear_coefficient;
+  so.shear_model = o.shear_model == "cowper" ? ShearModel::Cowper : ShearModel::Hutchinson;
+  so.modes = o.modes > 0 ? o.modes : (o.frequencies.empty() ? 5 : 0);
+  if (!o.frequencies.empty()) so.frequency_hz = parse_frequency_grid(o.frequencies, "--frequencies").values();
+  so.block = o.block == "11"   ? EndBlock::T11
+             : o.block == "12" ? EndBlock::T12
+             : o.block == "21" ? EndBlock::T21
+                               : EndBlock::T22;
+  so.method = o.method == "modal" ? BeamMethod::Modal : BeamMethod::Exact;
+  so.modal = {o.modal_terms, o.static_residual};
+  const BeamStudy r = run_beam_study(so);
+  const double kappa = r.section.shear_coefficient;
 
+  // The study's JSON less its warnings (shown on stderr), and the files written.
+  const nlohmann::json study = r;
   nlohmann::json out;
   out["units"] = "SI: m, kg, N, Pa; frequencies in Hz";
-  // The section's (Annulus, SectionProperties) values under the members' and functions' names.
-  out["section"] = {{"area", seg.layers[0].area()},
-                    {"second_moment", seg.layers[0].second_moment()},
-                    {"shear_coefficient", kappa},
-                    {"rhoA", sp.rhoA},
-                    {"rhoI", sp.rhoI},
-                    {"cutoff_frequency_hz", sp.cutoff_frequency_hz()}};
-
-  const int n_modes = o.modes > 0 ? o.modes : (o.frequencies.empty() ? 5 : 0);
-  if (n_modes > 0) {
-    ModalBeam modal(sp, o.length, ModalOptions{n_modes, false});
-    nlohmann::json list = nlohmann::json::array();
+  out["section"] = study["section"];
+  if (!r.modes.empty()) {
+    out["modes"] = study["modes"];
     if (!o.json) {
       std::cout << fmt::format("free–free Timoshenko beam: L = {} m, D = {} m, d = {} m, κ = {:.6f}, cut-off {:.3f} Hz\n",
-                               o.length, o.diameter, o.inner_diameter, kappa, sp.cutoff_frequency_hz());
+                               o.length, o.diameter, o.inner_diameter, kappa, r.section.cutoff_frequency_hz);
       std::cout << "mode  frequency_hz  branch\n";
+      int i = 1;
+      for (const FreeMode& m : r.modes)
+        std::cout << fmt::format("{:4d}  {:12.3f}  {}\n", i++, m.frequency_hz, m.above_cutoff ? "above cut-off" : "below cut-off");
     }
-    int i = 1;
-    for (const FreeMode& m : modal.modes()) {
-      nlohmann::json mode = m;
-      mode["mode"] = i;
-      list.push_back(mode);
-      if (!o.json)
-        std::cout << fmt::format("{:4d}  {:12.3f}  {}\n", i, m.frequency_hz, m.above_cutoff ? "above cut-off" : "below cut-off");
-      ++i;
-    }
-    out["modes"] = list;  // ModalBeam::modes()
   }
 
-  BlockSeries s;  // the receptance written (and drawn)
   if (!o.frequencies.empty()) {
-    const std::vector<double> f = parse_frequency_grid(o.frequencies, "--frequencies").values();
-    const EndBlock block = o.block == "11"   ? EndBlock::T11
-                           : o.block == "12" ? EndBlock::T12
-                           : o.block == "21" ? EndBlock::T21
-                                             : EndBlock::T22;
-    s = o.method == "modal" ? ModalBeam(sp, o.length, ModalOptions{o.modal_terms, o.static_residual}).receptance(f, block)
-                            : exact_receptance(sp, o.length, f, block);
-    write_frf_csv(o.output, s,
+    write_frf_csv(o.output, r.receptance,
                   {fmt::format("free-free Timoshenko beam, block T{} (end 1 = x = L, the outer end), method {}", o.block,
-                               o.method == "modal" ? fmt::format("modal ({} modes{})", o.modal_terms,
-                                                                 o.static_residual ? " + static residual" : "")
-                                                   : "exact"),
+                               r.method),
                    fmt::format("L = {} m, D = {} m, d = {} m, E = {} Pa, nu = {}, rho = {} kg/m^3, eta = {}, kappa = {}",
                                o.length, o.diameter, o.inner_diameter, o.youngs_modulus, o.poisson, o.density, o.loss_factor,
                                kappa)});
     out["output"] = o.output;
-    out["points"] = f.size();
-    info(g, fmt::format("wrote {} ({} frequencies, block T{})", o.output, f.size(), o.block));
+    out["points"] = r.receptance.size();
+    info(g, fmt::format("wrote {} ({} frequencies, block T{})", o.output, r.receptance.size(), o.block));
     if (!o.plot.empty()) out["plot"] = o.plot;
   }
+  warn_all(r.warnings);
   if (o.json) std::cout << out.dump(2) << '\n';
   if (!o.plot.empty())
     draw_figures(g,
-                 {{plot::receptance_figure(s,
+                 {{plot::receptance_figure(r.receptance,
                                            fmt::format("Free–free Timoshenko beam, block T_{{{}}}: L = {} m, D = {} m", o.block,
                                                        o.length, o.diameter),
                                            o.block),

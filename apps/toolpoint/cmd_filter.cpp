@@ -6,9 +6,10 @@
 #include <fmt/format.h>
 #include <iostream>
 #include <memory>
+#include <type_traits>
 
 #include "cli.hpp"
-#include "toolpoint/signal.hpp"
+#include "toolpoint/studies/filter.hpp"
 
 namespace toolpoint::cli {
 
@@ -21,22 +22,22 @@ struct FilterOptions {
 };
 
 void run_filter(const FilterOptions& o, const Globals& g) {
-  o.savgol.check();
+  const FilterStudyOptions fo{o.savgol, {}};
+  fo.check();  // before reading the file
   const std::string comment = fmt::format(
       "Savitzky-Golay filtered (window {} points, order {}, scipy savgol_filter mode='interp'; real and "
       "imaginary parts separately) from {}",
       o.savgol.window, o.savgol.order, o.input);
+  double gain = 0.0;
+  PeakChangeReport peaks;  // what the filter did to the peaks, against the raw data
   const auto [in, out] = process_frf_file(g, o.input, o.dataset, o.output, o.plot, comment, [&](const auto& series) {
-    check_smoothing_window(o.savgol, series.size(), o.input);
-    return savgol_filter(series, o.savgol, o.input);
+    auto r = run_filter_study(series, fo, o.input);
+    gain = r.noise_gain;
+    peaks = std::move(r.peaks);
+    return SignalResult<std::decay_t<decltype(series)>>{std::move(r.filtered), std::move(r.warnings)};
   });
-  double gain = 0.0;  // Σc²: white noise variance after / before, interior points
-  for (double c : savgol_coefficients(o.savgol)) gain += c * c;
   info(g, fmt::format("wrote {} ({}, {} points filtered; interior white-noise variance × {:.4g})", o.output,
                       in.is_block ? "2×2 block" : "single FRF", in.is_block ? in.block.size() : in.single.size(), gain));
-  // What the filter did to the peaks, against the raw data.
-  const PeakChangeReport peaks = in.is_block ? peak_changes(in.block, out.block, o.savgol.window, {}, o.input)
-                                             : peak_changes(in.single, out.single, o.savgol.window, {}, o.input);
   std::cout << fmt::format("peaks of {} before and after filtering (window {} points, order {}):\n", o.input, o.savgol.window,
                            o.savgol.order);
   std::cout << "  entry  raw_hz      raw_magnitude  filtered_hz  filtered_magnitude  height_%  frequency_%  noise_%\n";
@@ -51,7 +52,6 @@ void run_filter(const FilterOptions& o, const Globals& g) {
   if (peaks.peaks.empty()) std::cout << "  (no prominent peak)\n";
   std::cout << "  (noise_%: the raw data's magnitude noise σ at the peak, estimated from the data; a peak must rise 8σ above "
                "its valleys to be listed)\n";
-  warn_all(peaks.warnings);
   if (o.plot.empty()) return;
   const std::string title = fmt::format("Savitzky–Golay filter, window {} points, order {}: {}", o.savgol.window, o.savgol.order,
                                         plot::literal(o.input));

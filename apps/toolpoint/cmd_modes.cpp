@@ -37,11 +37,12 @@ void run_modes(const ModesOptions& o, const Globals& g) {
   const FrfFormat out_format = o.output.empty() ? FrfFormat::Csv : output_frf_format(o.output);
   check_paths({{o.file, "input"}}, {{o.output, "--output"}, {o.plot, "--plot"}});
   const FrfSeries frf = read_point_frf(g, o.file, o.dataset);
-  const ModalFitResult r = fit_modes(frf, fo, o.file);
+  const ModalFitStudy study = run_modal_fit_study(frf, fo, o.file);
+  const ModalFitResult& r = study.fit;
 
   if (!o.output.empty()) {
     FrfFileData fitted;
-    fitted.single = r.fitted_frf(frf.frequency_hz);
+    fitted.single = study.fitted;
     std::string modes;
     for (const FittedMode& m : r.modes)
       modes += fmt::format("{}{:.6g} Hz, zeta {:.4g}, {:.4g} kg", modes.empty() ? "" : "; ", m.mode.frequency_hz,
@@ -51,7 +52,7 @@ void run_modes(const ModesOptions& o, const Globals& g) {
   }
 
   if (o.json) {
-    nlohmann::json out = r;
+    nlohmann::json out = r;  // the fit's keys at the top level (its warnings are the study's)
     out["units"] = "SI: frequency Hz, mass kg, residue 1/kg, lower_residual 1/kg, upper_residual m/N";
     out["file"] = o.file;
     if (!o.output.empty()) out["output"] = o.output;
@@ -71,13 +72,12 @@ void run_modes(const ModesOptions& o, const Globals& g) {
       std::cout << fmt::format("residual terms: lower {:.6g} 1/kg (−L/ω²), upper {:.6g} m/N\n", r.lower_residual,
                                r.upper_residual);
     std::string as_options;
-    for (const FittedMode& m : r.modes)
-      if (m.residue > 0.0 && m.mode.damping_ratio < 1.0)  // the modes lobes accepts
-        as_options += fmt::format(" --mode-x {:.6g},{:.6g},{:.6g}", m.mode.mass_kg, m.mode.damping_ratio, m.mode.frequency_hz);
+    for (const Mode& m : study.model)  // the modes lobes accepts
+      as_options += fmt::format(" --mode-x {:.6g},{:.6g},{:.6g}", m.mass_kg, m.damping_ratio, m.frequency_hz);
     if (!as_options.empty()) std::cout << "for `toolpoint lobes --method sd`:" << as_options << '\n';
     std::cout << std::flush;
   }
-  warn_all(r.warnings);
+  warn_all(study.warnings);
   if (o.plot.empty()) return;
   draw_figures(g, {{modal_fit_figure(frf, r, o.file), o.plot}},
                o.output.empty() ? std::vector<std::string>{} : std::vector<std::string>{o.output});

@@ -26,64 +26,37 @@ void run_resample(const ResampleOptions& o, const Globals& g) {
     throw InvalidArgument("resample needs a band to crop to (--band) or frequencies to interpolate onto (--onto, --grid)",
                           "e.g. --band 500:3000, --onto other.csv or --grid 500:3000:2.5");
   if (!o.onto.empty() && !o.grid.empty()) throw InvalidArgument("give either --onto FILE or --grid START:STOP:STEP, not both");
-  const Interpolation method = parse_interpolation(o.method, "--method");
-  std::optional<std::pair<double, double>> band;
-  if (!o.band.empty()) band = parse_range(o.band, "--band");
-
+  FrfResampleOptions ro;
+  ro.method = parse_interpolation(o.method, "--method");
+  if (!o.band.empty()) ro.band_hz = parse_range(o.band, "--band");
   // The target grid, before any work on the input.
-  std::optional<std::vector<double>> target;
   if (!o.onto.empty()) {
     Globals plain = g;
     plain.frf = {};  // the reading options are for the input; the grid file is read as it is
     const FrfFileData t = read_frf_input(plain, o.onto);
-    target = t.is_block ? t.block.frequency_hz : t.single.frequency_hz;
+    ro.target_hz = t.is_block ? t.block.frequency_hz : t.single.frequency_hz;
+    ro.target_name = "the frequencies of " + o.onto;
   } else if (!o.grid.empty()) {
-    target = parse_frequency_grid(o.grid, "--grid").values();
+    ro.target_hz = parse_frequency_grid(o.grid, "--grid").values();
+    ro.target_name = "--grid " + o.grid;
   }
-  if (target && band) {
-    std::vector<double> kept;
-    for (double f : *target)
-      if (f >= band->first && f <= band->second) kept.push_back(f);
-    if (kept.empty())
-      throw InputError(fmt::format("no target frequency in --band {}:{} ({} gives {}–{} Hz)", band->first, band->second,
-                                   o.onto.empty() ? "--grid" : o.onto, target->front(), target->back()),
-                       "choose a band that overlaps the target grid");
-    target = std::move(kept);
-  }
+  ro.check();
 
-  FrfFileData in = read_frf_input(g, o.input, o.dataset);
+  const FrfFileData in = read_frf_input(g, o.input, o.dataset);
   check_frf_output(o.output, format, in.is_block);
-  FrfFileData out;
+  FrfResampled r = resample_frf(in, ro, o.input);
+  FrfFileData& out = r.data;
   out.format = format;
-  out.is_block = in.is_block;
-  out.dof = in.dof;
-  const std::vector<double>& f_in = in.is_block ? in.block.frequency_hz : in.single.frequency_hz;
-  std::string done;
-  try {
-    if (target) {
-      if (in.is_block) out.block = resample(in.block, *target, method, o.input);
-      else out.single = resample(in.single, *target, method, o.input);
-      out.coherence = resample_values(f_in, in.coherence, *target, o.input);
-      done = fmt::format("{} interpolation of real and imaginary parts onto {}", o.method,
-                         o.onto.empty() ? "--grid " + o.grid : "the frequencies of " + o.onto);
-    } else {
-      if (in.is_block) out.block = crop(in.block, band->first, band->second, o.input);
-      else out.single = crop(in.single, band->first, band->second, o.input);
-      out.coherence = crop_values(f_in, in.coherence, band->first, band->second);
-      done = fmt::format("cropped to {}–{} Hz", band->first, band->second);
-    }
-  } catch (const InputError& e) {
-    throw InputError(e.what(), e.hint() + (target ? " (--band)" : ""));
-  }
-  if (band && target) done += fmt::format(", within {}–{} Hz", band->first, band->second);
-  const std::string comment = fmt::format("{} {}", o.input, done);
+  const std::string comment = fmt::format("{} {}", o.input, r.description);
   write_frf_output(o.output, format, out, comment);
+  warn_all(r.warnings);
+  const std::vector<double>& f_in = in.is_block ? in.block.frequency_hz : in.single.frequency_hz;
   const std::vector<double>& f_out = out.is_block ? out.block.frequency_hz : out.single.frequency_hz;
   info(g, fmt::format("wrote {} ({} frequencies {:.6g}–{:.6g} Hz from {} of {:.6g}–{:.6g} Hz: {})", o.output, f_out.size(),
-                      f_out.front(), f_out.back(), f_in.size(), f_in.front(), f_in.back(), done));
+                      f_out.front(), f_out.back(), f_in.size(), f_in.front(), f_in.back(), r.description));
   if (o.plot.empty()) return;
   plot::FrfFigureOptions fo;
-  fo.title = fmt::format("{}: {}", plot::literal(o.input), done);
+  fo.title = fmt::format("{}: {}", plot::literal(o.input), r.description);
   draw_frf_overlay(g, {{point_frf(in), "input", plot::CurveStyle::Points}, {point_frf(out), "resampled", plot::CurveStyle::Line}},
                    fo, o.plot, o.output);
 }

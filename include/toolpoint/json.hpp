@@ -34,7 +34,9 @@
 #include "toolpoint/peaks.hpp"
 #include "toolpoint/signal.hpp"
 #include "toolpoint/stability.hpp"
+#include "toolpoint/studies/beam.hpp"
 #include "toolpoint/studies/fd_correction.hpp"
+#include "toolpoint/studies/filter.hpp"
 #include "toolpoint/studies/identification.hpp"
 #include "toolpoint/studies/lobes.hpp"
 #include "toolpoint/studies/overhang.hpp"
@@ -125,6 +127,17 @@ void to_json(nlohmann::json& j, const FiniteDifferenceError& e);
 // "reciprocity", "correction_note", "warnings"}
 void to_json(nlohmann::json& j, const RotationalStudy& s);
 
+// ---- Filter -------------------------------------------------------------------------------------
+
+// {"entry", "raw_frequency_hz", "raw_magnitude", "filtered_frequency_hz" (null: smoothed away), "filtered_magnitude",
+// "height_change", "frequency_change" (null: smoothed away), "noise"} (changes and noise relative, as fractions)
+void to_json(nlohmann::json& j, const PeakChange& c);
+// {"peaks": [PeakChange…], "warnings"}
+void to_json(nlohmann::json& j, const PeakChangeReport& r);
+// {"noise_gain", "peaks": PeakChangeReport, "warnings"}; the filtered series goes to an FRF file.
+void to_json(nlohmann::json& j, const FilterStudy<FrfSeries>& s);
+void to_json(nlohmann::json& j, const FilterStudy<BlockSeries>& s);
+
 // ---- Modal fit and stability lobes --------------------------------------------------------------
 
 // {"mass_kg", "damping_ratio", "frequency_hz"}
@@ -135,6 +148,8 @@ void to_json(nlohmann::json& j, const FittedMode& m);
 // {"modes": [FittedMode…], "lower_residual", "upper_residual", "normalised_residual", "band_low_hz", "band_high_hz",
 // "points", "evaluations", "converged", "warnings"}
 void to_json(nlohmann::json& j, const ModalFitResult& r);
+// {"fit": ModalFitResult, "model": [Mode…], "warnings"}; the fitted series goes to an FRF file.
+void to_json(nlohmann::json& j, const ModalFitStudy& s);
 // {"x": [Mode…], "y": [Mode…]}
 void to_json(nlohmann::json& j, const ModalModel& m);
 // {"what", "modes", "residual", "band_low_hz", "band_high_hz", "target_met"}
@@ -180,6 +195,11 @@ void to_json(nlohmann::json& j, const PlanResult& r);
 
 // {"frequency_hz", "w1", "psi1", "w2", "psi2", "above_cutoff"}
 void to_json(nlohmann::json& j, const FreeMode& m);
+// {"area", "second_moment", "shear_coefficient", "rhoA", "rhoI", "cutoff_frequency_hz"}
+void to_json(nlohmann::json& j, const BeamSection& s);
+// {"section": BeamSection, "modes": [FreeMode… each with its "mode" number, 1 first], "method", "warnings"}; the
+// segment, its complex SectionProperties and the receptance are left out (the receptance goes to an FRF file).
+void to_json(nlohmann::json& j, const BeamStudy& s);
 // {"response_node", "response_direction", "reference_node", "reference_direction"}
 void to_json(nlohmann::json& j, const UffDof& d);
 // {"ordinate", "to_si", "label"}

@@ -58,6 +58,12 @@ struct FittedMode {
   // ‖G_fit − G‖/‖G‖ over the points within f_r(1 ± 2ζ_r) (at least the 5 nearest points): how well
   // this mode's neighbourhood is reproduced; 0.01 is 1 % of the response there.
   double normalised_residual = 0.0;
+
+  // A resonance a modal model can hold (what a Mode is): a positive residue, so a modal mass
+  // 1/A_r > 0, and ζ < 1. A fit can give neither: a non-point FRF or a phase error makes A_r ≤ 0,
+  // a mode pushed out of its peak ends overdamped. The one rule for modal_model() and the study's
+  // model (what `toolpoint lobes` accepts).
+  bool is_resonance() const;
 };
 
 struct ModalFitResult {
@@ -98,6 +104,21 @@ ModalFitResult fit_modes(const FrfSeries& frf, const ModalFitOptions& options = 
 // The fit's figure: `measured` (points) and fit.fitted_frf on its grid (line), |H| [m/N] and phase
 // [deg] over frequency [Hz], each fitted mode labelled on the fitted curve with its frequency [Hz]
 // and damping ratio; the title names `what` (a file name, printed verbatim).
+// ---- The study: the fit and what it gives -------------------------------------------------------
+//
+// The procedure behind `toolpoint modes`, as one library call: fit_modes, the fitted receptance on
+// the measured grid of the band (ModalFitResult::fitted_frf), and the modal model of the fitted
+// modes that are resonances (FittedMode::is_resonance), which the stability lobes take.
+struct ModalFitStudy {
+  ModalFitResult fit;
+  FrfSeries fitted;                   // the fitted receptance [m/N], residual terms included, at the band's measured frequencies
+  std::vector<Mode> model;            // the fitted modes that are resonances (is_resonance), ascending; the others left out
+  std::vector<std::string> warnings;  // the fit's (a non-resonance among them: fit_modes warns of a non-positive residue)
+};
+
+// Runs fit_modes(frf, options, what) and the above. Throws as fit_modes.
+ModalFitStudy run_modal_fit_study(const FrfSeries& frf, const ModalFitOptions& options = {}, const std::string& what = "FRF");
+
 plot::Figure modal_fit_figure(const FrfSeries& measured, const ModalFitResult& fit, const std::string& what);
 
 }  // namespace toolpoint

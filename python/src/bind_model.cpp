@@ -9,6 +9,7 @@
 #include "toolpoint/joint.hpp"
 #include "toolpoint/joint_file.hpp"
 #include "toolpoint/json.hpp"
+#include "toolpoint/studies/beam.hpp"
 #include "toolpoint/studies/fd_correction.hpp"
 #include "toolpoint/studies/overhang.hpp"
 #include "toolpoint/studies/predict.hpp"
@@ -21,6 +22,9 @@ namespace {
 
 using namespace pybind11::literals;
 
+const std::vector<std::pair<const char*, EndBlock>> kEndBlocks{
+    {"11", EndBlock::T11}, {"12", EndBlock::T12}, {"21", EndBlock::T21}, {"22", EndBlock::T22}};
+const std::vector<std::pair<const char*, BeamMethod>> kBeamMethods{{"exact", BeamMethod::Exact}, {"modal", BeamMethod::Modal}};
 const std::vector<std::pair<const char*, ShearModel>> kShearModels{{"hutchinson", ShearModel::Hutchinson},
                                                                    {"cowper", ShearModel::Cowper}};
 const std::vector<std::pair<const char*, ReceptanceMethod>> kMethods{{"exact", ReceptanceMethod::Exact},
@@ -259,6 +263,59 @@ void bind_model(py::module_& m) {
           },
           "The elastic modes' undamped natural frequencies [Hz].")
       .def_property_readonly("loss_factor", &ModalBeam::loss_factor);
+
+  py::class_<BeamStudy>(m, "BeamStudy", "run_beam_study's result (studies/beam.hpp).")
+      .def_readonly("segment", &BeamStudy::segment, "the Segment built from the options")
+      .def_readonly("properties", &BeamStudy::properties, "SectionProperties: EI, κGA (complex, with η), ρA, ρI")
+      .def_property_readonly(
+          "section", [](const BeamStudy& r) { return dict_of(r.section); },
+          "{'area' m², 'second_moment' m⁴, 'shear_coefficient', 'rhoA' kg/m, 'rhoI' kg·m, 'cutoff_frequency_hz'}")
+      .def_property_readonly(
+          "mode_frequency_hz",
+          [](const BeamStudy& r) {
+            std::vector<double> f;
+            for (const FreeMode& x : r.modes) f.push_back(x.frequency_hz);
+            return array_of(f);
+          },
+          "(modes,) the elastic free–free natural frequencies [Hz], undamped, ascending")
+      .def_property_readonly(
+          "frequency_hz", [](const BeamStudy& r) { return array_of(r.receptance.frequency_hz); }, "(n,) Hz")
+      .def_property_readonly(
+          "receptance", [](const BeamStudy& r) { return blocks_array(r.receptance.blocks); },
+          "the end block asked for, complex (n, 2, 2) [[H m/N, L 1/N], [N rad/N, P rad/(N·m)]]")
+      .def_readonly("method", &BeamStudy::method, "'exact' or 'modal (N modes[ + static residual])'")
+      .def_readonly("warnings", &BeamStudy::warnings)
+      .def(
+          "to_dict", [](const BeamStudy& r) { return dict_of(r); },
+          "The result as plain data, the receptance left out (toolpoint beam --json's 'section' and 'modes'; SI units).");
+  m.def(
+      "run_beam_study",
+      [](double length, double outer_diameter, double inner_diameter, Material material,
+         std::optional<double> shear_coefficient, const std::string& shear_model, int modes, const py::object& frequency_hz,
+         const std::string& block, const std::string& method, int modal_terms, bool static_residual) {
+        BeamStudyOptions o;
+        o.length = length;
+        o.outer_diameter = outer_diameter;
+        o.inner_diameter = inner_diameter;
+        o.material = std::move(material);
+        o.shear_coefficient = shear_coefficient;
+        o.shear_model = enum_of(shear_model, kShearModels, "shear_model");
+        o.modes = modes;
+        if (!frequency_hz.is_none()) o.frequency_hz = vector_of(frequency_hz.cast<RealArray>(), "frequency_hz");
+        o.block = enum_of(block, kEndBlocks, "block");
+        o.method = enum_of(method, kBeamMethods, "method");
+        o.modal = {modal_terms, static_residual};
+        py::gil_scoped_release nogil;
+        return run_beam_study(o);
+      },
+      "length"_a, "outer_diameter"_a, "inner_diameter"_a = 0.0,
+      "material"_a = Material{"beam", 2.0e11, 0.3, 0.0, 7800.0, 0.0}, "shear_coefficient"_a = py::none(),
+      "shear_model"_a = "hutchinson", "modes"_a = 5, "frequency_hz"_a = py::none(),
+      "block"_a = "11", "method"_a = "exact", "modal_terms"_a = 100, "static_residual"_a = false,
+      "The beam study (toolpoint beam): one free–free Timoshenko segment of length `length` m and diameters D, d [m] "
+      "(material: E, ν, G, ρ, η; default steel) — its section, its first `modes` natural frequencies [Hz] and, on "
+      "`frequency_hz` [Hz], the end block '11' (end 1 = the outer end), '12', '21' or '22' by the 'exact' closed form or "
+      "'modal' summation over `modal_terms` modes.");
 
   // ---- Assembly -----------------------------------------------------------------------------------
   py::class_<Bearing>(m, "Bearing", "Springs and dampers to ground at `position` m from the spindle nose.")

@@ -5,7 +5,9 @@
 #include "toolpoint/io.hpp"
 #include "toolpoint/json.hpp"
 #include "toolpoint/peaks.hpp"
+#include "toolpoint/resample.hpp"
 #include "toolpoint/signal.hpp"
+#include "toolpoint/studies/filter.hpp"
 #include "toolpoint/studies/rotational.hpp"
 #include "toolpoint/uff.hpp"
 
@@ -26,6 +28,9 @@ const std::vector<std::pair<const char*, FrfFormat>> kFormats{{"auto", FrfFormat
 const std::vector<std::pair<const char*, FrfOrdinate>> kOrdinates{{"receptance", FrfOrdinate::Receptance},
                                                                   {"mobility", FrfOrdinate::Mobility},
                                                                   {"accelerance", FrfOrdinate::Accelerance}};
+
+const std::vector<std::pair<const char*, Interpolation>> kInterpolations{{"linear", Interpolation::Linear},
+                                                                        {"cubic", Interpolation::Cubic}};
 
 // A frequency grid for functions that only need the samples' order: 1, 2, … n.
 std::vector<double> index_grid(std::size_t n) {
@@ -57,6 +62,24 @@ py::array series_apply(const py::array& values, const std::vector<double>& f, co
   else out = blocks_array(signal_run(BlockSeries{f, blocks_of(v, what)}, on_block, warnings).blocks);
   warn_all(warnings);
   return out;
+}
+
+// FilterStudy<Series> as the Python class `name`; `values` (n,) for an FRF, (n, 2, 2) for a block.
+template <class Series, class Values>
+void bind_filter_study(py::module_& m, const char* name, Values values) {
+  using Study = FilterStudy<Series>;
+  py::class_<Study>(m, name, "run_filter_study's result (studies/filter.hpp).")
+      .def_property_readonly(
+          "frequency_hz", [](const Study& r) { return array_of(r.filtered.frequency_hz); }, "(n,) Hz")
+      .def_property_readonly(
+          "filtered", [values](const Study& r) { return values(r.filtered); }, "the filtered values, the input's shape")
+      .def_readonly("noise_gain", &Study::noise_gain, "Σ c² of the interior weights: white-noise variance after / before")
+      .def_property_readonly(
+          "peaks", [](const Study& r) { return dict_of(r.peaks); },
+          "the peaks before and after: {'peaks': [{'entry', 'raw_frequency_hz', …}], 'warnings'}")
+      .def_readonly("warnings", &Study::warnings)
+      .def(
+          "to_dict", [](const Study& r) { return dict_of(r); }, "The result as plain data, the filtered series left out.");
 }
 
 UffDof dof_of(const py::object& o) {
@@ -147,6 +170,38 @@ void bind_signal_io(py::module_& m) {
       "(n,), "
       "complex (n,) or a block series (n, 2, 2) (real and imaginary parts separately). `window` in points (odd), `order` the "
       "polynomial degree. With frequency_hz [Hz] an uneven grid is flagged (toolpoint.Warning).");
+  bind_filter_study<FrfSeries>(m, "FilterStudy", [](const FrfSeries& x) { return array_of(x.values); });
+  bind_filter_study<BlockSeries>(m, "BlockFilterStudy", [](const BlockSeries& x) { return blocks_array(x.blocks); });
+  m.def(
+      "run_filter_study",
+      [](const RealArray& f, const ComplexArray& values, int window, int order, double min_prominence, double min_height,
+         double warn_above, double noise_prominence, const std::string& what) -> py::object {
+        FilterStudyOptions o;
+        o.savgol = {window, order};
+        o.peaks = {min_prominence, min_height, warn_above, noise_prominence};
+        const std::vector<double> grid = vector_of(f, "frequency_hz");
+        if (values.ndim() == 1) {
+          const FrfSeries s{grid, complex_vector_of(values, "values")};
+          FilterStudy<FrfSeries> r;
+          {
+            py::gil_scoped_release nogil;
+            r = run_filter_study(s, o, what);
+          }
+          return py::cast(std::move(r));
+        }
+        const BlockSeries s{grid, blocks_of(values, "values")};
+        FilterStudy<BlockSeries> r;
+        {
+          py::gil_scoped_release nogil;
+          r = run_filter_study(s, o, what);
+        }
+        return py::cast(std::move(r));
+      },
+      "frequency_hz"_a, "values"_a, "window"_a, "order"_a, "min_prominence"_a = 0.2, "min_height"_a = 0.05,
+      "warn_above"_a = 0.02, "noise_prominence"_a = 8.0, "what"_a = "FRF",
+      "The filter study (toolpoint filter): Savitzky–Golay smoothing of a measured FRF, complex (n,), or block (n, 2, 2) "
+      "[m/N] against frequency_hz [Hz] (window [points] at most a quarter of n, polynomial order), its interior white-noise "
+      "gain Σc², and each prominent peak before and after (peak_changes' options; a change beyond warn_above is a warning).");
   m.def(
       "add_measurement_noise",
       [](const RealArray& f, const py::array& values, double sigma, std::uint64_t seed) {
@@ -261,6 +316,29 @@ void bind_signal_io(py::module_& m) {
       "accelerance (from the UFF codes, or ordinate='mobility'/'accelerance') is converted to receptance [m/N]. Raises "
       "InputError "
       "naming file, line or dataset; IoError.");
+  py::class_<FrfResampled>(m, "FrfResampled", "resample_frf's result (resample.hpp).")
+      .def_readonly("file", &FrfResampled::data, "FrfFile: the FRF on the new grid, in the input's form")
+      .def_property_readonly(
+          "coherence", [](const FrfResampled& r) { return array_of(r.data.coherence); }, "(n,) or empty")
+      .def_readonly("description", &FrfResampled::description, "what was done (the CLI's comment line)")
+      .def_readonly("warnings", &FrfResampled::warnings);
+  m.def(
+      "resample_frf",
+      [](const FrfFileData& file, std::optional<std::pair<double, double>> band_hz, const py::object& target_hz,
+         const std::string& target_name, const std::string& method, const std::string& what) {
+        FrfResampleOptions o;
+        o.band_hz = band_hz;
+        if (!target_hz.is_none()) o.target_hz = vector_of(target_hz.cast<RealArray>(), "target_hz");
+        o.target_name = target_name;
+        o.method = enum_of(method, kInterpolations, "method");
+        py::gil_scoped_release nogil;
+        return resample_frf(file, o, what);
+      },
+      "file"_a, "band_hz"_a = py::none(), "target_hz"_a = py::none(), "target_name"_a = "the target grid",
+      "method"_a = "linear", "what"_a = "FRF",
+      "An FRF file's data (read_frf_file) on another grid (toolpoint resample): with target_hz [Hz], cropped to band_hz "
+      "(low, high) when given, the FRF and its coherence interpolated onto it ('linear' or 'cubic', real and imaginary parts, "
+      "never extrapolated); without, the FRF and its coherence cropped to band_hz.");
   m.def(
       "write_frf_file",
       [](const std::string& path, const RealArray& f, const py::array& values, const std::string& format,

@@ -33,6 +33,18 @@ py::array_t<int> int_column(const Rows& rows, Get get) {
   return a;
 }
 
+// ModalFitOptions from fit_modes' and run_modal_fit_study's keyword arguments.
+ModalFitOptions modal_fit_options(int max_modes, std::optional<std::pair<double, double>> band_hz, double min_prominence_db,
+                                  bool residual_terms, int max_evaluations) {
+  ModalFitOptions o;
+  o.max_modes = max_modes;
+  o.band_hz = band_hz;
+  o.min_prominence_db = min_prominence_db;
+  o.residual_terms = residual_terms;
+  o.max_evaluations = max_evaluations;
+  return o;
+}
+
 py::dict envelope_dict(const std::vector<EnvelopePoint>& e) {
   return py::dict("speed_rpm"_a = column(e, [](const EnvelopePoint& p) { return p.speed_rpm; }),
                   "depth_m"_a = column(e, [](const EnvelopePoint& p) { return p.depth_m; }),
@@ -164,12 +176,7 @@ void bind_stability(py::module_& m) {
       [](const RealArray& f, const ComplexArray& values, int max_modes, std::optional<std::pair<double, double>> band_hz,
          double min_prominence_db, bool residual_terms, int max_evaluations) {
         const FrfSeries s = frf_series(f, values, "values");
-        ModalFitOptions o;
-        o.max_modes = max_modes;
-        o.band_hz = band_hz;
-        o.min_prominence_db = min_prominence_db;
-        o.residual_terms = residual_terms;
-        o.max_evaluations = max_evaluations;
+        const ModalFitOptions o = modal_fit_options(max_modes, band_hz, min_prominence_db, residual_terms, max_evaluations);
         py::gil_scoped_release nogil;
         return fit_modes(s, o, "values");
       },
@@ -180,6 +187,34 @@ void bind_stability(py::module_& m) {
       "terms) at once.");
 
   // ---- Cutting and zero-order lobes -------------------------------------------------------------------
+  py::class_<ModalFitStudy>(m, "ModalFitStudy", "run_modal_fit_study's result (modal_fit.hpp).")
+      .def_readonly("fit", &ModalFitStudy::fit, "ModalFitResult")
+      .def_property_readonly(
+          "frequency_hz", [](const ModalFitStudy& r) { return array_of(r.fitted.frequency_hz); },
+          "(n,) the band's measured frequencies [Hz]")
+      .def_property_readonly(
+          "fitted", [](const ModalFitStudy& r) { return array_of(r.fitted.values); },
+          "the fitted receptance there, residual terms included, complex (n,) [m/N]")
+      .def_readonly("model", &ModalFitStudy::model,
+                    "list of Mode: the fitted modes that are resonances (positive residue, ζ < 1), as lobes takes them")
+      .def_readonly("warnings", &ModalFitStudy::warnings)
+      .def(
+          "to_dict", [](const ModalFitStudy& r) { return dict_of(r); },
+          "The result as plain data, the fitted series left out ('fit' has toolpoint modes --json's keys; SI units).");
+  m.def(
+      "run_modal_fit_study",
+      [](const RealArray& f, const ComplexArray& values, int max_modes, std::optional<std::pair<double, double>> band_hz,
+         double min_prominence_db, bool residual_terms, int max_evaluations, const std::string& what) {
+        const FrfSeries s = frf_series(f, values, "values");
+        const ModalFitOptions o = modal_fit_options(max_modes, band_hz, min_prominence_db, residual_terms, max_evaluations);
+        py::gil_scoped_release nogil;
+        return run_modal_fit_study(s, o, what);
+      },
+      "frequency_hz"_a, "values"_a, "max_modes"_a = 3, "band_hz"_a = py::none(), "min_prominence_db"_a = 3.0,
+      "residual_terms"_a = true, "max_evaluations"_a = 2000, "what"_a = "values",
+      "The modal fit study (toolpoint modes): fit_modes on a point receptance [m/N] against frequency_hz [Hz], the fitted "
+      "receptance on the band's measured frequencies, and the modal model of the fitted resonances.");
+
   py::class_<CuttingConditions>(
       m, "CuttingConditions",
       "Milling: teeth N, tangential coefficient K_t [N/m²], radial ratio K_r = K_n/K_t, engagement from "

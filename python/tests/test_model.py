@@ -124,6 +124,27 @@ def test_beam_against_the_cli_and_the_euler_bernoulli_limit(tmp_path):
     assert np.array_equal(tp.ModalBeam(s).receptance(fc)[:, :2, 2:], m12)  # T12: rows of end 1, columns of end 2
 
 
+def test_beam_study_is_the_cli_one(tmp_path):
+    """run_beam_study gives what `toolpoint beam` prints and writes: the same section and modes (JSON),
+    the same receptance (the CSV holds shortest round-trip doubles, so equality is exact)."""
+    hollow = dict(length=0.123, outer_diameter=0.016, inner_diameter=0.004)
+    j = run_cli_json("beam", "--length", 0.123, "--diameter", 0.016, "--inner-diameter", 0.004, "--modes", 4,
+                     "--shear-model", "cowper")
+    r = tp.run_beam_study(**hollow, shear_model="cowper", modes=4)
+    d = r.to_dict()
+    assert d["section"] == j["section"] and d["modes"] == j["modes"]
+    assert list(r.mode_frequency_hz) == [m["frequency_hz"] for m in j["modes"]]
+    assert d["warnings"] == [] and r.receptance.shape == (0, 2, 2)
+    run_cli("beam", "--length", 0.123, "--diameter", 0.016, "--inner-diameter", 0.004, "--frequencies", "100:20000:100",
+            "--method", "modal", "--modal-terms", 50, "--static-residual", "--block", 21, "--output", tmp_path / "m21.csv")
+    f, m21 = read_block_csv(tmp_path / "m21.csv")
+    r = tp.run_beam_study(**hollow, modes=0, frequency_hz=f, method="modal", modal_terms=50, static_residual=True, block="21")
+    assert r.method == "modal (50 modes + static residual)"
+    assert np.array_equal(r.frequency_hz, f) and np.array_equal(r.receptance, m21)
+    with pytest.raises(tp.InvalidArgument, match="BeamStudyOptions::modes"):
+        tp.run_beam_study(**hollow, modes=-1)
+
+
 def test_couple_and_overhang_study_are_the_cli_ones(tmp_path, example, model):
     f = example.frequency_hz
     sh11 = model.holder_tip(f)

@@ -32,6 +32,55 @@ def test_savgol_filter_reproduces_polynomials_and_the_cli(tmp_path, example, pre
     assert np.array_equal(h, cli[:, 0, 0])
 
 
+def test_filter_study_is_the_cli_one(tmp_path, prediction):
+    """run_filter_study gives what `toolpoint filter` writes (the same doubles) and prints (its peak
+    table, as printed: 6 significant digits, changes in % to 2 decimals)."""
+    f, blocks = prediction.frequency_hz, prediction.frf
+    noisy = tp.add_measurement_noise(f, blocks, sigma=0.05, seed=3)
+    tp.write_frf_file(str(tmp_path / "noisy.csv"), f, noisy)
+    out = run_cli("filter", tmp_path / "noisy.csv", tmp_path / "filtered.csv", "--window", 41, "--order", 2)
+    _, cli = read_block_csv(tmp_path / "filtered.csv")
+    r = tp.run_filter_study(f, noisy, 41, 2, what=str(tmp_path / "noisy.csv"))
+    assert isinstance(r, tp.BlockFilterStudy) and np.array_equal(r.filtered, cli)
+    assert r.noise_gain == pytest.approx(np.sum(tp.savgol_coefficients(41, 2) ** 2), rel=1e-15)
+    rows = [line.split() for line in out.splitlines()[2:] if line.startswith("  ") and not line.startswith("  (")]
+    peaks = r.to_dict()["peaks"]["peaks"]
+    assert len(rows) == len(peaks) > 0
+    for row, p in zip(rows, peaks):
+        assert row[0] == p["entry"] and row[1] == f"{p['raw_frequency_hz']:.6g}"
+        assert row[5] == f"{100 * p['height_change']:+.2f}"
+    # A window of 41 flattens the sharp peaks by more than 2 %: said in the result's warnings.
+    assert r.to_dict()["peaks"]["warnings"] and all(w in r.warnings for w in r.to_dict()["peaks"]["warnings"])
+    single = tp.run_filter_study(f, noisy[:, 0, 0], 5, 2)
+    assert isinstance(single, tp.FilterStudy) and single.filtered.shape == (len(f),)
+
+
+def test_resample_frf_is_the_cli_one(tmp_path, prediction):
+    """resample_frf gives what `toolpoint resample` writes: interpolated onto a grid cropped to a band,
+    or cropped, the coherence carried (CSV: shortest round-trip doubles, so equality is exact)."""
+    f, h = prediction.frequency_hz[::10], prediction.frf[::10, 0, 0]
+    coh = np.linspace(0.5, 1.0, len(f))
+    rows = "".join(f"{x!r},{v.real!r},{v.imag!r},{c!r}\n" for x, v, c in zip(f, h, coh))
+    (tmp_path / "h.csv").write_text("frequency_hz,re,im,coherence\n" + rows)
+    data = tp.read_frf_file(str(tmp_path / "h.csv"))
+    run_cli("resample", tmp_path / "h.csv", tmp_path / "g.csv", "--grid", "1:5000:4", "--band", "300:4000",
+            "--method", "cubic")
+    r = tp.resample_frf(data, band_hz=(300.0, 4000.0), target_hz=np.arange(1.0, 5000.0, 4.0), method="cubic",
+                        target_name="--grid 1:5000:4", what=str(tmp_path / "h.csv"))
+    d = read_csv(tmp_path / "g.csv")
+    assert np.array_equal(r.file.frequency_hz, d[:, 0]) and np.array_equal(r.file.values, d[:, 1] + 1j * d[:, 2])
+    assert np.array_equal(r.coherence, d[:, 3])
+    assert f"h.csv {r.description}" in (tmp_path / "g.csv").read_text() and r.warnings == []
+    assert r.description == "cubic interpolation of real and imaginary parts onto --grid 1:5000:4, within 300–4000 Hz"
+    run_cli("resample", tmp_path / "h.csv", tmp_path / "c.csv", "--band", "300:4000")
+    r = tp.resample_frf(data, band_hz=(300.0, 4000.0))
+    d = read_csv(tmp_path / "c.csv")
+    assert np.array_equal(r.file.values, d[:, 1] + 1j * d[:, 2]) and np.array_equal(r.coherence, d[:, 3])
+    assert r.description == "cropped to 300–4000 Hz"
+    with pytest.raises(tp.InputError, match="FrfResampleOptions::band_hz"):
+        tp.resample_frf(data, band_hz=(1.0, 2.0), target_hz=[5000.0, 6000.0])
+
+
 def test_noise_is_the_cli_noise(tmp_path, prediction):
     f, h = prediction.frequency_hz, prediction.frf[:, 0, 0]
     tp.write_frf_file(str(tmp_path / "h.csv"), f, h)

@@ -79,6 +79,24 @@ def test_modal_fit_is_the_cli_one(tmp_path, prediction):
     assert r.to_dict() == {k: v for k, v in cli.items() if k not in ("units", "file")}  # what the CLI adds
 
 
+def test_modal_fit_study_is_the_cli_one(tmp_path, prediction):
+    """run_modal_fit_study gives what `toolpoint modes` prints (--json: the fit; text: the modes lobes
+    accepts) and writes (the fitted receptance, shortest round-trip doubles: equal exactly)."""
+    f, h = prediction.frequency_hz, prediction.frf[:, 0, 0]
+    path = tmp_path / "h.csv"
+    tp.write_frf_file(str(path), f, h)
+    cli = run_cli_json("modes", path, "--band", "300:3000", "--output", tmp_path / "fit.csv")
+    study = tp.run_modal_fit_study(f, h, band_hz=(300.0, 3000.0), what=str(path))
+    assert study.to_dict()["fit"] == {k: v for k, v in cli.items() if k not in ("units", "file", "output")}
+    d = read_csv(tmp_path / "fit.csv")
+    assert np.array_equal(study.frequency_hz, d[:, 0]) and np.array_equal(study.fitted, d[:, 1] + 1j * d[:, 2])
+    text = run_cli("modes", path, "--band", "300:3000")
+    line = next(x for x in text.splitlines() if x.startswith("for `toolpoint lobes --method sd`:"))
+    assert line.split(":", 1)[1].split() == [
+        w for m in study.model for w in ("--mode-x", f"{m.mass_kg:.6g},{m.damping_ratio:.6g},{m.frequency_hz:.6g}")]
+    assert len(study.model) >= 1 and study.warnings == study.fit.warnings
+
+
 def test_modal_fit_recovers_the_modes_it_is_given():
     f = np.linspace(500.0, 2000.0, 3001)
     modes = [tp.Mode(0.04, 0.011, 922.0), tp.Mode(0.08, 0.02, 1400.0)]
