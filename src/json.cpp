@@ -327,9 +327,7 @@ void to_json(nlohmann::json& j, const ModalFitResult& r) {
        {"warnings", r.warnings}};
 }
 
-void to_json(nlohmann::json& j, const ModalFitStudy& s) {
-  j = {{"fit", s.fit}, {"model", s.model}, {"warnings", s.warnings}};
-}
+void to_json(nlohmann::json& j, const ModalFitStudy& s) { j = {{"fit", s.fit}, {"model", s.model}, {"warnings", s.warnings}}; }
 
 void to_json(nlohmann::json& j, const ModalModel& m) { j = {{"x", m.x}, {"y", m.y}}; }
 

@@ -339,11 +339,11 @@ ModalFitResult fit_modes_at_scale(const FrfSeries& frf, const ModalFitOptions& o
     if (fr < f.front() || fr > f.back())
       res.warnings.push_back(fmt::format("the mode fitted at {:.2f} Hz lies outside the band {}–{} Hz", fr, f.front(), f.back()));
     if (z >= 1.0)
-      res.warnings.push_back(fmt::format("the mode fitted at {:.2f} Hz has a damping ratio of {:.3g}: overdamped, not a "
-                                         "resonance (the fit spent a mode on the background; fewer modes or a narrower band)",
-                                         fr, z));
-    else if (z > 0.3)
-      res.warnings.push_back(fmt::format("the mode at {:.2f} Hz has a large damping ratio {:.3f}", fr, z));
+      res.warnings.push_back(
+          fmt::format("the mode fitted at {:.2f} Hz has a damping ratio of {:.3g}: overdamped, not a "
+                      "resonance (the fit spent a mode on the background; fewer modes or a narrower band)",
+                      fr, z));
+    else if (z > 0.3) res.warnings.push_back(fmt::format("the mode at {:.2f} Hz has a large damping ratio {:.3f}", fr, z));
     if (!(m.residue > 0.0))
       res.warnings.push_back(
           fmt::format("the mode at {:.2f} Hz has a non-positive residue {:.4g} 1/kg: no modal mass "

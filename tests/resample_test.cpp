@@ -202,8 +202,7 @@ TEST(ResampleFrf, TargetCroppedToTheBandThenInterpolated) {
   EXPECT_EQ(r.data.coherence, resample_values(in.single.frequency_hz, in.coherence, f, "line.csv"));
   EXPECT_EQ(r.data.dof.response_node, 7);
   EXPECT_FALSE(r.data.is_block);
-  EXPECT_EQ(r.description,
-            "linear interpolation of real and imaginary parts onto the frequencies of t.csv, within 1000–2000 Hz");
+  EXPECT_EQ(r.description, "linear interpolation of real and imaginary parts onto the frequencies of t.csv, within 1000–2000 Hz");
   EXPECT_TRUE(r.warnings.empty());
 
   // Without the band the target reaches outside the data: refused, the fix naming the band.

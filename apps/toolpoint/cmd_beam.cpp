@@ -49,10 +49,7 @@ void run_beam(const BeamOptions& o, const Globals& g) {
   so.shear_model = o.shear_model == "cowper" ? ShearModel::Cowper : ShearModel::Hutchinson;
   so.modes = o.modes > 0 ? o.modes : (o.frequencies.empty() ? 5 : 0);
   if (!o.frequencies.empty()) so.frequency_hz = parse_frequency_grid(o.frequencies, "--frequencies").values();
-  so.block = o.block == "11"   ? EndBlock::T11
-             : o.block == "12" ? EndBlock::T12
-             : o.block == "21" ? EndBlock::T21
-                               : EndBlock::T22;
+  so.block = o.block == "11" ? EndBlock::T11 : o.block == "12" ? EndBlock::T12 : o.block == "21" ? EndBlock::T21 : EndBlock::T22;
   so.method = o.method == "modal" ? BeamMethod::Modal : BeamMethod::Exact;
   so.modal = {o.modal_terms, o.static_residual};
   const BeamStudy r = run_beam_study(so);
@@ -71,17 +68,17 @@ void run_beam(const BeamOptions& o, const Globals& g) {
       std::cout << "mode  frequency_hz  branch\n";
       int i = 1;
       for (const FreeMode& m : r.modes)
-        std::cout << fmt::format("{:4d}  {:12.3f}  {}\n", i++, m.frequency_hz, m.above_cutoff ? "above cut-off" : "below cut-off");
+        std::cout << fmt::format("{:4d}  {:12.3f}  {}\n", i++, m.frequency_hz,
+                                 m.above_cutoff ? "above cut-off" : "below cut-off");
     }
   }
 
   if (!o.frequencies.empty()) {
-    write_frf_csv(o.output, r.receptance,
-                  {fmt::format("free-free Timoshenko beam, block T{} (end 1 = x = L, the outer end), method {}", o.block,
-                               r.method),
-                   fmt::format("L = {} m, D = {} m, d = {} m, E = {} Pa, nu = {}, rho = {} kg/m^3, eta = {}, kappa = {}",
-                               o.length, o.diameter, o.inner_diameter, o.youngs_modulus, o.poisson, o.density, o.loss_factor,
-                               kappa)});
+    write_frf_csv(
+        o.output, r.receptance,
+        {fmt::format("free-free Timoshenko beam, block T{} (end 1 = x = L, the outer end), method {}", o.block, r.method),
+         fmt::format("L = {} m, D = {} m, d = {} m, E = {} Pa, nu = {}, rho = {} kg/m^3, eta = {}, kappa = {}", o.length,
+                     o.diameter, o.inner_diameter, o.youngs_modulus, o.poisson, o.density, o.loss_factor, kappa)});
     out["output"] = o.output;
     out["points"] = r.receptance.size();
     info(g, fmt::format("wrote {} ({} frequencies, block T{})", o.output, r.receptance.size(), o.block));

@@ -46,8 +46,8 @@ void run_filter(const FilterOptions& o, const Globals& g) {
     std::cout << fmt::format("  {:5}  {:10.6g}  {:13.6g}  {:>11}  {:18.6g}  {:+8.2f}  {:>11}  {:7.2f}\n",
                              c.entry.empty() ? "-" : c.entry, c.raw_frequency_hz, c.raw_magnitude,
                              gone ? std::string("gone") : fmt::format("{:.6g}", c.filtered_frequency_hz), c.filtered_magnitude,
-                             100.0 * c.height_change, gone ? std::string("-") : fmt::format("{:+.3f}", 100.0 * c.frequency_change),
-                             100.0 * c.noise);
+                             100.0 * c.height_change,
+                             gone ? std::string("-") : fmt::format("{:+.3f}", 100.0 * c.frequency_change), 100.0 * c.noise);
   }
   if (peaks.peaks.empty()) std::cout << "  (no prominent peak)\n";
   std::cout << "  (noise_%: the raw data's magnitude noise σ at the peak, estimated from the data; a peak must rise 8σ above "

@@ -93,11 +93,11 @@ void check_smoothing_window(const SavgolOptions& options, std::size_t points, co
 // warning says so). Series too short to estimate the noise from (fewer than 58 points) are taken
 // as noise-free.
 struct PeakChangeOptions {
-  double min_prominence = 0.2;  // a peak at least 25 % above its higher valley (≈ 1.9 dB): noise ripple is not a mode
-  double min_height = 0.05;     // fraction of the entry's highest peak below which a peak is not reported
-  double warn_above = 0.02;     // |relative change| above which a warning is given (2 %)
+  double min_prominence = 0.2;    // a peak at least 25 % above its higher valley (≈ 1.9 dB): noise ripple is not a mode
+  double min_height = 0.05;       // fraction of the entry's highest peak below which a peak is not reported
+  double warn_above = 0.02;       // |relative change| above which a warning is given (2 %)
   double noise_prominence = 8.0;  // a peak must also rise this many noise σ above its higher valley
-  void check() const;  // fractions in (0, 1), warn_above > 0, noise_prominence ≥ 0; InvalidArgument naming the field
+  void check() const;             // fractions in (0, 1), warn_above > 0, noise_prominence ≥ 0; InvalidArgument naming the field
 };
 
 struct PeakChange {

@@ -22,8 +22,10 @@ namespace {
 
 using namespace pybind11::literals;
 
-const std::vector<std::pair<const char*, EndBlock>> kEndBlocks{
-    {"11", EndBlock::T11}, {"12", EndBlock::T12}, {"21", EndBlock::T21}, {"22", EndBlock::T22}};
+const std::vector<std::pair<const char*, EndBlock>> kEndBlocks{{"11", EndBlock::T11},
+                                                               {"12", EndBlock::T12},
+                                                               {"21", EndBlock::T21},
+                                                               {"22", EndBlock::T22}};
 const std::vector<std::pair<const char*, BeamMethod>> kBeamMethods{{"exact", BeamMethod::Exact}, {"modal", BeamMethod::Modal}};
 const std::vector<std::pair<const char*, ShearModel>> kShearModels{{"hutchinson", ShearModel::Hutchinson},
                                                                    {"cowper", ShearModel::Cowper}};
@@ -290,9 +292,9 @@ void bind_model(py::module_& m) {
           "The result as plain data, the receptance left out (toolpoint beam --json's 'section' and 'modes'; SI units).");
   m.def(
       "run_beam_study",
-      [](double length, double outer_diameter, double inner_diameter, Material material,
-         std::optional<double> shear_coefficient, const std::string& shear_model, int modes, const py::object& frequency_hz,
-         const std::string& block, const std::string& method, int modal_terms, bool static_residual) {
+      [](double length, double outer_diameter, double inner_diameter, Material material, std::optional<double> shear_coefficient,
+         const std::string& shear_model, int modes, const py::object& frequency_hz, const std::string& block,
+         const std::string& method, int modal_terms, bool static_residual) {
         BeamStudyOptions o;
         o.length = length;
         o.outer_diameter = outer_diameter;
@@ -308,9 +310,8 @@ void bind_model(py::module_& m) {
         py::gil_scoped_release nogil;
         return run_beam_study(o);
       },
-      "length"_a, "outer_diameter"_a, "inner_diameter"_a = 0.0,
-      "material"_a = Material{"beam", 2.0e11, 0.3, 0.0, 7800.0, 0.0}, "shear_coefficient"_a = py::none(),
-      "shear_model"_a = "hutchinson", "modes"_a = 5, "frequency_hz"_a = py::none(),
+      "length"_a, "outer_diameter"_a, "inner_diameter"_a = 0.0, "material"_a = Material{"beam", 2.0e11, 0.3, 0.0, 7800.0, 0.0},
+      "shear_coefficient"_a = py::none(), "shear_model"_a = "hutchinson", "modes"_a = 5, "frequency_hz"_a = py::none(),
       "block"_a = "11", "method"_a = "exact", "modal_terms"_a = 100, "static_residual"_a = false,
       "The beam study (toolpoint beam): one free–free Timoshenko segment of length `length` m and diameters D, d [m] "
       "(material: E, ν, G, ρ, η; default steel) — its section, its first `modes` natural frequencies [Hz] and, on "

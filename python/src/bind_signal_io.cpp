@@ -30,7 +30,7 @@ const std::vector<std::pair<const char*, FrfOrdinate>> kOrdinates{{"receptance",
                                                                   {"accelerance", FrfOrdinate::Accelerance}};
 
 const std::vector<std::pair<const char*, Interpolation>> kInterpolations{{"linear", Interpolation::Linear},
-                                                                        {"cubic", Interpolation::Cubic}};
+                                                                         {"cubic", Interpolation::Cubic}};
 
 // A frequency grid for functions that only need the samples' order: 1, 2, … n.
 std::vector<double> index_grid(std::size_t n) {
@@ -197,8 +197,8 @@ void bind_signal_io(py::module_& m) {
         }
         return py::cast(std::move(r));
       },
-      "frequency_hz"_a, "values"_a, "window"_a, "order"_a, "min_prominence"_a = 0.2, "min_height"_a = 0.05,
-      "warn_above"_a = 0.02, "noise_prominence"_a = 8.0, "what"_a = "FRF",
+      "frequency_hz"_a, "values"_a, "window"_a, "order"_a, "min_prominence"_a = 0.2, "min_height"_a = 0.05, "warn_above"_a = 0.02,
+      "noise_prominence"_a = 8.0, "what"_a = "FRF",
       "The filter study (toolpoint filter): Savitzky–Golay smoothing of a measured FRF, complex (n,), or block (n, 2, 2) "
       "[m/N] against frequency_hz [Hz] (window [points] at most a quarter of n, polynomial order), its interior white-noise "
       "gain Σc², and each prominent peak before and after (peak_changes' options; a change beyond warn_above is a warning).");
@@ -334,8 +334,8 @@ void bind_signal_io(py::module_& m) {
         py::gil_scoped_release nogil;
         return resample_frf(file, o, what);
       },
-      "file"_a, "band_hz"_a = py::none(), "target_hz"_a = py::none(), "target_name"_a = "the target grid",
-      "method"_a = "linear", "what"_a = "FRF",
+      "file"_a, "band_hz"_a = py::none(), "target_hz"_a = py::none(), "target_name"_a = "the target grid", "method"_a = "linear",
+      "what"_a = "FRF",
       "An FRF file's data (read_frf_file) on another grid (toolpoint resample): with target_hz [Hz], cropped to band_hz "
       "(low, high) when given, the FRF and its coherence interpolated onto it ('linear' or 'cubic', real and imaginary parts, "
       "never extrapolated); without, the FRF and its coherence cropped to band_hz.");

@@ -39,8 +39,8 @@ BeamStudy run_beam_study(const BeamStudyOptions& options) {
   // (what Segment::properties() used).
   r.section = {a.area(),
                a.second_moment(),
-               a.shear_coefficient.value_or(
-                   shear_coefficient(options.shear_model, options.material.poisson, options.outer_diameter, options.inner_diameter)),
+               a.shear_coefficient.value_or(shear_coefficient(options.shear_model, options.material.poisson,
+                                                              options.outer_diameter, options.inner_diameter)),
                r.properties.rhoA,
                r.properties.rhoI,
                r.properties.cutoff_frequency_hz()};

@@ -257,8 +257,7 @@ void judge_lowest_depth(LobesStudyResult& res) {
 }
 
 // The study with the joint's constants: the zero-order lobes or the time-domain boundary.
-LobesStudyResult nominal_lobes_study(const LobesInput& input, const LobesStudyOptions& options,
-                                     const ProgressCallback& report) {
+LobesStudyResult nominal_lobes_study(const LobesInput& input, const LobesStudyOptions& options, const ProgressCallback& report) {
   LobesStudyResult res;
   res.method = options.method;
   res.cutting = options.cutting;
@@ -347,8 +346,7 @@ LobesStudyResult nominal_lobes_study(const LobesInput& input, const LobesStudyOp
 
 }  // namespace
 
-LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOptions& options,
-                                 const ProgressCallback& progress) {
+LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOptions& options, const ProgressCallback& progress) {
   options.check();
   if (input.uncertain_joint && !input.assembly)
     throw InvalidArgument("LobesInput::uncertain_joint needs LobesInput::assembly (the joint is sampled inside the model)",

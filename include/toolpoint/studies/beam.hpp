@@ -27,17 +27,17 @@ enum class BeamMethod {
 const char* beam_method_name(BeamMethod method);
 
 struct BeamStudyOptions {
-  double length = 0.0;                 // L [m], > 0 (no default)
-  double outer_diameter = 0.0;         // D [m], > 0 (no default)
-  double inner_diameter = 0.0;         // d [m]; 0: a solid section
+  double length = 0.0;                                       // L [m], > 0 (no default)
+  double outer_diameter = 0.0;                               // D [m], > 0 (no default)
+  double inner_diameter = 0.0;                               // d [m]; 0: a solid section
   Material material{"beam", 2.0e11, 0.3, 0.0, 7800.0, 0.0};  // steel, undamped (E, ν, G, ρ, η)
   std::optional<double> shear_coefficient;                   // κ [-]; unset: from shear_model, ν and the diameters
   ShearModel shear_model = ShearModel::Hutchinson;
-  int modes = 5;                      // free–free natural frequencies listed, ≥ 0
-  std::vector<double> frequency_hz;   // the receptance's grid [Hz] (each > 0); empty: no receptance
-  EndBlock block = EndBlock::T11;     // which end block
+  int modes = 5;                     // free–free natural frequencies listed, ≥ 0
+  std::vector<double> frequency_hz;  // the receptance's grid [Hz] (each > 0); empty: no receptance
+  EndBlock block = EndBlock::T11;    // which end block
   BeamMethod method = BeamMethod::Exact;
-  ModalOptions modal;                 // BeamMethod::Modal: elastic modes summed, static residual
+  ModalOptions modal;  // BeamMethod::Modal: elastic modes summed, static residual
   // Throws InvalidArgument naming BeamStudyOptions::<field> (modes < 0, a non-positive or
   // non-finite frequency, shear_coefficient ≤ 0, modal out of range); the geometry and the
   // material are checked by Segment::check() when the study builds the segment.
@@ -46,20 +46,20 @@ struct BeamStudyOptions {
 
 // The section's values under the names beam.hpp gives them (Annulus, SectionProperties).
 struct BeamSection {
-  double area = 0.0;               // A [m²]
-  double second_moment = 0.0;      // I [m⁴]
-  double shear_coefficient = 0.0;  // κ [-], as used
-  double rhoA = 0.0;               // ρA [kg/m]
-  double rhoI = 0.0;               // ρI [kg·m]
+  double area = 0.0;                 // A [m²]
+  double second_moment = 0.0;        // I [m⁴]
+  double shear_coefficient = 0.0;    // κ [-], as used
+  double rhoA = 0.0;                 // ρA [kg/m]
+  double rhoI = 0.0;                 // ρI [kg·m]
   double cutoff_frequency_hz = 0.0;  // sqrt(κGA/ρI)/(2π) [Hz]: above it the shear spectrum propagates
 };
 
 struct BeamStudy {
-  Segment segment;                // the segment built from the options
-  SectionProperties properties;   // EI, κGA (complex, with η), ρA, ρI
+  Segment segment;               // the segment built from the options
+  SectionProperties properties;  // EI, κGA (complex, with η), ρA, ρI
   BeamSection section;
-  std::vector<FreeMode> modes;    // the first options.modes elastic free–free modes, undamped, ascending
-  BlockSeries receptance;         // options.block on options.frequency_hz (empty without a grid)
+  std::vector<FreeMode> modes;  // the first options.modes elastic free–free modes, undamped, ascending
+  BlockSeries receptance;       // options.block on options.frequency_hz (empty without a grid)
   // How the receptance was computed: "exact", or "modal (N modes[ + static residual])".
   std::string method;
   std::vector<std::string> warnings;

@@ -20,7 +20,7 @@
 namespace toolpoint {
 
 struct FilterStudyOptions {
-  SavgolOptions savgol;    // window [points] and order (the command has no defaults: it asks for both)
+  SavgolOptions savgol;     // window [points] and order (the command has no defaults: it asks for both)
   PeakChangeOptions peaks;  // which peaks are compared and when a change is a warning
   // Throws InvalidArgument naming SavgolOptions::<field> or PeakChangeOptions::<field>.
   void check() const;
@@ -28,9 +28,9 @@ struct FilterStudyOptions {
 
 template <class Series>
 struct FilterStudy {
-  Series filtered;          // on the input's grid
-  double noise_gain = 0.0;  // Σ c_k² over the interior weights: white-noise variance after / before
-  PeakChangeReport peaks;   // the prominent peaks of every entry before and after (its warnings included below)
+  Series filtered;                    // on the input's grid
+  double noise_gain = 0.0;            // Σ c_k² over the interior weights: white-noise variance after / before
+  PeakChangeReport peaks;             // the prominent peaks of every entry before and after (its warnings included below)
   std::vector<std::string> warnings;  // the filter's (an uneven grid), then the peaks' (a peak changed > 2 %)
 };
 
