@@ -15,6 +15,7 @@
 #include "toolpoint/joint_file.hpp"
 #include "toolpoint/studies/predict.hpp"
 #include "toolpoint/studies/plan.hpp"
+#include "toolpoint/studies/plan_io.hpp"
 
 using namespace toolpoint;
 

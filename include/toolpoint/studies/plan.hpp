@@ -214,12 +214,6 @@ PlanPart run_plan_part(const std::vector<PlanCandidate>& candidates, const PlanO
 // shard, repeat one, or hold jobs that do not belong to them.
 PlanResult merge_plan_parts(const std::vector<PlanPart>& parts, const std::vector<std::string>& sources);
 
-// A part as text (JSON; doubles in hexadecimal, so reading gives the same bits; the header's
-// fingerprint and a checksum over the jobs) and back. parse throws InputError naming `source` (not
-// a part file, another format version, a damaged or edited entry: the fingerprint or checksum).
-std::string format_plan_part(const PlanPart& part);
-PlanPart parse_plan_part(const std::string& text, const std::string& source);
-
 // A 64-bit FNV-1a hash of the header's options, speeds and candidates (their names, overhangs and
 // content: every number of the assembly, the SH11 and the sampled joint), so parts of different
 // plans are not merged.

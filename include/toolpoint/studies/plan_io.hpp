@@ -1,4 +1,4 @@
-// toolpoint study: a plan's results as CSV tables — the I/O layer of studies/plan.hpp (as
+// toolpoint study: a plan's part files and results as CSV tables — the I/O layer of studies/plan.hpp (as
 // stability_io.hpp is of stability.hpp). Each file's first comment line states the plan, the
 // units and the safety rule.
 //
@@ -11,6 +11,12 @@
 #include "toolpoint/studies/plan.hpp"
 
 namespace toolpoint {
+
+// A part as text (JSON; doubles in hexadecimal, so reading gives the same bits; the header's
+// fingerprint and a checksum over the jobs) and back. parse throws InputError naming `source` (not
+// a part file, another format version, a damaged or edited entry: the fingerprint or checksum).
+std::string format_plan_part(const PlanPart& part);
+PlanPart parse_plan_part(const std::string& text, const std::string& source);
 
 // CSV text (units in the column names; text quoted where needed):
 //   best set-ups: rank,candidate,overhang_mm,spindle_speed_rpm,axial_depth_mm,stable_depth_mm,
