@@ -59,16 +59,16 @@ plot::ProbabilityMapData probability_map(const StabilityUncertainty& s, const st
   plot::ProbabilityMapData m;
   m.title = fmt::format("Probability of stability, the joint of {} uncertain ({} samples)", plot::literal(joint_source),
                         s.samples);
-  m.speed_rpm = s.speed_rpm;
-  for (double a : s.depth_grid_m) m.depth_mm.push_back(1e3 * a);
-  for (std::size_t j = 0; j < s.depth_grid_m.size(); ++j)
-    for (std::size_t i = 0; i < s.speed_rpm.size(); ++i)
-      m.probability.push_back(s.probability(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)));
   const auto mm = [](const std::vector<double>& v) {
     std::vector<double> out;
     for (double a : v) out.push_back(1e3 * a);
     return out;
   };
+  m.speed_rpm = s.speed_rpm;
+  m.depth_mm = mm(s.depth_grid_m);
+  for (std::size_t j = 0; j < s.depth_grid_m.size(); ++j)
+    for (std::size_t i = 0; i < s.speed_rpm.size(); ++i)
+      m.probability.push_back(s.probability(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)));
   m.envelopes.push_back({mm(s.nominal_depth_m), "nominal envelope"});
   if (!s.levels.empty())
     m.envelopes.push_back({mm(s.depth_m.front()), fmt::format("stable with {:g} % probability", 100 * (1.0 - s.levels.front()))});

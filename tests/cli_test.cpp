@@ -592,6 +592,9 @@ TEST_F(Cli, BadValuesAreUsageErrors) {
   write_text_file(path("h.csv"), "frequency_hz,re,im\n10,1,0\n20,1,0\n");
   expect_error(run("rotational --spacing -0.1 --h00 h.csv --h10 h.csv --order 1 -o tip.csv"), 2, {"spacing -0.1 m"});
   expect_error(run("couple --sh h.csv --assembly '" + kExample + "' --overhang -0.05 --output c.csv"), 2, {"overhang -0.05 m"});
+  // A sweep is counted before it is made (overhang_sweep_size).
+  expect_error(run("couple --sh h.csv --assembly '" + kExample + "' --overhang 0.04:0.09:0.00001 --output d"), 2,
+               {"gives 5001 overhangs; at most 1000"});
   expect_error(run("lobes --frf h.csv --teeth 2 --kt 6e8 --kr 0.3 --immersion 1.5 --milling up --rpm 1:2"), 2, {"immersion"});
   expect_error(run("modes h.csv --dataset 1"), 2, {"h.csv", "dataset 1"});  // a CSV has no datasets
   expect_error(run("filter h.csv out.xyz --window 1 --order 0"), 2, {"out.xyz"});

@@ -100,6 +100,11 @@ TEST(PlanStudyFile, MistakesAreNamedWithFileLineAndKey) {
   expect_refused<InputError>(study("overhang_min = 0.050\noverhang_max = 0.060\noverhang_step = 0.005",
                                    "overhang_min = 50\noverhang_max = 60\noverhang_step = 5"),
                              {"study.toml:6", "candidate[1].overhang_min = 50", "cannot be meant", "metres"});
+  // Counted before they are made (overhang_sweep_size): a million overhangs are refused, not built.
+  expect_refused<InputError>(study("overhang_step = 0.005", "overhang_step = 0.00000001"),
+                             {"study.toml:8", "gives 1000001 overhangs; at most 100000", "larger step"});
+  expect_refused<InputError>(study("overhang_step = 0.005", "overhang_step = 0.0000000001"),
+                             {"study.toml:8", "overhang_step", "below a nanometre"});
   expect_refused<InputError>(study("feed_per_tooth = 1e-4", "feed_per_tooth = 0.1"),
                              {"study.toml:15", "cut.feed_per_tooth", "millimetres?"});
   expect_refused<InputError>(study("factor = 1.25", "probability = 95"),

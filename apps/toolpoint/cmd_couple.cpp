@@ -52,14 +52,15 @@ std::vector<double> parse_overhangs(const std::string& text) {
     } catch (const InvalidArgument& e) {
       throw InvalidArgument(std::string(e.what()) + " (here in metres, not Hz)", "e.g. --overhang 0.040:0.060:0.002");
     }
-    std::vector<double> v;
+    std::size_t count = 0;
     try {
-      v = overhang_sweep(sweep.start_hz, sweep.stop_hz, sweep.step_hz);
+      count = overhang_sweep_size(sweep.start_hz, sweep.stop_hz, sweep.step_hz);
     } catch (const InvalidArgument& e) {
       throw InvalidArgument(fmt::format("--overhang {}: {}", text, e.what()), e.hint());
     }
-    if (v.size() > 1000)
-      throw InvalidArgument(fmt::format("--overhang {} gives {} overhangs; at most 1000", text, v.size()), "use a larger STEP");
+    if (count > 1000)
+      throw InvalidArgument(fmt::format("--overhang {} gives {} overhangs; at most 1000", text, count), "use a larger STEP");
+    const std::vector<double> v = overhang_sweep(sweep.start_hz, sweep.stop_hz, sweep.step_hz);
     for (double x : {v.front(), v.back()}) check_overhang(x);
     return v;
   }

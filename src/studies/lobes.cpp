@@ -304,8 +304,7 @@ LobesStudyResult nominal_lobes_study(const LobesInput& input, const LobesStudyOp
     res.modes.x = fit_milling_modes(input.frfs->xx, input.frf_name, options.fit, options.fit_target, s, res.warnings);
     res.fits.push_back(s);
   }
-  const bool rigid_y = input.rigid_y || (input.frfs && input.frfs->rigid_y);
-  if (res.modes.y.empty() && !rigid_y) {
+  if (res.modes.y.empty() && !input.rigid_in_y()) {
     if (input.frfs && input.frfs->yy) {
       ModalFitSummary s;
       res.modes.y = fit_milling_modes(*input.frfs->yy, input.frf_y_name, options.fit, options.fit_target, s, res.warnings);
@@ -375,9 +374,8 @@ LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOption
   UncertaintyOptions draws = options.uncertainty;
   draws.progress = {};
   if (progress) draws.progress = [&](double f) { progress(share + (1.0 - share) * f); };
-  const bool rigid_y = input.rigid_y || (input.frfs && input.frfs->rigid_y);
   res.uncertainty = stability_uncertainty(*input.assembly, *input.uncertain_joint, input.assembly->grid.values(), options, depths,
-                                          draws, rigid_y);
+                                          draws, input.rigid_in_y());
   res.uncertain_joint = input.uncertain_joint->source;
   const auto quantiles = quantile_envelopes(*res.uncertainty);
   res.figure.other_envelopes.insert(res.figure.other_envelopes.end(), quantiles.begin(), quantiles.end());

@@ -127,7 +127,7 @@ OverhangStudy run_overhang_study(const Assembly& assembly, const BlockSeries& sh
   return s;
 }
 
-std::vector<double> overhang_sweep(double start_m, double stop_m, double step_m) {
+std::size_t overhang_sweep_size(double start_m, double stop_m, double step_m) {
   if (!std::isfinite(start_m) || !std::isfinite(stop_m) || !std::isfinite(step_m) || !(start_m > 0.0) || !(stop_m >= start_m))
     throw InvalidArgument(fmt::format("overhang sweep {}:{}:{} m: the overhangs must satisfy 0 < start ≤ stop", start_m, stop_m,
                                       step_m),
@@ -135,7 +135,11 @@ std::vector<double> overhang_sweep(double start_m, double stop_m, double step_m)
   if (!(step_m >= 1e-9))
     throw InvalidArgument(fmt::format("overhang sweep step {} m is below a nanometre", step_m),
                           "give the step in metres, e.g. 0.002 (2 mm)");
-  const auto n = static_cast<std::size_t>(std::floor((stop_m - start_m) / step_m * (1.0 + 1e-12) + 1e-9)) + 1;
+  return static_cast<std::size_t>(std::floor((stop_m - start_m) / step_m * (1.0 + 1e-12) + 1e-9)) + 1;
+}
+
+std::vector<double> overhang_sweep(double start_m, double stop_m, double step_m) {
+  const std::size_t n = overhang_sweep_size(start_m, stop_m, step_m);
   std::vector<double> v(n);
   for (std::size_t i = 0; i < n; ++i) v[i] = std::round((start_m + static_cast<double>(i) * step_m) * 1e9) / 1e9;
   return v;

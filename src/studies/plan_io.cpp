@@ -499,13 +499,13 @@ PlanCandidate read_candidate(Reader& r, const toml::table& t, const std::string&
     if (step) {
       if (!(*step > 0.0))
         r.fail(*t.get("overhang_step"), fmt::format("{}.overhang_step = {} m must be > 0", path, *step), "e.g. 0.0005 (0.5 mm)");
-      const double n = std::floor((*hi - *lo) / *step * (1.0 + 1e-12)) + 1.0;
-      if (n > 100000)
-        r.fail(*t.get("overhang_step"), fmt::format("{}: the overhang range gives {:.0f} overhangs; at most 100000", path, n),
-               "use a larger step");
       if (!(*step >= 1e-9))
         r.fail(*t.get("overhang_step"), fmt::format("{}.overhang_step = {} m is below a nanometre", path, *step),
                "give the step in metres, e.g. 0.0005 (0.5 mm)");
+      const std::size_t n = overhang_sweep_size(*lo, *hi, *step);
+      if (n > 100000)
+        r.fail(*t.get("overhang_step"), fmt::format("{}: the overhang range gives {} overhangs; at most 100000", path, n),
+               "use a larger step");
       // The decimal overhangs meant, not lo + i·step with its binary error (0.10200000000000001).
       c.overhangs_m = overhang_sweep(*lo, *hi, *step);
     } else {

@@ -49,6 +49,8 @@ struct LobesInput {
   // a joint file with [uncertainty] whose joint is drawn (needs `assembly`).
   std::optional<Assembly> assembly;
   std::optional<JointFile> uncertain_joint;
+  // Rigid in y: said here, or by the FRFs (MillingFrfs::rigid_y).
+  bool rigid_in_y() const { return rigid_y || (frfs && frfs->rigid_y); }
 };
 
 struct LobesStudyOptions {

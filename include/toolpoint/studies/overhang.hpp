@@ -80,6 +80,9 @@ OverhangStudy run_overhang_study(const Assembly& assembly, const BlockSeries& sh
 // without the float noise of repeated steps (0.04 + 6 × 0.002 is 0.052, not 0.052000000000000005).
 // Throws InvalidArgument unless 0 < start ≤ stop, all finite, and step ≥ 1 nm.
 std::vector<double> overhang_sweep(double start_m, double stop_m, double step_m);
+// How many overhangs overhang_sweep gives, with its checks, without making them: a caller bounds
+// the count first (a nanometre step over a metre would be a billion overhangs).
+std::size_t overhang_sweep_size(double start_m, double stop_m, double step_m);
 
 // The tracked modes as a table (the seed's Fig. 10): overhang_m, then mode_<k>_hz per tracked mode
 // (an empty cell where the mode was not found).
