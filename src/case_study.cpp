@@ -86,8 +86,12 @@ CaseStudy run_case_study(const Assembly& assembly, const CaseStudyOptions& o) {
   io.method = IdentificationMethod::Seed;
   io.width = o.band_width;
   if (o.apply_filter) io.filter = o.filter;
-  const IdentificationData measured{"overhang as modelled", std::nullopt, cs.sht_noisy,
-                                    "SHT11 (noisy)",        cs.sh_noisy,  "SH11 (noisy)"};
+  IdentificationData measured;
+  measured.label = "overhang as modelled";
+  measured.G11 = cs.sht_noisy;
+  measured.g_name = "SHT11 (noisy)";
+  measured.B11 = cs.sh_noisy;
+  measured.b_name = "SH11 (noisy)";
   cs.seed = identify_joint_from_frfs(assembly, {measured}, io);
   cs.filtered = cs.seed.closed_form;
   cs.effect = *cs.seed.mode.effect;

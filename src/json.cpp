@@ -56,6 +56,39 @@ void to_json(nlohmann::json& j, const ModeComparison& c) {
        {"predicted_peak", number(c.predicted_peak)},   {"magnitude_error", number(c.magnitude_error)}};
 }
 
+void to_json(nlohmann::json& j, const ModeCheck& c) {
+  j = {{"model_hz", number(c.model_hz)},
+       {"lo_hz", number(c.lo_hz)},
+       {"hi_hz", number(c.hi_hz)},
+       {"measured_hz", number(c.measured_hz)},
+       {"predicted_hz", number(c.predicted_hz)},
+       {"measured_peak", number(c.measured_peak)},
+       {"predicted_peak", number(c.predicted_peak)},
+       {"frequency_error", number(c.frequency_error)},
+       {"magnitude_error", number(c.magnitude_error)},
+       {"frequency_mean", number(c.frequency_mean)},
+       {"frequency_sd", number(c.frequency_sd)},
+       {"magnitude_mean", number(c.magnitude_mean)},
+       {"magnitude_sd", number(c.magnitude_sd)},
+       {"resolved_fraction", number(c.resolved_fraction)},
+       {"frequency_z", number(c.frequency_z)},
+       {"magnitude_z", number(c.magnitude_z)},
+       {"agreement", to_string(c.agreement)}};
+}
+
+void to_json(nlohmann::json& j, const ExtraPeak& e) {
+  j = {{"frequency_hz", number(e.frequency_hz)},
+       {"prominence", number(e.prominence)},
+       {"p_value", number(e.p_value)},
+       {"significant", e.significant}};
+}
+
+void to_json(nlohmann::json& j, const ForwardCheck& c) {
+  j = {{"label", c.label},       {"modes", c.modes}, {"extra", c.extra},       {"replicates", c.replicates},
+       {"false_alarm", c.false_alarm}, {"z", number(c.z)}, {"passed", c.passed()}, {"failures", c.failures},
+       {"notes", c.notes}};
+}
+
 void to_json(nlohmann::json& j, const JointParameters& p) {
   j = per_parameter([&](int k, std::size_t) { return number(p[k]); });
 }
@@ -77,6 +110,11 @@ void to_json(nlohmann::json& j, const BlockNoise& n) {
   j = {{"source", n.source},
        {"magnitude_sigma", numbers(n.magnitude_sigma)},
        {"phase_sigma_rad", numbers(n.phase_sigma_rad)},
+       {"floor", numbers(n.floor)},
+       {"floor_relative", numbers(n.floor_relative)},
+       {"calibration", number(n.calibration)},
+       {"coherence", n.coherence},
+       {"summary", n.summary()},
        {"residual_correlation", number(n.residual_correlation)},
        {"warnings", n.warnings}};
 }
@@ -111,6 +149,7 @@ void to_json(nlohmann::json& j, const JointFit& f) {
        {"converged", f.converged},
        {"correlation", matrix(f.correlation())},
        {"covariance", matrix(f.covariance)},
+       {"calibration_std_error", per_parameter([&](int, std::size_t ks) { return number(f.calibration_std_error[ks]); })},
        {"warnings", f.warnings}};
   if (!f.setups.empty()) {
     j["setups"] = f.setups;
@@ -159,7 +198,7 @@ void to_json(nlohmann::json& j, const Identification& id) {
        {"mode", id.mode},
        {"g_noise", id.g_noise},
        {"b_noise", id.b_noise},
-       {"forward_check", id.forward_check},
+       {"forward_checks", id.forward_checks},
        {"verdict", id.verdict},
        {"warnings", id.warnings}};
   if (id.fit) {

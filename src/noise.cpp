@@ -5,8 +5,12 @@
 #include <cmath>
 #include <fmt/format.h>
 #include <limits>
+#include <numbers>
+#include <optional>
+#include <tuple>
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 
 #include "toolpoint/error.hpp"
 
@@ -41,7 +45,22 @@ void finish(BlockNoise& n) {
     };
     n.magnitude_sigma[static_cast<std::size_t>(e)] = median(m);
     n.phase_sigma_rad[static_cast<std::size_t>(e)] = median(p);
+    std::vector<double> a;
+    for (const Eigen::Vector4d& x : n.additive) a.push_back(std::sqrt(std::max(0.0, x(e))));
+    n.floor[static_cast<std::size_t>(e)] = a.empty() ? 0.0 : median(a);
   }
+}
+
+// The largest |x_e| over the series, per entry.
+std::array<double, 4> peaks_of(const BlockSeries& data) {
+  std::array<double, 4> p{};
+  for (const Block& b : data.blocks)
+    for (int e = 0; e < 4; ++e) p[static_cast<std::size_t>(e)] = std::max(p[static_cast<std::size_t>(e)], std::abs(b(e / 2, e % 2)));
+  return p;
+}
+
+void set_floor_relative(BlockNoise& n, const std::array<double, 4>& peaks) {
+  for (std::size_t e = 0; e < 4; ++e) n.floor_relative[e] = peaks[e] > 0.0 ? n.floor[e] / peaks[e] : 0.0;
 }
 
 }  // namespace
@@ -75,6 +94,11 @@ Cov8 BlockNoise::absolute(std::size_t i, const Block& x) const {
       s.block<2, 2>(2 * e, 2 * f) = b;
       s.block<2, 2>(2 * f, 2 * e) = b.transpose();
     }
+  if (!additive.empty())
+    for (int e = 0; e < 4; ++e) {
+      s(2 * e, 2 * e) += additive[i](e);
+      s(2 * e + 1, 2 * e + 1) += additive[i](e);
+    }
   return s;
 }
 
@@ -83,9 +107,11 @@ BlockNoise BlockNoise::subset(const std::vector<std::size_t>& indices) const {
   if (exact()) return s;
   s.relative.clear();
   s.root.clear();
+  s.additive.clear();
   for (std::size_t i : indices) {
     s.relative.push_back(relative.at(i));
     s.root.push_back(root.at(i));
+    if (has_floor()) s.additive.push_back(additive.at(i));
   }
   return s;
 }
@@ -99,6 +125,191 @@ void NoiseEstimateOptions::check() const {
   if (window < 21 || window % 2 == 0)
     throw InvalidArgument(fmt::format("NoiseEstimateOptions::window = {} must be odd and ≥ 21 (frequency points)", window),
                           "e.g. 201: the noise is averaged over that many points");
+}
+
+// The additive floor beside the multiplicative noise (noise.hpp): per entry e and chunk of
+// `window` points, E p_i = v |x̂_i|² + 2a with p_i = |x_i − x̂_i|²/(1 − c₀), fitted by iteratively
+// reweighted least squares (weights 1/E²; v, a ≥ 0; points above 25 E are spikes); a below twice
+// its standard error (from the 2×2 weighted normal matrix) is no floor; a chunk the floor dominates
+// does not determine v (its standard error above half the pooled v) and takes the inverse-variance
+// mean of the chunks' v, its floor fitted again with that v. v and a are interpolated
+// linearly between the chunks' centres. When an entry has a floor anywhere, C(f) takes its
+// variances from v, its correlations from the first estimate.
+void estimate_floor(const BlockSeries& data, const BlockSeries& smooth, double keep_fraction, std::size_t lo, std::size_t hi,
+                    int window, BlockNoise& out) {
+  const std::size_t n = data.size(), W = static_cast<std::size_t>(window);
+  const std::size_t chunks = std::max<std::size_t>(1, (hi - lo) / W);  // the last chunk takes the remainder
+  auto begin_of = [&](std::size_t c) { return lo + c * W; };
+  auto end_of = [&](std::size_t c) { return c + 1 == chunks ? hi : lo + (c + 1) * W; };
+  std::vector<Eigen::Vector4d> v(n, Eigen::Vector4d::Zero()), a(n, Eigen::Vector4d::Zero());
+  bool any = false;
+  std::array<bool, 4> floor_kept{};
+  for (int e = 0; e < 4; ++e) {
+    std::vector<double> p(n, 0.0), m(n, 0.0);
+    for (std::size_t i = lo; i < hi; ++i) {
+      const Complex xs = smooth.blocks[i](e / 2, e % 2);
+      p[i] = std::norm(data.blocks[i](e / 2, e % 2) - xs) / keep_fraction;
+      m[i] = std::norm(xs);
+    }
+    // IRLS on one chunk: (v, s) both free, or s alone with v given. Returns v, s and their
+    // standard errors from the weighted normal matrix (unit dispersion: an exponential variable).
+    struct ChunkFit {
+      double v = 0.0, s = 0.0, se_v = 0.0, se_s = 0.0;
+    };
+    auto fit_chunk = [&](std::size_t b0, std::size_t b1, std::optional<double> fixed_v) {
+      double sum = 0.0;
+      std::size_t k = 0;
+      for (std::size_t i = b0; i < b1; ++i)
+        if (m[i] > 0.0 && std::isfinite(p[i])) {
+          sum += p[i] / m[i];
+          ++k;
+        }
+      ChunkFit r;
+      r.v = fixed_v ? *fixed_v : (k ? sum / static_cast<double>(k) : 0.0);
+      if (fixed_v) {  // start: the mean of p − v m
+        double excess = 0.0, used = 0.0;
+        for (std::size_t i = b0; i < b1; ++i)
+          if (std::isfinite(p[i])) {
+            excess += p[i] - r.v * m[i];
+            used += 1.0;
+          }
+        r.s = used > 0.0 ? std::max(0.0, excess / used) : 0.0;
+      }
+      Eigen::Matrix2d N = Eigen::Matrix2d::Zero();
+      for (int it = 0; it < 30; ++it) {
+        N.setZero();
+        Eigen::Vector2d rhs = Eigen::Vector2d::Zero();
+        for (std::size_t i = b0; i < b1; ++i) {
+          const double E = r.v * m[i] + r.s;
+          if (!(E > 0.0) || !std::isfinite(p[i]) || p[i] > 25.0 * E) continue;
+          const double w = 1.0 / (E * E);
+          N(0, 0) += w * m[i] * m[i];
+          N(0, 1) += w * m[i];
+          N(1, 1) += w;
+          rhs(0) += w * m[i] * p[i];
+          rhs(1) += w * p[i];
+        }
+        N(1, 0) = N(0, 1);
+        if (!(N(1, 1) > 0.0)) break;
+        double nv = r.v, ns = 0.0;
+        if (fixed_v) {
+          ns = std::max(0.0, (rhs(1) - nv * N(0, 1)) / N(1, 1));
+        } else {
+          const double det = N.determinant();
+          if (det > 1e-12 * N(0, 0) * N(1, 1)) {
+            const Eigen::Vector2d x = N.ldlt().solve(rhs);
+            nv = x(0);
+            ns = x(1);
+          }
+          if (!(det > 1e-12 * N(0, 0) * N(1, 1)) || ns < 0.0) {
+            ns = 0.0;
+            nv = N(0, 0) > 0.0 ? rhs(0) / N(0, 0) : 0.0;
+          }
+          if (nv < 0.0) {
+            nv = 0.0;
+            ns = rhs(1) / N(1, 1);
+          }
+        }
+        const bool done = std::abs(nv - r.v) <= 1e-6 * std::abs(nv) && std::abs(ns - r.s) <= 1e-6 * std::max(ns, 1e-300);
+        r.v = std::max(0.0, nv);
+        r.s = std::max(0.0, ns);
+        if (done) break;
+      }
+      const double det = N.determinant();
+      r.se_v = det > 0.0 ? std::sqrt(N(1, 1) / det) : std::numeric_limits<double>::infinity();
+      r.se_s = fixed_v ? (N(1, 1) > 0.0 ? std::sqrt(1.0 / N(1, 1)) : std::numeric_limits<double>::infinity())
+                       : (det > 0.0 ? std::sqrt(N(0, 0) / det) : std::numeric_limits<double>::infinity());
+      return r;
+    };
+    bool any_entry = false;
+    std::vector<ChunkFit> fits(chunks);
+    std::vector<double> vc(chunks, 0.0), ac(chunks, 0.0), centre(chunks, 0.0);
+    for (std::size_t c = 0; c < chunks; ++c) {
+      centre[c] = 0.5 * static_cast<double>(begin_of(c) + end_of(c) - 1);
+      fits[c] = fit_chunk(begin_of(c), end_of(c), std::nullopt);
+    }
+    // Where the floor dominates a whole chunk, v is not determined there (it took wild values):
+    // such chunks take the inverse-variance mean of the chunks that determine it.
+    double num = 0.0, den = 0.0;
+    for (const ChunkFit& q : fits)
+      if (std::isfinite(q.se_v) && q.se_v > 0.0) {
+        num += q.v / (q.se_v * q.se_v);
+        den += 1.0 / (q.se_v * q.se_v);
+      }
+    const double v_pool = den > 0.0 ? num / den : 0.0;
+    for (std::size_t c = 0; c < chunks; ++c) {
+      ChunkFit q = fits[c];
+      if (q.s > 0.0 && v_pool > 0.0 && !(q.se_v <= 0.5 * v_pool)) q = fit_chunk(begin_of(c), end_of(c), v_pool);
+      if (!(q.s > 2.0 * q.se_s)) {  // no floor here: the multiplicative level alone
+        q.s = 0.0;
+        double sum = 0.0, k = 0.0;
+        for (std::size_t i = begin_of(c); i < end_of(c); ++i)
+          if (m[i] > 0.0 && std::isfinite(p[i])) {
+            sum += p[i] / m[i];
+            k += 1.0;
+          }
+        q.v = k > 0.0 ? sum / k : q.v;
+      }
+      vc[c] = q.v;
+      ac[c] = 0.5 * q.s;
+      any_entry = any_entry || q.s > 0.0;
+    }
+    // Linear between the chunks' centres, constant beyond them.
+    for (std::size_t i = 0; i < n; ++i) {
+      const double x = static_cast<double>(std::clamp(i, lo, hi - 1));
+      std::size_t c = 0;
+      while (c + 1 < chunks && centre[c + 1] <= x) ++c;
+      double t = 0.0;
+      if (c + 1 < chunks && x > centre[c]) t = (x - centre[c]) / (centre[c + 1] - centre[c]);
+      const std::size_t d = std::min(c + 1, chunks - 1);
+      v[i](e) = (1.0 - t) * vc[c] + t * vc[d];
+      a[i](e) = (1.0 - t) * ac[c] + t * ac[d];
+    }
+    // Keep the floor only where it describes the data better than the multiplicative noise alone
+    // (the first estimate): a lower negative log-likelihood of the residuals (exponential with mean
+    // E; each point's share capped at a spike's 25) by more than two per chunk (Akaike's penalty
+    // for the chunks' floors). Entries made of several measurements (finite differences) can go
+    // either way.
+    double nll_floor = 0.0, nll_plain = 0.0;
+    for (std::size_t i = lo; i < hi; ++i) {
+      if (!(m[i] > 0.0) || !std::isfinite(p[i])) continue;
+      const double e_floor = v[i](e) * m[i] + 2.0 * a[i](e);
+      const double e_plain = (out.relative[i](2 * e, 2 * e) + out.relative[i](2 * e + 1, 2 * e + 1)) * m[i];
+      auto term = [&](double E) { return E > 0.0 ? std::min(p[i] / E, 25.0) + std::log(E) : 25.0 + std::log(p[i] + 1e-300); };
+      nll_floor += term(e_floor);
+      nll_plain += term(e_plain);
+    }
+    if (!(nll_floor + 2.0 * static_cast<double>(chunks) < nll_plain)) {
+      for (std::size_t i = 0; i < n; ++i) {
+        v[i](e) = out.relative[i](2 * e, 2 * e) + out.relative[i](2 * e + 1, 2 * e + 1);
+        a[i](e) = 0.0;
+      }
+      floor_kept[static_cast<std::size_t>(e)] = false;
+    } else {
+      floor_kept[static_cast<std::size_t>(e)] = any_entry;
+    }
+  }
+  any = std::any_of(floor_kept.begin(), floor_kept.end(), [](bool b) { return b; });
+  if (!any) return;
+  out.additive = a;
+  // C(f) again: each entry's multiplicative variance v_e(f) (split between magnitude and phase as
+  // the first estimate splits it), the correlations of the first estimate kept (C = D R D stays
+  // semidefinite).
+  for (std::size_t i = 0; i < n; ++i) {
+    Cov8& c = out.relative[i];
+    Eigen::Matrix<double, 8, 1> d = Eigen::Matrix<double, 8, 1>::Zero();
+    Cov8 r = Cov8::Identity();
+    for (int k = 0; k < 8; ++k)
+      for (int l = 0; l < 8; ++l)
+        if (k != l && c(k, k) > 0.0 && c(l, l) > 0.0) r(k, l) = c(k, l) / std::sqrt(c(k, k) * c(l, l));
+    for (int e = 0; e < 4; ++e) {
+      const double rr = c(2 * e, 2 * e), tt = c(2 * e + 1, 2 * e + 1);
+      const double share = rr + tt > 0.0 ? rr / (rr + tt) : 0.5;
+      d(2 * e) = std::sqrt(v[i](e) * share);
+      d(2 * e + 1) = std::sqrt(v[i](e) * (1.0 - share));
+    }
+    c = d.asDiagonal() * r * d.asDiagonal();
+  }
 }
 
 BlockNoise estimate_block_noise(const BlockSeries& data, const NoiseEstimateOptions& options, const std::string& what) {
@@ -190,6 +401,7 @@ BlockNoise estimate_block_noise(const BlockSeries& data, const NoiseEstimateOpti
     throw InputError(
         fmt::format("{}: no frequency has a usable residual to estimate the noise from (an entry is zero throughout?)", what),
         "state the noise level instead (magnitude and phase σ)");
+  if (options.floor) estimate_floor(data, smooth.series, keep_fraction, lo, hi, options.window, out);
   // Lag-1 correlation of the residuals over consecutive kept points, per chunk of `window`
   // points, and the median over the chunks. One ratio over the whole band is dominated by the few
   // frequencies near sharp peaks and antiresonances, where the local polynomial's misfit (smooth,
@@ -227,27 +439,87 @@ BlockNoise estimate_block_noise(const BlockSeries& data, const NoiseEstimateOpti
         "built on it, may be misjudged; give the unfiltered data, or state the noise",
         what, out.residual_correlation));
   finish(out);
+  set_floor_relative(out, peaks_of(smooth.series));
   return out;
 }
 
-BlockNoise stated_block_noise(std::size_t size, double magnitude_sigma, double phase_sigma_rad) {
-  if (!(magnitude_sigma >= 0.0 && std::isfinite(magnitude_sigma)) || !(phase_sigma_rad >= 0.0 && std::isfinite(phase_sigma_rad)))
-    throw InvalidArgument(
-        fmt::format("noise σ: magnitude {} and phase {} rad must be finite and ≥ 0", magnitude_sigma, phase_sigma_rad));
-  if (magnitude_sigma == 0.0 && phase_sigma_rad == 0.0)
-    throw InvalidArgument("noise σ: magnitude and phase are both 0", "for exact (model) data use no noise at all");
+void StatedNoise::check() const {
+  for (const auto& [name, v, limit, hint] :
+       {std::tuple{"StatedNoise::magnitude_sigma", magnitude_sigma, 0.5, "a relative σ: 0.05 for 5 %"},
+        std::tuple{"StatedNoise::phase_sigma_rad", phase_sigma_rad, 0.5, "in radians: 1° is 0.01745 rad"},
+        std::tuple{"StatedNoise::floor", floor, 0.5, "relative to each entry's peak: 0.01 for 1 %"}}) {
+    if (!(v >= 0.0 && std::isfinite(v)))
+      throw InvalidArgument(fmt::format("{} = {} must be finite and ≥ 0", name, v), hint);
+    if (v > limit)
+      throw InvalidArgument(fmt::format("{} = {} is above {}: no measured FRF is that noisy", name, v, limit), hint);
+  }
+  if (magnitude_sigma == 0.0 && phase_sigma_rad == 0.0 && floor == 0.0)
+    throw InvalidArgument("StatedNoise::magnitude_sigma 0, StatedNoise::phase_sigma_rad 0 rad and StatedNoise::floor 0: stated "
+                          "noise is not all zero",
+                          "state the noise the data have; for exact (model) data use no noise at all");
+}
+
+BlockNoise stated_block_noise(const BlockSeries& data, const StatedNoise& stated) {
+  stated.check();
+  validate(data, "stated noise's data", 1);
   Cov8 c = Cov8::Zero();
   for (int e = 0; e < 4; ++e) {
-    c(2 * e, 2 * e) = magnitude_sigma * magnitude_sigma;
-    c(2 * e + 1, 2 * e + 1) = phase_sigma_rad * phase_sigma_rad;
+    c(2 * e, 2 * e) = stated.magnitude_sigma * stated.magnitude_sigma;
+    c(2 * e + 1, 2 * e + 1) = stated.phase_sigma_rad * stated.phase_sigma_rad;
   }
   BlockNoise out;
-  out.relative.assign(size, c);
-  out.source = fmt::format("stated: relative magnitude σ = {:g} %, phase σ = {:g}° on every entry", 100 * magnitude_sigma,
-                           phase_sigma_rad * 180.0 / std::numbers::pi);
+  out.relative.assign(data.size(), c);
+  const std::array<double, 4> peaks = peaks_of(data);
+  if (stated.floor > 0.0) {
+    Eigen::Vector4d a;
+    for (int e = 0; e < 4; ++e) a(e) = std::pow(stated.floor * peaks[static_cast<std::size_t>(e)], 2);
+    out.additive.assign(data.size(), a);
+  }
+  out.source = fmt::format("stated: relative magnitude σ = {:g} %, phase σ = {:g}°{} on every entry", 100 * stated.magnitude_sigma,
+                           stated.phase_sigma_rad * 180.0 / std::numbers::pi,
+                           stated.floor > 0.0 ? fmt::format(", a floor of {:g} % of each entry's peak", 100 * stated.floor)
+                                              : std::string());
   out.residual_correlation = std::numeric_limits<double>::quiet_NaN();
   finish(out);
+  set_floor_relative(out, peaks);
   return out;
+}
+
+double h1_relative_variance(double coherence, int averages) {
+  if (!(coherence >= 0.0 && coherence <= 1.0))
+    throw InvalidArgument(fmt::format("coherence {} must lie in [0, 1]", coherence), "γ² is a fraction, not a percentage");
+  if (averages < 1) throw InvalidArgument(fmt::format("{} averages: at least 1", averages));
+  if (coherence <= 0.0) return 1.0;
+  return std::min(1.0, (1.0 - coherence) / (2.0 * averages * coherence));
+}
+
+void apply_coherence(BlockNoise& noise, const std::vector<double>& coherence, int averages, const std::string& what) {
+  if (noise.exact())
+    throw InvalidArgument(fmt::format("{}: a coherence cannot be applied to exact data's noise", what));
+  if (averages < 1)
+    throw InvalidArgument(fmt::format("{}: {} averages: the coherence needs the number of averages (≥ 1) behind it", what, averages),
+                          "give the number of averages the measurement software used");
+  if (coherence.size() != noise.size())
+    throw InputError(fmt::format("{}: the coherence column has {} values for {} frequencies", what, coherence.size(), noise.size()),
+                     "give one coherence value per frequency");
+  for (std::size_t i = 0; i < coherence.size(); ++i)
+    if (!(coherence[i] >= 0.0 && coherence[i] <= 1.0))
+      throw InputError(fmt::format("{}: coherence {} at point {} is outside [0, 1]", what, coherence[i], i + 1),
+                       "a coherence γ² lies in [0, 1]; a column in per cent or in dB is not one");
+  for (std::size_t i = 0; i < coherence.size(); ++i) {
+    const double eps2 = h1_relative_variance(coherence[i], averages);
+    Cov8& c = noise.relative[i];
+    Eigen::Matrix<double, 8, 1> d = Eigen::Matrix<double, 8, 1>::Ones();
+    for (int k : {0, 1}) d(k) = c(k, k) > 0.0 ? std::sqrt(eps2 / c(k, k)) : 0.0;
+    c = d.asDiagonal() * c * d.asDiagonal();  // H's correlations kept in proportion (D C D stays semidefinite)
+    c(0, 0) = c(1, 1) = eps2;
+  }
+  for (Eigen::Vector4d& a : noise.additive) a(0) = 0.0;
+  noise.coherence = fmt::format("H from its coherence and {} averages (Bendat & Piersol: (1 − γ²)/(2 n γ²))", averages);
+  const std::array<double, 4> relative_floor = noise.floor_relative, floor = noise.floor;
+  finish(noise);
+  for (std::size_t e = 0; e < 4; ++e)
+    if (floor[e] > 0.0) noise.floor_relative[e] = relative_floor[e] * noise.floor[e] / floor[e];
 }
 
 BlockNoise exact_block_noise() {
@@ -257,20 +529,47 @@ BlockNoise exact_block_noise() {
   return out;
 }
 
-BlockSeries draw_block_noise(const BlockSeries& truth, const BlockNoise& noise, std::uint64_t seed) {
+double calibration_normal(std::uint64_t seed) { return standard_normals(1, stream_seed(seed, 0xCA11B7A7E))[0]; }
+
+BlockSeries draw_block_noise(const BlockSeries& truth, const BlockNoise& noise, std::uint64_t seed, bool with_calibration) {
   if (noise.exact()) return truth;
   if (noise.size() != truth.size())
     throw InvalidArgument(fmt::format("noise model for {} frequencies applied to {} frequencies", noise.size(), truth.size()));
   const std::vector<double> z = standard_normals(8 * truth.size(), seed);
+  const bool floor = noise.has_floor();
+  const std::vector<double> za = floor ? standard_normals(8 * truth.size(), stream_seed(seed, 0xF100A)) : std::vector<double>{};
+  const double scale = with_calibration && noise.calibration > 0.0 ? 1.0 + noise.calibration * calibration_normal(seed) : 1.0;
   BlockSeries out = truth;
   for (std::size_t i = 0; i < truth.size(); ++i) {
     const Eigen::Matrix<double, 8, 1> rho = noise.root[i] * Eigen::Map<const Eigen::Matrix<double, 8, 1>>(z.data() + 8 * i);
+    Eigen::Matrix<double, 8, 1> add = Eigen::Matrix<double, 8, 1>::Zero();
+    if (floor)
+      for (int k = 0; k < 8; ++k) add(k) = std::sqrt(noise.additive[i](k / 2)) * za[8 * i + static_cast<std::size_t>(k)];
     for (int e = 0; e < 4; ++e) {
       const Complex x = truth.blocks[i](e / 2, e % 2);
-      out.blocks[i](e / 2, e % 2) = x + x * Complex(rho(2 * e), rho(2 * e + 1));
+      out.blocks[i](e / 2, e % 2) = scale * (x + x * Complex(rho(2 * e), rho(2 * e + 1)) + Complex(add(2 * e), add(2 * e + 1)));
     }
   }
   return out;
+}
+
+std::string BlockNoise::summary() const {
+  if (exact()) return source;
+  std::string s = fmt::format("magnitude σ {:.3g} % (H) … {:.3g} % (P), phase σ {:.3g}° (H)", 100 * magnitude_sigma[0],
+                              100 * magnitude_sigma[3], phase_sigma_rad[0] * 180 / std::numbers::pi);
+  if (has_floor())
+    s += fmt::format("; floor {:.3g} % (H) … {:.3g} % (P) of each entry's peak", 100 * floor_relative[0], 100 * floor_relative[3]);
+  if (!coherence.empty()) s += "; " + coherence;
+  if (calibration > 0.0) s += fmt::format("; calibration σ {:g} % (stated)", 100 * calibration);
+  return s + "; " + source;
+}
+
+BlockSeries noise_free_estimate(const BlockSeries& data, const BlockNoise& noise, const std::string& what) {
+  if (noise.exact()) return data;
+  if (data.size() < 7)
+    throw InputError(fmt::format("{}: {} frequencies are too few for measured data (need at least 7)", what, data.size()),
+                     "fit a wider band");
+  return savgol_filter(data, SavgolOptions{7, 3}, what).series;
 }
 
 std::uint64_t stream_seed(std::uint64_t seed, std::uint64_t stream) {

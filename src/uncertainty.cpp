@@ -46,17 +46,6 @@ std::vector<JointParameters> sample_joints(const JointParameters& mean, const Ei
   return out;
 }
 
-double quantile(std::vector<double> v, double p) {
-  v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return std::isnan(x); }), v.end());
-  if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
-  std::sort(v.begin(), v.end());
-  const double h = p * static_cast<double>(v.size() - 1);
-  const auto lo = static_cast<std::size_t>(std::floor(h));
-  const std::size_t hi = std::min(lo + 1, v.size() - 1);
-  if (v[lo] == v[hi]) return v[lo];  // also for ±inf, where the interpolation would give NaN
-  return v[lo] + (h - static_cast<double>(lo)) * (v[hi] - v[lo]);
-}
-
 void UncertaintyOptions::check() const {
   if (samples < 10 || samples > 1000000)
     throw InvalidArgument(fmt::format("UncertaintyOptions::samples = {} must lie in 10…1000000", samples),

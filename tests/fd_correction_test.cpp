@@ -52,7 +52,7 @@ TEST(FdCorrection, RemovesMostOfTheTruncationErrorWithAnImperfectModel) {
     o.fit.uncertainty = UncertaintyMethod::Linearised;
     o.noise.source = NoiseSpec::Source::Stated;
     o.noise.magnitude_sigma = 0.005;  // the weights of a laser vibrometer's 0.5 %
-    return identify_joint_from_frfs(real, {IdentificationData{"", std::nullopt, g, "SHT11", b, "SH11"}}, o).identified;
+    return identify_joint_from_frfs(real, {IdentificationData{"", std::nullopt, g, "SHT11", b, "SH11", {}, {}}}, o).identified;
   };
   const JointParameters truth = real.holder_tool.parameters;
   const JointParameters raw = identify(sh, sht);

@@ -134,7 +134,12 @@ TEST(BlockNoise, SharpPeaksAtLowNoiseAreNotTakenForSmoothing) {
 }
 
 TEST(BlockNoise, StatedNoiseAndBadInput) {
-  const BlockNoise n = stated_block_noise(10, 0.02, 0.01);
+  BlockSeries ten;
+  for (int i = 0; i < 10; ++i) {
+    ten.frequency_hz.push_back(100.0 + i);
+    ten.blocks.push_back(Block::Constant(Complex(1.0, 0.5)));
+  }
+  const BlockNoise n = stated_block_noise(ten, StatedNoise{0.02, 0.01, 0.0});
   ASSERT_EQ(n.size(), 10u);
   EXPECT_DOUBLE_EQ(n.magnitude_sigma[3], 0.02);
   EXPECT_DOUBLE_EQ(n.phase_sigma_rad[1], 0.01);
@@ -145,9 +150,11 @@ TEST(BlockNoise, StatedNoiseAndBadInput) {
   const Cov8 s = n.absolute(0, x);
   EXPECT_NEAR(s(0, 0), 4.0 * 0.01 * 0.01, 1e-15);
   EXPECT_NEAR(s(1, 1), 4.0 * 0.02 * 0.02, 1e-15);
-  EXPECT_THROW(stated_block_noise(10, -0.1, 0.0), InvalidArgument);
-  EXPECT_THROW(stated_block_noise(10, 0.0, 0.0), InvalidArgument);
-  EXPECT_THROW(stated_block_noise(10, std::nan(""), 0.0), InvalidArgument);
+  EXPECT_THROW(stated_block_noise(ten, StatedNoise{-0.1, 0.0, 0.0}), InvalidArgument);
+  EXPECT_THROW(stated_block_noise(ten, StatedNoise{0.0, 0.0, 0.0}), InvalidArgument);
+  EXPECT_THROW(stated_block_noise(ten, StatedNoise{std::nan(""), 0.0, 0.0}), InvalidArgument);
+  EXPECT_THROW(stated_block_noise(ten, StatedNoise{0.01, 0.0, -0.01}), InvalidArgument) << "a negative floor";
+  EXPECT_THROW(stated_block_noise(ten, StatedNoise{0.01, 0.0, 2.0}), InvalidArgument) << "a floor of 200 %: per cent meant";
   BlockSeries few;
   for (int i = 0; i < 50; ++i) {
     few.frequency_hz.push_back(100.0 + i);

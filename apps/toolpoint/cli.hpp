@@ -212,7 +212,7 @@ FrfFileData read_frf_input(const Globals& g, const std::string& spec, std::optio
 
 // A 2×2 block file (SH11, SHT11, S11: FRF CSV in any dialect) for a command, with its warnings
 // shown. InputError if it holds a single FRF.
-BlockSeries read_block_input(const Globals& g, const std::string& path);
+FrfFileData read_block_input(const Globals& g, const std::string& path);  // a block (its coherence too)
 
 // The same, reduced to one point FRF: a 2×2 block CSV gives its H entry (w/f), said by info().
 FrfSeries read_point_frf(const Globals& g, const std::string& spec, std::optional<std::size_t> dataset = std::nullopt);

@@ -108,7 +108,7 @@ void run_couple(const CoupleArgs& o, const Globals& g) {
   LoadedAssembly loaded = load_assembly(o.assembly);
   report_loaded(g, loaded);
   loaded.assembly = with_joints(loaded.assembly, joints);
-  const BlockSeries sh = read_block_input(g, o.sh);
+  const BlockSeries sh = read_block_input(g, o.sh).block;
 
   Progress progress(g, "couple: overhangs");
   const OverhangStudy study = run_overhang_study(loaded.assembly, sh, options, progress.part());

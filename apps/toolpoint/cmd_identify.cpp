@@ -27,7 +27,10 @@ namespace {
 struct IdentifyOptions {
   std::string joint = "holder-tool", method = "fit", assembly, sh, s, band, output, plot, filter, joint_output;
   std::vector<std::string> sht;
-  std::optional<double> at, sigma, phase_sigma_deg;
+  std::optional<double> at, sigma, phase_sigma_deg, floor;
+  double calibration = 0.0;
+  bool calibration_shared = false;
+  int averages = 0;
   double width = 0.02;
   int bootstrap = 200, parameters = 6, threads = 0;
   std::uint64_t seed = 1;
@@ -87,10 +90,11 @@ void run_identify(const IdentifyOptions& o, const Globals& g) {
   if (!o.band.empty()) io.band_hz = parse_range(o.band, "--band");
   io.at_hz = o.at;
   if (!o.filter.empty()) io.filter = parse_filter(o.filter);
-  if (o.sigma || o.phase_sigma_deg) {
+  if (o.sigma || o.phase_sigma_deg || o.floor) {
     io.noise.source = NoiseSpec::Source::Stated;
     io.noise.magnitude_sigma = o.sigma.value_or(0.0);
     io.noise.phase_sigma_rad = o.phase_sigma_deg.value_or(0.0) * kPi / 180.0;
+    io.noise.floor = o.floor.value_or(0.0);
     // The phase in the flag's unit, degrees (NoiseSpec::check speaks radians).
     if (o.phase_sigma_deg && *o.phase_sigma_deg > 0.5 * 180.0 / kPi)
       throw InvalidArgument(fmt::format("--phase-sigma {}° is implausible for a measured FRF (above 28.6°)", *o.phase_sigma_deg),
@@ -104,6 +108,9 @@ void run_identify(const IdentifyOptions& o, const Globals& g) {
   } else {
     io.fit.bootstrap_samples = o.bootstrap;
   }
+  io.noise.calibration = o.calibration;
+  io.noise.calibration_shared = o.calibration_shared;
+  io.noise.averages = o.averages;
   io.fit.reciprocal = o.parameters == 6;
   io.fit.seed = o.seed;
   io.fit.parallel.threads = o.threads;
@@ -112,7 +119,18 @@ void run_identify(const IdentifyOptions& o, const Globals& g) {
   // Inputs, and outputs that must not overwrite them.
   std::vector<IdentificationData> data;
   std::vector<std::string> inputs{o.assembly};
-  std::optional<BlockSeries> B;
+  std::optional<FrfFileData> B;
+  auto setup = [&](const std::string& spec) {
+    auto [path, overhang] = split_overhang(spec);
+    FrfFileData G = read_block_input(g, path);
+    IdentificationData d{"", overhang, std::move(G.block), path, std::nullopt, ht ? o.sh : o.s, std::move(G.coherence), {}};
+    if (B) {
+      d.B11 = B->block;
+      d.b_coherence = B->coherence;
+    }
+    data.push_back(std::move(d));
+    inputs.push_back(path);
+  };
   if (ht) {
     if (o.sh.empty() || o.sht.empty())
       throw InvalidArgument("--joint holder-tool needs --sh SH11.csv and --sht SHT11.csv",
@@ -120,11 +138,7 @@ void run_identify(const IdentifyOptions& o, const Globals& g) {
     io.route = Route::HolderTool;
     B = read_block_input(g, o.sh);
     inputs.push_back(o.sh);
-    for (const auto& spec : o.sht) {
-      auto [path, overhang] = split_overhang(spec);
-      data.push_back({"", overhang, read_block_input(g, path), path, B, o.sh});
-      inputs.push_back(path);
-    }
+    for (const auto& spec : o.sht) setup(spec);
   } else {
     if (o.sh.empty() == o.sht.empty())
       throw InvalidArgument("--joint spindle-holder needs exactly one of --sh SH11.csv (Eq. 15) or --sht SHT11.csv (Eq. 18)",
@@ -135,15 +149,10 @@ void run_identify(const IdentifyOptions& o, const Globals& g) {
     }
     if (!o.sh.empty()) {
       io.route = Route::SpindleHolderFromSH;
-      data.push_back({"", std::nullopt, read_block_input(g, o.sh), o.sh, B, o.s});
-      inputs.push_back(o.sh);
+      setup(o.sh);
     } else {
       io.route = Route::SpindleHolderFromSHT;
-      for (const auto& spec : o.sht) {
-        auto [path, overhang] = split_overhang(spec);
-        data.push_back({"", overhang, read_block_input(g, path), path, B, o.s});
-        inputs.push_back(path);
-      }
+      for (const auto& spec : o.sht) setup(spec);
     }
   }
   {
@@ -196,15 +205,9 @@ void run_identify(const IdentifyOptions& o, const Globals& g) {
 
 void print_report(const IdentifyOptions& o, const Identification& id) {
   std::cout << fmt::format("{} joint, {}\n", o.joint, id.equation);
-  for (std::size_t s = 0; s < id.g_noise.size(); ++s) {
-    auto line = [](const BlockNoise& n) {
-      if (n.exact()) return std::string("exact (model)");
-      return fmt::format("magnitude σ {:.3g} % (H) … {:.3g} % (P), phase σ {:.3g}° (H); {}", 100 * n.magnitude_sigma[0],
-                         100 * n.magnitude_sigma[3], n.phase_sigma_rad[0] * 180 / kPi, n.source);
-    };
-    std::cout << fmt::format("noise, set-up {}: G11 {}\n                B11 {}\n", s + 1, line(id.g_noise[s]),
-                             line(id.b_noise[s]));
-  }
+  for (std::size_t s = 0; s < id.g_noise.size(); ++s)
+    std::cout << fmt::format("noise, set-up {}: G11 {}\n                B11 {}\n", s + 1, id.g_noise[s].summary(),
+                             id.b_noise[s].summary());
   const bool seed_ok = id.seed.points > 0;
   if (seed_ok)
     std::cout << fmt::format("seed read-out: {:.1f}–{:.1f} Hz ({} points; {}, centre {:.1f} Hz)\n", id.seed.band_lo_hz,
@@ -247,12 +250,26 @@ void print_report(const IdentifyOptions& o, const Identification& id) {
         "reciprocity: k_ym vs k_tf {:.2g}, c_ym vs c_tf {:.2g} (relative difference); cond(A11 - G11) ≤ {:.3g}\n",
         id.seed.reciprocity_k, id.seed.reciprocity_c, id.seed.max_cond_difference);
   }
-  std::cout << "\nforward check (identified joint back into the forward model, both sides smoothed alike):\n"
-               "  mode  measured_hz  predicted_hz  freq_error  peak_error\n";
-  int i = 1;
-  for (const auto& c : id.forward_check)
-    std::cout << fmt::format("  {:4d}  {:11.1f}  {:12.1f}  {:>8.2g} %  {:>8.2g} %\n", i++, c.measured_hz, c.predicted_hz,
-                             100 * c.frequency_error, 100 * c.magnitude_error);
+  for (const ForwardCheck& fc : id.forward_checks) {
+    std::cout << fmt::format(
+        "\nforward check{} (identified joint back into the forward model, both sides smoothed alike; {}):\n"
+        "  model_hz  measured_hz  predicted_hz  freq_error (noise ± sd)   peak_error (noise ± sd)   agreement\n",
+        id.forward_checks.size() > 1 ? ", " + fc.label : "",
+        fc.replicates > 0 ? fmt::format("judged against {} noise replicates, false alarm {:g} %, |z| ≤ {:.3g}", fc.replicates,
+                                        100 * fc.false_alarm, fc.z)
+                          : std::string("exact data: judged by the tolerances"));
+    auto pct = [](double x) { return std::isfinite(x) ? fmt::format("{:+.2g} %", 100 * x) : std::string("-"); };
+    auto sd = [](double x) { return std::isfinite(x) ? fmt::format("± {:.2g} %", 100 * x) : std::string(""); };
+    auto hz = [](double x) { return std::isfinite(x) ? fmt::format("{:.1f}", x) : std::string("-"); };
+    for (const ModeCheck& c : fc.modes)
+      std::cout << fmt::format("  {:8.1f}  {:>11}  {:>12}  {:>10} {:<12}  {:>10} {:<12}  {}\n", c.model_hz, hz(c.measured_hz),
+                               hz(c.predicted_hz), pct(c.frequency_error), sd(c.frequency_sd), pct(c.magnitude_error),
+                               sd(c.magnitude_sd), to_string(c.agreement));
+    for (const ExtraPeak& e : fc.extra)
+      std::cout << fmt::format("  a peak of the data at {:.1f} Hz (prominence {:.2g}) in no mode's window: {}\n", e.frequency_hz,
+                               e.prominence, e.significant ? "not made by the noise" : fmt::format("the noise makes such peaks (p = {:.2g})", e.p_value));
+    for (const auto& n : fc.notes) std::cout << "  note: " << n << "\n";
+  }
   std::cout << fmt::format("\nverdict: {}\n", to_string(id.verdict.verdict));
   for (const auto& r : id.verdict.reasons) std::cout << "  - " << r << "\n";
   std::cout << std::flush;
@@ -310,6 +327,21 @@ void add_identify_command(CLI::App& app, Globals& g) {
   c->add_option("--phase-sigma", o->phase_sigma_deg,
                 "State the noise: phase σ of every FRF entry [degrees] (default: estimated from the data); --phase-sigma "
                 "alone means no magnitude noise");
+  c->add_option("--floor", o->floor,
+                "State the noise: an additive floor, σ of the real and imaginary parts of every entry relative to that "
+                "entry's peak |value| [-] (0.01 = 1 %; default: estimated from the data with the rest)")
+      ->check(plausible_value(plausible::kRelativeNoise, "--floor"));
+  c->add_option_function<std::string>(
+       "--calibration", [o](const std::string& v) { o->calibration = parse_fraction(v, "--calibration"); },
+       "Standard uncertainty (1 σ) of each measured FRF's sensitivity, as 2% or 0.02 (1–3 % is usual; refused above "
+       "10 %): a scale error no data reveal, carried into every interval and written into --joint-output (default: 0)");
+  c->add_flag("--calibration-shared", o->calibration_shared,
+              "One sensor chain (hammer and response sensor) for every measured FRF: one calibration factor for all of "
+              "them (default: one per file)");
+  c->add_option("--averages", o->averages,
+                "Averages behind the files' coherence column: the variance of H from its coherence, (1 − γ²)/(2 n γ²) "
+                "(Bendat & Piersol), replaces the estimated one (default 0: the coherence is not used)")
+      ->check(CLI::Range(0, 100000));
   c->add_option("--bootstrap", o->bootstrap, "Fit intervals: bootstrap replicates (≥ 20), or 0 for linearised intervals")
       ->capture_default_str();
   c->add_option("--parameters", o->parameters, "6: k_tf = k_ym and c_tf = c_ym (reciprocity); 8: all eight free")

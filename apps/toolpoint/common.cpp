@@ -291,6 +291,9 @@ std::string with_flags(std::string text) {
       {"CaseStudyOptions::band_width", "--width"},
       {"NoiseSpec::magnitude_sigma", "--sigma"},
       {"NoiseSpec::phase_sigma_rad", "--phase-sigma"},
+      {"NoiseSpec::floor", "--floor"},
+      {"NoiseSpec::calibration", "--calibration"},
+      {"NoiseSpec::averages", "--averages"},
       {"FrfCsvOptions::columns", "--columns"},
       {"FrfCsvOptions::format", "--format"},
       {"FrfReadOptions::units", "--units"},
@@ -460,7 +463,7 @@ FrfFileData read_frf_input(const Globals& g, const std::string& spec, std::optio
   return d;
 }
 
-BlockSeries read_block_input(const Globals& g, const std::string& path) {
+FrfFileData read_block_input(const Globals& g, const std::string& path) {
   FrfReadOptions r = frf_read_options(g.frf);
   r.format = FrfFormat::Csv;  // the one format that carries rotations
   FrfFileData d = read_frf_file_for_cli(path, r);
@@ -469,7 +472,7 @@ BlockSeries read_block_input(const Globals& g, const std::string& path) {
                      "give a block file with columns frequency_hz,H_re,H_im,L_re,L_im,N_re,N_im,P_re,P_im (e.g. from "
                      "`toolpoint rotational`)");
   warn_all(d.warnings);
-  return std::move(d.block);
+  return d;
 }
 
 FrfSeries read_point_frf(const Globals& g, const std::string& spec, std::optional<std::size_t> dataset) {

@@ -75,6 +75,24 @@ std::pair<double, double> parse_range(const std::string& text, const std::string
   return {parse_number(parts[0], option, text), parse_number(parts[1], option, text)};
 }
 
+double parse_fraction(const std::string& text, const std::string& option) {
+  std::string t = text;
+  while (!t.empty() && std::isspace(static_cast<unsigned char>(t.back()))) t.pop_back();
+  const bool percent = !t.empty() && t.back() == '%';
+  if (percent) t.pop_back();
+  double v = 0.0;
+  std::size_t used = 0;
+  try {
+    v = std::stod(t, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  while (used < t.size() && std::isspace(static_cast<unsigned char>(t[used]))) ++used;
+  if (t.empty() || used != t.size() || !std::isfinite(v) || v < 0.0)
+    throw InvalidArgument(fmt::format("{} '{}' is not a fraction ≥ 0", option, text), fmt::format("write e.g. {} 2% or {} 0.02", option, option));
+  return percent ? v / 100.0 : v;
+}
+
 std::pair<int, int> parse_shard(const std::string& text, const std::string& option) {
   const std::size_t slash = text.find('/');
   int v[2] = {0, 0};

@@ -20,6 +20,10 @@ FrequencyGrid parse_frequency_grid(const std::string& text, const std::string& o
 // Parses "A:B" into two numbers. Throws InvalidArgument naming `option`.
 std::pair<double, double> parse_range(const std::string& text, const std::string& option);
 
+// Parses a fraction written as a percentage ("2%", "2 %") or as a number ("0.02"). Throws
+// InvalidArgument naming `option` on malformed text or a negative or non-finite value.
+double parse_fraction(const std::string& text, const std::string& option);
+
 // Parses "I/N" (shard I of N, 0 ≤ I < N ≤ 100000) into (I, N). Throws InvalidArgument naming `option`.
 std::pair<int, int> parse_shard(const std::string& text, const std::string& option);
 

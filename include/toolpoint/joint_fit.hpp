@@ -35,10 +35,18 @@
 // bootstrap repeats the filtering. Give raw data: a file filtered elsewhere hides its noise
 // (noise.hpp says so when estimating).
 //
+// Calibration (noise.hpp): a stated sensitivity error scales a whole measured series; it enters
+// neither the weights nor the fit (no data reveal it) but every interval: linearised, by the
+// implicit function theorem at the optimum (dθ = δ A⁻¹ Σ Jᵀ Ω Δ for a factor 1 + δ on the data Δ);
+// in the bootstrap, by drawing the factors in every replicate.
+//
 // Uncertainty (UncertaintyMethod).
 //   Linearised: the sandwich covariance above (A = Jᵀ Ω J) with the noise models' Σ — right even
 //     though the working weights are floored — scaled up by √(residual ratio) when the data
-//     scatter more than the noise models explain (ratio above 1.1).
+//     scatter more than the noise models explain (ratio above 1.1). With B11 measured, checked by
+//     kLinearisationCheck bootstrap replicates: where B11's noise acts nonlinearly (errors in
+//     variables; an additive floor makes B11 noisier than its value away from its peaks) their
+//     spread exceeds the linearised error, and the result becomes the bootstrap's on them.
 //   Bootstrap (default): a parametric bootstrap on the fitted model (Efron & Tibshirani 1993,
 //     ch. 6 and 10). In each replicate the "truth" is θ̂ and the smoothed measured B11; data are
 //     drawn from the noise models (a fresh B11 and G11 = model(θ̂) + noise, G11 filtered if the
@@ -83,6 +91,11 @@ namespace toolpoint {
 // another (see above). Affects efficiency only: the covariance uses the unfloored noise.
 inline constexpr double kWeightFloor = 0.1;
 
+// Linearised intervals with a measured B11 are checked by this many bootstrap replicates; a spread
+// beyond kLinearisationLimit times the linearised standard error replaces them (joint_fit.hpp).
+inline constexpr std::size_t kLinearisationCheck = 20;
+inline constexpr double kLinearisationLimit = 1.5;
+
 // One measured set-up: G11 = A11 − A12 (A22 + K⁻¹ + B11)⁻¹ A21 on one frequency grid.
 struct JointFitData {
   std::string label;            // names the set-up in messages and reports, e.g. "overhang 49.0 mm"
@@ -101,6 +114,9 @@ struct JointFitOptions {
   int bootstrap_samples = 200;           // replicates (≥ 20; the interval's own Monte Carlo error
                                          // shrinks like 1/√N)
   std::uint64_t seed = 1;                // of the bootstrap's noise draws (replicate b: stream_seed(seed, b))
+  // The measured series' calibration (BlockNoise::calibration) is one factor for all of them (one
+  // sensor chain), not one per series (set-ups with the same B11 data share its factor anyway).
+  bool shared_calibration = false;
   double confidence = 0.95;              // of the intervals, in (0.5, 1)
   int max_iterations = 200;              // Levenberg–Marquardt iterations per pass
   ParallelOptions parallel;              // bootstrap replicates on these threads (results identical for any count)
@@ -132,6 +148,8 @@ struct JointFit {
   JointParameters parameters;                  // the estimates (ParameterInterval::estimate)
   std::array<ParameterInterval, 8> intervals;  // k_yf, c_yf, k_ym, c_ym, k_θf, c_θf, k_θm, c_θm
   Eigen::Matrix<double, 8, 8> covariance;      // of the estimates, SI units (reciprocal: θf rows = ym rows)
+  // The stated calibration's share of each standard error (linearised, SI units; 0 without one).
+  std::array<double, 8> calibration_std_error{};
   double confidence = 0.95;
   UncertaintyMethod method = UncertaintyMethod::Bootstrap;
   std::string method_description;  // for reports: how the intervals were made
@@ -162,5 +180,9 @@ JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<Join
 
 // The forward model of the fit at one frequency: G11 = A11 − A12 K (I + (A22 + B11) K)⁻¹ A21.
 Block forward_g11(const TwoPort& A, const Block& B11, const Block& K);
+
+// Its sensitivity to B11 as a real 8×8 map on the real and imaginary parts (entries H, L, N, P;
+// noise.hpp's order): dG11 = (A12 X) dB11 (X A21), X = K (I + (A22 + B11) K)⁻¹.
+Cov8 b11_jacobian(const TwoPort& A, const Block& B11, const Block& K);
 
 }  // namespace toolpoint

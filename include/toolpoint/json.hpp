@@ -54,6 +54,16 @@ void to_json(nlohmann::json& j, const Peak& p);
 // A forward check's mode: {"measured_hz", "predicted_hz", "frequency_error", "measured_peak",
 // "predicted_peak", "magnitude_error"} (errors relative, as fractions; peaks in m/N).
 void to_json(nlohmann::json& j, const ModeComparison& c);
+// A mode of a forward check (forward_check.hpp): {"model_hz", "lo_hz", "hi_hz", "measured_hz",
+// "predicted_hz", "measured_peak", "predicted_peak", "frequency_error", "magnitude_error",
+// "frequency_mean", "frequency_sd", "magnitude_mean", "magnitude_sd", "resolved_fraction",
+// "frequency_z", "magnitude_z", "agreement" ("agrees" | "within tolerance" | "differs" |
+// "not resolved" | "missing")}; NaN (not found, not judged) is null.
+void to_json(nlohmann::json& j, const ModeCheck& c);
+// {"frequency_hz", "prominence", "p_value", "significant"}
+void to_json(nlohmann::json& j, const ExtraPeak& e);
+// {"label", "modes", "extra", "replicates", "false_alarm", "z", "passed", "failures", "notes"}
+void to_json(nlohmann::json& j, const ForwardCheck& c);
 // {"k_yf": value, …}
 void to_json(nlohmann::json& j, const JointParameters& p);
 // {"frequency_hz", "magnitude", "stiffness_shift", "damping_effect"}
@@ -62,7 +72,9 @@ void to_json(nlohmann::json& j, const ModeEffect& m);
 void to_json(nlohmann::json& j, const EffectAnalysis& e);
 // {"reference_peaks": [Peak…], "relative_variation", "dominant"}
 void to_json(nlohmann::json& j, const OverhangModes& m);
-// {"source", "magnitude_sigma": [H, L, N, P], "phase_sigma_rad": […], "residual_correlation", "warnings"}
+// {"source", "magnitude_sigma": [H, L, N, P], "phase_sigma_rad": […], "floor": […] (σ per part, the
+// entries' units), "floor_relative": […] (of each entry's peak), "calibration", "coherence",
+// "summary", "residual_correlation", "warnings"}
 void to_json(nlohmann::json& j, const BlockNoise& n);
 
 // ---- Joint identification ------------------------------------------------------------------------
@@ -74,7 +86,7 @@ void to_json(nlohmann::json& j, const SetupFit& s);
 // "intervals": per parameter ParameterInterval and its "unit" (the estimates, JointFit::parameters,
 // are its "estimate"s); "confidence", "method" ("bootstrap" | "linearised"), "method_description",
 // "bootstrap_samples", "reciprocal", "points", "residual_ratio", "iterations", "converged",
-// "correlation" and "covariance" (8×8, SI), "warnings"; with several set-ups also "setups",
+// "correlation" and "covariance" (8×8, SI), "calibration_std_error" (per parameter, SI), "warnings"; with several set-ups also "setups",
 // "transfer_statistic", "transfer_limit", "transfers".
 void to_json(nlohmann::json& j, const JointFit& fit);
 // The seed's read-out: "band_lo_hz", "band_hi_hz", "points", "parameters": per parameter
@@ -87,7 +99,7 @@ void to_json(nlohmann::json& j, const ModeChoice& c);
 void to_json(nlohmann::json& j, const IdentificationVerdict& v);
 // The whole study: "interface" ("holder_tool" | "spindle_holder"), "route", "equation", "method"
 // ("fit" | "seed"), "fit" (JointFit) and "fit_band_hz" (method fit), "seed" (the read-out, when
-// one was made), "mode", "g_noise" and "b_noise" (per set-up), "forward_check", "verdict",
+// one was made), "mode", "g_noise" and "b_noise" (per set-up), "forward_checks" (per set-up), "verdict",
 // "warnings"; and, derived, "parameters": the chosen method's values per parameter — the fit's
 // intervals (ParameterInterval's keys and "unit"), or for the read-out {"estimate" (the median),
 // "lower": null, "upper": null, "determined" (ParameterReadout::determined), "unit"}.

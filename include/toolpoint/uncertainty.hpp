@@ -24,6 +24,7 @@
 #include "toolpoint/joint.hpp"
 #include "toolpoint/joint_file.hpp"
 #include "toolpoint/parallel.hpp"
+#include "toolpoint/statistics.hpp"
 #include "toolpoint/receptance.hpp"
 #include "toolpoint/stability.hpp"
 
@@ -33,10 +34,6 @@ namespace toolpoint {
 // covariance that is not finite, or one with a clearly negative eigenvalue.
 std::vector<JointParameters> sample_joints(const JointParameters& mean, const Eigen::Matrix<double, 8, 8>& covariance, int count,
                                            std::uint64_t seed);
-
-// The type-7 quantile at level p in [0, 1] of `values` (sorted here; NaN values are left out; NaN
-// when none is left).
-double quantile(std::vector<double> values, double p);
 
 struct UncertaintyOptions {
   int samples = 200;  // Monte Carlo samples, ≥ 10

@@ -261,6 +261,23 @@ void bind_identify(py::module_& m) {
           "(4,) H, L, N, P: median relative σ")
       .def_property_readonly(
           "phase_sigma_rad", [](const BlockNoise& n) { return array_of(n.phase_sigma_rad); }, "(4,) rad")
+      .def_property_readonly(
+          "additive",
+          [](const BlockNoise& n) {
+            py::array_t<double> a({static_cast<py::ssize_t>(n.additive.size()), py::ssize_t{4}});
+            auto w = a.mutable_unchecked<2>();
+            for (std::size_t i = 0; i < n.additive.size(); ++i)
+              for (int e = 0; e < 4; ++e) w(static_cast<py::ssize_t>(i), e) = n.additive[i](e);
+            return a;
+          },
+          "(n, 4): the floor's variance of each part of H, L, N, P per frequency (empty without a floor)")
+      .def_property_readonly(
+          "floor", [](const BlockNoise& n) { return array_of(n.floor); }, "(4,) σ of each part of the additive floor [entry units]")
+      .def_property_readonly(
+          "floor_relative", [](const BlockNoise& n) { return array_of(n.floor_relative); },
+          "(4,) the floor over each entry's peak |value|")
+      .def_readwrite("calibration", &BlockNoise::calibration, "σ of the calibration factor of the whole series")
+      .def("summary", &BlockNoise::summary, "One line for reports.")
       .def_readonly("residual_correlation", &BlockNoise::residual_correlation)
       .def_readonly("warnings", &BlockNoise::warnings)
       .def("exact", &BlockNoise::exact, "True for data from a model (no noise).")
@@ -270,19 +287,37 @@ void bind_identify(py::module_& m) {
           "The result as plain data (dicts, lists, floats, str, bool, None; the CLI's --json keys, SI units).");
   m.def(
       "estimate_block_noise",
-      [](const RealArray& f, const ComplexArray& blocks, int local_window, int local_order, int window, const std::string& what) {
+      [](const RealArray& f, const ComplexArray& blocks, int local_window, int local_order, int window, const std::string& what,
+         bool floor) {
         const BlockSeries s = block_series(f, blocks, what);
         NoiseEstimateOptions o;
         o.local = {local_window, local_order};
         o.window = window;
+        o.floor = floor;
         py::gil_scoped_release nogil;
         return estimate_block_noise(s, o, what);
       },
       "frequency_hz"_a, "blocks"_a, "local_window"_a = 7, "local_order"_a = 3, "window"_a = 201, "what"_a = "data",
+      "floor"_a = true,
       "The noise of a measured block series estimated from the data: residuals about a local Savitzky–Golay polynomial "
-      "(local_window points, local_order), averaged over `window` frequency points.");
-  m.def("stated_block_noise", &stated_block_noise, "size"_a, "magnitude_sigma"_a, "phase_sigma_rad"_a,
-        "Noise stated by the user: relative magnitude σ (0.05 = 5 %) and phase σ [rad] on every entry, on `size` frequencies.");
+      "(local_window points, local_order), averaged over `window` frequency points; with floor, an additive floor "
+      "beside the multiplicative noise.");
+  m.def(
+      "stated_block_noise",
+      [](const RealArray& f, const ComplexArray& blocks, double magnitude_sigma, double phase_sigma_rad, double floor,
+         double calibration) {
+        BlockNoise n = stated_block_noise(block_series(f, blocks, "data"), StatedNoise{magnitude_sigma, phase_sigma_rad, floor});
+        n.calibration = calibration;
+        return n;
+      },
+      "frequency_hz"_a, "blocks"_a, py::kw_only(), "magnitude_sigma"_a = 0.0, "phase_sigma_rad"_a = 0.0, "floor"_a = 0.0,
+      "calibration"_a = 0.0,
+      "Noise stated for the data: relative magnitude σ (0.05 = 5 %) and phase σ [rad] on every entry, an additive floor "
+      "(σ of each part relative to each entry's peak |value|, 0.01 = 1 %) and the σ of a calibration factor scaling the "
+      "whole series.");
+  m.def("h1_relative_variance", &h1_relative_variance, "coherence"_a, "averages"_a,
+        "(1 − γ²)/(2 n γ²): the relative variance of an H1 estimate's magnitude (and its phase's variance in rad²) from "
+        "its coherence and number of averages (Bendat & Piersol).");
   m.def(
       "draw_block_noise",
       [](const RealArray& f, const ComplexArray& truth, const BlockNoise& noise, std::uint64_t seed) {
@@ -295,7 +330,8 @@ void bind_identify(py::module_& m) {
         return blocks_array(out.blocks);
       },
       "frequency_hz"_a, "truth"_a, "noise"_a, "seed"_a,
-      "One reproducible draw truth + ε, ε Gaussian with the noise's covariance.");
+      "One reproducible draw (1 + δ)(truth + ε): ε Gaussian with the noise's covariance (multiplicative and floor), δ its "
+      "calibration factor's.");
 
   // ---- Joint files ---------------------------------------------------------------------------------
   py::class_<JointUncertainty>(m, "JointUncertainty", "A joint file's [uncertainty]: intervals and the 8×8 covariance (SI).")
@@ -373,6 +409,9 @@ void bind_identify(py::module_& m) {
       .def_property_readonly(
           "covariance", [](const JointFit& f) { return matrix8(f.covariance); }, "(8, 8) SI")
       .def_property_readonly("correlation", [](const JointFit& f) { return matrix8(f.correlation()); })
+      .def_property_readonly(
+          "calibration_std_error", [](const JointFit& f) { return array_of(f.calibration_std_error); },
+          "(8,) the stated calibration's share of each standard error, SI")
       .def_readonly("confidence", &JointFit::confidence)
       .def_property_readonly("method", [](const JointFit& f) { return name_of(f.method, kUncertainty); })
       .def_readonly("method_description", &JointFit::method_description)
@@ -393,10 +432,14 @@ void bind_identify(py::module_& m) {
   py::class_<IdentificationData>(
       m, "IdentificationData",
       "One measured set-up: G11 (SHT11 for Eq. 6/18, SH11 for Eq. 15) and B11 (SH11 for Eq. 6; S11 for Eq. 15/18, "
-      "default the model's) as complex (n, 2, 2) on frequency_hz [Hz]; overhang_m [m] default the assembly's.")
+      "default the model's) as complex (n, 2, 2) on frequency_hz [Hz]; overhang_m [m] default the assembly's; "
+      "g_coherence, b_coherence: the coherence γ² of each series' H entry (n,), used with the study's averages.")
       .def(py::init([](const RealArray& f, const ComplexArray& G11, const std::optional<ComplexArray>& B11,
-                       std::optional<double> overhang_m, std::string label, std::string g_name, std::string b_name) {
+                       std::optional<double> overhang_m, std::string label, std::string g_name, std::string b_name,
+                       std::vector<double> g_coherence, std::vector<double> b_coherence) {
              IdentificationData d;
+             d.g_coherence = std::move(g_coherence);
+             d.b_coherence = std::move(b_coherence);
              d.G11 = block_series(f, G11, g_name.empty() ? "G11" : g_name);
              if (B11) d.B11 = block_series(f, *B11, b_name.empty() ? "B11" : b_name);
              d.overhang_m = overhang_m;
@@ -406,7 +449,7 @@ void bind_identify(py::module_& m) {
              return d;
            }),
            "frequency_hz"_a, "G11"_a, "B11"_a = py::none(), "overhang_m"_a = py::none(), "label"_a = "", "g_name"_a = "",
-           "b_name"_a = "");
+           "b_name"_a = "", "g_coherence"_a = std::vector<double>{}, "b_coherence"_a = std::vector<double>{});
 
   py::class_<Identification>(
       m, "Identification",
@@ -424,7 +467,9 @@ void bind_identify(py::module_& m) {
       .def_readonly("g_noise", &Identification::g_noise)
       .def_readonly("b_noise", &Identification::b_noise)
       .def_readonly("identified", &Identification::identified)
-      .def_readonly("forward_check", &Identification::forward_check)
+      .def_property_readonly(
+          "forward_checks", [](const Identification& i) { return dict_of(i.forward_checks); },
+          "per set-up, the forward check (dicts: modes with their errors, the noise's spread and agreement; failures)")
       .def_property_readonly(
           "verdict", [](const Identification& i) { return to_string(i.verdict.verdict); }, "'pass', 'doubtful' or 'fail'")
       .def_property_readonly("verdict_reasons", [](const Identification& i) { return i.verdict.reasons; })
@@ -439,8 +484,9 @@ void bind_identify(py::module_& m) {
       [](Assembly a, const std::vector<IdentificationData>& data, const std::string& route, const std::string& method,
          std::optional<std::pair<double, double>> band_hz, std::optional<double> at_hz, double width,
          const std::vector<std::pair<RealArray, ComplexArray>>& overhang_frfs, std::optional<std::pair<int, int>> filter,
-         std::optional<double> magnitude_sigma, double phase_sigma_rad, bool reciprocal, const std::string& uncertainty,
-         int bootstrap_samples, std::uint64_t seed, double confidence, int threads, const py::object& progress) {
+         std::optional<double> magnitude_sigma, double phase_sigma_rad, std::optional<double> floor, double calibration,
+         bool calibration_shared, int averages, bool reciprocal, const std::string& uncertainty, int bootstrap_samples,
+         std::uint64_t seed, double confidence, int threads, const py::object& progress) {
         IdentificationOptions o;
         o.route = enum_of(route, kRoutes, "route");
         o.method = enum_of(method, kIdMethods, "method");
@@ -451,11 +497,15 @@ void bind_identify(py::module_& m) {
           o.overhang_frfs.push_back(
               frf_series(overhang_frfs[k].first, overhang_frfs[k].second, fmt::format("overhang_frfs[{}]", k)));
         if (filter) o.filter = SavgolOptions{filter->first, filter->second};
-        if (magnitude_sigma) {
+        if (magnitude_sigma || floor) {
           o.noise.source = NoiseSpec::Source::Stated;
-          o.noise.magnitude_sigma = *magnitude_sigma;
+          o.noise.magnitude_sigma = magnitude_sigma.value_or(0.0);
           o.noise.phase_sigma_rad = phase_sigma_rad;
+          o.noise.floor = floor.value_or(0.0);
         }
+        o.noise.calibration = calibration;
+        o.noise.calibration_shared = calibration_shared;
+        o.noise.averages = averages;
         o.fit.reciprocal = reciprocal;
         o.fit.uncertainty = enum_of(uncertainty, kUncertainty, "uncertainty");
         o.fit.bootstrap_samples = bootstrap_samples;
@@ -468,14 +518,17 @@ void bind_identify(py::module_& m) {
       },
       "assembly"_a, "data"_a, "route"_a = "holder_tool", "method"_a = "fit", "band_hz"_a = py::none(), "at_hz"_a = py::none(),
       "width"_a = 0.02, "overhang_frfs"_a = std::vector<std::pair<RealArray, ComplexArray>>{}, "filter"_a = py::none(),
-      "magnitude_sigma"_a = py::none(), "phase_sigma_rad"_a = 0.0, "reciprocal"_a = true, "uncertainty"_a = "bootstrap",
+      "magnitude_sigma"_a = py::none(), "phase_sigma_rad"_a = 0.0, "floor"_a = py::none(), "calibration"_a = 0.0,
+      "calibration_shared"_a = false, "averages"_a = 0, "reciprocal"_a = true, "uncertainty"_a = "bootstrap",
       "bootstrap_samples"_a = 200, "seed"_a = 1, "confidence"_a = 0.95, "threads"_a = 0, "progress"_a = py::none(),
       "The identification study (toolpoint identify): the joint of `route` ('holder_tool' Eq. 6, 'spindle_holder_sh' Eq. 15, "
       "'spindle_holder_sht' Eq. 18) from measured set-ups (list of IdentificationData). The seed's read-out in a band (band_hz "
       "(lo, hi) [Hz], or ± width around at_hz [Hz], around the mode that moves most across overhang_frfs [(frequency_hz, H)], or "
       "by effect analysis) and the band fit (method 'fit', default) of the constants to every frequency, with intervals "
       "('bootstrap' with bootstrap_samples replicates, or 'linearised') at `confidence`. filter (window, order): Savitzky–Golay. "
-      "Noise estimated from the data unless magnitude_sigma (0.05 = 5 %) and phase_sigma_rad [rad] are stated. Six parameters "
+      "Noise estimated from the data (multiplicative and a floor) unless magnitude_sigma (0.05 = 5 %), phase_sigma_rad [rad] "
+      "and floor (relative to each entry's peak) are stated; calibration: σ of each measured FRF's sensitivity (one factor "
+      "for all with calibration_shared); averages: behind the data's coherence (IdentificationData g_coherence). Six parameters "
       "(reciprocal) or eight. threads: the bootstrap's (0: every core; results identical for any count).");
   m.def("weighted_median_parameters", &weighted_median_parameters, "series"_a, "lo_hz"_a, "hi_hz"_a,
         "The median of each parameter over [lo, hi] Hz, each point weighted by 1/gain²: the fit's starting values.");

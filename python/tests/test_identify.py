@@ -41,7 +41,7 @@ def test_identification_study_is_the_cli_one(measured, example):
         data = tp.IdentificationData(f, sht, B11=sh, g_name=sht_path, b_name=sh_path)
         ours = tp.identify_joint_from_frfs(example, [data], method=method, bootstrap_samples=20, threads=1)
         j = ours.to_dict()
-        for key in ("parameters", "verdict", "mode", "seed", "forward_check", "g_noise", "b_noise", "warnings"):
+        for key in ("parameters", "verdict", "mode", "seed", "forward_checks", "g_noise", "b_noise", "warnings"):
             assert j[key] == cli[key], (method, key)
         if method == "fit":
             assert j["fit"] == cli["fit"]

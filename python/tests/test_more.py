@@ -21,7 +21,7 @@ def test_find_peaks_and_track_modes(example, prediction):
 
 def test_noise_models(prediction):
     f, blocks = prediction.frequency_hz, prediction.frf
-    stated = tp.stated_block_noise(len(f), 0.05, 0.0)
+    stated = tp.stated_block_noise(f, blocks, magnitude_sigma=0.05)
     assert stated.relative.shape == (len(f), 8, 8) and stated.magnitude_sigma.tolist() == [0.05] * 4
     noisy = tp.draw_block_noise(f, blocks, stated, seed=4)
     rel = (noisy / blocks - 1).reshape(len(f), 4)

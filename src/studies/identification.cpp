@@ -4,11 +4,13 @@
 #include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
+#include <cstring>
 #include <numeric>
 
 #include "toolpoint/coupling.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/peaks.hpp"
+#include "toolpoint/statistics.hpp"
 #include "toolpoint/version.hpp"
 
 namespace toolpoint {
@@ -29,32 +31,43 @@ const char* to_string(Verdict v) { return v == Verdict::Pass ? "pass" : v == Ver
 void NoiseSpec::check() const {
   if (source == Source::Estimated) {
     estimate.check();
-    return;
+  } else {
+    try {
+      stated().check();
+    } catch (const InvalidArgument& e) {
+      std::string what = e.what();
+      for (const auto& [from, to] : {std::pair{"StatedNoise::magnitude_sigma", "NoiseSpec::magnitude_sigma"},
+                                     {"StatedNoise::phase_sigma_rad", "NoiseSpec::phase_sigma_rad"},
+                                     {"StatedNoise::floor", "NoiseSpec::floor"}})
+        for (std::size_t at = what.find(from); at != std::string::npos; at = what.find(from, at + std::strlen(to)))
+          what.replace(at, std::strlen(from), to);
+      throw InvalidArgument(what, e.hint());
+    }
   }
-  if (!(magnitude_sigma >= 0.0 && std::isfinite(magnitude_sigma)) ||
-      !(phase_sigma_rad >= 0.0 && std::isfinite(phase_sigma_rad)) || magnitude_sigma + phase_sigma_rad == 0.0)
-    throw InvalidArgument(fmt::format("NoiseSpec::magnitude_sigma {} and NoiseSpec::phase_sigma_rad {} rad must be ≥ 0, not "
-                                      "both 0",
-                                      magnitude_sigma, phase_sigma_rad),
-                          "e.g. magnitude σ = 0.02 (2 %) and phase σ = 0.02 rad, or estimate the noise from the data");
-  if (magnitude_sigma > 0.5)
-    throw InvalidArgument(fmt::format("NoiseSpec::magnitude_sigma {} is above 0.5: it is a relative σ, not a percentage",
-                                      magnitude_sigma),
-                          "give 0.05 for 5 %");
-  if (phase_sigma_rad > 0.5)
-    throw InvalidArgument(fmt::format("NoiseSpec::phase_sigma_rad {} rad ({:.3g}°) is above 0.5 rad: no measured FRF's phase "
-                                      "is that noisy",
-                                      phase_sigma_rad, phase_sigma_rad * 180.0 / kPi),
-                          "the phase σ is in radians (1° = 0.01745 rad)");
+  if (!(calibration >= 0.0 && std::isfinite(calibration)))
+    throw InvalidArgument(fmt::format("NoiseSpec::calibration = {} must be finite and ≥ 0", calibration),
+                          "the standard uncertainty of the sensors' sensitivity, e.g. 0.02 for 2 %");
+  if (calibration > 0.1)
+    throw InvalidArgument(fmt::format("NoiseSpec::calibration = {} is above 0.1 (10 %): a sensor that far off is broken, not "
+                                      "uncertain",
+                                      calibration),
+                          "give the sensitivity's standard uncertainty as a fraction, e.g. 0.02 for 2 % (1–3 % is usual)");
+  if (averages < 0 || averages > 100000)
+    throw InvalidArgument(fmt::format("NoiseSpec::averages = {} must lie in 0…100000", averages),
+                          "the number of averages the measurement software used (0: do not use the coherence)");
 }
 
-void VerdictThresholds::check() const {
-  if (!(doubt_frequency > 0.0 && doubt_frequency <= fail_frequency && fail_frequency < 1.0))
-    throw InvalidArgument(fmt::format("VerdictThresholds: frequency errors doubt {} ≤ fail {} must lie in (0, 1)",
-                                      doubt_frequency, fail_frequency));
-  if (!(doubt_peak > 0.0 && doubt_peak <= fail_peak && fail_peak < 10.0))
-    throw InvalidArgument(
-        fmt::format("VerdictThresholds: peak errors doubt {} ≤ fail {} must lie in (0, 10)", doubt_peak, fail_peak));
+void VerdictOptions::check() const {
+  try {
+    forward.check();
+  } catch (const InvalidArgument& e) {
+    throw InvalidArgument(fmt::format("VerdictOptions::forward: {}", e.what()), e.hint());
+  }
+  if (!(residual_doubt > 1.0 && residual_doubt <= residual_fail && std::isfinite(residual_fail)))
+    throw InvalidArgument(fmt::format("VerdictOptions::residual_doubt {} and VerdictOptions::residual_fail {} must satisfy "
+                                      "1 < doubt ≤ fail",
+                                      residual_doubt, residual_fail),
+                          "e.g. 1.5 and 3: the residual ratio is 1 when the model and the noise explain the data");
 }
 
 void IdentificationOptions::check() const {
@@ -109,6 +122,16 @@ JointFile joint_file_of(const Identification& id, const std::vector<std::string>
   } else {
     add("band_hz", fmt::format("{}–{}", id.seed.band_lo_hz, id.seed.band_hi_hz));
   }
+  for (std::size_t s = 0; s < id.g_noise.size(); ++s) {
+    const std::string suffix = id.g_noise.size() > 1 ? fmt::format("_{}", s + 1) : "";
+    add(("noise_g11" + suffix).c_str(), id.g_noise[s].summary());
+    if (!id.b_noise[s].exact()) add(("noise_b11" + suffix).c_str(), id.b_noise[s].summary());
+  }
+  if (!id.g_noise.empty())
+    add("calibration", id.g_noise.front().calibration > 0.0
+                           ? fmt::format("{:g} (σ of each measured FRF's sensitivity, stated; in the intervals)",
+                                         id.g_noise.front().calibration)
+                           : std::string("0 (the sensors taken as exact)"));
   add("verdict", to_string(id.verdict.verdict));
   for (std::size_t i = 0; i < inputs.size(); ++i) add(fmt::format("input_{}", i + 1).c_str(), inputs[i]);
   add("toolpoint_version", TOOLPOINT_VERSION);
@@ -161,13 +184,28 @@ BlockSeries smoothed(const BlockSeries& s, const std::optional<SavgolOptions>& f
   return savgol_filter(s, o, "FRF").series;
 }
 
-BlockNoise noise_of(const BlockSeries& s, const std::string& name, const NoiseSpec& spec) {
-  if (spec.source == NoiseSpec::Source::Stated) return stated_block_noise(s.size(), spec.magnitude_sigma, spec.phase_sigma_rad);
-  try {
-    return estimate_block_noise(s, spec.estimate, name);
-  } catch (const InputError& e) {
-    throw InputError(e.what(), "state the noise (magnitude and phase σ) when the data are too short to estimate it from");
+BlockNoise noise_of(const BlockSeries& s, const std::vector<double>& coherence, const std::string& name, const NoiseSpec& spec,
+                    std::vector<std::string>& warnings) {
+  BlockNoise n;
+  if (spec.source == NoiseSpec::Source::Stated) {
+    n = stated_block_noise(s, spec.stated());
+  } else {
+    try {
+      n = estimate_block_noise(s, spec.estimate, name);
+    } catch (const InputError& e) {
+      throw InputError(e.what(), "state the noise (magnitude and phase σ) when the data are too short to estimate it from");
+    }
   }
+  if (!coherence.empty()) {
+    if (spec.averages > 0)
+      apply_coherence(n, coherence, spec.averages, name);
+    else
+      warnings.push_back(fmt::format("{}: its coherence column is not used: the number of averages behind it is not given "
+                                     "(NoiseSpec::averages)",
+                                     name));
+  }
+  n.calibration = spec.calibration;
+  return n;
 }
 
 std::vector<std::size_t> in_band(const std::vector<double>& f, double lo, double hi) {
@@ -194,18 +232,27 @@ void judge(Identification& r, const IdentificationOptions& o, bool same_data) {
     if (!(p[k] > 0.0))
       fail.push_back(fmt::format("{} = {:.4g} {} ≤ 0: a joint's diagonal stiffness is positive", JointParameters::name(k), p[k],
                                  JointParameters::unit(k)));
+  // A negative diagonal damping fails when it is negative beyond its noise at the verdict's
+  // false-alarm level (one-sided); a poorly determined one is doubtful.
+  const double z_damping = normal_quantile(1.0 - 0.5 * o.verdict.forward.false_alarm);
   for (JointParameter k : {JointParameter::c_yf, JointParameter::c_tm}) {
     if (p[k] >= 0.0) continue;
-    const bool certain = r.fit ? r.fit->intervals[static_cast<std::size_t>(k)].upper < 0.0
-                               : r.seed.noise_gain[static_cast<std::size_t>(k)] <= o.readout.gain_warning;
+    const auto i = static_cast<std::size_t>(k);
+    const bool certain = r.fit ? r.fit->intervals[i].estimate + z_damping * r.fit->intervals[i].std_error < 0.0
+                               : r.seed.noise_gain[i] <= o.readout.gain_warning;
     (certain ? fail : doubt)
         .push_back(fmt::format("{} = {:.4g} {} < 0: a passive joint does not feed energy in{}", JointParameters::name(k), p[k],
                                JointParameters::unit(k), certain ? "" : " (but it is poorly determined by these data)"));
   }
   if (r.fit) {
     if (!r.fit->converged) fail.push_back("the fit did not converge");
-    if (std::isfinite(r.fit->residual_ratio) && r.fit->residual_ratio > 1.5)
-      doubt.push_back(fmt::format("the fitted model leaves residuals {:.2g}× what the noise explains", r.fit->residual_ratio));
+    const double ratio = r.fit->residual_ratio;
+    if (std::isfinite(ratio) && ratio > o.verdict.residual_fail)
+      fail.push_back(fmt::format("the fitted model leaves residuals {:.2g}× what the noise explains (fail above {:g}): the "
+                                 "model does not describe these data",
+                                 ratio, o.verdict.residual_fail));
+    else if (std::isfinite(ratio) && ratio > o.verdict.residual_doubt)
+      doubt.push_back(fmt::format("the fitted model leaves residuals {:.2g}× what the noise explains", ratio));
     if (!r.fit->transfers) doubt.push_back("the joint does not transfer between the set-ups");
     for (JointParameter k : {JointParameter::k_yf, JointParameter::k_tm})
       if (!r.fit->intervals[static_cast<std::size_t>(k)].determined)
@@ -217,17 +264,14 @@ void judge(Identification& r, const IdentificationOptions& o, bool same_data) {
         doubt.push_back(fmt::format("{} is poorly determined in the read-out band (noise gain {:.3g})", JointParameters::name(k),
                                     r.seed.noise_gain[static_cast<std::size_t>(k)]));
   }
-  if (r.forward_check.empty()) doubt.push_back("the forward check found no mode to compare");
-  for (const ModeComparison& c : r.forward_check) {
-    const double fe = std::abs(c.frequency_error), pe = std::abs(c.magnitude_error);
-    const std::string what = fmt::format("the mode at {:.1f} Hz comes back at {:.1f} Hz ({:+.2g} %) with its peak {:+.2g} %",
-                                         c.measured_hz, c.predicted_hz, 100 * c.frequency_error, 100 * c.magnitude_error);
-    if (fe > o.verdict.fail_frequency || pe > o.verdict.fail_peak)
-      fail.push_back(fmt::format("forward check: {} (fail above {:g} % / {:g} %)", what, 100 * o.verdict.fail_frequency,
-                                 100 * o.verdict.fail_peak));
-    else if (fe > o.verdict.doubt_frequency || pe > o.verdict.doubt_peak)
-      doubt.push_back(fmt::format("forward check: {} (doubtful above {:g} % / {:g} %)", what, 100 * o.verdict.doubt_frequency,
-                                  100 * o.verdict.doubt_peak));
+  const bool several = r.forward_checks.size() > 1;
+  for (const ForwardCheck& c : r.forward_checks) {
+    const std::string who = several ? c.label + ": " : "";
+    for (const auto& x : c.failures) fail.push_back(fmt::format("forward check: {}{}", who, x));
+    const bool any = std::any_of(c.modes.begin(), c.modes.end(), [](const ModeCheck& m) {
+      return m.agreement != ModeAgreement::NotResolved && m.agreement != ModeAgreement::Missing;
+    });
+    if (!any) doubt.push_back(fmt::format("the forward check {}found no mode the data resolve to compare", who));
   }
   r.verdict.verdict = !fail.empty() ? Verdict::Fail : !doubt.empty() ? Verdict::Doubtful : Verdict::Pass;
   r.verdict.reasons = fail;
@@ -347,39 +391,54 @@ Identification identify_joint_from_frfs(const Assembly& assembly, const std::vec
 
   // Noise of every measured series (the fit's weights and bootstrap; the verdict reads its warnings).
   for (std::size_t s = 0; s < setups.size(); ++s) {
-    r.g_noise.push_back(noise_of(data[s].G11, data[s].g_name.empty() ? "G11" : data[s].g_name, o.noise));
-    r.b_noise.push_back(setups[s].b_measured ? noise_of(setups[s].B, data[s].b_name.empty() ? "B11" : data[s].b_name, o.noise)
+    r.g_noise.push_back(noise_of(data[s].G11, data[s].g_coherence, data[s].g_name.empty() ? "G11" : data[s].g_name, o.noise,
+                                 r.warnings));
+    r.b_noise.push_back(setups[s].b_measured ? noise_of(setups[s].B, data[s].b_coherence,
+                                                        data[s].b_name.empty() ? "B11" : data[s].b_name, o.noise, r.warnings)
                                              : exact_block_noise());
   }
   for (const auto* v : {&r.g_noise, &r.b_noise})
     for (const BlockNoise& n : *v) r.warnings.insert(r.warnings.end(), n.warnings.begin(), n.warnings.end());
+
+  // Every set-up on all its frequencies, as the forward check sees it; the fit takes the band.
+  std::vector<JointFitData> full;
+  for (std::size_t s = 0; s < setups.size(); ++s) {
+    JointFitData x;
+    x.label = setups[s].label;
+    x.A = setups[s].A;
+    x.G11 = data[s].G11;
+    x.B11 = setups[s].B;
+    x.g_name = data[s].g_name.empty() ? "G11" : data[s].g_name;
+    x.b_name = data[s].b_name.empty() ? (setups[s].b_measured ? "B11" : "S11 (model)") : data[s].b_name;
+    x.g_noise = r.g_noise[s];
+    x.b_noise = r.b_noise[s];
+    full.push_back(std::move(x));
+  }
 
   if (o.method == IdentificationMethod::Fit) {
     double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
     std::vector<JointFitData> fd;
     for (std::size_t s = 0; s < setups.size(); ++s) {
       const auto& f = data[s].G11.frequency_hz;
-      const auto idx = o.band_hz ? in_band(f, o.band_hz->first, o.band_hz->second) : [&] {
-        std::vector<std::size_t> all(f.size());
-        std::iota(all.begin(), all.end(), std::size_t{0});
-        return all;
-      }();
-      if (idx.empty())
-        throw InvalidArgument(fmt::format("{}: the band {}–{} Hz holds none of the data's frequencies ({}–{} Hz)",
-                                          setups[s].label, o.band_hz->first, o.band_hz->second, f.front(), f.back()),
-                              "choose a band inside the data's frequency range");
-      JointFitData x;
-      x.label = setups[s].label;
-      x.G11 = subset(data[s].G11, idx);
-      x.B11 = subset(setups[s].B, idx);
-      x.g_name = data[s].g_name.empty() ? "G11" : data[s].g_name;
-      x.b_name = data[s].b_name.empty() ? (setups[s].b_measured ? "B11" : "S11 (model)") : data[s].b_name;
-      for (std::size_t i : idx) x.A.push_back(setups[s].A[i]);
-      x.g_noise = r.g_noise[s].subset(idx);
-      x.b_noise = r.b_noise[s].subset(idx);
-      lo = std::min(lo, x.G11.frequency_hz.front());
-      hi = std::max(hi, x.G11.frequency_hz.back());
-      fd.push_back(std::move(x));
+      if (!o.band_hz) {
+        fd.push_back(full[s]);
+      } else {
+        const auto idx = in_band(f, o.band_hz->first, o.band_hz->second);
+        if (idx.empty())
+          throw InvalidArgument(fmt::format("{}: the band {}–{} Hz holds none of the data's frequencies ({}–{} Hz)",
+                                            setups[s].label, o.band_hz->first, o.band_hz->second, f.front(), f.back()),
+                                "choose a band inside the data's frequency range");
+        JointFitData x = full[s];
+        x.G11 = subset(full[s].G11, idx);
+        x.B11 = subset(full[s].B11, idx);
+        x.A.clear();
+        for (std::size_t i : idx) x.A.push_back(full[s].A[i]);
+        x.g_noise = full[s].g_noise.subset(idx);
+        x.b_noise = full[s].b_noise.subset(idx);
+        fd.push_back(std::move(x));
+      }
+      lo = std::min(lo, fd.back().G11.frequency_hz.front());
+      hi = std::max(hi, fd.back().G11.frequency_hz.back());
     }
     r.fit_band_hz = {lo, hi};
     std::vector<JointParameters> starts;
@@ -403,6 +462,7 @@ Identification identify_joint_from_frfs(const Assembly& assembly, const std::vec
           "give the joint trial values in the assembly file");
     JointFitOptions fo = o.fit;
     fo.filter = o.filter;
+    fo.shared_calibration = o.noise.calibration_shared;
     if (report) fo.progress = [&](double x) { progress(0.3 + 0.6 * x); };
     r.fit = fit_joint(fd, starts, fo);
     r.identified = r.fit->parameters;
@@ -413,14 +473,16 @@ Identification identify_joint_from_frfs(const Assembly& assembly, const std::vec
   }
   progress(0.9);
 
-  // Forward check on the first set-up: the same smoothing on data and prediction.
+  // Forward check of every set-up: the same smoothing on data and prediction, judged against the noise.
   {
-    const Joint joint = Joint::make_elastic(r.identified);
-    BlockSeries pred;
-    pred.frequency_hz = d0.G11.frequency_hz;
-    for (std::size_t i = 0; i < pred.frequency_hz.size(); ++i)
-      pred.blocks.push_back(couple_point(s0.A[i], s0.B.blocks[i], joint, pred.frequency_hz[i]));
-    r.forward_check = compare_modes(entry(G0s, 0), entry(smoothed(pred, o.filter), 0), PeakOptions{0.1});
+    ForwardCheckOptions fc = o.verdict.forward;
+    fc.smoothing = o.filter;
+    fc.seed = o.fit.seed;
+    fc.parallel = o.fit.parallel;
+    fc.shared_calibration = o.noise.calibration_shared;
+    const std::optional<Eigen::Matrix<double, 8, 8>> cov =
+        r.fit ? std::optional(r.fit->covariance) : std::optional<Eigen::Matrix<double, 8, 8>>();
+    for (const JointFitData& x : full) r.forward_checks.push_back(check_forward(x, r.identified, fc, cov));
   }
   judge(r, o, s0.b_measured && s0.B.blocks == d0.G11.blocks);
   progress(1.0);

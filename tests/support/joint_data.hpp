@@ -80,7 +80,7 @@ inline JointFitData noisy_fit_data(const RouteData& d, double sigma, std::uint64
   x.B11 = d.b_measured ? add_measurement_noise(d.B, NoiseOptions{sigma, seed + 1}).series : d.B;
   auto noise = [&](const BlockSeries& s, bool measured) {
     if (!measured) return exact_block_noise();
-    return knowledge == NoiseKnowledge::Stated ? stated_block_noise(s.size(), sigma, 0.0) : estimate_block_noise(s, {}, "test");
+    return knowledge == NoiseKnowledge::Stated ? stated_block_noise(s, StatedNoise{sigma, 0.0, 0.0}) : estimate_block_noise(s, {}, "test");
   };
   x.g_noise = noise(x.G11, true);
   x.b_noise = noise(x.B11, d.b_measured);

@@ -13,16 +13,17 @@
 // Several measured set-ups (e.g. the seed's three overhangs) are fitted together; the seed's
 // read-out and the forward check use the first.
 //
-// Forward check: the identified constants back into the forward model with the measured B11,
-// against the measured G11, both smoothed by one Savitzky–Golay filter (the fit's filter, else
-// 15 points, cubic: the same operator on both, so it cannot bias the comparison), mode by mode.
-// Verdict: fail when the result cannot be a passive joint reproducing the data (a negative
-// diagonal stiffness; a diagonal damping negative beyond its interval; a forward-check error above
-// the fail thresholds; G11 identical to B11; a fit that did not converge), doubtful when something
-// deserves a look (errors above the doubt thresholds, residuals the noise does not explain, a joint
-// that does not transfer between set-ups, a stiffness left undetermined), pass otherwise. (Noise
-// that does not look white is a warning only: low noise on sharp peaks looks so too, and a noise
-// estimate that is too small shows in the residual ratio.) Units: SI; frequencies in Hz; errors as fractions (reports show %).
+// Forward check (forward_check.hpp): the identified constants back into the forward model with
+// the measured B11, against the measured G11, each set-up on all its frequencies, mode by mode,
+// each difference judged against what the noise makes (a Monte Carlo test with a stated false-alarm
+// probability). Verdict: fail when the result cannot be a passive joint reproducing the data (a
+// negative diagonal stiffness; a diagonal damping negative beyond its noise; the forward check
+// failing; residuals far beyond what the noise explains; G11 identical to B11; a fit that did not
+// converge), doubtful when something deserves a look (residuals beyond what the noise explains,
+// a joint that does not transfer between set-ups, a stiffness left undetermined, no mode to
+// check), pass otherwise. (Noise that does not look white is a warning only: low noise on sharp
+// peaks looks so too, and a noise estimate that is too small shows in the residual ratio.)
+// Units: SI; frequencies in Hz; errors as fractions (reports show %).
 #pragma once
 
 #include <functional>
@@ -32,6 +33,7 @@
 #include <vector>
 
 #include "toolpoint/assembly.hpp"
+#include "toolpoint/forward_check.hpp"
 #include "toolpoint/identify.hpp"
 #include "toolpoint/joint_file.hpp"
 #include "toolpoint/joint_fit.hpp"
@@ -54,21 +56,38 @@ struct IdentificationData {
   std::string g_name;                // e.g. the file name
   std::optional<BlockSeries> B11;    // SH11 (Eq. 6: required) or S11 (Eq. 15, 18: default the model's)
   std::string b_name;
+  // The coherence γ² of each series' H entry (a file's coherence column), or empty. Used with
+  // NoiseSpec::averages (noise.hpp's apply_coherence).
+  std::vector<double> g_coherence, b_coherence;
 };
 
+// The noise of the measured series (noise.hpp): estimated from the data (multiplicative and, by
+// default, an additive floor) or stated; the calibration is always stated (no data reveal it); a
+// coherence column counts when the number of averages behind it is given.
 struct NoiseSpec {
   enum class Source { Estimated, Stated };
   Source source = Source::Estimated;
   NoiseEstimateOptions estimate;  // Estimated: how
   double magnitude_sigma = 0.0;   // Stated: relative magnitude σ (0.05 = 5 %)
   double phase_sigma_rad = 0.0;   // Stated: phase σ [rad]
-  void check() const;
+  double floor = 0.0;             // Stated: additive floor, σ per part relative to each entry's peak (0.01 = 1 %)
+  // σ of each measured FRF's calibration factor (0.02 = 2 %; a standard uncertainty, not a
+  // bound), carried into every interval; 0: the sensors are taken as exact.
+  double calibration = 0.0;
+  bool calibration_shared = false;  // one sensor chain for every measured FRF: one factor for all
+  int averages = 0;                 // averages behind a coherence column (0: the coherence is not used)
+  void check() const;               // throws InvalidArgument naming NoiseSpec::<field>
+  StatedNoise stated() const { return {magnitude_sigma, phase_sigma_rad, floor}; }
 };
 
-struct VerdictThresholds {
-  double doubt_frequency = 0.01, fail_frequency = 0.05;  // forward check, relative natural-frequency error
-  double doubt_peak = 0.15, fail_peak = 0.50;            // forward check, relative peak-height error
-  void check() const;
+struct VerdictOptions {
+  // The forward check: its false-alarm probability, material tolerances, replicates. Its smoothing,
+  // seed and threads are the study's (IdentificationOptions::filter, ::fit).
+  ForwardCheckOptions forward;
+  // The band fit's residual ratio (JointFit::residual_ratio) above which the verdict is doubtful,
+  // and fail: residuals that far beyond the noise are a model that does not describe the data.
+  double residual_doubt = 1.5, residual_fail = 3.0;
+  void check() const;  // throws InvalidArgument naming VerdictOptions::<field>
 };
 
 struct IdentificationOptions {
@@ -85,7 +104,7 @@ struct IdentificationOptions {
   NoiseSpec noise;      // of every measured series (the fit needs it)
   JointFitOptions fit;  // its `filter` is set from `filter` above
   ReadoutOptions readout;
-  VerdictThresholds verdict;
+  VerdictOptions verdict;
   void check() const;  // throws InvalidArgument naming the field
 };
 
@@ -117,7 +136,7 @@ struct Identification {
   std::pair<double, double> fit_band_hz{0.0, 0.0};
   std::vector<BlockNoise> g_noise, b_noise;   // per set-up, as used
   JointParameters identified;                 // the method's result (fit estimates or the read-out's medians)
-  std::vector<ModeComparison> forward_check;  // first set-up, smoothed data against the identified model
+  std::vector<ForwardCheck> forward_checks;  // per set-up, all its frequencies
   IdentificationVerdict verdict;
   std::vector<std::string> warnings;  // everything worth reading, with the noise models' and the read-out's
 };
