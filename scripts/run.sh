@@ -20,7 +20,9 @@ jobs=${JOBS:-$(nproc 2>/dev/null || echo 2)}
 packages=(build-essential cmake pkg-config libeigen3-dev libcli11-dev libfmt-dev libtomlplusplus-dev
           nlohmann-json3-dev libsleef-dev libspectra-dev libgtest-dev libbenchmark-dev gnuplot-nox
           python3-dev pybind11-dev python3-numpy python3-pytest
-          clang libclang-rt-14-dev)  # clang + libFuzzer for the fuzz targets (scripts/fuzz.sh)
+          clang libclang-rt-14-dev   # clang + libFuzzer for the fuzz targets (scripts/fuzz.sh)
+          slurm-wlm munge            # a real single-node Slurm for the batch path's test (tests/slurm/)
+          python3-kubernetes python3-yaml)  # the Kubernetes Job schema, to check deploy/*.yaml
 
 missing=()
 for p in "${packages[@]}"; do
@@ -34,7 +36,17 @@ if ((${#missing[@]})); then
   fi
   export DEBIAN_FRONTEND=noninteractive
   apt-get update -qq
+  # The packages' own services (munged, slurmctld, slurmd) are not started: nothing here uses
+  # them (the Slurm test starts its own daemons, on its own ports, and stops them).
+  policy=
+  if [ ! -e /usr/sbin/policy-rc.d ]; then
+    policy=/usr/sbin/policy-rc.d
+    printf '#!/bin/sh\nexit 101\n' > "$policy"
+    chmod 755 "$policy"
+    trap 'rm -f "$policy"' EXIT
+  fi
   apt-get install -y -qq --no-install-recommends "${missing[@]}"
+  if [ -n "$policy" ]; then rm -f "$policy"; trap - EXIT; fi
 fi
 
 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release >/dev/null

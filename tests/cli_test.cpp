@@ -8,6 +8,7 @@
 // closed forms or properties that hold independently of the code under test.
 // Units: SI (m, kg, N; receptance m/N), frequencies in Hz, figure sizes in pixels.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 
 #include <cmath>
@@ -1047,8 +1048,71 @@ TEST_F(PlanCli, ShardsInALoopThenMergeEqualTheSingleRun) {
   EXPECT_EQ(j["best"][0]["limit"], "stability");
 }
 
+// What a batch user meets: a failed task run again rewrites only its part (the others keep their
+// inode and time); two tasks writing the same shard at once leave one whole part and no temporary
+// file; a task killed before it wrote leaves no part, and the merge names the shard and the command
+// (and the Slurm array's re-run, the parts being named as scripts/slurm/plan-array.sh names them).
+TEST_F(PlanCli, AFailedShardIsRunAgainAloneAndMergeSaysHow) {
+  const Run whole = ok("plan study.toml --output whole --threads 1");
+  for (int i = 0; i < 3; ++i)
+    ok("plan study.toml --threads 1 --shard " + std::to_string(i) + "/3 --part parts/part-" + std::to_string(i) + ".json");
+  struct stat before[3];
+  for (int i = 0; i < 3; ++i) ASSERT_EQ(::stat(path("parts/part-" + std::to_string(i) + ".json").c_str(), &before[i]), 0);
+  const std::string part1 = read_text_file(path("parts/part-1.json"));
+  fs::remove(path("parts/part-1.json"));  // task 1 failed (or its node lost the file)
+  Run r = run("plan merge parts/part-0.json parts/part-2.json --output merged");
+  expect_error(r, 3,
+               {"shard(s) 1 of 3 missing", "toolpoint plan study.toml --shard 1/3 --part parts/part-1.json",
+                "sbatch --array=1 scripts/slurm/plan-array.sh study.toml parts 3"});
+  EXPECT_FALSE(exists("merged"));
+  ::usleep(20000);  // so that a rewritten file's time would differ
+  ok("plan study.toml --threads 1 --shard 1/3 --part parts/part-1.json");
+  EXPECT_EQ(read_text_file(path("parts/part-1.json")), part1);
+  for (int i : {0, 2}) {
+    struct stat after;
+    ASSERT_EQ(::stat(path("parts/part-" + std::to_string(i) + ".json").c_str(), &after), 0);
+    EXPECT_EQ(after.st_ino, before[i].st_ino) << i;
+    EXPECT_EQ(after.st_mtim.tv_sec, before[i].st_mtim.tv_sec) << i;
+    EXPECT_EQ(after.st_mtim.tv_nsec, before[i].st_mtim.tv_nsec) << i;
+  }
+  ok("plan merge parts/part-0.json parts/part-1.json parts/part-2.json --output merged");
+  for (const char* f : {"setups.csv", "tuning.csv", "map.csv", "plan.json"})
+    EXPECT_EQ(read_text_file(path("merged/") + f), read_text_file(path("whole/") + f)) << f;
+
+  // The same shard twice at once (an array submitted twice): one whole part, no temporary file.
+  const std::string cmd = "cd '" + path("") +
+                          "' && ('" TOOLPOINT_CLI
+                          "' plan study.toml -q --threads 1 --shard 2/3 --part "
+                          "twice/part-2.json & '" TOOLPOINT_CLI
+                          "' plan study.toml -q --threads 1 --shard 2/3 --part "
+                          "twice/part-2.json; wait)";
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  EXPECT_EQ(read_text_file(path("twice/part-2.json")), read_text_file(path("parts/part-2.json")));
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(path("twice"))) names.push_back(e.path().filename().string());
+  EXPECT_EQ(names, std::vector<std::string>{"part-2.json"});
+
+  // A task killed while it computes (the example study with 161 overhangs, about 1.5 s on one
+  // core, killed after 0.1 s): no part, not even a temporary one.
+  std::string big = read_text_file(std::string(TOOLPOINT_SOURCE_DIR) + "/examples/plan_bt40.toml");
+  for (const auto& [from, to] :
+       {std::pair<std::string, std::string>{"assembly = \"bt40_shrinkfit_16mm.toml\"", "assembly = \"" + kExample + "\""},
+        {"overhang_step = 0.001", "overhang_step = 0.0005"}}) {
+    ASSERT_NE(big.find(from), std::string::npos) << from;
+    big.replace(big.find(from), from.size(), to);
+  }
+  write_text_file(path("big.toml"), big);
+  const std::string killed = "cd '" + path("") +
+                             "' && sh -c \"timeout -s KILL 0.1 '" TOOLPOINT_CLI
+                             "' plan big.toml -q --threads 1 --shard 0/1 --part killed/part-0.json\" 2>/dev/null";
+  EXPECT_NE(std::system(killed.c_str()), 0);
+  EXPECT_TRUE(!exists("killed") || fs::is_empty(path("killed")));
+}
+
 TEST_F(PlanCli, ErrorsNameTheOptionOrFileAndLeaveNothingBehind) {
-  expect_error(run("plan study.toml --shard 3/3 --part p.json"), 2, {"--shard '3/3'", "0 ≤ I < N"});
+  expect_error(run("plan study.toml --shard 3/3 --part p.json"), 2,
+               {"--shard '3/3'", "0 ≤ I < N", "array numbered from 1", "--array=0-2", "$((SLURM_ARRAY_TASK_ID-1))/3"});
+  expect_error(run("plan study.toml --shard 4/3 --part p.json"), 2, {"--shard '4/3'", "numbered 0…2"});
   expect_error(run("plan study.toml --shard 0/2"), 2, {"--shard needs --part"});
   expect_error(run("plan study.toml --shard 0/2 --part p.json --output out"), 2, {"plan merge"});
   EXPECT_FALSE(exists("p.json"));
@@ -1065,10 +1129,11 @@ TEST_F(PlanCli, ErrorsNameTheOptionOrFileAndLeaveNothingBehind) {
   // Merging: a missing shard, a file that is no part, no part at all.
   ok("plan study.toml --shard 0/2 --part p0.json");
   Run r = run("plan merge p0.json --output out");
-  expect_error(r, 3, {"shard(s) 1 of 2 missing", "`toolpoint plan --shard I/N` with their index"});
+  expect_error(r, 3, {"shard(s) 1 of 2 missing", "run shard 1 again: toolpoint plan study.toml --shard 1/2 --part p1.json"});
   EXPECT_EQ(r.err.find("run_plan_part"), std::string::npos) << r.err;
   r = run("plan merge study.toml --output out");
-  expect_error(r, 3, {"study.toml", "not a plan part file", "give what `toolpoint plan --shard I/N --part FILE` wrote"});
+  expect_error(r, 3,
+               {"study.toml", "not a toolpoint plan part file", "give what `toolpoint plan --shard I/N --part FILE` wrote"});
   EXPECT_EQ(r.err.find("format_plan_part"), std::string::npos) << r.err;
   EXPECT_FALSE(exists("out"));
   const Run none = run("plan merge");  // CLI11's own usage error, with the fix line main adds

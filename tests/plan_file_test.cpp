@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <initializer_list>
 #include <string>
+#include <unistd.h>
 
 #include "toolpoint/assembly_file.hpp"
 #include "toolpoint/error.hpp"
@@ -226,8 +227,8 @@ TEST(PlanPartFile, RoundTripAndRefusals) {
       EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
     }
   };
-  refused(t0.substr(0, t0.size() / 2), "not a plan part file");
-  refused("{\"x\": 1}", "not a plan part file");
+  refused(t0.substr(0, 20), "not a toolpoint plan part file");  // cut before it says which shard it is
+  refused("{\"x\": 1}", "not a toolpoint plan part file");
   // One digit of one depth changed: the checksum.
   std::string edited = t0;
   const std::size_t at = edited.find("\"stable_depth_m\":[\"0x1.") + 24;
@@ -252,11 +253,98 @@ TEST(PlanPartFile, RoundTripAndRefusals) {
     }
   };
   merge_refused({q0}, {"p0.json"}, "shard(s) 1 of 2 missing");
-  merge_refused({q0, q0, q1}, {"p0.json", "again.json", "p1.json"}, "p0.json and again.json are both shard 0 of 2");
+  merge_refused({q0, q0, q1}, {"p0.json", "again.json", "p1.json"}, "shard 0 of 2 is given 2 times: p0.json and again.json");
   PlanOptions other = s.options;
   other.lobes.speeds.points = 101;
   const PlanPart r1 = run_plan_part(s.candidates, other, 1, 2);
-  merge_refused({q0, r1}, {"p0.json", "r1.json"}, "belong to different plans");
+  merge_refused({q0, r1}, {"p0.json", "r1.json"}, "r1.json (shard 1 of 2) belongs to another study");
   const PlanPart w = run_plan_part(s.candidates, s.options, 1, 3);
-  merge_refused({q0, w}, {"p0.json", "w.json"}, "w.json is shard 1 of 3, but p0.json is of 2");  // the same plan, split twice
+  merge_refused({q0, w}, {"p0.json", "w.json"}, "w.json is shard 1 of 3, but the other parts split the study into 2");
+}
+
+// The batch user's bad input, each refused with the shard and the fix (the shards to run again, the
+// parts to leave out), every problem of a set at once: the oracle is the set as built here.
+TEST(PlanPartFile, BadSetsNameEveryShardAndTheFix) {
+  PlanStudy s = parse_plan_study(study(), "study.toml", "");
+  // A shard that does not exist: an index equal to the count is an array numbered from 1.
+  const auto shard_refused = [&](int index, int count, const std::string& what) {
+    try {
+      run_plan_part(s.candidates, s.options, index, count);
+      ADD_FAILURE() << index << "/" << count << " accepted";
+    } catch (const InvalidArgument& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+      EXPECT_FALSE(e.hint().empty());
+    }
+  };
+  shard_refused(3, 3, "an index equal to the count comes from an array numbered from 1");
+  shard_refused(4, 3, "shards are numbered 0…2");
+  shard_refused(-1, 3, "shards are numbered 0…2");
+  shard_refused(0, 0, "shard count 0 must lie in 1…100000");
+
+  const fs::path dir = fs::temp_directory_path() / ("toolpoint_parts_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir / "parts");
+  const auto part = [&](int i) { return (dir / "parts" / ("part-" + std::to_string(i) + ".json")).string(); };
+  for (int i = 0; i < 3; ++i) {
+    PlanPart p = run_plan_part(s.candidates, s.options, i, 3);
+    p.study = "study.toml";
+    write_text_file(part(i), format_plan_part(p));
+  }
+  const std::string whole = format_plan_map_csv(run_plan(s.candidates, s.options));
+  EXPECT_EQ(format_plan_map_csv(merge_plan_part_files({part(2), part(0), part(1)})), whole);
+  const auto verdict = [&](const std::vector<std::string>& files) {
+    try {
+      merge_plan_part_files(files);
+    } catch (const ShardSetError& e) {
+      return e;
+    }
+    ADD_FAILURE() << "merged";
+    return ShardSetError({}, "");
+  };
+  const auto has = [](const std::string& text, const std::string& what) {
+    EXPECT_NE(text.find(what), std::string::npos) << "'" << what << "' not in: " << text;
+  };
+
+  // Missing shards: every one named, to be run again into the file named like its siblings.
+  ShardSetError e = verdict({part(1)});
+  has(e.what(), "shard(s) 0, 2 of 3 missing");
+  ASSERT_EQ(e.check().rerun.size(), 2u);
+  EXPECT_EQ(e.check().rerun[0].index, 0);
+  EXPECT_EQ(e.check().rerun[0].part, part(0));
+  EXPECT_EQ(e.check().rerun[1].part, part(2));
+  EXPECT_EQ(e.check().study, "study.toml");
+  has(e.hint(), "run shard(s) 0, 2 of 3 again (run_plan_part with those indices and count 3)");
+  // Only shard 0 missing: said to look like an array numbered from 1.
+  has(verdict({part(1), part(2)}).what(), "only shard 0: were the tasks numbered from 1");
+
+  // A part cut short while written or copied (here at every tenth of its length, and one byte short):
+  // refused naming its shard, to be run again into the same file; the rest of the set judged too.
+  const std::string text = read_text_file(part(1));
+  for (std::size_t cut : {text.size() / 10, text.size() / 2, 9 * text.size() / 10, text.size() - 2}) {
+    write_text_file((dir / "cut.json").string(), text.substr(0, cut));
+    e = verdict({part(0), (dir / "cut.json").string(), part(2)});
+    has(e.what(), "cut.json (shard 1 of 3): cut short or damaged");
+    ASSERT_EQ(e.check().rerun.size(), 1u) << e.what();
+    EXPECT_EQ(e.check().rerun[0].index, 1);
+    EXPECT_EQ(e.check().rerun[0].part, (dir / "cut.json").string());
+    EXPECT_TRUE(e.check().drop.empty());
+  }
+  // A cut part whose shard another part holds: left out, nothing to run.
+  e = verdict({part(0), (dir / "cut.json").string(), part(1), part(2)});
+  EXPECT_TRUE(e.check().rerun.empty()) << e.what();
+  EXPECT_EQ(e.check().drop, std::vector<std::string>{(dir / "cut.json").string()});
+
+  // Every problem at once: a second copy, a part of another plan, a missing shard.
+  fs::copy_file(part(2), dir / "copy.json");
+  PlanOptions other = s.options;
+  other.lobes.speeds.points = 101;
+  write_text_file((dir / "other.json").string(), format_plan_part(run_plan_part(s.candidates, other, 1, 3)));
+  e = verdict({part(0), part(2), (dir / "copy.json").string(), (dir / "other.json").string()});
+  has(e.what(), "shard 2 of 3 is given 2 times: " + part(2) + " and " + (dir / "copy.json").string());
+  has(e.what(), "other.json (shard 1 of 3) belongs to another study");
+  has(e.what(), "shard(s) 1 of 3 missing");
+  EXPECT_EQ(e.check().drop, (std::vector<std::string>{(dir / "copy.json").string(), (dir / "other.json").string()}));
+  ASSERT_EQ(e.check().rerun.size(), 1u);
+  EXPECT_EQ(e.check().rerun[0].part, part(1));
+  fs::remove_all(dir);
 }

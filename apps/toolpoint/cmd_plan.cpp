@@ -2,6 +2,7 @@
 // metal [cm³/min] without chatter, from a study file — the library's plan study (studies/plan.hpp).
 // Whole on every core, or one shard of a batch array (--shard I/N --part FILE) and `plan merge`.
 // --plot draws the allowed depth [mm] over spindle speed [rpm] × overhang [mm] and the tuning curve.
+#include <algorithm>
 #include <filesystem>
 #include <fmt/format.h>
 #include <iostream>
@@ -128,8 +129,9 @@ void run_plan_command(const PlanArgs& o, const Globals& g) {
 
   Progress progress(g, o.shard.empty() ? "plan: set-ups" : fmt::format("plan: shard {}/{}", index, count));
   if (!o.shard.empty()) {
-    const PlanPart part = run_plan_part(study.candidates, study.options, index, count, progress.part());
+    PlanPart part = run_plan_part(study.candidates, study.options, index, count, progress.part());
     progress.done();
+    part.study = o.study;  // for the commands a merge names when a shard is missing
     write_text_file(o.part, format_plan_part(part));
     info(g, fmt::format("shard {}/{}: {} of {} set-ups written to {}", index, count, part.jobs.size(), part.header.jobs, o.part));
     return;
@@ -139,13 +141,60 @@ void run_plan_command(const PlanArgs& o, const Globals& g) {
   report(g, o, r);
 }
 
+// The commands that mend a set of parts: the parts to leave out, each shard to run again (in a
+// loop when there are many and the parts are named DIR/part-I.json, as scripts/slurm/plan-array.sh
+// names them; then the Slurm array's re-run too).
+std::string mending_commands(const ShardSetCheck& c) {
+  std::vector<std::string> steps;
+  if (!c.drop.empty()) {
+    std::string drop = "leave out";
+    for (const std::string& d : c.drop) drop += " " + d;
+    steps.push_back(drop);
+  }
+  const std::string study = c.study.empty() ? "STUDY.toml" : c.study;
+  std::string dir;
+  bool slurm_names = !c.rerun.empty();
+  std::vector<int> indices;
+  for (const ShardRerun& r : c.rerun) {
+    indices.push_back(r.index);
+    const std::filesystem::path p(r.part);
+    if (p.filename() != fmt::format("part-{}.json", r.index) || (!dir.empty() && p.parent_path().string() != dir))
+      slurm_names = false;
+    dir = p.parent_path().string();
+  }
+  if (slurm_names && c.rerun.size() > 4) {
+    std::string list;
+    for (int i : indices) list += fmt::format("{}{}", list.empty() ? "" : " ", i);
+    steps.push_back(
+        fmt::format("run the missing shards again: for i in {}; do toolpoint plan {} --shard $i/{} --part {}/part-$i.json; "
+                    "done",
+                    list, study, c.count, dir.empty() ? "." : dir));
+  } else {
+    for (const ShardRerun& r : c.rerun)
+      steps.push_back(fmt::format("run shard {} again: toolpoint plan {} --shard {}/{} --part {}", r.index, study, r.index,
+                                  c.count, r.part.empty() ? fmt::format("part-{}.json", r.index) : r.part));
+  }
+  if (slurm_names) {
+    std::string list = shard_list(indices);
+    list.erase(std::remove(list.begin(), list.end(), ' '), list.end());
+    steps.push_back(fmt::format("or, in the Slurm array: sbatch --array={} scripts/slurm/plan-array.sh {} {} {}", list, study,
+                                dir.empty() ? "." : dir, c.count));
+  }
+  std::string fix;
+  for (const std::string& s : steps) fix += (fix.empty() ? "" : "; ") + s;
+  return fix + "; then merge again";
+}
+
 void run_merge_command(const PlanArgs& o, const Globals& g) {
   check_plot_path(o.plot);
   check_outputs(o, o.parts);
-  std::vector<PlanPart> parts;
-  for (const std::string& p : o.parts) parts.push_back(parse_plan_part(read_text_file(p), p));
-  const PlanResult r = merge_plan_parts(parts, o.parts);
-  info(g, fmt::format("merged {} part(s): {} set-ups", parts.size(), r.jobs.size()));
+  PlanResult r;
+  try {
+    r = merge_plan_part_files(o.parts);
+  } catch (const ShardSetError& e) {
+    throw InputError(e.what(), mending_commands(e.check()));
+  }
+  info(g, fmt::format("merged {} part(s): {} set-ups", o.parts.size(), r.jobs.size()));
   report(g, o, r);
 }
 

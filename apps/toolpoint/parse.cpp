@@ -11,6 +11,7 @@
 
 #include "../../src/text.hpp"
 #include "toolpoint/error.hpp"
+#include "toolpoint/studies/shards.hpp"
 
 namespace toolpoint::cli {
 
@@ -106,9 +107,20 @@ std::pair<int, int> parse_shard(const std::string& text, const std::string& opti
       break;
     }
   }
-  if (slash == std::string::npos || v[1] < 1 || v[1] > 100000 || v[0] < 0 || v[0] >= v[1])
-    throw InvalidArgument(fmt::format("{} '{}' is not I/N with 0 ≤ I < N ≤ 100000 (shard I of N, counted from 0)", option, text),
+  if (slash == std::string::npos || v[1] < 1 || v[1] > kMaxShards || v[0] < 0)
+    throw InvalidArgument(fmt::format("{} '{}' is not I/N with 0 ≤ I < N ≤ {} (shard I of N, counted from 0)", option, text,
+                                      kMaxShards),
                           "e.g. --shard 0/8 … --shard 7/8; in a Slurm array --shard $SLURM_ARRAY_TASK_ID/8");
+  try {
+    check_shard({v[0], v[1]});  // I ≥ N: which, and the array numbered from 1
+  } catch (const InvalidArgument& e) {
+    throw InvalidArgument(
+        fmt::format("{} '{}' (0 ≤ I < N): {}", option, text, e.what()),
+        v[0] == v[1] ? fmt::format("submit the array as --array=0-{} (sbatch), or pass --shard $((SLURM_ARRAY_TASK_ID-1))/{} "
+                                   "to an array numbered from 1",
+                                   v[1] - 1, v[1])
+                     : e.hint());
+  }
   return {v[0], v[1]};
 }
 

@@ -759,11 +759,7 @@ PlanJob compute_job(const PlanCandidate& cand, const PlanHeader& h, std::size_t 
 
 PlanPart run_plan_part(const std::vector<PlanCandidate>& candidates, const PlanOptions& options, int index, int count,
                        const ProgressCallback& progress) {
-  if (count < 1 || count > 100000)
-    throw InvalidArgument(fmt::format("shard count {} must lie in 1…100000", count), "split the plan into 1 to 100000 parts");
-  if (index < 0 || index >= count)
-    throw InvalidArgument(fmt::format("shard {} of {} does not exist: shards are numbered 0…{}", index, count, count - 1),
-                          "give an index from 0 to the count less one (a Slurm array 0-(N-1) gives $SLURM_ARRAY_TASK_ID so)");
+  check_shard({index, count});
   PlanPart part;
   part.header = plan_header(candidates, options);
   part.index = index;
@@ -772,11 +768,10 @@ PlanPart run_plan_part(const std::vector<PlanCandidate>& candidates, const PlanO
   struct Item {
     std::size_t candidate, overhang;
   };
-  std::vector<Item> mine;
-  std::size_t j = 0;
+  std::vector<Item> all, mine;  // by job index
   for (std::size_t c = 0; c < h.candidates.size(); ++c)
-    for (std::size_t i = 0; i < h.candidates[c].overhangs_m.size(); ++i, ++j)
-      if (j % static_cast<std::size_t>(count) == static_cast<std::size_t>(index)) mine.push_back({c, i});
+    for (std::size_t i = 0; i < h.candidates[c].overhangs_m.size(); ++i) all.push_back({c, i});
+  for (std::size_t j : shard_jobs(all.size(), {index, count})) mine.push_back(all[j]);
   // The same draws for every overhang of a candidate: overhangs compared on common random numbers.
   std::vector<std::vector<JointParameters>> samples(candidates.size());
   const bool sampled = options.safety.kind == SafetyRule::Kind::Probability;
@@ -814,37 +809,18 @@ PlanResult run_plan(const std::vector<PlanCandidate>& candidates, const PlanOpti
   return assemble(std::move(part.header), std::move(part.jobs));
 }
 
+PartLabel plan_part_label(const PlanPart& part, const std::string& source) {
+  return {source, part.header.fingerprint, {part.index, part.count}, part.study};
+}
+
 PlanResult merge_plan_parts(const std::vector<PlanPart>& parts, const std::vector<std::string>& sources) {
   const auto name = [&](std::size_t p) { return p < sources.size() ? sources[p] : fmt::format("part {}", p + 1); };
   if (parts.empty()) throw InvalidArgument("no parts to merge", "give every part file of the plan");
+  std::vector<PartLabel> labels;
+  for (std::size_t p = 0; p < parts.size(); ++p) labels.push_back(plan_part_label(parts[p], name(p)));
+  throw_unless_whole(check_shard_set(labels), "run_plan_part");
   const PlanPart& first = parts.front();
   const int count = first.count;
-  std::vector<int> seen(static_cast<std::size_t>(count), -1);
-  for (std::size_t p = 0; p < parts.size(); ++p) {
-    const PlanPart& q = parts[p];
-    if (q.header.fingerprint != first.header.fingerprint)
-      throw InputError(fmt::format("{} and {} belong to different plans (fingerprints {:016x} and {:016x})", name(0), name(p),
-                                   first.header.fingerprint, q.header.fingerprint),
-                       "merge only the parts of one run: the same study file, inputs and options, every shard once");
-    if (q.count != count)
-      throw InputError(fmt::format("{} is shard {} of {}, but {} is of {}", name(p), q.index, q.count, name(0), count),
-                       "merge the parts of one split: the same shard count N for every part");
-    if (q.index < 0 || q.index >= count)
-      throw InputError(fmt::format("{}: shard index {} outside 0…{}", name(p), q.index, count - 1));
-    int& s = seen[static_cast<std::size_t>(q.index)];
-    if (s >= 0)
-      throw InputError(fmt::format("{} and {} are both shard {} of {}", name(static_cast<std::size_t>(s)), name(p), q.index,
-                                   count),
-                       "give each part file once");
-    s = static_cast<int>(p);
-  }
-  std::string missing;
-  std::size_t n_missing = 0;
-  for (int i = 0; i < count; ++i)
-    if (seen[static_cast<std::size_t>(i)] < 0) missing += (n_missing++ ? ", " : "") + std::to_string(i);
-  if (n_missing > 0)
-    throw InputError(fmt::format("shard(s) {} of {} missing: {} part(s) given", missing, count, parts.size()),
-                     "run the missing shards (run_plan_part with their index) and merge every part");
   const PlanHeader& h = first.header;
   std::vector<PlanJob> jobs(h.jobs);
   std::vector<bool> have(h.jobs, false);
@@ -854,7 +830,7 @@ PlanResult merge_plan_parts(const std::vector<PlanPart>& parts, const std::vecto
         throw InputError(fmt::format("{}: a job of candidate {} overhang {} that the plan does not have", name(p), job.candidate,
                                      job.overhang_index));
       const std::size_t j = plan_job_index(h, job.candidate, job.overhang_index);
-      if (j % static_cast<std::size_t>(count) != static_cast<std::size_t>(parts[p].index) || have[j])
+      if (!in_shard(j, {parts[p].index, count}) || have[j])
         throw InputError(fmt::format("{}: job {} does not belong to shard {} of {}", name(p), j, parts[p].index, count),
                          "the part file is damaged: run its shard again");
       have[j] = true;

@@ -16,6 +16,7 @@
 #include "toolpoint/studies/overhang.hpp"
 #include "toolpoint/studies/plan.hpp"
 #include "toolpoint/studies/plan_io.hpp"
+#include "part_file.hpp"
 #include "toml_reader.hpp"
 
 namespace toolpoint {
@@ -23,70 +24,12 @@ namespace toolpoint {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr int kPartVersion = 1;
-constexpr const char* kPartFormat = "toolpoint plan part";
+// Version 2: the envelope of part_file.hpp (shard and study first, so a file cut short names its shard).
+constexpr part_file::PartKind kPlanPart{"toolpoint plan part", 2, "run_plan_part", "format_plan_part"};
 
-// ---- Part files: JSON, every double as C99 hexadecimal text (exact, with inf and nan) -----------
-
-std::string hex(double x) { return fmt::format("{:a}", x); }
-
-nlohmann::json hexes(const std::vector<double>& v) {
-  nlohmann::json a = nlohmann::json::array();
-  for (double x : v) a.push_back(hex(x));
-  return a;
-}
-
-struct PartReader {
-  const std::string& source;
-
-  [[noreturn]] void fail(const std::string& what) const {
-    throw InputError(fmt::format("{}: {}", source, what), "the part file is damaged or not a plan part: run its shard again");
-  }
-  const nlohmann::json& at(const nlohmann::json& j, const char* key, const std::string& path) const {
-    if (!j.is_object() || !j.contains(key)) fail(fmt::format("missing '{}{}'", path, key));
-    return j.at(key);
-  }
-  double number(const nlohmann::json& j, const std::string& what) const {
-    if (!j.is_string()) fail(fmt::format("{} is not a hexadecimal number", what));
-    std::string s = j.get<std::string>();
-    if (s == "inf") return std::numeric_limits<double>::infinity();
-    if (s == "-inf") return -std::numeric_limits<double>::infinity();
-    if (s == "nan" || s == "-nan") return kNaN;
-    const bool negative = !s.empty() && s[0] == '-';
-    const std::size_t at = negative ? 1 : 0;
-    if (s.compare(at, 2, "0x") != 0) fail(fmt::format("{} = '{}' is not a hexadecimal number", what, s));
-    double v = 0.0;
-    const char* first = s.data() + at + 2;
-    const auto [end, ec] = std::from_chars(first, s.data() + s.size(), v, std::chars_format::hex);
-    if (ec != std::errc() || end != s.data() + s.size()) fail(fmt::format("{} = '{}' is not a hexadecimal number", what, s));
-    return negative ? -v : v;
-  }
-  double number(const nlohmann::json& j, const char* key, const std::string& path) const {
-    return number(at(j, key, path), path + key);
-  }
-  std::vector<double> numbers(const nlohmann::json& j, const char* key, const std::string& path) const {
-    const nlohmann::json& a = at(j, key, path);
-    if (!a.is_array()) fail(fmt::format("'{}{}' is not an array", path, key));
-    std::vector<double> v;
-    for (std::size_t i = 0; i < a.size(); ++i) v.push_back(number(a[i], fmt::format("{}{}[{}]", path, key, i)));
-    return v;
-  }
-  template <class T>
-  T get(const nlohmann::json& j, const char* key, const std::string& path) const {
-    try {
-      return at(j, key, path).get<T>();
-    } catch (const nlohmann::json::exception&) {
-      fail(fmt::format("'{}{}' has the wrong type", path, key));
-    }
-  }
-};
-
-// FNV-1a of text: the part's checksum over its jobs (the header has its fingerprint).
-std::uint64_t text_hash(const std::string& text) {
-  std::uint64_t h = 0xcbf29ce484222325ULL;
-  for (unsigned char c : text) h = (h ^ c) * 0x100000001b3ULL;
-  return h;
-}
+using part_file::hex;
+using part_file::hexes;
+using part_file::PartReader;
 
 nlohmann::json header_json(const PlanHeader& h) {
   const PlanOptions& o = h.options;
@@ -205,9 +148,7 @@ PlanHeader parse_header(const PartReader& r, const nlohmann::json& j) {
     s.flute_length_m = r.number(cands[c], "flute_length_m", cp);
     s.overhangs_m = r.numbers(cands[c], "overhangs_m", cp);
     s.left_out = r.get<std::size_t>(cands[c], "left_out", cp);
-    const std::string content = r.get<std::string>(cands[c], "content", cp);
-    if (std::from_chars(content.data(), content.data() + content.size(), s.content, 16).ec != std::errc())
-      r.fail(cp + "content is not a hexadecimal hash");
+    s.content = r.hash(cands[c], "content", cp);
     h.candidates.push_back(std::move(s));
   }
   h.speeds_rpm = r.numbers(j, "speeds_rpm", "");
@@ -218,12 +159,6 @@ PlanHeader parse_header(const PartReader& r, const nlohmann::json& j) {
 }  // namespace
 
 std::string format_plan_part(const PlanPart& part) {
-  nlohmann::json j;
-  j["format"] = kPartFormat;
-  j["version"] = kPartVersion;
-  j["fingerprint"] = fmt::format("{:016x}", part.header.fingerprint);
-  j["shard"] = {{"index", part.index}, {"count", part.count}};
-  j["header"] = header_json(part.header);
   nlohmann::json jobs = nlohmann::json::array();
   for (const PlanJob& job : part.jobs)
     jobs.push_back({{"job", plan_job_index(part.header, job.candidate, job.overhang_index)},
@@ -237,46 +172,26 @@ std::string format_plan_part(const PlanPart& part) {
                     {"probability", hexes(job.probability)},
                     {"modes_hz", hexes(job.modes_hz)},
                     {"warnings", job.warnings}});
-  j["checksum"] = fmt::format("{:016x}", text_hash(jobs.dump()));
-  j["jobs"] = std::move(jobs);
-  return j.dump() + "\n";
+  return part_file::format_envelope(kPlanPart, {part.index, part.count}, part.study, part.header.fingerprint,
+                                    header_json(part.header), jobs);
 }
 
 PlanPart parse_plan_part(const std::string& text, const std::string& source) {
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw InputError(fmt::format("{}: not a plan part file (JSON: {})", source, e.what()), "give what format_plan_part wrote");
-  }
-  const PartReader r{source};
-  if (!j.is_object() || !j.contains("format") || j["format"] != kPartFormat)
-    throw InputError(fmt::format("{}: not a plan part file (no \"format\": \"{}\")", source, kPartFormat),
-                     "give what format_plan_part wrote");
-  if (r.get<int>(j, "version", "") != kPartVersion)
-    throw InputError(fmt::format("{}: plan part format version {} (this toolpoint reads {})", source, j["version"].dump(),
-                                 kPartVersion),
-                     "merge with the toolpoint version that wrote the parts, or run the shards again");
+  const part_file::Envelope e = part_file::parse_envelope(text, source, kPlanPart);
+  const PartReader r{source, kPlanPart, &e};
   PlanPart part;
-  part.header = parse_header(r, r.at(j, "header", ""));
-  const std::string fp = r.get<std::string>(j, "fingerprint", "");
-  std::uint64_t stored = 0;
-  if (std::from_chars(fp.data(), fp.data() + fp.size(), stored, 16).ec != std::errc())
-    r.fail("'fingerprint' is not a hexadecimal hash");
+  part.header = parse_header(r, e.header);
   part.header.fingerprint = plan_fingerprint(part.header);
-  if (part.header.fingerprint != stored)
-    r.fail(fmt::format("the header does not match its fingerprint ({:016x}, computed {:016x}): edited or damaged", stored,
+  if (part.header.fingerprint != e.fingerprint)
+    r.fail(fmt::format("the header does not match its fingerprint ({:016x}, computed {:016x}): edited or damaged", e.fingerprint,
                        part.header.fingerprint));
-  const nlohmann::json& shard = r.at(j, "shard", "");
-  part.index = r.get<int>(shard, "index", "shard.");
-  part.count = r.get<int>(shard, "count", "shard.");
+  part.index = e.shard.index;
+  part.count = e.shard.count;
+  part.study = e.study;
   const std::size_t ns = part.header.speeds_rpm.size();
-  const nlohmann::json& jobs = r.at(j, "jobs", "");
-  if (!jobs.is_array()) r.fail("'jobs' is not an array");
-  if (r.get<std::string>(j, "checksum", "") != fmt::format("{:016x}", text_hash(jobs.dump())))
-    r.fail("the jobs' numbers do not match the part's checksum: edited or damaged");
-  for (std::size_t q = 0; q < jobs.size(); ++q) {
-    const nlohmann::json& x = jobs[q];
+  const bool sampled = part.header.options.safety.kind == SafetyRule::Kind::Probability;
+  for (std::size_t q = 0; q < e.jobs.size(); ++q) {
+    const nlohmann::json& x = e.jobs[q];
     const std::string p = fmt::format("jobs[{}].", q);
     PlanJob job;
     job.candidate = r.get<std::size_t>(x, "candidate", p);
@@ -296,13 +211,32 @@ PlanPart parse_plan_part(const std::string& text, const std::string& source) {
     job.probability = r.numbers(x, "probability", p);
     job.modes_hz = r.numbers(x, "modes_hz", p);
     job.warnings = r.get<std::vector<std::string>>(x, "warnings", p);
-    const bool sampled = part.header.options.safety.kind == SafetyRule::Kind::Probability;
     if (job.stable_depth_m.size() != ns || job.safe_depth_m.size() != ns || job.chatter_hz.size() != ns ||
         job.lobe.size() != ns || job.probability.size() != (sampled ? ns : 0))
       r.fail(fmt::format("{}: arrays of the wrong length (the plan has {} speeds)", p, ns));
     part.jobs.push_back(std::move(job));
   }
   return part;
+}
+
+PlanResult merge_plan_part_files(const std::vector<std::string>& paths) {
+  std::vector<PlanPart> parts;
+  std::vector<std::string> names;
+  std::vector<ShardSetCheck> unreadable;
+  for (const std::string& path : paths) {
+    try {
+      parts.push_back(parse_plan_part(read_text_file(path), path));
+      names.push_back(path);
+    } catch (const ShardSetError& e) {
+      unreadable.push_back(e.check());
+    }
+  }
+  if (!unreadable.empty()) {
+    std::vector<PartLabel> labels;
+    for (std::size_t p = 0; p < parts.size(); ++p) labels.push_back(plan_part_label(parts[p], names[p]));
+    throw ShardSetError(check_shard_set(labels, unreadable), kPlanPart.run_function);
+  }
+  return merge_plan_parts(parts, names);
 }
 
 // ---- CSV tables ----------------------------------------------------------------------------------

@@ -51,6 +51,7 @@
 #include "toolpoint/receptance.hpp"
 #include "toolpoint/stability.hpp"
 #include "toolpoint/studies/lobes.hpp"
+#include "toolpoint/studies/shards.hpp"
 #include "toolpoint/studies/study.hpp"
 
 namespace toolpoint {
@@ -187,11 +188,16 @@ struct PlanResult {
   std::vector<std::string> warnings;
 };
 
-// One shard's jobs (a part of the plan): shard `index` of `count` holds the jobs j with j mod count = index.
+// One shard's jobs (a part of the plan): shard `index` of `count` holds the jobs j with j mod count
+// = index (studies/shards.hpp: counted from 0).
 struct PlanPart {
   PlanHeader header;
   int index = 0, count = 1;
   std::vector<PlanJob> jobs;  // primary members only, in job order
+  // The study file the part was computed from, as its caller names it ("" unknown): kept in the
+  // part file so that a merge can name the commands that redo a missing shard. Not in the
+  // fingerprint (the same study under another path is the same plan).
+  std::string study;
 };
 
 // The header of the plan run_plan would compute: checks the options and candidates (InvalidArgument
@@ -205,14 +211,20 @@ PlanHeader plan_header(const std::vector<PlanCandidate>& candidates, const PlanO
 PlanResult run_plan(const std::vector<PlanCandidate>& candidates, const PlanOptions& options,
                     const ProgressCallback& progress = {});
 
-// Shard `index` of `count` (0 ≤ index < count ≤ 100000): its jobs' primary results.
+// Shard `index` of `count` (0 ≤ index < count ≤ 100000): its jobs' primary results. Throws
+// InvalidArgument for a shard that does not exist (check_shard: an index equal to the count is named
+// as an array numbered from 1), and what run_plan throws.
 PlanPart run_plan_part(const std::vector<PlanCandidate>& candidates, const PlanOptions& options, int index, int count,
                        const ProgressCallback& progress = {});
 
-// The result of the whole plan from its parts (any order). Throws InputError naming the parts'
-// sources when they come from different plans (fingerprint), disagree on the shard count, miss a
-// shard, repeat one, or hold jobs that do not belong to them.
+// The result of the whole plan from its parts (any order). Throws ShardSetError (an InputError)
+// naming every problem at once — parts of different plans (fingerprint) or splits (shard count),
+// shards given twice, shards missing — with the shards to run again and the parts to leave out
+// (check_shard_set), and InputError naming the part that holds jobs that do not belong to it.
 PlanResult merge_plan_parts(const std::vector<PlanPart>& parts, const std::vector<std::string>& sources);
+
+// What check_shard_set needs of a part: its source, fingerprint, shard and study.
+PartLabel plan_part_label(const PlanPart& part, const std::string& source);
 
 // A 64-bit FNV-1a hash of the header's options, speeds and candidates (their names, overhangs and
 // content: every number of the assembly, the SH11 and the sampled joint), so parts of different

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "toolpoint/studies/plan.hpp"
 
@@ -15,8 +16,16 @@ namespace toolpoint {
 // A part as text (JSON; doubles in hexadecimal, so reading gives the same bits; the header's
 // fingerprint and a checksum over the jobs) and back. parse throws InputError naming `source` (not
 // a part file, another format version, a damaged or edited entry: the fingerprint or checksum).
+// A part that names its shard (every part this version writes, even cut short) is refused with
+// ShardSetError, so the shard to run again is known.
 std::string format_plan_part(const PlanPart& part);
 PlanPart parse_plan_part(const std::string& text, const std::string& source);
+
+// Reads the part files and merges them (merge_plan_parts). Every problem of the set is named at
+// once in one ShardSetError: parts cut short or damaged, of other plans or splits, shards given
+// twice or missing (check_shard_set). Throws IoError for a file that cannot be read, InputError for
+// one that is no plan part at all.
+PlanResult merge_plan_part_files(const std::vector<std::string>& paths);
 
 // CSV text (units in the column names; text quoted where needed):
 //   best set-ups: rank,candidate,overhang_mm,spindle_speed_rpm,axial_depth_mm,stable_depth_mm,
