@@ -55,8 +55,8 @@ CaseStudy run_case_study(const Assembly& assembly, const CaseStudyOptions& o) {
                                                                        std::abs(cs.clean.parameters[i][k] / cs.reference[k] -
                                                                                 1.0));
 
-  auto sh_n = add_measurement_noise(cs.sh_true, NoiseOptions{o.noise_sigma, o.seed}, "SH11");
-  auto sht_n = add_measurement_noise(cs.sht_true, NoiseOptions{o.noise_sigma, o.seed + 1}, "SHT11");
+  auto sh_n = add_measurement_noise(cs.sh_true, NoiseOptions{.sigma = o.noise_sigma, .seed = o.seed}, "SH11");
+  auto sht_n = add_measurement_noise(cs.sht_true, NoiseOptions{.sigma = o.noise_sigma, .seed = o.seed + 1}, "SHT11");
   cs.sh_noisy = std::move(sh_n.series);
   cs.sht_noisy = std::move(sht_n.series);
   for (auto* w : {&sh_n.warnings, &sht_n.warnings}) cs.warnings.insert(cs.warnings.end(), w->begin(), w->end());

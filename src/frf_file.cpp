@@ -392,6 +392,40 @@ UffDataset58 uff_from_receptance(const FrfSeries& h, const UffDof& dof, const st
   return d;
 }
 
+UffDataset58 uff_coherence(const std::vector<double>& f, const std::vector<double>& coherence, const UffDof& dof,
+                           const std::string& description) {
+  if (coherence.size() != f.size())
+    throw InvalidArgument(fmt::format("uff_coherence: {} coherence values for {} frequencies", coherence.size(), f.size()));
+  for (double c : coherence)
+    if (!(c >= 0.0 && c <= 1.0)) throw InvalidArgument(fmt::format("uff_coherence: coherence {} outside [0, 1]", c));
+  FrfSeries s;
+  s.frequency_hz = f;
+  for (double c : coherence) s.values.emplace_back(c, 0.0);
+  UffDataset58 d = uff_from_receptance(s, dof, description);
+  d.id[1] = "toolpoint coherence (gamma^2), frequency in Hz";
+  d.function_type = 6;
+  d.ordinate_data_type = 4;
+  d.ordinate = {0, 0, 0, 0, "Coherence", "NONE"};
+  d.denominator = {0, 0, 0, 0, "NONE", "NONE"};
+  return d;
+}
+
+std::vector<double> uff_coherence_values(const UffDataset58& d, const std::string& source) {
+  if (d.function_type != 6)
+    throw InputError(fmt::format("{}: dataset {} is a {}, not a coherence", source, d.index, uff_function_type_name(d.function_type)));
+  std::vector<double> out;
+  out.reserve(d.y.size());
+  for (std::size_t i = 0; i < d.y.size(); ++i) {
+    const double c = d.y[i].real();
+    if (!(c >= 0.0 && c <= 1.0))
+      throw InputError(fmt::format("{}: dataset {} (coherence, nodes {}/{}), point {}: {} is outside [0, 1]", source, d.index,
+                                   d.response_node, d.reference_node, i + 1, c),
+                       "a coherence γ² lies in [0, 1]: not in per cent, not in dB");
+    out.push_back(c);
+  }
+  return out;
+}
+
 namespace {
 
 // CutPro's column labels, as its own files and the MATLAB scripts that write for it have them.

@@ -413,6 +413,8 @@ Linearised linearise(const std::vector<Setup>& setups, const Parametrization& pa
   MatrixXd middle = MatrixXd::Zero(p, p);
   double trace = 0.0;
   std::vector<VectorXd> g_dir(setups.size(), VectorXd::Zero(p)), b_dir(setups.size(), VectorXd::Zero(p));
+  // Σ Δᵀ Ω Δ of each direction, and Σ Δ_gᵀ Ω Δ_b (a factor on both G11 and B11 of a set-up).
+  std::vector<double> g_norm(setups.size(), 0.0), b_norm(setups.size(), 0.0), gb_cross(setups.size(), 0.0);
   const JointParameters theta = par.params(q);
   for (std::size_t si = 0; si < setups.size(); ++si) {
     const Setup& s = setups[si];
@@ -436,6 +438,10 @@ Linearised linearise(const std::vector<Setup>& setups, const Parametrization& pa
       for (std::size_t i = 0; i < n; ++i) {
         g.noalias() += Z[i].transpose() * vec8(s.G.blocks[i]);
         b.noalias() -= Z[i].transpose() * vec8(u[i]);
+        const Vec8 wg = s.W[i] * vec8(s.G.blocks[i]), wb = s.W[i] * vec8(u[i]);
+        g_norm[si] += wg.squaredNorm();
+        b_norm[si] += wb.squaredNorm();
+        gb_cross[si] -= wg.dot(wb);  // Δ_b = −u
       }
       g_dir[si] = g.head(p);
       b_dir[si] = b.head(p);
@@ -458,8 +464,18 @@ Linearised linearise(const std::vector<Setup>& setups, const Parametrization& pa
   l.calibration = MatrixXd::Zero(p, p);
   for (const CalibrationFactor& f : factors) {
     VectorXd d = VectorXd::Zero(p);
-    for (std::size_t s : f.g) d += g_dir[s];
-    for (std::size_t s : f.b) d += b_dir[s];
+    double norm = 0.0;  // Σ Δᵀ Ω Δ over the series the factor scales
+    for (std::size_t s : f.g) {
+      d += g_dir[s];
+      norm += g_norm[s];
+    }
+    for (std::size_t s : f.b) {
+      d += b_dir[s];
+      norm += b_norm[s];
+      if (std::find(f.g.begin(), f.g.end(), s) != f.g.end()) norm += 2.0 * gb_cross[s];
+    }
+    // The factor's share of the residual: what the fit cannot absorb of it, σ² (ΔᵀΩΔ − dᵀA⁻¹d).
+    l.expected_cost += f.sigma * f.sigma * std::max(0.0, norm - d.dot(Ainv * d));
     d = Ainv * d;
     l.calibration += f.sigma * f.sigma * d * d.transpose();
   }

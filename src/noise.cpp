@@ -13,6 +13,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "toolpoint/error.hpp"
+#include "toolpoint/statistics.hpp"
 
 namespace toolpoint {
 
@@ -127,187 +128,141 @@ void NoiseEstimateOptions::check() const {
                           "e.g. 201: the noise is averaged over that many points");
 }
 
-// The additive floor beside the multiplicative noise (noise.hpp): per entry e and chunk of
-// `window` points, E p_i = v |x̂_i|² + 2a with p_i = |x_i − x̂_i|²/(1 − c₀), fitted by iteratively
-// reweighted least squares (weights 1/E²; v, a ≥ 0; points above 25 E are spikes); a below twice
-// its standard error (from the 2×2 weighted normal matrix) is no floor; a chunk the floor dominates
-// does not determine v (its standard error above half the pooled v) and takes the inverse-variance
-// mean of the chunks' v, its floor fitted again with that v. v and a are interpolated
-// linearly between the chunks' centres. When an entry has a floor anywhere, C(f) takes its
-// variances from v, its correlations from the first estimate.
+// The additive floor beside the multiplicative noise (noise.hpp). Per entry e, the residual u_i =
+// (x_i − x̂_i) x̂_i*/|x̂_i| has a radial and a tangential part, each of mean square (without the
+// smoother's share, 1 − c₀) E_r = v_r |x̂|² + a and E_t = v_t |x̂|² + a: the multiplicative noise's
+// magnitude and phase variances (one each for the entry) and the floor a (the same on every part
+// of a circular floor; one per chunk of `window` points). Fitted by iteratively reweighted least
+// squares (each square is E χ²₁: weights 1/E²; spikes above 25 E left out; v, a ≥ 0), alternating
+// between the chunks' floors and the v's. (A v per chunk is not determined where the floor
+// dominates a whole chunk, and took wild values there.) A chunk's floor below twice its standard
+// error is none; the floors are interpolated linearly between the chunks' centres. The floor is
+// kept for the entry only where it describes the data better than the multiplicative noise
+// alone (the first estimate): a lower negative log-likelihood of the squares, by more than Akaike's
+// penalty of two per chunk. Then C(f) takes the v's as its variances and keeps the first
+// estimate's correlations (C = D R D stays semidefinite).
 void estimate_floor(const BlockSeries& data, const BlockSeries& smooth, double keep_fraction, std::size_t lo, std::size_t hi,
                     int window, BlockNoise& out) {
   const std::size_t n = data.size(), W = static_cast<std::size_t>(window);
   const std::size_t chunks = std::max<std::size_t>(1, (hi - lo) / W);  // the last chunk takes the remainder
   auto begin_of = [&](std::size_t c) { return lo + c * W; };
   auto end_of = [&](std::size_t c) { return c + 1 == chunks ? hi : lo + (c + 1) * W; };
-  std::vector<Eigen::Vector4d> v(n, Eigen::Vector4d::Zero()), a(n, Eigen::Vector4d::Zero());
-  bool any = false;
-  std::array<bool, 4> floor_kept{};
+  std::vector<Eigen::Vector4d> a(n, Eigen::Vector4d::Zero());
+  std::array<std::array<double, 2>, 4> v{};  // per entry: radial, tangential
+  std::array<bool, 4> kept{};
   for (int e = 0; e < 4; ++e) {
-    std::vector<double> p(n, 0.0), m(n, 0.0);
+    std::vector<double> m(n, 0.0);
+    std::array<std::vector<double>, 2> q{std::vector<double>(n, 0.0), std::vector<double>(n, 0.0)};
     for (std::size_t i = lo; i < hi; ++i) {
       const Complex xs = smooth.blocks[i](e / 2, e % 2);
-      p[i] = std::norm(data.blocks[i](e / 2, e % 2) - xs) / keep_fraction;
       m[i] = std::norm(xs);
+      const Complex u = m[i] > 0.0 ? (data.blocks[i](e / 2, e % 2) - xs) * std::conj(xs) / std::sqrt(m[i]) : Complex(0.0);
+      q[0][i] = u.real() * u.real() / keep_fraction;
+      q[1][i] = u.imag() * u.imag() / keep_fraction;
     }
-    // IRLS on one chunk: (v, s) both free, or s alone with v given. Returns v, s and their
-    // standard errors from the weighted normal matrix (unit dispersion: an exponential variable).
-    struct ChunkFit {
-      double v = 0.0, s = 0.0, se_v = 0.0, se_s = 0.0;
-    };
-    auto fit_chunk = [&](std::size_t b0, std::size_t b1, std::optional<double> fixed_v) {
-      double sum = 0.0;
-      std::size_t k = 0;
-      for (std::size_t i = b0; i < b1; ++i)
-        if (m[i] > 0.0 && std::isfinite(p[i])) {
-          sum += p[i] / m[i];
-          ++k;
-        }
-      ChunkFit r;
-      r.v = fixed_v ? *fixed_v : (k ? sum / static_cast<double>(k) : 0.0);
-      if (fixed_v) {  // start: the mean of p − v m
-        double excess = 0.0, used = 0.0;
-        for (std::size_t i = b0; i < b1; ++i)
-          if (std::isfinite(p[i])) {
-            excess += p[i] - r.v * m[i];
-            used += 1.0;
-          }
-        r.s = used > 0.0 ? std::max(0.0, excess / used) : 0.0;
-      }
-      Eigen::Matrix2d N = Eigen::Matrix2d::Zero();
-      for (int it = 0; it < 30; ++it) {
-        N.setZero();
-        Eigen::Vector2d rhs = Eigen::Vector2d::Zero();
-        for (std::size_t i = b0; i < b1; ++i) {
-          const double E = r.v * m[i] + r.s;
-          if (!(E > 0.0) || !std::isfinite(p[i]) || p[i] > 25.0 * E) continue;
-          const double w = 1.0 / (E * E);
-          N(0, 0) += w * m[i] * m[i];
-          N(0, 1) += w * m[i];
-          N(1, 1) += w;
-          rhs(0) += w * m[i] * p[i];
-          rhs(1) += w * p[i];
-        }
-        N(1, 0) = N(0, 1);
-        if (!(N(1, 1) > 0.0)) break;
-        double nv = r.v, ns = 0.0;
-        if (fixed_v) {
-          ns = std::max(0.0, (rhs(1) - nv * N(0, 1)) / N(1, 1));
-        } else {
-          const double det = N.determinant();
-          if (det > 1e-12 * N(0, 0) * N(1, 1)) {
-            const Eigen::Vector2d x = N.ldlt().solve(rhs);
-            nv = x(0);
-            ns = x(1);
-          }
-          if (!(det > 1e-12 * N(0, 0) * N(1, 1)) || ns < 0.0) {
-            ns = 0.0;
-            nv = N(0, 0) > 0.0 ? rhs(0) / N(0, 0) : 0.0;
-          }
-          if (nv < 0.0) {
-            nv = 0.0;
-            ns = rhs(1) / N(1, 1);
-          }
-        }
-        const bool done = std::abs(nv - r.v) <= 1e-6 * std::abs(nv) && std::abs(ns - r.s) <= 1e-6 * std::max(ns, 1e-300);
-        r.v = std::max(0.0, nv);
-        r.s = std::max(0.0, ns);
-        if (done) break;
-      }
-      const double det = N.determinant();
-      r.se_v = det > 0.0 ? std::sqrt(N(1, 1) / det) : std::numeric_limits<double>::infinity();
-      r.se_s = fixed_v ? (N(1, 1) > 0.0 ? std::sqrt(1.0 / N(1, 1)) : std::numeric_limits<double>::infinity())
-                       : (det > 0.0 ? std::sqrt(N(0, 0) / det) : std::numeric_limits<double>::infinity());
-      return r;
-    };
-    bool any_entry = false;
-    std::vector<ChunkFit> fits(chunks);
-    std::vector<double> vc(chunks, 0.0), ac(chunks, 0.0), centre(chunks, 0.0);
-    for (std::size_t c = 0; c < chunks; ++c) {
-      centre[c] = 0.5 * static_cast<double>(begin_of(c) + end_of(c) - 1);
-      fits[c] = fit_chunk(begin_of(c), end_of(c), std::nullopt);
-    }
-    // Where the floor dominates a whole chunk, v is not determined there (it took wild values):
-    // such chunks take the inverse-variance mean of the chunks that determine it.
-    double num = 0.0, den = 0.0;
-    for (const ChunkFit& q : fits)
-      if (std::isfinite(q.se_v) && q.se_v > 0.0) {
-        num += q.v / (q.se_v * q.se_v);
-        den += 1.0 / (q.se_v * q.se_v);
-      }
-    const double v_pool = den > 0.0 ? num / den : 0.0;
-    for (std::size_t c = 0; c < chunks; ++c) {
-      ChunkFit q = fits[c];
-      if (q.s > 0.0 && v_pool > 0.0 && !(q.se_v <= 0.5 * v_pool)) q = fit_chunk(begin_of(c), end_of(c), v_pool);
-      if (!(q.s > 2.0 * q.se_s)) {  // no floor here: the multiplicative level alone
-        q.s = 0.0;
-        double sum = 0.0, k = 0.0;
+    // Start: no floor, each v the median over the chunks of the mean of q/m.
+    std::array<double, 2> vv{};
+    for (int k = 0; k < 2; ++k) {
+      std::vector<double> start;
+      for (std::size_t c = 0; c < chunks; ++c) {
+        double sum = 0.0, cnt = 0.0;
         for (std::size_t i = begin_of(c); i < end_of(c); ++i)
-          if (m[i] > 0.0 && std::isfinite(p[i])) {
-            sum += p[i] / m[i];
-            k += 1.0;
+          if (m[i] > 0.0) {
+            sum += q[static_cast<std::size_t>(k)][i] / m[i];
+            cnt += 1.0;
           }
-        q.v = k > 0.0 ? sum / k : q.v;
+        if (cnt > 0.0) start.push_back(sum / cnt);
       }
-      vc[c] = q.v;
-      ac[c] = 0.5 * q.s;
-      any_entry = any_entry || q.s > 0.0;
+      vv[static_cast<std::size_t>(k)] = start.empty() ? 0.0 : quantile(start, 0.5);
     }
+    std::vector<double> ac(chunks, 0.0), se(chunks, 0.0), centre(chunks, 0.0);
+    for (std::size_t c = 0; c < chunks; ++c) centre[c] = 0.5 * static_cast<double>(begin_of(c) + end_of(c) - 1);
+    auto weight = [&](int k, std::size_t i, std::size_t c) {
+      const double E = vv[static_cast<std::size_t>(k)] * m[i] + ac[c], x = q[static_cast<std::size_t>(k)][i];
+      return E > 0.0 && std::isfinite(x) && x <= 25.0 * E ? 1.0 / (E * E) : 0.0;
+    };
+    for (int it = 0; it < 60; ++it) {
+      for (std::size_t c = 0; c < chunks; ++c) {
+        double num = 0.0, den = 0.0;
+        for (std::size_t i = begin_of(c); i < end_of(c); ++i)
+          for (int k = 0; k < 2; ++k) {
+            const double w = weight(k, i, c);
+            num += w * (q[static_cast<std::size_t>(k)][i] - vv[static_cast<std::size_t>(k)] * m[i]);
+            den += w;
+          }
+        if (den > 0.0) {
+          ac[c] = std::max(0.0, num / den);
+          se[c] = std::sqrt(2.0 / den);  // each square has variance 2E²
+        } else {  // no variance at all yet here: start the floor from the squares
+          double sum = 0.0;
+          for (std::size_t i = begin_of(c); i < end_of(c); ++i) sum += 0.5 * (q[0][i] + q[1][i]);
+          ac[c] = sum / static_cast<double>(end_of(c) - begin_of(c));
+          se[c] = std::numeric_limits<double>::infinity();
+        }
+      }
+      bool done = it > 2;
+      for (int k = 0; k < 2; ++k) {
+        double num = 0.0, den = 0.0;
+        for (std::size_t c = 0; c < chunks; ++c)
+          for (std::size_t i = begin_of(c); i < end_of(c); ++i) {
+            const double w = weight(k, i, c);
+            num += w * m[i] * (q[static_cast<std::size_t>(k)][i] - ac[c]);
+            den += w * m[i] * m[i];
+          }
+        const double next = den > 0.0 ? std::max(0.0, num / den) : vv[static_cast<std::size_t>(k)];
+        done = done && std::abs(next - vv[static_cast<std::size_t>(k)]) <= 1e-6 * std::max(next, 1e-300);
+        vv[static_cast<std::size_t>(k)] = next;
+      }
+      if (done) break;
+    }
+    bool any = false;
+    for (std::size_t c = 0; c < chunks; ++c) {
+      if (!(ac[c] > 2.0 * se[c])) ac[c] = 0.0;  // no floor here
+      any = any || ac[c] > 0.0;
+    }
+    if (!any) continue;
     // Linear between the chunks' centres, constant beyond them.
+    std::vector<double> ae(n, 0.0);
     for (std::size_t i = 0; i < n; ++i) {
       const double x = static_cast<double>(std::clamp(i, lo, hi - 1));
       std::size_t c = 0;
       while (c + 1 < chunks && centre[c + 1] <= x) ++c;
       double t = 0.0;
       if (c + 1 < chunks && x > centre[c]) t = (x - centre[c]) / (centre[c + 1] - centre[c]);
-      const std::size_t d = std::min(c + 1, chunks - 1);
-      v[i](e) = (1.0 - t) * vc[c] + t * vc[d];
-      a[i](e) = (1.0 - t) * ac[c] + t * ac[d];
+      ae[i] = (1.0 - t) * ac[c] + t * ac[std::min(c + 1, chunks - 1)];
     }
-    // Keep the floor only where it describes the data better than the multiplicative noise alone
-    // (the first estimate): a lower negative log-likelihood of the residuals (exponential with mean
-    // E; each point's share capped at a spike's 25) by more than two per chunk (Akaike's penalty
-    // for the chunks' floors). Entries made of several measurements (finite differences) can go
-    // either way.
+    // The likelihood comparison with the multiplicative noise alone (each square E χ²₁; a point's
+    // share capped at a spike's 25).
     double nll_floor = 0.0, nll_plain = 0.0;
     for (std::size_t i = lo; i < hi; ++i) {
-      if (!(m[i] > 0.0) || !std::isfinite(p[i])) continue;
-      const double e_floor = v[i](e) * m[i] + 2.0 * a[i](e);
-      const double e_plain = (out.relative[i](2 * e, 2 * e) + out.relative[i](2 * e + 1, 2 * e + 1)) * m[i];
-      auto term = [&](double E) { return E > 0.0 ? std::min(p[i] / E, 25.0) + std::log(E) : 25.0 + std::log(p[i] + 1e-300); };
-      nll_floor += term(e_floor);
-      nll_plain += term(e_plain);
-    }
-    if (!(nll_floor + 2.0 * static_cast<double>(chunks) < nll_plain)) {
-      for (std::size_t i = 0; i < n; ++i) {
-        v[i](e) = out.relative[i](2 * e, 2 * e) + out.relative[i](2 * e + 1, 2 * e + 1);
-        a[i](e) = 0.0;
+      if (!(m[i] > 0.0)) continue;
+      for (int k = 0; k < 2; ++k) {
+        const double x = q[static_cast<std::size_t>(k)][i];
+        auto term = [&](double E) {
+          return E > 0.0 ? std::min(x / (2.0 * E), 12.5) + 0.5 * std::log(E) : 12.5 + 0.5 * std::log(x + 1e-300);
+        };
+        nll_floor += term(vv[static_cast<std::size_t>(k)] * m[i] + ae[i]);
+        nll_plain += term(out.relative[i](2 * e + k, 2 * e + k) * m[i]);
       }
-      floor_kept[static_cast<std::size_t>(e)] = false;
-    } else {
-      floor_kept[static_cast<std::size_t>(e)] = any_entry;
     }
+    if (!(nll_floor + 2.0 * static_cast<double>(chunks) < nll_plain)) continue;
+    kept[static_cast<std::size_t>(e)] = true;
+    v[static_cast<std::size_t>(e)] = vv;
+    for (std::size_t i = 0; i < n; ++i) a[i](e) = ae[i];
   }
-  any = std::any_of(floor_kept.begin(), floor_kept.end(), [](bool b) { return b; });
-  if (!any) return;
-  out.additive = a;
-  // C(f) again: each entry's multiplicative variance v_e(f) (split between magnitude and phase as
-  // the first estimate splits it), the correlations of the first estimate kept (C = D R D stays
-  // semidefinite).
+  if (std::none_of(kept.begin(), kept.end(), [](bool b) { return b; })) return;
+  out.additive = std::move(a);
   for (std::size_t i = 0; i < n; ++i) {
     Cov8& c = out.relative[i];
-    Eigen::Matrix<double, 8, 1> d = Eigen::Matrix<double, 8, 1>::Zero();
+    Eigen::Matrix<double, 8, 1> d;
+    for (int k = 0; k < 8; ++k) d(k) = std::sqrt(std::max(0.0, c(k, k)));
     Cov8 r = Cov8::Identity();
     for (int k = 0; k < 8; ++k)
       for (int l = 0; l < 8; ++l)
-        if (k != l && c(k, k) > 0.0 && c(l, l) > 0.0) r(k, l) = c(k, l) / std::sqrt(c(k, k) * c(l, l));
-    for (int e = 0; e < 4; ++e) {
-      const double rr = c(2 * e, 2 * e), tt = c(2 * e + 1, 2 * e + 1);
-      const double share = rr + tt > 0.0 ? rr / (rr + tt) : 0.5;
-      d(2 * e) = std::sqrt(v[i](e) * share);
-      d(2 * e + 1) = std::sqrt(v[i](e) * (1.0 - share));
-    }
+        if (k != l && d(k) > 0.0 && d(l) > 0.0) r(k, l) = c(k, l) / (d(k) * d(l));
+    for (int e = 0; e < 4; ++e)
+      if (kept[static_cast<std::size_t>(e)])
+        for (int k = 0; k < 2; ++k) d(2 * e + k) = std::sqrt(v[static_cast<std::size_t>(e)][static_cast<std::size_t>(k)]);
     c = d.asDiagonal() * r * d.asDiagonal();
   }
 }
@@ -488,16 +443,18 @@ BlockNoise stated_block_noise(const BlockSeries& data, const StatedNoise& stated
 double h1_relative_variance(double coherence, int averages) {
   if (!(coherence >= 0.0 && coherence <= 1.0))
     throw InvalidArgument(fmt::format("coherence {} must lie in [0, 1]", coherence), "γ² is a fraction, not a percentage");
-  if (averages < 1) throw InvalidArgument(fmt::format("{} averages: at least 1", averages));
+  if (averages < 2)
+    throw InvalidArgument(fmt::format("{} averages: a coherence needs at least 2", averages),
+                          "give the number of averages behind the coherence");
   if (coherence <= 0.0) return 1.0;
-  return std::min(1.0, (1.0 - coherence) / (2.0 * averages * coherence));
+  return std::min(1.0, (1.0 - coherence) / (2.0 * (averages - 1) * coherence));
 }
 
 void apply_coherence(BlockNoise& noise, const std::vector<double>& coherence, int averages, const std::string& what) {
   if (noise.exact())
     throw InvalidArgument(fmt::format("{}: a coherence cannot be applied to exact data's noise", what));
-  if (averages < 1)
-    throw InvalidArgument(fmt::format("{}: {} averages: the coherence needs the number of averages (≥ 1) behind it", what, averages),
+  if (averages < 2)
+    throw InvalidArgument(fmt::format("{}: {} averages: the coherence needs the number of averages (≥ 2) behind it", what, averages),
                           "give the number of averages the measurement software used");
   if (coherence.size() != noise.size())
     throw InputError(fmt::format("{}: the coherence column has {} values for {} frequencies", what, coherence.size(), noise.size()),
@@ -515,7 +472,7 @@ void apply_coherence(BlockNoise& noise, const std::vector<double>& coherence, in
     c(0, 0) = c(1, 1) = eps2;
   }
   for (Eigen::Vector4d& a : noise.additive) a(0) = 0.0;
-  noise.coherence = fmt::format("H from its coherence and {} averages (Bendat & Piersol: (1 − γ²)/(2 n γ²))", averages);
+  noise.coherence = fmt::format("H from its coherence and {} averages (Bendat & Piersol: (1 − γ²)/(2 (n − 1) γ²))", averages);
   const std::array<double, 4> relative_floor = noise.floor_relative, floor = noise.floor;
   finish(noise);
   for (std::size_t e = 0; e < 4; ++e)

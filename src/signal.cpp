@@ -2,6 +2,8 @@
 // FRFs. Units: Hz, m, and the FRFs' own units (see signal.hpp).
 #include "toolpoint/signal.hpp"
 
+#include "toolpoint/noise.hpp"
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <array>
@@ -348,8 +350,17 @@ PeakChangeReport peak_changes(const BlockSeries& raw, const BlockSeries& filtere
 
 void NoiseOptions::check() const {
   if (!std::isfinite(sigma) || sigma < 0.0)
-    throw InvalidArgument(fmt::format("noise sigma {} must be a finite standard deviation ≥ 0", sigma),
+    throw InvalidArgument(fmt::format("NoiseOptions::sigma {} must be a finite standard deviation ≥ 0", sigma),
                           "give sigma as a fraction, e.g. 0.05 for 5 %");
+  if (!(floor >= 0.0 && floor <= 0.5))
+    throw InvalidArgument(fmt::format("NoiseOptions::floor {} must lie in [0, 0.5] (a fraction of each entry's peak)", floor),
+                          "e.g. 0.01 for a floor at 1 % of the peak");
+  if (!(calibration >= 0.0 && calibration <= 0.1))
+    throw InvalidArgument(fmt::format("NoiseOptions::calibration {} must lie in [0, 0.1] (a standard deviation)", calibration),
+                          "e.g. 0.02 for a 2 % sensitivity error; above 10 % a sensor is broken, not uncertain");
+  if (averages != 0 && (averages < 2 || averages > 10000))
+    throw InvalidArgument(fmt::format("NoiseOptions::averages {} must be 0 (one noisy copy) or 2…10000", averages),
+                          "an averaged test needs two hits at least for its coherence");
 }
 
 std::vector<double> standard_normals(std::size_t count, std::uint64_t seed) {
@@ -373,7 +384,6 @@ namespace {
 
 // The factors 1 + σz for `count` values, and a warning if any is ≤ 0.
 std::vector<double> noise_factors(std::size_t count, const NoiseOptions& o, std::vector<std::string>& warnings) {
-  o.check();
   std::vector<double> f = standard_normals(count, o.seed);
   std::size_t non_positive = 0;
   for (double& v : f) {
@@ -386,22 +396,75 @@ std::vector<double> noise_factors(std::size_t count, const NoiseOptions& o, std:
   return f;
 }
 
+// The simulated measurement of `e` complex entries per frequency (values[i·e + k]): signal.hpp.
+// Returns the coherence of entry 0 with averages.
+std::vector<double> measure(std::vector<Complex>& values, std::size_t entries, const NoiseOptions& o,
+                            std::vector<std::string>& warnings, double& calibration_factor) {
+  const std::size_t n = values.size() / entries;
+  std::vector<double> peak(entries, 0.0);
+  for (std::size_t i = 0; i < values.size(); ++i) peak[i % entries] = std::max(peak[i % entries], std::abs(values[i]));
+  std::vector<double> coherence;
+  if (o.averages == 0) {
+    const auto f = noise_factors(values.size(), o, warnings);
+    for (std::size_t i = 0; i < values.size(); ++i) values[i] *= f[i];
+    if (o.floor > 0.0) {
+      const std::vector<double> z = standard_normals(2 * values.size(), stream_seed(o.seed, 0xF100A));
+      for (std::size_t i = 0; i < values.size(); ++i)
+        values[i] += o.floor * peak[i % entries] * Complex(z[2 * i], z[2 * i + 1]);
+    }
+  } else {
+    // Hit k of entry value i: c from z[2(k·size + i)…], d from the floor's stream likewise.
+    const auto N = static_cast<std::size_t>(o.averages);
+    const std::vector<double> zc = standard_normals(2 * N * values.size(), o.seed);
+    const std::vector<double> zd =
+        o.floor > 0.0 ? standard_normals(2 * N * values.size(), stream_seed(o.seed, 0xF100A)) : std::vector<double>{};
+    coherence.assign(n, 1.0);
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      const Complex x = values[i];
+      const double a = o.floor * peak[i % entries];
+      Complex sum = 0.0;
+      double power = 0.0;
+      for (std::size_t k = 0; k < N; ++k) {
+        const std::size_t at = 2 * (k * values.size() + i);
+        Complex hit = x * (1.0 + o.sigma * Complex(zc[at], zc[at + 1]) / std::sqrt(2.0));
+        if (a > 0.0) hit += a * Complex(zd[at], zd[at + 1]);
+        sum += hit;
+        power += std::norm(hit);
+      }
+      values[i] = sum / static_cast<double>(N);
+      if (i % entries == 0) coherence[i / entries] = power > 0.0 ? std::norm(sum) / (static_cast<double>(N) * power) : 1.0;
+    }
+  }
+  calibration_factor = 1.0;
+  if (o.calibration > 0.0) {
+    calibration_factor = 1.0 + o.calibration * standard_normals(1, stream_seed(o.seed, 0xCA11B7A7E))[0];
+    for (Complex& v : values) v *= calibration_factor;
+  }
+  return coherence;
+}
+
 }  // namespace
 
-SignalResult<FrfSeries> add_measurement_noise(const FrfSeries& series, const NoiseOptions& options, const std::string& what) {
+NoisyMeasurement<FrfSeries> add_measurement_noise(const FrfSeries& series, const NoiseOptions& options, const std::string& what) {
+  options.check();
   validate(series, what);
-  SignalResult<FrfSeries> r{series, {}};
-  const auto f = noise_factors(series.size(), options, r.warnings);
-  for (std::size_t i = 0; i < series.size(); ++i) r.series.values[i] *= f[i];
+  NoisyMeasurement<FrfSeries> r{series, {}, 1.0, {}};
+  r.coherence = measure(r.series.values, 1, options, r.warnings, r.calibration_factor);
   return r;
 }
 
-SignalResult<BlockSeries> add_measurement_noise(const BlockSeries& series, const NoiseOptions& options, const std::string& what) {
+NoisyMeasurement<BlockSeries> add_measurement_noise(const BlockSeries& series, const NoiseOptions& options,
+                                                    const std::string& what) {
+  options.check();
   validate(series, what);
-  SignalResult<BlockSeries> r{series, {}};
-  const auto f = noise_factors(4 * series.size(), options, r.warnings);
+  NoisyMeasurement<BlockSeries> r{series, {}, 1.0, {}};
+  std::vector<Complex> v;
+  v.reserve(4 * series.size());
+  for (const Block& b : series.blocks)
+    for (int k = 0; k < 4; ++k) v.push_back(b(k / 2, k % 2));
+  r.coherence = measure(v, 4, options, r.warnings, r.calibration_factor);
   for (std::size_t i = 0; i < series.size(); ++i)
-    for (int k = 0; k < 4; ++k) r.series.blocks[i](k / 2, k % 2) *= f[4 * i + static_cast<std::size_t>(k)];
+    for (int k = 0; k < 4; ++k) r.series.blocks[i](k / 2, k % 2) = v[4 * i + static_cast<std::size_t>(k)];
   return r;
 }
 

@@ -257,6 +257,7 @@ std::pair<FrfFileData, FrfFileData> process_frf_file(const Globals& g, const std
   const auto apply = [&](const auto& series) {
     auto r = process(series);
     warn_all(r.warnings);
+    if constexpr (requires { r.coherence; }) out.coherence = std::move(r.coherence);  // a measurement made here
     return std::move(r.series);
   };
   if (in.is_block) out.block = apply(in.block);

@@ -1,11 +1,14 @@
-// toolpoint noise: simulated measurement noise as in the seed's Section 3 — every FRF entry at
-// every frequency multiplied by its own real random factor of mean 1 and standard deviation σ.
-// Units: frequencies in Hz, values in the file's own units; σ dimensionless. --plot overlays the
-// clean and the noisy FRF (H of a block).
+// toolpoint noise: simulated measurement noise — the seed's Section 3 (every FRF entry at every
+// frequency multiplied by its own real random factor of mean 1 and standard deviation σ), and the
+// noise real tap tests have: an additive floor relative to each entry's peak, an averaged test with
+// its coherence, a calibration factor (signal.hpp's NoiseOptions; noise.hpp states the models).
+// Units: frequencies in Hz, values in the file's own units; σ, floor and calibration
+// dimensionless. --plot overlays the clean and the noisy FRF (H of a block).
 #include <fmt/format.h>
 #include <memory>
 
 #include "cli.hpp"
+#include "parse.hpp"
 #include "toolpoint/signal.hpp"
 
 namespace toolpoint::cli {
@@ -20,10 +23,15 @@ struct NoiseCliOptions {
 
 void run_noise(const NoiseCliOptions& o, const Globals& g) {
   o.noise.check();
-  const std::string comment = fmt::format(
-      "simulated measurement noise: each entry times (1 + sigma z), z standard normal (Box-Muller on "
-      "mt19937_64), sigma = {}, seed = {}; from {}",
-      o.noise.sigma, o.noise.seed, o.input);
+  const NoiseOptions& n = o.noise;
+  std::string model =
+      n.averages > 0
+          ? fmt::format("{} averaged hits, each entry times (1 + sigma c), c complex circular, sigma = {}", n.averages, n.sigma)
+          : fmt::format("each entry times (1 + sigma z), z standard normal (Box-Muller on mt19937_64), sigma = {}", n.sigma);
+  if (n.floor > 0.0) model += fmt::format(", plus an additive floor of {} x each entry's peak on each part", n.floor);
+  if (n.calibration > 0.0) model += fmt::format(", the whole series times one factor of sigma {}", n.calibration);
+  if (n.averages > 0) model += "; coherence column: of the averaged H";
+  const std::string comment = fmt::format("simulated measurement noise: {}; seed = {}; from {}", model, n.seed, o.input);
   const auto [in, out] = process_frf_file(g, o.input, o.dataset, o.output, o.plot, comment,
                                           [&](const auto& series) { return add_measurement_noise(series, o.noise, o.input); });
   info(g, fmt::format("wrote {} (sigma {}, seed {})", o.output, o.noise.sigma, o.noise.seed));
@@ -43,11 +51,24 @@ void run_noise(const NoiseCliOptions& o, const Globals& g) {
 void add_noise_command(CLI::App& app, Globals& g) {
   auto o = std::make_shared<NoiseCliOptions>();
   CLI::App* c = app.add_subcommand(
-      "noise", "Simulated measurement noise: multiply every FRF entry by 1 + sigma·z (seed Section 3), reproducibly");
+      "noise",
+      "Simulated measurement noise: every FRF entry times 1 + sigma·z (seed Section 3), or a tap test's: floor, averages "
+      "with coherence, calibration; reproducibly");
   add_frf_file_arguments(c, g, o->input, o->output, o->dataset, "every entry distorted");
   c->add_option("--sigma", o->noise.sigma, "Standard deviation of the factor [-] (0.05 = 5 %), ≥ 0")
       ->capture_default_str()
       ->check(plausible_value(plausible::kRelativeNoise, "--sigma"));
+  c->add_option("--floor", o->noise.floor,
+                "Additive floor: σ of the real and imaginary parts relative to each entry's peak |value| [-] (0.01 = 1 %; "
+                "default 0)")
+      ->check(plausible_value(plausible::kRelativeNoise, "--floor"));
+  c->add_option("--averages", o->noise.averages,
+                "Simulate an averaged test of this many hits (≥ 2; each varying by --sigma in magnitude and phase, with the "
+                "floor) and write its coherence column (CSV); default 0: the seed's single factor")
+      ->check(CLI::Range(0, 10000));
+  c->add_option_function<std::string>(
+      "--calibration", [o](const std::string& v) { o->noise.calibration = parse_fraction(v, "--calibration"); },
+      "σ of one calibration factor scaling the whole file (a sensor's sensitivity error), as 2% or 0.02 (≤ 10 %)");
   c->add_option("--seed", o->noise.seed, "Random seed (mt19937_64); the same seed gives the same noise")->capture_default_str();
   add_plot_option(c, o->plot,
                   "the noisy (points) and the clean FRF (line), |H| [m/N] and phase [deg] against frequency [Hz] (the H "

@@ -41,6 +41,7 @@ void run_rotational(RotationalCliOptions o, const Globals& g) {
   check_output_extension(o.output, "--output", {".csv"}, kBlockCsvOutput);
   RotationalInput in;
   std::string sources;
+  std::vector<double> tip_coherence;  // of H00, the block's H, written beside it
   if (!o.uff.empty()) {
     for (const auto& f : o.files)
       for (const auto& name : f)
@@ -60,6 +61,7 @@ void run_rotational(RotationalCliOptions o, const Globals& g) {
     TapTestFileFrfs tap = tap_test_frfs(file, t);
     warn_all(tap.warnings);
     in.frfs = std::move(tap.frfs);
+    tip_coherence = std::move(tap.coherence[0][0]);
     for (std::size_t i = 0; i < 3; ++i)
       for (std::size_t j = 0; j < 3; ++j)
         if (tap.dataset[i][j]) sources += fmt::format(" H{}{}={}#{}", i, j, o.uff, *tap.dataset[i][j]);
@@ -77,6 +79,7 @@ void run_rotational(RotationalCliOptions o, const Globals& g) {
           throw InputError(fmt::format("--h{}{} {}: holds a 2×2 block, expected a single translational FRF H{}{} [m/N]", i, j,
                                        o.files[i][j], i, j),
                            "give the measured FRF (frequency_hz,re,im CSV, a UFF dataset or a .frf file)");
+        if (i == 0 && j == 0) tip_coherence = std::move(d.coherence);
         in.frfs.set(i, j, std::move(d.single), o.files[i][j]);
         sources += fmt::format(" H{}{}={}", i, j, o.files[i][j]);
       }
@@ -99,7 +102,15 @@ void run_rotational(RotationalCliOptions o, const Globals& g) {
     warn_all(r.correction->warnings);
     info(g, r.correction_note);
   }
-  write_frf_csv(o.output, r.block, {r.method, "inputs:" + sources, with_flags(r.reciprocity), r.correction_note});
+  std::vector<std::string> comments{r.method, "inputs:" + sources, with_flags(r.reciprocity), r.correction_note};
+  if (!tip_coherence.empty()) {
+    if (tip_coherence.size() != r.block.size())
+      throw InputError(fmt::format("the tip FRF's coherence has {} values for the block's {} frequencies", tip_coherence.size(),
+                                   r.block.size()),
+                       "give the coherence on the tip FRF's frequency lines");
+    comments.push_back("coherence: of H00, the tip point FRF (the block's H); identify --averages N uses it");
+  }
+  write_frf_csv(o.output, r.block, comments, tip_coherence);
   warn_all(r.differences.warnings);
   if (r.differences.reciprocity_mismatch)
     info(g, fmt::format("reciprocity check: max |L - N| / max(|L|, |N|) = {:.3g}", *r.differences.reciprocity_mismatch));

@@ -7,10 +7,12 @@
 #include <memory>
 
 #include "cli.hpp"
+#include "parse.hpp"
 #include "progress.hpp"
 #include "toolpoint/assembly_file.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/studies/tap_test.hpp"
+#include "toolpoint/frf_file.hpp"
 #include "toolpoint/uff.hpp"
 
 namespace toolpoint::cli {
@@ -20,8 +22,8 @@ namespace {
 struct TapTestArgs {
   std::string assembly, at = "tool", hammer = "roving", frequencies, output;
   std::vector<std::string> joints;
-  double spacing = 0.0, sigma = 0.0;
-  int points = 3;
+  double spacing = 0.0, sigma = 0.0, floor = 0.0, calibration = 0.0;
+  int points = 3, averages = 0;
   std::uint64_t seed = 1;
   bool binary = false;
 };
@@ -41,6 +43,9 @@ void run_taptest(const TapTestArgs& o, const Globals& g) {
   options.hammer = o.hammer == "tip" ? HammerPlan::Tip : HammerPlan::Roving;
   options.sigma = o.sigma;
   options.seed = o.seed;
+  options.floor = o.floor;
+  options.averages = o.averages;
+  options.calibration = o.calibration;
   Progress progress(g, "taptest");
   TapTest t;
   t = run_tap_test(loaded.assembly, options, progress.part());
@@ -52,6 +57,11 @@ void run_taptest(const TapTestArgs& o, const Globals& g) {
                                        fmt::format("toolpoint taptest H{}{}: {} point {} ({} mm in), hammer at point {}",
                                                    r.response, r.hammer, tool ? "tool" : "holder", r.response,
                                                    1000 * t.distance_m[static_cast<std::size_t>(r.response)], r.hammer)));
+  for (const TapTestFrf& r : t.frfs)  // each FRF's coherence beside it, as averaging software exports it
+    if (!r.coherence.empty())
+      sets.push_back(uff_coherence(r.frf.frequency_hz, r.coherence, UffDof{r.response + 1, 2, r.hammer + 1, 2},
+                                   fmt::format("toolpoint taptest coherence of H{}{} ({} averages)", r.response, r.hammer,
+                                               o.averages)));
   UffWriteOptions wo;
   wo.binary = o.binary;
   const auto w = write_uff(o.output, sets, wo);
@@ -60,7 +70,13 @@ void run_taptest(const TapTestArgs& o, const Globals& g) {
   const std::vector<double> f = loaded.assembly.grid.values();
   std::cout << fmt::format("virtual tap test on the {} of {}: {} FRFs (receptance, m/N), {} frequencies {:g}–{:g} Hz{}\n",
                            tool ? "tool (full assembly)" : "holder (tool outside removed)", o.assembly, sets.size(), f.size(),
-                           f.front(), f.back(), o.sigma > 0.0 ? fmt::format(", {:g} % noise", 100 * o.sigma) : "");
+                           f.front(), f.back(),
+                           o.sigma > 0.0 || o.floor > 0.0
+                               ? fmt::format(", {:g} % {}noise{}{}{}", 100 * o.sigma, o.averages ? "hit-to-hit " : "",
+                                             o.floor > 0.0 ? fmt::format(", a floor at {:g} % of each FRF's peak", 100 * o.floor) : "",
+                                             o.averages ? fmt::format(", {} averages (coherence written)", o.averages) : "",
+                                             o.calibration > 0.0 ? fmt::format(", calibration σ {:g} %", 100 * o.calibration) : "")
+                               : "");
   std::cout << "points: ";
   for (std::size_t i = 0; i < t.distance_m.size(); ++i)
     std::cout << fmt::format("{}node {} at {:g} mm from the tip", i ? "; " : "", i + 1, 1000 * t.distance_m[i]);
@@ -94,6 +110,17 @@ void add_taptest_command(CLI::App& app, Globals& g) {
       ->capture_default_str();
   c->add_option("--sigma", o->sigma, "Multiplicative noise on each FRF, standard deviation (0.02 = 2 %; default 0: exact)")
       ->capture_default_str();
+  c->add_option("--floor", o->floor,
+                "Additive noise floor: σ of the real and imaginary parts relative to each FRF's peak |H| [-] (0.01 = 1 %; "
+                "default 0)")
+      ->check(plausible_value(plausible::kRelativeNoise, "--floor"));
+  c->add_option("--averages", o->averages,
+                "Average this many hits per FRF (≥ 2; each hit varies by --sigma in magnitude and phase, with the floor) and "
+                "write each FRF's coherence beside it (UFF function type 6); default 0: one noisy copy, no coherence")
+      ->check(CLI::Range(0, 10000));
+  c->add_option_function<std::string>(
+      "--calibration", [o](const std::string& v) { o->calibration = parse_fraction(v, "--calibration"); },
+      "σ of one calibration factor scaling every FRF of the test (one hammer, one sensor), as 2% or 0.02 (≤ 10 %)");
   c->add_option("--seed", o->seed, "Random seed of the noise (FRF k uses seed + k)")->capture_default_str();
   c->add_option("--frequencies", o->frequencies, "Override the file's [analysis] grid: START:STOP:STEP [Hz]");
   c->add_option("--output", o->output, "UFF file to write (.uff)")->required();

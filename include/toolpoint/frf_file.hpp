@@ -114,6 +114,17 @@ struct UffDof {
 // frequency bit for bit; otherwise uneven. `description` becomes ID line 1 (cut to 80 characters).
 UffDataset58 uff_from_receptance(const FrfSeries& receptance, const UffDof& dof, const std::string& description);
 
+// A coherence γ² (0…1) per frequency as a UFF dataset 58 of function type 6 (coherence), real
+// double, dimensionless, on the same abscissa rule. Throws InvalidArgument for values outside
+// [0, 1] or sizes that differ.
+UffDataset58 uff_coherence(const std::vector<double>& frequency_hz, const std::vector<double>& coherence, const UffDof& dof,
+                           const std::string& description);
+
+// The coherence of a dataset 58 of function type 6 as values in [0, 1] (real part of each ordinate).
+// Throws InputError naming `source` and the dataset for another function type or values outside
+// [0, 1] (a coherence in per cent, or γ rather than γ², is refused rather than guessed).
+std::vector<double> uff_coherence_values(const UffDataset58& dataset, const std::string& source);
+
 // CutPro-style .frf text (see above). parse throws InputError naming `source`, the line and what
 // was expected; f = 0 lines are dropped with a warning.
 struct FrfText {

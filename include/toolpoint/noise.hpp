@@ -26,18 +26,24 @@
 //
 // Coherence (Bendat & Piersol, Random Data, 4th ed. 2010, §9.2.4): an H1 estimate from n_d
 // averages with coherence γ² has a normalised random error of its magnitude, and a standard
-// deviation of its phase in radians, of ε = √(1 − γ²) / (|γ| √(2 n_d)) each: the radial and
-// tangential variances of that entry are ε² at that frequency. Where a measured block carries the
-// coherence of its H entry (a CSV coherence column), apply_coherence puts it there.
+// deviation of its phase in radians, of ε = √(1 − γ²) / (|γ| √(2 n_d)) each. The coherence a
+// measurement reports is itself estimated from the same n_d averages, and 1 − γ̂² then sees the
+// scatter of n_d − 1 degrees of freedom: ε² = (1 − γ̂²)/(2 (n_d − 1) γ̂²) removes that bias (to
+// first order in the noise; checked against averaged simulated hits in the tests). These are the
+// radial and tangential variances of that entry at that frequency. Where a measured block carries
+// the coherence of its H entry (a CSV coherence column), apply_coherence puts it there.
 //
 // Estimated from the data (estimate_block_noise): the residual of each entry about a local
 // Savitzky–Golay polynomial (default 7 points, cubic: it follows resonance peaks a few points wide
 // and leaves white noise) estimates ε. For white noise the residual variance is the noise variance
 // times 1 − c₀ (c₀ the filter's centre weight; the projection is symmetric and idempotent). The
-// floor and the multiplicative level of each entry are told apart by how they depend on |x|:
-// E|residual|²/(1 − c₀) = v|x|² + 2a, fitted per entry on chunks of `window` points by iteratively
-// reweighted least squares (weights 1/E², the variance of an exponential variable; v, a ≥ 0; a
-// floor below twice its standard error is none) and interpolated between the chunks' centres.
+// floor and the multiplicative level of each entry are told apart by how they depend on |x|: the
+// radial and tangential squares of the residual have means v_r|x|² + a(f) and v_t|x|² + a(f), one
+// magnitude and one phase variance per entry and a floor per chunk of `window` points, fitted by
+// iteratively reweighted least squares (weights 1/E²; v, a ≥ 0; a floor below twice its standard
+// error is none), the floor interpolated between the chunks' centres. The floor is kept for an
+// entry only where it describes the data better than the multiplicative noise alone (a likelihood
+// comparison with Akaike's penalty).
 // C(f) then has the variances v (split between magnitude and phase as the multiplicative-only
 // estimate splits them) and that estimate's correlations. That estimate, the mean of ρρᵀ/(1 − c₀)
 // over a window of frequencies, is C(f) when no entry has a floor. Points whose residual
@@ -135,9 +141,10 @@ BlockNoise stated_block_noise(const BlockSeries& data, const StatedNoise& stated
 // No noise: data from a model.
 BlockNoise exact_block_noise();
 
-// The relative variance of an H1 estimate from `averages` averages with coherence γ² (above):
-// (1 − γ²) / (2 n_d γ²), for the radial and the tangential part each; capped at 1 (γ² → 0: the
-// estimate carries no information). Throws InvalidArgument for γ² outside [0, 1] or n_d < 1.
+// The relative variance of an H1 estimate from `averages` averages with the coherence γ̂² estimated
+// from them (above): (1 − γ̂²) / (2 (n_d − 1) γ̂²), for the radial and the tangential part each;
+// capped at 1 (γ̂² → 0: the estimate carries no information). Throws InvalidArgument for γ̂² outside
+// [0, 1] or n_d < 2.
 double h1_relative_variance(double coherence, int averages);
 
 // Puts the variance of the H entry that its coherence and number of averages give into `noise`

@@ -123,22 +123,46 @@ PeakChangeReport peak_changes(const FrfSeries& raw, const FrfSeries& filtered, i
 PeakChangeReport peak_changes(const BlockSeries& raw, const BlockSeries& filtered, int window,
                               const PeakChangeOptions& options = {}, const std::string& what = "block series");
 
-// ---- Simulated measurement noise (seed Section 3) --------------------------------------------
+// ---- Simulated measurement noise (seed Section 3, and as tap tests give it) -------------------
 //
-// Each FRF entry at each frequency is multiplied by its own real random factor 1 + σz, z standard
-// normal: mean 1, standard deviation σ, independent across entries and frequencies. The complex
-// value is scaled as a whole (magnitude distorted, phase kept), as the seed did.
+// The seed's noise (the default): each FRF entry at each frequency is multiplied by its own real
+// random factor 1 + σz, z standard normal: mean 1, standard deviation σ, independent across
+// entries and frequencies. The complex value is scaled as a whole (magnitude distorted, phase
+// kept), as the seed did. Beyond the seed (noise.hpp states the models):
+//   * `floor`: an additive floor, each of the real and imaginary parts of every entry gets
+//     σ_a z with σ_a = floor × that entry's largest |x| over the series;
+//   * `averages` ≥ 2: an averaged impact test instead of one factor: n_d hits, each X_k = x (1 +
+//     σ c_k) + σ_a d_k (c_k complex circular with E|c|² = 1: hit-to-hit variation of magnitude
+//     and phase alike; d_k with standard normal parts), with a unit force; the H1 estimate is their
+//     mean and its coherence γ² = |Σ X_k|² / (n_d Σ |X_k|²) (Bendat & Piersol: the variance of H1
+//     is then (1 − γ²)/(2 n_d γ²) |x|² per part, noise.hpp's h1_relative_variance);
+//   * `calibration`: the whole series times one factor 1 + σ_c z (a sensor's sensitivity error).
 // Reproducible and portable: z comes from std::mt19937_64 raw output (fully specified by the C++
 // standard) through the Box–Muller transform written here — not std::normal_distribution, whose
 // output differs between standard libraries. Draw order: frequency by frequency, and within one
-// frequency the entries H, L, N, P. Results agree bit for bit wherever std::log, std::sqrt,
-// std::cos and std::sin round alike (glibc does so on every platform it supports).
+// frequency the entries H, L, N, P (the seed's factors, or the hits' c_k then the floor's d_k);
+// the floor and the calibration draw from streams of their own (stream_seed), so the seed's noise
+// is drawn exactly as before whatever else is asked. Results agree bit for bit wherever std::log,
+// std::sqrt, std::cos and std::sin round alike (glibc does so on every platform it supports).
 struct NoiseOptions {
-  double sigma = 0.05;     // standard deviation of the factor (dimensionless; 0.05 = 5 %)
-  std::uint64_t seed = 1;  // mt19937_64 seed
+  double sigma = 0.05;       // the seed's factor's, or each hit's variation's, standard deviation (0.05 = 5 %)
+  std::uint64_t seed = 1;    // mt19937_64 seed
+  double floor = 0.0;        // additive floor relative to each entry's peak |x| (0.01 = 1 %)
+  double calibration = 0.0;  // σ of the series' calibration factor (0.02 = 2 %)
+  int averages = 0;          // 0: the seed's single factor; ≥ 2: an averaged test with coherence
 
-  // Throws InvalidArgument unless σ is finite and ≥ 0.
+  // Throws InvalidArgument naming NoiseOptions::<field>: σ, floor or calibration negative or not
+  // finite, a floor above 0.5 or a calibration above 0.1 (per cent given as a number), averages
+  // of 1 or below 0 or above 10000.
   void check() const;
+};
+
+template <class Series>
+struct NoisyMeasurement {
+  Series series;
+  std::vector<double> coherence;    // γ² per frequency (of H for a block) with averages; else empty
+  double calibration_factor = 1.0;  // the factor drawn (1 without calibration)
+  std::vector<std::string> warnings;
 };
 
 // `count` standard normal numbers from `seed` (Box–Muller on mt19937_64: u1 = (r₁ >> 11 + 1)·2⁻⁵³
@@ -147,10 +171,10 @@ std::vector<double> standard_normals(std::size_t count, std::uint64_t seed);
 
 // Noisy copies; `what` names the data in errors (validate()). A warning is given when some factor
 // is ≤ 0 (σ so large that a value changes sign).
-SignalResult<FrfSeries> add_measurement_noise(const FrfSeries& series, const NoiseOptions& options,
-                                              const std::string& what = "FRF");
-SignalResult<BlockSeries> add_measurement_noise(const BlockSeries& series, const NoiseOptions& options,
-                                                const std::string& what = "block series");
+NoisyMeasurement<FrfSeries> add_measurement_noise(const FrfSeries& series, const NoiseOptions& options,
+                                                  const std::string& what = "FRF");
+NoisyMeasurement<BlockSeries> add_measurement_noise(const BlockSeries& series, const NoiseOptions& options,
+                                                    const std::string& what = "block series");
 
 // ---- Rotational FRFs by finite differences (Duarte & Ewins 2000; NOTES §5) ------------------
 //

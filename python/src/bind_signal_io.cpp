@@ -42,13 +42,13 @@ std::vector<double> index_grid(std::size_t n) {
 // One series through a signal function, the GIL released; its warnings to `warnings`.
 template <class Series, class F>
 Series signal_run(const Series& s, F on, std::vector<std::string>& warnings) {
-  SignalResult<Series> r;
+  std::optional<decltype(on(s))> r;
   {
     py::gil_scoped_release nogil;
-    r = on(s);
+    r.emplace(on(s));
   }
-  warnings = std::move(r.warnings);
-  return std::move(r.series);
+  warnings = std::move(r->warnings);
+  return std::move(r->series);
 }
 
 // Runs a series function on a (n,) or (n, 2, 2) complex array with its frequencies; warnings to Python.
@@ -204,18 +204,32 @@ void bind_signal_io(py::module_& m) {
       "gain Σc², and each prominent peak before and after (peak_changes' options; a change beyond warn_above is a warning).");
   m.def(
       "add_measurement_noise",
-      [](const RealArray& f, const py::array& values, double sigma, std::uint64_t seed) {
-        const NoiseOptions o{sigma, seed};
-        return series_apply(
+      [](const RealArray& f, const py::array& values, double sigma, std::uint64_t seed, double floor, double calibration,
+         int averages, bool with_coherence) -> py::object {
+        const NoiseOptions o{.sigma = sigma, .seed = seed, .floor = floor, .calibration = calibration, .averages = averages};
+        std::vector<double> coherence;
+        py::array out = series_apply(
             values, vector_of(f, "frequency_hz"), "values",
-            [&](const FrfSeries& s) { return add_measurement_noise(s, o, "values"); },
-            [&](const BlockSeries& s) { return add_measurement_noise(s, o, "values"); });
+            [&](const FrfSeries& s) {
+              auto r = add_measurement_noise(s, o, "values");
+              coherence = r.coherence;
+              return r;
+            },
+            [&](const BlockSeries& s) {
+              auto r = add_measurement_noise(s, o, "values");
+              coherence = r.coherence;
+              return r;
+            });
+        if (!with_coherence) return out;
+        return py::make_tuple(out, array_of(coherence));
       },
-      "frequency_hz"_a, "values"_a, "sigma"_a = 0.05, "seed"_a = 1,
+      "frequency_hz"_a, "values"_a, "sigma"_a = 0.05, "seed"_a = 1, py::kw_only(), "floor"_a = 0.0, "calibration"_a = 0.0,
+      "averages"_a = 0, "with_coherence"_a = false,
       "The seed's multiplicative noise (Section 3): every entry at every frequency times its own factor 1 + σz, z standard "
-      "normal "
-      "(mt19937_64 + Box–Muller, reproducible from `seed`; order: frequency, then H, L, N, P). values: complex (n,) or (n, 2, "
-      "2).");
+      "normal (mt19937_64 + Box–Muller, reproducible from `seed`; order: frequency, then H, L, N, P); with floor an additive "
+      "floor relative to each entry's peak; with averages ≥ 2 an averaged test of that many hits (each varying by σ) instead; "
+      "with calibration one factor on the whole series. values: complex (n,) or (n, 2, 2). Returns the noisy values, or with "
+      "with_coherence=True (values, coherence γ² (n,) of H; empty without averages).");
   m.def(
       "standard_normals", [](std::size_t count, std::uint64_t seed) { return array_of(standard_normals(count, seed)); },
       "count"_a, "seed"_a, "`count` standard normal numbers from `seed` (Box–Muller on mt19937_64; portable).");

@@ -36,6 +36,7 @@ TapTestFileFrfs tap_test_frfs(const UffFile& file, const TapTestFileOptions& opt
     return it == nodes.end() ? -1 : static_cast<int>(it - nodes.begin());
   };
   const UffDataset58* used[3][3] = {};
+  const UffDataset58* coherence[3][3] = {};
   std::string seen;  // the node pairs the file holds, for the message when the tip is missing
   std::size_t listed = 0;
   for (const UffDataset58& d : file.functions) {
@@ -47,6 +48,14 @@ TapTestFileFrfs tap_test_frfs(const UffFile& file, const TapTestFileOptions& opt
     if (i < 0 || j < 0) continue;
     if (options.direction && (d.response_direction != *options.direction || d.reference_direction != *options.direction))
       continue;
+    if (d.function_type == 6) {
+      if (const UffDataset58* other = coherence[i][j])
+        throw InputError(fmt::format("{}: datasets {} and {} are both coherences of response node {} and reference node {}",
+                                     file.source, other->index, d.index, d.response_node, d.reference_node),
+                         "pick the direction measured (TapTestFileOptions::direction), or keep one coherence per pair");
+      coherence[i][j] = &d;
+      continue;
+    }
     if (const UffDataset58* other = used[i][j])
       throw InputError(fmt::format("{}: datasets {} and {} both have response node {} and reference node {} (directions "
                                    "{}/{} and {}/{})",
@@ -76,6 +85,15 @@ TapTestFileFrfs tap_test_frfs(const UffFile& file, const TapTestFileOptions& opt
       r.frfs.set(i, j, std::move(h.receptance),
                  fmt::format("{} dataset {} (nodes {}/{})", file.source, d->index, d->response_node, d->reference_node));
       r.dataset[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)] = d->index;
+      if (const UffDataset58* c = coherence[i][j]) {
+        std::vector<double> g = uff_coherence_values(*c, file.source);
+        if (g.size() != d->y.size())
+          throw InputError(fmt::format("{}: the coherence (dataset {}) of nodes {}/{} has {} points, its FRF (dataset {}) {}",
+                                       file.source, c->index, d->response_node, d->reference_node, g.size(), d->index,
+                                       d->y.size()),
+                           "export the coherence on the FRF's frequency lines");
+        r.coherence[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)] = std::move(g);
+      }
     }
   return r;
 }

@@ -1,6 +1,8 @@
 // toolpoint: the virtual tap test (studies/tap_test.hpp).
 #include "toolpoint/studies/tap_test.hpp"
 
+#include "toolpoint/noise.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
@@ -22,6 +24,16 @@ void TapTestOptions::check() const {
                           "2 for first-order finite differences, 3 for second order");
   if (!(sigma >= 0.0 && sigma < 1.0))
     throw InvalidArgument(fmt::format("TapTestOptions::sigma = {} must lie in [0, 1)", sigma), "e.g. 0.005 for 0.5 % noise");
+  try {
+    NoiseOptions{.sigma = sigma, .seed = seed, .floor = floor, .calibration = calibration, .averages = averages}.check();
+  } catch (const InvalidArgument& e) {
+    std::string what = e.what();
+    for (const char* field : {"floor", "calibration", "averages"}) {
+      const std::string from = std::string("NoiseOptions::") + field, to = std::string("TapTestOptions::") + field;
+      for (std::size_t at = what.find(from); at != std::string::npos; at = what.find(from)) what.replace(at, from.size(), to);
+    }
+    throw InvalidArgument(what, e.hint());
+  }
 }
 
 TapTest run_tap_test(const Assembly& assembly, const TapTestOptions& options, const ProgressCallback& progress) {
@@ -63,14 +75,22 @@ TapTest run_tap_test(const Assembly& assembly, const TapTestOptions& options, co
   std::uint64_t k = 0;
   for (std::size_t j = 0; j < hammers; ++j)
     for (std::size_t i = 0; i < n; ++i, ++k) {
-      TapTestFrf r{static_cast<int>(i), static_cast<int>(j), std::move(h[i][j])};
-      if (options.sigma > 0.0) {
-        auto noisy = add_measurement_noise(r.frf, NoiseOptions{options.sigma, options.seed + k}, fmt::format("H{}{}", i, j));
+      TapTestFrf r{static_cast<int>(i), static_cast<int>(j), std::move(h[i][j]), {}};
+      if (options.sigma > 0.0 || options.floor > 0.0 || options.averages > 0) {
+        auto noisy = add_measurement_noise(
+            r.frf, NoiseOptions{.sigma = options.sigma, .seed = options.seed + k, .floor = options.floor, .averages = options.averages},
+            fmt::format("H{}{}", i, j));
         r.frf = std::move(noisy.series);
+        r.coherence = std::move(noisy.coherence);
         t.warnings.insert(t.warnings.end(), noisy.warnings.begin(), noisy.warnings.end());
       }
       t.frfs.push_back(std::move(r));
     }
+  if (options.calibration > 0.0) {  // one sensor chain: one factor for every FRF of the test
+    const double factor = 1.0 + options.calibration * standard_normals(1, stream_seed(options.seed, 0xCA11B7A7E))[0];
+    for (TapTestFrf& r : t.frfs)
+      for (Complex& v : r.frf.values) v *= factor;
+  }
 
   // The sections under the points: what the finite differences' shear correction needs.
   const auto under = split_segments(chain.segments(), reach).first;

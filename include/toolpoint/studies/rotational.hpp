@@ -42,6 +42,10 @@ struct TapTestFileOptions {
 
 struct TapTestFileFrfs {
   PointFrfs frfs;  // H_ij as receptance [m/N], sources "FILE dataset K (nodes a/b)"
+  // The coherence γ² of H_ij where the file holds a dataset of function type 6 (coherence) for the
+  // same nodes and direction (what averaging measurement software exports beside each FRF), on its
+  // grid; empty otherwise. Coherence datasets are never taken for FRFs.
+  std::array<std::array<std::vector<double>, 3>, 3> coherence;
   // The index (among the file's datasets 58, as UffFile::functions) each H_ij came from.
   std::array<std::array<std::optional<std::size_t>, 3>, 3> dataset{};
   std::vector<std::string> warnings;  // the conversions' (the file's own: file.warnings_for({}))

@@ -8,7 +8,8 @@
 // (AssemblyModel::tool_stations / holder_stations: the component cut at the points and coupled
 // rigidly, the rest of the assembly attached through its joint). With noise, every FRF is
 // multiplied by its own random factors 1 + σz per frequency (add_measurement_noise, the seed's
-// noise model): FRF k (in the order of TapTest::frfs) draws from seed + k.
+// noise model), or measured as n_d averaged hits with a floor (its coherence kept): FRF k (in the
+// order of TapTest::frfs) draws from seed + k; a calibration factor scales every FRF alike.
 // Units: SI (m, N; receptance m/N); frequencies in Hz.
 #pragma once
 
@@ -42,6 +43,12 @@ struct TapTestOptions {
   HammerPlan hammer = HammerPlan::Roving;
   double sigma = 0.0;      // σ of the multiplicative noise, [0, 1) (0.02 = 2 %; 0: exact)
   std::uint64_t seed = 1;  // FRF k draws from seed + k
+  // Beyond the seed's noise (signal.hpp's NoiseOptions): an additive floor relative to each FRF's
+  // peak, n_d averaged hits per FRF (each with variation σ) and their coherence, one calibration
+  // factor for the whole test (one hammer and one response sensor: seed's stream 0xCA11B7A7E).
+  double floor = 0.0;
+  int averages = 0;
+  double calibration = 0.0;
   // Throws InvalidArgument naming TapTestOptions::<field> and the value.
   void check() const;
 };
@@ -50,6 +57,7 @@ struct TapTestFrf {
   int response = 0;  // point index, 0 = tip (UFF node response + 1)
   int hammer = 0;    // point index of the hammer
   FrfSeries frf;     // H_ij [m/N] on the assembly's grid
+  std::vector<double> coherence;  // γ² per frequency with averages, else empty
 };
 
 struct TapTest {
