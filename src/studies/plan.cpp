@@ -3,7 +3,6 @@
 #include "toolpoint/studies/plan.hpp"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <fmt/format.h>
 #include <limits>
@@ -13,6 +12,7 @@
 #include "toolpoint/error.hpp"
 #include "toolpoint/peaks.hpp"
 #include "toolpoint/uncertainty.hpp"
+#include "part_file.hpp"
 
 namespace toolpoint {
 
@@ -26,32 +26,12 @@ constexpr double kTie = 1e-9;
 
 bool finite_positive(double x) { return std::isfinite(x) && x > 0.0; }
 
-// 64-bit FNV-1a over the bits of every value fed in (doubles by their bit pattern).
-struct Fnv {
-  std::uint64_t h = 0xcbf29ce484222325ULL;
-  void bytes(const void* p, std::size_t n) {
-    const auto* c = static_cast<const unsigned char*>(p);
-    for (std::size_t i = 0; i < n; ++i) h = (h ^ c[i]) * 0x100000001b3ULL;
-  }
-  void add(double x) {
-    const auto b = std::bit_cast<std::uint64_t>(x);
-    bytes(&b, sizeof b);
-  }
-  void add(std::uint64_t x) { bytes(&x, sizeof x); }
-  void add(std::int64_t x) { bytes(&x, sizeof x); }
-  void add(int x) { add(static_cast<std::int64_t>(x)); }
-  void add(bool x) { add(static_cast<std::int64_t>(x)); }
-  void add(const std::string& s) {
-    add(static_cast<std::uint64_t>(s.size()));
-    bytes(s.data(), s.size());
-  }
+// The plan's fingerprint: FNV-1a (part_file.hpp) over the assemblies' numbers too.
+struct Fnv : parts::Fnv1a {
+  using Fnv1a::add;
   void add(const std::optional<double>& x) {
     add(x.has_value());
     if (x) add(*x);
-  }
-  void add(const std::vector<double>& v) {
-    add(static_cast<std::uint64_t>(v.size()));
-    for (double x : v) add(x);
   }
   void add(const Material& m) {
     add(m.name);
@@ -759,11 +739,7 @@ PlanJob compute_job(const PlanCandidate& cand, const PlanHeader& h, std::size_t 
 
 PlanPart run_plan_part(const std::vector<PlanCandidate>& candidates, const PlanOptions& options, int index, int count,
                        const ProgressCallback& progress) {
-  if (count < 1 || count > 100000)
-    throw InvalidArgument(fmt::format("shard count {} must lie in 1…100000", count), "split the plan into 1 to 100000 parts");
-  if (index < 0 || index >= count)
-    throw InvalidArgument(fmt::format("shard {} of {} does not exist: shards are numbered 0…{}", index, count, count - 1),
-                          "give an index from 0 to the count less one (a Slurm array 0-(N-1) gives $SLURM_ARRAY_TASK_ID so)");
+  parts::check_shard(index, count);
   PlanPart part;
   part.header = plan_header(candidates, options);
   part.index = index;
@@ -772,11 +748,10 @@ PlanPart run_plan_part(const std::vector<PlanCandidate>& candidates, const PlanO
   struct Item {
     std::size_t candidate, overhang;
   };
-  std::vector<Item> mine;
-  std::size_t j = 0;
+  std::vector<Item> all, mine;
   for (std::size_t c = 0; c < h.candidates.size(); ++c)
-    for (std::size_t i = 0; i < h.candidates[c].overhangs_m.size(); ++i, ++j)
-      if (j % static_cast<std::size_t>(count) == static_cast<std::size_t>(index)) mine.push_back({c, i});
+    for (std::size_t i = 0; i < h.candidates[c].overhangs_m.size(); ++i) all.push_back({c, i});
+  for (std::size_t j : parts::shard_jobs(all.size(), index, count)) mine.push_back(all[j]);
   // The same draws for every overhang of a candidate: overhangs compared on common random numbers.
   std::vector<std::vector<JointParameters>> samples(candidates.size());
   const bool sampled = options.safety.kind == SafetyRule::Kind::Probability;
@@ -815,54 +790,21 @@ PlanResult run_plan(const std::vector<PlanCandidate>& candidates, const PlanOpti
 }
 
 PlanResult merge_plan_parts(const std::vector<PlanPart>& parts, const std::vector<std::string>& sources) {
-  const auto name = [&](std::size_t p) { return p < sources.size() ? sources[p] : fmt::format("part {}", p + 1); };
   if (parts.empty()) throw InvalidArgument("no parts to merge", "give every part file of the plan");
-  const PlanPart& first = parts.front();
-  const int count = first.count;
-  std::vector<int> seen(static_cast<std::size_t>(count), -1);
-  for (std::size_t p = 0; p < parts.size(); ++p) {
-    const PlanPart& q = parts[p];
-    if (q.header.fingerprint != first.header.fingerprint)
-      throw InputError(fmt::format("{} and {} belong to different plans (fingerprints {:016x} and {:016x})", name(0), name(p),
-                                   first.header.fingerprint, q.header.fingerprint),
-                       "merge only the parts of one run: the same study file, inputs and options, every shard once");
-    if (q.count != count)
-      throw InputError(fmt::format("{} is shard {} of {}, but {} is of {}", name(p), q.index, q.count, name(0), count),
-                       "merge the parts of one split: the same shard count N for every part");
-    if (q.index < 0 || q.index >= count)
-      throw InputError(fmt::format("{}: shard index {} outside 0…{}", name(p), q.index, count - 1));
-    int& s = seen[static_cast<std::size_t>(q.index)];
-    if (s >= 0)
-      throw InputError(fmt::format("{} and {} are both shard {} of {}", name(static_cast<std::size_t>(s)), name(p), q.index,
-                                   count),
-                       "give each part file once");
-    s = static_cast<int>(p);
+  const PlanHeader& h = parts.front().header;
+  std::vector<parts::Origin> origins;
+  for (const PlanPart& p : parts) {
+    parts::Origin o{p.header.fingerprint, p.index, p.count, {}};
+    for (const PlanJob& job : p.jobs)
+      o.jobs.push_back(job.candidate < h.candidates.size() && job.overhang_index < h.candidates[job.candidate].overhangs_m.size()
+                           ? plan_job_index(h, job.candidate, job.overhang_index)
+                           : h.jobs);  // outside the plan: refused by check_origins
+    origins.push_back(std::move(o));
   }
-  std::string missing;
-  std::size_t n_missing = 0;
-  for (int i = 0; i < count; ++i)
-    if (seen[static_cast<std::size_t>(i)] < 0) missing += (n_missing++ ? ", " : "") + std::to_string(i);
-  if (n_missing > 0)
-    throw InputError(fmt::format("shard(s) {} of {} missing: {} part(s) given", missing, count, parts.size()),
-                     "run the missing shards (run_plan_part with their index) and merge every part");
-  const PlanHeader& h = first.header;
+  parts::check_origins(origins, sources, h.jobs, "plans", "run_plan_part");
   std::vector<PlanJob> jobs(h.jobs);
-  std::vector<bool> have(h.jobs, false);
   for (std::size_t p = 0; p < parts.size(); ++p)
-    for (const PlanJob& job : parts[p].jobs) {
-      if (job.candidate >= h.candidates.size() || job.overhang_index >= h.candidates[job.candidate].overhangs_m.size())
-        throw InputError(fmt::format("{}: a job of candidate {} overhang {} that the plan does not have", name(p), job.candidate,
-                                     job.overhang_index));
-      const std::size_t j = plan_job_index(h, job.candidate, job.overhang_index);
-      if (j % static_cast<std::size_t>(count) != static_cast<std::size_t>(parts[p].index) || have[j])
-        throw InputError(fmt::format("{}: job {} does not belong to shard {} of {}", name(p), j, parts[p].index, count),
-                         "the part file is damaged: run its shard again");
-      have[j] = true;
-      jobs[j] = job;
-    }
-  for (std::size_t j = 0; j < h.jobs; ++j)
-    if (!have[j])
-      throw InputError(fmt::format("job {} is in none of the parts", j), "the part files are damaged: run their shards again");
+    for (std::size_t q = 0; q < parts[p].jobs.size(); ++q) jobs[origins[p].jobs[q]] = parts[p].jobs[q];
   return assemble(h, std::move(jobs));
 }
 

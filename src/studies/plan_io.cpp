@@ -16,6 +16,7 @@
 #include "toolpoint/studies/overhang.hpp"
 #include "toolpoint/studies/plan.hpp"
 #include "toolpoint/studies/plan_io.hpp"
+#include "part_file.hpp"
 #include "toml_reader.hpp"
 
 namespace toolpoint {
@@ -25,68 +26,11 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr int kPartVersion = 1;
 constexpr const char* kPartFormat = "toolpoint plan part";
+constexpr const char* kPartWhat = "a plan part";
 
-// ---- Part files: JSON, every double as C99 hexadecimal text (exact, with inf and nan) -----------
-
-std::string hex(double x) { return fmt::format("{:a}", x); }
-
-nlohmann::json hexes(const std::vector<double>& v) {
-  nlohmann::json a = nlohmann::json::array();
-  for (double x : v) a.push_back(hex(x));
-  return a;
-}
-
-struct PartReader {
-  const std::string& source;
-
-  [[noreturn]] void fail(const std::string& what) const {
-    throw InputError(fmt::format("{}: {}", source, what), "the part file is damaged or not a plan part: run its shard again");
-  }
-  const nlohmann::json& at(const nlohmann::json& j, const char* key, const std::string& path) const {
-    if (!j.is_object() || !j.contains(key)) fail(fmt::format("missing '{}{}'", path, key));
-    return j.at(key);
-  }
-  double number(const nlohmann::json& j, const std::string& what) const {
-    if (!j.is_string()) fail(fmt::format("{} is not a hexadecimal number", what));
-    std::string s = j.get<std::string>();
-    if (s == "inf") return std::numeric_limits<double>::infinity();
-    if (s == "-inf") return -std::numeric_limits<double>::infinity();
-    if (s == "nan" || s == "-nan") return kNaN;
-    const bool negative = !s.empty() && s[0] == '-';
-    const std::size_t at = negative ? 1 : 0;
-    if (s.compare(at, 2, "0x") != 0) fail(fmt::format("{} = '{}' is not a hexadecimal number", what, s));
-    double v = 0.0;
-    const char* first = s.data() + at + 2;
-    const auto [end, ec] = std::from_chars(first, s.data() + s.size(), v, std::chars_format::hex);
-    if (ec != std::errc() || end != s.data() + s.size()) fail(fmt::format("{} = '{}' is not a hexadecimal number", what, s));
-    return negative ? -v : v;
-  }
-  double number(const nlohmann::json& j, const char* key, const std::string& path) const {
-    return number(at(j, key, path), path + key);
-  }
-  std::vector<double> numbers(const nlohmann::json& j, const char* key, const std::string& path) const {
-    const nlohmann::json& a = at(j, key, path);
-    if (!a.is_array()) fail(fmt::format("'{}{}' is not an array", path, key));
-    std::vector<double> v;
-    for (std::size_t i = 0; i < a.size(); ++i) v.push_back(number(a[i], fmt::format("{}{}[{}]", path, key, i)));
-    return v;
-  }
-  template <class T>
-  T get(const nlohmann::json& j, const char* key, const std::string& path) const {
-    try {
-      return at(j, key, path).get<T>();
-    } catch (const nlohmann::json::exception&) {
-      fail(fmt::format("'{}{}' has the wrong type", path, key));
-    }
-  }
-};
-
-// FNV-1a of text: the part's checksum over its jobs (the header has its fingerprint).
-std::uint64_t text_hash(const std::string& text) {
-  std::uint64_t h = 0xcbf29ce484222325ULL;
-  for (unsigned char c : text) h = (h ^ c) * 0x100000001b3ULL;
-  return h;
-}
+using parts::hex;
+using parts::hexes;
+using PartReader = parts::Reader;
 
 nlohmann::json header_json(const PlanHeader& h) {
   const PlanOptions& o = h.options;
@@ -205,9 +149,7 @@ PlanHeader parse_header(const PartReader& r, const nlohmann::json& j) {
     s.flute_length_m = r.number(cands[c], "flute_length_m", cp);
     s.overhangs_m = r.numbers(cands[c], "overhangs_m", cp);
     s.left_out = r.get<std::size_t>(cands[c], "left_out", cp);
-    const std::string content = r.get<std::string>(cands[c], "content", cp);
-    if (std::from_chars(content.data(), content.data() + content.size(), s.content, 16).ec != std::errc())
-      r.fail(cp + "content is not a hexadecimal hash");
+    s.content = r.hash(cands[c], "content", cp);
     h.candidates.push_back(std::move(s));
   }
   h.speeds_rpm = r.numbers(j, "speeds_rpm", "");
@@ -218,12 +160,6 @@ PlanHeader parse_header(const PartReader& r, const nlohmann::json& j) {
 }  // namespace
 
 std::string format_plan_part(const PlanPart& part) {
-  nlohmann::json j;
-  j["format"] = kPartFormat;
-  j["version"] = kPartVersion;
-  j["fingerprint"] = fmt::format("{:016x}", part.header.fingerprint);
-  j["shard"] = {{"index", part.index}, {"count", part.count}};
-  j["header"] = header_json(part.header);
   nlohmann::json jobs = nlohmann::json::array();
   for (const PlanJob& job : part.jobs)
     jobs.push_back({{"job", plan_job_index(part.header, job.candidate, job.overhang_index)},
@@ -237,44 +173,23 @@ std::string format_plan_part(const PlanPart& part) {
                     {"probability", hexes(job.probability)},
                     {"modes_hz", hexes(job.modes_hz)},
                     {"warnings", job.warnings}});
-  j["checksum"] = fmt::format("{:016x}", text_hash(jobs.dump()));
-  j["jobs"] = std::move(jobs);
-  return j.dump() + "\n";
+  return parts::format_part(kPartFormat, kPartVersion, part.header.fingerprint, part.index, part.count, header_json(part.header),
+                            std::move(jobs));
 }
 
 PlanPart parse_plan_part(const std::string& text, const std::string& source) {
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw InputError(fmt::format("{}: not a plan part file (JSON: {})", source, e.what()), "give what format_plan_part wrote");
-  }
-  const PartReader r{source};
-  if (!j.is_object() || !j.contains("format") || j["format"] != kPartFormat)
-    throw InputError(fmt::format("{}: not a plan part file (no \"format\": \"{}\")", source, kPartFormat),
-                     "give what format_plan_part wrote");
-  if (r.get<int>(j, "version", "") != kPartVersion)
-    throw InputError(fmt::format("{}: plan part format version {} (this toolpoint reads {})", source, j["version"].dump(),
-                                 kPartVersion),
-                     "merge with the toolpoint version that wrote the parts, or run the shards again");
+  const parts::Part raw = parts::parse_part(text, source, kPartFormat, kPartVersion, kPartWhat, "format_plan_part");
+  const PartReader r{source, kPartWhat};
   PlanPart part;
-  part.header = parse_header(r, r.at(j, "header", ""));
-  const std::string fp = r.get<std::string>(j, "fingerprint", "");
-  std::uint64_t stored = 0;
-  if (std::from_chars(fp.data(), fp.data() + fp.size(), stored, 16).ec != std::errc())
-    r.fail("'fingerprint' is not a hexadecimal hash");
+  part.header = parse_header(r, raw.header);
   part.header.fingerprint = plan_fingerprint(part.header);
-  if (part.header.fingerprint != stored)
-    r.fail(fmt::format("the header does not match its fingerprint ({:016x}, computed {:016x}): edited or damaged", stored,
-                       part.header.fingerprint));
-  const nlohmann::json& shard = r.at(j, "shard", "");
-  part.index = r.get<int>(shard, "index", "shard.");
-  part.count = r.get<int>(shard, "count", "shard.");
+  if (part.header.fingerprint != raw.fingerprint)
+    r.fail(fmt::format("the header does not match its fingerprint ({:016x}, computed {:016x}): edited or damaged",
+                       raw.fingerprint, part.header.fingerprint));
+  part.index = raw.index;
+  part.count = raw.count;
   const std::size_t ns = part.header.speeds_rpm.size();
-  const nlohmann::json& jobs = r.at(j, "jobs", "");
-  if (!jobs.is_array()) r.fail("'jobs' is not an array");
-  if (r.get<std::string>(j, "checksum", "") != fmt::format("{:016x}", text_hash(jobs.dump())))
-    r.fail("the jobs' numbers do not match the part's checksum: edited or damaged");
+  const nlohmann::json& jobs = raw.jobs;
   for (std::size_t q = 0; q < jobs.size(); ++q) {
     const nlohmann::json& x = jobs[q];
     const std::string p = fmt::format("jobs[{}].", q);
