@@ -64,11 +64,12 @@ ModeStep mode_step(const PlanarMode& m, double h) {
   return s;
 }
 
-// An earlier pass at the same angle and slice: by edge `edge`, `delay` steps ago, the tool centre
-// having moved `feed` [m] along x since.
+// An earlier pass at the same angle and slice: by edge `edge`, whole + part steps ago (part in
+// [0, 1)), the tool centre having moved `feed` [m] along x since.
 struct Behind {
   int edge = 0;
-  double delay = 0.0;
+  long whole = 0;
+  double part = 0.0;
   double feed = 0.0;
 };
 
@@ -344,7 +345,7 @@ std::vector<double> wall_profile(const Wall& wall, int slice, double radius_m, c
 // ---- The simulation -----------------------------------------------------------------------------
 
 SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cutter, const ForceLaw& law, const MillingCut& cut,
-                                  const SimulationOptions& options) {
+                                  const SimulationOptions& options, const std::function<void(double)>& progress) {
   dynamics.check();
   cutter.check();
   law.check();
@@ -465,7 +466,9 @@ SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cu
         for (int back = 1; back <= memory * teeth; ++back) {
           const int ahead = ((j - back) % teeth + teeth) % teeth;
           gap += cutter.pitch_rad[static_cast<std::size_t>(ahead)];
-          e.behind.push_back({ahead * slices + l, in_steps(gap, dphi), teeth * cut.feed_per_tooth_m * gap / kTwoPi});
+          const double d = in_steps(gap, dphi), whole = std::floor(d);
+          e.behind.push_back(
+              {ahead * slices + l, static_cast<long>(whole), d - whole, teeth * cut.feed_per_tooth_m * gap / kTwoPi});
         }
       }
       theta -= cutter.pitch_rad[static_cast<std::size_t>(j)];
@@ -524,19 +527,23 @@ SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cu
   std::vector<double> passed(static_cast<std::size_t>(edges_n) * static_cast<std::size_t>(ring_n));
   for (int e = 0; e < edges_n; ++e)
     std::fill_n(passed.begin() + static_cast<std::ptrdiff_t>(e) * ring_n, ring_n, edges[static_cast<std::size_t>(e)].radius);
-  auto passed_at = [&](int e, double position) {  // at step `position` (real), linear between steps
-    const double fl = std::floor(position);
-    const double w = position - fl;
-    const long i0 = static_cast<long>(fl);
-    const double* ring = passed.data() + static_cast<std::ptrdiff_t>(e) * ring_n;
-    const double e0 = ring[((i0 % ring_n) + ring_n) % ring_n];
-    return w == 0.0 ? e0 : e0 + w * (ring[(((i0 + 1) % ring_n) + ring_n) % ring_n] - e0);
-  };
-  // The surface an edge meets at step `position` and angle sin φ = sn, relative to the tool centre
-  // then: the deepest of the earlier passes, each moved back by the feed since.
-  auto surface = [&](const Edge& E, double position, double sn) {
+  // The ring is read at step k + f − delay (f in [0, 1], k's slot `slot` = k mod ring_n): whole and
+  // fractional parts of the delay kept apart, so that no division is needed.
+  auto surface = [&](const Edge& E, long slot, double f, double sn) {
     double w = -std::numeric_limits<double>::infinity();
-    for (const Behind& b : E.behind) w = std::max(w, passed_at(b.edge, position - b.delay) - sn * b.feed);
+    for (const Behind& b : E.behind) {
+      double g = f - b.part;
+      long base = slot - b.whole;
+      if (g < 0.0) {
+        g += 1.0;
+        --base;
+      }
+      if (base < 0) base += ring_n;
+      const double* ring = passed.data() + static_cast<std::ptrdiff_t>(b.edge) * ring_n;
+      double p = ring[base];
+      if (g > 0.0) p += g * (ring[base + 1 == ring_n ? 0 : base + 1] - p);
+      w = std::max(w, p - sn * b.feed);
+    }
     return w;
   };
 
@@ -613,7 +620,7 @@ SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cu
   double peak = 0.0;
 
   // Surfaces and force at the end of step s (time index k1), with the final displacement.
-  auto finish = [&](long k1, int s) {
+  auto finish = [&](long k1, long slot1, int s) {
     fx_k = 0.0;
     fy_k = 0.0;
     double torque = 0.0;
@@ -621,8 +628,8 @@ SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cu
     for (const EndEntry& en : ends[static_cast<std::size_t>(s)]) {
       const Edge& E = edges[static_cast<std::size_t>(en.edge)];
       const double ur = en.s * rx + en.c * ry + E.radius;
-      const double w = surface(E, static_cast<double>(k1), en.s);
-      passed[static_cast<std::size_t>(en.edge) * static_cast<std::size_t>(ring_n) + static_cast<std::size_t>(k1 % ring_n)] = ur;
+      const double w = surface(E, slot1, 0.0, en.s);
+      passed[static_cast<std::size_t>(en.edge) * static_cast<std::size_t>(ring_n) + static_cast<std::size_t>(slot1)] = ur;
       if (!en.inside) continue;
       const double chip = ur - w;
       if (analysed && en.interior) {
@@ -637,7 +644,7 @@ SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cu
       torque += ft * E.radius;
       if (rec) res.tooth_force_n[static_cast<std::size_t>(E.tooth)][static_cast<std::size_t>(k1)] += ft;
     }
-    if (analysed) peak = std::max(peak, std::hypot(fx_k, fy_k));
+    if (analysed) peak = std::max(peak, fx_k * fx_k + fy_k * fy_k);  // squared; the root at the end
     if (rec) {
       const auto i = static_cast<std::size_t>(k1);
       res.time_s[i] = static_cast<double>(k1) * h;
@@ -651,7 +658,7 @@ SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cu
     }
   };
 
-  finish(0, M - 1);
+  finish(0, 0, M - 1);
   res.per_revolution.push_back({0.0, rx, ry, vx, vy, -1});
   push_state();
   period_x.push_back(rx);
@@ -659,6 +666,7 @@ SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cu
 
   std::vector<double> qp(static_cast<std::size_t>(nm)), vp(static_cast<std::size_t>(nm));
   std::vector<double> qn(static_cast<std::size_t>(nm)), vn(static_cast<std::size_t>(nm));
+  long slot = 0;  // k mod ring_n
   for (long k = 0; k < total; ++k) {
     const int s = static_cast<int>(k % M);
     // Predictor: the force of step k held over the step.
@@ -681,7 +689,7 @@ SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cu
       const Edge& E = edges[static_cast<std::size_t>(c.edge)];
       auto chip_at = [&](double f, double sn, double cs) {
         const double x = rx + f * (rxp - rx), y = ry + f * (ryp - ry);
-        return sn * x + cs * y + E.radius - surface(E, static_cast<double>(k) + f, sn);
+        return sn * x + cs * y + E.radius - surface(E, slot, f, sn);
       };
       const double ha = chip_at(c.wa, c.sa, c.ca), hb = chip_at(c.wb, c.sb, c.cb);
       if (ha <= 0.0 && hb <= 0.0) continue;
@@ -743,7 +751,8 @@ SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cu
     px = endx;
     py = endy;
     const long k1 = k + 1;
-    finish(k1, s);
+    slot = slot + 1 == ring_n ? 0 : slot + 1;
+    finish(k1, slot, s);
 
     // Samples between the steps: cubic Hermite with the velocities.
     for (const Pass& p : tip_passes[static_cast<std::size_t>(s)]) {
@@ -777,6 +786,7 @@ SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cu
       close_revolution();
       ++current_rev;
       res.per_revolution.push_back({static_cast<double>(k1) * h, rx, ry, vx, vy, -1});
+      if (progress) progress(static_cast<double>(current_rev) / options.revolutions);
       if (!std::isfinite(rx) || !std::isfinite(ry) || std::abs(rx) > 1.0 || std::abs(ry) > 1.0)
         throw NumericalError(fmt::format("the simulated tool displacement overflowed (|r| > 1 m) at {:.4g} s, revolution {}: the "
                                          "cut is violently unstable",
@@ -791,7 +801,7 @@ SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cu
   res.mean_force_y_n = imp_y / t_an;
   res.mean_torque_nm = imp_t / t_an;
   res.power_w = res.mean_torque_nm * spin;
-  res.peak_force_n = peak;
+  res.peak_force_n = std::sqrt(peak);
   res.out_of_cut_fraction = inside > 0 ? static_cast<double>(out_of_cut) / static_cast<double>(inside) : 0.0;
   for (std::size_t w = 0; w < walls_at.size(); ++w) {
     Wall& wl = res.walls[w];
@@ -870,21 +880,27 @@ SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cu
       avgx[i % M] += ax[i] / analysed_revs;
       avgy[i % M] += ay[i] / analysed_revs;
     }
-    std::vector<double> bx(n), by(n);
+    // Every `every`-th sample (at least 8 per period of the highest mode: the chatter lies near a mode, and
+    // little is left above four times it), x + iy as one complex signal (the power at ±f together is
+    // |X|² + |Y|²), zero-padded to a power of two: a fraction of the cost of two real transforms
+    // of awkward lengths (M = N m need not factor well).
+    const std::size_t every = std::max<std::size_t>(1, static_cast<std::size_t>(std::floor(1.0 / (8.0 * fmax * h))));
+    const std::size_t nd = n / every;
+    std::size_t nfft = 1;
+    while (nfft < nd) nfft <<= 1;
+    std::vector<Complex> zin(nfft, Complex(0.0, 0.0)), zout;
     double rest = 0.0;
-    for (std::size_t i = 0; i < n; ++i) {
-      const double w = 0.5 - 0.5 * std::cos(kTwoPi * static_cast<double>(i) / static_cast<double>(n));
-      bx[i] = w * (ax[i] - avgx[i % M]);
-      by[i] = w * (ay[i] - avgy[i % M]);
-      rest += bx[i] * bx[i] + by[i] * by[i];
+    for (std::size_t i = 0; i < nd; ++i) {
+      const std::size_t at = i * every;
+      const double w = 0.5 - 0.5 * std::cos(kTwoPi * static_cast<double>(i) / static_cast<double>(nd));
+      zin[i] = Complex(w * (ax[at] - avgx[at % M]), w * (ay[at] - avgy[at % M]));
+      rest += std::norm(zin[i]);
     }
     if (rest > 0.0 && analysed_revs >= 2) {
       Eigen::FFT<double> fft;
-      std::vector<Complex> sx, sy;
-      fft.fwd(sx, bx);
-      fft.fwd(sy, by);
-      std::vector<double> power(n / 2 + 1);
-      for (std::size_t i = 0; i < power.size(); ++i) power[i] = std::norm(sx[i]) + std::norm(sy[i]);
+      fft.fwd(zout, zin);
+      std::vector<double> power(nfft / 2 + 1);
+      for (std::size_t i = 0; i < power.size(); ++i) power[i] = std::norm(zout[i]) + std::norm(zout[(nfft - i) % nfft]);
       std::size_t best = 1;
       for (std::size_t i = 2; i + 1 < power.size(); ++i)
         if (power[i] > power[best]) best = i;
@@ -894,7 +910,7 @@ SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cu
         const double den = a - 2.0 * b + c;
         if (den < 0.0) shift = std::clamp(0.5 * (a - c) / den, -0.5, 0.5);
       }
-      res.chatter_hz = (static_cast<double>(best) + shift) / (static_cast<double>(n) * h);
+      res.chatter_hz = (static_cast<double>(best) + shift) / (static_cast<double>(nfft * every) * h);
     }
   }
 

@@ -51,6 +51,7 @@
 #include <Eigen/Core>
 #include <complex>
 #include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -215,8 +216,9 @@ inline constexpr double kChatterMetricLimit = 0.05;
 // Simulates the cut. Throws InvalidArgument (bad dynamics, cutter, law, cut or options: naming the
 // field; a step too large for the highest mode; a depth beyond the flute length; a run needing
 // more memory than SimulationOptions::memory_limit_bytes), NumericalError (the motion overflows).
+// `progress`, if given, is called once per revolution with the fraction done.
 SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cutter, const ForceLaw& law, const MillingCut& cut,
-                                  const SimulationOptions& options = {});
+                                  const SimulationOptions& options = {}, const std::function<void(double)>& progress = {});
 
 // The steps per tooth period the automatic rule gives (SimulationOptions::steps_per_tooth = 0).
 int automatic_steps_per_tooth(const ToolDynamics& dynamics, int teeth, double speed_rpm);

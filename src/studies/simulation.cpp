@@ -1,0 +1,252 @@
+// toolpoint study: milling simulated in the time domain, one cut or a map (studies/simulation.hpp).
+// Units: SI, rpm, Hz.
+#include "toolpoint/studies/simulation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+#include <limits>
+
+#include "part_file.hpp"
+#include "toolpoint/error.hpp"
+
+namespace toolpoint {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+bool has_source(const LobesInput& in) { return in.frfs || in.assembly || !in.x_modes.empty() || !in.y_modes.empty(); }
+
+}  // namespace
+
+ModalFitOptions simulation_fit_options() {
+  ModalFitOptions o;
+  o.max_modes = 8;
+  return o;
+}
+
+ToolDynamics simulation_dynamics(const SimulationInput& input, const ModalFitOptions& fit, double fit_target,
+                                 std::vector<ModalFitSummary>& fits, std::vector<std::string>& warnings) {
+  ToolDynamics d;
+  if (input.rigid) {
+    if (has_source(input.source) || !input.planar_modes.empty())
+      throw InvalidArgument("SimulationInput::rigid: a rigid tool has no modes, but modes or FRFs are given as well",
+                            "drop the modes, or the rigid tool");
+    return d;
+  }
+  if (!has_source(input.source) && input.planar_modes.empty())
+    throw InvalidArgument(
+        "the simulation needs the tool point dynamics: modes, a tool point FRF or an assembly "
+        "(SimulationInput), or a rigid tool (SimulationInput::rigid)",
+        "give the x modes, or the FRF to fit them from");
+  if (has_source(input.source)) d = tool_dynamics(time_domain_modes(input.source, fit, fit_target, fits, warnings));
+  d.modes.insert(d.modes.end(), input.planar_modes.begin(), input.planar_modes.end());
+  d.check();
+  return d;
+}
+
+void SimulationStudyOptions::check() const {
+  cutter.check();
+  force.check();
+  cut.check();
+  simulation.check();
+  fit.check();
+  if (!std::isfinite(fit_target) || !(fit_target > 0.0) || fit_target >= 1.0)
+    throw InvalidArgument(fmt::format("SimulationStudyOptions::fit_target = {} must lie in (0, 1)", fit_target));
+}
+
+SimulationStudyResult run_simulation_study(const SimulationInput& input, const SimulationStudyOptions& options,
+                                           const ProgressCallback& progress) {
+  options.check();
+  SimulationStudyResult r;
+  r.dynamics = simulation_dynamics(input, options.fit, options.fit_target, r.fits, r.warnings);
+  r.cutter = options.cutter;
+  r.force = options.force;
+  r.cut = options.cut;
+  r.simulation = simulate_milling(r.dynamics, options.cutter, options.force, options.cut, options.simulation, progress);
+  r.warnings.insert(r.warnings.end(), r.simulation.warnings.begin(), r.simulation.warnings.end());
+  return r;
+}
+
+// ---- The map ------------------------------------------------------------------------------------
+
+void DepthRange::check() const {
+  if (!std::isfinite(min_m) || !std::isfinite(max_m) || !(min_m > 0.0) || !(max_m > min_m))
+    throw InvalidArgument(fmt::format("DepthRange {}…{} m: need 0 < MIN < MAX", min_m, max_m));
+  if (points < 2 || points > 100000) throw InvalidArgument(fmt::format("DepthRange::points = {}: need 2…100000", points));
+}
+
+std::vector<double> DepthRange::values() const {
+  std::vector<double> v;
+  for (int i = 0; i < points; ++i) v.push_back(i + 1 == points ? max_m : min_m + (max_m - min_m) * i / (points - 1));
+  return v;
+}
+
+void SimulatedMapOptions::check() const {
+  cutter.check();
+  force.check();
+  cut.engagement.check();
+  if (!std::isfinite(cut.feed_per_tooth_m) || cut.feed_per_tooth_m < 0.0)
+    throw InvalidArgument(fmt::format("MillingCut::feed_per_tooth_m = {} m must be ≥ 0", cut.feed_per_tooth_m));
+  simulation.check();
+  speeds.check();
+  depths.check();
+  parallel.check();
+  if (cutter.flute_length_m > 0.0 && depths.max_m > cutter.flute_length_m)
+    throw InvalidArgument(
+        fmt::format("SimulatedMapOptions::depths reach {} m, beyond the flute length Cutter::flute_length_m = {} m", depths.max_m,
+                    cutter.flute_length_m),
+        "map depths up to the flute length");
+}
+
+SimulatedMapHeader simulated_map_header(const ToolDynamics& dynamics, const SimulatedMapOptions& options) {
+  dynamics.check();
+  options.check();
+  SimulatedMapHeader h;
+  h.dynamics = dynamics;
+  h.options = options;
+  h.options.simulation.record = false;
+  h.options.parallel = {};
+  h.speeds_rpm = options.speeds.values();
+  h.depths_m = options.depths.values();
+  h.fingerprint = simulated_map_fingerprint(h);
+  return h;
+}
+
+std::uint64_t simulated_map_fingerprint(const SimulatedMapHeader& h) {
+  parts::Fnv1a f;
+  f.add(std::string("toolpoint simulated map 1"));
+  f.add(static_cast<std::uint64_t>(h.dynamics.modes.size()));
+  for (const PlanarMode& m : h.dynamics.modes) {
+    f.add(m.frequency_hz);
+    f.add(m.damping_ratio);
+    f.add(m.shape_x);
+    f.add(m.shape_y);
+  }
+  const SimulatedMapOptions& o = h.options;
+  f.add(o.cutter.diameter_m);
+  f.add(o.cutter.pitch_rad);
+  f.add(o.cutter.helix_rad);
+  f.add(o.cutter.runout_m);
+  f.add(o.cutter.flute_length_m);
+  const ForceLaw& l = o.force;
+  for (double x : {l.tangential_coefficient, l.radial_ratio, l.tangential_edge, l.radial_edge, l.exponent, l.reference_chip_m})
+    f.add(x);
+  f.add(o.cut.feed_per_tooth_m);
+  f.add(o.cut.engagement.entry_rad);
+  f.add(o.cut.engagement.exit_rad);
+  const SimulationOptions& s = o.simulation;
+  f.add(s.revolutions);
+  f.add(s.steps_per_tooth);
+  f.add(s.slices);
+  f.add(s.analysed_fraction);
+  f.add(s.memory_revolutions);
+  f.add(s.initial_state);
+  f.add(h.speeds_rpm);
+  f.add(h.depths_m);
+  return f.h;
+}
+
+namespace {
+
+// One speed's row: each depth's simulation (its cells computed by the caller, possibly in parallel).
+SimulatedMapRow empty_row(std::size_t speed_index, std::size_t depths) {
+  SimulatedMapRow r;
+  r.speed_index = speed_index;
+  r.stable.assign(depths, 0);
+  for (auto* v : {&r.growth, &r.chatter_metric, &r.chatter_hz, &r.sle_m, &r.peak_force_n, &r.out_of_cut_fraction})
+    v->assign(depths, kNaN);
+  return r;
+}
+
+void simulate_cell(const SimulatedMapHeader& h, SimulatedMapRow& row, std::size_t d) {
+  MillingCut cut = h.options.cut;
+  cut.speed_rpm = h.speeds_rpm[row.speed_index];
+  cut.depth_m = h.depths_m[d];
+  try {
+    const SimulationResult s = simulate_milling(h.dynamics, h.options.cutter, h.options.force, cut, h.options.simulation);
+    row.stable[d] = s.stable ? 1 : 0;
+    row.growth[d] = s.growth;
+    row.chatter_metric[d] = s.chatter_metric;
+    row.chatter_hz[d] = s.chatter_hz;
+    row.sle_m[d] = s.sle_m;
+    row.peak_force_n[d] = s.peak_force_n;
+    row.out_of_cut_fraction[d] = s.out_of_cut_fraction;
+  } catch (const NumericalError&) {  // the motion overflowed: violently unstable
+    row.stable[d] = 0;
+    row.growth[d] = kInf;
+  }
+}
+
+SimulatedMap assemble(SimulatedMapHeader h, std::vector<SimulatedMapRow> rows) {
+  SimulatedMap m;
+  m.header = std::move(h);
+  m.rows = std::move(rows);
+  std::size_t never = 0;
+  for (const SimulatedMapRow& r : m.rows) {
+    EnvelopePoint e;
+    e.speed_rpm = m.header.speeds_rpm[r.speed_index];
+    e.depth_m = kInf;
+    e.chatter_hz = kNaN;
+    for (std::size_t d = 0; d < r.stable.size(); ++d)
+      if (!r.stable[d]) {
+        e.depth_m = m.header.depths_m[d];
+        e.chatter_hz = r.chatter_hz[d];
+        break;
+      }
+    never += !std::isfinite(e.depth_m);
+    m.boundary.push_back(e);
+  }
+  if (never > 0)
+    m.warnings.push_back(
+        fmt::format("{} of {} speeds are stable at every depth up to {:.4g} mm: the map's depths end below "
+                    "their limit",
+                    never, m.rows.size(), 1e3 * m.header.depths_m.back()));
+  return m;
+}
+
+}  // namespace
+
+SimulatedMapPart run_simulated_map_part(const ToolDynamics& dynamics, const SimulatedMapOptions& options, int index, int count,
+                                        const ProgressCallback& progress) {
+  parts::check_shard(index, count);
+  SimulatedMapPart part;
+  part.header = simulated_map_header(dynamics, options);
+  part.index = index;
+  part.count = count;
+  const SimulatedMapHeader& h = part.header;
+  const std::vector<std::size_t> mine = parts::shard_jobs(h.speeds_rpm.size(), index, count);
+  const std::size_t nd = h.depths_m.size();
+  for (std::size_t i : mine) part.rows.push_back(empty_row(i, nd));
+  // Cells, not speeds, in parallel: a shard of one speed still uses every core. Each cell writes its
+  // own slot, so the result does not depend on the thread count.
+  parallel_for(
+      part.rows.size() * nd, options.parallel, [&](std::size_t c) { simulate_cell(h, part.rows[c / nd], c % nd); }, progress);
+  return part;
+}
+
+SimulatedMap run_simulated_map(const ToolDynamics& dynamics, const SimulatedMapOptions& options,
+                               const ProgressCallback& progress) {
+  SimulatedMapPart p = run_simulated_map_part(dynamics, options, 0, 1, progress);
+  return assemble(std::move(p.header), std::move(p.rows));
+}
+
+SimulatedMap merge_simulated_map_parts(const std::vector<SimulatedMapPart>& parts_in, const std::vector<std::string>& sources) {
+  if (parts_in.empty()) throw InvalidArgument("no parts to merge", "give every part file of the map");
+  const SimulatedMapHeader& h = parts_in.front().header;
+  std::vector<parts::Origin> origins;
+  for (const SimulatedMapPart& p : parts_in) {
+    parts::Origin o{p.header.fingerprint, p.index, p.count, {}};
+    for (const SimulatedMapRow& r : p.rows) o.jobs.push_back(r.speed_index);
+    origins.push_back(std::move(o));
+  }
+  parts::check_origins(origins, sources, h.speeds_rpm.size(), "simulated maps", "run_simulated_map_part");
+  std::vector<SimulatedMapRow> rows(h.speeds_rpm.size());
+  for (const SimulatedMapPart& p : parts_in)
+    for (const SimulatedMapRow& r : p.rows) rows[r.speed_index] = r;
+  return assemble(h, std::move(rows));
+}
+
+}  // namespace toolpoint

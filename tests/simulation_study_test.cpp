@@ -1,0 +1,174 @@
+// Tests of the simulation study (studies/simulation.hpp): the simulated stability map against the
+// full-discretization boundary, the same map for any thread count and any sharding (part files
+// through their text), refused parts, and the study's dynamics from the lobes study's sources.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fmt/format.h>
+#include <string>
+#include <vector>
+
+#include "toolpoint/conventions.hpp"
+#include "toolpoint/error.hpp"
+#include "toolpoint/studies/simulation.hpp"
+#include "toolpoint/studies/simulation_io.hpp"
+
+using namespace toolpoint;
+
+namespace {
+
+const Mode kBench{0.03993, 0.011, 922.0};  // NOTES §7
+
+SimulatedMapOptions bench_map(int speeds, int depths) {
+  SimulatedMapOptions o;
+  o.cutter = uniform_cutter(2, 0.02);
+  o.force = {6e8, 1.0 / 3.0};
+  o.cut.feed_per_tooth_m = 1e-4;
+  o.cut.engagement = engagement_from_immersion(0.05, MillingDirection::Down);
+  o.simulation.revolutions = 40;
+  o.speeds = {6000.0, 20000.0, speeds};
+  o.depths = {0.2e-3, 6e-3, depths};
+  return o;
+}
+
+ToolDynamics bench_dynamics() {
+  ModalModel m;
+  m.x = {kBench};
+  return tool_dynamics(m);
+}
+
+void expect_same(const SimulatedMap& a, const SimulatedMap& b) {
+  ASSERT_EQ(a.rows.size(), b.rows.size());
+  EXPECT_EQ(a.header.fingerprint, b.header.fingerprint);
+  for (std::size_t i = 0; i < a.rows.size(); ++i) {
+    EXPECT_EQ(a.rows[i].speed_index, b.rows[i].speed_index);
+    EXPECT_EQ(a.rows[i].stable, b.rows[i].stable);
+    for (std::size_t d = 0; d < a.rows[i].stable.size(); ++d) {
+      // Bit for bit (NaN where no chatter frequency: compare the bits' meaning).
+      for (auto m : {&SimulatedMapRow::growth, &SimulatedMapRow::chatter_metric, &SimulatedMapRow::chatter_hz,
+                     &SimulatedMapRow::sle_m, &SimulatedMapRow::peak_force_n})
+        EXPECT_TRUE(((a.rows[i].*m)[d] == (b.rows[i].*m)[d]) || (std::isnan((a.rows[i].*m)[d]) && std::isnan((b.rows[i].*m)[d])));
+    }
+  }
+  EXPECT_EQ(format_table_csv(simulated_map_table(a)), format_table_csv(simulated_map_table(b)));
+}
+
+}  // namespace
+
+// The map's lowest unstable depth per speed brackets full-discretization's converged limit: the
+// grid's depth below it is stable and the one at or above unstable, with the simulation's ±3 %
+// (Simulation.StableUnstableSwitchBracketsTheFullDiscretizationLimit) added to one depth step.
+TEST(SimulatedMap, LowestUnstableDepthIsTheFullDiscretizationLimit) {
+  SimulatedMapOptions o = bench_map(8, 30);
+  ModalModel model;
+  model.x = {kBench};
+  const SimulatedMap m = run_simulated_map(bench_dynamics(), o);
+  BoundaryOptions bo;
+  bo.speeds = o.speeds;
+  bo.speeds.points = 8;
+  bo.tolerance = 1e-3;
+  const BoundaryResult fd = stability_boundary(model, {2, 6e8, 1.0 / 3.0, o.cut.engagement}, bo);
+  const double step = (o.depths.max_m - o.depths.min_m) / (o.depths.points - 1);
+  for (std::size_t i = 0; i < m.boundary.size(); ++i) {
+    const double limit = fd.boundary[i].depth_m;
+    if (limit > o.depths.max_m) continue;
+    EXPECT_NEAR(m.boundary[i].depth_m, limit, step + 0.03 * limit) << m.boundary[i].speed_rpm << " rpm";
+  }
+}
+
+// Identical results for any thread count and any sharding; the parts go through their text.
+TEST(SimulatedMap, SameForAnyThreadCountAndSharding) {
+  SimulatedMapOptions o = bench_map(5, 12);
+  o.parallel.threads = 1;
+  const SimulatedMap one = run_simulated_map(bench_dynamics(), o);
+  o.parallel.threads = 3;
+  expect_same(one, run_simulated_map(bench_dynamics(), o));
+  std::vector<SimulatedMapPart> parts;
+  for (int i : {2, 0, 1}) {
+    const std::string text = format_simulated_map_part(run_simulated_map_part(bench_dynamics(), o, i, 3));
+    parts.push_back(parse_simulated_map_part(text, fmt::format("part-{}.json", i)));
+    EXPECT_EQ(format_simulated_map_part(parts.back()), text);  // exact round trip
+  }
+  expect_same(one, merge_simulated_map_parts(parts, {"part-2.json", "part-0.json", "part-1.json"}));
+}
+
+// Parts that cannot be merged, and damaged parts, are refused naming the file and the reason.
+TEST(SimulatedMap, PartsAreCheckedBeforeMerging) {
+  const SimulatedMapOptions o = bench_map(3, 4);
+  const SimulatedMapPart p0 = run_simulated_map_part(bench_dynamics(), o, 0, 2),
+                         p1 = run_simulated_map_part(bench_dynamics(), o, 1, 2);
+  auto merge_refused = [](const std::vector<SimulatedMapPart>& p, const std::vector<std::string>& names,
+                          const std::string& what) {
+    try {
+      merge_simulated_map_parts(p, names);
+      ADD_FAILURE() << "merged; expected " << what;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+      EXPECT_FALSE(e.hint().empty());
+    }
+  };
+  merge_refused({p0}, {"a.json"}, "shard(s) 1 of 2 missing");
+  merge_refused({p0, p0, p1}, {"a.json", "b.json", "c.json"}, "a.json and b.json are both shard 0 of 2");
+  SimulatedMapOptions other = o;
+  other.cut.feed_per_tooth_m = 2e-4;
+  merge_refused({p0, run_simulated_map_part(bench_dynamics(), other, 1, 2)}, {"a.json", "x.json"},
+                "belong to different simulated maps");
+  auto parse_refused = [](const std::string& text, const std::string& what) {
+    try {
+      parse_simulated_map_part(text, "p.json");
+      ADD_FAILURE() << "accepted; expected " << what;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("p.json"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  };
+  const std::string t = format_simulated_map_part(p0);
+  parse_refused("{}", "not a simulated map part file");
+  std::string edited = t;
+  const std::size_t at = edited.find("\"growth\":[\"0x1.") + 15;
+  edited[at] = edited[at] == '0' ? '1' : '0';
+  parse_refused(edited, "checksum");
+  std::string header = t;
+  const std::size_t feed = header.find("\"feed_per_tooth_m\":\"0x1.") + 24;
+  header[feed] = header[feed] == '0' ? '1' : '0';
+  parse_refused(header, "fingerprint");
+}
+
+// The study's dynamics: the lobes study's time-domain modes (given or fitted), planar modes, or a
+// rigid tool; the cross FRFs' absence of coupling said; nothing given refused.
+TEST(SimulationStudy, DynamicsFromModesFitsOrPlanarModes) {
+  SimulationStudyOptions o;
+  o.cutter = uniform_cutter(2, 0.02);
+  o.force = {6e8, 1.0 / 3.0};
+  o.cut = {10000.0, 1e-3, 1e-4, engagement_from_immersion(0.05, MillingDirection::Down)};
+  o.simulation.revolutions = 10;
+  SimulationInput in;
+  in.source.x_modes = {kBench};
+  in.source.rigid_y = true;
+  const SimulationStudyResult given = run_simulation_study(in, o);
+  ASSERT_EQ(given.dynamics.modes.size(), 1u);
+  EXPECT_DOUBLE_EQ(given.dynamics.modes[0].shape_x, 1.0 / std::sqrt(kBench.mass_kg));
+  EXPECT_EQ(given.dynamics.modes[0].shape_y, 0.0);
+  // Fitted to the mode's own FRF (on the lobes study's grid): the same mode to 1e-4.
+  SimulationInput fitted;
+  fitted.source.frfs = modal_milling_frfs({kBench}, {}, modal_frequency_grid({kBench}));
+  fitted.source.rigid_y = true;
+  const SimulationStudyResult f = run_simulation_study(fitted, o);
+  ASSERT_EQ(f.dynamics.modes.size(), 1u);
+  EXPECT_NEAR(f.dynamics.modes[0].frequency_hz, 922.0, 0.1);
+  EXPECT_NEAR(f.simulation.mean_force_x_n, given.simulation.mean_force_x_n, 1e-3 * std::abs(given.simulation.mean_force_x_n));
+  SimulationInput planar;
+  planar.planar_modes = {planar_mode(kBench, kPi / 4)};
+  EXPECT_GT(std::abs(run_simulation_study(planar, o).dynamics.receptance(900.0)(0, 1)), 0.0);
+  SimulationInput rigid;
+  rigid.rigid = true;
+  EXPECT_TRUE(run_simulation_study(rigid, o).dynamics.modes.empty());
+  rigid.planar_modes = planar.planar_modes;
+  EXPECT_THROW(run_simulation_study(rigid, o), InvalidArgument);
+  EXPECT_THROW(run_simulation_study(SimulationInput{}, o), InvalidArgument);
+  // Figures build from a recorded result.
+  EXPECT_NO_THROW(simulation_time_figure(given).check());
+  EXPECT_NO_THROW(simulation_poincare_figure(given).check());
+  EXPECT_NO_THROW(simulation_spectrum_figure(given).check());
+  EXPECT_NO_THROW(simulation_surface_figure(given).check());
+}
