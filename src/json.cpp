@@ -542,6 +542,7 @@ void to_json(nlohmann::json& j, const SimulationResult& r) {
        {"chatter_metric", number(r.chatter_metric)},
        {"chatter_hz", number(r.chatter_hz)},
        {"stable", r.stable},
+       {"diverged", r.diverged},
        {"out_of_cut_fraction", number(r.out_of_cut_fraction)},
        {"walls", r.walls},
        {"warnings", r.warnings}};

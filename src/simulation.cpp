@@ -666,6 +666,14 @@ SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cu
 
   std::vector<double> qp(static_cast<std::size_t>(nm)), vp(static_cast<std::size_t>(nm));
   std::vector<double> qn(static_cast<std::size_t>(nm)), vn(static_cast<std::size_t>(nm));
+  // The chip model is that of small vibrations (the tooth's path a circle about the nominal centre,
+  // the engagement's angles fixed). A cut whose vibration amplitude grows beyond 5 % of the radius
+  // (a strongly unstable cut of a tool flexible in x and y: the cutting force can feed a whirl
+  // without bound) has left it: the simulation stops there and says so.
+  const double limit = 0.05 * radius;
+  double lo_x = rx, hi_x = rx, lo_y = ry, hi_y = ry;  // this revolution's range of the displacement
+  bool diverged = false;
+  double vibration = 0.0;
   long slot = 0;  // k mod ring_n
   for (long k = 0; k < total; ++k) {
     const int s = static_cast<int>(k % M);
@@ -782,24 +790,54 @@ SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cu
       period_x.push_back(rx);
       period_y.push_back(ry);
     }
+    lo_x = std::min(lo_x, rx);
+    hi_x = std::max(hi_x, rx);
+    lo_y = std::min(lo_y, ry);
+    hi_y = std::max(hi_y, ry);
     if (k1 % M == 0) {
       close_revolution();
       ++current_rev;
       res.per_revolution.push_back({static_cast<double>(k1) * h, rx, ry, vx, vy, -1});
       if (progress) progress(static_cast<double>(current_rev) / options.revolutions);
-      if (!std::isfinite(rx) || !std::isfinite(ry) || std::abs(rx) > 1.0 || std::abs(ry) > 1.0)
-        throw NumericalError(fmt::format("the simulated tool displacement overflowed (|r| > 1 m) at {:.4g} s, revolution {}: the "
-                                         "cut is violently unstable",
+      const double amplitude = 0.5 * std::max(hi_x - lo_x, hi_y - lo_y);
+      if (!std::isfinite(amplitude))
+        throw NumericalError(fmt::format("the simulated tool displacement overflowed at {:.4g} s, revolution {}",
                                          static_cast<double>(k1) * h, current_rev),
-                             "the cut chatters: reduce the depth of cut, or check the modes' units (kg, Hz)");
+                             "check the modes' units (kg, Hz) and the cutting coefficients (N/m²)");
+      if (amplitude > limit) {
+        diverged = true;
+        vibration = amplitude;
+        break;
+      }
+      lo_x = hi_x = rx;
+      lo_y = hi_y = ry;
     }
   }
+  res.diverged = diverged;
+  if (diverged) {
+    res.revolutions = current_rev;
+    res.steps = static_cast<long>(current_rev) * M;
+    res.analysed_from = std::min(first_rev, current_rev - 1);
+    if (rec) {
+      for (auto* v2 :
+           {&res.time_s, &res.force_x_n, &res.force_y_n, &res.x_m, &res.y_m, &res.vx_m_per_s, &res.vy_m_per_s, &res.torque_nm})
+        v2->resize(static_cast<std::size_t>(res.steps + 1));
+      for (auto& f : res.tooth_force_n) f.resize(static_cast<std::size_t>(res.steps + 1));
+    }
+    res.warnings.push_back(fmt::format(
+        "the vibration grew beyond 5 % of the tool radius (an amplitude of {:.3g} mm) in revolution {}: the cut chatters "
+        "violently, and the simulation stopped there (the chip model holds for small vibrations only); its summary covers "
+        "what was simulated",
+        1e3 * vibration, current_rev));
+  }
+  const int done_revs = res.revolutions;
+  const int analysed_done = std::max(0, done_revs - first_rev);
 
   // ---- Summary over the analysed revolutions ----------------------------------------------------
-  const double t_an = analysed_revs * 60.0 / cut.speed_rpm;
-  res.mean_force_x_n = imp_x / t_an;
-  res.mean_force_y_n = imp_y / t_an;
-  res.mean_torque_nm = imp_t / t_an;
+  const double t_an = analysed_done * 60.0 / cut.speed_rpm;  // 0 when stopped before the analysed revolutions
+  res.mean_force_x_n = analysed_done > 0 ? imp_x / t_an : kNaN;
+  res.mean_force_y_n = analysed_done > 0 ? imp_y / t_an : kNaN;
+  res.mean_torque_nm = analysed_done > 0 ? imp_t / t_an : kNaN;
   res.power_w = res.mean_torque_nm * spin;
   res.peak_force_n = std::sqrt(peak);
   res.out_of_cut_fraction = inside > 0 ? static_cast<double>(out_of_cut) / static_cast<double>(inside) : 0.0;
@@ -816,7 +854,8 @@ SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cu
   res.sle_m = res.walls.empty() ? kNaN : res.walls.front().mean_sle_m;
 
   // Growth and metric from the once-per-period samples of the analysed revolutions.
-  const std::size_t p0 = static_cast<std::size_t>(first_step / period);
+  // (Stopped early: the last half of the periods simulated.)
+  const std::size_t p0 = analysed_done > 0 ? static_cast<std::size_t>(first_step / period) : states.size() / 2;
   // Differences below 1e-7 of the state are rounding (and the scheme's O(h³) asymmetries between
   // teeth): the motion has become periodic, and their logarithm is noise (flat), not growth.
   double scale2 = 0.0;
@@ -869,16 +908,18 @@ SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cu
   res.chatter_metric = var > 0.0 && ndiff > 0 ? std::sqrt(diff2 / static_cast<double>(ndiff) / var) : 0.0;
   // Decaying, and either small by now or still linear (the teeth stay in the cut): a saturated
   // chatter (teeth jumping out of the cut) has a flat, noisy growth near 1 that must not pass.
-  res.stable = res.growth < 1.0 && (res.chatter_metric < kChatterMetricLimit || res.out_of_cut_fraction < 1e-3);
+  if (diverged && logs.size() < 3) res.growth = std::numeric_limits<double>::infinity();  // too short to fit: it blew up
+  res.stable = !diverged && res.growth < 1.0 && (res.chatter_metric < kChatterMetricLimit || res.out_of_cut_fraction < 1e-3);
 
   // Chatter frequency: the spectrum of what the average over the revolutions leaves (Hann window).
   res.chatter_hz = kNaN;
-  if (nm > 0 && ax.size() == static_cast<std::size_t>(analysed_revs) * M) {
-    const std::size_t n = ax.size();
+  const int an_revs = static_cast<int>(ax.size() / static_cast<std::size_t>(M));  // whole analysed revolutions
+  if (nm > 0 && an_revs >= 2) {
+    const std::size_t n = static_cast<std::size_t>(an_revs) * M;
     std::vector<double> avgx(static_cast<std::size_t>(M), 0.0), avgy(static_cast<std::size_t>(M), 0.0);
     for (std::size_t i = 0; i < n; ++i) {
-      avgx[i % M] += ax[i] / analysed_revs;
-      avgy[i % M] += ay[i] / analysed_revs;
+      avgx[i % M] += ax[i] / an_revs;
+      avgy[i % M] += ay[i] / an_revs;
     }
     // Every `every`-th sample (at least 8 per period of the highest mode: the chatter lies near a mode, and
     // little is left above four times it), x + iy as one complex signal (the power at ±f together is
@@ -896,7 +937,7 @@ SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cu
       zin[i] = Complex(w * (ax[at] - avgx[at % M]), w * (ay[at] - avgy[at % M]));
       rest += std::norm(zin[i]);
     }
-    if (rest > 0.0 && analysed_revs >= 2) {
+    if (rest > 0.0) {
       Eigen::FFT<double> fft;
       fft.fwd(zout, zin);
       std::vector<double> power(nfft / 2 + 1);

@@ -211,7 +211,7 @@ void to_json(nlohmann::json& j, const SimulationOptions& o);
 void to_json(nlohmann::json& j, const Wall& w);
 // The discretization {"step_s", "steps_per_tooth", "steps_per_revolution", "slices", "revolutions", "steps",
 // "analysed_from"}, the summary {"mean_force_x_n", "mean_force_y_n", "mean_torque_nm", "power_w", "peak_force_n",
-// "sle_m", "growth", "chatter_metric", "chatter_hz", "stable", "out_of_cut_fraction"}, "walls", "warnings"; the
+// "sle_m", "growth", "chatter_metric", "chatter_hz", "stable", "diverged", "out_of_cut_fraction"}, "walls", "warnings"; the
 // histories and samples go to CSV.
 void to_json(nlohmann::json& j, const SimulationResult& r);
 // {"dynamics", "fits", "cutter", "force", "cut", "simulation", "warnings"}

@@ -204,7 +204,12 @@ struct SimulationResult {
   //   chatter_hz: the strongest spectral line of the displacement left after the average over the
   //     revolutions is removed (the spindle, tooth-passing and runout harmonics go with it).
   double growth = 0.0, chatter_metric = 0.0, chatter_hz = 0.0;
-  bool stable = true;                // growth < 1 and chatter_metric below kChatterMetricLimit
+  bool stable = true;  // growth < 1 and chatter_metric below kChatterMetricLimit (or the teeth stay in the cut)
+  // The vibration's amplitude (half the range of x or y over a revolution) exceeded 5 % of the
+  // tool's radius, beyond the small-vibration chip model: the run
+  // stopped at the end of that revolution (`revolutions` says how many were simulated; the
+  // histories end there; the means are NaN when it stopped before the analysed revolutions).
+  bool diverged = false;
   double out_of_cut_fraction = 0.0;  // of the tooth-slice samples inside the engagement, those with h ≤ 0 (analysed revolutions)
   std::vector<std::string> warnings;
 };
@@ -215,7 +220,7 @@ inline constexpr double kChatterMetricLimit = 0.05;
 
 // Simulates the cut. Throws InvalidArgument (bad dynamics, cutter, law, cut or options: naming the
 // field; a step too large for the highest mode; a depth beyond the flute length; a run needing
-// more memory than SimulationOptions::memory_limit_bytes), NumericalError (the motion overflows).
+// more memory than SimulationOptions::memory_limit_bytes), NumericalError (the motion is not finite).
 // `progress`, if given, is called once per revolution with the fraction done.
 SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cutter, const ForceLaw& law, const MillingCut& cut,
                                   const SimulationOptions& options = {}, const std::function<void(double)>& progress = {});

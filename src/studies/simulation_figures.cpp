@@ -205,7 +205,8 @@ plot::Figure simulation_surface_figure(const SimulationStudyResult& r) {
     }
     p.curves.push_back(std::move(c));
   }
-  p.horizontal_lines.push_back({1e6 * wall.mean_sle_m, fmt::format("mean SLE {:.3g} µm", 1e6 * wall.mean_sle_m)});
+  if (std::isfinite(wall.mean_sle_m))
+    p.horizontal_lines.push_back({1e6 * wall.mean_sle_m, fmt::format("mean SLE {:.3g} µm", 1e6 * wall.mean_sle_m)});
   p.legend = plot::Legend::Outside;
   fig.panels.push_back(std::move(p));
   fig.width_px = 1200;
