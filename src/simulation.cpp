@@ -420,8 +420,9 @@ SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cu
                                         options.record ? ", histories recorded" : "", bytes_text(limit),
                                         options.memory_limit_bytes > 0.0 ? "SimulationOptions::memory_limit_bytes"
                                                                          : "the machine's physical memory"),
-                            "simulate fewer SimulationOptions::revolutions, fewer steps per tooth, or set "
-                            "SimulationOptions::record = false");
+                            options.record ? "simulate fewer SimulationOptions::revolutions or fewer steps per tooth, or keep no "
+                                             "histories (SimulationOptions::record = false)"
+                                           : "simulate fewer SimulationOptions::revolutions or fewer steps per tooth");
   }
 
   res.step_s = h;
