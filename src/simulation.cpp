@@ -909,7 +909,10 @@ SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cu
   res.chatter_metric = var > 0.0 && ndiff > 0 ? std::sqrt(diff2 / static_cast<double>(ndiff) / var) : 0.0;
   // Decaying, and either small by now or still linear (the teeth stay in the cut): a saturated
   // chatter (teeth jumping out of the cut) has a flat, noisy growth near 1 that must not pass.
-  if (diverged && logs.size() < 3) res.growth = std::numeric_limits<double>::infinity();  // too short to fit: it blew up
+  if (diverged) {
+    if (logs.size() < 3) res.growth = std::numeric_limits<double>::infinity();  // too short to fit: it blew up
+    res.chatter_metric = std::numeric_limits<double>::infinity();               // beyond any periodic motion
+  }
   res.stable = !diverged && res.growth < 1.0 && (res.chatter_metric < kChatterMetricLimit || res.out_of_cut_fraction < 1e-3);
 
   // Chatter frequency: the spectrum of what the average over the revolutions leaves (Hann window).

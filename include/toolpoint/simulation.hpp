@@ -200,7 +200,7 @@ struct SimulationResult {
   //     fit of its logarithm over the analysed periods: the dominant Floquet multiplier's modulus,
   //     per revolution, while the motion stays linear;
   //   chatter_metric: RMS‖r_{i+1} − r_i‖ over the analysed periods / RMS of r about its mean
-  //     (0 for a periodic cut, of order 1 for chatter);
+  //     (0 for a periodic cut, of order 1 for chatter; +inf when the run diverged);
   //   chatter_hz: the strongest spectral line of the displacement left after the average over the
   //     revolutions is removed (the spindle, tooth-passing and runout harmonics go with it).
   double growth = 0.0, chatter_metric = 0.0, chatter_hz = 0.0;

@@ -233,11 +233,12 @@ plot::Figure simulated_map_figure(const SimulatedMap& m) {
   for (const SimulatedMapRow& r : m.rows)
     for (std::size_t d = 0; d < h.depths_m.size(); ++d) {
       const std::size_t at = d * map.x.size() + r.speed_index;
-      // The chatter metric: ~0 for a periodic cut, of order 1 for chatter (an overflow counts as chatter).
-      map.z[at] = std::isfinite(r.growth[d]) ? std::max(r.chatter_metric[d], 1e-6) : 10.0;
+      // The chatter metric: ~0 for a periodic cut, of order 1 for chatter (a diverged run at the top).
+      map.z[at] = std::isfinite(r.growth[d]) && std::isfinite(r.chatter_metric[d]) ? std::max(r.chatter_metric[d], 1e-6) : 10.0;
       if (r.stable[d] && std::isfinite(r.sle_m[d])) {
         sle.z[at] = 1e6 * r.sle_m[d];
-        any_sle = true;
+        // A tool rigid in y leaves no SLE but rounding (1e-20 m): no panel for that.
+        any_sle = any_sle || std::abs(r.sle_m[d]) > 1e-12;
       }
     }
   map.colour = {"Chatter metric (once-per-period variation / vibration)", plot::Scale::Log, 1e-6, 10.0};
@@ -255,7 +256,15 @@ plot::Figure simulated_map_figure(const SimulatedMap& m) {
   if (any_sle) {
     plot::Panel q;
     q.y.label = "Axial depth [mm]";
-    sle.colour = {"SLE of the stable cuts [µm] (+: undercut)", plot::Scale::Linear, {}, {}};
+    // The colour scale spans the 2nd to 98th percentile: cells beside the boundary, whose transient
+    // has barely decayed, would otherwise leave the rest one colour.
+    std::vector<double> v;
+    for (double z : sle.z)
+      if (std::isfinite(z)) v.push_back(z);
+    std::sort(v.begin(), v.end());
+    const auto at = [&](double level) { return v[static_cast<std::size_t>(level * static_cast<double>(v.size() - 1))]; };
+    sle.colour = {"SLE of the stable cuts [µm] (+: undercut)", plot::Scale::Linear, at(0.02), at(0.98)};
+    if (!(*sle.colour.max > *sle.colour.min)) sle.colour.min = sle.colour.max = std::nullopt;
     q.map = std::move(sle);
     q.legend = plot::Legend::Hidden;
     fig.panels.push_back(std::move(q));
