@@ -118,7 +118,8 @@ void bind_simulation(py::module_& m) {
       .def_readonly("damping_ratio", &PlanarMode::damping_ratio)
       .def_readonly("shape_x", &PlanarMode::shape_x)
       .def_readonly("shape_y", &PlanarMode::shape_y)
-      .def("to_dict", [](const PlanarMode& p) { return dict_of(p); });
+      .def(
+          "to_dict", [](const PlanarMode& p) { return dict_of(p); }, "The mode as plain data (the CLI's --json keys, SI units).");
   m.def("planar_mode", &planar_mode, "mode"_a, "direction_rad"_a,
         "A 1-DOF mode (modal mass m) acting along the direction at direction_rad from +x towards +y: shape (cos, sin)/sqrt(m).");
 
@@ -209,7 +210,9 @@ void bind_simulation(py::module_& m) {
           },
           "the lowest unstable depth per speed (inf where none)")
       .def_readonly("warnings", &SimulatedMap::warnings)
-      .def("to_dict", [](const SimulatedMap& s) { return dict_of(s); });
+      .def(
+          "to_dict", [](const SimulatedMap& s) { return dict_of(s); },
+          "The map's summary as plain data (the CLI's --json keys, SI units); the cells are in `table`.");
 
   m.def(
       "simulated_map",

@@ -35,6 +35,19 @@ struct Origin {
   std::vector<std::size_t> jobs;  // the job indices it holds
 };
 
+// The origins of a set of parts (each with header.fingerprint, index, count): `jobs_of(part)` its
+// jobs, `index_of(job)` each job's index in the run.
+template <class Part, class Jobs, class Index>
+std::vector<Origin> origins_of(const std::vector<Part>& parts, Jobs jobs_of, Index index_of) {
+  std::vector<Origin> out;
+  for (const Part& p : parts) {
+    Origin o{p.header.fingerprint, p.index, p.count, {}};
+    for (const auto& job : jobs_of(p)) o.jobs.push_back(index_of(job));
+    out.push_back(std::move(o));
+  }
+  return out;
+}
+
 // Checks a set of parts before they are merged into `jobs` jobs. Throws InvalidArgument when there
 // are none, InputError naming the parts' sources when they belong to different runs (what: "plans",
 // "simulated maps"), disagree on the shard count, hold a shard index outside 0…N−1 or a shard twice,

@@ -792,15 +792,13 @@ PlanResult run_plan(const std::vector<PlanCandidate>& candidates, const PlanOpti
 PlanResult merge_plan_parts(const std::vector<PlanPart>& parts, const std::vector<std::string>& sources) {
   if (parts.empty()) throw InvalidArgument("no parts to merge", "give every part file of the plan");
   const PlanHeader& h = parts.front().header;
-  std::vector<parts::Origin> origins;
-  for (const PlanPart& p : parts) {
-    parts::Origin o{p.header.fingerprint, p.index, p.count, {}};
-    for (const PlanJob& job : p.jobs)
-      o.jobs.push_back(job.candidate < h.candidates.size() && job.overhang_index < h.candidates[job.candidate].overhangs_m.size()
-                           ? plan_job_index(h, job.candidate, job.overhang_index)
-                           : h.jobs);  // outside the plan: refused by check_origins
-    origins.push_back(std::move(o));
-  }
+  const std::vector<parts::Origin> origins = parts::origins_of(
+      parts, [](const PlanPart& p) -> const std::vector<PlanJob>& { return p.jobs; },
+      [&](const PlanJob& job) {
+        return job.candidate < h.candidates.size() && job.overhang_index < h.candidates[job.candidate].overhangs_m.size()
+                   ? plan_job_index(h, job.candidate, job.overhang_index)
+                   : h.jobs;  // outside the plan: refused by check_origins
+      });
   parts::check_origins(origins, sources, h.jobs, "plans", "run_plan_part");
   std::vector<PlanJob> jobs(h.jobs);
   for (std::size_t p = 0; p < parts.size(); ++p)

@@ -236,13 +236,10 @@ SimulatedMap run_simulated_map(const ToolDynamics& dynamics, const SimulatedMapO
 SimulatedMap merge_simulated_map_parts(const std::vector<SimulatedMapPart>& parts_in, const std::vector<std::string>& sources) {
   if (parts_in.empty()) throw InvalidArgument("no parts to merge", "give every part file of the map");
   const SimulatedMapHeader& h = parts_in.front().header;
-  std::vector<parts::Origin> origins;
-  for (const SimulatedMapPart& p : parts_in) {
-    parts::Origin o{p.header.fingerprint, p.index, p.count, {}};
-    for (const SimulatedMapRow& r : p.rows) o.jobs.push_back(r.speed_index);
-    origins.push_back(std::move(o));
-  }
-  parts::check_origins(origins, sources, h.speeds_rpm.size(), "simulated maps", "run_simulated_map_part");
+  parts::check_origins(parts::origins_of(
+                           parts_in, [](const SimulatedMapPart& p) -> const std::vector<SimulatedMapRow>& { return p.rows; },
+                           [](const SimulatedMapRow& r) { return r.speed_index; }),
+                       sources, h.speeds_rpm.size(), "simulated maps", "run_simulated_map_part");
   std::vector<SimulatedMapRow> rows(h.speeds_rpm.size());
   for (const SimulatedMapPart& p : parts_in)
     for (const SimulatedMapRow& r : p.rows) rows[r.speed_index] = r;
