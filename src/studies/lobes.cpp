@@ -241,13 +241,13 @@ std::vector<Mode> fit_milling_modes(const FrfSeries& frf, const std::string& wha
 }
 
 ModalModel time_domain_modes(const LobesInput& input, const ModalFitOptions& fit, double fit_target,
-                             std::vector<ModalFitSummary>& fits, std::vector<std::string>& warnings) {
+                             std::vector<ModalFitSummary>& fits, std::vector<std::string>& warnings, bool uses_cross) {
   if (!input.frfs && input.assembly && input.x_modes.empty()) {
     LobesInput with_frfs = input;
     const AssemblyModel model(*input.assembly);
     with_frfs.frfs = milling_frfs(model, input.assembly->grid.values(), input.rigid_y);
     warnings.insert(warnings.end(), model.warnings().begin(), model.warnings().end());
-    return time_domain_modes(with_frfs, fit, fit_target, fits, warnings);
+    return time_domain_modes(with_frfs, fit, fit_target, fits, warnings, uses_cross);
   }
   if (input.rigid_y && !input.y_modes.empty())
     throw InvalidArgument("LobesInput: rigid_y and y modes contradict each other", "drop one of them");
@@ -272,7 +272,7 @@ ModalModel time_domain_modes(const LobesInput& input, const ModalFitOptions& fit
       modes.y = modes.x;  // a symmetric tool
     }
   }
-  if (input.frfs && input.frfs->xy)
+  if (input.frfs && input.frfs->xy && !uses_cross)
     warnings.push_back("the time-domain method uses uncoupled x and y modes: the cross FRFs are ignored");
   return modes;
 }

@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "part_file.hpp"
+#include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
 
 namespace toolpoint {
@@ -18,6 +19,57 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 bool has_source(const LobesInput& in) { return in.frfs || in.assembly || !in.x_modes.empty() || !in.y_modes.empty(); }
+
+// The value of a series at the grid point nearest `f`.
+Complex nearest(const FrfSeries& s, double f) {
+  const auto it = std::lower_bound(s.frequency_hz.begin(), s.frequency_hz.end(), f);
+  std::size_t i = static_cast<std::size_t>(it - s.frequency_hz.begin());
+  if (i == s.size() || (i > 0 && f - s.frequency_hz[i - 1] < s.frequency_hz[i] - f)) --i;
+  return s.values[i];
+}
+
+// x and y modes that are one mode of the tool seen in two directions, as the cross FRFs show: an x
+// mode and a y mode whose frequencies lie within the wider half-power band, where the cross FRF
+// G = ½(G_xy + G_yx) at the resonance is at least half of √|G_xx G_yy| (a mode's block is of rank
+// one: |G_xy| = √(|G_xx||G_yy|)), become one planar mode ψ = (1/√m_x, ±1/√m_y), the sign that of
+// −Im G (at resonance G_xy ≈ ψ_xψ_y/(2iζω²)), frequency and damping averaged. The rest stay along
+// their axes.
+ToolDynamics coupled_by_cross_frfs(const ModalModel& m, const MillingFrfs& frfs, std::vector<std::string>& warnings) {
+  ToolDynamics d;
+  std::vector<bool> used(m.y.size(), false);
+  for (const Mode& x : m.x) {
+    std::size_t best = m.y.size();
+    for (std::size_t s = 0; s < m.y.size(); ++s) {
+      const Mode& y = m.y[s];
+      const double band = 2.0 * std::max(x.damping_ratio * x.frequency_hz, y.damping_ratio * y.frequency_hz);
+      if (!used[s] && std::abs(x.frequency_hz - y.frequency_hz) <= band &&
+          (best == m.y.size() || std::abs(y.frequency_hz - x.frequency_hz) < std::abs(m.y[best].frequency_hz - x.frequency_hz)))
+        best = s;
+    }
+    if (best < m.y.size()) {
+      const Mode& y = m.y[best];
+      const double f = 0.5 * (x.frequency_hz + y.frequency_hz);
+      const Complex gxy = 0.5 * (nearest(*frfs.xy, f) + nearest(*frfs.yx, f));
+      const double direct = std::sqrt(std::abs(nearest(frfs.xx, f)) * std::abs(nearest(frfs.yy ? *frfs.yy : frfs.xx, f)));
+      const double share = direct > 0.0 ? std::abs(gxy) / direct : 0.0;
+      if (share >= 0.5) {
+        used[best] = true;
+        const double sign = gxy.imag() > 0.0 ? -1.0 : 1.0;
+        d.modes.push_back(
+            {f, 0.5 * (x.damping_ratio + y.damping_ratio), 1.0 / std::sqrt(x.mass_kg), sign / std::sqrt(y.mass_kg)});
+        warnings.push_back(
+            fmt::format("the x mode at {:.1f} Hz and the y mode at {:.1f} Hz are one mode coupling x and y "
+                        "(|G_xy| is {:.0f} % of √|G_xx G_yy| there)",
+                        x.frequency_hz, y.frequency_hz, 100.0 * share));
+        continue;
+      }
+    }
+    d.modes.push_back(planar_mode(x, 0.0));
+  }
+  for (std::size_t s = 0; s < m.y.size(); ++s)
+    if (!used[s]) d.modes.push_back(planar_mode(m.y[s], kPi / 2));
+  return d;
+}
 
 }  // namespace
 
@@ -41,7 +93,13 @@ ToolDynamics simulation_dynamics(const SimulationInput& input, const ModalFitOpt
         "the simulation needs the tool point dynamics: modes, a tool point FRF or an assembly "
         "(SimulationInput), or a rigid tool (SimulationInput::rigid)",
         "give the x modes, or the FRF to fit them from");
-  if (has_source(input.source)) d = tool_dynamics(time_domain_modes(input.source, fit, fit_target, fits, warnings));
+  if (has_source(input.source)) {
+    // Fitted modes and cross FRFs: the FRF block says which modes couple x and y.
+    const bool cross = input.source.frfs && input.source.frfs->xy && input.source.frfs->yx && input.source.x_modes.empty() &&
+                       input.source.y_modes.empty() && !input.source.rigid_in_y();
+    const ModalModel m = time_domain_modes(input.source, fit, fit_target, fits, warnings, cross);
+    d = cross ? coupled_by_cross_frfs(m, *input.source.frfs, warnings) : tool_dynamics(m);
+  }
   d.modes.insert(d.modes.end(), input.planar_modes.begin(), input.planar_modes.end());
   d.check();
   return d;

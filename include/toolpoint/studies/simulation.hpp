@@ -29,8 +29,11 @@ struct SimulationInput {
   bool rigid = false;                    // no modes at all (nothing else may be given)
 };
 
-// The modes the simulation uses, the fits' summaries and the warnings. Throws InvalidArgument
-// (nothing given, rigid with modes), InputError (bad FRFs), NumericalError (a fit).
+// The modes the simulation uses, the fits' summaries and the warnings. With measured cross FRFs
+// (G_xy and G_yx) and the modes fitted: an x mode and a y mode at the same frequency (within the
+// half-power band) whose cross FRF at resonance is at least half of √|G_xx G_yy| are one mode
+// coupling x and y, ψ = (1/√m_x, ±1/√m_y), the sign from Im G_xy (said in a warning). Throws
+// InvalidArgument (nothing given, rigid with modes), InputError (bad FRFs), NumericalError (a fit).
 ToolDynamics simulation_dynamics(const SimulationInput& input, const ModalFitOptions& fit, double fit_target,
                                  std::vector<ModalFitSummary>& fits, std::vector<std::string>& warnings);
 
