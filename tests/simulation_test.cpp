@@ -414,3 +414,36 @@ TEST(Simulation, BadInputNamesTheField) {
             }).find("MillingCut::depth_m"),
             std::string::npos);
 }
+
+// The exponential force law, rigid tool: the mean forces are the engagement's average of
+// F_t = a[K_te + K_t h₀(c sinφ/h₀)^x], F_r likewise, taken here by composite Simpson on 2·10⁵ panels
+// (a quadrature of the law itself, not of the scheme); 1e-4 relative: the law's infinite slope
+// where the chip starts at 0 (up-milling's entry) costs the scheme's linear pieces accuracy there.
+TEST(Simulation, ExponentialLawMeanForcesAreTheLawsAverage) {
+  for (MillingDirection dir : {MillingDirection::Up, MillingDirection::Down}) {
+    const int teeth = 3;
+    const double a = 1e-3, c = 8e-5, x = 0.7, h0 = 1e-4;
+    ForceLaw law{7e8, 0.35, 1.5e4, 8e3, x, h0};
+    const Engagement e = engagement_from_immersion(0.4, dir);
+    SimulationOptions o;
+    o.revolutions = 2;
+    o.steps_per_tooth = 2000;
+    const SimulationResult r = simulate_milling({}, uniform_cutter(teeth, kDiameter), law, {7000.0, a, c, e}, o);
+    const int panels = 200000;
+    const double d = (e.exit_rad - e.entry_rad) / panels;
+    double fx = 0.0, fy = 0.0;
+    for (int i = 0; i <= 2 * panels; ++i) {
+      const double phi = e.entry_rad + 0.5 * i * d, w = (i == 0 || i == 2 * panels) ? 1.0 : (i % 2 ? 4.0 : 2.0);
+      const double hc = h0 * std::pow(std::max(0.0, c * std::sin(phi)) / h0, x);
+      const double ft = a * (law.tangential_edge + law.tangential_coefficient * hc);
+      const double fr = a * (law.radial_edge + law.radial_ratio * law.tangential_coefficient * hc);
+      fx += w * (-ft * std::cos(phi) - fr * std::sin(phi));
+      fy += w * (ft * std::sin(phi) - fr * std::cos(phi));
+    }
+    fx *= d / 6.0 * teeth / (2.0 * kPi);
+    fy *= d / 6.0 * teeth / (2.0 * kPi);
+    const double scale = std::hypot(fx, fy);
+    EXPECT_NEAR(r.mean_force_x_n, fx, 1e-4 * scale) << (dir == MillingDirection::Up ? "up" : "down");
+    EXPECT_NEAR(r.mean_force_y_n, fy, 1e-4 * scale) << (dir == MillingDirection::Up ? "up" : "down");
+  }
+}
