@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
+#include <limits>
 
 namespace toolpoint {
 
@@ -522,6 +523,104 @@ void to_json(nlohmann::json& j, const PlanResult& r) {
 }
 
 // ---- Files ----------------------------------------------------------------------------------------
+
+void to_json(nlohmann::json& j, const PlanarMode& m) {
+  j = {{"frequency_hz", m.frequency_hz}, {"damping_ratio", m.damping_ratio}, {"shape_x", m.shape_x}, {"shape_y", m.shape_y}};
+}
+
+void to_json(nlohmann::json& j, const ToolDynamics& d) { j = {{"modes", d.modes}}; }
+
+void to_json(nlohmann::json& j, const Cutter& c) {
+  j = {{"teeth", c.teeth()},       {"diameter_m", c.diameter_m}, {"pitch_rad", c.pitch_rad},
+       {"helix_rad", c.helix_rad}, {"runout_m", c.runout_m},     {"flute_length_m", c.flute_length_m}};
+}
+
+void to_json(nlohmann::json& j, const ForceLaw& f) {
+  j = {{"tangential_coefficient", f.tangential_coefficient},
+       {"radial_ratio", f.radial_ratio},
+       {"tangential_edge", f.tangential_edge},
+       {"radial_edge", f.radial_edge},
+       {"exponent", f.exponent},
+       {"reference_chip_m", f.reference_chip_m}};
+}
+
+void to_json(nlohmann::json& j, const MillingCut& c) {
+  j = {{"speed_rpm", c.speed_rpm},
+       {"depth_m", c.depth_m},
+       {"feed_per_tooth_m", c.feed_per_tooth_m},
+       {"engagement", c.engagement}};
+}
+
+void to_json(nlohmann::json& j, const SimulationOptions& o) {
+  j = {{"revolutions", o.revolutions}, {"steps_per_tooth", o.steps_per_tooth},
+       {"slices", o.slices},           {"analysed_fraction", o.analysed_fraction},
+       {"record", o.record},           {"memory_revolutions", o.memory_revolutions}};
+}
+
+void to_json(nlohmann::json& j, const Wall& w) {
+  nlohmann::json sle = nlohmann::json::array();
+  for (double v : w.sle_m) sle.push_back(number(v));
+  j = {{"angle_rad", w.angle_rad}, {"slice_height_m", w.slice_height_m}, {"sle_m", sle}, {"mean_sle_m", number(w.mean_sle_m)}};
+}
+
+void to_json(nlohmann::json& j, const SimulationResult& r) {
+  j = {{"step_s", r.step_s},
+       {"steps_per_tooth", r.steps_per_tooth},
+       {"steps_per_revolution", r.steps_per_revolution},
+       {"slices", r.slices},
+       {"revolutions", r.revolutions},
+       {"steps", r.steps},
+       {"analysed_from", r.analysed_from},
+       {"mean_force_x_n", number(r.mean_force_x_n)},
+       {"mean_force_y_n", number(r.mean_force_y_n)},
+       {"mean_torque_nm", number(r.mean_torque_nm)},
+       {"power_w", number(r.power_w)},
+       {"peak_force_n", number(r.peak_force_n)},
+       {"sle_m", number(r.sle_m)},
+       {"growth", number(r.growth)},
+       {"chatter_metric", number(r.chatter_metric)},
+       {"chatter_hz", number(r.chatter_hz)},
+       {"stable", r.stable},
+       {"diverged", r.diverged},
+       {"out_of_cut_fraction", number(r.out_of_cut_fraction)},
+       {"walls", r.walls},
+       {"warnings", r.warnings}};
+}
+
+void to_json(nlohmann::json& j, const SimulationStudyResult& r) {
+  j = {{"dynamics", r.dynamics},     {"fits", r.fits},        {"cutter", r.cutter}, {"force", r.force}, {"cut", r.cut},
+       {"simulation", r.simulation}, {"warnings", r.warnings}};
+}
+
+void to_json(nlohmann::json& j, const DepthRange& d) { j = {{"min_m", d.min_m}, {"max_m", d.max_m}, {"points", d.points}}; }
+
+void to_json(nlohmann::json& j, const SimulatedMap& m) {
+  const SimulatedMapOptions& o = m.header.options;
+  std::size_t cells = 0, stable = 0;
+  for (const SimulatedMapRow& r : m.rows)
+    for (int s : r.stable) {
+      ++cells;
+      stable += s != 0;
+    }
+  EnvelopePoint lowest;
+  lowest.depth_m = std::numeric_limits<double>::infinity();
+  lowest.chatter_hz = std::numeric_limits<double>::quiet_NaN();
+  for (const EnvelopePoint& e : m.boundary)
+    if (e.depth_m < lowest.depth_m) lowest = e;
+  j = {{"dynamics", m.header.dynamics},
+       {"options",
+        {{"cutter", o.cutter},
+         {"force", o.force},
+         {"cut", {{"feed_per_tooth_m", o.cut.feed_per_tooth_m}, {"engagement", o.cut.engagement}}},
+         {"simulation", o.simulation},
+         {"speeds", o.speeds},
+         {"depths", o.depths}}},
+       {"fingerprint", fmt::format("{:016x}", m.header.fingerprint)},
+       {"cells", cells},
+       {"stable_cells", stable},
+       {"lowest_unstable", lowest},
+       {"warnings", m.warnings}};
+}
 
 void to_json(nlohmann::json& j, const FreeMode& m) {
   j = {{"frequency_hz", m.frequency_hz}, {"w1", m.w1}, {"psi1", m.psi1}, {"w2", m.w2}, {"psi2", m.psi2},

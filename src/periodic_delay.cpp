@@ -197,6 +197,7 @@ PeriodMap::PeriodMap(const PeriodicDelaySystem& sys, int steps, int degree) {
   wp_.resize(static_cast<std::size_t>(m_));
   wq_.resize(static_cast<std::size_t>(m_));
   cwp_.resize(static_cast<std::size_t>(m_));
+  if (sys.forcing) wf_.assign(static_cast<std::size_t>(m_), Eigen::VectorXd::Zero(n_));
   const int nd = n_ * d_;
   // Scratch reused across steps: a map is built per speed, and allocations were half its cost.
   std::vector<double> ends, wp, wq;
@@ -204,6 +205,7 @@ PeriodMap::PeriodMap(const PeriodicDelaySystem& sys, int steps, int degree) {
   std::vector<const Eigen::MatrixXd*> eb;
   std::vector<Eigen::MatrixXd> local;
   Eigen::MatrixXd coef(d_, d_), g(n_, d_);
+  Eigen::VectorXd force(d_);
   for (int k = 0; k < m_; ++k) {
     const double t0 = k * h;
     // Pieces of the step between breakpoints (a breakpoint within 1e-12 h of an end is the end).
@@ -228,6 +230,13 @@ PeriodMap::PeriodMap(const PeriodicDelaySystem& sys, int steps, int degree) {
     for (std::size_t q = 0; q < step_points->size(); ++q) {
       const Point& pt = (*step_points)[q];
       const double t = t0 + pt.s;
+      if (sys.forcing) {
+        force.setZero();
+        sys.forcing(t, force);
+        if (force.size() != d_ || !force.allFinite())
+          throw InvalidArgument(fmt::format("PeriodicDelaySystem::forcing({} s) must be a finite {}-vector", t, d_));
+        wf_[static_cast<std::size_t>(k)].noalias() += pt.w * (*step_eb[q]) * force;
+      }
       for (int pass = 0; pass < (regenerative_ ? 1 : 2); ++pass) {
         const auto& f = pass == 0 ? sys.current : sys.delayed;
         if (!f) continue;
@@ -252,8 +261,13 @@ PeriodMap::PeriodMap(const PeriodicDelaySystem& sys, int steps, int degree) {
         }
       }
     }
-    if (!any) continue;
     const auto kk = static_cast<std::size_t>(k);
+    if (!any && sys.forcing && !wf_[kk].isZero(0.0)) {  // forced but no feedback: zero weights
+      wp.assign(static_cast<std::size_t>((p_ + 1) * nd), 0.0);
+      wq.assign(regenerative_ ? 0 : wp.size(), 0.0);
+      any = true;
+    }
+    if (!any) continue;
     active_[kk] = 1;
     cwp_[kk] = c_ * Eigen::Map<const Eigen::MatrixXd>(wp.data() + p_ * nd, n_, d_);
     wp_[kk] = wp;
@@ -311,7 +325,7 @@ PeriodMap::PeriodMap(const PeriodicDelaySystem& sys, int steps, int degree) {
 
 // One state at a time: the path Arnoldi takes (plain loops, no column dimension).
 template <typename S>
-void PeriodMap::run_one(double sigma, const S* u, S* v, S* out) const {
+void PeriodMap::run_one(double sigma, const S* u, S* v, S* out, bool forced) const {
   const int n = n_, d = d_, m = m_, p = p_, nd = n * d;
   // Scratch kept per thread between calls (this runs ~20 times per spectral radius).
   static thread_local std::vector<S> y, z, r, zero, delta, rhs;
@@ -348,7 +362,7 @@ void PeriodMap::run_one(double sigma, const S* u, S* v, S* out) const {
   outputs_of(y, r.data());
   for (int k = 0; k < m; ++k) {
     const auto kk = static_cast<std::size_t>(k);
-    if (!out && jump_[kk] > 0) {  // free motion over jump_[k] steps whose outputs nobody reads
+    if (!out && !forced && jump_[kk] > 0) {  // free motion over jump_[k] steps whose outputs nobody reads
       propagate(jump_phi_[kk].data());
       y.swap(z);
       k += jump_[kk] - 1;
@@ -387,6 +401,8 @@ void PeriodMap::run_one(double sigma, const S* u, S* v, S* out) const {
         add(wq + o * nd, del, sigma);
       }
     }
+    if (forced)
+      for (int i = 0; i < n; ++i) z[static_cast<std::size_t>(i)] += sigma * wf_[kk](i);
     // y_{k+1} = z + σ W^P_p y_{k+1}: (I − σ C W^P_p) y_{k+1} = C z, a d × d solve.
     outputs_of(z, rhs.data());
     const Eigen::MatrixXd& cw = cwp_[kk];
@@ -575,6 +591,25 @@ Eigen::MatrixXd PeriodMap::matrix(double sigma) const {
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> a(n, n);
   run(sigma, n, identity.data(), a.data(), static_cast<double*>(nullptr));
   return a;
+}
+
+PeriodMap::PeriodicSolution PeriodMap::periodic_solution(double sigma) const {
+  if (wf_.empty()) throw InvalidArgument("PeriodMap::periodic_solution: the system has no PeriodicDelaySystem::forcing");
+  if (!std::isfinite(sigma)) throw InvalidArgument(fmt::format("PeriodMap: gain {} is not finite", sigma));
+  const int n = size();
+  const Eigen::VectorXd rest = Eigen::VectorXd::Zero(n);
+  Eigen::VectorXd q(n);
+  run_one(sigma, rest.data(), q.data(), static_cast<double*>(nullptr), true);
+  const Eigen::MatrixXd lhs = Eigen::MatrixXd::Identity(n, n) - matrix(sigma);
+  const Eigen::FullPivLU<Eigen::MatrixXd> lu(lhs);
+  if (!lu.isInvertible() || lu.rcond() < 1e-14)
+    throw NumericalError(fmt::format("the period map at gain {} has a multiplier at 1: no unique periodic solution", sigma));
+  PeriodicSolution out;
+  out.state = lu.solve(q);
+  std::vector<double> y(static_cast<std::size_t>((m_ + 1) * d_));
+  run_one(sigma, out.state.data(), static_cast<double*>(nullptr), y.data(), true);
+  out.outputs = Eigen::Map<const Eigen::MatrixXd>(y.data(), d_, m_ + 1);
+  return out;
 }
 
 DominantMultiplier PeriodMap::dominant(double sigma, bool vector) const {

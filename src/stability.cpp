@@ -440,7 +440,10 @@ const char* to_string(BoundaryKind kind) {
   return "none";
 }
 
-PeriodicDelaySystem milling_delay_system(const ModalModel& model, const CuttingConditions& cutting, double speed_rpm) {
+PeriodicDelaySystem milling_delay_system(const ModalModel& model, const CuttingConditions& cutting, double speed_rpm,
+                                         double feed_per_tooth_m) {
+  if (!std::isfinite(feed_per_tooth_m) || feed_per_tooth_m < 0.0)
+    throw InvalidArgument(fmt::format("feed per tooth {} m must be ≥ 0", feed_per_tooth_m));
   model.check();
   cutting.check();
   if (!std::isfinite(speed_rpm) || !(speed_rpm > 0.0))
@@ -479,6 +482,18 @@ PeriodicDelaySystem milling_delay_system(const ModalModel& model, const CuttingC
     }
     out = 0.5 * kt * sum.topLeftCorner(d, d);
   };
+  // The static chip c sin φ_j of each tooth in the cut: per unit depth, F_t = K_t c sin φ_j along
+  // (−cos φ, sin φ) and F_r = K_r F_t along (−sin φ, −cos φ) (the A(φ) of the header with Δ = (c, 0)).
+  if (feed_per_tooth_m > 0.0)
+    sys.forcing = [=](double t, Eigen::VectorXd& out) {
+      for (int j = 0; j < teeth; ++j) {
+        const double phi = std::fmod(spin * t + j * pitch, 2.0 * kPi);
+        if (phi < st || phi > ex) continue;
+        const double s = std::sin(phi), c = std::cos(phi), ft = kt * feed_per_tooth_m * s;
+        out(0) += ft * (-c - kr * s);
+        if (d == 2) out(1) += ft * (s - kr * c);
+      }
+    };
   // Within one tooth period each of the evenly spaced teeth enters and leaves once in turn: the
   // cut changes at Ωt ≡ φ_st and φ_ex (mod the pitch).
   for (double angle : {st, ex}) {

@@ -945,8 +945,8 @@ TEST_F(Cli, HelpDocumentsExitCodesExamplesAndTheFigureRule) {
   const Run top = ok("--help");
   for (const char* s : {"0 success", "1 internal", "2 usage", "3 bad input", "4 numerical", "5 file I/O"})
     EXPECT_NE(top.out.find(s), std::string::npos) << s;
-  for (const char* c :
-       {"beam", "predict", "identify", "demo", "couple", "filter", "noise", "rotational", "convert", "lobes", "modes"}) {
+  for (const char* c : {"beam", "predict", "identify", "demo", "couple", "filter", "noise", "rotational", "convert", "lobes",
+                        "modes", "simulate"}) {
     const Run h = ok(std::string(c) + " --help");
     EXPECT_NE(h.out.find("Example"), std::string::npos) << c;
     EXPECT_NE(h.out.find(std::string("toolpoint ") + c + " "), std::string::npos) << c;
@@ -1143,3 +1143,82 @@ TEST_F(PlanCli, ErrorsNameTheOptionOrFileAndLeaveNothingBehind) {
 }
 
 }  // namespace
+
+// ---- simulate -----------------------------------------------------------------------------------
+
+class SimulateCli : public Cli {
+ protected:
+  // The Insperger–Stépán mode (NOTES §7), rigid in y, a/D 0.05 down-milling.
+  const std::string bench_ =
+      " --mode-x 0.03993,0.011,922 --rigid-y --teeth 2 --diameter 20 --kt 6e8 --kn 2e8 --immersion 0.05 "
+      "--milling down --feed 0.1";
+};
+
+// One cut: the report, its files (SI, units in the column names) and figures, --json the same
+// numbers as simulation.json.
+TEST_F(SimulateCli, OneCutWritesItsFilesAndFigures) {
+  const Run r = ok("simulate" + bench_ + " --rpm 10000 --depth 2 --revolutions 20 --output sim --plot sim.png");
+  EXPECT_NE(r.out.find("stable: growth"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("wall at 180°"), std::string::npos) << r.out;
+  const std::string history = read_text_file(path("sim/history.csv"));
+  EXPECT_NE(history.find(
+                "\ntime_s,force_x_n,force_y_n,x_m,y_m,vx_m_per_s,vy_m_per_s,torque_nm,tooth_0_force_n,tooth_1_force_n\n"),
+            std::string::npos);
+  for (const char* f : {"sim/samples.csv", "sim/wall.csv", "sim/simulation.json"}) EXPECT_TRUE(exists(f)) << f;
+  for (const char* f : {"sim.png", "sim_poincare.png", "sim_spectrum.png", "sim_surface.png"}) EXPECT_TRUE(exists(f)) << f;
+  const nlohmann::json file = nlohmann::json::parse(read_text_file(path("sim/simulation.json")));
+  const nlohmann::json j = nlohmann::json::parse(ok("simulate" + bench_ + " --rpm 10000 --depth 2 --revolutions 20 --json").out);
+  EXPECT_EQ(j["simulation"], file["simulation"]);
+  EXPECT_TRUE(j["simulation"]["stable"].get<bool>());
+  EXPECT_EQ(j["simulation"]["steps_per_tooth"], 111);  // 40 per period of 922 Hz over 6 ms: ⌈110.6⌉
+  // Above the limit (4.09 mm at 10 000 rpm): chatter, and its frequency said.
+  const Run c = ok("simulate" + bench_ + " --rpm 10000 --depth 4.5 --revolutions 30");
+  EXPECT_NE(c.out.find("CHATTER"), std::string::npos) << c.out;
+  EXPECT_NE(c.out.find("chatter at"), std::string::npos) << c.out;
+}
+
+// The map on one thread, on two, and in three shards merged in another order: the same map.csv,
+// byte for byte, and the same report.
+TEST_F(SimulateCli, MapShardsAndThreadsGiveTheSameMap) {
+  const std::string map = "simulate map" + bench_ + " --rpm 8000:20000 --speeds 7 --depth 0.5:6 --depths 8 --revolutions 20";
+  const Run one = ok(map + " --threads 1 --output one");
+  const Run two = ok(map + " --threads 2 --output two --plot map.png");
+  EXPECT_EQ(read_text_file(path("one/map.csv")), read_text_file(path("two/map.csv")));
+  EXPECT_TRUE(exists("map.png"));
+  for (int i = 0; i < 3; ++i) ok(map + " --shard " + std::to_string(i) + "/3 --part parts/p" + std::to_string(i) + ".json");
+  const Run merged = ok("simulate merge parts/p2.json parts/p0.json parts/p1.json --output merged");
+  EXPECT_EQ(read_text_file(path("merged/map.csv")), read_text_file(path("one/map.csv")));
+  EXPECT_EQ(merged.out, one.out);
+  EXPECT_NE(one.out.find("lowest_unstable_depth_mm"), std::string::npos) << one.out;
+  Run r = run("simulate merge parts/p0.json parts/p1.json --output m2");
+  expect_error(r, 3, {"shard(s) 2 of 3 missing", "run shard 2 again: toolpoint simulate map "});
+  EXPECT_FALSE(exists("m2"));
+  // The command the merge prints redoes the missing shard: its options are kept in the parts, and
+  // they give the same map (the same fingerprint), so the merge then succeeds with the same map.
+  const std::string redo = "run shard 2 again: toolpoint ", then = "; then merge again";
+  const std::size_t from = r.err.find(redo), to = r.err.find(then);
+  ASSERT_TRUE(from != std::string::npos && to != std::string::npos && to > from) << r.err;
+  fs::remove(path("parts/p2.json"));
+  ok(r.err.substr(from + redo.size(), to - from - redo.size()));
+  ok("simulate merge parts/p0.json parts/p1.json parts/p2.json --output m3");
+  EXPECT_EQ(read_text_file(path("m3/map.csv")), read_text_file(path("one/map.csv")));
+  expect_error(run(map + " --shard 0/2"), 2, {"--shard needs --part"});
+}
+
+// Bad input: a clear error naming the option, nothing written.
+TEST_F(SimulateCli, BadInputNamesTheOption) {
+  const std::string cut = bench_ + " --rpm 2000 --depth 1";
+  expect_error(run("simulate" + cut + " --steps 4 --output o"), 2, {"--steps", "quarter period", "922"});
+  expect_error(run("simulate" + cut + " --flute-length 0.5 --output o"), 2, {"--depth", "--flute-length"});
+  expect_error(
+      run("simulate --mode-x 0.03993,0.011,922 --rigid-y --pitch 90,90,90 --diameter 20 --kt 6e8 --kn 2e8 --immersion 0.5 "
+          "--milling down --feed 0.1 --rpm 8000 --depth 1 --output o"),
+      2, {"--pitch", "360"});
+  expect_error(run("simulate" + cut + " --runout 0,12 --output o"), 2, {"--runout[1]", "radius"});
+  expect_error(run("simulate" + cut + " --revolutions 1000000 --steps 100000 --output o"), 2, {"memory", "--revolutions"});
+  expect_error(run("simulate --mode-x 0.03993,0.011,922 --rigid-y --teeth 2 --kt 6e8 --kn 2e8 --immersion 0.5 --milling down "
+                   "--feed 0.1 --rpm 8000 --depth 1"),
+               2, {"--diameter"});
+  expect_error(run("simulate" + bench_ + " --rpm 8000 --depth 0.001"), 2, {"--depth", "mm"});
+  EXPECT_FALSE(exists("o"));
+}

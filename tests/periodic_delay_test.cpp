@@ -180,3 +180,35 @@ TEST(PeriodicDelay, BadSystemsAreRejected) {
   s.delayed = [](double, Eigen::MatrixXd& out) { out = Eigen::MatrixXd::Constant(2, 2, 1.0); };  // wrong size
   EXPECT_THROW(PeriodMap(s, 10, 1), InvalidArgument);
 }
+
+// The forcing's periodic solution against closed forms. A damped oscillator ẍ + 2ζωẋ + ω²x =
+// σ cos(2πt/T) with no feedback: x* is the steady harmonic response Re[σ e^{iΩt}/(ω² − Ω² +
+// 2iζωΩ)] (the forcing is integrated by 5-point Gauss–Legendre, exact here to 1e-10). With the
+// Hayes feedback ẋ = −x + σ(−x(t − 1) + w) and constant w, x* is the equilibrium σw/(1 + σ).
+TEST(PeriodicDelay, PeriodicSolutionOfTheForcingIsTheSteadyResponse) {
+  PeriodicDelaySystem s;
+  const double w = 2.0 * kPi * 3.0, z = 0.05, big_t = 0.7;
+  Eigen::MatrixXd a(2, 2);
+  a << 0.0, 1.0, -w * w, -2.0 * z * w;
+  s.a0_blocks = {a};
+  s.input = Eigen::MatrixXd(2, 1);
+  s.input << 0.0, 1.0;
+  s.output = Eigen::MatrixXd(1, 2);
+  s.output << 1.0, 0.0;
+  s.period = big_t;
+  s.forcing = [&](double t, Eigen::VectorXd& out) { out(0) = std::cos(2.0 * kPi * t / big_t); };
+  const int m = 50;
+  const PeriodMap map(s, m, 2);
+  const PeriodMap::PeriodicSolution ps = map.periodic_solution(2.5);
+  const double om = 2.0 * kPi / big_t;
+  const std::complex<double> g = 1.0 / std::complex<double>(w * w - om * om, 2.0 * z * w * om);
+  double peak = std::abs(2.5 * g);
+  for (int k = 0; k <= m; ++k)
+    EXPECT_NEAR(ps.outputs(0, k), (2.5 * g * std::exp(std::complex<double>(0.0, om * k * big_t / m))).real(), 1e-10 * peak) << k;
+
+  PeriodicDelaySystem h = hayes(-1.0, -1.0);
+  h.forcing = [](double, Eigen::VectorXd& out) { out(0) = 3.0; };
+  const PeriodMap::PeriodicSolution eq = PeriodMap(h, 20, 2).periodic_solution(0.5);
+  for (int k = 0; k <= 20; ++k) EXPECT_NEAR(eq.outputs(0, k), 0.5 * 3.0 / 1.5, 1e-12);
+  EXPECT_THROW(PeriodMap(hayes(-1.0, -1.0), 20, 2).periodic_solution(1.0), InvalidArgument);  // no forcing
+}

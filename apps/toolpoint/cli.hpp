@@ -20,7 +20,9 @@
 #include "parse.hpp"
 #include "toolpoint/assembly_file.hpp"
 #include <cstddef>
+#include <functional>
 #include <initializer_list>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -35,6 +37,9 @@
 #include "toolpoint/joint_fit.hpp"
 #include "toolpoint/plot.hpp"
 #include "toolpoint/receptance.hpp"
+#include "toolpoint/stability.hpp"
+#include "toolpoint/studies/lobes.hpp"
+#include "toolpoint/studies/shards.hpp"
 
 namespace toolpoint::cli {
 
@@ -271,6 +276,77 @@ std::pair<FrfFileData, FrfFileData> process_frf_file(const Globals& g, const std
 void draw_frf_overlay(const Globals& g, const std::vector<plot::FrfTrace>& traces, const plot::FrfFigureOptions& options,
                       const std::string& plot_path, const std::string& written);
 
+// ---- Milling: the cut and the tool point dynamics (lobes, simulate) ---------------------------
+
+// The cut as typed: --teeth, --kt, --kr | --kn, --immersion with --milling | --entry/--exit.
+// NaN: not given (so a negative value reaches the library's check and its message).
+struct CutArgs {
+  int teeth = 0;
+  double kt = 0.0, kr = std::numeric_limits<double>::quiet_NaN(), kn = std::numeric_limits<double>::quiet_NaN();
+  double immersion = std::numeric_limits<double>::quiet_NaN(), entry_deg = std::numeric_limits<double>::quiet_NaN(),
+         exit_deg = std::numeric_limits<double>::quiet_NaN();
+  std::string milling;
+};
+// Adds the options; `teeth_help` says how the teeth are given (lobes: evenly spaced, straight);
+// whether --teeth and --kt are required (else the command checks them itself).
+void add_cut_options(CLI::App* command, CutArgs& target, const std::string& teeth_help, bool teeth_required = true,
+                     bool kt_required = true);
+// The library's cutting conditions (InvalidArgument naming the flag: no radial coefficient, no
+// engagement, --immersion without --milling); angles within π warned about as radians.
+CuttingConditions cutting_conditions(const CutArgs& typed);
+// --immersion/--milling or --entry/--exit alone (what cutting_conditions checks for the engagement).
+Engagement cut_engagement(const CutArgs& typed);
+
+// Where the tool point dynamics come from, as typed: FRF files or an assembly, modes, the fit.
+struct DynamicsArgs {
+  std::string frf, frf_y, frf_xy, frf_yx, assembly;
+  bool rigid_y = false;
+  std::vector<std::string> mode_x, mode_y;
+  int max_modes = 8;
+  double fit_target_pct = 2.0;
+  std::string band;
+  std::vector<std::string> joints;
+};
+// Adds --assembly, --frf (and its reading options), --frf-y, --frf-xy, --frf-yx, --rigid-y, --mode-x,
+// --mode-y, --max-modes, --fit-target, --band; `prefix` starts the help of the options that only
+// some methods use ("fd: ").
+void add_dynamics_options(CLI::App* command, DynamicsArgs& target, Globals& g, const std::string& prefix);
+// The inputs and outputs they name, for check_paths (joints included).
+std::vector<RunPath> dynamics_paths(const DynamicsArgs& typed);
+// The library's input: input.frfs or input.assembly from the files (neither when no FRF is given),
+// the modes parsed (a mode given twice warned about), rigid_y. Throws InvalidArgument naming the flags.
+void fill_dynamics_input(const DynamicsArgs& typed, const Globals& g, const std::vector<JointFile>& joints, LobesInput& input);
+// The modal fit's options from --max-modes, --band (--fit-target separately, as a fraction).
+ModalFitOptions dynamics_fit_options(const DynamicsArgs& typed);
+
+// "MASS,ZETA,FN" → Mode, naming `option` in errors; plausible mass and frequency checked.
+Mode parse_mode(const std::string& text, const std::string& option);
+
+// ---- Sharded studies (plan, simulate map; shard_cli.cpp) -------------------------------------
+
+// --shard I/N and --part FILE of a sharded command: the shard (0 of 1 without --shard). `what`
+// names the result ("plan"), `merge` its merge command ("toolpoint plan merge"). Throws
+// InvalidArgument for --shard without --part, --part without --shard, and --shard with an output
+// of the whole result (`whole_outputs`: --output, --plot or --json given).
+ShardId shard_options(const std::string& shard, const std::string& part, bool whole_outputs, const std::string& what,
+                      const std::string& merge);
+
+// How a sharded command computes a shard again, for the commands a merge prints.
+struct ShardCommand {
+  std::string command;  // what comes before " --shard I/N --part FILE", e.g. "toolpoint plan study.toml"
+  // The Slurm array's re-run of the shards `list` ("2,5-7") of a split into `count`, their parts in `dir`.
+  std::function<std::string(const std::string& list, const std::string& dir, int count)> array;
+};
+
+// The commands that mend a set of parts (ShardSetError::check()): the parts to leave out, each
+// shard to run again (in a loop when there are many and the parts are named DIR/part-I.json, as
+// the scripts in scripts/slurm/ name them; then the Slurm array's re-run too), "then merge again".
+std::string mending_commands(const ShardSetCheck& check, const ShardCommand& rerun);
+
+// The options given to `commands` (each one's results, as --name=value, shell-quoted where needed),
+// those named in `leave_out` left out: the words that run the same study again.
+std::string given_options(const std::vector<const CLI::App*>& commands, std::initializer_list<const char*> leave_out);
+
 // ---- Subcommands ----------------------------------------------------------------------------
 // Each adds itself to `app` with its options, help (units, defaults, one example) and callback.
 void add_beam_command(CLI::App& app, Globals& g);
@@ -287,5 +363,6 @@ void add_lobes_command(CLI::App& app, Globals& g);
 void add_modes_command(CLI::App& app, Globals& g);
 void add_resample_command(CLI::App& app, Globals& g);
 void add_plan_command(CLI::App& app, Globals& g);
+void add_simulate_command(CLI::App& app, Globals& g);
 
 }  // namespace toolpoint::cli

@@ -28,116 +28,18 @@ namespace toolpoint::cli {
 namespace {
 
 struct LobesOptions {
-  // Where the tool point FRFs come from (see tool_point_frfs).
-  std::string frf, frf_y, frf_xy, frf_yx, assembly;
-  bool rigid_y = false;
-  // Cutting.
-  int teeth = 0;
-  // NaN: not given (so a negative value reaches the library's check and its message).
-  double kt = 0.0, kr = std::nan(""), kn = std::nan("");
-  double immersion = std::nan(""), entry_deg = std::nan(""), exit_deg = std::nan("");
-  std::string milling;
+  DynamicsArgs dyn;  // where the tool point FRFs (or modes) come from
+  CutArgs cut;
   // Speeds and method.
-  std::string rpm, method = "zoa", band;
-  int speeds = 0, lobes = -1, intervals = 0, depth_steps = 0, max_modes = 8, threads = 0;
-  double max_depth_mm = 0.0, tolerance_pct = 1.0, fit_target_pct = 2.0, prominence_pct = 2.0;
-  std::vector<std::string> mode_x, mode_y;
+  std::string rpm, method = "zoa";
+  int speeds = 0, lobes = -1, intervals = 0, depth_steps = 0, threads = 0;
+  double max_depth_mm = 0.0, tolerance_pct = 1.0, prominence_pct = 2.0;
   std::string output, envelope, plot;
   // The joint uncertain (--assembly with a --joint file carrying a covariance).
-  std::vector<std::string> joints;
   SamplingOptions sampling;
   std::string probability_output;
   bool json = false;
 };
-
-// The one place the tool point FRFs enter the command: FRF files, or an assembly file whose tool
-// point FRF (SHT11's H, seed Eq. 5) serves both directions (a round tool on a round spindle).
-// Fills input.frfs or input.assembly (neither when no FRF is given: the time domain may run from
-// --mode-x alone) and the names used in messages.
-void tool_point_frfs(const LobesOptions& o, const Globals& g, const std::vector<JointFile>& joints, LobesInput& input) {
-  if (!o.assembly.empty()) {
-    if (!o.frf.empty() || !o.frf_y.empty() || !o.frf_xy.empty() || !o.frf_yx.empty())
-      throw InvalidArgument("give either --assembly or --frf (with --frf-y, --frf-xy, --frf-yx), not both",
-                            "drop --assembly to use measured FRFs, or drop the --frf options");
-    input.assembly = load_assembly_on_grid(g, o.assembly, {}, joints).assembly;
-    input.frf_name = "the tool point FRF of " + o.assembly;
-    const std::vector<double> f = input.assembly->grid.values();
-    info(g, fmt::format("tool point FRF from {} ({} frequencies, {:g}–{:g} Hz), used for x and y", o.assembly, f.size(),
-                        f.front(), f.back()));
-    return;
-  }
-  if (!joints.empty())
-    throw InvalidArgument("--joint needs --assembly (the joint goes into the model)", "add --assembly FILE.toml");
-  if (o.frf.empty()) {
-    if (!o.frf_y.empty() || !o.frf_xy.empty() || !o.frf_yx.empty())
-      throw InvalidArgument("--frf-y/--frf-xy/--frf-yx need --frf (the x direct FRF)", "add --frf tool_point_x.csv");
-    return;
-  }
-  MillingFrfs f;
-  f.xx = read_point_frf(g, o.frf);
-  if (!o.frf_y.empty()) f.yy = read_point_frf(g, o.frf_y);
-  if (!o.frf_xy.empty()) f.xy = read_point_frf(g, o.frf_xy);
-  if (!o.frf_yx.empty()) f.yx = read_point_frf(g, o.frf_yx);
-  f.rigid_y = o.rigid_y;
-  f.check(o.frf, o.frf_y.empty() ? "--frf-y" : o.frf_y);
-  input.frfs = std::move(f);
-  input.frf_name = o.frf;
-  input.frf_y_name = o.frf_y;
-}
-
-CuttingConditions cutting_conditions(const LobesOptions& o) {
-  CuttingConditions c;
-  c.teeth = o.teeth;
-  c.tangential_coefficient = o.kt;
-  if (std::isnan(o.kr) && std::isnan(o.kn))
-    throw InvalidArgument("give the radial cutting coefficient: --kr K_n/K_t or --kn [N/m²]", "e.g. --kr 0.3");
-  if (!std::isnan(o.kn) && !(o.kt > 0.0))
-    throw InvalidArgument(fmt::format("--kt {} N/m² must be positive", o.kt), "e.g. --kt 6e8 (N/m², a typical steel value)");
-  c.radial_ratio = std::isnan(o.kr) ? o.kn / o.kt : o.kr;
-  if (std::isnan(o.entry_deg)) {
-    if (std::isnan(o.immersion))
-      throw InvalidArgument("give the radial engagement: --immersion a/D with --milling up|down, or --entry/--exit [°]",
-                            "e.g. --immersion 0.5 --milling down");
-    if (o.milling.empty()) throw InvalidArgument("--immersion needs --milling up or --milling down", "add --milling down");
-    c.engagement = engagement_from_immersion(o.immersion, o.milling == "up" ? MillingDirection::Up : MillingDirection::Down);
-  } else {
-    // Both angles within π: radians meant for degrees (1.57, 3.14 for slotting), or a cut of at
-    // most 3°; said, not refused (a very light finishing cut is possible).
-    if (std::abs(o.entry_deg) <= kPi + 1e-3 && std::abs(o.exit_deg) <= kPi + 1e-3)
-      warn(
-          fmt::format("--entry {} --exit {}: the angles are in degrees, so this is a cut of {:g}°; if they are radians, give "
-                      "--entry {:g} --exit {:g}",
-                      o.entry_deg, o.exit_deg, o.exit_deg - o.entry_deg, o.entry_deg * 180.0 / kPi, o.exit_deg * 180.0 / kPi));
-    c.engagement = engagement_from_degrees(o.entry_deg, o.exit_deg);
-  }
-  c.check();
-  return c;
-}
-
-// "MASS,ZETA,FN" → Mode, naming the option in errors.
-Mode parse_mode(const std::string& text, const std::string& option) {
-  double v[3];
-  std::size_t start = 0;
-  for (int k = 0; k < 3; ++k) {
-    const std::size_t end = k < 2 ? text.find(',', start) : text.size();
-    if (end == std::string::npos || (k == 2 && text.find(',', start) != std::string::npos))
-      throw InvalidArgument(fmt::format("{} '{}' is not MASS_KG,DAMPING_RATIO,FREQUENCY_HZ", option, text),
-                            "e.g. 0.04,0.011,922");
-    const char* first = text.data() + start;
-    const auto [ptr, ec] = std::from_chars(first, text.data() + end, v[k]);
-    if (ec != std::errc() || ptr != text.data() + end || first == ptr)
-      throw InvalidArgument(fmt::format("{} '{}': '{}' is not a number", option, text, text.substr(start, end - start)),
-                            "write MASS_KG,DAMPING_RATIO,FREQUENCY_HZ, e.g. 0.04,0.011,922");
-    start = end + 1;
-  }
-  Mode m{v[0], v[1], v[2]};
-  m.check(option);
-  check_plausible(plausible::kModalMass, m.mass_kg, fmt::format("{} {}: the modal mass [kg]", option, text),
-                  "write MASS_KG,DAMPING_RATIO,FREQUENCY_HZ, e.g. 0.04,0.011,922");
-  check_plausible(plausible::kNaturalFrequency, m.frequency_hz, fmt::format("{} {}: the natural frequency [Hz]", option, text),
-                  "write MASS_KG,DAMPING_RATIO,FREQUENCY_HZ, e.g. 0.04,0.011,922");
-  return m;
-}
 
 // ---- Text ------------------------------------------------------------------------------------
 
@@ -202,25 +104,17 @@ void report_uncertain_lobes(const LobesStudyResult& r) {
 
 void run_lobes(const LobesOptions& o, const Globals& g) {
   check_plot_path(o.plot);
-  {
-    std::vector<RunPath> inputs = joint_paths(o.joints);
-    for (const auto& [p, role] : {std::pair{o.frf, "--frf"},
-                                  {o.frf_y, "--frf-y"},
-                                  {o.frf_xy, "--frf-xy"},
-                                  {o.frf_yx, "--frf-yx"},
-                                  {o.assembly, "--assembly"}})
-      inputs.push_back({p, role});
-    check_paths(inputs, {{o.output, "--output"},
-                         {o.envelope, "--envelope"},
-                         {o.probability_output, "--probability-output"},
-                         {o.plot, "--plot"},
-                         {o.plot.empty() ? "" : with_suffix(o.plot, "_probability"), "--plot (probability)"}});
-  }
+  check_paths(dynamics_paths(o.dyn), {{o.output, "--output"},
+                                      {o.envelope, "--envelope"},
+                                      {o.probability_output, "--probability-output"},
+                                      {o.plot, "--plot"},
+                                      {o.plot.empty() ? "" : with_suffix(o.plot, "_probability"), "--plot (probability)"}});
   check_output_extension(o.output, "--output", {".csv"}, "the lobe points as CSV (.csv)");
   check_output_extension(o.envelope, "--envelope", {".csv"}, "the stable envelope as CSV (.csv)");
   check_output_extension(o.probability_output, "--probability-output", {".csv"}, "the probability table as CSV (.csv)");
   LobesStudyOptions so;
-  so.cutting = cutting_conditions(o);
+  so.cutting = cutting_conditions(o.cut);
+  so.cutting.check();
   const auto [min_rpm, max_rpm] = parse_range(o.rpm, "--rpm");
   for (double n : {min_rpm, max_rpm})
     check_plausible(plausible::kSpindleSpeedRpm, n, "--rpm", "give spindle speeds in rpm, e.g. --rpm 2000:20000");
@@ -238,22 +132,21 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
   so.lobes = o.lobes;
   so.tolerance = o.tolerance_pct / 100.0;
   so.steps = o.intervals;
-  so.fit.max_modes = o.max_modes;
-  if (!o.band.empty()) so.fit.band_hz = parse_range(o.band, "--band");
-  so.fit_target = o.fit_target_pct / 100.0;
+  so.fit = dynamics_fit_options(o.dyn);
+  so.fit_target = o.dyn.fit_target_pct / 100.0;
   so.pocket_prominence = o.prominence_pct / 100.0;
   so.parallel.threads = o.threads;
 
   const bool uncertain = o.sampling.samples != 0 || !o.probability_output.empty();
   if (uncertain) {
-    if (o.assembly.empty())
+    if (o.dyn.assembly.empty())
       throw InvalidArgument("--samples needs --assembly (the joint is sampled inside the model)",
                             "give --assembly FILE.toml --joint holder-tool=kht.toml");
     if (so.method != LobesMethod::ZeroOrder)
       throw InvalidArgument("--samples runs the zero-order method (a time-domain boundary per sample would take minutes)",
                             "drop --method fd, or --samples");
   }
-  const std::vector<JointFile> joints = read_joint_options(g, o.joints);
+  const std::vector<JointFile> joints = read_joint_options(g, o.dyn.joints);
   LobesInput input;
   if (uncertain) {
     input.uncertain_joint = sampled_joint(joints);
@@ -261,20 +154,7 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
     so_threads.threads = o.threads;
     so.uncertainty = uncertainty_options(so_threads);
   }
-  tool_point_frfs(o, g, joints, input);
-  if (o.rigid_y && !o.mode_y.empty()) throw InvalidArgument("--rigid-y and --mode-y contradict each other", "drop one of them");
-  for (const auto& [texts, option, modes] :
-       {std::tuple{&o.mode_x, "--mode-x", &input.x_modes}, {&o.mode_y, "--mode-y", &input.y_modes}})
-    for (std::size_t i = 0; i < texts->size(); ++i) {
-      modes->push_back(parse_mode((*texts)[i], option));
-      // The same mode twice is twice as flexible: a repeated argument, most likely.
-      for (std::size_t j = 0; j < i; ++j)
-        if ((*modes)[j].mass_kg == modes->back().mass_kg && (*modes)[j].damping_ratio == modes->back().damping_ratio &&
-            (*modes)[j].frequency_hz == modes->back().frequency_hz)
-          warn(fmt::format("{} {} is given twice: both are used (a mode of half the mass); drop one if that is not meant", option,
-                           (*texts)[i]));
-    }
-  input.rigid_y = o.rigid_y;
+  fill_dynamics_input(o.dyn, g, joints, input);
   const bool has_frf = input.frfs || input.assembly;
   if (so.method == LobesMethod::ZeroOrder && !has_frf)
     throw InvalidArgument("--method zoa needs the tool point FRF: --frf FILE.csv",
@@ -364,39 +244,8 @@ void add_lobes_command(CLI::App& app, Globals& g) {
   auto o = std::make_shared<LobesOptions>();
   CLI::App* c = app.add_subcommand(
       "lobes", "Milling stability lobes from the tool point FRF: zero-order (zoa) or full-discretization (fd)");
-  c->add_option("--assembly", o->assembly,
-                "Assembly file (TOML, SI units): its tool point FRF (SHT11's H, Eq. 5) on its [analysis] grid, for x and y "
-                "(instead of --frf)");
-  c->add_option("--frf", o->frf, std::string("x direct tool point FRF G_xx: ") + kPointFrfHelp);
-  add_frf_read_options(c, g);
-  c->add_option("--frf-y", o->frf_y, "y direct FRF G_yy [m/N], any format as --frf (default: the x FRF, a symmetric tool)");
-  auto* xy = c->add_option("--frf-xy", o->frf_xy, "Cross FRF G_xy [m/N], any format as --frf (with --frf-yx; default: none)");
-  auto* yx = c->add_option("--frf-yx", o->frf_yx, "Cross FRF G_yx [m/N], any format as --frf (with --frf-xy; default: none)");
-  xy->needs(yx);
-  yx->needs(xy);
-  c->add_flag("--rigid-y", o->rigid_y, "The tool is rigid in y: flexible in x only (the 1-DOF model)");
-  c->add_option("--teeth", o->teeth, "Number of teeth N [-], ≥ 1 (evenly spaced, straight flutes) (required)")->required();
-  c->add_option("--kt", o->kt, "Tangential cutting coefficient K_t [N/m²], > 0 (required)")
-      ->required()
-      ->check(plausible_value(plausible::kCuttingCoefficient, "--kt"));
-  auto* kr = c->add_option("--kr", o->kr,
-                           "Radial cutting coefficient as the ratio K_r = K_n/K_t [-], ≥ 0 (this or --kn required)");
-  auto* kn = c->add_option("--kn", o->kn, "Radial (normal) cutting coefficient K_n [N/m²], ≥ 0 (this or --kr required)");
-  kn->check(plausible_value(plausible::kCuttingCoefficient, "--kn"));
-  kr->check(plausible_value(plausible::kRadialRatio, "--kr"));
-  kr->excludes(kn);
-  auto* imm =
-      c->add_option("--immersion", o->immersion,
-                    "Radial immersion a/D [-] in (0, 1] (1: slotting); needs --milling (this or --entry/--exit required)");
-  auto* entry_opt = c->add_option("--entry", o->entry_deg,
-                                  "Entry angle φ_st [°], clockwise from the normal (y) direction, with --exit");
-  auto* exit_opt = c->add_option("--exit", o->exit_deg, "Exit angle φ_ex [°] (0 ≤ entry < exit ≤ 180)");
-  entry_opt->needs(exit_opt);
-  exit_opt->needs(entry_opt);
-  imm->excludes(entry_opt);
-  imm->excludes(exit_opt);
-  c->add_option("--milling", o->milling, "Milling direction with --immersion: up or down (no default)")
-      ->check(CLI::IsMember({"up", "down"}));
+  add_dynamics_options(c, o->dyn, g, "fd: ");
+  add_cut_options(c, o->cut, "Number of teeth N [-], ≥ 1 (evenly spaced, straight flutes) (required)");
   c->add_option("--rpm", o->rpm, "Spindle speed range MIN:MAX [rpm] (required)")->required();
   c->add_option("--speeds", o->speeds,
                 "Points of the speed grid [-], ≥ 2, for the envelope (zoa) or the boundary (fd) (default: 2000 zoa, 200 fd)")
@@ -422,17 +271,6 @@ void add_lobes_command(CLI::App& app, Globals& g) {
                 "Largest axial depth [mm]: zoa drops deeper lobe points, fd searches up to it "
                 "(default: zoa all, fd 10 × the zero-order floor)")
       ->check(plausible_value(kDepthMm, "--max-depth"));
-  c->add_option("--mode-x", o->mode_x,
-                "fd: an x mode MASS_KG,DAMPING_RATIO,FREQUENCY_HZ (repeatable; default: fitted from --frf)");
-  c->add_option("--mode-y", o->mode_y,
-                "fd: a y mode MASS_KG,DAMPING_RATIO,FREQUENCY_HZ (repeatable; default: from --frf-y, else the x modes)");
-  c->add_option("--max-modes", o->max_modes,
-                "fd: at most N modes [-] fitted per FRF, 1…20 (the fewest that meet --fit-target are used)")
-      ->capture_default_str();
-  c->add_option("--fit-target", o->fit_target_pct,
-                "fd: the fitted modes alone must represent the FRF within this [% of ‖G‖] over the band; else a warning says why")
-      ->capture_default_str();
-  c->add_option("--band", o->band, "fd: fit modes only in F1:F2 [Hz] (default: the whole FRF)");
   c->add_option("--pocket-prominence", o->prominence_pct,
                 "Best speeds: envelope maxima rising at least this [% of their depth] above the valleys beside them")
       ->capture_default_str();
@@ -446,7 +284,7 @@ void add_lobes_command(CLI::App& app, Globals& g) {
                   "lobes (zoa) or the boundary (fd) numbered, and their chatter frequency [Hz] in a second panel; with --samples "
                   "also the quantile envelopes, and the probability of stability over speed × depth as a colour map in FILE "
                   "with \"_probability\" before the extension");
-  add_joint_option(c, o->joints)
+  add_joint_option(c, o->dyn.joints)
       ->description(
           "With --assembly: an identified joint instead of the assembly file's (holder-tool=FILE.toml or "
           "spindle-holder=FILE.toml, "

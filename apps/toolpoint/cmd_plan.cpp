@@ -107,17 +107,8 @@ void run_plan_command(const PlanArgs& o, const Globals& g) {
   if (o.study.empty())
     throw InvalidArgument("give the study file: toolpoint plan STUDY.toml", "see `toolpoint plan --help` for its format");
   check_plot_path(o.plot);
-  int index = 0, count = 1;
-  if (!o.shard.empty()) {
-    std::tie(index, count) = parse_shard(o.shard, "--shard");
-    if (o.part.empty())
-      throw InvalidArgument("--shard needs --part FILE: where this shard's part of the plan goes", "add --part part-I.json");
-    if (!o.output.empty() || !o.plot.empty() || o.json)
-      throw InvalidArgument("--shard writes only its --part file: --output, --plot and --json belong to `toolpoint plan merge`",
-                            "drop them here and give them to `toolpoint plan merge PARTS...`");
-  } else if (!o.part.empty()) {
-    throw InvalidArgument("--part needs --shard I/N", "add --shard 0/1 to write the whole plan as one part, or drop --part");
-  }
+  const auto [index, count] = shard_options(o.shard, o.part, !o.output.empty() || !o.plot.empty() || o.json, "plan",
+                                            "toolpoint plan merge");
   PlanStudy study = load_plan_study(o.study);
   warn_all(study.warnings);
   for (const std::string& n : study.notes) info(g, "note: " + n);
@@ -141,48 +132,13 @@ void run_plan_command(const PlanArgs& o, const Globals& g) {
   report(g, o, r);
 }
 
-// The commands that mend a set of parts: the parts to leave out, each shard to run again (in a
-// loop when there are many and the parts are named DIR/part-I.json, as scripts/slurm/plan-array.sh
-// names them; then the Slurm array's re-run too).
-std::string mending_commands(const ShardSetCheck& c) {
-  std::vector<std::string> steps;
-  if (!c.drop.empty()) {
-    std::string drop = "leave out";
-    for (const std::string& d : c.drop) drop += " " + d;
-    steps.push_back(drop);
-  }
+// How a shard of the plan is run again: `toolpoint plan STUDY --shard I/N --part FILE`, or in the
+// Slurm array of scripts/slurm/plan-array.sh.
+ShardCommand plan_shard_command(const ShardSetCheck& c) {
   const std::string study = c.study.empty() ? "STUDY.toml" : c.study;
-  std::string dir;
-  bool slurm_names = !c.rerun.empty();
-  std::vector<int> indices;
-  for (const ShardRerun& r : c.rerun) {
-    indices.push_back(r.index);
-    const std::filesystem::path p(r.part);
-    if (p.filename() != fmt::format("part-{}.json", r.index) || (!dir.empty() && p.parent_path().string() != dir))
-      slurm_names = false;
-    dir = p.parent_path().string();
-  }
-  if (slurm_names && c.rerun.size() > 4) {
-    std::string list;
-    for (int i : indices) list += fmt::format("{}{}", list.empty() ? "" : " ", i);
-    steps.push_back(
-        fmt::format("run the missing shards again: for i in {}; do toolpoint plan {} --shard $i/{} --part {}/part-$i.json; "
-                    "done",
-                    list, study, c.count, dir.empty() ? "." : dir));
-  } else {
-    for (const ShardRerun& r : c.rerun)
-      steps.push_back(fmt::format("run shard {} again: toolpoint plan {} --shard {}/{} --part {}", r.index, study, r.index,
-                                  c.count, r.part.empty() ? fmt::format("part-{}.json", r.index) : r.part));
-  }
-  if (slurm_names) {
-    std::string list = shard_list(indices);
-    list.erase(std::remove(list.begin(), list.end(), ' '), list.end());
-    steps.push_back(fmt::format("or, in the Slurm array: sbatch --array={} scripts/slurm/plan-array.sh {} {} {}", list, study,
-                                dir.empty() ? "." : dir, c.count));
-  }
-  std::string fix;
-  for (const std::string& s : steps) fix += (fix.empty() ? "" : "; ") + s;
-  return fix + "; then merge again";
+  return {"toolpoint plan " + study, [study](const std::string& list, const std::string& dir, int count) {
+            return fmt::format("sbatch --array={} scripts/slurm/plan-array.sh {} {} {}", list, study, dir, count);
+          }};
 }
 
 void run_merge_command(const PlanArgs& o, const Globals& g) {
@@ -192,7 +148,7 @@ void run_merge_command(const PlanArgs& o, const Globals& g) {
   try {
     r = merge_plan_part_files(o.parts);
   } catch (const ShardSetError& e) {
-    throw InputError(e.what(), mending_commands(e.check()));
+    throw InputError(e.what(), mending_commands(e.check(), plan_shard_command(e.check())));
   }
   info(g, fmt::format("merged {} part(s): {} set-ups", o.parts.size(), r.jobs.size()));
   report(g, o, r);

@@ -2,6 +2,9 @@
 // Units: SI (receptance m/N, joint parameters in their SI units); frequencies in Hz.
 #include <algorithm>
 #include <cctype>
+#include <charconv>
+#include <cmath>
+#include <tuple>
 #include <filesystem>
 #include <fmt/format.h>
 #include <iostream>
@@ -9,6 +12,7 @@
 #include "../../src/text.hpp"
 #include "cli.hpp"
 #include "progress.hpp"
+#include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/io.hpp"
 
@@ -272,6 +276,31 @@ std::string with_flags(std::string text) {
       {"write_joint_file", "`toolpoint identify --joint-output FILE.toml`"},
       {"run_plan_part", "`toolpoint plan --shard I/N`"},
       {"format_plan_part", "`toolpoint plan --shard I/N --part FILE`"},
+      {"run_simulated_map_part", "`toolpoint simulate map --shard I/N`"},
+      {"format_simulated_map_part", "`toolpoint simulate map --shard I/N --part FILE`"},
+      {"ForceLaw::tangential_coefficient", "--kt"},
+      {"ForceLaw::radial_ratio", "--kr"},
+      {"ForceLaw::tangential_edge", "--kte"},
+      {"ForceLaw::radial_edge", "--kre"},
+      {"ForceLaw::exponent", "--exponent"},
+      {"ForceLaw::reference_chip_m", "--reference-chip"},
+      {"Cutter::diameter_m", "--diameter"},
+      {"Cutter::pitch_rad", "--pitch"},
+      {"Cutter::helix_rad", "--helix"},
+      {"Cutter::runout_m", "--runout"},
+      {"Cutter::flute_length_m", "--flute-length"},
+      {"MillingCut::speed_rpm", "--rpm"},
+      {"MillingCut::depth_m", "--depth"},
+      {"MillingCut::feed_per_tooth_m", "--feed"},
+      {"MillingCut::engagement", "--immersion or --entry/--exit"},
+      {"SimulationOptions::revolutions", "--revolutions"},
+      {"SimulationOptions::steps_per_tooth", "--steps"},
+      {"SimulationOptions::slices", "--slices"},
+      {"SimulationOptions::memory_revolutions", "--memory-revolutions"},
+      {"SimulationOptions::analysed_fraction", "--analysed"},
+      {"SimulatedMapOptions::depths", "--depth"},
+      {"SimulationInput::rigid", "--rigid-tool"},
+      {"(SimulationOptions::record = false)", "(`toolpoint simulate map` keeps none)"},
       {"resample()", "`toolpoint resample IN OUT --onto OTHER`"},
       {"crop()", "`toolpoint resample IN OUT --band F1:F2`"},
       {"MillingFrfs::rigid_y", "--rigid-y"},
@@ -516,6 +545,183 @@ void write_frf_output(const std::string& path, FrfFormat format, const FrfFileDa
   w.description = comment;
   w.coherence = data.coherence;
   warn_all(data.is_block ? write_frf_file(path, data.block, w) : write_frf_file(path, data.single, w));
+}
+
+}  // namespace toolpoint::cli
+
+// ---- Milling: the cut and the tool point dynamics -------------------------------------------------
+
+namespace toolpoint::cli {
+
+void add_cut_options(CLI::App* c, CutArgs& o, const std::string& teeth_help, bool teeth_required, bool kt_required) {
+  auto* teeth = c->add_option("--teeth", o.teeth, teeth_help);
+  if (teeth_required) teeth->required();
+  c->add_option("--kt", o.kt, "Tangential cutting coefficient K_t [N/m²], > 0 (required)")
+      ->required(kt_required)
+      ->check(plausible_value(plausible::kCuttingCoefficient, "--kt"));
+  auto* kr = c->add_option("--kr", o.kr,
+                           "Radial cutting coefficient as the ratio K_r = K_n/K_t [-], ≥ 0 (this or --kn required)");
+  auto* kn = c->add_option("--kn", o.kn, "Radial (normal) cutting coefficient K_n [N/m²], ≥ 0 (this or --kr required)");
+  kn->check(plausible_value(plausible::kCuttingCoefficient, "--kn"));
+  kr->check(plausible_value(plausible::kRadialRatio, "--kr"));
+  kr->excludes(kn);
+  auto* imm =
+      c->add_option("--immersion", o.immersion,
+                    "Radial immersion a/D [-] in (0, 1] (1: slotting); needs --milling (this or --entry/--exit required)");
+  auto* entry_opt = c->add_option("--entry", o.entry_deg,
+                                  "Entry angle φ_st [°], clockwise from the normal (y) direction, with --exit");
+  auto* exit_opt = c->add_option("--exit", o.exit_deg, "Exit angle φ_ex [°] (0 ≤ entry < exit ≤ 180)");
+  entry_opt->needs(exit_opt);
+  exit_opt->needs(entry_opt);
+  imm->excludes(entry_opt);
+  imm->excludes(exit_opt);
+  c->add_option("--milling", o.milling, "Milling direction with --immersion: up or down (no default)")
+      ->check(CLI::IsMember({"up", "down"}));
+}
+
+Engagement cut_engagement(const CutArgs& o) {
+  if (std::isnan(o.entry_deg)) {
+    if (std::isnan(o.immersion))
+      throw InvalidArgument("give the radial engagement: --immersion a/D with --milling up|down, or --entry/--exit [°]",
+                            "e.g. --immersion 0.5 --milling down");
+    if (o.milling.empty()) throw InvalidArgument("--immersion needs --milling up or --milling down", "add --milling down");
+    return engagement_from_immersion(o.immersion, o.milling == "up" ? MillingDirection::Up : MillingDirection::Down);
+  }
+  // Both angles within π: radians meant for degrees (1.57, 3.14 for slotting), or a cut of at
+  // most 3°; said, not refused (a very light finishing cut is possible).
+  if (std::abs(o.entry_deg) <= kPi + 1e-3 && std::abs(o.exit_deg) <= kPi + 1e-3)
+    warn(
+        fmt::format("--entry {} --exit {}: the angles are in degrees, so this is a cut of {:g}°; if they are radians, give "
+                    "--entry {:g} --exit {:g}",
+                    o.entry_deg, o.exit_deg, o.exit_deg - o.entry_deg, o.entry_deg * 180.0 / kPi, o.exit_deg * 180.0 / kPi));
+  return engagement_from_degrees(o.entry_deg, o.exit_deg);
+}
+
+CuttingConditions cutting_conditions(const CutArgs& o) {
+  CuttingConditions c;
+  c.teeth = o.teeth;
+  c.tangential_coefficient = o.kt;
+  if (std::isnan(o.kr) && std::isnan(o.kn))
+    throw InvalidArgument("give the radial cutting coefficient: --kr K_n/K_t or --kn [N/m²]", "e.g. --kr 0.3");
+  if (!std::isnan(o.kn) && !(o.kt > 0.0))
+    throw InvalidArgument(fmt::format("--kt {} N/m² must be positive", o.kt), "e.g. --kt 6e8 (N/m², a typical steel value)");
+  c.radial_ratio = std::isnan(o.kr) ? o.kn / o.kt : o.kr;
+  c.engagement = cut_engagement(o);
+  return c;
+}
+
+void add_dynamics_options(CLI::App* c, DynamicsArgs& o, Globals& g, const std::string& prefix) {
+  c->add_option("--assembly", o.assembly,
+                "Assembly file (TOML, SI units): its tool point FRF (SHT11's H, Eq. 5) on its [analysis] grid, for x and y "
+                "(instead of --frf)");
+  c->add_option("--frf", o.frf, std::string("x direct tool point FRF G_xx: ") + kPointFrfHelp);
+  add_frf_read_options(c, g);
+  c->add_option("--frf-y", o.frf_y, "y direct FRF G_yy [m/N], any format as --frf (default: the x FRF, a symmetric tool)");
+  auto* xy = c->add_option("--frf-xy", o.frf_xy, "Cross FRF G_xy [m/N], any format as --frf (with --frf-yx; default: none)");
+  auto* yx = c->add_option("--frf-yx", o.frf_yx, "Cross FRF G_yx [m/N], any format as --frf (with --frf-xy; default: none)");
+  xy->needs(yx);
+  yx->needs(xy);
+  c->add_flag("--rigid-y", o.rigid_y, "The tool is rigid in y: flexible in x only (the 1-DOF model)");
+  c->add_option("--mode-x", o.mode_x,
+                prefix + "an x mode MASS_KG,DAMPING_RATIO,FREQUENCY_HZ (repeatable; default: fitted from --frf)");
+  c->add_option("--mode-y", o.mode_y,
+                prefix + "a y mode MASS_KG,DAMPING_RATIO,FREQUENCY_HZ (repeatable; default: from --frf-y, else the x modes)");
+  c->add_option("--max-modes", o.max_modes,
+                prefix + "at most N modes [-] fitted per FRF, 1…20 (the fewest that meet --fit-target are used)")
+      ->capture_default_str();
+  c->add_option("--fit-target", o.fit_target_pct,
+                prefix +
+                    "the fitted modes alone must represent the FRF within this [% of ‖G‖] over the band; else a warning says why")
+      ->capture_default_str();
+  c->add_option("--band", o.band, prefix + "fit modes only in F1:F2 [Hz] (default: the whole FRF)");
+}
+
+std::vector<RunPath> dynamics_paths(const DynamicsArgs& o) {
+  std::vector<RunPath> inputs = joint_paths(o.joints);
+  for (const auto& [p, role] : {std::pair{o.frf, "--frf"},
+                                {o.frf_y, "--frf-y"},
+                                {o.frf_xy, "--frf-xy"},
+                                {o.frf_yx, "--frf-yx"},
+                                {o.assembly, "--assembly"}})
+    inputs.push_back({p, role});
+  return inputs;
+}
+
+ModalFitOptions dynamics_fit_options(const DynamicsArgs& o) {
+  ModalFitOptions f;
+  f.max_modes = o.max_modes;
+  if (!o.band.empty()) f.band_hz = parse_range(o.band, "--band");
+  return f;
+}
+
+Mode parse_mode(const std::string& text, const std::string& option) {
+  double v[3];
+  std::size_t start = 0;
+  for (int k = 0; k < 3; ++k) {
+    const std::size_t end = k < 2 ? text.find(',', start) : text.size();
+    if (end == std::string::npos || (k == 2 && text.find(',', start) != std::string::npos))
+      throw InvalidArgument(fmt::format("{} '{}' is not MASS_KG,DAMPING_RATIO,FREQUENCY_HZ", option, text),
+                            "e.g. 0.04,0.011,922");
+    const char* first = text.data() + start;
+    const auto [ptr, ec] = std::from_chars(first, text.data() + end, v[k]);
+    if (ec != std::errc() || ptr != text.data() + end || first == ptr)
+      throw InvalidArgument(fmt::format("{} '{}': '{}' is not a number", option, text, text.substr(start, end - start)),
+                            "write MASS_KG,DAMPING_RATIO,FREQUENCY_HZ, e.g. 0.04,0.011,922");
+    start = end + 1;
+  }
+  Mode m{v[0], v[1], v[2]};
+  m.check(option);
+  check_plausible(plausible::kModalMass, m.mass_kg, fmt::format("{} {}: the modal mass [kg]", option, text),
+                  "write MASS_KG,DAMPING_RATIO,FREQUENCY_HZ, e.g. 0.04,0.011,922");
+  check_plausible(plausible::kNaturalFrequency, m.frequency_hz, fmt::format("{} {}: the natural frequency [Hz]", option, text),
+                  "write MASS_KG,DAMPING_RATIO,FREQUENCY_HZ, e.g. 0.04,0.011,922");
+  return m;
+}
+
+void fill_dynamics_input(const DynamicsArgs& o, const Globals& g, const std::vector<JointFile>& joints, LobesInput& input) {
+  // The one place the tool point FRFs enter a command: FRF files, or an assembly file whose tool
+  // point FRF (SHT11's H, seed Eq. 5) serves both directions (a round tool on a round spindle).
+  if (!o.assembly.empty()) {
+    if (!o.frf.empty() || !o.frf_y.empty() || !o.frf_xy.empty() || !o.frf_yx.empty())
+      throw InvalidArgument("give either --assembly or --frf (with --frf-y, --frf-xy, --frf-yx), not both",
+                            "drop --assembly to use measured FRFs, or drop the --frf options");
+    input.assembly = load_assembly_on_grid(g, o.assembly, {}, joints).assembly;
+    input.frf_name = "the tool point FRF of " + o.assembly;
+    const std::vector<double> f = input.assembly->grid.values();
+    info(g, fmt::format("tool point FRF from {} ({} frequencies, {:g}–{:g} Hz), used for x and y", o.assembly, f.size(),
+                        f.front(), f.back()));
+  } else {
+    if (!joints.empty())
+      throw InvalidArgument("--joint needs --assembly (the joint goes into the model)", "add --assembly FILE.toml");
+    if (o.frf.empty()) {
+      if (!o.frf_y.empty() || !o.frf_xy.empty() || !o.frf_yx.empty())
+        throw InvalidArgument("--frf-y/--frf-xy/--frf-yx need --frf (the x direct FRF)", "add --frf tool_point_x.csv");
+    } else {
+      MillingFrfs f;
+      f.xx = read_point_frf(g, o.frf);
+      if (!o.frf_y.empty()) f.yy = read_point_frf(g, o.frf_y);
+      if (!o.frf_xy.empty()) f.xy = read_point_frf(g, o.frf_xy);
+      if (!o.frf_yx.empty()) f.yx = read_point_frf(g, o.frf_yx);
+      f.rigid_y = o.rigid_y;
+      f.check(o.frf, o.frf_y.empty() ? "--frf-y" : o.frf_y);
+      input.frfs = std::move(f);
+      input.frf_name = o.frf;
+      input.frf_y_name = o.frf_y;
+    }
+  }
+  if (o.rigid_y && !o.mode_y.empty()) throw InvalidArgument("--rigid-y and --mode-y contradict each other", "drop one of them");
+  for (const auto& [texts, option, modes] :
+       {std::tuple{&o.mode_x, "--mode-x", &input.x_modes}, {&o.mode_y, "--mode-y", &input.y_modes}})
+    for (std::size_t i = 0; i < texts->size(); ++i) {
+      modes->push_back(parse_mode((*texts)[i], option));
+      // The same mode twice is twice as flexible: a repeated argument, most likely.
+      for (std::size_t j = 0; j < i; ++j)
+        if ((*modes)[j].mass_kg == modes->back().mass_kg && (*modes)[j].damping_ratio == modes->back().damping_ratio &&
+            (*modes)[j].frequency_hz == modes->back().frequency_hz)
+          warn(fmt::format("{} {} is given twice: both are used (a mode of half the mass); drop one if that is not meant", option,
+                           (*texts)[i]));
+    }
+  input.rigid_y = o.rigid_y;
 }
 
 }  // namespace toolpoint::cli

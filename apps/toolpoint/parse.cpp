@@ -70,6 +70,8 @@ FrequencyGrid parse_frequency_grid(const std::string& text, const std::string& o
   return g;
 }
 
+double parse_value(const std::string& text, const std::string& option) { return parse_number(text, option, text); }
+
 std::pair<double, double> parse_range(const std::string& text, const std::string& option) {
   const auto parts = split_colon(text);
   if (parts.size() != 2) throw InvalidArgument(fmt::format("{}: '{}' is not A:B", option, text));

@@ -17,6 +17,9 @@ namespace toolpoint::cli {
 // `option` on malformed text or an invalid grid (FrequencyGrid::check's message after it).
 FrequencyGrid parse_frequency_grid(const std::string& text, const std::string& option);
 
+// Parses one number. Throws InvalidArgument naming `option`.
+double parse_value(const std::string& text, const std::string& option);
+
 // Parses "A:B" into two numbers. Throws InvalidArgument naming `option`.
 std::pair<double, double> parse_range(const std::string& text, const std::string& option);
 

@@ -33,6 +33,7 @@
 #include "toolpoint/noise.hpp"
 #include "toolpoint/peaks.hpp"
 #include "toolpoint/signal.hpp"
+#include "toolpoint/simulation.hpp"
 #include "toolpoint/stability.hpp"
 #include "toolpoint/studies/beam.hpp"
 #include "toolpoint/studies/fd_correction.hpp"
@@ -43,6 +44,7 @@
 #include "toolpoint/studies/plan.hpp"
 #include "toolpoint/studies/predict.hpp"
 #include "toolpoint/studies/rotational.hpp"
+#include "toolpoint/studies/simulation.hpp"
 #include "toolpoint/studies/tap_test.hpp"
 #include "toolpoint/uff.hpp"
 #include "toolpoint/uncertainty.hpp"
@@ -202,6 +204,36 @@ void to_json(nlohmann::json& j, const PlanJob& job);
 // LobesStudyOptions' "method", "cutting" and "speeds"), then {"jobs": [PlanJob…], "best": [PlanSetup…],
 // "warnings"}.
 void to_json(nlohmann::json& j, const PlanResult& r);
+
+// ---- The time-domain simulation (simulation.hpp, studies/simulation.hpp) ------------------------
+
+// {"frequency_hz", "damping_ratio", "shape_x", "shape_y"}
+void to_json(nlohmann::json& j, const PlanarMode& m);
+// {"modes": [PlanarMode…]}
+void to_json(nlohmann::json& j, const ToolDynamics& d);
+// {"teeth", "diameter_m", "pitch_rad", "helix_rad", "runout_m", "flute_length_m"}
+void to_json(nlohmann::json& j, const Cutter& c);
+// {"tangential_coefficient", "radial_ratio", "tangential_edge", "radial_edge", "exponent", "reference_chip_m"}
+void to_json(nlohmann::json& j, const ForceLaw& f);
+// {"speed_rpm", "depth_m", "feed_per_tooth_m", "engagement"}
+void to_json(nlohmann::json& j, const MillingCut& c);
+// {"revolutions", "steps_per_tooth", "slices", "analysed_fraction", "record", "memory_revolutions"}
+void to_json(nlohmann::json& j, const SimulationOptions& o);
+// {"angle_rad", "slice_height_m", "sle_m", "mean_sle_m"} (the passes go to CSV)
+void to_json(nlohmann::json& j, const Wall& w);
+// The discretization {"step_s", "steps_per_tooth", "steps_per_revolution", "slices", "revolutions", "steps",
+// "analysed_from"}, the summary {"mean_force_x_n", "mean_force_y_n", "mean_torque_nm", "power_w", "peak_force_n",
+// "sle_m", "growth", "chatter_metric", "chatter_hz", "stable", "diverged", "out_of_cut_fraction"}, "walls", "warnings"; the
+// histories and samples go to CSV.
+void to_json(nlohmann::json& j, const SimulationResult& r);
+// {"dynamics", "fits", "cutter", "force", "cut", "simulation", "warnings"}
+void to_json(nlohmann::json& j, const SimulationStudyResult& r);
+// {"min_m", "max_m", "points"}
+void to_json(nlohmann::json& j, const DepthRange& d);
+// The header's {"dynamics", "options": {"cutter", "force", "cut" (feed and engagement), "simulation", "speeds",
+// "depths"}, "fingerprint"}, and derived from the per-cell results (which go to CSV): "cells", "stable_cells",
+// "lowest_unstable" (EnvelopePoint: the lowest unstable depth over the speeds), "warnings".
+void to_json(nlohmann::json& j, const SimulatedMap& m);
 
 // ---- Files ----------------------------------------------------------------------------------------
 

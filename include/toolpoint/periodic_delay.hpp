@@ -3,12 +3,16 @@
 // checked against published results for other delay equations.
 //
 // The equation, in input–output form (period T equal to the delay τ):
-//     ẋ(t) = A₀ x(t) + B u(t),   u(t) = σ [P(t) C x(t) + Q(t) C x(t − τ)],
+//     ẋ(t) = A₀ x(t) + B u(t),   u(t) = σ [P(t) C x(t) + Q(t) C x(t − τ) + w(t)],
 // x ∈ ℝⁿ the state, A₀ constant and block diagonal, C (d × n) the d outputs the feedback reads,
 // B (n × d) where it acts, P(t) and Q(t) (d × d) T-periodic and smooth between breakpoints, σ a
-// scalar gain (the axial depth of cut in milling). Milling: x the modal coordinates and their
-// velocities, C x the tool-tip displacement, u the cutting force, P = −Q = ½K_t A(t) (the
-// regenerative form: u depends on C x(t) − C x(t − τ) only).
+// scalar gain (the axial depth of cut in milling), w(t) (d) an optional T-periodic forcing. Milling:
+// x the modal coordinates and their velocities, C x the tool-tip displacement, u the cutting force,
+// P = −Q = ½K_t A(t) (the regenerative form: u depends on C x(t) − C x(t − τ) only), w the force
+// per unit depth of the static chip (the feed). The forcing leaves the multipliers alone; it gives
+// the map an affine part, x_{period} = Φ x₀ + q, whose fixed point x* = (I − Φ)⁻¹ q is the periodic
+// (forced, chatter-free) motion of a stable cut (Insperger & Stépán, Semi-Discretization for
+// Time-Delay Systems, Springer 2011, §5.3, surface location error).
 //
 // Discretization (m steps of h = T/m; full-discretization in the sense of Ding, Ding & Zhu,
 // IJMTM 50 (2010) 502–509: only the constant part is exponentiated, so nothing depends on σ but
@@ -43,6 +47,8 @@ struct PeriodicDelaySystem {
   // sized d × d and zeroed (so a function may leave it untouched where the coefficient is zero).
   // An empty function stands for zero. Called a few times per step when a map is built.
   std::function<void(double t, Eigen::MatrixXd&out)> current, delayed;
+  // w(t) for t in [0, T): writes the d-vector into `out` (arrives sized d and zeroed). Empty: none.
+  std::function<void(double t, Eigen::VectorXd& out)> forcing;
   bool regenerative = false;        // Q = −P: `delayed` is not used
   std::vector<double> breakpoints;  // times in (0, T) where P or Q jump
   // Throws InvalidArgument naming the member: sizes that disagree, T ≤ 0, non-finite entries, a
@@ -78,6 +84,15 @@ class PeriodMap {
   Eigen::MatrixXcd outputs(double sigma, const Eigen::VectorXcd& u) const;
   // The dense period map (size() × size()).
   Eigen::MatrixXd matrix(double sigma) const;
+  // With PeriodicDelaySystem::forcing: the periodic solution, the fixed point u* = (I − Φ(σ))⁻¹ q(σ)
+  // of the affine map (q: one period from rest under the forcing), and its outputs y_0 … y_m over
+  // the period (d × (m + 1)). Throws InvalidArgument without forcing, NumericalError when I − Φ is
+  // singular (a multiplier at 1).
+  struct PeriodicSolution {
+    Eigen::VectorXd state;
+    Eigen::MatrixXd outputs;
+  };
+  PeriodicSolution periodic_solution(double sigma) const;
   // Its spectral radius and dominant multiplier: Arnoldi on apply() (no matrix is formed), the
   // dense eigen-decomposition for small maps or when Arnoldi does not converge (Spectra). Throws
   // NumericalError when neither converges or the multipliers are not finite.
@@ -89,7 +104,7 @@ class PeriodMap {
   template <typename S>
   void run(double sigma, int cols, const S* u, S* v, S* outputs) const;
   template <typename S>
-  void run_one(double sigma, const S* u, S* v, S* outputs) const;
+  void run_one(double sigma, const S* u, S* v, S* outputs, bool forced = false) const;
 
   int n_ = 0, d_ = 0, m_ = 0, p_ = 0;
   bool regenerative_ = false;
@@ -101,6 +116,7 @@ class PeriodMap {
   // unless regenerative, W^Q; and the implicit factor (I − σ C W^P_p) parts C W^P_p, C W^Q_p.
   std::vector<std::vector<double>> wp_, wq_;
   std::vector<Eigen::MatrixXd> cwp_;           // C W^P for the newest node, d × d
+  std::vector<Eigen::VectorXd> wf_;            // per step: ∫ e^{A₀(h−s)} B w(t_k + s) ds (n), empty without forcing
   std::vector<int> read_;                      // buffer samples y_{−i} kept in the reduced state (i ≥ 1)
   std::vector<int> slot_;                      // slot_[i]: position of y_{−i} in the reduced state, or −1
   std::vector<int> jump_;                      // jump_[k] ≥ 2: steps k… are free motion with no output read

@@ -259,8 +259,11 @@ struct BoundaryPoint {
 // The milling equation at one speed as a PeriodicDelaySystem: per mode the block
 // [[0, 1], [−ω_r², −2ζ_rω_r]] on (q_r, q̇_r); B puts the force on q̈_r with 1/m_r; C reads the tip
 // displacement; P(t) = ½K_t A(t) [N/m²] with σ the depth a [m], regenerative; breakpoints at the
-// teeth's entry and exit. One output (x) when the model has no y mode. Throws InvalidArgument.
-PeriodicDelaySystem milling_delay_system(const ModalModel& model, const CuttingConditions& cutting, double speed_rpm);
+// teeth's entry and exit. One output (x) when the model has no y mode. With a feed per tooth c > 0
+// [m], the forcing w(t) of the static chip c sin φ_j (per unit depth; PeriodMap::periodic_solution
+// then gives the forced periodic motion of a stable cut). Throws InvalidArgument.
+PeriodicDelaySystem milling_delay_system(const ModalModel& model, const CuttingConditions& cutting, double speed_rpm,
+                                         double feed_per_tooth_m = 0.0);
 
 // Stability of the milling equation at a fixed number of steps per tooth period.
 class FullDiscretization {

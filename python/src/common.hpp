@@ -107,6 +107,7 @@ void bind_model(py::module_& m);
 void bind_signal_io(py::module_& m);
 void bind_identify(py::module_& m);
 void bind_stability(py::module_& m);
+void bind_simulation(py::module_& m);
 
 }  // namespace toolpoint::python
 

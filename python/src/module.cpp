@@ -247,4 +247,5 @@ PYBIND11_MODULE(_toolpoint, m) {
   bind_signal_io(m);
   bind_identify(m);
   bind_stability(m);
+  bind_simulation(m);
 }

@@ -240,6 +240,43 @@ std::vector<Mode> fit_milling_modes(const FrfSeries& frf, const std::string& wha
   return best;
 }
 
+ModalModel time_domain_modes(const LobesInput& input, const ModalFitOptions& fit, double fit_target,
+                             std::vector<ModalFitSummary>& fits, std::vector<std::string>& warnings, bool uses_cross) {
+  if (!input.frfs && input.assembly && input.x_modes.empty()) {
+    LobesInput with_frfs = input;
+    const AssemblyModel model(*input.assembly);
+    with_frfs.frfs = milling_frfs(model, input.assembly->grid.values(), input.rigid_y);
+    warnings.insert(warnings.end(), model.warnings().begin(), model.warnings().end());
+    return time_domain_modes(with_frfs, fit, fit_target, fits, warnings, uses_cross);
+  }
+  if (input.rigid_y && !input.y_modes.empty())
+    throw InvalidArgument("LobesInput: rigid_y and y modes contradict each other", "drop one of them");
+  ModalModel modes;
+  modes.x = input.x_modes;
+  modes.y = input.y_modes;
+  if (modes.x.empty()) {
+    if (!input.frfs)
+      throw InvalidArgument("the time-domain method needs modes (LobesInput::x_modes) or the FRFs to fit them from",
+                            "give the x modes or the tool point FRF");
+    input.frfs->check(input.frf_name, input.frf_y_name);
+    ModalFitSummary s;
+    modes.x = fit_milling_modes(input.frfs->xx, input.frf_name, fit, fit_target, s, warnings);
+    fits.push_back(s);
+  }
+  if (modes.y.empty() && !input.rigid_in_y()) {
+    if (input.frfs && input.frfs->yy) {
+      ModalFitSummary s;
+      modes.y = fit_milling_modes(*input.frfs->yy, input.frf_y_name, fit, fit_target, s, warnings);
+      fits.push_back(s);
+    } else {
+      modes.y = modes.x;  // a symmetric tool
+    }
+  }
+  if (input.frfs && input.frfs->xy && !uses_cross)
+    warnings.push_back("the time-domain method uses uncoupled x and y modes: the cross FRFs are ignored");
+  return modes;
+}
+
 namespace {
 
 // A lowest stable depth beyond any cutting edge (plausibility.hpp's kDepth) is not a result but
@@ -292,29 +329,7 @@ LobesStudyResult nominal_lobes_study(const LobesInput& input, const LobesStudyOp
   }
 
   // The time domain: modes given or fitted (20 % of the progress), then the boundary.
-  if (input.rigid_y && !input.y_modes.empty())
-    throw InvalidArgument("LobesInput: rigid_y and y modes contradict each other", "drop one of them");
-  res.modes.x = input.x_modes;
-  res.modes.y = input.y_modes;
-  if (res.modes.x.empty()) {
-    if (!input.frfs)
-      throw InvalidArgument("the time-domain method needs modes (LobesInput::x_modes) or the FRFs to fit them from",
-                            "give the x modes or the tool point FRF");
-    ModalFitSummary s;
-    res.modes.x = fit_milling_modes(input.frfs->xx, input.frf_name, options.fit, options.fit_target, s, res.warnings);
-    res.fits.push_back(s);
-  }
-  if (res.modes.y.empty() && !input.rigid_in_y()) {
-    if (input.frfs && input.frfs->yy) {
-      ModalFitSummary s;
-      res.modes.y = fit_milling_modes(*input.frfs->yy, input.frf_y_name, options.fit, options.fit_target, s, res.warnings);
-      res.fits.push_back(s);
-    } else {
-      res.modes.y = res.modes.x;  // a symmetric tool
-    }
-  }
-  if (input.frfs && input.frfs->xy)
-    res.warnings.push_back("the time-domain method uses uncoupled x and y modes: the cross FRFs are ignored");
+  res.modes = time_domain_modes(input, options.fit, options.fit_target, res.fits, res.warnings);
   progress(0.2);
   BoundaryOptions bo;
   bo.speeds = res.speeds;

@@ -20,9 +20,9 @@ nlohmann::json hexes(const std::vector<double>& v) {
 }
 
 std::uint64_t text_hash(const std::string& text) {
-  std::uint64_t h = 0xcbf29ce484222325ULL;
-  for (unsigned char c : text) h = (h ^ c) * 0x100000001b3ULL;
-  return h;
+  Fnv1a f;
+  f.bytes(text.data(), text.size());
+  return f.h;
 }
 
 std::string format_envelope(const PartKind& kind, const ShardId& shard, const std::string& study, std::uint64_t fingerprint,

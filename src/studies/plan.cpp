@@ -3,7 +3,6 @@
 #include "toolpoint/studies/plan.hpp"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <fmt/format.h>
 #include <limits>
@@ -13,6 +12,7 @@
 #include "toolpoint/error.hpp"
 #include "toolpoint/peaks.hpp"
 #include "toolpoint/uncertainty.hpp"
+#include "part_file.hpp"
 
 namespace toolpoint {
 
@@ -26,32 +26,12 @@ constexpr double kTie = 1e-9;
 
 bool finite_positive(double x) { return std::isfinite(x) && x > 0.0; }
 
-// 64-bit FNV-1a over the bits of every value fed in (doubles by their bit pattern).
-struct Fnv {
-  std::uint64_t h = 0xcbf29ce484222325ULL;
-  void bytes(const void* p, std::size_t n) {
-    const auto* c = static_cast<const unsigned char*>(p);
-    for (std::size_t i = 0; i < n; ++i) h = (h ^ c[i]) * 0x100000001b3ULL;
-  }
-  void add(double x) {
-    const auto b = std::bit_cast<std::uint64_t>(x);
-    bytes(&b, sizeof b);
-  }
-  void add(std::uint64_t x) { bytes(&x, sizeof x); }
-  void add(std::int64_t x) { bytes(&x, sizeof x); }
-  void add(int x) { add(static_cast<std::int64_t>(x)); }
-  void add(bool x) { add(static_cast<std::int64_t>(x)); }
-  void add(const std::string& s) {
-    add(static_cast<std::uint64_t>(s.size()));
-    bytes(s.data(), s.size());
-  }
+// The plan's fingerprint: FNV-1a (part_file.hpp) over the assemblies' numbers too.
+struct Fnv : part_file::Fnv1a {
+  using Fnv1a::add;
   void add(const std::optional<double>& x) {
     add(x.has_value());
     if (x) add(*x);
-  }
-  void add(const std::vector<double>& v) {
-    add(static_cast<std::uint64_t>(v.size()));
-    for (double x : v) add(x);
   }
   void add(const Material& m) {
     add(m.name);
@@ -809,37 +789,20 @@ PlanResult run_plan(const std::vector<PlanCandidate>& candidates, const PlanOpti
   return assemble(std::move(part.header), std::move(part.jobs));
 }
 
-PartLabel plan_part_label(const PlanPart& part, const std::string& source) {
-  return {source, part.header.fingerprint, {part.index, part.count}, part.study};
-}
+PartLabel plan_part_label(const PlanPart& part, const std::string& source) { return part_file::label_of(part, source); }
 
 PlanResult merge_plan_parts(const std::vector<PlanPart>& parts, const std::vector<std::string>& sources) {
-  const auto name = [&](std::size_t p) { return p < sources.size() ? sources[p] : fmt::format("part {}", p + 1); };
-  if (parts.empty()) throw InvalidArgument("no parts to merge", "give every part file of the plan");
-  std::vector<PartLabel> labels;
-  for (std::size_t p = 0; p < parts.size(); ++p) labels.push_back(plan_part_label(parts[p], name(p)));
-  throw_unless_whole(check_shard_set(labels), "run_plan_part");
-  const PlanPart& first = parts.front();
-  const int count = first.count;
-  const PlanHeader& h = first.header;
-  std::vector<PlanJob> jobs(h.jobs);
-  std::vector<bool> have(h.jobs, false);
-  for (std::size_t p = 0; p < parts.size(); ++p)
-    for (const PlanJob& job : parts[p].jobs) {
-      if (job.candidate >= h.candidates.size() || job.overhang_index >= h.candidates[job.candidate].overhangs_m.size())
-        throw InputError(fmt::format("{}: a job of candidate {} overhang {} that the plan does not have", name(p), job.candidate,
-                                     job.overhang_index));
-      const std::size_t j = plan_job_index(h, job.candidate, job.overhang_index);
-      if (!in_shard(j, {parts[p].index, count}) || have[j])
-        throw InputError(fmt::format("{}: job {} does not belong to shard {} of {}", name(p), j, parts[p].index, count),
-                         "the part file is damaged: run its shard again");
-      have[j] = true;
-      jobs[j] = job;
-    }
-  for (std::size_t j = 0; j < h.jobs; ++j)
-    if (!have[j])
-      throw InputError(fmt::format("job {} is in none of the parts", j), "the part files are damaged: run their shards again");
-  return assemble(h, std::move(jobs));
+  const std::size_t n = parts.empty() ? 0 : parts.front().header.jobs;
+  const PlanHeader* h = parts.empty() ? nullptr : &parts.front().header;
+  std::vector<PlanJob> jobs = part_file::merged_jobs(
+      parts, sources, "plan", "run_plan_part", n, [](const PlanPart& p) -> const std::vector<PlanJob>& { return p.jobs; },
+      [h](const PlanJob& job, const std::string& source) {
+        if (job.candidate >= h->candidates.size() || job.overhang_index >= h->candidates[job.candidate].overhangs_m.size())
+          throw InputError(fmt::format("{}: a job of candidate {} overhang {} that the plan does not have", source, job.candidate,
+                                       job.overhang_index));
+        return plan_job_index(*h, job.candidate, job.overhang_index);
+      });
+  return assemble(*h, std::move(jobs));
 }
 
 }  // namespace toolpoint

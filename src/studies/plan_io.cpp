@@ -177,66 +177,37 @@ std::string format_plan_part(const PlanPart& part) {
 }
 
 PlanPart parse_plan_part(const std::string& text, const std::string& source) {
-  const part_file::Envelope e = part_file::parse_envelope(text, source, kPlanPart);
-  const PartReader r{source, kPlanPart, &e};
-  PlanPart part;
-  part.header = parse_header(r, e.header);
-  part.header.fingerprint = plan_fingerprint(part.header);
-  if (part.header.fingerprint != e.fingerprint)
-    r.fail(fmt::format("the header does not match its fingerprint ({:016x}, computed {:016x}): edited or damaged", e.fingerprint,
-                       part.header.fingerprint));
-  part.index = e.shard.index;
-  part.count = e.shard.count;
-  part.study = e.study;
-  const std::size_t ns = part.header.speeds_rpm.size();
-  const bool sampled = part.header.options.safety.kind == SafetyRule::Kind::Probability;
-  for (std::size_t q = 0; q < e.jobs.size(); ++q) {
-    const nlohmann::json& x = e.jobs[q];
-    const std::string p = fmt::format("jobs[{}].", q);
-    PlanJob job;
-    job.candidate = r.get<std::size_t>(x, "candidate", p);
-    job.overhang_index = r.get<std::size_t>(x, "overhang_index", p);
-    if (job.candidate >= part.header.candidates.size() ||
-        job.overhang_index >= part.header.candidates[job.candidate].overhangs_m.size())
-      r.fail(fmt::format("{}: candidate {} overhang {} is not in the plan", p, job.candidate, job.overhang_index));
-    if (r.get<std::size_t>(x, "job", p) != plan_job_index(part.header, job.candidate, job.overhang_index))
-      r.fail(p + "job does not match its candidate and overhang");
-    job.overhang_m = r.number(x, "overhang_m", p);
-    if (job.overhang_m != part.header.candidates[job.candidate].overhangs_m[job.overhang_index])
-      r.fail(p + "overhang_m is not the plan's");
-    job.stable_depth_m = r.numbers(x, "stable_depth_m", p);
-    job.safe_depth_m = r.numbers(x, "safe_depth_m", p);
-    job.chatter_hz = r.numbers(x, "chatter_hz", p);
-    job.lobe = r.get<std::vector<int>>(x, "lobe", p);
-    job.probability = r.numbers(x, "probability", p);
-    job.modes_hz = r.numbers(x, "modes_hz", p);
-    job.warnings = r.get<std::vector<std::string>>(x, "warnings", p);
-    if (job.stable_depth_m.size() != ns || job.safe_depth_m.size() != ns || job.chatter_hz.size() != ns ||
-        job.lobe.size() != ns || job.probability.size() != (sampled ? ns : 0))
-      r.fail(fmt::format("{}: arrays of the wrong length (the plan has {} speeds)", p, ns));
-    part.jobs.push_back(std::move(job));
-  }
-  return part;
+  return part_file::parse_part(
+      text, source, kPlanPart, &PlanPart::jobs, parse_header, plan_fingerprint,
+      [](const PartReader& r, const nlohmann::json& x, const std::string& p, const PlanHeader& h) {
+        const std::size_t ns = h.speeds_rpm.size();
+        const bool sampled = h.options.safety.kind == SafetyRule::Kind::Probability;
+        PlanJob job;
+        job.candidate = r.get<std::size_t>(x, "candidate", p);
+        job.overhang_index = r.get<std::size_t>(x, "overhang_index", p);
+        if (job.candidate >= h.candidates.size() || job.overhang_index >= h.candidates[job.candidate].overhangs_m.size())
+          r.fail(fmt::format("{}: candidate {} overhang {} is not in the plan", p, job.candidate, job.overhang_index));
+        if (r.get<std::size_t>(x, "job", p) != plan_job_index(h, job.candidate, job.overhang_index))
+          r.fail(p + "job does not match its candidate and overhang");
+        job.overhang_m = r.number(x, "overhang_m", p);
+        if (job.overhang_m != h.candidates[job.candidate].overhangs_m[job.overhang_index])
+          r.fail(p + "overhang_m is not the plan's");
+        job.stable_depth_m = r.numbers(x, "stable_depth_m", p);
+        job.safe_depth_m = r.numbers(x, "safe_depth_m", p);
+        job.chatter_hz = r.numbers(x, "chatter_hz", p);
+        job.lobe = r.get<std::vector<int>>(x, "lobe", p);
+        job.probability = r.numbers(x, "probability", p);
+        job.modes_hz = r.numbers(x, "modes_hz", p);
+        job.warnings = r.get<std::vector<std::string>>(x, "warnings", p);
+        if (job.stable_depth_m.size() != ns || job.safe_depth_m.size() != ns || job.chatter_hz.size() != ns ||
+            job.lobe.size() != ns || job.probability.size() != (sampled ? ns : 0))
+          r.fail(fmt::format("{}: arrays of the wrong length (the plan has {} speeds)", p, ns));
+        return job;
+      });
 }
 
 PlanResult merge_plan_part_files(const std::vector<std::string>& paths) {
-  std::vector<PlanPart> parts;
-  std::vector<std::string> names;
-  std::vector<ShardSetCheck> unreadable;
-  for (const std::string& path : paths) {
-    try {
-      parts.push_back(parse_plan_part(read_text_file(path), path));
-      names.push_back(path);
-    } catch (const ShardSetError& e) {
-      unreadable.push_back(e.check());
-    }
-  }
-  if (!unreadable.empty()) {
-    std::vector<PartLabel> labels;
-    for (std::size_t p = 0; p < parts.size(); ++p) labels.push_back(plan_part_label(parts[p], names[p]));
-    throw ShardSetError(check_shard_set(labels, unreadable), kPlanPart.run_function);
-  }
-  return merge_plan_parts(parts, names);
+  return merge_plan_parts(part_file::read_part_files<PlanPart>(paths, kPlanPart, parse_plan_part), paths);
 }
 
 // ---- CSV tables ----------------------------------------------------------------------------------

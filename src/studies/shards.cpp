@@ -178,6 +178,25 @@ ShardSetCheck check_shard_set(const std::vector<PartLabel>& parts, const std::ve
   return c;
 }
 
+void check_jobs_placed(const std::vector<PartLabel>& parts, const std::vector<std::vector<std::size_t>>& jobs_of,
+                       std::size_t jobs) {
+  std::vector<bool> have(jobs, false);
+  for (std::size_t p = 0; p < parts.size() && p < jobs_of.size(); ++p)
+    for (std::size_t j : jobs_of[p]) {
+      if (j >= jobs)
+        throw InputError(fmt::format("{}: job {} is not in the run ({} jobs)", parts[p].source, j, jobs),
+                         "the part file is damaged: run its shard again");
+      if (!in_shard(j, parts[p].shard) || have[j])
+        throw InputError(fmt::format("{}: job {} does not belong to shard {} of {}", parts[p].source, j, parts[p].shard.index,
+                                     parts[p].shard.count),
+                         "the part file is damaged: run its shard again");
+      have[j] = true;
+    }
+  for (std::size_t j = 0; j < jobs; ++j)
+    if (!have[j])
+      throw InputError(fmt::format("job {} is in none of the parts", j), "the part files are damaged: run their shards again");
+}
+
 namespace {
 
 std::string verdict_text(const ShardSetCheck& c) {

@@ -141,6 +141,15 @@ StabilityUncertainty stability_uncertainty(const Assembly& assembly, const Joint
                                            const std::vector<double>& depth_grid_m, const UncertaintyOptions& options,
                                            bool rigid_y = false);
 
+// The modal model of the time-domain method: the modes given (LobesInput::x_modes, y_modes), or
+// fitted (fit_milling_modes) to the FRFs, or to the assembly's tool point FRF (milling_frfs): x from
+// G_xx, y from G_yy, or the x modes for a symmetric tool, none when rigid in y. Appends the fits'
+// summaries and the warnings (the model's, the fits', cross FRFs ignored unless `uses_cross`: the
+// caller reads them itself). Throws InvalidArgument (no modes and nothing to fit, rigid_y with y
+// modes), InputError (bad FRFs, nothing to fit).
+ModalModel time_domain_modes(const LobesInput& input, const ModalFitOptions& fit, double fit_target,
+                             std::vector<ModalFitSummary>& fits, std::vector<std::string>& warnings, bool uses_cross = false);
+
 // The modal model of one point FRF for the time-domain method: 1, 2, … modes (up to
 // options.max_modes) until the modes alone represent it within `target`; the best one otherwise,
 // with a warning that says why. Warnings of the fit are prefixed with `what`.

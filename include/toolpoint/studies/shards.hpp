@@ -48,7 +48,9 @@ struct PartLabel {
   std::string source;             // the file (for messages)
   std::uint64_t fingerprint = 0;  // of the study (its options and inputs)
   ShardId shard;
-  std::string study;  // the study file it was computed from, as given ("" unknown): for the commands that redo it
+  // What the study was computed from, as its front end names it ("" unknown): the plan's study
+  // file, a simulated map's command-line options; for the commands that redo a shard.
+  std::string study;
 };
 
 // A shard to run again, and the part file it should write ("" when no part of the set says where).
@@ -95,6 +97,13 @@ class ShardSetError : public InputError {
 
 // Throws ShardSetError unless check.ok().
 void throw_unless_whole(const ShardSetCheck& check, const std::string& run_function);
+
+// Where the jobs of a set of parts go, once check_shard_set has passed: `jobs_of[p]` are the job
+// indices parts[p] holds. Throws InputError naming the part when one of them lies outside the run's
+// `jobs`, outside the part's shard or is held twice, and naming a job no part holds: a part whose
+// checksum holds but whose jobs are wrong was written wrongly or edited, and its shard is run again.
+void check_jobs_placed(const std::vector<PartLabel>& parts, const std::vector<std::vector<std::size_t>>& jobs_of,
+                       std::size_t jobs);
 
 // "3, 5, 7" (indices in order, runs of 4 or more as "8-15").
 std::string shard_list(const std::vector<int>& indices);
