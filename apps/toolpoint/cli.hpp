@@ -287,5 +287,6 @@ void add_lobes_command(CLI::App& app, Globals& g);
 void add_modes_command(CLI::App& app, Globals& g);
 void add_resample_command(CLI::App& app, Globals& g);
 void add_plan_command(CLI::App& app, Globals& g);
+void add_precision_command(CLI::App& app, Globals& g);
 
 }  // namespace toolpoint::cli

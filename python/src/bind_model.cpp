@@ -34,7 +34,6 @@ const std::vector<std::pair<const char*, ReceptanceMethod>> kMethods{{"exact", R
 const std::vector<std::pair<const char*, PredictedFrf>> kPredicted{{"SHT11", PredictedFrf::ToolPoint},
                                                                    {"SH11", PredictedFrf::HolderTip}};
 const std::vector<std::pair<const char*, TapSide>> kSides{{"tool", TapSide::Tool}, {"holder", TapSide::Holder}};
-const std::vector<std::pair<const char*, HammerPlan>> kHammers{{"roving", HammerPlan::Roving}, {"tip", HammerPlan::Tip}};
 
 // A per-frequency function of the model over an array of frequencies, GIL released.
 template <class F>
