@@ -20,6 +20,7 @@
 #include "toolpoint/error.hpp"
 #include "toolpoint/io.hpp"
 #include "toolpoint/plot.hpp"
+#include "support/scratch.hpp"
 
 using namespace toolpoint;
 using namespace toolpoint::plot;
@@ -57,20 +58,6 @@ std::string slurp(const std::string& path) {
   std::ostringstream ss;
   ss << in.rdbuf();
   return ss.str();
-}
-
-// PNG (ISO/IEC 15948): 8-byte signature, then the IHDR chunk (length 13) whose data begin with
-// the width and height as big-endian 32-bit integers.
-std::pair<unsigned, unsigned> png_size(const std::string& bytes) {
-  const std::string signature("\x89PNG\r\n\x1a\n", 8);
-  if (bytes.size() < 33 || bytes.compare(0, 8, signature) != 0 || bytes.compare(12, 4, "IHDR") != 0) return {0, 0};
-  auto be32 = [&](std::size_t at) {
-    unsigned v = 0;
-    for (std::size_t k = 0; k < 4; ++k) v = (v << 8) | static_cast<unsigned char>(bytes[at + k]);
-    return v;
-  };
-  if (be32(8) != 13) return {0, 0};
-  return {be32(16), be32(20)};
 }
 
 // A small XML well-formedness check: tags nest and match, attributes are quoted, entity
@@ -195,7 +182,7 @@ void expect_valid(const std::string& path, Format format, int width, int height)
   EXPECT_GT(bytes.size(), 5000u) << path;
   switch (format) {
     case Format::Png: {
-      const auto [w, h] = png_size(bytes);
+      const auto [w, h] = test::png_size(bytes);
       EXPECT_EQ(w, static_cast<unsigned>(width)) << path;
       EXPECT_EQ(h, static_cast<unsigned>(height)) << path;
       break;
@@ -689,7 +676,7 @@ TEST(PlotRender, TerminalFallbacks) {
   EXPECT_EQ(r.terminal, "png");
   ASSERT_EQ(r.notes.size(), 1u);
   EXPECT_NE(r.notes[0].find("pngcairo"), std::string::npos);
-  const auto [w, h] = png_size(slurp(dir / "f.png"));
+  const auto [w, h] = test::png_size(slurp(dir / "f.png"));
   EXPECT_EQ(w, 1000u);
   EXPECT_EQ(h, 700u);
   EXPECT_THROW(render(tiny_figure(), dir / "f.pdf", o), PlotUnavailable);
@@ -710,7 +697,7 @@ TEST(PlotRender, ChattyGnuplotDoesNotDeadlock) {
   const RenderResult r = render_script(body, dir / "chatty.png", 400, 300, o);
   EXPECT_EQ(r.warnings.size(), 8000u);
   EXPECT_EQ(r.warnings.back(), "chatter line 8000");
-  EXPECT_EQ(png_size(slurp(dir / "chatty.png")).first, 400u);
+  EXPECT_EQ(test::png_size(slurp(dir / "chatty.png")).first, 400u);
 }
 
 TEST(PlotRender, TimeoutStopsGnuplot) {
@@ -719,36 +706,4 @@ TEST(PlotRender, TimeoutStopsGnuplot) {
   o.timeout_s = 0.3;
   EXPECT_THROW(render_script("pause 30\nplot x\n", dir / "slow.png", 400, 300, o), IoError);
   EXPECT_TRUE(dir.entries().empty());
-}
-
-// ---- The CLI ------------------------------------------------------------------------------------------
-
-// toolpoint beam --plot: the CSV and a 4-panel PNG (1000 × 1040 px) are written; without
-// gnuplot on PATH the CSV is still written, the PNG is not, and the exit code is 5 (I/O) with
-// a message saying so.
-TEST(PlotCli, BeamPlot) {
-  TempDir dir;
-  const std::string base = std::string(TOOLPOINT_CLI) +
-                           " --quiet beam --length 0.123 --diameter 0.016 --youngs-modulus 5.8e11 --density 14500"
-                           " --loss-factor 0.002 --frequencies 10:20000:20";
-  const std::string ok = base + " --output " + (dir / "t.csv") + " --plot " + (dir / "t.png");
-  ASSERT_EQ(std::system(ok.c_str()), 0) << ok;
-  EXPECT_TRUE(fs::exists(dir / "t.csv"));
-  expect_valid(dir / "t.png", Format::Png, 1000, 1040);
-
-  const std::string missing = "PATH=/nonexistent " + base + " --output " + (dir / "u.csv") + " --plot " + (dir / "u.png") +
-                              " 2> " + (dir / "err.txt");
-  const int status = std::system(missing.c_str());
-  ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_EQ(WEXITSTATUS(status), 5);
-  EXPECT_TRUE(fs::exists(dir / "u.csv"));
-  EXPECT_FALSE(fs::exists(dir / "u.png"));
-  const std::string err = slurp(dir / "err.txt");
-  EXPECT_NE(err.find("gnuplot not found"), std::string::npos) << err;
-  EXPECT_NE(err.find("u.csv"), std::string::npos) << err;
-
-  const std::string typo = base + " --output " + (dir / "v.csv") + " --plot " + (dir / "v.jpg") + " 2>/dev/null";
-  const int bad = std::system(typo.c_str());
-  EXPECT_EQ(WEXITSTATUS(bad), 2);
-  EXPECT_FALSE(fs::exists(dir / "v.csv"));  // refused before any work
 }
