@@ -276,6 +276,49 @@ TEST(FrfFile, ReadAndWriteEveryFormat) {
   EXPECT_THROW(read_frf_file(dir / "missing.csv"), IoError);
 }
 
+// A stray line — a point far beyond the measured band at either end (1e9 Hz after 10–5000 Hz in the
+// new user's file) — is refused, naming the point and the median step; so is a top frequency no
+// tool point measurement reaches (3e5 Hz: kTopFrequency's limit is 2e5), while 3e4 Hz (beyond the
+// usual 2e4) is said. A measured band with a coarser part (two bands in one file) is read as it is.
+TEST(FrfFile, StrayEndPointsAndImpossibleFrequenciesAreRefused) {
+  TempDir dir;
+  const auto write = [&](const std::string& name, const std::vector<double>& f) {
+    FrfSeries s;
+    for (double x : f) {
+      s.frequency_hz.push_back(x);
+      s.values.push_back(sdof_receptance(x));
+    }
+    write_frf_csv(dir / name, s);
+    return dir / name;
+  };
+  std::vector<double> band;
+  for (int i = 0; i <= 400; ++i) band.push_back(10.0 + 12.5 * i);
+  std::vector<double> stray = band;
+  stray.push_back(1e9);
+  try {
+    read_frf_file(write("stray.csv", stray));
+    ADD_FAILURE() << "a stray point at 1e9 Hz was read";
+  } catch (const InputError& e) {
+    EXPECT_TRUE(contains(e.what(), "stray.csv: its last point, at 1e+09 Hz (point 402 of 402)")) << e.what();
+    EXPECT_TRUE(contains(e.what(), "median step of 12.5 Hz")) << e.what();
+    EXPECT_TRUE(contains(e.hint(), "remove that line")) << e.hint();
+  }
+  std::vector<double> first = band;
+  first.insert(first.begin(), 0.001);
+  first.erase(first.begin() + 1);  // 0.001 Hz, then 22.5 Hz: 1.8 steps, fine
+  EXPECT_NO_THROW(read_frf_file(write("first.csv", first)));
+  std::vector<double> two_bands = band;  // then 5 times coarser up to 10 kHz
+  for (double f = band.back() + 62.5; f <= 10000.0; f += 62.5) two_bands.push_back(f);
+  EXPECT_NO_THROW(read_frf_file(write("two.csv", two_bands)));
+  std::vector<double> high;
+  for (int i = 1; i <= 100; ++i) high.push_back(3000.0 * i);  // to 3e5 Hz
+  EXPECT_THROW(read_frf_file(write("high.csv", high)), InputError);
+  high.resize(10);  // to 3e4 Hz
+  const FrfFileData r = read_frf_file(write("wide.csv", high));
+  EXPECT_TRUE(any_contains(r.warnings, {"wide.csv: the top frequency [Hz] = 30000 is outside the usual range"}))
+      << (r.warnings.empty() ? "" : r.warnings.front());
+}
+
 TEST(FrfFile, EvenGridDetection) {
   FrfSeries h;
   for (int i = 0; i < 5; ++i) {

@@ -35,14 +35,16 @@ using test::expect_sdof;
 using test::sdof;
 const std::vector<double>& kFrequencies = test::kVariantFrequencies;
 
-std::string error_of(const std::string& file, const FrfReadOptions& o = {}) {
+// The error (and its fix) of reading `path`, or "no error".
+std::string error_reading(const std::string& path, const FrfReadOptions& o = {}) {
   try {
-    read_frf_file(kDir + file, o);
+    read_frf_file(path, o);
   } catch (const Error& e) {
     return std::string(e.what()) + " | fix: " + e.hint();
   }
   return "no error";
 }
+std::string error_of(const std::string& file, const FrfReadOptions& o = {}) { return error_reading(kDir + file, o); }
 
 using test::TempDir;
 
@@ -158,6 +160,58 @@ TEST(FrfVariants, CsvDamageIsAnErrorWithTheLine) {
   const BlockSeries b = read_block_csv(dir / "b.csv");
   EXPECT_EQ(b.blocks.at(0)(0, 0), Complex(1.5e-6, 2e-6));
   EXPECT_EQ(read_frf_file(dir / "b.csv").coherence, std::vector<double>{0.5});
+}
+
+// A vendor export with text above its header (title, date, channel: here with ';' and decimal
+// commas, so the preamble splits differently from the table) reads to the closed form, with a
+// warning naming the lines skipped; lines above a header that does not split like the data, or a
+// table without a header, are not skipped (the reader's errors stand, as before).
+TEST(FrfVariants, AVendorPreambleIsSkippedAndSaid) {
+  TempDir dir;
+  std::string text =
+      "Exported by Analyzer 3.2, project 7\nDate: 2024-05-01; 12:00\nChannel: 1 (tool tip Y)\n"
+      "\"Frequency [Hz]\";\"Real [m/N]\";\"Imag [m/N]\"\n";
+  for (double f : kFrequencies) {
+    const std::string line = fmt::format("{:.17g};{:.17g};{:.17g}\n", f, sdof(f).real(), sdof(f).imag());
+    std::string comma = line;
+    std::replace(comma.begin(), comma.end(), '.', ',');
+    text += comma;
+  }
+  write_text_file(dir / "vendor.csv", text);
+  const FrfFileData r = read_frf_file(dir / "vendor.csv");
+  expect_sdof(r, 1e-15);
+  EXPECT_TRUE(any_contains(r.warnings, {"vendor.csv: lines 1–3 above the header (line 4) skipped", "'Exported by Analyzer"}))
+      << r.warnings.front();
+  // No header under the preamble: nothing skipped, and the first line cannot be a header.
+  write_text_file(dir / "bare.csv", "Exported by Analyzer\n1000,1e-7,2e-8\n1200,1e-7,2e-8\n");
+  EXPECT_THROW(read_frf_file(dir / "bare.csv"), InputError);
+}
+
+// A phase column said to be in degrees whose values are radians (within ±π through a resonance,
+// where a receptance's phase passes 90°) is refused at the header line, naming the column and the
+// header to write; the same with FrfCsvOptions::format mag-phase-deg names the other format. The
+// degrees file of the variants (phases to −176°) still reads.
+TEST(FrfVariants, RadiansUnderADegreesHeaderAreRefused) {
+  TempDir dir;
+  std::string text = "Freq (Hz),Magnitude (m/N),Phase (deg)\n", bare = "Freq,Mag,Phase\n";
+  for (double f : kFrequencies) {
+    const std::string line = fmt::format("{:.17g},{:.17g},{:.17g}\n", f, std::abs(sdof(f)), std::arg(sdof(f)));
+    text += line;
+    bare += line;
+  }
+  write_text_file(dir / "rad.csv", text);
+  const std::string e = error_reading(dir / "rad.csv");
+  EXPECT_TRUE(contains(e, "rad.csv:1: column 3 ('Phase (deg)') is read in degrees, but every phase lies within ±π")) << e;
+  EXPECT_TRUE(contains(e, "resonance at 1600 Hz")) << e;
+  EXPECT_TRUE(contains(e, "'Phase (rad)'")) << e;
+  write_text_file(dir / "bare.csv", bare);
+  FrfReadOptions deg;
+  deg.csv.format = FrfValueFormat::MagPhaseDeg;
+  EXPECT_TRUE(contains(error_reading(dir / "bare.csv", deg), "mag-phase-rad")) << error_reading(dir / "bare.csv", deg);
+  FrfReadOptions rad;
+  rad.csv.format = FrfValueFormat::MagPhaseRad;
+  expect_sdof(read_frf_file(dir / "bare.csv", rad), 1e-13);
+  expect_sdof(read_frf_file(kDir + "csv_tab_mag_phase_deg_coherence.csv"), 1e-13);
 }
 
 // CutPro: both label variants, on the first data line (the MATLAB writer's layout, 13 significant
