@@ -235,6 +235,20 @@ TEST(FrfVariants, RotationalNodeMappingAndDirection) {
   EXPECT_TRUE(contains(out, "1 dataset(s) 58 could not be read")) << out;
   EXPECT_TRUE(contains(out, "is not given, and N needs it")) << out;
   EXPECT_FALSE(fs::exists(dir / "d.csv"));
+  // The file cut off inside the fifth dataset (H11, order 1 needs it for P): P is not approximated
+  // as if the hammer had stayed at the tip; asked for, it is.
+  const std::size_t fifth = [&] {
+    std::size_t at = 0;
+    for (int k = 0; k < 5; ++k) at = bytes.find("    58b", at + 1);
+    return at;
+  }();
+  write_text_file(dir / "cut.uff", read_text_file(dir / "tap.uff").substr(0, fifth + 400));
+  const std::string cut = "rotational --uff " + dir / "cut.uff" + " --spacing 0.01 --order 1 --output " + dir / "c.csv";
+  EXPECT_EQ(run_cli(cut, &out), 3) << out;
+  EXPECT_TRUE(contains(out, "needs H11, not given, and the source could not read one part")) << out;
+  EXPECT_TRUE(contains(out, "--p-method n2h")) << out;
+  EXPECT_FALSE(fs::exists(dir / "c.csv"));
+  EXPECT_EQ(run_cli(cut + " --p-method n2h", &out), 0) << out;
 }
 
 // The case: accelerance in g read as receptance gave negative modal masses. Read with its

@@ -759,7 +759,23 @@ TEST(Rotational, BadInputIsRejected) {
   PointFrfs nan = all;
   nan.h[1][1]->values[0] = {std::nan(""), 0.0};
   EXPECT_THROW(rotational_frfs(nan, fd(1, 0.1)), InputError);
-  PointFrfs zero = all;  // P ≈ N·L/H00 with H00 = 0
+  // A source that could not read all it held (a truncated file): a missing H11 may be there, so P
+  // is not approximated around it unless asked for; the message names what was not read.
+  PointFrfs truncated = no_h11;
+  truncated.unread = {"tap.uff: dataset 58b #4 (line 1010) skipped: record 12 is cut off"};
+  try {
+    rotational_frfs(truncated, fd(1, 0.1));
+    ADD_FAILURE() << "P approximated around an unread dataset";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(
+                  "needs H11, not given, and the source could not read one part of what it holds (tap.uff: dataset 58b #4"),
+              std::string::npos)
+        << e.what();
+    EXPECT_NE(e.hint().find("RotationalOptions::p_method SchmitzSmith"), std::string::npos) << e.hint();
+  }
+  EXPECT_NO_THROW(rotational_frfs(truncated, fd(1, 0.1, PMethod::SchmitzSmith)));
+  EXPECT_FALSE(rotational_frfs(no_h11, fd(1, 0.1)).p_from_cross_terms);  // complete source: approximated, said
+  PointFrfs zero = all;                                                  // P ≈ N·L/H00 with H00 = 0
   zero.h[0][0]->values[1] = 0.0;
   EXPECT_THROW(rotational_frfs(zero, fd(1, 0.1, PMethod::SchmitzSmith)), NumericalError);
 }
