@@ -87,6 +87,12 @@ TEST(LobesCommand, WritesLobesAndRejectsBadInputWithExitCodes) {
   const CliRun few_lobes = run_cli(base + " --immersion 0.5 --lobes 1");
   EXPECT_NE(few_lobes.out.find("--lobes"), std::string::npos) << few_lobes.out;
 
+  // Angles in radians for degrees (90° = 1.5708): refused, the fix in degrees.
+  const CliRun radians = run_cli(base + " --entry 0 --exit 1.5708");
+  EXPECT_EQ(radians.code, 2) << radians.out;
+  EXPECT_NE(radians.out.find("look like radians"), std::string::npos) << radians.out;
+  EXPECT_NE(radians.out.find("--entry 0 --exit 90.0002"), std::string::npos) << radians.out;
+  EXPECT_EQ(run_cli(base + " --entry 0 --exit 90").code, 0);
   const CliRun bad_immersion = run_cli(base + " --immersion 1.5");
   EXPECT_EQ(bad_immersion.code, 2) << bad_immersion.out;
   EXPECT_NE(bad_immersion.out.find("immersion"), std::string::npos) << bad_immersion.out;
