@@ -339,6 +339,120 @@ TEST(Plot, ScriptSharesXRangeAndBreaksAtNonFinite) {
   EXPECT_NE(s.find("$p0c0 << EOD\n2 1\n\n4 2\nEOD\n"), std::string::npos) << s;
 }
 
+// The layout the renderer decides (issue 26: titles clipped at the figure's edges, legends over
+// the data, labels through the title or on each other, a colour scale saturating unsaid). Each is
+// judged from the script against the geometry it sets: the ranges, the corner, the labels kept.
+namespace {
+
+// The text of the first `set <what> ...` line of a script, or "".
+std::string line_of(const std::string& s, const std::string& start) {
+  const std::size_t at = s.find(start);
+  return at == std::string::npos ? std::string() : s.substr(at, s.find('\n', at) - at);
+}
+
+std::size_t count_of(const std::string& s, const std::string& part) {
+  std::size_t n = 0;
+  for (std::size_t at = s.find(part); at != std::string::npos; at = s.find(part, at + 1)) ++n;
+  return n;
+}
+
+}  // namespace
+
+// A title far wider than the figure is broken into lines (at spaces or after '/'), each holding
+// at most as many characters as the width allows at the widest glyph a file name uses ('m',
+// 0.974 em of 18 pt at 4/3 px per pt: 23.4 px) … and at least what the narrowest could (none is
+// cut mid-word when a space is near); a short title stays one line.
+TEST(PlotLayout, ALongTitleIsBrokenToFitTheWidth) {
+  Figure f;
+  f.width_px = 600;
+  Panel p;
+  p.curves.push_back({{1.0, 2.0}, {1.0, 2.0}, "a", CurveStyle::Line, -1});
+  f.panels = {p};
+  f.title = "Tool point FRF from /a/very/long/folder/name/for/the/measured/holder/data/sh11_filtered.csv + model tool (Eq. 5)";
+  const std::string title = line_of(gnuplot_script(f), "set multiplot title ");
+  ASSERT_FALSE(title.empty());
+  EXPECT_GE(count_of(title, "\\n"), 1u) << title;
+  // Each line: not wider than the figure at any glyph's width (0.278 em, 'l', the narrowest used).
+  std::size_t start = title.find('"') + 1;
+  for (std::size_t end; (end = title.find("\\n", start)) != std::string::npos || start < title.size(); start = end + 2) {
+    if (end == std::string::npos) end = title.rfind('"');
+    const std::string line = title.substr(start, end - start);
+    EXPECT_LE(static_cast<double>(line.size()) * 0.278 * 18.0 * 4.0 / 3.0, 600.0) << line;
+    if (end == title.rfind('"')) break;
+  }
+  f.title = "Short";
+  EXPECT_EQ(count_of(line_of(gnuplot_script(f), "set multiplot title "), "\\n"), 0u);
+}
+
+// The legend goes where it covers no data: a curve filling the top right leaves it the top left;
+// a curve filling the top half leaves it a bottom corner; noise over the whole frame sends it
+// outside (a key at screen coordinates, the panels narrowed). The default was top right always.
+TEST(PlotLayout, TheLegendKeepsOffTheData) {
+  const auto key_of = [](const std::vector<double>& x, const std::vector<double>& y) {
+    Figure f;
+    Panel p;
+    p.curves.push_back({x, y, "data", CurveStyle::Line, -1});
+    f.panels = {p};
+    return line_of(gnuplot_script(f), "set key ");
+  };
+  std::vector<double> x, rising, high, noise;
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int i = 0; i <= 400; ++i) {
+    x.push_back(i);
+    rising.push_back(i < 300 ? 0.0 : (i - 300) / 10.0);  // 0 until x = 300, then up to 10 at the right edge
+    high.push_back(i == 0 ? 0.0 : i % 2 ? 10.0 : 5.0);   // from 0, then a zig-zag over the upper half
+    noise.push_back(u(rng));
+  }
+  EXPECT_NE(key_of(x, rising).find("set key top left"), std::string::npos) << key_of(x, rising);
+  EXPECT_NE(key_of(x, high).find("set key bottom"), std::string::npos) << key_of(x, high);
+  EXPECT_NE(key_of(x, noise).find("set key at screen"), std::string::npos) << key_of(x, noise);
+}
+
+// Labels: of two at one point only the first is drawn; one at the top of an autoscaled panel gets
+// room above it (the range raised so that the text, 1.1 lines above the point, stays inside);
+// on a panel with an explicit top, a label that would cross it is left out.
+TEST(PlotLayout, LabelsNeitherOverlapNorLeaveTheFrame) {
+  Figure f;
+  Panel p;
+  p.curves.push_back({{0.0, 5.0, 10.0}, {0.0, 10.0, 0.0}, "", CurveStyle::Line, -1});
+  p.labels = {{5.0, 10.0, "peak", true}, {5.0, 10.0, "again", true}};
+  f.panels = {p};
+  std::string s = gnuplot_script(f);
+  EXPECT_EQ(count_of(s, "set label \"peak\""), 1u) << s;
+  EXPECT_EQ(count_of(s, "set label \"again\""), 0u) << s;
+  const std::string range = line_of(s, "set yrange [");
+  const double top = std::stod(range.substr(range.find(':') + 1));
+  // 700 px high, one panel of 700 − 25 − 80 px: the label's top (1.7 lines of ~26 px above the
+  // point) needs the point at most ~(1 − 48/595) of the range: top ≥ 10.9.
+  EXPECT_GE(top, 10.8) << range;
+  f.panels[0].y.max = 10.0;
+  s = gnuplot_script(f);
+  EXPECT_EQ(count_of(s, "set label \"peak\""), 0u) << s;
+}
+
+// A colour bar ending below the data's maximum (a percentile, so a few high cells do not darken
+// the rest) says so: its top tic reads "≥ 2" and no plain tic crowds it; a bar covering the data
+// keeps gnuplot's own tics.
+TEST(PlotLayout, ASaturatedColourBarSaysSo) {
+  Figure f;
+  Panel p;
+  Map m;
+  m.x = {0.0, 1.0, 2.0};
+  m.y = {0.0, 1.0};
+  m.z = {0.0, 0.5, 1.0, 1.5, 2.0, 9.0};
+  m.colour.label = "Depth [mm]";
+  m.colour.min = 0.0;
+  m.colour.max = 2.0;
+  p.map = m;
+  f.panels = {p};
+  const std::string tics = line_of(gnuplot_script(f), "set cbtics (");
+  EXPECT_NE(tics.find("\"≥ 2\" 2"), std::string::npos) << tics;
+  EXPECT_EQ(tics.find("\"2\" 2"), std::string::npos) << tics;
+  f.panels[0].map->colour.max = 9.0;
+  EXPECT_EQ(gnuplot_script(f).find("set cbtics ("), std::string::npos);
+}
+
 // literal() makes enhanced-text markup print verbatim: in the SVG the file name must appear as
 // one piece of text (gnuplot would otherwise set "T11.csv" as a subscript in its own element).
 TEST(Plot, LiteralTextSurvivesEnhancedMode) {
