@@ -82,10 +82,6 @@ double total_length(const std::vector<Segment>& s) {
   return l;
 }
 
-}  // namespace
-
-namespace {
-
 // The section where the tool sits in the holder is composite (sleeve and tool bonded: EI, κGA, ρA,
 // ρI add), which needs the tool to fill the bore: its shank, and its flutes on their lands (the
 // nominal diameter; the fluted part's equivalent diameter is a stiffness, not a size). Fits and
