@@ -265,6 +265,35 @@ TEST_F(Cli, IdentifiedJointFileFeedsTheOtherCommands) {
   expect_error(run("predict '" + kExample + "' --joint holder-tool=bad.toml"), 3, {"bad.toml", "c_yf"});
 }
 
+// A joint file whose identification was judged doubtful says so in the results that use it (the
+// text and the JSON), and the notes on definiteness describe the joint in use: the file's
+// (indefinite here, like Table 1: named by the file), not the assembly file's joint it replaced;
+// a definite joint file leaves no such note.
+TEST_F(Cli, AJointFilesVerdictAndDefinitenessReachTheOutput) {
+  const std::string table1 = "k_yf = 4.19e7\nc_yf = 54.0\nk_ym = 2.06e6\nc_ym = 22.2\nk_tm = 6.5e4\nc_tm = 1.0\n";
+  write_text_file(path("doubtful.toml"),
+                  "[joint]\ninterface = \"holder_tool\"\n" + table1 + "[identification]\nverdict = \"doubtful\"\n");
+  const std::string lobes = "lobes --assembly '" + kExample +
+                            "' --teeth 4 --kt 6e8 --kr 0.3 --immersion 0.5 --milling down --rpm 5000:15000 --speeds 50";
+  const Run r = ok(lobes + " --joint holder-tool=doubtful.toml --json");
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_NE(j["warnings"].dump().find("doubtful.toml: the identification of this holder_tool joint was judged 'doubtful'"),
+            std::string::npos)
+      << j["warnings"].dump();
+  EXPECT_NE(r.err.find("note: doubtful.toml (the holder_tool joint in use): the stiffness matrix"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("joints.holder_tool: the stiffness matrix"), std::string::npos) << r.err;
+  const Run text = ok(lobes + " --joint holder-tool=doubtful.toml");
+  EXPECT_NE(text.err.find("warning: doubtful.toml: the identification"), std::string::npos) << text.err;
+  write_text_file(path("definite.toml"),
+                  "[joint]\ninterface = \"holder_tool\"\nk_yf = 4.19e7\nc_yf = 54.0\nk_ym = 2.06e5\n"
+                  "c_ym = 2.22\nk_tm = 6.5e4\nc_tm = 1.0\n");
+  const Run definite = ok("predict '" + kExample + "' --joint holder-tool=definite.toml --frequencies 100:3000:10");
+  EXPECT_EQ(definite.err.find("not positive definite"), std::string::npos) << definite.err;
+  EXPECT_EQ(definite.err.find("judged"), std::string::npos) << definite.err;
+  EXPECT_NE(ok("predict '" + kExample + "' --frequencies 100:3000:10").err.find("joints.holder_tool: the stiffness matrix"),
+            std::string::npos);
+}
+
 // Results that cannot be right are refused (exit 6, nothing written) unless --accept; an output
 // that would overwrite an input, and a noise level given in per cent, are usage errors.
 // A tap test as averaging software gives it (issue 24): taptest --averages writes each FRF's
@@ -954,9 +983,12 @@ TEST_F(Cli, UnitSlipsOnOptionsAreRefusedOrSaid) {
   expect_error(run("beam --length 100 --diameter 16"), 2, {"--length", "metres"});
   expect_error(run("beam --length 0.1 --diameter 0.016 --youngs-modulus 200"), 2, {"--youngs-modulus", "Pa"});
   expect_error(run("taptest '" + kExample + "' --spacing 10 --output t.uff"), 2, {"--spacing"});
+  // Radians for degrees (both angles within π): refused, the fix in degrees (a cut of at most 3°
+  // can still be given as an immersion).
+  expect_error(run("lobes --frf sht.csv --teeth 4 --kt 6e8 --kr 0.3 --entry 1.57 --exit 3.14 --rpm 2000:20000"), 2,
+               {"--entry 1.57 --exit 3.14: the angles are in degrees", "radians", "--entry 89.9544 --exit 179.909",
+                "--immersion"});
   // Unusual but possible: done, with a warning that names the option and the unit.
-  const Run radians = ok("lobes --frf sht.csv --teeth 4 --kt 6e8 --kr 0.3 --entry 1.57 --exit 3.14 --rpm 2000:20000");
-  EXPECT_NE(radians.err.find("warning: --entry 1.57 --exit 3.14: the angles are in degrees"), std::string::npos) << radians.err;
   const Run long_beam = ok("beam --length 3 --diameter 0.016 --modes 1");
   EXPECT_NE(long_beam.err.find("warning: --length = 3 is outside the usual range"), std::string::npos) << long_beam.err;
   // 0 where it means nothing.

@@ -96,8 +96,8 @@ CLI::Option* add_joint_option(CLI::App* command, std::vector<std::string>& targe
 std::vector<JointFile> read_joint_options(const Globals& g, const std::vector<std::string>& specs);
 // The files named by --joint options, for check_paths.
 std::vector<RunPath> joint_paths(const std::vector<std::string>& specs);
-// The assembly with the files' joints in place.
-Assembly with_joints(const Assembly& assembly, const std::vector<JointFile>& files);
+// The loaded assembly with the files' joints in place (its notes then describe those joints).
+LoadedAssembly with_joints(LoadedAssembly loaded, const std::vector<JointFile>& files);
 
 // Monte Carlo over a joint's uncertainty (--samples N, --seed, --threads), for the commands that
 // carry it forward. Adds the options; `sampled` picks the one --joint file with an [uncertainty]

@@ -101,13 +101,16 @@ CuttingConditions cutting_conditions(const LobesOptions& o) {
     if (o.milling.empty()) throw InvalidArgument("--immersion needs --milling up or --milling down", "add --milling down");
     c.engagement = engagement_from_immersion(o.immersion, o.milling == "up" ? MillingDirection::Up : MillingDirection::Down);
   } else {
-    // Both angles within π: radians meant for degrees (1.57, 3.14 for slotting), or a cut of at
-    // most 3°; said, not refused (a very light finishing cut is possible).
+    // Both angles within π: radians meant for degrees (1.57, 3.14 for slotting) far more likely than
+    // a cut of at most 3°, which gives lobes that look like any others; refused, and such a light
+    // cut can still be given as an immersion.
     if (std::abs(o.entry_deg) <= kPi + 1e-3 && std::abs(o.exit_deg) <= kPi + 1e-3)
-      warn(
-          fmt::format("--entry {} --exit {}: the angles are in degrees, so this is a cut of {:g}°; if they are radians, give "
-                      "--entry {:g} --exit {:g}",
-                      o.entry_deg, o.exit_deg, o.exit_deg - o.entry_deg, o.entry_deg * 180.0 / kPi, o.exit_deg * 180.0 / kPi));
+      throw InvalidArgument(
+          fmt::format("--entry {} --exit {}: the angles are in degrees, so this is a cut of only {:g}°; they look like "
+                      "radians",
+                      o.entry_deg, o.exit_deg, o.exit_deg - o.entry_deg),
+          fmt::format("give degrees: --entry {:g} --exit {:g}; for so light a cut, give --immersion a/D with --milling",
+                      o.entry_deg * 180.0 / kPi, o.exit_deg * 180.0 / kPi));
     c.engagement = engagement_from_degrees(o.entry_deg, o.exit_deg);
   }
   c.check();
@@ -389,7 +392,8 @@ void add_lobes_command(CLI::App& app, Globals& g) {
       c->add_option("--immersion", o->immersion,
                     "Radial immersion a/D [-] in (0, 1] (1: slotting); needs --milling (this or --entry/--exit required)");
   auto* entry_opt = c->add_option("--entry", o->entry_deg,
-                                  "Entry angle φ_st [°], clockwise from the normal (y) direction, with --exit");
+                                  "Entry angle φ_st [°, not rad], clockwise from the normal (y) direction, with --exit (both "
+                                  "within π look like radians: refused)");
   auto* exit_opt = c->add_option("--exit", o->exit_deg, "Exit angle φ_ex [°] (0 ≤ entry < exit ≤ 180)");
   entry_opt->needs(exit_opt);
   exit_opt->needs(entry_opt);

@@ -42,9 +42,8 @@ void report_loaded(const Globals& g, const LoadedAssembly& loaded) {
 
 LoadedAssembly load_assembly_on_grid(const Globals& g, const std::string& path, const std::string& frequencies,
                                      const std::vector<JointFile>& joints) {
-  LoadedAssembly loaded = load_assembly(path);
+  LoadedAssembly loaded = with_joints(load_assembly(path), joints);
   report_loaded(g, loaded);
-  loaded.assembly = with_joints(loaded.assembly, joints);
   if (!frequencies.empty()) {
     loaded.assembly.grid = parse_frequency_grid(frequencies, "--frequencies");
     check_plausible(plausible::kTopFrequency, loaded.assembly.grid.stop_hz, "--frequencies: the top frequency [Hz]",
@@ -108,10 +107,9 @@ std::vector<RunPath> joint_paths(const std::vector<std::string>& specs) {
   return paths;
 }
 
-Assembly with_joints(const Assembly& assembly, const std::vector<JointFile>& files) {
-  Assembly a = assembly;
-  for (const JointFile& f : files) a = with_joint(a, f);
-  return a;
+LoadedAssembly with_joints(LoadedAssembly loaded, const std::vector<JointFile>& files) {
+  for (const JointFile& f : files) loaded = with_joint(std::move(loaded), f);
+  return loaded;
 }
 
 void add_sampling_options(CLI::App* command, SamplingOptions& target, const std::string& what, bool threads_option) {
@@ -315,6 +313,7 @@ std::string with_flags(std::string text) {
       {"FrfReadOptions::format", "--from"},
       {"UffSelection::index", "--dataset"},
       {"RotationalOptions::assume_reciprocity", "--assume-reciprocity"},
+      {"RotationalOptions::p_method SchmitzSmith", "--p-method n2h"},
       {"TapTestFileOptions::nodes", "--nodes"},
       {"TapTestFileOptions::direction", "--direction"},
       {"TapTestFileOptions::order", "--order"},

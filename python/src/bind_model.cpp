@@ -410,7 +410,8 @@ void bind_model(py::module_& m) {
       .def("check", &Assembly::check, "Raises InvalidArgument naming the offending item.")
       .def("with_overhang", &with_overhang, "overhang"_a,
            "The same assembly with the tool sticking out `overhang` m (the length inside the holder kept).")
-      .def("with_joint", &with_joint, "joint"_a, "The assembly with a JointFile's joint in place of the one at its interface.");
+      .def("with_joint", static_cast<Assembly (*)(const Assembly&, const JointFile&)>(&with_joint), "joint"_a,
+           "The assembly with a JointFile's joint in place of the one at its interface.");
 
   py::class_<LoadedAssembly>(m, "LoadedAssembly",
                              "An assembly file read: the assembly, warnings (implausible magnitudes) and notes.")
