@@ -2,27 +2,37 @@
 # toolpoint set-up on a fresh Debian 12 machine, as root: installs what is missing (Debian packages
 # only, via apt-get), configures and builds, then runs the requested job.
 #
-#   bash scripts/run.sh demo    # install, build, run `toolpoint demo` (the seed's case study)
-#   bash scripts/run.sh test    # install, build, run every test (ctest), then each fuzz target 10 s
-#   bash scripts/run.sh build   # install and build only
+#   bash scripts/run.sh demo    # install, build the CLI (library + `toolpoint` only), run `toolpoint demo`
+#   bash scripts/run.sh test    # install, build everything, run every test (ctest), then each fuzz target 10 s
+#   bash scripts/run.sh build   # install and build everything
 #   bash scripts/run.sh bench   # install, build, run the benchmarks
 #
+# The demo needs only the library's packages and gnuplot, and builds only what it runs (about 3 min
+# on 2 cores, see the README's Performance table); the other jobs install the rest (GoogleTest,
+# Google Benchmark, the Python package's, clang for the fuzz targets) and build every target.
 # Environment: BUILD_DIR (default build), JOBS (default: number of cores).
 set -euo pipefail
 
 job=${1:-demo}
 shift || true
+case "$job" in
+  demo | test | build | bench) ;;
+  *) echo "usage: bash scripts/run.sh demo|test|build|bench [args...]" >&2; exit 2 ;;
+esac
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$here"
 build_dir=${BUILD_DIR:-build}
 jobs=${JOBS:-$(nproc 2>/dev/null || echo 2)}
 
+# The library and the CLI (and gnuplot for their figures).
 packages=(build-essential cmake pkg-config libeigen3-dev libcli11-dev libfmt-dev libtomlplusplus-dev
-          nlohmann-json3-dev libsleef-dev libspectra-dev libgtest-dev libbenchmark-dev gnuplot-nox
-          python3-dev pybind11-dev python3-numpy python3-pytest
-          clang libclang-rt-14-dev   # clang + libFuzzer for the fuzz targets (scripts/fuzz.sh)
-          slurm-wlm munge            # a real single-node Slurm for the batch path's test (tests/slurm/)
-          python3-kubernetes python3-yaml)  # the Kubernetes Job schema, to check deploy/*.yaml
+          nlohmann-json3-dev libsleef-dev libspectra-dev gnuplot-nox)
+if [ "$job" != demo ]; then
+  packages+=(libgtest-dev libbenchmark-dev python3-dev pybind11-dev python3-numpy python3-pytest
+             clang libclang-rt-14-dev   # clang + libFuzzer for the fuzz targets (scripts/fuzz.sh)
+             slurm-wlm munge            # a real single-node Slurm for the batch path's test (tests/slurm/)
+             python3-kubernetes python3-yaml)  # the Kubernetes Job schema, to check deploy/*.yaml
+fi
 
 missing=()
 for p in "${packages[@]}"; do
@@ -49,8 +59,20 @@ if ((${#missing[@]})); then
   if [ -n "$policy" ]; then rm -f "$policy"; trap - EXIT; fi
 fi
 
-cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build "$build_dir" -j "$jobs"
+# The demo configures a new build folder without the tests, benchmarks and Python package (their
+# packages may be missing) and builds the CLI target alone; an existing folder keeps its settings.
+# Every other job turns them on.
+configure=(-DCMAKE_BUILD_TYPE=Release)
+targets=()
+if [ "$job" = demo ]; then
+  [ -f "$build_dir/CMakeCache.txt" ] ||
+    configure+=(-DTOOLPOINT_BUILD_TESTS=OFF -DTOOLPOINT_BUILD_BENCH=OFF -DTOOLPOINT_BUILD_PYTHON=OFF)
+  targets=(--target toolpoint)
+else
+  configure+=(-DTOOLPOINT_BUILD_TESTS=ON -DTOOLPOINT_BUILD_BENCH=ON -DTOOLPOINT_BUILD_PYTHON=ON)
+fi
+cmake -S . -B "$build_dir" "${configure[@]}" >/dev/null
+cmake --build "$build_dir" -j "$jobs" "${targets[@]}"
 
 case "$job" in
   demo)  exec "$build_dir/toolpoint" demo "$@" ;;
@@ -58,5 +80,4 @@ case "$job" in
          bash scripts/fuzz.sh "${FUZZ_SECONDS:-10}" ;;  # each fuzz target for a short fixed time
   build) ;;
   bench) exec "$build_dir/toolpoint_bench" "$@" ;;
-  *) echo "usage: bash scripts/run.sh demo|test|build|bench [args...]" >&2; exit 2 ;;
 esac

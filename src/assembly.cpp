@@ -82,6 +82,42 @@ double total_length(const std::vector<Segment>& s) {
   return l;
 }
 
+// The section where the tool sits in the holder is composite (sleeve and tool bonded: EI, κGA, ρA,
+// ρI add), which needs the tool to fill the bore: its shank, and its flutes on their lands (the
+// nominal diameter; the fluted part's equivalent diameter is a stiffness, not a size). Fits and
+// shrink-fit interferences are hundredths of a millimetre; a gap of more than 1 % of the bore is
+// another part (a sleeve, a collet) or a slip. A bore narrower than the tool: insert_tool.
+void check_tool_fills_bore(const std::vector<Segment>& holder, const Tool& tool) {
+  constexpr double kBoreGap = 0.01;
+  const double inside = tool.length - tool.overhang;
+  const double flutes = std::min(tool.flute_length, tool.length);  // from the tool's tip
+  const double shank = tool.shank_diameter > 0.0 ? tool.shank_diameter : tool.diameter;
+  double depth = 0.0;  // of the segment's start from the holder tip
+  for (const Segment& h : holder) {
+    const double start = depth, end = std::min(depth + h.length, inside);
+    depth += h.length;
+    if (start >= inside - kLengthEps) break;
+    double bore = std::numeric_limits<double>::infinity();
+    for (const Annulus& l : h.layers) bore = std::min(bore, l.inner_diameter);
+    if (!(bore > 0.0) || !std::isfinite(bore)) continue;  // no bore: insert_tool says so
+    // The tool's parts in [start, end) from the holder tip: [overhang + start, overhang + end) from its tip.
+    const bool has_flutes = tool.overhang + start < flutes - kLengthEps;
+    const bool has_shank = tool.overhang + end > flutes + kLengthEps;
+    const bool shank_narrower = has_shank && (!has_flutes || shank < tool.diameter);
+    const double contact = shank_narrower ? shank : tool.diameter;
+    if (contact < bore * (1.0 - kBoreGap))
+      throw InvalidArgument(
+          fmt::format("{}: its bore of {:.4g} mm holds the tool's {} of {:.4g} mm diameter ({}): a gap of {:.3g} mm, so the "
+                      "two would not act as one section, as the model of the holder with the tool inside assumes",
+                      h.name.empty() ? "holder segment" : h.name, 1e3 * bore, shank_narrower ? "shank" : "fluted part",
+                      1e3 * contact, shank_narrower && tool.shank_diameter > 0.0 ? "tool.shank_diameter" : "tool.diameter",
+                      1e3 * (bore - contact)),
+          "give the holder segments the tool sits in the tool's diameter as their bore (inner_diameter; a shrink fit or "
+          "collet grips it), or correct tool.shank_diameter; a reduction sleeve or collet is part of the holder "
+          "(segments whose bore is the shank's)");
+  }
+}
+
 }  // namespace
 
 void Assembly::check() const {
@@ -104,6 +140,7 @@ void Assembly::check() const {
     throw InvalidArgument(
         fmt::format("tool: {} m of the tool sits inside the holder (length − overhang) but the holder is only {} m long",
                     insertion, lh));
+  check_tool_fills_bore(holder, tool);
   spindle_holder.parameters.check();
   holder_tool.parameters.check();
   if (method == ReceptanceMethod::Modal && (modal_terms < 1 || modal_terms > 20000))
@@ -301,8 +338,15 @@ AssemblyModel::AssemblyModel(const Assembly& assembly) : assembly_(assembly) {
   }
 }
 
-std::vector<std::string> AssemblyModel::warnings() const {
+std::vector<std::string> Assembly::warnings() const {
   std::vector<std::string> w;
+  for (const Joint* j : {&spindle_holder, &holder_tool})
+    if (!j->rigid) w.insert(w.end(), j->warnings.begin(), j->warnings.end());
+  return w;
+}
+
+std::vector<std::string> AssemblyModel::warnings() const {
+  std::vector<std::string> w = assembly_.warnings();
   for (const Chain* c : {&spindle_, &holder_, &tool_}) w.insert(w.end(), c->warnings().begin(), c->warnings().end());
   return w;
 }

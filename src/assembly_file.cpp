@@ -227,11 +227,14 @@ LoadedAssembly parse_assembly(const std::string& text, const std::string& source
   if (!analysis)  // a default that changes every result: said once, never silent
     notes.push_back(fmt::format("{}: no [analysis] table: the default grid {:g}–{:g} Hz in steps of {:g} Hz is used", source,
                                 a.grid.start_hz, a.grid.stop_hz, a.grid.step_hz));
-  for (const auto& [joint, name] :
-       {std::pair{&a.spindle_holder, "joints.spindle_holder"}, std::pair{&a.holder_tool, "joints.holder_tool"}})
+  for (const auto& [joint, key] : {std::pair{&a.spindle_holder, "spindle_holder"}, std::pair{&a.holder_tool, "holder_tool"}})
     if (!joint->rigid)
-      for (auto& n : joint_warnings(joint->parameters, fmt::format("{}: {}", source, name))) notes.push_back(std::move(n));
-  return {std::move(a), std::move(r.warnings), std::move(notes)};
+      for (auto& n : joint_warnings(joint->parameters, assembly_joint_name(source, key))) notes.push_back(std::move(n));
+  return {std::move(a), std::move(r.warnings), std::move(notes), source};
+}
+
+std::string assembly_joint_name(const std::string& source, const std::string& key) {
+  return fmt::format("{}: joints.{}", source, key);
 }
 
 LoadedAssembly load_assembly(const std::string& path) { return parse_assembly(read_text_file(path), path); }

@@ -100,9 +100,8 @@ Observation observe(const FrfSeries& meas, const FrfSeries& pred, const std::vec
     o.window_prominence.push_back(prom);
   }
   for (const Peak& p : mp) {
-    const bool inside = std::any_of(win.begin(), win.end(), [&](const Window& w) {
-      return p.frequency_hz >= w.lo_hz && p.frequency_hz <= w.hi_hz;
-    });
+    const bool inside = std::any_of(win.begin(), win.end(),
+                                    [&](const Window& w) { return p.frequency_hz >= w.lo_hz && p.frequency_hz <= w.hi_hz; });
     if (inside) continue;
     o.extra.push_back(p);
     o.max_extra = std::max(o.max_extra, p.prominence);
@@ -185,7 +184,8 @@ void ForwardCheckOptions::check() const {
     throw InvalidArgument(
         fmt::format("ForwardCheckOptions::frequency_tolerance = {} must lie in (0, 1) (a fraction)", frequency_tolerance));
   if (!(peak_tolerance > 0.0 && peak_tolerance < 10.0))
-    throw InvalidArgument(fmt::format("ForwardCheckOptions::peak_tolerance = {} must lie in (0, 10) (a fraction)", peak_tolerance));
+    throw InvalidArgument(
+        fmt::format("ForwardCheckOptions::peak_tolerance = {} must lie in (0, 10) (a fraction)", peak_tolerance));
   parallel.check();
 }
 
@@ -212,8 +212,8 @@ ForwardCheck check_forward(const JointFitData& d, const JointParameters& joint, 
   G_ref.frequency_hz = f;
   G_ref.blocks = predicted(d, B_ref.blocks, K);
   const FrfSeries ref = smoothed_h(f, G_ref.blocks, smoothing);
-  const std::vector<Peak> model_modes =
-      reference_modes(d, B_ref, K, ref, smoothing, o.min_prominence, stream_seed(o.seed, 0x919E), o.parallel);
+  const std::vector<Peak> model_modes = reference_modes(d, B_ref, K, ref, smoothing, o.min_prominence,
+                                                        stream_seed(o.seed, 0x919E), o.parallel);
   // The joint's uncertainty: each replicate's prediction takes a joint drawn from it, and each
   // window is at least 4 standard deviations of its mode's frequency over such joints wide.
   const bool exact = d.g_noise.exact() && d.b_noise.exact();
@@ -230,12 +230,13 @@ ForwardCheck check_forward(const JointFitData& d, const JointParameters& joint, 
     // lower), over up to 40 of the drawn joints.
     std::vector<std::vector<double>> fm(win.size());
     for (std::size_t r = 0; r < std::min<std::size_t>(thetas.size(), 40); ++r) {
-      const std::vector<Peak> pk =
-          find_peaks(smoothed_h(f, predicted(d, B_ref.blocks, stiffness_of(thetas[r])), smoothing), PeakOptions{o.min_prominence});
+      const std::vector<Peak> pk = find_peaks(smoothed_h(f, predicted(d, B_ref.blocks, stiffness_of(thetas[r])), smoothing),
+                                              PeakOptions{o.min_prominence});
       for (std::size_t m = 0; m < win.size(); ++m) {
         const Peak* best = nullptr;
         for (const Peak& p : pk)
-          if (p.frequency_hz >= win[m].valley_lo_hz && p.frequency_hz <= win[m].valley_hi_hz && (!best || p.magnitude > best->magnitude))
+          if (p.frequency_hz >= win[m].valley_lo_hz && p.frequency_hz <= win[m].valley_hi_hz &&
+              (!best || p.magnitude > best->magnitude))
             best = &p;
         if (best) fm[m].push_back(best->frequency_hz);
       }
@@ -261,16 +262,23 @@ ForwardCheck check_forward(const JointFitData& d, const JointParameters& joint, 
     parallel_for(reps.size(), o.parallel, [&](std::size_t r) {
       const std::uint64_t base = stream_seed(o.seed, r);
       const bool shared = o.shared_calibration;
+      // The world's truth: the joint is the identified one give or take its uncertainty (θ* drawn),
+      // so the data may show the modes where such joints put them; the prediction is made with
+      // the identified joint, as for the measured data.
+      BlockSeries truth;
+      if (!thetas.empty()) {
+        truth.frequency_hz = f;
+        truth.blocks = predicted(d, B_ref.blocks, stiffness_of(thetas[r]));
+      }
       BlockSeries Bs = draw_block_noise(B_ref, d.b_noise, stream_seed(base, 1), !shared);
-      BlockSeries Gs = draw_block_noise(G_ref, d.g_noise, stream_seed(base, 2), !shared);
+      BlockSeries Gs = draw_block_noise(thetas.empty() ? G_ref : truth, d.g_noise, stream_seed(base, 2), !shared);
       if (shared) {
         const double sigma = std::max(d.b_noise.calibration, d.g_noise.calibration);
         const double scale = 1.0 + sigma * calibration_normal(stream_seed(base, 3));
         for (Block& x : Bs.blocks) x *= scale;
         for (Block& x : Gs.blocks) x *= scale;
       }
-      reps[r] = observe(smoothed_h(f, Gs.blocks, smoothing),
-                        smoothed_h(f, predicted(d, Bs.blocks, thetas.empty() ? K : stiffness_of(thetas[r])), smoothing), win,
+      reps[r] = observe(smoothed_h(f, Gs.blocks, smoothing), smoothed_h(f, predicted(d, Bs.blocks, K), smoothing), win,
                         o.min_prominence);
     });
   }
@@ -357,10 +365,8 @@ ForwardCheck check_forward(const JointFitData& d, const JointParameters& joint, 
         std::size_t hidden = 0;
         for (const Observation& r : reps) {
           const std::optional<Peak>& pk = measured_side ? r.measured[m] : r.predicted[m];
-          if (pk)
-            prom.push_back(pk->prominence);
-          else
-            ++hidden;
+          if (pk) prom.push_back(pk->prominence);
+          else ++hidden;
         }
         const MeanSd sp = mean_sd(prom);
         const double p = hidden > 0 ? static_cast<double>(hidden) / static_cast<double>(reps.size())
@@ -394,10 +400,11 @@ ForwardCheck check_forward(const JointFitData& d, const JointParameters& joint, 
       e.significant = e.p_value <= 0.5 * o.false_alarm;
     }
     if (e.significant)
-      out.failures.push_back(fmt::format("the data have a peak at {:.1f} Hz (prominence {:.2g}) that no mode of the identified "
-                                         "model explains{}",
-                                         e.frequency_hz, e.prominence,
-                                         exact ? "" : fmt::format(" and the noise does not make (p = {:.2g})", e.p_value)));
+      out.failures.push_back(
+          fmt::format("the data have a peak at {:.1f} Hz (prominence {:.2g}) that no mode of the identified "
+                      "model explains{}",
+                      e.frequency_hz, e.prominence,
+                      exact ? "" : fmt::format(" and the noise does not make (p = {:.2g})", e.p_value)));
     out.extra.push_back(e);
   }
   if (model_modes.empty()) out.notes.push_back("the identified model has no mode in the band: nothing to compare");

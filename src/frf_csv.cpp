@@ -2,14 +2,16 @@
 //
 // The order of decisions, each from the file alone or from an option, never from a guess:
 //   1. text: a UTF-8 byte order mark is skipped (UTF-16 is refused), CRLF ends lines, '#' and '%'
-//      start comment lines;
+//      start comment lines; a preamble above the header (a vendor's title, date, channel lines) is
+//      skipped, and said so, when the table under it is recognised (skip_preamble);
 //   2. the separator: tab, ';' or ',' — the first of them the first line holds;
 //   3. the decimal mark: a comma when cells hold one and the separator is not ',' (a cell with both
 //      '.' and ',' is refused: thousands separators are not read);
 //   4. header or not: the first line is a header unless every cell is a number;
 //   5. columns: a block header (frequency, H_re … P_im), else the frequency column, the value
 //      columns (re/im or magnitude/phase) and a coherence column by name, or FrfCsvOptions;
-//   6. units: the frequency's (Hz, kHz, rad/s) applied here, the values' returned as text.
+//   6. units: the frequency's (Hz, kHz, rad/s) applied here, the values' returned as text; a phase
+//      said to be in degrees that stays within ±π through a resonance is refused (radians).
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -273,6 +275,7 @@ class CsvReader {
     if (lines_.empty())
       throw InputError(fmt::format("{}: no data (the file is empty or holds only comments)", source_),
                        "an FRF CSV holds a header line (e.g. frequency_hz,re,im) and one line per frequency");
+    skip_preamble();
     separator();
     decimal_mark();
     header();
@@ -312,9 +315,43 @@ class CsvReader {
     }
   }
 
-  void separator() {
-    const std::string_view first = lines_.front().text;
-    sep_ = first.find('\t') != std::string_view::npos ? '\t' : first.find(';') != std::string_view::npos ? ';' : ',';
+  // The separator a line shows: tab, ';' or ',', the first of them it holds.
+  static char separator_of(std::string_view line) {
+    return line.find('\t') != std::string_view::npos ? '\t' : line.find(';') != std::string_view::npos ? ';' : ',';
+  }
+
+  void separator() { sep_ = separator_of(lines_.front().text); }
+
+  // How many cells `line` splits into by `sep` when every one is a number (a decimal comma allowed
+  // unless `sep` is ','), else 0.
+  static std::size_t numeric_cells(std::string_view line, char sep) {
+    const std::vector<Cell> cells = split_cells(line, sep);
+    for (const Cell& c : cells)
+      if (!number_of(c.text, sep != ',' || c.quoted)) return 0;
+    return cells.size();
+  }
+
+  // A preamble — the title, date and channel lines a vendor's export writes above its table — is
+  // recognised by the table under it: the first line of two or more numbers (by its own
+  // separator) whose next line splits alike is the first data line, and the line above it, split
+  // into as many cells, the header. The lines above the header are skipped, with a warning naming
+  // them. Without such a header (no header, or one directly on the first line) nothing is skipped.
+  void skip_preamble() {
+    for (std::size_t k = 0; k < lines_.size(); ++k) {
+      const char sep = separator_of(lines_[k].text);
+      const std::size_t cells = numeric_cells(lines_[k].text, sep);
+      if (cells < 2) continue;
+      if (k + 1 < lines_.size() && numeric_cells(lines_[k + 1].text, sep) != cells) continue;
+      if (k < 2 || split_cells(lines_[k - 1].text, sep).size() != cells) return;
+      const std::size_t header = k - 1;
+      const std::size_t first = lines_.front().number, last = lines_[header - 1].number;
+      table_.warnings.push_back(
+          fmt::format("{}: {} above the header (line {}) skipped, not being part of the table: '{}'{}", source_,
+                      first == last ? fmt::format("line {}", first) : fmt::format("lines {}–{}", first, last),
+                      lines_[header].number, text::excerpt(lines_.front().text, 60), header > 1 ? ", …" : ""));
+      lines_.erase(lines_.begin(), lines_.begin() + static_cast<std::ptrdiff_t>(header));
+      return;
+    }
   }
 
   void decimal_mark() {
@@ -458,6 +495,7 @@ class CsvReader {
       } else {
         named = db ? (bc.degrees ? FrfValueFormat::DbPhaseDeg : FrfValueFormat::DbPhaseRad)
                    : (bc.degrees ? FrfValueFormat::MagPhaseDeg : FrfValueFormat::MagPhaseRad);
+        named_degrees_ = bc.degrees;
       }
     }
     if (o_.format) {
@@ -605,6 +643,7 @@ class CsvReader {
     const FrfValueFormat form = table_.format;
     const bool db = form == FrfValueFormat::DbPhaseDeg || form == FrfValueFormat::DbPhaseRad;
     const bool deg = form == FrfValueFormat::MagPhaseDeg || form == FrfValueFormat::DbPhaseDeg;
+    double largest_phase = 0.0;
     for (std::size_t k = first_data_; k < lines_.size(); ++k) {
       const std::size_t line = lines_[k].number;
       const std::vector<Cell> cells = row(lines_[k]);
@@ -622,11 +661,33 @@ class CsvReader {
         const double mag = db ? std::pow(10.0, a / 20.0) : a;
         if (!std::isfinite(mag)) fail(line, fmt::format("{} = {} dB overflows", column_text(a_), a));
         h = std::polar(mag, deg ? b * std::numbers::pi / 180.0 : b);
+        largest_phase = std::max(largest_phase, std::abs(b));
       }
       table_.single.frequency_hz.push_back(f);
       table_.single.values.push_back(h);
       coherence(cells, line);
     }
+    if (deg) judge_degrees(largest_phase);
+  }
+
+  // A phase said to be in degrees (by the header or FrfCsvOptions::format) that stays within ±π
+  // although |H| rises to a resonance — an interior maximum at least twice both ends, where the
+  // phase of a receptance passes ±90° — is a phase in radians: refused, since read as degrees it
+  // would make the FRF nearly real.
+  void judge_degrees(double largest_phase) const {
+    const std::vector<Complex>& v = table_.single.values;
+    if (v.size() < 5 || largest_phase > std::numbers::pi * (1.0 + 1e-9)) return;
+    std::size_t top = 0;
+    for (std::size_t i = 1; i < v.size(); ++i)
+      if (std::abs(v[i]) > std::abs(v[top])) top = i;
+    const double ends = std::max(std::abs(v.front()), std::abs(v.back()));
+    if (top == 0 || top + 1 == v.size() || !(std::abs(v[top]) >= 2.0 * ends)) return;
+    fail(lines_.front().number,
+         fmt::format("{} is read in degrees, but every phase lies within ±π (the largest |phase| is {:.4g}) while |H| rises "
+                     "{:.3g}-fold to a resonance at {:g} Hz, where a receptance's phase passes 90°: the phases are radians",
+                     column_text(b_), largest_phase, std::abs(v[top]) / ends, table_.single.frequency_hz[top]),
+         has_header_ && named_degrees_ ? "name the unit in the header: 'Phase (rad)' (or '[rad]')"
+                                       : "read them as radians (FrfCsvOptions::format mag-phase-rad or db-phase-rad)");
   }
 
   const std::string& text_;
@@ -635,7 +696,7 @@ class CsvReader {
   std::vector<Line> lines_;
   std::vector<std::string_view> names_;
   char sep_ = ',';
-  bool decimal_comma_ = false, has_header_ = false;
+  bool decimal_comma_ = false, has_header_ = false, named_degrees_ = false;
   std::size_t columns_ = 0, first_data_ = 0, f_ = 0, a_ = 1, b_ = 2;
   std::optional<std::size_t> coh_;
   double to_hz_ = 1.0, last_f_ = 0.0;

@@ -612,6 +612,46 @@ void judge_peak_receptance(FrfFileData& data, const std::string& path) {
   }
 }
 
+// The frequencies of what was read. An end point far from the rest (a stray line: 1e9 Hz after
+// 10–5000 Hz) or a top frequency no tool point measurement reaches (rad/s or Hz × 1000 read as Hz)
+// would enter every result — a grid, a band, a fit — so it is refused; a top frequency merely
+// outside the usual range is said.
+void judge_frequencies(FrfFileData& data, const std::string& path) {
+  const std::vector<double>& f = data.is_block ? data.block.frequency_hz : data.single.frequency_hz;
+  const std::size_t n = f.size();
+  // A measured band has steps within a few times one another (a file of two bands, a handful of
+  // times); an end point more than a hundred median steps from its neighbour is not one of them.
+  constexpr double kStrayGap = 100.0;
+  constexpr std::size_t kEnough = 10;  // points for a median step worth comparing with
+  if (n >= kEnough) {
+    std::vector<double> steps(n - 1);
+    for (std::size_t i = 0; i + 1 < n; ++i) steps[i] = f[i + 1] - f[i];
+    std::vector<double> sorted = steps;
+    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
+    const double median = sorted[sorted.size() / 2];
+    for (const bool last : {true, false}) {
+      const double gap = last ? steps.back() : steps.front();
+      if (gap > kStrayGap * median)
+        throw InputError(fmt::format("{}: its {} point, at {:g} Hz (point {} of {}), lies {:g} Hz from the {} one, {:.0f} times "
+                                     "the median step of {:g} Hz: a stray line, not part of the measured band",
+                                     path, last ? "last" : "first", last ? f.back() : f.front(), last ? n : 1, n, gap,
+                                     last ? "previous" : "next", gap / median, median),
+                         "remove that line from the file (or correct its frequency)");
+    }
+  }
+  // Judged from above only: a file that ends low is a low band (a slow structure), not a slip.
+  if (n == 0 || f.back() <= plausible::kTopFrequency.high) return;
+  const PlausibleRange& range = plausible::kTopFrequency;
+  const std::string what = fmt::format("{}: the top frequency [Hz]", path);
+  switch (judge(range, f.back())) {
+    case Plausibility::Usual: break;
+    case Plausibility::Unusual: data.warnings.push_back(plausibility_message(range, f.back(), what)); break;
+    case Plausibility::Impossible:
+      throw InputError(plausibility_message(range, f.back(), what),
+                       "check the frequency column's unit (Hz; a header such as 'Frequency (kHz)' or 'rad/s' is converted)");
+  }
+}
+
 }  // namespace
 
 FrfFileData read_frf_file(const std::string& path, const FrfReadOptions& o) {
@@ -694,6 +734,7 @@ FrfFileData read_frf_file(const std::string& path, const FrfReadOptions& o) {
     case FrfFormat::Auto:
     case FrfFormat::UffBinary: break;
   }
+  judge_frequencies(out, path);
   judge_peak_receptance(out, path);
   return out;
 }

@@ -805,7 +805,7 @@ JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<Join
     // times the linearised standard error (three times the Monte Carlo error of 20 replicates'
     // spread) makes the result the bootstrap's on them, and says so.
     const bool errors_in_variables = std::any_of(setups.begin(), setups.end(), [](const Setup& u) { return !u.b_noise->exact(); });
-    if (errors_in_variables) {
+    if (errors_in_variables && options.check_linearisation) {
       const std::vector<VectorXd> good = replicates(kLinearisationCheck, {});
       if (good.size() >= kLinearisationCheck / 2) {
         const MatrixXd saved = cov_q;

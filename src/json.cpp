@@ -160,6 +160,26 @@ void to_json(nlohmann::json& j, const JointFit& f) {
   }
 }
 
+void to_json(nlohmann::json& j, const ParameterPrecision& p) {
+  j = {{"value", number(p.value)},
+       {"half_width", number(p.half_width)},
+       {"relative", number(p.relative)},
+       {"calibration_half_width", number(p.calibration_half_width)},
+       {"averages_for_target", p.averages_for_target ? nlohmann::json(*p.averages_for_target) : nlohmann::json(nullptr)},
+       {"free", p.free}};
+}
+
+void to_json(nlohmann::json& j, const PrecisionStudy& s) {
+  j = {{"route", to_string(s.route)},
+       {"parameters", per_parameter([&](int k, std::size_t ks) { return with_unit(s.parameters[ks], k); })},
+       {"confidence", s.confidence},
+       {"averages", s.averages},
+       {"target", s.target ? nlohmann::json(*s.target) : nlohmann::json(nullptr)},
+       {"measured", s.measured},
+       {"fit_description", s.fit_description},
+       {"warnings", s.warnings}};
+}
+
 void to_json(nlohmann::json& j, const JointReadout& r) {
   j = {{"band_lo_hz", r.band_lo_hz},
        {"band_hi_hz", r.band_hi_hz},

@@ -219,6 +219,7 @@ ModalFitResult fit_modes_at_scale(const FrfSeries& frf, const ModalFitOptions& o
                                  options.band_hz ? fmt::format("{}–{} Hz", options.band_hz->first, options.band_hz->second)
                                                  : std::string("(whole FRF)")),
                      "widen ModalFitOptions::band_hz or give a finer FRF");
+  require_not_mobility({f, g}, what);
   res.band_low_hz = f.front();
   res.band_high_hz = f.back();
   res.points = f.size();

@@ -28,8 +28,10 @@ Cov8 square_root(const Cov8& c) {
   return ldlt.transpositionsP().transpose() * (l * d.asDiagonal());
 }
 
+}  // namespace
+
 // Fills the square roots (once per distinct C: stated noise has one) and the summary.
-void finish(BlockNoise& n) {
+void finish_block_noise(BlockNoise& n) {
   if (n.relative.empty()) return;
   n.root.resize(n.relative.size());
   for (std::size_t i = 0; i < n.relative.size(); ++i)
@@ -51,6 +53,8 @@ void finish(BlockNoise& n) {
     n.floor[static_cast<std::size_t>(e)] = a.empty() ? 0.0 : median(a);
   }
 }
+
+namespace {
 
 // The largest |x_e| over the series, per entry.
 std::array<double, 4> peaks_of(const BlockSeries& data) {
@@ -393,7 +397,7 @@ BlockNoise estimate_block_noise(const BlockSeries& data, const NoiseEstimateOpti
         "gives −0.49): the data look smoothed, windowed or noise-free, so the noise estimated from them, and every interval "
         "built on it, may be misjudged; give the unfiltered data, or state the noise",
         what, out.residual_correlation));
-  finish(out);
+  finish_block_noise(out);
   set_floor_relative(out, peaks_of(smooth.series));
   return out;
 }
@@ -435,7 +439,7 @@ BlockNoise stated_block_noise(const BlockSeries& data, const StatedNoise& stated
                            stated.floor > 0.0 ? fmt::format(", a floor of {:g} % of each entry's peak", 100 * stated.floor)
                                               : std::string());
   out.residual_correlation = std::numeric_limits<double>::quiet_NaN();
-  finish(out);
+  finish_block_noise(out);
   set_floor_relative(out, peaks);
   return out;
 }
@@ -474,7 +478,7 @@ void apply_coherence(BlockNoise& noise, const std::vector<double>& coherence, in
   for (Eigen::Vector4d& a : noise.additive) a(0) = 0.0;
   noise.coherence = fmt::format("H from its coherence and {} averages (Bendat & Piersol: (1 − γ²)/(2 (n − 1) γ²))", averages);
   const std::array<double, 4> relative_floor = noise.floor_relative, floor = noise.floor;
-  finish(noise);
+  finish_block_noise(noise);
   for (std::size_t e = 0; e < 4; ++e)
     if (floor[e] > 0.0) noise.floor_relative[e] = relative_floor[e] * noise.floor[e] / floor[e];
 }

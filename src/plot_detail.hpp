@@ -32,8 +32,32 @@ inline constexpr int kFontPt = 16;
 
 // Layout in pixels, converted to screen fractions per figure so margins do not grow with size.
 inline constexpr double kLeftPx = 130, kRightPx = 30, kTopPx = 25, kTitlePx = 55, kBottomPx = 80, kGapPx = 24;
-// Average advance of a DejaVu Sans character, as a fraction of the font size, to size legends.
-inline constexpr double kCharEm = 0.68;
+inline constexpr double kTitleLinePx = 24;  // each further line of a title broken to fit
+// The width of text set in DejaVu Sans at `pt` points, in px as pngcairo draws it (96 px per inch:
+// 4/3 px per point): each ASCII character's advance from the font's metrics (em fractions), 0.7 em
+// for any other code point; gnuplot's enhanced-text markup ({ } _ ^ \) takes no room. Sizes
+// legends, labels and titles so that they can be kept off the data and inside the figure.
+inline double text_px(std::string_view text, double pt) {
+  static constexpr double kAdvance[95] = {0.318, 0.400, 0.460, 0.838, 0.636, 0.950, 0.780, 0.275,
+                                          0.390, 0.390, 0.500, 0.838, 0.318, 0.361, 0.318, 0.337,  //  !"#$%&'()*+,-./
+                                          0.636, 0.636, 0.636, 0.636, 0.636, 0.636, 0.636, 0.636,
+                                          0.636, 0.636, 0.337, 0.337, 0.838, 0.838, 0.838, 0.531,  // 0-9:;<=>?
+                                          1.000, 0.684, 0.686, 0.698, 0.770, 0.632, 0.575, 0.775,
+                                          0.752, 0.295, 0.295, 0.656, 0.557, 0.863, 0.748, 0.787,  // @A-O
+                                          0.603, 0.787, 0.695, 0.635, 0.611, 0.732, 0.684, 0.989,
+                                          0.685, 0.611, 0.685, 0.390, 0.337, 0.390, 0.838, 0.500,  // P-Z[\]^_
+                                          0.500, 0.613, 0.635, 0.550, 0.635, 0.615, 0.352, 0.635,
+                                          0.634, 0.278, 0.278, 0.579, 0.278, 0.974, 0.634, 0.612,  // `a-o
+                                          0.635, 0.635, 0.411, 0.521, 0.392, 0.634, 0.592, 0.818,
+                                          0.592, 0.592, 0.525, 0.636, 0.337, 0.636, 0.838};  // p-z{|}~
+  double em = 0.0;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    if ((c & 0xC0) == 0x80 || c == '{' || c == '}' || c == '_' || c == '^' || c == '\\') continue;
+    em += c >= 32 && c < 127 ? kAdvance[c - 32] : 0.7;
+  }
+  return em * pt * 4.0 / 3.0;
+}
 inline constexpr int kSampleChars = 4;  // legend sample length, in gnuplot character widths
 // What an outside legend needs beside its text: the sample (4 of gnuplot's character widths, ~70
 // px at 16 pt) and the gaps around it, measured on pngcairo output.

@@ -1,6 +1,7 @@
 // toolpoint: receptance series helpers.
 #include "toolpoint/receptance.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
 
@@ -63,6 +64,27 @@ void validate(const FrfSeries& series, const std::string& what, std::size_t min_
     if (!finite(series.values[i]))
       throw InputError(fmt::format("{}: value at {} Hz (point {}) is not finite", what, series.frequency_hz[i], i + 1),
                        "remove or repair the NaN/Inf values in the data");
+}
+
+void require_not_mobility(const FrfSeries& s, const std::string& what) {
+  double largest = 0.0;
+  for (const Complex& v : s.values) largest = std::max(largest, std::abs(v));
+  double n = 0.0, re_nonnegative = 0.0, im_positive = 0.0, im_negative = 0.0;  // counts of the points of |G| ≥ 1 % of the largest
+  for (const Complex& v : s.values) {
+    if (!(std::abs(v) >= 0.01 * largest)) continue;
+    n += 1.0;
+    re_nonnegative += v.real() >= 0.0 ? 1.0 : 0.0;
+    im_positive += v.imag() > 0.0 ? 1.0 : 0.0;
+    im_negative += v.imag() < 0.0 ? 1.0 : 0.0;
+  }
+  const double share = n;
+  if (n < 5.0 || re_nonnegative < 0.95 * share || im_positive < 0.1 * share || im_negative < 0.1 * share) return;
+  throw InputError(fmt::format("{}: Re G ≥ 0 at {:.0f} % of its points while Im G changes sign (> 0 at {:.0f} %, < 0 at "
+                               "{:.0f} %): a point mobility [(m/s)/N], Re Y = −ω Im H ≥ 0, not a receptance [m/N], whose "
+                               "Im is ≤ 0 at every frequency",
+                               what, 100.0 * re_nonnegative / share, 100.0 * im_positive / share, 100.0 * im_negative / share),
+                   "give the file's units so that it is converted (FrfReadOptions::units, e.g. m/s/N or mm/s/N), or its "
+                   "ordinate (FrfReadOptions::ordinate mobility)");
 }
 
 namespace {

@@ -603,6 +603,16 @@ RotationalResult rotational_frfs(const PointFrfs& in, const RotationalOptions& o
     throw InputError(fmt::format("rotational FRFs: P by finite differences of order {} needs {}, not given", o.order,
                                  list(missing)),
                      "measure with the hammer moved to the inner points too, or let P be approximated (p-method auto)");
+  // A file that could not be read whole may have held what is missing: approximating P would
+  // hide that (a truncated file reads as a test with the hammer at the tip only).
+  if (o.p_method == PMethod::Auto && !missing.empty() && !in.unread.empty())
+    throw InputError(fmt::format("rotational FRFs: P by finite differences of order {} needs {}, not given, and the source "
+                                 "could not read {} of what it holds ({}{}): what is missing may be there",
+                                 o.order, list(missing),
+                                 in.unread.size() == 1 ? "one part" : fmt::format("{} parts", in.unread.size()),
+                                 in.unread.front(), in.unread.size() > 1 ? "; …" : ""),
+                     "repair or export the file again; to approximate P as N·L/H00 all the same, ask for it "
+                     "(RotationalOptions::p_method SchmitzSmith)");
 
   const std::vector<double> d = o.order == 1 ? std::vector<double>{1.0 / o.spacing, -1.0 / o.spacing}
                                              : std::vector<double>{1.5 / o.spacing, -2.0 / o.spacing, 0.5 / o.spacing};

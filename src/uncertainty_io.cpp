@@ -50,8 +50,9 @@ Table probability_table(const StabilityUncertainty& s) {
 std::vector<plot::LobesFigureData::Envelope> quantile_envelopes(const StabilityUncertainty& s) {
   std::vector<plot::LobesFigureData::Envelope> e;
   for (std::size_t l = 0; l < s.levels.size(); ++l)
-    e.push_back({s.depth_m[l], fmt::format("stable with {:g} % probability{}", 100 * (1.0 - s.levels[l]),
-                                           l == 0 ? fmt::format(" ({} joint samples)", s.samples) : "")});
+    // Short: the legend beside the lobes takes the panel's width (the count once, on the first).
+    e.push_back({s.depth_m[l], fmt::format("stable in {:g} % of {}", 100 * (1.0 - s.levels[l]),
+                                           l == 0 ? fmt::format("{} joints", s.samples) : std::string("them"))});
   return e;
 }
 

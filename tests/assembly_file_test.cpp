@@ -131,6 +131,19 @@ TEST(AssemblyFile, ImplausibleMagnitudesWarnWithTheKey) {
   EXPECT_NE(lb.warnings[0].find("materials.steel.youngs_modulus"), std::string::npos);
 }
 
+// The tool's shank must fill the holder's bore where it sits: the section there is composite
+// (sleeve and shank bonded), so a 12 mm shank in the example's 16 mm bore — a 4 mm gap the model
+// would fill with steel-bonded carbide — is refused, naming the holder segment and the key to
+// correct; a shank within 1 % of the bore (fits, interferences: hundredths of a mm) is accepted.
+TEST(AssemblyFile, TheShankMustFillTheBore) {
+  const std::string shank = "diameter = 0.016\nflute_length";
+  expect_error(replace(example_text(), shank, "diameter = 0.016\nshank_diameter = 0.012\nflute_length"),
+               {"bad.toml", "holder.segment[1]", "bore of 16 mm", "12 mm", "gap of 4 mm", "tool.shank_diameter",
+                "inner_diameter"});
+  EXPECT_NO_THROW(
+      parse_assembly(replace(example_text(), shank, "diameter = 0.016\nshank_diameter = 0.01599\nflute_length"), "fit.toml"));
+}
+
 // Dampings got the stiffnesses' rule (review of issue 13): a joint's c_yf of 5.4e9 N s/m (the
 // seed's is 54) and a bearing damping of 5e12 N s/m cannot be meant and are refused at their
 // line; and a tool held over nothing (overhang = length, a mistyped overhang) is said.

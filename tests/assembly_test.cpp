@@ -225,6 +225,9 @@ TEST(Assembly, InvalidAssembliesAreRejected) {
   a.tool.diameter = 0.014;  // wider than the 12 mm bore
   EXPECT_THROW(a.check(), InvalidArgument);
   a = cantilevered();
+  a.tool.diameter = 0.010;  // narrower than the 12 mm bore: not one section with the holder
+  EXPECT_THROW(a.check(), InvalidArgument);
+  a = cantilevered();
   a.holder[0].layers[0].inner_diameter = 0.0;  // no bore for the shank
   EXPECT_THROW(a.check(), InvalidArgument);
   a = cantilevered();

@@ -265,8 +265,135 @@ TEST_F(Cli, IdentifiedJointFileFeedsTheOtherCommands) {
   expect_error(run("predict '" + kExample + "' --joint holder-tool=bad.toml"), 3, {"bad.toml", "c_yf"});
 }
 
+// A joint file whose identification was judged doubtful says so in the results that use it (the
+// text and the JSON), and the notes on definiteness describe the joint in use: the file's
+// (indefinite here, like Table 1: named by the file), not the assembly file's joint it replaced;
+// a definite joint file leaves no such note.
+TEST_F(Cli, AJointFilesVerdictAndDefinitenessReachTheOutput) {
+  const std::string table1 = "k_yf = 4.19e7\nc_yf = 54.0\nk_ym = 2.06e6\nc_ym = 22.2\nk_tm = 6.5e4\nc_tm = 1.0\n";
+  write_text_file(path("doubtful.toml"),
+                  "[joint]\ninterface = \"holder_tool\"\n" + table1 + "[identification]\nverdict = \"doubtful\"\n");
+  const std::string lobes = "lobes --assembly '" + kExample +
+                            "' --teeth 4 --kt 6e8 --kr 0.3 --immersion 0.5 --milling down --rpm 5000:15000 --speeds 50";
+  const Run r = ok(lobes + " --joint holder-tool=doubtful.toml --json");
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_NE(j["warnings"].dump().find("doubtful.toml: the identification of this holder_tool joint was judged 'doubtful'"),
+            std::string::npos)
+      << j["warnings"].dump();
+  EXPECT_NE(r.err.find("note: doubtful.toml (the holder_tool joint in use): the stiffness matrix"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("joints.holder_tool: the stiffness matrix"), std::string::npos) << r.err;
+  const Run text = ok(lobes + " --joint holder-tool=doubtful.toml");
+  EXPECT_NE(text.err.find("warning: doubtful.toml: the identification"), std::string::npos) << text.err;
+  write_text_file(path("definite.toml"),
+                  "[joint]\ninterface = \"holder_tool\"\nk_yf = 4.19e7\nc_yf = 54.0\nk_ym = 2.06e5\n"
+                  "c_ym = 2.22\nk_tm = 6.5e4\nc_tm = 1.0\n");
+  const Run definite = ok("predict '" + kExample + "' --joint holder-tool=definite.toml --frequencies 100:3000:10");
+  EXPECT_EQ(definite.err.find("not positive definite"), std::string::npos) << definite.err;
+  EXPECT_EQ(definite.err.find("judged"), std::string::npos) << definite.err;
+  EXPECT_NE(ok("predict '" + kExample + "' --frequencies 100:3000:10").err.find("joints.holder_tool: the stiffness matrix"),
+            std::string::npos);
+}
+
 // Results that cannot be right are refused (exit 6, nothing written) unless --accept; an output
 // that would overwrite an input, and a noise level given in per cent, are usage errors.
+// A tap test as averaging software gives it (issue 24): taptest --averages writes each FRF's
+// coherence beside it (UFF function type 6); rotational carries the tip FRF's coherence into the
+// block's coherence column; identify --averages uses it for H's variance (the noise line says so);
+// noise --floor/--averages/--calibration write what they say. Bad input is refused naming the
+// option or file and the field: a negative floor, a calibration of 50 %, a coherence outside
+// [0, 1], a coherence column with a value missing, a coherence dataset of another length.
+// precision: the expected half-widths before the tap test. Their dependence on the averages is the
+// linearised fit's (the noise's share of the variance falls as 1/n, the calibration's stays), which
+// the library's Monte Carlo test (tests/precision_test.cpp) checks against identifications; here the
+// CLI's arithmetic around it: without calibration, 4× the averages halves every half-width (to 1e-6,
+// the fit's convergence); the averages asked for a target width reach it; bad input refused.
+TEST_F(Cli, PrecisionBeforeTheTapTest) {
+  const std::string base = "precision '" + kExample + "' --tool-spacing 0.015 --holder-spacing 0.02 --sigma 0.005 --frequencies 100:3500:5";
+  const nlohmann::json one = nlohmann::json::parse(ok(base + " --averages 2 --json").out);
+  const nlohmann::json four = nlohmann::json::parse(ok(base + " --averages 8 --json").out);
+  for (const char* k : {"k_yf", "c_yf", "k_ym", "k_tm"}) {
+    const double w1 = one["parameters"][k]["half_width"], w4 = four["parameters"][k]["half_width"];
+    EXPECT_NEAR(w4 / w1, 0.5, 1e-6) << k;
+  }
+  // A target of ±1 % with a 0.1 % calibration: the averages each parameter needs give ≤ 1 % when run.
+  const nlohmann::json t = nlohmann::json::parse(ok(base + " --calibration 0.1% --target 1% --json").out);
+  const nlohmann::json& kyf = t["parameters"]["k_yf"];
+  ASSERT_TRUE(kyf["averages_for_target"].is_number()) << kyf;
+  const int n = kyf["averages_for_target"];
+  const nlohmann::json at_n =
+      nlohmann::json::parse(ok(base + fmt::format(" --calibration 0.1% --averages {} --json", n)).out);
+  EXPECT_LE(double(at_n["parameters"]["k_yf"]["relative"]), 0.01);
+  if (n > 1) {
+    const nlohmann::json below =
+        nlohmann::json::parse(ok(base + fmt::format(" --calibration 0.1% --averages {} --json", n - 1)).out);
+    EXPECT_GT(double(below["parameters"]["k_yf"]["relative"]), 0.01);
+  }
+  const Run text = ok(base + " --calibration 2% --target 1%");
+  EXPECT_NE(text.out.find("unreachable"), std::string::npos) << text.out;  // 2 % calibration alone is wider than ±1 %
+  // Bad input.
+  expect_error(run("precision '" + kExample + "' --holder-spacing 0.02"), 2, {"--tool-spacing"});
+  expect_error(run(base + " --calibration 50%"), 2, {"--calibration"});
+  expect_error(run(base + " --averages 0"), 2, {"--averages"});
+}
+
+TEST_F(Cli, TapTestWithAveragesCoherenceAndCalibration) {
+  const std::string grid = " --frequencies 100:3500:5";
+  ok("taptest '" + kExample + "' --at holder --spacing 0.02 --sigma 0.005 --averages 4 --floor 0.0002 --seed 3 --output h.uff" +
+     grid);
+  ok("taptest '" + kExample + "' --at tool --spacing 0.015 --sigma 0.005 --averages 4 --floor 0.0002 --calibration 1% --seed 5 "
+     "--output t.uff" + grid);
+  const UffFile t = read_uff(path("t.uff"));
+  int frfs = 0, coherences = 0;
+  for (const UffDataset58& d : t.functions) (d.function_type == 6 ? coherences : frfs) += 1;
+  EXPECT_EQ(frfs, 9);
+  EXPECT_EQ(coherences, 9);
+  for (const char* side : {"h", "t"})
+    ok(fmt::format("rotational --uff {}.uff --spacing {} --order 2 --model '{}' --at {} --output {}.csv", side,
+                   side[0] == 'h' ? "0.02" : "0.015", kExample, side[0] == 'h' ? "holder" : "tool", side));
+  const FrfFileData block = read_frf_file(path("t.csv"), FrfReadOptions{});
+  ASSERT_TRUE(block.is_block);
+  ASSERT_EQ(block.coherence.size(), block.block.size());
+  for (double c : block.coherence) {
+    EXPECT_GE(c, 0.0);
+    EXPECT_LE(c, 1.0);
+  }
+  // (--accept: the verdict is not what this test is about)
+  const Run id = ok("identify --assembly '" + kExample + "' --sh h.csv --sht t.csv --averages 4 --calibration 1% --bootstrap 0 --accept");
+  EXPECT_NE(id.out.find("H from its coherence and 4 averages"), std::string::npos) << id.out;
+  EXPECT_NE(id.out.find("calibration σ 1 %"), std::string::npos) << id.out;
+  // Without --averages the coherence is said to be unused.
+  const Run plain = run("identify --assembly '" + kExample + "' --sh h.csv --sht t.csv --bootstrap 0 --accept");
+  EXPECT_NE(plain.err.find("coherence column is not used"), std::string::npos) << plain.err;
+  // noise: the models on a file, and the coherence column written.
+  ok("predict '" + kExample + "' --output sht_in.csv" + grid);
+  ok("noise sht_in.csv sht_n.csv --sigma 0.01 --averages 5 --floor 0.002 --calibration 2% --seed 9");
+  EXPECT_EQ(read_frf_file(path("sht_n.csv"), FrfReadOptions{}).coherence.size(), block.block.size());
+
+  // Bad input.
+  expect_error(run("noise t.csv n.csv --floor -0.01"), 2, {"--floor"});
+  expect_error(run("identify --assembly '" + kExample + "' --sh h.csv --sht t.csv --calibration 50%"), 2,
+               {"--calibration = 0.5", "10 %"});
+  std::string bad = read_text_file(path("t.csv"));
+  const std::size_t last = bad.rfind(',');
+  write_text_file(path("bad.csv"), bad.substr(0, last + 1) + "1.5\n");
+  expect_error(run("identify --assembly '" + kExample + "' --sh h.csv --sht bad.csv --averages 4"), 3, {"bad.csv", "coherence"});
+  write_text_file(path("gap.csv"), bad.substr(0, last + 1) + "\n");
+  expect_error(run("identify --assembly '" + kExample + "' --sh h.csv --sht gap.csv --averages 4"), 3, {"gap.csv"});
+  // A coherence dataset one point short of its FRF.
+  UffFile u = read_uff(path("t.uff"));
+  std::vector<UffDataset58> sets = u.functions;
+  for (UffDataset58& d : sets)
+    if (d.function_type == 6 && d.response_node == 1 && d.reference_node == 1) {
+      d.x.pop_back();
+      d.y.pop_back();
+      d.declared_points = static_cast<long long>(d.y.size());
+      d.even = false;
+    }
+  write_uff(path("short.uff"), sets);
+  expect_error(run("rotational --uff short.uff --spacing 0.015 --order 2 --output s.csv"), 3, {"short.uff", "coherence"});
+  EXPECT_FALSE(exists("s.csv"));
+}
+
 TEST_F(Cli, IdentifyJudgesItsResult) {
   predict_blocks("10:5000:10");
   ok("noise sht.csv shtn.csv --sigma 0.01 --seed 4");
@@ -856,9 +983,12 @@ TEST_F(Cli, UnitSlipsOnOptionsAreRefusedOrSaid) {
   expect_error(run("beam --length 100 --diameter 16"), 2, {"--length", "metres"});
   expect_error(run("beam --length 0.1 --diameter 0.016 --youngs-modulus 200"), 2, {"--youngs-modulus", "Pa"});
   expect_error(run("taptest '" + kExample + "' --spacing 10 --output t.uff"), 2, {"--spacing"});
+  // Radians for degrees (both angles within π): refused, the fix in degrees (a cut of at most 3°
+  // can still be given as an immersion).
+  expect_error(run("lobes --frf sht.csv --teeth 4 --kt 6e8 --kr 0.3 --entry 1.57 --exit 3.14 --rpm 2000:20000"), 2,
+               {"--entry 1.57 --exit 3.14: the angles are in degrees", "radians", "--entry 89.9544 --exit 179.909",
+                "--immersion"});
   // Unusual but possible: done, with a warning that names the option and the unit.
-  const Run radians = ok("lobes --frf sht.csv --teeth 4 --kt 6e8 --kr 0.3 --entry 1.57 --exit 3.14 --rpm 2000:20000");
-  EXPECT_NE(radians.err.find("warning: --entry 1.57 --exit 3.14: the angles are in degrees"), std::string::npos) << radians.err;
   const Run long_beam = ok("beam --length 3 --diameter 0.016 --modes 1");
   EXPECT_NE(long_beam.err.find("warning: --length = 3 is outside the usual range"), std::string::npos) << long_beam.err;
   // 0 where it means nothing.

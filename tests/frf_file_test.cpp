@@ -1,8 +1,8 @@
 // Tests of measured-FRF file handling: ordinate conversion checked against the closed-form
 // receptance of a single-DOF oscillator (mobility and accelerance built from the formula, not by
 // the code under test), the dataset 164 units rule of the UFF specification, a real FRF file
-// exported by measurement software, the CutPro text format, dispatch by extension, and the
-// `toolpoint convert` command's exit codes and files.
+// exported by measurement software, the CutPro text format, dispatch by extension (the
+// `toolpoint convert` command's exit codes and files: cli_files_test.cpp).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -55,16 +55,6 @@ UffDataset58 sdof_dataset(int numerator_code, std::size_t n = 400) {
     d.y.push_back(numerator_code == 8 ? h : numerator_code == 11 ? Complex(0.0, w) * h : -w * w * h);
   }
   return d;
-}
-
-std::string slurp(const std::string& path) { return read_text_file(path); }
-
-// `toolpoint ARGS`, its output kept in `out_file` for slurp().
-int run_cli(const std::string& args, const std::string& out_file) {
-  std::string out;
-  const int code = test::run_toolpoint(args, &out);
-  write_text_file(out_file, out);
-  return code;
 }
 
 }  // namespace
@@ -286,6 +276,49 @@ TEST(FrfFile, ReadAndWriteEveryFormat) {
   EXPECT_THROW(read_frf_file(dir / "missing.csv"), IoError);
 }
 
+// A stray line — a point far beyond the measured band at either end (1e9 Hz after 10–5000 Hz in the
+// new user's file) — is refused, naming the point and the median step; so is a top frequency no
+// tool point measurement reaches (3e5 Hz: kTopFrequency's limit is 2e5), while 3e4 Hz (beyond the
+// usual 2e4) is said. A measured band with a coarser part (two bands in one file) is read as it is.
+TEST(FrfFile, StrayEndPointsAndImpossibleFrequenciesAreRefused) {
+  TempDir dir;
+  const auto write = [&](const std::string& name, const std::vector<double>& f) {
+    FrfSeries s;
+    for (double x : f) {
+      s.frequency_hz.push_back(x);
+      s.values.push_back(sdof_receptance(x));
+    }
+    write_frf_csv(dir / name, s);
+    return dir / name;
+  };
+  std::vector<double> band;
+  for (int i = 0; i <= 400; ++i) band.push_back(10.0 + 12.5 * i);
+  std::vector<double> stray = band;
+  stray.push_back(1e9);
+  try {
+    read_frf_file(write("stray.csv", stray));
+    ADD_FAILURE() << "a stray point at 1e9 Hz was read";
+  } catch (const InputError& e) {
+    EXPECT_TRUE(contains(e.what(), "stray.csv: its last point, at 1e+09 Hz (point 402 of 402)")) << e.what();
+    EXPECT_TRUE(contains(e.what(), "median step of 12.5 Hz")) << e.what();
+    EXPECT_TRUE(contains(e.hint(), "remove that line")) << e.hint();
+  }
+  std::vector<double> first = band;
+  first.insert(first.begin(), 0.001);
+  first.erase(first.begin() + 1);  // 0.001 Hz, then 22.5 Hz: 1.8 steps, fine
+  EXPECT_NO_THROW(read_frf_file(write("first.csv", first)));
+  std::vector<double> two_bands = band;  // then 5 times coarser up to 10 kHz
+  for (double f = band.back() + 62.5; f <= 10000.0; f += 62.5) two_bands.push_back(f);
+  EXPECT_NO_THROW(read_frf_file(write("two.csv", two_bands)));
+  std::vector<double> high;
+  for (int i = 1; i <= 100; ++i) high.push_back(3000.0 * i);  // to 3e5 Hz
+  EXPECT_THROW(read_frf_file(write("high.csv", high)), InputError);
+  high.resize(10);  // to 3e4 Hz
+  const FrfFileData r = read_frf_file(write("wide.csv", high));
+  EXPECT_TRUE(any_contains(r.warnings, {"wide.csv: the top frequency [Hz] = 30000 is outside the usual range"}))
+      << (r.warnings.empty() ? "" : r.warnings.front());
+}
+
 TEST(FrfFile, EvenGridDetection) {
   FrfSeries h;
   for (int i = 0; i < 5; ++i) {
@@ -305,49 +338,4 @@ TEST(FrfFile, EvenGridDetection) {
   // A step that 7 digits cannot hold is written uneven, so binary keeps it exact.
   for (int i = 0; i < 5; ++i) h.frequency_hz[static_cast<std::size_t>(i)] = 1.0 + i / 3.0;
   EXPECT_FALSE(uff_from_receptance(h, {}, "grid").even);
-}
-
-// The command: listing, converting, and the exit codes of README "Exit codes".
-TEST(FrfFile, ConvertCommand) {
-  TempDir dir;
-  const std::string log = dir / "log.txt";
-  EXPECT_EQ(run_cli("convert " + kUffDir + "mpstd_58b_wrong_byte_count.uff --list", log), 0);
-  const std::string listing = slurp(log);
-  EXPECT_TRUE(contains(listing, "4 dataset(s) 58")) << listing;
-  EXPECT_TRUE(contains(listing, "MPS set1 Dof3")) << listing;
-  EXPECT_TRUE(contains(listing, "line break")) << listing;
-  EXPECT_EQ(run_cli("convert " + kUffDir + "dataset_milestone_in_header.uff --list --json", log), 0);
-  EXPECT_TRUE(contains(slurp(log), "\"declared_points\": 2508876")) << slurp(log);
-
-  const std::string in = kUffDir + "non_ascii_header.uff";
-  EXPECT_EQ(run_cli("convert " + in + " " + dir / "h.csv", log), 0) << slurp(log);  // the units label says accelerance
-  EXPECT_TRUE(contains(slurp(log), "say accelerance, taken as such")) << slurp(log);
-  EXPECT_EQ(run_cli("convert " + in + " " + dir / "h.csv --ordinate accelerance", log), 0) << slurp(log);
-  EXPECT_TRUE(contains(slurp(log), "0 Hz dropped")) << slurp(log);
-  const FrfSeries csv = read_single_csv(dir / "h.csv");
-  EXPECT_EQ(csv.size(), 5u);
-
-  // CSV → binary UFF → .frf keeps every bit; node/direction options label the UFF dataset.
-  EXPECT_EQ(run_cli("convert " + dir / "h.csv " + dir / "h.unv --to uffb --response-node 4 --response-dir Y-", log), 0)
-      << slurp(log);
-  EXPECT_EQ(run_cli("convert " + dir / "h.unv " + dir / "h.frf --response-dir=-Y", log), 0) << slurp(log);
-  const FrfFileData back = read_frf_file(dir / "h.frf");
-  EXPECT_EQ(back.single.frequency_hz, csv.frequency_hz);
-  EXPECT_EQ(back.single.values, csv.values);
-
-  // UFF to UFF copies every dataset 58, binary to ASCII here.
-  EXPECT_EQ(run_cli("convert " + kUffDir + "binary8byte.uff " + dir / "copy.uff", log), 0) << slurp(log);
-  const UffFile copy = read_uff(dir / "copy.uff");
-  ASSERT_EQ(copy.functions.size(), 1u);
-  EXPECT_FALSE(copy.functions[0].binary);
-  EXPECT_EQ(copy.functions[0].size(), 250u);
-  EXPECT_EQ(copy.functions[0].response_entity, "sine 5 Hz");
-
-  EXPECT_EQ(run_cli("convert " + in + " " + dir / "x.csv --dataset 0 --response-node 1", log), 2);  // exclusive
-  EXPECT_EQ(run_cli("convert " + in + " " + dir / "x.xyz --ordinate accelerance", log), 2);         // unknown extension
-  EXPECT_EQ(run_cli("convert " + in, log), 2);                                                      // no OUT
-  EXPECT_EQ(run_cli("convert " + dir / "nothing.uff " + dir / "x.csv", log), 5);                    // cannot read
-  EXPECT_EQ(run_cli("convert " + in + " " + dir / "x.csv --dataset 3 --ordinate accelerance", log), 3);
-  EXPECT_TRUE(contains(slurp(log), "no dataset 58 matches dataset 3")) << slurp(log);
-  EXPECT_FALSE(fs::exists(dir / "x.csv"));
 }

@@ -126,6 +126,24 @@ TEST(ModalFit, NegativeResidueHasNoModalMass) {
   EXPECT_THROW(r.modal_model(), NumericalError);
 }
 
+// A point mobility Y = iωH read as a receptance (a file without its units) fits to negative or
+// meaningless masses; it is refused, naming what it looks like and the option that converts it,
+// with 2 % noise too. The receptance with the same noise fits.
+TEST(ModalFit, AMobilityIsRefused) {
+  const FrfSeries h = with_noise(modal_frf(kModes, grid(300.0, 3000.0, 1.0)), 0.02, 7);
+  FrfSeries y = h;
+  for (std::size_t i = 0; i < y.size(); ++i) y.values[i] *= Complex(0.0, 2.0 * kPi * y.frequency_hz[i]);
+  try {
+    fit_modes(y, {}, "mobility.csv");
+    ADD_FAILURE() << "a mobility was fitted as a receptance";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("mobility.csv: Re G ≥ 0 at 99 % of its points"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("point mobility"), std::string::npos) << e.what();
+    EXPECT_NE(e.hint().find("FrfReadOptions::units"), std::string::npos) << e.hint();
+  }
+  EXPECT_NO_THROW(fit_modes(h));
+}
+
 TEST(ModalFit, BadInputIsRejected) {
   // 25 Hz steps against a 20 Hz half-power band (ζ = 0.011 at 922 Hz): no FRF points near the mode.
   try {

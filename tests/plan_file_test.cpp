@@ -113,6 +113,9 @@ TEST(PlanStudyFile, MistakesAreNamedWithFileLineAndKey) {
   expect_refused<InputError>(study("factor = 1.25", "factor = 1.25\nprobability = 0.9"), {"study.toml:22", "choose one"});
   expect_refused<InputError>(study("factor = 1.25", "probability = 0.9"), {"study.toml:3", "candidate[1]", "[uncertainty]"});
   expect_refused<InputError>(study("speed_max = 15000", "speed_max = 1500"), {"study.toml:18", "must exceed machine.speed_min"});
+  // 15 kW written as 15 (W expected): no spindle cuts with 15 W, so it is refused at its line.
+  expect_refused<InputError>(study("speed_points = 100\n", "speed_points = 100\npower = 15\n"),
+                             {"study.toml:20", "machine.power = 15", "cannot be meant", "15 kW = 15e3"});
   expect_refused<InputError>(study("teeth = 4", "teeth = 4.5"), {"study.toml:10", "cut.teeth", "integer"});
   expect_refused<InputError>(study("tangential_coefficient = 6e8", "tangential_coefficient = \"6e8\""),
                              {"study.toml:11", "must be a number"});

@@ -20,6 +20,7 @@
 #include "toolpoint/error.hpp"
 #include "toolpoint/io.hpp"
 #include "toolpoint/plot.hpp"
+#include "support/scratch.hpp"
 
 using namespace toolpoint;
 using namespace toolpoint::plot;
@@ -57,20 +58,6 @@ std::string slurp(const std::string& path) {
   std::ostringstream ss;
   ss << in.rdbuf();
   return ss.str();
-}
-
-// PNG (ISO/IEC 15948): 8-byte signature, then the IHDR chunk (length 13) whose data begin with
-// the width and height as big-endian 32-bit integers.
-std::pair<unsigned, unsigned> png_size(const std::string& bytes) {
-  const std::string signature("\x89PNG\r\n\x1a\n", 8);
-  if (bytes.size() < 33 || bytes.compare(0, 8, signature) != 0 || bytes.compare(12, 4, "IHDR") != 0) return {0, 0};
-  auto be32 = [&](std::size_t at) {
-    unsigned v = 0;
-    for (std::size_t k = 0; k < 4; ++k) v = (v << 8) | static_cast<unsigned char>(bytes[at + k]);
-    return v;
-  };
-  if (be32(8) != 13) return {0, 0};
-  return {be32(16), be32(20)};
 }
 
 // A small XML well-formedness check: tags nest and match, attributes are quoted, entity
@@ -195,7 +182,7 @@ void expect_valid(const std::string& path, Format format, int width, int height)
   EXPECT_GT(bytes.size(), 5000u) << path;
   switch (format) {
     case Format::Png: {
-      const auto [w, h] = png_size(bytes);
+      const auto [w, h] = test::png_size(bytes);
       EXPECT_EQ(w, static_cast<unsigned>(width)) << path;
       EXPECT_EQ(h, static_cast<unsigned>(height)) << path;
       break;
@@ -350,6 +337,120 @@ TEST(Plot, ScriptSharesXRangeAndBreaksAtNonFinite) {
   for (std::size_t at = s.find("set xrange [1:6]"); at != std::string::npos; at = s.find("set xrange [1:6]", at + 1)) ++count;
   EXPECT_EQ(count, 2u) << s;
   EXPECT_NE(s.find("$p0c0 << EOD\n2 1\n\n4 2\nEOD\n"), std::string::npos) << s;
+}
+
+// The layout the renderer decides (issue 26: titles clipped at the figure's edges, legends over
+// the data, labels through the title or on each other, a colour scale saturating unsaid). Each is
+// judged from the script against the geometry it sets: the ranges, the corner, the labels kept.
+namespace {
+
+// The text of the first `set <what> ...` line of a script, or "".
+std::string line_of(const std::string& s, const std::string& start) {
+  const std::size_t at = s.find(start);
+  return at == std::string::npos ? std::string() : s.substr(at, s.find('\n', at) - at);
+}
+
+std::size_t count_of(const std::string& s, const std::string& part) {
+  std::size_t n = 0;
+  for (std::size_t at = s.find(part); at != std::string::npos; at = s.find(part, at + 1)) ++n;
+  return n;
+}
+
+}  // namespace
+
+// A title far wider than the figure is broken into lines (at spaces or after '/'), each holding
+// at most as many characters as the width allows at the widest glyph a file name uses ('m',
+// 0.974 em of 18 pt at 4/3 px per pt: 23.4 px) … and at least what the narrowest could (none is
+// cut mid-word when a space is near); a short title stays one line.
+TEST(PlotLayout, ALongTitleIsBrokenToFitTheWidth) {
+  Figure f;
+  f.width_px = 600;
+  Panel p;
+  p.curves.push_back({{1.0, 2.0}, {1.0, 2.0}, "a", CurveStyle::Line, -1});
+  f.panels = {p};
+  f.title = "Tool point FRF from /a/very/long/folder/name/for/the/measured/holder/data/sh11_filtered.csv + model tool (Eq. 5)";
+  const std::string title = line_of(gnuplot_script(f), "set multiplot title ");
+  ASSERT_FALSE(title.empty());
+  EXPECT_GE(count_of(title, "\\n"), 1u) << title;
+  // Each line: not wider than the figure at any glyph's width (0.278 em, 'l', the narrowest used).
+  std::size_t start = title.find('"') + 1;
+  for (std::size_t end; (end = title.find("\\n", start)) != std::string::npos || start < title.size(); start = end + 2) {
+    if (end == std::string::npos) end = title.rfind('"');
+    const std::string line = title.substr(start, end - start);
+    EXPECT_LE(static_cast<double>(line.size()) * 0.278 * 18.0 * 4.0 / 3.0, 600.0) << line;
+    if (end == title.rfind('"')) break;
+  }
+  f.title = "Short";
+  EXPECT_EQ(count_of(line_of(gnuplot_script(f), "set multiplot title "), "\\n"), 0u);
+}
+
+// The legend goes where it covers no data: a curve filling the top right leaves it the top left;
+// a curve filling the top half leaves it a bottom corner; noise over the whole frame sends it
+// outside (a key at screen coordinates, the panels narrowed). The default was top right always.
+TEST(PlotLayout, TheLegendKeepsOffTheData) {
+  const auto key_of = [](const std::vector<double>& x, const std::vector<double>& y) {
+    Figure f;
+    Panel p;
+    p.curves.push_back({x, y, "data", CurveStyle::Line, -1});
+    f.panels = {p};
+    return line_of(gnuplot_script(f), "set key ");
+  };
+  std::vector<double> x, rising, high, noise;
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int i = 0; i <= 400; ++i) {
+    x.push_back(i);
+    rising.push_back(i < 300 ? 0.0 : (i - 300) / 10.0);  // 0 until x = 300, then up to 10 at the right edge
+    high.push_back(i == 0 ? 0.0 : i % 2 ? 10.0 : 5.0);   // from 0, then a zig-zag over the upper half
+    noise.push_back(u(rng));
+  }
+  EXPECT_NE(key_of(x, rising).find("set key top left"), std::string::npos) << key_of(x, rising);
+  EXPECT_NE(key_of(x, high).find("set key bottom"), std::string::npos) << key_of(x, high);
+  EXPECT_NE(key_of(x, noise).find("set key at screen"), std::string::npos) << key_of(x, noise);
+}
+
+// Labels: of two at one point only the first is drawn; one at the top of an autoscaled panel gets
+// room above it (the range raised so that the text, 1.1 lines above the point, stays inside);
+// on a panel with an explicit top, a label that would cross it is left out.
+TEST(PlotLayout, LabelsNeitherOverlapNorLeaveTheFrame) {
+  Figure f;
+  Panel p;
+  p.curves.push_back({{0.0, 5.0, 10.0}, {0.0, 10.0, 0.0}, "", CurveStyle::Line, -1});
+  p.labels = {{5.0, 10.0, "peak", true}, {5.0, 10.0, "again", true}};
+  f.panels = {p};
+  std::string s = gnuplot_script(f);
+  EXPECT_EQ(count_of(s, "set label \"peak\""), 1u) << s;
+  EXPECT_EQ(count_of(s, "set label \"again\""), 0u) << s;
+  const std::string range = line_of(s, "set yrange [");
+  const double top = std::stod(range.substr(range.find(':') + 1));
+  // 700 px high, one panel of 700 − 25 − 80 px: the label's top (1.7 lines of ~26 px above the
+  // point) needs the point at most ~(1 − 48/595) of the range: top ≥ 10.9.
+  EXPECT_GE(top, 10.8) << range;
+  f.panels[0].y.max = 10.0;
+  s = gnuplot_script(f);
+  EXPECT_EQ(count_of(s, "set label \"peak\""), 0u) << s;
+}
+
+// A colour bar ending below the data's maximum (a percentile, so a few high cells do not darken
+// the rest) says so: its top tic reads "≥ 2" and no plain tic crowds it; a bar covering the data
+// keeps gnuplot's own tics.
+TEST(PlotLayout, ASaturatedColourBarSaysSo) {
+  Figure f;
+  Panel p;
+  Map m;
+  m.x = {0.0, 1.0, 2.0};
+  m.y = {0.0, 1.0};
+  m.z = {0.0, 0.5, 1.0, 1.5, 2.0, 9.0};
+  m.colour.label = "Depth [mm]";
+  m.colour.min = 0.0;
+  m.colour.max = 2.0;
+  p.map = m;
+  f.panels = {p};
+  const std::string tics = line_of(gnuplot_script(f), "set cbtics (");
+  EXPECT_NE(tics.find("\"≥ 2\" 2"), std::string::npos) << tics;
+  EXPECT_EQ(tics.find("\"2\" 2"), std::string::npos) << tics;
+  f.panels[0].map->colour.max = 9.0;
+  EXPECT_EQ(gnuplot_script(f).find("set cbtics ("), std::string::npos);
 }
 
 // literal() makes enhanced-text markup print verbatim: in the SVG the file name must appear as
@@ -689,7 +790,7 @@ TEST(PlotRender, TerminalFallbacks) {
   EXPECT_EQ(r.terminal, "png");
   ASSERT_EQ(r.notes.size(), 1u);
   EXPECT_NE(r.notes[0].find("pngcairo"), std::string::npos);
-  const auto [w, h] = png_size(slurp(dir / "f.png"));
+  const auto [w, h] = test::png_size(slurp(dir / "f.png"));
   EXPECT_EQ(w, 1000u);
   EXPECT_EQ(h, 700u);
   EXPECT_THROW(render(tiny_figure(), dir / "f.pdf", o), PlotUnavailable);
@@ -710,7 +811,7 @@ TEST(PlotRender, ChattyGnuplotDoesNotDeadlock) {
   const RenderResult r = render_script(body, dir / "chatty.png", 400, 300, o);
   EXPECT_EQ(r.warnings.size(), 8000u);
   EXPECT_EQ(r.warnings.back(), "chatter line 8000");
-  EXPECT_EQ(png_size(slurp(dir / "chatty.png")).first, 400u);
+  EXPECT_EQ(test::png_size(slurp(dir / "chatty.png")).first, 400u);
 }
 
 TEST(PlotRender, TimeoutStopsGnuplot) {
@@ -719,36 +820,4 @@ TEST(PlotRender, TimeoutStopsGnuplot) {
   o.timeout_s = 0.3;
   EXPECT_THROW(render_script("pause 30\nplot x\n", dir / "slow.png", 400, 300, o), IoError);
   EXPECT_TRUE(dir.entries().empty());
-}
-
-// ---- The CLI ------------------------------------------------------------------------------------------
-
-// toolpoint beam --plot: the CSV and a 4-panel PNG (1000 × 1040 px) are written; without
-// gnuplot on PATH the CSV is still written, the PNG is not, and the exit code is 5 (I/O) with
-// a message saying so.
-TEST(PlotCli, BeamPlot) {
-  TempDir dir;
-  const std::string base = std::string(TOOLPOINT_CLI) +
-                           " --quiet beam --length 0.123 --diameter 0.016 --youngs-modulus 5.8e11 --density 14500"
-                           " --loss-factor 0.002 --frequencies 10:20000:20";
-  const std::string ok = base + " --output " + (dir / "t.csv") + " --plot " + (dir / "t.png");
-  ASSERT_EQ(std::system(ok.c_str()), 0) << ok;
-  EXPECT_TRUE(fs::exists(dir / "t.csv"));
-  expect_valid(dir / "t.png", Format::Png, 1000, 1040);
-
-  const std::string missing = "PATH=/nonexistent " + base + " --output " + (dir / "u.csv") + " --plot " + (dir / "u.png") +
-                              " 2> " + (dir / "err.txt");
-  const int status = std::system(missing.c_str());
-  ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_EQ(WEXITSTATUS(status), 5);
-  EXPECT_TRUE(fs::exists(dir / "u.csv"));
-  EXPECT_FALSE(fs::exists(dir / "u.png"));
-  const std::string err = slurp(dir / "err.txt");
-  EXPECT_NE(err.find("gnuplot not found"), std::string::npos) << err;
-  EXPECT_NE(err.find("u.csv"), std::string::npos) << err;
-
-  const std::string typo = base + " --output " + (dir / "v.csv") + " --plot " + (dir / "v.jpg") + " 2>/dev/null";
-  const int bad = std::system(typo.c_str());
-  EXPECT_EQ(WEXITSTATUS(bad), 2);
-  EXPECT_FALSE(fs::exists(dir / "v.csv"));  // refused before any work
 }

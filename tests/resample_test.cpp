@@ -1,8 +1,7 @@
 // Resampling FRFs (resample.hpp) against what is known independently: interpolation reproduces
 // straight lines exactly and measured points bit for bit; its error on the closed-form receptance
 // of a lightly damped oscillator falls as Δf² (linear) and Δf⁴ (cubic spline, interior) when the
-// step is halved; nothing is extrapolated; and the command line crops, interpolates onto another
-// file's grid, and points the grid-mismatch error to itself.
+// step is halved; nothing is extrapolated (the command line: cli_files_test.cpp).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -15,32 +14,20 @@
 #include "toolpoint/io.hpp"
 #include "toolpoint/resample.hpp"
 #include "support/scratch.hpp"
+#include "support/variants.hpp"
 
 using namespace toolpoint;
 namespace fs = std::filesystem;
 
 namespace {
 
-// m = 0.04 kg, fn = 1600 Hz, ζ = 0.02: half-power bandwidth 2ζ·fn = 64 Hz.
-Complex sdof(double f) {
-  const double m = 0.04, wn = 2.0 * std::numbers::pi * 1600.0, zeta = 0.02;
-  const double k = m * wn * wn, c = 2.0 * zeta * std::sqrt(k * m), w = 2.0 * std::numbers::pi * f;
-  return 1.0 / Complex(k - m * w * w, c * w);
-}
-
-FrfSeries sampled(double from, double to, double step) {
-  FrfSeries s;
-  for (double f = from; f <= to + 1e-9; f += step) {
-    s.frequency_hz.push_back(f);
-    s.values.push_back(sdof(f));
-  }
-  return s;
-}
+using test::sdof;
+using test::sdof_series;  // sdof: m = 0.04 kg, fn = 1600 Hz, ζ = 0.02: half-power bandwidth 2ζ·fn = 64 Hz
 
 // Largest |H − H_exact| / max|H_exact| over [lo, hi], sampled every 0.05 Hz (at least 40 points
 // per interval of the coarsest step, so the maximum over each interval is found to < 1 %).
 double worst_error(double step, Interpolation method, double lo, double hi) {
-  const FrfSeries s = sampled(800.0, 2400.0, step);
+  const FrfSeries s = sdof_series(800.0, 2400.0, step);
   std::vector<double> grid;
   for (double f = lo + 0.013; f < hi; f += 0.05) grid.push_back(f);
   const FrfSeries r = resample(s, grid, method, "sdof");
@@ -48,8 +35,6 @@ double worst_error(double step, Interpolation method, double lo, double hi) {
   for (std::size_t i = 0; i < grid.size(); ++i) worst = std::max(worst, std::abs(r.values[i] - sdof(grid[i])));
   return worst / std::abs(sdof(1600.0 * std::sqrt(1.0 - 2.0 * 0.02 * 0.02)));
 }
-
-int run_cli(const std::string& args, std::string* output = nullptr) { return test::run_toolpoint(args, output); }
 
 }  // namespace
 
@@ -67,7 +52,7 @@ TEST(Resample, StraightLinesExactlyAndMeasuredPointsBitForBit) {
     EXPECT_EQ(r.values[3], line.values[3]);  // 21.5 Hz is measured: its value exactly
     EXPECT_EQ(r.values[5], line.values[4]);
   }
-  const FrfSeries s = sampled(1000, 2000, 10);
+  const FrfSeries s = sdof_series(1000, 2000, 10);
   const FrfSeries same = resample(s, s.frequency_hz, Interpolation::Cubic, "s");
   EXPECT_EQ(same.values, s.values);
 }
@@ -91,7 +76,7 @@ TEST(Resample, ErrorFallsAsTheOrderSays) {
 }
 
 TEST(Resample, NeverExtrapolatesAndCropsInclusively) {
-  const FrfSeries s = sampled(1000, 2000, 10);
+  const FrfSeries s = sdof_series(1000, 2000, 10);
   try {
     resample(s, {995.0, 1500.0}, Interpolation::Linear, "tip.csv");
     FAIL() << "extrapolated below the measured range";
@@ -103,7 +88,7 @@ TEST(Resample, NeverExtrapolatesAndCropsInclusively) {
   }
   EXPECT_THROW(resample(s, {1500.0, 2000.5}, Interpolation::Linear, "tip.csv"), InputError);
   EXPECT_THROW(resample(s, {1500.0, 1400.0}, Interpolation::Linear, "tip.csv"), InvalidArgument);
-  EXPECT_THROW(resample(sampled(1000, 1010, 10), {1005.0}, Interpolation::Cubic, "two points"), InputError);
+  EXPECT_THROW(resample(sdof_series(1000, 1010, 10), {1005.0}, Interpolation::Cubic, "two points"), InputError);
 
   const FrfSeries c = crop(s, 1500.0, 1600.0, "tip.csv");
   EXPECT_EQ(c.frequency_hz.front(), 1500.0);
@@ -126,47 +111,6 @@ TEST(Resample, NeverExtrapolatesAndCropsInclusively) {
     EXPECT_NEAR(std::abs(rb.blocks[i](1, 1) - 4.0 * rs.values[i]), 0.0, 1e-15 * std::abs(rs.values[i]));
   }
   EXPECT_EQ(resample_values({1.0, 2.0, 4.0}, {0.5, 1.0, 0.0}, {1.5, 3.0}, "coh"), (std::vector<double>{0.75, 0.5}));
-}
-
-TEST(Resample, CommandLine) {
-  const test::TempDir dir("toolpoint_resample");
-  const auto p = [&](const char* leaf) { return dir / leaf; };
-  write_frf_csv(p("fine.csv"), sampled(1000, 2000, 2.5), {}, std::vector<double>(401, 0.95));
-  write_frf_csv(p("coarse.csv"), sampled(1200, 1800, 10));
-  std::string out;
-  ASSERT_EQ(run_cli("resample " + p("fine.csv") + " " + p("on.csv") + " --onto " + p("coarse.csv") + " --method cubic", &out), 0)
-      << out;
-  const FrfFileData on = read_frf_file(p("on.csv"));
-  ASSERT_EQ(on.single.frequency_hz, sampled(1200, 1800, 10).frequency_hz);
-  for (std::size_t i = 0; i < on.single.size(); ++i) EXPECT_EQ(on.single.values[i], sdof(on.single.frequency_hz[i]));
-  EXPECT_EQ(on.coherence, std::vector<double>(61, 0.95));
-  ASSERT_EQ(run_cli("resample " + p("fine.csv") + " " + p("band.uff") + " --band 1500:1600", &out), 0) << out;
-  EXPECT_EQ(read_frf_file(p("band.uff")).single.size(), 41u);
-  ASSERT_EQ(run_cli("resample " + p("coarse.csv") + " " + p("grid.frf") + " --grid 1200:1800:1", &out), 0) << out;
-  EXPECT_EQ(read_frf_file(p("grid.frf")).single.size(), 601u);
-  // Outside the measured range: exit 3, the fix names --band; with it, the target is cropped.
-  EXPECT_EQ(run_cli("resample " + p("coarse.csv") + " " + p("x.csv") + " --onto " + p("fine.csv"), &out), 3);
-  EXPECT_NE(out.find("target frequency 1000 Hz lies outside the measured range 1200–1800 Hz"), std::string::npos) << out;
-  EXPECT_NE(out.find("--band"), std::string::npos) << out;
-  EXPECT_FALSE(fs::exists(p("x.csv")));
-  EXPECT_EQ(run_cli("resample " + p("coarse.csv") + " " + p("x.csv") + " --onto " + p("fine.csv") + " --band 1200:1800", &out), 0)
-      << out;
-  EXPECT_EQ(read_frf_file(p("x.csv")).single.size(), 241u);
-  EXPECT_EQ(run_cli("resample " + p("coarse.csv") + " " + p("y.csv"), &out), 2);
-  EXPECT_EQ(run_cli("resample " + p("coarse.csv") + " " + p("y.csv") + " --grid 1:2:1 --onto " + p("fine.csv"), &out), 2);
-  EXPECT_EQ(run_cli("resample " + p("coarse.csv") + " " + p("y.csv") + " --band 1300:1400 --method quadratic", &out), 2);
-  // The grid-mismatch error of another command points here.
-  write_text_file(p("b1.csv"),
-                  "frequency_hz,H_re,H_im,L_re,L_im,N_re,N_im,P_re,P_im\n10,1,0,1,0,1,0,1,0\n20,1,0,1,0,1,0,1,0\n"
-                  "30,1,0,1,0,1,0,1,0\n");
-  write_text_file(p("b2.csv"),
-                  "frequency_hz,H_re,H_im,L_re,L_im,N_re,N_im,P_re,P_im\n10,1,0,1,0,1,0,1,0\n25,1,0,1,0,1,0,1,0\n"
-                  "30,1,0,1,0,1,0,1,0\n");
-  EXPECT_EQ(run_cli("identify --joint holder-tool --assembly " + std::string(TOOLPOINT_SOURCE_DIR) +
-                        "/examples/bt40_shrinkfit_16mm.toml --sh " + p("b1.csv") + " --sht " + p("b2.csv"),
-                    &out),
-            3);
-  EXPECT_NE(out.find("toolpoint resample IN OUT --onto OTHER"), std::string::npos) << out;
 }
 
 // resample_frf (a file's FRF on another grid, one call) against closed forms and the lower-level
@@ -239,7 +183,7 @@ TEST(ResampleFrf, TargetCroppedToTheBandThenInterpolated) {
 
 // A block: every entry, as resample() of the block gives it.
 TEST(ResampleFrf, Block) {
-  const FrfSeries s = sampled(1000.0, 2000.0, 10.0);
+  const FrfSeries s = sdof_series(1000.0, 2000.0, 10.0);
   FrfFileData in;
   in.is_block = true;
   in.block.frequency_hz = s.frequency_hz;

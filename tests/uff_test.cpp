@@ -16,26 +16,11 @@
 
 #include "toolpoint/error.hpp"
 #include "toolpoint/uff.hpp"
+#include "support/scratch.hpp"
 
 using namespace toolpoint;
 
-// Message checks shared with frf_file_test.cpp (declared there).
-namespace uff_test {
-
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
-
-// Whether one message holds every part.
-bool any_contains(const std::vector<std::string>& messages, std::initializer_list<const char*> parts) {
-  for (const auto& s : messages) {
-    bool all = true;
-    for (const char* p : parts) all = all && contains(s, p);
-    if (all) return true;
-  }
-  return false;
-}
-
-}  // namespace uff_test
-
+// Message checks (support/scratch.hpp).
 using uff_test::any_contains;
 using uff_test::contains;
 

@@ -101,8 +101,8 @@ CLI::Option* add_joint_option(CLI::App* command, std::vector<std::string>& targe
 std::vector<JointFile> read_joint_options(const Globals& g, const std::vector<std::string>& specs);
 // The files named by --joint options, for check_paths.
 std::vector<RunPath> joint_paths(const std::vector<std::string>& specs);
-// The assembly with the files' joints in place.
-Assembly with_joints(const Assembly& assembly, const std::vector<JointFile>& files);
+// The loaded assembly with the files' joints in place (its notes then describe those joints).
+LoadedAssembly with_joints(LoadedAssembly loaded, const std::vector<JointFile>& files);
 
 // Monte Carlo over a joint's uncertainty (--samples N, --seed, --threads), for the commands that
 // carry it forward. Adds the options; `sampled` picks the one --joint file with an [uncertainty]
@@ -292,7 +292,7 @@ struct CutArgs {
 void add_cut_options(CLI::App* command, CutArgs& target, const std::string& teeth_help, bool teeth_required = true,
                      bool kt_required = true);
 // The library's cutting conditions (InvalidArgument naming the flag: no radial coefficient, no
-// engagement, --immersion without --milling); angles within π warned about as radians.
+// engagement, --immersion without --milling); angles both within π refused as radians.
 CuttingConditions cutting_conditions(const CutArgs& typed);
 // --immersion/--milling or --entry/--exit alone (what cutting_conditions checks for the engagement).
 Engagement cut_engagement(const CutArgs& typed);
@@ -364,5 +364,6 @@ void add_modes_command(CLI::App& app, Globals& g);
 void add_resample_command(CLI::App& app, Globals& g);
 void add_plan_command(CLI::App& app, Globals& g);
 void add_simulate_command(CLI::App& app, Globals& g);
+void add_precision_command(CLI::App& app, Globals& g);
 
 }  // namespace toolpoint::cli

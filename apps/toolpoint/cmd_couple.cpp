@@ -105,9 +105,8 @@ void run_couple(const CoupleArgs& o, const Globals& g) {
     options.band = uncertainty_options(o.sampling);
     options.uncertain_joint = sampled_joint(joints);
   }
-  LoadedAssembly loaded = load_assembly(o.assembly);
+  const LoadedAssembly loaded = with_joints(load_assembly(o.assembly), joints);
   report_loaded(g, loaded);
-  loaded.assembly = with_joints(loaded.assembly, joints);
   const BlockSeries sh = read_block_input(g, o.sh).block;
 
   Progress progress(g, "couple: overhangs");

@@ -37,10 +37,10 @@ void print_report(const DemoOptions& o, const LoadedAssembly& loaded, const Case
                   const std::vector<std::string>& figures);
 
 void run_demo(const DemoOptions& o, const Globals& g) {
-  LoadedAssembly loaded = o.assembly.empty() ? parse_assembly(example_assembly_toml(), example_assembly_name())
-                                             : load_assembly(o.assembly);
+  const LoadedAssembly loaded = with_joints(o.assembly.empty() ? parse_assembly(example_assembly_toml(), example_assembly_name())
+                                                               : load_assembly(o.assembly),
+                                            read_joint_options(g, o.joints));
   report_loaded(g, loaded);
-  loaded.assembly = with_joints(loaded.assembly, read_joint_options(g, o.joints));
   CaseStudyOptions co;
   co.noise_sigma = o.sigma;
   co.seed = o.seed;

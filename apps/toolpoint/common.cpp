@@ -46,9 +46,8 @@ void report_loaded(const Globals& g, const LoadedAssembly& loaded) {
 
 LoadedAssembly load_assembly_on_grid(const Globals& g, const std::string& path, const std::string& frequencies,
                                      const std::vector<JointFile>& joints) {
-  LoadedAssembly loaded = load_assembly(path);
+  LoadedAssembly loaded = with_joints(load_assembly(path), joints);
   report_loaded(g, loaded);
-  loaded.assembly = with_joints(loaded.assembly, joints);
   if (!frequencies.empty()) {
     loaded.assembly.grid = parse_frequency_grid(frequencies, "--frequencies");
     check_plausible(plausible::kTopFrequency, loaded.assembly.grid.stop_hz, "--frequencies: the top frequency [Hz]",
@@ -112,10 +111,9 @@ std::vector<RunPath> joint_paths(const std::vector<std::string>& specs) {
   return paths;
 }
 
-Assembly with_joints(const Assembly& assembly, const std::vector<JointFile>& files) {
-  Assembly a = assembly;
-  for (const JointFile& f : files) a = with_joint(a, f);
-  return a;
+LoadedAssembly with_joints(LoadedAssembly loaded, const std::vector<JointFile>& files) {
+  for (const JointFile& f : files) loaded = with_joint(std::move(loaded), f);
+  return loaded;
 }
 
 void add_sampling_options(CLI::App* command, SamplingOptions& target, const std::string& what, bool threads_option) {
@@ -310,6 +308,13 @@ std::string with_flags(std::string text) {
       {"TapTestOptions::calibration", "--calibration"},
       {"TapTestOptions::averages", "--averages"},
       {"NoiseOptions::sigma", "--sigma"},
+      {"TapNoise::sigma", "--sigma"},
+      {"TapNoise::floor", "--floor"},
+      {"TapNoise::averages", "--averages"},
+      {"TapNoise::calibration", "--calibration"},
+      {"PrecisionOptions::tool.spacing_m", "--tool-spacing"},
+      {"PrecisionOptions::holder.spacing_m", "--holder-spacing"},
+      {"PrecisionOptions::target", "--target"},
       {"NoiseOptions::floor", "--floor"},
       {"NoiseOptions::calibration", "--calibration"},
       {"NoiseOptions::averages", "--averages"},
@@ -337,6 +342,7 @@ std::string with_flags(std::string text) {
       {"FrfReadOptions::format", "--from"},
       {"UffSelection::index", "--dataset"},
       {"RotationalOptions::assume_reciprocity", "--assume-reciprocity"},
+      {"RotationalOptions::p_method SchmitzSmith", "--p-method n2h"},
       {"TapTestFileOptions::nodes", "--nodes"},
       {"TapTestFileOptions::direction", "--direction"},
       {"TapTestFileOptions::order", "--order"},
@@ -569,7 +575,8 @@ void add_cut_options(CLI::App* c, CutArgs& o, const std::string& teeth_help, boo
       c->add_option("--immersion", o.immersion,
                     "Radial immersion a/D [-] in (0, 1] (1: slotting); needs --milling (this or --entry/--exit required)");
   auto* entry_opt = c->add_option("--entry", o.entry_deg,
-                                  "Entry angle φ_st [°], clockwise from the normal (y) direction, with --exit");
+                                  "Entry angle φ_st [°, not rad], clockwise from the normal (y) direction, with --exit (both "
+                                  "within π look like radians: refused)");
   auto* exit_opt = c->add_option("--exit", o.exit_deg, "Exit angle φ_ex [°] (0 ≤ entry < exit ≤ 180)");
   entry_opt->needs(exit_opt);
   exit_opt->needs(entry_opt);
@@ -587,13 +594,16 @@ Engagement cut_engagement(const CutArgs& o) {
     if (o.milling.empty()) throw InvalidArgument("--immersion needs --milling up or --milling down", "add --milling down");
     return engagement_from_immersion(o.immersion, o.milling == "up" ? MillingDirection::Up : MillingDirection::Down);
   }
-  // Both angles within π: radians meant for degrees (1.57, 3.14 for slotting), or a cut of at
-  // most 3°; said, not refused (a very light finishing cut is possible).
+  // Both angles within π: radians meant for degrees (1.57, 3.14 for slotting) far more likely than
+  // a cut of at most 3°, which gives lobes that look like any others; refused, and such a light
+  // cut can still be given as an immersion.
   if (std::abs(o.entry_deg) <= kPi + 1e-3 && std::abs(o.exit_deg) <= kPi + 1e-3)
-    warn(
-        fmt::format("--entry {} --exit {}: the angles are in degrees, so this is a cut of {:g}°; if they are radians, give "
-                    "--entry {:g} --exit {:g}",
-                    o.entry_deg, o.exit_deg, o.exit_deg - o.entry_deg, o.entry_deg * 180.0 / kPi, o.exit_deg * 180.0 / kPi));
+    throw InvalidArgument(
+        fmt::format("--entry {} --exit {}: the angles are in degrees, so this is a cut of only {:g}°; they look like "
+                    "radians",
+                    o.entry_deg, o.exit_deg, o.exit_deg - o.entry_deg),
+        fmt::format("give degrees: --entry {:g} --exit {:g}; for so light a cut, give --immersion a/D with --milling",
+                    o.entry_deg * 180.0 / kPi, o.exit_deg * 180.0 / kPi));
   return engagement_from_degrees(o.entry_deg, o.exit_deg);
 }
 

@@ -71,6 +71,7 @@ int main(int argc, char** argv) {
   add_resample_command(app, globals);
   add_plan_command(app, globals);
   add_simulate_command(app, globals);
+  add_precision_command(app, globals);
 
   const std::string command = subcommand_named(app, argc, argv);
   const std::string help = command.empty() ? "toolpoint --help" : "toolpoint " + command + " --help";

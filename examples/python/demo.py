@@ -146,8 +146,8 @@ def main(argv=None):
                            bootstrap_samples=max(args.bootstrap, 20), fit_seed=args.seed, threads=args.threads)
     shown = args.assembly if args.assembly != str(EXAMPLE) else "examples/bt40_shrinkfit_16mm.toml"
     print("\n".join(report(cs, args, shown)))
-    for path in draw(cs, Path(args.figures)):
-        print(f"figure: {path}")
+    for path in draw(cs, Path(args.figures)):  # after the report, as `toolpoint demo` says what it wrote
+        print(f"wrote {path} (figure)")
 
 
 if __name__ == "__main__":

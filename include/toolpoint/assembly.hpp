@@ -83,6 +83,9 @@ struct Assembly {
   // Throws InvalidArgument naming the offending item (a bearing outside the spindle, a tool
   // longer than holder + overhang allows, a shank wider than the bore, non-positive sizes, …).
   void check() const;
+  // What its parts' sources say against them: its joints' warnings (Joint::warnings), spindle–holder
+  // first.
+  std::vector<std::string> warnings() const;
 };
 
 // A chain of segments from its end 1 inwards, with optional ground springs at the nodes between
@@ -178,7 +181,7 @@ class AssemblyModel {
   Eigen::MatrixXcd holder_stations(double frequency_hz, const std::vector<double>& distances) const;
 
   const Assembly& assembly() const { return assembly_; }
-  // The chains' warnings (see Chain::warnings).
+  // The assembly's warnings (Assembly::warnings), then the chains' (see Chain::warnings).
   std::vector<std::string> warnings() const;
   const Chain& spindle_chain() const { return spindle_; }
   const Chain& holder_chain() const { return holder_; }
@@ -211,7 +214,8 @@ BlockSeries block_series(const std::vector<double>& frequency_hz, const std::fun
 Block block_at(const std::function<Block(double)>& at, double frequency_hz);
 
 // The holder segments with the inserted tool part as a core layer; `tool_inside` from the
-// holder tip inwards. Throws InvalidArgument if the tool does not fit the bore.
+// holder tip inwards. Throws InvalidArgument if the tool does not fit the bore: wider than it, or
+// narrower by more than 1 % (then the two are not one section).
 std::vector<Segment> insert_tool(const std::vector<Segment>& holder, const std::vector<Segment>& tool_inside);
 
 }  // namespace toolpoint

@@ -18,8 +18,15 @@ namespace toolpoint {
 struct LoadedAssembly {
   Assembly assembly;
   std::vector<std::string> warnings;  // "file:line: key = value …" for implausible magnitudes
-  std::vector<std::string> notes;     // legal but worth knowing: an indefinite joint (joint_warnings)
+  // Legal but worth knowing: the default grid; an indefinite joint (joint_warnings, each named
+  // assembly_joint_name(source, key)).
+  std::vector<std::string> notes;
+  std::string source;  // the file (or name) it was read from
 };
+
+// How an assembly file's messages name one of its joints: "<source>: joints.<key>", key
+// "holder_tool" or "spindle_holder".
+std::string assembly_joint_name(const std::string& source, const std::string& key);
 
 // Parses assembly TOML text; `source` names the file in errors ("file:line: key: what was
 // expected"). Throws InputError for syntax errors, missing or unknown keys, wrong types and

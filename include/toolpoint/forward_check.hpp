@@ -103,10 +103,11 @@ struct ForwardCheck {
 
 // The check of `joint` on one set-up (JointFitData: the model component A, the measured B11 and
 // G11 and their noise models, on the band given). With the joint's `covariance` (SI units, as
-// JointFit::covariance) its uncertainty is part of what the noise allows: each replicate predicts
-// with a joint drawn from N(joint, covariance) (uncertainty.hpp's sample_joints), and each mode's
-// window is at least four standard deviations of its frequency over such joints wide — a joint the
-// data determine poorly is not failed for the spread the data leave it. Throws InvalidArgument
+// JointFit::covariance) its uncertainty is part of what the noise allows: each replicate's data
+// come from a joint drawn from N(joint, covariance) (uncertainty.hpp's sample_joints; the
+// prediction stays the identified joint's, as for the measured data), and each mode's window is
+// at least four standard deviations of its frequency over such joints wide — a joint the data
+// determine poorly is not failed for the spread the data leave it. Throws InvalidArgument
 // (options, a covariance that is not positive semidefinite), InputError (data: as fit_joint),
 // NumericalError (a singular forward model).
 ForwardCheck check_forward(const JointFitData& data, const JointParameters& joint, const ForwardCheckOptions& options = {},

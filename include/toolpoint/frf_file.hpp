@@ -165,7 +165,9 @@ struct FrfFileData {
 };
 
 // Reads `path` (validated: f > 0 strictly increasing, finite values). Throws InputError (content,
-// naming file, line or dataset), InvalidArgument (unknown extension, options), IoError.
+// naming file, line or dataset; an end point more than 100 median steps from its neighbour — a
+// stray line —, a top frequency or a largest |H| so far outside the plausible range that it cannot
+// be meant), InvalidArgument (unknown extension, options), IoError.
 FrfFileData read_frf_file(const std::string& path, const FrfReadOptions& options = {});
 
 // Writing.

@@ -57,9 +57,13 @@ struct JointParameters {
 struct Joint {
   bool rigid = true;
   JointParameters parameters;
+  // What its source says against using it (a joint file whose identification was judged doubtful
+  // or fail: joint_file_warnings in joint_file.hpp). Every result computed with an assembly that
+  // holds the joint repeats them (Assembly::warnings, AssemblyModel::warnings).
+  std::vector<std::string> warnings;
 
   static Joint make_rigid() { return {}; }
-  static Joint make_elastic(const JointParameters& p) { return {false, p}; }
+  static Joint make_elastic(const JointParameters& p) { return {false, p, {}}; }
 };
 
 // Warnings about a joint that is legal but worth knowing: an indefinite symmetric part of the

@@ -25,6 +25,7 @@
 #include <Eigen/Core>
 
 #include "toolpoint/assembly.hpp"
+#include "toolpoint/assembly_file.hpp"
 #include "toolpoint/joint.hpp"
 
 namespace toolpoint {
@@ -59,7 +60,18 @@ void write_joint_file(const std::string& path, const JointFile& file);
 JointFile parse_joint_file(const std::string& text, const std::string& source);
 JointFile load_joint_file(const std::string& path);
 
-// The assembly with the file's joint in place of the one at its interface.
+// What a joint file says against its own use: an [identification] verdict other than "pass" (an
+// identification judged doubtful, or one judged fail and written all the same). One message each,
+// naming the file.
+std::vector<std::string> joint_file_warnings(const JointFile& file);
+
+// The assembly with the file's joint in place of the one at its interface, carrying the file's
+// warnings (Joint::warnings = joint_file_warnings), so every result computed with it repeats them.
 Assembly with_joint(const Assembly& assembly, const JointFile& file);
+
+// The same for an assembly read from its file; besides, what the file's notes said of the
+// replaced joint (an indefinite stiffness or damping matrix, joint_warnings) gives way to what is
+// true of the joint put in, named by the joint file.
+LoadedAssembly with_joint(LoadedAssembly loaded, const JointFile& file);
 
 }  // namespace toolpoint

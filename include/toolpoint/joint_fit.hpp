@@ -117,6 +117,9 @@ struct JointFitOptions {
   // The measured series' calibration (BlockNoise::calibration) is one factor for all of them (one
   // sensor chain), not one per series (set-ups with the same B11 data share its factor anyway).
   bool shared_calibration = false;
+  // Linearised intervals with a measured B11: checked by kLinearisationCheck bootstrap replicates
+  // (above). Off: the plain sandwich (a prediction from exact data wants the linearisation itself).
+  bool check_linearisation = true;
   double confidence = 0.95;              // of the intervals, in (0.5, 1)
   int max_iterations = 200;              // Levenberg–Marquardt iterations per pass
   ParallelOptions parallel;              // bootstrap replicates on these threads (results identical for any count)

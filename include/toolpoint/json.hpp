@@ -42,6 +42,7 @@
 #include "toolpoint/studies/lobes.hpp"
 #include "toolpoint/studies/overhang.hpp"
 #include "toolpoint/studies/plan.hpp"
+#include "toolpoint/studies/precision.hpp"
 #include "toolpoint/studies/predict.hpp"
 #include "toolpoint/studies/rotational.hpp"
 #include "toolpoint/studies/simulation.hpp"
@@ -91,6 +92,12 @@ void to_json(nlohmann::json& j, const SetupFit& s);
 // "correlation" and "covariance" (8×8, SI), "calibration_std_error" (per parameter, SI), "warnings"; with several set-ups also "setups",
 // "transfer_statistic", "transfer_limit", "transfers".
 void to_json(nlohmann::json& j, const JointFit& fit);
+// A parameter's expected precision: {"value", "half_width", "relative", "calibration_half_width",
+// "averages_for_target" (null: unreachable or no target), "free", "unit"}.
+void to_json(nlohmann::json& j, const ParameterPrecision& p);
+// The precision study: {"route", "parameters": per parameter ParameterPrecision, "confidence",
+// "averages", "target", "measured", "fit_description", "warnings"}.
+void to_json(nlohmann::json& j, const PrecisionStudy& s);
 // The seed's read-out: "band_lo_hz", "band_hi_hz", "points", "parameters": per parameter
 // {"median", "spread", "min", "max", "determined", "noise_gain", "unit"}, "reciprocity_k",
 // "reciprocity_c", "max_cond_difference", "max_cond_flexibility", "warnings".

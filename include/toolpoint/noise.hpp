@@ -141,6 +141,11 @@ BlockNoise stated_block_noise(const BlockSeries& data, const StatedNoise& stated
 // No noise: data from a model.
 BlockNoise exact_block_noise();
 
+// Completes a noise model built from its parts (relative, additive, source set): the square roots
+// for drawing and the summary (magnitude_sigma, phase_sigma_rad, floor). The floor relative to the
+// peak needs the data (stated_block_noise and estimate_block_noise set it).
+void finish_block_noise(BlockNoise& noise);
+
 // The relative variance of an H1 estimate from `averages` averages with the coherence γ̂² estimated
 // from them (above): (1 − γ̂²) / (2 (n_d − 1) γ̂²), for the radial and the tangential part each;
 // capped at 1 (γ̂² → 0: the estimate carries no information). Throws InvalidArgument for γ̂² outside

@@ -60,7 +60,8 @@ inline constexpr PlausibleRange kCuttingCoefficient{
 inline constexpr PlausibleRange kEdgeCoefficient{1e2, 1e6, 100.0, "K_te is in N/m (typically 1e4–5e4)"};
 // Machine
 inline constexpr PlausibleRange kSpindleSpeedRpm{10.0, 2e5, 10.0, "spindle speeds are in rpm"};
-inline constexpr PlausibleRange kPower{100.0, 5e5, 10.0, "power is in watts (15 kW = 15e3)"};
+// Below 50 W no machining spindle: a power in kW (15 for 15 kW) is refused, not computed with.
+inline constexpr PlausibleRange kPower{200.0, 5e5, 4.0, "power is in watts (15 kW = 15e3)"};
 inline constexpr PlausibleRange kTorque{0.5, 5000.0, 10.0, "torque is in N m"};
 inline constexpr PlausibleRange kRadialRatio{0.05, 1.5, 10.0, "K_r = K_n/K_t is a ratio, typically 0.2–0.6 (30 % = 0.3)"};
 // Modal models

@@ -97,7 +97,9 @@ struct Fill {
 };
 
 // Text at a data point (a mode's frequency at its peak, a lobe number), centred just above the
-// point, with a small marker on the point itself when `marker`.
+// point, with a small marker on the point itself when `marker`. Drawn in the panel's order, each
+// only where it overlaps no label drawn before it and no legend, inside the frame (an autoscaled
+// y axis makes room above for them; at a side edge a label is set against its point).
 struct TextLabel {
   double x = 0.0, y = 0.0;
   std::string text;
@@ -113,7 +115,9 @@ struct TextLabel {
 struct ColourBar {
   std::string label;  // with its unit, e.g. "Stable depth [mm]"
   Scale scale = Scale::Linear;
-  std::optional<double> min, max;  // unset: the finite data's range; values beyond are drawn in the end colours
+  // Unset: the finite data's range. Values beyond are drawn in the end colours, and the end's tic
+  // label says so ("≥ 3.5", "≤ 0.1").
+  std::optional<double> min, max;
 };
 
 struct Map {
@@ -124,8 +128,10 @@ struct Map {
 
 // Where the legend goes. Inside the panel it has an opaque box; Outside puts it in a column to
 // the right of the panels (all panels narrow alike, so their x axes stay aligned), for panels
-// whose data fill the whole frame. A panel without labelled items shows no legend.
-enum class Legend { TopRight, TopLeft, BottomRight, BottomLeft, Outside, Hidden };
+// whose data fill the whole frame. Auto (the default): the first corner — top right, top left,
+// bottom right, bottom left — where the box covers none of the panel's data, lines or labels, as
+// drawn; else Outside. A panel without labelled items shows no legend.
+enum class Legend { Auto, TopRight, TopLeft, BottomRight, BottomLeft, Outside, Hidden };
 
 struct Panel {
   Axis y;
@@ -136,7 +142,7 @@ struct Panel {
   std::vector<Fill> fills;
   std::vector<TextLabel> labels;
   std::optional<Map> map;  // drawn first, under everything else
-  Legend legend = Legend::TopRight;
+  Legend legend = Legend::Auto;
   double height = 1.0;  // share of the plotting height relative to the other panels, > 0
 };
 

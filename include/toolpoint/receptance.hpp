@@ -67,6 +67,13 @@ FrfSeries entry(const BlockSeries& series, int index);
 void validate(const BlockSeries& series, const std::string& what, std::size_t min_points = 1);
 void validate(const FrfSeries& series, const std::string& what, std::size_t min_points = 1);
 
+// A direct (point) FRF meant as a receptance that is a mobility: a point mobility Y = iωH has
+// Re Y = −ω Im H ≥ 0 at every frequency and Im Y = ω Re H, which changes sign at each resonance,
+// where a point receptance has Im H ≤ 0 at every frequency (conventions.hpp). Said when Re ≥ 0 at
+// 95 % of the points of |G| ≥ 1 % of its largest and Im takes either sign at 10 % of them each.
+// Throws InputError naming `what` (fit or lobes from such data give negative masses, nonsense).
+void require_not_mobility(const FrfSeries& series, const std::string& what);
+
 // Throws InputError unless the two grids hold the same frequencies (relative tolerance 1e-9).
 void require_same_grid(const std::vector<double>& a, const std::string& what_a, const std::vector<double>& b,
                        const std::string& what_b);

@@ -200,7 +200,9 @@ NoisyMeasurement<BlockSeries> add_measurement_noise(const BlockSeries& series, c
 // (with the hammer at the tip only, H_i0, that makes L = N); without it, an H_0k or H_k0 that N or
 // L needs is an error naming it. P needs every H_ij up to the order (the hammer moved too, in
 // particular H11, H22); without them P is approximated as N·L/H00 — N²/H00 when L = N (Schmitz &
-// Smith), exact for a single mode, about 25 % low on a static cantilever — and flagged.
+// Smith), exact for a single mode, about 25 % low on a static cantilever — and flagged, unless the
+// source could not read all it held (PointFrfs::unread: the missing ones may be there, in a
+// truncated or damaged file): then the approximation is refused unless asked for (SchmitzSmith).
 enum class PMethod {
   Auto,          // cross terms if every H_ij is available (directly or by reciprocity), else N·L/H00
   CrossTerms,    // the finite-difference formula; missing terms are an error
@@ -232,6 +234,9 @@ struct RotationalOptions {
 struct PointFrfs {
   std::array<std::array<std::optional<FrfSeries>, 3>, 3> h;  // h[i][j] = H_ij
   std::array<std::array<std::string, 3>, 3> source;          // where each came from (errors)
+  // What their source could not read (a universal file's skipped datasets, UffFile::skipped): a
+  // missing H_ij may be among them, so it is not approximated around (rotational_frfs).
+  std::vector<std::string> unread;
 
   // Stores H_{response,force}; `source` (a file name) defaults to "H<response><force>".
   void set(int response, int force, FrfSeries series, std::string source = {});

@@ -97,7 +97,9 @@ struct MillingFrfs {
 // (every peak shows it), or a structure that feeds energy in at that mode (negative damping: an
 // assembly whose joint damping matrix is not positive definite), which chatters at any depth.
 // The first resonance peak (prominence ≥ 0.3, ≈ 3 dB; at least 1 % of the largest |G|) with
-// Im G > 0, if any.
+// Im G > 0 as a mode of negative damping shows it — a fifth of |G| or more (G ≈ +iA at its peak),
+// and Im G > 0 at the points beside it too — if any: noise on a raw measured FRF makes one-point
+// peaks, and peaks where a slightly positive Im G is its phase bias; neither is dissipation.
 struct PassivityViolation {
   double frequency_hz = 0.0;
   Complex value;                                        // G at that peak [m/N]

@@ -27,7 +27,7 @@ std::vector<plot::FrfTrace> band_traces(const FrfBand& band);
 Table probability_table(const StabilityUncertainty& stability);
 
 // The quantile envelopes as extra curves of a lobes figure (plot::LobesFigureData::other_envelopes):
-// level q is "stable with (1 − q) probability", the first naming the sample count.
+// level q is "stable in (1 − q) of N joints" (the first naming the sample count N, the others "of them").
 std::vector<plot::LobesFigureData::Envelope> quantile_envelopes(const StabilityUncertainty& stability);
 
 // The probability map as figure data (plot::probability_map_figure) on the envelope's speeds and the

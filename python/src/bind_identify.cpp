@@ -12,6 +12,7 @@
 #include "toolpoint/json.hpp"
 #include "toolpoint/noise.hpp"
 #include "toolpoint/studies/identification.hpp"
+#include "toolpoint/studies/precision.hpp"
 #include "toolpoint/uncertainty.hpp"
 
 namespace toolpoint::python {
@@ -43,6 +44,13 @@ py::array_t<double> table8(const Rows& rows, Get get) {
   for (std::size_t i = 0; i < rows.size(); ++i)
     for (int k = 0; k < 8; ++k) w(static_cast<py::ssize_t>(i), k) = get(rows[i], k);
   return a;
+}
+
+// (8,) one field of each parameter's precision.
+py::array_t<double> per_parameter(const PrecisionStudy& r, double ParameterPrecision::*field) {
+  std::array<double, 8> v{};
+  for (std::size_t k = 0; k < 8; ++k) v[k] = r.parameters[k].*field;
+  return array_of(v);
 }
 
 template <class Rows, class Get>
@@ -272,7 +280,8 @@ void bind_identify(py::module_& m) {
           },
           "(n, 4): the floor's variance of each part of H, L, N, P per frequency (empty without a floor)")
       .def_property_readonly(
-          "floor", [](const BlockNoise& n) { return array_of(n.floor); }, "(4,) σ of each part of the additive floor [entry units]")
+          "floor", [](const BlockNoise& n) { return array_of(n.floor); },
+          "(4,) σ of each part of the additive floor [entry units]")
       .def_property_readonly(
           "floor_relative", [](const BlockNoise& n) { return array_of(n.floor_relative); },
           "(4,) the floor over each entry's peak |value|")
@@ -530,6 +539,66 @@ void bind_identify(py::module_& m) {
       "and floor (relative to each entry's peak) are stated; calibration: σ of each measured FRF's sensitivity (one factor "
       "for all with calibration_shared); averages: behind the data's coherence (IdentificationData g_coherence). Six parameters "
       "(reciprocal) or eight. threads: the bootstrap's (0: every core; results identical for any count).");
+  py::class_<PrecisionStudy>(m, "PrecisionStudy",
+                             "run_precision_study's result: each joint parameter's expected interval before the tap test.")
+      .def_property_readonly("route", [](const PrecisionStudy& r) { return name_of(r.route, kRoutes); })
+      .def_property_readonly(
+          "values", [](const PrecisionStudy& r) { return per_parameter(r, &ParameterPrecision::value); },
+          "(8,) the assembly's joint (the trial values) [SI]")
+      .def_property_readonly(
+          "half_width", [](const PrecisionStudy& r) { return per_parameter(r, &ParameterPrecision::half_width); },
+          "(8,) expected half-width of each parameter's interval at `confidence` [SI]")
+      .def_property_readonly(
+          "relative", [](const PrecisionStudy& r) { return per_parameter(r, &ParameterPrecision::relative); },
+          "(8,) half_width / |value|")
+      .def_property_readonly(
+          "averages_for_target",
+          [](const PrecisionStudy& r) {
+            std::vector<std::optional<int>> n;
+            for (const ParameterPrecision& p : r.parameters) n.push_back(p.averages_for_target);
+            return n;
+          },
+          "hits per FRF each parameter needs for the target width (None: unreachable, or no target)")
+      .def_readonly("confidence", &PrecisionStudy::confidence)
+      .def_readonly("averages", &PrecisionStudy::averages)
+      .def_readonly("measured", &PrecisionStudy::measured)
+      .def_readonly("warnings", &PrecisionStudy::warnings)
+      .def(
+          "to_dict", [](const PrecisionStudy& r) { return dict_of(r); }, "toolpoint precision --json's keys.");
+  m.def(
+      "run_precision_study",
+      [](Assembly a, const std::string& route, std::optional<double> tool_spacing_m, std::optional<double> holder_spacing_m,
+         int points, const std::string& hammer, double sigma, double floor, int averages, double calibration,
+         bool calibration_shared, bool reciprocal, double confidence, std::optional<double> target, const py::object& progress) {
+        PrecisionOptions o;
+        o.route = enum_of(route, kRoutes, "route");
+        for (TapTestOptions* t : {&o.tool, &o.holder}) {
+          t->points = points;
+          t->hammer = enum_of(hammer, kHammers, "hammer");
+        }
+        o.tool.spacing_m = tool_spacing_m.value_or(0.0);
+        o.holder.spacing_m = holder_spacing_m.value_or(0.0);
+        o.noise.sigma = sigma;
+        o.noise.floor = floor;
+        o.noise.averages = averages;
+        o.noise.calibration = calibration;
+        o.noise.shared_calibration = calibration_shared;
+        o.reciprocal = reciprocal;
+        o.confidence = confidence;
+        o.target = target;
+        const ProgressCallback cb = progress_of(progress);
+        py::gil_scoped_release nogil;
+        return run_precision_study(a, o, cb);
+      },
+      "assembly"_a, "route"_a = "holder_tool", "tool_spacing_m"_a = py::none(), "holder_spacing_m"_a = py::none(), "points"_a = 3,
+      "hammer"_a = "roving", "sigma"_a = 0.01, "floor"_a = 0.0, "averages"_a = 1, "calibration"_a = 0.0,
+      "calibration_shared"_a = false, "reciprocal"_a = true, "confidence"_a = 0.95, "target"_a = py::none(),
+      "progress"_a = py::none(),
+      "How tight the joint of `route` will be before the tap test (toolpoint precision): the tap tests its identification needs "
+      "(points spaced tool_spacing_m / holder_spacing_m [m] on the tool for SHT11, the holder for SH11; hammer 'roving' or "
+      "'tip'), one hit's variation sigma (0.01 = 1 %) and floor (relative to each FRF's peak), `averages` hits per FRF, each "
+      "test's calibration σ; the expected half-width of each parameter's interval at `confidence` (the linearised band fit on "
+      "the model's exact FRFs), and the averages a relative half-width `target` (0.05 = ±5 %) needs.");
   m.def("weighted_median_parameters", &weighted_median_parameters, "series"_a, "lo_hz"_a, "hi_hz"_a,
         "The median of each parameter over [lo, hi] Hz, each point weighted by 1/gain²: the fit's starting values.");
 

@@ -34,7 +34,6 @@ const std::vector<std::pair<const char*, ReceptanceMethod>> kMethods{{"exact", R
 const std::vector<std::pair<const char*, PredictedFrf>> kPredicted{{"SHT11", PredictedFrf::ToolPoint},
                                                                    {"SH11", PredictedFrf::HolderTip}};
 const std::vector<std::pair<const char*, TapSide>> kSides{{"tool", TapSide::Tool}, {"holder", TapSide::Holder}};
-const std::vector<std::pair<const char*, HammerPlan>> kHammers{{"roving", HammerPlan::Roving}, {"tip", HammerPlan::Tip}};
 
 // A per-frequency function of the model over an array of frequencies, GIL released.
 template <class F>
@@ -411,7 +410,8 @@ void bind_model(py::module_& m) {
       .def("check", &Assembly::check, "Raises InvalidArgument naming the offending item.")
       .def("with_overhang", &with_overhang, "overhang"_a,
            "The same assembly with the tool sticking out `overhang` m (the length inside the holder kept).")
-      .def("with_joint", &with_joint, "joint"_a, "The assembly with a JointFile's joint in place of the one at its interface.");
+      .def("with_joint", static_cast<Assembly (*)(const Assembly&, const JointFile&)>(&with_joint), "joint"_a,
+           "The assembly with a JointFile's joint in place of the one at its interface.");
 
   py::class_<LoadedAssembly>(m, "LoadedAssembly",
                              "An assembly file read: the assembly, warnings (implausible magnitudes) and notes.")

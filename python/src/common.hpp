@@ -27,6 +27,7 @@
 #include "toolpoint/signal.hpp"
 #include "toolpoint/stability.hpp"
 #include "toolpoint/studies/study.hpp"
+#include "toolpoint/studies/tap_test.hpp"
 
 namespace toolpoint {
 struct UncertaintyOptions;
@@ -65,6 +66,9 @@ FrfSeries frf_series(const RealArray& frequency_hz, const ComplexArray& values, 
 inline SpeedRange speed_range(const std::tuple<double, double, int>& s) {
   return {std::get<0>(s), std::get<1>(s), std::get<2>(s)};
 }
+
+// A tap test's hammer plan by name (run_tap_test, run_precision_study).
+inline const std::vector<std::pair<const char*, HammerPlan>> kHammers{{"roving", HammerPlan::Roving}, {"tip", HammerPlan::Tip}};
 
 // RotationalOptions from keyword arguments (p_method 'auto', 'cross_terms', 'schmitz_smith').
 RotationalOptions rotational_options(int order, double spacing, bool symmetrise, const std::string& p_method,

@@ -25,15 +25,19 @@ def test_demo_py_prints_the_cli_demo_report(tmp_path):
                         capture_output=True, text=True)
     assert py.returncode == 0, py.stderr
     cli = run_cli("demo", "--no-plots", "--bootstrap", 0, "--output", tmp_path / "cli")
+    # The report, up to what each wrote (the CLI its data files, demo.py its figures, if any).
     expected = cli.split("\nwrote ")[0].rstrip("\n").splitlines()
-    assert py.stdout.rstrip("\n").splitlines() == expected
+    assert py.stdout.split("\nwrote ")[0].rstrip("\n").splitlines() == expected
     assert any(line.startswith("k_yf ") for line in expected)  # the table is there
-    # Without matplotlib the figures are skipped with a note (with it, they are drawn).
+    # Without matplotlib the figures are skipped with a note (with it, they are drawn and listed).
     try:
         import matplotlib  # noqa: F401
-        assert (tmp_path / "fig" / "tool_point_frf.png").exists()
+        figure = tmp_path / "fig" / "tool_point_frf.png"
+        assert figure.exists()
+        assert f"wrote {figure} (figure)" in py.stdout.splitlines()
     except ImportError:
         assert "matplotlib is not installed" in py.stderr
+        assert "\nwrote " not in py.stdout
 
 
 def test_tap_test_to_lobes_follows_the_cli_tutorial(tmp_path):

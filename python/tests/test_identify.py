@@ -98,3 +98,16 @@ def test_bad_identification_input_raises():
         tp.identify_joint_from_frfs(a, [tp.IdentificationData(f, np.ones((10, 2, 2)))], route="tool_holder")
     with pytest.raises(tp.InputError):  # no SH11 for Eq. 6
         tp.identify_joint_from_frfs(a, [tp.IdentificationData(f, np.ones((10, 2, 2)))])
+
+
+def test_precision_study_is_the_cli_one(example):
+    cli = run_cli_json("precision", EXAMPLE, "--tool-spacing", 0.015, "--holder-spacing", 0.02, "--sigma", 0.005,
+                       "--averages", 5, "--calibration", "1%", "--target", "2%")
+    ours = tp.run_precision_study(example, tool_spacing_m=0.015, holder_spacing_m=0.02, sigma=0.005, averages=5,
+                                  calibration=0.01, target=0.02)
+    j = ours.to_dict()
+    assert j == {k: v for k, v in cli.items() if k != "joint"}
+    assert ours.half_width.shape == (8,) and ours.route == "holder_tool"
+    assert np.allclose(ours.relative, ours.half_width / np.abs(ours.values))
+    with pytest.raises(tp.InvalidArgument, match="spacing"):
+        tp.run_precision_study(example, holder_spacing_m=0.02)

@@ -307,7 +307,10 @@ Identification identify_joint_from_frfs(const Assembly& assembly, const std::vec
     validate(d.G11, gname, 3);
     const AssemblyModel m(u.assembly);
     // The model's own remarks (a piece computed exactly, …), once: they are the assembly's.
-    if (s == 0) r.warnings.insert(r.warnings.end(), m.warnings().begin(), m.warnings().end());
+    if (s == 0) {
+      const std::vector<std::string> w = m.warnings();  // by value: one vector for both iterators
+      r.warnings.insert(r.warnings.end(), w.begin(), w.end());
+    }
     if (d.B11) {
       validate(*d.B11, d.b_name.empty() ? "B11" : d.b_name, 3);
       require_same_grid(d.B11->frequency_hz, d.b_name.empty() ? "B11" : d.b_name, d.G11.frequency_hz, gname);

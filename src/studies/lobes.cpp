@@ -367,10 +367,13 @@ LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOption
                           "give the assembly whose tool point FRF LobesInput::frfs is");
   if (!input.frfs && input.assembly) {
     LobesInput with_frfs = input;
-    const AssemblyModel model(*input.assembly);
+    // A sampled joint file's joint is the nominal one, so the nominal envelope and the samples'
+    // describe the same joint (each sample replaces the assembly's joint too).
+    const AssemblyModel model(input.uncertain_joint ? with_joint(*input.assembly, *input.uncertain_joint) : *input.assembly);
     with_frfs.frfs = milling_frfs(model, input.assembly->grid.values(), input.rigid_y);
     LobesStudyResult r = run_lobes_study(with_frfs, options, progress);
-    r.warnings.insert(r.warnings.begin(), model.warnings().begin(), model.warnings().end());
+    const std::vector<std::string> w = model.warnings();  // by value: one vector for both iterators
+    r.warnings.insert(r.warnings.begin(), w.begin(), w.end());
     return r;
   }
   if (!input.uncertain_joint) return nominal_lobes_study(input, options, progress);

@@ -56,9 +56,12 @@ std::string millimetres(const std::vector<double>& overhangs, const std::vector<
 
 }  // namespace
 
-OverhangStudy run_overhang_study(const Assembly& assembly, const BlockSeries& sh11, const OverhangStudyOptions& options,
+OverhangStudy run_overhang_study(const Assembly& given, const BlockSeries& sh11, const OverhangStudyOptions& options,
                                  const ProgressCallback& progress) {
   options.check();
+  // A sampled joint file's joint is the nominal one, so the coupled FRFs and the band describe the
+  // same joint (the samples replace the assembly's joint too).
+  const Assembly assembly = options.uncertain_joint ? with_joint(given, *options.uncertain_joint) : given;
   validate(sh11, options.sh11_name, 3);
   const bool own = options.overhangs_m.empty();
   const std::vector<double> overhangs = own ? std::vector<double>{assembly.tool.overhang} : options.overhangs_m;
@@ -69,6 +72,7 @@ OverhangStudy run_overhang_study(const Assembly& assembly, const BlockSeries& sh
   ProgressCallback overhang_progress;
   if (progress) overhang_progress = [&](double f) { progress(share * f); };
   OverhangStudy s;
+  s.warnings = assembly.warnings();  // what the joint's source says against it
   s.tool_inside_holder_m = assembly.tool.length - assembly.tool.overhang;
   s.overhangs.resize(overhangs.size());
   // Each overhang writes its own slot only: identical results for any thread count.

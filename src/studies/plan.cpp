@@ -666,7 +666,8 @@ PlanJob compute_job(const PlanCandidate& cand, const PlanHeader& h, std::size_t 
   const std::string where = fmt::format("candidate '{}', overhang {} m", cs.name, job.overhang_m);
   Assembly a;
   try {
-    a = with_overhang(cand.assembly, job.overhang_m);
+    // A sampled joint file's joint is the nominal one (PlanCandidate::uncertain_joint).
+    a = with_overhang(cand.uncertain_joint ? with_joint(cand.assembly, *cand.uncertain_joint) : cand.assembly, job.overhang_m);
   } catch (const InvalidArgument& e) {
     throw InvalidArgument(fmt::format("{}: {}", where, e.what()), e.hint());
   }
@@ -688,7 +689,8 @@ PlanJob compute_job(const PlanCandidate& cand, const PlanHeader& h, std::size_t 
   job.stable_depth_m = std::move(nominal.depth_m);
   job.chatter_hz = std::move(nominal.chatter_hz);
   job.lobe = std::move(nominal.lobe);
-  job.warnings = std::move(nominal.warnings);
+  job.warnings = a.warnings();  // what the joints' sources say against them
+  job.warnings.insert(job.warnings.end(), nominal.warnings.begin(), nominal.warnings.end());
   if (std::none_of(job.stable_depth_m.begin(), job.stable_depth_m.end(), [](double d) { return std::isfinite(d); }))
     throw NumericalError(fmt::format("{}: no lobe reaches any speed of {}–{} rpm", where, h.speeds_rpm.front(),
                                      h.speeds_rpm.back()),

@@ -344,8 +344,6 @@ PlanCandidate read_candidate(Reader& r, const toml::table& t, const std::string&
   LoadedAssembly loaded = load_named(r, t, "assembly", path, file, [](const std::string& f) { return load_assembly(f); });
   study.inputs.push_back(file);
   for (auto& w : loaded.warnings) study.warnings.push_back(std::move(w));
-  for (auto& n : loaded.notes) study.notes.push_back(std::move(n));
-  c.assembly = std::move(loaded.assembly);
 
   // Joint files: identified joints in place of the assembly file's; the one with [uncertainty] is sampled.
   if (const toml::node* jn = t.get("joints")) {
@@ -357,7 +355,7 @@ PlanCandidate read_candidate(Reader& r, const toml::table& t, const std::string&
       const std::string jf = resolve(directory, e.as_string()->get());
       JointFile f = load_named(r, t, "joints", path, jf, [](const std::string& x) { return load_joint_file(x); });
       study.inputs.push_back(jf);
-      c.assembly = with_joint(c.assembly, f);
+      loaded = with_joint(std::move(loaded), f);  // its notes then describe the joint in use
       if (f.uncertainty) {
         if (c.uncertain_joint)
           r.fail(e,
@@ -368,6 +366,8 @@ PlanCandidate read_candidate(Reader& r, const toml::table& t, const std::string&
       }
     }
   }
+  for (auto& n : loaded.notes) study.notes.push_back(std::move(n));
+  c.assembly = std::move(loaded.assembly);
   if (const auto sh = r.string(t, "sh11", path)) {
     const std::string f = resolve(directory, *sh);
     c.sh11 = load_named(r, t, "sh11", path, f, [](const std::string& x) { return read_block_csv(x); });

@@ -24,8 +24,11 @@ void PredictOptions::check() const {
   band.check();
 }
 
-Prediction run_prediction(const Assembly& assembly, const PredictOptions& options, const ProgressCallback& progress) {
+Prediction run_prediction(const Assembly& given, const PredictOptions& options, const ProgressCallback& progress) {
   options.check();
+  // A sampled joint file's joint is the nominal one, so the prediction and the band describe the
+  // same joint (the samples replace the assembly's joint too).
+  const Assembly assembly = options.uncertain_joint ? with_joint(given, *options.uncertain_joint) : given;
   const AssemblyModel model(assembly);
   const bool tool = options.receptance == PredictedFrf::ToolPoint;
   const std::vector<double> grid = assembly.grid.values();

@@ -76,6 +76,7 @@ TapTestFileFrfs tap_test_frfs(const UffFile& file, const TapTestFileOptions& opt
                     seen.empty() ? "(none: no readable dataset 58)" : seen),
         "give the node numbers of the tip and the points inward, tip first, e.g. TapTestFileOptions::nodes 101,102,103");
   TapTestFileFrfs r;
+  r.frfs.unread = file.skipped;
   for (int i = 0; i < points; ++i)
     for (int j = 0; j < points; ++j) {
       const UffDataset58* d = used[i][j];

@@ -133,7 +133,9 @@ ShardSetCheck check_shard_set(const std::vector<PartLabel>& parts, const std::ve
       h = static_cast<int>(i);
     }
   }
-  for (const auto& [index, names] : copies) {
+  for (const auto& copy : copies) {
+    const int index = copy.first;
+    const std::vector<std::string>& names = copy.second;  // not a structured binding: clang 14 cannot capture one
     std::string list;
     for (std::size_t k = 0; k < names.size(); ++k) list += (k ? (k + 1 == names.size() ? " and " : ", ") : "") + names[k];
     const bool same_file = std::all_of(names.begin(), names.end(), [&](const std::string& n) { return n == names[0]; });

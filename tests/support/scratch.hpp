@@ -13,6 +13,7 @@
 #include <sstream>
 #include <initializer_list>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "toolpoint/io.hpp"
@@ -38,6 +39,9 @@ class TempDir {
   std::filesystem::path path_;
 };
 
+// The command-line tool is there for the tests of toolpoint_cli_tests only (tests/cli_*.cpp,
+// tests/tutorial_test.cpp; CMakeLists.txt): the library's tests build and run without it.
+#ifdef TOOLPOINT_CLI
 // `toolpoint ARGS` (TOOLPOINT_CLI); stdout and stderr together in *output. Returns the exit code.
 inline int run_toolpoint(const std::string& args, std::string* output = nullptr) {
   const std::string log =
@@ -52,6 +56,7 @@ inline int run_toolpoint(const std::string& args, std::string* output = nullptr)
   std::filesystem::remove(log);
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
+#endif
 
 // A CSV table as toolpoint writes it ('#' comment lines, one header line, numbers; "nan" read as NaN),
 // read independently of the library's readers.
@@ -81,10 +86,35 @@ inline Table read_csv_table(const std::string& path) {
   return t;
 }
 
+// PNG (ISO/IEC 15948): 8-byte signature, then the IHDR chunk (length 13) whose data begin with
+// the width and height as big-endian 32-bit integers.
+inline std::pair<unsigned, unsigned> png_size(const std::string& bytes) {
+  const std::string signature("\x89PNG\r\n\x1a\n", 8);
+  if (bytes.size() < 33 || bytes.compare(0, 8, signature) != 0 || bytes.compare(12, 4, "IHDR") != 0) return {0, 0};
+  auto be32 = [&](std::size_t at) {
+    unsigned v = 0;
+    for (std::size_t k = 0; k < 4; ++k) v = (v << 8) | static_cast<unsigned char>(bytes[at + k]);
+    return v;
+  };
+  if (be32(8) != 13) return {0, 0};
+  return {be32(16), be32(20)};
+}
+
 }  // namespace toolpoint::test
 
-// Message checks, defined in uff_test.cpp: `part` in `s`; every one of `parts` in one message.
+// Message checks: `part` in `s`; every one of `parts` in one message.
 namespace uff_test {
-bool contains(const std::string& s, const std::string& part);
-bool any_contains(const std::vector<std::string>& messages, std::initializer_list<const char*> parts);
+
+inline bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+
+// Whether one message holds every part.
+inline bool any_contains(const std::vector<std::string>& messages, std::initializer_list<const char*> parts) {
+  for (const auto& s : messages) {
+    bool all = true;
+    for (const char* p : parts) all = all && contains(s, p);
+    if (all) return true;
+  }
+  return false;
+}
+
 }  // namespace uff_test

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <functional>
+#include <utility>
 #include <vector>
 
 #include "toolpoint/beam.hpp"
@@ -60,6 +61,21 @@ inline std::vector<double> model_peaks(const std::function<double(double)>& mag,
     m1 = m2;
   }
   return out;
+}
+
+// Static cantilever flexibility (EI = 1, clamp at x = 0): deflection at x for a unit force at ξ,
+// G = ξ²(3x − ξ)/6 for ξ ≤ x, symmetric otherwise. Exact tip values: N = L = 1/2, P = 1 (L = 1).
+inline double cantilever_static(double x, double xi) {
+  if (xi > x) std::swap(x, xi);
+  return xi * xi * (3.0 * x - xi) / 6.0;
+}
+
+// A single FRF with `values` at f0, f0 + df, … [Hz].
+inline FrfSeries single(std::vector<Complex> values, double f0 = 10.0, double df = 2.5) {
+  FrfSeries s;
+  for (std::size_t i = 0; i < values.size(); ++i) s.frequency_hz.push_back(f0 + df * static_cast<double>(i));
+  s.values = std::move(values);
+  return s;
 }
 
 }  // namespace toolpoint::test

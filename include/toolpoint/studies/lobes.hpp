@@ -46,7 +46,8 @@ struct LobesInput {
   bool rigid_y = false;  // with modes given: the tool is rigid in y
   // An assembly model: the tool point FRF when `frfs` is empty (milling_frfs on its grid, for x and
   // y, x alone when rigid_y), and the model each joint sample goes into. With the joint uncertain:
-  // a joint file with [uncertainty] whose joint is drawn (needs `assembly`).
+  // a joint file with [uncertainty] whose joint is drawn (needs `assembly`); its joint is the
+  // nominal one, in place of the assembly's (given `frfs` must be the FRFs of that assembly).
   std::optional<Assembly> assembly;
   std::optional<JointFile> uncertain_joint;
   // Rigid in y: said here, or by the FRFs (MillingFrfs::rigid_y).

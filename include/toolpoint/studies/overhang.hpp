@@ -40,8 +40,8 @@ struct OverhangStudyOptions {
                                      // threads: 0 every core, 1 none); results identical for any count
   std::string sh11_name = "SH11";    // names the measured SH11 in messages (e.g. its file)
   // The holder–tool joint uncertain (one overhang only): the band of the coupled tool point FRF over
-  // joints drawn from this file's [uncertainty], the measured SH11 taken as exact, with the file's
-  // joint in place for the nominal. None: no band.
+  // joints drawn from this file's [uncertainty], the measured SH11 taken as exact; the file's joint
+  // is in place for the coupled FRFs themselves too (the band's nominal). None: no band.
   std::optional<JointFile> uncertain_joint;
   UncertaintyOptions band;  // the band's samples, seed, levels and threads (its progress: the study's)
   // Throws InvalidArgument naming OverhangStudyOptions::<field> and the value.

@@ -65,8 +65,8 @@ struct PlanCandidate {
   // on SH11's grid. Absent: the model's tool point FRF on assembly.grid.
   std::optional<BlockSeries> sh11;
   std::string sh11_name = "SH11";
-  // The joint sampled by SafetyRule::Probability (its [uncertainty] covariance); its constants must
-  // be the ones in `assembly`. A holder–tool joint for the measured-holder route.
+  // The joint sampled by SafetyRule::Probability (its [uncertainty] covariance); its constants are
+  // the nominal ones, in place of the assembly's. A holder–tool joint for the measured-holder route.
   std::optional<JointFile> uncertain_joint;
   // Tool overhangs [m], strictly increasing, each in (0, 1]; empty: the assembly's own.
   std::vector<double> overhangs_m;

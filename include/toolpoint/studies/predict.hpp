@@ -36,8 +36,8 @@ struct PredictOptions {
   PredictedFrf receptance = PredictedFrf::ToolPoint;
   PeakOptions peaks{};  // which local maxima of |H| count as modes
   // The joint uncertain: the band of the tool point FRF (receptance ToolPoint only) over joints drawn
-  // from this file's [uncertainty] (tool_point_band), with the file's joint in place at its
-  // interface for the nominal. None: no band.
+  // from this file's [uncertainty] (tool_point_band); the file's joint is in place at its
+  // interface for the prediction itself too (its FRF and modes: the band's nominal). None: no band.
   std::optional<JointFile> uncertain_joint;
   UncertaintyOptions band;  // the band's samples, seed, levels and threads (its progress: the study's)
   // Throws InvalidArgument naming PredictOptions::<field>.

@@ -1,0 +1,228 @@
+// toolpoint: the expected precision of a joint before the tap test (studies/precision.hpp).
+#include "toolpoint/studies/precision.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+#include <limits>
+
+#include "toolpoint/error.hpp"
+#include "toolpoint/joint_fit.hpp"
+#include "toolpoint/statistics.hpp"
+
+namespace toolpoint {
+
+void TapNoise::check() const {
+  if (!(sigma >= 0.0 && sigma <= 0.5))
+    throw InvalidArgument(fmt::format("TapNoise::sigma = {} must lie in [0, 0.5] (a fraction)", sigma), "e.g. 0.01 for 1 %");
+  if (!(floor >= 0.0 && floor <= 0.5))
+    throw InvalidArgument(fmt::format("TapNoise::floor = {} must lie in [0, 0.5] (a fraction of each FRF's peak)", floor),
+                          "e.g. 0.001 for a floor at 0.1 % of the peak");
+  if (sigma == 0.0 && floor == 0.0)
+    throw InvalidArgument("TapNoise::sigma and TapNoise::floor are both 0: exact data leave no uncertainty to predict",
+                          "state the noise of one hit, e.g. TapNoise::sigma 0.01");
+  if (averages < 1 || averages > 100000)
+    throw InvalidArgument(fmt::format("TapNoise::averages = {} must lie in 1…100000", averages));
+  if (!(calibration >= 0.0 && calibration <= 0.1))
+    throw InvalidArgument(fmt::format("TapNoise::calibration = {} must lie in [0, 0.1] (a standard deviation)", calibration),
+                          "e.g. 0.02 for 2 %; above 10 % a sensor is broken, not uncertain");
+}
+
+void PrecisionOptions::check() const {
+  noise.check();
+  const bool sht = route != Route::SpindleHolderFromSH, sh = route != Route::SpindleHolderFromSHT;
+  auto test = [](const TapTestOptions& t, const char* name) {
+    if (!(t.spacing_m > 0.0))
+      throw InvalidArgument(fmt::format("PrecisionOptions::{}.spacing_m must be given (> 0) for this route", name),
+                            "the distance between neighbouring points of that tap test [m], e.g. 0.015");
+    TapTestOptions c = t;
+    c.sigma = 0.0;
+    try {
+      c.check();
+    } catch (const InvalidArgument& e) {
+      std::string what = e.what();
+      const std::string from = "TapTestOptions::", to = fmt::format("PrecisionOptions::{}.", name);
+      for (std::size_t at = what.find(from); at != std::string::npos; at = what.find(from)) what.replace(at, from.size(), to);
+      throw InvalidArgument(what, e.hint());
+    }
+  };
+  if (sht) test(tool, "tool");
+  if (sh) test(holder, "holder");
+  if (!(confidence > 0.5 && confidence < 1.0))
+    throw InvalidArgument(fmt::format("PrecisionOptions::confidence = {} must lie in (0.5, 1)", confidence));
+  if (target && !(*target > 0.0 && *target < 1.0))
+    throw InvalidArgument(fmt::format("PrecisionOptions::target = {} must lie in (0, 1) (a relative half-width)", *target),
+                          "e.g. 0.01 for ±1 %");
+}
+
+BlockNoise tap_test_block_noise(const PointFrfs& frfs, const RotationalOptions& fd, const TapNoise& noise,
+                                const BlockSeries& block) {
+  noise.check();
+  const RotationalResult base = rotational_frfs(frfs, fd);
+  const std::size_t n = base.block.size();
+  if (block.size() != n) throw InvalidArgument("tap_test_block_noise: the block and the tap test have different grids");
+  std::vector<Cov8> sigma(n, Cov8::Zero());
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      if (!frfs.h[i][j]) continue;
+      const FrfSeries& h = *frfs.h[i][j];
+      double peak = 0.0;
+      for (const Complex& v : h.values) peak = std::max(peak, std::abs(v));
+      // Two real directions of H_ij: the block's response to each, per frequency (exact for the
+      // linear differences; the N·L/H00 approximation of P linearised at a 1e-7 relative step).
+      const double step = 1e-7 * peak;
+      std::array<RotationalResult, 2> moved;
+      for (int part = 0; part < 2; ++part) {
+        PointFrfs p = frfs;
+        for (Complex& v : p.h[i][j]->values) v += part == 0 ? Complex(step, 0.0) : Complex(0.0, step);
+        moved[static_cast<std::size_t>(part)] = rotational_frfs(p, fd);
+      }
+      for (std::size_t k = 0; k < n; ++k) {
+        const double var = (noise.sigma * noise.sigma * std::norm(h.values[k]) / 2.0 + std::pow(noise.floor * peak, 2)) /
+                           static_cast<double>(noise.averages);
+        for (int part = 0; part < 2; ++part) {
+          Eigen::Matrix<double, 8, 1> d;
+          for (int e = 0; e < 4; ++e) {
+            const Complex x = (moved[static_cast<std::size_t>(part)].block.blocks[k](e / 2, e % 2) -
+                               base.block.blocks[k](e / 2, e % 2)) /
+                              step;
+            d(2 * e) = x.real();
+            d(2 * e + 1) = x.imag();
+          }
+          sigma[k].noalias() += var * d * d.transpose();
+        }
+      }
+    }
+  // As a relative covariance about the block's values: C = R⁻¹ Σ R⁻ᵀ (R block diagonal, one
+  // rotation-and-scale per entry; an entry that is zero carries no relative noise).
+  BlockNoise out;
+  out.relative.resize(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    Cov8 rinv = Cov8::Zero();
+    for (int e = 0; e < 4; ++e) {
+      const Complex x = block.blocks[k](e / 2, e % 2);
+      if (!(std::abs(x) > 0.0)) continue;
+      const Complex y = 1.0 / x;
+      rinv(2 * e, 2 * e) = y.real();
+      rinv(2 * e, 2 * e + 1) = -y.imag();
+      rinv(2 * e + 1, 2 * e) = y.imag();
+      rinv(2 * e + 1, 2 * e + 1) = y.real();
+    }
+    out.relative[k] = rinv * sigma[k] * rinv.transpose();
+  }
+  out.calibration = noise.calibration;
+  out.source = fmt::format("the tap test's noise carried through its finite differences: σ {:g} % per hit{}, {} average{}",
+                           100 * noise.sigma,
+                           noise.floor > 0.0 ? fmt::format(", a floor of {:g} % of each FRF's peak", 100 * noise.floor) : "",
+                           noise.averages, noise.averages == 1 ? "" : "s");
+  out.residual_correlation = std::numeric_limits<double>::quiet_NaN();
+  finish_block_noise(out);
+  return out;
+}
+
+namespace {
+
+// The exact station FRFs of a tap test on the model, as a PointFrfs, and the differences that make
+// its block.
+struct PlannedTest {
+  PointFrfs frfs;
+  RotationalOptions fd;
+  std::string description;
+};
+
+PlannedTest planned(const Assembly& assembly, const TapTestOptions& t, const char* what) {
+  TapTestOptions exact = t;
+  exact.sigma = 0.0;
+  exact.floor = 0.0;
+  exact.averages = 0;
+  exact.calibration = 0.0;
+  const TapTest tap = run_tap_test(assembly, exact);
+  PlannedTest p;
+  for (const TapTestFrf& h : tap.frfs) p.frfs.set(h.response, h.hammer, h.frf);
+  p.fd.order = t.points - 1;
+  p.fd.spacing = t.spacing_m;
+  p.fd.shear_stiffness = tap.shear_stiffness_n;
+  p.fd.assume_reciprocity = t.hammer == HammerPlan::Tip;
+  p.description = fmt::format("{}: {}, {} points {:g} mm apart, hammer {}", what, tap_side_name(t.side), t.points,
+                              1000 * t.spacing_m, hammer_plan_name(t.hammer));
+  return p;
+}
+
+}  // namespace
+
+PrecisionStudy run_precision_study(const Assembly& assembly, const PrecisionOptions& o, const ProgressCallback& progress) {
+  o.check();
+  auto report = [&](double x) {
+    if (progress) progress(x);
+  };
+  const bool ht = o.route == Route::HolderTool;
+  const bool measure_sht = o.route != Route::SpindleHolderFromSH, measure_sh = o.route != Route::SpindleHolderFromSHT;
+  const Joint& joint = ht ? assembly.holder_tool : assembly.spindle_holder;
+  if (joint.rigid)
+    throw InvalidArgument(fmt::format("joints.{} is rigid in the assembly: the study needs the joint's trial values",
+                                      ht ? "holder_tool" : "spindle_holder"),
+                          "give the joint's expected stiffness and damping in the assembly file");
+  const AssemblyModel model(assembly);
+  const std::vector<double> f = assembly.grid.values();
+  PrecisionStudy r;
+  r.route = o.route;
+  r.confidence = o.confidence;
+  r.averages = o.noise.averages;
+  r.target = o.target;
+  r.warnings = model.warnings();
+
+  JointFitData d;
+  d.label = "planned test";
+  for (double x : f)
+    d.A.push_back(ht ? model.tool(x) : o.route == Route::SpindleHolderFromSH ? model.holder(x) : model.holder_tool(x));
+  const BlockSeries sht = measure_sht ? model.tool_point(f) : BlockSeries{};
+  const BlockSeries sh = measure_sh ? model.holder_tip(f) : BlockSeries{};
+  d.G11 = o.route == Route::SpindleHolderFromSH ? sh : sht;
+  d.g_name = o.route == Route::SpindleHolderFromSH ? "SH11" : "SHT11";
+  report(0.1);
+  auto noise_of = [&](const TapTestOptions& t, const BlockSeries& block, const char* what) {
+    const PlannedTest p = planned(assembly, t, what);
+    r.measured.push_back(p.description);
+    return tap_test_block_noise(p.frfs, p.fd, o.noise, block);
+  };
+  d.g_noise = noise_of(o.route == Route::SpindleHolderFromSH ? o.holder : o.tool, d.G11, d.g_name.c_str());
+  if (ht) {
+    d.B11 = sh;
+    d.b_name = "SH11";
+    d.b_noise = noise_of(o.holder, sh, "SH11");
+  } else {
+    d.B11 = block_series(f, [&](double x) { return model.spindle_nose(x); });
+    d.b_name = "S11 (model)";
+    d.b_noise = exact_block_noise();
+  }
+  report(0.5);
+  JointFitOptions fo;
+  fo.uncertainty = UncertaintyMethod::Linearised;
+  fo.reciprocal = o.reciprocal;
+  fo.confidence = o.confidence;
+  fo.shared_calibration = o.noise.shared_calibration;
+  fo.check_linearisation = false;  // the linearised prediction itself (the study's Monte Carlo test checks it)
+  const JointFit fit = fit_joint({d}, {joint.parameters}, fo);
+  r.fit_description = fit.method_description;
+  r.warnings.insert(r.warnings.end(), fit.warnings.begin(), fit.warnings.end());
+  const double z = normal_quantile(0.5 + 0.5 * o.confidence);
+  for (std::size_t k = 0; k < 8; ++k) {
+    ParameterPrecision& p = r.parameters[k];
+    p.value = joint.parameters[static_cast<int>(k)];
+    const double se = fit.intervals[k].std_error, se_cal = fit.calibration_std_error[k];
+    p.half_width = z * se;
+    p.relative = std::abs(p.value) > 0.0 ? p.half_width / std::abs(p.value) : std::numeric_limits<double>::infinity();
+    p.calibration_half_width = z * se_cal;
+    p.free = fit.intervals[k].free;
+    if (o.target && std::abs(p.value) > 0.0) {
+      // SE² = a/n + b: the noise's share at the stated averages scaled to one hit.
+      const double a = std::max(0.0, se * se - se_cal * se_cal) * static_cast<double>(o.noise.averages);
+      const double want = *o.target * std::abs(p.value) / z, room = want * want - se_cal * se_cal;
+      if (room > 0.0) p.averages_for_target = std::max(1, static_cast<int>(std::ceil(a / room)));
+    }
+  }
+  report(1.0);
+  return r;
+}
+
+}  // namespace toolpoint

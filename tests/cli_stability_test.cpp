@@ -1,0 +1,172 @@
+// lobes and modes through the command line: the files they write and their headers, exit codes for
+// bad input, the modal fit of a two-mode FRF (the Insperger–Stépán mode, NOTES §7, and another),
+// and progress lines on a pipe. (Moved here from stability_test.cpp so that the library's tests
+// build without the CLI.)
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "toolpoint/io.hpp"
+#include "toolpoint/stability.hpp"
+
+using namespace toolpoint;
+
+namespace {
+
+// The Insperger–Stépán (2004) benchmark mode (NOTES §7).
+const Mode kBench{0.03993, 0.011, 922.0};
+
+std::vector<double> uniform_grid(double lo, double hi, double step) {
+  std::vector<double> f;
+  for (int i = 0; lo + i * step <= hi; ++i) f.push_back(lo + i * step);
+  return f;
+}
+
+}  // namespace
+
+namespace {
+
+struct CliRun {
+  int code;
+  std::string out;
+};
+
+CliRun run_cli(const std::string& args) {
+  const std::string cmd = std::string(TOOLPOINT_CLI) + " " + args + " 2>&1";
+  FILE* p = ::popen(cmd.c_str(), "r");
+  std::string out;
+  char buf[4096];
+  while (std::size_t n = std::fread(buf, 1, sizeof buf, p)) out.append(buf, n);
+  const int status = ::pclose(p);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+std::string temp_dir() {
+  const auto dir = std::filesystem::temp_directory_path() / ("toolpoint_stability_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  return dir.string();
+}
+
+}  // namespace
+
+TEST(LobesCommand, WritesLobesAndRejectsBadInputWithExitCodes) {
+  const std::string dir = temp_dir();
+  const std::string frf = dir + "/bench.csv";
+  write_frf_csv(frf, modal_frf({kBench}, uniform_grid(600.0, 1400.0, 0.5)));
+  const std::string base = "lobes --frf " + frf + " --teeth 2 --kt 6e8 --kn 2e8 --milling down --rpm 5000:25000";
+
+  const CliRun ok = run_cli(base + " --immersion 0.05 --output " + dir + "/z.csv --envelope " + dir + "/e.csv");
+  ASSERT_EQ(ok.code, 0) << ok.out;
+  EXPECT_NE(ok.out.find("absolute stability limit"), std::string::npos) << ok.out;
+  const std::string csv = read_text_file(dir + "/z.csv");
+  EXPECT_NE(csv.find("\nlobe,spindle_speed_rpm,axial_depth_mm,chatter_frequency_hz,root\n"), std::string::npos);
+  EXPECT_NE(read_text_file(dir + "/e.csv").find("\nspindle_speed_rpm,axial_depth_mm,chatter_frequency_hz,lobe\n"),
+            std::string::npos);
+
+  const CliRun sd = run_cli(base + " --immersion 0.05 --method sd --rigid-y --speeds 9 --max-depth 10 --output " + dir +
+                            "/s.csv");
+  ASSERT_EQ(sd.code, 0) << sd.out;
+  EXPECT_NE(read_text_file(dir + "/s.csv")
+                .find("\nlobe,spindle_speed_rpm,axial_depth_mm,chatter_frequency_hz,kind,axial_depth_error_mm,steps\n"),
+            std::string::npos);
+
+  // The modal fit's warnings name the FRF they are about (the assembly's tool point FRF), never an
+  // empty name; the library's field names reach the user as the options' spellings.
+  const CliRun assembly = run_cli(
+      "lobes --assembly " + std::string(TOOLPOINT_SOURCE_DIR) +
+      "/examples/bt40_shrinkfit_16mm.toml "
+      "--method fd --teeth 4 --kt 6e8 --kr 0.3 --immersion 0.5 --milling down --rpm 8000:9000 --speeds 3");
+  ASSERT_EQ(assembly.code, 0) << assembly.out;
+  EXPECT_EQ(assembly.out.find("warning: :"), std::string::npos) << assembly.out;
+  EXPECT_NE(assembly.out.find("warning: the tool point FRF of "), std::string::npos) << assembly.out;
+  EXPECT_NE(assembly.out.find("estimated discretization error at most"), std::string::npos) << assembly.out;
+  const CliRun few_lobes = run_cli(base + " --immersion 0.5 --lobes 1");
+  EXPECT_NE(few_lobes.out.find("--lobes"), std::string::npos) << few_lobes.out;
+
+  // Angles in radians for degrees (90° = 1.5708): refused, the fix in degrees.
+  const CliRun radians = run_cli(base + " --entry 0 --exit 1.5708");
+  EXPECT_EQ(radians.code, 2) << radians.out;
+  EXPECT_NE(radians.out.find("look like radians"), std::string::npos) << radians.out;
+  EXPECT_NE(radians.out.find("--entry 0 --exit 90.0002"), std::string::npos) << radians.out;
+  EXPECT_EQ(run_cli(base + " --entry 0 --exit 90").code, 0);
+  const CliRun bad_immersion = run_cli(base + " --immersion 1.5");
+  EXPECT_EQ(bad_immersion.code, 2) << bad_immersion.out;
+  EXPECT_NE(bad_immersion.out.find("immersion"), std::string::npos) << bad_immersion.out;
+  const CliRun empty_rpm = run_cli("lobes --frf " + frf +
+                                   " --teeth 2 --kt 6e8 --kr 0.3 --immersion 0.5 --milling up --rpm 8000:8000");
+  EXPECT_EQ(empty_rpm.code, 2) << empty_rpm.out;
+  EXPECT_NE(empty_rpm.out.find("rpm"), std::string::npos) << empty_rpm.out;
+  const CliRun negative = run_cli(base + " --immersion 0.5 --kt -6e8");
+  EXPECT_EQ(negative.code, 2) << negative.out;
+  const CliRun missing = run_cli("lobes --frf " + dir +
+                                 "/nope.csv --teeth 2 --kt 6e8 --kr 0.3 --immersion 0.5 --milling up --rpm 1:2");
+  EXPECT_EQ(missing.code, 5) << missing.out;
+  write_text_file(dir + "/broken.csv", "frequency_hz,re,im\n100,1e-6,-1e-7\n200,oops,0\n");
+  const CliRun broken = run_cli("lobes --frf " + dir +
+                                "/broken.csv --teeth 2 --kt 6e8 --kr 0.3 --immersion 0.5 --milling up --rpm 1000:2000");
+  EXPECT_EQ(broken.code, 3) << broken.out;
+  EXPECT_NE(broken.out.find("broken.csv:3"), std::string::npos) << broken.out;
+  // A failed run leaves no half-written output behind.
+  EXPECT_FALSE(std::filesystem::exists(dir + "/never.csv"));
+  const CliRun no_output = run_cli(base + " --immersion 2 --output " + dir + "/never.csv");
+  EXPECT_EQ(no_output.code, 2);
+  EXPECT_FALSE(std::filesystem::exists(dir + "/never.csv"));
+  std::filesystem::remove_all(dir);
+}
+
+TEST(ModesCommand, FitsAnFrfAndRejectsACoarseOne) {
+  const std::string dir = temp_dir();
+  write_frf_csv(dir + "/two.csv", modal_frf({kBench, Mode{0.2, 0.03, 2100.0}}, uniform_grid(300.0, 3000.0, 1.0)));
+  const CliRun ok = run_cli("modes " + dir + "/two.csv --max-modes 2 --json");
+  ASSERT_EQ(ok.code, 0) << ok.out;
+  EXPECT_NE(ok.out.find("\"mass_kg\": 0.0399"), std::string::npos) << ok.out;
+  const CliRun text = run_cli("modes " + dir + "/two.csv");
+  ASSERT_EQ(text.code, 0) << text.out;
+  EXPECT_NE(text.out.find("--mode-x 0.03993,0.011,922 --mode-x 0.2,0.03,2100"), std::string::npos) << text.out;
+  write_frf_csv(dir + "/coarse.csv", modal_frf({kBench}, uniform_grid(500.0, 1500.0, 25.0)));
+  const CliRun coarse = run_cli("modes " + dir + "/coarse.csv");
+  EXPECT_EQ(coarse.code, 3) << coarse.out;
+  EXPECT_NE(coarse.out.find("half-power band"), std::string::npos) << coarse.out;
+  const CliRun bad_band = run_cli("modes " + dir + "/two.csv --band 900");
+  EXPECT_EQ(bad_band.code, 2) << bad_band.out;
+  // An sd run from explicit modes, and a malformed mode.
+  const std::string sd =
+      "lobes --method sd --teeth 2 --kt 6e8 --kn 2e8 --immersion 0.05 --milling down --rpm 17000:18000 --speeds 2 --rigid-y";
+  const CliRun modes_given = run_cli(sd + " --mode-x 0.03993,0.011,922 --max-depth 10 --json");
+  ASSERT_EQ(modes_given.code, 0) << modes_given.out;
+  EXPECT_NE(modes_given.out.find("\"kind\": \"flip\""), std::string::npos) << modes_given.out;
+  const CliRun malformed = run_cli(sd + " --mode-x 0.03993,0.011");
+  EXPECT_EQ(malformed.code, 2) << malformed.out;
+  EXPECT_NE(malformed.out.find("--mode-x"), std::string::npos) << malformed.out;
+  std::filesystem::remove_all(dir);
+}
+
+// Without a terminal (stderr to a pipe here) long work reports progress as lines, the first after
+// TOOLPOINT_PROGRESS_DELAY seconds (0 here; 5 by default, so short runs print none), and a closing
+// line; --quiet prints none. The data on stdout are untouched.
+TEST(LobesCommand, ProgressLinesWhenStderrIsNotATerminal) {
+  const std::string args =
+      " lobes --method fd --mode-x 0.04,0.011,922 --rigid-y --teeth 2 --kt 6e8 --kn 2e8 --immersion 0.05 "
+      "--milling down --rpm 5000:25000 --speeds 24 2>&1 >/dev/null";
+  const auto run = [](const std::string& cmd) {
+    FILE* p = ::popen(cmd.c_str(), "r");
+    std::string out;
+    char buf[4096];
+    while (std::size_t n = std::fread(buf, 1, sizeof buf, p)) out.append(buf, n);
+    EXPECT_EQ(::pclose(p), 0) << cmd;
+    return out;
+  };
+  const std::string shown = run("TOOLPOINT_PROGRESS_DELAY=0 " + std::string(TOOLPOINT_CLI) + args);
+  EXPECT_NE(shown.find("lobes: full-discretization boundary: "), std::string::npos) << shown;
+  EXPECT_NE(shown.find(" % after "), std::string::npos) << shown;
+  EXPECT_NE(shown.find("lobes: full-discretization boundary: done in "), std::string::npos) << shown;
+  EXPECT_EQ(shown.find('\r'), std::string::npos) << "no bar redrawing in a pipe";
+  const std::string quiet = run("TOOLPOINT_PROGRESS_DELAY=0 " + std::string(TOOLPOINT_CLI) + " --quiet" + args);
+  EXPECT_EQ(quiet.find("full-discretization boundary"), std::string::npos) << quiet;
+  const std::string default_delay = run(std::string(TOOLPOINT_CLI) + args);
+  EXPECT_EQ(default_delay.find("% after"), std::string::npos) << "a run under 5 s prints no progress line";
+}
