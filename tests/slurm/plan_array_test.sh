@@ -16,27 +16,12 @@
 set -euo pipefail
 
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
+# shellcheck source=local_cluster.sh
+source "$here/tests/slurm/local_cluster.sh"
 
 if [ "${1:-}" = --inside ]; then
   # ---- Runs inside the local cluster (SLURM_CONF set), in the work folder. --------------------
-  fail() { echo "FAILED: $*" >&2; exit 1; }
   array="$here/scripts/slurm/plan-array.sh" merge="$here/scripts/slurm/plan-merge.sh"
-  # The final state of each job (or array task) of JOBID, "ID STATE" per line, once all have ended;
-  # fails after 120 s.
-  wait_for() {
-    local deadline=$((SECONDS + 120)) states
-    while :; do
-      states=$(scontrol -o show job "$1" | sed -E 's/.*JobId=([0-9]+).*(ArrayTaskId=([0-9]+))?.*JobState=([A-Z_]+).*/\1 \3 \4/' |
-        sed -E 's/^([0-9]+) ([A-Z_]+)$/\1 - \2/')
-      if ! grep -qE ' (PENDING|RUNNING|CONFIGURING|COMPLETING|SUSPENDED|REQUEUED)$' <<<"$states"; then
-        echo "$states"
-        return
-      fi
-      [ $SECONDS -lt $deadline ] || fail "job $1 not finished after 120 s: $states"
-      sleep 0.3
-    done
-  }
-  state_of() { scontrol -o show job "$1" | grep -oE 'JobState=[A-Z_]+' | cut -d= -f2 | sort -u | tr '\n' ' '; }
   same_as_whole() {
     for f in setups.csv tuning.csv map.csv plan.json; do
       cmp "whole/$f" "$1/$f" || fail "$1/$f differs from the unsharded run's"
@@ -109,13 +94,7 @@ if [ "${1:-}" = --inside ]; then
 fi
 
 # ---- Outside: the study, the unsharded run, the cluster around the rest. ----------------------
-[ $# -eq 1 ] || { echo "usage: bash tests/slurm/plan_array_test.sh TOOLPOINT_BINARY" >&2; exit 2; }
-TOOLPOINT=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
-export TOOLPOINT
-[ -x "$TOOLPOINT" ] || { echo "no toolpoint at $1" >&2; exit 2; }
-tmp=$(mktemp -d "${TMPDIR:-/tmp}/toolpoint-slurm.XXXXXX")
-mkdir "$tmp/work"
-cd "$tmp/work"
+local_cluster_setup tests/slurm/plan_array_test.sh "$@"
 # The example study made small (7 overhangs 60-120 mm, 300 speeds: about 0.1 s of work).
 sed -e "s#^assembly = \"bt40_shrinkfit_16mm.toml\"#assembly = \"$here/examples/bt40_shrinkfit_16mm.toml\"#" \
   -e 's/^overhang_min = 0.040/overhang_min = 0.060/' -e 's/^overhang_step = 0.001/overhang_step = 0.010/' \
@@ -123,21 +102,4 @@ sed -e "s#^assembly = \"bt40_shrinkfit_16mm.toml\"#assembly = \"$here/examples/b
 grep -q "overhang_step = 0.010" study.toml && grep -q "$here/examples" study.toml || { echo "study not made" >&2; exit 1; }
 "$TOOLPOINT" plan study.toml --quiet --threads 1 --output whole > whole.txt 2>&1
 
-set +e
-bash "$here/scripts/slurm/local-slurm.sh" "$tmp/cluster" bash "$here/tests/slurm/plan_array_test.sh" --inside
-rc=$?
-set -e
-# Nothing of the cluster may be left running.
-for f in "$tmp/cluster/slurmctld.pid" "$tmp/cluster/slurmd.pid" "$tmp/cluster/munge/munged.pid"; do
-  if [ -f "$f" ] && kill -0 "$(cat "$f")" 2>/dev/null; then
-    echo "FAILED: $(basename "$f" .pid) (pid $(cat "$f")) still running" >&2
-    rc=1
-  fi
-done
-if [ $rc = 0 ] || [ $rc = 77 ]; then
-  rm -rf "$tmp"
-else
-  echo "kept for a look: $tmp (cluster logs in $tmp/cluster)" >&2
-fi
-[ $rc = 0 ] && echo "Slurm: the array, the merge and the re-run behave as documented"
-exit $rc
+local_cluster_run "$here/tests/slurm/plan_array_test.sh" "Slurm: the array, the merge and the re-run behave as documented"

@@ -17,23 +17,15 @@
 set -euo pipefail
 
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
+# shellcheck source=local_cluster.sh
+source "$here/tests/slurm/local_cluster.sh"
 # The map: the bench case of docs/simulation.md, few cells and revolutions (about 0.2 s of work).
 opts=(--mode-x 0.03993,0.011,922 --rigid-y --teeth 2 --diameter 20 --kt 6e8 --kn 2e8 --immersion 0.05
   --milling down --feed 0.1 --rpm 8000:20000 --speeds 7 --depth 0.5:6 --depths 6 --revolutions 20)
 
 if [ "${1:-}" = --inside ]; then
   # ---- Runs inside the local cluster (SLURM_CONF set), in the work folder. --------------------
-  fail() { echo "FAILED: $*" >&2; exit 1; }
   array="$here/scripts/slurm/simulate-array.sh" merge="$here/scripts/slurm/simulate-merge.sh"
-  # Waits until every job (or array task) of JOBID has ended; fails after 120 s.
-  wait_for() {
-    local deadline=$((SECONDS + 120))
-    while scontrol -o show job "$1" | grep -qE 'JobState=(PENDING|RUNNING|CONFIGURING|COMPLETING|SUSPENDED|REQUEUED)'; do
-      [ $SECONDS -lt $deadline ] || fail "job $1 not finished after 120 s: $(scontrol -o show job "$1")"
-      sleep 0.3
-    done
-  }
-  state_of() { scontrol -o show job "$1" | grep -oE 'JobState=[A-Z_]+' | cut -d= -f2 | sort -u | tr '\n' ' '; }
   same_as_whole() {
     for f in map.csv map.json; do
       cmp "whole/$f" "$1/$f" || fail "$1/$f differs from the unsharded run's"
@@ -43,8 +35,8 @@ if [ "${1:-}" = --inside ]; then
   echo "-- 1. the array on 2 threads per task, and the merge after it"
   jid=$(sbatch --parsable --cpus-per-task=2 --array=0-2 "$array" parts 3 "${opts[@]}")
   mid=$(sbatch --parsable --cpus-per-task=1 --dependency=afterok:"$jid" "$merge" parts 3 merged)
-  wait_for "$jid"
-  wait_for "$mid"
+  wait_for "$jid" >/dev/null
+  wait_for "$mid" >/dev/null
   [ "$(state_of "$jid")" = "COMPLETED " ] || fail "array $jid: $(state_of "$jid"); $(cat slurm-toolpoint-simulate-"$jid"_*.out)"
   [ "$(state_of "$mid")" = "COMPLETED " ] || fail "merge $mid: $(state_of "$mid"); $(cat slurm-toolpoint-simulate-merge-"$mid".out)"
   [ "$(ls parts | tr '\n' ' ')" = "part-0.json part-1.json part-2.json " ] || fail "parts/ holds $(ls -A parts)"
@@ -65,7 +57,7 @@ if [ "${1:-}" = --inside ]; then
   sleep 1.1  # a rewritten file would have another modification time
   # The command as printed (its options are the map's, kept in the parts), from the repository's scripts.
   jid=$(eval "${redo/sbatch /sbatch --parsable --cpus-per-task=1 }" | tail -1) || fail "$redo"
-  wait_for "$jid"
+  wait_for "$jid" >/dev/null
   [ "$(state_of "$jid")" = "COMPLETED " ] || fail "re-run $jid: $(state_of "$jid")"
   [ "$(stat -c '%n %i %Y.%y' parts/part-0.json parts/part-2.json)" = "$before" ] || fail "the re-run touched other parts"
   bash "$merge" parts 3 merged2 > merged2.txt 2>&1 || fail "merge after the re-run: $(cat merged2.txt)"
@@ -75,32 +67,12 @@ if [ "${1:-}" = --inside ]; then
 fi
 
 # ---- Outside: the unsharded map, the cluster around the rest. ----------------------------------
-[ $# -eq 1 ] || { echo "usage: bash tests/slurm/simulate_array_test.sh TOOLPOINT_BINARY" >&2; exit 2; }
-TOOLPOINT=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
-export TOOLPOINT
-[ -x "$TOOLPOINT" ] || { echo "no toolpoint at $1" >&2; exit 2; }
-tmp=$(mktemp -d "${TMPDIR:-/tmp}/toolpoint-slurm-sim.XXXXXX")
-mkdir -p "$tmp/work/scripts"
-cd "$tmp/work"
+local_cluster_setup tests/slurm/simulate_array_test.sh "$@"
+mkdir scripts
 # The printed re-run names scripts/slurm/… relative to the folder sbatch is called from, as in a
 # checkout; here that folder is the work folder, so the repository's scripts are linked into it.
 ln -s "$here/scripts/slurm" scripts/slurm
 "$TOOLPOINT" simulate map "${opts[@]}" --quiet --threads 1 --output whole > whole.txt 2>&1
 
-set +e
-bash "$here/scripts/slurm/local-slurm.sh" "$tmp/cluster" bash "$here/tests/slurm/simulate_array_test.sh" --inside
-rc=$?
-set -e
-for f in "$tmp/cluster/slurmctld.pid" "$tmp/cluster/slurmd.pid" "$tmp/cluster/munge/munged.pid"; do
-  if [ -f "$f" ] && kill -0 "$(cat "$f")" 2>/dev/null; then
-    echo "FAILED: $(basename "$f" .pid) (pid $(cat "$f")) still running" >&2
-    rc=1
-  fi
-done
-if [ $rc = 0 ] || [ $rc = 77 ]; then
-  rm -rf "$tmp"
-else
-  echo "kept for a look: $tmp (cluster logs in $tmp/cluster)" >&2
-fi
-[ $rc = 0 ] && echo "Slurm: the simulated map's array, merge and re-run behave as documented"
-exit $rc
+local_cluster_run "$here/tests/slurm/simulate_array_test.sh" \
+  "Slurm: the simulated map's array, merge and re-run behave as documented"
