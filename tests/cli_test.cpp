@@ -3,7 +3,7 @@
 // output left behind), the rule for a missing gnuplot, and the progress bar.
 //
 // Each test runs the binary (TOOLPOINT_CLI) in its own scratch folder. Inputs are synthetic
-// (closed-form modal FRFs, the static cantilever of NOTES §5, the example assembly) on coarse
+// (closed-form modal FRFs, the static cantilever of docs/reference.md §5, the example assembly) on coarse
 // grids so the whole file stays within a few seconds; the checks on numbers compare against
 // closed forms or properties that hold independently of the code under test.
 // Units: SI (m, kg, N; receptance m/N), frequencies in Hz, figure sizes in pixels.
@@ -577,7 +577,7 @@ TEST_F(Cli, NoiseOnAFrfFile) {
   expect_png("noisy.png", kTwoPanels);
 }
 
-// NOTES §5 through one universal file holding three datasets, picked with FILE#N: a static
+// docs/reference.md §5 through one universal file holding three datasets, picked with FILE#N: a static
 // cantilever (EI = 1, L = 1; H(x, ξ) = ξ²(3x − ξ)/6) hit at the tip, second order, s = 0.1,
 // gives N = (3·1/3 − 4·0.2835 + 0.64·2.2/6)/0.2 = 151/300 by hand. Binary 58b holds the values
 // exactly, so 1e-12 (rounding of the stencil) applies.
