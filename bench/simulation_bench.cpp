@@ -12,7 +12,7 @@ using namespace toolpoint;
 
 namespace {
 
-const Mode kBench{0.03993, 0.011, 922.0};  // NOTES §7
+const Mode kBench{0.03993, 0.011, 922.0};  // docs/reference.md §7
 
 ToolDynamics bench_dynamics() {
   ModalModel m;

@@ -11,7 +11,7 @@ using namespace toolpoint;
 
 namespace {
 
-const Mode kBench{0.03993, 0.011, 922.0};  // NOTES §7
+const Mode kBench{0.03993, 0.011, 922.0};  // docs/reference.md §7
 
 CuttingConditions benchmark_cut(double immersion) {
   return {2, 6e8, 2e8 / 6e8, engagement_from_immersion(immersion, MillingDirection::Down)};

@@ -336,9 +336,11 @@ struct Solution {
 };
 
 // Minimises the summed cost over the set-ups with their current weights, data (B, G) per set-up.
+// Converged when the last Gauss–Newton step δ has δᵀ A δ < `tolerance` (its size in standard
+// errors squared: 1e-6 is a thousandth of one).
 Solution minimise(const std::vector<Setup>& setups, const std::vector<const BlockSeries*>& B,
                   const std::vector<const BlockSeries*>& G, const Parametrization& par, VectorXd q, int max_iterations,
-                  const std::optional<SavgolOptions>& filter) {
+                  const std::optional<SavgolOptions>& filter, double tolerance = 1e-6) {
   const int p = par.size();
   struct Current {
     double cost = 0.0;
@@ -353,11 +355,20 @@ Solution minimise(const std::vector<Setup>& setups, const std::vector<const Bloc
   Current cur = normal(q, true);
   double lambda = 1e-3;
   Solution sol;
+  // Anderson acceleration (Walker & Ni 2011) of the Gauss–Newton iteration q → q + δ(q), with the
+  // last kAndersonDepth steps: where the data hold a misfit the model cannot take up (a calibration
+  // factor, an additive floor at the antiresonances) Gauss–Newton converges only linearly (each
+  // step ~0.6 of the last on the example with 2 % calibration and a 1 % floor: 24 iterations).
+  // The accelerated point is tried first and kept only when it lowers the cost; the convergence
+  // test stays on the Gauss–Newton step.
+  constexpr std::size_t kAndersonDepth = 3;
+  std::vector<VectorXd> past_q, past_step;
   for (int it = 1; it <= max_iterations; ++it) {
     sol.iterations = it;
     const VectorXd d = cur.A.diagonal().cwiseMax(1e-30 * cur.A.diagonal().maxCoeff());
     bool accepted = false;
     VectorXd step;
+    bool first = true;
     while (lambda < 1e16) {
       MatrixXd M = cur.A;
       M.diagonal() += lambda * d;
@@ -366,10 +377,45 @@ Solution minimise(const std::vector<Setup>& setups, const std::vector<const Bloc
         lambda *= 10.0;
         continue;
       }
+      if (first && lambda <= 1e-3 && !past_q.empty()) {
+        const auto m = static_cast<Eigen::Index>(past_q.size());
+        MatrixXd dF(p, m), dQ(p, m);
+        for (Eigen::Index j = 0; j < m; ++j) {
+          const auto k = static_cast<std::size_t>(j);
+          dF.col(j) = step - past_step[k];
+          dQ.col(j) = q - past_q[k];
+        }
+        MatrixXd N = dF.transpose() * cur.A * dF;
+        N.diagonal() += 1e-12 * N.diagonal().cwiseAbs().maxCoeff() * VectorXd::Ones(m);
+        const VectorXd gamma = N.ldlt().solve(dF.transpose() * (cur.A * step));
+        const VectorXd accelerated = q + step - (dQ + dF) * gamma;
+        if (accelerated.allFinite()) {
+          try {
+            Current next = normal(accelerated, true);
+            if (next.cost <= cur.cost) {
+              past_q.push_back(q);
+              past_step.push_back(step);
+              q = accelerated;
+              cur = std::move(next);
+              lambda = std::max(lambda / 10.0, 1e-12);
+              accepted = true;
+              break;
+            }
+          } catch (const NumericalError&) {}
+        }
+      }
+      first = false;
       // The trial with its Jacobian: steps are rarely rejected, so this saves a pass.
       const VectorXd trial = q + step;
       Current next = normal(trial, true);
       if (next.cost <= cur.cost) {
+        if (lambda <= 1e-3) {
+          past_q.push_back(q);
+          past_step.push_back(step);
+        } else {
+          past_q.clear();
+          past_step.clear();
+        }
         q = trial;
         cur = std::move(next);
         lambda = std::max(lambda / 10.0, 1e-12);
@@ -377,6 +423,10 @@ Solution minimise(const std::vector<Setup>& setups, const std::vector<const Bloc
         break;
       }
       lambda *= 10.0;
+    }
+    if (past_q.size() > kAndersonDepth) {
+      past_q.erase(past_q.begin());
+      past_step.erase(past_step.begin());
     }
     if (!accepted) {
       // No step lowers the cost any more: a minimum to rounding.
@@ -386,7 +436,7 @@ Solution minimise(const std::vector<Setup>& setups, const std::vector<const Bloc
     // Converged when the last step moved the parameters by less than 1e-3 of their standard
     // errors (δᵀ A δ is the step's size in units of the noise; for exact data the 1e-6 relative
     // weight floor makes that ~1e-9 relative), or below rounding.
-    if (step.dot(cur.A * step) < 1e-6 || step.cwiseAbs().maxCoeff() < 1e-11 * std::max(1.0, q.cwiseAbs().maxCoeff())) {
+    if (step.dot(cur.A * step) < tolerance || step.cwiseAbs().maxCoeff() < 1e-11 * std::max(1.0, q.cwiseAbs().maxCoeff())) {
       sol.converged = true;
       break;
     }
@@ -749,7 +799,9 @@ JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<Join
           }
           try {
             for (Setup& u : local) update_weights(u, par, q);
-            const Solution r = minimise(local, bp, gp, par, q, options.max_iterations, options.filter);
+            // A replicate needs its optimum to a few hundredths of a standard error (0.03 σ adds
+            // 0.1 % to the spread's variance), not the fit's thousandth.
+            const Solution r = minimise(local, bp, gp, par, q, options.max_iterations, options.filter, 1e-3);
             if (r.converged && r.q.allFinite()) {
               rep[b] = r.q;
               ok[b] = 1;
@@ -804,7 +856,8 @@ JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<Join
     // floor on SH11). A few bootstrap replicates check it: a spread beyond kLinearisationLimit
     // times the linearised standard error (three times the Monte Carlo error of 20 replicates'
     // spread) makes the result the bootstrap's on them, and says so.
-    const bool errors_in_variables = std::any_of(setups.begin(), setups.end(), [](const Setup& u) { return !u.b_noise->exact(); });
+    const bool errors_in_variables = std::any_of(setups.begin(), setups.end(),
+                                                 [](const Setup& u) { return !u.b_noise->exact(); });
     if (errors_in_variables && options.check_linearisation) {
       const std::vector<VectorXd> good = replicates(kLinearisationCheck, {});
       if (good.size() >= kLinearisationCheck / 2) {

@@ -199,6 +199,95 @@ double normalised_error(const std::vector<Complex>& fit, const std::vector<Compl
 
 namespace {
 
+// Phase 1 of the fit: the resonance peaks to start from — prominent enough, resolved by at least
+// 3 points in their half-power band (else set aside, with a warning), the max_modes most
+// prominent, in frequency order.
+std::vector<ModePeak> starting_peaks(const std::vector<double>& f, const std::vector<double>& mag, const ModalFitOptions& options,
+                                     const std::string& what, std::vector<std::string>& warnings) {
+  std::vector<ModePeak> peaks = peaks_in_db(mag);
+  std::erase_if(peaks, [&](const ModePeak& p) { return p.prominence_db < options.min_prominence_db; });
+  if (peaks.empty())
+    throw InputError(fmt::format("{}: no resonance peak rising {} dB above its surroundings in {}–{} Hz", what,
+                                 options.min_prominence_db, f.front(), f.back()),
+                     "check the band (ModalFitOptions::band_hz) and that the file holds a receptance with a resonance inside it");
+  std::stable_sort(peaks.begin(), peaks.end(),
+                   [](const ModePeak& a, const ModePeak& b) { return a.prominence_db > b.prominence_db; });
+  // A peak needs points inside its half-power band for its damping to be seen: fewer than 3 is
+  // an under-resolved mode (or a noise spike). Such peaks are set aside; with none left, stop.
+  auto points_inside = [&](std::size_t p) {
+    std::size_t inside = 1;
+    const double level = mag[p] / std::sqrt(2.0);
+    for (std::size_t j = p; j-- > 0 && mag[j] >= level;) ++inside;
+    for (std::size_t j = p + 1; j < f.size() && mag[j] >= level; ++j) ++inside;
+    return inside;
+  };
+  const ModePeak strongest = peaks.front();
+  std::vector<ModePeak> resolved;
+  for (const ModePeak& p : peaks) {
+    if (points_inside(p.index) >= 3) resolved.push_back(p);
+    else if (resolved.size() < static_cast<std::size_t>(options.max_modes))
+      warnings.push_back(
+          fmt::format("the peak at {} Hz has fewer than 3 FRF points within its half-power band and was "
+                      "not fitted (too coarse a grid there, or noise)",
+                      f[p.index]));
+  }
+  if (resolved.empty())
+    throw InputError(fmt::format("{}: the mode near {} Hz has {} FRF point(s) within its half-power band (the grid step "
+                                 "there is {} Hz); at least 3 are needed to fit its damping",
+                                 what, f[strongest.index], points_inside(strongest.index),
+                                 f[strongest.index + 1] - f[strongest.index]),
+                     "measure or compute the FRF on a finer frequency grid around that mode");
+  peaks = std::move(resolved);
+  if (peaks.size() > static_cast<std::size_t>(options.max_modes)) {
+    warnings.push_back(fmt::format("{} peaks found, the {} most prominent kept (raise ModalFitOptions::max_modes to fit more)",
+                                   peaks.size(), options.max_modes));
+    peaks.resize(static_cast<std::size_t>(options.max_modes));
+  }
+  std::sort(peaks.begin(), peaks.end(), [](const ModePeak& a, const ModePeak& b) { return a.index < b.index; });
+
+  return peaks;
+}
+
+// Phase 4: the fit's quality, overall and per mode (residual near each mode, points in its
+// half-power band), and the warnings a user must see (outside the band, overdamped, no modal mass,
+// poorly fitted).
+void judge_modal_fit(ModalFitResult& res, const std::vector<double>& f, const std::vector<Complex>& g) {
+  std::vector<Complex> fit(f.size());
+  for (std::size_t i = 0; i < f.size(); ++i) fit[i] = res.receptance(f[i]);
+  res.normalised_residual = normalised_error(fit, g, 0, f.size());
+  for (FittedMode& m : res.modes) {
+    const double fr = m.mode.frequency_hz, z = m.mode.damping_ratio;
+    const auto lower = [&](double v) { return static_cast<std::size_t>(std::lower_bound(f.begin(), f.end(), v) - f.begin()); };
+    m.points_in_half_power_band = static_cast<int>(lower(fr * (1.0 + z)) - lower(fr * (1.0 - z)));
+    std::size_t lo = lower(fr * (1.0 - 2.0 * z)), hi = lower(fr * (1.0 + 2.0 * z));
+    while (hi - lo < 5 && (lo > 0 || hi < f.size())) {  // widen to the 5 nearest points
+      if (lo > 0 && (hi == f.size() || fr - f[lo - 1] < f[hi] - fr)) --lo;
+      else ++hi;
+    }
+    m.normalised_residual = normalised_error(fit, g, lo, hi);
+    if (fr < f.front() || fr > f.back())
+      res.warnings.push_back(fmt::format("the mode fitted at {:.2f} Hz lies outside the band {}–{} Hz", fr, f.front(), f.back()));
+    if (z >= 1.0)
+      res.warnings.push_back(
+          fmt::format("the mode fitted at {:.2f} Hz has a damping ratio of {:.3g}: overdamped, not a "
+                      "resonance (the fit spent a mode on the background; fewer modes or a narrower band)",
+                      fr, z));
+    else if (z > 0.3) res.warnings.push_back(fmt::format("the mode at {:.2f} Hz has a large damping ratio {:.3f}", fr, z));
+    if (!(m.residue > 0.0))
+      res.warnings.push_back(
+          fmt::format("the mode at {:.2f} Hz has a non-positive residue {:.4g} 1/kg: no modal mass "
+                      "(is this a point FRF, with the e^{{iωt}} sign convention?)",
+                      fr, m.residue));
+    if (m.normalised_residual > 0.1)
+      res.warnings.push_back(
+          fmt::format("the mode at {:.2f} Hz is fitted poorly: {:.1f} % residual near it", fr, 100.0 * m.normalised_residual));
+  }
+  if (res.normalised_residual > 0.1)
+    res.warnings.push_back(fmt::format(
+        "overall fit residual {:.1f} %: more modes (ModalFitOptions::max_modes) or a narrower ModalFitOptions::band_hz may help",
+        100.0 * res.normalised_residual));
+}
+
 ModalFitResult fit_modes_at_scale(const FrfSeries& frf, const ModalFitOptions& options, const std::string& what) {
   options.check();
   validate(frf, what, 1);
@@ -225,47 +314,7 @@ ModalFitResult fit_modes_at_scale(const FrfSeries& frf, const ModalFitOptions& o
   res.points = f.size();
 
   // 1. Peaks: the most prominent first, then back into frequency order.
-  std::vector<ModePeak> peaks = peaks_in_db(mag);
-  std::erase_if(peaks, [&](const ModePeak& p) { return p.prominence_db < options.min_prominence_db; });
-  if (peaks.empty())
-    throw InputError(fmt::format("{}: no resonance peak rising {} dB above its surroundings in {}–{} Hz", what,
-                                 options.min_prominence_db, f.front(), f.back()),
-                     "check the band (ModalFitOptions::band_hz) and that the file holds a receptance with a resonance inside it");
-  std::stable_sort(peaks.begin(), peaks.end(),
-                   [](const ModePeak& a, const ModePeak& b) { return a.prominence_db > b.prominence_db; });
-  // A peak needs points inside its half-power band for its damping to be seen: fewer than 3 is
-  // an under-resolved mode (or a noise spike). Such peaks are set aside; with none left, stop.
-  auto points_inside = [&](std::size_t p) {
-    std::size_t inside = 1;
-    const double level = mag[p] / std::sqrt(2.0);
-    for (std::size_t j = p; j-- > 0 && mag[j] >= level;) ++inside;
-    for (std::size_t j = p + 1; j < f.size() && mag[j] >= level; ++j) ++inside;
-    return inside;
-  };
-  const ModePeak strongest = peaks.front();
-  std::vector<ModePeak> resolved;
-  for (const ModePeak& p : peaks) {
-    if (points_inside(p.index) >= 3) resolved.push_back(p);
-    else if (resolved.size() < static_cast<std::size_t>(options.max_modes))
-      res.warnings.push_back(
-          fmt::format("the peak at {} Hz has fewer than 3 FRF points within its half-power band and was "
-                      "not fitted (too coarse a grid there, or noise)",
-                      f[p.index]));
-  }
-  if (resolved.empty())
-    throw InputError(fmt::format("{}: the mode near {} Hz has {} FRF point(s) within its half-power band (the grid step "
-                                 "there is {} Hz); at least 3 are needed to fit its damping",
-                                 what, f[strongest.index], points_inside(strongest.index),
-                                 f[strongest.index + 1] - f[strongest.index]),
-                     "measure or compute the FRF on a finer frequency grid around that mode");
-  peaks = std::move(resolved);
-  if (peaks.size() > static_cast<std::size_t>(options.max_modes)) {
-    res.warnings.push_back(
-        fmt::format("{} peaks found, the {} most prominent kept (raise ModalFitOptions::max_modes to fit more)", peaks.size(),
-                    options.max_modes));
-    peaks.resize(static_cast<std::size_t>(options.max_modes));
-  }
-  std::sort(peaks.begin(), peaks.end(), [](const ModePeak& a, const ModePeak& b) { return a.index < b.index; });
+  const std::vector<ModePeak> peaks = starting_peaks(f, mag, options, what, res.warnings);
 
   std::vector<double> w0, z0, peak_mag;
   for (const ModePeak& p : peaks) {
@@ -324,40 +373,7 @@ ModalFitResult fit_modes_at_scale(const FrfSeries& frf, const ModalFitOptions& o
     res.upper_residual = x(3 * k + 1) * prob.upper_scale;
   }
 
-  std::vector<Complex> fit(f.size());
-  for (std::size_t i = 0; i < f.size(); ++i) fit[i] = res.receptance(f[i]);
-  res.normalised_residual = normalised_error(fit, g, 0, f.size());
-  for (FittedMode& m : res.modes) {
-    const double fr = m.mode.frequency_hz, z = m.mode.damping_ratio;
-    const auto lower = [&](double v) { return static_cast<std::size_t>(std::lower_bound(f.begin(), f.end(), v) - f.begin()); };
-    m.points_in_half_power_band = static_cast<int>(lower(fr * (1.0 + z)) - lower(fr * (1.0 - z)));
-    std::size_t lo = lower(fr * (1.0 - 2.0 * z)), hi = lower(fr * (1.0 + 2.0 * z));
-    while (hi - lo < 5 && (lo > 0 || hi < f.size())) {  // widen to the 5 nearest points
-      if (lo > 0 && (hi == f.size() || fr - f[lo - 1] < f[hi] - fr)) --lo;
-      else ++hi;
-    }
-    m.normalised_residual = normalised_error(fit, g, lo, hi);
-    if (fr < f.front() || fr > f.back())
-      res.warnings.push_back(fmt::format("the mode fitted at {:.2f} Hz lies outside the band {}–{} Hz", fr, f.front(), f.back()));
-    if (z >= 1.0)
-      res.warnings.push_back(
-          fmt::format("the mode fitted at {:.2f} Hz has a damping ratio of {:.3g}: overdamped, not a "
-                      "resonance (the fit spent a mode on the background; fewer modes or a narrower band)",
-                      fr, z));
-    else if (z > 0.3) res.warnings.push_back(fmt::format("the mode at {:.2f} Hz has a large damping ratio {:.3f}", fr, z));
-    if (!(m.residue > 0.0))
-      res.warnings.push_back(
-          fmt::format("the mode at {:.2f} Hz has a non-positive residue {:.4g} 1/kg: no modal mass "
-                      "(is this a point FRF, with the e^{{iωt}} sign convention?)",
-                      fr, m.residue));
-    if (m.normalised_residual > 0.1)
-      res.warnings.push_back(
-          fmt::format("the mode at {:.2f} Hz is fitted poorly: {:.1f} % residual near it", fr, 100.0 * m.normalised_residual));
-  }
-  if (res.normalised_residual > 0.1)
-    res.warnings.push_back(fmt::format(
-        "overall fit residual {:.1f} %: more modes (ModalFitOptions::max_modes) or a narrower ModalFitOptions::band_hz may help",
-        100.0 * res.normalised_residual));
+  judge_modal_fit(res, f, g);
   return res;
 }
 

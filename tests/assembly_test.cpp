@@ -477,7 +477,7 @@ TEST(Assembly, CoupleWithModelSh11EqualsPredict) {
 // the shear strain is taken out (RotationalOptions::shear_stiffness with the fluted section's
 // κGA): differences of w measure dw/dx, not ψ. Second-order N and L converge like s² (±0.3).
 // First-order N and L converge at least like s (≥ 0.8): at a free tip the bending moment
-// vanishes, which makes them second order statically (NOTES' 299/600 against 151/300), but
+// vanishes, which makes them second order statically (docs/reference.md §5: 299/600 against 151/300), but
 // inertia makes the shear force vary, Q' = −ρAΩ²w, so w'' = Q'/κGA ≠ 0 at the tip and the s¹
 // term returns with frequency. P converges at least like s (≥ 0.8) to within 5 % at s = 1 mm.
 // Without the correction P does not converge at all: its error grows as s shrinks.

@@ -1,5 +1,5 @@
 // Tests of the free–free Timoshenko segment (beam module). Every expectation comes from
-// something independent of the code under test: NOTES.md reference frequencies (exact frequency
+// something independent of the code under test: docs/reference.md reference frequencies (exact frequency
 // equation confirmed by FE), the Euler–Bernoulli roots β_rL, closed-form rigid-body receptances,
 // reciprocity and passivity, and the two independent solution methods against each other.
 #include <gtest/gtest.h>
@@ -23,7 +23,7 @@ const Block& block_of(const TwoPort& t, int j) { return j == 0 ? t.b11 : j == 1 
 
 }  // namespace
 
-// NOTES.md §2: steel stub d = 50 mm, L = 100 mm, Hutchinson κ. Printed to 1e-3 Hz, so the
+// docs/reference.md §2: steel stub d = 50 mm, L = 100 mm, Hutchinson κ. Printed to 1e-3 Hz, so the
 // tolerance is the rounding, 5e-4 Hz. Modes 3–6 lie above the 38459.6 Hz cut-off.
 TEST(Beam, StubFrequenciesMatchReference) {
   const Segment seg = Segment::tube(0.1, 0.05, 0.0, steel());
@@ -205,7 +205,7 @@ TEST(Beam, ExactlyAtTheCutOff) {
 // The two independent methods. Error of an entry: max over the grid of |modal − exact| divided
 // by max over the grid of |exact| (so antiresonances do not inflate it). Timoshenko frequencies
 // grow linearly with mode number at high order, so plain sums converge slowly: with 300 modes
-// H, P ≲ 1e-2 and L, N ≲ 1e-4 (NOTES: P ≈ 0.4 %). With the static residual every entry
+// H, P ≲ 1e-2 and L, N ≲ 1e-4 (docs/reference.md §2: P ≈ 0.4 %). With the static residual every entry
 // agrees within 1e-6 (what remains is the residual's Ω² dependence).
 TEST(Beam, ExactAndModalAgree) {
   for (double inner : {0.0, 0.035}) {
@@ -233,7 +233,7 @@ TEST(Beam, ExactAndModalAgree) {
 }
 
 // Convergence of the plain modal sum for P11 away from resonance and antiresonance: roughly 1/N
-// (NOTES: 10 modes ~11 %, 100 ~1.3 %, 300 ~0.4 %), so tripling N cuts the error by 2–4.5; the
+// (docs/reference.md §2: 10 modes ~11 %, 100 ~1.3 %, 300 ~0.4 %), so tripling N cuts the error by 2–4.5; the
 // static residual removes at least 99 % of it at every N.
 TEST(Beam, ModalSumConvergenceOfP) {
   const double L = 0.5;

@@ -1,5 +1,5 @@
-// filter, noise and rotational through the command line: the NOTES §6 Savitzky–Golay oracle and
-// the static cantilever's finite differences (NOTES §5) from files, bad input refused with its exit
+// filter, noise and rotational through the command line: the docs/reference.md §6 Savitzky–Golay oracle and
+// the static cantilever's finite differences (docs/reference.md §5) from files, bad input refused with its exit
 // code. (Moved here from signal_test.cpp so that the library's tests build without the CLI.)
 #include <gtest/gtest.h>
 
@@ -60,7 +60,7 @@ std::string static_frf(double x, double xi, double f0 = 10.0) {
 
 }  // namespace
 
-// The NOTES §6 oracle through the command line, on a complex FRF (imaginary part = −real part)
+// The docs/reference.md §6 oracle through the command line, on a complex FRF (imaginary part = −real part)
 // and on a 2×2 block: the form is kept and every column is filtered. Written in shortest
 // round-trip form, so the file holds the library's numbers: 1e-14 relative as in the library test
 // (the values are in µm/N, so 1e-20 m/N).
@@ -137,7 +137,7 @@ TEST_F(SignalCli, NoiseIsReproducible) {
   EXPECT_TRUE(err_has("sigma -0.1")) << err_;
 }
 
-// NOTES §5 static check through the command line (second order, s = 0.1): N = L = 151/300,
+// docs/reference.md §5 static check through the command line (second order, s = 0.1): N = L = 151/300,
 // P = 31/30 (1e-12 as in the library test); with the hammer at the tip only, P ≈ N²/H00 with a
 // warning. Errors: negative spacing, a missing point, grids that differ, a block where a
 // single FRF belongs.

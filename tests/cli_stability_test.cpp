@@ -1,5 +1,5 @@
 // lobes and modes through the command line: the files they write and their headers, exit codes for
-// bad input, the modal fit of a two-mode FRF (the Insperger–Stépán mode, NOTES §7, and another),
+// bad input, the modal fit of a two-mode FRF (the Insperger–Stépán mode, docs/reference.md §7, and another),
 // and progress lines on a pipe. (Moved here from stability_test.cpp so that the library's tests
 // build without the CLI.)
 #include <gtest/gtest.h>
@@ -17,7 +17,7 @@ using namespace toolpoint;
 
 namespace {
 
-// The Insperger–Stépán (2004) benchmark mode (NOTES §7).
+// The Insperger–Stépán (2004) benchmark mode (docs/reference.md §7).
 const Mode kBench{0.03993, 0.011, 922.0};
 
 std::vector<double> uniform_grid(double lo, double hi, double step) {

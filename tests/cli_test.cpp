@@ -3,7 +3,7 @@
 // output left behind), the rule for a missing gnuplot, and the progress bar.
 //
 // Each test runs the binary (TOOLPOINT_CLI) in its own scratch folder. Inputs are synthetic
-// (closed-form modal FRFs, the static cantilever of NOTES §5, the example assembly) on coarse
+// (closed-form modal FRFs, the static cantilever of docs/reference.md §5, the example assembly) on coarse
 // grids so the whole file stays within a few seconds; the checks on numbers compare against
 // closed forms or properties that hold independently of the code under test.
 // Units: SI (m, kg, N; receptance m/N), frequencies in Hz, figure sizes in pixels.
@@ -302,13 +302,28 @@ TEST_F(Cli, AJointFilesVerdictAndDefinitenessReachTheOutput) {
 // noise --floor/--averages/--calibration write what they say. Bad input is refused naming the
 // option or file and the field: a negative floor, a calibration of 50 %, a coherence outside
 // [0, 1], a coherence column with a value missing, a coherence dataset of another length.
+// Issue 24's report, as the user ran it: the example's SH11 and SHT11 with the seed's 5 % noise
+// (seeds 1014 and 2014) were judged fail (the weak 1.6 kHz mode paired with the 916 Hz one). Data
+// made from the true joint: the verdict is pass (exit 0), the 1.6 kHz peak said to be what the
+// noise makes. (One seed pair; the false-alarm rate over 200 seeds is the Monte Carlo study's.)
+TEST_F(Cli, IdentifyOnTheIssuesNoisyDataPasses) {
+  ok("predict '" + kExample + "' --at holder --output sh.csv");
+  ok("predict '" + kExample + "' --output sht.csv");
+  ok("noise sh.csv shn.csv --sigma 0.05 --seed 1014");
+  ok("noise sht.csv shtn.csv --sigma 0.05 --seed 2014");
+  const Run r = ok("identify --assembly '" + kExample + "' --sh shn.csv --sht shtn.csv --joint holder-tool --bootstrap 0");
+  EXPECT_NE(r.out.find("verdict: pass"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("in no mode's window: the noise makes such peaks"), std::string::npos) << r.out;
+}
+
 // precision: the expected half-widths before the tap test. Their dependence on the averages is the
 // linearised fit's (the noise's share of the variance falls as 1/n, the calibration's stays), which
 // the library's Monte Carlo test (tests/precision_test.cpp) checks against identifications; here the
 // CLI's arithmetic around it: without calibration, 4× the averages halves every half-width (to 1e-6,
 // the fit's convergence); the averages asked for a target width reach it; bad input refused.
 TEST_F(Cli, PrecisionBeforeTheTapTest) {
-  const std::string base = "precision '" + kExample + "' --tool-spacing 0.015 --holder-spacing 0.02 --sigma 0.005 --frequencies 100:3500:5";
+  const std::string base = "precision '" + kExample +
+                           "' --tool-spacing 0.015 --holder-spacing 0.02 --sigma 0.005 --frequencies 100:3500:5";
   const nlohmann::json one = nlohmann::json::parse(ok(base + " --averages 2 --json").out);
   const nlohmann::json four = nlohmann::json::parse(ok(base + " --averages 8 --json").out);
   for (const char* k : {"k_yf", "c_yf", "k_ym", "k_tm"}) {
@@ -320,16 +335,28 @@ TEST_F(Cli, PrecisionBeforeTheTapTest) {
   const nlohmann::json& kyf = t["parameters"]["k_yf"];
   ASSERT_TRUE(kyf["averages_for_target"].is_number()) << kyf;
   const int n = kyf["averages_for_target"];
-  const nlohmann::json at_n =
-      nlohmann::json::parse(ok(base + fmt::format(" --calibration 0.1% --averages {} --json", n)).out);
+  const nlohmann::json at_n = nlohmann::json::parse(ok(base + fmt::format(" --calibration 0.1% --averages {} --json", n)).out);
   EXPECT_LE(double(at_n["parameters"]["k_yf"]["relative"]), 0.01);
   if (n > 1) {
-    const nlohmann::json below =
-        nlohmann::json::parse(ok(base + fmt::format(" --calibration 0.1% --averages {} --json", n - 1)).out);
+    const nlohmann::json below = nlohmann::json::parse(
+        ok(base + fmt::format(" --calibration 0.1% --averages {} --json", n - 1)).out);
     EXPECT_GT(double(below["parameters"]["k_yf"]["relative"]), 0.01);
   }
   const Run text = ok(base + " --calibration 2% --target 1%");
   EXPECT_NE(text.out.find("unreachable"), std::string::npos) << text.out;  // 2 % calibration alone is wider than ±1 %
+  // The figures docs/noise-and-verdict.md quotes (its command, the assembly's own grid), to the
+  // digits quoted.
+  const std::string doc = "precision '" + kExample +
+                          "' --tool-spacing 0.015 --holder-spacing 0.02 --sigma 0.005 --averages 5 --json";
+  auto relative = [&](const std::string& extra, const char* k) {
+    return 100.0 * double(nlohmann::json::parse(ok(doc + extra).out)["parameters"][k]["relative"]);
+  };
+  EXPECT_NEAR(relative(" --calibration 0.5%", "k_yf"), 1.9, 0.05);
+  EXPECT_NEAR(relative(" --calibration 0.5%", "c_ym"), 3.7, 0.05);
+  EXPECT_NEAR(relative(" --calibration 0.5%", "k_tm"), 0.9, 0.05);
+  EXPECT_NEAR(relative(" --calibration 0.5%", "c_yf"), 80.0, 0.5);
+  EXPECT_NEAR(relative(" --calibration 2%", "k_yf"), 7.7, 0.05);
+  EXPECT_NEAR(relative(" --calibration 2% --calibration-shared", "k_yf"), 3.6, 0.05);
   // Bad input.
   expect_error(run("precision '" + kExample + "' --holder-spacing 0.02"), 2, {"--tool-spacing"});
   expect_error(run(base + " --calibration 50%"), 2, {"--calibration"});
@@ -340,8 +367,10 @@ TEST_F(Cli, TapTestWithAveragesCoherenceAndCalibration) {
   const std::string grid = " --frequencies 100:3500:5";
   ok("taptest '" + kExample + "' --at holder --spacing 0.02 --sigma 0.005 --averages 4 --floor 0.0002 --seed 3 --output h.uff" +
      grid);
-  ok("taptest '" + kExample + "' --at tool --spacing 0.015 --sigma 0.005 --averages 4 --floor 0.0002 --calibration 1% --seed 5 "
-     "--output t.uff" + grid);
+  ok("taptest '" + kExample +
+     "' --at tool --spacing 0.015 --sigma 0.005 --averages 4 --floor 0.0002 --calibration 1% --seed 5 "
+     "--output t.uff" +
+     grid);
   const UffFile t = read_uff(path("t.uff"));
   int frfs = 0, coherences = 0;
   for (const UffDataset58& d : t.functions) (d.function_type == 6 ? coherences : frfs) += 1;
@@ -358,7 +387,8 @@ TEST_F(Cli, TapTestWithAveragesCoherenceAndCalibration) {
     EXPECT_LE(c, 1.0);
   }
   // (--accept: the verdict is not what this test is about)
-  const Run id = ok("identify --assembly '" + kExample + "' --sh h.csv --sht t.csv --averages 4 --calibration 1% --bootstrap 0 --accept");
+  const Run id = ok("identify --assembly '" + kExample +
+                    "' --sh h.csv --sht t.csv --averages 4 --calibration 1% --bootstrap 0 --accept");
   EXPECT_NE(id.out.find("H from its coherence and 4 averages"), std::string::npos) << id.out;
   EXPECT_NE(id.out.find("calibration σ 1 %"), std::string::npos) << id.out;
   // Without --averages the coherence is said to be unused.
@@ -547,7 +577,7 @@ TEST_F(Cli, NoiseOnAFrfFile) {
   expect_png("noisy.png", kTwoPanels);
 }
 
-// NOTES §5 through one universal file holding three datasets, picked with FILE#N: a static
+// docs/reference.md §5 through one universal file holding three datasets, picked with FILE#N: a static
 // cantilever (EI = 1, L = 1; H(x, ξ) = ξ²(3x − ξ)/6) hit at the tip, second order, s = 0.1,
 // gives N = (3·1/3 − 4·0.2835 + 0.64·2.2/6)/0.2 = 151/300 by hand. Binary 58b holds the values
 // exactly, so 1e-12 (rounding of the stencil) applies.
@@ -1278,7 +1308,7 @@ TEST_F(PlanCli, ErrorsNameTheOptionOrFileAndLeaveNothingBehind) {
 
 class SimulateCli : public Cli {
  protected:
-  // The Insperger–Stépán mode (NOTES §7), rigid in y, a/D 0.05 down-milling.
+  // The Insperger–Stépán mode (docs/reference.md §7), rigid in y, a/D 0.05 down-milling.
   const std::string bench_ =
       " --mode-x 0.03993,0.011,922 --rigid-y --teeth 2 --diameter 20 --kt 6e8 --kn 2e8 --immersion 0.05 "
       "--milling down --feed 0.1";

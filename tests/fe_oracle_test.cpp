@@ -1,7 +1,7 @@
 // Tests of the finite-element oracle (tests/support/fe_beam.hpp), then the oracle against the
 // library. The oracle is proven first against things independent of both: Friedman & Kosmatka's
 // printed consistent mass, closed-form static compliances (with shear), Euler–Bernoulli roots
-// β_rL, the exact Timoshenko simply-supported frequency equation, NOTES.md §2 reference
+// β_rL, the exact Timoshenko simply-supported frequency equation, docs/reference.md §2 reference
 // frequencies, series-spring formulas and reciprocity. Units SI, frequencies in Hz.
 #include <gtest/gtest.h>
 
@@ -141,7 +141,7 @@ TEST(FeOracle, EulerBernoulliLimitOfSlenderBeam) {
   }
 }
 
-// NOTES.md §2 steel stub (d = 50 mm, L = 100 mm, Hutchinson κ): free–free frequencies 15468.385,
+// docs/reference.md §2 steel stub (d = 50 mm, L = 100 mm, Hutchinson κ): free–free frequencies 15468.385,
 // 28811.957, 42786.488, 44167.081, 58872.552, 61627.834 Hz, four of them above the cut-off.
 // Observed convergence is of order 2 for this thick beam (errors at 64 and 128 elements:
 // 8.5e-5 → 2.1e-5 for mode 1, 1.2e-3 → 2.9e-4 for mode 5): each halving of h must cut the

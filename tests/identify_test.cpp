@@ -1,5 +1,5 @@
 // Tests of closed-form joint identification (identify module). Noise-free, model-consistent data
-// must give the joint back (NOTES §1: ~1e-8); the mode choice must agree with an independent
+// must give the joint back (docs/reference.md §1: ~1e-8); the mode choice must agree with an independent
 // criterion (the mode that moves with the overhang); bad data must be refused.
 #include <gtest/gtest.h>
 

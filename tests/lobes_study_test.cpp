@@ -18,7 +18,7 @@ using namespace toolpoint;
 
 namespace {
 
-const Mode kBench{0.03993, 0.011, 922.0};  // NOTES §7
+const Mode kBench{0.03993, 0.011, 922.0};  // docs/reference.md §7
 const Mode kSecond{0.2, 0.03, 2100.0};
 
 std::vector<double> grid(double lo, double hi, double step) {

@@ -82,7 +82,7 @@ PlanOptions cut_options(double min_rpm, double max_rpm, int points) {
   return o;
 }
 
-// α of NOTES §7 from its printed formula, for the fixed-speed oracle.
+// α of docs/reference.md §7 from its printed formula, for the fixed-speed oracle.
 Eigen::Matrix2d alpha_of(const CuttingConditions& c) {
   const double kr = c.radial_ratio;
   auto at = [&](double p) {

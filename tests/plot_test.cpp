@@ -690,7 +690,7 @@ TEST(PlotRender, JointAndLobesFigures) {
   render_everywhere(joint_figure(d), "joint");
 
   // Data shaped like real lobes: the classic one-mode lobes (Tlusty), a = −1/(2 K_s Re G),
-  // ε = 2π − 2 atan(Re G / Im G), n = 60 f_c / (N (k + ε/2π)), for the NOTES.md §7 mode.
+  // ε = 2π − 2 atan(Re G / Im G), n = 60 f_c / (N (k + ε/2π)), for the docs/reference.md §7 mode.
   LobesFigureData L;
   const double fn = 922.0, zeta = 0.011, kx = 1.34e6, Ks = 3e8;
   const int teeth = 2;

@@ -1,6 +1,6 @@
 // Tests of the rotational study (studies/rotational.hpp): the tap test's FRFs picked from one
 // universal file, and the tip block with and without the model-based correction — against the
-// static cantilever's closed form (NOTES §5), against rotational_frfs and the correction called
+// static cantilever's closed form (docs/reference.md §5), against rotational_frfs and the correction called
 // directly, and against the model's tip block by the coupling path (not the station path the
 // correction differences). The CLI tests (cli_test.cpp) only check the plumbing.
 // Units: SI (H m/N, L 1/N, N rad/N, P rad/(N·m)); spacing in m; frequencies in Hz.
@@ -42,7 +42,7 @@ bool contains(const std::string& text, const std::string& part) { return text.fi
 
 }  // namespace
 
-// NOTES §5: EI = 1, L = 1, s = 0.1, second order: H = 1/3, N = L = 151/300, P = 31/30 (1e-12:
+// docs/reference.md §5: EI = 1, L = 1, s = 0.1, second order: H = 1/3, N = L = 151/300, P = 31/30 (1e-12:
 // round-off of differences of O(1) numbers over s² = 0.01). Without a model the study's block is
 // rotational_frfs' own, and says how it was made.
 TEST(RotationalStudy, StaticCantileverWithoutModel) {

@@ -1,9 +1,9 @@
 // Tests of the signal module: Savitzky–Golay smoothing, simulated noise, finite-difference
 // rotational FRFs. Every expectation comes from something independent of the code under test:
-// the NOTES §6 oracle (scipy's output), closed-form Savitzky–Golay weights (Savitzky & Golay 1964
+// the docs/reference.md §6 oracle (scipy's output), closed-form Savitzky–Golay weights (Savitzky & Golay 1964
 // for degree 2–3), exact reproduction of polynomials, closed-form straight-line regression at
 // the edges, the statistics of white noise, the normal distribution's probabilities, the static
-// cantilever flexibility G(x, ξ) = ξ²(3x − ξ)/6 (NOTES §5), and an exact dynamic Green's function
+// cantilever flexibility G(x, ξ) = ξ²(3x − ξ)/6 (docs/reference.md §5), and an exact dynamic Green's function
 // of a damped Euler–Bernoulli cantilever solved here from its boundary-value problem.
 #include <gtest/gtest.h>
 
@@ -48,7 +48,7 @@ using test::single;
 
 // ---- Savitzky–Golay ------------------------------------------------------------------------------
 
-// NOTES §6 oracle (scipy): window 5, order 2 → [−3, 12, 17, 12, −3]/35. 1e-14: a few ulps of the
+// docs/reference.md §6 oracle (scipy): window 5, order 2 → [−3, 12, 17, 12, −3]/35. 1e-14: a few ulps of the
 // QR round-off on numbers of order 1.
 TEST(Savgol, CoefficientsMatchOracle) {
   const auto c = savgol_coefficients({5, 2});
@@ -57,7 +57,7 @@ TEST(Savgol, CoefficientsMatchOracle) {
   for (int k = 0; k < 5; ++k) EXPECT_NEAR(c[k], want[k] / 35.0, 1e-14) << k;
 }
 
-// NOTES §6: x = [2,2,5,2,1,0,1,4,9], window 5, order 2 → [58/35, 111/35, 124/35, 20/7, 23/35,
+// docs/reference.md §6: x = [2,2,5,2,1,0,1,4,9], window 5, order 2 → [58/35, 111/35, 124/35, 20/7, 23/35,
 // 6/35, 1, 4, 9] (the first two and last two from the edge fits). 1e-14 as above.
 TEST(Savgol, NineSampleOracleIncludingEdges) {
   const std::vector<double> x = {2, 2, 5, 2, 1, 0, 1, 4, 9};
@@ -594,7 +594,7 @@ RotationalOptions with_reciprocity(int order, double s) { return fd(order, s, PM
 // deviation O((βL)⁴) ≈ 1e-4 at βL = 0.1; round-off in the nearly collinear basis is ~1e-10), and
 // resonance at the first clamped–free root β₁L = 1.8751040687 (undamped: |H| there exceeds
 // 1e6 times its value 2 % away). With a tip spring k the kernel must equal the free one modified
-// by Özgüven's formula (NOTES §4), H_k(x,ξ) = H(x,ξ) − H(x,L) H(L,ξ) / (1/k + H(L,L)), to
+// by Özgüven's formula (docs/reference.md §4), H_k(x,ξ) = H(x,ξ) − H(x,L) H(L,ξ) / (1/k + H(L,L)), to
 // round-off (1e-12 on values of order 0.1).
 TEST(Rotational, ReferenceCantileverKernelIsRight) {
   Cantilever c;
@@ -619,7 +619,7 @@ TEST(Rotational, ReferenceCantileverKernelIsRight) {
   }
 }
 
-// NOTES §5 static check: EI = 1, L = 1, s = 0.1, from the closed-form flexibility. First order
+// docs/reference.md §5 static check: EI = 1, L = 1, s = 0.1, from the closed-form flexibility. First order
 // N = L = 299/600, P = 14/15; second order N = L = 151/300, P = 31/30. 1e-12: round-off of
 // differences of O(1) numbers divided by s² = 0.01.
 TEST(Rotational, StaticCantileverMatchesNotes) {
@@ -670,7 +670,7 @@ TEST(Rotational, ShearCorrectionOnAPureShearKernel) {
 
 // Schmitz & Smith with the hammer at the tip only (H00, H10): P = N²/H00. With the first-order
 // N = 299/600 and H00 = 1/3 that is 3(299/600)² = 0.745, and with the exact N = 1/2 it is 3/4:
-// about 25 % below P = 1 (NOTES §5). L = N by reciprocity — only when asked for (otherwise L is
+// about 25 % below P = 1 (docs/reference.md §5). L = N by reciprocity — only when asked for (otherwise L is
 // missing, an error naming H01) — and both are flagged.
 TEST(Rotational, SchmitzSmithIsAbout25PercentLowOnStaticCantilever) {
   PointFrfs p;

@@ -1,7 +1,7 @@
 // Tests of the time-domain milling simulation (simulation.hpp) against what the project already
 // trusts and against closed forms, never against itself:
 //   * the stability boundary of full-discretization (stability.hpp, converged to 0.1 %) on the
-//     Insperger–Stépán 1-DOF benchmark (NOTES §7), a/D 0.05 down-milling and slotting;
+//     Insperger–Stépán 1-DOF benchmark (docs/reference.md §7), a/D 0.05 down-milling and slotting;
 //   * the periodic solution x* = (I − Φ)⁻¹ q of the full-discretization map with the feed's forcing
 //     (periodic_delay.hpp), and a frequency-domain SLE (Schmitz & Mann 2006: the forced response to
 //     the Fourier series of the rigid-tool force, written out here);
@@ -26,7 +26,7 @@ using namespace toolpoint;
 
 namespace {
 
-const Mode kBench{0.03993, 0.011, 922.0};  // NOTES §7
+const Mode kBench{0.03993, 0.011, 922.0};  // docs/reference.md §7
 constexpr double kKt = 6e8, kKn = 2e8, kFeed = 1e-4, kDiameter = 0.02;
 
 CuttingConditions conditions(double immersion, MillingDirection dir = MillingDirection::Down, int teeth = 2) {

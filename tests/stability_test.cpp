@@ -1,5 +1,5 @@
 // Tests of milling stability (stability module). Expectations come from outside the code under
-// test: the closed-form SDOF identity and the zero-order slot floor it implies (NOTES §7), the
+// test: the closed-form SDOF identity and the zero-order slot floor it implies (docs/reference.md §7), the
 // Insperger–Stépán benchmark value 0.298054 mm, the characteristic equation det(I + ΛαG) = 0
 // evaluated afresh at every lobe point, a numerical quadrature of the per-tooth directional matrix,
 // the exact free decay e^{−ζω_nτ}, and a time-invariant case (N = 4, slotting) where zero-order
@@ -35,7 +35,7 @@ using namespace toolpoint;
 
 namespace {
 
-// The Insperger–Stépán (2004) benchmark mode and cutting coefficients (NOTES §7).
+// The Insperger–Stépán (2004) benchmark mode and cutting coefficients (docs/reference.md §7).
 const Mode kBench{0.03993, 0.011, 922.0};
 constexpr double kKt = 6e8, kKn = 2e8;
 
@@ -70,7 +70,7 @@ double characteristic_residual(const Eigen::Matrix2d& alpha, const Eigen::Matrix
 
 }  // namespace
 
-// NOTES §7: min Re G = −1/(4kζ(1+ζ)) at ω_n sqrt(1+2ζ) for G = 1/(k − mω² + icω). Checked at the
+// docs/reference.md §7: min Re G = −1/(4kζ(1+ζ)) at ω_n sqrt(1+2ζ) for G = 1/(k − mω² + icω). Checked at the
 // point (1e-12: round-off) and as a minimum over a fine grid (nothing below it, 1e-12 slack).
 TEST(Stability, SdofRealPartMinimum) {
   for (const Mode m : {kBench, Mode{2.5, 0.05, 310.0}, Mode{0.4, 0.002, 4000.0}}) {
@@ -84,7 +84,7 @@ TEST(Stability, SdofRealPartMinimum) {
 
 // 1-DOF slotting (x flexible only, N = 2): α_xx = −K_rπ, so a_lim = −2/(N K_n Re G) and the floor
 // is 8kζ(1+ζ)/(N K_n) (independent of K_t). With f_n sqrt(1+2ζ) on the grid the floor is exact
-// to round-off (1e-9); NOTES gives 0.298054 mm, rounded to 6 digits (±5e-7 mm).
+// to round-off (1e-9); docs/reference.md §7 gives 0.298054 mm, rounded to 6 digits (±5e-7 mm).
 TEST(Stability, ZeroOrderSlotFloorOfTheBenchmark) {
   const double f_min = kBench.frequency_hz * std::sqrt(1.0 + 2.0 * kBench.damping_ratio);
   std::vector<double> grid = uniform_grid(700.0, 1200.0, 0.37);

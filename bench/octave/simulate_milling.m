@@ -40,7 +40,7 @@ function [j0, j1] = integrals(w, zeta, h, alpha, beta)
   j1 = [imag(k1); imag(lam * k1)] / wd;
 end
 
-% ---- The case: the Insperger-Stepan mode (NOTES section 7), rigid in y --------------------------
+% ---- The case: the Insperger-Stepan mode (docs/reference.md section 7), rigid in y --------------------------
 mass = 0.03993; zeta = 0.011; fn = 922;
 psi = [1 / sqrt(mass); 0];              % an x mode
 N = 2; D = 0.02; R = D / 2; rho = zeros(1, N);

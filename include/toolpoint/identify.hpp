@@ -46,7 +46,7 @@ struct JointEstimate {
   // for 5 % noise expect a relative error of ≈ 0.05 × gain. Unit-free. An off-diagonal parameter
   // is measured against max(|value|, 10 % of sqrt|K_yf K_θm|) of its part (Re or Im): a coupling
   // term that is zero has no relative error, only one against its natural scale. Large away from
-  // a well-placed mode (NOTES §1), at low frequency, and always for a damping whose ωc is a small
+  // a well-placed mode (docs/reference.md §1), at low frequency, and always for a damping whose ωc is a small
   // part of |K|.
   std::array<double, 8> noise_gain{};
   // ‖K⁻¹‖ / (‖X⁻¹‖ + ‖A22‖ + ‖B11‖): how much of the terms survives their difference. Small for a

@@ -39,7 +39,7 @@ struct SignalResult {
 // samples are assumed evenly spaced in frequency; an uneven grid is filtered as if it were even
 // and flagged in the warnings.
 struct SavgolOptions {
-  int window = 5;  // points in the fitting window: odd, > order (the defaults are the NOTES §6 oracle)
+  int window = 5;  // points in the fitting window: odd, > order (the defaults are the docs/reference.md §6 oracle)
   int order = 2;   // polynomial degree p ≥ 0
 
   // Throws InvalidArgument naming `window` or `order` (even window, order < 0 or ≥ window).
@@ -176,7 +176,7 @@ NoisyMeasurement<FrfSeries> add_measurement_noise(const FrfSeries& series, const
 NoisyMeasurement<BlockSeries> add_measurement_noise(const BlockSeries& series, const NoiseOptions& options,
                                                     const std::string& what = "block series");
 
-// ---- Rotational FRFs by finite differences (Duarte & Ewins 2000; NOTES §5) ------------------
+// ---- Rotational FRFs by finite differences (Duarte & Ewins 2000; docs/reference.md §5) ------------------
 //
 // Points along the tool: 0 at the tip, 1 at s and 2 at 2s inward (towards the spindle).
 // H_ij = w_i/f_j: translational response at point i to a force at point j [m/N].
@@ -221,7 +221,7 @@ struct RotationalOptions {
   // them, so P comes out c/(s κGA) too large, c = 1 (first order) or 2.5 (second order) — the
   // formulas applied to the shear kernel c₀ − max(x, ξ)/κGA — an error that grows as s shrinks.
   // With the value given, these are subtracted (the points must lie on one uniform section).
-  // Unset: the total-slope quantities, as printed in NOTES §5 (fine for slender tools, where
+  // Unset: the total-slope quantities, as printed in docs/reference.md §5 (fine for slender tools, where
   // 1/κGA is far below N).
   std::optional<double> shear_stiffness;
   bool assume_reciprocity = false;  // fill a missing H_ij with H_ji (default: refuse, see above)

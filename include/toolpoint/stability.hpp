@@ -8,7 +8,7 @@
 // Manufacturing Automation, 2nd ed., ch. 4): x is the feed direction, y the normal direction in the
 // plane of the cut; the immersion angle φ of a tooth is measured clockwise from +y, so a tooth cuts
 // while φ_st ≤ φ ≤ φ_ex within [0, π]. Up-milling: φ_st = 0, φ_ex = acos(1 − 2a/D); down-milling:
-// φ_st = acos(2a/D − 1), φ_ex = π (NOTES §7). x, y are displacements of the tool relative to the
+// φ_st = acos(2a/D − 1), φ_ex = π (docs/reference.md §7). x, y are displacements of the tool relative to the
 // work; the FRFs G_xx, G_xy, G_yx, G_yy are receptances [m/N] of the tool point in these
 // directions (e^{iωt}: Im G_xx ≤ 0). Flutes are straight (no helix), teeth evenly spaced.
 //
@@ -17,7 +17,7 @@
 // cut: F(t) = ½ a K_t A(φ(t)) Δ(t), with per tooth
 //     A = [[−sin2φ − K_r(1 − cos2φ),  −(1 + cos2φ) − K_r sin2φ],
 //          [ (1 − cos2φ) − K_r sin2φ,    sin2φ − K_r(1 + cos2φ)]],
-// whose integral over φ₁…φ₂ is the matrix α of NOTES §7 (directional_integral below).
+// whose integral over φ₁…φ₂ is the matrix α of docs/reference.md §7 (directional_integral below).
 #pragma once
 
 #include <Eigen/Core>
@@ -44,7 +44,7 @@ struct Engagement {
   void check() const;  // throws InvalidArgument unless 0 ≤ φ_st < φ_ex ≤ π
 };
 
-// From the radial immersion a/D in (0, 1] (NOTES §7). Throws InvalidArgument outside (0, 1].
+// From the radial immersion a/D in (0, 1] (docs/reference.md §7). Throws InvalidArgument outside (0, 1].
 Engagement engagement_from_immersion(double radial_immersion, MillingDirection direction);
 // From angles in degrees (the CLI's --entry/--exit). Throws InvalidArgument outside 0 ≤ entry < exit ≤ 180.
 Engagement engagement_from_degrees(double entry_deg, double exit_deg);
@@ -58,7 +58,7 @@ struct CuttingConditions {
   void check() const;
 };
 
-// α(φ₁, φ₂) = ∫_{φ₁}^{φ₂} A(φ) dφ (NOTES §7, Altintas & Budak 1995 Eq. 10), dimensionless:
+// α(φ₁, φ₂) = ∫_{φ₁}^{φ₂} A(φ) dφ (docs/reference.md §7, Altintas & Budak 1995 Eq. 10), dimensionless:
 //   α_xx = ½[cos2φ − 2K_rφ + K_r sin2φ], α_xy = ½[−sin2φ − 2φ + K_r cos2φ],
 //   α_yx = ½[−sin2φ + 2φ + K_r cos2φ],  α_yy = ½[−cos2φ − 2K_rφ − K_r sin2φ]   evaluated φ₁…φ₂.
 Eigen::Matrix2d directional_integral(double radial_ratio, double phi1, double phi2);

@@ -2,7 +2,7 @@
 // and binary (58b) forms: reading, selecting and writing. This is how measurement software
 // exports tap-test FRFs and time records.
 //
-// File layout (SDRC/I-DEAS universal file specification, dataset 58; NOTES.md §8):
+// File layout (SDRC/I-DEAS universal file specification, dataset 58; docs/reference.md §8):
 //       -1                      a dataset starts only on the line after a `    -1` delimiter line
 //       58     (or 58b + binary fields: byte order 1 little / 2 big endian, float format 2 IEEE 754,
 //               ASCII header line count 11, byte count of the binary data)

@@ -255,7 +255,7 @@ void bind_signal_io(py::module_& m) {
       },
       "frequency_hz"_a, "H"_a, "spacing"_a, "order"_a = 2, "symmetrise"_a = false, "p_method"_a = "auto",
       "shear_stiffness"_a = py::none(),
-      "Rotational FRFs by finite differences (Duarte & Ewins; NOTES §5): H is a dict {(response, force): complex (n,) [m/N]} of "
+      "Rotational FRFs by finite differences (Duarte & Ewins; docs/reference.md §5): H is a dict {(response, force): complex (n,) [m/N]} of "
       "the "
       "translational FRFs at points 0 (tip), 1, 2 spaced `spacing` m inwards; order 1 or 2; shear_stiffness κGA [N] removes the "
       "shear strain (pass TapTest.shear_stiffness_n); p_method 'auto', 'cross_terms' or 'schmitz_smith'.");

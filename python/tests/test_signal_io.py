@@ -10,7 +10,7 @@ from conftest import EXAMPLE, SOURCE_DIR, read_block_csv, read_csv, run_cli
 
 
 def test_savgol_coefficients_closed_form():
-    # Savitzky & Golay (1964): window 5, quadratic: (−3, 12, 17, 12, −3)/35 (NOTES §6's oracle).
+    # Savitzky & Golay (1964): window 5, quadratic: (−3, 12, 17, 12, −3)/35 (docs/reference.md §6's oracle).
     c = tp.savgol_coefficients(5, 2)
     assert np.allclose(c, np.array([-3, 12, 17, 12, -3]) / 35, rtol=0, atol=1e-15)
 

@@ -6,7 +6,7 @@ import pytest
 import toolpoint as tp
 from conftest import read_csv, run_cli, run_cli_json
 
-BENCH = tp.Mode(0.03993, 0.011, 922.0)  # NOTES §7
+BENCH = tp.Mode(0.03993, 0.011, 922.0)  # docs/reference.md §7
 CUT = tp.CuttingConditions(2, 6e8, 2e8 / 6e8, immersion=0.05, milling="down")
 CLI_CUT = ["--mode-x", "0.03993,0.011,922", "--rigid-y", "--teeth", 2, "--diameter", 20, "--kt", 6e8, "--kn", 2e8,
            "--immersion", 0.05, "--milling", "down", "--feed", 0.1]

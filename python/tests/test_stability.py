@@ -9,7 +9,7 @@ import pytest
 import toolpoint as tp
 from conftest import EXAMPLE, read_csv, run_cli, run_cli_json
 
-# Insperger & Stépán's 1-DOF benchmark (NOTES §7).
+# Insperger & Stépán's 1-DOF benchmark (docs/reference.md §7).
 BENCH = tp.Mode(0.03993, 0.011, 922.0)
 
 
@@ -39,7 +39,7 @@ def test_zero_order_lobes_are_the_cli_ones(tmp_path, model, example):
 
 
 def test_the_published_one_dof_slot_floor():
-    # NOTES §7: 0.298054 mm (six digits). A 0.045 Hz grid resolves the resonance (ζf = 10 Hz).
+    # docs/reference.md §7: 0.298054 mm (six digits). A 0.045 Hz grid resolves the resonance (ζf = 10 Hz).
     f = np.linspace(300.0, 3000.0, 60001)
     G = tp.modal_frf([BENCH], f)
     slot = tp.CuttingConditions(2, 6e8, 2e8 / 6e8, immersion=1.0, milling="down")
