@@ -6,7 +6,7 @@
 //     identify, the noise estimated from the data): within 20 % (issue 24), each parameter.
 // The suite runs the end-to-end study short (TOOLPOINT_PRECISION_SEEDS, default 40: a standard
 // deviation from 40 seeds is itself uncertain by ±11 %, so the suite asks 35 % of each parameter
-// and 20 % of their median); the README's figures from
+// and 20 % of their median; docs/noise-and-verdict.md quotes that run). A longer run:
 //   TOOLPOINT_PRECISION_SEEDS=200 build/toolpoint_tests --gtest_filter='Precision.*'
 #include <gtest/gtest.h>
 
