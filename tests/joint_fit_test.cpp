@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "support/joint_data.hpp"
+#include "support/test_util.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/identify.hpp"
 #include "toolpoint/joint_fit.hpp"
@@ -35,11 +36,6 @@ double relative_error(const JointParameters& got, const JointParameters& truth, 
   double scale = std::abs(truth[k]);
   if (scale == 0.0) scale = 0.1 * std::sqrt(std::abs(k % 2 ? truth.c_yf * truth.c_tm : truth.k_yf * truth.k_tm));
   return std::abs(got[k] - truth[k]) / scale;
-}
-
-int env_int(const char* name, int fallback) {
-  const char* v = std::getenv(name);
-  return v ? std::atoi(v) : fallback;
 }
 
 }  // namespace

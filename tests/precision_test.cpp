@@ -15,6 +15,7 @@
 #include <fmt/format.h>
 
 #include "support/joint_data.hpp"
+#include "support/test_util.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/parallel.hpp"
 #include "toolpoint/statistics.hpp"
@@ -26,11 +27,6 @@ using namespace toolpoint;
 using namespace toolpoint::test;
 
 namespace {
-
-int env_int(const char* name, int fallback) {
-  const char* v = std::getenv(name);
-  return v ? std::atoi(v) : fallback;
-}
 
 // A tap test's exact station FRFs and the differences of its block.
 struct Station {
