@@ -54,87 +54,59 @@ const Problem& example_problem() {
   return p;
 }
 
-void BM_FitJoint_Linearised_5000(benchmark::State& state) {
-  const Problem& p = example_problem();
+// The timed fit: linearised intervals (checked by 20 replicates unless `unchecked`), or a
+// bootstrap of `bootstrap` replicates on one thread; the Levenberg–Marquardt iterations counted.
+void time_fit(benchmark::State& state, const Problem& p, int bootstrap, bool unchecked = false) {
   JointFitOptions o;
-  o.uncertainty = UncertaintyMethod::Linearised;
-  for (auto _ : state) benchmark::DoNotOptimize(fit_joint({p.data}, {p.start}, o));
-  state.counters["frequencies"] = static_cast<double>(p.data.G11.size());
-}
-BENCHMARK(BM_FitJoint_Linearised_5000)->Unit(benchmark::kMillisecond);
-
-// The fit alone, without the linearisation's check by 20 bootstrap replicates (B11 measured).
-void BM_FitJoint_Linearised_5000_Unchecked(benchmark::State& state) {
-  const Problem& p = example_problem();
-  JointFitOptions o;
-  o.uncertainty = UncertaintyMethod::Linearised;
-  o.check_linearisation = false;
+  if (bootstrap == 0) o.uncertainty = UncertaintyMethod::Linearised;
+  o.bootstrap_samples = bootstrap == 0 ? o.bootstrap_samples : bootstrap;
+  o.parallel.threads = 1;
+  o.check_linearisation = !unchecked;
   for (auto _ : state) {
     const JointFit r = fit_joint({p.data}, {p.start}, o);
     state.counters["iterations"] = r.iterations;
     benchmark::DoNotOptimize(r);
   }
 }
+
+void time_noise_estimate(benchmark::State& state, const Problem& p, bool floor) {
+  NoiseEstimateOptions o;
+  o.floor = floor;
+  for (auto _ : state) benchmark::DoNotOptimize(estimate_block_noise(p.data.G11, o, "SHT11"));
+}
+
+void BM_FitJoint_Linearised_5000(benchmark::State& state) { time_fit(state, example_problem(), 0); }
+BENCHMARK(BM_FitJoint_Linearised_5000)->Unit(benchmark::kMillisecond);
+
+// The fit alone, without the linearisation's check by 20 bootstrap replicates (B11 measured).
+void BM_FitJoint_Linearised_5000_Unchecked(benchmark::State& state) { time_fit(state, example_problem(), 0, true); }
 BENCHMARK(BM_FitJoint_Linearised_5000_Unchecked)->Unit(benchmark::kMillisecond);
 
-void BM_FitJoint_Bootstrap20_OneThread_5000(benchmark::State& state) {
-  const Problem& p = example_problem();
-  JointFitOptions o;
-  o.bootstrap_samples = 20;
-  o.parallel.threads = 1;
-  for (auto _ : state) benchmark::DoNotOptimize(fit_joint({p.data}, {p.start}, o));
-}
+void BM_FitJoint_Bootstrap20_OneThread_5000(benchmark::State& state) { time_fit(state, example_problem(), 20); }
 BENCHMARK(BM_FitJoint_Bootstrap20_OneThread_5000)->Unit(benchmark::kMillisecond);
 
-void BM_EstimateBlockNoise_5000(benchmark::State& state) {
-  const Problem& p = example_problem();
-  for (auto _ : state) benchmark::DoNotOptimize(estimate_block_noise(p.data.G11, {}, "SHT11"));
-}
+void BM_EstimateBlockNoise_5000(benchmark::State& state) { time_noise_estimate(state, example_problem(), true); }
 BENCHMARK(BM_EstimateBlockNoise_5000)->Unit(benchmark::kMillisecond);
 
 void BM_FitJoint_Linearised_5000_FloorAndCalibration(benchmark::State& state) {
-  const Problem& p = floor_problem();
-  if (!p.data.g_noise.has_floor()) state.SkipWithError("the floor was not kept by the estimate: not the case meant");
-  JointFitOptions o;
-  o.uncertainty = UncertaintyMethod::Linearised;
-  for (auto _ : state) benchmark::DoNotOptimize(fit_joint({p.data}, {p.start}, o));
+  if (!floor_problem().data.g_noise.has_floor())
+    state.SkipWithError("the floor was not kept by the estimate: not the case meant");
+  time_fit(state, floor_problem(), 0);
 }
 BENCHMARK(BM_FitJoint_Linearised_5000_FloorAndCalibration)->Unit(benchmark::kMillisecond);
 
 void BM_FitJoint_Linearised_5000_FloorAndCalibration_Unchecked(benchmark::State& state) {
-  const Problem& p = floor_problem();
-  JointFitOptions o;
-  o.uncertainty = UncertaintyMethod::Linearised;
-  o.check_linearisation = false;
-  for (auto _ : state) {
-    const JointFit r = fit_joint({p.data}, {p.start}, o);
-    state.counters["iterations"] = r.iterations;
-    benchmark::DoNotOptimize(r);
-  }
+  time_fit(state, floor_problem(), 0, true);
 }
 BENCHMARK(BM_FitJoint_Linearised_5000_FloorAndCalibration_Unchecked)->Unit(benchmark::kMillisecond);
 
-void BM_FitJoint_Bootstrap20_OneThread_5000_FloorAndCalibration(benchmark::State& state) {
-  const Problem& p = floor_problem();
-  JointFitOptions o;
-  o.bootstrap_samples = 20;
-  o.parallel.threads = 1;
-  for (auto _ : state) benchmark::DoNotOptimize(fit_joint({p.data}, {p.start}, o));
-}
+void BM_FitJoint_Bootstrap20_OneThread_5000_FloorAndCalibration(benchmark::State& state) { time_fit(state, floor_problem(), 20); }
 BENCHMARK(BM_FitJoint_Bootstrap20_OneThread_5000_FloorAndCalibration)->Unit(benchmark::kMillisecond);
 
-void BM_EstimateBlockNoise_5000_Floor(benchmark::State& state) {
-  const Problem& p = floor_problem();
-  for (auto _ : state) benchmark::DoNotOptimize(estimate_block_noise(p.data.G11, {}, "SHT11"));
-}
+void BM_EstimateBlockNoise_5000_Floor(benchmark::State& state) { time_noise_estimate(state, floor_problem(), true); }
 BENCHMARK(BM_EstimateBlockNoise_5000_Floor)->Unit(benchmark::kMillisecond);
 
-void BM_EstimateBlockNoise_5000_NoFloorModel(benchmark::State& state) {
-  const Problem& p = example_problem();
-  NoiseEstimateOptions o;
-  o.floor = false;
-  for (auto _ : state) benchmark::DoNotOptimize(estimate_block_noise(p.data.G11, o, "SHT11"));
-}
+void BM_EstimateBlockNoise_5000_NoFloorModel(benchmark::State& state) { time_noise_estimate(state, example_problem(), false); }
 BENCHMARK(BM_EstimateBlockNoise_5000_NoFloorModel)->Unit(benchmark::kMillisecond);
 
 }  // namespace

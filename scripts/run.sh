@@ -8,7 +8,7 @@
 #   bash scripts/run.sh bench   # install, build, run the benchmarks
 #
 # The demo needs only the library's packages and gnuplot, and builds only what it runs (about 3 min
-# on 2 cores, see the README's Performance table); the other jobs install the rest (GoogleTest,
+# on 2 cores, see docs/performance.md); the other jobs install the rest (GoogleTest,
 # Google Benchmark, the Python package's, clang for the fuzz targets) and build every target.
 # Environment: BUILD_DIR (default build), JOBS (default: number of cores).
 set -euo pipefail
@@ -31,7 +31,8 @@ if [ "$job" != demo ]; then
   packages+=(libgtest-dev libbenchmark-dev python3-dev pybind11-dev python3-numpy python3-pytest
              clang libclang-rt-14-dev   # clang + libFuzzer for the fuzz targets (scripts/fuzz.sh)
              slurm-wlm munge            # a real single-node Slurm for the batch path's test (tests/slurm/)
-             python3-kubernetes python3-yaml)  # the Kubernetes Job schema, to check deploy/*.yaml
+             python3-kubernetes python3-yaml   # the Kubernetes Job schema, to check deploy/*.yaml
+             doxygen)  # the API reference of include/toolpoint, built with zero warnings (Docs.DoxygenWithoutWarnings)
 fi
 
 missing=()

@@ -47,7 +47,7 @@ int run_cli(const std::string& args, const std::string& out_file) {
 
 }  // namespace
 
-// The command: listing, converting, and the exit codes of README "Exit codes".
+// The command: listing, converting, and the exit codes of docs/files.md, "Exit codes".
 TEST(FrfFile, ConvertCommand) {
   TempDir dir;
   const std::string log = dir / "log.txt";

@@ -59,7 +59,7 @@ TEST(FdCorrection, RemovesMostOfTheTruncationErrorWithAnImperfectModel) {
   const JointParameters corrected = identify(remove_finite_difference_error(sh, eh), remove_finite_difference_error(sht, et));
   // Observed: k_yf −1.9 % → +0.5 %, k_θm +6.1 % → +1.4 %. (With the model's joint 2× too stiff:
   // k_θm +6.1 % → −1.0 % but k_yf −1.9 % → −5.5 %: the correction is only as good as the model near
-  // the tip; README Findings.)
+  // the tip; docs/correctness.md, Findings.)
   for (int k : {0, 6})
     std::printf("%s: uncorrected %+.2f %%, corrected %+.2f %%\n", JointParameters::name(k), 100 * (raw[k] / truth[k] - 1.0),
                 100 * (corrected[k] / truth[k] - 1.0));

@@ -28,6 +28,7 @@
 #include <mutex>
 
 #include "support/joint_data.hpp"
+#include "support/test_util.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/forward_check.hpp"
 #include "toolpoint/parallel.hpp"
@@ -38,11 +39,6 @@ using namespace toolpoint;
 using namespace toolpoint::test;
 
 namespace {
-
-int env_int(const char* name, int fallback) {
-  const char* v = std::getenv(name);
-  return v ? std::atoi(v) : fallback;
-}
 
 Assembly second_assembly() {
   return load_assembly(std::string(TOOLPOINT_SOURCE_DIR) + "/examples/hsk63_hydraulic_12mm.toml").assembly;

@@ -4,7 +4,7 @@
 // two set-ups with different joints, and bad input.
 //
 // Coverage studies: the suite runs short ones (fixed seeds, so the result is reproducible); the
-// README's figures come from the same tests run long:
+// docs/identification.md's figures come from the same tests run long:
 //   TOOLPOINT_COVERAGE_SEEDS=400 TOOLPOINT_COVERAGE_BOOTSTRAP=200 build/toolpoint_tests --gtest_filter='JointFitCoverage*'
 #include <gtest/gtest.h>
 
@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "support/joint_data.hpp"
+#include "support/test_util.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/identify.hpp"
 #include "toolpoint/joint_fit.hpp"
@@ -35,11 +36,6 @@ double relative_error(const JointParameters& got, const JointParameters& truth, 
   double scale = std::abs(truth[k]);
   if (scale == 0.0) scale = 0.1 * std::sqrt(std::abs(k % 2 ? truth.c_yf * truth.c_tm : truth.k_yf * truth.k_tm));
   return std::abs(got[k] - truth[k]) / scale;
-}
-
-int env_int(const char* name, int fallback) {
-  const char* v = std::getenv(name);
-  return v ? std::atoi(v) : fallback;
 }
 
 }  // namespace
@@ -260,7 +256,7 @@ Coverage coverage(const CoverageCase& c, const JointFitOptions& base, int seeds,
   return cv;
 }
 
-// Prints the table (what the README quotes) and checks every parameter that is determined in most
+// Prints the table (what docs/identification.md quotes) and checks every parameter that is determined in most
 // seeds: coverage at least 95 % − 3 binomial standard errors (a correct 95 % interval fails this
 // once in ~700), and — only when the study is long enough to tell (≥ 200 seeds) — at most 98 % plus
 // 2 binomial standard errors at 98 % (a coverage of 98 % would exceed it once in 40: the estimate

@@ -246,7 +246,7 @@ TEST(Plan, BestSetUpIsTheBruteForceMaximum) {
 // 2000 rpm to the top speed): a faster spindle shortens the best overhang, and where the best speed
 // sits in a stability pocket at the top speed, the tooth passing N·n*/60 is f_m/(k + 1) for a mode
 // f_m of the tuned assembly (here k = 1: the tool mode's second pocket). What the plan finds is in
-// the README (10 000 rpm: 103 mm, at the top speed on a lobe's flank; 11 000: 92 mm; 11 500: 88 mm
+// docs/planning.md (10 000 rpm: 103 mm, at the top speed on a lobe's flank; 11 000: 92 mm; 11 500: 88 mm
 // and 12 000: 83 mm, the tool mode at twice the tooth passing). Tolerances: the pocket within 3 %
 // of f_m/(k + 1) (a zero-order pocket peaks a little above the natural frequency; 0.2–3 % seen), n*
 // within 5 % of the top speed (MRR ∝ speed: the pocket is used as close to the top as it sits).

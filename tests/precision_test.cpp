@@ -6,7 +6,7 @@
 //     identify, the noise estimated from the data): within 20 % (issue 24), each parameter.
 // The suite runs the end-to-end study short (TOOLPOINT_PRECISION_SEEDS, default 40: a standard
 // deviation from 40 seeds is itself uncertain by ±11 %, so the suite asks 35 % of each parameter
-// and 20 % of their median); the README's figures from
+// and 20 % of their median; docs/noise-and-verdict.md quotes that run). A longer run:
 //   TOOLPOINT_PRECISION_SEEDS=200 build/toolpoint_tests --gtest_filter='Precision.*'
 #include <gtest/gtest.h>
 
@@ -15,6 +15,7 @@
 #include <fmt/format.h>
 
 #include "support/joint_data.hpp"
+#include "support/test_util.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/parallel.hpp"
 #include "toolpoint/statistics.hpp"
@@ -26,11 +27,6 @@ using namespace toolpoint;
 using namespace toolpoint::test;
 
 namespace {
-
-int env_int(const char* name, int fallback) {
-  const char* v = std::getenv(name);
-  return v ? std::atoi(v) : fallback;
-}
 
 // A tap test's exact station FRFs and the differences of its block.
 struct Station {

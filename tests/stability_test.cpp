@@ -178,7 +178,7 @@ TEST(Stability, NonPassiveFrfsAreRefused) {
   EXPECT_NEAR(v->frequency_hz, 2000.0, 2.0);
 }
 
-// A measured SH11 carries noise — here the README tutorial's: a virtual tap test on the holder with
+// A measured SH11 carries noise — here the tutorial's (docs/tutorial.md): a virtual tap test on the holder with
 // 0.5 % noise, differenced (second order, 20 mm, the truncation error removed on the model) — and
 // coupling carries it into the tool point FRF, where it makes small peaks with Im G > 0 beside the
 // real part that dominates between modes (23 of 117 peaks at 75 mm). They are not negative

@@ -78,7 +78,7 @@ double nearest(const std::vector<double>& peaks, double f) {
 // The modes are the maxima of |H| of the model: found here independently by a 1 Hz scan of the
 // per-frequency functions and golden-section search (test_util.hpp), to 1e-6 relative in
 // frequency (a maximum is flat: both searches stop at ~1e-8 of f where |H| no longer changes in
-// double precision) and 1e-9 in height. The example has five modes below 5 kHz (README: 916,
+// double precision) and 1e-9 in height. The example has five modes below 5 kHz (docs/files.md: 916,
 // 1600, 2585, 3629, 4554 Hz at the tool point). The block is the model's sweep, bit for bit,
 // though computed in blocks of 4096 frequencies for the progress reports.
 TEST(PredictStudy, ModesAreTheModelsPeaksFoundIndependently) {

@@ -1,4 +1,4 @@
-// The README's tutorial, run exactly as written: every ```sh block of its "## Tutorial" section, in
+// The tutorial (docs/tutorial.md), run exactly as written: every ```sh block of its "## Tutorial" section, in
 // order, by /bin/sh -e in a scratch folder that has `build/toolpoint` (the binary under test) and
 // `examples/` (the repository's) as the reader's checkout has them; then every promise the section
 // makes, checked against something independent of the commands that made it:
@@ -37,11 +37,11 @@ namespace {
 
 // The ```sh blocks between "## Tutorial" and the next "## " heading, joined.
 std::string tutorial_script() {
-  const std::string readme = read_text_file(std::string(TOOLPOINT_SOURCE_DIR) + "/README.md");
-  const std::size_t a = readme.find("\n## Tutorial");
-  EXPECT_NE(a, std::string::npos) << "README.md has no Tutorial section";
-  const std::size_t b = readme.find("\n## ", a + 5);
-  const std::string section = readme.substr(a, b == std::string::npos ? std::string::npos : b - a);
+  const std::string doc = read_text_file(std::string(TOOLPOINT_SOURCE_DIR) + "/docs/tutorial.md");
+  const std::size_t a = doc.find("\n## Tutorial");
+  EXPECT_NE(a, std::string::npos) << "docs/tutorial.md has no Tutorial section";
+  const std::size_t b = doc.find("\n## ", a + 5);
+  const std::string section = doc.substr(a, b == std::string::npos ? std::string::npos : b - a);
   std::string script;
   const std::regex block("```sh\n([\\s\\S]*?)```");
   for (auto it = std::sregex_iterator(section.begin(), section.end(), block); it != std::sregex_iterator(); ++it)
@@ -57,7 +57,7 @@ int run_in(const fs::path& dir, const std::string& command) {
 
 }  // namespace
 
-TEST(Tutorial, RunsAsWrittenInTheReadme) {
+TEST(Tutorial, RunsAsWrittenInTheDocs) {
   const std::string script = tutorial_script();
   ASSERT_NE(script.find("build/toolpoint identify"), std::string::npos) << script;
   const fs::path dir = fs::temp_directory_path() / ("toolpoint_tutorial_" + std::to_string(::getpid()));

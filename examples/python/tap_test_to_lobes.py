@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The README tutorial through the Python API: from a (virtual) tap test to an identified joint,
+"""The tutorial (docs/tutorial.md) through the Python API: from a (virtual) tap test to an identified joint,
 the tool point FRF at other overhangs, and stability lobes.
 
     PYTHONPATH=build/python python3 examples/python/tap_test_to_lobes.py [--bootstrap 200]

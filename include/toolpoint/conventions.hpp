@@ -3,7 +3,7 @@
 // Units: SI everywhere (m, kg, N, Pa, s, rad). Frequencies are in Hz at every interface (files,
 // options, results); formulas use Ω = 2πf in rad/s internally.
 //
-// Sign convention (see README "Conventions" for the sketch):
+// Sign convention (see docs/files.md, "Conventions", for the sketch):
 //
 //        spindle rear                                                tool tip
 //        ──────────────[spindle]──[holder]──[tool]──────────────────────► x

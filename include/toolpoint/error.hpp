@@ -1,5 +1,5 @@
 // toolpoint: typed exceptions. The library throws these and never prints or exits; the CLI's
-// main maps each type to a message and an exit code (see README "Exit codes").
+// main maps each type to a message and an exit code (see docs/files.md, "Exit codes").
 #pragma once
 
 #include <stdexcept>

@@ -55,7 +55,7 @@ struct ForwardCheckOptions {
   std::uint64_t seed = 1;                  // replicate r draws from stream_seed(seed, r)
   bool shared_calibration = false;         // B11 and G11 share one calibration factor (one sensor chain)
   ParallelOptions parallel;                // replicates on these threads (results identical for any count)
-  // Throws InvalidArgument naming ForwardCheckOptions::<field>.
+  // Throws InvalidArgument naming `ForwardCheckOptions::<field>`.
   void check() const;
 };
 

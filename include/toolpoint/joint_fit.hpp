@@ -57,7 +57,7 @@
 //     gives the standard error, never below the linearised one (a spread of N replicates has a
 //     Monte Carlo error of ~1/√(2N) itself; the correlations are the replicates'). Intervals:
 //     bias-corrected estimate ± z·SE, SE scaled up as above. Coverage of these intervals is
-//     measured over noise seeds in the tests and the README (JointFitCoverage).
+//     measured over noise seeds in the tests and docs/identification.md (JointFitCoverage).
 // A parameter is *determined* when its interval excludes 0 and is narrower than |estimate|.
 //
 // Several set-ups (the seed measured three overhangs; or several tools in one holder) share θ:

@@ -114,7 +114,7 @@ struct NoiseEstimateOptions {
   SavgolOptions local{7, 3};  // the local polynomial the residuals are taken about
   int window = 201;           // frequency points over which C is averaged (odd, ≥ 21)
   bool floor = true;          // estimate an additive floor beside the multiplicative noise
-  // Throws InvalidArgument naming NoiseEstimateOptions::local or ::window.
+  // Throws InvalidArgument naming NoiseEstimateOptions::local or NoiseEstimateOptions::window.
   void check() const;
 };
 
@@ -128,7 +128,7 @@ struct StatedNoise {
   double magnitude_sigma = 0.0;  // multiplicative: relative σ of the magnitude (0.05 = 5 %, the seed's noise)
   double phase_sigma_rad = 0.0;  // multiplicative: σ of the phase [rad]
   double floor = 0.0;            // additive: σ of each part relative to each entry's largest |x| (0.01 = 1 %)
-  // Throws InvalidArgument naming StatedNoise::<field>: negative or non-finite values, all zero
+  // Throws InvalidArgument naming `StatedNoise::<field>`: negative or non-finite values, all zero
   // (exact data: use exact_block_noise), or implausible ones (a σ or floor above 0.5 is a
   // percentage given as a number; a phase σ above 0.5 rad is degrees).
   void check() const;

@@ -54,7 +54,7 @@ struct FrfResampleOptions {
   std::optional<std::vector<double>> target_hz;      // interpolate onto these frequencies [Hz], strictly increasing
   std::string target_name = "the target grid";       // names the target in messages and the description
   Interpolation method = Interpolation::Linear;
-  // Throws InvalidArgument naming FrfResampleOptions::<field>: neither a band nor a target, an
+  // Throws InvalidArgument naming `FrfResampleOptions::<field>`: neither a band nor a target, an
   // inverted or non-finite band, an empty target.
   void check() const;
 };

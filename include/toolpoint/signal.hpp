@@ -151,7 +151,7 @@ struct NoiseOptions {
   double calibration = 0.0;  // σ of the series' calibration factor (0.02 = 2 %)
   int averages = 0;          // 0: the seed's single factor; ≥ 2: an averaged test with coherence
 
-  // Throws InvalidArgument naming NoiseOptions::<field>: σ, floor or calibration negative or not
+  // Throws InvalidArgument naming `NoiseOptions::<field>`: σ, floor or calibration negative or not
   // finite, a floor above 0.5 or a calibration above 0.1 (per cent given as a number), averages
   // of 1 or below 0 or above 10000.
   void check() const;

@@ -1,6 +1,6 @@
 // toolpoint Python bindings: conversions shared by the binding files.
 //
-// Conventions (those of pyFBS/SDynPy, README "Python"): frequencies in Hz as float64 arrays of
+// Conventions (those of pyFBS/SDynPy, docs/python.md): frequencies in Hz as float64 arrays of
 // shape (n,); a 2×2 receptance block series [[H, L], [N, P]] as complex128 (n, 2, 2); a single FRF
 // as complex128 (n,); a two-end component's end receptances as complex128 (n, 4, 4) over
 // (w1, θ1, w2, θ2), i.e. [[b11, b12], [b21, b22]] (coupling.hpp's as_matrix); SI units; enums as

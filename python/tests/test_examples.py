@@ -1,5 +1,5 @@
 """The Python examples run, and give what the CLI gives: demo.py prints `toolpoint demo`'s report
-line for line; tap_test_to_lobes.py gives the README tutorial's CLI results to the bit."""
+line for line; tap_test_to_lobes.py gives the tutorial's (docs/tutorial.md) CLI results to the bit."""
 import importlib.util
 import subprocess
 import sys
@@ -42,7 +42,7 @@ def test_demo_py_prints_the_cli_demo_report(tmp_path):
 
 def test_tap_test_to_lobes_follows_the_cli_tutorial(tmp_path):
     r = load("tap_test_to_lobes").main(["--bootstrap", "20", "--threads", "1", "--figures", str(tmp_path / "fig")])
-    # The tutorial's commands (README), binary UFF so the doubles pass through files unchanged.
+    # The tutorial's commands (docs/tutorial.md), binary UFF so the doubles pass through files unchanged.
     run_cli("taptest", EXAMPLE, "--at", "holder", "--spacing", 0.02, "--sigma", 0.005, "--binary", "--output", "tap_holder.uff", cwd=tmp_path)
     run_cli("taptest", EXAMPLE, "--at", "tool", "--spacing", 0.015, "--sigma", 0.005, "--seed", 11, "--binary", "--output", "tap_tool.uff",
             cwd=tmp_path)
@@ -72,14 +72,13 @@ def test_tap_test_to_lobes_follows_the_cli_tutorial(tmp_path):
     assert r["lobes"].to_dict()["pockets"] == lobes["pockets"]
 
 
-def test_the_readme_example_runs(tmp_path, monkeypatch):
-    # The README's Python section, as written (run in a scratch folder: it writes sht11.uff).
-    text = (SOURCE_DIR / "README.md").read_text()
-    section = text.split("## Python\n", 1)[1].split("\n## ", 1)[0]
-    code = section.split("```python\n", 1)[1].split("```", 1)[0]
+def test_the_docs_example_runs(tmp_path, monkeypatch):
+    # docs/python.md's example, as written (run in a scratch folder: it writes sht11.uff).
+    text = (SOURCE_DIR / "docs" / "python.md").read_text()
+    code = text.split("```python\n", 1)[1].split("```", 1)[0]
     monkeypatch.chdir(tmp_path)
     (tmp_path / "examples").symlink_to(SOURCE_DIR / "examples")
     scope = {}
-    exec(compile(code, "README.md", "exec"), scope)
+    exec(compile(code, "docs/python.md", "exec"), scope)
     assert [round(m.frequency_hz, 1) for m in scope["p"].modes] == [916.1, 1599.8, 2584.6, 3629.0, 4554.2]
     assert (tmp_path / "sht11.uff").exists() and len(code.strip().splitlines()) <= 12

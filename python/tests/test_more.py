@@ -88,3 +88,15 @@ def test_best_speeds_of_an_envelope(example, model):
     again = tp.stability_pockets(study.envelope, 5, 0.02)
     for key in ("speed_rpm", "depth_m", "lobe"):
         assert np.array_equal(again[key], study.pockets[key])
+
+
+def test_results_have_a_short_repr(example):
+    # Every result type with to_dict() gets a one-line summary built from it (its scalars first).
+    p = tp.run_prediction(example)
+    r = repr(p)
+    assert r.startswith(type(p).__name__ + "(") and len(r) < 600 and "\n" not in r
+    study = tp.run_precision_study(example, tool_spacing_m=0.015, holder_spacing_m=0.02, sigma=0.005)
+    r = repr(study)
+    assert r.startswith("PrecisionStudy(") and "route='Eq. (6)'" in r and "confidence=0.95" in r
+    typed = [getattr(tp, n) for n in dir(tp) if isinstance(getattr(tp, n), type) and hasattr(getattr(tp, n), "to_dict")]
+    assert typed and all("__repr__" in t.__dict__ for t in typed)

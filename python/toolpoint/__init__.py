@@ -41,3 +41,45 @@ from ._toolpoint import (  # noqa: F401  (named for readers and linters)
 from . import _toolpoint as _ext
 
 __all__ = [name for name in dir(_ext) if not name.startswith("_")] + ["__version__"]
+
+
+def _short(value, depth=0):
+    """A value of to_dict() in a few characters: numbers to 5 significant digits, long lists and
+    nested dicts by their size, so a result's repr fits on a line or two."""
+    if isinstance(value, float):
+        return f"{value:.5g}"
+    if isinstance(value, str):
+        return repr(value if len(value) <= 40 else value[:37] + "...")
+    if isinstance(value, list):
+        if len(value) <= 4 and all(isinstance(v, (int, float)) for v in value):
+            return "[" + ", ".join(_short(v) for v in value) + "]"
+        return f"[{len(value)} items]"
+    if isinstance(value, dict):
+        if depth > 0 or len(value) > 4:
+            return "{" + f"{len(value)} keys" + "}"
+        return "{" + ", ".join(f"{k}: {_short(v, depth + 1)}" for k, v in value.items()) + "}"
+    return repr(value)
+
+
+def _repr_from_dict(self):
+    """ClassName(key=value, ...) from the result's to_dict(): its scalar fields first, lists and
+    nested objects by size, at most 8 fields; ``.to_dict()`` has everything."""
+    try:
+        d = self.to_dict()
+    except Exception:  # a result that cannot convert still gets a repr
+        return f"<toolpoint.{type(self).__name__}>"
+    if not isinstance(d, dict):
+        return f"<toolpoint.{type(self).__name__}>"
+    keys = sorted(d, key=lambda k: isinstance(d[k], (list, dict)))
+    parts = [f"{k}={_short(d[k])}" for k in keys[:8]]
+    more = f", … {len(keys) - 8} more" if len(keys) > 8 else ""
+    return f"{type(self).__name__}({', '.join(parts)}{more})"
+
+
+for _name in dir(_ext):
+    _cls = getattr(_ext, _name)
+    if isinstance(_cls, type) and hasattr(_cls, "to_dict") and "__repr__" not in _cls.__dict__:
+        try:
+            _cls.__repr__ = _repr_from_dict
+        except (AttributeError, TypeError):  # a type that does not take attributes keeps its repr
+            pass

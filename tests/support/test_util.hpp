@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstdlib>
 #include <functional>
 #include <utility>
 #include <vector>
@@ -76,6 +77,12 @@ inline FrfSeries single(std::vector<Complex> values, double f0 = 10.0, double df
   for (std::size_t i = 0; i < values.size(); ++i) s.frequency_hz.push_back(f0 + df * static_cast<double>(i));
   s.values = std::move(values);
   return s;
+}
+
+// An integer from the environment (the long Monte Carlo studies' seed counts), or `fallback`.
+inline int env_int(const char* name, int fallback) {
+  const char* v = std::getenv(name);
+  return v ? std::atoi(v) : fallback;
 }
 
 }  // namespace toolpoint::test

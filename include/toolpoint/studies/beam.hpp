@@ -38,7 +38,7 @@ struct BeamStudyOptions {
   EndBlock block = EndBlock::T11;    // which end block
   BeamMethod method = BeamMethod::Exact;
   ModalOptions modal;  // BeamMethod::Modal: elastic modes summed, static residual
-  // Throws InvalidArgument naming BeamStudyOptions::<field> (modes < 0, a non-positive or
+  // Throws InvalidArgument naming `BeamStudyOptions::<field>` (modes < 0, a non-positive or
   // non-finite frequency, shear_coefficient ≤ 0, modal out of range); the geometry and the
   // material are checked by Segment::check() when the study builds the segment.
   void check() const;

@@ -10,7 +10,7 @@
 //     E(f) = FD[model's H_ij at the points](f) − model's tip block(f)
 // and measured − E removes it to the extent the model is right near the tip: what remains is of
 // first order in the model's error times the truncation error. On the example with the model's
-// spindle–holder joint twice too stiff: k_yf +11 % → −3.5 %, k_θm +8 % → −1.6 % (README Findings).
+// spindle–holder joint twice too stiff: k_yf +11 % → −3.5 %, k_θm +8 % → −1.6 % (docs/correctness.md, Findings).
 // The model's H_ij are the station receptances AssemblyModel::tool_stations / holder_stations
 // (the tool of the whole assembly; the holder with the tool outside removed), the points at
 // i·s from the tip, exactly the slots the measurement has (so reciprocity fills and the P method

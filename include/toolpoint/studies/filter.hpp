@@ -22,7 +22,7 @@ namespace toolpoint {
 struct FilterStudyOptions {
   SavgolOptions savgol;     // window [points] and order (the command has no defaults: it asks for both)
   PeakChangeOptions peaks;  // which peaks are compared and when a change is a warning
-  // Throws InvalidArgument naming SavgolOptions::<field> or PeakChangeOptions::<field>.
+  // Throws InvalidArgument naming `SavgolOptions::<field>` or `PeakChangeOptions::<field>`.
   void check() const;
 };
 

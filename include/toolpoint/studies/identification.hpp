@@ -76,18 +76,18 @@ struct NoiseSpec {
   double calibration = 0.0;
   bool calibration_shared = false;  // one sensor chain for every measured FRF: one factor for all
   int averages = 0;                 // averages behind a coherence column (0: the coherence is not used)
-  void check() const;               // throws InvalidArgument naming NoiseSpec::<field>
+  void check() const;               // throws InvalidArgument naming `NoiseSpec::<field>`
   StatedNoise stated() const { return {magnitude_sigma, phase_sigma_rad, floor}; }
 };
 
 struct VerdictOptions {
   // The forward check: its false-alarm probability, material tolerances, replicates. Its smoothing,
-  // seed and threads are the study's (IdentificationOptions::filter, ::fit).
+  // seed and threads are the study's (IdentificationOptions::filter, IdentificationOptions::fit).
   ForwardCheckOptions forward;
   // The band fit's residual ratio (JointFit::residual_ratio) above which the verdict is doubtful,
   // and fail: residuals that far beyond the noise are a model that does not describe the data.
   double residual_doubt = 1.5, residual_fail = 3.0;
-  void check() const;  // throws InvalidArgument naming VerdictOptions::<field>
+  void check() const;  // throws InvalidArgument naming `VerdictOptions::<field>`
 };
 
 struct IdentificationOptions {

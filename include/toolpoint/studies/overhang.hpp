@@ -44,7 +44,7 @@ struct OverhangStudyOptions {
   // is in place for the coupled FRFs themselves too (the band's nominal). None: no band.
   std::optional<JointFile> uncertain_joint;
   UncertaintyOptions band;  // the band's samples, seed, levels and threads (its progress: the study's)
-  // Throws InvalidArgument naming OverhangStudyOptions::<field> and the value.
+  // Throws InvalidArgument naming `OverhangStudyOptions::<field>` and the value.
   void check() const;
 };
 

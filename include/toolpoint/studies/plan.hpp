@@ -104,7 +104,7 @@ struct PlanOptions {
   MachineLimits machine;
   SafetyRule safety;
   ParallelOptions parallel;  // jobs (or one job's samples) on this many threads; results identical for any count
-  // Throws InvalidArgument naming PlanOptions::<field> (or the nested options' fields) and the value.
+  // Throws InvalidArgument naming `PlanOptions::<field>` (or the nested options' fields) and the value.
   void check() const;
 };
 
@@ -201,7 +201,7 @@ struct PlanPart {
 };
 
 // The header of the plan run_plan would compute: checks the options and candidates (InvalidArgument
-// naming PlanOptions::<field>, or `candidates[i]` and its field), filters the overhangs by the
+// naming `PlanOptions::<field>`, or `candidates[i]` and its field), filters the overhangs by the
 // minimum overhang (InvalidArgument when a candidate has none left).
 PlanHeader plan_header(const std::vector<PlanCandidate>& candidates, const PlanOptions& options);
 

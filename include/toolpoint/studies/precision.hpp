@@ -47,7 +47,7 @@ struct TapNoise {
   int averages = 1;                 // hits averaged per FRF
   double calibration = 0.0;         // σ of each tap test's calibration factor (one hammer, one sensor)
   bool shared_calibration = false;  // one sensor chain for both tap tests: one factor for both
-  void check() const;               // throws InvalidArgument naming TapNoise::<field>
+  void check() const;               // throws InvalidArgument naming `TapNoise::<field>`
 };
 
 struct PrecisionOptions {
@@ -58,7 +58,7 @@ struct PrecisionOptions {
   bool reciprocal = true;  // six parameters, as the identification's default
   double confidence = 0.95;
   std::optional<double> target;  // a relative half-width wanted for each parameter (0.01 = ±1 %)
-  void check() const;            // throws InvalidArgument naming PrecisionOptions::<field>
+  void check() const;            // throws InvalidArgument naming `PrecisionOptions::<field>`
 };
 
 struct ParameterPrecision {

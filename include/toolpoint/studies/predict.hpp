@@ -40,7 +40,7 @@ struct PredictOptions {
   // interface for the prediction itself too (its FRF and modes: the band's nominal). None: no band.
   std::optional<JointFile> uncertain_joint;
   UncertaintyOptions band;  // the band's samples, seed, levels and threads (its progress: the study's)
-  // Throws InvalidArgument naming PredictOptions::<field>.
+  // Throws InvalidArgument naming `PredictOptions::<field>`.
   void check() const;
 };
 

@@ -35,7 +35,7 @@ struct TapTestFileOptions {
   int order = 2;                        // the finite-difference order: points 0…order are read
   std::optional<FrfOrdinate> ordinate;  // what the values are (frf_file.hpp); default: the datasets' codes
   std::optional<FrfUnits> units;        // the values' units; default: the file's
-  // Throws InvalidArgument naming TapTestFileOptions::<field>: fewer nodes than points, a node
+  // Throws InvalidArgument naming `TapTestFileOptions::<field>`: fewer nodes than points, a node
   // named twice, a direction code outside −6…6, an order other than 1 or 2.
   void check() const;
 };

@@ -49,7 +49,7 @@ struct TapTestOptions {
   double floor = 0.0;
   int averages = 0;
   double calibration = 0.0;
-  // Throws InvalidArgument naming TapTestOptions::<field> and the value.
+  // Throws InvalidArgument naming `TapTestOptions::<field>` and the value.
   void check() const;
 };
 
