@@ -146,6 +146,7 @@ void to_json(nlohmann::json& j, const JointFit& f) {
        {"reciprocal", f.reciprocal},
        {"points", f.points},
        {"residual_ratio", number(f.residual_ratio)},
+       {"residual_calibration_share", number(f.residual_calibration_share)},
        {"iterations", f.iterations},
        {"converged", f.converged},
        {"correlation", matrix(f.correlation())},

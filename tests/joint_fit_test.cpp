@@ -163,6 +163,34 @@ TEST(JointFit, BootstrapIsIdenticalForAnyThreadCount) {
   }
 }
 
+// A stated calibration's misfit is one draw of a factor, not averaged over frequencies: data off by
+// a factor 1.05 (2.5 σ of a 2 % calibration) leave residuals several times the noise's, which the
+// calibration explains. Its share of the expected cost is reported, and residual_limit allows for
+// it at the stated probability; without a calibration the limit is the noise's alone. Independent
+// check of the share: the cost a factor δ adds is δ² (ΔᵀΩΔ − dᵀA⁻¹d) (the part the joint cannot
+// absorb), so the ratio's excess over 1 with the factor applied, divided by that with δ = σ, is
+// (δ/σ)² = 6.25 to within the noise's scatter of the ratio (±0.02 here) over the share.
+TEST(JointFit, ACalibrationsMisfitIsJudgedAsOneDraw) {
+  const RouteData d = route_data(example_assembly(), Route::HolderTool, grid(5.0));
+  JointFitData x = noisy_fit_data(d, 0.02, 77);
+  for (Block& b : x.G11.blocks) b *= 1.05;
+  for (Block& b : x.B11.blocks) b *= 1.05;
+  x.g_noise.calibration = x.b_noise.calibration = 0.02;
+  JointFitOptions o = linearised();
+  o.shared_calibration = true;  // one factor on both, as applied
+  const JointFit r = fit_joint({x}, {offset_start(d.truth)}, o);
+  const double s = r.residual_calibration_share;
+  ASSERT_GT(s, 0.05);
+  EXPECT_NEAR((r.residual_ratio - (1.0 - s)) / s, 6.25, 0.02 / s + 0.5) << r.residual_ratio << " share " << s;
+  EXPECT_GT(r.residual_ratio, 1.5);
+  EXPECT_LT(r.residual_ratio, residual_limit(r, 3.0, 0.99));
+  EXPECT_NEAR(residual_limit(r, 3.0, 0.99), 3.0 * (1.0 - s) + 6.634897 * s, 1e-5);
+  x.g_noise.calibration = x.b_noise.calibration = 0.0;
+  const JointFit plain = fit_joint({x}, {offset_start(d.truth)}, o);
+  EXPECT_EQ(plain.residual_calibration_share, 0.0);
+  EXPECT_EQ(residual_limit(plain, 3.0, 0.99), 3.0);
+}
+
 TEST(JointFit, BadInputGetsAClearMessage) {
   const RouteData d = route_data(example_assembly(), Route::HolderTool, grid(5.0));
   const JointFitData good = noisy_fit_data(d, 0.02, 1);

@@ -111,9 +111,9 @@ struct JointFitOptions {
   bool reciprocal = true;               // six parameters (k_θf = k_ym, c_θf = c_ym); false: all eight
   std::optional<SavgolOptions> filter;  // fit Savitzky–Golay filtered data (see above); default: raw
   UncertaintyMethod uncertainty = UncertaintyMethod::Bootstrap;
-  int bootstrap_samples = 200;           // replicates (≥ 20; the interval's own Monte Carlo error
-                                         // shrinks like 1/√N)
-  std::uint64_t seed = 1;                // of the bootstrap's noise draws (replicate b: stream_seed(seed, b))
+  int bootstrap_samples = 200;  // replicates (≥ 20; the interval's own Monte Carlo error
+                                // shrinks like 1/√N)
+  std::uint64_t seed = 1;       // of the bootstrap's noise draws (replicate b: stream_seed(seed, b))
   // The measured series' calibration (BlockNoise::calibration) is one factor for all of them (one
   // sensor chain), not one per series (set-ups with the same B11 data share its factor anyway).
   bool shared_calibration = false;
@@ -160,8 +160,13 @@ struct JointFit {
   bool reciprocal = true;
   std::size_t points = 0;  // frequencies fitted, all set-ups
   // Weighted residual sum over its expectation under the noise models (≈ 1 when the model and the
-  // noise models explain the data; NaN for exact data). Intervals are widened by √ratio above 1.1.
+  // noise models explain the data; NaN for exact data). Intervals are widened by √ratio above 1.1
+  // (above residual_limit(fit, 1.1, 0.95) with a stated calibration).
   double residual_ratio = 0.0;
+  // The stated calibration's share of that expectation. The noise's share concentrates (a sum
+  // over thousands of frequencies); the calibration's is one draw of a factor per FRF, c σ² χ²₁:
+  // a ratio is judged with residual_limit, not against a fixed number.
+  double residual_calibration_share = 0.0;
   int iterations = 0;
   bool converged = false;
   std::vector<SetupFit> setups;                           // each set-up alone (only with several)
@@ -172,6 +177,12 @@ struct JointFit {
   Eigen::Matrix<double, 8, 8> correlation() const;
   bool determined(JointParameter p) const { return intervals[static_cast<std::size_t>(p)].determined; }
 };
+
+// The residual ratio that the noise at `noise_limit` times its expectation, plus the stated
+// calibration factors at their `probability` quantile, reach: noise_limit (1 − s) + χ²₁(p) s, s the
+// calibration's share (conservative for several factors: a weighted sum of χ²₁ has a lighter tail
+// than one χ²₁ of the same mean). Without a calibration it is noise_limit.
+double residual_limit(const JointFit& fit, double noise_limit, double probability);
 
 // Fits the joint to the set-ups (all on their own grids; give each only the band to be fitted)
 // from the best of `starts` (lowest weighted cost; at least one). Throws InvalidArgument (options,

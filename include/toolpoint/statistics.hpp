@@ -9,8 +9,9 @@ namespace toolpoint {
 // Throws InvalidArgument outside (0, 1).
 double normal_quantile(double p);
 
-// The quantile of χ² with `dof` degrees of freedom at p in (0, 1), by the Wilson–Hilferty cube
-// (relative error below 1e-3 for dof ≥ 3 at the usual levels). Throws InvalidArgument for dof ≤ 0.
+// The quantile of χ² with `dof` degrees of freedom at p in (0, 1): exact for 1 and 2 degrees
+// (a squared normal, an exponential), else Newton on the regularised incomplete gamma from the
+// Wilson–Hilferty cube (to 1e-12 relative). Throws InvalidArgument for dof ≤ 0 or p outside (0, 1).
 double chi_square_quantile(double p, double dof);
 
 // The type-7 quantile at level p in [0, 1] of `values` (numpy's default; sorted here; NaN values

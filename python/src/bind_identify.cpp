@@ -428,6 +428,7 @@ void bind_identify(py::module_& m) {
       .def_readonly("reciprocal", &JointFit::reciprocal)
       .def_readonly("points", &JointFit::points)
       .def_readonly("residual_ratio", &JointFit::residual_ratio)
+      .def_readonly("residual_calibration_share", &JointFit::residual_calibration_share)
       .def_readonly("iterations", &JointFit::iterations)
       .def_readonly("converged", &JointFit::converged)
       .def_readonly("transfers", &JointFit::transfers)

@@ -128,10 +128,10 @@ JointFile joint_file_of(const Identification& id, const std::vector<std::string>
     if (!id.b_noise[s].exact()) add(("noise_b11" + suffix).c_str(), id.b_noise[s].summary());
   }
   if (!id.g_noise.empty())
-    add("calibration", id.g_noise.front().calibration > 0.0
-                           ? fmt::format("{:g} (σ of each measured FRF's sensitivity, stated; in the intervals)",
-                                         id.g_noise.front().calibration)
-                           : std::string("0 (the sensors taken as exact)"));
+    add("calibration",
+        id.g_noise.front().calibration > 0.0
+            ? fmt::format("{:g} (σ of each measured FRF's sensitivity, stated; in the intervals)", id.g_noise.front().calibration)
+            : std::string("0 (the sensors taken as exact)"));
   add("verdict", to_string(id.verdict.verdict));
   for (std::size_t i = 0; i < inputs.size(); ++i) add(fmt::format("input_{}", i + 1).c_str(), inputs[i]);
   add("toolpoint_version", TOOLPOINT_VERSION);
@@ -197,12 +197,12 @@ BlockNoise noise_of(const BlockSeries& s, const std::vector<double>& coherence, 
     }
   }
   if (!coherence.empty()) {
-    if (spec.averages > 0)
-      apply_coherence(n, coherence, spec.averages, name);
+    if (spec.averages > 0) apply_coherence(n, coherence, spec.averages, name);
     else
-      warnings.push_back(fmt::format("{}: its coherence column is not used: the number of averages behind it is not given "
-                                     "(NoiseSpec::averages)",
-                                     name));
+      warnings.push_back(
+          fmt::format("{}: its coherence column is not used: the number of averages behind it is not given "
+                      "(NoiseSpec::averages)",
+                      name));
   }
   n.calibration = spec.calibration;
   return n;
@@ -246,13 +246,22 @@ void judge(Identification& r, const IdentificationOptions& o, bool same_data) {
   }
   if (r.fit) {
     if (!r.fit->converged) fail.push_back("the fit did not converge");
-    const double ratio = r.fit->residual_ratio;
-    if (std::isfinite(ratio) && ratio > o.verdict.residual_fail)
-      fail.push_back(fmt::format("the fitted model leaves residuals {:.2g}× what the noise explains (fail above {:g}): the "
-                                 "model does not describe these data",
-                                 ratio, o.verdict.residual_fail));
-    else if (std::isfinite(ratio) && ratio > o.verdict.residual_doubt)
-      doubt.push_back(fmt::format("the fitted model leaves residuals {:.2g}× what the noise explains", ratio));
+    // With a stated calibration the limits grow by what its factors make at the false-alarm level.
+    const double ratio = r.fit->residual_ratio, level = 1.0 - o.verdict.forward.false_alarm;
+    const double fail_above = residual_limit(*r.fit, o.verdict.residual_fail, level),
+                 doubt_above = residual_limit(*r.fit, o.verdict.residual_doubt, level);
+    const std::string calibrated = r.fit->residual_calibration_share > 0.0
+                                       ? fmt::format(", the stated calibration's {:.0f} % share of it included",
+                                                     100 * r.fit->residual_calibration_share)
+                                       : std::string();
+    if (std::isfinite(ratio) && ratio > fail_above)
+      fail.push_back(
+          fmt::format("the fitted model leaves residuals {:.2g}× what the noise explains (fail above {:.3g}{}): the "
+                      "model does not describe these data",
+                      ratio, fail_above, calibrated));
+    else if (std::isfinite(ratio) && ratio > doubt_above)
+      doubt.push_back(fmt::format("the fitted model leaves residuals {:.2g}× what the noise explains (doubtful above {:.3g}{})",
+                                  ratio, doubt_above, calibrated));
     if (!r.fit->transfers) doubt.push_back("the joint does not transfer between the set-ups");
     for (JointParameter k : {JointParameter::k_yf, JointParameter::k_tm})
       if (!r.fit->intervals[static_cast<std::size_t>(k)].determined)
@@ -394,8 +403,8 @@ Identification identify_joint_from_frfs(const Assembly& assembly, const std::vec
 
   // Noise of every measured series (the fit's weights and bootstrap; the verdict reads its warnings).
   for (std::size_t s = 0; s < setups.size(); ++s) {
-    r.g_noise.push_back(noise_of(data[s].G11, data[s].g_coherence, data[s].g_name.empty() ? "G11" : data[s].g_name, o.noise,
-                                 r.warnings));
+    r.g_noise.push_back(
+        noise_of(data[s].G11, data[s].g_coherence, data[s].g_name.empty() ? "G11" : data[s].g_name, o.noise, r.warnings));
     r.b_noise.push_back(setups[s].b_measured ? noise_of(setups[s].B, data[s].b_coherence,
                                                         data[s].b_name.empty() ? "B11" : data[s].b_name, o.noise, r.warnings)
                                              : exact_block_noise());
@@ -483,8 +492,8 @@ Identification identify_joint_from_frfs(const Assembly& assembly, const std::vec
     fc.seed = o.fit.seed;
     fc.parallel = o.fit.parallel;
     fc.shared_calibration = o.noise.calibration_shared;
-    const std::optional<Eigen::Matrix<double, 8, 8>> cov =
-        r.fit ? std::optional(r.fit->covariance) : std::optional<Eigen::Matrix<double, 8, 8>>();
+    const std::optional<Eigen::Matrix<double, 8, 8>> cov = r.fit ? std::optional(r.fit->covariance)
+                                                                 : std::optional<Eigen::Matrix<double, 8, 8>>();
     for (const JointFitData& x : full) r.forward_checks.push_back(check_forward(x, r.identified, fc, cov));
   }
   judge(r, o, s0.b_measured && s0.B.blocks == d0.G11.blocks);
