@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "toolpoint/assembly_file.hpp"
-#include "toolpoint/case_study.hpp"
+#include "toolpoint/studies/case_study.hpp"
 #include "toolpoint/error.hpp"
 
 using namespace toolpoint;

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "support/joint_data.hpp"
-#include "toolpoint/case_study.hpp"
+#include "toolpoint/studies/case_study.hpp"
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/modal_fit.hpp"
 #include "toolpoint/plot.hpp"

@@ -10,7 +10,7 @@
 
 #include "cli.hpp"
 #include "toolpoint/assembly_file.hpp"
-#include "toolpoint/case_study.hpp"
+#include "toolpoint/studies/case_study.hpp"
 #include "toolpoint/identify_io.hpp"
 #include "toolpoint/io.hpp"
 #include "toolpoint/json.hpp"

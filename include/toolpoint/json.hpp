@@ -25,7 +25,7 @@
 #include <nlohmann/json.hpp>
 
 #include "toolpoint/beam.hpp"
-#include "toolpoint/case_study.hpp"
+#include "toolpoint/studies/case_study.hpp"
 #include "toolpoint/frf_file.hpp"
 #include "toolpoint/identify.hpp"
 #include "toolpoint/joint_fit.hpp"

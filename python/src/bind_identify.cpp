@@ -5,7 +5,7 @@
 #include <algorithm>
 
 #include "common.hpp"
-#include "toolpoint/case_study.hpp"
+#include "toolpoint/studies/case_study.hpp"
 #include "toolpoint/identify.hpp"
 #include "toolpoint/joint_file.hpp"
 #include "toolpoint/joint_fit.hpp"

@@ -1,5 +1,5 @@
 // toolpoint: the seed's analytical case study (Section 3).
-#include "toolpoint/case_study.hpp"
+#include "toolpoint/studies/case_study.hpp"
 
 #include <cmath>
 #include <fmt/format.h>

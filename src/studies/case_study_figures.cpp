@@ -2,7 +2,7 @@
 // forward check. Units: frequency Hz, FRFs m/N, joint parameters SI (JointParameters::unit).
 #include <fmt/format.h>
 
-#include "toolpoint/case_study.hpp"
+#include "toolpoint/studies/case_study.hpp"
 
 namespace toolpoint {
 
