@@ -13,6 +13,7 @@
 #include "toolpoint/frf_file.hpp"
 #include "toolpoint/io.hpp"
 #include "toolpoint/resample.hpp"
+#include "toolpoint/studies/resample.hpp"
 #include "support/scratch.hpp"
 #include "support/variants.hpp"
 

@@ -8,6 +8,7 @@
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/resample.hpp"
+#include "toolpoint/studies/resample.hpp"
 
 namespace toolpoint::cli {
 

@@ -6,6 +6,7 @@
 #include "toolpoint/json.hpp"
 #include "toolpoint/peaks.hpp"
 #include "toolpoint/resample.hpp"
+#include "toolpoint/studies/resample.hpp"
 #include "toolpoint/signal.hpp"
 #include "toolpoint/studies/filter.hpp"
 #include "toolpoint/studies/rotational.hpp"
