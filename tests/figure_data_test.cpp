@@ -13,6 +13,7 @@
 #include "toolpoint/studies/case_study.hpp"
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/modal_fit.hpp"
+#include "toolpoint/studies/modal_fit.hpp"
 #include "toolpoint/plot.hpp"
 #include "toolpoint/studies/identification.hpp"
 

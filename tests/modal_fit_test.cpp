@@ -9,6 +9,7 @@
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/modal_fit.hpp"
+#include "toolpoint/studies/modal_fit.hpp"
 
 using namespace toolpoint;
 

@@ -12,6 +12,7 @@
 #include "toolpoint/io.hpp"
 #include "toolpoint/json.hpp"
 #include "toolpoint/modal_fit.hpp"
+#include "toolpoint/studies/modal_fit.hpp"
 #include "toolpoint/plot.hpp"
 
 namespace toolpoint::cli {

@@ -30,6 +30,7 @@
 #include "toolpoint/identify.hpp"
 #include "toolpoint/joint_fit.hpp"
 #include "toolpoint/modal_fit.hpp"
+#include "toolpoint/studies/modal_fit.hpp"
 #include "toolpoint/noise.hpp"
 #include "toolpoint/peaks.hpp"
 #include "toolpoint/signal.hpp"

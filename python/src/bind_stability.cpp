@@ -4,6 +4,7 @@
 #include "common.hpp"
 #include "toolpoint/json.hpp"
 #include "toolpoint/modal_fit.hpp"
+#include "toolpoint/studies/modal_fit.hpp"
 #include "toolpoint/stability.hpp"
 #include "toolpoint/studies/lobes.hpp"
 #include "toolpoint/uncertainty.hpp"
