@@ -20,20 +20,9 @@ namespace toolpoint {
 
 namespace {
 
-using Vec8 = Eigen::Matrix<double, 8, 1>;
 using Jac = Eigen::Matrix<double, 8, Eigen::Dynamic>;
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
-
-// The 8 real parts of a block, entries H, L, N, P (noise.hpp's order).
-Vec8 vec8(const Block& b) {
-  Vec8 v;
-  for (int e = 0; e < 4; ++e) {
-    v(2 * e) = b(e / 2, e % 2).real();
-    v(2 * e + 1) = b(e / 2, e % 2).imag();
-  }
-  return v;
-}
 
 // ---- Parameters ------------------------------------------------------------------------------
 
@@ -336,6 +325,24 @@ struct Solution {
 };
 
 // Minimises the summed cost over the set-ups with their current weights, data (B, G) per set-up.
+// Anderson's point (Walker & Ni 2011, type II) from the fixed-point map q → q + δ(q) and its last
+// iterates: q + δ − (ΔQ + ΔF) γ, γ minimising |δ − ΔF γ| in the metric A (ΔF, ΔQ: the differences
+// of the current step and point to the remembered ones).
+VectorXd anderson_point(const VectorXd& q, const VectorXd& step, const std::vector<VectorXd>& past_q,
+                        const std::vector<VectorXd>& past_step, const MatrixXd& A) {
+  const auto m = static_cast<Eigen::Index>(past_q.size());
+  MatrixXd dF(q.size(), m), dQ(q.size(), m);
+  for (Eigen::Index j = 0; j < m; ++j) {
+    const auto k = static_cast<std::size_t>(j);
+    dF.col(j) = step - past_step[k];
+    dQ.col(j) = q - past_q[k];
+  }
+  MatrixXd N = dF.transpose() * A * dF;
+  N.diagonal() += 1e-12 * N.diagonal().cwiseAbs().maxCoeff() * VectorXd::Ones(m);
+  const VectorXd gamma = N.ldlt().solve(dF.transpose() * (A * step));
+  return q + step - (dQ + dF) * gamma;
+}
+
 // Converged when the last Gauss–Newton step δ has δᵀ A δ < `tolerance` (its size in standard
 // errors squared: 1e-6 is a thousandth of one).
 Solution minimise(const std::vector<Setup>& setups, const std::vector<const BlockSeries*>& B,
@@ -368,7 +375,22 @@ Solution minimise(const std::vector<Setup>& setups, const std::vector<const Bloc
     const VectorXd d = cur.A.diagonal().cwiseMax(1e-30 * cur.A.diagonal().maxCoeff());
     bool accepted = false;
     VectorXd step;
-    bool first = true;
+    // Takes the point `to` with its normal equations `next`; `remember`: q and its step join the
+    // Anderson history (Gauss–Newton steps only: a damped step is another map).
+    auto accept = [&](VectorXd to, Current next, bool remember) {
+      if (remember) {
+        past_q.push_back(q);
+        past_step.push_back(step);
+      } else {
+        past_q.clear();
+        past_step.clear();
+      }
+      q = std::move(to);
+      cur = std::move(next);
+      lambda = std::max(lambda / 10.0, 1e-12);
+      accepted = true;
+    };
+    bool try_accelerated = lambda <= 1e-3 && !past_q.empty();
     while (lambda < 1e16) {
       MatrixXd M = cur.A;
       M.diagonal() += lambda * d;
@@ -377,49 +399,24 @@ Solution minimise(const std::vector<Setup>& setups, const std::vector<const Bloc
         lambda *= 10.0;
         continue;
       }
-      if (first && lambda <= 1e-3 && !past_q.empty()) {
-        const auto m = static_cast<Eigen::Index>(past_q.size());
-        MatrixXd dF(p, m), dQ(p, m);
-        for (Eigen::Index j = 0; j < m; ++j) {
-          const auto k = static_cast<std::size_t>(j);
-          dF.col(j) = step - past_step[k];
-          dQ.col(j) = q - past_q[k];
-        }
-        MatrixXd N = dF.transpose() * cur.A * dF;
-        N.diagonal() += 1e-12 * N.diagonal().cwiseAbs().maxCoeff() * VectorXd::Ones(m);
-        const VectorXd gamma = N.ldlt().solve(dF.transpose() * (cur.A * step));
-        const VectorXd accelerated = q + step - (dQ + dF) * gamma;
+      if (try_accelerated) {
+        try_accelerated = false;
+        const VectorXd accelerated = anderson_point(q, step, past_q, past_step, cur.A);
         if (accelerated.allFinite()) {
           try {
             Current next = normal(accelerated, true);
             if (next.cost <= cur.cost) {
-              past_q.push_back(q);
-              past_step.push_back(step);
-              q = accelerated;
-              cur = std::move(next);
-              lambda = std::max(lambda / 10.0, 1e-12);
-              accepted = true;
+              accept(accelerated, std::move(next), true);
               break;
             }
           } catch (const NumericalError&) {}
         }
       }
-      first = false;
       // The trial with its Jacobian: steps are rarely rejected, so this saves a pass.
       const VectorXd trial = q + step;
       Current next = normal(trial, true);
       if (next.cost <= cur.cost) {
-        if (lambda <= 1e-3) {
-          past_q.push_back(q);
-          past_step.push_back(step);
-        } else {
-          past_q.clear();
-          past_step.clear();
-        }
-        q = trial;
-        cur = std::move(next);
-        lambda = std::max(lambda / 10.0, 1e-12);
-        accepted = true;
+        accept(trial, std::move(next), lambda <= 1e-3);
         break;
       }
       lambda *= 10.0;

@@ -60,7 +60,8 @@ namespace {
 std::array<double, 4> peaks_of(const BlockSeries& data) {
   std::array<double, 4> p{};
   for (const Block& b : data.blocks)
-    for (int e = 0; e < 4; ++e) p[static_cast<std::size_t>(e)] = std::max(p[static_cast<std::size_t>(e)], std::abs(b(e / 2, e % 2)));
+    for (int e = 0; e < 4; ++e)
+      p[static_cast<std::size_t>(e)] = std::max(p[static_cast<std::size_t>(e)], std::abs(b(e / 2, e % 2)));
   return p;
 }
 
@@ -69,6 +70,15 @@ void set_floor_relative(BlockNoise& n, const std::array<double, 4>& peaks) {
 }
 
 }  // namespace
+
+Vec8 vec8(const Block& b) {
+  Vec8 v;
+  for (int e = 0; e < 4; ++e) {
+    v(2 * e) = b(e / 2, e % 2).real();
+    v(2 * e + 1) = b(e / 2, e % 2).imag();
+  }
+  return v;
+}
 
 Cov8 polar_frame(const Block& x) {
   Cov8 r = Cov8::Zero();
@@ -197,7 +207,7 @@ void estimate_floor(const BlockSeries& data, const BlockSeries& smooth, double k
         if (den > 0.0) {
           ac[c] = std::max(0.0, num / den);
           se[c] = std::sqrt(2.0 / den);  // each square has variance 2E²
-        } else {  // no variance at all yet here: start the floor from the squares
+        } else {                         // no variance at all yet here: start the floor from the squares
           double sum = 0.0;
           for (std::size_t i = begin_of(c); i < end_of(c); ++i) sum += 0.5 * (q[0][i] + q[1][i]);
           ac[c] = sum / static_cast<double>(end_of(c) - begin_of(c));
@@ -407,15 +417,14 @@ void StatedNoise::check() const {
        {std::tuple{"StatedNoise::magnitude_sigma", magnitude_sigma, 0.5, "a relative σ: 0.05 for 5 %"},
         std::tuple{"StatedNoise::phase_sigma_rad", phase_sigma_rad, 0.5, "in radians: 1° is 0.01745 rad"},
         std::tuple{"StatedNoise::floor", floor, 0.5, "relative to each entry's peak: 0.01 for 1 %"}}) {
-    if (!(v >= 0.0 && std::isfinite(v)))
-      throw InvalidArgument(fmt::format("{} = {} must be finite and ≥ 0", name, v), hint);
-    if (v > limit)
-      throw InvalidArgument(fmt::format("{} = {} is above {}: no measured FRF is that noisy", name, v, limit), hint);
+    if (!(v >= 0.0 && std::isfinite(v))) throw InvalidArgument(fmt::format("{} = {} must be finite and ≥ 0", name, v), hint);
+    if (v > limit) throw InvalidArgument(fmt::format("{} = {} is above {}: no measured FRF is that noisy", name, v, limit), hint);
   }
   if (magnitude_sigma == 0.0 && phase_sigma_rad == 0.0 && floor == 0.0)
-    throw InvalidArgument("StatedNoise::magnitude_sigma 0, StatedNoise::phase_sigma_rad 0 rad and StatedNoise::floor 0: stated "
-                          "noise is not all zero",
-                          "state the noise the data have; for exact (model) data use no noise at all");
+    throw InvalidArgument(
+        "StatedNoise::magnitude_sigma 0, StatedNoise::phase_sigma_rad 0 rad and StatedNoise::floor 0: stated "
+        "noise is not all zero",
+        "state the noise the data have; for exact (model) data use no noise at all");
 }
 
 BlockNoise stated_block_noise(const BlockSeries& data, const StatedNoise& stated) {
@@ -434,8 +443,8 @@ BlockNoise stated_block_noise(const BlockSeries& data, const StatedNoise& stated
     for (int e = 0; e < 4; ++e) a(e) = std::pow(stated.floor * peaks[static_cast<std::size_t>(e)], 2);
     out.additive.assign(data.size(), a);
   }
-  out.source = fmt::format("stated: relative magnitude σ = {:g} %, phase σ = {:g}°{} on every entry", 100 * stated.magnitude_sigma,
-                           stated.phase_sigma_rad * 180.0 / std::numbers::pi,
+  out.source = fmt::format("stated: relative magnitude σ = {:g} %, phase σ = {:g}°{} on every entry",
+                           100 * stated.magnitude_sigma, stated.phase_sigma_rad * 180.0 / std::numbers::pi,
                            stated.floor > 0.0 ? fmt::format(", a floor of {:g} % of each entry's peak", 100 * stated.floor)
                                               : std::string());
   out.residual_correlation = std::numeric_limits<double>::quiet_NaN();
@@ -455,13 +464,14 @@ double h1_relative_variance(double coherence, int averages) {
 }
 
 void apply_coherence(BlockNoise& noise, const std::vector<double>& coherence, int averages, const std::string& what) {
-  if (noise.exact())
-    throw InvalidArgument(fmt::format("{}: a coherence cannot be applied to exact data's noise", what));
+  if (noise.exact()) throw InvalidArgument(fmt::format("{}: a coherence cannot be applied to exact data's noise", what));
   if (averages < 2)
-    throw InvalidArgument(fmt::format("{}: {} averages: the coherence needs the number of averages (≥ 2) behind it", what, averages),
+    throw InvalidArgument(fmt::format("{}: {} averages: the coherence needs the number of averages (≥ 2) behind it", what,
+                                      averages),
                           "give the number of averages the measurement software used");
   if (coherence.size() != noise.size())
-    throw InputError(fmt::format("{}: the coherence column has {} values for {} frequencies", what, coherence.size(), noise.size()),
+    throw InputError(fmt::format("{}: the coherence column has {} values for {} frequencies", what, coherence.size(),
+                                 noise.size()),
                      "give one coherence value per frequency");
   for (std::size_t i = 0; i < coherence.size(); ++i)
     if (!(coherence[i] >= 0.0 && coherence[i] <= 1.0))
@@ -519,7 +529,8 @@ std::string BlockNoise::summary() const {
   std::string s = fmt::format("magnitude σ {:.3g} % (H) … {:.3g} % (P), phase σ {:.3g}° (H)", 100 * magnitude_sigma[0],
                               100 * magnitude_sigma[3], phase_sigma_rad[0] * 180 / std::numbers::pi);
   if (has_floor())
-    s += fmt::format("; floor {:.3g} % (H) … {:.3g} % (P) of each entry's peak", 100 * floor_relative[0], 100 * floor_relative[3]);
+    s += fmt::format("; floor {:.3g} % (H) … {:.3g} % (P) of each entry's peak", 100 * floor_relative[0],
+                     100 * floor_relative[3]);
   if (!coherence.empty()) s += "; " + coherence;
   if (calibration > 0.0) s += fmt::format("; calibration σ {:g} % (stated)", 100 * calibration);
   return s + "; " + source;

@@ -67,6 +67,10 @@
 namespace toolpoint {
 
 using Cov8 = Eigen::Matrix<double, 8, 8>;
+using Vec8 = Eigen::Matrix<double, 8, 1>;
+
+// The 8 real parts of a block: Re and Im of H, L, N, P, in that order (the order of Cov8's rows).
+Vec8 vec8(const Block& b);
 
 // R(x): ε_e = x_e ρ_e as a real 8×8 map from the relative parts to the absolute ones.
 Cov8 polar_frame(const Block& x);
@@ -164,8 +168,7 @@ void apply_coherence(BlockNoise& noise, const std::vector<double>& coherence, in
 // (standard_normals of signal.hpp: 8 numbers per frequency in frequency order for C; the floor and
 // δ from streams of their own, so a model without them draws exactly as a multiplicative one).
 // Exact noise returns `truth`. Throws InvalidArgument when the sizes differ.
-BlockSeries draw_block_noise(const BlockSeries& truth, const BlockNoise& noise, std::uint64_t seed,
-                             bool with_calibration = true);
+BlockSeries draw_block_noise(const BlockSeries& truth, const BlockNoise& noise, std::uint64_t seed, bool with_calibration = true);
 
 // The standard normal behind the calibration factor of draw_block_noise(…, seed): δ = calibration × it.
 double calibration_normal(std::uint64_t seed);

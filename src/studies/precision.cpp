@@ -81,14 +81,7 @@ BlockNoise tap_test_block_noise(const PointFrfs& frfs, const RotationalOptions& 
         const double var = (noise.sigma * noise.sigma * std::norm(h.values[k]) / 2.0 + std::pow(noise.floor * peak, 2)) /
                            static_cast<double>(noise.averages);
         for (int part = 0; part < 2; ++part) {
-          Eigen::Matrix<double, 8, 1> d;
-          for (int e = 0; e < 4; ++e) {
-            const Complex x = (moved[static_cast<std::size_t>(part)].block.blocks[k](e / 2, e % 2) -
-                               base.block.blocks[k](e / 2, e % 2)) /
-                              step;
-            d(2 * e) = x.real();
-            d(2 * e + 1) = x.imag();
-          }
+          const Vec8 d = vec8((moved[static_cast<std::size_t>(part)].block.blocks[k] - base.block.blocks[k]) / step);
           sigma[k].noalias() += var * d * d.transpose();
         }
       }
@@ -98,16 +91,13 @@ BlockNoise tap_test_block_noise(const PointFrfs& frfs, const RotationalOptions& 
   BlockNoise out;
   out.relative.resize(n);
   for (std::size_t k = 0; k < n; ++k) {
-    Cov8 rinv = Cov8::Zero();
+    // R(x)⁻¹ = R(1/x) entry by entry.
+    Block inverse = Block::Zero();
     for (int e = 0; e < 4; ++e) {
       const Complex x = block.blocks[k](e / 2, e % 2);
-      if (!(std::abs(x) > 0.0)) continue;
-      const Complex y = 1.0 / x;
-      rinv(2 * e, 2 * e) = y.real();
-      rinv(2 * e, 2 * e + 1) = -y.imag();
-      rinv(2 * e + 1, 2 * e) = y.imag();
-      rinv(2 * e + 1, 2 * e + 1) = y.real();
+      if (std::abs(x) > 0.0) inverse(e / 2, e % 2) = 1.0 / x;
     }
+    const Cov8 rinv = polar_frame(inverse);
     out.relative[k] = rinv * sigma[k] * rinv.transpose();
   }
   out.calibration = noise.calibration;
