@@ -29,6 +29,7 @@ packages=(build-essential cmake pkg-config libeigen3-dev libcli11-dev libfmt-dev
           nlohmann-json3-dev libsleef-dev libspectra-dev gnuplot-nox)
 if [ "$job" != demo ]; then
   packages+=(libgtest-dev libbenchmark-dev python3-dev pybind11-dev python3-numpy python3-pytest
+             python3-pip python3-venv python3-setuptools python3-wheel  # `pip install .` into a venv (test Python.pip_install)
              clang libclang-rt-14-dev   # clang + libFuzzer for the fuzz targets (scripts/fuzz.sh)
              slurm-wlm munge            # a real single-node Slurm for the batch path's test (tests/slurm/)
              python3-kubernetes python3-yaml   # the Kubernetes Job schema, to check deploy/*.yaml
