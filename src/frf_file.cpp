@@ -412,7 +412,8 @@ UffDataset58 uff_coherence(const std::vector<double>& f, const std::vector<doubl
 
 std::vector<double> uff_coherence_values(const UffDataset58& d, const std::string& source) {
   if (d.function_type != 6)
-    throw InputError(fmt::format("{}: dataset {} is a {}, not a coherence", source, d.index, uff_function_type_name(d.function_type)));
+    throw InputError(
+        fmt::format("{}: dataset {} is a {}, not a coherence", source, d.index, uff_function_type_name(d.function_type)));
   std::vector<double> out;
   out.reserve(d.y.size());
   for (std::size_t i = 0; i < d.y.size(); ++i) {
@@ -585,30 +586,30 @@ bool csv_options_given(const FrfCsvOptions& c) { return c.format.has_value() || 
 
 namespace {
 
-// The largest |H| of what was read (the H entry of a block) against the plausible range of a tool
+// The largest |H| from 5 Hz up (the H entry of a block) against the plausible range of a tool
 // point receptance: a unit slip (µm/N read as m/N) or data that is not a receptance at all. An
 // impossible magnitude is refused, since every result downstream would be out of range too.
-void judge_peak_receptance(FrfFileData& data, const std::string& path) {
+// `from_file`: the fix speaks of the file's units, else of the data's.
+template <class H>
+void judge_peak_receptance(const std::vector<double>& f, H h, std::vector<std::string>& warnings, const std::string& what,
+                           bool from_file) {
   // From 5 Hz up: below, a mobility or accelerance converted to receptance (÷ω, ÷ω²) is its noise
   // magnified, and no structural mode of a machine tool lies there.
   constexpr double kFrom = 5.0;
   double peak = 0.0;
-  if (data.is_block) {
-    for (std::size_t i = 0; i < data.block.size(); ++i)
-      if (data.block.frequency_hz[i] >= kFrom) peak = std::max(peak, std::abs(H_of(data.block.blocks[i])));
-  } else {
-    for (std::size_t i = 0; i < data.single.size(); ++i)
-      if (data.single.frequency_hz[i] >= kFrom) peak = std::max(peak, std::abs(data.single.values[i]));
-  }
+  for (std::size_t i = 0; i < f.size(); ++i)
+    if (f[i] >= kFrom) peak = std::max(peak, std::abs(h(i)));
   if (peak == 0.0) return;  // nothing above 5 Hz, or an all-zero file (refused where it is used)
   const PlausibleRange& range = plausible::kPeakReceptance;
-  const std::string what = fmt::format("{}: the largest receptance magnitude |H| [m/N]", path);
+  const std::string about = fmt::format("{}: the largest receptance magnitude |H| [m/N]", what);
   switch (judge(range, peak)) {
     case Plausibility::Usual: break;
-    case Plausibility::Unusual: data.warnings.push_back(plausibility_message(range, peak, what)); break;
+    case Plausibility::Unusual: warnings.push_back(plausibility_message(range, peak, about)); break;
     case Plausibility::Impossible:
-      throw InputError(plausibility_message(range, peak, what),
-                       "read the file in its units (FrfReadOptions::units, e.g. um/N or mm/N), or check that it holds an FRF");
+      throw InputError(
+          plausibility_message(range, peak, about),
+          from_file ? "read the file in its units (FrfReadOptions::units, e.g. um/N or mm/N), or check that it holds an FRF"
+                    : "give the receptance in m/N (mm/N × 1e-3, µm/N × 1e-6), or check that it is an FRF");
   }
 }
 
@@ -616,8 +617,8 @@ void judge_peak_receptance(FrfFileData& data, const std::string& path) {
 // 10–5000 Hz) or a top frequency no tool point measurement reaches (rad/s or Hz × 1000 read as Hz)
 // would enter every result — a grid, a band, a fit — so it is refused; a top frequency merely
 // outside the usual range is said.
-void judge_frequencies(FrfFileData& data, const std::string& path) {
-  const std::vector<double>& f = data.is_block ? data.block.frequency_hz : data.single.frequency_hz;
+void judge_frequencies(const std::vector<double>& f, std::vector<std::string>& warnings, const std::string& what,
+                       bool from_file) {
   const std::size_t n = f.size();
   // A measured band has steps within a few times one another (a file of two bands, a handful of
   // times); an end point more than a hundred median steps from its neighbour is not one of them.
@@ -633,22 +634,37 @@ void judge_frequencies(FrfFileData& data, const std::string& path) {
       const double gap = last ? steps.back() : steps.front();
       if (gap > kStrayGap * median)
         throw InputError(fmt::format("{}: its {} point, at {:g} Hz (point {} of {}), lies {:g} Hz from the {} one, {:.0f} times "
-                                     "the median step of {:g} Hz: a stray line, not part of the measured band",
-                                     path, last ? "last" : "first", last ? f.back() : f.front(), last ? n : 1, n, gap,
-                                     last ? "previous" : "next", gap / median, median),
-                         "remove that line from the file (or correct its frequency)");
+                                     "the median step of {:g} Hz: a stray {}, not part of the measured band",
+                                     what, last ? "last" : "first", last ? f.back() : f.front(), last ? n : 1, n, gap,
+                                     last ? "previous" : "next", gap / median, median, from_file ? "line" : "point"),
+                         from_file ? "remove that line from the file (or correct its frequency)"
+                                   : "remove that point from the data (or correct its frequency)");
     }
   }
   // Judged from above only: a file that ends low is a low band (a slow structure), not a slip.
   if (n == 0 || f.back() <= plausible::kTopFrequency.high) return;
   const PlausibleRange& range = plausible::kTopFrequency;
-  const std::string what = fmt::format("{}: the top frequency [Hz]", path);
+  const std::string about = fmt::format("{}: the top frequency [Hz]", what);
   switch (judge(range, f.back())) {
     case Plausibility::Usual: break;
-    case Plausibility::Unusual: data.warnings.push_back(plausibility_message(range, f.back(), what)); break;
+    case Plausibility::Unusual: warnings.push_back(plausibility_message(range, f.back(), about)); break;
     case Plausibility::Impossible:
-      throw InputError(plausibility_message(range, f.back(), what),
-                       "check the frequency column's unit (Hz; a header such as 'Frequency (kHz)' or 'rad/s' is converted)");
+      throw InputError(plausibility_message(range, f.back(), about),
+                       from_file
+                           ? "check the frequency column's unit (Hz; a header such as 'Frequency (kHz)' or 'rad/s' is converted)"
+                           : "give frequencies in Hz (rad/s ÷ 2π)");
+  }
+}
+
+void judge_file_data(FrfFileData& data, const std::string& path) {
+  if (data.is_block) {
+    judge_frequencies(data.block.frequency_hz, data.warnings, path, true);
+    judge_peak_receptance(
+        data.block.frequency_hz, [&](std::size_t i) { return H_of(data.block.blocks[i]); }, data.warnings, path, true);
+  } else {
+    judge_frequencies(data.single.frequency_hz, data.warnings, path, true);
+    judge_peak_receptance(
+        data.single.frequency_hz, [&](std::size_t i) { return data.single.values[i]; }, data.warnings, path, true);
   }
 }
 
@@ -734,9 +750,24 @@ FrfFileData read_frf_file(const std::string& path, const FrfReadOptions& o) {
     case FrfFormat::Auto:
     case FrfFormat::UffBinary: break;
   }
-  judge_frequencies(out, path);
-  judge_peak_receptance(out, path);
+  judge_file_data(out, path);
   return out;
+}
+
+std::vector<std::string> judge_receptance_data(const FrfSeries& receptance, const std::string& what) {
+  std::vector<std::string> warnings;
+  judge_frequencies(receptance.frequency_hz, warnings, what, false);
+  judge_peak_receptance(
+      receptance.frequency_hz, [&](std::size_t i) { return receptance.values[i]; }, warnings, what, false);
+  return warnings;
+}
+
+std::vector<std::string> judge_receptance_data(const BlockSeries& receptance, const std::string& what) {
+  std::vector<std::string> warnings;
+  judge_frequencies(receptance.frequency_hz, warnings, what, false);
+  judge_peak_receptance(
+      receptance.frequency_hz, [&](std::size_t i) { return H_of(receptance.blocks[i]); }, warnings, what, false);
+  return warnings;
 }
 
 namespace {

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <fmt/format.h>
 
+#include "toolpoint/error.hpp"
+
 namespace toolpoint {
 
 Plausibility judge(const PlausibleRange& r, double value) {
@@ -19,6 +21,15 @@ std::string plausibility_message(const PlausibleRange& r, double value, const st
   return fmt::format("{} = {:g} {} the usual range [{:g}, {:g}]{}{}", what, value,
                      impossible ? "is so far outside" : "is outside", r.low, r.high, impossible ? " that it cannot be meant" : "",
                      *r.hint ? fmt::format("; {}", r.hint) : "");
+}
+
+std::string require_plausible(const PlausibleRange& range, double value, const std::string& what, const std::string& fix) {
+  switch (judge(range, value)) {
+    case Plausibility::Usual: return {};
+    case Plausibility::Unusual: return plausibility_message(range, value, what);
+    case Plausibility::Impossible: break;
+  }
+  throw InvalidArgument(plausibility_message(range, value, what), fix);
 }
 
 }  // namespace toolpoint

@@ -374,11 +374,7 @@ std::string with_flags(std::string text) {
 }
 
 void check_plausible(const PlausibleRange& range, double value, const std::string& what, const std::string& fix) {
-  switch (judge(range, value)) {
-    case Plausibility::Usual: return;
-    case Plausibility::Unusual: warn(plausibility_message(range, value, what)); return;
-    case Plausibility::Impossible: throw InvalidArgument(plausibility_message(range, value, what), fix);
-  }
+  if (const std::string w = require_plausible(range, value, what, fix); !w.empty()) warn(w);
 }
 
 CLI::Validator plausible_value(const PlausibleRange& range, const std::string& option) {

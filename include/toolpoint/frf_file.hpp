@@ -170,6 +170,20 @@ struct FrfFileData {
 // be meant), InvalidArgument (unknown extension, options), IoError.
 FrfFileData read_frf_file(const std::string& path, const FrfReadOptions& options = {});
 
+/// \brief The magnitude checks read_frf_file makes on a file, for a receptance given as data (arrays
+/// from Python): the same plausible ranges (plausibility.hpp) and the same verdicts.
+///
+/// An end frequency more than 100 median steps from its neighbour (a stray point), a top frequency
+/// that cannot be meant in Hz (rad/s given as Hz) or a largest |H| from 5 Hz up that cannot be
+/// meant in m/N (µm/N given as m/N) throw InputError naming `what`; merely unusual ones (a top
+/// frequency in rad/s, a peak in mm/N) are returned as warnings. For a block series |H| is its H entry.
+/// \param receptance the data [m/N] against frequency [Hz] (not validated here: the caller's checks)
+/// \param what the data's name in the messages (an argument's name)
+/// \return the warnings, each naming `what`
+std::vector<std::string> judge_receptance_data(const FrfSeries& receptance, const std::string& what);
+/// \copydoc judge_receptance_data(const FrfSeries&, const std::string&)
+std::vector<std::string> judge_receptance_data(const BlockSeries& receptance, const std::string& what);
+
 // Writing.
 struct FrfWriteOptions {
   FrfFormat format = FrfFormat::Auto;  // Auto: by extension (.uff/.unv/.uf → ASCII UFF)

@@ -28,6 +28,15 @@ Plausibility judge(const PlausibleRange& range, double value);
 // "<what> = <value> is outside the usual range [low, high]; <hint>" or "… cannot be meant: …".
 std::string plausibility_message(const PlausibleRange& range, double value, const std::string& what);
 
+/// \brief The verdict on `value` applied, as the files, the command line and the Python package apply it.
+/// \param range the plausible range (plausible::k…)
+/// \param value the value, in SI units
+/// \param what the value's name in the message (a library field, e.g. "CuttingConditions::tangential_coefficient")
+/// \param fix the hint of the InvalidArgument thrown when the value cannot be meant
+/// \return the warning when the value is unusual, else an empty string
+/// \throws InvalidArgument when the value cannot be meant (plausibility_message naming `what`)
+std::string require_plausible(const PlausibleRange& range, double value, const std::string& what, const std::string& fix);
+
 namespace plausible {
 // Lengths [m]
 inline constexpr PlausibleRange kSegmentLength{1e-4, 2.0, 10.0, "lengths are in metres (49 mm = 0.049)"};

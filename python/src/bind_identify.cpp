@@ -451,7 +451,11 @@ void bind_identify(py::module_& m) {
              d.g_coherence = std::move(g_coherence);
              d.b_coherence = std::move(b_coherence);
              d.G11 = block_series(f, G11, g_name.empty() ? "G11" : g_name);
-             if (B11) d.B11 = block_series(f, *B11, b_name.empty() ? "B11" : b_name);
+             judge_receptance(d.G11, g_name.empty() ? "G11" : g_name);
+             if (B11) {
+               d.B11 = block_series(f, *B11, b_name.empty() ? "B11" : b_name);
+               judge_receptance(*d.B11, b_name.empty() ? "B11" : b_name);
+             }
              d.overhang_m = overhang_m;
              d.label = std::move(label);
              d.g_name = std::move(g_name);
@@ -503,9 +507,11 @@ void bind_identify(py::module_& m) {
         o.band_hz = band_hz;
         o.at_hz = at_hz;
         o.width = width;
-        for (std::size_t k = 0; k < overhang_frfs.size(); ++k)
-          o.overhang_frfs.push_back(
-              frf_series(overhang_frfs[k].first, overhang_frfs[k].second, fmt::format("overhang_frfs[{}]", k)));
+        for (std::size_t k = 0; k < overhang_frfs.size(); ++k) {
+          const std::string name = fmt::format("overhang_frfs[{}]", k);
+          o.overhang_frfs.push_back(frf_series(overhang_frfs[k].first, overhang_frfs[k].second, name));
+          judge_receptance(o.overhang_frfs.back(), name);
+        }
         if (filter) o.filter = SavgolOptions{filter->first, filter->second};
         if (magnitude_sigma || floor) {
           o.noise.source = NoiseSpec::Source::Stated;

@@ -502,6 +502,7 @@ void bind_model(py::module_& m) {
       "couple_tool",
       [](Assembly a, const RealArray& f, const ComplexArray& sh11, const std::string& name) {
         const BlockSeries s = block_series(f, sh11, name);
+        judge_receptance(s, name);
         BlockSeries out;
         {
           py::gil_scoped_release nogil;
@@ -601,6 +602,7 @@ void bind_model(py::module_& m) {
         o.uncertain_joint = std::move(joint);
         o.band = uncertainty_options(samples, seed, std::move(levels), threads, py::none());
         const BlockSeries s = block_series(f, sh11, o.sh11_name);
+        judge_receptance(s, o.sh11_name);
         const ProgressCallback cb = progress_of(progress);
         py::gil_scoped_release nogil;
         return run_overhang_study(a, s, o, cb);

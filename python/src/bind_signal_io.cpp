@@ -256,20 +256,27 @@ void bind_signal_io(py::module_& m) {
       },
       "frequency_hz"_a, "H"_a, "spacing"_a, "order"_a = 2, "symmetrise"_a = false, "p_method"_a = "auto",
       "shear_stiffness"_a = py::none(),
-      "Rotational FRFs by finite differences (Duarte & Ewins; docs/reference.md §5): H is a dict {(response, force): complex (n,) [m/N]} of "
+      "Rotational FRFs by finite differences (Duarte & Ewins; docs/reference.md §5): H is a dict {(response, force): complex "
+      "(n,) [m/N]} of "
       "the "
       "translational FRFs at points 0 (tip), 1, 2 spaced `spacing` m inwards; order 1 or 2; shear_stiffness κGA [N] removes the "
       "shear strain (pass TapTest.shear_stiffness_n); p_method 'auto', 'cross_terms' or 'schmitz_smith'.");
 
   // ---- Peaks --------------------------------------------------------------------------------------
+  options_class<PeakOptions>(m, "PeakOptions", "Which local maxima of |H| find_peaks counts as peaks (peaks.hpp).",
+                             {"min_prominence"})
+      .def_readwrite("min_prominence", &PeakOptions::min_prominence,
+                     "a peak rises at least this fraction of its height above the higher of the minima separating it from "
+                     "its higher neighbours");
   m.def(
       "find_peaks",
-      [](const RealArray& f, const ComplexArray& values, double min_prominence) {
+      [](const RealArray& f, const ComplexArray& values, const std::optional<PeakOptions>& options) {
         const FrfSeries s = frf_series(f, values, "values");
-        return find_peaks(s, PeakOptions{min_prominence});
+        return find_peaks(s, options.value_or(PeakOptions{}));
       },
-      "frequency_hz"_a, "values"_a, "min_prominence"_a = 0.02,
-      "Local maxima of |values| rising min_prominence (relative) above their valleys, ascending, refined by a parabola through "
+      "frequency_hz"_a, "values"_a, py::kw_only(), "options"_a = py::none(),
+      "options: PeakOptions (None: the defaults). Local maxima of |values| rising min_prominence (relative) above their valleys, "
+      "ascending, refined by a parabola through "
       "log|H|.");
   m.def(
       "track_modes",

@@ -34,18 +34,6 @@ py::array_t<int> int_column(const Rows& rows, Get get) {
   return a;
 }
 
-// ModalFitOptions from fit_modes' and run_modal_fit_study's keyword arguments.
-ModalFitOptions modal_fit_options(int max_modes, std::optional<std::pair<double, double>> band_hz, double min_prominence_db,
-                                  bool residual_terms, int max_evaluations) {
-  ModalFitOptions o;
-  o.max_modes = max_modes;
-  o.band_hz = band_hz;
-  o.min_prominence_db = min_prominence_db;
-  o.residual_terms = residual_terms;
-  o.max_evaluations = max_evaluations;
-  return o;
-}
-
 py::dict envelope_dict(const std::vector<EnvelopePoint>& e) {
   return py::dict("speed_rpm"_a = column(e, [](const EnvelopePoint& p) { return p.speed_rpm; }),
                   "depth_m"_a = column(e, [](const EnvelopePoint& p) { return p.depth_m; }),
@@ -73,7 +61,11 @@ MillingFrfs milling_of(const RealArray& f, const ComplexArray& xx, const std::op
                        const std::optional<ComplexArray>& xy, const std::optional<ComplexArray>& yx, bool rigid_y) {
   MillingFrfs m;
   m.xx = frf_series(f, xx, "xx");
-  if (yy) m.yy = frf_series(f, *yy, "yy");
+  judge_receptance(m.xx, "xx");
+  if (yy) {
+    m.yy = frf_series(f, *yy, "yy");
+    judge_receptance(*m.yy, "yy");
+  }
   if (xy) m.xy = frf_series(f, *xy, "xy");
   if (yx) m.yx = frf_series(f, *yx, "yx");
   m.rigid_y = rigid_y;
@@ -103,10 +95,24 @@ LobesStudyOptions lobes_study_options(const CuttingConditions& cutting, const st
 }  // namespace
 
 void bind_stability(py::module_& m) {
+  options_class<ModalFitOptions>(m, "ModalFitOptions",
+                                 "How fit_modes fits modes to a point receptance (modal_fit.hpp; toolpoint modes' options).",
+                                 {"max_modes", "band_hz", "min_prominence_db", "residual_terms", "max_evaluations"})
+      .def_readwrite("max_modes", &ModalFitOptions::max_modes, "at most this many modes, 1…20")
+      .def_readwrite("band_hz", &ModalFitOptions::band_hz, "(F1, F2): fit only F1 ≤ f ≤ F2 [Hz]; None: all points")
+      .def_readwrite("min_prominence_db", &ModalFitOptions::min_prominence_db,
+                     "a peak of |G| must rise this much [dB] above the valleys on both sides to count as a mode")
+      .def_readwrite("residual_terms", &ModalFitOptions::residual_terms, "fit L and U (out-of-band modes)")
+      .def_readwrite("max_evaluations", &ModalFitOptions::max_evaluations, "Levenberg–Marquardt function evaluations");
+
   // ---- Modal models ---------------------------------------------------------------------------------
   py::class_<Mode>(
       m, "Mode", "One mode of a point receptance as a 1-DOF oscillator: modal mass [kg], damping ratio, natural frequency [Hz].")
       .def(py::init([](double mass, double zeta, double f) {
+             // As the CLI's --mode: a mass in g or a frequency in rad/s is said (or refused).
+             check_plausible(plausible::kModalMass, mass, "Mode::mass_kg", "give the modal mass in kg (40 g = 0.04)");
+             check_plausible(plausible::kNaturalFrequency, f, "Mode::frequency_hz",
+                             "give the natural frequency in Hz (rad/s ÷ 2π)");
              return Mode{mass, zeta, f};
            }),
            "mass_kg"_a, "damping_ratio"_a, "frequency_hz"_a)
@@ -174,16 +180,16 @@ void bind_stability(py::module_& m) {
           "frequency_hz"_a, "The fitted receptance, residual terms included [m/N].");
   m.def(
       "fit_modes",
-      [](const RealArray& f, const ComplexArray& values, int max_modes, std::optional<std::pair<double, double>> band_hz,
-         double min_prominence_db, bool residual_terms, int max_evaluations) {
+      [](const RealArray& f, const ComplexArray& values, const std::optional<ModalFitOptions>& options) {
         const FrfSeries s = frf_series(f, values, "values");
-        const ModalFitOptions o = modal_fit_options(max_modes, band_hz, min_prominence_db, residual_terms, max_evaluations);
+        judge_receptance(s, "values");
+        const ModalFitOptions o = options.value_or(ModalFitOptions{});
         py::gil_scoped_release nogil;
         return fit_modes(s, o, "values");
       },
-      "frequency_hz"_a, "values"_a, "max_modes"_a = 3, "band_hz"_a = py::none(), "min_prominence_db"_a = 3.0,
-      "residual_terms"_a = true, "max_evaluations"_a = 2000,
-      "Modal parameters of a point receptance [m/N] (toolpoint modes): peak picking, then Levenberg–Marquardt on all modes (and "
+      "frequency_hz"_a, "values"_a, py::kw_only(), "options"_a = py::none(),
+      "options: ModalFitOptions (None: the defaults). Modal parameters of a point receptance [m/N] (toolpoint modes): peak "
+      "picking, then Levenberg–Marquardt on all modes (and "
       "residual "
       "terms) at once.");
 
@@ -204,16 +210,16 @@ void bind_stability(py::module_& m) {
           "The result as plain data, the fitted series left out ('fit' has toolpoint modes --json's keys; SI units).");
   m.def(
       "run_modal_fit_study",
-      [](const RealArray& f, const ComplexArray& values, int max_modes, std::optional<std::pair<double, double>> band_hz,
-         double min_prominence_db, bool residual_terms, int max_evaluations, const std::string& what) {
+      [](const RealArray& f, const ComplexArray& values, const std::optional<ModalFitOptions>& options, const std::string& what) {
         const FrfSeries s = frf_series(f, values, "values");
-        const ModalFitOptions o = modal_fit_options(max_modes, band_hz, min_prominence_db, residual_terms, max_evaluations);
+        judge_receptance(s, what);
+        const ModalFitOptions o = options.value_or(ModalFitOptions{});
         py::gil_scoped_release nogil;
         return run_modal_fit_study(s, o, what);
       },
-      "frequency_hz"_a, "values"_a, "max_modes"_a = 3, "band_hz"_a = py::none(), "min_prominence_db"_a = 3.0,
-      "residual_terms"_a = true, "max_evaluations"_a = 2000, "what"_a = "values",
-      "The modal fit study (toolpoint modes): fit_modes on a point receptance [m/N] against frequency_hz [Hz], the fitted "
+      "frequency_hz"_a, "values"_a, py::kw_only(), "options"_a = py::none(), "what"_a = "values",
+      "options: ModalFitOptions (None: the defaults). The modal fit study (toolpoint modes): fit_modes on a point receptance "
+      "[m/N] against frequency_hz [Hz], the fitted "
       "receptance on the band's measured frequencies, and the modal model of the fitted resonances.");
 
   py::class_<CuttingConditions>(
@@ -226,6 +232,12 @@ void bind_stability(py::module_& m) {
              c.teeth = teeth;
              c.tangential_coefficient = kt;
              c.radial_ratio = kr;
+             // As the CLI's --kt, --kr: K_t in N/mm² (MPa) is refused, an unusual ratio said.
+             check_plausible(plausible::kCuttingCoefficient, kt, "CuttingConditions::tangential_coefficient",
+                             "give K_t in N/m² (600 MPa = 6e8)");
+             if (kr != 0.0)
+               check_plausible(plausible::kRadialRatio, kr, "CuttingConditions::radial_ratio",
+                               "give K_r = K_n/K_t as a ratio (30 % = 0.3)");
              if (immersion && (entry_rad || exit_rad))
                throw InvalidArgument("CuttingConditions: give the immersion or the entry and exit angles, not both",
                                      "drop one of them");

@@ -23,6 +23,7 @@
 #include <utility>
 #include <vector>
 
+#include "toolpoint/plausibility.hpp"
 #include "toolpoint/receptance.hpp"
 #include "toolpoint/signal.hpp"
 #include "toolpoint/stability.hpp"
@@ -62,10 +63,16 @@ Eigen::MatrixXd rows_matrix(const std::vector<std::vector<double>>& rows);
 BlockSeries block_series(const RealArray& frequency_hz, const ComplexArray& blocks, const std::string& what);
 FrfSeries frf_series(const RealArray& frequency_hz, const ComplexArray& values, const std::string& what);
 
-// (min_rpm, max_rpm, points) as a SpeedRange.
-inline SpeedRange speed_range(const std::tuple<double, double, int>& s) {
-  return {std::get<0>(s), std::get<1>(s), std::get<2>(s)};
-}
+// The library's plausibility checks (plausibility.hpp) on what Python gives, as the CLI makes them on
+// its files and options: a receptance's top frequency and largest |H| (judge_receptance_data), a
+// value against its range (require_plausible). Unusual: a toolpoint.Warning; cannot be meant:
+// InputError (data) or InvalidArgument (a value), naming `what`.
+void judge_receptance(const FrfSeries& receptance, const std::string& what);
+void judge_receptance(const BlockSeries& receptance, const std::string& what);
+void check_plausible(const PlausibleRange& range, double value, const std::string& what, const std::string& fix);
+
+// (min_rpm, max_rpm, points) as a SpeedRange; speeds judged as the CLI's --rpm (rpm, not rad/s or Hz).
+SpeedRange speed_range(const std::tuple<double, double, int>& s);
 
 // A tap test's hammer plan by name (run_tap_test, run_precision_study).
 inline const std::vector<std::pair<const char*, HammerPlan>> kHammers{{"roving", HammerPlan::Roving}, {"tip", HammerPlan::Tip}};
@@ -104,6 +111,25 @@ void warn_all(const std::vector<std::string>& warnings);
 // `option` and listing the names.
 template <class E>
 E enum_of(const std::string& text, const std::vector<std::pair<const char*, E>>& names, const std::string& option);
+
+// A library *Options struct as a Python class: default-constructed (the C++ defaults), its fields
+// read/write (added by the caller), check(); `fields` lists them in order, as `_fields`, from which
+// toolpoint/__init__.py gives the class a keyword-only constructor whose defaults are a default
+// instance's values (so they cannot drift from the C++ ones) and a repr of every field.
+template <class T>
+py::class_<T> options_class(py::module_& m, const char* name, const char* doc, std::initializer_list<const char*> fields) {
+  py::class_<T> c(m, name, doc);
+  c.def(py::init<>())
+      .def(
+          "check", [](const T& o) { o.check(); },
+          "Raises InvalidArgument naming Options::field for a value out of range (the functions taking the options "
+          "check them too).");
+  py::tuple names(fields.size());
+  std::size_t i = 0;
+  for (const char* f : fields) names[i++] = py::str(f);
+  c.attr("_fields") = names;
+  return c;
+}
 
 // Binding groups (one file each).
 void bind_errors(py::module_& m);

@@ -2,6 +2,7 @@
 #include <memory>
 
 #include "common.hpp"
+#include "toolpoint/frf_file.hpp"
 #include "toolpoint/version.hpp"
 
 namespace toolpoint::python {
@@ -149,6 +150,25 @@ FrfSeries frf_series(const RealArray& frequency_hz, const ComplexArray& values, 
     throw InputError(fmt::format("{}: {} values for {} frequencies", what, s.values.size(), s.frequency_hz.size()),
                      "give one value per frequency");
   return s;
+}
+
+void judge_receptance(const FrfSeries& receptance, const std::string& what) { warn_all(judge_receptance_data(receptance, what)); }
+
+void judge_receptance(const BlockSeries& receptance, const std::string& what) {
+  warn_all(judge_receptance_data(receptance, what));
+}
+
+void check_plausible(const PlausibleRange& range, double value, const std::string& what, const std::string& fix) {
+  if (const std::string w = require_plausible(range, value, what, fix); !w.empty()) warn_all({w});
+}
+
+SpeedRange speed_range(const std::tuple<double, double, int>& s) {
+  const SpeedRange r{std::get<0>(s), std::get<1>(s), std::get<2>(s)};
+  check_plausible(plausible::kSpindleSpeedRpm, r.min_rpm, "speeds[0] (min_rpm)",
+                  "give spindle speeds in rpm, e.g. (2000, 20000, 0)");
+  check_plausible(plausible::kSpindleSpeedRpm, r.max_rpm, "speeds[1] (max_rpm)",
+                  "give spindle speeds in rpm, e.g. (2000, 20000, 0)");
+  return r;
 }
 
 py::object to_python(const nlohmann::json& j) {

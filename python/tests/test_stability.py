@@ -86,7 +86,7 @@ def test_modal_fit_study_is_the_cli_one(tmp_path, prediction):
     path = tmp_path / "h.csv"
     tp.write_frf_file(str(path), f, h)
     cli = run_cli_json("modes", path, "--band", "300:3000", "--output", tmp_path / "fit.csv")
-    study = tp.run_modal_fit_study(f, h, band_hz=(300.0, 3000.0), what=str(path))
+    study = tp.run_modal_fit_study(f, h, options=tp.ModalFitOptions(band_hz=(300.0, 3000.0)), what=str(path))
     assert study.to_dict()["fit"] == {k: v for k, v in cli.items() if k not in ("units", "file", "output")}
     d = read_csv(tmp_path / "fit.csv")
     assert np.array_equal(study.frequency_hz, d[:, 0]) and np.array_equal(study.fitted, d[:, 1] + 1j * d[:, 2])
@@ -100,7 +100,7 @@ def test_modal_fit_study_is_the_cli_one(tmp_path, prediction):
 def test_modal_fit_recovers_the_modes_it_is_given():
     f = np.linspace(500.0, 2000.0, 3001)
     modes = [tp.Mode(0.04, 0.011, 922.0), tp.Mode(0.08, 0.02, 1400.0)]
-    r = tp.fit_modes(f, tp.modal_frf(modes, f), max_modes=2, residual_terms=False)
+    r = tp.fit_modes(f, tp.modal_frf(modes, f), options=tp.ModalFitOptions(max_modes=2, residual_terms=False))
     for got, want in zip(r.modes, modes):  # exact data, exact model: to the solver's tolerance
         assert got.frequency_hz == pytest.approx(want.frequency_hz, rel=1e-6)
         assert got.damping_ratio == pytest.approx(want.damping_ratio, rel=1e-4)

@@ -39,6 +39,7 @@ from ._toolpoint import (  # noqa: F401  (named for readers and linters)
     __version__,
 )
 from . import _toolpoint as _ext
+import inspect as _inspect
 
 __all__ = [name for name in dir(_ext) if not name.startswith("_")] + ["__version__"]
 
@@ -83,3 +84,35 @@ for _name in dir(_ext):
             _cls.__repr__ = _repr_from_dict
         except (AttributeError, TypeError):  # a type that does not take attributes keeps its repr
             pass
+
+
+def _options_type(cls):
+    """A bound *Options struct (its ``_fields``, from C++): keyword-only construction with the C++
+    defaults (read from a default instance, so they cannot drift), and a repr of every field."""
+    base_init = cls.__init__
+    fields = tuple(cls._fields)
+    default = cls()
+    P = _inspect.Parameter
+    params = [P("self", P.POSITIONAL_ONLY)] + [P(f, P.KEYWORD_ONLY, default=getattr(default, f)) for f in fields]
+
+    def __init__(self, **kwargs):
+        unknown = sorted(set(kwargs) - set(fields))
+        if unknown:
+            raise TypeError(f"{cls.__name__}() got unexpected keyword argument(s) {', '.join(unknown)}; "
+                            f"its fields: {', '.join(fields)}")
+        base_init(self)
+        for name, value in kwargs.items():
+            setattr(self, name, value)
+
+    __init__.__signature__ = _inspect.Signature(params)
+    __init__.__doc__ = f"{cls.__name__}(*, {', '.join(f'{f}={getattr(default, f)!r}' for f in fields)})"
+    cls.__init__ = __init__
+    cls.__repr__ = lambda self: f"{cls.__name__}({', '.join(f'{f}={getattr(self, f)!r}' for f in fields)})"
+    cls.__eq__ = lambda self, other: type(other) is cls and all(getattr(self, f) == getattr(other, f) for f in fields)
+    cls.__hash__ = None
+
+
+for _name in dir(_ext):
+    _cls = getattr(_ext, _name)
+    if isinstance(_cls, type) and "_fields" in _cls.__dict__:
+        _options_type(_cls)
