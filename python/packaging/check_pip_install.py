@@ -28,7 +28,7 @@ import numpy as np
 import toolpoint as tp
 assert "site-packages" in tp.__file__ and sys.prefix in tp.__file__, tp.__file__
 files = {p.name for p in importlib.resources.files("toolpoint").iterdir()}
-assert {"py.typed"} <= files, f"not shipped: {files}"
+assert {"py.typed", "__init__.pyi"} <= files, f"not shipped: {files}"
 # Savitzky-Golay of order 2 reproduces a quadratic exactly (its least-squares fit is the data):
 x = np.linspace(0.0, 1.0, 21)
 y = 3.0 * x**2 - 2.0 * x + 0.5
