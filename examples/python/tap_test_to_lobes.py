@@ -36,8 +36,9 @@ def run(args):
     # (toolpoint rotational --model A.toml --at holder/tool).
     def block(test, spacing, side):
         H = {(r.response, r.hammer): r.values for r in test.frfs}
-        measured = tp.rotational_frfs(f, H, spacing=spacing, order=2, shear_stiffness=test.shear_stiffness_n).block
-        e = tp.finite_difference_error(assembly, f, list(H), spacing, side=side, shear_stiffness=test.shear_stiffness_n)
+        differences = tp.RotationalOptions(spacing=spacing, order=2, shear_stiffness=test.shear_stiffness_n)
+        measured = tp.rotational_frfs(f, H, differences).block
+        e = tp.finite_difference_error(assembly, f, list(H), differences, side=side)
         return measured - e.error
 
     sh11, sht11 = block(holder, 0.02, "holder"), block(tool, 0.015, "tool")

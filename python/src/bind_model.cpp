@@ -691,8 +691,8 @@ void bind_model(py::module_& m) {
           "The result as plain data, the series left out (SI units).");
   m.def(
       "finite_difference_error",
-      [](Assembly a, const RealArray& f, const std::vector<std::pair<int, int>>& pairs, double spacing, const std::string& side,
-         int order, bool symmetrise, const std::string& p_method, std::optional<double> shear_stiffness) {
+      [](Assembly a, const RealArray& f, const std::vector<std::pair<int, int>>& pairs, const RotationalOptions& options,
+         const std::string& side) {
         const std::vector<double> grid = vector_of(f, "frequency_hz");
         PointFrfs layout;
         for (const auto& [i, j] : pairs) {
@@ -701,13 +701,12 @@ void bind_model(py::module_& m) {
                                   "list the measured H_ij as (response, force), e.g. [(0, 0), (1, 0), (2, 0)]");
           layout.set(i, j, FrfSeries{grid, {}});
         }
-        const RotationalOptions o = rotational_options(order, spacing, symmetrise, p_method, shear_stiffness);
+        const RotationalOptions o = checked_rotational(options);
         const TapSide s = enum_of(side, kSides, "side");
         py::gil_scoped_release nogil;
         return finite_difference_error(a, s, grid, layout, o);
       },
-      "assembly"_a, "frequency_hz"_a, "pairs"_a, "spacing"_a, "side"_a = "tool", "order"_a = 2, "symmetrise"_a = false,
-      "p_method"_a = "auto", "shear_stiffness"_a = py::none(),
+      "assembly"_a, "frequency_hz"_a, "pairs"_a, "options"_a, "side"_a = "tool",
       "The model-based finite-difference correction: the error E(f) that the differences of rotational_frfs (same options; pairs "
       "the "
       "measured H_ij as (response, force)) make on the model at the same points spaced `spacing` m on the 'tool' or the "
@@ -733,27 +732,24 @@ void bind_model(py::module_& m) {
           "The result as plain data, the block left out (SI units).");
   m.def(
       "run_rotational_study",
-      [](const RealArray& f, const py::dict& h, double spacing, int order, bool symmetrise, const std::string& p_method,
-         std::optional<double> shear_stiffness, bool assume_reciprocity, std::optional<Assembly> model, const std::string& side,
-         const std::string& model_name, const py::object& progress) {
+      [](const RealArray& f, const py::dict& h, const RotationalOptions& options, std::optional<Assembly> model,
+         const std::string& side, const std::string& model_name, const py::object& progress) {
         RotationalInput in;
         in.frfs = point_frfs_of(vector_of(f, "frequency_hz"), h);
         in.model = std::move(model);
         in.side = enum_of(side, kSides, "side");
         in.model_name = model_name;
         RotationalStudyOptions o;
-        o.differences = rotational_options(order, spacing, symmetrise, p_method, shear_stiffness);
-        o.differences.assume_reciprocity = assume_reciprocity;
+        o.differences = checked_rotational(options);
         const ProgressCallback cb = progress_of(progress);
         py::gil_scoped_release nogil;
         return run_rotational_study(in, o, cb);
       },
-      "frequency_hz"_a, "H"_a, "spacing"_a, "order"_a = 2, "symmetrise"_a = false, "p_method"_a = "auto",
-      "shear_stiffness"_a = py::none(), "assume_reciprocity"_a = false, "model"_a = py::none(), "side"_a = "tool",
-      "model_name"_a = "the model", "progress"_a = py::none(),
+      "frequency_hz"_a, "H"_a, "options"_a, "model"_a = py::none(), "side"_a = "tool", "model_name"_a = "the model",
+      "progress"_a = py::none(),
       "The rotational study (toolpoint rotational): the tip block by finite differences of H = {(response, force): complex (n,) "
-      "[m/N]} at points 0 (tip), 1, 2 spaced `spacing` m inwards (rotational_frfs' options; assume_reciprocity fills a missing "
-      "H_ij with H_ji), and with `model` (an Assembly) the differences' truncation error estimated on it at the same points on "
+      "[m/N]} at points 0 (tip), 1, 2 spaced options.spacing m inwards (RotationalOptions, as rotational_frfs), and with `model` "
+      "(an Assembly) the differences' truncation error estimated on it at the same points on "
       "the 'tool' or the 'holder' and removed (finite_difference_error).");
 }
 

@@ -103,14 +103,13 @@ UffDof dof_of(const py::object& o) {
 
 }  // namespace
 
-RotationalOptions rotational_options(int order, double spacing, bool symmetrise, const std::string& p_method,
-                                     std::optional<double> shear_stiffness) {
-  RotationalOptions o;
-  o.order = order;
-  o.spacing = spacing;
-  o.symmetrise = symmetrise;
-  o.p_method = enum_of(p_method, kPMethods, "p_method");
-  o.shear_stiffness = shear_stiffness;
+RotationalOptions checked_rotational(const RotationalOptions& o) {
+  if (o.spacing != 0.0)
+    check_plausible(plausible::kPointSpacing, o.spacing, "RotationalOptions::spacing", "give the spacing in m (15 mm = 0.015)");
+  if (o.shear_stiffness)
+    check_plausible(plausible::kShearStiffness, *o.shear_stiffness, "RotationalOptions::shear_stiffness",
+                    "give κGA in N (pass TapTest.shear_stiffness_n)");
+  o.check();
   return o;
 }
 
@@ -235,6 +234,24 @@ void bind_signal_io(py::module_& m) {
       "standard_normals", [](std::size_t count, std::uint64_t seed) { return array_of(standard_normals(count, seed)); },
       "count"_a, "seed"_a, "`count` standard normal numbers from `seed` (Box–Muller on mt19937_64; portable).");
 
+  options_class<RotationalOptions>(
+      m, "RotationalOptions",
+      "How rotational_frfs, finite_difference_error and run_rotational_study take finite differences (signal.hpp; "
+      "toolpoint rotational's options). spacing [m] has no default.",
+      {"spacing", "order", "symmetrise", "p_method", "shear_stiffness", "assume_reciprocity"})
+      .def_readwrite("spacing", &RotationalOptions::spacing, "s [m] between neighbouring points, > 0")
+      .def_readwrite("order", &RotationalOptions::order, "finite-difference order: 1 or 2")
+      .def_readwrite("symmetrise", &RotationalOptions::symmetrise, "replace L and N by their mean (reciprocity L = N)")
+      .def_property(
+          "p_method", [](const RotationalOptions& o) { return std::string(name_of(o.p_method, kPMethods)); },
+          [](RotationalOptions& o, const std::string& v) { o.p_method = enum_of(v, kPMethods, "RotationalOptions::p_method"); },
+          "'auto', 'cross_terms' or 'schmitz_smith'")
+      .def_readwrite("shear_stiffness", &RotationalOptions::shear_stiffness,
+                     "κGA [N] of the section the points lie on (pass TapTest.shear_stiffness_n): the shear strain removed; "
+                     "None: the total-slope quantities")
+      .def_readwrite("assume_reciprocity", &RotationalOptions::assume_reciprocity,
+                     "fill a missing H_ij with H_ji (default: refuse)");
+
   py::class_<RotationalResult>(m, "RotationalResult", "rotational_frfs' result.")
       .def_property_readonly("frequency_hz", [](const RotationalResult& r) { return array_of(r.block.frequency_hz); })
       .def_property_readonly(
@@ -247,20 +264,17 @@ void bind_signal_io(py::module_& m) {
           "to_dict", [](const RotationalResult& r) { return dict_of(r); }, "The result as plain data, the block left out.");
   m.def(
       "rotational_frfs",
-      [](const RealArray& f, const py::dict& h, double spacing, int order, bool symmetrise, const std::string& p_method,
-         std::optional<double> shear_stiffness) {
+      [](const RealArray& f, const py::dict& h, const RotationalOptions& options) {
         const PointFrfs frfs = point_frfs_of(vector_of(f, "frequency_hz"), h);
-        const RotationalOptions o = rotational_options(order, spacing, symmetrise, p_method, shear_stiffness);
+        const RotationalOptions o = checked_rotational(options);
         py::gil_scoped_release nogil;
         return rotational_frfs(frfs, o);
       },
-      "frequency_hz"_a, "H"_a, "spacing"_a, "order"_a = 2, "symmetrise"_a = false, "p_method"_a = "auto",
-      "shear_stiffness"_a = py::none(),
+      "frequency_hz"_a, "H"_a, "options"_a,
       "Rotational FRFs by finite differences (Duarte & Ewins; docs/reference.md §5): H is a dict {(response, force): complex "
       "(n,) [m/N]} of "
       "the "
-      "translational FRFs at points 0 (tip), 1, 2 spaced `spacing` m inwards; order 1 or 2; shear_stiffness κGA [N] removes the "
-      "shear strain (pass TapTest.shear_stiffness_n); p_method 'auto', 'cross_terms' or 'schmitz_smith'.");
+      "translational FRFs at points 0 (tip), 1, 2 spaced options.spacing m inwards (options: RotationalOptions).");
 
   // ---- Peaks --------------------------------------------------------------------------------------
   options_class<PeakOptions>(m, "PeakOptions", "Which local maxima of |H| find_peaks counts as peaks (peaks.hpp).",

@@ -77,9 +77,9 @@ SpeedRange speed_range(const std::tuple<double, double, int>& s);
 // A tap test's hammer plan by name (run_tap_test, run_precision_study).
 inline const std::vector<std::pair<const char*, HammerPlan>> kHammers{{"roving", HammerPlan::Roving}, {"tip", HammerPlan::Tip}};
 
-// RotationalOptions from keyword arguments (p_method 'auto', 'cross_terms', 'schmitz_smith').
-RotationalOptions rotational_options(int order, double spacing, bool symmetrise, const std::string& p_method,
-                                     std::optional<double> shear_stiffness);
+// RotationalOptions as given from Python, judged as the CLI's --spacing and --shear-stiffness
+// (plausibility.hpp), then checked.
+RotationalOptions checked_rotational(const RotationalOptions& o);
 
 // Translational FRFs on `frequency_hz` from a dict {(response, force): complex (n,)} (points 0, 1, 2;
 // InvalidArgument for another key), as rotational_frfs and the rotational study take them.

@@ -44,3 +44,12 @@ def test_functions_use_the_options():
     assert len(tp.fit_modes(f, h, options=tp.ModalFitOptions(max_modes=1)).modes) == 1
     assert len(tp.find_peaks(f, h)) == 2
     assert len(tp.find_peaks(f, h, options=tp.PeakOptions(min_prominence=0.999))) == 0
+
+
+def test_rotational_options_enumeration_and_default():
+    o = tp.RotationalOptions(spacing=0.015)
+    assert (o.order, o.symmetrise, o.p_method, o.shear_stiffness, o.assume_reciprocity) == (2, False, "auto", None, False)
+    with pytest.raises(tp.InvalidArgument, match=r"RotationalOptions::p_method 'schmitz' is not one of"):
+        tp.RotationalOptions(spacing=0.015, p_method="schmitz")
+    with pytest.raises(tp.InvalidArgument, match=r"spacing"):
+        tp.RotationalOptions().check()  # spacing has no default: 0 is refused

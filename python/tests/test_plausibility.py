@@ -73,3 +73,10 @@ def test_kt_in_mpa_is_refused_naming_the_field():
 def test_speeds_in_thousands_of_rpm_are_refused():
     with pytest.raises(tp.InvalidArgument, match=r"speeds\[0\] \(min_rpm\) = 0\.2 is so far outside"):
         tp.zero_order_lobes(F, H, CUT, (0.2, 2.0, 50))
+
+
+def test_point_spacing_in_mm_is_refused_naming_the_field():
+    # 15 (mm meant) against the usual 1e-3…0.1 m: beyond 0.1 × 10, as the CLI's --spacing 15.
+    H3 = {(0, 0): H, (1, 0): H, (2, 0): H}
+    with pytest.raises(tp.InvalidArgument, match=r"RotationalOptions::spacing = 15 is so far outside"):
+        tp.rotational_frfs(F, H3, tp.RotationalOptions(spacing=15.0))

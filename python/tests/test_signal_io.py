@@ -101,7 +101,7 @@ def test_rotational_frfs_are_the_cli_ones(tmp_path, example):
             repr(t.shear_stiffness_n), "--output", tmp_path / "sht11.csv")
     _, cli = read_block_csv(tmp_path / "sht11.csv")
     H = {(r.response, r.hammer): r.values for r in t.frfs}
-    r = tp.rotational_frfs(example.frequency_hz, H, spacing=0.015, order=2, shear_stiffness=t.shear_stiffness_n)
+    r = tp.rotational_frfs(example.frequency_hz, H, tp.RotationalOptions(spacing=0.015, order=2, shear_stiffness=t.shear_stiffness_n))
     assert np.array_equal(r.block, cli)
     assert r.p_from_cross_terms
     assert np.array_equal(r.block[:, 0, 0], t.frf(0, 0))  # H is the tip's H00 itself
@@ -186,8 +186,8 @@ def test_finite_difference_correction_restores_the_model_block():
     a.grid = (10.0, 5000.0, 20.0)
     t = tp.run_tap_test(a, spacing_m=0.015)
     H = {(r.response, r.hammer): r.values for r in t.frfs}
-    measured = tp.rotational_frfs(t.frfs[0].frequency_hz, H, spacing=0.015, shear_stiffness=t.shear_stiffness_n).block
-    e = tp.finite_difference_error(a, t.frfs[0].frequency_hz, list(H), 0.015, shear_stiffness=t.shear_stiffness_n)
+    measured = tp.rotational_frfs(t.frfs[0].frequency_hz, H, tp.RotationalOptions(spacing=0.015, shear_stiffness=t.shear_stiffness_n)).block
+    e = tp.finite_difference_error(a, t.frfs[0].frequency_hz, list(H), tp.RotationalOptions(spacing=0.015, shear_stiffness=t.shear_stiffness_n))
     assert e.error.shape == e.exact.shape == measured.shape
     corrected = measured - e.error
     tolerance = np.array([[1e-9, 1e-12], [1e-12, 1e-12]]) * np.abs(e.exact).max(axis=0)  # per entry H, L, N, P
@@ -210,10 +210,10 @@ def test_rotational_study_is_the_cli_and_the_correction_called_directly(tmp_path
     a = tp.load_assembly(str(EXAMPLE)).assembly
     t = tp.tap_test_frfs(tp.read_uff(str(tmp_path / "tap.uff")))
     assert sorted(t.H) == [(i, j) for i in range(3) for j in range(3)] and t.dataset[(1, 0)] == 1
-    s = tp.run_rotational_study(t.frequency_hz, t.H, spacing=0.02, model=a, side="holder", model_name="A.toml")
+    s = tp.run_rotational_study(t.frequency_hz, t.H, tp.RotationalOptions(spacing=0.02), model=a, side="holder", model_name="A.toml")
     assert np.array_equal(s.block, cli)
-    raw = tp.rotational_frfs(t.frequency_hz, t.H, spacing=0.02)
-    e = tp.finite_difference_error(a, t.frequency_hz, list(t.H), 0.02, side="holder")
+    raw = tp.rotational_frfs(t.frequency_hz, t.H, tp.RotationalOptions(spacing=0.02))
+    e = tp.finite_difference_error(a, t.frequency_hz, list(t.H), tp.RotationalOptions(spacing=0.02), side="holder")
     assert np.array_equal(s.differences.block, raw.block)
     assert np.array_equal(s.block, raw.block - e.error)
     exact = tp.AssemblyModel(a).holder_tip(t.frequency_hz)
@@ -224,7 +224,7 @@ def test_rotational_study_is_the_cli_and_the_correction_called_directly(tmp_path
     assert d["correction"]["max_relative"] == list(e.max_relative) and d["order"] == 2 and d["spacing_m"] == 0.02
     assert "estimated on the model A.toml (points on the holder)" in s.correction_note
     # Without a model: the differences themselves, and the study says so.
-    plain = tp.run_rotational_study(t.frequency_hz, t.H, spacing=0.02)
+    plain = tp.run_rotational_study(t.frequency_hz, t.H, tp.RotationalOptions(spacing=0.02))
     assert np.array_equal(plain.block, raw.block) and plain.correction is None
     assert plain.correction_note == "no finite-difference correction"
     with pytest.raises(tp.InputError, match="no dataset with response and reference node 101"):
