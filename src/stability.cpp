@@ -57,6 +57,27 @@ void CuttingConditions::check() const {
     throw InvalidArgument(fmt::format("radial cutting coefficient ratio K_r = K_n/K_t = {} must be ≥ 0", radial_ratio),
                           "CuttingConditions::radial_ratio is K_n/K_t, typically 0.2…0.5");
   engagement.check();
+  if (pitch_rad.empty()) return;
+  if (static_cast<int>(pitch_rad.size()) != teeth)
+    throw InvalidArgument(fmt::format("CuttingConditions::pitch_rad has {} angles for {} teeth", pitch_rad.size(), teeth),
+                          "give one pitch angle per tooth (from each tooth to the next), or none for even spacing");
+  double sum = 0.0;
+  for (std::size_t j = 0; j < pitch_rad.size(); ++j) {
+    if (!std::isfinite(pitch_rad[j]) || !(pitch_rad[j] > 0.0))
+      throw InvalidArgument(
+          fmt::format("CuttingConditions::pitch_rad[{}] = {:.6g}° must be positive", j, pitch_rad[j] * 180.0 / kPi));
+    sum += pitch_rad[j];
+  }
+  if (std::abs(sum - 2.0 * kPi) > 1e-6)
+    throw InvalidArgument(fmt::format("CuttingConditions::pitch_rad adds up to {:.6g}°, not a revolution (360°)",
+                                      sum * 180.0 / kPi),
+                          "the pitch angles are the spacings between successive teeth round the tool");
+}
+
+bool CuttingConditions::uniform_pitch() const {
+  for (double p : pitch_rad)
+    if (std::abs(p - 2.0 * kPi / teeth) > 1e-12) return false;
+  return true;
 }
 
 Eigen::Matrix2d directional_integral(double kr, double phi1, double phi2) {
@@ -225,6 +246,9 @@ namespace {
 
 LobeTable zero_order_roots(const MillingFrfs& frfs, const CuttingConditions& cutting) {
   cutting.check();
+  if (!cutting.uniform_pitch())
+    throw InvalidArgument("CuttingConditions::pitch_rad: the zero-order method assumes evenly spaced teeth",
+                          "use the time-domain (full-discretization) method for a variable pitch");
   frfs.check();
   const Eigen::Matrix2d a = directional_factors(cutting);
   const double nkt = cutting.teeth * cutting.tangential_coefficient;
@@ -459,6 +483,79 @@ const char* to_string(BoundaryKind kind) {
   return "none";
 }
 
+namespace {
+
+// ½K_t A(φ) of one tooth at φ (the header's matrix), zero outside the engagement.
+Eigen::Matrix2d tooth_matrix(const CuttingConditions& cutting, double phi) {
+  phi = std::fmod(phi, 2.0 * kPi);
+  if (phi < 0.0) phi += 2.0 * kPi;
+  if (phi < cutting.engagement.entry_rad || phi > cutting.engagement.exit_rad) return Eigen::Matrix2d::Zero();
+  const double kr = cutting.radial_ratio, s2 = std::sin(2.0 * phi), c2 = std::cos(2.0 * phi);
+  Eigen::Matrix2d a;
+  a << -s2 - kr * (1.0 - c2), -(1.0 + c2) - kr * s2, (1.0 - c2) - kr * s2, s2 - kr * (1.0 + c2);
+  return 0.5 * cutting.tangential_coefficient * a;
+}
+
+// The variable-pitch terms of milling_delay_system (its header comment): period a revolution,
+// teeth grouped by delay (teeth with equal pitch before them share one delayed term).
+void add_variable_pitch(PeriodicDelaySystem& sys, const CuttingConditions& cutting, double speed_rpm, double feed_per_tooth_m,
+                        int d) {
+  const int teeth = cutting.teeth;
+  const double spin = 2.0 * kPi * speed_rpm / 60.0;
+  sys.period = 60.0 / speed_rpm;
+  sys.regenerative = false;
+  std::vector<double> lag(static_cast<std::size_t>(teeth), 0.0), before(static_cast<std::size_t>(teeth));
+  for (int j = 0; j < teeth; ++j) {
+    const auto jj = static_cast<std::size_t>(j);
+    if (j > 0) lag[jj] = lag[jj - 1] + cutting.pitch_rad[jj - 1];
+    before[jj] = cutting.pitch_rad[static_cast<std::size_t>((j + teeth - 1) % teeth)];
+  }
+  auto all_teeth = [cutting, lag, spin, d](double t, Eigen::MatrixXd& out) {
+    Eigen::Matrix2d sum = Eigen::Matrix2d::Zero();
+    for (double l : lag) sum += tooth_matrix(cutting, spin * t - l);
+    out = sum.topLeftCorner(d, d);
+  };
+  sys.current = all_teeth;
+  std::vector<char> grouped(static_cast<std::size_t>(teeth), 0);
+  for (int j = 0; j < teeth; ++j) {
+    if (grouped[static_cast<std::size_t>(j)]) continue;
+    std::vector<double> group;
+    for (int i = j; i < teeth; ++i)
+      if (!grouped[static_cast<std::size_t>(i)] &&
+          std::abs(before[static_cast<std::size_t>(i)] - before[static_cast<std::size_t>(j)]) <= 1e-12) {
+        grouped[static_cast<std::size_t>(i)] = 1;
+        group.push_back(lag[static_cast<std::size_t>(i)]);
+      }
+    sys.delays.push_back({before[static_cast<std::size_t>(j)] / spin, [cutting, group, spin, d](double t, Eigen::MatrixXd& out) {
+                            Eigen::Matrix2d sum = Eigen::Matrix2d::Zero();
+                            for (double l : group) sum -= tooth_matrix(cutting, spin * t - l);
+                            out = sum.topLeftCorner(d, d);
+                          }});
+  }
+  if (feed_per_tooth_m > 0.0) {
+    const double kt = cutting.tangential_coefficient, kr = cutting.radial_ratio, per_rev = teeth * feed_per_tooth_m;
+    sys.forcing = [=](double t, Eigen::VectorXd& out) {
+      for (int j = 0; j < teeth; ++j) {
+        double phi = std::fmod(spin * t - lag[static_cast<std::size_t>(j)], 2.0 * kPi);
+        if (phi < 0.0) phi += 2.0 * kPi;
+        if (phi < cutting.engagement.entry_rad || phi > cutting.engagement.exit_rad) continue;
+        const double s = std::sin(phi), c = std::cos(phi);
+        const double ft = kt * per_rev * before[static_cast<std::size_t>(j)] / (2.0 * kPi) * s;
+        out(0) += ft * (-c - kr * s);
+        if (d == 2) out(1) += ft * (s - kr * c);
+      }
+    };
+  }
+  // Each tooth enters and leaves once per revolution.
+  for (double l : lag)
+    for (double angle : {cutting.engagement.entry_rad, cutting.engagement.exit_rad}) {
+      const double t = std::fmod(angle + l, 2.0 * kPi) / spin;
+      if (t > 1e-12 * sys.period && t < sys.period * (1.0 - 1e-12)) sys.breakpoints.push_back(t);
+    }
+}
+
+}  // namespace
+
 PeriodicDelaySystem milling_delay_system(const ModalModel& model, const CuttingConditions& cutting, double speed_rpm,
                                          double feed_per_tooth_m) {
   if (!std::isfinite(feed_per_tooth_m) || feed_per_tooth_m < 0.0)
@@ -480,6 +577,10 @@ PeriodicDelaySystem milling_delay_system(const ModalModel& model, const CuttingC
     sys.a0_blocks.push_back(block);
     sys.input(2 * r + 1, r < nx ? 0 : 1) = 1.0 / m.mass_kg;
     sys.output(r < nx ? 0 : 1, 2 * r) = 1.0;
+  }
+  if (!cutting.uniform_pitch()) {
+    add_variable_pitch(sys, cutting, speed_rpm, feed_per_tooth_m, d);
+    return sys;
   }
   const int teeth = cutting.teeth;
   const double spin = 2.0 * kPi * speed_rpm / 60.0, pitch = 2.0 * kPi / teeth;  // Ω [rad/s], tooth pitch [rad]
@@ -527,7 +628,8 @@ namespace {
 // Hopf, flip or fold from the critical multiplier; the chatter frequency from the Floquet
 // solution q(t_i) = μ^{i/m} p(t_i), p τ-periodic: the DFT of p's tip displacement over one period
 // gives harmonics at (arg μ + 2πj)/τ, the strongest is the chatter.
-FloquetAnalysis floquet(const PeriodMap& map, double depth_m, const DominantMultiplier& dm, double tau) {
+// `tau` the map's period, `tooth_tau` the (mean) tooth period the lobe number counts waves in.
+FloquetAnalysis floquet(const PeriodMap& map, double depth_m, const DominantMultiplier& dm, double tau, double tooth_tau) {
   FloquetAnalysis fa;
   fa.spectral_radius = dm.spectral_radius;
   fa.critical_multiplier = dm.multiplier;
@@ -567,7 +669,7 @@ FloquetAnalysis floquet(const PeriodMap& map, double depth_m, const DominantMult
     }
   }
   fa.chatter_hz = std::abs(std::arg(mu) + 2.0 * kPi * best_j) / (2.0 * kPi * tau);
-  fa.lobe = static_cast<int>(std::floor(fa.chatter_hz * tau));
+  fa.lobe = static_cast<int>(std::floor(fa.chatter_hz * tooth_tau));
   return fa;
 }
 
@@ -706,7 +808,7 @@ FullDiscretization::FullDiscretization(ModalModel model, CuttingConditions cutti
 }
 
 PeriodMap FullDiscretization::period_map(double speed_rpm) const {
-  return PeriodMap(milling_delay_system(model_, cutting_, speed_rpm), steps_, degree_);
+  return PeriodMap(milling_delay_system(model_, cutting_, speed_rpm), steps_ * cutting_.teeth_per_period(), degree_);
 }
 
 double FullDiscretization::spectral_radius(double speed_rpm, double depth_m) const {
@@ -717,7 +819,8 @@ double FullDiscretization::spectral_radius(double speed_rpm, double depth_m) con
 FloquetAnalysis FullDiscretization::analyse(double speed_rpm, double depth_m) const {
   if (!std::isfinite(depth_m) || depth_m < 0.0) throw InvalidArgument(fmt::format("axial depth {} m must be ≥ 0", depth_m));
   const PeriodMap map = period_map(speed_rpm);
-  return floquet(map, depth_m, map.dominant(depth_m), 60.0 / (cutting_.teeth * speed_rpm));
+  const double tooth = 60.0 / (cutting_.teeth * speed_rpm);
+  return floquet(map, depth_m, map.dominant(depth_m), tooth * cutting_.teeth_per_period(), tooth);
 }
 
 Eigen::MatrixXd FullDiscretization::spectral_radius_map(const std::vector<double>& speeds_rpm,
@@ -755,7 +858,8 @@ BoundaryPoint FullDiscretization::boundary(double speed_rpm, double max_depth_m,
       continue;
     }
     const Root root = narrow_bracket(rho, lo, flo, a, dm, tolerance);
-    const FloquetAnalysis fa = floquet(map, root.hi, map.dominant(root.hi), 60.0 / (cutting_.teeth * speed_rpm));
+    const double tooth = 60.0 / (cutting_.teeth * speed_rpm);
+    const FloquetAnalysis fa = floquet(map, root.hi, map.dominant(root.hi), tooth * cutting_.teeth_per_period(), tooth);
     bp.depth_m = root.depth_m;
     bp.depth_error_m = kNaN;
     bp.chatter_hz = fa.chatter_hz;
@@ -815,16 +919,18 @@ SpeedOutcome boundary_at(const ModalModel& model, const CuttingConditions& cutti
                          double max_depth_m, const BoundaryOptions& o) {
   const PeriodicDelaySystem sys = milling_delay_system(model, cutting, speed_rpm);
   const double tau = sys.period;
+  const int per = cutting.teeth_per_period();  // tooth periods per map period
+  const double tooth_tau = tau / per;
   SpeedOutcome out;
   BoundaryPoint& bp = out.point;
   bp.speed_rpm = speed_rpm;
   // m: 12 steps per chatter wave within a tooth period (at least 16), unless given.
-  const double waves = std::isfinite(guess.chatter_hz) ? guess.chatter_hz * tau : 1.0;
+  const double waves = std::isfinite(guess.chatter_hz) ? guess.chatter_hz * tooth_tau : 1.0;
   int m = o.steps > 0 ? o.steps : std::clamp(static_cast<int>(std::ceil(12.0 * waves)), 16, o.max_steps / 2);
   // Roots to brackets of 0.1 (finer level) and 0.3 (coarser) of the error target: the reported
   // a₂ + (a₂ − a₁)/7 then carries at most (0.05·8/7 + 0.15/7) ≈ 0.08 of the target from the roots.
   const double root_tolerance = std::clamp(1e-1 * o.tolerance, 1e-10, 1e-3);
-  const PeriodMap coarse(sys, m, o.degree);
+  const PeriodMap coarse(sys, m * per, o.degree);
   std::optional<Root> r1 = lowest_root({coarse, &out.evaluations}, guess.start * guess.depth_m, guess.depth_m, 1.15, max_depth_m,
                                        3.0 * root_tolerance);
   if (!r1) {
@@ -836,7 +942,7 @@ SpeedOutcome boundary_at(const ModalModel& model, const CuttingConditions& cutti
   const double factor = std::pow(2.0, o.degree + 1) - 1.0;  // Richardson: error of a_{2m} = (a_{2m} − a_m)/(2^{p+1} − 1)
   double a1 = r1->depth_m, slope = r1->slope;
   for (;;) {
-    const PeriodMap fine(sys, 2 * m, o.degree);
+    const PeriodMap fine(sys, 2 * m * per, o.degree);
     const std::optional<Root> r2 = root_near({fine, &out.evaluations}, a1, slope, max_depth_m, root_tolerance);
     if (!r2) {  // the finer (more accurate) level is stable up to the ceiling
       bp.depth_m = max_depth_m;
@@ -850,14 +956,14 @@ SpeedOutcome boundary_at(const ModalModel& model, const CuttingConditions& cutti
     bp.depth_error_m = error;
     bp.steps = 2 * m;
     if (error <= o.tolerance * bp.depth_m || 4 * m > o.max_steps) {
-      const FloquetAnalysis fa = floquet(fine, r2->hi, fine.dominant(r2->hi), tau);
+      const FloquetAnalysis fa = floquet(fine, r2->hi, fine.dominant(r2->hi), tau, tooth_tau);
       bp.chatter_hz = fa.chatter_hz;
       bp.lobe = fa.lobe;
       bp.kind = fa.kind;
       bp.multiplier = fa.critical_multiplier;
       out.unmet = error > o.tolerance * bp.depth_m;
       // Fewer than 4 steps per chatter period: the discretization (and the DFT) is at its limit.
-      out.aliased = fa.chatter_hz * tau > 2.0 * m / 4.0;
+      out.aliased = fa.chatter_hz * tooth_tau > 2.0 * m / 4.0;
       return out;
     }
     a1 = a2;
@@ -881,7 +987,9 @@ BoundaryResult stability_boundary(const ModalModel& model, const CuttingConditio
   all.insert(all.end(), model.y.begin(), model.y.end());
   ZeroOrderOptions zo;
   zo.speeds = options.speeds;
-  const ZeroOrderResult zero = zero_order_lobes(modal_milling_frfs(model.x, model.y, modal_frequency_grid(all)), cutting, zo);
+  CuttingConditions even = cutting;  // variable pitch: the even tool's zero-order lobes as the guesses
+  even.pitch_rad.clear();
+  const ZeroOrderResult zero = zero_order_lobes(modal_milling_frfs(model.x, model.y, modal_frequency_grid(all)), even, zo);
   res.max_depth_m = options.max_depth_m > 0.0 ? options.max_depth_m : 10.0 * zero.floor_depth_m;
 
   const std::vector<double> speeds = options.speeds.values();

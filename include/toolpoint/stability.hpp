@@ -50,12 +50,24 @@ Engagement engagement_from_immersion(double radial_immersion, MillingDirection d
 Engagement engagement_from_degrees(double entry_deg, double exit_deg);
 
 struct CuttingConditions {
-  int teeth = 0;                        // N ≥ 1, evenly spaced
+  int teeth = 0;                        // N ≥ 1
   double tangential_coefficient = 0.0;  // K_t > 0 [N/m²]
   double radial_ratio = 0.0;            // K_r = K_n/K_t ≥ 0
   Engagement engagement;
-  // Throws InvalidArgument naming the parameter and value (negative coefficients, N < 1, …).
+  // Variable pitch: the angle [rad] from each tooth to the one that follows it (tooth j + 1 passes
+  // an angle pitch_rad[j]/Ω after tooth j, as simulation.hpp's Cutter::pitch_rad), N entries, each
+  // > 0, summing to 2π (within 1e-6 rad). Empty: evenly spaced. Only the time-domain stability
+  // (full-discretization) uses it; the zero-order method refuses an uneven pitch.
+  std::vector<double> pitch_rad{};
+  // Throws InvalidArgument naming the parameter and value (negative coefficients, N < 1, pitch
+  // angles of the wrong count or not adding up to a revolution, …).
   void check() const;
+  // Evenly spaced teeth (pitch_rad empty, or all its angles equal within 1e-12 rad): every tooth
+  // has the same delay, the principal period is the tooth period.
+  bool uniform_pitch() const;
+  // The principal period of the milling equation in tooth periods 60/(N n): 1 for a uniform
+  // pitch, N (a revolution) otherwise.
+  int teeth_per_period() const { return uniform_pitch() ? 1 : teeth; }
 };
 
 // α(φ₁, φ₂) = ∫_{φ₁}^{φ₂} A(φ) dφ (docs/reference.md §7, Altintas & Budak 1995 Eq. 10), dimensionless:
@@ -258,7 +270,13 @@ struct BoundaryPoint {
   Complex multiplier;  // critical multiplier just above the boundary
 };
 
-// The milling equation at one speed as a PeriodicDelaySystem: per mode the block
+// The milling equation at one speed as a PeriodicDelaySystem. Variable pitch (Altintas, Engin &
+// Budak, J. Manuf. Sci. Eng. 121 (1999) 173; Insperger & Stépán 2004 §5): the period is a
+// revolution T = 60/n, tooth j at φ_j(t) = Ωt − Σ_{i<j} p_i has its own delay τ_j = p_{j−1}/Ω (the
+// time since the tooth before it passed the same angle), and
+//     u(t) = σ Σ_j ½K_t g_j A(φ_j) (r(t) − r(t − τ_j)),
+// built as P = Σ_j ½K_t g_j A(φ_j) and one PeriodicDelaySystem::delays term per distinct delay;
+// with a feed, tooth j's static chip is N c p_{j−1}/(2π) sin φ_j. Uniform pitch: per mode the block
 // [[0, 1], [−ω_r², −2ζ_rω_r]] on (q_r, q̇_r); B puts the force on q̈_r with 1/m_r; C reads the tip
 // displacement; P(t) = ½K_t A(t) [N/m²] with σ the depth a [m], regenerative; breakpoints at the
 // teeth's entry and exit. One output (x) when the model has no y mode. With a feed per tooth c > 0
@@ -268,6 +286,7 @@ PeriodicDelaySystem milling_delay_system(const ModalModel& model, const CuttingC
                                          double feed_per_tooth_m = 0.0);
 
 // Stability of the milling equation at a fixed number of steps per tooth period.
+// Steps per tooth period m: the map is built with m · cutting.teeth_per_period() steps per period.
 class FullDiscretization {
  public:
   // Throws InvalidArgument (bad model or conditions, steps outside 4…20000, degree outside 1…3).
