@@ -57,6 +57,27 @@ void CuttingConditions::check() const {
     throw InvalidArgument(fmt::format("radial cutting coefficient ratio K_r = K_n/K_t = {} must be ≥ 0", radial_ratio),
                           "CuttingConditions::radial_ratio is K_n/K_t, typically 0.2…0.5");
   engagement.check();
+  if (!std::isfinite(diameter_m) || diameter_m < 0.0)
+    throw InvalidArgument(fmt::format("CuttingConditions::diameter_m {} m must be ≥ 0 (0: not given)", diameter_m));
+  if (!runout_m.empty()) {
+    if (static_cast<int>(runout_m.size()) != teeth)
+      throw InvalidArgument(fmt::format("CuttingConditions::runout_m has {} offsets for {} teeth", runout_m.size(), teeth),
+                            "give one radius offset per tooth, or none");
+    for (std::size_t j = 0; j < runout_m.size(); ++j) {
+      if (!std::isfinite(runout_m[j]) || (diameter_m > 0.0 && std::abs(runout_m[j]) >= 0.5 * diameter_m))
+        throw InvalidArgument(fmt::format("CuttingConditions::runout_m[{}] = {:.6g} mm lies beyond the tool radius {:.6g} mm", j,
+                                          runout_m[j] * 1e3, 0.5 * diameter_m * 1e3),
+                              "runout is a radius offset of a few µm to tens of µm; check the unit");
+      if (std::abs(runout_m[j]) > 1e-3)
+        throw InvalidArgument(fmt::format("CuttingConditions::runout_m[{}] = {:.6g} mm is implausibly large (over 1 mm)", j,
+                                          runout_m[j] * 1e3),
+                              "runout is a radius offset of a few µm to tens of µm; give it in metres");
+    }
+    if (!std::isfinite(feed_per_tooth_m) || !(feed_per_tooth_m > 0.0))
+      throw InvalidArgument(fmt::format("CuttingConditions::feed_per_tooth_m {} m must be positive with runout",
+                                        feed_per_tooth_m),
+                            "with runout, which tooth cuts which surface depends on the feed");
+  }
   if (pitch_rad.empty()) return;
   if (static_cast<int>(pitch_rad.size()) != teeth)
     throw InvalidArgument(fmt::format("CuttingConditions::pitch_rad has {} angles for {} teeth", pitch_rad.size(), teeth),
@@ -74,9 +95,11 @@ void CuttingConditions::check() const {
                           "the pitch angles are the spacings between successive teeth round the tool");
 }
 
-bool CuttingConditions::uniform_pitch() const {
+bool CuttingConditions::uniform() const {
   for (double p : pitch_rad)
     if (std::abs(p - 2.0 * kPi / teeth) > 1e-12) return false;
+  for (double r : runout_m)
+    if (r != runout_m.front()) return false;  // the same offset on every tooth changes nothing
   return true;
 }
 
@@ -246,9 +269,10 @@ namespace {
 
 LobeTable zero_order_roots(const MillingFrfs& frfs, const CuttingConditions& cutting) {
   cutting.check();
-  if (!cutting.uniform_pitch())
-    throw InvalidArgument("CuttingConditions::pitch_rad: the zero-order method assumes evenly spaced teeth",
-                          "use the time-domain (full-discretization) method for a variable pitch");
+  if (!cutting.uniform())
+    throw InvalidArgument(
+        "CuttingConditions::pitch_rad, runout_m: the zero-order method assumes evenly spaced teeth without runout",
+        "use the time-domain (full-discretization) method for a variable pitch or runout");
   frfs.check();
   const Eigen::Matrix2d a = directional_factors(cutting);
   const double nkt = cutting.teeth * cutting.tangential_coefficient;
@@ -496,62 +520,138 @@ Eigen::Matrix2d tooth_matrix(const CuttingConditions& cutting, double phi) {
   return 0.5 * cutting.tangential_coefficient * a;
 }
 
-// The variable-pitch terms of milling_delay_system (its header comment): period a revolution,
-// teeth grouped by delay (teeth with equal pitch before them share one delayed term).
-void add_variable_pitch(PeriodicDelaySystem& sys, const CuttingConditions& cutting, double speed_rpm, double feed_per_tooth_m,
-                        int d) {
+// Which surface tooth j cuts at angle φ, with runout (simulation.hpp's chip, linearised about
+// the static cut): the surface left q pitches back (q = 1…N, angle Θ_q after tooth j − q) lies
+// at ρ_{j−q} − C_q sin φ, C_q = N c Θ_q/2π the feed since; tooth j cuts the outermost one, q*, if
+// its static chip h = ρ_j − ρ_{j−q*} + C_{q*} sin φ is positive, and then regenerates against
+// r(t − Θ_{q*}/Ω). Without runout q* = 1 (the tooth ahead) wherever the tooth is engaged.
+struct ToothGeometry {
+  int teeth = 0;
+  std::vector<double> lag;     // tooth j at φ_j = Ωt − lag_j [rad]
+  std::vector<double> back;    // Θ_{j,q} at [j·N + q − 1]: the angle from tooth j − q to tooth j [rad]
+  std::vector<double> runout;  // ρ_j [m] (empty: none)
+  double per_rev = 0.0;        // N c [m]
+
+  // q* (1…N) and the static chip [m] (h ≤ 0: out of the cut, q* = 0).
+  std::pair<int, double> reference(int j, double sin_phi) const {
+    if (runout.empty()) return {1, per_rev * back[static_cast<std::size_t>(j * teeth)] / (2.0 * kPi) * sin_phi};
+    int best = 0;
+    double surface = -kInf;
+    for (int q = 1; q <= teeth; ++q) {
+      const double v = runout[static_cast<std::size_t>((j - q + teeth * 2) % teeth)] -
+                       per_rev * back[static_cast<std::size_t>(j * teeth + q - 1)] / (2.0 * kPi) * sin_phi;
+      if (v > surface) {
+        surface = v;
+        best = q;
+      }
+    }
+    const double h = runout[static_cast<std::size_t>(j)] - surface;
+    return h > 0.0 ? std::pair<int, double>{best, h} : std::pair<int, double>{0, h};
+  }
+};
+
+// The revolution-period terms of milling_delay_system (its header comment): P sums the teeth in
+// the cut; one delayed term per distinct angle Θ_q, whose coefficient holds the teeth that cut the
+// surface q pitches back at that moment.
+void add_revolution_terms(PeriodicDelaySystem& sys, const CuttingConditions& cutting, double speed_rpm, double feed_per_tooth_m,
+                          int d) {
   const int teeth = cutting.teeth;
+  const auto nt = static_cast<std::size_t>(teeth);
   const double spin = 2.0 * kPi * speed_rpm / 60.0;
   sys.period = 60.0 / speed_rpm;
   sys.regenerative = false;
-  std::vector<double> lag(static_cast<std::size_t>(teeth), 0.0), before(static_cast<std::size_t>(teeth));
+  std::vector<double> pitch = cutting.pitch_rad;
+  if (pitch.empty()) pitch.assign(nt, 2.0 * kPi / teeth);
+  ToothGeometry g;
+  g.teeth = teeth;
+  g.lag.assign(nt, 0.0);
+  for (std::size_t j = 1; j < nt; ++j) g.lag[j] = g.lag[j - 1] + pitch[j - 1];
+  g.back.assign(nt * nt, 0.0);
   for (int j = 0; j < teeth; ++j) {
-    const auto jj = static_cast<std::size_t>(j);
-    if (j > 0) lag[jj] = lag[jj - 1] + cutting.pitch_rad[jj - 1];
-    before[jj] = cutting.pitch_rad[static_cast<std::size_t>((j + teeth - 1) % teeth)];
+    double angle = 0.0;
+    for (int q = 1; q <= teeth; ++q) {
+      angle += pitch[static_cast<std::size_t>((j - q + teeth) % teeth)];
+      g.back[static_cast<std::size_t>(j * teeth + q - 1)] = q == teeth ? 2.0 * kPi : angle;
+    }
   }
-  auto all_teeth = [cutting, lag, spin, d](double t, Eigen::MatrixXd& out) {
+  g.runout = cutting.runout_m;
+  g.per_rev = teeth * (g.runout.empty() ? feed_per_tooth_m : cutting.feed_per_tooth_m);
+  // φ in [0, 2π) of tooth j at t, and whether it is engaged.
+  auto angle_of = [lag = g.lag, spin](int j, double t) {
+    double phi = std::fmod(spin * t - lag[static_cast<std::size_t>(j)], 2.0 * kPi);
+    return phi < 0.0 ? phi + 2.0 * kPi : phi;
+  };
+  const Engagement e = cutting.engagement;
+  auto engaged = [e](double phi) { return phi >= e.entry_rad && phi <= e.exit_rad; };
+  sys.current = [cutting, g, angle_of, engaged, d](double t, Eigen::MatrixXd& out) {
     Eigen::Matrix2d sum = Eigen::Matrix2d::Zero();
-    for (double l : lag) sum += tooth_matrix(cutting, spin * t - l);
+    for (int j = 0; j < g.teeth; ++j) {
+      const double phi = angle_of(j, t);
+      if (engaged(phi) && g.reference(j, std::sin(phi)).first > 0) sum += tooth_matrix(cutting, phi);
+    }
     out = sum.topLeftCorner(d, d);
   };
-  sys.current = all_teeth;
-  std::vector<char> grouped(static_cast<std::size_t>(teeth), 0);
-  for (int j = 0; j < teeth; ++j) {
-    if (grouped[static_cast<std::size_t>(j)]) continue;
-    std::vector<double> group;
-    for (int i = j; i < teeth; ++i)
-      if (!grouped[static_cast<std::size_t>(i)] &&
-          std::abs(before[static_cast<std::size_t>(i)] - before[static_cast<std::size_t>(j)]) <= 1e-12) {
-        grouped[static_cast<std::size_t>(i)] = 1;
-        group.push_back(lag[static_cast<std::size_t>(i)]);
+  // Distinct angles Θ (within 1e-12 rad), each with the (j, q) that reach back by it. Without
+  // runout only q = 1 is ever cut.
+  std::vector<double> angles;
+  std::vector<std::vector<std::pair<int, int>>> users;
+  for (int j = 0; j < teeth; ++j)
+    for (int q = 1; q <= (g.runout.empty() ? 1 : teeth); ++q) {
+      const double th = g.back[static_cast<std::size_t>(j * teeth + q - 1)];
+      std::size_t k = 0;
+      while (k < angles.size() && std::abs(angles[k] - th) > 1e-12) ++k;
+      if (k == angles.size()) {
+        angles.push_back(th);
+        users.emplace_back();
       }
-    sys.delays.push_back({before[static_cast<std::size_t>(j)] / spin, [cutting, group, spin, d](double t, Eigen::MatrixXd& out) {
+      users[k].push_back({j, q});
+    }
+  for (std::size_t k = 0; k < angles.size(); ++k)
+    sys.delays.push_back({angles[k] / spin, [cutting, g, angle_of, engaged, d, use = users[k]](double t, Eigen::MatrixXd& out) {
                             Eigen::Matrix2d sum = Eigen::Matrix2d::Zero();
-                            for (double l : group) sum -= tooth_matrix(cutting, spin * t - l);
+                            for (const auto& [j, q] : use) {
+                              const double phi = angle_of(j, t);
+                              if (engaged(phi) && g.reference(j, std::sin(phi)).first == q) sum -= tooth_matrix(cutting, phi);
+                            }
                             out = sum.topLeftCorner(d, d);
                           }});
-  }
   if (feed_per_tooth_m > 0.0) {
-    const double kt = cutting.tangential_coefficient, kr = cutting.radial_ratio, per_rev = teeth * feed_per_tooth_m;
-    sys.forcing = [=](double t, Eigen::VectorXd& out) {
-      for (int j = 0; j < teeth; ++j) {
-        double phi = std::fmod(spin * t - lag[static_cast<std::size_t>(j)], 2.0 * kPi);
-        if (phi < 0.0) phi += 2.0 * kPi;
-        if (phi < cutting.engagement.entry_rad || phi > cutting.engagement.exit_rad) continue;
+    const double kt = cutting.tangential_coefficient, kr = cutting.radial_ratio;
+    sys.forcing = [g, angle_of, engaged, kt, kr, d](double t, Eigen::VectorXd& out) {
+      for (int j = 0; j < g.teeth; ++j) {
+        const double phi = angle_of(j, t);
+        if (!engaged(phi)) continue;
         const double s = std::sin(phi), c = std::cos(phi);
-        const double ft = kt * per_rev * before[static_cast<std::size_t>(j)] / (2.0 * kPi) * s;
+        const auto [q, h] = g.reference(j, s);
+        if (q == 0) continue;
+        const double ft = kt * h;
         out(0) += ft * (-c - kr * s);
         if (d == 2) out(1) += ft * (s - kr * c);
       }
     };
   }
-  // Each tooth enters and leaves once per revolution.
-  for (double l : lag)
-    for (double angle : {cutting.engagement.entry_rad, cutting.engagement.exit_rad}) {
-      const double t = std::fmod(angle + l, 2.0 * kPi) / spin;
+  // Each tooth enters and leaves once per revolution; with runout also where q* changes or the
+  // static chip reaches zero (sin φ = Δρ/ΔC: both roots φ and π − φ; extra breakpoints are harmless).
+  for (int j = 0; j < teeth; ++j) {
+    std::vector<double> at = {e.entry_rad, e.exit_rad};
+    for (int q = 1; q <= (g.runout.empty() ? 0 : teeth); ++q) {
+      auto rho = [&](int back) { return g.runout[static_cast<std::size_t>((j - back + 2 * teeth) % teeth)]; };
+      auto feed = [&](int back) { return g.per_rev * g.back[static_cast<std::size_t>(j * teeth + back - 1)] / (2.0 * kPi); };
+      std::vector<std::pair<double, double>> pairs = {{rho(q) - g.runout[static_cast<std::size_t>(j)], feed(q)}};
+      for (int r = q + 1; r <= teeth; ++r) pairs.push_back({rho(q) - rho(r), feed(q) - feed(r)});
+      for (const auto& [num, den] : pairs) {
+        if (den == 0.0) continue;
+        const double sv = num / den;
+        if (sv <= 0.0 || sv >= 1.0) continue;
+        for (double phi : {std::asin(sv), kPi - std::asin(sv)})
+          if (phi > e.entry_rad && phi < e.exit_rad) at.push_back(phi);
+      }
+    }
+    for (double angle : at) {
+      const double t = std::fmod(angle + g.lag[static_cast<std::size_t>(j)], 2.0 * kPi) / spin;
       if (t > 1e-12 * sys.period && t < sys.period * (1.0 - 1e-12)) sys.breakpoints.push_back(t);
     }
+  }
 }
 
 }  // namespace
@@ -578,8 +678,12 @@ PeriodicDelaySystem milling_delay_system(const ModalModel& model, const CuttingC
     sys.input(2 * r + 1, r < nx ? 0 : 1) = 1.0 / m.mass_kg;
     sys.output(r < nx ? 0 : 1, 2 * r) = 1.0;
   }
-  if (!cutting.uniform_pitch()) {
-    add_variable_pitch(sys, cutting, speed_rpm, feed_per_tooth_m, d);
+  if (!cutting.uniform()) {
+    if (!cutting.runout_m.empty() && feed_per_tooth_m > 0.0 && std::abs(feed_per_tooth_m - cutting.feed_per_tooth_m) > 1e-12)
+      throw InvalidArgument(
+          fmt::format("feed per tooth {} m differs from CuttingConditions::feed_per_tooth_m {} m (the runout's)",
+                      feed_per_tooth_m, cutting.feed_per_tooth_m));
+    add_revolution_terms(sys, cutting, speed_rpm, feed_per_tooth_m, d);
     return sys;
   }
   const int teeth = cutting.teeth;
@@ -987,8 +1091,9 @@ BoundaryResult stability_boundary(const ModalModel& model, const CuttingConditio
   all.insert(all.end(), model.y.begin(), model.y.end());
   ZeroOrderOptions zo;
   zo.speeds = options.speeds;
-  CuttingConditions even = cutting;  // variable pitch: the even tool's zero-order lobes as the guesses
+  CuttingConditions even = cutting;  // variable pitch, runout: the even tool's zero-order lobes as the guesses
   even.pitch_rad.clear();
+  even.runout_m.clear();
   const ZeroOrderResult zero = zero_order_lobes(modal_milling_frfs(model.x, model.y, modal_frequency_grid(all)), even, zo);
   res.max_depth_m = options.max_depth_m > 0.0 ? options.max_depth_m : 10.0 * zero.floor_depth_m;
 

@@ -59,15 +59,23 @@ struct CuttingConditions {
   // > 0, summing to 2π (within 1e-6 rad). Empty: evenly spaced. Only the time-domain stability
   // (full-discretization) uses it; the zero-order method refuses an uneven pitch.
   std::vector<double> pitch_rad{};
+  // Radial runout: tooth j cuts at radius D/2 + runout_m[j] [m] (N entries; empty: none), as
+  // simulation.hpp's Cutter::runout_m. Which surface each tooth cuts — and so its delay and its
+  // static chip — then depends on the feed (milling_delay_system), given here.
+  std::vector<double> runout_m{};
+  double feed_per_tooth_m = 0.0;  // c > 0 [m], required with runout (mean feed per tooth)
+  double diameter_m = 0.0;        // D [m]: with it, runout is checked against the radius (0: not checked)
   // Throws InvalidArgument naming the parameter and value (negative coefficients, N < 1, pitch
-  // angles of the wrong count or not adding up to a revolution, …).
+  // angles of the wrong count or not adding up to a revolution, runout beyond the radius or over
+  // 1 mm, runout without a feed, …).
   void check() const;
-  // Evenly spaced teeth (pitch_rad empty, or all its angles equal within 1e-12 rad): every tooth
-  // has the same delay, the principal period is the tooth period.
-  bool uniform_pitch() const;
-  // The principal period of the milling equation in tooth periods 60/(N n): 1 for a uniform
-  // pitch, N (a revolution) otherwise.
-  int teeth_per_period() const { return uniform_pitch() ? 1 : teeth; }
+  // Every tooth cuts alike: evenly spaced teeth (pitch_rad empty, or all its angles equal within
+  // 1e-12 rad) and no runout (or the same on every tooth). The principal period is then the
+  // tooth period, and the zero-order method applies.
+  bool uniform() const;
+  // The principal period of the milling equation in tooth periods 60/(N n): 1 when uniform(), N (a
+  // revolution) otherwise.
+  int teeth_per_period() const { return uniform() ? 1 : teeth; }
 };
 
 // α(φ₁, φ₂) = ∫_{φ₁}^{φ₂} A(φ) dφ (docs/reference.md §7, Altintas & Budak 1995 Eq. 10), dimensionless:
@@ -276,7 +284,12 @@ struct BoundaryPoint {
 // time since the tooth before it passed the same angle), and
 //     u(t) = σ Σ_j ½K_t g_j A(φ_j) (r(t) − r(t − τ_j)),
 // built as P = Σ_j ½K_t g_j A(φ_j) and one PeriodicDelaySystem::delays term per distinct delay;
-// with a feed, tooth j's static chip is N c p_{j−1}/(2π) sin φ_j. Uniform pitch: per mode the block
+// with a feed, tooth j's static chip is N c p_{j−1}/(2π) sin φ_j. Runout (Insperger, Mann, Surmann
+// & Stépán, IJMTM 48 (2008) 586; the chip of simulation.hpp linearised about the static cut): tooth
+// j at φ regenerates against the outermost surface q* pitches back, delay Θ_{q*}/Ω (one
+// revolution at most), and is out of the cut where its static chip ρ_j − ρ_{j−q*} + C_{q*} sin φ ≤ 0
+// (C_q = N c Θ_q/2π); `feed_per_tooth_m` > 0 must then equal CuttingConditions::feed_per_tooth_m.
+// Uniform pitch: per mode the block
 // [[0, 1], [−ω_r², −2ζ_rω_r]] on (q_r, q̇_r); B puts the force on q̈_r with 1/m_r; C reads the tip
 // displacement; P(t) = ½K_t A(t) [N/m²] with σ the depth a [m], regenerative; breakpoints at the
 // teeth's entry and exit. One output (x) when the model has no y mode. With a feed per tooth c > 0
