@@ -85,6 +85,56 @@ void PeriodicDelaySystem::check() const {
   }
 }
 
+PeriodicDelaySystem with_velocity_feedback(const PeriodicDelaySystem& system, const Eigen::MatrixXd& velocity_output,
+                                           std::function<void(double t, Eigen::MatrixXd& out)> feedback) {
+  system.check();
+  const Eigen::Index n = system.output.cols(), d = system.output.rows();
+  if (velocity_output.rows() != d || velocity_output.cols() != n || !velocity_output.allFinite())
+    throw InvalidArgument(fmt::format("with_velocity_feedback: the velocity output must be {}×{}, finite (is {}×{})", d, n,
+                                      velocity_output.rows(), velocity_output.cols()));
+  if (!feedback) throw InvalidArgument("with_velocity_feedback: the feedback V(t) is empty");
+  PeriodicDelaySystem out;
+  out.a0_blocks = system.a0_blocks;
+  out.period = system.period;
+  out.breakpoints = system.breakpoints;
+  out.input = Eigen::MatrixXd::Zero(n, 2 * d);
+  out.input.leftCols(d) = system.input;
+  out.output.resize(2 * d, n);
+  out.output << system.output, velocity_output;
+  using Coefficient = std::function<void(double, Eigen::MatrixXd&)>;
+  // A d × d coefficient placed in the top-left corner of the 2d × 2d one (scaled by `sign`).
+  auto corner = [d](Coefficient f, double sign) -> Coefficient {
+    if (!f) return {};
+    return [f, d, sign](double t, Eigen::MatrixXd& o) {
+      Eigen::MatrixXd c = Eigen::MatrixXd::Zero(d, d);
+      f(t, c);
+      o.topLeftCorner(d, d) = sign * c;
+    };
+  };
+  const Coefficient current = system.current;
+  out.current = [current, feedback, d](double t, Eigen::MatrixXd& o) {
+    Eigen::MatrixXd c = Eigen::MatrixXd::Zero(d, d);
+    if (current) {
+      current(t, c);
+      o.topLeftCorner(d, d) = c;
+      c.setZero();
+    }
+    feedback(t, c);
+    o.topRightCorner(d, d) = c;
+  };
+  out.delayed = system.regenerative ? corner(system.current, -1.0) : corner(system.delayed, 1.0);
+  for (const DelayedTerm& term : system.delays) out.delays.push_back({term.delay, corner(term.coefficient, 1.0)});
+  if (system.forcing) {
+    const auto forcing = system.forcing;
+    out.forcing = [forcing, d](double t, Eigen::VectorXd& o) {
+      Eigen::VectorXd w = Eigen::VectorXd::Zero(d);
+      forcing(t, w);
+      o.head(d) = w;
+    };
+  }
+  return out;
+}
+
 PeriodMap::PeriodMap(const PeriodicDelaySystem& sys, int steps, int degree) {
   sys.check();
   if (steps < 2 || steps > 100000) throw InvalidArgument(fmt::format("{} discretization steps per period: need 2…100000", steps));

@@ -59,6 +59,19 @@ void CuttingConditions::check() const {
   engagement.check();
   if (!std::isfinite(diameter_m) || diameter_m < 0.0)
     throw InvalidArgument(fmt::format("CuttingConditions::diameter_m {} m must be ≥ 0 (0: not given)", diameter_m));
+  if (!std::isfinite(process_damping_n_per_m) || process_damping_n_per_m < 0.0)
+    throw InvalidArgument(
+        fmt::format("CuttingConditions::process_damping_n_per_m {} N/m must be ≥ 0 (0: none)", process_damping_n_per_m));
+  if (process_damping_n_per_m > 0.0) {
+    if (process_damping_n_per_m < kProcessDampingMin || process_damping_n_per_m > kProcessDampingMax)
+      throw InvalidArgument(fmt::format("CuttingConditions::process_damping_n_per_m = {:.4g} N/m is implausible: the "
+                                        "indentation coefficient C_i lies within {:.0e}…{:.0e} N/m",
+                                        process_damping_n_per_m, kProcessDampingMin, kProcessDampingMax),
+                            "C_i is a force per metre of indentation per unit width and speed (the damping is C_i·b/V "
+                            "[N·s/m]); a value in N/m² or N/mm is a unit slip");
+    if (!(diameter_m > 0.0))
+      throw InvalidArgument("CuttingConditions::diameter_m must be given with process damping (the cutting speed is πDn/60)");
+  }
   if (!runout_m.empty()) {
     if (static_cast<int>(runout_m.size()) != teeth)
       throw InvalidArgument(fmt::format("CuttingConditions::runout_m has {} offsets for {} teeth", runout_m.size(), teeth),
@@ -656,8 +669,9 @@ void add_revolution_terms(PeriodicDelaySystem& sys, const CuttingConditions& cut
 
 }  // namespace
 
-PeriodicDelaySystem milling_delay_system(const ModalModel& model, const CuttingConditions& cutting, double speed_rpm,
-                                         double feed_per_tooth_m) {
+// The milling equation without process damping (milling_delay_system's header comment).
+static PeriodicDelaySystem cutting_forces_system(const ModalModel& model, const CuttingConditions& cutting, double speed_rpm,
+                                                 double feed_per_tooth_m) {
   if (!std::isfinite(feed_per_tooth_m) || feed_per_tooth_m < 0.0)
     throw InvalidArgument(fmt::format("feed per tooth {} m must be ≥ 0", feed_per_tooth_m));
   model.check();
@@ -727,13 +741,51 @@ PeriodicDelaySystem milling_delay_system(const ModalModel& model, const CuttingC
   return sys;
 }
 
+PeriodicDelaySystem milling_delay_system(const ModalModel& model, const CuttingConditions& cutting, double speed_rpm,
+                                         double feed_per_tooth_m) {
+  PeriodicDelaySystem sys = cutting_forces_system(model, cutting, speed_rpm, feed_per_tooth_m);
+  const double ci = cutting.process_damping_n_per_m;
+  if (!(ci > 0.0)) return sys;
+  // Process damping: per engaged tooth −(C_i/V) u uᵀ ṙ per unit depth, u = (sin φ, cos φ) the
+  // surface normal, V = πDn/60 the cutting speed.
+  const Eigen::MatrixXd velocity = velocity_output(model);
+  const int teeth = cutting.teeth, d = static_cast<int>(sys.output.rows());
+  std::vector<double> lag(static_cast<std::size_t>(teeth), 0.0);
+  for (std::size_t j = 1; j < lag.size(); ++j)
+    lag[j] = lag[j - 1] + (cutting.pitch_rad.empty() ? 2.0 * kPi / teeth : cutting.pitch_rad[j - 1]);
+  const double spin = 2.0 * kPi * speed_rpm / 60.0, speed = cutting_speed(cutting, speed_rpm);
+  const Engagement e = cutting.engagement;
+  return with_velocity_feedback(sys, velocity, [=](double t, Eigen::MatrixXd& out) {
+    Eigen::Matrix2d sum = Eigen::Matrix2d::Zero();
+    for (double l : lag) {
+      double phi = std::fmod(spin * t - l, 2.0 * kPi);
+      if (phi < 0.0) phi += 2.0 * kPi;
+      if (phi < e.entry_rad || phi > e.exit_rad) continue;
+      const Eigen::Vector2d u(std::sin(phi), std::cos(phi));
+      sum -= u * u.transpose();
+    }
+    out = ci / speed * sum.topLeftCorner(d, d);
+  });
+}
+
+double cutting_speed(const CuttingConditions& cutting, double speed_rpm) { return kPi * cutting.diameter_m * speed_rpm / 60.0; }
+
+Eigen::MatrixXd velocity_output(const ModalModel& model) {
+  const int nx = static_cast<int>(model.x.size()), nq = nx + static_cast<int>(model.y.size());
+  Eigen::MatrixXd c = Eigen::MatrixXd::Zero(model.y.empty() ? 1 : 2, 2 * nq);
+  for (int r = 0; r < nq; ++r) c(r < nx ? 0 : 1, 2 * r + 1) = 1.0;
+  return c;
+}
+
 namespace {
 
 // Hopf, flip or fold from the critical multiplier; the chatter frequency from the Floquet
 // solution q(t_i) = μ^{i/m} p(t_i), p τ-periodic: the DFT of p's tip displacement over one period
 // gives harmonics at (arg μ + 2πj)/τ, the strongest is the chatter.
 // `tau` the map's period, `tooth_tau` the (mean) tooth period the lobe number counts waves in.
-FloquetAnalysis floquet(const PeriodMap& map, double depth_m, const DominantMultiplier& dm, double tau, double tooth_tau) {
+// Only the first `rows` outputs (the tip displacement; velocities follow with process damping) are read.
+FloquetAnalysis floquet(const PeriodMap& map, double depth_m, const DominantMultiplier& dm, double tau, double tooth_tau,
+                        int rows) {
   FloquetAnalysis fa;
   fa.spectral_radius = dm.spectral_radius;
   fa.critical_multiplier = dm.multiplier;
@@ -747,10 +799,10 @@ FloquetAnalysis floquet(const PeriodMap& map, double depth_m, const DominantMult
   const int m = map.steps();
   const Eigen::MatrixXcd r = map.outputs(depth_m, dm.vector);
   const Complex root = std::exp(std::log(mu) / static_cast<double>(m));
-  Eigen::MatrixXcd p(r.rows(), m);
+  Eigen::MatrixXcd p(rows, m);
   Complex scale = 1.0;
   for (int i = 0; i < m; ++i) {
-    p.col(i) = r.col(i) / scale;
+    p.col(i) = r.col(i).head(rows) / scale;
     scale *= root;
   }
   // The DFT of each output row by FFT (Eigen's kissfft: any m, O(m log m); a direct sum cost m²
@@ -924,7 +976,7 @@ FloquetAnalysis FullDiscretization::analyse(double speed_rpm, double depth_m) co
   if (!std::isfinite(depth_m) || depth_m < 0.0) throw InvalidArgument(fmt::format("axial depth {} m must be ≥ 0", depth_m));
   const PeriodMap map = period_map(speed_rpm);
   const double tooth = 60.0 / (cutting_.teeth * speed_rpm);
-  return floquet(map, depth_m, map.dominant(depth_m), tooth * cutting_.teeth_per_period(), tooth);
+  return floquet(map, depth_m, map.dominant(depth_m), tooth * cutting_.teeth_per_period(), tooth, model_.y.empty() ? 1 : 2);
 }
 
 Eigen::MatrixXd FullDiscretization::spectral_radius_map(const std::vector<double>& speeds_rpm,
@@ -963,7 +1015,8 @@ BoundaryPoint FullDiscretization::boundary(double speed_rpm, double max_depth_m,
     }
     const Root root = narrow_bracket(rho, lo, flo, a, dm, tolerance);
     const double tooth = 60.0 / (cutting_.teeth * speed_rpm);
-    const FloquetAnalysis fa = floquet(map, root.hi, map.dominant(root.hi), tooth * cutting_.teeth_per_period(), tooth);
+    const FloquetAnalysis fa = floquet(map, root.hi, map.dominant(root.hi), tooth * cutting_.teeth_per_period(), tooth,
+                                       model_.y.empty() ? 1 : 2);
     bp.depth_m = root.depth_m;
     bp.depth_error_m = kNaN;
     bp.chatter_hz = fa.chatter_hz;
@@ -1060,7 +1113,7 @@ SpeedOutcome boundary_at(const ModalModel& model, const CuttingConditions& cutti
     bp.depth_error_m = error;
     bp.steps = 2 * m;
     if (error <= o.tolerance * bp.depth_m || 4 * m > o.max_steps) {
-      const FloquetAnalysis fa = floquet(fine, r2->hi, fine.dominant(r2->hi), tau, tooth_tau);
+      const FloquetAnalysis fa = floquet(fine, r2->hi, fine.dominant(r2->hi), tau, tooth_tau, model.y.empty() ? 1 : 2);
       bp.chatter_hz = fa.chatter_hz;
       bp.lobe = fa.lobe;
       bp.kind = fa.kind;

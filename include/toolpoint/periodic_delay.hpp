@@ -71,6 +71,17 @@ struct PeriodicDelaySystem {
   void check() const;
 };
 
+// The system with a velocity feedback added: u(t) += σ V(t) C_v x(t), C_v (d × n) reading the
+// velocities the feedback acts on, V(t) (d × d) T-periodic (process damping: the flank's contact
+// force −C_i b ṙ_n/V, Budak & Tunç, CIRP Annals 58 (2009) 403, b = σ). Built within the same form:
+// the outputs become (C x, C_v x) (2d rows), the inputs (u, 0) with B' = [B, 0], and
+//     P' = [[P, V], [0, 0]],  Q' = [[Q, 0], [0, 0]],  Q'_j = [[Q_j, 0], [0, 0]],  w' = (w, 0),
+// a regenerative system becoming one with Q = −P written out (the velocity is not delayed). The
+// map then carries 2d outputs per buffered sample: about twice the work. Throws InvalidArgument
+// (C_v of the wrong size, an empty V, a bad system).
+PeriodicDelaySystem with_velocity_feedback(const PeriodicDelaySystem& system, const Eigen::MatrixXd& velocity_output,
+                                           std::function<void(double t, Eigen::MatrixXd& out)> feedback);
+
 // The dominant Floquet multiplier of the period map (largest modulus; of a complex pair the one
 // with Im ≥ 0) and its eigenvector (the reduced state, see PeriodMap::size).
 struct DominantMultiplier {

@@ -49,6 +49,10 @@ Engagement engagement_from_immersion(double radial_immersion, MillingDirection d
 // From angles in degrees (the CLI's --entry/--exit). Throws InvalidArgument outside 0 ≤ entry < exit ≤ 180.
 Engagement engagement_from_degrees(double entry_deg, double exit_deg);
 
+// The plausible range of the process-damping (indentation) coefficient C_i [N/m]: published
+// values lie around 1e4…1e7 N/m; outside 1e3…1e8 N/m it is most likely in another unit.
+inline constexpr double kProcessDampingMin = 1e3, kProcessDampingMax = 1e8;
+
 struct CuttingConditions {
   int teeth = 0;                        // N ≥ 1
   double tangential_coefficient = 0.0;  // K_t > 0 [N/m²]
@@ -65,6 +69,12 @@ struct CuttingConditions {
   std::vector<double> runout_m{};
   double feed_per_tooth_m = 0.0;  // c > 0 [m], required with runout (mean feed per tooth)
   double diameter_m = 0.0;        // D [m]: with it, runout is checked against the radius (0: not checked)
+  // Process damping (Budak & Tunç, CIRP Annals 58 (2009) 403; Wu's indentation model): the flank's
+  // contact adds a damping force −C_i b ṙ_n/V normal to the cut surface per engaged tooth, ṙ_n =
+  // u·ṙ, u = (sin φ, cos φ), V = πDn/60 (needs diameter_m): equivalent damping C_i·b/V [N·s/m]
+  // that grows as the speed falls. C_i [N/m] within kProcessDampingMin…kProcessDampingMax; 0: none.
+  // Teeth are taken as in contact over the engagement (with runout too).
+  double process_damping_n_per_m = 0.0;
   // Throws InvalidArgument naming the parameter and value (negative coefficients, N < 1, pitch
   // angles of the wrong count or not adding up to a revolution, runout beyond the radius or over
   // 1 mm, runout without a feed, …).
@@ -295,8 +305,15 @@ struct BoundaryPoint {
 // teeth's entry and exit. One output (x) when the model has no y mode. With a feed per tooth c > 0
 // [m], the forcing w(t) of the static chip c sin φ_j (per unit depth; PeriodMap::periodic_solution
 // then gives the forced periodic motion of a stable cut). Throws InvalidArgument.
+// With CuttingConditions::process_damping_n_per_m > 0 the system carries the velocity feedback
+// −(C_i/V) Σ_j g_j u_j u_jᵀ ṙ per unit depth (with_velocity_feedback: outputs 0…d−1 the tip
+// displacement, d…2d−1 its velocity).
 PeriodicDelaySystem milling_delay_system(const ModalModel& model, const CuttingConditions& cutting, double speed_rpm,
                                          double feed_per_tooth_m = 0.0);
+// The cutting speed V = πDn/60 [m/s] of CuttingConditions::diameter_m at `speed_rpm`.
+double cutting_speed(const CuttingConditions& cutting, double speed_rpm);
+// The tip velocity's C_v (d × 2n_q) of the milling system's state: x (and y) velocities summed over the modes.
+Eigen::MatrixXd velocity_output(const ModalModel& model);
 
 // Stability of the milling equation at a fixed number of steps per tooth period.
 // Steps per tooth period m: the map is built with m · cutting.teeth_per_period() steps per period.
