@@ -282,9 +282,13 @@ namespace {
 
 LobeTable zero_order_roots(const MillingFrfs& frfs, const CuttingConditions& cutting) {
   cutting.check();
+  if (cutting.process_damping_n_per_m > 0.0)
+    throw InvalidArgument("CuttingConditions::process_damping_n_per_m: the zero-order method has no process damping",
+                          "use the time-domain (full-discretization) method");
   if (!cutting.uniform())
     throw InvalidArgument(
-        "CuttingConditions::pitch_rad, runout_m: the zero-order method assumes evenly spaced teeth without runout",
+        "CuttingConditions::pitch_rad or CuttingConditions::runout_m: the zero-order method assumes evenly spaced teeth "
+        "without runout",
         "use the time-domain (full-discretization) method for a variable pitch or runout");
   frfs.check();
   const Eigen::Matrix2d a = directional_factors(cutting);
@@ -1147,6 +1151,7 @@ BoundaryResult stability_boundary(const ModalModel& model, const CuttingConditio
   CuttingConditions even = cutting;  // variable pitch, runout: the even tool's zero-order lobes as the guesses
   even.pitch_rad.clear();
   even.runout_m.clear();
+  even.process_damping_n_per_m = 0.0;  // guesses below the damped limit: the search scans up from them
   const ZeroOrderResult zero = zero_order_lobes(modal_milling_frfs(model.x, model.y, modal_frequency_grid(all)), even, zo);
   res.max_depth_m = options.max_depth_m > 0.0 ? options.max_depth_m : 10.0 * zero.floor_depth_m;
 
