@@ -13,6 +13,7 @@
 #include "toolpoint/error.hpp"
 #include "toolpoint/periodic_delay.hpp"
 #include "toolpoint/stability.hpp"
+#include "support/test_util.hpp"
 
 using namespace toolpoint;
 
@@ -97,14 +98,7 @@ struct Turning {
   }
 };
 
-std::string message(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "";
-}
+using test::thrown_message;
 
 }  // namespace
 
@@ -159,14 +153,14 @@ TEST(ProcessDamping, ImplausibleCoefficientNamesTheFieldAndUnit) {
   CuttingConditions c{4, 2e9, 0.3, engagement_from_immersion(0.5, MillingDirection::Down)};
   c.diameter_m = 0.02;
   c.process_damping_n_per_m = 2e11;  // N/m² (a cutting pressure) by mistake
-  std::string m = message([&] { c.check(); });
+  std::string m = thrown_message([&] { c.check(); });
   EXPECT_NE(m.find("CuttingConditions::process_damping_n_per_m"), std::string::npos) << m;
   EXPECT_NE(m.find("N/m"), std::string::npos) << m;
   c.process_damping_n_per_m = 0.2;  // N/µm by mistake
-  EXPECT_NE(message([&] { c.check(); }).find("implausible"), std::string::npos);
+  EXPECT_NE(thrown_message([&] { c.check(); }).find("implausible"), std::string::npos);
   c.process_damping_n_per_m = -1.0;
-  EXPECT_NE(message([&] { c.check(); }).find("must be ≥ 0"), std::string::npos);
+  EXPECT_NE(thrown_message([&] { c.check(); }).find("must be ≥ 0"), std::string::npos);
   c.process_damping_n_per_m = 2e5;
   c.diameter_m = 0.0;
-  EXPECT_NE(message([&] { c.check(); }).find("CuttingConditions::diameter_m"), std::string::npos);
+  EXPECT_NE(thrown_message([&] { c.check(); }).find("CuttingConditions::diameter_m"), std::string::npos);
 }
