@@ -77,6 +77,62 @@ void PeriodicDelaySystem::check() const {
   for (double t : breakpoints)
     if (!std::isfinite(t) || !(t > 0.0) || !(t < period))
       throw InvalidArgument(fmt::format("PeriodicDelaySystem::breakpoints: {} s lies outside (0, {}) s", t, period));
+  for (std::size_t j = 0; j < delays.size(); ++j) {
+    if (!std::isfinite(delays[j].delay) || !(delays[j].delay > 0.0) || delays[j].delay > period * (1.0 + 1e-12))
+      throw InvalidArgument(fmt::format("PeriodicDelaySystem::delays[{}].delay {} s must lie in (0, {}] s (the period)", j,
+                                        delays[j].delay, period));
+    if (!delays[j].coefficient) throw InvalidArgument(fmt::format("PeriodicDelaySystem::delays[{}].coefficient is empty", j));
+  }
+}
+
+PeriodicDelaySystem with_velocity_feedback(const PeriodicDelaySystem& system, const Eigen::MatrixXd& velocity_output,
+                                           std::function<void(double t, Eigen::MatrixXd& out)> feedback) {
+  system.check();
+  const Eigen::Index n = system.output.cols(), d = system.output.rows();
+  if (velocity_output.rows() != d || velocity_output.cols() != n || !velocity_output.allFinite())
+    throw InvalidArgument(fmt::format("with_velocity_feedback: the velocity output must be {}×{}, finite (is {}×{})", d, n,
+                                      velocity_output.rows(), velocity_output.cols()));
+  if (!feedback) throw InvalidArgument("with_velocity_feedback: the feedback V(t) is empty");
+  PeriodicDelaySystem out;
+  out.a0_blocks = system.a0_blocks;
+  out.period = system.period;
+  out.breakpoints = system.breakpoints;
+  out.input = Eigen::MatrixXd::Zero(n, 2 * d);
+  out.input.leftCols(d) = system.input;
+  out.output.resize(2 * d, n);
+  out.output << system.output, velocity_output;
+  using Coefficient = std::function<void(double, Eigen::MatrixXd&)>;
+  // A d × d coefficient placed in the top-left corner of the 2d × 2d one (scaled by `sign`).
+  auto corner = [d](Coefficient f, double sign) -> Coefficient {
+    if (!f) return {};
+    return [f, d, sign](double t, Eigen::MatrixXd& o) {
+      Eigen::MatrixXd c = Eigen::MatrixXd::Zero(d, d);
+      f(t, c);
+      o.topLeftCorner(d, d) = sign * c;
+    };
+  };
+  const Coefficient current = system.current;
+  out.current = [current, feedback, d](double t, Eigen::MatrixXd& o) {
+    Eigen::MatrixXd c = Eigen::MatrixXd::Zero(d, d);
+    if (current) {
+      current(t, c);
+      o.topLeftCorner(d, d) = c;
+      c.setZero();
+    }
+    feedback(t, c);
+    o.topRightCorner(d, d) = c;
+  };
+  out.delayed = system.regenerative ? corner(system.current, -1.0) : corner(system.delayed, 1.0);
+  for (const DelayedTerm& term : system.delays) out.delays.push_back({term.delay, corner(term.coefficient, 1.0)});
+  if (system.forcing) {
+    const auto forcing = system.forcing;
+    out.forcing = [forcing, d](double t, Eigen::VectorXd& o) {
+      Eigen::VectorXd w = Eigen::VectorXd::Zero(d);
+      forcing(t, w);
+      o.head(d) = w;
+    };
+  }
+  return out;
 }
 
 PeriodMap::PeriodMap(const PeriodicDelaySystem& sys, int steps, int degree) {
@@ -115,6 +171,21 @@ PeriodMap::PeriodMap(const PeriodicDelaySystem& sys, int steps, int degree) {
   // Sample nodes of step k at s_o = (o − p + 1) h, o = 0…p (o = p: the implicit newest sample).
   std::vector<double> node(static_cast<std::size_t>(p_ + 1));
   for (int o = 0; o <= p_; ++o) node[static_cast<std::size_t>(o)] = (o - p_ + 1) * h;
+  // Further delays: τ_j = (i_j + f_j) h, snapped to whole steps within 1e-9 (see the header).
+  std::vector<int> whole_steps;
+  std::vector<double> fraction;
+  for (std::size_t j = 0; j < sys.delays.size(); ++j) {
+    const double steps_back = sys.delays[j].delay / h;
+    const double snapped = std::round(steps_back);
+    const double exact = std::abs(steps_back - snapped) < 1e-9 ? snapped : steps_back;
+    const int whole = static_cast<int>(std::floor(exact));
+    if (whole < 1)
+      throw InvalidArgument(fmt::format("PeriodicDelaySystem::delays[{}].delay {} s is shorter than a step ({} s)", j,
+                                        sys.delays[j].delay, h),
+                            "use more steps per period");
+    whole_steps.push_back(std::min(whole, m_));
+    fraction.push_back(whole >= m_ ? 0.0 : exact - whole);
+  }
   auto lagrange = [&](int o, double s) {
     double l = 1.0;
     for (int q = 0; q <= p_; ++q)
@@ -147,6 +218,7 @@ PeriodMap::PeriodMap(const PeriodicDelaySystem& sys, int steps, int degree) {
   wp_.resize(static_cast<std::size_t>(m_));
   wq_.resize(static_cast<std::size_t>(m_));
   cwp_.resize(static_cast<std::size_t>(m_));
+  wd_.resize(static_cast<std::size_t>(m_));
   if (sys.forcing) wf_.assign(static_cast<std::size_t>(m_), Eigen::VectorXd::Zero(n_));
   const int nd = n_ * d_;
   // Scratch reused across steps: a map is built per speed, and allocations were half its cost.
@@ -156,8 +228,11 @@ PeriodMap::PeriodMap(const PeriodicDelaySystem& sys, int steps, int degree) {
   std::vector<Eigen::MatrixXd> local;
   Eigen::MatrixXd coef(d_, d_), g(n_, d_);
   Eigen::VectorXd force(d_);
+  std::vector<std::vector<double>> wd(sys.delays.size());
+  std::vector<char> wd_any(sys.delays.size());
   for (int k = 0; k < m_; ++k) {
     const double t0 = k * h;
+    std::fill(wd_any.begin(), wd_any.end(), 0);
     // Pieces of the step between breakpoints (a breakpoint within 1e-12 h of an end is the end).
     ends.assign(1, 0.0);
     for (double t : cuts)
@@ -198,7 +273,7 @@ PeriodMap::PeriodMap(const PeriodicDelaySystem& sys, int steps, int degree) {
         if (coef.isZero(0.0)) continue;
         if (!any) {  // the first non-zero coefficient of this step: its weights start from zero
           wp.assign(static_cast<std::size_t>((p_ + 1) * nd), 0.0);
-          wq.assign(regenerative_ ? 0 : wp.size(), 0.0);
+          wq.assign(regenerative_ || !sys.delayed ? 0 : wp.size(), 0.0);  // no Q: no weights
           any = true;
         }
         g.noalias() = pt.w * (*step_eb[q]) * coef;  // n × d
@@ -211,10 +286,42 @@ PeriodMap::PeriodMap(const PeriodicDelaySystem& sys, int steps, int degree) {
         }
       }
     }
+    // The further delays: Q_j(t) y(t − τ_j) with y through the nodes around t_k − i_j h, evaluated at
+    // s − f_j h.
+    for (std::size_t j = 0; j < sys.delays.size(); ++j)
+      for (std::size_t q = 0; q < step_points->size(); ++q) {
+        const Point& pt = (*step_points)[q];
+        const double t = t0 + pt.s;
+        coef.setZero();
+        sys.delays[j].coefficient(t, coef);
+        if (coef.rows() != d_ || coef.cols() != d_ || !coef.allFinite())
+          throw InvalidArgument(
+              fmt::format("PeriodicDelaySystem::delays[{}].coefficient({} s) must be a finite {}×{} matrix", j, t, d_, d_));
+        if (coef.isZero(0.0)) continue;
+        if (!wd_any[j]) {
+          wd[j].assign(static_cast<std::size_t>((p_ + 1) * nd), 0.0);
+          wd_any[j] = 1;
+        }
+        g.noalias() = pt.w * (*step_eb[q]) * coef;
+        for (int o = 0; o <= p_; ++o) {
+          const double l = lagrange(o, pt.s - fraction[j] * h);
+          double* dst = wd[j].data() + o * nd;
+          for (int c = 0; c < d_; ++c)
+            for (int r = 0; r < n_; ++r) dst[c * n_ + r] += l * g(r, c);
+        }
+      }
+    const bool delayed_any = std::find(wd_any.begin(), wd_any.end(), 1) != wd_any.end();
+    if (delayed_any && !any) {
+      wp.assign(static_cast<std::size_t>((p_ + 1) * nd), 0.0);
+      wq.assign(regenerative_ || !sys.delayed ? 0 : wp.size(), 0.0);  // no Q: no weights
+      any = true;
+    }
     const auto kk = static_cast<std::size_t>(k);
+    for (std::size_t j = 0; j < sys.delays.size(); ++j)
+      if (wd_any[j]) wd_[kk].push_back({whole_steps[j], wd[j]});
     if (!any && sys.forcing && !wf_[kk].isZero(0.0)) {  // forced but no feedback: zero weights
       wp.assign(static_cast<std::size_t>((p_ + 1) * nd), 0.0);
-      wq.assign(regenerative_ ? 0 : wp.size(), 0.0);
+      wq.assign(regenerative_ || !sys.delayed ? 0 : wp.size(), 0.0);  // no Q: no weights
       any = true;
     }
     if (!any) continue;
@@ -233,7 +340,12 @@ PeriodMap::PeriodMap(const PeriodicDelaySystem& sys, int steps, int degree) {
     for (int o = 0; o <= p_; ++o) {
       const int cur = k + 1 - p_ + o, del = cur - m_;
       if (cur < 0 && o < p_) needed[static_cast<std::size_t>(-cur)] = 1;
-      if (del < 0) needed[static_cast<std::size_t>(-del)] = 1;
+      const bool reads_period = regenerative_ || !wq_[static_cast<std::size_t>(k)].empty();  // y(t − T) is read
+      if (reads_period && del < 0) needed[static_cast<std::size_t>(-del)] = 1;
+      for (const DelayWeights& dw : wd_[static_cast<std::size_t>(k)]) {
+        const int at = cur - dw.whole_steps;
+        if (at < 0) needed[static_cast<std::size_t>(-at)] = 1;
+      }
     }
   }
   for (int i = buffer; i > m_; --i)
@@ -250,8 +362,14 @@ PeriodMap::PeriodMap(const PeriodicDelaySystem& sys, int steps, int degree) {
   // are one multiplication by e^{A₀kh}. At low radial immersion most of the period is skipped.
   std::vector<char> read_output(static_cast<std::size_t>(m_ + 1), 0);  // r_j = y_j, j = 0…m, is read
   for (int k = 0; k < m_; ++k)
-    if (active_[static_cast<std::size_t>(k)])
+    if (active_[static_cast<std::size_t>(k)]) {
       for (int j = std::max(0, k + 1 - p_); j <= k; ++j) read_output[static_cast<std::size_t>(j)] = 1;
+      for (const DelayWeights& dw : wd_[static_cast<std::size_t>(k)])
+        for (int o = 0; o <= p_; ++o) {
+          const int at = k + 1 - p_ + o - dw.whole_steps;
+          if (at >= 0) read_output[static_cast<std::size_t>(at)] = 1;
+        }
+    }
   for (int i : read_)
     if (i <= m_) read_output[static_cast<std::size_t>(m_ - i)] = 1;
   jump_.assign(static_cast<std::size_t>(m_), 0);

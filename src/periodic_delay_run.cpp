@@ -67,7 +67,7 @@ void PeriodMap::run_one(double sigma, const S* u, S* v, S* out, bool forced) con
       continue;
     }
     const double* wp = wp_[kk].data();
-    const double* wq = regenerative_ ? nullptr : wq_[kk].data();
+    const double* wq = regenerative_ || wq_[kk].empty() ? nullptr : wq_[kk].data();
     auto add = [&](const double* w, const S* x, double f) {  // z += f W x, W n × d column-major
       for (int c = 0; c < d; ++c) {
         const S xc = f * x[c];
@@ -88,8 +88,9 @@ void PeriodMap::run_one(double sigma, const S* u, S* v, S* out, bool forced) con
         }
       } else {
         if (o < p) add(wp + o * nd, sample(cur), sigma);
-        add(wq + o * nd, del, sigma);
+        if (wq) add(wq + o * nd, del, sigma);
       }
+      for (const DelayWeights& dw : wd_[kk]) add(dw.w.data() + o * nd, sample(cur - dw.whole_steps), sigma);
     }
     if (forced)
       for (int i = 0; i < n; ++i) z[static_cast<std::size_t>(i)] += sigma * wf_[kk](i);
@@ -207,7 +208,7 @@ void PeriodMap::run(double sigma, int cols, const S* u, S* v, S* out) const {
       continue;
     }
     const double* wp = wp_[kk].data();
-    const double* wq = regenerative_ ? nullptr : wq_[kk].data();
+    const double* wq = regenerative_ || wq_[kk].empty() ? nullptr : wq_[kk].data();
     for (int o = 0; o <= p; ++o) {
       const int cur = k + 1 - p + o;
       const S* del = sample(cur - m);
@@ -221,8 +222,9 @@ void PeriodMap::run(double sigma, int cols, const S* u, S* v, S* out) const {
         }
       } else {
         if (o < p) add(wp + o * nd, sample(cur), sigma);
-        add(wq + o * nd, del, sigma);
+        if (wq) add(wq + o * nd, del, sigma);
       }
+      for (const DelayWeights& dw : wd_[kk]) add(dw.w.data() + o * nd, sample(cur - dw.whole_steps), sigma);
     }
     // y_{k+1} = z + σ W^P_p y_{k+1}: (I − σ C W^P_p) y_{k+1} = C z, a d × d solve per column.
     outputs_of(z, rhs);

@@ -57,6 +57,63 @@ void CuttingConditions::check() const {
     throw InvalidArgument(fmt::format("radial cutting coefficient ratio K_r = K_n/K_t = {} must be ≥ 0", radial_ratio),
                           "CuttingConditions::radial_ratio is K_n/K_t, typically 0.2…0.5");
   engagement.check();
+  if (!std::isfinite(diameter_m) || diameter_m < 0.0)
+    throw InvalidArgument(fmt::format("CuttingConditions::diameter_m {} m must be ≥ 0 (0: not given)", diameter_m));
+  if (!std::isfinite(process_damping_n_per_m) || process_damping_n_per_m < 0.0)
+    throw InvalidArgument(
+        fmt::format("CuttingConditions::process_damping_n_per_m {} N/m must be ≥ 0 (0: none)", process_damping_n_per_m));
+  if (process_damping_n_per_m > 0.0) {
+    if (process_damping_n_per_m < kProcessDampingMin || process_damping_n_per_m > kProcessDampingMax)
+      throw InvalidArgument(fmt::format("CuttingConditions::process_damping_n_per_m = {:.4g} N/m is implausible: the "
+                                        "indentation coefficient C_i lies within {:.0e}…{:.0e} N/m",
+                                        process_damping_n_per_m, kProcessDampingMin, kProcessDampingMax),
+                            "C_i is a force per metre of indentation per unit width and speed (the damping is C_i·b/V "
+                            "[N·s/m]); a value in N/m² or N/mm is a unit slip");
+    if (!(diameter_m > 0.0))
+      throw InvalidArgument("CuttingConditions::diameter_m must be given with process damping (the cutting speed is πDn/60)");
+  }
+  if (!runout_m.empty()) {
+    if (static_cast<int>(runout_m.size()) != teeth)
+      throw InvalidArgument(fmt::format("CuttingConditions::runout_m has {} offsets for {} teeth", runout_m.size(), teeth),
+                            "give one radius offset per tooth, or none");
+    for (std::size_t j = 0; j < runout_m.size(); ++j) {
+      if (!std::isfinite(runout_m[j]) || (diameter_m > 0.0 && std::abs(runout_m[j]) >= 0.5 * diameter_m))
+        throw InvalidArgument(fmt::format("CuttingConditions::runout_m[{}] = {:.6g} mm lies beyond the tool radius {:.6g} mm", j,
+                                          runout_m[j] * 1e3, 0.5 * diameter_m * 1e3),
+                              "runout is a radius offset of a few µm to tens of µm; check the unit");
+      if (std::abs(runout_m[j]) > 1e-3)
+        throw InvalidArgument(fmt::format("CuttingConditions::runout_m[{}] = {:.6g} mm is implausibly large (over 1 mm)", j,
+                                          runout_m[j] * 1e3),
+                              "runout is a radius offset of a few µm to tens of µm; give it in metres");
+    }
+    if (!std::isfinite(feed_per_tooth_m) || !(feed_per_tooth_m > 0.0))
+      throw InvalidArgument(fmt::format("CuttingConditions::feed_per_tooth_m {} m must be positive with runout",
+                                        feed_per_tooth_m),
+                            "with runout, which tooth cuts which surface depends on the feed");
+  }
+  if (pitch_rad.empty()) return;
+  if (static_cast<int>(pitch_rad.size()) != teeth)
+    throw InvalidArgument(fmt::format("CuttingConditions::pitch_rad has {} angles for {} teeth", pitch_rad.size(), teeth),
+                          "give one pitch angle per tooth (from each tooth to the next), or none for even spacing");
+  double sum = 0.0;
+  for (std::size_t j = 0; j < pitch_rad.size(); ++j) {
+    if (!std::isfinite(pitch_rad[j]) || !(pitch_rad[j] > 0.0))
+      throw InvalidArgument(
+          fmt::format("CuttingConditions::pitch_rad[{}] = {:.6g}° must be positive", j, pitch_rad[j] * 180.0 / kPi));
+    sum += pitch_rad[j];
+  }
+  if (std::abs(sum - 2.0 * kPi) > 1e-6)
+    throw InvalidArgument(fmt::format("CuttingConditions::pitch_rad adds up to {:.6g}°, not a revolution (360°)",
+                                      sum * 180.0 / kPi),
+                          "the pitch angles are the spacings between successive teeth round the tool");
+}
+
+bool CuttingConditions::uniform() const {
+  for (double p : pitch_rad)
+    if (std::abs(p - 2.0 * kPi / teeth) > 1e-12) return false;
+  for (double r : runout_m)
+    if (r != runout_m.front()) return false;  // the same offset on every tooth changes nothing
+  return true;
 }
 
 Eigen::Matrix2d directional_integral(double kr, double phi1, double phi2) {
@@ -225,6 +282,14 @@ namespace {
 
 LobeTable zero_order_roots(const MillingFrfs& frfs, const CuttingConditions& cutting) {
   cutting.check();
+  if (cutting.process_damping_n_per_m > 0.0)
+    throw InvalidArgument("CuttingConditions::process_damping_n_per_m: the zero-order method has no process damping",
+                          "use the time-domain (full-discretization) method");
+  if (!cutting.uniform())
+    throw InvalidArgument(
+        "CuttingConditions::pitch_rad or CuttingConditions::runout_m: the zero-order method assumes evenly spaced teeth "
+        "without runout",
+        "use the time-domain (full-discretization) method for a variable pitch or runout");
   frfs.check();
   const Eigen::Matrix2d a = directional_factors(cutting);
   const double nkt = cutting.teeth * cutting.tangential_coefficient;
@@ -459,8 +524,158 @@ const char* to_string(BoundaryKind kind) {
   return "none";
 }
 
-PeriodicDelaySystem milling_delay_system(const ModalModel& model, const CuttingConditions& cutting, double speed_rpm,
-                                         double feed_per_tooth_m) {
+namespace {
+
+// ½K_t A(φ) of one tooth at φ (the header's matrix), zero outside the engagement.
+Eigen::Matrix2d tooth_matrix(const CuttingConditions& cutting, double phi) {
+  phi = std::fmod(phi, 2.0 * kPi);
+  if (phi < 0.0) phi += 2.0 * kPi;
+  if (phi < cutting.engagement.entry_rad || phi > cutting.engagement.exit_rad) return Eigen::Matrix2d::Zero();
+  const double kr = cutting.radial_ratio, s2 = std::sin(2.0 * phi), c2 = std::cos(2.0 * phi);
+  Eigen::Matrix2d a;
+  a << -s2 - kr * (1.0 - c2), -(1.0 + c2) - kr * s2, (1.0 - c2) - kr * s2, s2 - kr * (1.0 + c2);
+  return 0.5 * cutting.tangential_coefficient * a;
+}
+
+// Which surface tooth j cuts at angle φ, with runout (simulation.hpp's chip, linearised about
+// the static cut): the surface left q pitches back (q = 1…N, angle Θ_q after tooth j − q) lies
+// at ρ_{j−q} − C_q sin φ, C_q = N c Θ_q/2π the feed since; tooth j cuts the outermost one, q*, if
+// its static chip h = ρ_j − ρ_{j−q*} + C_{q*} sin φ is positive, and then regenerates against
+// r(t − Θ_{q*}/Ω). Without runout q* = 1 (the tooth ahead) wherever the tooth is engaged.
+struct ToothGeometry {
+  int teeth = 0;
+  std::vector<double> lag;     // tooth j at φ_j = Ωt − lag_j [rad]
+  std::vector<double> back;    // Θ_{j,q} at [j·N + q − 1]: the angle from tooth j − q to tooth j [rad]
+  std::vector<double> runout;  // ρ_j [m] (empty: none)
+  double per_rev = 0.0;        // N c [m]
+
+  // q* (1…N) and the static chip [m] (h ≤ 0: out of the cut, q* = 0).
+  std::pair<int, double> reference(int j, double sin_phi) const {
+    if (runout.empty()) return {1, per_rev * back[static_cast<std::size_t>(j * teeth)] / (2.0 * kPi) * sin_phi};
+    int best = 0;
+    double surface = -kInf;
+    for (int q = 1; q <= teeth; ++q) {
+      const double v = runout[static_cast<std::size_t>((j - q + teeth * 2) % teeth)] -
+                       per_rev * back[static_cast<std::size_t>(j * teeth + q - 1)] / (2.0 * kPi) * sin_phi;
+      if (v > surface) {
+        surface = v;
+        best = q;
+      }
+    }
+    const double h = runout[static_cast<std::size_t>(j)] - surface;
+    return h > 0.0 ? std::pair<int, double>{best, h} : std::pair<int, double>{0, h};
+  }
+};
+
+// The revolution-period terms of milling_delay_system (its header comment): P sums the teeth in
+// the cut; one delayed term per distinct angle Θ_q, whose coefficient holds the teeth that cut the
+// surface q pitches back at that moment.
+void add_revolution_terms(PeriodicDelaySystem& sys, const CuttingConditions& cutting, double speed_rpm, double feed_per_tooth_m,
+                          int d) {
+  const int teeth = cutting.teeth;
+  const auto nt = static_cast<std::size_t>(teeth);
+  const double spin = 2.0 * kPi * speed_rpm / 60.0;
+  sys.period = 60.0 / speed_rpm;
+  sys.regenerative = false;
+  std::vector<double> pitch = cutting.pitch_rad;
+  if (pitch.empty()) pitch.assign(nt, 2.0 * kPi / teeth);
+  ToothGeometry g;
+  g.teeth = teeth;
+  g.lag.assign(nt, 0.0);
+  for (std::size_t j = 1; j < nt; ++j) g.lag[j] = g.lag[j - 1] + pitch[j - 1];
+  g.back.assign(nt * nt, 0.0);
+  for (int j = 0; j < teeth; ++j) {
+    double angle = 0.0;
+    for (int q = 1; q <= teeth; ++q) {
+      angle += pitch[static_cast<std::size_t>((j - q + teeth) % teeth)];
+      g.back[static_cast<std::size_t>(j * teeth + q - 1)] = q == teeth ? 2.0 * kPi : angle;
+    }
+  }
+  g.runout = cutting.runout_m;
+  g.per_rev = teeth * (g.runout.empty() ? feed_per_tooth_m : cutting.feed_per_tooth_m);
+  // φ in [0, 2π) of tooth j at t, and whether it is engaged.
+  auto angle_of = [lag = g.lag, spin](int j, double t) {
+    double phi = std::fmod(spin * t - lag[static_cast<std::size_t>(j)], 2.0 * kPi);
+    return phi < 0.0 ? phi + 2.0 * kPi : phi;
+  };
+  const Engagement e = cutting.engagement;
+  auto engaged = [e](double phi) { return phi >= e.entry_rad && phi <= e.exit_rad; };
+  sys.current = [cutting, g, angle_of, engaged, d](double t, Eigen::MatrixXd& out) {
+    Eigen::Matrix2d sum = Eigen::Matrix2d::Zero();
+    for (int j = 0; j < g.teeth; ++j) {
+      const double phi = angle_of(j, t);
+      if (engaged(phi) && g.reference(j, std::sin(phi)).first > 0) sum += tooth_matrix(cutting, phi);
+    }
+    out = sum.topLeftCorner(d, d);
+  };
+  // Distinct angles Θ (within 1e-12 rad), each with the (j, q) that reach back by it. Without
+  // runout only q = 1 is ever cut.
+  std::vector<double> angles;
+  std::vector<std::vector<std::pair<int, int>>> users;
+  for (int j = 0; j < teeth; ++j)
+    for (int q = 1; q <= (g.runout.empty() ? 1 : teeth); ++q) {
+      const double th = g.back[static_cast<std::size_t>(j * teeth + q - 1)];
+      std::size_t k = 0;
+      while (k < angles.size() && std::abs(angles[k] - th) > 1e-12) ++k;
+      if (k == angles.size()) {
+        angles.push_back(th);
+        users.emplace_back();
+      }
+      users[k].push_back({j, q});
+    }
+  for (std::size_t k = 0; k < angles.size(); ++k)
+    sys.delays.push_back({angles[k] / spin, [cutting, g, angle_of, engaged, d, use = users[k]](double t, Eigen::MatrixXd& out) {
+                            Eigen::Matrix2d sum = Eigen::Matrix2d::Zero();
+                            for (const auto& [j, q] : use) {
+                              const double phi = angle_of(j, t);
+                              if (engaged(phi) && g.reference(j, std::sin(phi)).first == q) sum -= tooth_matrix(cutting, phi);
+                            }
+                            out = sum.topLeftCorner(d, d);
+                          }});
+  if (feed_per_tooth_m > 0.0) {
+    const double kt = cutting.tangential_coefficient, kr = cutting.radial_ratio;
+    sys.forcing = [g, angle_of, engaged, kt, kr, d](double t, Eigen::VectorXd& out) {
+      for (int j = 0; j < g.teeth; ++j) {
+        const double phi = angle_of(j, t);
+        if (!engaged(phi)) continue;
+        const double s = std::sin(phi), c = std::cos(phi);
+        const auto [q, h] = g.reference(j, s);
+        if (q == 0) continue;
+        const double ft = kt * h;
+        out(0) += ft * (-c - kr * s);
+        if (d == 2) out(1) += ft * (s - kr * c);
+      }
+    };
+  }
+  // Each tooth enters and leaves once per revolution; with runout also where q* changes or the
+  // static chip reaches zero (sin φ = Δρ/ΔC: both roots φ and π − φ; extra breakpoints are harmless).
+  for (int j = 0; j < teeth; ++j) {
+    std::vector<double> at = {e.entry_rad, e.exit_rad};
+    for (int q = 1; q <= (g.runout.empty() ? 0 : teeth); ++q) {
+      auto rho = [&](int back) { return g.runout[static_cast<std::size_t>((j - back + 2 * teeth) % teeth)]; };
+      auto feed = [&](int back) { return g.per_rev * g.back[static_cast<std::size_t>(j * teeth + back - 1)] / (2.0 * kPi); };
+      std::vector<std::pair<double, double>> pairs = {{rho(q) - g.runout[static_cast<std::size_t>(j)], feed(q)}};
+      for (int r = q + 1; r <= teeth; ++r) pairs.push_back({rho(q) - rho(r), feed(q) - feed(r)});
+      for (const auto& [num, den] : pairs) {
+        if (den == 0.0) continue;
+        const double sv = num / den;
+        if (sv <= 0.0 || sv >= 1.0) continue;
+        for (double phi : {std::asin(sv), kPi - std::asin(sv)})
+          if (phi > e.entry_rad && phi < e.exit_rad) at.push_back(phi);
+      }
+    }
+    for (double angle : at) {
+      const double t = std::fmod(angle + g.lag[static_cast<std::size_t>(j)], 2.0 * kPi) / spin;
+      if (t > 1e-12 * sys.period && t < sys.period * (1.0 - 1e-12)) sys.breakpoints.push_back(t);
+    }
+  }
+}
+
+}  // namespace
+
+// The milling equation without process damping (milling_delay_system's header comment).
+static PeriodicDelaySystem cutting_forces_system(const ModalModel& model, const CuttingConditions& cutting, double speed_rpm,
+                                                 double feed_per_tooth_m) {
   if (!std::isfinite(feed_per_tooth_m) || feed_per_tooth_m < 0.0)
     throw InvalidArgument(fmt::format("feed per tooth {} m must be ≥ 0", feed_per_tooth_m));
   model.check();
@@ -480,6 +695,14 @@ PeriodicDelaySystem milling_delay_system(const ModalModel& model, const CuttingC
     sys.a0_blocks.push_back(block);
     sys.input(2 * r + 1, r < nx ? 0 : 1) = 1.0 / m.mass_kg;
     sys.output(r < nx ? 0 : 1, 2 * r) = 1.0;
+  }
+  if (!cutting.uniform()) {
+    if (!cutting.runout_m.empty() && feed_per_tooth_m > 0.0 && std::abs(feed_per_tooth_m - cutting.feed_per_tooth_m) > 1e-12)
+      throw InvalidArgument(
+          fmt::format("feed per tooth {} m differs from CuttingConditions::feed_per_tooth_m {} m (the runout's)",
+                      feed_per_tooth_m, cutting.feed_per_tooth_m));
+    add_revolution_terms(sys, cutting, speed_rpm, feed_per_tooth_m, d);
+    return sys;
   }
   const int teeth = cutting.teeth;
   const double spin = 2.0 * kPi * speed_rpm / 60.0, pitch = 2.0 * kPi / teeth;  // Ω [rad/s], tooth pitch [rad]
@@ -522,12 +745,51 @@ PeriodicDelaySystem milling_delay_system(const ModalModel& model, const CuttingC
   return sys;
 }
 
+PeriodicDelaySystem milling_delay_system(const ModalModel& model, const CuttingConditions& cutting, double speed_rpm,
+                                         double feed_per_tooth_m) {
+  PeriodicDelaySystem sys = cutting_forces_system(model, cutting, speed_rpm, feed_per_tooth_m);
+  const double ci = cutting.process_damping_n_per_m;
+  if (!(ci > 0.0)) return sys;
+  // Process damping: per engaged tooth −(C_i/V) u uᵀ ṙ per unit depth, u = (sin φ, cos φ) the
+  // surface normal, V = πDn/60 the cutting speed.
+  const Eigen::MatrixXd velocity = velocity_output(model);
+  const int teeth = cutting.teeth, d = static_cast<int>(sys.output.rows());
+  std::vector<double> lag(static_cast<std::size_t>(teeth), 0.0);
+  for (std::size_t j = 1; j < lag.size(); ++j)
+    lag[j] = lag[j - 1] + (cutting.pitch_rad.empty() ? 2.0 * kPi / teeth : cutting.pitch_rad[j - 1]);
+  const double spin = 2.0 * kPi * speed_rpm / 60.0, speed = cutting_speed(cutting, speed_rpm);
+  const Engagement e = cutting.engagement;
+  return with_velocity_feedback(sys, velocity, [=](double t, Eigen::MatrixXd& out) {
+    Eigen::Matrix2d sum = Eigen::Matrix2d::Zero();
+    for (double l : lag) {
+      double phi = std::fmod(spin * t - l, 2.0 * kPi);
+      if (phi < 0.0) phi += 2.0 * kPi;
+      if (phi < e.entry_rad || phi > e.exit_rad) continue;
+      const Eigen::Vector2d u(std::sin(phi), std::cos(phi));
+      sum -= u * u.transpose();
+    }
+    out = ci / speed * sum.topLeftCorner(d, d);
+  });
+}
+
+double cutting_speed(const CuttingConditions& cutting, double speed_rpm) { return kPi * cutting.diameter_m * speed_rpm / 60.0; }
+
+Eigen::MatrixXd velocity_output(const ModalModel& model) {
+  const int nx = static_cast<int>(model.x.size()), nq = nx + static_cast<int>(model.y.size());
+  Eigen::MatrixXd c = Eigen::MatrixXd::Zero(model.y.empty() ? 1 : 2, 2 * nq);
+  for (int r = 0; r < nq; ++r) c(r < nx ? 0 : 1, 2 * r + 1) = 1.0;
+  return c;
+}
+
 namespace {
 
 // Hopf, flip or fold from the critical multiplier; the chatter frequency from the Floquet
 // solution q(t_i) = μ^{i/m} p(t_i), p τ-periodic: the DFT of p's tip displacement over one period
 // gives harmonics at (arg μ + 2πj)/τ, the strongest is the chatter.
-FloquetAnalysis floquet(const PeriodMap& map, double depth_m, const DominantMultiplier& dm, double tau) {
+// `tau` the map's period, `tooth_tau` the (mean) tooth period the lobe number counts waves in.
+// Only the first `rows` outputs (the tip displacement; velocities follow with process damping) are read.
+FloquetAnalysis floquet(const PeriodMap& map, double depth_m, const DominantMultiplier& dm, double tau, double tooth_tau,
+                        int rows) {
   FloquetAnalysis fa;
   fa.spectral_radius = dm.spectral_radius;
   fa.critical_multiplier = dm.multiplier;
@@ -541,10 +803,10 @@ FloquetAnalysis floquet(const PeriodMap& map, double depth_m, const DominantMult
   const int m = map.steps();
   const Eigen::MatrixXcd r = map.outputs(depth_m, dm.vector);
   const Complex root = std::exp(std::log(mu) / static_cast<double>(m));
-  Eigen::MatrixXcd p(r.rows(), m);
+  Eigen::MatrixXcd p(rows, m);
   Complex scale = 1.0;
   for (int i = 0; i < m; ++i) {
-    p.col(i) = r.col(i) / scale;
+    p.col(i) = r.col(i).head(rows) / scale;
     scale *= root;
   }
   // The DFT of each output row by FFT (Eigen's kissfft: any m, O(m log m); a direct sum cost m²
@@ -567,7 +829,7 @@ FloquetAnalysis floquet(const PeriodMap& map, double depth_m, const DominantMult
     }
   }
   fa.chatter_hz = std::abs(std::arg(mu) + 2.0 * kPi * best_j) / (2.0 * kPi * tau);
-  fa.lobe = static_cast<int>(std::floor(fa.chatter_hz * tau));
+  fa.lobe = static_cast<int>(std::floor(fa.chatter_hz * tooth_tau));
   return fa;
 }
 
@@ -706,7 +968,7 @@ FullDiscretization::FullDiscretization(ModalModel model, CuttingConditions cutti
 }
 
 PeriodMap FullDiscretization::period_map(double speed_rpm) const {
-  return PeriodMap(milling_delay_system(model_, cutting_, speed_rpm), steps_, degree_);
+  return PeriodMap(milling_delay_system(model_, cutting_, speed_rpm), steps_ * cutting_.teeth_per_period(), degree_);
 }
 
 double FullDiscretization::spectral_radius(double speed_rpm, double depth_m) const {
@@ -717,7 +979,8 @@ double FullDiscretization::spectral_radius(double speed_rpm, double depth_m) con
 FloquetAnalysis FullDiscretization::analyse(double speed_rpm, double depth_m) const {
   if (!std::isfinite(depth_m) || depth_m < 0.0) throw InvalidArgument(fmt::format("axial depth {} m must be ≥ 0", depth_m));
   const PeriodMap map = period_map(speed_rpm);
-  return floquet(map, depth_m, map.dominant(depth_m), 60.0 / (cutting_.teeth * speed_rpm));
+  const double tooth = 60.0 / (cutting_.teeth * speed_rpm);
+  return floquet(map, depth_m, map.dominant(depth_m), tooth * cutting_.teeth_per_period(), tooth, model_.y.empty() ? 1 : 2);
 }
 
 Eigen::MatrixXd FullDiscretization::spectral_radius_map(const std::vector<double>& speeds_rpm,
@@ -755,7 +1018,9 @@ BoundaryPoint FullDiscretization::boundary(double speed_rpm, double max_depth_m,
       continue;
     }
     const Root root = narrow_bracket(rho, lo, flo, a, dm, tolerance);
-    const FloquetAnalysis fa = floquet(map, root.hi, map.dominant(root.hi), 60.0 / (cutting_.teeth * speed_rpm));
+    const double tooth = 60.0 / (cutting_.teeth * speed_rpm);
+    const FloquetAnalysis fa = floquet(map, root.hi, map.dominant(root.hi), tooth * cutting_.teeth_per_period(), tooth,
+                                       model_.y.empty() ? 1 : 2);
     bp.depth_m = root.depth_m;
     bp.depth_error_m = kNaN;
     bp.chatter_hz = fa.chatter_hz;
@@ -815,16 +1080,18 @@ SpeedOutcome boundary_at(const ModalModel& model, const CuttingConditions& cutti
                          double max_depth_m, const BoundaryOptions& o) {
   const PeriodicDelaySystem sys = milling_delay_system(model, cutting, speed_rpm);
   const double tau = sys.period;
+  const int per = cutting.teeth_per_period();  // tooth periods per map period
+  const double tooth_tau = tau / per;
   SpeedOutcome out;
   BoundaryPoint& bp = out.point;
   bp.speed_rpm = speed_rpm;
   // m: 12 steps per chatter wave within a tooth period (at least 16), unless given.
-  const double waves = std::isfinite(guess.chatter_hz) ? guess.chatter_hz * tau : 1.0;
+  const double waves = std::isfinite(guess.chatter_hz) ? guess.chatter_hz * tooth_tau : 1.0;
   int m = o.steps > 0 ? o.steps : std::clamp(static_cast<int>(std::ceil(12.0 * waves)), 16, o.max_steps / 2);
   // Roots to brackets of 0.1 (finer level) and 0.3 (coarser) of the error target: the reported
   // a₂ + (a₂ − a₁)/7 then carries at most (0.05·8/7 + 0.15/7) ≈ 0.08 of the target from the roots.
   const double root_tolerance = std::clamp(1e-1 * o.tolerance, 1e-10, 1e-3);
-  const PeriodMap coarse(sys, m, o.degree);
+  const PeriodMap coarse(sys, m * per, o.degree);
   std::optional<Root> r1 = lowest_root({coarse, &out.evaluations}, guess.start * guess.depth_m, guess.depth_m, 1.15, max_depth_m,
                                        3.0 * root_tolerance);
   if (!r1) {
@@ -836,7 +1103,7 @@ SpeedOutcome boundary_at(const ModalModel& model, const CuttingConditions& cutti
   const double factor = std::pow(2.0, o.degree + 1) - 1.0;  // Richardson: error of a_{2m} = (a_{2m} − a_m)/(2^{p+1} − 1)
   double a1 = r1->depth_m, slope = r1->slope;
   for (;;) {
-    const PeriodMap fine(sys, 2 * m, o.degree);
+    const PeriodMap fine(sys, 2 * m * per, o.degree);
     const std::optional<Root> r2 = root_near({fine, &out.evaluations}, a1, slope, max_depth_m, root_tolerance);
     if (!r2) {  // the finer (more accurate) level is stable up to the ceiling
       bp.depth_m = max_depth_m;
@@ -850,14 +1117,14 @@ SpeedOutcome boundary_at(const ModalModel& model, const CuttingConditions& cutti
     bp.depth_error_m = error;
     bp.steps = 2 * m;
     if (error <= o.tolerance * bp.depth_m || 4 * m > o.max_steps) {
-      const FloquetAnalysis fa = floquet(fine, r2->hi, fine.dominant(r2->hi), tau);
+      const FloquetAnalysis fa = floquet(fine, r2->hi, fine.dominant(r2->hi), tau, tooth_tau, model.y.empty() ? 1 : 2);
       bp.chatter_hz = fa.chatter_hz;
       bp.lobe = fa.lobe;
       bp.kind = fa.kind;
       bp.multiplier = fa.critical_multiplier;
       out.unmet = error > o.tolerance * bp.depth_m;
       // Fewer than 4 steps per chatter period: the discretization (and the DFT) is at its limit.
-      out.aliased = fa.chatter_hz * tau > 2.0 * m / 4.0;
+      out.aliased = fa.chatter_hz * tooth_tau > 2.0 * m / 4.0;
       return out;
     }
     a1 = a2;
@@ -881,7 +1148,11 @@ BoundaryResult stability_boundary(const ModalModel& model, const CuttingConditio
   all.insert(all.end(), model.y.begin(), model.y.end());
   ZeroOrderOptions zo;
   zo.speeds = options.speeds;
-  const ZeroOrderResult zero = zero_order_lobes(modal_milling_frfs(model.x, model.y, modal_frequency_grid(all)), cutting, zo);
+  CuttingConditions even = cutting;  // variable pitch, runout: the even tool's zero-order lobes as the guesses
+  even.pitch_rad.clear();
+  even.runout_m.clear();
+  even.process_damping_n_per_m = 0.0;  // guesses below the damped limit: the search scans up from them
+  const ZeroOrderResult zero = zero_order_lobes(modal_milling_frfs(model.x, model.y, modal_frequency_grid(all)), even, zo);
   res.max_depth_m = options.max_depth_m > 0.0 ? options.max_depth_m : 10.0 * zero.floor_depth_m;
 
   const std::vector<double> speeds = options.speeds.values();

@@ -21,6 +21,7 @@
 #include "toolpoint/simulation.hpp"
 #include "toolpoint/stability.hpp"
 #include "toolpoint/studies/plan.hpp"
+#include "support/stability_util.hpp"
 
 using namespace toolpoint;
 
@@ -41,14 +42,7 @@ SimulationResult simulate(const ModalModel& model, const CuttingConditions& c, d
 
 // The converged full-discretization limit at one speed (error estimate ≤ 0.1 %).
 double fd_limit(const ModalModel& model, const CuttingConditions& c, double speed_rpm) {
-  BoundaryOptions o;
-  o.speeds = {speed_rpm, speed_rpm * (1.0 + 1e-6), 2};
-  o.tolerance = 1e-3;
-  o.parallel.threads = 1;
-  const BoundaryResult b = stability_boundary(model, c, o);
-  EXPECT_NE(b.boundary[0].kind, BoundaryKind::None) << speed_rpm;
-  EXPECT_LE(b.boundary[0].depth_error_m, 1e-3 * b.boundary[0].depth_m);
-  return b.boundary[0].depth_m;
+  return test::converged_limit(model, c, speed_rpm);
 }
 
 }  // namespace

@@ -193,6 +193,7 @@ CLI::Validator plausible_value(const PlausibleRange& range, const std::string& o
 void check_plausible(const PlausibleRange& range, double value, const std::string& what, const std::string& fix);
 // Options in the CLI's own units (mm, rpm): their plausible ranges.
 inline constexpr PlausibleRange kDepthMm{0.1, 300.0, 10.0, "this depth is in mm (5 mm = 5, not 0.005)"};
+inline constexpr PlausibleRange kDiameterMm{0.2, 200.0, 10.0, "the diameter is in mm (16 mm = 16, not 0.016)"};
 
 // read_frf_file, its errors naming the command's flags where the library names its fields.
 FrfFileData read_frf_file_for_cli(const std::string& path, const FrfReadOptions& options);
@@ -296,6 +297,19 @@ void add_cut_options(CLI::App* command, CutArgs& target, const std::string& teet
 CuttingConditions cutting_conditions(const CutArgs& typed);
 // --immersion/--milling or --entry/--exit alone (what cutting_conditions checks for the engagement).
 Engagement cut_engagement(const CutArgs& typed);
+
+// The tool beyond evenly spaced straight teeth, for the stability (as typed: degrees, mm, N/m).
+struct ToolGeometryArgs {
+  std::vector<double> pitch_deg, runout_mm;
+  double diameter_mm = 0.0, feed_mm = 0.0, process_damping = 0.0;
+};
+// Adds --pitch [°], --runout [mm], --feed [mm], --diameter [mm], --process-damping [N/m].
+void add_tool_geometry_options(CLI::App* command, ToolGeometryArgs& target);
+// Into the cutting conditions (the library checks them: CuttingConditions::check, fields mapped to
+// flags); diameter and feed checked for plausibility here.
+void apply_tool_geometry(const ToolGeometryArgs& typed, CuttingConditions& cutting);
+// --pitch [°] in radians, one per tooth (`teeth` 0: not given; else the count must match).
+std::vector<double> pitch_radians(const std::vector<double>& pitch_deg, int teeth);
 
 // Where the tool point dynamics come from, as typed: FRF files or an assembly, modes, the fit.
 struct DynamicsArgs {

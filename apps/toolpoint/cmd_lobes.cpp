@@ -28,7 +28,8 @@ namespace toolpoint::cli {
 namespace {
 
 struct LobesOptions {
-  DynamicsArgs dyn;  // where the tool point FRFs (or modes) come from
+  DynamicsArgs dyn;       // where the tool point FRFs (or modes) come from
+  ToolGeometryArgs tool;  // variable pitch, runout, process damping
   CutArgs cut;
   // Speeds and method.
   std::string rpm, method = "zoa";
@@ -114,6 +115,7 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
   check_output_extension(o.probability_output, "--probability-output", {".csv"}, "the probability table as CSV (.csv)");
   LobesStudyOptions so;
   so.cutting = cutting_conditions(o.cut);
+  apply_tool_geometry(o.tool, so.cutting);
   so.cutting.check();
   const auto [min_rpm, max_rpm] = parse_range(o.rpm, "--rpm");
   for (double n : {min_rpm, max_rpm})
@@ -245,7 +247,8 @@ void add_lobes_command(CLI::App& app, Globals& g) {
   CLI::App* c = app.add_subcommand(
       "lobes", "Milling stability lobes from the tool point FRF: zero-order (zoa) or full-discretization (fd)");
   add_dynamics_options(c, o->dyn, g, "fd: ");
-  add_cut_options(c, o->cut, "Number of teeth N [-], ≥ 1 (evenly spaced, straight flutes) (required)");
+  add_cut_options(c, o->cut, "Number of teeth N [-], ≥ 1 (straight flutes; evenly spaced unless --pitch) (required)");
+  add_tool_geometry_options(c, o->tool);
   c->add_option("--rpm", o->rpm, "Spindle speed range MIN:MAX [rpm] (required)")->required();
   c->add_option("--speeds", o->speeds,
                 "Points of the speed grid [-], ≥ 2, for the envelope (zoa) or the boundary (fd) (default: 2000 zoa, 200 fd)")

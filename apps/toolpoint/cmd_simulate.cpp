@@ -23,7 +23,6 @@ namespace toolpoint::cli {
 
 namespace {
 
-constexpr PlausibleRange kDiameterMm{0.2, 200.0, 10.0, "the diameter is in mm (16 mm = 16, not 0.016)"};
 constexpr PlausibleRange kFeedMm{1e-3, 2.0, 10.0, "the feed per tooth is in mm (0.1 mm = 0.1, not 1e-4)"};
 
 struct SimulateArgs {
@@ -80,10 +79,7 @@ Cutter cutter_of(const SimulateArgs& o) {
   Cutter c;
   c.diameter_m = 1e-3 * o.diameter_mm;
   if (!o.pitch_deg.empty()) {
-    if (o.cut.teeth != 0 && o.cut.teeth != static_cast<int>(o.pitch_deg.size()))
-      throw InvalidArgument(fmt::format("--teeth {} but --pitch gives {} spacings", o.cut.teeth, o.pitch_deg.size()),
-                            "give one spacing per tooth, or drop --teeth");
-    for (double p : o.pitch_deg) c.pitch_rad.push_back(p * kPi / 180.0);
+    c.pitch_rad = pitch_radians(o.pitch_deg, o.cut.teeth);
   } else {
     if (o.cut.teeth < 1)
       throw InvalidArgument("give the teeth: --teeth N (evenly spaced) or --pitch DEG,DEG,...", "e.g. --teeth 4");

@@ -366,7 +366,12 @@ std::string with_flags(std::string text) {
       {"LobesInput: rigid_y and y modes", "--rigid-y and --mode-y"},
       {"ZeroOrderOptions::lobes", "--lobes"},
       {"SpeedRange::min_rpm and max_rpm", "--rpm MIN:MAX"},
-      {"CuttingConditions::radial_ratio", "--kr"}};
+      {"CuttingConditions::radial_ratio", "--kr"},
+      {"CuttingConditions::pitch_rad", "--pitch"},
+      {"CuttingConditions::runout_m", "--runout"},
+      {"CuttingConditions::feed_per_tooth_m", "--feed"},
+      {"CuttingConditions::diameter_m", "--diameter"},
+      {"CuttingConditions::process_damping_n_per_m", "--process-damping"}};
   for (const auto& [field, flag] : kFlags)
     for (std::size_t at = text.find(field); at != std::string::npos; at = text.find(field, at + flag.size()))
       text.replace(at, field.size(), flag);
@@ -614,6 +619,45 @@ CuttingConditions cutting_conditions(const CutArgs& o) {
   c.radial_ratio = std::isnan(o.kr) ? o.kn / o.kt : o.kr;
   c.engagement = cut_engagement(o);
   return c;
+}
+
+std::vector<double> pitch_radians(const std::vector<double>& pitch_deg, int teeth) {
+  if (teeth != 0 && teeth != static_cast<int>(pitch_deg.size()))
+    throw InvalidArgument(fmt::format("--teeth {} but --pitch gives {} spacings", teeth, pitch_deg.size()),
+                          "give one spacing per tooth, or drop --teeth");
+  std::vector<double> rad;
+  for (double p : pitch_deg) rad.push_back(p * kPi / 180.0);
+  return rad;
+}
+
+void add_tool_geometry_options(CLI::App* c, ToolGeometryArgs& o) {
+  c->add_option("--pitch", o.pitch_deg,
+                "fd: variable pitch, the angle from each tooth to the next [°, not rad], one per tooth, summing to 360 "
+                "(e.g. 70,110,70,110; default: even)")
+      ->delimiter(',');
+  c->add_option("--runout", o.runout_mm,
+                "fd: radial runout per tooth [mm, not µm]: each tooth cuts at D/2 + its value (e.g. 0.01,0,-0.01,0; needs "
+                "--feed; default none)")
+      ->delimiter(',');
+  c->add_option("--feed", o.feed_mm, "fd with --runout: feed per tooth [mm] (which tooth cuts which surface depends on it)");
+  c->add_option("--diameter", o.diameter_mm, "Tool diameter D [mm] (needed with --process-damping; checks --runout)");
+  c->add_option("--process-damping", o.process_damping,
+                "fd: process damping (indentation) coefficient C_i [N/m, not N/m² or N/mm], plausible 1e3…1e8: the "
+                "flank adds damping C_i·b/V (b the depth, V = πDn/60); needs --diameter (default 0: none)");
+}
+
+void apply_tool_geometry(const ToolGeometryArgs& o, CuttingConditions& c) {
+  if (!o.pitch_deg.empty()) c.pitch_rad = pitch_radians(o.pitch_deg, c.teeth);
+  for (double r : o.runout_mm) c.runout_m.push_back(1e-3 * r);
+  if (o.diameter_mm != 0.0) {
+    check_plausible(kDiameterMm, o.diameter_mm, "--diameter [mm]", "e.g. --diameter 16");
+    c.diameter_m = 1e-3 * o.diameter_mm;
+  }
+  if (o.feed_mm != 0.0) {
+    check_plausible(plausible::kFeedPerTooth, 1e-3 * o.feed_mm, "--feed [mm]", "e.g. --feed 0.05 (mm per tooth)");
+    c.feed_per_tooth_m = 1e-3 * o.feed_mm;
+  }
+  c.process_damping_n_per_m = o.process_damping;
 }
 
 void add_dynamics_options(CLI::App* c, DynamicsArgs& o, Globals& g, const std::string& prefix) {

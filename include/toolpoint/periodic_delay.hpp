@@ -26,6 +26,13 @@
 // the first-order semi-discretization of Insperger & Stépán (Semi-Discretization for Time-Delay
 // Systems, Springer 2011, §3), the same map. Errors fall like h^{p+1} (observed in the tests).
 //
+// Further delays (variable-pitch milling, whose teeth each have their own delay; the period is then
+// a revolution): terms Q_j(t) C x(t − τ_j) with 0 < τ_j ≤ T, the delayed outputs interpolated by the
+// same degree-p Lagrange polynomial through the samples around t − τ_j (τ_j need not be a whole
+// number of steps: the polynomial is evaluated off its nodes, at s − f_j h with f_j the fractional
+// part of τ_j/h). A τ_j within 1e-9 steps of a whole number is taken as that number, so a delay of
+// T/N with m divisible by N gives exactly the map of N tooth periods (tests/periodic_delay_test).
+//
 // Only outputs are delayed: the map over one period acts on x₀ and the d-vectors y_{−1} …
 // y_{−(m+p−1)}, and of those only the samples some step reads with a non-zero weight (at low
 // radial immersion most steps are out of the cut). Dropped samples are exactly zero multipliers.
@@ -37,6 +44,13 @@
 #include <vector>
 
 namespace toolpoint {
+
+// One further delayed term Q_j(t) C x(t − τ_j) of PeriodicDelaySystem (multiplied by σ like the others).
+struct DelayedTerm {
+  double delay = 0.0;  // τ_j [s], h ≤ τ_j ≤ T (h the step of the map built from the system)
+  // Q_j(t) for t in [0, T): writes the d × d matrix into `out` (arrives sized d × d and zeroed).
+  std::function<void(double t, Eigen::MatrixXd& out)> coefficient;
+};
 
 struct PeriodicDelaySystem {
   std::vector<Eigen::MatrixXd> a0_blocks;  // A₀ = diag(blocks), each square; n = Σ sizes
@@ -50,11 +64,23 @@ struct PeriodicDelaySystem {
   // w(t) for t in [0, T): writes the d-vector into `out` (arrives sized d and zeroed). Empty: none.
   std::function<void(double t, Eigen::VectorXd& out)> forcing;
   bool regenerative = false;        // Q = −P: `delayed` is not used
+  std::vector<DelayedTerm> delays;  // further delayed terms (not part of `regenerative`'s Q = −P)
   std::vector<double> breakpoints;  // times in (0, T) where P or Q jump
   // Throws InvalidArgument naming the member: sizes that disagree, T ≤ 0, non-finite entries, a
   // block of A₀ that is not diagonalisable with a condition number below 1e8.
   void check() const;
 };
+
+// The system with a velocity feedback added: u(t) += σ V(t) C_v x(t), C_v (d × n) reading the
+// velocities the feedback acts on, V(t) (d × d) T-periodic (process damping: the flank's contact
+// force −C_i b ṙ_n/V, Budak & Tunç, CIRP Annals 58 (2009) 403, b = σ). Built within the same form:
+// the outputs become (C x, C_v x) (2d rows), the inputs (u, 0) with B' = [B, 0], and
+//     P' = [[P, V], [0, 0]],  Q' = [[Q, 0], [0, 0]],  Q'_j = [[Q_j, 0], [0, 0]],  w' = (w, 0),
+// a regenerative system becoming one with Q = −P written out (the velocity is not delayed). The
+// map then carries 2d outputs per buffered sample: about twice the work. Throws InvalidArgument
+// (C_v of the wrong size, an empty V, a bad system).
+PeriodicDelaySystem with_velocity_feedback(const PeriodicDelaySystem& system, const Eigen::MatrixXd& velocity_output,
+                                           std::function<void(double t, Eigen::MatrixXd& out)> feedback);
 
 // The dominant Floquet multiplier of the period map (largest modulus; of a complex pair the one
 // with Im ≥ 0) and its eigenvector (the reduced state, see PeriodMap::size).
@@ -115,6 +141,13 @@ class PeriodMap {
   // Per active step k, per node o = 0…p (sample y_{k+1−p+o}): W^P (n × d, column-major) and,
   // unless regenerative, W^Q; and the implicit factor (I − σ C W^P_p) parts C W^P_p, C W^Q_p.
   std::vector<std::vector<double>> wp_, wq_;
+  // Further delays (PeriodicDelaySystem::delays): per delay j the whole steps i_j of τ_j = (i_j + f_j)h;
+  // per active step the weights of each delay it reads, (p + 1) n × d column-major blocks.
+  struct DelayWeights {
+    int whole_steps = 0;
+    std::vector<double> w;
+  };
+  std::vector<std::vector<DelayWeights>> wd_;
   std::vector<Eigen::MatrixXd> cwp_;           // C W^P for the newest node, d × d
   std::vector<Eigen::VectorXd> wf_;            // per step: ∫ e^{A₀(h−s)} B w(t_k + s) ds (n), empty without forcing
   std::vector<int> read_;                      // buffer samples y_{−i} kept in the reduced state (i ≥ 1)

@@ -49,13 +49,43 @@ Engagement engagement_from_immersion(double radial_immersion, MillingDirection d
 // From angles in degrees (the CLI's --entry/--exit). Throws InvalidArgument outside 0 ≤ entry < exit ≤ 180.
 Engagement engagement_from_degrees(double entry_deg, double exit_deg);
 
+// The plausible range of the process-damping (indentation) coefficient C_i [N/m]: published
+// values lie around 1e4…1e7 N/m; outside 1e3…1e8 N/m it is most likely in another unit.
+inline constexpr double kProcessDampingMin = 1e3, kProcessDampingMax = 1e8;
+
 struct CuttingConditions {
-  int teeth = 0;                        // N ≥ 1, evenly spaced
+  int teeth = 0;                        // N ≥ 1
   double tangential_coefficient = 0.0;  // K_t > 0 [N/m²]
   double radial_ratio = 0.0;            // K_r = K_n/K_t ≥ 0
   Engagement engagement;
-  // Throws InvalidArgument naming the parameter and value (negative coefficients, N < 1, …).
+  // Variable pitch: the angle [rad] from each tooth to the one that follows it (tooth j + 1 passes
+  // an angle pitch_rad[j]/Ω after tooth j, as simulation.hpp's Cutter::pitch_rad), N entries, each
+  // > 0, summing to 2π (within 1e-6 rad). Empty: evenly spaced. Only the time-domain stability
+  // (full-discretization) uses it; the zero-order method refuses an uneven pitch.
+  std::vector<double> pitch_rad{};
+  // Radial runout: tooth j cuts at radius D/2 + runout_m[j] [m] (N entries; empty: none), as
+  // simulation.hpp's Cutter::runout_m. Which surface each tooth cuts — and so its delay and its
+  // static chip — then depends on the feed (milling_delay_system), given here.
+  std::vector<double> runout_m{};
+  double feed_per_tooth_m = 0.0;  // c > 0 [m], required with runout (mean feed per tooth)
+  double diameter_m = 0.0;        // D [m]: with it, runout is checked against the radius (0: not checked)
+  // Process damping (Budak & Tunç, CIRP Annals 58 (2009) 403; Wu's indentation model): the flank's
+  // contact adds a damping force −C_i b ṙ_n/V normal to the cut surface per engaged tooth, ṙ_n =
+  // u·ṙ, u = (sin φ, cos φ), V = πDn/60 (needs diameter_m): equivalent damping C_i·b/V [N·s/m]
+  // that grows as the speed falls. C_i [N/m] within kProcessDampingMin…kProcessDampingMax; 0: none.
+  // Teeth are taken as in contact over the engagement (with runout too).
+  double process_damping_n_per_m = 0.0;
+  // Throws InvalidArgument naming the parameter and value (negative coefficients, N < 1, pitch
+  // angles of the wrong count or not adding up to a revolution, runout beyond the radius or over
+  // 1 mm, runout without a feed, …).
   void check() const;
+  // Every tooth cuts alike: evenly spaced teeth (pitch_rad empty, or all its angles equal within
+  // 1e-12 rad) and no runout (or the same on every tooth). The principal period is then the
+  // tooth period, and the zero-order method applies.
+  bool uniform() const;
+  // The principal period of the milling equation in tooth periods 60/(N n): 1 when uniform(), N (a
+  // revolution) otherwise.
+  int teeth_per_period() const { return uniform() ? 1 : teeth; }
 };
 
 // α(φ₁, φ₂) = ∫_{φ₁}^{φ₂} A(φ) dφ (docs/reference.md §7, Altintas & Budak 1995 Eq. 10), dimensionless:
@@ -258,16 +288,35 @@ struct BoundaryPoint {
   Complex multiplier;  // critical multiplier just above the boundary
 };
 
-// The milling equation at one speed as a PeriodicDelaySystem: per mode the block
+// The milling equation at one speed as a PeriodicDelaySystem. Variable pitch (Altintas, Engin &
+// Budak, J. Manuf. Sci. Eng. 121 (1999) 173; Insperger & Stépán 2004 §5): the period is a
+// revolution T = 60/n, tooth j at φ_j(t) = Ωt − Σ_{i<j} p_i has its own delay τ_j = p_{j−1}/Ω (the
+// time since the tooth before it passed the same angle), and
+//     u(t) = σ Σ_j ½K_t g_j A(φ_j) (r(t) − r(t − τ_j)),
+// built as P = Σ_j ½K_t g_j A(φ_j) and one PeriodicDelaySystem::delays term per distinct delay;
+// with a feed, tooth j's static chip is N c p_{j−1}/(2π) sin φ_j. Runout (Insperger, Mann, Surmann
+// & Stépán, IJMTM 48 (2008) 586; the chip of simulation.hpp linearised about the static cut): tooth
+// j at φ regenerates against the outermost surface q* pitches back, delay Θ_{q*}/Ω (one
+// revolution at most), and is out of the cut where its static chip ρ_j − ρ_{j−q*} + C_{q*} sin φ ≤ 0
+// (C_q = N c Θ_q/2π); `feed_per_tooth_m` > 0 must then equal CuttingConditions::feed_per_tooth_m.
+// Uniform pitch: per mode the block
 // [[0, 1], [−ω_r², −2ζ_rω_r]] on (q_r, q̇_r); B puts the force on q̈_r with 1/m_r; C reads the tip
 // displacement; P(t) = ½K_t A(t) [N/m²] with σ the depth a [m], regenerative; breakpoints at the
 // teeth's entry and exit. One output (x) when the model has no y mode. With a feed per tooth c > 0
 // [m], the forcing w(t) of the static chip c sin φ_j (per unit depth; PeriodMap::periodic_solution
 // then gives the forced periodic motion of a stable cut). Throws InvalidArgument.
+// With CuttingConditions::process_damping_n_per_m > 0 the system carries the velocity feedback
+// −(C_i/V) Σ_j g_j u_j u_jᵀ ṙ per unit depth (with_velocity_feedback: outputs 0…d−1 the tip
+// displacement, d…2d−1 its velocity).
 PeriodicDelaySystem milling_delay_system(const ModalModel& model, const CuttingConditions& cutting, double speed_rpm,
                                          double feed_per_tooth_m = 0.0);
+// The cutting speed V = πDn/60 [m/s] of CuttingConditions::diameter_m at `speed_rpm`.
+double cutting_speed(const CuttingConditions& cutting, double speed_rpm);
+// The tip velocity's C_v (d × 2n_q) of the milling system's state: x (and y) velocities summed over the modes.
+Eigen::MatrixXd velocity_output(const ModalModel& model);
 
 // Stability of the milling equation at a fixed number of steps per tooth period.
+// Steps per tooth period m: the map is built with m · cutting.teeth_per_period() steps per period.
 class FullDiscretization {
  public:
   // Throws InvalidArgument (bad model or conditions, steps outside 4…20000, degree outside 1…3).

@@ -147,3 +147,23 @@ def test_bad_stability_input_raises():
         tp.zero_order_lobes(f, np.ones(10, complex), cut, speeds=(1000.0, 2000.0, 10))
     with pytest.raises(tp.InvalidArgument, match="method"):
         tp.run_lobes_study(cut, (1000.0, 2000.0, 10), method="sd")
+
+
+def test_variable_pitch_and_process_damping_are_the_cli_ones():
+    """Variable pitch, runout and process damping (issue 27) reach the time-domain boundary from Python as
+    from `toolpoint lobes --pitch/--runout/--process-damping` (degrees, mm in the CLI; SI here)."""
+    deg = np.pi / 180.0
+    cut = tp.CuttingConditions(4, 6e8, 1.0 / 3.0, immersion=0.5, milling="down",
+                               pitch_rad=[70 * deg, 110 * deg, 70 * deg, 110 * deg], runout_m=[1e-5, 0.0, -1e-5, 0.0],
+                               feed_per_tooth_m=5e-5, diameter_m=0.02, process_damping_n_per_m=1e5)
+    assert len(cut.pitch_rad) == 4 and cut.process_damping_n_per_m == 1e5
+    study = tp.run_lobes_study(cut, (4000.0, 8000.0, 8), method="fd", x_modes=[BENCH], rigid_y=True, threads=1)
+    cli = run_cli_json("lobes", "--method", "fd", "--mode-x", "0.03993,0.011,922", "--rigid-y", "--teeth", 4, "--kt", 6e8,
+                       "--kr", 1.0 / 3.0, "--immersion", 0.5, "--milling", "down", "--rpm", "4000:8000", "--speeds", 8,
+                       "--pitch", "70,110,70,110", "--runout", "0.01,0,-0.01,0", "--feed", 0.05, "--diameter", 20,
+                       "--process-damping", 1e5, "--threads", 1)
+    assert study.to_dict()["boundary"] == cli["boundary"]
+    with pytest.raises(tp.InvalidArgument, match="pitch_rad"):
+        tp.CuttingConditions(4, 6e8, 0.3, immersion=0.5, pitch_rad=[1.0, 1.0, 1.0, 1.0])
+    with pytest.raises(tp.InvalidArgument, match="process_damping_n_per_m"):
+        tp.CuttingConditions(4, 6e8, 0.3, immersion=0.5, diameter_m=0.02, process_damping_n_per_m=2e11)

@@ -4,7 +4,9 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <exception>
 #include <functional>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -12,6 +14,16 @@
 #include "toolpoint/receptance.hpp"
 
 namespace toolpoint::test {
+
+// What `f` throws (what()), or "" when it does not throw.
+inline std::string thrown_message(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
 
 inline Material steel(double eta = 0.0) { return Material{"steel", 200e9, 0.3, 0.0, 7800.0, eta}; }
 inline Material carbide(double eta = 0.0) { return Material{"carbide", 580e9, 0.22, 0.0, 14500.0, eta}; }

@@ -1,0 +1,22 @@
+// Shared helpers for the stability tests: the converged full-discretization limit at one speed.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include "toolpoint/stability.hpp"
+
+namespace toolpoint::test {
+
+// The converged full-discretization limit at one speed [m] (estimated error ≤ 0.1 %, checked).
+inline double converged_limit(const ModalModel& model, const CuttingConditions& cutting, double speed_rpm) {
+  BoundaryOptions o;
+  o.speeds = {speed_rpm, speed_rpm * (1.0 + 1e-6), 2};
+  o.tolerance = 1e-3;
+  o.parallel.threads = 1;
+  const BoundaryResult b = stability_boundary(model, cutting, o);
+  EXPECT_NE(b.boundary[0].kind, BoundaryKind::None) << speed_rpm;
+  EXPECT_LE(b.boundary[0].depth_error_m, 1e-3 * b.boundary[0].depth_m);
+  return b.boundary[0].depth_m;
+}
+
+}  // namespace toolpoint::test
