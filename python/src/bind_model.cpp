@@ -237,6 +237,40 @@ void bind_model(py::module_& m) {
       "generalised: complex (n, 4, 4) over (w1, θ1, w2, θ2) = [[T11, T12], [T21, T22]]; H in m/N, L 1/N, N rad/N, P rad/(N·m). "
       "Frequencies in Hz (> 0).");
   m.def(
+      "spinning_receptance",
+      [](Segment s, const RealArray& frequency_hz, double speed_rpm) {
+        s.check();
+        const std::vector<double> f = vector_of(frequency_hz, "frequency_hz");
+        const SectionProperties p = s.properties();
+        const double spin = rad_s_of_rpm(speed_rpm);
+        py::array_t<std::complex<double>> out({static_cast<py::ssize_t>(f.size()), py::ssize_t{8}, py::ssize_t{8}});
+        auto a = out.mutable_unchecked<3>();
+        std::vector<TwoPort4> t(f.size());
+        {
+          py::gil_scoped_release nogil;
+          for (std::size_t i = 0; i < f.size(); ++i) t[i] = spinning_receptance(p, s.length, f[i], spin);
+        }
+        for (std::size_t i = 0; i < f.size(); ++i) {
+          const Block4* b[2][2] = {{&t[i].b11, &t[i].b12}, {&t[i].b21, &t[i].b22}};
+          for (int r = 0; r < 8; ++r)
+            for (int c = 0; c < 8; ++c) a(static_cast<py::ssize_t>(i), r, c) = (*b[r / 4][c / 4])(r % 4, c % 4);
+        }
+        return out;
+      },
+      "segment"_a, "frequency_hz"_a, "speed_rpm"_a,
+      "Free–free end receptances of a segment spinning at `speed_rpm` [rpm] (docs/reference.md §9), both planes: complex "
+      "(n, 8, 8) over (w_x1, ψ_x1, w_y1, ψ_y1, w_x2, ψ_x2, w_y2, ψ_y2) = [[T11, T12], [T21, T22]] of 4×4 blocks; the x–y "
+      "blocks are the gyroscopic cross receptances (skew). Frequencies in Hz (> 0).");
+  m.def(
+      "whirl_frequencies",
+      [](const Segment& s, double speed_rpm, int count) {
+        s.check();
+        return dict_of(whirl_frequencies(s.properties(), s.length, rad_s_of_rpm(speed_rpm), count));
+      },
+      "segment"_a, "speed_rpm"_a, "count"_a,
+      "The first `count` natural frequencies [Hz] of each whirl of a free–free segment spinning at `speed_rpm` [rpm], "
+      "undamped: {'forward_hz', 'backward_hz', 'conical_hz', 'spin_rad_s', 'speed_rpm'}.");
+  m.def(
       "free_free_frequencies",
       [](const Segment& s, int count) { return array_of(free_free_frequencies(s.properties(), s.length, count)); }, "segment"_a,
       "count"_a,
@@ -285,6 +319,13 @@ void bind_model(py::module_& m) {
           "receptance", [](const BeamStudy& r) { return blocks_array(r.receptance.blocks); },
           "the end block asked for, complex (n, 2, 2) [[H m/N, L 1/N], [N rad/N, P rad/(N·m)]]")
       .def_readonly("method", &BeamStudy::method, "'exact' or 'modal (N modes[ + static residual])'")
+      .def_readonly("speed_rpm", &BeamStudy::speed_rpm, "the spin [rpm] (0: standing)")
+      .def_property_readonly(
+          "whirl", [](const BeamStudy& r) { return r.whirl ? dict_of(*r.whirl) : py::object(py::none()); },
+          "spinning: {'forward_hz': [...], 'backward_hz': [...], 'conical_hz', 'spin_rad_s', 'speed_rpm'}; else None")
+      .def_property_readonly(
+          "campbell", [](const BeamStudy& r) { return dict_of(r.campbell); },
+          "the Campbell diagram: one whirl dict (as `whirl`) per campbell_rpm speed")
       .def_readonly("warnings", &BeamStudy::warnings)
       .def(
           "to_dict", [](const BeamStudy& r) { return dict_of(r); },
@@ -293,7 +334,7 @@ void bind_model(py::module_& m) {
       "run_beam_study",
       [](double length, double outer_diameter, double inner_diameter, Material material, std::optional<double> shear_coefficient,
          const std::string& shear_model, int modes, const py::object& frequency_hz, const std::string& block,
-         const std::string& method, int modal_terms, bool static_residual) {
+         const std::string& method, int modal_terms, bool static_residual, double speed_rpm, const py::object& campbell_rpm) {
         BeamStudyOptions o;
         o.length = length;
         o.outer_diameter = outer_diameter;
@@ -306,16 +347,20 @@ void bind_model(py::module_& m) {
         o.block = enum_of(block, kEndBlocks, "block");
         o.method = enum_of(method, kBeamMethods, "method");
         o.modal = {modal_terms, static_residual};
+        o.speed_rpm = speed_rpm;
+        if (!campbell_rpm.is_none()) o.campbell_rpm = vector_of(campbell_rpm.cast<RealArray>(), "campbell_rpm");
         py::gil_scoped_release nogil;
         return run_beam_study(o);
       },
       "length"_a, "outer_diameter"_a, "inner_diameter"_a = 0.0, "material"_a = Material{"beam", 2.0e11, 0.3, 0.0, 7800.0, 0.0},
       "shear_coefficient"_a = py::none(), "shear_model"_a = "hutchinson", "modes"_a = 5, "frequency_hz"_a = py::none(),
-      "block"_a = "11", "method"_a = "exact", "modal_terms"_a = 100, "static_residual"_a = false,
+      "block"_a = "11", "method"_a = "exact", "modal_terms"_a = 100, "static_residual"_a = false, "speed_rpm"_a = 0.0,
+      "campbell_rpm"_a = py::none(),
       "The beam study (toolpoint beam): one free–free Timoshenko segment of length `length` m and diameters D, d [m] "
       "(material: E, ν, G, ρ, η; default steel) — its section, its first `modes` natural frequencies [Hz] and, on "
       "`frequency_hz` [Hz], the end block '11' (end 1 = the outer end), '12', '21' or '22' by the 'exact' closed form or "
-      "'modal' summation over `modal_terms` modes.");
+      "'modal' summation over `modal_terms` modes; spinning at `speed_rpm` [rpm] the natural frequencies of each whirl "
+      "(BeamStudy.whirl) and the block's x–x part; `campbell_rpm` [rpm] the Campbell diagram (BeamStudy.campbell).");
 
   // ---- Assembly -----------------------------------------------------------------------------------
   py::class_<Bearing>(m, "Bearing", "Springs and dampers to ground at `position` m from the spindle nose.")
