@@ -23,6 +23,14 @@ Block Bearing::dynamic_stiffness(double frequency_hz) const {
   return make_block({stiffness, w * damping}, 0.0, 0.0, {rotational_stiffness, w * rotational_damping});
 }
 
+Block Bearing::dynamic_stiffness_y(double frequency_hz) const {
+  const double w = omega_of(frequency_hz);
+  return make_block({stiffness_y.value_or(stiffness), w * damping_y.value_or(damping)}, 0.0, 0.0,
+                    {rotational_stiffness, w * rotational_damping});
+}
+
+bool Bearing::isotropic() const { return (!stiffness_y || *stiffness_y == stiffness) && (!damping_y || *damping_y == damping); }
+
 void Bearing::check() const {
   const std::string who = name.empty() ? std::string("bearing") : name;
   const double v[5] = {position, stiffness, damping, rotational_stiffness, rotational_damping};
@@ -31,6 +39,9 @@ void Bearing::check() const {
     if (!std::isfinite(v[i])) throw InvalidArgument(fmt::format("{}: {} = {} is not finite", who, keys[i], v[i]));
     if (v[i] < 0.0) throw InvalidArgument(fmt::format("{}: {} = {} must be ≥ 0", who, keys[i], v[i]));
   }
+  for (const auto& [value, key] : {std::pair{stiffness_y, "stiffness_y"}, std::pair{damping_y, "damping_y"}})
+    if (value && !(std::isfinite(*value) && *value >= 0.0))
+      throw InvalidArgument(fmt::format("{}: {} = {} must be ≥ 0", who, key, *value));
   if (stiffness == 0.0 && damping == 0.0 && rotational_stiffness == 0.0 && rotational_damping == 0.0)
     throw InvalidArgument(fmt::format("{}: all stiffness and damping values are zero", who), "give at least `stiffness` in N/m");
 }
@@ -245,11 +256,18 @@ TwoPort Chain::piece(std::size_t i, double frequency_hz) const {
                                       : modal_[i]->receptance(frequency_hz);
 }
 
-TwoPort Chain::piece(std::size_t i, double frequency_hz, SectionWaves& waves, const SectionProperties*& waves_of) const {
-  if (!modal_.empty() && modal_[i]) return modal_[i]->receptance(frequency_hz);
+TwoPort Chain::piece(std::size_t i, double frequency_hz, double spin_rad_s, Whirl whirl, SectionWaves& waves,
+                     const SectionProperties*& waves_of) const {
+  if (!modal_.empty() && modal_[i]) {
+    if (spin_rad_s != 0.0)
+      throw InvalidArgument("a spinning assembly needs Assembly::method exact: the whirls' receptances are exact only",
+                            "use the exact method (the default)");
+    return modal_[i]->receptance(frequency_hz);
+  }
   const SectionProperties& p = props_[i];
   if (!waves_of || !(*waves_of == p)) {
-    waves = section_waves(p, frequency_hz);
+    // At spin 0 whirl_rotary_inertia is ρI exactly: the standing waves.
+    waves = spin_rad_s == 0.0 ? section_waves(p, frequency_hz) : section_waves(p, frequency_hz, spin_rad_s, whirl);
     waves_of = &p;
   }
   return exact_receptance(waves, pieces_[i].length);
@@ -264,36 +282,74 @@ bool ground_at(const std::vector<Bearing>& node, double f, Block& D) {
   return true;
 }
 
+// Both planes: diag(D_x, D_y).
+bool ground_at(const std::vector<Bearing>& node, double f, Block4& D) {
+  if (node.empty()) return false;
+  D = Block4::Zero();
+  for (const Bearing& b : node) {
+    D.topLeftCorner<2, 2>() += b.dynamic_stiffness(f);
+    D.bottomRightCorner<2, 2>() += b.dynamic_stiffness_y(f);
+  }
+  return true;
+}
+
 }  // namespace
 
-TwoPort Chain::two_port(double f) const {
+TwoPort Chain::two_port(double f) const { return two_port(f, 0.0, Whirl::Forward); }
+
+Block Chain::point(double f) const { return point(f, 0.0, Whirl::Forward); }
+
+TwoPort Chain::two_port(double f, double spin_rad_s, Whirl whirl) const {
   if (pieces_.empty()) throw InvalidArgument("empty segment chain");
   const std::size_t n = pieces_.size();
   Block D;
   SectionWaves waves;
   const SectionProperties* waves_of = nullptr;
-  TwoPort g = piece(n - 1, f, waves, waves_of);
+  TwoPort g = piece(n - 1, f, spin_rad_s, whirl, waves, waves_of);
   if (ground_at(ground_[n], f, D)) g = ground_end2(g, D);
   for (std::size_t k = n - 1; k-- > 0;) {
     if (ground_at(ground_[k + 1], f, D)) g = ground_end1(g, D);
-    g = couple_rigid(piece(k, f, waves, waves_of), g);
+    g = couple_rigid(piece(k, f, spin_rad_s, whirl, waves, waves_of), g);
   }
   if (ground_at(ground_[0], f, D)) g = ground_end1(g, D);
   return g;
 }
 
-Block Chain::point(double f) const {
+Block Chain::point(double f, double spin_rad_s, Whirl whirl) const {
   if (pieces_.empty()) throw InvalidArgument("empty segment chain");
   const std::size_t n = pieces_.size();
   Block D;
   SectionWaves waves;
   const SectionProperties* waves_of = nullptr;
-  TwoPort last = piece(n - 1, f, waves, waves_of);
+  TwoPort last = piece(n - 1, f, spin_rad_s, whirl, waves, waves_of);
   if (ground_at(ground_[n], f, D)) last = ground_end2(last, D);
   Block g = last.b11;
   for (std::size_t k = n - 1; k-- > 0;) {
     if (ground_at(ground_[k + 1], f, D)) g = ground_point(g, D);
-    g = couple_rigid_point(piece(k, f, waves, waves_of), g);
+    g = couple_rigid_point(piece(k, f, spin_rad_s, whirl, waves, waves_of), g);
+  }
+  if (ground_at(ground_[0], f, D)) g = ground_point(g, D);
+  return g;
+}
+
+Block4 Chain::point_two_plane(double f, double spin_rad_s) const {
+  if (pieces_.empty()) throw InvalidArgument("empty segment chain");
+  const std::size_t n = pieces_.size();
+  SectionWaves wf, wb;
+  const SectionProperties *of_f = nullptr, *of_b = nullptr;
+  auto piece4 = [&](std::size_t i) {
+    if (spin_rad_s == 0.0) {
+      const TwoPort t = piece(i, f, 0.0, Whirl::Forward, wf, of_f);
+      return two_plane(t, t);
+    }
+    return two_plane(piece(i, f, spin_rad_s, Whirl::Forward, wf, of_f), piece(i, f, spin_rad_s, Whirl::Backward, wb, of_b));
+  };
+  Block4 D;
+  const TwoPort4 last = piece4(n - 1);
+  Block4 g = ground_at(ground_[n], f, D) ? ground_end2_point(last, D) : last.b11;
+  for (std::size_t k = n - 1; k-- > 0;) {
+    if (ground_at(ground_[k + 1], f, D)) g = ground_point(g, D);
+    g = couple_rigid_point(piece4(k), g);
   }
   if (ground_at(ground_[0], f, D)) g = ground_point(g, D);
   return g;
@@ -361,6 +417,39 @@ Block AssemblyModel::holder_tip(double f) const {
 
 Block AssemblyModel::tool_point(double f) const {
   return couple_point(tool_.two_port(f), holder_tip(f), assembly_.holder_tool, f);
+}
+
+bool AssemblyModel::isotropic() const {
+  return std::all_of(assembly_.spindle.bearings.begin(), assembly_.spindle.bearings.end(),
+                     [](const Bearing& b) { return b.isotropic(); });
+}
+
+Block AssemblyModel::tool_point(double f, double spin_rad_s, Whirl whirl) const {
+  if (!isotropic())
+    throw InvalidArgument(
+        "AssemblyModel::tool_point for one whirl needs isotropic bearings (Bearing::stiffness_y, damping_y "
+        "unset or equal to x)",
+        "use tool_point_two_plane, which couples the planes");
+  const Block sh = couple_point(holder_.two_port(f, spin_rad_s, whirl), spindle_.point(f, spin_rad_s, whirl),
+                                assembly_.spindle_holder, f);
+  return couple_point(tool_.two_port(f, spin_rad_s, whirl), sh, assembly_.holder_tool, f);
+}
+
+Block4 AssemblyModel::tool_point_two_plane(double f, double spin_rad_s) const {
+  if (isotropic()) {
+    if (spin_rad_s == 0.0) return two_plane(tool_point(f));
+    return two_plane(tool_point(f, spin_rad_s, Whirl::Forward), tool_point(f, spin_rad_s, Whirl::Backward));
+  }
+  // The holder and the tool are axisymmetric and free: their whirls combine per component.
+  auto component = [&](const Chain& c) {
+    if (spin_rad_s == 0.0) {
+      const TwoPort t = c.two_port(f);
+      return two_plane(t, t);
+    }
+    return two_plane(c.two_port(f, spin_rad_s, Whirl::Forward), c.two_port(f, spin_rad_s, Whirl::Backward));
+  };
+  const Block4 sh = couple_point(component(holder_), spindle_.point_two_plane(f, spin_rad_s), assembly_.spindle_holder, f);
+  return couple_point(component(tool_), sh, assembly_.holder_tool, f);
 }
 
 TwoPort AssemblyModel::holder_tool(double f) const {

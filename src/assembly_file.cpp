@@ -160,7 +160,9 @@ LoadedAssembly parse_assembly(const std::string& text, const std::string& source
       ++i;
       const toml::table& t = *e.as_table();
       const std::string path = fmt::format("spindle.bearing[{}]", i);
-      r.only(t, path, {"name", "position", "stiffness", "damping", "rotational_stiffness", "rotational_damping"});
+      r.only(t, path,
+             {"name", "position", "stiffness", "damping", "rotational_stiffness", "rotational_damping", "stiffness_y",
+              "damping_y"});
       Bearing b;
       b.name = r.string(t, "name", path).value_or(path);
       if (b.name != path) b.name = fmt::format("{} ({})", path, b.name);
@@ -171,6 +173,11 @@ LoadedAssembly parse_assembly(const std::string& text, const std::string& source
       b.rotational_damping = r.number(t, "rotational_damping", path, "N m s/rad").value_or(0.0);
       r.plausible(t, "stiffness", path, b.stiffness, plausible::kBearingStiffness);
       r.plausible(t, "damping", path, b.damping, plausible::kBearingDamping);
+      // The y direction where it differs (anisotropic bearing; the two-plane model only).
+      b.stiffness_y = r.number(t, "stiffness_y", path, "N/m");
+      b.damping_y = r.number(t, "damping_y", path, "N s/m");
+      if (b.stiffness_y) r.plausible(t, "stiffness_y", path, *b.stiffness_y, plausible::kBearingStiffness);
+      if (b.damping_y) r.plausible(t, "damping_y", path, *b.damping_y, plausible::kBearingDamping);
       try {
         b.check();
       } catch (const InvalidArgument& ex) {

@@ -294,6 +294,7 @@ void to_json(nlohmann::json& j, const StabilityUncertainty& s) {
 void to_json(nlohmann::json& j, const Prediction& p) {
   j = {{"receptance", predicted_frf_name(p.receptance)}, {"modes", p.modes}, {"warnings", p.warnings}};
   if (p.band) j["band"] = *p.band;
+  if (p.two_plane.size() > 0) j["speed_rpm"] = p.speed_rpm;
 }
 
 void to_json(nlohmann::json& j, const OverhangFrf& r) { j = {{"overhang_m", r.overhang_m}, {"modes", r.modes}}; }

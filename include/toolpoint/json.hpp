@@ -129,7 +129,7 @@ void to_json(nlohmann::json& j, const StabilityUncertainty& s);
 
 // ---- Studies ------------------------------------------------------------------------------------
 
-// {"receptance": "SHT11" | "SH11", "modes": [Peak…], "warnings"} and "band" (FrfBand) when computed
+// {"receptance": "SHT11" | "SH11", "modes": [Peak…], "warnings"}, "band" (FrfBand) when computed, "speed_rpm" in two planes
 void to_json(nlohmann::json& j, const Prediction& p);
 // {"overhang_m", "modes": [Peak…]}
 void to_json(nlohmann::json& j, const OverhangFrf& r);

@@ -55,6 +55,14 @@ TwoPort4 two_plane(const TwoPort& forward, const TwoPort& backward);
 // The same 2×2 block in both planes, no cross terms (a standing, isotropic component).
 Block4 two_plane(const Block& both);
 
+// A two-plane 4×4 block per frequency.
+struct BlockSeries4 {
+  std::vector<double> frequency_hz;
+  std::vector<Block4> blocks;
+
+  std::size_t size() const { return frequency_hz.size(); }
+};
+
 // A 2×2 receptance block per frequency (the FRF CSV's 9-column form).
 struct BlockSeries {
   std::vector<double> frequency_hz;

@@ -364,17 +364,18 @@ void bind_model(py::module_& m) {
 
   // ---- Assembly -----------------------------------------------------------------------------------
   py::class_<Bearing>(m, "Bearing", "Springs and dampers to ground at `position` m from the spindle nose.")
-      .def(py::init([](double position, double k, double c, double kr, double cr, std::string name) {
-             return Bearing{std::move(name), position, k, c, kr, cr};
-           }),
+      .def(py::init([](double position, double k, double c, double kr, double cr, std::string name, std::optional<double> ky,
+                       std::optional<double> cy) { return Bearing{std::move(name), position, k, c, kr, cr, ky, cy}; }),
            "position"_a, "stiffness"_a, "damping"_a = 0.0, "rotational_stiffness"_a = 0.0, "rotational_damping"_a = 0.0,
-           "name"_a = "")
+           "name"_a = "", "stiffness_y"_a = py::none(), "damping_y"_a = py::none())
       .def_readwrite("name", &Bearing::name)
       .def_readwrite("position", &Bearing::position, "m from the spindle nose")
       .def_readwrite("stiffness", &Bearing::stiffness, "N/m")
       .def_readwrite("damping", &Bearing::damping, "N·s/m")
       .def_readwrite("rotational_stiffness", &Bearing::rotational_stiffness, "N·m/rad")
-      .def_readwrite("rotational_damping", &Bearing::rotational_damping, "N·m·s/rad");
+      .def_readwrite("rotational_damping", &Bearing::rotational_damping, "N·m·s/rad")
+      .def_readwrite("stiffness_y", &Bearing::stiffness_y, "N/m in y where it differs from x (None: as x; two-plane model)")
+      .def_readwrite("damping_y", &Bearing::damping_y, "N·s/m in y where it differs from x (None: as x)");
 
   py::class_<Spindle>(m, "Spindle", "Segments from the nose to the rear, and bearings (lists are copied in and out).")
       .def(py::init([](std::vector<Segment> s, std::vector<Bearing> b) {
@@ -581,6 +582,19 @@ void bind_model(py::module_& m) {
           "frf", [](const Prediction& p) { return blocks_array(p.frf.blocks); }, "complex (n, 2, 2)")
       .def_readonly("modes", &Prediction::modes, "list of Peak (refined on the model)")
       .def_readonly("band", &Prediction::band, "FrfBand (with `joint`) or None")
+      .def_readonly("speed_rpm", &Prediction::speed_rpm, "the spindle speed [rpm] of a two-plane prediction")
+      .def_property_readonly(
+          "two_plane",
+          [](const Prediction& p) {
+            py::array_t<std::complex<double>> out({static_cast<py::ssize_t>(p.two_plane.size()), py::ssize_t{4}, py::ssize_t{4}});
+            auto a = out.mutable_unchecked<3>();
+            for (std::size_t i = 0; i < p.two_plane.size(); ++i)
+              for (int r = 0; r < 4; ++r)
+                for (int c = 0; c < 4; ++c) a(static_cast<py::ssize_t>(i), r, c) = p.two_plane.blocks[i](r, c);
+            return out;
+          },
+          "at a speed or with anisotropic bearings: complex (n, 4, 4) on (w_x, ψ_x, w_y, ψ_y) [[xx, xy], [yx, yy]]; else (0, 4, "
+          "4)")
       .def_readonly("warnings", &Prediction::warnings)
       .def(
           "to_dict", [](const Prediction& p) { return dict_of(p); },
@@ -588,8 +602,9 @@ void bind_model(py::module_& m) {
   m.def(
       "run_prediction",
       [](Assembly a, const std::string& receptance, double min_prominence, std::optional<JointFile> joint, int samples,
-         std::uint64_t seed, std::vector<double> levels, int threads, const py::object& progress) {
+         std::uint64_t seed, std::vector<double> levels, int threads, const py::object& progress, double speed_rpm) {
         PredictOptions o;
+        o.speed_rpm = speed_rpm;
         o.receptance = enum_of(receptance, kPredicted, "receptance");
         o.peaks.min_prominence = min_prominence;
         o.uncertain_joint = std::move(joint);
@@ -599,12 +614,13 @@ void bind_model(py::module_& m) {
         return run_prediction(a, o, cb);
       },
       "assembly"_a, "receptance"_a = "SHT11", "min_prominence"_a = 0.02, "joint"_a = py::none(), "samples"_a = 200, "seed"_a = 1,
-      "levels"_a = std::vector<double>{0.05, 0.5, 0.95}, "threads"_a = 0, "progress"_a = py::none(),
+      "levels"_a = std::vector<double>{0.05, 0.5, 0.95}, "threads"_a = 0, "progress"_a = py::none(), "speed_rpm"_a = 0.0,
       "The prediction study (toolpoint predict): SHT11 or SH11 on assembly.grid (seed Eq. 1–5) with its modes (peaks of |H| "
       "rising "
       "min_prominence above their valleys, refined on the model). With `joint` (a JointFile with [uncertainty]): also the band "
       "of the tool point FRF over `samples` joints drawn from its covariance (tool_point_band; threads: 0 every core). "
-      "progress(fraction) is called as it goes.");
+      "progress(fraction) is called as it goes. At `speed_rpm` > 0 (or with anisotropic bearings) the tool point in two "
+      "planes: Prediction.two_plane (n, 4, 4) on (w_x, ψ_x, w_y, ψ_y), its x–x block the FRF (docs/spindle-at-speed.md).");
 
   py::class_<OverhangFrf>(m, "OverhangFrf", "One overhang of the overhang study.")
       .def_readonly("overhang_m", &OverhangFrf::overhang_m)

@@ -223,3 +223,17 @@ def test_spinning_beam_is_the_cli_one_and_its_blocks_are_gyroscopic():
     assert np.array_equal(still[:, 0:2, 0:2], t[:, 0:2, 0:2])
     w = tp.whirl_frequencies(seg, 30000.0, 3)
     assert w["forward_hz"] == r.whirl["forward_hz"]
+
+
+def test_prediction_at_speed_has_the_skew_cross_receptance():
+    """run_prediction(speed_rpm=) is `predict --speed` (the same modes); the two-plane block's cross
+    terms are skew (isotropic bearings: H_yx = −H_xy) and its x–x block is the FRF."""
+    a = tp.load_assembly(EXAMPLE).assembly
+    a.grid = (200.0, 3000.0, 20.0)
+    p = tp.run_prediction(a, speed_rpm=20000.0)
+    assert p.two_plane.shape == (p.frf.shape[0], 4, 4)
+    assert np.array_equal(p.two_plane[:, 0:2, 0:2], p.frf)
+    assert np.allclose(p.two_plane[:, 2, 0], -p.two_plane[:, 0, 2], rtol=1e-12, atol=0.0)
+    assert np.abs(p.two_plane[:, 0, 2]).max() > 0.0
+    still = tp.run_prediction(a)
+    assert still.two_plane.shape[0] == 0
