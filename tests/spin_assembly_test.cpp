@@ -10,7 +10,7 @@
 #include <numbers>
 #include <vector>
 
-#include "support/fe_beam.hpp"
+#include "support/fe_rotor.hpp"
 #include "toolpoint/assembly.hpp"
 #include "toolpoint/assembly_file.hpp"
 #include "toolpoint/error.hpp"
@@ -134,22 +134,9 @@ TEST(SpinAssembly, AnisotropicSpinningShaftAgreesWithTheFiniteElementRotor) {
     const double om = 2.0 * kPi * f;
     auto fe = [&](int n) {
       const double l = L / n;
-      const fe_oracle::ElementMatrices e = fe_oracle::timoshenko_element(p.EI, p.kGA, p.rhoA, p.rhoI, l);
-      const Eigen::Matrix4d gp = fe_oracle::timoshenko_element(p.EI, p.kGA, 0.0, 2.0 * p.rhoI, l).mass;
-      const int N = 4 * (n + 1);
-      Eigen::MatrixXcd D = Eigen::MatrixXcd::Zero(N, N);
-      for (int k = 0; k < n; ++k) {
-        auto x_of = [&](int i) { return 4 * (k + i / 2) + i % 2; };
-        for (int i = 0; i < 4; ++i)
-          for (int j = 0; j < 4; ++j) {
-            const Complex kk = e.stiffness(i, j) - om * om * e.mass(i, j);
-            const int xi = x_of(i), xj = x_of(j);
-            D(xi, xj) += kk;
-            D(xi + 2, xj + 2) += kk;
-            D(xi, xj + 2) += Complex(0.0, om * spin * gp(i, j));   // +ρI_p Ω ψ̇_y on ψ_x
-            D(xi + 2, xj) += Complex(0.0, -om * spin * gp(i, j));  // −ρI_p Ω ψ̇_x on ψ_y
-          }
-      }
+      const fe_oracle::FeRotor r = fe_oracle::fe_rotor(p, L, n);
+      const int N = 4 * r.nodes;
+      Eigen::MatrixXcd D = fe_oracle::dynamic_stiffness(r, om, spin);
       for (double a : at) {  // FE x from end 2: x = L − distance from end 1
         const int node = static_cast<int>(std::lround((L - a) / l));
         D(4 * node, 4 * node) += Complex(kx, om * cx);

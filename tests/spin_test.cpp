@@ -15,7 +15,7 @@
 #include <numbers>
 #include <vector>
 
-#include "support/fe_beam.hpp"
+#include "support/fe_rotor.hpp"
 #include "toolpoint/beam.hpp"
 #include "toolpoint/error.hpp"
 
@@ -34,40 +34,8 @@ SectionProperties rod_section(double d, double eta = 0.0) {
   return s.properties();
 }
 
-// The FE rotor of a free–free uniform rod, `n` equal elements.
-struct FeRotor {
-  Eigen::MatrixXcd K;  // complex for structural damping
-  Eigen::MatrixXd M, G;
-  int nodes = 0;
-};
-
-FeRotor fe_rotor(const SectionProperties& p, double length, int n) {
-  const double l = length / n;
-  const fe_oracle::ElementMatrices e = fe_oracle::timoshenko_element(p.EI, p.kGA, p.rhoA, p.rhoI, l);
-  // ∫ρI_p N_ψᵀ N_ψ: the rotary part of the consistent mass with ρI_p = 2ρI and no ρA.
-  const Eigen::Matrix4d gp = fe_oracle::timoshenko_element(p.EI, p.kGA, 0.0, 2.0 * p.rhoI, l).mass;
-  FeRotor r;
-  r.nodes = n + 1;
-  const int N = 4 * r.nodes;
-  r.K = Eigen::MatrixXcd::Zero(N, N);
-  r.M = Eigen::MatrixXd::Zero(N, N);
-  r.G = Eigen::MatrixXd::Zero(N, N);
-  for (int k = 0; k < n; ++k) {
-    // Element DOF i (w1, ψ1, w2, ψ2) → node k + i/2, DOF i%2 within a plane; y plane 2 further.
-    auto x_of = [&](int i) { return 4 * (k + i / 2) + i % 2; };
-    for (int i = 0; i < 4; ++i)
-      for (int j = 0; j < 4; ++j) {
-        const int xi = x_of(i), xj = x_of(j), yi = xi + 2, yj = xj + 2;
-        r.K(xi, xj) += e.stiffness(i, j);
-        r.K(yi, yj) += e.stiffness(i, j);
-        r.M(xi, xj) += e.mass(i, j);
-        r.M(yi, yj) += e.mass(i, j);
-        r.G(xi, yj) += gp(i, j);  // moment on ψ_x: +ρI_p Ω ψ̇_y
-        r.G(yi, xj) -= gp(i, j);  // moment on ψ_y: −ρI_p Ω ψ̇_x
-      }
-  }
-  return r;
-}
+using fe_oracle::fe_rotor;
+using fe_oracle::FeRotor;
 
 struct FeWhirls {
   std::vector<double> forward, backward;  // ascending, Hz
@@ -241,7 +209,7 @@ TEST(Spin, DirectionalFrfSignAgreesWithTheFiniteElementRotor) {
     const double om = 2.0 * kPi * f;
     auto fe_tip = [&](int n) {
       const FeRotor r = fe_rotor(p, L, n);
-      const Eigen::MatrixXcd D = r.K + Complex(0.0, om * spin) * r.G.cast<Complex>() - (om * om) * r.M.cast<Complex>();
+      const Eigen::MatrixXcd D = fe_oracle::dynamic_stiffness(r, om, spin);
       const int t = 4 * (r.nodes - 1);
       Eigen::MatrixXcd F = Eigen::MatrixXcd::Zero(D.rows(), 4);
       for (int j = 0; j < 4; ++j) F(t + j, j) = 1.0;

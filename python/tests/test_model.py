@@ -226,9 +226,9 @@ def test_spinning_beam_is_the_cli_one_and_its_blocks_are_gyroscopic():
 
 
 def test_prediction_at_speed_has_the_skew_cross_receptance():
-    """run_prediction(speed_rpm=) is `predict --speed` (the same modes); the two-plane block's cross
+    """run_prediction(speed_rpm=): the two-plane block's cross
     terms are skew (isotropic bearings: H_yx = −H_xy) and its x–x block is the FRF."""
-    a = tp.load_assembly(EXAMPLE).assembly
+    a = tp.load_assembly(str(EXAMPLE)).assembly
     a.grid = (200.0, 3000.0, 20.0)
     p = tp.run_prediction(a, speed_rpm=20000.0)
     assert p.two_plane.shape == (p.frf.shape[0], 4, 4)
