@@ -42,6 +42,23 @@ void Bearing::check() const {
   for (const auto& [value, key] : {std::pair{stiffness_y, "stiffness_y"}, std::pair{damping_y, "damping_y"}})
     if (value && !(std::isfinite(*value) && *value >= 0.0))
       throw InvalidArgument(fmt::format("{}: {} = {} must be ≥ 0", who, key, *value));
+  for (std::size_t k = 0; k < speed_table.size(); ++k) {
+    const BearingSpeedPoint& r = speed_table[k];
+    const std::string row = fmt::format("{}: speed_table row {} ({} rpm)", who, k + 1, r.speed_rpm);
+    if (!(std::isfinite(r.speed_rpm) && r.speed_rpm >= 0.0))
+      throw InvalidArgument(fmt::format("{}: speed_rpm = {} must be ≥ 0", row, r.speed_rpm));
+    if (!(std::isfinite(r.stiffness) && r.stiffness >= 0.0))
+      throw InvalidArgument(fmt::format("{}: stiffness = {} N/m must be ≥ 0", row, r.stiffness),
+                            "a bearing's stiffness is not negative; check the table's sign and units (N/m)");
+    if (!(std::isfinite(r.damping) && r.damping >= 0.0))
+      throw InvalidArgument(fmt::format("{}: damping = {} N·s/m must be ≥ 0", row, r.damping));
+    if (k > 0 && !(r.speed_rpm > speed_table[k - 1].speed_rpm))
+      throw InvalidArgument(fmt::format("{}: speeds must increase (after {} rpm)", row, speed_table[k - 1].speed_rpm),
+                            "list the rows by increasing speed, each speed once");
+  }
+  if (!speed_table.empty() && (stiffness_y || damping_y))
+    throw InvalidArgument(
+        fmt::format("{}: a speed table applies to both directions; it cannot go with stiffness_y or damping_y", who));
   if (stiffness == 0.0 && damping == 0.0 && rotational_stiffness == 0.0 && rotational_damping == 0.0)
     throw InvalidArgument(fmt::format("{}: all stiffness and damping values are zero", who), "give at least `stiffness` in N/m");
 }
@@ -525,6 +542,51 @@ Eigen::MatrixXcd AssemblyModel::tool_stations(double f, const std::vector<double
 
 Eigen::MatrixXcd AssemblyModel::holder_stations(double f, const std::vector<double>& distances) const {
   return chain_stations(holder_, f, distances, spindle_nose(f), assembly_.spindle_holder, "holder tip (the holder)");
+}
+
+bool has_speed_tables(const Assembly& a) {
+  return std::any_of(a.spindle.bearings.begin(), a.spindle.bearings.end(),
+                     [](const Bearing& b) { return !b.speed_table.empty(); });
+}
+
+Assembly at_speed(const Assembly& assembly, double speed_rpm, bool extrapolate) {
+  if (!(std::isfinite(speed_rpm) && speed_rpm >= 0.0))
+    throw InvalidArgument(fmt::format("at_speed: speed {} rpm must be ≥ 0", speed_rpm));
+  Assembly out = assembly;
+  for (Bearing& b : out.spindle.bearings) {
+    if (b.speed_table.empty()) continue;
+    b.check();
+    const std::vector<BearingSpeedPoint>& t = b.speed_table;
+    const std::string who = b.name.empty() ? std::string("bearing") : b.name;
+    if (t.size() == 1 || speed_rpm < t.front().speed_rpm || speed_rpm > t.back().speed_rpm) {
+      const bool exact = t.size() == 1 && speed_rpm == t.front().speed_rpm;
+      if (!exact && (!extrapolate || t.size() == 1))
+        throw InvalidArgument(fmt::format("{}.speed_table covers {}–{} rpm; {} rpm lies outside it (extrapolation refused)", who,
+                                          t.front().speed_rpm, t.back().speed_rpm, speed_rpm),
+                              "extend the table to this speed, or allow extrapolation (at_speed's extrapolate: the end "
+                              "rows' line extended)");
+    }
+    // The row pair around the speed (the end pair when extrapolating).
+    std::size_t k = 1;
+    while (k + 1 < t.size() && t[k].speed_rpm < speed_rpm) ++k;
+    if (t.size() == 1) {
+      b.stiffness = t[0].stiffness;
+      b.damping = t[0].damping;
+    } else {
+      const BearingSpeedPoint &lo = t[k - 1], &hi = t[k];
+      const double u = (speed_rpm - lo.speed_rpm) / (hi.speed_rpm - lo.speed_rpm);
+      // Exact at the rows and for a flat table (lo = hi gives lo for any u).
+      b.stiffness = lo.stiffness == hi.stiffness ? lo.stiffness : lo.stiffness + u * (hi.stiffness - lo.stiffness);
+      b.damping = lo.damping == hi.damping ? lo.damping : lo.damping + u * (hi.damping - lo.damping);
+    }
+    if (b.stiffness < 0.0 || b.damping < 0.0)
+      throw InvalidArgument(fmt::format("{}.speed_table extrapolated to {} rpm gives stiffness {} N/m, damping {} N·s/m: "
+                                        "negative",
+                                        who, speed_rpm, b.stiffness, b.damping),
+                            "extend the table to this speed instead of extrapolating");
+    b.speed_table.clear();
+  }
+  return out;
 }
 
 Assembly with_overhang(const Assembly& assembly, double overhang) {

@@ -532,6 +532,22 @@ TEST_F(Cli, EveryJsonKeyIsAHeaderName) {
   }
 }
 
+// predict --speed: the two-plane tool point (its values are tested in spin_assembly_test.cpp):
+// the speed echoed in the JSON, the cross receptances written; a speed that cannot be rpm and
+// --cross-output without the two-plane model are refused naming the option.
+TEST_F(Cli, PredictAtSpeed) {
+  const Run r = ok("predict '" + kExample +
+                   "' --speed 20000 --frequencies 500:1500:10 --output xx.csv --cross-output xy.csv --json");
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["speed_rpm"], 20000.0);
+  EXPECT_EQ(j["cross_output"], "xy.csv");
+  const std::string xy = read_text_file(path("xy.csv"));
+  EXPECT_NE(xy.find("\nfrequency_hz,Hxx_re,Hxx_im,Hxy_re,Hxy_im,Hyx_re,Hyx_im,Hyy_re,Hyy_im\n500,"), std::string::npos) << xy;
+  expect_error(run("predict '" + kExample + "' --speed 5 --output a.csv"), 2, {"--speed", "rpm"});
+  expect_error(run("predict '" + kExample + "' --cross-output c.csv"), 2, {"--cross-output", "--speed"});
+  EXPECT_FALSE(exists("a.csv"));
+}
+
 TEST_F(Cli, CoupleOneOverhangAndASweep) {
   predict_blocks("500:3000:10");
   ok("couple --sh sh.csv --assembly '" + kExample + "' --output one.csv --plot one.png");

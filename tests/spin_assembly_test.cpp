@@ -218,3 +218,78 @@ TEST(SpinAssembly, AnisotropicBearingsInTheFile) {
   const toolpoint::Prediction p = toolpoint::run_prediction(a, {});
   EXPECT_EQ(p.two_plane.size(), p.frf.size());
 }
+
+// Speed tables: linear between rows (the value at 10 000 rpm of rows 2e8 at 0 and 1e8 at 20 000
+// is 1.5e8, and the prediction is that of the constant 1.5e8 bearing, bit for bit); a table flat
+// in speed gives the standstill (no-table) prediction exactly; rows out of order, a negative
+// stiffness, a speed outside the table are refused naming the table; extrapolation when asked.
+TEST(SpinAssembly, BearingSpeedTables) {
+  toolpoint::Assembly a = example();
+  a.grid = toolpoint::FrequencyGrid{200.0, 3000.0, 20.0};
+  toolpoint::Assembly flat = a, sloped = a, constant = a;
+  for (toolpoint::Bearing& b : flat.spindle.bearings)
+    b.speed_table = {{0.0, b.stiffness, b.damping}, {30000.0, b.stiffness, b.damping}};
+  sloped.spindle.bearings[0].speed_table = {{0.0, 2e8, 500.0}, {20000.0, 1e8, 700.0}};
+  constant.spindle.bearings[0].stiffness = 1.5e8;
+  constant.spindle.bearings[0].damping = 600.0;
+  const toolpoint::Assembly at = toolpoint::at_speed(sloped, 10000.0);
+  EXPECT_EQ(at.spindle.bearings[0].stiffness, 1.5e8);
+  EXPECT_EQ(at.spindle.bearings[0].damping, 600.0);
+  toolpoint::PredictOptions o;
+  for (double rpm : {0.0, 12000.0}) {
+    o.speed_rpm = rpm;
+    const toolpoint::Prediction pf = toolpoint::run_prediction(flat, o), p0 = toolpoint::run_prediction(a, o);
+    for (std::size_t i = 0; i < p0.frf.size(); ++i) EXPECT_EQ(pf.frf.blocks[i], p0.frf.blocks[i]) << rpm;
+  }
+  o.speed_rpm = 10000.0;
+  const toolpoint::Prediction ps = toolpoint::run_prediction(sloped, o), pc = toolpoint::run_prediction(constant, o);
+  for (std::size_t i = 0; i < pc.frf.size(); ++i) EXPECT_EQ(ps.frf.blocks[i], pc.frf.blocks[i]);
+
+  auto message = [](const auto& call) {
+    try {
+      call();
+    } catch (const toolpoint::InvalidArgument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  toolpoint::Assembly bad = sloped;
+  bad.spindle.bearings[0].speed_table = {{0.0, 2e8, 500.0}, {0.0, 1e8, 700.0}};
+  EXPECT_NE(message([&] { toolpoint::at_speed(bad, 0.0); }).find("speeds must increase"), std::string::npos);
+  bad.spindle.bearings[0].speed_table = {{0.0, 2e8, 500.0}, {20000.0, -1e8, 700.0}};
+  const std::string negative = message([&] { toolpoint::at_speed(bad, 0.0); });
+  EXPECT_NE(negative.find("speed_table row 2 (20000 rpm): stiffness = -"), std::string::npos) << negative;
+  EXPECT_NE(negative.find("N/m must be ≥ 0"), std::string::npos) << negative;
+  o.speed_rpm = 30000.0;
+  const std::string outside = message([&] { toolpoint::run_prediction(sloped, o); });
+  EXPECT_NE(outside.find("PredictOptions::speed_rpm"), std::string::npos) << outside;
+  EXPECT_NE(outside.find("speed_table covers 0–20000 rpm; 30000 rpm lies outside"), std::string::npos) << outside;
+  const toolpoint::Assembly ex = toolpoint::at_speed(sloped, 30000.0, true);
+  EXPECT_DOUBLE_EQ(ex.spindle.bearings[0].stiffness, 0.5e8);
+  EXPECT_NE(message([&] { toolpoint::at_speed(sloped, 50000.0, true); }).find("negative"), std::string::npos);
+}
+
+// The file's table: speed_rpm, stiffness_at_speed, damping_at_speed per bearing; lengths that
+// differ are refused at the line, naming the keys.
+TEST(SpinAssembly, BearingSpeedTablesInTheFile) {
+  const std::string text = toolpoint::read_text_file(std::string(TOOLPOINT_SOURCE_DIR) + "/examples/bt40_shrinkfit_16mm.toml");
+  const std::size_t at = text.find("\n[[spindle.bearing]]");
+  const std::size_t line = text.find('\n', at + 1);
+  std::string good = text, bad = text;
+  good.insert(line + 1,
+              "speed_rpm = [0, 12000, 24000]\nstiffness_at_speed = [2.0e8, 1.8e8, 1.5e8]\n"
+              "damping_at_speed = [800, 700, 600]\n");
+  bad.insert(line + 1, "speed_rpm = [0, 12000, 24000]\nstiffness_at_speed = [2.0e8, 1.8e8]\n");
+  const toolpoint::LoadedAssembly la = toolpoint::parse_assembly(good, "table.toml");
+  ASSERT_EQ(la.assembly.spindle.bearings[0].speed_table.size(), 3u);
+  EXPECT_EQ(la.assembly.spindle.bearings[0].speed_table[2].stiffness, 1.5e8);
+  EXPECT_EQ(la.assembly.spindle.bearings[0].speed_table[1].damping, 700.0);
+  EXPECT_TRUE(toolpoint::has_speed_tables(la.assembly));
+  try {
+    toolpoint::parse_assembly(bad, "bad.toml");
+    ADD_FAILURE() << "tables of different lengths were accepted";
+  } catch (const toolpoint::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("speed_rpm has 3 entries, stiffness_at_speed 2"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("bad.toml:"), std::string::npos) << e.what();
+  }
+}

@@ -23,6 +23,7 @@ namespace {
 struct PredictArgs {
   std::string assembly, at = "tool", output, frequencies, plot, band_output, cross_output;
   double speed = 0.0;
+  bool extrapolate_bearings = false;
   std::vector<std::string> joints;
   SamplingOptions sampling;
   bool json = false;
@@ -53,9 +54,14 @@ void run_predict(const PredictArgs& o, const Globals& g) {
   const bool tool = o.at == "tool";
   options.receptance = tool ? PredictedFrf::ToolPoint : PredictedFrf::HolderTip;
   options.speed_rpm = o.speed;
+  options.extrapolate_bearings = o.extrapolate_bearings;
   Progress progress(g, "predict");
   const Prediction p = run_prediction(loaded.assembly, options, progress.part());
   progress.done();
+  // Before any file is written: the cross receptances exist only in the two-plane model.
+  if (!o.cross_output.empty() && p.two_plane.size() == 0)
+    throw InvalidArgument("--cross-output needs the two-plane model: --speed RPM > 0 or bearings with stiffness_y/damping_y",
+                          "add --speed");
   warn_all(p.warnings);
   const BlockSeries& series = p.frf;
   const std::string what = tool ? "tool point SHT11" : "holder tip SH11 (tool outside the holder removed)";
@@ -68,9 +74,6 @@ void run_predict(const PredictArgs& o, const Globals& g) {
     written.push_back(o.output);
   }
   if (!o.cross_output.empty()) {
-    if (p.two_plane.size() == 0)
-      throw InvalidArgument("--cross-output needs the two-plane model: --speed RPM > 0 or bearings with stiffness_y/damping_y",
-                            "add --speed");
     write_text_file(o.cross_output,
                     fmt::format("# tool point of {} at {} rpm, both planes: H [m/N] (x, y transverse, spin about +z)\n",
                                 o.assembly, p.speed_rpm) +
@@ -141,6 +144,9 @@ void add_predict_command(CLI::App& app, Globals& g) {
                 "--output and the modes are then its x–x block")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
+  c->add_flag("--extrapolate-bearings", o->extrapolate_bearings,
+              "Bearings with a speed table (speed_rpm, stiffness_at_speed): extend the end rows' line beyond the table "
+              "(default: a speed outside it is an error)");
   c->add_option("--cross-output", o->cross_output,
                 "Write the tool point's H_xx, H_xy, H_yx, H_yy [m/N] here (CSV; needs --speed or anisotropic bearings)")
       ->option_text("FILE");

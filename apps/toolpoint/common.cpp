@@ -329,6 +329,7 @@ std::string with_flags(std::string text) {
       {"BeamStudyOptions::shear_coefficient", "--shear-coefficient"},
       {"BeamStudyOptions::frequency_hz", "--frequencies"},
       {"BeamStudyOptions::speed_rpm", "--speed"},
+      {"PredictOptions::extrapolate_bearings", "--extrapolate-bearings"},
       {"PredictOptions::speed_rpm", "--speed"},
       {"BeamStudyOptions::campbell_rpm", "--campbell"},
       {"BeamStudyOptions::method", "--method"},

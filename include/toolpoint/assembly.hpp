@@ -31,6 +31,14 @@
 
 namespace toolpoint {
 
+// One row of a bearing's speed table: its translational stiffness and damping at a spindle speed
+// (from the spindle maker or an identification; preload and centrifugal softening change them).
+struct BearingSpeedPoint {
+  double speed_rpm = 0.0;  // rpm, ≥ 0
+  double stiffness = 0.0;  // N/m, ≥ 0
+  double damping = 0.0;    // N·s/m, ≥ 0
+};
+
 // A bearing: springs and dampers to ground at `position` metres from the spindle nose.
 struct Bearing {
   std::string name;                   // for messages ("spindle.bearing[2]")
@@ -43,6 +51,10 @@ struct Bearing {
   // in beam.hpp's spinning segment): N/m, N·s/m; unset: as x. Only the two-plane model
   // (AssemblyModel::tool_point_two_plane) sees them; the rotational values are the same in both.
   std::optional<double> stiffness_y, damping_y;
+  // Stiffness and damping against speed (rows by strictly increasing speed; both directions, so
+  // not with stiffness_y/damping_y); empty: the constants above at every speed. Read at a speed by
+  // at_speed(): linear between rows.
+  std::vector<BearingSpeedPoint> speed_table;
 
   Block dynamic_stiffness(double frequency_hz) const;    // diag(k + iωc, k_θ + iωc_θ), the x plane
   Block dynamic_stiffness_y(double frequency_hz) const;  // the y plane's
@@ -220,6 +232,15 @@ class AssemblyModel {
   Assembly assembly_;
   Chain spindle_, holder_, tool_;
 };
+
+// The assembly at `speed_rpm`: each bearing with a speed table takes its stiffness and damping
+// there, linearly interpolated between the table's rows (the table then left out). A speed outside
+// a table is refused (InvalidArgument naming the bearing's speed_table, its range and the speed)
+// unless `extrapolate`: then the end rows' line is extended (a negative result still refused).
+// Bearings without a table are kept. A table flat in speed gives the constants' assembly.
+Assembly at_speed(const Assembly& assembly, double speed_rpm, bool extrapolate = false);
+// Some bearing has a speed table.
+bool has_speed_tables(const Assembly& assembly);
 
 // The same assembly with the tool sticking out `overhang` m: the length inside the holder is kept
 // (tool length = inside + overhang), so a measured SH11 stays valid. Throws InvalidArgument for a

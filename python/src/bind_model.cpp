@@ -365,7 +365,7 @@ void bind_model(py::module_& m) {
   // ---- Assembly -----------------------------------------------------------------------------------
   py::class_<Bearing>(m, "Bearing", "Springs and dampers to ground at `position` m from the spindle nose.")
       .def(py::init([](double position, double k, double c, double kr, double cr, std::string name, std::optional<double> ky,
-                       std::optional<double> cy) { return Bearing{std::move(name), position, k, c, kr, cr, ky, cy}; }),
+                       std::optional<double> cy) { return Bearing{std::move(name), position, k, c, kr, cr, ky, cy, {}}; }),
            "position"_a, "stiffness"_a, "damping"_a = 0.0, "rotational_stiffness"_a = 0.0, "rotational_damping"_a = 0.0,
            "name"_a = "", "stiffness_y"_a = py::none(), "damping_y"_a = py::none())
       .def_readwrite("name", &Bearing::name)
@@ -375,7 +375,19 @@ void bind_model(py::module_& m) {
       .def_readwrite("rotational_stiffness", &Bearing::rotational_stiffness, "N·m/rad")
       .def_readwrite("rotational_damping", &Bearing::rotational_damping, "N·m·s/rad")
       .def_readwrite("stiffness_y", &Bearing::stiffness_y, "N/m in y where it differs from x (None: as x; two-plane model)")
-      .def_readwrite("damping_y", &Bearing::damping_y, "N·s/m in y where it differs from x (None: as x)");
+      .def_readwrite("damping_y", &Bearing::damping_y, "N·s/m in y where it differs from x (None: as x)")
+      .def_property(
+          "speed_table",
+          [](const Bearing& b) {
+            std::vector<std::tuple<double, double, double>> t;
+            for (const BearingSpeedPoint& r : b.speed_table) t.emplace_back(r.speed_rpm, r.stiffness, r.damping);
+            return t;
+          },
+          [](Bearing& b, const std::vector<std::tuple<double, double, double>>& t) {
+            b.speed_table.clear();
+            for (const auto& r : t) b.speed_table.push_back({std::get<0>(r), std::get<1>(r), std::get<2>(r)});
+          },
+          "[(speed_rpm, stiffness N/m, damping N·s/m), …] by increasing speed; [] none (read by run_prediction's speed_rpm)");
 
   py::class_<Spindle>(m, "Spindle", "Segments from the nose to the rear, and bearings (lists are copied in and out).")
       .def(py::init([](std::vector<Segment> s, std::vector<Bearing> b) {
@@ -602,9 +614,11 @@ void bind_model(py::module_& m) {
   m.def(
       "run_prediction",
       [](Assembly a, const std::string& receptance, double min_prominence, std::optional<JointFile> joint, int samples,
-         std::uint64_t seed, std::vector<double> levels, int threads, const py::object& progress, double speed_rpm) {
+         std::uint64_t seed, std::vector<double> levels, int threads, const py::object& progress, double speed_rpm,
+         bool extrapolate_bearings) {
         PredictOptions o;
         o.speed_rpm = speed_rpm;
+        o.extrapolate_bearings = extrapolate_bearings;
         o.receptance = enum_of(receptance, kPredicted, "receptance");
         o.peaks.min_prominence = min_prominence;
         o.uncertain_joint = std::move(joint);
@@ -615,6 +629,7 @@ void bind_model(py::module_& m) {
       },
       "assembly"_a, "receptance"_a = "SHT11", "min_prominence"_a = 0.02, "joint"_a = py::none(), "samples"_a = 200, "seed"_a = 1,
       "levels"_a = std::vector<double>{0.05, 0.5, 0.95}, "threads"_a = 0, "progress"_a = py::none(), "speed_rpm"_a = 0.0,
+      "extrapolate_bearings"_a = false,
       "The prediction study (toolpoint predict): SHT11 or SH11 on assembly.grid (seed Eq. 1–5) with its modes (peaks of |H| "
       "rising "
       "min_prominence above their valleys, refined on the model). With `joint` (a JointFile with [uncertainty]): also the band "

@@ -35,6 +35,17 @@ void PredictOptions::check() const {
 
 namespace {
 
+Assembly bearings_at_speed(const Assembly& a, const PredictOptions& options) {
+  try {
+    return at_speed(a, options.speed_rpm, options.extrapolate_bearings);
+  } catch (const InvalidArgument& e) {
+    throw InvalidArgument(fmt::format("PredictOptions::speed_rpm: {}", e.what()),
+                          std::string(e.hint()).find("extrapolat") != std::string::npos
+                              ? "extend the table, or set PredictOptions::extrapolate_bearings"
+                              : e.hint());
+  }
+}
+
 // The tool point in two planes (PredictOptions::speed_rpm): the 4×4 blocks, their x–x part as
 // the FRF, its modes refined on the model's x–x part.
 Prediction two_plane_prediction(const AssemblyModel& model, const std::vector<double>& grid, const PredictOptions& options,
@@ -73,7 +84,9 @@ Prediction run_prediction(const Assembly& given, const PredictOptions& options, 
   options.check();
   // A sampled joint file's joint is the nominal one, so the prediction and the band describe the
   // same joint (the samples replace the assembly's joint too).
-  const Assembly assembly = options.uncertain_joint ? with_joint(given, *options.uncertain_joint) : given;
+  const Assembly joined = options.uncertain_joint ? with_joint(given, *options.uncertain_joint) : given;
+  // The bearings at the speed (their tables read there; PredictOptions::extrapolate_bearings).
+  const Assembly assembly = has_speed_tables(joined) ? bearings_at_speed(joined, options) : joined;
   const AssemblyModel model(assembly);
   const bool tool = options.receptance == PredictedFrf::ToolPoint;
   const std::vector<double> grid = assembly.grid.values();

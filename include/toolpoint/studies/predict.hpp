@@ -45,6 +45,10 @@ struct PredictOptions {
   // then its x–x part. The tool point only, without uncertain_joint; plausibility as
   // plausible::kSpinSpeedRpm (below 1000 rpm a warning: rad/s?).
   double speed_rpm = 0.0;
+  // Bearings with speed tables (Bearing::speed_table) take their values at speed_rpm (at_speed();
+  // at 0 rpm too, whose row the table must then hold); a speed outside a table is refused unless
+  // this is set (then the end rows' line is extended).
+  bool extrapolate_bearings = false;
   // Throws InvalidArgument naming `PredictOptions::<field>`.
   void check() const;
 };
