@@ -46,6 +46,24 @@ void BM_Sweep(benchmark::State& state,
 
 // The target's figure: one 10 000-frequency sweep of SHT11.
 BENCHMARK_CAPTURE(BM_Sweep, ExampleToolPointSHT11_10k, &AssemblyModel::tool_point, 10000)->Unit(benchmark::kMillisecond);
+
+// The tool point in two planes at 24 000 rpm (issue 28's aim: ≤ 4× ExampleToolPointSHT11_10k):
+// isotropic bearings (the example: one sweep per whirl through the lanes), and the bearings made
+// anisotropic (k_y = 0.7 k_x: the spindle walked in 4×4, one frequency at a time).
+void BM_TwoPlane(benchmark::State& state, bool anisotropic) {
+  Assembly a = example_model().assembly();
+  if (anisotropic)
+    for (Bearing& b : a.spindle.bearings) b.stiffness_y = 0.7 * b.stiffness;
+  const AssemblyModel m(a);
+  const std::size_t n = 10000;
+  std::vector<double> f(n);
+  for (std::size_t i = 0; i < n; ++i) f[i] = 10.0 + 4990.0 * static_cast<double>(i) / static_cast<double>(n - 1);
+  const double spin = 24000.0 * 2.0 * 3.141592653589793 / 60.0;
+  for (auto _ : state) benchmark::DoNotOptimize(m.tool_point_two_plane(f, spin));
+  state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(n));
+}
+BENCHMARK_CAPTURE(BM_TwoPlane, ExampleToolPointTwoPlane_10k, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_TwoPlane, ExampleToolPointTwoPlaneAnisotropic_10k, true)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Sweep, ExampleHolderTipSH11_10k, &AssemblyModel::holder_tip, 10000)->Unit(benchmark::kMillisecond);
 // The same one frequency at a time (the per-frequency functions, as evaluate() uses them).
 BENCHMARK_CAPTURE(BM_Assembly, ExampleToolPointSHT11_10k_PerFrequency, &AssemblyModel::tool_point, 10000)

@@ -23,6 +23,14 @@ Block Bearing::dynamic_stiffness(double frequency_hz) const {
   return make_block({stiffness, w * damping}, 0.0, 0.0, {rotational_stiffness, w * rotational_damping});
 }
 
+Block Bearing::dynamic_stiffness_y(double frequency_hz) const {
+  const double w = omega_of(frequency_hz);
+  return make_block({stiffness_y.value_or(stiffness), w * damping_y.value_or(damping)}, 0.0, 0.0,
+                    {rotational_stiffness, w * rotational_damping});
+}
+
+bool Bearing::isotropic() const { return (!stiffness_y || *stiffness_y == stiffness) && (!damping_y || *damping_y == damping); }
+
 void Bearing::check() const {
   const std::string who = name.empty() ? std::string("bearing") : name;
   const double v[5] = {position, stiffness, damping, rotational_stiffness, rotational_damping};
@@ -31,6 +39,26 @@ void Bearing::check() const {
     if (!std::isfinite(v[i])) throw InvalidArgument(fmt::format("{}: {} = {} is not finite", who, keys[i], v[i]));
     if (v[i] < 0.0) throw InvalidArgument(fmt::format("{}: {} = {} must be ≥ 0", who, keys[i], v[i]));
   }
+  for (const auto& [value, key] : {std::pair{stiffness_y, "stiffness_y"}, std::pair{damping_y, "damping_y"}})
+    if (value && !(std::isfinite(*value) && *value >= 0.0))
+      throw InvalidArgument(fmt::format("{}: {} = {} must be ≥ 0", who, key, *value));
+  for (std::size_t k = 0; k < speed_table.size(); ++k) {
+    const BearingSpeedPoint& r = speed_table[k];
+    const std::string row = fmt::format("{}: speed_table row {} ({} rpm)", who, k + 1, r.speed_rpm);
+    if (!(std::isfinite(r.speed_rpm) && r.speed_rpm >= 0.0))
+      throw InvalidArgument(fmt::format("{}: speed_rpm = {} must be ≥ 0", row, r.speed_rpm));
+    if (!(std::isfinite(r.stiffness) && r.stiffness >= 0.0))
+      throw InvalidArgument(fmt::format("{}: stiffness = {} N/m must be ≥ 0", row, r.stiffness),
+                            "a bearing's stiffness is not negative; check the table's sign and units (N/m)");
+    if (!(std::isfinite(r.damping) && r.damping >= 0.0))
+      throw InvalidArgument(fmt::format("{}: damping = {} N·s/m must be ≥ 0", row, r.damping));
+    if (k > 0 && !(r.speed_rpm > speed_table[k - 1].speed_rpm))
+      throw InvalidArgument(fmt::format("{}: speeds must increase (after {} rpm)", row, speed_table[k - 1].speed_rpm),
+                            "list the rows by increasing speed, each speed once");
+  }
+  if (!speed_table.empty() && (stiffness_y || damping_y))
+    throw InvalidArgument(
+        fmt::format("{}: a speed table applies to both directions; it cannot go with stiffness_y or damping_y", who));
   if (stiffness == 0.0 && damping == 0.0 && rotational_stiffness == 0.0 && rotational_damping == 0.0)
     throw InvalidArgument(fmt::format("{}: all stiffness and damping values are zero", who), "give at least `stiffness` in N/m");
 }
@@ -245,11 +273,18 @@ TwoPort Chain::piece(std::size_t i, double frequency_hz) const {
                                       : modal_[i]->receptance(frequency_hz);
 }
 
-TwoPort Chain::piece(std::size_t i, double frequency_hz, SectionWaves& waves, const SectionProperties*& waves_of) const {
-  if (!modal_.empty() && modal_[i]) return modal_[i]->receptance(frequency_hz);
+TwoPort Chain::piece(std::size_t i, double frequency_hz, double spin_rad_s, Whirl whirl, SectionWaves& waves,
+                     const SectionProperties*& waves_of) const {
+  if (!modal_.empty() && modal_[i]) {
+    if (spin_rad_s != 0.0)
+      throw InvalidArgument("a spinning assembly needs Assembly::method exact: the whirls' receptances are exact only",
+                            "use the exact method (the default)");
+    return modal_[i]->receptance(frequency_hz);
+  }
   const SectionProperties& p = props_[i];
   if (!waves_of || !(*waves_of == p)) {
-    waves = section_waves(p, frequency_hz);
+    // At spin 0 whirl_rotary_inertia is ρI exactly: the standing waves.
+    waves = spin_rad_s == 0.0 ? section_waves(p, frequency_hz) : section_waves(p, frequency_hz, spin_rad_s, whirl);
     waves_of = &p;
   }
   return exact_receptance(waves, pieces_[i].length);
@@ -264,36 +299,74 @@ bool ground_at(const std::vector<Bearing>& node, double f, Block& D) {
   return true;
 }
 
+// Both planes: diag(D_x, D_y).
+bool ground_at(const std::vector<Bearing>& node, double f, Block4& D) {
+  if (node.empty()) return false;
+  D = Block4::Zero();
+  for (const Bearing& b : node) {
+    D.topLeftCorner<2, 2>() += b.dynamic_stiffness(f);
+    D.bottomRightCorner<2, 2>() += b.dynamic_stiffness_y(f);
+  }
+  return true;
+}
+
 }  // namespace
 
-TwoPort Chain::two_port(double f) const {
+TwoPort Chain::two_port(double f) const { return two_port(f, 0.0, Whirl::Forward); }
+
+Block Chain::point(double f) const { return point(f, 0.0, Whirl::Forward); }
+
+TwoPort Chain::two_port(double f, double spin_rad_s, Whirl whirl) const {
   if (pieces_.empty()) throw InvalidArgument("empty segment chain");
   const std::size_t n = pieces_.size();
   Block D;
   SectionWaves waves;
   const SectionProperties* waves_of = nullptr;
-  TwoPort g = piece(n - 1, f, waves, waves_of);
+  TwoPort g = piece(n - 1, f, spin_rad_s, whirl, waves, waves_of);
   if (ground_at(ground_[n], f, D)) g = ground_end2(g, D);
   for (std::size_t k = n - 1; k-- > 0;) {
     if (ground_at(ground_[k + 1], f, D)) g = ground_end1(g, D);
-    g = couple_rigid(piece(k, f, waves, waves_of), g);
+    g = couple_rigid(piece(k, f, spin_rad_s, whirl, waves, waves_of), g);
   }
   if (ground_at(ground_[0], f, D)) g = ground_end1(g, D);
   return g;
 }
 
-Block Chain::point(double f) const {
+Block Chain::point(double f, double spin_rad_s, Whirl whirl) const {
   if (pieces_.empty()) throw InvalidArgument("empty segment chain");
   const std::size_t n = pieces_.size();
   Block D;
   SectionWaves waves;
   const SectionProperties* waves_of = nullptr;
-  TwoPort last = piece(n - 1, f, waves, waves_of);
+  TwoPort last = piece(n - 1, f, spin_rad_s, whirl, waves, waves_of);
   if (ground_at(ground_[n], f, D)) last = ground_end2(last, D);
   Block g = last.b11;
   for (std::size_t k = n - 1; k-- > 0;) {
     if (ground_at(ground_[k + 1], f, D)) g = ground_point(g, D);
-    g = couple_rigid_point(piece(k, f, waves, waves_of), g);
+    g = couple_rigid_point(piece(k, f, spin_rad_s, whirl, waves, waves_of), g);
+  }
+  if (ground_at(ground_[0], f, D)) g = ground_point(g, D);
+  return g;
+}
+
+Block4 Chain::point_two_plane(double f, double spin_rad_s) const {
+  if (pieces_.empty()) throw InvalidArgument("empty segment chain");
+  const std::size_t n = pieces_.size();
+  SectionWaves wf, wb;
+  const SectionProperties *of_f = nullptr, *of_b = nullptr;
+  auto piece4 = [&](std::size_t i) {
+    if (spin_rad_s == 0.0) {
+      const TwoPort t = piece(i, f, 0.0, Whirl::Forward, wf, of_f);
+      return two_plane(t, t);
+    }
+    return two_plane(piece(i, f, spin_rad_s, Whirl::Forward, wf, of_f), piece(i, f, spin_rad_s, Whirl::Backward, wb, of_b));
+  };
+  Block4 D;
+  const TwoPort4 last = piece4(n - 1);
+  Block4 g = ground_at(ground_[n], f, D) ? ground_end2_point(last, D) : last.b11;
+  for (std::size_t k = n - 1; k-- > 0;) {
+    if (ground_at(ground_[k + 1], f, D)) g = ground_point(g, D);
+    g = couple_rigid_point(piece4(k), g);
   }
   if (ground_at(ground_[0], f, D)) g = ground_point(g, D);
   return g;
@@ -361,6 +434,39 @@ Block AssemblyModel::holder_tip(double f) const {
 
 Block AssemblyModel::tool_point(double f) const {
   return couple_point(tool_.two_port(f), holder_tip(f), assembly_.holder_tool, f);
+}
+
+bool AssemblyModel::isotropic() const {
+  return std::all_of(assembly_.spindle.bearings.begin(), assembly_.spindle.bearings.end(),
+                     [](const Bearing& b) { return b.isotropic(); });
+}
+
+Block AssemblyModel::tool_point(double f, double spin_rad_s, Whirl whirl) const {
+  if (!isotropic())
+    throw InvalidArgument(
+        "AssemblyModel::tool_point for one whirl needs isotropic bearings (Bearing::stiffness_y, damping_y "
+        "unset or equal to x)",
+        "use tool_point_two_plane, which couples the planes");
+  const Block sh = couple_point(holder_.two_port(f, spin_rad_s, whirl), spindle_.point(f, spin_rad_s, whirl),
+                                assembly_.spindle_holder, f);
+  return couple_point(tool_.two_port(f, spin_rad_s, whirl), sh, assembly_.holder_tool, f);
+}
+
+Block4 AssemblyModel::tool_point_two_plane(double f, double spin_rad_s) const {
+  if (isotropic()) {
+    if (spin_rad_s == 0.0) return two_plane(tool_point(f));
+    return two_plane(tool_point(f, spin_rad_s, Whirl::Forward), tool_point(f, spin_rad_s, Whirl::Backward));
+  }
+  // The holder and the tool are axisymmetric and free: their whirls combine per component.
+  auto component = [&](const Chain& c) {
+    if (spin_rad_s == 0.0) {
+      const TwoPort t = c.two_port(f);
+      return two_plane(t, t);
+    }
+    return two_plane(c.two_port(f, spin_rad_s, Whirl::Forward), c.two_port(f, spin_rad_s, Whirl::Backward));
+  };
+  const Block4 sh = couple_point(component(holder_), spindle_.point_two_plane(f, spin_rad_s), assembly_.spindle_holder, f);
+  return couple_point(component(tool_), sh, assembly_.holder_tool, f);
 }
 
 TwoPort AssemblyModel::holder_tool(double f) const {
@@ -436,6 +542,51 @@ Eigen::MatrixXcd AssemblyModel::tool_stations(double f, const std::vector<double
 
 Eigen::MatrixXcd AssemblyModel::holder_stations(double f, const std::vector<double>& distances) const {
   return chain_stations(holder_, f, distances, spindle_nose(f), assembly_.spindle_holder, "holder tip (the holder)");
+}
+
+bool has_speed_tables(const Assembly& a) {
+  return std::any_of(a.spindle.bearings.begin(), a.spindle.bearings.end(),
+                     [](const Bearing& b) { return !b.speed_table.empty(); });
+}
+
+Assembly at_speed(const Assembly& assembly, double speed_rpm, bool extrapolate) {
+  if (!(std::isfinite(speed_rpm) && speed_rpm >= 0.0))
+    throw InvalidArgument(fmt::format("at_speed: speed {} rpm must be ≥ 0", speed_rpm));
+  Assembly out = assembly;
+  for (Bearing& b : out.spindle.bearings) {
+    if (b.speed_table.empty()) continue;
+    b.check();
+    const std::vector<BearingSpeedPoint>& t = b.speed_table;
+    const std::string who = b.name.empty() ? std::string("bearing") : b.name;
+    if (t.size() == 1 || speed_rpm < t.front().speed_rpm || speed_rpm > t.back().speed_rpm) {
+      const bool exact = t.size() == 1 && speed_rpm == t.front().speed_rpm;
+      if (!exact && (!extrapolate || t.size() == 1))
+        throw InvalidArgument(fmt::format("{}.speed_table covers {}–{} rpm; {} rpm lies outside it (extrapolation refused)", who,
+                                          t.front().speed_rpm, t.back().speed_rpm, speed_rpm),
+                              "extend the table to this speed, or allow extrapolation (at_speed's extrapolate: the end "
+                              "rows' line extended)");
+    }
+    // The row pair around the speed (the end pair when extrapolating).
+    std::size_t k = 1;
+    while (k + 1 < t.size() && t[k].speed_rpm < speed_rpm) ++k;
+    if (t.size() == 1) {
+      b.stiffness = t[0].stiffness;
+      b.damping = t[0].damping;
+    } else {
+      const BearingSpeedPoint &lo = t[k - 1], &hi = t[k];
+      const double u = (speed_rpm - lo.speed_rpm) / (hi.speed_rpm - lo.speed_rpm);
+      // Exact at the rows and for a flat table (lo = hi gives lo for any u).
+      b.stiffness = lo.stiffness == hi.stiffness ? lo.stiffness : lo.stiffness + u * (hi.stiffness - lo.stiffness);
+      b.damping = lo.damping == hi.damping ? lo.damping : lo.damping + u * (hi.damping - lo.damping);
+    }
+    if (b.stiffness < 0.0 || b.damping < 0.0)
+      throw InvalidArgument(fmt::format("{}.speed_table extrapolated to {} rpm gives stiffness {} N/m, damping {} N·s/m: "
+                                        "negative",
+                                        who, speed_rpm, b.stiffness, b.damping),
+                            "extend the table to this speed instead of extrapolating");
+    b.speed_table.clear();
+  }
+  return out;
 }
 
 Assembly with_overhang(const Assembly& assembly, double overhang) {

@@ -160,7 +160,9 @@ LoadedAssembly parse_assembly(const std::string& text, const std::string& source
       ++i;
       const toml::table& t = *e.as_table();
       const std::string path = fmt::format("spindle.bearing[{}]", i);
-      r.only(t, path, {"name", "position", "stiffness", "damping", "rotational_stiffness", "rotational_damping"});
+      r.only(t, path,
+             {"name", "position", "stiffness", "damping", "rotational_stiffness", "rotational_damping", "stiffness_y",
+              "damping_y", "speed_rpm", "stiffness_at_speed", "damping_at_speed"});
       Bearing b;
       b.name = r.string(t, "name", path).value_or(path);
       if (b.name != path) b.name = fmt::format("{} ({})", path, b.name);
@@ -171,6 +173,44 @@ LoadedAssembly parse_assembly(const std::string& text, const std::string& source
       b.rotational_damping = r.number(t, "rotational_damping", path, "N m s/rad").value_or(0.0);
       r.plausible(t, "stiffness", path, b.stiffness, plausible::kBearingStiffness);
       r.plausible(t, "damping", path, b.damping, plausible::kBearingDamping);
+      // The y direction where it differs (anisotropic bearing; the two-plane model only).
+      b.stiffness_y = r.number(t, "stiffness_y", path, "N/m");
+      b.damping_y = r.number(t, "damping_y", path, "N s/m");
+      if (b.stiffness_y) r.plausible(t, "stiffness_y", path, *b.stiffness_y, plausible::kBearingStiffness);
+      if (b.damping_y) r.plausible(t, "damping_y", path, *b.damping_y, plausible::kBearingDamping);
+      // The speed table: speed_rpm, stiffness_at_speed (and damping_at_speed, else the constant
+      // damping) as arrays of one length.
+      auto numbers = [&](const char* key, const char* unit) -> std::optional<std::vector<double>> {
+        const toml::node* n = t.get(key);
+        if (!n) return std::nullopt;
+        const toml::array* values = n->as_array();
+        if (!values || values->empty())
+          r.fail(*n, fmt::format("{}.{} must be a non-empty array of numbers in {}", path, key, unit));
+        std::vector<double> v;
+        for (const toml::node& x : *values) {
+          if (auto whole = x.as_integer()) v.push_back(static_cast<double>(whole->get()));
+          else if (auto real = x.as_floating_point()) v.push_back(real->get());
+          else r.fail(x, fmt::format("{}.{} holds a non-number; each entry is a number in {}", path, key, unit));
+        }
+        return v;
+      };
+      const auto speeds = numbers("speed_rpm", "rpm");
+      const auto ks = numbers("stiffness_at_speed", "N/m");
+      const auto cs = numbers("damping_at_speed", "N s/m");
+      if (speeds || ks || cs) {
+        if (!speeds || !ks)
+          r.fail(t,
+                 fmt::format("{}: a speed table needs both speed_rpm and stiffness_at_speed (damping_at_speed optional)", path));
+        if (ks->size() != speeds->size() || (cs && cs->size() != speeds->size()))
+          r.fail(*t.get("stiffness_at_speed"),
+                 fmt::format("{}: speed_rpm has {} entries, stiffness_at_speed {}{}: they must be as many", path, speeds->size(),
+                             ks->size(), cs ? fmt::format(", damping_at_speed {}", cs->size()) : std::string()));
+        for (std::size_t k = 0; k < speeds->size(); ++k) {
+          b.speed_table.push_back({(*speeds)[k], (*ks)[k], cs ? (*cs)[k] : b.damping});
+          r.plausible(t, "stiffness_at_speed", path, (*ks)[k], plausible::kBearingStiffness);
+          r.plausible(t, "speed_rpm", path, (*speeds)[k] == 0.0 ? 0.0 : (*speeds)[k], plausible::kSpindleSpeedRpm);
+        }
+      }
       try {
         b.check();
       } catch (const InvalidArgument& ex) {

@@ -189,7 +189,21 @@ inline Complex exp_neg_minus_one(Complex z) {
 
 }  // namespace
 
+namespace {
+
+SectionWaves waves_with_rotary_inertia(const SectionProperties& sp, double frequency_hz, double mI);
+
+}  // namespace
+
 SectionWaves section_waves(const SectionProperties& sp, double frequency_hz) {
+  return waves_with_rotary_inertia(sp, frequency_hz, sp.rhoI);
+}
+
+namespace {
+
+// section_waves() with the rotary inertia per length `mI` [kg·m] in the field equations (ρI, or
+// a whirl's ρI ∓ ρI_pΩ/ω, which may be ≤ 0); `sp` (with its own ρI > 0) is what is checked.
+SectionWaves waves_with_rotary_inertia(const SectionProperties& sp, double frequency_hz, double mI) {
   // Cheap enough for the per-frequency path; a bad section would otherwise give finite garbage.
   if (!(sp.EI.real() > 0.0 && sp.kGA.real() > 0.0 && sp.rhoA > 0.0 && sp.rhoI > 0.0) || !std::isfinite(sp.EI.imag()) ||
       !std::isfinite(sp.kGA.imag()) || !std::isfinite(sp.EI.real() + sp.kGA.real() + sp.rhoA + sp.rhoI))
@@ -200,7 +214,7 @@ SectionWaves section_waves(const SectionProperties& sp, double frequency_hz) {
     throw InvalidArgument(fmt::format("frequency {} Hz must be > 0 (free–free receptances are unbounded at 0 Hz)", frequency_hz));
   const double w2 = omega_of(frequency_hz) * omega_of(frequency_hz);
   const Complex a = sp.kGA, b = sp.EI;
-  const double mA = sp.rhoA, mI = sp.rhoI;
+  const double mA = sp.rhoA;
 
   // Wavenumbers: a b p² + (a ρI + b ρA) Ω² p − ρA Ω² (a − ρI Ω²) = 0, p = s². The root of larger
   // modulus first, the other from the product of the roots (no cancellation).
@@ -227,6 +241,8 @@ SectionWaves section_waves(const SectionProperties& sp, double frequency_hz) {
   w.undamped = sp.EI.imag() == 0.0 && sp.kGA.imag() == 0.0;
   return w;
 }
+
+}  // namespace
 
 // Symmetric basis φ = e^{−sL/2} cosh(s y), antisymmetric φ = e^{−sL/2} sinh(s y)/s, y from
 // mid-span; fields w = a φ', ψ = (a p + ρAΩ²) φ = e φ, M = b e φ', Q = u φ with u = −a ρA Ω².
@@ -317,6 +333,131 @@ TwoPort exact_receptance(const SectionProperties& sp, double length, double freq
 TwoPort exact_receptance(const Segment& segment, double frequency_hz) {
   segment.check();
   return exact_receptance(segment.properties(), segment.length, frequency_hz);
+}
+
+// ---- Spinning segments ----------------------------------------------------------------------------
+
+const char* whirl_name(Whirl whirl) { return whirl == Whirl::Forward ? "forward" : "backward"; }
+
+double whirl_rotary_inertia(const SectionProperties& sp, double spin_rad_s, Whirl whirl, double frequency_hz) {
+  if (!std::isfinite(spin_rad_s)) throw InvalidArgument(fmt::format("spin {} rad/s is not finite", spin_rad_s));
+  if (!(frequency_hz > 0.0) || !std::isfinite(frequency_hz))
+    throw InvalidArgument(fmt::format("whirl frequency {} Hz must be > 0", frequency_hz));
+  // ρI_p = 2ρI for every annulus (docs/reference.md §10); at Ω = 0 exactly ρI.
+  const double gyro = 2.0 * sp.rhoI * spin_rad_s / omega_of(frequency_hz);
+  return whirl == Whirl::Forward ? sp.rhoI - gyro : sp.rhoI + gyro;
+}
+
+SectionWaves section_waves(const SectionProperties& sp, double frequency_hz, double spin_rad_s, Whirl whirl) {
+  return waves_with_rotary_inertia(sp, frequency_hz, whirl_rotary_inertia(sp, spin_rad_s, whirl, frequency_hz));
+}
+
+TwoPort whirl_receptance(const SectionProperties& sp, double length, double frequency_hz, double spin_rad_s, Whirl whirl) {
+  return exact_receptance(section_waves(sp, frequency_hz, spin_rad_s, whirl), length);
+}
+
+TwoPort4 spinning_receptance(const SectionProperties& sp, double length, double frequency_hz, double spin_rad_s) {
+  if (spin_rad_s == 0.0) {
+    const TwoPort t = exact_receptance(sp, length, frequency_hz);
+    return two_plane(t, t);
+  }
+  return two_plane(whirl_receptance(sp, length, frequency_hz, spin_rad_s, Whirl::Forward),
+                   whirl_receptance(sp, length, frequency_hz, spin_rad_s, Whirl::Backward));
+}
+
+namespace {
+
+// The free–free determinants Δ_s, Δ_a of exact_receptance(SectionWaves) (its comment) for an
+// undamped section, made real and scaled to [−1, 1]: each term carries the phase
+// e^{−i Im(s_0 + s_1) L/2} of the e^{−sL/2} scaling (c, pS and S of a propagating wave s = ik are
+// e^{−ikL/2} times cos, −k sin and sin/k of kL/2), removed here; dividing by the terms' moduli
+// keeps the sign. Zero exactly at the natural frequencies of the symmetric (lane 0) and
+// antisymmetric (lane 1) modes; entire in s, so continuous through the cut-off.
+std::array<double, 2> free_free_determinants(const SectionWaves& w, double length) {
+  Complex c[2], pS[2], S[2];
+  for (int j = 0; j < 2; ++j) {
+    const Complex m1 = exp_neg_minus_one(w.s[j] * length);
+    c[j] = 1.0 + 0.5 * m1;
+    const Complex sigma = -0.5 * m1;
+    pS[j] = w.s[j] * sigma;
+    S[j] = w.inv_s[j] == Complex(0.0, 0.0) ? Complex(0.5 * length, 0.0) : sigma * w.inv_s[j];
+  }
+  const Complex phase = std::polar(1.0, 0.5 * length * (w.s[0].imag() + w.s[1].imag()));
+  const Complex s1 = c[0] * w.e[1] * pS[1], s2 = c[1] * w.e[0] * pS[0];
+  const Complex a1 = S[0] * w.e[1] * c[1], a2 = S[1] * w.e[0] * c[0];
+  // Both determinants change sign when the two waves swap labels (section_waves orders them by
+  // |p|, whose order changes along ω where ρI ≤ 0); times the sign of p_0 − p_1 = (e_0 − e_1)/κGA
+  // they do not, so only a mode changes their sign.
+  const double label = (w.e[0] - w.e[1]).real() < 0.0 ? -1.0 : 1.0;
+  auto scaled = [&](Complex x, Complex y) {
+    const double n = std::abs(x) + std::abs(y);
+    return n > 0.0 ? label * ((x - y) * phase).real() / n : 0.0;
+  };
+  return {scaled(s1, s2), scaled(a1, a2)};
+}
+
+}  // namespace
+
+WhirlFrequencies whirl_frequencies(const SectionProperties& sp, double length, double spin_rad_s, int count) {
+  if (count < 1) throw InvalidArgument(fmt::format("whirl_frequencies: count {} must be ≥ 1", count));
+  if (!std::isfinite(spin_rad_s))
+    throw InvalidArgument(fmt::format("whirl_frequencies: spin {} rad/s is not finite", spin_rad_s));
+  SectionProperties undamped = sp;
+  undamped.EI = sp.EI.real();
+  undamped.kGA = sp.kGA.real();
+  // The grid: the standstill modes' least spacing / 32 (a whirl's modes of one parity lie further
+  // apart than any two standstill modes do, as long as the spin moves them less than that).
+  const std::vector<double> standstill = free_free_frequencies(undamped, length, count + 2);
+  double spacing = standstill.front();
+  for (std::size_t k = 1; k < standstill.size(); ++k) spacing = std::min(spacing, standstill[k] - standstill[k - 1]);
+  const double step = spacing / 32.0, f1 = standstill.front();
+  WhirlFrequencies out;
+  out.spin_rad_s = spin_rad_s;
+  out.conical_hz = spin_rad_s == 0.0 ? 0.0 : std::numeric_limits<double>::quiet_NaN();
+  for (Whirl whirl : {Whirl::Forward, Whirl::Backward}) {
+    auto det = [&](double f) { return free_free_determinants(section_waves(undamped, f, spin_rad_s, whirl), length); };
+    // Roots by parity; the grid starts geometric (1e-7 f1 … step) for a slow conical mode.
+    std::array<std::vector<double>, 2> roots;
+    double f = 1e-7 * f1;
+    std::array<double, 2> d = det(f);
+    // A forward whirl with spin has the conical mode besides its elastic ones.
+    const std::size_t wanted = static_cast<std::size_t>(count) + (whirl == Whirl::Forward && spin_rad_s != 0.0 ? 1 : 0);
+    auto enough = [&] { return roots[0].size() + roots[1].size() >= wanted; };
+    while (!enough()) {
+      const double g = f < step ? std::min(f * 1.25, step) : f + step;
+      const std::array<double, 2> e = det(g);
+      for (int k = 0; k < 2; ++k) {
+        if (d[k] == 0.0 || (d[k] < 0.0) == (e[k] < 0.0)) continue;
+        double lo = f, hi = g, dlo = d[k];
+        while (hi - lo > 1e-13 * hi) {
+          const double mid = 0.5 * (lo + hi), dm = det(mid)[k];
+          if (dm == 0.0) lo = hi = mid;
+          else if ((dm < 0.0) == (dlo < 0.0)) lo = mid, dlo = dm;
+          else hi = mid;
+        }
+        roots[k].push_back(0.5 * (lo + hi));
+      }
+      f = g;
+      d = e;
+      if (f > 1e3 * standstill.back())
+        throw NumericalError(
+            fmt::format("whirl_frequencies: {} {} whirl modes not found below {} Hz", count, whirl_name(whirl), f));
+    }
+    // The conical mode: the lowest forward root of lane 0 (φ symmetric, so w antisymmetric: the
+    // tilt), below 2Ω (its rigid-body value ρI_pLΩ/J_d < 2Ω); elastic roots lie above the
+    // standstill ones.
+    const double omega_spin = std::abs(spin_rad_s);
+    if (whirl == Whirl::Forward && spin_rad_s != 0.0 && !roots[0].empty() && omega_of(roots[0].front()) < 2.0 * omega_spin) {
+      out.conical_hz = roots[0].front();
+      roots[0].erase(roots[0].begin());
+    }
+    std::vector<double> all = roots[0];
+    all.insert(all.end(), roots[1].begin(), roots[1].end());
+    std::sort(all.begin(), all.end());
+    all.resize(count);
+    (whirl == Whirl::Forward ? out.forward_hz : out.backward_hz) = all;
+  }
+  return out;
 }
 
 const Block& end_block(const TwoPort& ports, EndBlock block) {

@@ -4,6 +4,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <fmt/format.h>
 #include <vector>
 
@@ -202,6 +203,60 @@ TwoPort ground_end2(const TwoPort& t, const Block& D) {
   const Cols Y = d * detail::inverse_checked(identity_plus(p.b22 * d), "structural-modification matrix (I + T22 D)");
   const Cols y21 = Y * p.b21, y22 = Y * p.b22;
   return two_port({p.b11 - p.b12 * y21, p.b12 - p.b12 * y22, p.b21 - p.b22 * y21, p.b22 - p.b22 * y22});
+}
+
+}  // namespace toolpoint
+
+// ---- Two planes ---------------------------------------------------------------------------------
+
+namespace toolpoint {
+
+namespace {
+
+// A 4×4 inverse, refused where LU's smallest pivot is below 1e-14 of the largest (as
+// inverse_checked's relative determinant test for 2×2 blocks).
+Block4 inverse4_checked(const Block4& m, const char* what) {
+  const Eigen::FullPivLU<Block4> lu(m);
+  const Block4 u = lu.matrixLU().triangularView<Eigen::Upper>();
+  double largest = 0.0, smallest = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 4; ++k) {
+    largest = std::max(largest, std::abs(u(k, k)));
+    smallest = std::min(smallest, std::abs(u(k, k)));
+  }
+  if (!(smallest > 1e-14 * largest) || !std::isfinite(largest))
+    throw NumericalError(fmt::format("the {} is singular to working precision", what),
+                         "a resonance of an undamped structure hit exactly: add damping or move the frequency");
+  return lu.inverse();
+}
+
+Block4 both_planes(const Block& k) {
+  Block4 b = Block4::Zero();
+  b.topLeftCorner<2, 2>() = k;
+  b.bottomRightCorner<2, 2>() = k;
+  return b;
+}
+
+}  // namespace
+
+Block4 couple_rigid_point(const TwoPort4& a, const Block4& b11) {
+  return a.b11 - a.b12 * inverse4_checked(a.b22 + b11, "rigid interface matrix (A22 + B11)") * a.b21;
+}
+
+Block4 couple_point(const TwoPort4& a, const Block4& b11, const Joint& joint, double frequency_hz) {
+  if (joint.rigid) return couple_rigid_point(a, b11);
+  // X = K (I + (A22 + B11) K)⁻¹ = (A22 + K⁻¹ + B11)⁻¹ without K⁻¹ (couple_elastic's form).
+  const Block4 K = both_planes(joint.parameters.stiffness(frequency_hz));
+  const Block4 X = K * inverse4_checked(Block4::Identity() + (a.b22 + b11) * K, "elastic interface matrix (I + (A22 + B11) K)");
+  return a.b11 - a.b12 * X * a.b21;
+}
+
+Block4 ground_point(const Block4& h, const Block4& D) {
+  return h * inverse4_checked(Block4::Identity() + D * h, "structural-modification matrix (I + D H)");
+}
+
+Block4 ground_end2_point(const TwoPort4& t, const Block4& D) {
+  return t.b11 -
+         t.b12 * (D * inverse4_checked(Block4::Identity() + t.b22 * D, "structural-modification matrix (I + T22 D)")) * t.b21;
 }
 
 }  // namespace toolpoint

@@ -85,8 +85,14 @@ void to_json(nlohmann::json& j, const ExtraPeak& e) {
 }
 
 void to_json(nlohmann::json& j, const ForwardCheck& c) {
-  j = {{"label", c.label},       {"modes", c.modes}, {"extra", c.extra},       {"replicates", c.replicates},
-       {"false_alarm", c.false_alarm}, {"z", number(c.z)}, {"passed", c.passed()}, {"failures", c.failures},
+  j = {{"label", c.label},
+       {"modes", c.modes},
+       {"extra", c.extra},
+       {"replicates", c.replicates},
+       {"false_alarm", c.false_alarm},
+       {"z", number(c.z)},
+       {"passed", c.passed()},
+       {"failures", c.failures},
        {"notes", c.notes}};
 }
 
@@ -288,6 +294,7 @@ void to_json(nlohmann::json& j, const StabilityUncertainty& s) {
 void to_json(nlohmann::json& j, const Prediction& p) {
   j = {{"receptance", predicted_frf_name(p.receptance)}, {"modes", p.modes}, {"warnings", p.warnings}};
   if (p.band) j["band"] = *p.band;
+  if (p.two_plane.size() > 0) j["speed_rpm"] = p.speed_rpm;
 }
 
 void to_json(nlohmann::json& j, const OverhangFrf& r) { j = {{"overhang_m", r.overhang_m}, {"modes", r.modes}}; }
@@ -665,6 +672,17 @@ void to_json(nlohmann::json& j, const BeamStudy& s) {
     modes.push_back(std::move(m));
   }
   j = {{"section", s.section}, {"modes", modes}, {"method", s.method}, {"warnings", s.warnings}};
+  if (s.speed_rpm > 0.0) j["speed_rpm"] = s.speed_rpm;
+  if (s.whirl) j["whirl"] = *s.whirl;
+  if (!s.campbell.empty()) j["campbell"] = s.campbell;
+}
+
+void to_json(nlohmann::json& j, const WhirlFrequencies& w) {
+  j = {{"spin_rad_s", w.spin_rad_s},
+       {"speed_rpm", w.spin_rad_s * 60.0 / (2.0 * kPi)},
+       {"forward_hz", w.forward_hz},
+       {"backward_hz", w.backward_hz},
+       {"conical_hz", std::isfinite(w.conical_hz) ? nlohmann::json(w.conical_hz) : nlohmann::json(nullptr)}};
 }
 
 void to_json(nlohmann::json& j, const UffDof& d) {

@@ -25,6 +25,29 @@ FrfSeries entry(const BlockSeries& series, int index) {
   return out;
 }
 
+Block4 two_plane(const Block& forward, const Block& backward) {
+  const Complex i(0.0, 1.0);
+  const Block sum = 0.5 * (forward + backward), cross = (0.5 * i) * (forward - backward);
+  Block4 b;
+  b.topLeftCorner<2, 2>() = sum;
+  b.bottomRightCorner<2, 2>() = sum;
+  b.topRightCorner<2, 2>() = cross;
+  b.bottomLeftCorner<2, 2>() = -cross;
+  return b;
+}
+
+TwoPort4 two_plane(const TwoPort& forward, const TwoPort& backward) {
+  return {two_plane(forward.b11, backward.b11), two_plane(forward.b12, backward.b12), two_plane(forward.b21, backward.b21),
+          two_plane(forward.b22, backward.b22)};
+}
+
+Block4 two_plane(const Block& both) {
+  Block4 b = Block4::Zero();
+  b.topLeftCorner<2, 2>() = both;
+  b.bottomRightCorner<2, 2>() = both;
+  return b;
+}
+
 namespace {
 
 void validate_grid(const std::vector<double>& f, const std::string& what, std::size_t min_points) {

@@ -16,6 +16,7 @@
 // Units: SI, frequencies in Hz.
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <optional>
 
 #include "lanes.hpp"
@@ -95,12 +96,21 @@ struct Waves {
   C a_over_b, f_a, f_d;
 };
 
-[[gnu::always_inline]] inline Waves section_waves(const SectionProperties& sp, V w2, Mask& bad) {
+// `gyro`, if given, is ∓2Ω_spin Ω per lane: a whirl's rotary inertia times Ω² is then
+// ρI (Ω² + gyro) (beam.hpp's whirl_rotary_inertia, forward −, backward +).
+[[gnu::always_inline]] inline Waves section_waves(const SectionProperties& sp, V w2, const V* gyro, Mask& bad) {
   const Complex a = sp.kGA, b = sp.EI, ab = a * b;
   const double mA = sp.rhoA, mI = sp.rhoI;
-  const Complex cb = a * mI + b * mA;
-  const C Bq = {cb.real() * w2, cb.imag() * w2};                      // (a ρI + b ρA) Ω²
-  const C Cq = {mA * w2 * (a.real() - mI * w2), mA * w2 * a.imag()};  // ρA Ω² (a − ρI Ω²)
+  C Bq, Cq;
+  if (!gyro) {
+    const Complex cb = a * mI + b * mA;
+    Bq = {cb.real() * w2, cb.imag() * w2};                      // (a ρI + b ρA) Ω²
+    Cq = {mA * w2 * (a.real() - mI * w2), mA * w2 * a.imag()};  // ρA Ω² (a − ρI Ω²)
+  } else {
+    const V mIw2 = mI * (w2 + *gyro);
+    Bq = {a.real() * mIw2 + (b.real() * mA) * w2, a.imag() * mIw2 + (b.imag() * mA) * w2};
+    Cq = {mA * w2 * (a.real() - mIw2), mA * w2 * a.imag()};
+  }
   const C disc = Bq * Bq + lanes::cplx(4.0 * ab) * Cq;
   C sq = lanes::sqrt_principal(disc, bad);
   const Mask flip = (Bq.re * sq.re + Bq.im * sq.im) < 0.0;  // Re(conj(B) sq) < 0
@@ -153,25 +163,26 @@ struct Waves {
 // a piece reuses the waves of the piece asked for before it unless the section changes.
 class Pieces {
  public:
-  Pieces(const ChainPlan& chain, V w2, Mask& bad) : chain_(chain), w2_(w2), bad_(bad) {}
+  Pieces(const ChainPlan& chain, V w2, const V* gyro, Mask& bad) : chain_(chain), w2_(w2), gyro_(gyro), bad_(bad) {}
   Port operator()(std::size_t i) {
     const ChainPlan::Piece& p = chain_.pieces[i];
-    if (i + 1 == chain_.pieces.size() || chain_.pieces[i + 1].new_section) waves_ = section_waves(*p.section, w2_, bad_);
+    if (i + 1 == chain_.pieces.size() || chain_.pieces[i + 1].new_section) waves_ = section_waves(*p.section, w2_, gyro_, bad_);
     return segment(waves_, p.length, bad_);
   }
 
  private:
   const ChainPlan& chain_;
   V w2_;
+  const V* gyro_;
   Mask& bad_;
   Waves waves_;
 };
 
 // Chain::point in lanes: the point receptance at end 1 of a chain with a free end 2 and ground
 // springs at its nodes (the spindle), walked from end 2.
-B chain_point(const ChainPlan& chain, V w, V w2, Mask& bad) {
+B chain_point(const ChainPlan& chain, V w, V w2, const V* gyro, Mask& bad) {
   const std::size_t n = chain.pieces.size();
-  Pieces piece(chain, w2, bad);
+  Pieces piece(chain, w2, gyro, bad);
   const Port last = piece(n - 1);
   B g = last.b11;
   if (!chain.grounds[n]->empty()) {
@@ -190,11 +201,11 @@ B chain_point(const ChainPlan& chain, V w, V w2, Mask& bad) {
 
 // Chain::two_port in lanes for a chain without ground springs (the holder, the tool): the pieces
 // coupled rigidly from end 2. A grounded chain is left to the per-frequency path.
-Port chain_two_port(const ChainPlan& chain, V w2, Mask& bad) {
+Port chain_two_port(const ChainPlan& chain, V w2, const V* gyro, Mask& bad) {
   for (const auto* node : chain.grounds)
     if (!node->empty()) bad |= Mask{} - 1;
   const std::size_t n = chain.pieces.size();
-  Pieces piece(chain, w2, bad);
+  Pieces piece(chain, w2, gyro, bad);
   Port g = piece(n - 1);
   for (std::size_t k = n - 1; k-- > 0;) g = lanes::couple_rigid(piece(k), g, bad);
   return g;
@@ -211,15 +222,19 @@ B couple_point(const Port& a, const B& b11, const Joint& joint, V w, Mask& bad) 
 // to recompute one at a time, bit i for lane i. (Blocks are built by the caller: GCC refused to
 // inline one of Eigen's SSE2 packet functions into this AVX2 code, "target specific option
 // mismatch".)
-unsigned batch(const Plans& plans, const Assembly& a, const double* f_in, double (*out)[kWidth]) {
+// `whirl_spin` [rad/s]: 0 standing, else −Ω_spin for the forward whirl and +Ω_spin for the backward.
+unsigned batch(const Plans& plans, const Assembly& a, const double* f_in, double (*out)[kWidth], double whirl_spin) {
   Mask bad{};
   V f;
   for (int i = 0; i < kWidth; ++i) f[i] = f_in[i];
   bad |= ~lanes::within(f, 0.0, std::numeric_limits<double>::infinity());
   const V w = (2.0 * kPi) * f, w2 = w * w;  // omega_of(f), squared
+  const V gyro_lanes = (2.0 * whirl_spin) * w;
+  const V* gyro = whirl_spin == 0.0 ? nullptr : &gyro_lanes;
   // As AssemblyModel::holder_tip and tool_point: SH11 = H ⊕ S11 (Eq. 1), SHT11 = T ⊕ SH11 (Eq. 5).
-  B g = couple_point(chain_two_port(plans.holder, w2, bad), chain_point(plans.spindle, w, w2, bad), a.spindle_holder, w, bad);
-  if (plans.tool) g = couple_point(chain_two_port(*plans.tool, w2, bad), g, a.holder_tool, w, bad);
+  B g = couple_point(chain_two_port(plans.holder, w2, gyro, bad), chain_point(plans.spindle, w, w2, gyro, bad), a.spindle_holder,
+                     w, bad);
+  if (plans.tool) g = couple_point(chain_two_port(*plans.tool, w2, gyro, bad), g, a.holder_tool, w, bad);
   const C e[4] = {g.a, g.b, g.c, g.d};
   for (int k = 0; k < 4; ++k)
     for (int i = 0; i < kWidth; ++i) {
@@ -236,15 +251,14 @@ unsigned batch(const Plans& plans, const Assembly& a, const double* f_in, double
 // The series over `frequency_hz`, through the lanes when every chain is exact, with `at` (the
 // per-frequency function) for the lanes they cannot certify or for modal chains.
 BlockSeries sweep(const Plans* plans, const Assembly& a, const std::vector<double>& frequency_hz,
-                  Block (AssemblyModel::*at)(double) const, const AssemblyModel& model,
-                  AssemblyModel::SweepDiagnostics* diagnostics) {
+                  const std::function<Block(double)>& at, AssemblyModel::SweepDiagnostics* diagnostics, double whirl_spin = 0.0) {
   AssemblyModel::SweepDiagnostics count;
   BlockSeries s;
   s.frequency_hz = frequency_hz;
   s.blocks.resize(frequency_hz.size());
   auto one = [&](std::size_t i) {
     ++count.per_frequency;
-    s.blocks[i] = block_at([&](double x) { return (model.*at)(x); }, frequency_hz[i]);
+    s.blocks[i] = block_at(at, frequency_hz[i]);
   };
 #if TOOLPOINT_LANES
   if (plans) {
@@ -254,7 +268,7 @@ BlockSeries sweep(const Plans* plans, const Assembly& a, const std::vector<doubl
       double f[kWidth];
       for (std::size_t i = 0; i < width; ++i) f[i] = frequency_hz[start + std::min(i, m - 1)];  // a short batch repeats its last
       double out[8][kWidth];
-      const unsigned bad = batch(*plans, a, f, out);
+      const unsigned bad = batch(*plans, a, f, out, whirl_spin);
       for (std::size_t i = 0; i < m; ++i) {
         if (bad >> i & 1u) {
           one(start + i);
@@ -269,7 +283,7 @@ BlockSeries sweep(const Plans* plans, const Assembly& a, const std::vector<doubl
     return s;
   }
 #else
-  (void)plans, (void)a;
+  (void)plans, (void)a, (void)whirl_spin;
 #endif
   for (std::size_t i = 0; i < frequency_hz.size(); ++i) one(i);
   if (diagnostics) *diagnostics = count;
@@ -292,12 +306,48 @@ std::optional<Plans> plans_for(const Chain& spindle, const Chain& holder, const 
 
 BlockSeries AssemblyModel::holder_tip(const std::vector<double>& frequency_hz, SweepDiagnostics* diagnostics) const {
   const std::optional<Plans> plans = plans_for(spindle_, holder_, nullptr);
-  return sweep(plans ? &*plans : nullptr, assembly_, frequency_hz, &AssemblyModel::holder_tip, *this, diagnostics);
+  return sweep(
+      plans ? &*plans : nullptr, assembly_, frequency_hz, [this](double f) { return holder_tip(f); }, diagnostics);
 }
 
 BlockSeries AssemblyModel::tool_point(const std::vector<double>& frequency_hz, SweepDiagnostics* diagnostics) const {
   const std::optional<Plans> plans = plans_for(spindle_, holder_, &tool_);
-  return sweep(plans ? &*plans : nullptr, assembly_, frequency_hz, &AssemblyModel::tool_point, *this, diagnostics);
+  return sweep(
+      plans ? &*plans : nullptr, assembly_, frequency_hz, [this](double f) { return tool_point(f); }, diagnostics);
+}
+
+BlockSeries4 AssemblyModel::tool_point_two_plane(const std::vector<double>& frequency_hz, double spin_rad_s) const {
+  BlockSeries4 out;
+  out.frequency_hz = frequency_hz;
+  out.blocks.resize(frequency_hz.size());
+  if (!isotropic()) {
+    for (std::size_t i = 0; i < frequency_hz.size(); ++i) {
+      const double f = frequency_hz[i];
+      Block4 b;
+      block_at(
+          [&](double x) {
+            b = tool_point_two_plane(x, spin_rad_s);
+            return Block();
+          },
+          f);
+      out.blocks[i] = b;
+    }
+    return out;
+  }
+  if (spin_rad_s == 0.0) {
+    const BlockSeries s = tool_point(frequency_hz);
+    for (std::size_t i = 0; i < s.size(); ++i) out.blocks[i] = two_plane(s.blocks[i]);
+    return out;
+  }
+  // The whirls decouple (isotropic bearings): one sweep each, −Ω and +Ω in the lanes.
+  const std::optional<Plans> plans = plans_for(spindle_, holder_, &tool_);
+  const Plans* p = plans ? &*plans : nullptr;
+  const BlockSeries fwd = sweep(
+      p, assembly_, frequency_hz, [&](double f) { return tool_point(f, spin_rad_s, Whirl::Forward); }, nullptr, -spin_rad_s);
+  const BlockSeries bwd = sweep(
+      p, assembly_, frequency_hz, [&](double f) { return tool_point(f, spin_rad_s, Whirl::Backward); }, nullptr, spin_rad_s);
+  for (std::size_t i = 0; i < fwd.size(); ++i) out.blocks[i] = two_plane(fwd.blocks[i], bwd.blocks[i]);
+  return out;
 }
 
 }  // namespace toolpoint

@@ -152,5 +152,74 @@ TEST(BeamStudy, OptionsNameTheirFields) {
   EXPECT_THROW(run_beam_study(o), InvalidArgument);
 }
 
+// The study at speed is beam.hpp's whirl functions called directly (the oracle of those is
+// tests/spin_test.cpp's finite-element rotor): the same frequencies to round-off (1e-14), the
+// receptance the x–x part (F + B)/2 of spinning_receptance; at speed 0 the standstill study; the
+// Campbell diagram one whirl list per speed, forward rising and backward falling.
+TEST(BeamStudy, SpinningIsBeamHppsWhirls) {
+  BeamStudyOptions o = steel_rod(0.15, 0.04);
+  o.modes = 3;
+  const BeamStudy still = run_beam_study(o);
+  EXPECT_FALSE(still.whirl.has_value());
+  o.speed_rpm = 30000.0;
+  o.frequency_hz = {500.0, 7000.0};
+  o.campbell_rpm = {0.0, 20000.0, 40000.0};
+  const BeamStudy r = run_beam_study(o);
+  ASSERT_TRUE(r.whirl.has_value());
+  const double spin = 30000.0 * 2.0 * kPi / 60.0;
+  const WhirlFrequencies w = whirl_frequencies(r.properties, 0.15, spin, 3);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(r.whirl->forward_hz[k], w.forward_hz[k], 1e-14 * w.forward_hz[k]);
+    EXPECT_NEAR(r.whirl->backward_hz[k], w.backward_hz[k], 1e-14 * w.backward_hz[k]);
+  }
+  for (std::size_t i = 0; i < 2; ++i) {
+    const Block4 b = spinning_receptance(r.properties, 0.15, o.frequency_hz[i], spin).b11;
+    EXPECT_LE((r.receptance.blocks[i] - b.topLeftCorner<2, 2>()).norm(), 1e-14 * b.norm());
+  }
+  ASSERT_EQ(r.campbell.size(), 3u);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(r.campbell[0].forward_hz[k], still.modes[k].frequency_hz, 1e-9 * still.modes[k].frequency_hz);
+    EXPECT_GT(r.campbell[2].forward_hz[k], r.campbell[1].forward_hz[k]);
+    EXPECT_LT(r.campbell[2].backward_hz[k], r.campbell[1].backward_hz[k]);
+  }
+  const nlohmann::json j = r;
+  EXPECT_EQ(j["whirl"]["forward_hz"].size(), 3u);
+  EXPECT_EQ(j["whirl"]["backward_hz"].size(), 3u);
+  EXPECT_EQ(j["campbell"].size(), 3u);
+  EXPECT_TRUE(j["campbell"][0]["conical_hz"] == 0.0);
+  const plot::Figure fig = campbell_figure(r, "Campbell");
+  EXPECT_NO_THROW(fig.check());
+  EXPECT_EQ(fig.panels[0].curves.size(), 2u * 3u + 2u);  // forward and backward per mode, conical, 1× line
+}
+
+// Bad speeds: negative, rad/s-sized slips far below any spindle (impossible), the modal method at
+// speed, a Campbell list that is not increasing; a speed below 1000 rpm only warns (likely rad/s).
+TEST(BeamStudy, SpeedsAreChecked) {
+  auto message = [](const BeamStudyOptions& o) {
+    try {
+      run_beam_study(o);
+    } catch (const InvalidArgument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  BeamStudyOptions o = steel_rod(0.15, 0.04);
+  o.speed_rpm = -100.0;
+  EXPECT_NE(message(o).find("BeamStudyOptions::speed_rpm"), std::string::npos);
+  o.speed_rpm = 10.0;  // below 1000/40 rpm
+  EXPECT_NE(message(o).find("BeamStudyOptions::speed_rpm"), std::string::npos);
+  o.speed_rpm = 20000.0;
+  o.method = BeamMethod::Modal;
+  EXPECT_NE(message(o).find("BeamStudyOptions::method"), std::string::npos);
+  o.method = BeamMethod::Exact;
+  o.campbell_rpm = {0.0, 30000.0, 20000.0};
+  EXPECT_NE(message(o).find("BeamStudyOptions::campbell_rpm"), std::string::npos);
+  o.campbell_rpm = {};
+  o.speed_rpm = 300.0;  // 300 rad/s would be 2865 rpm: plausible as rpm only barely — said
+  const BeamStudy r = run_beam_study(o);
+  ASSERT_FALSE(r.warnings.empty());
+  EXPECT_NE(r.warnings[0].find("rad/s"), std::string::npos) << r.warnings[0];
+}
+
 }  // namespace
 }  // namespace toolpoint

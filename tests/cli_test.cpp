@@ -501,7 +501,7 @@ TEST_F(Cli, EveryJsonKeyIsAHeaderName) {
   const std::set<std::string> allowed{// the run: inputs, outputs, options echoed, units said
                                       "assembly", "file", "files", "figures", "output", "plot", "plots", "joint_output", "band",
                                       "band_output", "sh11", "envelope", "natural_frequencies_file", "units", "case_study",
-                                      "frequency_range_hz", "seed_sh11", "seed_sht11", "window_points",
+                                      "frequency_range_hz", "seed_sh11", "seed_sht11", "window_points", "campbell_plot",
                                       // derived (json.hpp)
                                       "lobe_points", "flip_speeds", "lowest_boundary", "data_type_name", "function_type_name",
                                       "response_direction_name", "reference_direction_name", "ordinate_data_type_name"};
@@ -523,12 +523,29 @@ TEST_F(Cli, EveryJsonKeyIsAHeaderName) {
            "lobes --assembly '" + kExample +
                "' --joint holder-tool=kht.toml --samples 20 --teeth 4 --kt 6e8 --kr 0.3 "
                "--immersion 0.5 --milling down --rpm 5000:20000",
-           "modes tool.csv", "beam --length 0.1 --diameter 0.016 --modes 3", "convert tool.uff --list"}) {
+           "modes tool.csv", "beam --length 0.1 --diameter 0.016 --modes 3",
+           "beam --length 0.15 --diameter 0.04 --modes 2 --speed 20000 --campbell 0:20000:10000", "convert tool.uff --list"}) {
     const Run r = ok(command + " --json");
     std::vector<std::string> foreign;
     foreign_keys(nlohmann::json::parse(r.out), "", ids, allowed, foreign);
     EXPECT_TRUE(foreign.empty()) << command << ": " << fmt::format("{}", fmt::join(foreign, ", "));
   }
+}
+
+// predict --speed: the two-plane tool point (its values are tested in spin_assembly_test.cpp):
+// the speed echoed in the JSON, the cross receptances written; a speed that cannot be rpm and
+// --cross-output without the two-plane model are refused naming the option.
+TEST_F(Cli, PredictAtSpeed) {
+  const Run r = ok("predict '" + kExample +
+                   "' --speed 20000 --frequencies 500:1500:10 --output xx.csv --cross-output xy.csv --json");
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["speed_rpm"], 20000.0);
+  EXPECT_EQ(j["cross_output"], "xy.csv");
+  const std::string xy = read_text_file(path("xy.csv"));
+  EXPECT_NE(xy.find("\nfrequency_hz,Hxx_re,Hxx_im,Hxy_re,Hxy_im,Hyx_re,Hyx_im,Hyy_re,Hyy_im\n500,"), std::string::npos) << xy;
+  expect_error(run("predict '" + kExample + "' --speed 5 --output a.csv"), 2, {"--speed", "rpm"});
+  expect_error(run("predict '" + kExample + "' --cross-output c.csv"), 2, {"--cross-output", "--speed"});
+  EXPECT_FALSE(exists("a.csv"));
 }
 
 TEST_F(Cli, CoupleOneOverhangAndASweep) {
@@ -1021,6 +1038,13 @@ TEST_F(Cli, UnitSlipsOnOptionsAreRefusedOrSaid) {
   // Unusual but possible: done, with a warning that names the option and the unit.
   const Run long_beam = ok("beam --length 3 --diameter 0.016 --modes 1");
   EXPECT_NE(long_beam.err.find("warning: --length = 3 is outside the usual range"), std::string::npos) << long_beam.err;
+  // A spin in rad/s where rpm is meant: 300 (rad/s for 2865 rpm) warned with the unit, 10 refused.
+  const Run slow = ok("beam --length 0.15 --diameter 0.04 --modes 1 --speed 300");
+  EXPECT_NE(slow.err.find("warning: --speed = 300"), std::string::npos) << slow.err;
+  EXPECT_NE(slow.err.find("rad/s"), std::string::npos) << slow.err;
+  expect_error(run("beam --length 0.15 --diameter 0.04 --speed 10"), 2, {"--speed", "rpm"});
+  expect_error(run("beam --length 0.15 --diameter 0.04 --speed 20000 --method modal"), 2, {"--speed", "--method"});
+  expect_error(run("beam --length 0.15 --diameter 0.04 --campbell 0:100"), 2, {"--campbell"});
   // 0 where it means nothing.
   expect_error(run("lobes --frf sht.csv --kt 6e8 --speeds 0" + cut), 2, {"--speeds"});
   expect_error(run("beam --length 0.1 --diameter 0.016 --modes 0"), 2, {"--modes"});

@@ -29,11 +29,32 @@ struct BeamOptions {
   std::string frequencies, output, method = "exact", block = "11", plot;
   int modal_terms = 100;
   bool static_residual = false, json = false;
+  double speed = 0.0;
+  std::string campbell, campbell_plot;
 };
+
+// "START:STOP:STEP" in rpm (START ≥ 0: standstill allowed) → the speeds, at most 1000.
+std::vector<double> parse_speed_grid(const std::string& text) {
+  const std::size_t a = text.find(':'), b = a == std::string::npos ? a : text.find(':', a + 1);
+  if (b == std::string::npos)
+    throw InvalidArgument(fmt::format("--campbell '{}' is not START:STOP:STEP (rpm)", text), "e.g. --campbell 0:60000:2000");
+  const double start = parse_value(text.substr(0, a), "--campbell"),
+               stop = parse_value(text.substr(a + 1, b - a - 1), "--campbell"),
+               step = parse_value(text.substr(b + 1), "--campbell");
+  if (!(start >= 0.0 && stop > start && step > 0.0) || (stop - start) / step > 1000.0)
+    throw InvalidArgument(fmt::format("--campbell {}: need 0 ≤ START < STOP and STEP > 0, at most 1000 speeds", text),
+                          "e.g. --campbell 0:60000:2000");
+  std::vector<double> v;
+  for (int k = 0; start + k * step <= stop * (1.0 + 1e-12); ++k) v.push_back(start + k * step);
+  return v;
+}
 
 void run_beam(const BeamOptions& o, const Globals& g) {
   check_plot_path(o.plot);  // before any work: a typo in the figure name should not cost a run
-  check_paths({}, {{o.output, "--output"}, {o.plot, "--plot"}});
+  check_plot_path(o.campbell_plot, "--campbell-plot");
+  check_paths({}, {{o.output, "--output"}, {o.plot, "--plot"}, {o.campbell_plot, "--campbell-plot"}});
+  if (!o.campbell_plot.empty() && o.campbell.empty())
+    throw InvalidArgument("--campbell-plot needs --campbell START:STOP:STEP (the speeds, rpm)", "add --campbell 0:60000:2000");
   check_output_extension(o.output, "--output", {".csv"}, "a 2×2 receptance block as FRF CSV (.csv)");
   if (!o.plot.empty() && (o.frequencies.empty() || o.output.empty()))
     throw InvalidArgument("--plot needs --frequencies and --output (the figure draws the receptance written there)",
@@ -52,6 +73,8 @@ void run_beam(const BeamOptions& o, const Globals& g) {
   so.block = o.block == "11" ? EndBlock::T11 : o.block == "12" ? EndBlock::T12 : o.block == "21" ? EndBlock::T21 : EndBlock::T22;
   so.method = o.method == "modal" ? BeamMethod::Modal : BeamMethod::Exact;
   so.modal = {o.modal_terms, o.static_residual};
+  so.speed_rpm = o.speed;
+  if (!o.campbell.empty()) so.campbell_rpm = parse_speed_grid(o.campbell);
   const BeamStudy r = run_beam_study(so);
   const double kappa = r.section.shear_coefficient;
 
@@ -73,6 +96,22 @@ void run_beam(const BeamOptions& o, const Globals& g) {
     }
   }
 
+  if (r.whirl) {
+    out["speed_rpm"] = r.speed_rpm;
+    out["whirl"] = study["whirl"];
+    if (!o.json) {
+      std::cout << fmt::format("spinning at {} rpm: natural frequencies per whirl [Hz]", r.speed_rpm);
+      if (std::isfinite(r.whirl->conical_hz))
+        std::cout << fmt::format(" (conical mode, forward: {:.3f} Hz)", r.whirl->conical_hz);
+      std::cout << "\nmode  forward_hz  backward_hz\n";
+      for (std::size_t k = 0; k < r.whirl->forward_hz.size(); ++k)
+        std::cout << fmt::format("{:4d}  {:10.3f}  {:11.3f}\n", k + 1, r.whirl->forward_hz[k], r.whirl->backward_hz[k]);
+    }
+  }
+  if (!r.campbell.empty()) {
+    out["campbell"] = study["campbell"];
+    if (!o.campbell_plot.empty()) out["campbell_plot"] = o.campbell_plot;
+  }
   if (!o.frequencies.empty()) {
     write_frf_csv(
         o.output, r.receptance,
@@ -86,6 +125,12 @@ void run_beam(const BeamOptions& o, const Globals& g) {
   }
   warn_all(r.warnings);
   if (o.json) std::cout << out.dump(2) << '\n';
+  if (!o.campbell_plot.empty())
+    draw_figures(g,
+                 {{campbell_figure(r,
+                                   fmt::format("Campbell diagram, free–free segment L = {} m, D = {} m", o.length, o.diameter)),
+                   o.campbell_plot}},
+                 {});
   if (!o.plot.empty())
     draw_figures(g,
                  {{plot::receptance_figure(r.receptance,
@@ -145,12 +190,26 @@ void add_beam_command(CLI::App& app, Globals& g) {
       ->capture_default_str();
   c->add_option("--modal-terms", o->modal_terms, "Elastic modes summed by --method modal [-]")->capture_default_str();
   c->add_flag("--static-residual", o->static_residual, "--method modal: add the truncated modes' static flexibility");
+  c->add_option("--speed", o->speed,
+                "Spin about the axis [rpm], ≥ 0: the natural frequencies of the forward and backward whirl (JSON "
+                "forward_hz, backward_hz); with --output, the x–x block of the spinning segment (exact method only)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  c->add_option("--campbell", o->campbell,
+                "Speeds START:STOP:STEP [rpm] of a Campbell diagram: each whirl's natural frequencies against speed (JSON "
+                "campbell)");
+  c->add_option("--campbell-plot", o->campbell_plot,
+                "Draw the Campbell diagram in FILE (.png, .svg or .pdf; needs --campbell): natural frequency [Hz] against "
+                "spindle speed [rpm], forward solid, backward dashed, the once-per-revolution line")
+      ->option_text("FILE");
   c->add_flag("--json", o->json, "Machine-readable output on stdout");
   c->footer(std::string(kFigureFooter) +
             "Examples:\n"
             "  toolpoint beam --length 0.1 --diameter 0.05 --modes 6\n"
             "  toolpoint beam --length 0.123 --diameter 0.016 --youngs-modulus 5.8e11 --density 14500 \\\n"
-            "      --loss-factor 0.002 --frequencies 10:20000:10 --output tool_T11.csv --plot tool_T11.png");
+            "      --loss-factor 0.002 --frequencies 10:20000:10 --output tool_T11.csv --plot tool_T11.png\n"
+            "  toolpoint beam --length 0.15 --diameter 0.04 --speed 30000 --modes 4 \\\n"
+            "      --campbell 0:60000:5000 --campbell-plot campbell.png");
   c->callback([o, &g] { run_beam(*o, g); });
 }
 

@@ -21,7 +21,9 @@ namespace toolpoint::cli {
 namespace {
 
 struct PredictArgs {
-  std::string assembly, at = "tool", output, frequencies, plot, band_output;
+  std::string assembly, at = "tool", output, frequencies, plot, band_output, cross_output;
+  double speed = 0.0;
+  bool extrapolate_bearings = false;
   std::vector<std::string> joints;
   SamplingOptions sampling;
   bool json = false;
@@ -32,8 +34,12 @@ void run_predict(const PredictArgs& o, const Globals& g) {
   {
     std::vector<RunPath> inputs = joint_paths(o.joints);
     inputs.push_back({o.assembly, "assembly file"});
-    check_paths(inputs, {{o.output, "--output"}, {o.band_output, "--band-output"}, {o.plot, "--plot"}});
+    check_paths(inputs, {{o.output, "--output"},
+                         {o.band_output, "--band-output"},
+                         {o.plot, "--plot"},
+                         {o.cross_output, "--cross-output"}});
   }
+  check_output_extension(o.cross_output, "--cross-output", {".csv"}, "H_xx, H_xy, H_yx, H_yy as CSV (.csv)");
   check_output_extension(o.output, "--output", {".csv"}, kBlockCsvOutput);
   check_output_extension(o.band_output, "--band-output", {".csv"}, "the quantile table as CSV (.csv)");
   const std::vector<JointFile> joints = read_joint_options(g, o.joints);
@@ -47,9 +53,15 @@ void run_predict(const PredictArgs& o, const Globals& g) {
   const LoadedAssembly loaded = load_assembly_on_grid(g, o.assembly, o.frequencies, joints);
   const bool tool = o.at == "tool";
   options.receptance = tool ? PredictedFrf::ToolPoint : PredictedFrf::HolderTip;
+  options.speed_rpm = o.speed;
+  options.extrapolate_bearings = o.extrapolate_bearings;
   Progress progress(g, "predict");
   const Prediction p = run_prediction(loaded.assembly, options, progress.part());
   progress.done();
+  // Before any file is written: the cross receptances exist only in the two-plane model.
+  if (!o.cross_output.empty() && p.two_plane.size() == 0)
+    throw InvalidArgument("--cross-output needs the two-plane model: --speed RPM > 0 or bearings with stiffness_y/damping_y",
+                          "add --speed");
   warn_all(p.warnings);
   const BlockSeries& series = p.frf;
   const std::string what = tool ? "tool point SHT11" : "holder tip SH11 (tool outside the holder removed)";
@@ -60,6 +72,14 @@ void run_predict(const PredictArgs& o, const Globals& g) {
                   {fmt::format("{} of {}", what, o.assembly), fmt::format("assembly: {}", loaded.assembly.name)});
     info(g, fmt::format("wrote {} ({} frequencies, {})", o.output, series.size(), what));
     written.push_back(o.output);
+  }
+  if (!o.cross_output.empty()) {
+    write_text_file(o.cross_output,
+                    fmt::format("# tool point of {} at {} rpm, both planes: H [m/N] (x, y transverse, spin about +z)\n",
+                                o.assembly, p.speed_rpm) +
+                        cross_receptance_csv(p.two_plane));
+    info(g, fmt::format("wrote {} (H_xx, H_xy, H_yx, H_yy)", o.cross_output));
+    written.push_back(o.cross_output);
   }
   if (p.band && !o.band_output.empty()) {
     write_table_csv(o.band_output, band_table(*p.band),
@@ -75,6 +95,7 @@ void run_predict(const PredictArgs& o, const Globals& g) {
     j["units"] = "frequency Hz, magnitude m/N";
     j["points"] = series.size();
     if (!o.output.empty()) j["output"] = o.output;
+    if (!o.cross_output.empty()) j["cross_output"] = o.cross_output;
     if (!o.plot.empty()) j["plot"] = o.plot;
     // The file's warnings as well as the model's, as before the study.
     std::vector<std::string> warnings = loaded.warnings;
@@ -118,6 +139,17 @@ void add_predict_command(CLI::App& app, Globals& g) {
   c->add_option("--output", o->output,
                 "Write the 2×2 block [[H, L], [N, P]] per frequency here (FRF CSV; H m/N, L 1/N, N rad/N, P rad/(N m)); "
                 "default: only the table of modes on stdout");
+  c->add_option("--speed", o->speed,
+                "Spindle speed [rpm], ≥ 0: the spinning assembly in two planes (gyroscopic whirl, docs/spindle-at-speed.md); "
+                "--output and the modes are then its x–x block")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  c->add_flag("--extrapolate-bearings", o->extrapolate_bearings,
+              "Bearings with a speed table (speed_rpm, stiffness_at_speed): extend the end rows' line beyond the table "
+              "(default: a speed outside it is an error)");
+  c->add_option("--cross-output", o->cross_output,
+                "Write the tool point's H_xx, H_xy, H_yx, H_yy [m/N] here (CSV; needs --speed or anisotropic bearings)")
+      ->option_text("FILE");
   c->add_option("--frequencies", o->frequencies, "Frequency grid START:STOP:STEP [Hz] (default: the file's [analysis] grid)");
   add_plot_option(c, o->plot,
                   "the block: |H| [m/N] and phase of H [deg], |P| [rad/(N·m)] and phase of P [deg] against frequency "

@@ -31,6 +31,14 @@
 
 namespace toolpoint {
 
+// One row of a bearing's speed table: its translational stiffness and damping at a spindle speed
+// (from the spindle maker or an identification; preload and centrifugal softening change them).
+struct BearingSpeedPoint {
+  double speed_rpm = 0.0;  // rpm, ≥ 0
+  double stiffness = 0.0;  // N/m, ≥ 0
+  double damping = 0.0;    // N·s/m, ≥ 0
+};
+
 // A bearing: springs and dampers to ground at `position` metres from the spindle nose.
 struct Bearing {
   std::string name;                   // for messages ("spindle.bearing[2]")
@@ -39,8 +47,18 @@ struct Bearing {
   double damping = 0.0;               // N·s/m
   double rotational_stiffness = 0.0;  // N·m/rad
   double rotational_damping = 0.0;    // N·m·s/rad
+  // The y direction's translational values where they differ from x (anisotropic bearing; x, y as
+  // in beam.hpp's spinning segment): N/m, N·s/m; unset: as x. Only the two-plane model
+  // (AssemblyModel::tool_point_two_plane) sees them; the rotational values are the same in both.
+  std::optional<double> stiffness_y, damping_y;
+  // Stiffness and damping against speed (rows by strictly increasing speed; both directions, so
+  // not with stiffness_y/damping_y); empty: the constants above at every speed. Read at a speed by
+  // at_speed(): linear between rows.
+  std::vector<BearingSpeedPoint> speed_table;
 
-  Block dynamic_stiffness(double frequency_hz) const;  // diag(k + iωc, k_θ + iωc_θ)
+  Block dynamic_stiffness(double frequency_hz) const;    // diag(k + iωc, k_θ + iωc_θ), the x plane
+  Block dynamic_stiffness_y(double frequency_hz) const;  // the y plane's
+  bool isotropic() const;                                // y as x
   void check() const;
 };
 
@@ -102,6 +120,14 @@ class Chain {
   TwoPort two_port(double frequency_hz) const;
   // Only the point receptance at end 1 (a sweep from end 2 outwards: cheaper).
   Block point(double frequency_hz) const;
+  // The same for one whirl of the chain spinning at `spin_rad_s` [rad/s] (beam.hpp,
+  // whirl_receptance; the ground springs' x values, so for isotropic ones only). At spin 0 the
+  // above exactly. Throws InvalidArgument for a spinning chain summed modally (exact pieces only).
+  TwoPort two_port(double frequency_hz, double spin_rad_s, Whirl whirl) const;
+  Block point(double frequency_hz, double spin_rad_s, Whirl whirl) const;
+  // The point receptance at end 1 in both planes (4×4 on w_x, ψ_x, w_y, ψ_y), the pieces
+  // spinning at `spin_rad_s` (spinning_receptance), the ground springs with their x and y values.
+  Block4 point_two_plane(double frequency_hz, double spin_rad_s) const;
   std::size_t size() const { return pieces_.size(); }
   const std::vector<Segment>& segments() const { return pieces_; }
   const std::vector<SectionProperties>& properties() const { return props_; }  // per piece
@@ -119,7 +145,8 @@ class Chain {
  private:
   // piece(i, f), reusing `waves` when piece i has the section they were made for (consecutive
   // pieces of one cut segment) and refreshing them otherwise.
-  TwoPort piece(std::size_t i, double frequency_hz, SectionWaves& waves, const SectionProperties*& waves_of) const;
+  TwoPort piece(std::size_t i, double frequency_hz, double spin_rad_s, Whirl whirl, SectionWaves& waves,
+                const SectionProperties*& waves_of) const;
 
   std::vector<Segment> pieces_;
   std::vector<SectionProperties> props_;
@@ -167,6 +194,20 @@ class AssemblyModel {
   };
   BlockSeries tool_point(const std::vector<double>& frequency_hz, SweepDiagnostics* diagnostics = nullptr) const;
   BlockSeries holder_tip(const std::vector<double>& frequency_hz, SweepDiagnostics* diagnostics = nullptr) const;
+  // Two planes at a spin (docs/reference.md §10; x, y, z and the spin's sense as beam.hpp's
+  // spinning segment): the tool point's 4×4 block on (w_x, ψ_x, w_y, ψ_y), [[xx, xy], [yx, yy]]
+  // of [[H, L], [N, P]] blocks; joints act alike in both planes, bearings with their x and y
+  // values. With isotropic bearings the whirls decouple: two_plane(forward, backward) of the
+  // single-plane chain per whirl; at spin 0 then xx = yy = tool_point(f) exactly and xy = yx = 0.
+  // Anisotropic bearings: the spindle in 4×4 (Chain::point_two_plane). `spin_rad_s` [rad/s].
+  // Throws InvalidArgument for a spinning modal assembly (exact only), NumericalError as tool_point.
+  Block4 tool_point_two_plane(double frequency_hz, double spin_rad_s) const;
+  // Over a grid [Hz]: isotropic bearings through the SIMD lanes, once per whirl (sweep.cpp).
+  BlockSeries4 tool_point_two_plane(const std::vector<double>& frequency_hz, double spin_rad_s) const;
+  // One whirl's single-plane tool point (isotropic bearings; see Chain::point with a whirl).
+  Block tool_point(double frequency_hz, double spin_rad_s, Whirl whirl) const;
+  // Every bearing isotropic (Bearing::isotropic).
+  bool isotropic() const;
   Block spindle_nose(double frequency_hz) const;   // S11
   TwoPort holder(double frequency_hz) const;       // H
   TwoPort tool(double frequency_hz) const;         // T
@@ -191,6 +232,15 @@ class AssemblyModel {
   Assembly assembly_;
   Chain spindle_, holder_, tool_;
 };
+
+// The assembly at `speed_rpm`: each bearing with a speed table takes its stiffness and damping
+// there, linearly interpolated between the table's rows (the table then left out). A speed outside
+// a table is refused (InvalidArgument naming the bearing's speed_table, its range and the speed)
+// unless `extrapolate`: then the end rows' line is extended (a negative result still refused).
+// Bearings without a table are kept. A table flat in speed gives the constants' assembly.
+Assembly at_speed(const Assembly& assembly, double speed_rpm, bool extrapolate = false);
+// Some bearing has a speed table.
+bool has_speed_tables(const Assembly& assembly);
 
 // The same assembly with the tool sticking out `overhang` m: the length inside the holder is kept
 // (tool length = inside + overhang), so a measured SH11 stays valid. Throws InvalidArgument for a

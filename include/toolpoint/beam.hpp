@@ -132,6 +132,60 @@ SectionWaves section_waves(const SectionProperties& section, double frequency_hz
 // NumericalError at an exact undamped natural frequency, as exact_receptance.
 TwoPort exact_receptance(const SectionWaves& waves, double length);
 
+// ---- A segment spinning about its axis (docs/reference.md §10) -----------------------------------
+//
+// Two transverse directions x, y and the axis z (the beam coordinate, from the spindle towards
+// the tool tip) form a right-handed frame; each plane (x–z, y–z) has the planar convention above
+// (w_x, ψ_x = dw_x/dz; w_y, ψ_y = dw_y/dz). The spin Ω [rad/s] is positive right-handed about +z
+// (a standard M3 spindle seen from behind the tool). A slice dz of a circular section has
+// diametral inertia ρI dz and polar inertia ρI_p dz = 2ρI dz (every annulus: I_p = 2I); spinning,
+// its transverse angular momentum is ρI_p Ω (ψ_x, ψ_y) + ρI (−ψ̇_y, ψ̇_x), so the moments on the
+// slopes are ρI ψ̈_x + ρI_p Ω ψ̇_y and ρI ψ̈_y − ρI_p Ω ψ̇_x. In r = w_x + i w_y, ψ = ψ_x + i ψ_y:
+//     κGA (r'' − ψ') = ρA r̈,      EI ψ'' + κGA (r' − ψ) = ρI ψ̈ − i ρI_p Ω ψ̇.
+// A whirl r ∝ e^{iωt} with ω > 0 turns with the spin (forward), e^{−iωt} against it (backward).
+// Each is the standing Timoshenko problem at frequency ω with the rotary inertia replaced by
+//     forward:  ρI_f = ρI − ρI_p Ω/ω = ρI (1 − 2Ω/ω),   backward:  ρI_b = ρI (1 + 2Ω/ω),
+// (negative for a forward whirl slower than 2Ω: the gyroscopic moment outweighs the inertia),
+// and the free–free end receptances stay exact for both. Structural damping E(1+iη), G(1+iη)
+// applies to each whirl as written (the backward one is the complex conjugate of the e^{−iωt}
+// problem, whose hysteretic damping is E(1−iη)). At Ω = 0 both equal exact_receptance().
+enum class Whirl {
+  Forward,   // turning with the spin: gyroscopically stiffened, frequencies rise with speed
+  Backward,  // turning against it: frequencies fall with speed
+};
+// "forward" or "backward".
+const char* whirl_name(Whirl whirl);
+
+// The rotary inertia per length [kg·m] of the whirl's planar problem at `frequency_hz` (> 0):
+// ρI (1 ∓ 2Ω/ω), Ω = `spin_rad_s` [rad/s] (any sign; a negative spin swaps the whirls).
+double whirl_rotary_inertia(const SectionProperties& section, double spin_rad_s, Whirl whirl, double frequency_hz);
+// section_waves() of the whirl's planar problem (whirl_rotary_inertia in place of ρI). Throws
+// InvalidArgument as section_waves().
+SectionWaves section_waves(const SectionProperties& section, double frequency_hz, double spin_rad_s, Whirl whirl);
+// Free–free end receptances of one whirl in the complex coordinates r = w_x + i w_y,
+// ψ = ψ_x + i ψ_y, loads f_x + i f_y, m_x + i m_y (for the forward whirl; the backward whirl's
+// block maps w_x − i w_y to f_x − i f_y). Throws as exact_receptance().
+TwoPort whirl_receptance(const SectionProperties& section, double length, double frequency_hz, double spin_rad_s, Whirl whirl);
+// The segment's two-plane end blocks (receptance.hpp: TwoPort4, DOFs w_x, ψ_x, w_y, ψ_y), both
+// whirls combined by two_plane().
+TwoPort4 spinning_receptance(const SectionProperties& section, double length, double frequency_hz, double spin_rad_s);
+
+// The undamped natural frequencies of a free–free spinning segment, per whirl [Hz].
+struct WhirlFrequencies {
+  double spin_rad_s = 0.0;
+  // The first `count` elastic modes of each whirl, ascending; at Ω = 0 both equal
+  // free_free_frequencies().
+  std::vector<double> forward_hz, backward_hz;
+  // The conical (rigid-body tilt) mode, a forward whirl for Ω ≠ 0 at about ρI_pLΩ/J_d
+  // (J_d = ρAL³/12 + ρIL, the rigid body's diametral inertia), which stands at 0 Hz without spin;
+  // 0 at Ω = 0, NaN if it lies below 1e-7 of the first elastic frequency (too slow to resolve).
+  double conical_hz = 0.0;
+};
+// Roots of the free–free determinants of whirl_receptance()'s symmetric and antisymmetric parts
+// (undamped: Re EI, Re κGA), bracketed on a grid finer than 1/32 of the standstill modes' least
+// spacing and refined by bisection to 1e-13 relative. `count` ≥ 1. Throws InvalidArgument.
+WhirlFrequencies whirl_frequencies(const SectionProperties& section, double length, double spin_rad_s, int count);
+
 // ---- Modal summation (seed Eq. 11–14) ---------------------------------------------------------
 
 struct ModalOptions {

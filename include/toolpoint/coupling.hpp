@@ -68,4 +68,15 @@ Block ground_point(const Block& h, const Block& D);
 TwoPort ground_end1(const TwoPort& t, const Block& D);
 TwoPort ground_end2(const TwoPort& t, const Block& D);
 
+// ---- Two planes (4×4 blocks on w_x, ψ_x, w_y, ψ_y; receptance.hpp's Block4) ---------------------
+
+// The same algebra as couple_rigid_point, couple_point (the joint's K(ω) in both planes alike),
+// ground_point and ground_end2 (point at end 1 only) for two-plane blocks. Throw NumericalError
+// where the 4×4 inverse is singular to working precision.
+Block4 couple_rigid_point(const TwoPort4& a, const Block4& b11);
+Block4 couple_point(const TwoPort4& a, const Block4& b11, const Joint& joint, double frequency_hz);
+Block4 ground_point(const Block4& h, const Block4& D);
+// T11 − T12 D (I + T22 D)⁻¹ T21: end 1's point receptance with springs D at end 2.
+Block4 ground_end2_point(const TwoPort4& t, const Block4& D);
+
 }  // namespace toolpoint

@@ -129,7 +129,7 @@ void to_json(nlohmann::json& j, const StabilityUncertainty& s);
 
 // ---- Studies ------------------------------------------------------------------------------------
 
-// {"receptance": "SHT11" | "SH11", "modes": [Peak…], "warnings"} and "band" (FrfBand) when computed
+// {"receptance": "SHT11" | "SH11", "modes": [Peak…], "warnings"}, "band" (FrfBand) when computed, "speed_rpm" in two planes
 void to_json(nlohmann::json& j, const Prediction& p);
 // {"overhang_m", "modes": [Peak…]}
 void to_json(nlohmann::json& j, const OverhangFrf& r);
@@ -250,8 +250,11 @@ void to_json(nlohmann::json& j, const FreeMode& m);
 // {"area", "second_moment", "shear_coefficient", "rhoA", "rhoI", "cutoff_frequency_hz"}
 void to_json(nlohmann::json& j, const BeamSection& s);
 // {"section": BeamSection, "modes": [FreeMode… each with its "mode" number, 1 first], "method", "warnings"}; the
-// segment, its complex SectionProperties and the receptance are left out (the receptance goes to an FRF file).
+// segment, its complex SectionProperties and the receptance are left out (the receptance goes to an FRF file);
+// spinning, also "speed_rpm" and "whirl" (WhirlFrequencies); with a Campbell diagram "campbell" (one per speed).
 void to_json(nlohmann::json& j, const BeamStudy& s);
+// {"spin_rad_s", "speed_rpm", "forward_hz", "backward_hz", "conical_hz"}
+void to_json(nlohmann::json& j, const WhirlFrequencies& w);
 // {"response_node", "response_direction", "reference_node", "reference_direction"}
 void to_json(nlohmann::json& j, const UffDof& d);
 // {"ordinate", "to_si", "label"}

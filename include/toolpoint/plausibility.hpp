@@ -69,6 +69,10 @@ inline constexpr PlausibleRange kCuttingCoefficient{
 inline constexpr PlausibleRange kEdgeCoefficient{1e2, 1e6, 100.0, "K_te is in N/m (typically 1e4–5e4)"};
 // Machine
 inline constexpr PlausibleRange kSpindleSpeedRpm{10.0, 2e5, 10.0, "spindle speeds are in rpm"};
+// The spin of a rotating model [rpm]: below 1000 rpm gyroscopic effects are negligible and a value
+// there is more likely rad/s (15 000 rpm = 1571 rad/s) than meant.
+inline constexpr PlausibleRange kSpinSpeedRpm{1000.0, 1.5e5, 40.0,
+                                              "spindle speeds are in rpm, not rad/s (15 000 rpm = 1571 rad/s)"};
 // Below 50 W no machining spindle: a power in kW (15 for 15 kW) is refused, not computed with.
 inline constexpr PlausibleRange kPower{200.0, 5e5, 4.0, "power is in watts (15 kW = 15e3)"};
 inline constexpr PlausibleRange kTorque{0.5, 5000.0, 10.0, "torque is in N m"};

@@ -37,6 +37,32 @@ struct TwoPort {
   Block b11, b12, b21, b22;
 };
 
+// Two planes together: a 4×4 block on the DOFs (w_x, ψ_x, w_y, ψ_y) (beam.hpp, "A segment
+// spinning about its axis": x, y transverse, z the axis, each plane with the planar convention).
+using Block4 = Eigen::Matrix4cd;
+// End blocks of a two-plane component with ends 1 and 2.
+struct TwoPort4 {
+  Block4 b11, b12, b21, b22;
+};
+
+// The two-plane block of an axisymmetric component from its whirls' planar blocks: with
+// r = w_x + i w_y and likewise for ψ and the loads, r = F (f_x + i f_y) (forward) and
+// w_x − i w_y = B (f_x − i f_y) (backward) give
+//     [[xx, xy], [yx, yy]] = [[(F + B)/2, i(F − B)/2], [−i(F − B)/2, (F + B)/2]]
+// (docs/reference.md §10): the cross blocks are skew (gyroscopic) and vanish when F = B (no spin).
+Block4 two_plane(const Block& forward, const Block& backward);
+TwoPort4 two_plane(const TwoPort& forward, const TwoPort& backward);
+// The same 2×2 block in both planes, no cross terms (a standing, isotropic component).
+Block4 two_plane(const Block& both);
+
+// A two-plane 4×4 block per frequency.
+struct BlockSeries4 {
+  std::vector<double> frequency_hz;
+  std::vector<Block4> blocks;
+
+  std::size_t size() const { return frequency_hz.size(); }
+};
+
 // A 2×2 receptance block per frequency (the FRF CSV's 9-column form).
 struct BlockSeries {
   std::vector<double> frequency_hz;

@@ -237,6 +237,40 @@ void bind_model(py::module_& m) {
       "generalised: complex (n, 4, 4) over (w1, θ1, w2, θ2) = [[T11, T12], [T21, T22]]; H in m/N, L 1/N, N rad/N, P rad/(N·m). "
       "Frequencies in Hz (> 0).");
   m.def(
+      "spinning_receptance",
+      [](Segment s, const RealArray& frequency_hz, double speed_rpm) {
+        s.check();
+        const std::vector<double> f = vector_of(frequency_hz, "frequency_hz");
+        const SectionProperties p = s.properties();
+        const double spin = rad_s_of_rpm(speed_rpm);
+        py::array_t<std::complex<double>> out({static_cast<py::ssize_t>(f.size()), py::ssize_t{8}, py::ssize_t{8}});
+        auto a = out.mutable_unchecked<3>();
+        std::vector<TwoPort4> t(f.size());
+        {
+          py::gil_scoped_release nogil;
+          for (std::size_t i = 0; i < f.size(); ++i) t[i] = spinning_receptance(p, s.length, f[i], spin);
+        }
+        for (std::size_t i = 0; i < f.size(); ++i) {
+          const Block4* b[2][2] = {{&t[i].b11, &t[i].b12}, {&t[i].b21, &t[i].b22}};
+          for (int r = 0; r < 8; ++r)
+            for (int c = 0; c < 8; ++c) a(static_cast<py::ssize_t>(i), r, c) = (*b[r / 4][c / 4])(r % 4, c % 4);
+        }
+        return out;
+      },
+      "segment"_a, "frequency_hz"_a, "speed_rpm"_a,
+      "Free–free end receptances of a segment spinning at `speed_rpm` [rpm] (docs/reference.md §10), both planes: complex "
+      "(n, 8, 8) over (w_x1, ψ_x1, w_y1, ψ_y1, w_x2, ψ_x2, w_y2, ψ_y2) = [[T11, T12], [T21, T22]] of 4×4 blocks; the x–y "
+      "blocks are the gyroscopic cross receptances (skew). Frequencies in Hz (> 0).");
+  m.def(
+      "whirl_frequencies",
+      [](const Segment& s, double speed_rpm, int count) {
+        s.check();
+        return dict_of(whirl_frequencies(s.properties(), s.length, rad_s_of_rpm(speed_rpm), count));
+      },
+      "segment"_a, "speed_rpm"_a, "count"_a,
+      "The first `count` natural frequencies [Hz] of each whirl of a free–free segment spinning at `speed_rpm` [rpm], "
+      "undamped: {'forward_hz', 'backward_hz', 'conical_hz', 'spin_rad_s', 'speed_rpm'}.");
+  m.def(
       "free_free_frequencies",
       [](const Segment& s, int count) { return array_of(free_free_frequencies(s.properties(), s.length, count)); }, "segment"_a,
       "count"_a,
@@ -285,6 +319,13 @@ void bind_model(py::module_& m) {
           "receptance", [](const BeamStudy& r) { return blocks_array(r.receptance.blocks); },
           "the end block asked for, complex (n, 2, 2) [[H m/N, L 1/N], [N rad/N, P rad/(N·m)]]")
       .def_readonly("method", &BeamStudy::method, "'exact' or 'modal (N modes[ + static residual])'")
+      .def_readonly("speed_rpm", &BeamStudy::speed_rpm, "the spin [rpm] (0: standing)")
+      .def_property_readonly(
+          "whirl", [](const BeamStudy& r) { return r.whirl ? dict_of(*r.whirl) : py::object(py::none()); },
+          "spinning: {'forward_hz': [...], 'backward_hz': [...], 'conical_hz', 'spin_rad_s', 'speed_rpm'}; else None")
+      .def_property_readonly(
+          "campbell", [](const BeamStudy& r) { return dict_of(r.campbell); },
+          "the Campbell diagram: one whirl dict (as `whirl`) per campbell_rpm speed")
       .def_readonly("warnings", &BeamStudy::warnings)
       .def(
           "to_dict", [](const BeamStudy& r) { return dict_of(r); },
@@ -293,7 +334,7 @@ void bind_model(py::module_& m) {
       "run_beam_study",
       [](double length, double outer_diameter, double inner_diameter, Material material, std::optional<double> shear_coefficient,
          const std::string& shear_model, int modes, const py::object& frequency_hz, const std::string& block,
-         const std::string& method, int modal_terms, bool static_residual) {
+         const std::string& method, int modal_terms, bool static_residual, double speed_rpm, const py::object& campbell_rpm) {
         BeamStudyOptions o;
         o.length = length;
         o.outer_diameter = outer_diameter;
@@ -306,30 +347,47 @@ void bind_model(py::module_& m) {
         o.block = enum_of(block, kEndBlocks, "block");
         o.method = enum_of(method, kBeamMethods, "method");
         o.modal = {modal_terms, static_residual};
+        o.speed_rpm = speed_rpm;
+        if (!campbell_rpm.is_none()) o.campbell_rpm = vector_of(campbell_rpm.cast<RealArray>(), "campbell_rpm");
         py::gil_scoped_release nogil;
         return run_beam_study(o);
       },
       "length"_a, "outer_diameter"_a, "inner_diameter"_a = 0.0, "material"_a = Material{"beam", 2.0e11, 0.3, 0.0, 7800.0, 0.0},
       "shear_coefficient"_a = py::none(), "shear_model"_a = "hutchinson", "modes"_a = 5, "frequency_hz"_a = py::none(),
-      "block"_a = "11", "method"_a = "exact", "modal_terms"_a = 100, "static_residual"_a = false,
+      "block"_a = "11", "method"_a = "exact", "modal_terms"_a = 100, "static_residual"_a = false, "speed_rpm"_a = 0.0,
+      "campbell_rpm"_a = py::none(),
       "The beam study (toolpoint beam): one free–free Timoshenko segment of length `length` m and diameters D, d [m] "
       "(material: E, ν, G, ρ, η; default steel) — its section, its first `modes` natural frequencies [Hz] and, on "
       "`frequency_hz` [Hz], the end block '11' (end 1 = the outer end), '12', '21' or '22' by the 'exact' closed form or "
-      "'modal' summation over `modal_terms` modes.");
+      "'modal' summation over `modal_terms` modes; spinning at `speed_rpm` [rpm] the natural frequencies of each whirl "
+      "(BeamStudy.whirl) and the block's x–x part; `campbell_rpm` [rpm] the Campbell diagram (BeamStudy.campbell).");
 
   // ---- Assembly -----------------------------------------------------------------------------------
   py::class_<Bearing>(m, "Bearing", "Springs and dampers to ground at `position` m from the spindle nose.")
-      .def(py::init([](double position, double k, double c, double kr, double cr, std::string name) {
-             return Bearing{std::move(name), position, k, c, kr, cr};
-           }),
+      .def(py::init([](double position, double k, double c, double kr, double cr, std::string name, std::optional<double> ky,
+                       std::optional<double> cy) { return Bearing{std::move(name), position, k, c, kr, cr, ky, cy, {}}; }),
            "position"_a, "stiffness"_a, "damping"_a = 0.0, "rotational_stiffness"_a = 0.0, "rotational_damping"_a = 0.0,
-           "name"_a = "")
+           "name"_a = "", "stiffness_y"_a = py::none(), "damping_y"_a = py::none())
       .def_readwrite("name", &Bearing::name)
       .def_readwrite("position", &Bearing::position, "m from the spindle nose")
       .def_readwrite("stiffness", &Bearing::stiffness, "N/m")
       .def_readwrite("damping", &Bearing::damping, "N·s/m")
       .def_readwrite("rotational_stiffness", &Bearing::rotational_stiffness, "N·m/rad")
-      .def_readwrite("rotational_damping", &Bearing::rotational_damping, "N·m·s/rad");
+      .def_readwrite("rotational_damping", &Bearing::rotational_damping, "N·m·s/rad")
+      .def_readwrite("stiffness_y", &Bearing::stiffness_y, "N/m in y where it differs from x (None: as x; two-plane model)")
+      .def_readwrite("damping_y", &Bearing::damping_y, "N·s/m in y where it differs from x (None: as x)")
+      .def_property(
+          "speed_table",
+          [](const Bearing& b) {
+            std::vector<std::tuple<double, double, double>> t;
+            for (const BearingSpeedPoint& r : b.speed_table) t.emplace_back(r.speed_rpm, r.stiffness, r.damping);
+            return t;
+          },
+          [](Bearing& b, const std::vector<std::tuple<double, double, double>>& t) {
+            b.speed_table.clear();
+            for (const auto& r : t) b.speed_table.push_back({std::get<0>(r), std::get<1>(r), std::get<2>(r)});
+          },
+          "[(speed_rpm, stiffness N/m, damping N·s/m), …] by increasing speed; [] none (read by run_prediction's speed_rpm)");
 
   py::class_<Spindle>(m, "Spindle", "Segments from the nose to the rear, and bearings (lists are copied in and out).")
       .def(py::init([](std::vector<Segment> s, std::vector<Bearing> b) {
@@ -537,6 +595,19 @@ void bind_model(py::module_& m) {
           "frf", [](const Prediction& p) { return blocks_array(p.frf.blocks); }, "complex (n, 2, 2)")
       .def_readonly("modes", &Prediction::modes, "list of Peak (refined on the model)")
       .def_readonly("band", &Prediction::band, "FrfBand (with `joint`) or None")
+      .def_readonly("speed_rpm", &Prediction::speed_rpm, "the spindle speed [rpm] of a two-plane prediction")
+      .def_property_readonly(
+          "two_plane",
+          [](const Prediction& p) {
+            py::array_t<std::complex<double>> out({static_cast<py::ssize_t>(p.two_plane.size()), py::ssize_t{4}, py::ssize_t{4}});
+            auto a = out.mutable_unchecked<3>();
+            for (std::size_t i = 0; i < p.two_plane.size(); ++i)
+              for (int r = 0; r < 4; ++r)
+                for (int c = 0; c < 4; ++c) a(static_cast<py::ssize_t>(i), r, c) = p.two_plane.blocks[i](r, c);
+            return out;
+          },
+          "at a speed or with anisotropic bearings: complex (n, 4, 4) on (w_x, ψ_x, w_y, ψ_y) [[xx, xy], [yx, yy]]; else (0, 4, "
+          "4)")
       .def_readonly("warnings", &Prediction::warnings)
       .def(
           "to_dict", [](const Prediction& p) { return dict_of(p); },
@@ -544,8 +615,11 @@ void bind_model(py::module_& m) {
   m.def(
       "run_prediction",
       [](Assembly a, const std::string& receptance, double min_prominence, std::optional<JointFile> joint, int samples,
-         std::uint64_t seed, std::vector<double> levels, int threads, const py::object& progress) {
+         std::uint64_t seed, std::vector<double> levels, int threads, const py::object& progress, double speed_rpm,
+         bool extrapolate_bearings) {
         PredictOptions o;
+        o.speed_rpm = speed_rpm;
+        o.extrapolate_bearings = extrapolate_bearings;
         o.receptance = enum_of(receptance, kPredicted, "receptance");
         o.peaks.min_prominence = min_prominence;
         o.uncertain_joint = std::move(joint);
@@ -555,12 +629,14 @@ void bind_model(py::module_& m) {
         return run_prediction(a, o, cb);
       },
       "assembly"_a, "receptance"_a = "SHT11", "min_prominence"_a = 0.02, "joint"_a = py::none(), "samples"_a = 200, "seed"_a = 1,
-      "levels"_a = std::vector<double>{0.05, 0.5, 0.95}, "threads"_a = 0, "progress"_a = py::none(),
+      "levels"_a = std::vector<double>{0.05, 0.5, 0.95}, "threads"_a = 0, "progress"_a = py::none(), "speed_rpm"_a = 0.0,
+      "extrapolate_bearings"_a = false,
       "The prediction study (toolpoint predict): SHT11 or SH11 on assembly.grid (seed Eq. 1–5) with its modes (peaks of |H| "
       "rising "
       "min_prominence above their valleys, refined on the model). With `joint` (a JointFile with [uncertainty]): also the band "
       "of the tool point FRF over `samples` joints drawn from its covariance (tool_point_band; threads: 0 every core). "
-      "progress(fraction) is called as it goes.");
+      "progress(fraction) is called as it goes. At `speed_rpm` > 0 (or with anisotropic bearings) the tool point in two "
+      "planes: Prediction.two_plane (n, 4, 4) on (w_x, ψ_x, w_y, ψ_y), its x–x block the FRF (docs/spindle-at-speed.md).");
 
   py::class_<OverhangFrf>(m, "OverhangFrf", "One overhang of the overhang study.")
       .def_readonly("overhang_m", &OverhangFrf::overhang_m)

@@ -199,3 +199,41 @@ def test_progress_from_worker_threads_and_concurrent_calls(example, prediction):
     assert all(np.array_equal(r, prediction.frf) for r in runs)
     again = tp.run_overhang_study(example, f, sh11, overhangs_m=[0.045, 0.05, 0.055, 0.06], threads=1)
     assert all(np.array_equal(a.sht11, b.sht11) for a, b in zip(one.overhangs, again.overhangs))
+
+
+def test_spinning_beam_is_the_cli_one_and_its_blocks_are_gyroscopic():
+    """beam --speed's whirl frequencies are run_beam_study's (the same doubles); spinning_receptance's
+    x–y blocks are skew (H_yx = −H_xy, the gyroscopic coupling) and vanish at standstill, where x–x
+    is exact_receptance (docs/reference.md §10)."""
+    j = run_cli_json("beam", "--length", "0.15", "--diameter", "0.04", "--modes", "3", "--speed", "30000")
+    r = tp.run_beam_study(length=0.15, outer_diameter=0.04, modes=3, speed_rpm=30000.0, campbell_rpm=[0.0, 30000.0])
+    assert r.whirl["forward_hz"] == j["whirl"]["forward_hz"]
+    assert r.whirl["backward_hz"] == j["whirl"]["backward_hz"]
+    assert all(f > b for f, b in zip(r.whirl["forward_hz"], r.whirl["backward_hz"]))
+    assert len(r.campbell) == 2 and r.campbell[1]["forward_hz"] == r.whirl["forward_hz"]
+    seg = r.segment
+    f = np.array([500.0, 3000.0])
+    b = tp.spinning_receptance(seg, f, 30000.0)
+    assert b.shape == (2, 8, 8) and b.dtype == np.complex128
+    assert np.abs(b[:, 0, 2]).min() > 0.0
+    assert np.allclose(b[:, 2, 0], -b[:, 0, 2], rtol=1e-12, atol=0.0)
+    still = tp.spinning_receptance(seg, f, 0.0)
+    assert np.all(still[:, 0, 2] == 0.0)
+    t = tp.exact_receptance(seg, f)
+    assert np.array_equal(still[:, 0:2, 0:2], t[:, 0:2, 0:2])
+    w = tp.whirl_frequencies(seg, 30000.0, 3)
+    assert w["forward_hz"] == r.whirl["forward_hz"]
+
+
+def test_prediction_at_speed_has_the_skew_cross_receptance():
+    """run_prediction(speed_rpm=): the two-plane block's cross
+    terms are skew (isotropic bearings: H_yx = −H_xy) and its x–x block is the FRF."""
+    a = tp.load_assembly(str(EXAMPLE)).assembly
+    a.grid = (200.0, 3000.0, 20.0)
+    p = tp.run_prediction(a, speed_rpm=20000.0)
+    assert p.two_plane.shape == (p.frf.shape[0], 4, 4)
+    assert np.array_equal(p.two_plane[:, 0:2, 0:2], p.frf)
+    assert np.allclose(p.two_plane[:, 2, 0], -p.two_plane[:, 0, 2], rtol=1e-12, atol=0.0)
+    assert np.abs(p.two_plane[:, 0, 2]).max() > 0.0
+    still = tp.run_prediction(a)
+    assert still.two_plane.shape[0] == 0

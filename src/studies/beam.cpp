@@ -5,7 +5,10 @@
 #include <cmath>
 #include <fmt/format.h>
 
+#include "toolpoint/assembly.hpp"
+#include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
+#include "toolpoint/plausibility.hpp"
 
 namespace toolpoint {
 
@@ -24,7 +27,28 @@ void BeamStudyOptions::check() const {
       throw InvalidArgument(fmt::format("BeamStudyOptions::frequency_hz holds {} Hz; each frequency must be > 0", f),
                             "a free–free segment has rigid-body modes: its receptance is unbounded at 0 Hz");
   if (method == BeamMethod::Modal) modal.check();
+  if (!(std::isfinite(speed_rpm) && speed_rpm >= 0.0) ||
+      (speed_rpm > 0.0 && judge(plausible::kSpinSpeedRpm, speed_rpm) == Plausibility::Impossible))
+    throw InvalidArgument(fmt::format("BeamStudyOptions::speed_rpm {} must be ≥ 0 and a spindle speed in rpm", speed_rpm),
+                          plausible::kSpinSpeedRpm.hint);
+  if (speed_rpm > 0.0 && method == BeamMethod::Modal)
+    throw InvalidArgument("BeamStudyOptions::speed_rpm > 0 needs BeamStudyOptions::method exact",
+                          "the whirls' receptances are exact only; a modal sum at speed is not provided");
+  for (std::size_t k = 0; k < campbell_rpm.size(); ++k) {
+    const double n = campbell_rpm[k];
+    if (!(std::isfinite(n) && n >= 0.0) || (n > 0.0 && judge(plausible::kSpinSpeedRpm, n) == Plausibility::Impossible))
+      throw InvalidArgument(fmt::format("BeamStudyOptions::campbell_rpm holds {}: each speed must be ≥ 0 rpm and plausible", n),
+                            plausible::kSpinSpeedRpm.hint);
+    if (k > 0 && !(n > campbell_rpm[k - 1]))
+      throw InvalidArgument(
+          fmt::format("BeamStudyOptions::campbell_rpm is not increasing at {} rpm after {} rpm", n, campbell_rpm[k - 1]));
+  }
+  if ((speed_rpm > 0.0 || !campbell_rpm.empty()) && modes < 1)
+    throw InvalidArgument("BeamStudyOptions::modes must be ≥ 1 with a speed or a Campbell diagram",
+                          "the whirls' natural frequencies listed");
 }
+
+double rad_s_of_rpm(double rpm) { return rpm * 2.0 * kPi / 60.0; }
 
 BeamStudy run_beam_study(const BeamStudyOptions& options) {
   options.check();
@@ -49,6 +73,15 @@ BeamStudy run_beam_study(const BeamStudyOptions& options) {
   // mass-normalised end values (undamped frequencies).
   if (options.modes > 0) r.modes = ModalBeam(r.properties, options.length, ModalOptions{options.modes, false}).modes();
 
+  r.speed_rpm = options.speed_rpm;
+  if (options.speed_rpm > 0.0) {
+    r.whirl = whirl_frequencies(r.properties, options.length, rad_s_of_rpm(options.speed_rpm), options.modes);
+    if (judge(plausible::kSpinSpeedRpm, options.speed_rpm) == Plausibility::Unusual)
+      r.warnings.push_back(plausibility_message(plausible::kSpinSpeedRpm, options.speed_rpm, "BeamStudyOptions::speed_rpm"));
+  }
+  for (double n : options.campbell_rpm)
+    r.campbell.push_back(whirl_frequencies(r.properties, options.length, rad_s_of_rpm(n), options.modes));
+
   const bool modal = options.method == BeamMethod::Modal;
   r.method = modal ? fmt::format("modal ({} modes{})", options.modal.modes,
                                  options.modal.static_residual ? " + static residual" : "")
@@ -66,10 +99,51 @@ BeamStudy run_beam_study(const BeamStudyOptions& options) {
           "the modal receptance reaches {} Hz, above the highest of the BeamStudyOptions::modal.modes {} modes summed "
           "({:.6g} Hz): there it lacks the modes left out",
           highest, options.modal.modes, top));
+  } else if (options.speed_rpm > 0.0) {
+    const double spin = rad_s_of_rpm(options.speed_rpm);
+    r.receptance = block_series(options.frequency_hz, [&](double f) -> Block {
+      // The x–x part of two_plane(): (F + B)/2.
+      return 0.5 * (end_block(whirl_receptance(r.properties, options.length, f, spin, Whirl::Forward), options.block) +
+                    end_block(whirl_receptance(r.properties, options.length, f, spin, Whirl::Backward), options.block));
+    });
   } else {
     r.receptance = exact_receptance(r.properties, options.length, options.frequency_hz, options.block);
   }
   return r;
+}
+
+plot::Figure campbell_figure(const BeamStudy& study, const std::string& title) {
+  const std::vector<WhirlFrequencies>& c = study.campbell;
+  if (c.size() < 2)
+    throw InvalidArgument(fmt::format("campbell_figure: {} speed(s) in the study; at least 2 needed", c.size()),
+                          "give BeamStudyOptions::campbell_rpm two or more speeds");
+  plot::Figure fig;
+  fig.title = title;
+  fig.x.label = "Spindle speed [rpm]";
+  plot::Panel p;
+  p.legend = plot::Legend::Outside;
+  p.y.label = "Natural frequency [Hz]";
+  std::vector<double> rpm;
+  for (const WhirlFrequencies& w : c) rpm.push_back(w.spin_rad_s * 60.0 / (2.0 * kPi));
+  const std::size_t modes = c.front().forward_hz.size();
+  for (std::size_t m = 0; m < modes; ++m) {
+    std::vector<double> fwd, bwd;
+    for (const WhirlFrequencies& w : c) {
+      fwd.push_back(w.forward_hz[m]);
+      bwd.push_back(w.backward_hz[m]);
+    }
+    p.curves.push_back({rpm, fwd, fmt::format("mode {} forward", m + 1), plot::CurveStyle::Line, static_cast<int>(m)});
+    p.curves.push_back({rpm, bwd, fmt::format("mode {} backward", m + 1), plot::CurveStyle::Dashed, static_cast<int>(m)});
+  }
+  std::vector<double> conical, once;
+  for (std::size_t k = 0; k < c.size(); ++k) {
+    conical.push_back(c[k].conical_hz);
+    once.push_back(rpm[k] / 60.0);
+  }
+  p.curves.push_back({rpm, conical, "conical (forward)", plot::CurveStyle::LinePoints, static_cast<int>(modes)});
+  p.curves.push_back({rpm, once, "once per revolution", plot::CurveStyle::Dashed, static_cast<int>(modes) + 1});
+  fig.panels.push_back(std::move(p));
+  return fig;
 }
 
 }  // namespace toolpoint

@@ -5,7 +5,9 @@
 #include <cmath>
 #include <fmt/format.h>
 
+#include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
+#include "toolpoint/plausibility.hpp"
 
 namespace toolpoint {
 
@@ -17,6 +19,13 @@ void PredictOptions::check() const {
   } catch (const InvalidArgument& e) {
     throw InvalidArgument(fmt::format("PredictOptions::peaks: {}", e.what()), e.hint());
   }
+  if (!(std::isfinite(speed_rpm) && speed_rpm >= 0.0) ||
+      (speed_rpm > 0.0 && judge(plausible::kSpinSpeedRpm, speed_rpm) == Plausibility::Impossible))
+    throw InvalidArgument(fmt::format("PredictOptions::speed_rpm {} must be ≥ 0 and a spindle speed in rpm", speed_rpm),
+                          plausible::kSpinSpeedRpm.hint);
+  if (speed_rpm > 0.0 && (receptance != PredictedFrf::ToolPoint || uncertain_joint))
+    throw InvalidArgument("PredictOptions::speed_rpm > 0 is for the tool point without PredictOptions::uncertain_joint",
+                          "drop the speed, or predict the tool point without the joint's band");
   if (!uncertain_joint) return;
   if (receptance != PredictedFrf::ToolPoint)
     throw InvalidArgument("PredictOptions::uncertain_joint: the band is computed for the tool point, not the holder tip",
@@ -24,14 +33,64 @@ void PredictOptions::check() const {
   band.check();
 }
 
+namespace {
+
+Assembly bearings_at_speed(const Assembly& a, const PredictOptions& options) {
+  try {
+    return at_speed(a, options.speed_rpm, options.extrapolate_bearings);
+  } catch (const InvalidArgument& e) {
+    throw InvalidArgument(fmt::format("PredictOptions::speed_rpm: {}", e.what()),
+                          std::string(e.hint()).find("extrapolat") != std::string::npos
+                              ? "extend the table, or set PredictOptions::extrapolate_bearings"
+                              : e.hint());
+  }
+}
+
+// The tool point in two planes (PredictOptions::speed_rpm): the 4×4 blocks, their x–x part as
+// the FRF, its modes refined on the model's x–x part.
+Prediction two_plane_prediction(const AssemblyModel& model, const std::vector<double>& grid, const PredictOptions& options,
+                                const ProgressCallback& progress) {
+  const double spin = options.speed_rpm * 2.0 * kPi / 60.0;
+  Prediction p;
+  p.receptance = PredictedFrf::ToolPoint;
+  p.warnings = model.warnings();
+  if (options.speed_rpm > 0.0 && judge(plausible::kSpinSpeedRpm, options.speed_rpm) == Plausibility::Unusual)
+    p.warnings.push_back(plausibility_message(plausible::kSpinSpeedRpm, options.speed_rpm, "PredictOptions::speed_rpm"));
+  p.speed_rpm = options.speed_rpm;
+  p.two_plane = model.tool_point_two_plane(grid, spin);
+  p.frf.frequency_hz = grid;
+  for (const Block4& b : p.two_plane.blocks) p.frf.blocks.push_back(b.topLeftCorner<2, 2>());
+  if (progress) progress(1.0);
+  const auto magnitude = [&](double f) { return std::abs(model.tool_point_two_plane(f, spin)(0, 0)); };
+  p.modes = find_peaks(entry(p.frf, 0), options.peaks, magnitude);
+  return p;
+}
+
+}  // namespace
+
+std::string cross_receptance_csv(const BlockSeries4& s) {
+  std::string out = "frequency_hz,Hxx_re,Hxx_im,Hxy_re,Hxy_im,Hyx_re,Hyx_im,Hyy_re,Hyy_im\n";
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const Block4& b = s.blocks[i];
+    out += fmt::format("{}", s.frequency_hz[i]);
+    for (const auto& [r, c] : {std::pair{0, 0}, std::pair{0, 2}, std::pair{2, 0}, std::pair{2, 2}})
+      out += fmt::format(",{},{}", b(r, c).real(), b(r, c).imag());
+    out += '\n';
+  }
+  return out;
+}
+
 Prediction run_prediction(const Assembly& given, const PredictOptions& options, const ProgressCallback& progress) {
   options.check();
   // A sampled joint file's joint is the nominal one, so the prediction and the band describe the
   // same joint (the samples replace the assembly's joint too).
-  const Assembly assembly = options.uncertain_joint ? with_joint(given, *options.uncertain_joint) : given;
+  const Assembly joined = options.uncertain_joint ? with_joint(given, *options.uncertain_joint) : given;
+  // The bearings at the speed (their tables read there; PredictOptions::extrapolate_bearings).
+  const Assembly assembly = has_speed_tables(joined) ? bearings_at_speed(joined, options) : joined;
   const AssemblyModel model(assembly);
   const bool tool = options.receptance == PredictedFrf::ToolPoint;
   const std::vector<double> grid = assembly.grid.values();
+  if (tool && (options.speed_rpm > 0.0 || !model.isotropic())) return two_plane_prediction(model, grid, options, progress);
   // With a band, the prediction is one unit of work and each joint sample another.
   const double share = options.uncertain_joint ? 1.0 / (options.band.samples + 1.0) : 1.0;
   Prediction p;

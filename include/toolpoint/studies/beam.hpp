@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "toolpoint/beam.hpp"
+#include "toolpoint/plot.hpp"
 
 namespace toolpoint {
 
@@ -38,6 +39,13 @@ struct BeamStudyOptions {
   EndBlock block = EndBlock::T11;    // which end block
   BeamMethod method = BeamMethod::Exact;
   ModalOptions modal;  // BeamMethod::Modal: elastic modes summed, static residual
+  // Spin about the axis [rpm], ≥ 0 (beam.hpp, "A segment spinning about its axis"). > 0: the first
+  // `modes` natural frequencies of each whirl (BeamStudy::whirl), and the receptance is the x–x
+  // part of the two-plane block (spinning_receptance; y–y is the same, the cross parts skew).
+  // The exact method only. Below 1000 rpm a warning: a spin in rad/s is 9.5× too slow in rpm.
+  double speed_rpm = 0.0;
+  // Speeds [rpm] of the Campbell diagram (each ≥ 0, increasing); empty: none.
+  std::vector<double> campbell_rpm;
   // Throws InvalidArgument naming `BeamStudyOptions::<field>` (modes < 0, a non-positive or
   // non-finite frequency, shear_coefficient ≤ 0, modal out of range); the geometry and the
   // material are checked by Segment::check() when the study builds the segment.
@@ -58,8 +66,11 @@ struct BeamStudy {
   Segment segment;               // the segment built from the options
   SectionProperties properties;  // EI, κGA (complex, with η), ρA, ρI
   BeamSection section;
-  std::vector<FreeMode> modes;  // the first options.modes elastic free–free modes, undamped, ascending
-  BlockSeries receptance;       // options.block on options.frequency_hz (empty without a grid)
+  std::vector<FreeMode> modes;             // the first options.modes elastic free–free modes, undamped, ascending
+  BlockSeries receptance;                  // options.block on options.frequency_hz (empty without a grid)
+  double speed_rpm = 0.0;                  // options.speed_rpm
+  std::optional<WhirlFrequencies> whirl;   // at options.speed_rpm > 0: each whirl's first options.modes modes
+  std::vector<WhirlFrequencies> campbell;  // one per options.campbell_rpm
   // How the receptance was computed: "exact", or "modal (N modes[ + static residual])".
   std::string method;
   std::vector<std::string> warnings;
@@ -68,5 +79,14 @@ struct BeamStudy {
 // Runs the study. Throws InvalidArgument (options, the segment: Segment::check()),
 // NumericalError (the exact receptance at an undamped natural frequency).
 BeamStudy run_beam_study(const BeamStudyOptions& options);
+
+// rpm → rad/s (2π/60).
+double rad_s_of_rpm(double rpm);
+
+// The Campbell diagram of a study with BeamStudyOptions::campbell_rpm: natural frequency [Hz]
+// against speed [rpm], each elastic mode's forward whirl (solid) and backward whirl (dashed) in
+// one colour, the conical mode, and the once-per-revolution line f = rpm/60 (where unbalance
+// excites a forward whirl). Throws InvalidArgument without at least two speeds.
+plot::Figure campbell_figure(const BeamStudy& study, const std::string& title);
 
 }  // namespace toolpoint

@@ -40,6 +40,15 @@ struct PredictOptions {
   // interface for the prediction itself too (its FRF and modes: the band's nominal). None: no band.
   std::optional<JointFile> uncertain_joint;
   UncertaintyOptions band;  // the band's samples, seed, levels and threads (its progress: the study's)
+  // The spindle's speed [rpm], ≥ 0 (docs/spindle-at-speed.md): > 0, or bearings that differ in x
+  // and y, give the tool point in two planes (Prediction::two_plane); the FRF and the modes are
+  // then its x–x part. The tool point only, without uncertain_joint; plausibility as
+  // plausible::kSpinSpeedRpm (below 1000 rpm a warning: rad/s?).
+  double speed_rpm = 0.0;
+  // Bearings with speed tables (Bearing::speed_table) take their values at speed_rpm (at_speed();
+  // at 0 rpm too, whose row the table must then hold); a speed outside a table is refused unless
+  // this is set (then the end rows' line is extended).
+  bool extrapolate_bearings = false;
   // Throws InvalidArgument naming `PredictOptions::<field>`.
   void check() const;
 };
@@ -50,7 +59,15 @@ struct Prediction {
   std::vector<Peak> modes;            // peaks of |H|, each refined on the model between its grid neighbours
   std::optional<FrfBand> band;        // with options.uncertain_joint: the tool point FRF's quantiles on the grid
   std::vector<std::string> warnings;  // the model's (AssemblyModel::warnings)
+  double speed_rpm = 0.0;             // options.speed_rpm
+  // At speed or with anisotropic bearings: the tool point's 4×4 block on (w_x, ψ_x, w_y, ψ_y) on
+  // the grid (AssemblyModel::tool_point_two_plane); empty otherwise.
+  BlockSeries4 two_plane;
 };
+
+// The translational part [[H_xx, H_xy], [H_yx, H_yy]] [m/N] of each two-plane block, as CSV text:
+// frequency_hz and the real and imaginary parts of the four (the cross receptances' file).
+std::string cross_receptance_csv(const BlockSeries4& series);
 
 // The prediction on `assembly.grid`, through AssemblyModel's sweeps (SIMD lanes where available;
 // the same values as one frequency at a time up to rounding). Progress is reported per block of

@@ -1,0 +1,294 @@
+// The assembly at speed in two planes (AssemblyModel::tool_point_two_plane, Chain::point_two_plane;
+// docs/reference.md §10): reductions to today's single-plane model, two algebraic routes against
+// each other, and a spinning shaft on anisotropic bearings against the finite-element rotor of
+// tests/spin_test.cpp's kind (real x, y coordinates, gyroscopic matrix, springs at nodes).
+// Units SI, frequencies in Hz.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include "support/fe_rotor.hpp"
+#include "toolpoint/assembly.hpp"
+#include "toolpoint/assembly_file.hpp"
+#include "toolpoint/error.hpp"
+#include "toolpoint/io.hpp"
+#include "toolpoint/studies/predict.hpp"
+
+namespace {
+
+using toolpoint::Block4;
+using toolpoint::Complex;
+
+constexpr double kPi = std::numbers::pi;
+
+toolpoint::Assembly example() {
+  return toolpoint::load_assembly(std::string(TOOLPOINT_SOURCE_DIR) + "/examples/bt40_shrinkfit_16mm.toml").assembly;
+}
+
+double spin_of(double rpm) { return rpm * 2.0 * kPi / 60.0; }
+
+// The example's file with `lines` added to its first [[spindle.bearing]] table.
+std::string example_with_bearing_lines(const std::string& lines) {
+  std::string text = toolpoint::read_text_file(std::string(TOOLPOINT_SOURCE_DIR) + "/examples/bt40_shrinkfit_16mm.toml");
+  const std::size_t at = text.find("\n[[spindle.bearing]]");  // the first table, not the comment
+  text.insert(text.find('\n', at + 1) + 1, lines);
+  return text;
+}
+
+// The InputError message of parsing `text` as "bad.toml" (empty if it parses).
+std::string parse_error(const std::string& text) {
+  try {
+    toolpoint::parse_assembly(text, "bad.toml");
+  } catch (const toolpoint::InputError& e) {
+    return e.what();
+  }
+  return {};
+}
+
+std::vector<double> grid() {
+  std::vector<double> f;
+  for (double x = 50.0; x <= 5000.0; x += 37.0) f.push_back(x);
+  return f;
+}
+
+}  // namespace
+
+// Standing and isotropic: the two-plane block is today's tool point in each plane, bit for bit
+// (1e-12 asked), and the cross blocks are exactly zero, over the grid and per frequency.
+TEST(SpinAssembly, StandstillIsotropicIsTodaysToolPoint) {
+  const toolpoint::AssemblyModel m(example());
+  ASSERT_TRUE(m.isotropic());
+  const std::vector<double> f = grid();
+  const toolpoint::BlockSeries today = m.tool_point(f);
+  const toolpoint::BlockSeries4 two = m.tool_point_two_plane(f, 0.0);
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    EXPECT_LE((two.blocks[i].topLeftCorner<2, 2>() - today.blocks[i]).norm(), 1e-12 * today.blocks[i].norm());
+    EXPECT_LE((two.blocks[i].bottomRightCorner<2, 2>() - today.blocks[i]).norm(), 1e-12 * today.blocks[i].norm());
+    EXPECT_EQ((two.blocks[i].topRightCorner<2, 2>().norm()), 0.0);
+    EXPECT_EQ((two.blocks[i].bottomLeftCorner<2, 2>().norm()), 0.0);
+  }
+  const Block4 one = m.tool_point_two_plane(1234.0, 0.0);
+  EXPECT_LE((one.topLeftCorner<2, 2>() - m.tool_point(1234.0)).norm(), 1e-12 * one.norm());
+}
+
+// Spinning, isotropic: the grid's SIMD lanes (per whirl) against the per-frequency functions
+// (rounding only: 1e-9 of the block), and the whirl-decoupled route against the general 4×4
+// route (bearings made anisotropic by 1e-10 in k_y: the 4×4 walk through the spindle, another
+// algebra; agreement to 1e-7 of the block, the perturbation's own effect being below 1e-9).
+// The cross receptance is skew (H_yx = −H_xy) and not zero.
+TEST(SpinAssembly, SpinningRoutesAgree) {
+  const toolpoint::Assembly a = example();
+  const toolpoint::AssemblyModel m(a);
+  const double spin = spin_of(24000.0);
+  const std::vector<double> f = grid();
+  const toolpoint::BlockSeries4 lanes = m.tool_point_two_plane(f, spin);
+  toolpoint::Assembly b = a;
+  for (toolpoint::Bearing& x : b.spindle.bearings) x.stiffness_y = x.stiffness * (1.0 + 1e-10);
+  const toolpoint::AssemblyModel mb(b);
+  ASSERT_FALSE(mb.isotropic());
+  double largest_cross = 0.0;
+  for (std::size_t i = 0; i < f.size(); i += 7) {
+    const Block4 one = m.tool_point_two_plane(f[i], spin);
+    EXPECT_LE((lanes.blocks[i] - one).norm(), 1e-9 * one.norm()) << f[i];
+    const Block4 general = mb.tool_point_two_plane(f[i], spin);
+    EXPECT_LE((general - one).norm(), 1e-7 * one.norm()) << f[i];
+    EXPECT_LE(std::abs(one(2, 0) + one(0, 2)), 1e-12 * one.norm());
+    largest_cross = std::max(largest_cross, std::abs(one(0, 2)) / one.norm());
+  }
+  EXPECT_GT(largest_cross, 1e-6);
+}
+
+// Standing with anisotropic bearings: the planes do not couple, so xx is the single-plane model
+// with the bearings' x values and yy with their y values (another assembly, computed by today's
+// code), to 1e-10 of the block (4×4 LU against 2×2 inverses), and xy = 0.
+TEST(SpinAssembly, StandstillAnisotropicIsTwoSinglePlaneModels) {
+  toolpoint::Assembly a = example();
+  for (toolpoint::Bearing& x : a.spindle.bearings) {
+    x.stiffness_y = 0.6 * x.stiffness;
+    x.damping_y = 1.5 * x.damping;
+  }
+  toolpoint::Assembly y = a;
+  for (toolpoint::Bearing& x : y.spindle.bearings) {
+    x.stiffness = *x.stiffness_y;
+    x.damping = *x.damping_y;
+  }
+  const toolpoint::AssemblyModel mx(a), my(y);
+  for (double f : {200.0, 900.0, 2500.0, 4100.0}) {
+    const Block4 two = mx.tool_point_two_plane(f, 0.0);
+    const toolpoint::Block bx = mx.tool_point(f), by = my.tool_point(f);
+    EXPECT_LE((two.topLeftCorner<2, 2>() - bx).norm(), 1e-10 * bx.norm()) << f;
+    EXPECT_LE((two.bottomRightCorner<2, 2>() - by).norm(), 1e-10 * by.norm()) << f;
+    EXPECT_LE((two.topRightCorner<2, 2>().norm()), 1e-13 * two.norm()) << f;
+    EXPECT_GT((bx - by).norm(), 1e-3 * bx.norm()) << f;  // the planes do differ
+  }
+  EXPECT_THROW(mx.tool_point(500.0, spin_of(10000.0), toolpoint::Whirl::Forward), toolpoint::InvalidArgument);
+}
+
+// The oracle: a steel shaft (d = 50 mm, L = 300 mm, η = 0.01) spinning at 30 000 rpm on two
+// anisotropic bearings (k_x = 2e8, k_y = 8e7 N/m, c_x = 800, c_y = 1500 N·s/m, at 100 and 250 mm
+// from end 1), its end-1 point block in both planes by Chain::point_two_plane against an FE rotor
+// (IIE Timoshenko elements in x and y with the gyroscopic matrix and the bearings as springs and
+// dampers on the nodes' w_x, w_y): 60 and 120 elements extrapolated (h²), good to ~1e-5 of the
+// block here; 1e-4 asked. The cross terms come from the spin and the anisotropy together.
+TEST(SpinAssembly, AnisotropicSpinningShaftAgreesWithTheFiniteElementRotor) {
+  const double L = 0.3, d = 0.05, eta = 0.01, spin = spin_of(30000.0);
+  const toolpoint::Material steel{"steel", 2.0e11, 0.3, 0.0, 7800.0, eta};
+  const toolpoint::SectionProperties p = toolpoint::Segment::tube(L, d, 0.0, steel).properties();
+  const double at[2] = {0.1, 0.25}, kx = 2e8, ky = 8e7, cx = 800.0, cy = 1500.0;
+  std::vector<toolpoint::Segment> pieces = {toolpoint::Segment::tube(0.1, d, 0.0, steel),
+                                            toolpoint::Segment::tube(0.15, d, 0.0, steel),
+                                            toolpoint::Segment::tube(0.05, d, 0.0, steel)};
+  toolpoint::Chain chain(pieces, toolpoint::ReceptanceMethod::Exact, 0);
+  for (std::size_t k : {1u, 2u}) {
+    toolpoint::Bearing b{"b", at[k - 1], kx, cx, 0.0, 0.0};
+    b.stiffness_y = ky;
+    b.damping_y = cy;
+    chain.add_ground(k, b);
+  }
+  for (double f : {400.0, 1800.0, 3500.0}) {
+    const double om = 2.0 * kPi * f;
+    auto fe = [&](int n) {
+      const double l = L / n;
+      const fe_oracle::FeRotor r = fe_oracle::fe_rotor(p, L, n);
+      const int N = 4 * r.nodes;
+      Eigen::MatrixXcd D = fe_oracle::dynamic_stiffness(r, om, spin);
+      for (double a : at) {  // FE x from end 2: x = L − distance from end 1
+        const int node = static_cast<int>(std::lround((L - a) / l));
+        D(4 * node, 4 * node) += Complex(kx, om * cx);
+        D(4 * node + 2, 4 * node + 2) += Complex(ky, om * cy);
+      }
+      const int t = 4 * n;
+      Eigen::MatrixXcd F = Eigen::MatrixXcd::Zero(N, 4);
+      for (int j = 0; j < 4; ++j) F(t + j, j) = 1.0;
+      return Block4(D.partialPivLu().solve(F).middleRows(t, 4));
+    };
+    const Block4 oracle = (4.0 * fe(120) - fe(60)) / 3.0;
+    const Block4 got = chain.point_two_plane(f, spin);
+    EXPECT_LT((got - oracle).norm(), 1e-4 * oracle.norm()) << f << " Hz";
+    EXPECT_LT(std::abs(got(0, 2) - oracle(0, 2)), 1e-3 * std::abs(oracle(0, 2))) << f << " Hz";
+  }
+}
+
+// The prediction at speed is the two-plane model's x–x part (the same call, 1e-14), with the
+// speed echoed; at speed 0 with isotropic bearings it is today's prediction (the same path).
+// Bad speeds and the holder tip at speed are refused naming PredictOptions' fields.
+TEST(SpinAssembly, PredictionAtSpeed) {
+  toolpoint::Assembly a = example();
+  a.grid = toolpoint::FrequencyGrid{100.0, 3000.0, 10.0};
+  toolpoint::PredictOptions o;
+  o.speed_rpm = 18000.0;
+  const toolpoint::Prediction p = toolpoint::run_prediction(a, o);
+  const toolpoint::AssemblyModel m(a);
+  const toolpoint::BlockSeries4 two = m.tool_point_two_plane(a.grid.values(), spin_of(18000.0));
+  ASSERT_EQ(p.frf.size(), two.size());
+  for (std::size_t i = 0; i < two.size(); ++i)
+    EXPECT_LE((p.frf.blocks[i] - two.blocks[i].topLeftCorner<2, 2>()).norm(), 1e-14 * two.blocks[i].norm());
+  EXPECT_EQ(p.speed_rpm, 18000.0);
+  EXPECT_FALSE(p.modes.empty());
+  const std::string csv = toolpoint::cross_receptance_csv(p.two_plane);
+  EXPECT_EQ(csv.rfind("frequency_hz,Hxx_re,Hxx_im,Hxy_re,Hxy_im,Hyx_re,Hyx_im,Hyy_re,Hyy_im\n", 0), 0u);
+  const toolpoint::Prediction still = toolpoint::run_prediction(a, {});
+  const toolpoint::BlockSeries today = m.tool_point(a.grid.values());
+  for (std::size_t i = 0; i < today.size(); ++i) EXPECT_EQ(still.frf.blocks[i], today.blocks[i]);
+  EXPECT_EQ(still.two_plane.size(), 0u);
+  auto message = [&](const toolpoint::PredictOptions& x) {
+    try {
+      toolpoint::run_prediction(a, x);
+    } catch (const toolpoint::InvalidArgument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  o.speed_rpm = -5.0;
+  EXPECT_NE(message(o).find("PredictOptions::speed_rpm"), std::string::npos);
+  o.speed_rpm = 12000.0;
+  o.receptance = toolpoint::PredictedFrf::HolderTip;
+  EXPECT_NE(message(o).find("PredictOptions::speed_rpm"), std::string::npos);
+}
+
+// The assembly file: stiffness_y and damping_y per bearing, read, checked (negative refused
+// naming the key and the line), and an anisotropic file predicts in two planes even at standstill.
+TEST(SpinAssembly, AnisotropicBearingsInTheFile) {
+  const std::string good = example_with_bearing_lines("stiffness_y = 1.5e8\ndamping_y = 900\n");
+  const toolpoint::LoadedAssembly la = toolpoint::parse_assembly(good, "aniso.toml");
+  ASSERT_TRUE(la.assembly.spindle.bearings[0].stiffness_y.has_value());
+  EXPECT_EQ(*la.assembly.spindle.bearings[0].stiffness_y, 1.5e8);
+  EXPECT_EQ(*la.assembly.spindle.bearings[0].damping_y, 900.0);
+  EXPECT_FALSE(toolpoint::AssemblyModel(la.assembly).isotropic());
+  const std::string negative = parse_error(example_with_bearing_lines("stiffness_y = -1.5e8\n"));
+  EXPECT_NE(negative.find("stiffness_y"), std::string::npos) << negative;
+  EXPECT_NE(negative.find("bad.toml:"), std::string::npos) << negative;
+  toolpoint::Assembly a = la.assembly;
+  a.grid = toolpoint::FrequencyGrid{100.0, 2000.0, 50.0};
+  const toolpoint::Prediction p = toolpoint::run_prediction(a, {});
+  EXPECT_EQ(p.two_plane.size(), p.frf.size());
+}
+
+// Speed tables: linear between rows (the value at 10 000 rpm of rows 2e8 at 0 and 1e8 at 20 000
+// is 1.5e8, and the prediction is that of the constant 1.5e8 bearing, bit for bit); a table flat
+// in speed gives the standstill (no-table) prediction exactly; rows out of order, a negative
+// stiffness, a speed outside the table are refused naming the table; extrapolation when asked.
+TEST(SpinAssembly, BearingSpeedTables) {
+  toolpoint::Assembly a = example();
+  a.grid = toolpoint::FrequencyGrid{200.0, 3000.0, 20.0};
+  toolpoint::Assembly flat = a, sloped = a, constant = a;
+  for (toolpoint::Bearing& b : flat.spindle.bearings)
+    b.speed_table = {{0.0, b.stiffness, b.damping}, {30000.0, b.stiffness, b.damping}};
+  sloped.spindle.bearings[0].speed_table = {{0.0, 2e8, 500.0}, {20000.0, 1e8, 700.0}};
+  constant.spindle.bearings[0].stiffness = 1.5e8;
+  constant.spindle.bearings[0].damping = 600.0;
+  const toolpoint::Assembly at = toolpoint::at_speed(sloped, 10000.0);
+  EXPECT_EQ(at.spindle.bearings[0].stiffness, 1.5e8);
+  EXPECT_EQ(at.spindle.bearings[0].damping, 600.0);
+  toolpoint::PredictOptions o;
+  for (double rpm : {0.0, 12000.0}) {
+    o.speed_rpm = rpm;
+    const toolpoint::Prediction pf = toolpoint::run_prediction(flat, o), p0 = toolpoint::run_prediction(a, o);
+    for (std::size_t i = 0; i < p0.frf.size(); ++i) EXPECT_EQ(pf.frf.blocks[i], p0.frf.blocks[i]) << rpm;
+  }
+  o.speed_rpm = 10000.0;
+  const toolpoint::Prediction ps = toolpoint::run_prediction(sloped, o), pc = toolpoint::run_prediction(constant, o);
+  for (std::size_t i = 0; i < pc.frf.size(); ++i) EXPECT_EQ(ps.frf.blocks[i], pc.frf.blocks[i]);
+
+  auto message = [](const auto& call) {
+    try {
+      call();
+    } catch (const toolpoint::InvalidArgument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  toolpoint::Assembly bad = sloped;
+  bad.spindle.bearings[0].speed_table = {{0.0, 2e8, 500.0}, {0.0, 1e8, 700.0}};
+  EXPECT_NE(message([&] { toolpoint::at_speed(bad, 0.0); }).find("speeds must increase"), std::string::npos);
+  bad.spindle.bearings[0].speed_table = {{0.0, 2e8, 500.0}, {20000.0, -1e8, 700.0}};
+  const std::string negative = message([&] { toolpoint::at_speed(bad, 0.0); });
+  EXPECT_NE(negative.find("speed_table row 2 (20000 rpm): stiffness = -"), std::string::npos) << negative;
+  EXPECT_NE(negative.find("N/m must be ≥ 0"), std::string::npos) << negative;
+  o.speed_rpm = 30000.0;
+  const std::string outside = message([&] { toolpoint::run_prediction(sloped, o); });
+  EXPECT_NE(outside.find("PredictOptions::speed_rpm"), std::string::npos) << outside;
+  EXPECT_NE(outside.find("speed_table covers 0–20000 rpm; 30000 rpm lies outside"), std::string::npos) << outside;
+  const toolpoint::Assembly ex = toolpoint::at_speed(sloped, 30000.0, true);
+  EXPECT_DOUBLE_EQ(ex.spindle.bearings[0].stiffness, 0.5e8);
+  EXPECT_NE(message([&] { toolpoint::at_speed(sloped, 50000.0, true); }).find("negative"), std::string::npos);
+}
+
+// The file's table: speed_rpm, stiffness_at_speed, damping_at_speed per bearing; lengths that
+// differ are refused at the line, naming the keys.
+TEST(SpinAssembly, BearingSpeedTablesInTheFile) {
+  const std::string good = example_with_bearing_lines(
+      "speed_rpm = [0, 12000, 24000]\nstiffness_at_speed = [2.0e8, 1.8e8, 1.5e8]\ndamping_at_speed = [800, 700, 600]\n");
+  const toolpoint::LoadedAssembly la = toolpoint::parse_assembly(good, "table.toml");
+  ASSERT_EQ(la.assembly.spindle.bearings[0].speed_table.size(), 3u);
+  EXPECT_EQ(la.assembly.spindle.bearings[0].speed_table[2].stiffness, 1.5e8);
+  EXPECT_EQ(la.assembly.spindle.bearings[0].speed_table[1].damping, 700.0);
+  EXPECT_TRUE(toolpoint::has_speed_tables(la.assembly));
+  const std::string lengths = parse_error(
+      example_with_bearing_lines("speed_rpm = [0, 12000, 24000]\nstiffness_at_speed = [2.0e8, 1.8e8]\n"));
+  EXPECT_NE(lengths.find("speed_rpm has 3 entries, stiffness_at_speed 2"), std::string::npos) << lengths;
+  EXPECT_NE(lengths.find("bad.toml:"), std::string::npos) << lengths;
+}
