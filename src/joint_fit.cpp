@@ -873,7 +873,6 @@ JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<Join
       const std::vector<VectorXd> good = replicates(kLinearisationCheck, {});
       if (good.size() >= kLinearisationCheck / 2) {
         const MatrixXd saved = cov_q;
-        const VectorXd saved_estimate = estimate;
         MatrixXd c = from_replicates(good);
         std::vector<std::string> off;
         double worst = 1.0;
@@ -883,9 +882,13 @@ JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<Join
           worst = std::max(worst, ratio);
         }
         if (off.empty()) {
-          cov_q = saved;
-          estimate = saved_estimate;
-          bias.setZero();
+          // The spread agrees with the linearisation, but the bias (second order in B11's noise)
+          // is no smaller for it: 0.6–0.8 standard errors on the example's k_θm, c_θm at 5 % noise
+          // cut their coverage to 86 %. The replicates' bias is kept; its Monte Carlo error (the
+          // spread over √N) adds to the estimate's variance.
+          const double n_good = static_cast<double>(good.size());
+          cov_q = saved * (1.0 + 1.0 / n_good);
+          out.method_description += fmt::format("; bias-corrected by {} bootstrap replicates (their spread agrees)", good.size());
         } else {
           out.bootstrap_samples = static_cast<int>(good.size());
           out.method_description += fmt::format(

@@ -313,7 +313,10 @@ TEST_F(Cli, IdentifyOnTheIssuesNoisyDataPasses) {
   ok("noise sht.csv shtn.csv --sigma 0.05 --seed 2014");
   const Run r = ok("identify --assembly '" + kExample + "' --sh shn.csv --sht shtn.csv --joint holder-tool --bootstrap 0");
   EXPECT_NE(r.out.find("verdict: pass"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("in no mode's window: the noise makes such peaks"), std::string::npos) << r.out;
+  // The weak 1.6 kHz mode (4 % above its valley, noise-free) is a mode of the model with a window
+  // of its own: the data's peak there is it, not resolved, never paired with another mode.
+  EXPECT_NE(r.out.find("not resolved"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("that no mode of the identified model explains"), std::string::npos) << r.out;
 }
 
 // precision: the expected half-widths before the tap test. Their dependence on the averages is the

@@ -7,7 +7,9 @@
 //
 // Modes are paired by what they are, never across modes. The modes are those of the forward model
 // in a noise-free world: the identified joint with B11 smoothed (the 7-point cubic of noise.hpp's
-// estimate), G_ref = G11(θ̂; B̄11). Each mode is sought only inside its window: ± twice its
+// estimate), G_ref = G11(θ̂; B̄11) — weak ones included (peaks down to a fifth of
+// `min_prominence` that stand clear of the ripple B11's noise leaves in G_ref: a mode the model
+// has explains data that show it, however weak). Each mode is sought only inside its window: ± twice its
 // half-power half-width (at least 3 grid steps), never beyond the valleys that separate it from
 // the neighbouring modes of G_ref. A window where the data show no peak of the required prominence
 // holds a mode the data do not resolve: reported, no reason to fail — unless the noise would
@@ -48,13 +50,13 @@ namespace toolpoint {
 struct ForwardCheckOptions {
   std::optional<SavgolOptions> smoothing;  // applied to measured and predicted alike; default {15, 3}
   double min_prominence = 0.1;             // a peak counts when it stands this fraction above its valleys (peaks.hpp)
-  int replicates = 200;                    // Monte Carlo replicates of the noise (≥ 50; the rank test needs 1/(1+R) ≤ false_alarm/2)
-  double false_alarm = 0.01;               // P(fail) for data made by the identified model with the stated noise
-  double frequency_tolerance = 0.01;       // relative natural-frequency error that matters
-  double peak_tolerance = 0.15;            // relative peak-height error that matters
-  std::uint64_t seed = 1;                  // replicate r draws from stream_seed(seed, r)
-  bool shared_calibration = false;         // B11 and G11 share one calibration factor (one sensor chain)
-  ParallelOptions parallel;                // replicates on these threads (results identical for any count)
+  int replicates = 200;       // Monte Carlo replicates of the noise (≥ 50; the rank test needs 1/(1+R) ≤ false_alarm/2)
+  double false_alarm = 0.01;  // P(fail) for data made by the identified model with the stated noise
+  double frequency_tolerance = 0.01;  // relative natural-frequency error that matters
+  double peak_tolerance = 0.15;       // relative peak-height error that matters
+  std::uint64_t seed = 1;             // replicate r draws from stream_seed(seed, r)
+  bool shared_calibration = false;    // B11 and G11 share one calibration factor (one sensor chain)
+  ParallelOptions parallel;           // replicates on these threads (results identical for any count)
   // Throws InvalidArgument naming `ForwardCheckOptions::<field>`.
   void check() const;
 };
@@ -69,8 +71,8 @@ enum class ModeAgreement {
 const char* to_string(ModeAgreement a);  // "agrees", "within tolerance", "differs", "not resolved", "missing"
 
 struct ModeCheck {
-  double model_hz = 0.0;                      // the mode of G_ref
-  double lo_hz = 0.0, hi_hz = 0.0;            // its window
+  double model_hz = 0.0;                         // the mode of G_ref
+  double lo_hz = 0.0, hi_hz = 0.0;               // its window
   double measured_hz = 0.0, predicted_hz = 0.0;  // NaN when not found
   double measured_peak = 0.0, predicted_peak = 0.0;
   double frequency_error = 0.0, magnitude_error = 0.0;  // (predicted − measured)/measured
@@ -90,12 +92,12 @@ struct ExtraPeak {
 };
 
 struct ForwardCheck {
-  std::string label;              // the set-up
-  std::vector<ModeCheck> modes;   // ascending in frequency
-  std::vector<ExtraPeak> extra;   // ascending in frequency
-  int replicates = 0;             // 0 for exact data
+  std::string label;             // the set-up
+  std::vector<ModeCheck> modes;  // ascending in frequency
+  std::vector<ExtraPeak> extra;  // ascending in frequency
+  int replicates = 0;            // 0 for exact data
   double false_alarm = 0.0;
-  double z = 0.0;                 // the z-tests' limit (standard deviations)
+  double z = 0.0;                     // the z-tests' limit (standard deviations)
   std::vector<std::string> failures;  // why it fails (empty: it passes)
   std::vector<std::string> notes;     // differences worth knowing that do not fail it
   bool passed() const { return failures.empty(); }

@@ -46,7 +46,10 @@
 //     scatter more than the noise models explain (ratio above 1.1). With B11 measured, checked by
 //     kLinearisationCheck bootstrap replicates: where B11's noise acts nonlinearly (errors in
 //     variables; an additive floor makes B11 noisier than its value away from its peaks) their
-//     spread exceeds the linearised error, and the result becomes the bootstrap's on them.
+//     spread exceeds the linearised error, and the result becomes the bootstrap's on them;
+//     otherwise the interval stays the linearised one, centred on the estimate corrected by the
+//     replicates' bias (as the bootstrap's below), its variance × (1 + 1/N) for the bias's own
+//     Monte Carlo error.
 //   Bootstrap (default): a parametric bootstrap on the fitted model (Efron & Tibshirani 1993,
 //     ch. 6 and 10). In each replicate the "truth" is θ̂ and the smoothed measured B11; data are
 //     drawn from the noise models (a fresh B11 and G11 = model(θ̂) + noise, G11 filtered if the
