@@ -415,6 +415,20 @@ std::vector<std::string> Assembly::warnings() const {
   std::vector<std::string> w;
   for (const Joint* j : {&spindle_holder, &holder_tool})
     if (!j->rigid) w.insert(w.end(), j->warnings.begin(), j->warnings.end());
+  for (std::size_t i = 0; i < spindle.bearings.size(); ++i) {
+    const Bearing& b = spindle.bearings[i];
+    const std::string who = b.name.empty() ? fmt::format("spindle.bearing[{}]", i + 1) : b.name;
+    if (!b.speed_table.empty())
+      w.push_back(
+          fmt::format("{}: its speed table is read only at a stated speed (at_speed); the standstill model, "
+                      "and lobes and plans made from it, use its constant stiffness {:.4g} N/m and damping {:.4g} N·s/m",
+                      who, b.stiffness, b.damping));
+    if (!b.isotropic())
+      w.push_back(
+          fmt::format("{}: its y values are read only by the two-plane model (tool_point_two_plane); the "
+                      "single-plane model, and lobes and plans made from it, use the x values in both directions",
+                      who));
+  }
   return w;
 }
 

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <vector>
@@ -291,4 +292,24 @@ TEST(SpinAssembly, BearingSpeedTablesInTheFile) {
       example_with_bearing_lines("speed_rpm = [0, 12000, 24000]\nstiffness_at_speed = [2.0e8, 1.8e8]\n"));
   EXPECT_NE(lengths.find("speed_rpm has 3 entries, stiffness_at_speed 2"), std::string::npos) << lengths;
   EXPECT_NE(lengths.find("bad.toml:"), std::string::npos) << lengths;
+}
+
+// No silent nonsense: the standstill single-plane model (and the lobes and plans made from it)
+// does not read a bearing's speed table or its y values; the assembly's warnings say so, naming
+// the bearing and the constants used, and a plain assembly has no such warning.
+TEST(SpinAssembly, StandstillModelSaysWhatItDoesNotRead) {
+  toolpoint::Assembly a = example();
+  const auto count = [](const std::vector<std::string>& w, const std::string& what) {
+    return std::count_if(w.begin(), w.end(), [&](const std::string& s) { return s.find(what) != std::string::npos; });
+  };
+  EXPECT_EQ(count(a.warnings(), "speed table"), 0);
+  EXPECT_EQ(count(a.warnings(), "y values"), 0);
+  toolpoint::Assembly tabled = a, aniso = a;
+  tabled.spindle.bearings[0].speed_table = {{0.0, 2e8, 500.0}, {20000.0, 1e8, 700.0}};
+  aniso.spindle.bearings[1].stiffness_y = 0.5 * aniso.spindle.bearings[1].stiffness;
+  EXPECT_EQ(count(tabled.warnings(), "speed table is read only at a stated speed"), 1);
+  EXPECT_EQ(count(aniso.warnings(), "y values are read only by the two-plane model"), 1);
+  EXPECT_EQ(count(toolpoint::AssemblyModel(tabled).warnings(), "speed table"), 1);
+  // at_speed resolves the table: nothing left unread.
+  EXPECT_EQ(count(toolpoint::at_speed(tabled, 10000.0).warnings(), "speed table"), 0);
 }

@@ -102,7 +102,9 @@ struct Assembly {
   // longer than holder + overhang allows, a shank wider than the bore, non-positive sizes, …).
   void check() const;
   // What its parts' sources say against them: its joints' warnings (Joint::warnings), spindle–holder
-  // first.
+  // first; then, per bearing, data the standstill single-plane model (AssemblyModel::tool_point,
+  // hence lobes and plans) does not use: a speed table (read only at a stated speed, at_speed) and
+  // y values (read only by the two-plane model), so that neither is ignored without a word.
   std::vector<std::string> warnings() const;
 };
 
