@@ -541,7 +541,7 @@ BlockSeries noise_free_estimate(const BlockSeries& data, const BlockNoise& noise
   if (data.size() < 7)
     throw InputError(fmt::format("{}: {} frequencies are too few for measured data (need at least 7)", what, data.size()),
                      "fit a wider band");
-  return savgol_filter(data, SavgolOptions{7, 3}, what).series;
+  return savgol_filter(data, kNoiseFreeSmoothing, what).series;
 }
 
 std::uint64_t stream_seed(std::uint64_t seed, std::uint64_t stream) {

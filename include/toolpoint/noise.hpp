@@ -114,10 +114,14 @@ struct BlockNoise {
   std::string summary() const;
 };
 
+// The short smoother of measured data: the 7-point cubic follows resonance peaks a few points
+// wide. The noise estimate takes residuals about it; noise_free_estimate is it.
+inline constexpr SavgolOptions kNoiseFreeSmoothing{7, 3};
+
 struct NoiseEstimateOptions {
-  SavgolOptions local{7, 3};  // the local polynomial the residuals are taken about
-  int window = 201;           // frequency points over which C is averaged (odd, ≥ 21)
-  bool floor = true;          // estimate an additive floor beside the multiplicative noise
+  SavgolOptions local = kNoiseFreeSmoothing;  // the local polynomial the residuals are taken about
+  int window = 201;                           // frequency points over which C is averaged (odd, ≥ 21)
+  bool floor = true;                          // estimate an additive floor beside the multiplicative noise
   // Throws InvalidArgument naming NoiseEstimateOptions::local or NoiseEstimateOptions::window.
   void check() const;
 };
