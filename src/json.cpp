@@ -414,7 +414,14 @@ void to_json(nlohmann::json& j, const CuttingConditions& c) {
   j = {{"teeth", c.teeth},
        {"tangential_coefficient", c.tangential_coefficient},
        {"radial_ratio", c.radial_ratio},
-       {"engagement", c.engagement}};
+       {"engagement", c.engagement},
+       {"pitch_rad", c.pitch_rad},
+       {"helix_rad", c.helix_rad},
+       {"helix_slices", c.helix_slices},
+       {"runout_m", c.runout_m},
+       {"feed_per_tooth_m", c.feed_per_tooth_m},
+       {"diameter_m", c.diameter_m},
+       {"process_damping_n_per_m", c.process_damping_n_per_m}};
 }
 
 void to_json(nlohmann::json& j, const SpeedRange& s) {

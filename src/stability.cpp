@@ -61,8 +61,7 @@ static void check_helix(const CuttingConditions& c) {
                                         c.helix_rad[j] * 180.0 / kPi),
                             c.helix_rad[j] < 0.0 ? "the helix angle is measured from the tool axis and is ≥ 0 (the "
                                                    "hand of the helix does not enter the model)"
-                                                 : "end mills have helix angles of 0…60°; 90° would be a flute round the "
-                                                   "tool (an angle in radians given as degrees?)");
+                                                 : "end mills have helix angles of 0…60° (0…1.05 rad): check the unit");
   if (c.helical() && !(c.diameter_m > 0.0))
     throw InvalidArgument("CuttingConditions::diameter_m must be given with a helix (the lag at height z is z·tan β/R)");
   if (c.helix_slices < 0 || c.helix_slices > 200)

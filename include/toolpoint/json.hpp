@@ -178,7 +178,8 @@ void to_json(nlohmann::json& j, const ModalModel& m);
 void to_json(nlohmann::json& j, const ModalFitSummary& s);
 // {"entry_rad", "exit_rad"}
 void to_json(nlohmann::json& j, const Engagement& e);
-// {"teeth", "tangential_coefficient", "radial_ratio", "engagement"}
+// {"teeth", "tangential_coefficient", "radial_ratio", "engagement", "pitch_rad", "helix_rad", "helix_slices",
+//  "runout_m", "feed_per_tooth_m", "diameter_m", "process_damping_n_per_m"} (empty lists, 0: not used)
 void to_json(nlohmann::json& j, const CuttingConditions& c);
 // {"min_rpm", "max_rpm", "points"}
 void to_json(nlohmann::json& j, const SpeedRange& s);
