@@ -892,6 +892,8 @@ struct HelixCut {
     const double width = kappa[ju] * height, hi0 = phi - kappa[ju] * height * l, lo0 = hi0 - width;
     const double turn = std::floor(lo0 / (2.0 * kPi)) * 2.0 * kPi;
     const double lo = lo0 - turn, hi = hi0 - turn;  // lo in [0, 2π)
+    // Most of the time a tooth is out of the cut (low immersion): no piece to visit.
+    if ((hi < e.entry_rad || lo > e.exit_rad) && hi < e.entry_rad + 2.0 * kPi) return;
     const ToothGeometry& g = slice[static_cast<std::size_t>(l)];
     auto cut_at = [&](double psi) {
       psi = std::fmod(psi, 2.0 * kPi);

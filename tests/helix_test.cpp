@@ -26,10 +26,7 @@ using namespace toolpoint;
 
 namespace {
 
-constexpr double kDeg = kPi / 180.0;
-const Mode kBench{0.03993, 0.011, 922.0};  // docs/reference.md §7
-constexpr double kKt = 6e8, kKn = 2e8, kDiameter = 0.02;
-
+using namespace test::benchmark;
 using test::thrown_message;
 
 CuttingConditions cut(int teeth, std::vector<double> helix_deg, double immersion, MillingDirection dir) {
