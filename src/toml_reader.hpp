@@ -105,7 +105,9 @@ class Reader {
     for (const toml::node& e : *n->as_array()) {
       const auto i = e.as_integer();
       const auto f = e.as_floating_point();
-      if (!i && !f) fail(e, fmt::format("{} must be a list of numbers in {}", join(path, key), unit));
+      if (!i && !f)
+        fail(e, fmt::format("{} must be a list of numbers in {}", join(path, key), unit),
+             "write the bare numbers in SI units, e.g. [0.5, 0.6], without quotes or unit text");
       out.push_back(i ? static_cast<double>(i->get()) : f->get());
       if (!std::isfinite(out.back())) fail(e, fmt::format("{} holds {}, not a finite number", join(path, key), out.back()));
     }
