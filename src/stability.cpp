@@ -59,8 +59,8 @@ static void check_helix(const CuttingConditions& c) {
     if (!std::isfinite(c.helix_rad[j]) || c.helix_rad[j] < 0.0 || c.helix_rad[j] > kMaxHelixRad)
       throw InvalidArgument(fmt::format("CuttingConditions::helix_rad[{}] = {:.6g}° must lie in 0…80°", j,
                                         c.helix_rad[j] * 180.0 / kPi),
-                            c.helix_rad[j] < 0.0 ? "the helix angle is measured from the tool axis and is ≥ 0 (the "
-                                                   "hand of the helix does not enter the model)"
+                            c.helix_rad[j] < 0.0 ? "give the helix angle's size, ≥ 0: the edge lags the tip as the height "
+                                                   "grows (a right-hand helix on a clockwise cutter)"
                                                  : "end mills have helix angles of 0…60° (0…1.05 rad): check the unit");
   if (c.helical() && !(c.diameter_m > 0.0))
     throw InvalidArgument("CuttingConditions::diameter_m must be given with a helix (the lag at height z is z·tan β/R)");
