@@ -78,13 +78,16 @@ BENCHMARK(BM_Stability_Boundary)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)-
 // tool point FRF (`toolpoint modes`), 4 teeth, K_t 6e8 N/m², K_r 0.3, a/D 0.5 down-milling,
 // 200 speeds 2000–20 000 rpm, 1 % error target; argument: threads. Aim ≤ 1 s on one, ≤ 0.6 s on two.
 // With `pitch_deg`, the same cutter at that pitch.
-static void example_assembly_boundary(benchmark::State& state, const std::vector<double>& pitch_deg) {
+static void example_assembly_boundary(benchmark::State& state, const std::vector<double>& pitch_deg,
+                                      const std::vector<double>& helix_deg = {}) {
   const std::vector<Mode> modes = {{0.576061, 0.0117496, 916.596},
                                    {0.0674606, 0.0450853, 2592.11},
                                    {0.159563, 0.0405189, 3603.0},
                                    {0.196928, 0.035962, 4525.41}};
   CuttingConditions cut{4, 6e8, 0.3, engagement_from_immersion(0.5, MillingDirection::Down)};
   for (double p : pitch_deg) cut.pitch_rad.push_back(p * 3.14159265358979323846 / 180.0);
+  for (double b : helix_deg) cut.helix_rad.push_back(b * 3.14159265358979323846 / 180.0);
+  cut.diameter_m = 0.016;  // the example's 16 mm end mill (read only with a helix)
   BoundaryOptions o;
   o.speeds = {2000.0, 20000.0, 200};
   o.parallel.threads = static_cast<int>(state.range(0));
@@ -105,6 +108,16 @@ static void BM_Stability_ExampleAssemblyVariablePitchBoundary(benchmark::State& 
   example_assembly_boundary(state, {70.0, 110.0, 70.0, 110.0});
 }
 BENCHMARK(BM_Stability_ExampleAssemblyVariablePitchBoundary)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The same case with a 30° helix (the map rebuilt at every depth the search evaluates; tooth
+// period), and with a 30°/35° variable helix (a revolution, 8 axial slices, a delay per slice and
+// tooth); argument: threads.
+static void BM_Stability_ExampleAssemblyHelixBoundary(benchmark::State& state) { example_assembly_boundary(state, {}, {30.0}); }
+BENCHMARK(BM_Stability_ExampleAssemblyHelixBoundary)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+static void BM_Stability_ExampleAssemblyVariableHelixBoundary(benchmark::State& state) {
+  example_assembly_boundary(state, {}, {30.0, 35.0, 30.0, 35.0});
+}
+BENCHMARK(BM_Stability_ExampleAssemblyVariableHelixBoundary)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // One dominant multiplier of a large map: slotting (every step in the cut, no reduction), 2-DOF
 // symmetric, 160 steps: a 340-state map, by restarted Arnoldi.

@@ -414,7 +414,14 @@ void to_json(nlohmann::json& j, const CuttingConditions& c) {
   j = {{"teeth", c.teeth},
        {"tangential_coefficient", c.tangential_coefficient},
        {"radial_ratio", c.radial_ratio},
-       {"engagement", c.engagement}};
+       {"engagement", c.engagement},
+       {"pitch_rad", c.pitch_rad},
+       {"helix_rad", c.helix_rad},
+       {"helix_slices", c.helix_slices},
+       {"runout_m", c.runout_m},
+       {"feed_per_tooth_m", c.feed_per_tooth_m},
+       {"diameter_m", c.diameter_m},
+       {"process_damping_n_per_m", c.process_damping_n_per_m}};
 }
 
 void to_json(nlohmann::json& j, const SpeedRange& s) {
@@ -559,8 +566,13 @@ void to_json(nlohmann::json& j, const PlanarMode& m) {
 void to_json(nlohmann::json& j, const ToolDynamics& d) { j = {{"modes", d.modes}}; }
 
 void to_json(nlohmann::json& j, const Cutter& c) {
-  j = {{"teeth", c.teeth()},       {"diameter_m", c.diameter_m}, {"pitch_rad", c.pitch_rad},
-       {"helix_rad", c.helix_rad}, {"runout_m", c.runout_m},     {"flute_length_m", c.flute_length_m}};
+  j = {{"teeth", c.teeth()},
+       {"diameter_m", c.diameter_m},
+       {"pitch_rad", c.pitch_rad},
+       {"helix_rad", c.helix_rad},
+       {"tooth_helix_rad", c.tooth_helix_rad},
+       {"runout_m", c.runout_m},
+       {"flute_length_m", c.flute_length_m}};
 }
 
 void to_json(nlohmann::json& j, const ForceLaw& f) {
@@ -569,7 +581,8 @@ void to_json(nlohmann::json& j, const ForceLaw& f) {
        {"tangential_edge", f.tangential_edge},
        {"radial_edge", f.radial_edge},
        {"exponent", f.exponent},
-       {"reference_chip_m", f.reference_chip_m}};
+       {"reference_chip_m", f.reference_chip_m},
+       {"process_damping_n_per_m", f.process_damping_n_per_m}};
 }
 
 void to_json(nlohmann::json& j, const MillingCut& c) {

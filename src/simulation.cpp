@@ -201,11 +201,17 @@ ToolDynamics tool_dynamics(const ModalModel& model) {
   return d;
 }
 
+double Cutter::helix_of(int tooth) const {
+  return tooth_helix_rad.empty() ? helix_rad : tooth_helix_rad[static_cast<std::size_t>(tooth)];
+}
+
 bool Cutter::uniform() const {
   for (double p : pitch_rad)
     if (std::abs(p - kTwoPi / teeth()) > 1e-12) return false;
   for (double r : runout_m)
     if (r != 0.0) return false;
+  for (double b : tooth_helix_rad)
+    if (b != tooth_helix_rad.front()) return false;
   return true;
 }
 
@@ -227,6 +233,12 @@ void Cutter::check() const {
                           "give the angle from each tooth to the next, all of them, summing to 360°");
   if (!finite(helix_rad) || helix_rad < 0.0 || helix_rad > 80.0 * kPi / 180.0)
     throw InvalidArgument(fmt::format("Cutter::helix_rad = {} rad must lie in [0, 80°]", helix_rad));
+  if (!tooth_helix_rad.empty() && tooth_helix_rad.size() != pitch_rad.size())
+    throw InvalidArgument(fmt::format("Cutter::tooth_helix_rad has {} angles for {} teeth: one per tooth, or none",
+                                      tooth_helix_rad.size(), pitch_rad.size()));
+  for (std::size_t j = 0; j < tooth_helix_rad.size(); ++j)
+    if (!finite(tooth_helix_rad[j]) || tooth_helix_rad[j] < 0.0 || tooth_helix_rad[j] > 80.0 * kPi / 180.0)
+      throw InvalidArgument(fmt::format("Cutter::tooth_helix_rad[{}] = {} rad must lie in [0, 80°]", j, tooth_helix_rad[j]));
   if (!runout_m.empty() && runout_m.size() != pitch_rad.size())
     throw InvalidArgument(
         fmt::format("Cutter::runout_m has {} values for {} teeth: one per tooth, or none", runout_m.size(), pitch_rad.size()));
@@ -270,12 +282,20 @@ void ForceLaw::check() const {
     throw InvalidArgument(fmt::format("ForceLaw::exponent = {} must lie in (0, 1] (1: the linear law)", exponent));
   if (!finite(reference_chip_m) || !(reference_chip_m > 0.0))
     throw InvalidArgument(fmt::format("ForceLaw::reference_chip_m = {} m must be positive", reference_chip_m));
+  if (!finite(process_damping_n_per_m) || process_damping_n_per_m < 0.0 ||
+      (process_damping_n_per_m > 0.0 &&
+       (process_damping_n_per_m < kProcessDampingMin || process_damping_n_per_m > kProcessDampingMax)))
+    throw InvalidArgument(fmt::format("ForceLaw::process_damping_n_per_m = {:.4g} N/m must be 0 or lie within {:.0e}…{:.0e} N/m",
+                                      process_damping_n_per_m, kProcessDampingMin, kProcessDampingMax),
+                          "C_i is a force per metre of indentation per unit width and speed; a value in N/m² or N/mm is "
+                          "a unit slip");
 }
 
 ForceLaw linear_force_law(const CuttingConditions& cutting) {
   ForceLaw f;
   f.tangential_coefficient = cutting.tangential_coefficient;
   f.radial_ratio = cutting.radial_ratio;
+  f.process_damping_n_per_m = cutting.process_damping_n_per_m;
   return f;
 }
 
@@ -380,7 +400,8 @@ SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cu
   const double dphi = kTwoPi / M;
   const double radius = 0.5 * cutter.diameter_m;
   // Axial slices: one per step angle of helix lag over the depth (≤ 200), 1 for straight flutes.
-  const double total_lag = cut.depth_m * std::tan(cutter.helix_rad) / radius;
+  double total_lag = 0.0;
+  for (int j = 0; j < teeth; ++j) total_lag = std::max(total_lag, cut.depth_m * std::tan(cutter.helix_of(j)) / radius);
   int slices = options.slices;
   if (slices == 0) slices = total_lag > 0.0 ? static_cast<int>(std::clamp(std::ceil(total_lag / dphi), 1.0, 200.0)) : 1;
   const double dz = cut.depth_m / slices;
@@ -461,15 +482,23 @@ SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cu
         e.tooth = j;
         e.slice = l;
         const double z = (l + 0.5) * dz;
-        e.offset = in_steps(theta - z * std::tan(cutter.helix_rad) / radius, dphi);
+        const double lag = z * std::tan(cutter.helix_of(j)) / radius;
+        e.offset = in_steps(theta - lag, dphi);
         e.radius = radius + (cutter.runout_m.empty() ? 0.0 : cutter.runout_m[static_cast<std::size_t>(j)]);
-        double gap = 0.0;  // the angle back to the earlier tooth
+        double gap = 0.0;  // the angle back to the earlier tooth, at the tip
         for (int back = 1; back <= memory * teeth; ++back) {
           const int ahead = ((j - back) % teeth + teeth) % teeth;
           gap += cutter.pitch_rad[static_cast<std::size_t>(ahead)];
-          const double d = in_steps(gap, dphi), whole = std::floor(d);
+          // At height z (a variable helix): the earlier tooth lags by its own angle.
+          const double at_z = gap + lag - z * std::tan(cutter.helix_of(ahead)) / radius;
+          if (!(at_z >= 2.0 * dphi))
+            throw InvalidArgument(
+                fmt::format("Cutter::tooth_helix_rad: at {:.4g} mm above the tip tooth {} is less than two "
+                            "steps behind tooth {}: the helix angles differ too much for this depth",
+                            z * 1e3, j, ahead));
+          const double d = in_steps(at_z, dphi), whole = std::floor(d);
           e.behind.push_back(
-              {ahead * slices + l, static_cast<long>(whole), d - whole, teeth * cut.feed_per_tooth_m * gap / kTwoPi});
+              {ahead * slices + l, static_cast<long>(whole), d - whole, teeth * cut.feed_per_tooth_m * at_z / kTwoPi});
         }
       }
       theta -= cutter.pitch_rad[static_cast<std::size_t>(j)];
@@ -552,11 +581,14 @@ SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cu
   const double kt = law.tangential_coefficient, kr = law.radial_ratio * kt, kte = law.tangential_edge, kre = law.radial_edge;
   const bool linear = law.exponent == 1.0;
   const double h0 = law.reference_chip_m, xp = law.exponent;
-  auto force = [&](double chip, double s, double c, double& fx, double& fy) {  // per slice; returns F_t
+  // Process damping (ForceLaw::process_damping_n_per_m): −C_i dz (u·ṙ)/V u on a slice in the cut,
+  // V = πDn/60; `vn` = u·ṙ.
+  const double damping = law.process_damping_n_per_m / (kPi * cutter.diameter_m * cut.speed_rpm / 60.0);
+  auto force = [&](double chip, double s, double c, double vn, double& fx, double& fy) {  // per slice; returns F_t
     const double hc = linear ? chip : h0 * std::pow(chip / h0, xp);
-    const double ft = dz * (kte + kt * hc), fr = dz * (kre + kr * hc);
-    fx = -ft * c - fr * s;
-    fy = ft * s - fr * c;
+    const double ft = dz * (kte + kt * hc), fr = dz * (kre + kr * hc), fd = dz * damping * vn;
+    fx = -ft * c - fr * s - fd * s;
+    fy = ft * s - fr * c - fd * c;
     return ft;
   };
 
@@ -639,7 +671,7 @@ SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cu
       }
       if (chip <= 0.0) continue;
       double fx, fy;
-      const double ft = force(chip, en.s, en.c, fx, fy);
+      const double ft = force(chip, en.s, en.c, en.s * vx + en.c * vy, fx, fy);
       fx_k += fx;
       fy_k += fy;
       torque += ft * E.radius;
@@ -679,7 +711,7 @@ SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cu
   for (long k = 0; k < total; ++k) {
     const int s = static_cast<int>(k % M);
     // Predictor: the force of step k held over the step.
-    double rxp = 0.0, ryp = 0.0;
+    double rxp = 0.0, ryp = 0.0, vxp = 0.0, vyp = 0.0;
     for (int r = 0; r < nm; ++r) {
       const ModeStep& md = modes[static_cast<std::size_t>(r)];
       const auto ri = static_cast<std::size_t>(r);
@@ -689,7 +721,16 @@ SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cu
       qp[ri] = qn[ri] + md.j0q * p;
       rxp += md.sx * qp[ri];
       ryp += md.sy * qp[ri];
+      if (damping > 0.0) {
+        const double vpr = vn[ri] + md.j0v * p;
+        vxp += md.sx * vpr;
+        vyp += md.sy * vpr;
+      }
     }
+    // The tip velocity along u at fraction f of the step (linear between the ends, as the displacement).
+    auto normal_velocity = [&](double f, double sn, double cs) {
+      return damping > 0.0 ? sn * (vx + f * (vxp - vx)) + cs * (vy + f * (vyp - vy)) : 0.0;
+    };
     // Corrector: the force linear over each cutting piece of the step, at the predicted end.
     double gax = 0.0, gay = 0.0, gbx = 0.0, gby = 0.0;  // whole-step pieces, summed
     double endx = 0.0, endy = 0.0;                      // every piece's force at the step's end
@@ -720,7 +761,8 @@ SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cu
         if (!(fb > fa)) continue;
       }
       double fxa, fya, fxb, fyb;
-      const double fta = force(cha, sa, ca, fxa, fya), ftb = force(chb, sb, cb, fxb, fyb);
+      const double fta = force(cha, sa, ca, normal_velocity(fa, sa, ca), fxa, fya),
+                   ftb = force(chb, sb, cb, normal_velocity(fb, sb, cb), fxb, fyb);
       if (analysed) {
         const double len = (fb - fa) * h * 0.5;
         imp_x += len * (fxa + fxb);

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <fmt/format.h>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <unsupported/Eigen/FFT>
 #include <optional>
@@ -46,6 +47,25 @@ Engagement engagement_from_degrees(double entry_deg, double exit_deg) {
   Engagement e{entry_deg * kPi / 180.0, exit_deg * kPi / 180.0};
   e.check();
   return e;
+}
+
+// CuttingConditions::check's helix part.
+static void check_helix(const CuttingConditions& c) {
+  if (c.helix_rad.empty()) return;
+  if (c.helix_rad.size() != 1 && static_cast<int>(c.helix_rad.size()) != c.teeth)
+    throw InvalidArgument(fmt::format("CuttingConditions::helix_rad has {} angles for {} teeth", c.helix_rad.size(), c.teeth),
+                          "give one helix angle for every tooth, or one per tooth (a variable helix), or none");
+  for (std::size_t j = 0; j < c.helix_rad.size(); ++j)
+    if (!std::isfinite(c.helix_rad[j]) || c.helix_rad[j] < 0.0 || c.helix_rad[j] > kMaxHelixRad)
+      throw InvalidArgument(fmt::format("CuttingConditions::helix_rad[{}] = {:.6g}° must lie in 0…80°", j,
+                                        c.helix_rad[j] * 180.0 / kPi),
+                            c.helix_rad[j] < 0.0 ? "give the helix angle's size, ≥ 0: the edge lags the tip as the height "
+                                                   "grows (a right-hand helix on a clockwise cutter)"
+                                                 : "end mills have helix angles of 0…60° (0…1.05 rad): check the unit");
+  if (c.helical() && !(c.diameter_m > 0.0))
+    throw InvalidArgument("CuttingConditions::diameter_m must be given with a helix (the lag at height z is z·tan β/R)");
+  if (c.helix_slices < 0 || c.helix_slices > 200)
+    throw InvalidArgument(fmt::format("CuttingConditions::helix_slices {} must lie in 1…200 (0: automatic)", c.helix_slices));
 }
 
 void CuttingConditions::check() const {
@@ -91,6 +111,7 @@ void CuttingConditions::check() const {
                                         feed_per_tooth_m),
                             "with runout, which tooth cuts which surface depends on the feed");
   }
+  check_helix(*this);
   if (pitch_rad.empty()) return;
   if (static_cast<int>(pitch_rad.size()) != teeth)
     throw InvalidArgument(fmt::format("CuttingConditions::pitch_rad has {} angles for {} teeth", pitch_rad.size(), teeth),
@@ -113,7 +134,18 @@ bool CuttingConditions::uniform() const {
     if (std::abs(p - 2.0 * kPi / teeth) > 1e-12) return false;
   for (double r : runout_m)
     if (r != runout_m.front()) return false;  // the same offset on every tooth changes nothing
+  for (double b : helix_rad)
+    if (b != helix_rad.front()) return false;
   return true;
+}
+
+bool CuttingConditions::helical() const {
+  return std::any_of(helix_rad.begin(), helix_rad.end(), [](double b) { return b != 0.0; });
+}
+
+double CuttingConditions::helix_of(int tooth) const {
+  if (helix_rad.empty()) return 0.0;
+  return helix_rad.size() == 1 ? helix_rad.front() : helix_rad[static_cast<std::size_t>(tooth)];
 }
 
 Eigen::Matrix2d directional_integral(double kr, double phi1, double phi2) {
@@ -285,6 +317,11 @@ LobeTable zero_order_roots(const MillingFrfs& frfs, const CuttingConditions& cut
   if (cutting.process_damping_n_per_m > 0.0)
     throw InvalidArgument("CuttingConditions::process_damping_n_per_m: the zero-order method has no process damping",
                           "use the time-domain (full-discretization) method");
+  // Its averaged directional matrix is the same with a helix (the lag only shifts A(φ(t)) in
+  // time): it would silently leave the helix out.
+  if (cutting.helical())
+    throw InvalidArgument("CuttingConditions::helix_rad: the zero-order method averages the helix out",
+                          "use the time-domain (full-discretization) method for a helix");
   if (!cutting.uniform())
     throw InvalidArgument(
         "CuttingConditions::pitch_rad or CuttingConditions::runout_m: the zero-order method assumes evenly spaced teeth "
@@ -567,16 +604,11 @@ struct ToothGeometry {
   }
 };
 
-// The revolution-period terms of milling_delay_system (its header comment): P sums the teeth in
-// the cut; one delayed term per distinct angle Θ_q, whose coefficient holds the teeth that cut the
-// surface q pitches back at that moment.
-void add_revolution_terms(PeriodicDelaySystem& sys, const CuttingConditions& cutting, double speed_rpm, double feed_per_tooth_m,
-                          int d) {
+// The teeth of `cutting` (no helix) with a feed per tooth c (the runout's if it has one): tooth j
+// lags tooth 0 by the pitches before it, and the angle back to tooth j − q is the q pitches before it.
+ToothGeometry tooth_geometry(const CuttingConditions& cutting, double feed_per_tooth_m) {
   const int teeth = cutting.teeth;
   const auto nt = static_cast<std::size_t>(teeth);
-  const double spin = 2.0 * kPi * speed_rpm / 60.0;
-  sys.period = 60.0 / speed_rpm;
-  sys.regenerative = false;
   std::vector<double> pitch = cutting.pitch_rad;
   if (pitch.empty()) pitch.assign(nt, 2.0 * kPi / teeth);
   ToothGeometry g;
@@ -593,6 +625,41 @@ void add_revolution_terms(PeriodicDelaySystem& sys, const CuttingConditions& cut
   }
   g.runout = cutting.runout_m;
   g.per_rev = teeth * (g.runout.empty() ? feed_per_tooth_m : cutting.feed_per_tooth_m);
+  return g;
+}
+
+// The angles in [φ_st, φ_ex] where tooth j's cut can change: entry and exit, and with runout
+// where q* changes or the static chip reaches zero (sin φ = Δρ/ΔC: both roots φ and π − φ; extra
+// angles are harmless).
+std::vector<double> cut_changes(const ToothGeometry& g, int j, const Engagement& e) {
+  const int teeth = g.teeth;
+  std::vector<double> at = {e.entry_rad, e.exit_rad};
+  for (int q = 1; q <= (g.runout.empty() ? 0 : teeth); ++q) {
+    auto rho = [&](int back) { return g.runout[static_cast<std::size_t>((j - back + 2 * teeth) % teeth)]; };
+    auto feed = [&](int back) { return g.per_rev * g.back[static_cast<std::size_t>(j * teeth + back - 1)] / (2.0 * kPi); };
+    std::vector<std::pair<double, double>> pairs = {{rho(q) - g.runout[static_cast<std::size_t>(j)], feed(q)}};
+    for (int r = q + 1; r <= teeth; ++r) pairs.push_back({rho(q) - rho(r), feed(q) - feed(r)});
+    for (const auto& [num, den] : pairs) {
+      if (den == 0.0) continue;
+      const double sv = num / den;
+      if (sv <= 0.0 || sv >= 1.0) continue;
+      for (double phi : {std::asin(sv), kPi - std::asin(sv)})
+        if (phi > e.entry_rad && phi < e.exit_rad) at.push_back(phi);
+    }
+  }
+  return at;
+}
+
+// The revolution-period terms of milling_delay_system (its header comment): P sums the teeth in
+// the cut; one delayed term per distinct angle Θ_q, whose coefficient holds the teeth that cut the
+// surface q pitches back at that moment.
+void add_revolution_terms(PeriodicDelaySystem& sys, const CuttingConditions& cutting, double speed_rpm, double feed_per_tooth_m,
+                          int d) {
+  const int teeth = cutting.teeth;
+  const double spin = 2.0 * kPi * speed_rpm / 60.0;
+  sys.period = 60.0 / speed_rpm;
+  sys.regenerative = false;
+  const ToothGeometry g = tooth_geometry(cutting, feed_per_tooth_m);
   // φ in [0, 2π) of tooth j at t, and whether it is engaged.
   auto angle_of = [lag = g.lag, spin](int j, double t) {
     double phi = std::fmod(spin * t - lag[static_cast<std::size_t>(j)], 2.0 * kPi);
@@ -650,21 +717,7 @@ void add_revolution_terms(PeriodicDelaySystem& sys, const CuttingConditions& cut
   // Each tooth enters and leaves once per revolution; with runout also where q* changes or the
   // static chip reaches zero (sin φ = Δρ/ΔC: both roots φ and π − φ; extra breakpoints are harmless).
   for (int j = 0; j < teeth; ++j) {
-    std::vector<double> at = {e.entry_rad, e.exit_rad};
-    for (int q = 1; q <= (g.runout.empty() ? 0 : teeth); ++q) {
-      auto rho = [&](int back) { return g.runout[static_cast<std::size_t>((j - back + 2 * teeth) % teeth)]; };
-      auto feed = [&](int back) { return g.per_rev * g.back[static_cast<std::size_t>(j * teeth + back - 1)] / (2.0 * kPi); };
-      std::vector<std::pair<double, double>> pairs = {{rho(q) - g.runout[static_cast<std::size_t>(j)], feed(q)}};
-      for (int r = q + 1; r <= teeth; ++r) pairs.push_back({rho(q) - rho(r), feed(q) - feed(r)});
-      for (const auto& [num, den] : pairs) {
-        if (den == 0.0) continue;
-        const double sv = num / den;
-        if (sv <= 0.0 || sv >= 1.0) continue;
-        for (double phi : {std::asin(sv), kPi - std::asin(sv)})
-          if (phi > e.entry_rad && phi < e.exit_rad) at.push_back(phi);
-      }
-    }
-    for (double angle : at) {
+    for (double angle : cut_changes(g, j, e)) {
       const double t = std::fmod(angle + g.lag[static_cast<std::size_t>(j)], 2.0 * kPi) / spin;
       if (t > 1e-12 * sys.period && t < sys.period * (1.0 - 1e-12)) sys.breakpoints.push_back(t);
     }
@@ -747,6 +800,9 @@ static PeriodicDelaySystem cutting_forces_system(const ModalModel& model, const 
 
 PeriodicDelaySystem milling_delay_system(const ModalModel& model, const CuttingConditions& cutting, double speed_rpm,
                                          double feed_per_tooth_m) {
+  if (cutting.helical())
+    throw InvalidArgument("CuttingConditions::helix_rad: with a helix the milling equation depends on the depth",
+                          "build it at a depth: milling_delay_system_at_depth");
   PeriodicDelaySystem sys = cutting_forces_system(model, cutting, speed_rpm, feed_per_tooth_m);
   const double ci = cutting.process_damping_n_per_m;
   if (!(ci > 0.0)) return sys;
@@ -769,6 +825,255 @@ PeriodicDelaySystem milling_delay_system(const ModalModel& model, const CuttingC
       sum -= u * u.transpose();
     }
     out = ci / speed * sum.topLeftCorner(d, d);
+  });
+}
+
+namespace {
+
+// Integrals of 1, sin ψ, cos ψ, sin²ψ, sin ψ cos ψ, cos²ψ over angle pieces, each weighted: the
+// closed forms written with the piece's mid-angle and half-width, so that a narrow piece keeps its
+// precision (no difference of nearly equal cosines).
+struct TrigMoments {
+  double one = 0.0, s = 0.0, c = 0.0, ss = 0.0, sc = 0.0, cc = 0.0;
+  void add(double lo, double hi, double w) {
+    if (hi == lo) {  // a point (a straight flute): the integrand's value
+      const double sn = std::sin(lo), cs = std::cos(lo);
+      one += w;
+      s += w * sn;
+      c += w * cs;
+      ss += w * sn * sn;
+      sc += w * sn * cs;
+      cc += w * cs * cs;
+      return;
+    }
+    const double mid = 0.5 * (lo + hi), half = 0.5 * (hi - lo), sh = std::sin(half), s2h = std::sin(2.0 * half);
+    one += w * 2.0 * half;
+    s += w * 2.0 * std::sin(mid) * sh;
+    c += w * 2.0 * std::cos(mid) * sh;
+    ss += w * (half - 0.5 * std::cos(2.0 * mid) * s2h);
+    cc += w * (half + 0.5 * std::cos(2.0 * mid) * s2h);
+    sc += w * 0.5 * s2h * std::sin(2.0 * mid);
+  }
+  // ½K_t ∫A(ψ)dψ (sin 2ψ = 2 sin cos, 1 − cos 2ψ = 2 sin², 1 + cos 2ψ = 2 cos²).
+  Eigen::Matrix2d tooth(double kt, double kr) const {
+    Eigen::Matrix2d a;
+    a << -sc - kr * ss, -cc - kr * sc, ss - kr * sc, sc - kr * cc;
+    return kt * a;
+  }
+  Eigen::Matrix2d normal() const {  // ∫ u uᵀ dψ, u = (sin ψ, cos ψ)
+    Eigen::Matrix2d a;
+    a << ss, sc, sc, cc;
+    return a;
+  }
+};
+
+// The teeth of a helical cutter at one depth a, in `slices` slices of height a/slices: tooth j at
+// height z is at φ_j(t) − κ_j z, φ_j(t) = Ωt − lag_j, so at slice l it covers the angles
+// [φ_j − κ_j z_{l+1}, φ_j − κ_j z_l]. Each slice has the tooth geometry (angles back to the teeth
+// ahead, hence delays and, with runout, the surface cut) of its mid-height.
+struct HelixCut {
+  int teeth = 0, slices = 1;
+  double height = 0.0;  // of a slice [m]
+  double spin = 0.0;    // Ω [rad/s]
+  Engagement e;
+  std::vector<double> kappa;                  // κ_j = tan β_j/R [rad/m]
+  std::vector<ToothGeometry> slice;           // per slice (lag_j: tooth j at its mid-height, unused here)
+  std::vector<double> lag;                    // lag_j at the tool tip [rad]
+  std::vector<std::vector<double>> switches;  // [l·N + j]: angles in [0, 2π) where tooth j's cut can change, sorted
+
+  // visit(lo, hi, q, w) for each engaged piece of tooth j's window at slice l at time t: q the
+  // surface it cuts (0: out of the cut, q* of ToothGeometry), w = 1/(slices·width), so that Σ w∫
+  // is the average over the depth; a window of zero width (κ_j = 0) is the point φ_j (lo = hi,
+  // w = 1/slices).
+  template <typename Visit>
+  void pieces(int l, int j, double t, Visit&& visit) const {
+    const auto ju = static_cast<std::size_t>(j);
+    const double phi = spin * t - lag[ju];
+    const double width = kappa[ju] * height, hi0 = phi - kappa[ju] * height * l, lo0 = hi0 - width;
+    const double turn = std::floor(lo0 / (2.0 * kPi)) * 2.0 * kPi;
+    const double lo = lo0 - turn, hi = hi0 - turn;  // lo in [0, 2π)
+    // Most of the time a tooth is out of the cut (low immersion): no piece to visit.
+    if ((hi < e.entry_rad || lo > e.exit_rad) && hi < e.entry_rad + 2.0 * kPi) return;
+    const ToothGeometry& g = slice[static_cast<std::size_t>(l)];
+    auto cut_at = [&](double psi) {
+      psi = std::fmod(psi, 2.0 * kPi);
+      if (psi < e.entry_rad || psi > e.exit_rad) return -1;
+      return g.reference(j, std::sin(psi)).first;
+    };
+    if (!(width > 1e-12)) {
+      const int q = cut_at(lo);
+      if (q >= 0) visit(lo, lo, q, 1.0 / slices);
+      return;
+    }
+    const double w = 1.0 / (slices * (hi - lo));  // the window as represented, so that the average is one of its values
+    const std::vector<double>& sw = switches[static_cast<std::size_t>(l * teeth + j)];
+    double a = lo;
+    for (double shift = 0.0; a < hi; shift += 2.0 * kPi) {
+      for (double angle : sw) {
+        const double b = std::min(angle + shift, hi);
+        if (b <= a) continue;
+        const int q = cut_at(0.5 * (a + b));
+        if (q >= 0) visit(a, b, q, w);
+        a = b;
+        if (a >= hi) break;
+      }
+      if (a < hi && a < shift + 2.0 * kPi) {  // past the last change of this turn
+        const double b = std::min(shift + 2.0 * kPi, hi);
+        const int q = cut_at(0.5 * (a + b));
+        if (q >= 0) visit(a, b, q, w);
+        a = b;
+      }
+    }
+  }
+};
+
+HelixCut helix_cut(const CuttingConditions& cutting, double speed_rpm, double depth_m, double feed_per_tooth_m) {
+  HelixCut h;
+  h.teeth = cutting.teeth;
+  h.spin = 2.0 * kPi * speed_rpm / 60.0;
+  h.e = cutting.engagement;
+  const double radius = 0.5 * cutting.diameter_m;
+  for (int j = 0; j < h.teeth; ++j) h.kappa.push_back(std::tan(cutting.helix_of(j)) / radius);
+  const bool variable = std::any_of(h.kappa.begin(), h.kappa.end(), [&](double k) { return k != h.kappa.front(); });
+  h.slices = variable ? (cutting.helix_slices > 0 ? cutting.helix_slices : 8) : 1;
+  h.height = depth_m / h.slices;
+  const ToothGeometry tip = tooth_geometry(cutting, feed_per_tooth_m);
+  h.lag = tip.lag;
+  for (int l = 0; l < h.slices; ++l) {
+    ToothGeometry g = tip;
+    const double z = (l + 0.5) * h.height;
+    for (int j = 0; j < h.teeth; ++j)
+      for (int q = 1; q < h.teeth; ++q) {
+        double& back = g.back[static_cast<std::size_t>(j * h.teeth + q - 1)];
+        back += z * (h.kappa[static_cast<std::size_t>(j)] - h.kappa[static_cast<std::size_t>((j - q + h.teeth) % h.teeth)]);
+        if (!(back > 0.0) || back > 2.0 * kPi)
+          throw InvalidArgument(
+              fmt::format("CuttingConditions::helix_rad: at {:.4g} mm above the tip tooth {} lies {:.4g}° behind tooth {} "
+                          "(outside 0…360°): the helix angles differ too much for this depth",
+                          z * 1e3, j, back * 180.0 / kPi, (j - q + h.teeth) % h.teeth),
+              "give helix angles closer to each other, or a smaller depth");
+      }
+    std::vector<double> sw;
+    for (int j = 0; j < h.teeth; ++j) {
+      sw = cut_changes(g, j, h.e);
+      std::sort(sw.begin(), sw.end());
+      h.switches.push_back(sw);
+    }
+    h.slice.push_back(std::move(g));
+  }
+  return h;
+}
+
+}  // namespace
+
+PeriodicDelaySystem milling_delay_system_at_depth(const ModalModel& model, const CuttingConditions& cutting, double speed_rpm,
+                                                  double depth_m, double feed_per_tooth_m) {
+  if (!std::isfinite(depth_m) || depth_m < 0.0) throw InvalidArgument(fmt::format("axial depth {} m must be ≥ 0", depth_m));
+  cutting.check();
+  if (!cutting.helical()) return milling_delay_system(model, cutting, speed_rpm, feed_per_tooth_m);
+  // The modal part (A₀, B, C) of the straight, evenly spaced tool; the cut's terms follow.
+  CuttingConditions plain = cutting;
+  plain.helix_rad.clear();
+  plain.pitch_rad.clear();
+  plain.runout_m.clear();
+  plain.process_damping_n_per_m = 0.0;
+  PeriodicDelaySystem sys = cutting_forces_system(model, plain, speed_rpm, 0.0);
+  if (!cutting.runout_m.empty() && feed_per_tooth_m > 0.0 && std::abs(feed_per_tooth_m - cutting.feed_per_tooth_m) > 1e-12)
+    throw InvalidArgument(fmt::format("feed per tooth {} m differs from CuttingConditions::feed_per_tooth_m {} m (the runout's)",
+                                      feed_per_tooth_m, cutting.feed_per_tooth_m));
+  const int d = static_cast<int>(sys.output.rows()), teeth = cutting.teeth;
+  const bool tooth_period = cutting.uniform();  // every tooth alike: the map over one tooth period
+  sys.period = 60.0 / speed_rpm / (tooth_period ? teeth : 1);
+  sys.regenerative = tooth_period;
+  sys.forcing = nullptr;
+  sys.breakpoints.clear();
+  const auto h = std::make_shared<const HelixCut>(helix_cut(cutting, speed_rpm, depth_m, feed_per_tooth_m));
+  const double kt = cutting.tangential_coefficient, kr = cutting.radial_ratio;
+  sys.current = [h, kt, kr, d](double t, Eigen::MatrixXd& out) {
+    TrigMoments m;
+    for (int l = 0; l < h->slices; ++l)
+      for (int j = 0; j < h->teeth; ++j)
+        h->pieces(l, j, t, [&](double lo, double hi, int q, double w) {
+          if (q > 0) m.add(lo, hi, w);
+        });
+    out = m.tooth(kt, kr).topLeftCorner(d, d);
+  };
+  if (!tooth_period) {
+    // One delayed term per distinct angle back (within 1e-12 rad), holding the (slice, tooth, q)
+    // that reach back by it; without runout only q = 1 is ever cut.
+    struct User {
+      int l, j, q;
+    };
+    std::vector<double> angles;
+    std::vector<std::vector<User>> users;
+    for (int l = 0; l < h->slices; ++l)
+      for (int j = 0; j < teeth; ++j)
+        for (int q = 1; q <= (cutting.runout_m.empty() ? 1 : teeth); ++q) {
+          const double th = h->slice[static_cast<std::size_t>(l)].back[static_cast<std::size_t>(j * teeth + q - 1)];
+          std::size_t k = 0;
+          while (k < angles.size() && std::abs(angles[k] - th) > 1e-12) ++k;
+          if (k == angles.size()) {
+            angles.push_back(th);
+            users.emplace_back();
+          }
+          users[k].push_back({l, j, q});
+        }
+    for (std::size_t k = 0; k < angles.size(); ++k)
+      sys.delays.push_back({angles[k] / h->spin, [h, kt, kr, d, use = users[k]](double t, Eigen::MatrixXd& out) {
+                              TrigMoments m;
+                              for (const User& u : use)
+                                h->pieces(u.l, u.j, t, [&](double lo, double hi, int q, double w) {
+                                  if (q == u.q) m.add(lo, hi, w);
+                                });
+                              out = -m.tooth(kt, kr).topLeftCorner(d, d);
+                            }});
+  }
+  // The static chip h = ρ_j − ρ_{j−q} + C_q sin ψ (C_q = N c Θ_q/2π) of each piece cut: per unit
+  // depth F_t = K_t h along (−cos ψ, sin ψ), F_r = K_r F_t along (−sin ψ, −cos ψ).
+  const double per_rev = h->slice.front().per_rev;
+  if (feed_per_tooth_m > 0.0)
+    sys.forcing = [h, kt, kr, d, per_rev](double t, Eigen::VectorXd& out) {
+      for (int l = 0; l < h->slices; ++l) {
+        const ToothGeometry& g = h->slice[static_cast<std::size_t>(l)];
+        for (int j = 0; j < h->teeth; ++j)
+          h->pieces(l, j, t, [&](double lo, double hi, int q, double w) {
+            if (q <= 0) return;
+            const double rho = g.runout.empty() ? 0.0
+                                                : g.runout[static_cast<std::size_t>(j)] -
+                                                      g.runout[static_cast<std::size_t>((j - q + 2 * h->teeth) % h->teeth)];
+            const double c = per_rev * g.back[static_cast<std::size_t>(j * h->teeth + q - 1)] / (2.0 * kPi);
+            TrigMoments m;
+            m.add(lo, hi, w);
+            out(0) += kt * (rho * (-m.c - kr * m.s) + c * (-m.sc - kr * m.ss));
+            if (d == 2) out(1) += kt * (rho * (m.s - kr * m.c) + c * (m.ss - kr * m.sc));
+          });
+      }
+    };
+  // P changes slope where a window's end crosses an angle where the cut changes.
+  for (int l = 0; l < h->slices; ++l)
+    for (int j = 0; j < teeth; ++j)
+      for (double angle : h->switches[static_cast<std::size_t>(l * teeth + j)])
+        for (int end = 0; end <= 1; ++end) {
+          const double z = (l + end) * h->height;
+          const double t = std::fmod(angle + h->lag[static_cast<std::size_t>(j)] + h->kappa[static_cast<std::size_t>(j)] * z,
+                                     2.0 * kPi) /
+                           h->spin;
+          const double tp = std::fmod(t, sys.period);
+          if (tp > 1e-12 * sys.period && tp < sys.period * (1.0 - 1e-12)) sys.breakpoints.push_back(tp);
+        }
+  std::sort(sys.breakpoints.begin(), sys.breakpoints.end());
+  sys.breakpoints.erase(std::unique(sys.breakpoints.begin(), sys.breakpoints.end(),
+                                    [&](double a, double b) { return b - a < 1e-12 * sys.period; }),
+                        sys.breakpoints.end());
+  const double ci = cutting.process_damping_n_per_m;
+  if (!(ci > 0.0)) return sys;
+  // Process damping, as milling_delay_system: −(C_i/V) u uᵀ ṙ per unit depth over every engaged piece.
+  const double speed = cutting_speed(cutting, speed_rpm);
+  return with_velocity_feedback(sys, velocity_output(model), [h, ci, speed, d](double t, Eigen::MatrixXd& out) {
+    TrigMoments m;
+    for (int l = 0; l < h->slices; ++l)
+      for (int j = 0; j < h->teeth; ++j) h->pieces(l, j, t, [&](double lo, double hi, int, double w) { m.add(lo, hi, w); });
+    out = -ci / speed * m.normal().topLeftCorner(d, d);
   });
 }
 
@@ -841,12 +1146,38 @@ struct Root {
   double slope = 0.0;  // dρ/da across the last two values [1/m] (secant of the true values)
 };
 
+// The period map at a depth: one map for every depth (straight flutes: the depth is only the gain
+// σ), or with a helix one built for each depth asked (the last one kept).
+class MapAtDepth {
+ public:
+  MapAtDepth(const ModalModel& model, const CuttingConditions& cutting, double speed_rpm, int steps, int degree)
+      : model_(model), cutting_(cutting), speed_rpm_(speed_rpm), steps_(steps), degree_(degree) {
+    if (!cutting.helical()) map_.emplace(milling_delay_system(model, cutting, speed_rpm), steps, degree);
+  }
+  const PeriodMap& operator()(double depth_m) const {
+    if (cutting_.helical() && (!map_ || depth_m != depth_m_)) {
+      map_.reset();
+      map_.emplace(milling_delay_system_at_depth(model_, cutting_, speed_rpm_, depth_m), steps_, degree_);
+      depth_m_ = depth_m;
+    }
+    return *map_;
+  }
+
+ private:
+  const ModalModel& model_;
+  const CuttingConditions& cutting_;
+  double speed_rpm_;
+  int steps_, degree_;
+  mutable std::optional<PeriodMap> map_;
+  mutable double depth_m_ = kNaN;
+};
+
 struct RadiusCounter {
-  const PeriodMap& map;
+  const MapAtDepth& map;
   long* evaluations;
   DominantMultiplier operator()(double a) const {
     ++*evaluations;
-    return map.dominant(a, false);
+    return map(a).dominant(a, false);
   }
 };
 
@@ -971,14 +1302,19 @@ PeriodMap FullDiscretization::period_map(double speed_rpm) const {
   return PeriodMap(milling_delay_system(model_, cutting_, speed_rpm), steps_ * cutting_.teeth_per_period(), degree_);
 }
 
+PeriodMap FullDiscretization::period_map(double speed_rpm, double depth_m) const {
+  return PeriodMap(milling_delay_system_at_depth(model_, cutting_, speed_rpm, depth_m), steps_ * cutting_.teeth_per_period(),
+                   degree_);
+}
+
 double FullDiscretization::spectral_radius(double speed_rpm, double depth_m) const {
   if (!std::isfinite(depth_m) || depth_m < 0.0) throw InvalidArgument(fmt::format("axial depth {} m must be ≥ 0", depth_m));
-  return period_map(speed_rpm).spectral_radius(depth_m);
+  return period_map(speed_rpm, depth_m).spectral_radius(depth_m);
 }
 
 FloquetAnalysis FullDiscretization::analyse(double speed_rpm, double depth_m) const {
   if (!std::isfinite(depth_m) || depth_m < 0.0) throw InvalidArgument(fmt::format("axial depth {} m must be ≥ 0", depth_m));
-  const PeriodMap map = period_map(speed_rpm);
+  const PeriodMap map = period_map(speed_rpm, depth_m);
   const double tooth = 60.0 / (cutting_.teeth * speed_rpm);
   return floquet(map, depth_m, map.dominant(depth_m), tooth * cutting_.teeth_per_period(), tooth, model_.y.empty() ? 1 : 2);
 }
@@ -990,9 +1326,9 @@ Eigen::MatrixXd FullDiscretization::spectral_radius_map(const std::vector<double
     if (!std::isfinite(a) || a < 0.0) throw InvalidArgument(fmt::format("axial depth {} m must be ≥ 0", a));
   Eigen::MatrixXd rho(static_cast<Eigen::Index>(speeds_rpm.size()), static_cast<Eigen::Index>(depths_m.size()));
   parallel_for(speeds_rpm.size(), parallel, [&](std::size_t i) {
-    const PeriodMap map = period_map(speeds_rpm[i]);
+    const MapAtDepth map(model_, cutting_, speeds_rpm[i], steps_ * cutting_.teeth_per_period(), degree_);
     for (std::size_t j = 0; j < depths_m.size(); ++j)
-      rho(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = map.spectral_radius(depths_m[j]);
+      rho(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = map(depths_m[j]).spectral_radius(depths_m[j]);
   });
   return rho;
 }
@@ -1003,12 +1339,12 @@ BoundaryPoint FullDiscretization::boundary(double speed_rpm, double max_depth_m,
   if (depth_steps < 1 || depth_steps > 100000) throw InvalidArgument(fmt::format("{} depth steps: need 1…100000", depth_steps));
   if (!std::isfinite(tolerance) || !(tolerance > 0.0) || tolerance >= 1.0)
     throw InvalidArgument(fmt::format("depth tolerance {} must lie in (0, 1)", tolerance));
-  const PeriodMap map = period_map(speed_rpm);
+  const MapAtDepth map(model_, cutting_, speed_rpm, steps_ * cutting_.teeth_per_period(), degree_);
   long evaluations = 0;
   const RadiusCounter rho{map, &evaluations};
   BoundaryPoint bp;
   bp.speed_rpm = speed_rpm;
-  double lo = 0.0, flo = map.spectral_radius(0.0) - 1.0;  // < 0: the free tool decays
+  double lo = 0.0, flo = map(0.0).spectral_radius(0.0) - 1.0;  // < 0: the free tool decays
   for (int j = 1; j <= depth_steps; ++j) {
     const double a = max_depth_m * j / depth_steps;
     const DominantMultiplier dm = rho(a);
@@ -1019,7 +1355,8 @@ BoundaryPoint FullDiscretization::boundary(double speed_rpm, double max_depth_m,
     }
     const Root root = narrow_bracket(rho, lo, flo, a, dm, tolerance);
     const double tooth = 60.0 / (cutting_.teeth * speed_rpm);
-    const FloquetAnalysis fa = floquet(map, root.hi, map.dominant(root.hi), tooth * cutting_.teeth_per_period(), tooth,
+    const PeriodMap& at = map(root.hi);
+    const FloquetAnalysis fa = floquet(at, root.hi, at.dominant(root.hi), tooth * cutting_.teeth_per_period(), tooth,
                                        model_.y.empty() ? 1 : 2);
     bp.depth_m = root.depth_m;
     bp.depth_error_m = kNaN;
@@ -1078,10 +1415,8 @@ struct SpeedOutcome {
 
 SpeedOutcome boundary_at(const ModalModel& model, const CuttingConditions& cutting, double speed_rpm, const Guess& guess,
                          double max_depth_m, const BoundaryOptions& o) {
-  const PeriodicDelaySystem sys = milling_delay_system(model, cutting, speed_rpm);
-  const double tau = sys.period;
   const int per = cutting.teeth_per_period();  // tooth periods per map period
-  const double tooth_tau = tau / per;
+  const double tooth_tau = 60.0 / (cutting.teeth * speed_rpm), tau = tooth_tau * per;
   SpeedOutcome out;
   BoundaryPoint& bp = out.point;
   bp.speed_rpm = speed_rpm;
@@ -1091,7 +1426,7 @@ SpeedOutcome boundary_at(const ModalModel& model, const CuttingConditions& cutti
   // Roots to brackets of 0.1 (finer level) and 0.3 (coarser) of the error target: the reported
   // a₂ + (a₂ − a₁)/7 then carries at most (0.05·8/7 + 0.15/7) ≈ 0.08 of the target from the roots.
   const double root_tolerance = std::clamp(1e-1 * o.tolerance, 1e-10, 1e-3);
-  const PeriodMap coarse(sys, m * per, o.degree);
+  const MapAtDepth coarse(model, cutting, speed_rpm, m * per, o.degree);
   std::optional<Root> r1 = lowest_root({coarse, &out.evaluations}, guess.start * guess.depth_m, guess.depth_m, 1.15, max_depth_m,
                                        3.0 * root_tolerance);
   if (!r1) {
@@ -1103,7 +1438,7 @@ SpeedOutcome boundary_at(const ModalModel& model, const CuttingConditions& cutti
   const double factor = std::pow(2.0, o.degree + 1) - 1.0;  // Richardson: error of a_{2m} = (a_{2m} − a_m)/(2^{p+1} − 1)
   double a1 = r1->depth_m, slope = r1->slope;
   for (;;) {
-    const PeriodMap fine(sys, 2 * m * per, o.degree);
+    const MapAtDepth fine(model, cutting, speed_rpm, 2 * m * per, o.degree);
     const std::optional<Root> r2 = root_near({fine, &out.evaluations}, a1, slope, max_depth_m, root_tolerance);
     if (!r2) {  // the finer (more accurate) level is stable up to the ceiling
       bp.depth_m = max_depth_m;
@@ -1117,7 +1452,8 @@ SpeedOutcome boundary_at(const ModalModel& model, const CuttingConditions& cutti
     bp.depth_error_m = error;
     bp.steps = 2 * m;
     if (error <= o.tolerance * bp.depth_m || 4 * m > o.max_steps) {
-      const FloquetAnalysis fa = floquet(fine, r2->hi, fine.dominant(r2->hi), tau, tooth_tau, model.y.empty() ? 1 : 2);
+      const PeriodMap& at = fine(r2->hi);
+      const FloquetAnalysis fa = floquet(at, r2->hi, at.dominant(r2->hi), tau, tooth_tau, model.y.empty() ? 1 : 2);
       bp.chatter_hz = fa.chatter_hz;
       bp.lobe = fa.lobe;
       bp.kind = fa.kind;
@@ -1152,6 +1488,7 @@ BoundaryResult stability_boundary(const ModalModel& model, const CuttingConditio
   even.pitch_rad.clear();
   even.runout_m.clear();
   even.process_damping_n_per_m = 0.0;  // guesses below the damped limit: the search scans up from them
+  even.helix_rad.clear();              // the zero-order method averages a helix out
   const ZeroOrderResult zero = zero_order_lobes(modal_milling_frfs(model.x, model.y, modal_frequency_grid(all)), even, zo);
   res.max_depth_m = options.max_depth_m > 0.0 ? options.max_depth_m : 10.0 * zero.floor_depth_m;
 

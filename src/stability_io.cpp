@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <iterator>
 
+#include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
 
 namespace toolpoint {
@@ -21,6 +22,29 @@ std::string csv_head(const std::string& what, const std::vector<std::string>& co
 std::string optional_number(double v) { return std::isfinite(v) ? fmt::format("{}", v) : std::string(); }
 
 }  // namespace
+
+std::string tool_geometry_text(const CuttingConditions& c) {
+  std::vector<std::string> parts;
+  auto list = [](const std::vector<double>& v, double scale) {
+    std::string s;
+    for (double x : v) s += (s.empty() ? "" : ",") + fmt::format("{:.6g}", x * scale);
+    return s;
+  };
+  if (!c.pitch_rad.empty()) parts.push_back(fmt::format("pitch {} deg", list(c.pitch_rad, 180.0 / kPi)));
+  if (c.helical()) {
+    parts.push_back(fmt::format("helix {} deg", list(c.helix_rad, 180.0 / kPi)));
+    if (!c.uniform() && c.helix_rad.size() > 1)
+      parts.push_back(fmt::format("{} axial slices", c.helix_slices > 0 ? c.helix_slices : 8));
+  }
+  if (!c.runout_m.empty()) parts.push_back(fmt::format("runout {} mm", list(c.runout_m, 1e3)));
+  if (!c.runout_m.empty()) parts.push_back(fmt::format("feed {:.6g} mm/tooth", c.feed_per_tooth_m * 1e3));
+  if (c.process_damping_n_per_m > 0.0) parts.push_back(fmt::format("process damping C_i {:.6g} N/m", c.process_damping_n_per_m));
+  if (parts.empty()) return "";
+  if (c.diameter_m > 0.0) parts.push_back(fmt::format("diameter {:.6g} mm", c.diameter_m * 1e3));
+  std::string s;
+  for (const std::string& p : parts) s += (s.empty() ? "" : ", ") + p;
+  return s;
+}
 
 std::string depth_text_mm(double depth_mm, double error_mm) {
   if (!std::isfinite(depth_mm))

@@ -95,6 +95,26 @@ class Reader {
     return v;
   }
 
+  // A number or an array of numbers (one number: a list of one).
+  std::optional<std::vector<double>> numbers(const toml::table& t, const char* key, const std::string& path,
+                                             const char* unit) const {
+    const toml::node* n = t.get(key);
+    if (!n) return std::nullopt;
+    if (!n->is_array()) return std::vector<double>{*number(t, key, path, unit)};
+    std::vector<double> out;
+    for (const toml::node& e : *n->as_array()) {
+      const auto i = e.as_integer();
+      const auto f = e.as_floating_point();
+      if (!i && !f)
+        fail(e, fmt::format("{} must be a list of numbers in {}", join(path, key), unit),
+             "write the bare numbers in SI units, e.g. [0.5, 0.6], without quotes or unit text");
+      out.push_back(i ? static_cast<double>(i->get()) : f->get());
+      if (!std::isfinite(out.back())) fail(e, fmt::format("{} holds {}, not a finite number", join(path, key), out.back()));
+    }
+    if (out.empty()) fail(*n, fmt::format("{} is an empty list", join(path, key)), "give the numbers, or leave the key out");
+    return out;
+  }
+
   double required_number(const toml::table& t, const char* key, const std::string& path, const char* unit) const {
     auto v = number(t, key, path, unit);
     if (!v) fail(t, fmt::format("missing key {} (a number in {})", join(path, key), unit));

@@ -6,6 +6,8 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -169,4 +171,30 @@ TEST(LobesCommand, ProgressLinesWhenStderrIsNotATerminal) {
   EXPECT_EQ(quiet.find("full-discretization boundary"), std::string::npos) << quiet;
   const std::string default_delay = run(std::string(TOOLPOINT_CLI) + args);
   EXPECT_EQ(default_delay.find("% after"), std::string::npos) << "a run under 5 s prints no progress line";
+}
+
+// --helix (issue 27): degrees, one angle or one per tooth, with --diameter; radians, a negative
+// angle, the wrong count and a missing diameter refused with the flag named (the zero-order method:
+// Helix.BadHelixNamesTheField); the boundary's CSV
+// says which tool it is for.
+TEST(LobesCommand, HelixInDegreesWithTheDiameter) {
+  const std::string dir = temp_dir();
+  const std::string base =
+      "lobes --method fd --mode-x 0.03993,0.011,922 --rigid-y --teeth 4 --kt 1.5e8 --kr 0.3 --immersion 0.05 --milling down "
+      "--rpm 6000:7000 --speeds 3 --threads 1";
+  const CliRun ok = run_cli(base + " --helix 30,40,30,40 --diameter 20 --output " + dir + "/h.csv");
+  ASSERT_EQ(ok.code, 0) << ok.out;
+  std::ifstream csv(dir + "/h.csv");
+  const std::string text((std::istreambuf_iterator<char>(csv)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("# helix 30,40,30,40 deg, 8 axial slices, diameter 20 mm"), std::string::npos) << text;
+  const auto refused = [&](const std::string& args, const std::string& said) {
+    const CliRun r = run_cli(base + args);
+    EXPECT_EQ(r.code, 2) << r.out;
+    EXPECT_NE(r.out.find(said), std::string::npos) << r.out;
+  };
+  refused(" --helix 0.52 --diameter 20", "look like radians");
+  refused(" --helix -5 --diameter 20", "--helix[0] = -5°");
+  refused(" --helix 30,40 --diameter 20", "--helix has 2 angles for 4 teeth");
+  refused(" --helix 30", "--diameter must be given with a helix");
+  std::filesystem::remove_all(dir);
 }

@@ -351,3 +351,49 @@ TEST(PlanPartFile, BadSetsNameEveryShardAndTheFix) {
   EXPECT_EQ(e.check().rerun[0].part, part(1));
   fs::remove_all(dir);
 }
+
+// The tool beyond straight, even teeth in [cut] (issue 27): read into the cutting conditions, the
+// diameter each candidate's tool's and the feed the study's (plan_cutting); mistakes named at their
+// line and key; the zero-order method refused; the part file keeps them (round trip, and a
+// fingerprint of its own).
+TEST(PlanStudyFile, ToolGeometryKeys) {
+  const auto with = [](const std::string& keys, const std::string& method = "fd") {
+    std::string s = study("name = \"test\"\n", "name = \"test\"\nmethod = \"" + method + "\"\n");
+    const std::string feed = "feed_per_tooth = 1e-4\n";  // line 16 with the method's line
+    s.replace(s.find(feed), feed.size(), feed + keys);
+    const std::string points = "speed_points = 100";
+    s.replace(s.find(points), points.size(), "speed_points = 12");
+    return s;
+  };
+  const PlanStudy s =
+      parse_plan_study(with("pitch = [1.2217304763960306, 1.9198621771937625, 1.2217304763960306, 1.9198621771937625]\n"
+                            "helix = 0.5235987755982988\nrunout = [1e-5, 0, -1e-5, 0]\nprocess_damping = 1e5\n"),
+                       "study.toml", "");
+  const CuttingConditions& c = s.options.lobes.cutting;
+  EXPECT_EQ(c.pitch_rad.size(), 4u);
+  EXPECT_EQ(c.helix_rad, std::vector<double>{0.5235987755982988});
+  EXPECT_EQ(c.runout_m[2], -1e-5);
+  EXPECT_EQ(c.process_damping_n_per_m, 1e5);
+  const CuttingConditions at = plan_cutting(s.options, 0.016);
+  EXPECT_EQ(at.diameter_m, 0.016);
+  EXPECT_EQ(at.feed_per_tooth_m, 1e-4);
+
+  expect_refused<InputError>(with("helix = 30\n"), {"study.toml:17", "cut.helix[0]", "must lie in 0…80°", "check the unit"});
+  expect_refused<InputError>(with("pitch = [1.5, 1.5, 1.5, 1.5]\n"), {"study.toml:17", "cut.pitch adds up to"});
+  expect_refused<InputError>(with("runout = [1e-5]\n"), {"study.toml:17", "cut.runout has 1 offsets for 4 teeth"});
+  expect_refused<InputError>(with("process_damping = 2e11\n"), {"study.toml:17", "cut.process_damping", "implausible"});
+  expect_refused<InputError>(with("helix = [0.5, \"x\"]\n"), {"study.toml:17", "cut.helix must be a list of numbers"});
+  expect_refused<InputError>(with("helix = 0.5\n", "zoa"), {"study.toml", "zero-order method"});
+
+  // The part file: the same text back, and another fingerprint than the straight tool's.
+  const PlanStudy h = parse_plan_study(with("helix = [0.5, 0.6, 0.5, 0.6]\n"), "study.toml", "");
+  const PlanStudy plain = parse_plan_study(with(""), "study.toml", "");
+  const PlanPart part = run_plan_part(h.candidates, h.options, 0, 3);
+  const std::string text = format_plan_part(part);
+  const PlanPart back = parse_plan_part(text, "p.json");
+  EXPECT_EQ(back.header.options.lobes.cutting.helix_rad, h.options.lobes.cutting.helix_rad);
+  EXPECT_EQ(format_plan_part(back), text);
+  EXPECT_NE(part.header.fingerprint, run_plan_part(plain.candidates, plain.options, 0, 3).header.fingerprint);
+  // The helix reaches the stability: the job's stable depths differ from the straight tool's.
+  EXPECT_NE(part.jobs.front().stable_depth_m, run_plan_part(plain.candidates, plain.options, 0, 3).jobs.front().stable_depth_m);
+}

@@ -12,7 +12,9 @@
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/periodic_delay.hpp"
+#include "toolpoint/simulation.hpp"
 #include "toolpoint/stability.hpp"
+#include "support/stability_util.hpp"
 #include "support/test_util.hpp"
 
 using namespace toolpoint;
@@ -147,6 +149,39 @@ TEST(ProcessDamping, MillingLimitRisesAsTheSpeedFalls) {
     EXPECT_LT(b1 / b0, previous) << n;  // the rise shrinks as the speed grows
     previous = b1 / b0;
   }
+}
+
+// The simulation with the same damping (ForceLaw::process_damping_n_per_m from linear_force_law:
+// each slice in the cut adds −C_i dz (u·ṙ)/V u) switches from stable to unstable within ±3 % of
+// the process-damped limit a (stable at 0.97 a, unstable at 1.03 a: the simulation's stated error,
+// variable_pitch_test.cpp) where process damping raises the limit 1.8–2.7× (700 rpm with C_i 5e4
+// N/m; 1800 and 2500 rpm with 2e5 N/m): so the agreement tests the damping term, not the bare cut.
+// (Lower, with 2e5 N/m, the damped limit lies beyond the search ceiling of 10 × the zero-order floor.)
+TEST(ProcessDamping, SimulationSwitchBracketsTheDampedLimit) {
+  ModalModel model;
+  model.x = {Mode{0.03993, 0.011, 922.0}};
+  CuttingConditions c{4, 2e9, 0.3, engagement_from_immersion(0.5, MillingDirection::Down)};
+  c.diameter_m = 0.02;
+  const Cutter cutter = uniform_cutter(4, c.diameter_m);
+  for (const auto& [n, ci] : {std::pair{700.0, 5e4}, {1800.0, 2e5}, {2500.0, 2e5}}) {
+    CuttingConditions pd = c;
+    pd.process_damping_n_per_m = ci;
+    const double a = test::converged_limit(model, pd, n), a0 = test::converged_limit(model, c, n);
+    EXPECT_GT(a / a0, 1.5) << n;
+    SimulationOptions so;
+    so.record = false;
+    const ForceLaw law = linear_force_law(pd);
+    ASSERT_EQ(law.process_damping_n_per_m, ci);
+    const SimulationResult below = simulate_milling(tool_dynamics(model), cutter, law, {n, 0.97 * a, 1e-4, c.engagement}, so);
+    const SimulationResult above = simulate_milling(tool_dynamics(model), cutter, law, {n, 1.03 * a, 1e-4, c.engagement}, so);
+    EXPECT_EQ(below.out_of_cut_fraction, 0.0) << n;
+    EXPECT_TRUE(below.stable) << n << " rpm, limit " << a << " m: growth " << below.growth;
+    EXPECT_FALSE(above.stable) << n << " rpm, limit " << a << " m: growth " << above.growth;
+  }
+  // A coefficient in the wrong unit is refused by the simulation's law too.
+  ForceLaw bad = linear_force_law(c);
+  bad.process_damping_n_per_m = 2e11;
+  EXPECT_NE(thrown_message([&] { bad.check(); }).find("ForceLaw::process_damping_n_per_m"), std::string::npos);
 }
 
 TEST(ProcessDamping, ImplausibleCoefficientNamesTheFieldAndUnit) {

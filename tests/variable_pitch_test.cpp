@@ -25,10 +25,7 @@ using namespace toolpoint;
 
 namespace {
 
-constexpr double kDeg = kPi / 180.0;
-const Mode kBench{0.03993, 0.011, 922.0};  // docs/reference.md §7
-constexpr double kKt = 6e8, kKn = 2e8, kDiameter = 0.02;
-
+using namespace test::benchmark;
 using test::thrown_message;
 
 // ẋ = a x + b₁ x(t − τ₁) + b₂ x(t − τ₂), period T = 1 (constant coefficients: any period).

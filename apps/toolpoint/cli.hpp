@@ -300,16 +300,20 @@ Engagement cut_engagement(const CutArgs& typed);
 
 // The tool beyond evenly spaced straight teeth, for the stability (as typed: degrees, mm, N/m).
 struct ToolGeometryArgs {
-  std::vector<double> pitch_deg, runout_mm;
+  std::vector<double> pitch_deg, runout_mm, helix_deg;
   double diameter_mm = 0.0, feed_mm = 0.0, process_damping = 0.0;
 };
-// Adds --pitch [°], --runout [mm], --feed [mm], --diameter [mm], --process-damping [N/m].
-void add_tool_geometry_options(CLI::App* command, ToolGeometryArgs& target);
+// Adds --pitch [°], --helix [°], --runout [mm], --process-damping [N/m] and, unless the command
+// has its own (`feed_and_diameter` false: plan's study file), --feed [mm] and --diameter [mm].
+void add_tool_geometry_options(CLI::App* command, ToolGeometryArgs& target, bool feed_and_diameter = true);
 // Into the cutting conditions (the library checks them: CuttingConditions::check, fields mapped to
 // flags); diameter and feed checked for plausibility here.
 void apply_tool_geometry(const ToolGeometryArgs& typed, CuttingConditions& cutting);
 // --pitch [°] in radians, one per tooth (`teeth` 0: not given; else the count must match).
 std::vector<double> pitch_radians(const std::vector<double>& pitch_deg, int teeth);
+// --helix [°] in radians: one angle, or one per tooth (a variable helix). An angle whose degrees
+// read as radians (all within 0 < β ≤ 1.5, i.e. 86°) is refused: no end mill has a helix under 1.5°.
+std::vector<double> helix_radians(const std::vector<double>& helix_deg);
 
 // Where the tool point dynamics come from, as typed: FRF files or an assembly, modes, the fit.
 struct DynamicsArgs {

@@ -183,12 +183,13 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
         "--depth-steps is no longer used: the boundary is bracketed by a geometric scan from the neighbouring speed's limit");
 
   const std::optional<StabilityUncertainty>& su = r.uncertainty;
-  const std::vector<std::string> comments = {fmt::format("teeth {}, K_t {} N/m^2, K_r {}, entry {:.4f} deg, exit {:.4f} deg",
-                                                         so.cutting.teeth, so.cutting.tangential_coefficient,
-                                                         so.cutting.radial_ratio, so.cutting.engagement.entry_rad * 180.0 / kPi,
-                                                         so.cutting.engagement.exit_rad * 180.0 / kPi),
-                                             has_frf ? fmt::format("tool point FRF {}", input.frf_name)
-                                                     : std::string("modal model from --mode-x/--mode-y")};
+  std::vector<std::string> comments = {fmt::format("teeth {}, K_t {} N/m^2, K_r {}, entry {:.4f} deg, exit {:.4f} deg",
+                                                   so.cutting.teeth, so.cutting.tangential_coefficient, so.cutting.radial_ratio,
+                                                   so.cutting.engagement.entry_rad * 180.0 / kPi,
+                                                   so.cutting.engagement.exit_rad * 180.0 / kPi),
+                                       has_frf ? fmt::format("tool point FRF {}", input.frf_name)
+                                               : std::string("modal model from --mode-x/--mode-y")};
+  if (const std::string tool = tool_geometry_text(so.cutting); !tool.empty()) comments.insert(comments.begin() + 1, tool);
   std::vector<std::string> written;
   if (!o.output.empty()) {
     write_text_file(o.output,

@@ -23,6 +23,7 @@ namespace {
 
 struct PlanArgs {
   std::string study, method, output, plot, shard, part;
+  ToolGeometryArgs tool;  // overrides of the study's [cut] pitch, helix, runout, process damping
   int threads = 0;
   bool json = false;
   std::vector<std::string> parts;  // plan merge
@@ -103,6 +104,18 @@ void report(const Globals& g, const PlanArgs& o, const PlanResult& r) {
     draw_figures(g, {{plan_map_figure(r), o.plot}, {plan_tuning_figure(r), with_suffix(o.plot, "_tuning")}}, written);
 }
 
+// The flags given replace the study's [cut] keys (the diameter is each candidate's tool's, the
+// feed the study's cut.feed_per_tooth); run_plan checks the result.
+void override_tool(const ToolGeometryArgs& t, CuttingConditions& c) {
+  if (!t.pitch_deg.empty()) c.pitch_rad = pitch_radians(t.pitch_deg, c.teeth);
+  if (!t.helix_deg.empty()) c.helix_rad = helix_radians(t.helix_deg);
+  if (!t.runout_mm.empty()) {
+    c.runout_m.clear();
+    for (double r : t.runout_mm) c.runout_m.push_back(1e-3 * r);
+  }
+  if (t.process_damping != 0.0) c.process_damping_n_per_m = t.process_damping;
+}
+
 void run_plan_command(const PlanArgs& o, const Globals& g) {
   if (o.study.empty())
     throw InvalidArgument("give the study file: toolpoint plan STUDY.toml", "see `toolpoint plan --help` for its format");
@@ -116,6 +129,7 @@ void run_plan_command(const PlanArgs& o, const Globals& g) {
   check_output_extension(o.part, "--part", {".json"}, "a plan part as JSON (.json)");
   if (o.method == "zoa") study.options.lobes.method = LobesMethod::ZeroOrder;
   else if (o.method == "fd") study.options.lobes.method = LobesMethod::FullDiscretization;
+  override_tool(o.tool, study.options.lobes.cutting);
   study.options.parallel.threads = o.threads;
 
   Progress progress(g, o.shard.empty() ? "plan: set-ups" : fmt::format("plan: shard {}/{}", index, count));
@@ -179,6 +193,7 @@ void add_plan_command(CLI::App& app, Globals& g) {
       "SH11 + the model's tool), the cut, the machine's speeds and limits, the safety rule; see examples/plan_bt40.toml");
   c->add_option("--method", o->method, "Override the study's method: zoa (zero-order lobes) or fd (full-discretization)")
       ->check(CLI::IsMember({"zoa", "fd"}));
+  add_tool_geometry_options(c, o->tool, false);
   c->add_option("--threads", o->threads, "Worker threads (0: every core; the same result for any number)")->capture_default_str();
   c->add_option("--shard", o->shard,
                 "Compute only shard I of N (I = 0…N-1: the set-ups j with j mod N = I) and write it to --part; combine the parts "

@@ -30,8 +30,8 @@ struct SimulateArgs {
   std::vector<std::string> planar;  // --mode MASS,ZETA,FN,ANGLE_DEG
   bool rigid_tool = false;
   CutArgs cut;
-  std::vector<double> pitch_deg, runout_mm;
-  double diameter_mm = 0.0, helix_deg = 0.0, flute_mm = 0.0;
+  std::vector<double> pitch_deg, runout_mm, helix_deg;
+  double diameter_mm = 0.0, flute_mm = 0.0, process_damping = 0.0;
   double kte = 0.0, kre = 0.0, exponent = 1.0, reference_chip_mm = 0.1;
   std::string rpm, depth;
   double feed_mm = 0.0;
@@ -85,7 +85,9 @@ Cutter cutter_of(const SimulateArgs& o) {
       throw InvalidArgument("give the teeth: --teeth N (evenly spaced) or --pitch DEG,DEG,...", "e.g. --teeth 4");
     c = uniform_cutter(o.cut.teeth, c.diameter_m);
   }
-  c.helix_rad = o.helix_deg * kPi / 180.0;
+  const std::vector<double> helix = helix_radians(o.helix_deg);
+  if (helix.size() == 1) c.helix_rad = helix.front();
+  else c.tooth_helix_rad = helix;  // one per tooth (Cutter::check counts them)
   for (double r : o.runout_mm) c.runout_m.push_back(1e-3 * r);
   c.flute_length_m = 1e-3 * o.flute_mm;
   return c;
@@ -96,6 +98,7 @@ ForceLaw force_of(const SimulateArgs& o) {
   cut.teeth = std::max(1, cut.teeth);
   const CuttingConditions cc = cutting_conditions(cut);
   ForceLaw f = linear_force_law(cc);
+  f.process_damping_n_per_m = o.process_damping;
   f.tangential_edge = o.kte;
   f.radial_edge = o.kre;
   f.exponent = o.exponent;
@@ -365,8 +368,10 @@ void add_common(CLI::App* c, SimulateArgs& o, Globals& g, bool map) {
                 "Variable pitch: the angle from each tooth to the next [°], one per tooth, summing to 360 (e.g. 85,95,85,95)")
       ->delimiter(',');
   c->add_option("--diameter", o.diameter_mm, "Tool diameter D [mm] (required)")->required(map);
-  c->add_option("--helix", o.helix_deg, "Helix angle [°], 0…80 (axial slices; default 0: straight flutes)")
-      ->capture_default_str();
+  c->add_option("--helix", o.helix_deg,
+                "Helix angle [°, not rad], 0…80: one for every tooth, or one per tooth (a variable helix, e.g. 35,38,35,38) "
+                "(axial slices; default: straight flutes)")
+      ->delimiter(',');
   c->add_option("--runout", o.runout_mm,
                 "Radial runout per tooth [mm]: each tooth cuts at D/2 + its value (e.g. 0.01,0,0,-0.005; default none)")
       ->delimiter(',');
@@ -375,6 +380,9 @@ void add_common(CLI::App* c, SimulateArgs& o, Globals& g, bool map) {
       ->check(plausible_value(plausible::kEdgeCoefficient, "--kte"));
   c->add_option("--kre", o.kre, "Radial edge coefficient K_re [N/m], ≥ 0 (default 0)")
       ->check(plausible_value(plausible::kEdgeCoefficient, "--kre"));
+  c->add_option("--process-damping", o.process_damping,
+                "Process damping (indentation) coefficient C_i [N/m, not N/m² or N/mm], plausible 1e3…1e8: each slice in "
+                "the cut adds damping C_i·dz/V normal to the surface (V = πDn/60) (default 0: none)");
   c->add_option("--exponent", o.exponent,
                 "Force law F = K h0 (h/h0)^x per unit depth: the exponent x in (0, 1] (1: the linear law)")
       ->capture_default_str();

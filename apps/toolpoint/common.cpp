@@ -285,6 +285,8 @@ std::string with_flags(std::string text) {
       {"Cutter::diameter_m", "--diameter"},
       {"Cutter::pitch_rad", "--pitch"},
       {"Cutter::helix_rad", "--helix"},
+      {"Cutter::tooth_helix_rad", "--helix"},
+      {"ForceLaw::process_damping_n_per_m", "--process-damping"},
       {"Cutter::runout_m", "--runout"},
       {"Cutter::flute_length_m", "--flute-length"},
       {"MillingCut::speed_rpm", "--rpm"},
@@ -373,6 +375,7 @@ std::string with_flags(std::string text) {
       {"SpeedRange::min_rpm and max_rpm", "--rpm MIN:MAX"},
       {"CuttingConditions::radial_ratio", "--kr"},
       {"CuttingConditions::pitch_rad", "--pitch"},
+      {"CuttingConditions::helix_rad", "--helix"},
       {"CuttingConditions::runout_m", "--runout"},
       {"CuttingConditions::feed_per_tooth_m", "--feed"},
       {"CuttingConditions::diameter_m", "--diameter"},
@@ -635,17 +638,35 @@ std::vector<double> pitch_radians(const std::vector<double>& pitch_deg, int teet
   return rad;
 }
 
-void add_tool_geometry_options(CLI::App* c, ToolGeometryArgs& o) {
+std::vector<double> helix_radians(const std::vector<double>& helix_deg) {
+  if (!helix_deg.empty() && std::all_of(helix_deg.begin(), helix_deg.end(), [](double b) { return b > 0.0 && b <= 1.5; }))
+    throw InvalidArgument(fmt::format("--helix {}: helix angles are in degrees, and end mills have 10…60°; these look like "
+                                      "radians",
+                                      fmt::join(helix_deg, ",")),
+                          fmt::format("give degrees, e.g. --helix {:g}", helix_deg.front() * 180.0 / kPi));
+  std::vector<double> rad;
+  for (double b : helix_deg) rad.push_back(b * kPi / 180.0);
+  return rad;
+}
+
+void add_tool_geometry_options(CLI::App* c, ToolGeometryArgs& o, bool feed_and_diameter) {
   c->add_option("--pitch", o.pitch_deg,
                 "fd: variable pitch, the angle from each tooth to the next [°, not rad], one per tooth, summing to 360 "
                 "(e.g. 70,110,70,110; default: even)")
+      ->delimiter(',');
+  c->add_option("--helix", o.helix_deg,
+                "fd: helix angle [°, not rad], 0…80: one for every tooth, or one per tooth (a variable helix, e.g. "
+                "35,38,35,38); needs the tool diameter (default: straight flutes)")
       ->delimiter(',');
   c->add_option("--runout", o.runout_mm,
                 "fd: radial runout per tooth [mm, not µm]: each tooth cuts at D/2 + its value (e.g. 0.01,0,-0.01,0; needs "
                 "--feed; default none)")
       ->delimiter(',');
-  c->add_option("--feed", o.feed_mm, "fd with --runout: feed per tooth [mm] (which tooth cuts which surface depends on it)");
-  c->add_option("--diameter", o.diameter_mm, "Tool diameter D [mm] (needed with --process-damping; checks --runout)");
+  if (feed_and_diameter) {
+    c->add_option("--feed", o.feed_mm, "fd with --runout: feed per tooth [mm] (which tooth cuts which surface depends on it)");
+    c->add_option("--diameter", o.diameter_mm,
+                  "Tool diameter D [mm] (needed with --process-damping and --helix; checks --runout)");
+  }
   c->add_option("--process-damping", o.process_damping,
                 "fd: process damping (indentation) coefficient C_i [N/m, not N/m² or N/mm], plausible 1e3…1e8: the "
                 "flank adds damping C_i·b/V (b the depth, V = πDn/60); needs --diameter (default 0: none)");
@@ -653,6 +674,7 @@ void add_tool_geometry_options(CLI::App* c, ToolGeometryArgs& o) {
 
 void apply_tool_geometry(const ToolGeometryArgs& o, CuttingConditions& c) {
   if (!o.pitch_deg.empty()) c.pitch_rad = pitch_radians(o.pitch_deg, c.teeth);
+  c.helix_rad = helix_radians(o.helix_deg);
   for (double r : o.runout_mm) c.runout_m.push_back(1e-3 * r);
   if (o.diameter_mm != 0.0) {
     check_plausible(kDiameterMm, o.diameter_mm, "--diameter [mm]", "e.g. --diameter 16");

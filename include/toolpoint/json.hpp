@@ -90,8 +90,8 @@ void to_json(nlohmann::json& j, const SetupFit& s);
 // "intervals": per parameter ParameterInterval and its "unit" (the estimates, JointFit::parameters,
 // are its "estimate"s); "confidence", "method" ("bootstrap" | "linearised"), "method_description",
 // "bootstrap_samples", "reciprocal", "points", "residual_ratio", "iterations", "converged",
-// "correlation" and "covariance" (8×8, SI), "calibration_std_error" (per parameter, SI), "warnings"; with several set-ups also "setups",
-// "transfer_statistic", "transfer_limit", "transfers".
+// "correlation" and "covariance" (8×8, SI), "calibration_std_error" (per parameter, SI), "warnings"; with several set-ups also
+// "setups", "transfer_statistic", "transfer_limit", "transfers".
 void to_json(nlohmann::json& j, const JointFit& fit);
 // A parameter's expected precision: {"value", "half_width", "relative", "calibration_half_width",
 // "averages_for_target" (null: unreachable or no target), "free", "unit"}.
@@ -178,7 +178,8 @@ void to_json(nlohmann::json& j, const ModalModel& m);
 void to_json(nlohmann::json& j, const ModalFitSummary& s);
 // {"entry_rad", "exit_rad"}
 void to_json(nlohmann::json& j, const Engagement& e);
-// {"teeth", "tangential_coefficient", "radial_ratio", "engagement"}
+// {"teeth", "tangential_coefficient", "radial_ratio", "engagement", "pitch_rad", "helix_rad", "helix_slices",
+//  "runout_m", "feed_per_tooth_m", "diameter_m", "process_damping_n_per_m"} (empty lists, 0: not used)
 void to_json(nlohmann::json& j, const CuttingConditions& c);
 // {"min_rpm", "max_rpm", "points"}
 void to_json(nlohmann::json& j, const SpeedRange& s);
@@ -219,9 +220,10 @@ void to_json(nlohmann::json& j, const PlanResult& r);
 void to_json(nlohmann::json& j, const PlanarMode& m);
 // {"modes": [PlanarMode…]}
 void to_json(nlohmann::json& j, const ToolDynamics& d);
-// {"teeth", "diameter_m", "pitch_rad", "helix_rad", "runout_m", "flute_length_m"}
+// {"teeth", "diameter_m", "pitch_rad", "helix_rad", "tooth_helix_rad", "runout_m", "flute_length_m"}
 void to_json(nlohmann::json& j, const Cutter& c);
-// {"tangential_coefficient", "radial_ratio", "tangential_edge", "radial_edge", "exponent", "reference_chip_m"}
+// {"tangential_coefficient", "radial_ratio", "tangential_edge", "radial_edge", "exponent", "reference_chip_m",
+//  "process_damping_n_per_m"}
 void to_json(nlohmann::json& j, const ForceLaw& f);
 // {"speed_rpm", "depth_m", "feed_per_tooth_m", "engagement"}
 void to_json(nlohmann::json& j, const MillingCut& c);

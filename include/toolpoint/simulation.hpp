@@ -17,8 +17,8 @@
 //     m is ψ = (1/√m, 0); a mode with both components couples x and y (G_xy = Σ ψ_xψ_y/(ω_r² − ω² +
 //     2iζ_rω_rω)). No modes: a rigid tool.
 //   * Cutter: N teeth at any angular spacing (pitch), a helix angle β (the cut is split into axial
-//     slices of height dz; the slice at height z lags by z tan β/R), a radial runout ρ_j per tooth
-//     (tooth j cuts at radius R + ρ_j).
+//     slices of height dz; the slice at height z lags by z tan β/R), or one per tooth (variable
+//     helix), a radial runout ρ_j per tooth (tooth j cuts at radius R + ρ_j).
 //   * Chip: tooth j of slice z at angle φ removes what lies beyond the surface left by every tooth
 //     before it at that angle over the last revolution (not only the previous one: with runout,
 //     variable pitch or a tooth that left the cut, an older tooth may have cut deeper). In the frame
@@ -94,12 +94,17 @@ struct Cutter {
   // pitch_rad[j] / Ω after tooth j; the last entry leads back to tooth 0). N = size() ≥ 1, each
   // > 0, summing to 2π (within 1e-6 rad).
   std::vector<double> pitch_rad;
-  double helix_rad = 0.0;        // β in [0, 80°] [rad]; > 0 splits the cut into axial slices
+  double helix_rad = 0.0;  // β in [0, 80°] [rad]; > 0 splits the cut into axial slices
+  // A variable helix: tooth j's own β_j [rad] (N entries, each in [0, 80°]; empty: helix_rad on
+  // every tooth). The slice at height z of tooth j lags by z tan β_j/R, so the angle from the tooth
+  // ahead changes along z: p_{j−1} + z (tan β_j − tan β_{j−1})/R.
+  std::vector<double> tooth_helix_rad;
   std::vector<double> runout_m;  // ρ_j: radius of tooth j is D/2 + ρ_j [m], |ρ_j| < D/2; empty: none
   double flute_length_m = 0.0;   // the depth of cut may not exceed it [m]; 0: not checked
   int teeth() const { return static_cast<int>(pitch_rad.size()); }
-  bool uniform() const;  // even pitch and no runout: every tooth cuts alike
-  void check() const;    // throws InvalidArgument naming `Cutter::field`
+  double helix_of(int tooth) const;  // β_j [rad]
+  bool uniform() const;              // even pitch, one helix and no runout: every tooth cuts alike
+  void check() const;                // throws InvalidArgument naming `Cutter::field`
 };
 
 // N evenly spaced straight teeth.
@@ -115,10 +120,14 @@ struct ForceLaw {
   double radial_edge = 0.0;             // K_re ≥ 0 [N/m]
   double exponent = 1.0;                // x in (0, 1]: 1 the linear law
   double reference_chip_m = 1e-4;       // h₀ > 0 [m] (used when x ≠ 1)
-  void check() const;                   // throws InvalidArgument naming `ForceLaw::field`
+  // Process damping (Budak & Tunç, CIRP Annals 58 (2009) 403; stability.hpp's CuttingConditions::
+  // process_damping_n_per_m): each slice in the cut adds −C_i dz (u·ṙ)/V u, u = (sin φ, cos φ),
+  // V = πDn/60. C_i [N/m] within kProcessDampingMin…kProcessDampingMax; 0: none.
+  double process_damping_n_per_m = 0.0;
+  void check() const;  // throws InvalidArgument naming `ForceLaw::field`
 };
 
-// The linear law of stability.hpp's cutting conditions (no edge forces).
+// The linear law of stability.hpp's cutting conditions (no edge forces; their process damping).
 ForceLaw linear_force_law(const CuttingConditions& cutting);
 
 struct MillingCut {

@@ -10,7 +10,8 @@
 // while φ_st ≤ φ ≤ φ_ex within [0, π]. Up-milling: φ_st = 0, φ_ex = acos(1 − 2a/D); down-milling:
 // φ_st = acos(2a/D − 1), φ_ex = π (docs/reference.md §7). x, y are displacements of the tool relative to the
 // work; the FRFs G_xx, G_xy, G_yx, G_yy are receptances [m/N] of the tool point in these
-// directions (e^{iωt}: Im G_xx ≤ 0). Flutes are straight (no helix), teeth evenly spaced.
+// directions (e^{iωt}: Im G_xx ≤ 0). Flutes are straight and teeth evenly spaced unless
+// CuttingConditions says otherwise (pitch, helix, runout: the time-domain method only).
 //
 // Dynamic chip thickness h = Δx sin φ + Δy cos φ, Δ = r(t) − r(t − τ), τ = 60/(N n) the tooth
 // period; tooth forces F_t = K_t a h, F_r = K_r F_t with K_r = K_n/K_t. Summed over the teeth in
@@ -52,6 +53,8 @@ Engagement engagement_from_degrees(double entry_deg, double exit_deg);
 // The plausible range of the process-damping (indentation) coefficient C_i [N/m]: published
 // values lie around 1e4…1e7 N/m; outside 1e3…1e8 N/m it is most likely in another unit.
 inline constexpr double kProcessDampingMin = 1e3, kProcessDampingMax = 1e8;
+// The largest helix angle taken [rad] (80°, as simulation.hpp's Cutter::helix_rad).
+inline constexpr double kMaxHelixRad = 80.0 * 3.14159265358979323846 / 180.0;
 
 struct CuttingConditions {
   int teeth = 0;                        // N ≥ 1
@@ -75,14 +78,30 @@ struct CuttingConditions {
   // that grows as the speed falls. C_i [N/m] within kProcessDampingMin…kProcessDampingMax; 0: none.
   // Teeth are taken as in contact over the engagement (with runout too).
   double process_damping_n_per_m = 0.0;
+  // Helix (docs/reference.md §11; Altintas, Manufacturing Automation, 2nd ed., §2.3): the edge of
+  // tooth j at height z above the tool tip lags its tip by κ_j z, κ_j = tan β_j / R (R = D/2, needs
+  // diameter_m), so the cut is an integral over the axial depth. Empty: straight flutes; one angle
+  // [rad]: every tooth; N angles: a variable helix (each tooth its own). Each in [0, 80°]. The
+  // time-domain stability integrates the directional matrix exactly over the lagged angles; with a
+  // variable helix the delay between teeth changes along z and the depth is cut into
+  // `helix_slices` axial slices, each with its own delays. Only the time-domain stability uses it.
+  std::vector<double> helix_rad{};
+  // Axial slices for a variable helix, 1…200 (0: 8). Each slice's delays are those at its
+  // mid-height (a midpoint rule in z: error falling like 1/slices²). A uniform helix needs none:
+  // every slice has the same delay, and its integral over z is exact.
+  int helix_slices = 0;
   // Throws InvalidArgument naming the parameter and value (negative coefficients, N < 1, pitch
   // angles of the wrong count or not adding up to a revolution, runout beyond the radius or over
-  // 1 mm, runout without a feed, …).
+  // 1 mm, runout without a feed, a helix angle negative or over 80°, …).
   void check() const;
   // Every tooth cuts alike: evenly spaced teeth (pitch_rad empty, or all its angles equal within
-  // 1e-12 rad) and no runout (or the same on every tooth). The principal period is then the
-  // tooth period, and the zero-order method applies.
+  // 1e-12 rad), no runout (or the same on every tooth) and one helix angle. The principal period
+  // is then the tooth period, and (straight flutes) the zero-order method applies.
   bool uniform() const;
+  // A helix angle > 0 on some tooth: the milling equation's coefficients depend on the depth.
+  bool helical() const;
+  // Tooth j's helix angle [rad] (0 without helix).
+  double helix_of(int tooth) const;
   // The principal period of the milling equation in tooth periods 60/(N n): 1 when uniform(), N (a
   // revolution) otherwise.
   int teeth_per_period() const { return uniform() ? 1 : teeth; }
@@ -308,8 +327,22 @@ struct BoundaryPoint {
 // With CuttingConditions::process_damping_n_per_m > 0 the system carries the velocity feedback
 // −(C_i/V) Σ_j g_j u_j u_jᵀ ṙ per unit depth (with_velocity_feedback: outputs 0…d−1 the tip
 // displacement, d…2d−1 its velocity).
+// Throws InvalidArgument with a helix (the system depends on the depth: milling_delay_system_at_depth).
 PeriodicDelaySystem milling_delay_system(const ModalModel& model, const CuttingConditions& cutting, double speed_rpm,
                                          double feed_per_tooth_m = 0.0);
+// The milling equation at one speed and axial depth `depth_m` [m] ≥ 0 (its gain σ is still the
+// depth). Straight flutes: milling_delay_system, whatever the depth. With a helix
+// (CuttingConditions::helix_rad, docs/reference.md §11), tooth j at height z is at φ_j(t) − κ_j z,
+// κ_j = tan β_j/R, and each coefficient is the average over the depth,
+//     P(t) = (1/a) ∫₀ᵃ Σ_j ½K_t g A(φ_j(t) − κ_j z) dz = Σ_j ½K_t/(κ_j a) ∫_{φ_j − κ_j a}^{φ_j} g A(ψ) dψ,
+// integrated in closed form between the angles where g (entry, exit; with runout the surface cut)
+// changes; process damping's u uᵀ and the static chip's force alike. A uniform helix keeps one
+// delay per tooth (the tooth period when uniform()); a variable helix gives tooth j at slice s the
+// delay (p_{j−1} + z_s (κ_j − κ_{j−1}))/Ω, z_s the slice's mid-height (slices of equal height, each
+// integrated exactly in φ). Throws InvalidArgument (as milling_delay_system; a delay that is not
+// positive or exceeds a revolution at this depth).
+PeriodicDelaySystem milling_delay_system_at_depth(const ModalModel& model, const CuttingConditions& cutting, double speed_rpm,
+                                                  double depth_m, double feed_per_tooth_m = 0.0);
 // The cutting speed V = πDn/60 [m/s] of CuttingConditions::diameter_m at `speed_rpm`.
 double cutting_speed(const CuttingConditions& cutting, double speed_rpm);
 // The tip velocity's C_v (d × 2n_q) of the milling system's state: x (and y) velocities summed over the modes.
@@ -322,7 +355,11 @@ class FullDiscretization {
   // Throws InvalidArgument (bad model or conditions, steps outside 4…20000, degree outside 1…3).
   FullDiscretization(ModalModel model, CuttingConditions cutting, int steps = 40, int degree = 2);
 
+  // Throws InvalidArgument with a helix (the map depends on the depth: the overload below).
   PeriodMap period_map(double speed_rpm) const;
+  // The map at a depth [m] (milling_delay_system_at_depth); with straight flutes any depth gives
+  // the same map.
+  PeriodMap period_map(double speed_rpm, double depth_m) const;
   double spectral_radius(double speed_rpm, double depth_m) const;
   // The spectral radius with the critical multiplier, its kind, and the chatter frequency: the
   // strongest harmonic (arg μ + 2πj)/(2πτ) of the critical Floquet solution's tip displacement over
@@ -381,7 +418,10 @@ struct BoundaryResult {
 // first speed of each block of 8), m doubled until the estimated error meets the tolerance.
 // Stable islands above the first boundary are not reported: the lowest unstable depth is. An
 // unstable band below the scan's start (70 % of the neighbour's depth) or narrower than a scan step
-// (20 %) can be missed. Throws InvalidArgument (bad model, conditions or options), NumericalError.
+// (20 %) can be missed. With a helix the map depends on the depth: each depth the search
+// evaluates gets its own map (milling_delay_system_at_depth), built anew (a map costs about as
+// much as its spectral radius), so ρ(a) is the same continuous function the root finder expects.
+// Throws InvalidArgument (bad model, conditions or options), NumericalError.
 BoundaryResult stability_boundary(const ModalModel& model, const CuttingConditions& cutting, const BoundaryOptions& options);
 
 // ---- Results for people ---------------------------------------------------------------------

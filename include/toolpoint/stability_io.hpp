@@ -29,4 +29,9 @@ std::string format_envelope_csv(const std::vector<EnvelopePoint>& envelope, cons
 // error (at least 3, at most 9 significant digits in all); all digits when the error is unknown.
 std::string depth_text_mm(double depth_mm, double error_mm);
 
+// The cutting conditions beyond evenly spaced straight teeth, for a file's comment line (the
+// reader's units: degrees, mm, N/m), e.g. "pitch 70,110,70,110 deg, helix 30 deg, diameter 20 mm";
+// "" when there are none (the lobes of today's straight, even tool).
+std::string tool_geometry_text(const CuttingConditions& cutting);
+
 }  // namespace toolpoint

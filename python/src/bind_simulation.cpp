@@ -19,6 +19,14 @@ Cutter cutter_of(const CuttingConditions& c, double diameter_m, const std::optio
   Cutter cu = uniform_cutter(c.teeth, diameter_m);
   if (pitch_rad) cu.pitch_rad = *pitch_rad;
   cu.helix_rad = helix_rad;
+  // The cutting conditions' helix (one angle, or one per tooth), unless the keyword gives one.
+  if (!c.helix_rad.empty()) {
+    if (helix_rad != 0.0)
+      throw InvalidArgument("simulate_milling: helix_rad given twice (the keyword and CuttingConditions::helix_rad)",
+                            "give it once");
+    if (c.helix_rad.size() == 1) cu.helix_rad = c.helix_rad.front();
+    else cu.tooth_helix_rad = c.helix_rad;
+  }
   if (runout_m) cu.runout_m = *runout_m;
   cu.flute_length_m = flute_length_m;
   return cu;

@@ -228,10 +228,12 @@ void bind_stability(py::module_& m) {
       "the radial immersion a/D and 'up'/'down' milling, or entry/exit angles [rad] clockwise from y. Optional "
       "(time-domain method only): pitch_rad, the angle from each tooth to the next [rad] (variable pitch); runout_m, "
       "the radius offset of each tooth [m] with feed_per_tooth_m [m]; process_damping_n_per_m, the indentation "
-      "coefficient C_i [N/m] with diameter_m [m].")
+      "coefficient C_i [N/m] with diameter_m [m]; helix_rad, the helix angle [rad] of every tooth ([β]) or of each "
+      "(a variable helix, helix_slices axial slices, 0: 8) with diameter_m [m].")
       .def(py::init([](int teeth, double kt, double kr, std::optional<double> immersion, const std::string& milling,
                        std::optional<double> entry_rad, std::optional<double> exit_rad, std::vector<double> pitch_rad,
-                       std::vector<double> runout_m, double feed_per_tooth_m, double diameter_m, double process_damping_n_per_m) {
+                       std::vector<double> runout_m, double feed_per_tooth_m, double diameter_m, double process_damping_n_per_m,
+                       std::vector<double> helix_rad, int helix_slices) {
              CuttingConditions c;
              c.teeth = teeth;
              c.tangential_coefficient = kt;
@@ -247,6 +249,8 @@ void bind_stability(py::module_& m) {
              c.feed_per_tooth_m = feed_per_tooth_m;
              c.diameter_m = diameter_m;
              c.process_damping_n_per_m = process_damping_n_per_m;
+             c.helix_rad = std::move(helix_rad);
+             c.helix_slices = helix_slices;
              if (immersion && (entry_rad || exit_rad))
                throw InvalidArgument("CuttingConditions: give the immersion or the entry and exit angles, not both",
                                      "drop one of them");
@@ -262,13 +266,15 @@ void bind_stability(py::module_& m) {
            "teeth"_a, "tangential_coefficient"_a, "radial_ratio"_a, "immersion"_a = py::none(), "milling"_a = "down",
            "entry_rad"_a = py::none(), "exit_rad"_a = py::none(), "pitch_rad"_a = std::vector<double>{},
            "runout_m"_a = std::vector<double>{}, "feed_per_tooth_m"_a = 0.0, "diameter_m"_a = 0.0,
-           "process_damping_n_per_m"_a = 0.0)
+           "process_damping_n_per_m"_a = 0.0, "helix_rad"_a = std::vector<double>{}, "helix_slices"_a = 0)
       .def_readonly("teeth", &CuttingConditions::teeth)
       .def_readonly("pitch_rad", &CuttingConditions::pitch_rad, "angle from each tooth to the next [rad] (empty: even)")
       .def_readonly("runout_m", &CuttingConditions::runout_m, "radius offset of each tooth [m] (empty: none)")
       .def_readonly("feed_per_tooth_m", &CuttingConditions::feed_per_tooth_m)
       .def_readonly("diameter_m", &CuttingConditions::diameter_m)
       .def_readonly("process_damping_n_per_m", &CuttingConditions::process_damping_n_per_m, "C_i [N/m]")
+      .def_readonly("helix_rad", &CuttingConditions::helix_rad, "helix angle [rad]: one for every tooth, or one per tooth")
+      .def_readonly("helix_slices", &CuttingConditions::helix_slices, "axial slices of a variable helix (0: 8)")
       .def_readonly("tangential_coefficient", &CuttingConditions::tangential_coefficient, "K_t [N/m²]")
       .def_readonly("radial_ratio", &CuttingConditions::radial_ratio)
       .def_property_readonly("entry_rad", [](const CuttingConditions& c) { return c.engagement.entry_rad; })

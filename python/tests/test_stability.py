@@ -167,3 +167,25 @@ def test_variable_pitch_and_process_damping_are_the_cli_ones():
         tp.CuttingConditions(4, 6e8, 0.3, immersion=0.5, pitch_rad=[1.0, 1.0, 1.0, 1.0])
     with pytest.raises(tp.InvalidArgument, match="process_damping_n_per_m"):
         tp.CuttingConditions(4, 6e8, 0.3, immersion=0.5, diameter_m=0.02, process_damping_n_per_m=2e11)
+
+
+def test_helix_is_the_cli_one():
+    """A variable helix (issue 27) reaches the time-domain boundary from Python as from `toolpoint lobes --helix`
+    (degrees in the CLI, radians here), and the simulation takes the same cutting conditions' helix."""
+    deg = np.pi / 180.0
+    cut = tp.CuttingConditions(4, 1.5e8, 1.0 / 3.0, immersion=0.05, milling="down",
+                               helix_rad=[30 * deg, 40 * deg, 30 * deg, 40 * deg], diameter_m=0.02)
+    assert len(cut.helix_rad) == 4 and cut.helix_slices == 0
+    study = tp.run_lobes_study(cut, (6000.0, 7000.0, 3), method="fd", x_modes=[BENCH], rigid_y=True, threads=1)
+    cli = run_cli_json("lobes", "--method", "fd", "--mode-x", "0.03993,0.011,922", "--rigid-y", "--teeth", 4, "--kt", 1.5e8,
+                       "--kr", 1.0 / 3.0, "--immersion", 0.05, "--milling", "down", "--rpm", "6000:7000", "--speeds", 3,
+                       "--helix", "30,40,30,40", "--diameter", 20, "--threads", 1)
+    assert study.to_dict()["boundary"] == cli["boundary"]
+    with pytest.warns(Warning):  # few revolutions analysed
+        sim = tp.simulate_milling(cut, 6000.0, 1e-3, 1e-4, 0.02, x_modes=[BENCH], rigid_y=True, revolutions=4, record=False)
+    d = sim.to_dict()
+    assert d["cutter"]["tooth_helix_rad"] == list(cut.helix_rad) and d["simulation"]["slices"] > 1
+    with pytest.raises(tp.InvalidArgument, match="helix_rad"):
+        tp.CuttingConditions(4, 6e8, 0.3, immersion=0.5, diameter_m=0.02, helix_rad=[-0.1])
+    with pytest.raises(tp.InvalidArgument, match="2 angles for 4 teeth"):
+        tp.CuttingConditions(4, 6e8, 0.3, immersion=0.5, diameter_m=0.02, helix_rad=[0.5, 0.6])

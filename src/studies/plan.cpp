@@ -159,8 +159,30 @@ double power_per_depth(const CuttingConditions& cutting, double diameter_m, doub
 
 // ---- Options ------------------------------------------------------------------------------------
 
+CuttingConditions plan_cutting(const PlanOptions& options, double tool_diameter_m) {
+  CuttingConditions c = options.lobes.cutting;
+  c.diameter_m = tool_diameter_m;
+  c.feed_per_tooth_m = options.feed_per_tooth_m;
+  return c;
+}
+
 void PlanOptions::check() const {
-  lobes.check();
+  {
+    // The cut with a tool of any size (each candidate's is checked with the plan's header) and
+    // some feed (checked below).
+    PlanOptions any = *this;
+    any.feed_per_tooth_m = finite_positive(feed_per_tooth_m) ? feed_per_tooth_m : 1e-4;
+    LobesStudyOptions l = lobes;
+    l.cutting = plan_cutting(any, 1.0);
+    l.check();
+  }
+  const CuttingConditions& c = lobes.cutting;
+  if (lobes.method == LobesMethod::ZeroOrder &&
+      (!c.pitch_rad.empty() || c.helical() || !c.runout_m.empty() || c.process_damping_n_per_m > 0.0))
+    throw InvalidArgument(
+        "PlanOptions::lobes.cutting has a variable pitch, helix, runout or process damping, which the "
+        "zero-order method (LobesStudyOptions::method) cannot take",
+        "use the full-discretization method (fd)");
   if (!finite_positive(feed_per_tooth_m))
     throw InvalidArgument(fmt::format("PlanOptions::feed_per_tooth_m = {} m must be > 0", feed_per_tooth_m),
                           "give the feed per tooth in metres, e.g. 1e-4 (0.1 mm)");
@@ -261,6 +283,11 @@ PlanHeader plan_header(const std::vector<PlanCandidate>& candidates, const PlanO
                             : std::string();
     s.tool_diameter_m = in.assembly.tool.diameter;
     s.flute_length_m = in.assembly.tool.flute_length;
+    try {
+      plan_cutting(options, s.tool_diameter_m).check();  // runout within this tool's radius
+    } catch (const InvalidArgument& e) {
+      throw InvalidArgument(fmt::format("{}: {}", who, e.what()), e.hint());
+    }
     // Overhang grids built as START + i·STEP land a rounding away from the minimum: 1e-9 relative.
     for (double L : all)
       if (L >= reach * (1.0 - 1e-9)) s.overhangs_m.push_back(L);
@@ -289,6 +316,11 @@ std::uint64_t plan_fingerprint(const PlanHeader& h) {
   f.add(l.cutting.radial_ratio);
   f.add(l.cutting.engagement.entry_rad);
   f.add(l.cutting.engagement.exit_rad);
+  f.add(l.cutting.pitch_rad);
+  f.add(l.cutting.helix_rad);
+  f.add(l.cutting.helix_slices);
+  f.add(l.cutting.runout_m);
+  f.add(l.cutting.process_damping_n_per_m);
   f.add(l.speeds.min_rpm);
   f.add(l.speeds.max_rpm);
   f.add(l.speeds.points);
@@ -675,6 +707,7 @@ PlanJob compute_job(const PlanCandidate& cand, const PlanHeader& h, std::size_t 
   // The time domain searches depths up to a ceiling: by default the deepest cut the plan could use
   // (the flute length or the depth cap), not its own guess, so no usable pocket is cut off.
   LobesStudyOptions lobes = h.options.lobes;
+  lobes.cutting = plan_cutting(h.options, cs.tool_diameter_m);
   if (lobes.method == LobesMethod::FullDiscretization && lobes.max_depth_m == 0.0)
     lobes.max_depth_m = std::max(cs.flute_length_m, h.options.max_depth_m);
   FrfSeries g;

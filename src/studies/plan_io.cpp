@@ -15,6 +15,7 @@
 #include "toolpoint/io.hpp"
 #include "toolpoint/studies/overhang.hpp"
 #include "toolpoint/studies/plan.hpp"
+#include "toolpoint/stability_io.hpp"
 #include "toolpoint/studies/plan_io.hpp"
 #include "part_file.hpp"
 #include "toml_reader.hpp"
@@ -41,6 +42,11 @@ nlohmann::json header_json(const PlanHeader& h) {
                         {"radial_ratio", hex(l.cutting.radial_ratio)},
                         {"entry_rad", hex(l.cutting.engagement.entry_rad)},
                         {"exit_rad", hex(l.cutting.engagement.exit_rad)},
+                        {"pitch_rad", hexes(l.cutting.pitch_rad)},
+                        {"helix_rad", hexes(l.cutting.helix_rad)},
+                        {"helix_slices", l.cutting.helix_slices},
+                        {"runout_m", hexes(l.cutting.runout_m)},
+                        {"process_damping_n_per_m", hex(l.cutting.process_damping_n_per_m)},
                         {"speed_min_rpm", hex(l.speeds.min_rpm)},
                         {"speed_max_rpm", hex(l.speeds.max_rpm)},
                         {"speed_points", l.speeds.points},
@@ -98,6 +104,12 @@ PlanHeader parse_header(const PartReader& r, const nlohmann::json& j) {
   l.cutting.radial_ratio = r.number(o, "radial_ratio", p);
   l.cutting.engagement.entry_rad = r.number(o, "entry_rad", p);
   l.cutting.engagement.exit_rad = r.number(o, "exit_rad", p);
+  // The tool beyond straight, even teeth (keys absent in older part files, whose plans had none).
+  if (o.contains("pitch_rad")) l.cutting.pitch_rad = r.numbers(o, "pitch_rad", p);
+  if (o.contains("helix_rad")) l.cutting.helix_rad = r.numbers(o, "helix_rad", p);
+  if (o.contains("helix_slices")) l.cutting.helix_slices = r.get<int>(o, "helix_slices", p);
+  if (o.contains("runout_m")) l.cutting.runout_m = r.numbers(o, "runout_m", p);
+  if (o.contains("process_damping_n_per_m")) l.cutting.process_damping_n_per_m = r.number(o, "process_damping_n_per_m", p);
   l.speeds.min_rpm = r.number(o, "speed_min_rpm", p);
   l.speeds.max_rpm = r.number(o, "speed_max_rpm", p);
   l.speeds.points = r.get<int>(o, "speed_points", p);
@@ -238,10 +250,15 @@ std::string setup_fields(const PlanSetup& s) {
 std::string head(const PlanResult& r, const std::string& what) {
   const PlanOptions& o = r.header.options;
   const std::string rule = safety_rule_text(o.safety);
+  // The tool beyond straight, even teeth (its diameter each candidate's own): a line of its own.
+  CuttingConditions cut = o.lobes.cutting;
+  cut.diameter_m = 0.0;
+  cut.feed_per_tooth_m = o.feed_per_tooth_m;
+  const std::string tool = tool_geometry_text(cut);
   return fmt::format(
       "# toolpoint plan: {}; units: overhang mm, spindle speed rpm, depths mm, MRR cm^3/min, power kW, torque N m, "
-      "chatter frequency Hz; empty: none\n# safety rule: {}; fingerprint {:016x}\n",
-      what, rule, r.header.fingerprint);
+      "chatter frequency Hz; empty: none\n# safety rule: {}; fingerprint {:016x}\n{}",
+      what, rule, r.header.fingerprint, tool.empty() ? "" : fmt::format("# tool: {} (each candidate's diameter)\n", tool));
 }
 
 }  // namespace
@@ -426,6 +443,34 @@ PlanCandidate read_candidate(Reader& r, const toml::table& t, const std::string&
   return c;
 }
 
+// [cut]'s tool beyond straight, even teeth (CuttingConditions; the time-domain method only): pitch
+// [rad] per tooth, helix [rad] (one, or one per tooth), runout [m] per tooth, process_damping C_i
+// [N/m]. Checked with the rest of the cut (CuttingConditions::check, the message naming the key).
+void read_tool_geometry(const Reader& r, const toml::table& cut, CuttingConditions& c) {
+  if (auto v = r.numbers(cut, "pitch", "cut", "rad")) c.pitch_rad = *v;
+  if (auto v = r.numbers(cut, "helix", "cut", "rad")) c.helix_rad = *v;
+  if (auto v = r.numbers(cut, "runout", "cut", "m")) c.runout_m = *v;
+  if (auto v = r.number(cut, "process_damping", "cut", "N/m")) c.process_damping_n_per_m = *v;
+  CuttingConditions probe = c;
+  probe.diameter_m = probe.helical() || probe.process_damping_n_per_m > 0.0 ? 1.0 : 0.0;  // the candidates' tools
+  probe.feed_per_tooth_m = 1e-4;                                                          // the feed is read apart
+  try {
+    probe.check();
+  } catch (const InvalidArgument& e) {
+    std::string what = e.what();
+    for (const auto& [key, field] : {std::pair{"pitch", "CuttingConditions::pitch_rad"},
+                                     {"helix", "CuttingConditions::helix_rad"},
+                                     {"runout", "CuttingConditions::runout_m"},
+                                     {"process_damping", "CuttingConditions::process_damping_n_per_m"}}) {
+      const std::size_t at = what.find(field);
+      if (at == std::string::npos || !cut.get(key)) continue;
+      what.replace(at, std::string(field).size(), fmt::format("cut.{}", key));
+      r.fail(*cut.get(key), what, e.hint());
+    }
+    // Anything else belongs to the rest of the cut: PlanOptions::check reports it.
+  }
+}
+
 }  // namespace
 
 PlanStudy parse_plan_study(const std::string& text, const std::string& source, const std::string& directory) {
@@ -454,7 +499,7 @@ PlanStudy parse_plan_study(const std::string& text, const std::string& source, c
   const toml::table& cut = *r.table(root, "cut", "", true);
   r.only(cut, "cut",
          {"teeth", "tangential_coefficient", "radial_ratio", "normal_coefficient", "edge_coefficient", "radial_immersion",
-          "milling", "feed_per_tooth", "max_depth"});
+          "milling", "feed_per_tooth", "max_depth", "pitch", "helix", "runout", "process_damping"});
   l.cutting.teeth = integer(r, cut, "teeth", "cut", 1, 1000, 0);
   if (!cut.contains("teeth")) r.fail(cut, "missing key cut.teeth (the number of teeth)", "e.g. teeth = 4");
   l.cutting.tangential_coefficient = checked(r, cut, "tangential_coefficient", "cut", "N/m^2", true, 0.0, positive,
@@ -489,6 +534,7 @@ PlanStudy parse_plan_study(const std::string& text, const std::string& source, c
   r.plausible(cut, "feed_per_tooth", "cut", o.feed_per_tooth_m, plausible::kFeedPerTooth);
   o.max_depth_m = checked(r, cut, "max_depth", "cut", "m", false, 0.0, non_negative, "m must be ≥ 0");
   r.plausible(cut, "max_depth", "cut", o.max_depth_m, plausible::kDepth);
+  read_tool_geometry(r, cut, l.cutting);
 
   const toml::table& mach = *r.table(root, "machine", "", true);
   r.only(mach, "machine", {"speed_min", "speed_max", "speed_points", "power", "torque", "min_overhang"});

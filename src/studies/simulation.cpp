@@ -187,10 +187,12 @@ std::uint64_t simulated_map_fingerprint(const SimulatedMapHeader& h) {
   f.add(o.cutter.diameter_m);
   f.add(o.cutter.pitch_rad);
   f.add(o.cutter.helix_rad);
+  f.add(o.cutter.tooth_helix_rad);
   f.add(o.cutter.runout_m);
   f.add(o.cutter.flute_length_m);
   const ForceLaw& l = o.force;
-  for (double x : {l.tangential_coefficient, l.radial_ratio, l.tangential_edge, l.radial_edge, l.exponent, l.reference_chip_m})
+  for (double x : {l.tangential_coefficient, l.radial_ratio, l.tangential_edge, l.radial_edge, l.exponent, l.reference_chip_m,
+                   l.process_damping_n_per_m})
     f.add(x);
   f.add(o.cut.feed_per_tooth_m);
   f.add(o.cut.engagement.entry_rad);

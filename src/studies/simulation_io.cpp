@@ -96,6 +96,7 @@ nlohmann::json header_json(const SimulatedMapHeader& h) {
            {{"diameter_m", hex(o.cutter.diameter_m)},
             {"pitch_rad", hexes(o.cutter.pitch_rad)},
             {"helix_rad", hex(o.cutter.helix_rad)},
+            {"tooth_helix_rad", hexes(o.cutter.tooth_helix_rad)},
             {"runout_m", hexes(o.cutter.runout_m)},
             {"flute_length_m", hex(o.cutter.flute_length_m)}}},
           {"force",
@@ -104,7 +105,8 @@ nlohmann::json header_json(const SimulatedMapHeader& h) {
             {"tangential_edge", hex(o.force.tangential_edge)},
             {"radial_edge", hex(o.force.radial_edge)},
             {"exponent", hex(o.force.exponent)},
-            {"reference_chip_m", hex(o.force.reference_chip_m)}}},
+            {"reference_chip_m", hex(o.force.reference_chip_m)},
+            {"process_damping_n_per_m", hex(o.force.process_damping_n_per_m)}}},
           {"cut",
            {{"feed_per_tooth_m", hex(o.cut.feed_per_tooth_m)},
             {"entry_rad", hex(o.cut.engagement.entry_rad)},
@@ -136,6 +138,8 @@ SimulatedMapHeader parse_header(const PartReader& r, const nlohmann::json& j) {
   o.cutter.diameter_m = r.number(c, "diameter_m", "cutter.");
   o.cutter.pitch_rad = r.numbers(c, "pitch_rad", "cutter.");
   o.cutter.helix_rad = r.number(c, "helix_rad", "cutter.");
+  // Keys added later (a variable helix, process damping): absent in older part files, whose runs had neither.
+  if (c.contains("tooth_helix_rad")) o.cutter.tooth_helix_rad = r.numbers(c, "tooth_helix_rad", "cutter.");
   o.cutter.runout_m = r.numbers(c, "runout_m", "cutter.");
   o.cutter.flute_length_m = r.number(c, "flute_length_m", "cutter.");
   const nlohmann::json& f = r.at(j, "force", "");
@@ -145,6 +149,7 @@ SimulatedMapHeader parse_header(const PartReader& r, const nlohmann::json& j) {
   o.force.radial_edge = r.number(f, "radial_edge", "force.");
   o.force.exponent = r.number(f, "exponent", "force.");
   o.force.reference_chip_m = r.number(f, "reference_chip_m", "force.");
+  if (f.contains("process_damping_n_per_m")) o.force.process_damping_n_per_m = r.number(f, "process_damping_n_per_m", "force.");
   const nlohmann::json& cut = r.at(j, "cut", "");
   o.cut.feed_per_tooth_m = r.number(cut, "feed_per_tooth_m", "cut.");
   o.cut.engagement.entry_rad = r.number(cut, "entry_rad", "cut.");

@@ -3,9 +3,18 @@
 
 #include <gtest/gtest.h>
 
+#include "toolpoint/conventions.hpp"
 #include "toolpoint/stability.hpp"
 
 namespace toolpoint::test {
+
+// The Insperger–Stépán benchmark (docs/reference.md §7): its mode, cutting coefficients, and a
+// 20 mm cutter; degrees in radians.
+namespace benchmark {
+inline constexpr double kDeg = kPi / 180.0;
+inline const Mode kBench{0.03993, 0.011, 922.0};
+inline constexpr double kKt = 6e8, kKn = 2e8, kDiameter = 0.02;
+}  // namespace benchmark
 
 // The converged full-discretization limit at one speed [m] (estimated error ≤ 0.1 %, checked).
 inline double converged_limit(const ModalModel& model, const CuttingConditions& cutting, double speed_rpm) {

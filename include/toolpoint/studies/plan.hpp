@@ -96,7 +96,10 @@ struct PlanOptions {
   std::string name;  // the plan's name, for reports and files (a study file's study.name)
   // The cut (cutting conditions: teeth, K_t, K_r, engagement), the speeds (points 0: 2000 zero-order,
   // 200 full-discretization), the method and its settings, the pocket prominence. `lobes.parallel`
-  // and `lobes.progress` are not used (the plan's own are).
+  // and `lobes.progress` are not used (the plan's own are). The cutting conditions' variable pitch,
+  // helix, runout and process damping (full-discretization only) are used as given; their
+  // diameter_m and feed_per_tooth_m are not: each candidate's tool diameter and feed_per_tooth_m
+  // below are (plan_cutting).
   LobesStudyOptions lobes;
   double feed_per_tooth_m = 0.0;          // c > 0 [m]
   double edge_coefficient_n_per_m = 0.0;  // K_te ≥ 0 [N/m]: tangential edge force per unit depth (torque, power)
@@ -107,6 +110,11 @@ struct PlanOptions {
   // Throws InvalidArgument naming `PlanOptions::<field>` (or the nested options' fields) and the value.
   void check() const;
 };
+
+// The cut of a candidate whose tool has diameter D [m]: PlanOptions::lobes.cutting with diameter_m
+// = D and feed_per_tooth_m = PlanOptions::feed_per_tooth_m (one definition of each: the helix's
+// lag, process damping's speed and the runout's surfaces read them).
+CuttingConditions plan_cutting(const PlanOptions& options, double tool_diameter_m);
 
 // What bounds the depth used at a speed.
 enum class DepthLimit { Stability, Power, Torque, Depth, None };
