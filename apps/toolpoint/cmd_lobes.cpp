@@ -177,7 +177,9 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
     so_threads.threads = o.threads;
     so.uncertainty = uncertainty_options(so_threads);
   }
-  fill_dynamics_input(o.dyn, g, joints, input);
+  DynamicsArgs dyn = o.dyn;
+  dyn.speed_model = so.method == LobesMethod::ZeroOrder && !uncertain ? so.speed_model : SpeedModel::Standstill;
+  fill_dynamics_input(dyn, g, joints, input);
   const bool has_frf = input.frfs || input.assembly;
   if (so.method == LobesMethod::ZeroOrder && !has_frf)
     throw InvalidArgument("--method zoa needs the tool point FRF: --frf FILE.csv",
