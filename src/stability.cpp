@@ -691,7 +691,9 @@ ZeroOrderResult zero_order_lobes(const SpeedDependentFrfs& frfs, const CuttingCo
   std::vector<int> count[2];
   for (int k = 0; k <= res.lobes; ++k) {
     // Lobe k's window: its speed factor bounds it (phase in (0, 1)) whatever the node.
-    const auto [i0, i1] = lobe_window(t0, cutting.teeth, k, n_min, n_max);
+    // (Not a structured binding: the lambdas below use the bounds, which clang 14 cannot capture.)
+    const std::pair<std::size_t, std::size_t> window = lobe_window(t0, cutting.teeth, k, n_min, n_max);
+    const std::size_t i0 = window.first, i1 = window.second;
     for (int r = 0; r < 2; ++r) {
       for (int q = 0; q < kSheets; ++q) {
         speed[r][q].assign(i1 - i0, kNaN);
