@@ -323,4 +323,13 @@ TEST(LobesAtSpeed, SpeedDependentFrfsAreChecked) {
   LobesStudyOptions o = options(SpeedModel::Spinning);
   o.speed_nodes = 1;
   EXPECT_THROW(o.check(), InvalidArgument);
+  // The speed model evaluates an assembly: with FRFs alone it is refused, naming the field.
+  LobesInput in;
+  in.frfs = s.frfs[0];
+  try {
+    run_lobes_study(in, options(SpeedModel::Spinning));
+    ADD_FAILURE() << "a speed model without an assembly was accepted";
+  } catch (const InvalidArgument& e) {
+    EXPECT_NE(std::string(e.what()).find("LobesStudyOptions::speed_model"), std::string::npos) << e.what();
+  }
 }

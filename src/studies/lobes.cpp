@@ -524,6 +524,11 @@ LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOption
   if (input.uncertain_joint && !input.assembly)
     throw InvalidArgument("LobesInput::uncertain_joint needs LobesInput::assembly (the joint is sampled inside the model)",
                           "give the assembly whose tool point FRF LobesInput::frfs is");
+  if (!input.assembly && (options.speed_model == SpeedModel::Bearings || options.speed_model == SpeedModel::Spinning))
+    throw InvalidArgument(fmt::format("LobesStudyOptions::speed_model {} evaluates an assembly at each speed: it needs "
+                                      "LobesInput::assembly",
+                                      to_string(options.speed_model)),
+                          "give the assembly, or SpeedModel::Automatic / Standstill for the FRFs given");
   if (input.speed_frfs && (input.uncertain_joint || options.method != LobesMethod::ZeroOrder))
     throw InvalidArgument(
         "LobesInput::speed_frfs (FRFs at several speeds) are for the zero-order method without an uncertain joint",

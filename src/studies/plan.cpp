@@ -596,7 +596,10 @@ Envelope stable_envelope(const FrfSeries& g, const std::string& name, const Lobe
     in.frfs = std::move(frfs);
     in.frf_name = name;
     LobesStudyOptions o = lo;
-    o.parallel.threads = 1;  // the plan runs jobs (or samples) in parallel
+    o.parallel.threads = 1;                  // the plan runs jobs (or samples) in parallel
+    o.speed_model = SpeedModel::Standstill;  // one FRF here (the job says when that is not the speed model asked for)
+    o.speed_nodes = 0;
+    o.extrapolate_bearings = false;
     LobesStudyResult r = run_lobes_study(in, o);
     env = std::move(r.envelope);
     out.warnings = std::move(r.warnings);

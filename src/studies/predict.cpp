@@ -72,8 +72,7 @@ Prediction two_plane_prediction(const AssemblyModel& model, const std::vector<do
 plot::Figure speed_frf_figure(const Assembly& assembly, const std::vector<double>& speeds_rpm, bool extrapolate_bearings) {
   if (speeds_rpm.empty()) throw InvalidArgument("speed_frf_figure: no speed given", "give one or more speeds [rpm]");
   for (double n : speeds_rpm)
-    if (!(std::isfinite(n) && n >= 0.0))
-      throw InvalidArgument(fmt::format("speed_frf_figure: speed {} rpm must be ≥ 0", n));
+    if (!(std::isfinite(n) && n >= 0.0)) throw InvalidArgument(fmt::format("speed_frf_figure: speed {} rpm must be ≥ 0", n));
   const std::vector<double> grid = assembly.grid.values();
   SpeedDependentFrfs s;
   try {
