@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "toolpoint/assembly_file.hpp"
+#include "toolpoint/studies/lobes.hpp"
 #include "toolpoint/studies/overhang.hpp"
 #include "toolpoint/studies/predict.hpp"
 
@@ -39,5 +40,30 @@ void BM_PredictionStudy(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(run_prediction(example()));
 }
 BENCHMARK(BM_PredictionStudy)->Unit(benchmark::kMillisecond);
+
+// Lobes at speed (issue 28): the example's zero-order lobes at 50 speeds, 5000–30 000 rpm, 4 teeth,
+// half immersion, with the x–y tool point FRF at each speed: the spindle spinning (SpeedModel::
+// Spinning), the FRF on the file's grid (4991 frequencies) at the default 17 nodes and their 16
+// midpoints, the lobes from all 33 and from the 17 (the error estimate). Arg 0: isotropic bearings
+// (one lane sweep per whirl); Arg 1: the front bearings 30 % softer in y, the rear ones with a speed
+// table (the 4×4 spindle route, one frequency at a time). Range(1): threads.
+void BM_LobesAtSpeed(benchmark::State& state) {
+  LobesInput in;
+  in.assembly = example();
+  if (state.range(0) == 1) {
+    // Tables and y values do not mix on one bearing (Bearing::check): the front pair softer in y,
+    // the rear pair softening with speed.
+    std::vector<Bearing>& b = in.assembly->spindle.bearings;
+    for (int k : {0, 1}) b[k].stiffness_y = 0.7 * b[k].stiffness;
+    for (int k : {2, 3}) b[k].speed_table = {{0.0, b[k].stiffness, b[k].damping}, {30000.0, 0.7 * b[k].stiffness, b[k].damping}};
+  }
+  LobesStudyOptions o;
+  o.cutting = {4, 6e8, 0.3, engagement_from_immersion(0.5, MillingDirection::Down)};
+  o.speeds = {5000.0, 30000.0, 50};
+  o.speed_model = SpeedModel::Spinning;
+  o.parallel.threads = static_cast<int>(state.range(1));
+  for (auto _ : state) benchmark::DoNotOptimize(run_lobes_study(in, o));
+}
+BENCHMARK(BM_LobesAtSpeed)->Args({0, 1})->Args({0, 2})->Args({1, 1})->Args({1, 2})->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace

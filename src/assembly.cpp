@@ -420,13 +420,16 @@ std::vector<std::string> Assembly::warnings() const {
     const std::string who = b.name.empty() ? fmt::format("spindle.bearing[{}]", i + 1) : b.name;
     if (!b.speed_table.empty())
       w.push_back(
-          fmt::format("{}: its speed table is read only at a stated speed (at_speed); the standstill model, "
-                      "and lobes and plans made from it, use its constant stiffness {:.4g} N/m and damping {:.4g} N·s/m",
+          fmt::format("{}: its speed table is read at a stated speed (at_speed): by a prediction at that speed, and by "
+                      "the zero-order lobes and plans at each of their speeds (LobesStudyOptions::speed_model); the "
+                      "standstill single-plane model (and the time-domain lobes) uses its constant stiffness {:.4g} N/m and "
+                      "damping {:.4g} N·s/m",
                       who, b.stiffness, b.damping));
     if (!b.isotropic())
       w.push_back(
-          fmt::format("{}: its y values are read only by the two-plane model (tool_point_two_plane); the "
-                      "single-plane model, and lobes and plans made from it, use the x values in both directions",
+          fmt::format("{}: its y values are read by the two-plane model (tool_point_two_plane: a prediction, and the "
+                      "zero-order lobes and plans, which use it at each speed); the standstill single-plane model (and the "
+                      "time-domain lobes) uses the x values in both directions",
                       who));
   }
   return w;

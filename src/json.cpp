@@ -479,6 +479,12 @@ void to_json(nlohmann::json& j, const LobesStudyResult& r) {
     j["fits"] = r.fits;
   }
   if (r.boundary) j["pocket_depth_error_m"] = numbers(r.pocket_depth_error_m);
+  if (!r.frf_speeds_rpm.empty()) {  // at speed (SpeedModel): the speeds the FRF was evaluated at, the interpolation's error
+    j["speed_model"] = to_string(r.speed_model);
+    j["frf_speeds_rpm"] = r.frf_speeds_rpm;
+    j["frf_interpolation_error"] = number(r.frf_interpolation_error);
+    j["envelope_interpolation_error"] = number(r.envelope_interpolation_error);
+  }
   if (r.uncertainty) {
     j["uncertainty"] = *r.uncertainty;
     j["uncertain_joint"] = r.uncertain_joint;

@@ -312,7 +312,57 @@ void ZeroOrderOptions::check() const {
 
 namespace {
 
-LobeTable zero_order_roots(const MillingFrfs& frfs, const CuttingConditions& cutting) {
+// The FRFs' largest modulus as a power of two 2^g_exp: dividing by it (ldexp, exact even from
+// subnormals) scales them to a largest modulus near 1, so that squared moduli neither overflow nor
+// underflow whatever the units (μ scales with G, the depth as 1/G, the phase not).
+int frf_scale_exponent(const MillingFrfs& frfs) {
+  double g_max = 0.0;
+  for (const FrfSeries* f :
+       {&frfs.xx, frfs.yy ? &*frfs.yy : nullptr, frfs.xy ? &*frfs.xy : nullptr, frfs.yx ? &*frfs.yx : nullptr})
+    if (f)
+      for (const Complex& v : f->values) g_max = std::max(g_max, std::abs(v));
+  if (!(g_max > 0.0) || !std::isfinite(g_max))
+    throw NumericalError(fmt::format("the milling FRFs' largest modulus is {} m/N: no chatter is possible", g_max),
+                         "check the FRF: a receptance in m/N that is not zero everywhere");
+  return std::ilogb(g_max);
+}
+
+// The two eigenvalues μ of B = α G at one frequency (G scaled), ordered to continue `prev` (the
+// previous frequency's, when `continue_prev`): det(I + ΛB) = 0 ⇔ μ = −1/Λ.
+void milling_eigenvalues(const Eigen::Matrix2d& a, Complex gxx, Complex gyy, Complex gxy, Complex gyx, const Complex* prev,
+                         Complex mu[2]) {
+  const Complex b00 = a(0, 0) * gxx + a(0, 1) * gyx, b01 = a(0, 0) * gxy + a(0, 1) * gyy;
+  const Complex b10 = a(1, 0) * gxx + a(1, 1) * gyx, b11 = a(1, 0) * gxy + a(1, 1) * gyy;
+  const Complex half_tr = 0.5 * (b00 + b11), det = b00 * b11 - b01 * b10;
+  const Complex disc = std::sqrt(half_tr * half_tr - det);
+  // The larger root directly, the smaller one as det/larger: no cancellation (and exactly 0
+  // when det B = 0, the 1-DOF case).
+  // (Squared moduli throughout: comparisons need no square roots.)
+  const Complex big = std::norm(half_tr + disc) >= std::norm(half_tr - disc) ? half_tr + disc : half_tr - disc;
+  mu[0] = big;
+  mu[1] = big != 0.0 ? det / big : Complex(0.0);
+  if (prev && std::norm(mu[0] - prev[0]) + std::norm(mu[1] - prev[1]) > std::norm(mu[0] - prev[1]) + std::norm(mu[1] - prev[0]))
+    std::swap(mu[0], mu[1]);  // keep each root on its own continuous branch
+}
+
+// The depth a_lim [m] and phase ε/2π of root μ (scaled by 2^−g_exp): false where it gives no
+// positive depth (a vanishing root, |μ|² ≤ 1e-24 scale2, or Λ_R ≥ 0); `out_of_range` set where
+// the depth does not fit in a double.
+bool root_depth(Complex mu, double scale2, double nkt, int g_exp, double& depth, double& phase, bool& out_of_range) {
+  if (!(std::norm(mu) > 1e-24 * scale2)) return false;  // |μ| ≤ 1e-12 max|μ|: a vanishing root
+  const Complex lam = -1.0 / mu;
+  if (!(lam.real() < 0.0)) return false;  // Λ_R ≥ 0: no positive depth from this root here
+  depth = std::ldexp(-2.0 * kPi * std::norm(lam) / (lam.real() * nkt), -g_exp);
+  if (!std::isfinite(depth)) {
+    out_of_range = true;
+    return false;
+  }
+  phase = std::atan2(-lam.real(), -lam.imag()) / kPi;  // ε/2π, ε = 2 atan2(−Λ_R, −Λ_I)
+  return true;
+}
+
+// The conditions the zero-order method accepts. Throws InvalidArgument.
+void check_zero_order_conditions(const CuttingConditions& cutting) {
   cutting.check();
   if (cutting.process_damping_n_per_m > 0.0)
     throw InvalidArgument("CuttingConditions::process_damping_n_per_m: the zero-order method has no process damping",
@@ -327,7 +377,9 @@ LobeTable zero_order_roots(const MillingFrfs& frfs, const CuttingConditions& cut
         "CuttingConditions::pitch_rad or CuttingConditions::runout_m: the zero-order method assumes evenly spaced teeth "
         "without runout",
         "use the time-domain (full-discretization) method for a variable pitch or runout");
-  frfs.check();
+}
+
+LobeTable zero_order_roots(const MillingFrfs& frfs, const CuttingConditions& cutting, int g_exp) {
   const Eigen::Matrix2d a = directional_factors(cutting);
   const double nkt = cutting.teeth * cutting.tangential_coefficient;
   const std::size_t n = frfs.xx.size();
@@ -339,18 +391,7 @@ LobeTable zero_order_roots(const MillingFrfs& frfs, const CuttingConditions& cut
     t.depth_m[r].assign(n, kNaN);
     t.phase[r].assign(n, kNaN);
   }
-  // The FRFs scaled to a largest modulus near 1, so that squared moduli neither overflow nor
-  // underflow whatever the units (μ scales with G, the depth as 1/G, the phase not).
-  double g_max = 0.0;
-  for (const FrfSeries* f :
-       {&frfs.xx, frfs.yy ? &*frfs.yy : nullptr, frfs.xy ? &*frfs.xy : nullptr, frfs.yx ? &*frfs.yx : nullptr})
-    if (f)
-      for (const Complex& v : f->values) g_max = std::max(g_max, std::abs(v));
-  if (!(g_max > 0.0) || !std::isfinite(g_max))
-    throw NumericalError(fmt::format("the milling FRFs' largest modulus is {} m/N: no chatter is possible", g_max),
-                         "check the FRF: a receptance in m/N that is not zero everywhere");
-  const int g_exp = std::ilogb(g_max);  // scaling by 2^−g_exp (ldexp) is exact, even from subnormals
-  bool out_of_range = false;            // a root with Λ_R < 0 whose depth does not fit in a double
+  bool out_of_range = false;  // a root with Λ_R < 0 whose depth does not fit in a double
   Complex prev[2] = {0.0, 0.0};
   for (std::size_t i = 0; i < n; ++i) {
     auto scaled = [g_exp](Complex v) { return Complex(std::ldexp(v.real(), -g_exp), std::ldexp(v.imag(), -g_exp)); };
@@ -358,34 +399,12 @@ LobeTable zero_order_roots(const MillingFrfs& frfs, const CuttingConditions& cut
     const Complex gyy = frfs.rigid_y ? Complex(0.0) : frfs.yy ? scaled(frfs.yy->values[i]) : gxx;
     const Complex gxy = frfs.xy ? scaled(frfs.xy->values[i]) : Complex(0.0);
     const Complex gyx = frfs.yx ? scaled(frfs.yx->values[i]) : Complex(0.0);
-    // B = α G; det(I + ΛB) = 0 ⇔ μ = −1/Λ is an eigenvalue of B.
-    const Complex b00 = a(0, 0) * gxx + a(0, 1) * gyx, b01 = a(0, 0) * gxy + a(0, 1) * gyy;
-    const Complex b10 = a(1, 0) * gxx + a(1, 1) * gyx, b11 = a(1, 0) * gxy + a(1, 1) * gyy;
-    const Complex half_tr = 0.5 * (b00 + b11), det = b00 * b11 - b01 * b10;
-    const Complex disc = std::sqrt(half_tr * half_tr - det);
-    // The larger root directly, the smaller one as det/larger: no cancellation (and exactly 0
-    // when det B = 0, the 1-DOF case).
-    // (Squared moduli throughout: comparisons need no square roots.)
-    const Complex big = std::norm(half_tr + disc) >= std::norm(half_tr - disc) ? half_tr + disc : half_tr - disc;
-    Complex mu[2] = {big, big != 0.0 ? det / big : Complex(0.0)};
-    if (i > 0 &&
-        std::norm(mu[0] - prev[0]) + std::norm(mu[1] - prev[1]) > std::norm(mu[0] - prev[1]) + std::norm(mu[1] - prev[0]))
-      std::swap(mu[0], mu[1]);  // keep each root on its own continuous branch
+    Complex mu[2];
+    milling_eigenvalues(a, gxx, gyy, gxy, gyx, i > 0 ? prev : nullptr, mu);
     prev[0] = mu[0];
     prev[1] = mu[1];
     const double scale2 = std::max(std::norm(mu[0]), std::norm(mu[1]));
-    for (int r = 0; r < 2; ++r) {
-      if (!(std::norm(mu[r]) > 1e-24 * scale2)) continue;  // |μ| ≤ 1e-12 max|μ|: a vanishing root
-      const Complex lam = -1.0 / mu[r];
-      if (!(lam.real() < 0.0)) continue;  // Λ_R ≥ 0: no positive depth from this root here
-      const double depth = std::ldexp(-2.0 * kPi * std::norm(lam) / (lam.real() * nkt), -g_exp);
-      if (!std::isfinite(depth)) {
-        out_of_range = true;
-        continue;
-      }
-      t.depth_m[r][i] = depth;
-      t.phase[r][i] = std::atan2(-lam.real(), -lam.imag()) / kPi;  // ε/2π, ε = 2 atan2(−Λ_R, −Λ_I)
-    }
+    for (int r = 0; r < 2; ++r) root_depth(mu[r], scale2, nkt, g_exp, t.depth_m[r][i], t.phase[r][i], out_of_range);
   }
   if (out_of_range) {
     bool any = false;
@@ -393,11 +412,17 @@ LobeTable zero_order_roots(const MillingFrfs& frfs, const CuttingConditions& cut
       for (double d : t.depth_m[r]) any = any || std::isfinite(d);
     if (!any)
       throw NumericalError(fmt::format("the limiting depths lie beyond the range of double precision: the FRF's largest "
-                                       "modulus is {:.3g} m/N (a tool point receptance is typically 1e-8 to 1e-5 m/N)",
-                                       g_max),
+                                       "modulus is about {:.3g} m/N (a tool point receptance is typically 1e-8 to 1e-5 m/N)",
+                                       std::ldexp(1.0, g_exp)),
                            "check the FRF's units and scale, and the cutting coefficient (N/m²)");
   }
   return t;
+}
+
+LobeTable zero_order_roots(const MillingFrfs& frfs, const CuttingConditions& cutting) {
+  check_zero_order_conditions(cutting);
+  frfs.check();
+  return zero_order_roots(frfs, cutting, frf_scale_exponent(frfs));
 }
 
 struct Floor {
@@ -472,30 +497,31 @@ double zero_order_floor(const MillingFrfs& frfs, const CuttingConditions& cuttin
   return fl.depth;
 }
 
-ZeroOrderResult zero_order_lobes(const MillingFrfs& frfs, const CuttingConditions& cutting, const ZeroOrderOptions& options) {
-  options.check();
-  ZeroOrderResult res;
-  res.table = zero_order_roots(frfs, cutting);
-  const LobeTable& t = res.table;
-  const Floor fl = find_floor(t);
+namespace {
+
+// The result's frame: floor, alpha, options, the lobe count K (automatic: covering speeds.min_rpm
+// at every chatter frequency of `tables` whose depth is within 10× the floor), the grid's
+// coarseness warning (counted in `floor_table`), and the envelope's speeds with no depth yet.
+void frame_zero_order(ZeroOrderResult& res, const std::vector<const LobeTable*>& tables, const LobeTable& floor_table,
+                      const Floor& fl, const CuttingConditions& cutting, const ZeroOrderOptions& options) {
   res.alpha = directional_factors(cutting);
   res.floor_depth_m = fl.depth;
   res.floor_chatter_hz = fl.chatter_hz;
   res.teeth = cutting.teeth;
   res.speeds = options.speeds;
   res.max_depth_m = options.max_depth_m;
-  const double n_teeth = cutting.teeth, n_min = options.speeds.min_rpm, n_max = options.speeds.max_rpm;
-  const std::size_t nf = t.chatter_hz.size();
+  const double n_teeth = cutting.teeth, n_min = options.speeds.min_rpm;
 
   // Lobe k reaches down to 60 f/(N(k + 1)) rpm. Automatic K covers MIN at every chatter frequency
   // whose depth is within 10× the floor (the band that shapes the envelope).
   double f_band = fl.chatter_hz;
+  for (const LobeTable* t : tables)
+    for (int r = 0; r < 2; ++r)
+      for (std::size_t i = 0; i < t->chatter_hz.size(); ++i)
+        if (t->depth_m[r][i] <= 10.0 * fl.depth) f_band = std::max(f_band, t->chatter_hz[i]);
   std::size_t near = 0;
   for (int r = 0; r < 2; ++r)
-    for (std::size_t i = 0; i < nf; ++i) {
-      if (t.depth_m[r][i] <= 10.0 * fl.depth) f_band = std::max(f_band, t.chatter_hz[i]);
-      near += t.depth_m[r][i] <= 2.0 * fl.depth;
-    }
+    for (double d : floor_table.depth_m[r]) near += d <= 2.0 * fl.depth;
   const int needed = static_cast<int>(std::ceil(60.0 * f_band / (n_teeth * n_min)));
   if (options.lobes < 0) {
     res.lobes = std::min(needed, 2000);
@@ -514,16 +540,12 @@ ZeroOrderResult zero_order_lobes(const MillingFrfs& frfs, const CuttingCondition
         fmt::format("only {} FRF point(s) near the critical chatter frequency {:.2f} Hz have a_lim within "
                     "2× the floor: the FRF grid is too coarse there and the lobes are inaccurate",
                     near, fl.chatter_hz));
-
   const std::vector<double> grid = options.speeds.values();
   res.envelope.resize(grid.size());
   for (std::size_t j = 0; j < grid.size(); ++j) res.envelope[j] = {grid[j], kInf, kNaN, -1};
-  std::vector<double> speed;
-  std::vector<int> cell;
-  for (int k = 0; k <= res.lobes; ++k) {
-    const auto [i0, i1] = lobe_window(t, cutting.teeth, k, n_min, n_max);
-    for (int r = 0; r < 2; ++r) lower_envelope(t, k, r, i0, i1, n_min, grid[1] - grid[0], res.envelope, speed, cell);
-  }
+}
+
+void warn_uncovered(ZeroOrderResult& res) {
   const auto uncovered = std::count_if(res.envelope.begin(), res.envelope.end(),
                                        [](const EnvelopePoint& e) { return e.lobe < 0; });
   if (uncovered > 0)
@@ -531,6 +553,310 @@ ZeroOrderResult zero_order_lobes(const MillingFrfs& frfs, const CuttingCondition
         fmt::format("{} of {} envelope speeds are reached by no lobe (the FRF's frequency range or the "
                     "lobe count does not map there); they are left out",
                     uncovered, res.envelope.size()));
+}
+
+}  // namespace
+
+ZeroOrderResult zero_order_lobes(const MillingFrfs& frfs, const CuttingConditions& cutting, const ZeroOrderOptions& options) {
+  options.check();
+  ZeroOrderResult res;
+  res.table = zero_order_roots(frfs, cutting);
+  const LobeTable& t = res.table;
+  frame_zero_order(res, {&t}, t, find_floor(t), cutting, options);
+  const double n_min = options.speeds.min_rpm, n_max = options.speeds.max_rpm;
+  const double dn = res.envelope[1].speed_rpm - res.envelope[0].speed_rpm;
+  std::vector<double> speed;
+  std::vector<int> cell;
+  for (int k = 0; k <= res.lobes; ++k) {
+    const auto [i0, i1] = lobe_window(t, cutting.teeth, k, n_min, n_max);
+    for (int r = 0; r < 2; ++r) lower_envelope(t, k, r, i0, i1, n_min, dn, res.envelope, speed, cell);
+  }
+  warn_uncovered(res);
+  return res;
+}
+
+// ---- Zero-order lobes with speed-dependent dynamics -------------------------------------------
+
+void SpeedDependentFrfs::check(const std::string& name) const {
+  if (speed_rpm.empty() || speed_rpm.size() != frfs.size())
+    throw InputError(fmt::format("{}: {} speed(s) for {} set(s) of FRFs: one set per speed, at least one", name, speed_rpm.size(),
+                                 frfs.size()),
+                     "give the FRFs at each speed of SpeedDependentFrfs::speed_rpm");
+  for (std::size_t j = 0; j < speed_rpm.size(); ++j) {
+    if (!(std::isfinite(speed_rpm[j]) && speed_rpm[j] >= 0.0) || (j > 0 && !(speed_rpm[j] > speed_rpm[j - 1])))
+      throw InputError(fmt::format("{}: SpeedDependentFrfs::speed_rpm[{}] = {} rpm: speeds must be ≥ 0 and increase", name, j,
+                                   speed_rpm[j]),
+                       "list the speeds in increasing order");
+    const std::string at = fmt::format("{} at {} rpm", name, speed_rpm[j]);
+    frfs[j].check(at, at + " (y)");
+    const MillingFrfs& a = frfs.front();
+    const MillingFrfs& b = frfs[j];
+    if (b.xx.frequency_hz != a.xx.frequency_hz || b.yy.has_value() != a.yy.has_value() || b.xy.has_value() != a.xy.has_value() ||
+        b.rigid_y != a.rigid_y)
+      throw InputError(
+          fmt::format("{}: its frequency grid or the FRFs it holds (y, cross, rigid in y) differ from those at {} rpm", at,
+                      speed_rpm.front()),
+          "give every speed's FRFs on one grid, with the same entries");
+  }
+}
+
+MillingFrfs SpeedDependentFrfs::at(double n) const {
+  if (speed_rpm.size() == 1 || !(n > speed_rpm.front())) return frfs.front();
+  if (n >= speed_rpm.back()) return frfs.back();
+  const std::size_t j = static_cast<std::size_t>(std::upper_bound(speed_rpm.begin(), speed_rpm.end(), n) - speed_rpm.begin()) - 1;
+  const double t = (n - speed_rpm[j]) / (speed_rpm[j + 1] - speed_rpm[j]);
+  const auto lerp = [t](const FrfSeries& a, const FrfSeries& b) {
+    FrfSeries c = a;
+    for (std::size_t i = 0; i < c.size(); ++i) c.values[i] += t * (b.values[i] - a.values[i]);
+    return c;
+  };
+  MillingFrfs g = frfs[j];
+  const MillingFrfs& h = frfs[j + 1];
+  g.xx = lerp(frfs[j].xx, h.xx);
+  if (g.yy) g.yy = lerp(*frfs[j].yy, *h.yy);
+  if (g.xy) g.xy = lerp(*frfs[j].xy, *h.xy);
+  if (g.yx) g.yx = lerp(*frfs[j].yx, *h.yx);
+  return g;
+}
+
+namespace {
+
+// G(f_i; n) of speed-dependent FRFs, scaled by 2^−g_exp, with the interpolation of
+// SpeedDependentFrfs::at (a + t(b − a): exactly a where the nodes agree).
+struct SpeedFrfPoint {
+  const SpeedDependentFrfs& s;
+  int g_exp;
+  void operator()(std::size_t i, double n, Complex g[4]) const {  // xx, yy, xy, yx
+    std::size_t j = 0;
+    double t = 0.0;
+    if (s.speed_rpm.size() > 1 && n > s.speed_rpm.front()) {
+      if (n >= s.speed_rpm.back()) j = s.speed_rpm.size() - 1;
+      else {
+        j = static_cast<std::size_t>(std::upper_bound(s.speed_rpm.begin(), s.speed_rpm.end(), n) - s.speed_rpm.begin()) - 1;
+        t = (n - s.speed_rpm[j]) / (s.speed_rpm[j + 1] - s.speed_rpm[j]);
+      }
+    }
+    const MillingFrfs& a = s.frfs[j];
+    const MillingFrfs& b = s.frfs[t > 0.0 ? j + 1 : j];
+    const auto value = [&](const FrfSeries& fa, const FrfSeries& fb) {
+      Complex v = fa.values[i];
+      if (t > 0.0) v += t * (fb.values[i] - fa.values[i]);
+      return Complex(std::ldexp(v.real(), -g_exp), std::ldexp(v.imag(), -g_exp));
+    };
+    g[0] = value(a.xx, b.xx);
+    g[1] = a.rigid_y ? Complex(0.0) : a.yy ? value(*a.yy, *b.yy) : g[0];
+    g[2] = a.xy ? value(*a.xy, *b.xy) : Complex(0.0);
+    g[3] = a.yx ? value(*a.yx, *b.yx) : Complex(0.0);
+  }
+};
+
+}  // namespace
+
+ZeroOrderResult zero_order_lobes(const SpeedDependentFrfs& frfs, const CuttingConditions& cutting,
+                                 const ZeroOrderOptions& options, const ParallelOptions& parallel) {
+  options.check();
+  check_zero_order_conditions(cutting);
+  frfs.check();
+  // One scale for every node, so that the points of all speeds are computed alike.
+  int g_exp = std::numeric_limits<int>::min();
+  for (const MillingFrfs& f : frfs.frfs) g_exp = std::max(g_exp, frf_scale_exponent(f));
+  std::vector<LobeTable> tables;
+  std::vector<const LobeTable*> table_ptrs;
+  Floor fl;
+  std::size_t floor_node = 0;
+  for (std::size_t j = 0; j < frfs.frfs.size(); ++j) {
+    tables.push_back(zero_order_roots(frfs.frfs[j], cutting, g_exp));
+    bool any = false;
+    for (int r = 0; r < 2; ++r)
+      for (double d : tables.back().depth_m[r]) any = any || std::isfinite(d);
+    if (!any) continue;
+    const Floor f = find_floor(tables.back());
+    if (f.depth < fl.depth) {
+      fl = f;
+      floor_node = j;
+    }
+  }
+  for (const LobeTable& t : tables) table_ptrs.push_back(&t);
+  if (!std::isfinite(fl.depth)) find_floor(tables.front());  // throws: no positive depth anywhere
+  ZeroOrderResult res;
+  frame_zero_order(res, table_ptrs, tables[floor_node], fl, cutting, options);
+  res.table = tables.front();
+  const LobeTable& t0 = res.table;
+  const Eigen::Matrix2d a = res.alpha;
+  const double nkt = cutting.teeth * cutting.tangential_coefficient;
+  const double n_min = options.speeds.min_rpm, n_max = options.speeds.max_rpm;
+  const double dn = res.envelope[1].speed_rpm - res.envelope[0].speed_rpm;
+  const SpeedFrfPoint frf_at{frfs, g_exp};
+  const std::vector<double>& nodes = frfs.speed_rpm;
+  const std::size_t nn = nodes.size(), nf = t0.chatter_hz.size();
+  // The roots at every node and frequency, labelled continuously: along the frequencies at the
+  // first node (zero_order_lobes' labels), then along the nodes at each frequency; their phases.
+  std::vector<Complex> mu(nn * nf * 2);
+  std::vector<double> node_phase(nn * nf * 2, kNaN);
+  {
+    Complex g[4];
+    for (std::size_t j = 0; j < nn; ++j)
+      for (std::size_t i = 0; i < nf; ++i) {
+        frf_at(i, nodes[j], g);
+        const Complex* prev = j > 0 ? &mu[((j - 1) * nf + i) * 2] : i > 0 ? &mu[(j * nf + i - 1) * 2] : nullptr;
+        Complex* m = &mu[(j * nf + i) * 2];
+        milling_eigenvalues(a, g[0], g[1], g[2], g[3], prev, m);
+        const double scale2 = std::max(std::norm(m[0]), std::norm(m[1]));
+        bool out_of_range = false;
+        for (int r = 0; r < 2; ++r) {
+          double d = kNaN;
+          root_depth(m[r], scale2, nkt, g_exp, d, node_phase[(j * nf + i) * 2 + r], out_of_range);
+        }
+      }
+  }
+  // Root r at frequency i and speed n (between nodes j and j + 1, or at j): its depth and the
+  // speed its phase gives, sf/(φ + k). False where it gives no depth.
+  const auto evaluate = [&](std::size_t i, int r, std::size_t j, double n, int k, double& depth, double& speed_out) {
+    Complex g[4], m[2];
+    frf_at(i, n, g);
+    milling_eigenvalues(a, g[0], g[1], g[2], g[3], &mu[(j * nf + i) * 2], m);
+    const double scale2 = std::max(std::norm(m[0]), std::norm(m[1]));
+    double ph = kNaN;
+    bool out_of_range = false;
+    if (!root_depth(m[r], scale2, nkt, g_exp, depth, ph, out_of_range)) return false;
+    speed_out = t0.speed_factor[i] / (ph + k);
+    return true;
+  };
+  constexpr int kSheets = 4;  // solutions per lobe, root and frequency kept (a lobe folding back in speed)
+  std::size_t unsettled = 0, dropped = 0;
+  std::vector<double> speed[2][kSheets], depth[2][kSheets];
+  std::vector<int> count[2];
+  for (int k = 0; k <= res.lobes; ++k) {
+    // Lobe k's window: its speed factor bounds it (phase in (0, 1)) whatever the node.
+    // (Not a structured binding: the lambdas below use the bounds, which clang 14 cannot capture.)
+    const std::pair<std::size_t, std::size_t> window = lobe_window(t0, cutting.teeth, k, n_min, n_max);
+    const std::size_t i0 = window.first, i1 = window.second;
+    for (int r = 0; r < 2; ++r) {
+      for (int q = 0; q < kSheets; ++q) {
+        speed[r][q].assign(i1 - i0, kNaN);
+        depth[r][q].assign(i1 - i0, kNaN);
+      }
+      count[r].assign(i1 - i0, 0);
+    }
+    for (std::size_t i = i0; i < i1; ++i) {
+      const double sf = t0.speed_factor[i];
+      for (int r = 0; r < 2; ++r) {
+        // F(n) = sf/(φ(n) + k) − n, whose zeros are the lobe points; at the nodes from their
+        // phases, beyond the end nodes linear (the FRF held there). Zeros bracketed by a sign
+        // change (0 counts as negative) between nodes where the root gives a depth.
+        const auto F = [&](std::size_t j) {
+          const double ph = node_phase[(j * nf + i) * 2 + r];
+          return sf / (ph + k) - nodes[j];
+        };
+        auto add = [&](double n, double d) {
+          int& c = count[r][i - i0];
+          if (c < kSheets) {
+            speed[r][c][i - i0] = n;
+            depth[r][c][i - i0] = d;
+          } else {
+            ++dropped;
+          }
+          ++c;
+        };
+        double d = kNaN, n_out = kNaN;
+        const double f0 = F(0);
+        if (std::isfinite(f0) && !(f0 > 0.0) && evaluate(i, r, 0, nodes[0] + f0, k, d, n_out)) add(n_out, d);
+        for (std::size_t j = 0; j + 1 < nn; ++j) {
+          double fa = F(j), fb = F(j + 1), lo = nodes[j], hi = nodes[j + 1];
+          if (std::isfinite(fa) != std::isfinite(fb)) {
+            // The root gains (or loses) its depth between the nodes: the bracket starts where it
+            // has one, found by bisection (to 1e-9 of the interval).
+            double with = std::isfinite(fa) ? lo : hi, without = std::isfinite(fa) ? hi : lo, fw = std::isfinite(fa) ? fa : fb;
+            for (int it = 0; it < 30; ++it) {
+              const double mid = 0.5 * (with + without);
+              if (evaluate(i, r, j, mid, k, d, n_out)) {
+                with = mid;
+                fw = n_out - mid;
+              } else {
+                without = mid;
+              }
+            }
+            if (std::isfinite(fa)) {
+              hi = with;
+              fb = fw;
+            } else {
+              lo = with;
+              fa = fw;
+            }
+          }
+          if (!std::isfinite(fa) || !std::isfinite(fb) || (fa > 0.0) == (fb > 0.0)) continue;
+          // Regula falsi (Illinois) in [lo, hi] on F with the interpolated FRF.
+          double flo = fa, fhi = fb;
+          bool settled = false;
+          int side = 0;
+          for (int it = 0; it < 60; ++it) {
+            const double n = flo == fhi ? 0.5 * (lo + hi) : lo - flo * (hi - lo) / (fhi - flo);
+            if (!evaluate(i, r, j, n, k, d, n_out)) break;  // the root loses its depth inside: no point
+            const double fn = n_out - n;
+            if (std::abs(fn) <= 1e-10 * n || hi - lo <= 1e-12 * hi) {
+              settled = true;
+              break;
+            }
+            if ((fn > 0.0) == (flo > 0.0)) {
+              lo = n;
+              flo = fn;
+              if (side == -1) fhi *= 0.5;
+              side = -1;
+            } else {
+              hi = n;
+              fhi = fn;
+              if (side == 1) flo *= 0.5;
+              side = 1;
+            }
+          }
+          if (settled) add(n_out, d);
+          else ++unsettled;
+        }
+        const double f_last = F(nn - 1);
+        if (std::isfinite(f_last) && f_last > 0.0 && evaluate(i, r, nn - 1, nodes[nn - 1] + f_last, k, d, n_out)) add(n_out, d);
+      }
+    }
+    for (int r = 0; r < 2; ++r)
+      for (int q = 0; q < kSheets; ++q)
+        for (std::size_t i = i0; i < i1; ++i)
+          if (std::isfinite(speed[r][q][i - i0]))
+            res.solved_points.push_back(LobePoint{k, r, speed[r][q][i - i0], depth[r][q][i - i0], t0.chatter_hz[i]});
+  }
+  // The envelope at each speed n: the lobes of the FRF at n (interpolated), read at n, as
+  // zero_order_lobes reads the lobes of its one FRF. The floor: the lowest of those FRFs' and
+  // the nodes'.
+  std::vector<Floor> floors(res.envelope.size());
+  parallel_for(res.envelope.size(), parallel, [&](std::size_t e) {
+    const double n = res.envelope[e].speed_rpm;
+    const LobeTable t = zero_order_roots(frfs.at(n), cutting, g_exp);
+    std::vector<EnvelopePoint> env{res.envelope[e]};
+    std::vector<double> sp;
+    std::vector<int> cl;
+    for (int k = 0; k <= res.lobes; ++k) {
+      const auto [i0, i1] = lobe_window(t, cutting.teeth, k, n, n);
+      for (int r = 0; r < 2; ++r) lower_envelope(t, k, r, i0, i1, n, dn, env, sp, cl);
+    }
+    res.envelope[e] = env[0];
+    for (int r = 0; r < 2; ++r)
+      for (std::size_t i = 0; i < t.chatter_hz.size(); ++i)
+        if (t.depth_m[r][i] < floors[e].depth) floors[e] = {t.depth_m[r][i], t.chatter_hz[i]};
+  });
+  for (const Floor& f : floors)
+    if (f.depth < res.floor_depth_m) {
+      res.floor_depth_m = f.depth;
+      res.floor_chatter_hz = f.chatter_hz;
+    }
+  if (unsettled > 0)
+    res.warnings.push_back(fmt::format(
+        "{} lobe point(s) left out: the speed of each point (where the FRF at that speed gives its phase) did not settle "
+        "in 60 steps between two speeds of the FRFs",
+        unsettled));
+  if (dropped > 0)
+    res.warnings.push_back(
+        fmt::format("{} lobe point(s) left out: a lobe folds back in speed more than {} times at one "
+                    "chatter frequency (only the {} slowest points are kept)",
+                    dropped, kSheets, kSheets));
+  warn_uncovered(res);
   return res;
 }
 

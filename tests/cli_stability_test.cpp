@@ -198,3 +198,37 @@ TEST(LobesCommand, HelixInDegreesWithTheDiameter) {
   refused(" --helix 30", "--diameter must be given with a helix");
   std::filesystem::remove_all(dir);
 }
+
+// lobes at speed: an assembly whose bearings carry a speed table gets the x–y FRF at each speed
+// (automatically, said in the summary and a note); a speed range beyond the table is an error
+// naming --rpm, the bearing's table and the fix (--extrapolate-bearings), exit code non-zero;
+// the at-speed options without --assembly are refused.
+TEST(LobesCommand, AtSpeedFromABearingTable) {
+  const std::string dir = temp_dir();
+  std::string text = read_text_file(std::string(TOOLPOINT_SOURCE_DIR) + "/examples/bt40_shrinkfit_16mm.toml");
+  const std::size_t at = text.find("\n[[spindle.bearing]]");
+  text.insert(text.find('\n', at + 1) + 1, "speed_rpm = [0, 20000]\nstiffness_at_speed = [6.0e8, 4.0e8]\n");
+  text.replace(text.find("frequency_step = 1.0"), 20, "frequency_step = 5.0");
+  const std::string file = dir + "/tabled.toml";
+  write_text_file(file, text);
+  const std::string base = "lobes --assembly " + file +
+                           " --teeth 4 --kt 6e8 --kr 0.3 --immersion 0.5 --milling down --speeds 50 --speed-nodes 5";
+  const CliRun ok = run_cli(base + " --rpm 5000:20000");
+  ASSERT_EQ(ok.code, 0) << ok.out;
+  EXPECT_NE(ok.out.find("at speed (spinning): the x-y tool point FRF at 9 speeds"), std::string::npos) << ok.out;
+  EXPECT_NE(ok.out.find("in x and y at each spindle speed"), std::string::npos) << ok.out;
+  const CliRun beyond = run_cli(base + " --rpm 5000:25000");
+  EXPECT_NE(beyond.code, 0) << beyond.out;
+  EXPECT_NE(beyond.out.find("--rpm"), std::string::npos) << beyond.out;
+  EXPECT_NE(beyond.out.find("speed_table"), std::string::npos) << beyond.out;
+  EXPECT_NE(beyond.out.find("--extrapolate-bearings"), std::string::npos) << beyond.out;
+  EXPECT_EQ(run_cli(base + " --rpm 5000:25000 --extrapolate-bearings").code, 0);
+  const CliRun standstill = run_cli(base + " --rpm 5000:20000 --speed-model standstill --json");
+  ASSERT_EQ(standstill.code, 0) << standstill.out;
+  EXPECT_EQ(standstill.out.find("frf_speeds_rpm"), std::string::npos) << standstill.out;
+  const CliRun no_assembly = run_cli("lobes --frf " + file +
+                                     " --teeth 4 --kt 6e8 --kr 0.3 --immersion 0.5 --milling down "
+                                     "--rpm 5000:20000 --speed-model spinning");
+  EXPECT_NE(no_assembly.code, 0);
+  EXPECT_NE(no_assembly.out.find("need --assembly"), std::string::npos) << no_assembly.out;
+}

@@ -459,3 +459,41 @@ TEST(Plan, FullDiscretizationAgreesWithZeroOrderInASlot) {
     EXPECT_NEAR(fd.jobs[0].stable_depth_m[k] / zoa.jobs[0].stable_depth_m[k], 1.0, 0.05) << fd.header.speeds_rpm[k];
   EXPECT_NEAR(fd.best[0].mrr_m3_per_s / zoa.best[0].mrr_m3_per_s, 1.0, 0.05);
 }
+
+// Bearings that soften with speed (a table: 30 % over 0–20 000 rpm): the plan's stable depth at
+// each speed is the zero-order depth of the tool point FRF at that speed. Oracle: the fixed-speed
+// roots above (no lobes, no speed interpolation) on the FRF of the assembly with its bearings at
+// that speed (at_speed), within 1 % as in BestSetUpIsTheBruteForceMaximum; the plan's speeds are
+// the speeds the FRF was evaluated at (9 nodes and their midpoints), so no interpolation enters.
+// At rest (SpeedModel::Bearings: H_xy = 0, H_yy = H_xx, what the oracle assumes); Automatic spins
+// the spindle and says so. The standstill depths differ by more than 5 % somewhere: the check
+// tells the two apart.
+TEST(Plan, BearingSpeedTablesMoveThePlansLobes) {
+  Assembly a = passive_example();
+  for (Bearing& b : a.spindle.bearings) b.speed_table = {{0.0, b.stiffness, b.damping}, {20000.0, 0.7 * b.stiffness, b.damping}};
+  PlanOptions o = cut_options(8000.0, 12000.0, 17);
+  o.lobes.speed_model = SpeedModel::Bearings;
+  o.lobes.speed_nodes = 9;
+  o.parallel.threads = 2;
+  const PlanResult r = run_plan({example_candidate({0.060}, "tabled", a)}, o);
+  const std::vector<double> grid = a.grid.values();
+  const FrfSeries still = entry(AssemblyModel(with_overhang(a, 0.060)).tool_point(grid), 0);
+  double worst = 0.0, moved = 0.0;
+  for (std::size_t k = 0; k < r.header.speeds_rpm.size(); ++k) {
+    const double n = r.header.speeds_rpm[k];
+    const FrfSeries g = entry(AssemblyModel(at_speed(with_overhang(a, 0.060), n)).tool_point(grid), 0);
+    const double depth = fixed_speed_depth(g, o.lobes.cutting, n);
+    worst = std::max(worst, std::abs(depth / r.jobs[0].stable_depth_m[k] - 1.0));
+    moved = std::max(moved, std::abs(fixed_speed_depth(still, o.lobes.cutting, n) / depth - 1.0));
+  }
+  EXPECT_LT(worst, 0.01);
+  EXPECT_GT(moved, 0.05);
+  const auto said = [](const PlanResult& p, const std::string& what) {
+    for (const std::string& w : p.jobs[0].warnings)
+      if (w.find(what) != std::string::npos) return true;
+    return false;
+  };
+  EXPECT_TRUE(said(r, "at each spindle speed (bearings)"));
+  o.lobes.speed_model = SpeedModel::Automatic;
+  EXPECT_TRUE(said(run_plan({example_candidate({0.060}, "tabled", a)}, o), "at each spindle speed (spinning)"));
+}

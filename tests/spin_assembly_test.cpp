@@ -307,8 +307,8 @@ TEST(SpinAssembly, StandstillModelSaysWhatItDoesNotRead) {
   toolpoint::Assembly tabled = a, aniso = a;
   tabled.spindle.bearings[0].speed_table = {{0.0, 2e8, 500.0}, {20000.0, 1e8, 700.0}};
   aniso.spindle.bearings[1].stiffness_y = 0.5 * aniso.spindle.bearings[1].stiffness;
-  EXPECT_EQ(count(tabled.warnings(), "speed table is read only at a stated speed"), 1);
-  EXPECT_EQ(count(aniso.warnings(), "y values are read only by the two-plane model"), 1);
+  EXPECT_EQ(count(tabled.warnings(), "speed table is read at a stated speed"), 1);
+  EXPECT_EQ(count(aniso.warnings(), "y values are read by the two-plane model"), 1);
   EXPECT_EQ(count(toolpoint::AssemblyModel(tabled).warnings(), "speed table"), 1);
   // at_speed resolves the table: nothing left unread.
   EXPECT_EQ(count(toolpoint::at_speed(tabled, 10000.0).warnings(), "speed table"), 0);

@@ -324,6 +324,8 @@ struct DynamicsArgs {
   double fit_target_pct = 2.0;
   std::string band;
   std::vector<std::string> joints;
+  // Set by the command: the lobes at speed (said when the assembly is read).
+  SpeedModel speed_model = SpeedModel::Standstill;
 };
 // Adds --assembly, --frf (and its reading options), --frf-y, --frf-xy, --frf-yx, --rigid-y, --mode-x,
 // --mode-y, --max-modes, --fit-target, --band; `prefix` starts the help of the options that only

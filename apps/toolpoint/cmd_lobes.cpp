@@ -39,6 +39,10 @@ struct LobesOptions {
   // The joint uncertain (--assembly with a --joint file carrying a covariance).
   SamplingOptions sampling;
   std::string probability_output;
+  // The dynamics at speed (--assembly).
+  std::string speed_model = "auto";
+  int speed_nodes = 0;
+  bool extrapolate_bearings = false;
   bool json = false;
 };
 
@@ -49,6 +53,12 @@ void print_summary(const LobesStudyResult& r) {
     const ZeroOrderResult& z = *r.zero_order;
     std::cout << fmt::format("zero-order stability lobes, k = 0…{}: absolute stability limit {:.4f} mm (chatter at {:.1f} Hz)\n",
                              z.lobes, z.floor_depth_m * 1e3, z.floor_chatter_hz);
+    if (!r.frf_speeds_rpm.empty())
+      std::cout << fmt::format(
+          "  at speed ({}): the x-y tool point FRF at {} speeds, {:g}-{:g} rpm, interpolated between them; estimated "
+          "interpolation error {:.2g} % of the FRF, {:.2g} % of the stable depth\n",
+          to_string(r.speed_model), r.frf_speeds_rpm.size(), r.frf_speeds_rpm.front(), r.frf_speeds_rpm.back(),
+          100.0 * r.frf_interpolation_error, 100.0 * r.envelope_interpolation_error);
     return;
   }
   for (const ModalFitSummary& s : r.fits)
@@ -138,6 +148,17 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
   so.fit_target = o.dyn.fit_target_pct / 100.0;
   so.pocket_prominence = o.prominence_pct / 100.0;
   so.parallel.threads = o.threads;
+  so.speed_model = o.speed_model == "standstill" ? SpeedModel::Standstill
+                   : o.speed_model == "bearings" ? SpeedModel::Bearings
+                   : o.speed_model == "spinning" ? SpeedModel::Spinning
+                                                 : SpeedModel::Automatic;
+  so.speed_nodes = o.speed_nodes;
+  so.extrapolate_bearings = o.extrapolate_bearings;
+  if (o.dyn.assembly.empty() && (o.speed_model != "auto" || o.speed_nodes != 0 || o.extrapolate_bearings))
+    throw InvalidArgument(
+        "--speed-model, --speed-nodes and --extrapolate-bearings need --assembly (the model is evaluated at "
+        "each speed)",
+        "give --assembly FILE.toml, or drop them");
 
   const bool uncertain = o.sampling.samples != 0 || !o.probability_output.empty();
   if (uncertain) {
@@ -156,7 +177,9 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
     so_threads.threads = o.threads;
     so.uncertainty = uncertainty_options(so_threads);
   }
-  fill_dynamics_input(o.dyn, g, joints, input);
+  DynamicsArgs dyn = o.dyn;
+  dyn.speed_model = so.method == LobesMethod::ZeroOrder && !uncertain ? so.speed_model : SpeedModel::Standstill;
+  fill_dynamics_input(dyn, g, joints, input);
   const bool has_frf = input.frfs || input.assembly;
   if (so.method == LobesMethod::ZeroOrder && !has_frf)
     throw InvalidArgument("--method zoa needs the tool point FRF: --frf FILE.csv",
@@ -300,6 +323,20 @@ void add_lobes_command(CLI::App& app, Globals& g) {
   c->add_option("--probability-output", o->probability_output,
                 "With --samples: the probability that the cut is stable on a spindle speed [rpm] × axial depth [mm] grid "
                 "(CSV spindle_speed_rpm,axial_depth_mm,probability_stable)");
+  c->add_option("--speed-model", o->speed_model,
+                "With --assembly: the tool point dynamics. auto: spinning when the bearings carry speed tables or differ in x "
+                "and y, else standstill; standstill: the single-plane FRF at rest (bearing constants, x values); bearings: "
+                "at each speed the x-y FRF (H_xx, H_xy, H_yx, H_yy) with the bearings at that speed; spinning: the same with "
+                "the spindle spinning (gyroscopic moments). At speed: zoa only, the FRF evaluated at --speed-nodes speeds and "
+                "midway between them, interpolated in speed, its error estimated and printed")
+      ->check(CLI::IsMember({"auto", "standstill", "bearings", "spinning"}))
+      ->capture_default_str();
+  c->add_option("--speed-nodes", o->speed_nodes,
+                "With --speed-model at speed: speeds [-] over the --rpm range where the FRF is evaluated, 2…1000, plus the "
+                "midpoints between them (default 0: 17)")
+      ->check(CLI::Range(0, 1000));
+  c->add_flag("--extrapolate-bearings", o->extrapolate_bearings,
+              "At speed: extend a bearing's speed table beyond its rows (linearly) instead of refusing a speed outside it");
   c->add_flag("--json", o->json, "Machine-readable summary on stdout");
   c->footer(std::string(kFigureFooter) +
             "Examples:\n"

@@ -23,6 +23,7 @@ namespace {
 struct PredictArgs {
   std::string assembly, at = "tool", output, frequencies, plot, band_output, cross_output;
   double speed = 0.0;
+  std::vector<double> speeds;  // --speeds: the figure at several speeds
   bool extrapolate_bearings = false;
   std::vector<std::string> joints;
   SamplingOptions sampling;
@@ -112,6 +113,20 @@ void run_predict(const PredictArgs& o, const Globals& g) {
     if (p.modes.empty()) std::cout << "  (no resonance peak in the frequency range)\n";
     std::cout << std::flush;
   }
+  if (!o.speeds.empty()) {
+    if (o.plot.empty())
+      throw InvalidArgument("--speeds draws the tool point FRF at those speeds: it needs --plot FILE", "add --plot FILE.png");
+    for (double n : o.speeds)
+      if (n > 0.0) check_plausible(plausible::kSpinSpeedRpm, n, "--speeds", "give spindle speeds in rpm, e.g. 0,10000,20000");
+    plot::Figure fig;
+    try {
+      fig = speed_frf_figure(loaded.assembly, o.speeds, o.extrapolate_bearings);
+    } catch (const InvalidArgument& e) {
+      throw InvalidArgument(with_flags(e.what()), with_flags(e.hint()));
+    }
+    draw_figures(g, {{fig, o.plot}}, written);
+    return;
+  }
   if (!o.plot.empty()) {
     const std::string title = fmt::format("{} of {}", tool ? "Tool point FRF SHT_{11}" : "Holder tip FRF SH_{11}",
                                           plot::literal(loaded.assembly.name));
@@ -144,6 +159,11 @@ void add_predict_command(CLI::App& app, Globals& g) {
                 "--output and the modes are then its x–x block")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
+  c->add_option("--speeds", o->speeds,
+                "With --plot: the figure is instead the tool point FRF at these spindle speeds [rpm], comma-separated (e.g. "
+                "0,10000,20000,30000): |H_xx| and |H_xy| [m/N] against frequency [Hz], the spindle spinning and the bearings "
+                "at each speed")
+      ->delimiter(',');
   c->add_flag("--extrapolate-bearings", o->extrapolate_bearings,
               "Bearings with a speed table (speed_rpm, stiffness_at_speed): extend the end rows' line beyond the table "
               "(default: a speed outside it is an error)");

@@ -358,6 +358,13 @@ std::string with_flags(std::string text) {
       {"BoundaryOptions::steps", "--intervals"},
       {"BoundaryOptions::max_steps", "--intervals"},
       {"LobesStudyOptions::max_depth_m", "--max-depth"},
+      {"LobesStudyOptions::speed_model", "--speed-model"},
+      {"LobesStudyOptions::speed_nodes", "--speed-nodes"},
+      {"LobesStudyOptions::extrapolate_bearings", "--extrapolate-bearings"},
+      {"LobesStudyOptions::speeds", "--rpm"},
+      {"LobesMethod::ZeroOrder", "--method zoa"},
+      {"SpeedModel::Standstill", "--speed-model standstill"},
+      {"LobesInput::uncertain_joint", "--samples"},
       {"BoundaryOptions::max_depth_m", "--max-depth"},
       {"LobesStudyOptions::lobes", "--lobes"},
       {"LobesStudyOptions::fit_target", "--fit-target"},
@@ -765,8 +772,10 @@ void fill_dynamics_input(const DynamicsArgs& o, const Globals& g, const std::vec
     input.assembly = load_assembly_on_grid(g, o.assembly, {}, joints).assembly;
     input.frf_name = "the tool point FRF of " + o.assembly;
     const std::vector<double> f = input.assembly->grid.values();
-    info(g, fmt::format("tool point FRF from {} ({} frequencies, {:g}–{:g} Hz), used for x and y", o.assembly, f.size(),
-                        f.front(), f.back()));
+    info(g, fmt::format("tool point FRF from {} ({} frequencies, {:g}–{:g} Hz), {}", o.assembly, f.size(), f.front(), f.back(),
+                        lobes_at_speed(*input.assembly, o.speed_model)
+                            ? "in x and y at each spindle speed (lobes at speed, below)"
+                            : "used for x and y"));
   } else {
     if (!joints.empty())
       throw InvalidArgument("--joint needs --assembly (the joint goes into the model)", "add --assembly FILE.toml");

@@ -103,8 +103,9 @@ struct Assembly {
   void check() const;
   // What its parts' sources say against them: its joints' warnings (Joint::warnings), spindle–holder
   // first; then, per bearing, data the standstill single-plane model (AssemblyModel::tool_point,
-  // hence lobes and plans) does not use: a speed table (read only at a stated speed, at_speed) and
-  // y values (read only by the two-plane model), so that neither is ignored without a word.
+  // hence the time-domain lobes) does not use: a speed table (read at a stated speed, at_speed: by
+  // a prediction at speed and the zero-order lobes and plans at each speed) and y values (read by
+  // the two-plane model), so that neither is ignored without a word.
   std::vector<std::string> warnings() const;
 };
 

@@ -208,6 +208,10 @@ struct ZeroOrderResult {
   double max_depth_m = 0.0;  // lobe points deeper than this are left out (0: none)
   std::vector<EnvelopePoint> envelope;
   std::vector<std::string> warnings;
+  // With speed-dependent FRFs (zero_order_lobes of SpeedDependentFrfs): every lobe point solved at
+  // its own speed, by lobe, root and chatter frequency (the table then holds the first speed's
+  // roots, not the points). Empty otherwise.
+  std::vector<LobePoint> solved_points;
 
   // Calls visit(point) for every lobe point with speed in range (and depth ≤ max_depth_m), by
   // lobe, then root, then chatter frequency.
@@ -236,6 +240,12 @@ std::pair<std::size_t, std::size_t> lobe_window(const LobeTable& table, int teet
 
 template <typename Visit>
 void ZeroOrderResult::for_each_point(Visit&& visit) const {
+  if (!solved_points.empty()) {
+    for (const LobePoint& p : solved_points)
+      if (!(max_depth_m > 0.0 && p.depth_m > max_depth_m) && p.speed_rpm >= speeds.min_rpm && p.speed_rpm <= speeds.max_rpm)
+        visit(p);
+    return;
+  }
   for (int k = 0; k <= lobes; ++k) {
     const auto [i0, i1] = lobe_window(table, teeth, k, speeds.min_rpm, speeds.max_rpm);
     for (int r = 0; r < 2; ++r)
@@ -251,6 +261,39 @@ void ZeroOrderResult::for_each_point(Visit&& visit) const {
 // The zero-order absolute stability limit alone [m] (speed independent), and its chatter
 // frequency [Hz] through `chatter_hz` when not null. Same errors as zero_order_lobes.
 double zero_order_floor(const MillingFrfs& frfs, const CuttingConditions& cutting, double* chatter_hz = nullptr);
+
+// ---- Zero-order lobes with speed-dependent dynamics ---------------------------------------------
+//
+// The tool point FRFs at several spindle speeds (a spinning spindle's gyroscopic moments, bearings
+// whose stiffness changes with speed; docs/spindle-at-speed.md), taken linear in the speed n
+// between two neighbouring nodes n_j ≤ n ≤ n_{j+1}:
+//     G(ω; n) = G_j(ω) + t (G_{j+1}(ω) − G_j(ω)),  t = (n − n_j)/(n_{j+1} − n_j),
+// and equal to the end node's outside them. Each lobe point then sits at its own speed: lobe k at
+// chatter frequency f and root r is a solution n of
+//     n = 60 f / (N (ε(f; n)/2π + k)),
+// ε(f; n) the phase of docs/reference.md §7 from the eigenvalue of α G(f; n) (zero_order_lobes).
+// Speed-independent FRFs give zero_order_lobes' points and envelope (up to rounding).
+struct SpeedDependentFrfs {
+  std::vector<double> speed_rpm;  // the nodes [rpm], ≥ 0, strictly increasing, at least one
+  std::vector<MillingFrfs> frfs;  // per node: on one frequency grid, with the same FRFs present
+  // Throws InputError naming `name` (sizes, grids or FRFs that differ between nodes, nodes out of
+  // order, and what MillingFrfs::check finds at each node).
+  void check(const std::string& name = "tool point FRF") const;
+  // G(ω; n) on the frequency grid, interpolated as above [m/N].
+  MillingFrfs at(double speed_rpm) const;
+};
+
+// Zero-order lobes with FRFs that depend on the speed (above). The envelope at each speed n of
+// options.speeds is that of the lobes of G(·; n), read at n (zero_order_lobes' envelope of that one
+// FRF at n: speeds on `parallel` threads, identical for any count). The lobe points (for figures and
+// tables): per lobe k, root r (labelled continuously along the frequencies at the first node, then
+// along the nodes) and grid frequency, every zero of sf/(φ(n) + k) − n bracketed between nodes (or
+// beyond the end nodes, where G is held) solved by regula falsi to 1e-10 relative; up to 4 per
+// frequency where a lobe folds back in speed; what cannot be solved is counted in a warning. The
+// floor: the lowest over the nodes' FRFs and those at the envelope's speeds. Same errors as
+// zero_order_lobes.
+ZeroOrderResult zero_order_lobes(const SpeedDependentFrfs& frfs, const CuttingConditions& cutting,
+                                 const ZeroOrderOptions& options, const ParallelOptions& parallel = {});
 
 // ---- Time-domain stability: full-discretization of the milling equation ----------------------
 //

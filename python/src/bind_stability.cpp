@@ -19,6 +19,10 @@ const std::vector<std::pair<const char*, MillingDirection>> kMilling{{"up", Mill
                                                                      {"down", MillingDirection::Down}};
 const std::vector<std::pair<const char*, LobesMethod>> kLobesMethods{{"zoa", LobesMethod::ZeroOrder},
                                                                      {"fd", LobesMethod::FullDiscretization}};
+const std::vector<std::pair<const char*, SpeedModel>> kSpeedModels{{"auto", SpeedModel::Automatic},
+                                                                   {"standstill", SpeedModel::Standstill},
+                                                                   {"bearings", SpeedModel::Bearings},
+                                                                   {"spinning", SpeedModel::Spinning}};
 
 template <class Rows, class Get>
 py::array_t<double> column(const Rows& rows, Get get) {
@@ -439,6 +443,15 @@ void bind_stability(py::module_& m) {
           "pockets", [](const LobesStudyResult& r) { return envelope_dict(r.pockets); }, "the best speeds, deepest first")
       .def_readonly("uncertainty", &LobesStudyResult::uncertainty, "StabilityUncertainty (with `joint`) or None")
       .def_readonly("uncertain_joint", &LobesStudyResult::uncertain_joint, "the joint file sampled (with `joint`)")
+      .def_property_readonly(
+          "speed_model", [](const LobesStudyResult& r) { return name_of(r.speed_model, kSpeedModels); },
+          "the dynamics used: 'standstill', or at speed 'bearings' / 'spinning'")
+      .def_readonly("frf_speeds_rpm", &LobesStudyResult::frf_speeds_rpm,
+                    "at speed: the speeds [rpm] where the x-y FRF was evaluated (nodes and midpoints); [] otherwise")
+      .def_readonly("frf_interpolation_error", &LobesStudyResult::frf_interpolation_error,
+                    "at speed: the largest relative error of the FRF interpolated between nodes, at the midpoints (NaN otherwise)")
+      .def_readonly("envelope_interpolation_error", &LobesStudyResult::envelope_interpolation_error,
+                    "at speed: the largest relative change of the envelope's depth, nodes alone against nodes and midpoints")
       .def_readonly("warnings", &LobesStudyResult::warnings)
       .def(
           "to_dict", [](const LobesStudyResult& r) { return dict_of(r); },
@@ -451,7 +464,8 @@ void bind_stability(py::module_& m) {
          std::vector<Mode> y_modes, bool rigid_y, std::string frf_name, double max_depth_m, int lobes, double tolerance,
          int steps, int degree, int max_modes, std::optional<std::pair<double, double>> band_hz, double fit_target,
          double pocket_prominence, int pockets, int threads, std::optional<Assembly> assembly, std::optional<JointFile> joint,
-         int samples, std::uint64_t seed, std::vector<double> levels, const py::object& progress) {
+         int samples, std::uint64_t seed, std::vector<double> levels, const std::string& speed_model, int speed_nodes,
+         bool extrapolate_bearings, const py::object& progress) {
         LobesInput in;
         in.assembly = std::move(assembly);
         in.uncertain_joint = std::move(joint);
@@ -469,6 +483,9 @@ void bind_stability(py::module_& m) {
         o.pockets = pockets;
         o.parallel.threads = threads;
         o.uncertainty = uncertainty_options(samples, seed, std::move(levels), threads, py::none());
+        o.speed_model = enum_of(speed_model, kSpeedModels, "speed_model");
+        o.speed_nodes = speed_nodes;
+        o.extrapolate_bearings = extrapolate_bearings;
         const ProgressCallback cb = progress_of(progress);
         py::gil_scoped_release nogil;
         return run_lobes_study(in, o, cb);
@@ -478,7 +495,8 @@ void bind_stability(py::module_& m) {
       "rigid_y"_a = false, "frf_name"_a = "tool point FRF", "max_depth_m"_a = 0.0, "lobes"_a = -1, "tolerance"_a = 0.01,
       "steps"_a = 0, "degree"_a = 2, "max_modes"_a = 8, "band_hz"_a = py::none(), "fit_target"_a = 0.02,
       "pocket_prominence"_a = 0.02, "pockets"_a = 5, "threads"_a = 0, "assembly"_a = py::none(), "joint"_a = py::none(),
-      "samples"_a = 200, "seed"_a = 1, "levels"_a = std::vector<double>{0.05, 0.5, 0.95}, "progress"_a = py::none(),
+      "samples"_a = 200, "seed"_a = 1, "levels"_a = std::vector<double>{0.05, 0.5, 0.95}, "speed_model"_a = "auto",
+      "speed_nodes"_a = 0, "extrapolate_bearings"_a = false, "progress"_a = py::none(),
       "The lobes study (toolpoint lobes): method 'zoa' (zero-order, from the FRFs xx[, yy, xy, yx] [m/N] on frequency_hz [Hz]) "
       "or 'fd' "
       "(time-domain boundary of x_modes/y_modes, or of modes fitted to the FRFs: at most max_modes, the fewest within "
@@ -487,7 +505,10 @@ void bind_stability(py::module_& m) {
       "above "
       "their valleys. With `assembly` (whose tool point FRF xx is) and `joint` (a JointFile with [uncertainty]): also the "
       "stable depth's quantiles and the probability of stability over `samples` joints drawn from its covariance "
-      "(result.uncertainty, as toolpoint lobes --samples).");
+      "(result.uncertainty, as toolpoint lobes --samples). With `assembly` and no FRFs, speed_model ('auto', 'standstill', "
+      "'bearings', 'spinning'; toolpoint lobes --speed-model) chooses the dynamics: at speed the x-y FRF at speed_nodes "
+      "speeds (0: 17) and midway, interpolated in speed, its error in result.frf_interpolation_error and "
+      "envelope_interpolation_error; a speed outside a bearing's table is refused unless extrapolate_bearings.");
   m.def(
       "milling_frfs",
       [](const AssemblyModel& md, const RealArray& f, bool rigid_y) {

@@ -237,3 +237,30 @@ def test_prediction_at_speed_has_the_skew_cross_receptance():
     assert np.abs(p.two_plane[:, 0, 2]).max() > 0.0
     still = tp.run_prediction(a)
     assert still.two_plane.shape[0] == 0
+
+
+def test_lobes_at_speed_follow_the_bearing_table():
+    """run_lobes_study with an assembly whose bearings carry speed tables: the lobes use the x–y FRF
+    at each speed (speed_model 'spinning', automatically), say so, and state the interpolation error;
+    'standstill' keeps the single-plane FRF; a speed beyond the table is refused naming it."""
+    a = tp.load_assembly(str(EXAMPLE)).assembly
+    a.grid = (200.0, 3000.0, 10.0)
+    sp = a.spindle
+    bearings = sp.bearings
+    for b in bearings:
+        b.speed_table = [(0.0, b.stiffness, b.damping), (30000.0, 0.7 * b.stiffness, b.damping)]
+    sp.bearings = bearings
+    a.spindle = sp
+    cut = tp.CuttingConditions(4, 6e8, 0.3, immersion=0.5, milling="down")
+    r = tp.run_lobes_study(cut, (5000.0, 30000.0, 50), assembly=a, speed_nodes=5)
+    assert r.speed_model == "spinning"
+    assert len(r.frf_speeds_rpm) == 9
+    assert 0.0 <= r.envelope_interpolation_error < 1.0
+    assert any("at each spindle speed" in w for w in r.warnings)
+    d = r.to_dict()
+    assert d["speed_model"] == "spinning" and len(d["frf_speeds_rpm"]) == 9
+    still = tp.run_lobes_study(cut, (5000.0, 30000.0, 50), assembly=a, speed_model="standstill")
+    assert still.speed_model == "standstill" and len(still.frf_speeds_rpm) == 0
+    assert not np.allclose(still.envelope["depth_m"], r.envelope["depth_m"])
+    with pytest.raises(tp.InvalidArgument, match="speed_table"):
+        tp.run_lobes_study(cut, (5000.0, 35000.0, 50), assembly=a)

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <limits>
 
+#include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/plausibility.hpp"
 #include "toolpoint/uncertainty_io.hpp"
@@ -138,6 +139,51 @@ MillingFrfs milling_frfs(const AssemblyModel& model, const std::vector<double>& 
   return f;
 }
 
+const char* to_string(SpeedModel m) {
+  switch (m) {
+    case SpeedModel::Standstill: return "standstill";
+    case SpeedModel::Bearings: return "bearings";
+    case SpeedModel::Spinning: return "spinning";
+    default: return "auto";
+  }
+}
+
+bool lobes_at_speed(const Assembly& assembly, SpeedModel model) {
+  if (model == SpeedModel::Standstill) return false;
+  if (model != SpeedModel::Automatic) return true;
+  return has_speed_tables(assembly) || !std::all_of(assembly.spindle.bearings.begin(), assembly.spindle.bearings.end(),
+                                                    [](const Bearing& b) { return b.isotropic(); });
+}
+
+SpeedDependentFrfs milling_frfs_at_speeds(const Assembly& assembly, const std::vector<double>& frequency_hz,
+                                          const std::vector<double>& speeds_rpm, bool spin, bool extrapolate_bearings,
+                                          bool rigid_y, const ParallelOptions& parallel) {
+  SpeedDependentFrfs s;
+  s.speed_rpm = speeds_rpm;
+  s.frfs.resize(speeds_rpm.size());
+  const bool tables = has_speed_tables(assembly);
+  parallel_for(speeds_rpm.size(), parallel, [&](std::size_t j) {
+    const AssemblyModel model(tables ? at_speed(assembly, speeds_rpm[j], extrapolate_bearings) : assembly);
+    const BlockSeries4 b = model.tool_point_two_plane(frequency_hz, spin ? speeds_rpm[j] * 2.0 * kPi / 60.0 : 0.0);
+    const auto part = [&](int r, int c) {
+      FrfSeries f;
+      f.frequency_hz = frequency_hz;
+      f.values.reserve(b.blocks.size());
+      for (const Block4& x : b.blocks) f.values.push_back(x(r, c));
+      return f;
+    };
+    MillingFrfs& g = s.frfs[j];
+    g.xx = part(0, 0);
+    g.rigid_y = rigid_y;
+    if (!rigid_y) {
+      g.yy = part(2, 2);
+      g.xy = part(0, 2);
+      g.yx = part(2, 0);
+    }
+  });
+  return s;
+}
+
 void LobesStudyOptions::check() const {
   cutting.check();
   if (speeds.points != 0) speeds.check();
@@ -155,6 +201,8 @@ void LobesStudyOptions::check() const {
     throw InvalidArgument(fmt::format("LobesStudyOptions::pockets {} must lie in 0…1000", pockets));
   fit.check();
   parallel.check();
+  if (speed_nodes != 0 && (speed_nodes < 2 || speed_nodes > 1000))
+    throw InvalidArgument(fmt::format("LobesStudyOptions::speed_nodes {} must lie in 2…1000 (0: automatic)", speed_nodes));
   if (method == LobesMethod::FullDiscretization) {
     BoundaryOptions b;
     b.tolerance = tolerance;
@@ -293,6 +341,112 @@ void judge_lowest_depth(LobesStudyResult& res) {
         lowest * 1e3, plausible::kDepth.high * 1e3));
 }
 
+ZeroOrderOptions zero_order_options(const LobesStudyOptions& options, const SpeedRange& speeds) {
+  ZeroOrderOptions zo;
+  zo.lobes = options.lobes;
+  zo.speeds = speeds;
+  zo.max_depth_m = options.max_depth_m;
+  return zo;
+}
+
+// The zero-order result's warnings, envelope, best speeds, figure and depth judgement.
+void finish_zero_order(LobesStudyResult& res, const LobesStudyOptions& options) {
+  res.warnings.insert(res.warnings.end(), res.zero_order->warnings.begin(), res.zero_order->warnings.end());
+  res.envelope = res.zero_order->envelope;
+  res.pockets = stability_pockets(res.envelope, options.pockets, options.pocket_prominence);
+  res.pocket_depth_error_m.assign(res.pockets.size(), kNaN);
+  const DepthAxis axis = depth_axis(res.envelope, res.pockets);
+  res.figure = zero_order_figure(*res.zero_order, 2.0 * axis.top_m);
+  set_depth_axis(res.figure, axis);
+  judge_lowest_depth(res);
+}
+
+// The largest |G − G_interpolated| of the midpoints' FRFs (odd indices of `fine`) against the
+// interpolation of `coarse` (its even indices), relative to the largest |G| of the midpoint.
+double frf_interpolation_error(const SpeedDependentFrfs& fine, const SpeedDependentFrfs& coarse) {
+  double worst = 0.0;
+  for (std::size_t j = 1; j < fine.speed_rpm.size(); j += 2) {
+    const MillingFrfs direct = fine.frfs[j], interpolated = coarse.at(fine.speed_rpm[j]);
+    double diff = 0.0, top = 0.0;
+    const auto compare = [&](const std::optional<FrfSeries>& a, const std::optional<FrfSeries>& b) {
+      if (!a) return;
+      for (std::size_t i = 0; i < a->size(); ++i) {
+        diff = std::max(diff, std::abs(a->values[i] - b->values[i]));
+        top = std::max(top, std::abs(a->values[i]));
+      }
+    };
+    compare(direct.xx, interpolated.xx);
+    compare(direct.yy, interpolated.yy);
+    compare(direct.xy, interpolated.xy);
+    compare(direct.yx, interpolated.yx);
+    if (top > 0.0) worst = std::max(worst, diff / top);
+  }
+  return worst;
+}
+
+// The zero-order lobes of an assembly at speed (LobesStudyOptions::speed_model): the x–y FRF at
+// the nodes and their midpoints, the lobes from all of them, and from the nodes alone for the
+// error estimate.
+LobesStudyResult at_speed_lobes_study(const LobesInput& input, const LobesStudyOptions& options, SpeedModel model,
+                                      const ProgressCallback& report) {
+  LobesStudyResult res;
+  res.method = options.method;
+  res.cutting = options.cutting;
+  res.speeds = options.speeds;
+  if (res.speeds.points == 0) res.speeds.points = 2000;
+  res.speed_model = model;
+  const Assembly& a = *input.assembly;
+  const int nodes = options.speed_nodes > 0 ? options.speed_nodes : 17;
+  std::vector<double> fine;
+  const double lo = res.speeds.min_rpm, hi = res.speeds.max_rpm;
+  for (int j = 0; j <= 2 * (nodes - 1); ++j) fine.push_back(j == 2 * (nodes - 1) ? hi : lo + (hi - lo) * j / (2.0 * (nodes - 1)));
+  SpeedDependentFrfs all;
+  try {
+    all = milling_frfs_at_speeds(a, a.grid.values(), fine, model == SpeedModel::Spinning, options.extrapolate_bearings,
+                                 input.rigid_y, options.parallel);
+  } catch (const InvalidArgument& e) {
+    throw InvalidArgument(fmt::format("LobesStudyOptions::speeds: {}", e.what()),
+                          std::string(e.hint()).find("extrapolat") != std::string::npos
+                              ? "narrow the speed range to the table's, extend the table, or set "
+                                "LobesStudyOptions::extrapolate_bearings"
+                              : e.hint());
+  }
+  if (report) report(0.8);
+  SpeedDependentFrfs coarse;
+  for (std::size_t j = 0; j < fine.size(); j += 2) {
+    coarse.speed_rpm.push_back(all.speed_rpm[j]);
+    coarse.frfs.push_back(all.frfs[j]);
+  }
+  const ZeroOrderOptions zo = zero_order_options(options, res.speeds);
+  res.zero_order = zero_order_lobes(all, options.cutting, zo, options.parallel);
+  const ZeroOrderResult from_nodes = zero_order_lobes(coarse, options.cutting, zo, options.parallel);
+  res.frf_speeds_rpm = all.speed_rpm;
+  res.frf_interpolation_error = frf_interpolation_error(all, coarse);
+  res.envelope_interpolation_error = 0.0;
+  for (std::size_t j = 0; j < res.zero_order->envelope.size(); ++j) {
+    const double d = res.zero_order->envelope[j].depth_m, c = from_nodes.envelope[j].depth_m;
+    if (std::isfinite(d) && std::isfinite(c) && d > 0.0)
+      res.envelope_interpolation_error = std::max(res.envelope_interpolation_error, std::abs(d - c) / d);
+  }
+  const AssemblyModel first(has_speed_tables(a) ? at_speed(a, lo, true) : a);
+  res.warnings = first.warnings();
+  res.warnings.push_back(fmt::format(
+      "the lobes use the tool point FRF at each spindle speed ({}): in x and y (H_xx, H_xy, H_yx, H_yy){}{}, evaluated at {} "
+      "speeds over {:g}–{:g} rpm and interpolated linearly in speed between them; interpolation error estimated at {:.2g} % "
+      "of the FRF and {:.2g} % of the stable depth (the lobes from every other of these speeds against all of them)",
+      to_string(model), model == SpeedModel::Spinning ? ", the spindle spinning (gyroscopic moments)" : ", at rest",
+      has_speed_tables(a) ? ", the bearings' speed tables read at each speed" : "", fine.size(), lo, hi,
+      100.0 * res.frf_interpolation_error, 100.0 * res.envelope_interpolation_error));
+  if (res.envelope_interpolation_error > 0.01)
+    res.warnings.push_back(fmt::format(
+        "the stable depth changes by up to {:.2g} % between the lobes from every other speed and from all: the FRF changes "
+        "fast with speed; raise LobesStudyOptions::speed_nodes (now {}) for a smaller error",
+        100.0 * res.envelope_interpolation_error, nodes));
+  finish_zero_order(res, options);
+  if (report) report(1.0);
+  return res;
+}
+
 // The study with the joint's constants: the zero-order lobes or the time-domain boundary.
 LobesStudyResult nominal_lobes_study(const LobesInput& input, const LobesStudyOptions& options, const ProgressCallback& report) {
   LobesStudyResult res;
@@ -305,25 +459,30 @@ LobesStudyResult nominal_lobes_study(const LobesInput& input, const LobesStudyOp
     if (report) report(f);
   };
 
+  if (options.method == LobesMethod::ZeroOrder && input.speed_frfs) {
+    if (!input.x_modes.empty() || !input.y_modes.empty())
+      res.warnings.push_back("the modes given are used by the time-domain method only");
+    res.speed_model = SpeedModel::Bearings;
+    res.frf_speeds_rpm = input.speed_frfs->speed_rpm;
+    input.speed_frfs->check(input.frf_name);
+    res.zero_order = zero_order_lobes(*input.speed_frfs, options.cutting, zero_order_options(options, res.speeds),
+                                      options.parallel);
+    res.warnings.push_back(
+        fmt::format("the lobes use the tool point FRFs given at {} speeds, interpolated linearly in speed "
+                    "between them (LobesInput::speed_frfs)",
+                    res.frf_speeds_rpm.size()));
+    finish_zero_order(res, options);
+    progress(1.0);
+    return res;
+  }
   if (options.method == LobesMethod::ZeroOrder) {
     if (!input.frfs)
       throw InvalidArgument("the zero-order method needs the tool point FRFs (LobesInput::frfs)",
                             "give the FRFs, or use the time-domain method with modes");
     if (!input.x_modes.empty() || !input.y_modes.empty())
       res.warnings.push_back("the modes given are used by the time-domain method only");
-    ZeroOrderOptions zo;
-    zo.lobes = options.lobes;
-    zo.speeds = res.speeds;
-    zo.max_depth_m = options.max_depth_m;
-    res.zero_order = zero_order_lobes(*input.frfs, options.cutting, zo);
-    res.warnings.insert(res.warnings.end(), res.zero_order->warnings.begin(), res.zero_order->warnings.end());
-    res.envelope = res.zero_order->envelope;
-    res.pockets = stability_pockets(res.envelope, options.pockets, options.pocket_prominence);
-    res.pocket_depth_error_m.assign(res.pockets.size(), kNaN);
-    const DepthAxis axis = depth_axis(res.envelope, res.pockets);
-    res.figure = zero_order_figure(*res.zero_order, 2.0 * axis.top_m);
-    set_depth_axis(res.figure, axis);
-    judge_lowest_depth(res);
+    res.zero_order = zero_order_lobes(*input.frfs, options.cutting, zero_order_options(options, res.speeds));
+    finish_zero_order(res, options);
     progress(1.0);
     return res;
   }
@@ -365,6 +524,38 @@ LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOption
   if (input.uncertain_joint && !input.assembly)
     throw InvalidArgument("LobesInput::uncertain_joint needs LobesInput::assembly (the joint is sampled inside the model)",
                           "give the assembly whose tool point FRF LobesInput::frfs is");
+  if (!input.assembly && (options.speed_model == SpeedModel::Bearings || options.speed_model == SpeedModel::Spinning))
+    throw InvalidArgument(fmt::format("LobesStudyOptions::speed_model {} evaluates an assembly at each speed: it needs "
+                                      "LobesInput::assembly",
+                                      to_string(options.speed_model)),
+                          "give the assembly, or SpeedModel::Automatic / Standstill for the FRFs given");
+  if (input.speed_frfs && (input.uncertain_joint || options.method != LobesMethod::ZeroOrder))
+    throw InvalidArgument(
+        "LobesInput::speed_frfs (FRFs at several speeds) are for the zero-order method without an uncertain joint",
+        "use LobesMethod::ZeroOrder, or give one FRF (LobesInput::frfs)");
+  if (!input.frfs && !input.speed_frfs && input.assembly && lobes_at_speed(*input.assembly, options.speed_model)) {
+    const SpeedModel model = options.speed_model == SpeedModel::Automatic ? SpeedModel::Spinning : options.speed_model;
+    const bool asked = options.speed_model != SpeedModel::Automatic;
+    if (options.method != LobesMethod::ZeroOrder || input.uncertain_joint) {
+      const std::string what = options.method != LobesMethod::ZeroOrder ? "the time-domain method" : "an uncertain joint";
+      if (asked)
+        throw InvalidArgument(fmt::format("LobesStudyOptions::speed_model {}: the lobes at speed are computed by the "
+                                          "zero-order method without an uncertain joint, not with {}",
+                                          to_string(model), what),
+                              "use LobesMethod::ZeroOrder (without LobesInput::uncertain_joint), or SpeedModel::Standstill");
+      // Automatic: the standstill model, said (the assembly's own note names the bearings).
+      LobesInput standstill = input;
+      LobesStudyOptions o = options;
+      o.speed_model = SpeedModel::Standstill;
+      LobesStudyResult r = run_lobes_study(standstill, o, progress);
+      r.warnings.push_back(
+          fmt::format("{} uses the standstill single-plane FRF (the bearings' constants and x values): the "
+                      "lobes at speed are computed by the zero-order method without an uncertain joint",
+                      what));
+      return r;
+    }
+    return at_speed_lobes_study(input, options, model, progress);
+  }
   if (!input.frfs && input.assembly) {
     LobesInput with_frfs = input;
     // A sampled joint file's joint is the nominal one, so the nominal envelope and the samples'

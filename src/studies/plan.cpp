@@ -628,7 +628,10 @@ Envelope stable_envelope(const FrfSeries& g, const std::string& name, const Lobe
     in.frfs = std::move(frfs);
     in.frf_name = name;
     LobesStudyOptions o = lo;
-    o.parallel.threads = 1;  // the plan runs jobs (or samples) in parallel
+    o.parallel.threads = 1;                  // the plan runs jobs (or samples) in parallel
+    o.speed_model = SpeedModel::Standstill;  // one FRF here (the job says when that is not the speed model asked for)
+    o.speed_nodes = 0;
+    o.extrapolate_bearings = false;
     LobesStudyResult r = run_lobes_study(in, o);
     env = std::move(r.envelope);
     out.warnings = std::move(r.warnings);
@@ -638,6 +641,25 @@ Envelope stable_envelope(const FrfSeries& g, const std::string& name, const Lobe
     out.chatter_hz.push_back(e.chatter_hz);
     out.lobe.push_back(e.lobe);
   }
+  return out;
+}
+
+// The stable envelope of assembly `a` at speed (LobesStudyOptions::speed_model: the x–y FRF at
+// each speed, lobes_at_speed), on the lobes study's speeds, one thread (the plan runs jobs in parallel).
+Envelope speed_envelope(const Assembly& a, const std::string& name, const LobesStudyOptions& lo) {
+  LobesInput in;
+  in.assembly = a;
+  in.frf_name = name;
+  LobesStudyOptions o = lo;
+  o.parallel.threads = 1;
+  LobesStudyResult r = run_lobes_study(in, o);
+  Envelope out;
+  for (const EnvelopePoint& e : r.envelope) {
+    out.depth_m.push_back(e.depth_m);
+    out.chatter_hz.push_back(e.chatter_hz);
+    out.lobe.push_back(e.lobe);
+  }
+  out.warnings = std::move(r.warnings);
   return out;
 }
 
@@ -710,20 +732,35 @@ PlanJob compute_job(const PlanCandidate& cand, const PlanHeader& h, std::size_t 
   lobes.cutting = plan_cutting(h.options, cs.tool_diameter_m);
   if (lobes.method == LobesMethod::FullDiscretization && lobes.max_depth_m == 0.0)
     lobes.max_depth_m = std::max(cs.flute_length_m, h.options.max_depth_m);
+  // At speed (the assembly's bearings, or LobesStudyOptions::speed_model): the zero-order lobes of
+  // the x–y FRF at each speed; a measured SH11 or the time domain keep the standstill FRF, said.
+  const bool wants_speed = lobes_at_speed(a, lobes.speed_model);
+  const bool at_speed = wants_speed && !cand.sh11 && lobes.method == LobesMethod::ZeroOrder;
+  const auto envelope_of = [&](const Assembly& x) {
+    return at_speed ? speed_envelope(x, frf_name, lobes) : stable_envelope(tool_point_frf(cand, x), frf_name, lobes);
+  };
   FrfSeries g;
   Envelope nominal;
   try {
     g = tool_point_frf(cand, a);
-    nominal = stable_envelope(g, frf_name, lobes);
+    nominal = envelope_of(a);
   } catch (const NumericalError& e) {
     throw NumericalError(fmt::format("{}: {}", where, e.what()), e.hint());
+  } catch (const InvalidArgument& e) {
+    throw InvalidArgument(fmt::format("{}: {}", where, e.what()), e.hint());
   }
   for (const Peak& p : find_peaks(g, PeakOptions{0.1})) job.modes_hz.push_back(p.frequency_hz);
   job.stable_depth_m = std::move(nominal.depth_m);
   job.chatter_hz = std::move(nominal.chatter_hz);
   job.lobe = std::move(nominal.lobe);
   job.warnings = a.warnings();  // what the joints' sources say against them
-  job.warnings.insert(job.warnings.end(), nominal.warnings.begin(), nominal.warnings.end());
+  for (const std::string& w : nominal.warnings)
+    if (std::find(job.warnings.begin(), job.warnings.end(), w) == job.warnings.end()) job.warnings.push_back(w);
+  if (wants_speed && !at_speed)
+    job.warnings.push_back(cand.sh11 ? "the tool point FRF from the measured SH11 is the standstill one: the lobes do not "
+                                       "follow the bearings' speed tables or x–y values"
+                                     : "the time-domain method uses the standstill single-plane FRF: the lobes at speed are "
+                                       "computed by the zero-order method");
   if (std::none_of(job.stable_depth_m.begin(), job.stable_depth_m.end(), [](double d) { return std::isfinite(d); }))
     throw NumericalError(fmt::format("{}: no lobe reaches any speed of {}–{} rpm", where, h.speeds_rpm.front(),
                                      h.speeds_rpm.back()),
@@ -745,7 +782,7 @@ PlanJob compute_job(const PlanCandidate& cand, const PlanHeader& h, std::size_t 
         JointFile js = *cand.uncertain_joint;
         js.parameters = samples[s];
         try {
-          depth[s] = stable_envelope(tool_point_frf(cand, with_joint(a, js)), frf_name, lobes).depth_m;
+          depth[s] = envelope_of(with_joint(a, js)).depth_m;
         } catch (const Error& e) {
           throw NumericalError(fmt::format("{}, joint sample {} of {}: {}", where, s + 1, samples.size(), e.what()), e.hint());
         }

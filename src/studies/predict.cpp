@@ -8,6 +8,7 @@
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/plausibility.hpp"
+#include "toolpoint/studies/lobes.hpp"
 
 namespace toolpoint {
 
@@ -67,6 +68,40 @@ Prediction two_plane_prediction(const AssemblyModel& model, const std::vector<do
 }
 
 }  // namespace
+
+plot::Figure speed_frf_figure(const Assembly& assembly, const std::vector<double>& speeds_rpm, bool extrapolate_bearings) {
+  if (speeds_rpm.empty()) throw InvalidArgument("speed_frf_figure: no speed given", "give one or more speeds [rpm]");
+  for (double n : speeds_rpm)
+    if (!(std::isfinite(n) && n >= 0.0)) throw InvalidArgument(fmt::format("speed_frf_figure: speed {} rpm must be ≥ 0", n));
+  const std::vector<double> grid = assembly.grid.values();
+  SpeedDependentFrfs s;
+  try {
+    s = milling_frfs_at_speeds(assembly, grid, speeds_rpm, true, extrapolate_bearings);
+  } catch (const InvalidArgument& e) {
+    throw InvalidArgument(fmt::format("speed_frf_figure: {}", e.what()), e.hint());
+  }
+  plot::Figure fig;
+  fig.title = fmt::format("Tool point FRF at speed: {}", plot::literal(assembly.name));
+  fig.x.label = "Frequency [Hz]";
+  plot::Panel xx, xy;
+  xx.y.label = "|H_{xx}| [m/N]";
+  xy.y.label = "|H_{xy}| [m/N]";
+  xx.y.scale = xy.y.scale = plot::Scale::Log;
+  xx.legend = plot::Legend::Outside;
+  for (std::size_t j = 0; j < speeds_rpm.size(); ++j) {
+    std::vector<double> a, c;
+    for (std::size_t i = 0; i < grid.size(); ++i) {
+      a.push_back(std::abs(s.frfs[j].xx.values[i]));
+      c.push_back(std::abs(s.frfs[j].xy->values[i]));  // 0 at rest with isotropic bearings: left out of the log axis
+    }
+    const std::string label = fmt::format("{:g} rpm", speeds_rpm[j]);
+    xx.curves.push_back({grid, a, label, plot::CurveStyle::Line, static_cast<int>(j)});
+    xy.curves.push_back({grid, c, "", plot::CurveStyle::Line, static_cast<int>(j)});
+  }
+  xy.height = 0.7;
+  fig.panels = {std::move(xx), std::move(xy)};
+  return fig;
+}
 
 std::string cross_receptance_csv(const BlockSeries4& s) {
   std::string out = "frequency_hz,Hxx_re,Hxx_im,Hxy_re,Hxy_im,Hyx_re,Hyx_im,Hyy_re,Hyy_im\n";

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <functional>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -27,6 +28,29 @@ namespace toolpoint {
 // The tool point FRF of an assembly model (SHT11's H, seed Eq. 5) on `frequency_hz`, for x and y
 // (a round tool on a round spindle), or x alone when `rigid_y`.
 MillingFrfs milling_frfs(const AssemblyModel& model, const std::vector<double>& frequency_hz, bool rigid_y = false);
+
+// Which tool point dynamics the lobes of an assembly use (docs/spindle-at-speed.md).
+enum class SpeedModel {
+  Automatic,   // Spinning when the assembly's bearings carry speed tables or differ in x and y; Standstill otherwise
+  Standstill,  // the standstill single-plane FRF, bearings at their constants and x values (as before issue 28)
+  Bearings,    // at each speed the x–y FRF with the bearings at that speed (tables, x and y values), no spin
+  Spinning,    // as Bearings, with the spindle spinning at that speed (gyroscopic moments: whirl, H_xy)
+};
+const char* to_string(SpeedModel m);  // "auto", "standstill", "bearings", "spinning" (the CLI's --speed-model)
+
+// Whether the lobes of `assembly` under `model` use the FRF at each speed (SpeedDependentFrfs):
+// Bearings and Spinning always, Automatic with speed tables or bearings that differ in x and y.
+bool lobes_at_speed(const Assembly& assembly, SpeedModel model);
+
+// The tool point FRFs of an assembly at spindle speeds [rpm] on `frequency_hz` [Hz]: per speed the
+// bearings there (at_speed, refused outside a table unless `extrapolate_bearings`) and the two-plane
+// tool point (AssemblyModel::tool_point_two_plane) spinning at that speed when `spin` (at rest
+// otherwise): G_xx, G_yy, G_xy, G_yx, or G_xx alone when `rigid_y`. Speeds on `parallel` threads
+// (identical results for any count). Throws InvalidArgument (a speed outside a bearing's table,
+// naming it), NumericalError as the model's sweeps.
+SpeedDependentFrfs milling_frfs_at_speeds(const Assembly& assembly, const std::vector<double>& frequency_hz,
+                                          const std::vector<double>& speeds_rpm, bool spin, bool extrapolate_bearings,
+                                          bool rigid_y = false, const ParallelOptions& parallel = {});
 
 enum class LobesMethod {
   ZeroOrder,           // Altintas & Budak 1995, directly from the FRFs
@@ -50,6 +74,9 @@ struct LobesInput {
   // nominal one, in place of the assembly's (given `frfs` must be the FRFs of that assembly).
   std::optional<Assembly> assembly;
   std::optional<JointFile> uncertain_joint;
+  // FRFs at several speeds (measured or computed; zero-order method): used in place of `frfs` and
+  // of the assembly's FRF, interpolated between their speeds (zero_order_lobes).
+  std::optional<SpeedDependentFrfs> speed_frfs;
   // Rigid in y: said here, or by the FRFs (MillingFrfs::rigid_y).
   bool rigid_in_y() const { return rigid_y || (frfs && frfs->rigid_y); }
 };
@@ -81,7 +108,15 @@ struct LobesStudyOptions {
   // (its progress unused: the study's covers them). The probability map's depths: 201 from 0 to
   // 1.5 × the nominal envelope's highest point.
   UncertaintyOptions uncertainty;
-  void check() const;  // throws InvalidArgument naming the field
+  // With LobesInput::assembly (and no `frfs`): which dynamics (SpeedModel). At speed (Bearings,
+  // Spinning; Automatic when the bearings ask for it) the x–y FRF is evaluated at `speed_nodes`
+  // speeds evenly over the range and at the midpoints between them, interpolated linearly in speed
+  // between these, and the error of interpolating between the nodes alone is reported
+  // (LobesStudyResult::frf_interpolation_error, envelope_interpolation_error). 0: 17 nodes.
+  SpeedModel speed_model = SpeedModel::Automatic;
+  int speed_nodes = 0;                // 0 (automatic) or 2…1000
+  bool extrapolate_bearings = false;  // a speed outside a bearing's table: extend its end rows (else refused)
+  void check() const;                 // throws InvalidArgument naming the field
 };
 
 // How a modal model was fitted to one FRF.
@@ -122,6 +157,17 @@ struct LobesStudyResult {
   std::vector<SpeedQuantiles> pocket_quantiles;  // per best speed, at the nearest of the uncertainty's speeds
   std::optional<SpeedQuantiles> worst_speed;     // where the first level's depth (95 % sure) is lowest
   std::optional<plot::ProbabilityMapData> probability_figure;
+  // The dynamics used: Standstill (one FRF for every speed), or at speed (Bearings, Spinning; given
+  // speed-dependent FRFs: Bearings) with the speeds [rpm] where the FRF was evaluated, and the
+  // estimated error of the interpolation between them: the largest |G − G_interpolated| of the
+  // midpoints' direct FRFs against the nodes' interpolation, relative to the largest |G| there, and
+  // the largest change of the envelope's depth (relative) between the lobes from the nodes alone
+  // and from nodes and midpoints (the result; linear interpolation's error falls ~4× per halving,
+  // so this overstates the result's own error about 3×). NaN when not at speed or not estimated.
+  SpeedModel speed_model = SpeedModel::Standstill;
+  std::vector<double> frf_speeds_rpm;
+  double frf_interpolation_error = std::numeric_limits<double>::quiet_NaN();
+  double envelope_interpolation_error = std::numeric_limits<double>::quiet_NaN();
   std::vector<std::string> warnings;
 };
 

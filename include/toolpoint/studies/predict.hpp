@@ -18,6 +18,7 @@
 #include "toolpoint/assembly.hpp"
 #include "toolpoint/joint_file.hpp"
 #include "toolpoint/peaks.hpp"
+#include "toolpoint/plot.hpp"
 #include "toolpoint/receptance.hpp"
 #include "toolpoint/studies/study.hpp"
 #include "toolpoint/uncertainty.hpp"
@@ -68,6 +69,13 @@ struct Prediction {
 // The translational part [[H_xx, H_xy], [H_yx, H_yy]] [m/N] of each two-plane block, as CSV text:
 // frequency_hz and the real and imaginary parts of the four (the cross receptances' file).
 std::string cross_receptance_csv(const BlockSeries4& series);
+
+// The tool point FRF at several spindle speeds (docs/spindle-at-speed.md), as a figure: |H_xx| and
+// |H_xy| [m/N] against frequency [Hz] on the assembly's grid, one curve per speed [rpm, ≥ 0], the
+// bearings at each speed (their tables read there; a speed outside a table refused unless
+// `extrapolate_bearings`) and the spindle spinning at it (AssemblyModel::tool_point_two_plane).
+// Throws InvalidArgument (no speed, a negative one, a speed outside a bearing's table naming it).
+plot::Figure speed_frf_figure(const Assembly& assembly, const std::vector<double>& speeds_rpm, bool extrapolate_bearings = false);
 
 // The prediction on `assembly.grid`, through AssemblyModel's sweeps (SIMD lanes where available;
 // the same values as one frequency at a time up to rounding). Progress is reported per block of
