@@ -48,18 +48,19 @@ void set_envelope(plot::LobesFigureData& d, const std::vector<EnvelopePoint>& en
   }
 }
 
-// The depth axis: 5× the shallowest depth, raised to cover the best speeds reported (they are
-// read off the figure) up to 50× it; deeper pockets are left above the frame, and the title says so.
+// The depth axis: 5× the shallowest depth, raised to cover the whole envelope (the best speeds
+// are read off the figure, and so is a rise at the range's ends, e.g. process damping at low
+// speed) up to 50× it; deeper parts are left above the frame, and the title says so.
 struct DepthAxis {
   double top_m;
   bool clipped;
 };
 
-DepthAxis depth_axis(const std::vector<EnvelopePoint>& envelope, const std::vector<EnvelopePoint>& pockets) {
+DepthAxis depth_axis(const std::vector<EnvelopePoint>& envelope) {
   const double floor = figure_top_m(envelope) / 5.0;
   DepthAxis axis{5.0 * floor, false};
-  for (const EnvelopePoint& p : pockets) {
-    if (p.depth_m * 1.1 <= axis.top_m) continue;
+  for (const EnvelopePoint& p : envelope) {
+    if (!std::isfinite(p.depth_m) || p.depth_m * 1.1 <= axis.top_m) continue;
     if (p.depth_m * 1.1 <= 50.0 * floor) axis.top_m = p.depth_m * 1.1;
     else axis.clipped = true;
   }
@@ -69,7 +70,7 @@ DepthAxis depth_axis(const std::vector<EnvelopePoint>& envelope, const std::vect
 
 void set_depth_axis(plot::LobesFigureData& d, const DepthAxis& axis) {
   d.depth_max_m = axis.top_m;
-  if (axis.clipped) d.title += fmt::format(" (pockets above {:.3g} mm clipped)", axis.top_m * 1e3);
+  if (axis.clipped) d.title += fmt::format(" (depths above {:.3g} mm clipped)", axis.top_m * 1e3);
 }
 
 // Zero-order lobes for the figure: one polyline per lobe, broken (NaN) between its two roots and
@@ -355,7 +356,7 @@ void finish_zero_order(LobesStudyResult& res, const LobesStudyOptions& options) 
   res.envelope = res.zero_order->envelope;
   res.pockets = stability_pockets(res.envelope, options.pockets, options.pocket_prominence);
   res.pocket_depth_error_m.assign(res.pockets.size(), kNaN);
-  const DepthAxis axis = depth_axis(res.envelope, res.pockets);
+  const DepthAxis axis = depth_axis(res.envelope);
   res.figure = zero_order_figure(*res.zero_order, 2.0 * axis.top_m);
   set_depth_axis(res.figure, axis);
   judge_lowest_depth(res);
@@ -512,7 +513,7 @@ LobesStudyResult nominal_lobes_study(const LobesInput& input, const LobesStudyOp
     res.pocket_depth_error_m.push_back(error);
   }
   res.figure = boundary_figure(*res.boundary);
-  set_depth_axis(res.figure, depth_axis(res.envelope, res.pockets));
+  set_depth_axis(res.figure, depth_axis(res.envelope));
   judge_lowest_depth(res);
   return res;
 }
