@@ -904,6 +904,9 @@ JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<Join
     return w;
   };
   double bias_mc = 1.0;  // the bias's Monte Carlo variance, in the replicates' variance over N
+  // The second world's step b₁ − b₂: the correction extrapolates by it once, and is taken to be
+  // uncertain by as much (a systematic term added to the covariance).
+  VectorXd extrapolation = VectorXd::Zero(p);
   auto mean_of = [&](const std::vector<VectorXd>& good) {
     VectorXd mean = VectorXd::Zero(p);
     for (const auto& v : good) mean += v;
@@ -935,7 +938,8 @@ JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<Join
     if (smoothed_world) {
       const std::vector<VectorXd> second = replicates(N, {}, second_world(), N);
       if (second.size() >= N / 2) {
-        bias = 2.0 * bias - (mean_of(second) - q);
+        extrapolation = bias - (mean_of(second) - q);
+        bias += extrapolation;
         estimate = q - bias;
         bias_mc = 5.0;
         cov_q *= 1.0 + bias_mc / static_cast<double>(good.size());
@@ -964,7 +968,8 @@ JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<Join
         if (smoothed_world) {
           const std::vector<VectorXd> second = replicates(kLinearisationCheck, {}, second_world(), kLinearisationCheck);
           if (second.size() >= kLinearisationCheck / 2) {
-            bias = 2.0 * bias - (mean_of(second) - q);
+            extrapolation = bias - (mean_of(second) - q);
+            bias += extrapolation;
             estimate = q - bias;
             bias_mc = 5.0;
           }
@@ -1000,7 +1005,10 @@ JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<Join
       }
     }
   }
-  if (bias_mc > 1.0) out.method_description += "; the bias corrected once more from a second bootstrap world (2 b₁ − b₂)";
+  if (bias_mc > 1.0) {
+    cov_q += extrapolation * extrapolation.transpose();
+    out.method_description += "; the bias corrected once more from a second bootstrap world (2 b₁ − b₂, uncertain by b₁ − b₂)";
+  }
   if (!smoothed_b.empty())
     out.method_description += fmt::format(
         "; B11 of {} (its additive floor reaching its entries) enters the model smoothed by the {}-point degree-{} "

@@ -73,7 +73,8 @@
 //     B11 carries smoothed noise of its own and the bias comes out smaller there than at the truth
 //     (0.77 of it on the example with a 1 % floor): N more replicates in a second world (the
 //     smoothed B11 of one draw in the first) give b₂, and the bias is 2 b₁ − b₂ (the iterated
-//     bootstrap's correction, Hall 1992 §3.11). Coverage of these intervals is
+//     bootstrap's correction, Hall 1992 §3.11); the step b₁ − b₂ it extrapolates by is added to the
+//     covariance as a systematic uncertainty of the correction. Coverage of these intervals is
 //     measured over noise seeds in the tests and docs/identification.md (JointFitCoverage).
 // A parameter is *determined* when its interval excludes 0 and is narrower than |estimate|.
 //
