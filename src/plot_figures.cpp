@@ -53,7 +53,7 @@ std::string hz_text(double f) { return f >= 100.0 ? fmt::format("{:.0f} Hz", f) 
 // Phase in degrees with a break (NaN point) wherever it wraps, so no vertical jump is drawn.
 void phase_curve(const FrfSeries& s, std::vector<double>& x, std::vector<double>& y) {
   for (std::size_t k = 0; k < s.size(); ++k) {
-    const double deg = std::arg(s.values[k]) * 180.0 / kPi;
+    const double deg = degrees_of(std::arg(s.values[k]));
     if (!y.empty() && std::abs(deg - y.back()) > 180.0) {
       x.push_back(kNaN);
       y.push_back(kNaN);

@@ -229,15 +229,15 @@ void Cutter::check() const {
   if (std::abs(sum - kTwoPi) > 1e-6)
     throw InvalidArgument(fmt::format("Cutter::pitch_rad: the teeth's spacings sum to {:.9g} rad ({:.6g}°), not a revolution "
                                       "(2π rad, 360°)",
-                                      sum, sum * 180.0 / kPi),
+                                      sum, degrees_of(sum)),
                           "give the angle from each tooth to the next, all of them, summing to 360°");
-  if (!finite(helix_rad) || helix_rad < 0.0 || helix_rad > 80.0 * kPi / 180.0)
+  if (!finite(helix_rad) || helix_rad < 0.0 || helix_rad > radians_of(80.0))
     throw InvalidArgument(fmt::format("Cutter::helix_rad = {} rad must lie in [0, 80°]", helix_rad));
   if (!tooth_helix_rad.empty() && tooth_helix_rad.size() != pitch_rad.size())
     throw InvalidArgument(fmt::format("Cutter::tooth_helix_rad has {} angles for {} teeth: one per tooth, or none",
                                       tooth_helix_rad.size(), pitch_rad.size()));
   for (std::size_t j = 0; j < tooth_helix_rad.size(); ++j)
-    if (!finite(tooth_helix_rad[j]) || tooth_helix_rad[j] < 0.0 || tooth_helix_rad[j] > 80.0 * kPi / 180.0)
+    if (!finite(tooth_helix_rad[j]) || tooth_helix_rad[j] < 0.0 || tooth_helix_rad[j] > radians_of(80.0))
       throw InvalidArgument(fmt::format("Cutter::tooth_helix_rad[{}] = {} rad must lie in [0, 80°]", j, tooth_helix_rad[j]));
   if (!runout_m.empty() && runout_m.size() != pitch_rad.size())
     throw InvalidArgument(
@@ -382,7 +382,7 @@ SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cu
 
   SimulationResult res;
   const int teeth = cutter.teeth();
-  const double spin = kTwoPi * cut.speed_rpm / 60.0;  // Ω [rad/s]
+  const double spin = rad_s_of_rpm(cut.speed_rpm);  // Ω [rad/s]
   const double tau = 60.0 / (teeth * cut.speed_rpm);
   const int m = options.steps_per_tooth > 0 ? options.steps_per_tooth : automatic_steps_per_tooth(dynamics, teeth, cut.speed_rpm);
   const double fmax = dynamics.highest_frequency_hz();

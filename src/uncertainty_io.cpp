@@ -18,7 +18,7 @@ Table band_table(const FrfBand& b) {
   for (std::size_t i = 0; i < b.frequency_hz.size(); ++i) {
     std::vector<double> row{b.frequency_hz[i]};
     for (const auto& m : b.magnitude) row.push_back(m[i]);
-    for (const auto& p : b.phase_rad) row.push_back(p[i] * 180.0 / kPi);
+    for (const auto& p : b.phase_rad) row.push_back(degrees_of(p[i]));
     t.rows.push_back(std::move(row));
   }
   return t;

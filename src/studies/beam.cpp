@@ -48,8 +48,6 @@ void BeamStudyOptions::check() const {
                           "the whirls' natural frequencies listed");
 }
 
-double rad_s_of_rpm(double rpm) { return rpm * 2.0 * kPi / 60.0; }
-
 BeamStudy run_beam_study(const BeamStudyOptions& options) {
   options.check();
   BeamStudy r;
@@ -124,7 +122,7 @@ plot::Figure campbell_figure(const BeamStudy& study, const std::string& title) {
   p.legend = plot::Legend::Outside;
   p.y.label = "Natural frequency [Hz]";
   std::vector<double> rpm;
-  for (const WhirlFrequencies& w : c) rpm.push_back(w.spin_rad_s * 60.0 / (2.0 * kPi));
+  for (const WhirlFrequencies& w : c) rpm.push_back(rpm_of_rad_s(w.spin_rad_s));
   const std::size_t modes = c.front().forward_hz.size();
   for (std::size_t m = 0; m < modes; ++m) {
     std::vector<double> fwd, bwd;
