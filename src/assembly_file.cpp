@@ -1,5 +1,5 @@
 // toolpoint: reading the assembly TOML file with toml++.
-#include "toolpoint/assembly_file.hpp"
+#include "toolpoint/io/assembly_file.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 #include <map>
 
 #include "toolpoint/error.hpp"
-#include "toolpoint/io.hpp"
+#include "toolpoint/io/io.hpp"
 #include "toml_reader.hpp"
 
 namespace toolpoint {

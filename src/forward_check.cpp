@@ -1,5 +1,5 @@
 // toolpoint: the forward check of an identified joint (forward_check.hpp).
-#include "toolpoint/forward_check.hpp"
+#include "toolpoint/identify/forward_check.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,9 +8,9 @@
 
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/peaks.hpp"
+#include "toolpoint/measured/peaks.hpp"
 #include "toolpoint/statistics.hpp"
-#include "toolpoint/uncertainty.hpp"
+#include "toolpoint/uncertainty/uncertainty.hpp"
 
 namespace toolpoint {
 

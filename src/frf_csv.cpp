@@ -23,7 +23,7 @@
 #include "text.hpp"
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/io.hpp"
+#include "toolpoint/io/io.hpp"
 
 namespace toolpoint {
 

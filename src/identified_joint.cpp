@@ -1,5 +1,5 @@
 // toolpoint: an identified joint as a value (identified_joint.hpp).
-#include "toolpoint/identified_joint.hpp"
+#include "toolpoint/identify/identified_joint.hpp"
 
 #include <fmt/format.h>
 

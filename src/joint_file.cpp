@@ -1,10 +1,10 @@
 // toolpoint: joint files (joint_file.hpp).
-#include "toolpoint/joint_file.hpp"
+#include "toolpoint/io/joint_file.hpp"
 
 #include <Eigen/Eigenvalues>
 #include <fmt/format.h>
 
-#include "toolpoint/io.hpp"
+#include "toolpoint/io/io.hpp"
 #include "toml_reader.hpp"
 
 namespace toolpoint {

@@ -1,6 +1,6 @@
 // toolpoint: joint constants fitted over a band, with bootstrap or linearised intervals
 // (joint_fit.hpp).
-#include "toolpoint/joint_fit.hpp"
+#include "toolpoint/identify/joint_fit.hpp"
 
 #include <algorithm>
 #include <cstdlib>

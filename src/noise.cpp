@@ -1,5 +1,5 @@
 // toolpoint: noise of measured FRF blocks (noise.hpp).
-#include "toolpoint/noise.hpp"
+#include "toolpoint/measured/noise.hpp"
 
 #include <algorithm>
 #include <cmath>

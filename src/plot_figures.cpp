@@ -1,5 +1,5 @@
 // toolpoint: the ready-made figures of toolpoint's results (FRFs, joints, overhangs, lobes) (plot.hpp).
-#include "toolpoint/plot.hpp"
+#include "toolpoint/plot/plot.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -10,7 +10,7 @@
 #include <fmt/format.h>
 
 #include "toolpoint/conventions.hpp"
-#include "toolpoint/peaks.hpp"
+#include "toolpoint/measured/peaks.hpp"
 #include "plot_detail.hpp"
 
 namespace toolpoint::plot {

@@ -1,5 +1,5 @@
 // toolpoint: the time-domain milling simulation (simulation.hpp). Units: SI, rpm, Hz.
-#include "toolpoint/simulation.hpp"
+#include "toolpoint/stability/simulation.hpp"
 
 #include <unistd.h>
 

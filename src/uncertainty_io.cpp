@@ -1,6 +1,6 @@
 // toolpoint: uncertainty results as tables and figure data (uncertainty_io.hpp).
 // Units: Hz, m/N, degrees, rpm, mm.
-#include "toolpoint/uncertainty_io.hpp"
+#include "toolpoint/io/uncertainty_io.hpp"
 
 #include <cmath>
 #include <complex>

@@ -15,9 +15,9 @@
 #include "progress.hpp"
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/identify_io.hpp"
-#include "toolpoint/io.hpp"
-#include "toolpoint/joint_file.hpp"
+#include "toolpoint/io/identify_io.hpp"
+#include "toolpoint/io/io.hpp"
+#include "toolpoint/io/joint_file.hpp"
 #include "toolpoint/json.hpp"
 #include "toolpoint/studies/identification.hpp"
 

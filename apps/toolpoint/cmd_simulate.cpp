@@ -14,7 +14,7 @@
 #include "progress.hpp"
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/io.hpp"
+#include "toolpoint/io/io.hpp"
 #include "toolpoint/json.hpp"
 #include "toolpoint/studies/simulation.hpp"
 #include "toolpoint/studies/simulation_io.hpp"

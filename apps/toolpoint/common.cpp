@@ -13,7 +13,7 @@
 #include "progress.hpp"
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/io.hpp"
+#include "toolpoint/io/io.hpp"
 
 namespace toolpoint::cli {
 

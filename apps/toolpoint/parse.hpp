@@ -8,9 +8,9 @@
 #include <utility>
 
 #include "toolpoint/conventions.hpp"
-#include "toolpoint/frf_file.hpp"
-#include "toolpoint/io.hpp"
-#include "toolpoint/resample.hpp"
+#include "toolpoint/io/frf_file.hpp"
+#include "toolpoint/io/io.hpp"
+#include "toolpoint/measured/resample.hpp"
 
 namespace toolpoint::cli {
 

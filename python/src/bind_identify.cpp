@@ -6,14 +6,14 @@
 
 #include "common.hpp"
 #include "toolpoint/studies/case_study.hpp"
-#include "toolpoint/identify.hpp"
-#include "toolpoint/joint_file.hpp"
-#include "toolpoint/joint_fit.hpp"
+#include "toolpoint/identify/identify.hpp"
+#include "toolpoint/io/joint_file.hpp"
+#include "toolpoint/identify/joint_fit.hpp"
 #include "toolpoint/json.hpp"
-#include "toolpoint/noise.hpp"
+#include "toolpoint/measured/noise.hpp"
 #include "toolpoint/studies/identification.hpp"
 #include "toolpoint/studies/precision.hpp"
-#include "toolpoint/uncertainty.hpp"
+#include "toolpoint/uncertainty/uncertainty.hpp"
 
 namespace toolpoint::python {
 

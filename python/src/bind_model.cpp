@@ -2,12 +2,12 @@
 // (beam.hpp, assembly.hpp, assembly_file.hpp, joint.hpp, studies/predict.hpp, overhang.hpp,
 // tap_test.hpp). Units SI; frequencies in Hz.
 #include "common.hpp"
-#include "toolpoint/assembly.hpp"
-#include "toolpoint/assembly_file.hpp"
-#include "toolpoint/beam.hpp"
-#include "toolpoint/coupling.hpp"
-#include "toolpoint/joint.hpp"
-#include "toolpoint/joint_file.hpp"
+#include "toolpoint/model/assembly.hpp"
+#include "toolpoint/io/assembly_file.hpp"
+#include "toolpoint/model/beam.hpp"
+#include "toolpoint/model/coupling.hpp"
+#include "toolpoint/model/joint.hpp"
+#include "toolpoint/io/joint_file.hpp"
 #include "toolpoint/json.hpp"
 #include "toolpoint/studies/beam.hpp"
 #include "toolpoint/studies/fd_correction.hpp"

@@ -1,16 +1,16 @@
 // toolpoint Python bindings: signal processing (signal.hpp), peaks (peaks.hpp) and files (io.hpp,
 // frf_file.hpp, uff.hpp). Frequencies in Hz; FRF values in their own units (receptance m/N).
 #include "common.hpp"
-#include "toolpoint/frf_file.hpp"
-#include "toolpoint/io.hpp"
+#include "toolpoint/io/frf_file.hpp"
+#include "toolpoint/io/io.hpp"
 #include "toolpoint/json.hpp"
-#include "toolpoint/peaks.hpp"
-#include "toolpoint/resample.hpp"
+#include "toolpoint/measured/peaks.hpp"
+#include "toolpoint/measured/resample.hpp"
 #include "toolpoint/studies/resample.hpp"
-#include "toolpoint/signal.hpp"
+#include "toolpoint/measured/signal.hpp"
 #include "toolpoint/studies/filter.hpp"
 #include "toolpoint/studies/rotational.hpp"
-#include "toolpoint/uff.hpp"
+#include "toolpoint/io/uff.hpp"
 
 namespace toolpoint::python {
 

@@ -3,7 +3,7 @@
 // diameters in m, angles in rad), spindle speeds in rpm, frequencies in Hz; histories as arrays.
 #include "common.hpp"
 #include "toolpoint/json.hpp"
-#include "toolpoint/simulation.hpp"
+#include "toolpoint/stability/simulation.hpp"
 #include "toolpoint/studies/simulation.hpp"
 #include "toolpoint/studies/simulation_io.hpp"
 

@@ -1,5 +1,5 @@
 """Bound *Options types: keyword-only constructors whose defaults are the C++ ones (the header's
-values, include/toolpoint/modal_fit.hpp and peaks.hpp, written out here as the independent
+values, include/toolpoint/stability/modal_fit.hpp and peaks.hpp, written out here as the independent
 reference), check() raising the library's InvalidArgument naming the field, a repr that rebuilds
 the object, and the functions taking them."""
 import numpy as np

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <fmt/format.h>
 
-#include "toolpoint/assembly.hpp"
+#include "toolpoint/model/assembly.hpp"
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/plausibility.hpp"

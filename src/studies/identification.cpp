@@ -7,9 +7,9 @@
 #include <cstring>
 #include <numeric>
 
-#include "toolpoint/coupling.hpp"
+#include "toolpoint/model/coupling.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/peaks.hpp"
+#include "toolpoint/measured/peaks.hpp"
 #include "toolpoint/statistics.hpp"
 #include "toolpoint/version.hpp"
 

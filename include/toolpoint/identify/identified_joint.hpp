@@ -14,8 +14,8 @@
 
 #include <Eigen/Core>
 
-#include "toolpoint/assembly.hpp"
-#include "toolpoint/joint.hpp"
+#include "toolpoint/model/assembly.hpp"
+#include "toolpoint/model/joint.hpp"
 
 namespace toolpoint {
 

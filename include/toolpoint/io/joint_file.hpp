@@ -24,8 +24,8 @@
 
 #include <Eigen/Core>
 
-#include "toolpoint/assembly_file.hpp"
-#include "toolpoint/identified_joint.hpp"
+#include "toolpoint/io/assembly_file.hpp"
+#include "toolpoint/identify/identified_joint.hpp"
 
 namespace toolpoint {
 

@@ -14,9 +14,9 @@
 #include <string>
 #include <vector>
 
-#include "toolpoint/beam.hpp"
+#include "toolpoint/model/beam.hpp"
 #include "toolpoint/conventions.hpp"
-#include "toolpoint/plot.hpp"
+#include "toolpoint/plot/plot.hpp"
 
 namespace toolpoint {
 

@@ -20,13 +20,13 @@
 
 #include <Eigen/Core>
 
-#include "toolpoint/assembly.hpp"
-#include "toolpoint/joint.hpp"
-#include "toolpoint/identified_joint.hpp"
+#include "toolpoint/model/assembly.hpp"
+#include "toolpoint/model/joint.hpp"
+#include "toolpoint/identify/identified_joint.hpp"
 #include "toolpoint/parallel.hpp"
 #include "toolpoint/statistics.hpp"
-#include "toolpoint/receptance.hpp"
-#include "toolpoint/stability.hpp"
+#include "toolpoint/model/receptance.hpp"
+#include "toolpoint/stability/stability.hpp"
 
 namespace toolpoint {
 
