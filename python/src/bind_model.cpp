@@ -82,9 +82,8 @@ int parameter_index(const py::object& key) {
   return k;
 }
 
-}  // namespace
-
-void bind_model(py::module_& m) {
+// Joints: the eight parameters, K(ω), the seed's Table 1.
+void bind_joints(py::module_& m) {
   // ---- Joints ------------------------------------------------------------------------------------
   py::class_<JointParameters>(m, "JointParameters",
                               "The eight contact parameters of a joint (seed Eq. 8): K(ω) = [[k_yf + iωc_yf, k_ym + iωc_ym], "
@@ -163,7 +162,10 @@ void bind_model(py::module_& m) {
   m.def("seed_table1_joint", &seed_table1_joint, "The seed's Table 1 holder–tool joint (Özşahin et al. 2009), SI units.");
   m.def("joint_warnings", &joint_warnings, "parameters"_a, "name"_a = "joint",
         "Warnings about a legal but indefinite joint (negative stiffness or damping motions), labelled with `name`.");
+}
 
+// Materials, sections and segments: free–free receptances, exact and modal, spinning; the beam study.
+void bind_segments(py::module_& m) {
   // ---- Materials and segments ---------------------------------------------------------------------
   py::class_<Material>(m, "Material",
                        "An isotropic material. E and G in Pa, density in kg/m³, ν and loss factor η dimensionless.")
@@ -361,7 +363,10 @@ void bind_model(py::module_& m) {
       "`frequency_hz` [Hz], the end block '11' (end 1 = the outer end), '12', '21' or '22' by the 'exact' closed form or "
       "'modal' summation over `modal_terms` modes; spinning at `speed_rpm` [rpm] the natural frequencies of each whirl "
       "(BeamStudy.whirl) and the block's x–x part; `campbell_rpm` [rpm] the Campbell diagram (BeamStudy.campbell).");
+}
 
+// The assembly, its file and its model (the forward model of Eq. 1–5).
+void bind_assembly(py::module_& m) {
   // ---- Assembly -----------------------------------------------------------------------------------
   py::class_<Bearing>(m, "Bearing", "Springs and dampers to ground at `position` m from the spindle nose.")
       .def(py::init([](double position, double k, double c, double kr, double cr, std::string name, std::optional<double> ky,
@@ -571,7 +576,10 @@ void bind_model(py::module_& m) {
       "assembly"_a, "frequency_hz"_a, "sh11"_a, "name"_a = "SH11",
       "SHT11 from a measured SH11 (n, 2, 2) and the model's tool through the holder–tool joint (seed Eq. 5, Schmitz's RCSA), on "
       "SH11's grid.");
+}
 
+// The prediction study (with the Monte Carlo's options it holds).
+void bind_prediction(py::module_& m) {
   // ---- Studies: prediction, overhangs, tap test ----------------------------------------------------
   // The Monte Carlo's options, bound here because the prediction and overhang studies hold them.
   options_class<UncertaintyOptions>(
@@ -675,7 +683,10 @@ void bind_model(py::module_& m) {
       },
       "assembly"_a, "options"_a, py::kw_only(), "progress"_a = py::none(),
       "The prediction study with its options as one PredictOptions (the same as the keyword form above).");
+}
 
+// The overhang study.
+void bind_overhang_study(py::module_& m) {
   py::class_<OverhangFrf>(m, "OverhangFrf", "One overhang of the overhang study.")
       .def_readonly("overhang_m", &OverhangFrf::overhang_m)
       .def_property_readonly(
@@ -757,7 +768,10 @@ void bind_model(py::module_& m) {
   m.def("overhang_sweep", &overhang_sweep, "start_m"_a, "stop_m"_a, "step_m"_a,
         "The overhangs [m] of a sweep START:STOP:STEP as toolpoint couple --overhang makes them: start + i·step up to stop, each "
         "rounded to a nanometre.");
+}
 
+// The virtual tap test, and the rotational FRFs taken from one with the model's correction.
+void bind_tap_test(py::module_& m) {
   py::class_<TapTestFrf>(m, "TapTestFrf", "One FRF of the tap test: H_ij = w_i/f_j [m/N], point 0 the tip.")
       .def_readonly("response", &TapTestFrf::response)
       .def_readonly("hammer", &TapTestFrf::hammer)
@@ -919,6 +933,17 @@ void bind_model(py::module_& m) {
       "[m/N]} at points 0 (tip), 1, 2 spaced options.spacing m inwards (RotationalOptions, as rotational_frfs), and with `model` "
       "(an Assembly) the differences' truncation error estimated on it at the same points on "
       "the 'tool' or the 'holder' and removed (finite_difference_error).");
+}
+
+}  // namespace
+
+void bind_model(py::module_& m) {
+  bind_joints(m);
+  bind_segments(m);
+  bind_assembly(m);
+  bind_prediction(m);
+  bind_overhang_study(m);
+  bind_tap_test(m);
 }
 
 }  // namespace toolpoint::python
