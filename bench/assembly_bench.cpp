@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "toolpoint/assembly.hpp"
-#include "toolpoint/assembly_file.hpp"
+#include "toolpoint/model/assembly.hpp"
+#include "toolpoint/io/assembly_file.hpp"
 
 using namespace toolpoint;
 

@@ -8,7 +8,7 @@
 
 #include <vector>
 
-#include "toolpoint/beam.hpp"
+#include "toolpoint/model/beam.hpp"
 
 using namespace toolpoint;
 

@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "toolpoint/assembly.hpp"
-#include "toolpoint/assembly_file.hpp"
-#include "toolpoint/identify.hpp"
+#include "toolpoint/model/assembly.hpp"
+#include "toolpoint/io/assembly_file.hpp"
+#include "toolpoint/identify/identify.hpp"
 
 using namespace toolpoint;
 

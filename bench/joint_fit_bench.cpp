@@ -14,9 +14,9 @@
 #include <string>
 #include <vector>
 
-#include "toolpoint/assembly_file.hpp"
-#include "toolpoint/joint_fit.hpp"
-#include "toolpoint/signal.hpp"
+#include "toolpoint/io/assembly_file.hpp"
+#include "toolpoint/identify/joint_fit.hpp"
+#include "toolpoint/measured/signal.hpp"
 
 using namespace toolpoint;
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "toolpoint/assembly_file.hpp"
+#include "toolpoint/io/assembly_file.hpp"
 #include "toolpoint/studies/plan.hpp"
 
 using namespace toolpoint;

@@ -2,7 +2,7 @@
 // columns), noise, and finite-difference rotational FRFs. Sizes: frequency points.
 #include <benchmark/benchmark.h>
 
-#include "toolpoint/signal.hpp"
+#include "toolpoint/measured/signal.hpp"
 
 using namespace toolpoint;
 

@@ -5,7 +5,7 @@
 // Run: build/toolpoint_bench --benchmark_filter=Simulation
 #include <benchmark/benchmark.h>
 
-#include "toolpoint/simulation.hpp"
+#include "toolpoint/stability/simulation.hpp"
 #include "toolpoint/studies/simulation.hpp"
 
 using namespace toolpoint;

@@ -5,7 +5,7 @@
 // Run: build/toolpoint_bench --benchmark_filter=Stability
 #include <benchmark/benchmark.h>
 
-#include "toolpoint/stability.hpp"
+#include "toolpoint/stability/stability.hpp"
 
 using namespace toolpoint;
 

@@ -5,7 +5,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "toolpoint/uff.hpp"
+#include "toolpoint/io/uff.hpp"
 
 using namespace toolpoint;
 

@@ -6,9 +6,9 @@
 #include <cstdint>
 #include <string>
 
-#include "toolpoint/assembly_file.hpp"
+#include "toolpoint/io/assembly_file.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/joint_file.hpp"
+#include "toolpoint/io/joint_file.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);

@@ -8,7 +8,7 @@
 
 #include "fuzz_util.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/frf_file.hpp"
+#include "toolpoint/io/frf_file.hpp"
 
 using namespace toolpoint;
 using fuzz::require;

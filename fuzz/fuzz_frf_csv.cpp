@@ -12,8 +12,8 @@
 
 #include "fuzz_util.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/frf_file.hpp"
-#include "toolpoint/io.hpp"
+#include "toolpoint/io/frf_file.hpp"
+#include "toolpoint/io/io.hpp"
 
 using namespace toolpoint;
 using fuzz::require;

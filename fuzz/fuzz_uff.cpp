@@ -10,8 +10,8 @@
 
 #include "fuzz_util.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/frf_file.hpp"
-#include "toolpoint/uff.hpp"
+#include "toolpoint/io/frf_file.hpp"
+#include "toolpoint/io/uff.hpp"
 
 using namespace toolpoint;
 using fuzz::require;

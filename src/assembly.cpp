@@ -1,12 +1,12 @@
 // toolpoint: spindle–holder–tool assembly by receptance coupling (seed Section 2.1).
-#include "toolpoint/assembly.hpp"
+#include "toolpoint/model/assembly.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
 
-#include "toolpoint/coupling.hpp"
+#include "toolpoint/model/coupling.hpp"
 #include "toolpoint/error.hpp"
 
 namespace toolpoint {

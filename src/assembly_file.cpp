@@ -1,5 +1,5 @@
 // toolpoint: reading the assembly TOML file with toml++.
-#include "toolpoint/assembly_file.hpp"
+#include "toolpoint/io/assembly_file.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 #include <map>
 
 #include "toolpoint/error.hpp"
-#include "toolpoint/io.hpp"
+#include "toolpoint/io/io.hpp"
 #include "toml_reader.hpp"
 
 namespace toolpoint {
@@ -83,40 +83,33 @@ std::vector<Segment> read_segments(Reader& r, const toml::table& comp, const std
   return out;
 }
 
-}  // namespace
-
-LoadedAssembly parse_assembly(const std::string& text, const std::string& source) {
-  const toml::table root = parse_toml(text, source, "see examples/bt40_shrinkfit_16mm.toml for the file format");
-  Reader r(source);
-  r.only(root, "", {"assembly", "analysis", "model", "materials", "spindle", "holder", "tool", "joints"});
-  Assembly a;
-
-  if (const toml::table* t = r.table(root, "assembly", "", false)) {
-    r.only(*t, "assembly", {"name", "description"});
-    a.name = r.string(*t, "name", "assembly").value_or("");
+// [analysis]: the frequency grid (FrequencyGrid defaults where a key is missing). False when the
+// file has no [analysis] table (the caller says so in a note).
+bool read_analysis(Reader& r, const toml::table& root, FrequencyGrid& grid) {
+  const toml::table* t = r.table(root, "analysis", "", false);
+  if (!t) return false;
+  r.only(*t, "analysis", {"frequency_min", "frequency_max", "frequency_step", "points"});
+  const double fmin = r.number(*t, "frequency_min", "analysis", "Hz").value_or(grid.start_hz);
+  const double fmax = r.number(*t, "frequency_max", "analysis", "Hz").value_or(grid.stop_hz);
+  auto step = r.number(*t, "frequency_step", "analysis", "Hz");
+  auto points = r.number(*t, "points", "analysis", "(count)");
+  if (step && points) r.fail(*t, "[analysis] gives both frequency_step and points: choose one");
+  grid = {fmin, fmax, step ? *step : grid.step_hz};
+  if (points) {
+    if (*points < 2 || *points != std::floor(*points))
+      r.fail(*t->get("points"), fmt::format("analysis.points = {} must be an integer ≥ 2", *points));
+    grid.step_hz = (fmax - fmin) / (*points - 1.0);
   }
-
-  const toml::table* analysis = r.table(root, "analysis", "", false);
-  if (const toml::table* t = analysis) {
-    r.only(*t, "analysis", {"frequency_min", "frequency_max", "frequency_step", "points"});
-    const double fmin = r.number(*t, "frequency_min", "analysis", "Hz").value_or(a.grid.start_hz);
-    const double fmax = r.number(*t, "frequency_max", "analysis", "Hz").value_or(a.grid.stop_hz);
-    auto step = r.number(*t, "frequency_step", "analysis", "Hz");
-    auto points = r.number(*t, "points", "analysis", "(count)");
-    if (step && points) r.fail(*t, "[analysis] gives both frequency_step and points: choose one");
-    a.grid = {fmin, fmax, step ? *step : a.grid.step_hz};
-    if (points) {
-      if (*points < 2 || *points != std::floor(*points))
-        r.fail(*t->get("points"), fmt::format("analysis.points = {} must be an integer ≥ 2", *points));
-      a.grid.step_hz = (fmax - fmin) / (*points - 1.0);
-    }
-    try {
-      a.grid.check();
-    } catch (const InvalidArgument& e) {
-      r.fail(*t, fmt::format("[analysis]: {}", e.what()), e.hint());
-    }
+  try {
+    grid.check();
+  } catch (const InvalidArgument& e) {
+    r.fail(*t, fmt::format("[analysis]: {}", e.what()), e.hint());
   }
+  return true;
+}
 
+// [model]: the shear model, the receptance method and the number of modal terms.
+void read_model(Reader& r, const toml::table& root, Assembly& a) {
   if (const toml::table* t = r.table(root, "model", "", false)) {
     r.only(*t, "model", {"shear_model", "method", "modal_terms"});
     if (auto s = r.string(*t, "shear_model", "model")) {
@@ -136,7 +129,10 @@ LoadedAssembly parse_assembly(const std::string& text, const std::string& source
       a.modal_terms = static_cast<int>(*n);
     }
   }
+}
 
+// [materials.NAME] tables, by name.
+std::map<std::string, Material> read_materials(Reader& r, const toml::table& root) {
   std::map<std::string, Material> mats;
   if (const toml::table* t = r.table(root, "materials", "", true)) {
     for (auto&& [k, v] : *t) {
@@ -145,16 +141,18 @@ LoadedAssembly parse_assembly(const std::string& text, const std::string& source
       mats[name] = read_material(r, *v.as_table(), "materials." + name, name);
     }
   }
+  return mats;
+}
 
-  const toml::table& sp = *r.table(root, "spindle", "", true);
-  r.only(sp, "spindle", {"material", "segment", "bearing"});
-  const Material* sp_mat = sp.get("material") ? &material_ref(r, mats, sp, "material", "spindle", nullptr) : nullptr;
-  a.spindle.segments = read_segments(r, sp, "spindle", mats, sp_mat);
+// [[spindle.bearing]]: each bearing with its y direction and speed table, within the spindle
+// (`segments` give its length).
+std::vector<Bearing> read_bearings(Reader& r, const toml::table& sp, const std::vector<Segment>& segments) {
+  std::vector<Bearing> bearings;
   if (const toml::node* bn = sp.get("bearing")) {
     const toml::array* arr = bn->as_array();
     if (!arr || !arr->is_array_of_tables()) r.fail(*bn, "spindle.bearing must be an array of tables ([[spindle.bearing]])");
     double ls = 0.0;
-    for (const auto& s : a.spindle.segments) ls += s.length;
+    for (const auto& s : segments) ls += s.length;
     int i = 0;
     for (const toml::node& e : *arr) {
       ++i;
@@ -220,37 +218,72 @@ LoadedAssembly parse_assembly(const std::string& text, const std::string& source
         r.fail(*t.get("position"),
                fmt::format("{}.position = {} m lies outside the spindle (0 to {} m from the nose)", path, b.position, ls),
                "positions are measured from the spindle nose, inwards, in metres");
-      a.spindle.bearings.push_back(b);
+      bearings.push_back(b);
     }
   }
+  return bearings;
+}
+
+// [tool]: its dimensions and material, judged for plausibility; a tool held over less than its
+// diameter is a warning.
+Tool read_tool(Reader& r, const toml::table& root, const std::map<std::string, Material>& mats) {
+  Tool tool;
+  const toml::table& to = *r.table(root, "tool", "", true);
+  r.only(to, "tool",
+         {"material", "length", "overhang", "diameter", "shank_diameter", "flute_length", "flute_diameter_ratio",
+          "shear_coefficient"});
+  tool.material = material_ref(r, mats, to, "material", "tool", nullptr);
+  tool.length = r.required_number(to, "length", "tool", "m");
+  tool.overhang = r.required_number(to, "overhang", "tool", "m");
+  tool.diameter = r.required_number(to, "diameter", "tool", "m");
+  tool.shank_diameter = r.number(to, "shank_diameter", "tool", "m").value_or(0.0);
+  tool.flute_length = r.number(to, "flute_length", "tool", "m").value_or(0.0);
+  tool.flute_diameter_ratio = r.number(to, "flute_diameter_ratio", "tool", "(dimensionless)").value_or(0.8);
+  tool.shear_coefficient = r.number(to, "shear_coefficient", "tool", "(dimensionless)");
+  r.plausible(to, "length", "tool", tool.length, plausible::kToolLength);
+  r.plausible(to, "overhang", "tool", tool.overhang, plausible::kOverhang);
+  r.plausible(to, "diameter", "tool", tool.diameter, plausible::kToolDiameter);
+  // Held over less than its diameter (0 when the overhang is the whole length): no holder grips a
+  // tool so, so a length or an overhang is most likely mistyped.
+  if (const double held = tool.length - tool.overhang; held >= 0.0 && held < tool.diameter && to.get("overhang"))
+    r.warnings.push_back(
+        fmt::format("{}: the tool is held over {:.4g} mm (tool.length {} m − tool.overhang {} m), less than its "
+                    "diameter {:.4g} mm: check both",
+                    r.where(*to.get("overhang")), 1e3 * held, tool.length, tool.overhang, 1e3 * tool.diameter));
+  return tool;
+}
+
+}  // namespace
+
+LoadedAssembly parse_assembly(const std::string& text, const std::string& source) {
+  const toml::table root = parse_toml(text, source, "see examples/bt40_shrinkfit_16mm.toml for the file format");
+  Reader r(source);
+  r.only(root, "", {"assembly", "analysis", "model", "materials", "spindle", "holder", "tool", "joints"});
+  Assembly a;
+
+  if (const toml::table* t = r.table(root, "assembly", "", false)) {
+    r.only(*t, "assembly", {"name", "description"});
+    a.name = r.string(*t, "name", "assembly").value_or("");
+  }
+
+  const bool has_analysis = read_analysis(r, root, a.grid);
+
+  read_model(r, root, a);
+
+  const std::map<std::string, Material> mats = read_materials(r, root);
+
+  const toml::table& sp = *r.table(root, "spindle", "", true);
+  r.only(sp, "spindle", {"material", "segment", "bearing"});
+  const Material* sp_mat = sp.get("material") ? &material_ref(r, mats, sp, "material", "spindle", nullptr) : nullptr;
+  a.spindle.segments = read_segments(r, sp, "spindle", mats, sp_mat);
+  a.spindle.bearings = read_bearings(r, sp, a.spindle.segments);
 
   const toml::table& ho = *r.table(root, "holder", "", true);
   r.only(ho, "holder", {"material", "segment"});
   const Material* ho_mat = ho.get("material") ? &material_ref(r, mats, ho, "material", "holder", nullptr) : nullptr;
   a.holder = read_segments(r, ho, "holder", mats, ho_mat);
 
-  const toml::table& to = *r.table(root, "tool", "", true);
-  r.only(to, "tool",
-         {"material", "length", "overhang", "diameter", "shank_diameter", "flute_length", "flute_diameter_ratio",
-          "shear_coefficient"});
-  a.tool.material = material_ref(r, mats, to, "material", "tool", nullptr);
-  a.tool.length = r.required_number(to, "length", "tool", "m");
-  a.tool.overhang = r.required_number(to, "overhang", "tool", "m");
-  a.tool.diameter = r.required_number(to, "diameter", "tool", "m");
-  a.tool.shank_diameter = r.number(to, "shank_diameter", "tool", "m").value_or(0.0);
-  a.tool.flute_length = r.number(to, "flute_length", "tool", "m").value_or(0.0);
-  a.tool.flute_diameter_ratio = r.number(to, "flute_diameter_ratio", "tool", "(dimensionless)").value_or(0.8);
-  a.tool.shear_coefficient = r.number(to, "shear_coefficient", "tool", "(dimensionless)");
-  r.plausible(to, "length", "tool", a.tool.length, plausible::kToolLength);
-  r.plausible(to, "overhang", "tool", a.tool.overhang, plausible::kOverhang);
-  r.plausible(to, "diameter", "tool", a.tool.diameter, plausible::kToolDiameter);
-  // Held over less than its diameter (0 when the overhang is the whole length): no holder grips a
-  // tool so, so a length or an overhang is most likely mistyped.
-  if (const double held = a.tool.length - a.tool.overhang; held >= 0.0 && held < a.tool.diameter && to.get("overhang"))
-    r.warnings.push_back(
-        fmt::format("{}: the tool is held over {:.4g} mm (tool.length {} m − tool.overhang {} m), less than its "
-                    "diameter {:.4g} mm: check both",
-                    r.where(*to.get("overhang")), 1e3 * held, a.tool.length, a.tool.overhang, 1e3 * a.tool.diameter));
+  a.tool = read_tool(r, root, mats);
 
   if (const toml::table* t = r.table(root, "joints", "", false)) {
     r.only(*t, "joints", {"spindle_holder", "holder_tool"});
@@ -264,7 +297,7 @@ LoadedAssembly parse_assembly(const std::string& text, const std::string& source
     throw InputError(fmt::format("{}: {}", source, e.what()), e.hint());
   }
   std::vector<std::string> notes;
-  if (!analysis)  // a default that changes every result: said once, never silent
+  if (!has_analysis)  // a default that changes every result: said once, never silent
     notes.push_back(fmt::format("{}: no [analysis] table: the default grid {:g}–{:g} Hz in steps of {:g} Hz is used", source,
                                 a.grid.start_hz, a.grid.stop_hz, a.grid.step_hz));
   for (const auto& [joint, key] : {std::pair{&a.spindle_holder, "spindle_holder"}, std::pair{&a.holder_tool, "holder_tool"}})

@@ -1,5 +1,5 @@
 // toolpoint: free–free Timoshenko beam segments, exact and modal end receptances.
-#include "toolpoint/beam.hpp"
+#include "toolpoint/model/beam.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -9,7 +9,7 @@
 #include <fmt/format.h>
 
 #include "toolpoint/conventions.hpp"
-#include "toolpoint/coupling.hpp"
+#include "toolpoint/model/coupling.hpp"
 #include "complex_pairs.hpp"
 #include "toolpoint/error.hpp"
 

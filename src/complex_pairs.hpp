@@ -14,7 +14,7 @@
 #include <cmath>
 #include <complex>
 
-#include "toolpoint/receptance.hpp"
+#include "toolpoint/model/receptance.hpp"
 
 namespace toolpoint::detail {
 

@@ -1,5 +1,5 @@
 // toolpoint: receptance coupling (seed Eq. 1–5) and structural modification.
-#include "toolpoint/coupling.hpp"
+#include "toolpoint/model/coupling.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>

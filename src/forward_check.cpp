@@ -1,5 +1,5 @@
 // toolpoint: the forward check of an identified joint (forward_check.hpp).
-#include "toolpoint/forward_check.hpp"
+#include "toolpoint/identify/forward_check.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,9 +8,9 @@
 
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/peaks.hpp"
+#include "toolpoint/measured/peaks.hpp"
 #include "toolpoint/statistics.hpp"
-#include "toolpoint/uncertainty.hpp"
+#include "toolpoint/uncertainty/uncertainty.hpp"
 
 namespace toolpoint {
 
@@ -196,101 +196,81 @@ void ForwardCheckOptions::check() const {
   parallel.check();
 }
 
-ForwardCheck check_forward(const JointFitData& d, const JointParameters& joint, const ForwardCheckOptions& o,
-                           const std::optional<Eigen::Matrix<double, 8, 8>>& covariance) {
-  o.check();
-  const std::string label = d.label.empty() ? "set-up" : d.label;
-  validate(d.G11, label + ": " + (d.g_name.empty() ? "G11" : d.g_name), 3);
-  validate(d.B11, label + ": " + (d.b_name.empty() ? "B11" : d.b_name), 3);
-  require_same_grid(d.B11.frequency_hz, d.b_name.empty() ? "B11" : d.b_name, d.G11.frequency_hz,
-                    d.g_name.empty() ? "G11" : d.g_name);
-  if (d.A.size() != d.G11.size())
-    throw InputError(fmt::format("{}: {} model component blocks for {} frequencies", label, d.A.size(), d.G11.size()));
+namespace {
+
+// K(ω) of `joint` on the grid.
+std::vector<Block> stiffness_on(const JointParameters& joint, const std::vector<double>& f) {
+  std::vector<Block> k(f.size());
+  for (std::size_t i = 0; i < f.size(); ++i) k[i] = joint.stiffness(f[i]);
+  return k;
+}
+
+// Each mode's window made at least 4 standard deviations of its frequency wide over the drawn
+// joints `thetas`, within its valleys: each mode followed as the highest peak between its valleys
+// (noise ripple on its flanks is lower), over up to 40 of them.
+void widen_windows(std::vector<Window>& win, const JointFitData& d, const BlockSeries& B_ref,
+                   const std::vector<JointParameters>& thetas, const std::optional<SavgolOptions>& smoothing,
+                   double min_prominence) {
   const std::vector<double>& f = d.G11.frequency_hz;
-  const std::size_t n = f.size();
-  const SavgolOptions s = o.smoothing.value_or(SavgolOptions{15, 3});
-  const std::optional<SavgolOptions> smoothing = n >= static_cast<std::size_t>(s.window) ? std::optional(s) : std::nullopt;
-
-  std::vector<Block> K(n);
-  for (std::size_t i = 0; i < n; ++i) K[i] = joint.stiffness(f[i]);
-  // The world the check assumes: the identified joint and B11 with its noise smoothed away.
-  const BlockSeries B_ref = noise_free_estimate(d.B11, d.b_noise, d.b_name.empty() ? "B11" : d.b_name);
-  BlockSeries G_ref;
-  G_ref.frequency_hz = f;
-  G_ref.blocks = predicted(d, B_ref.blocks, K);
-  const FrfSeries ref = smoothed_h(f, G_ref.blocks, smoothing);
-  const std::vector<Peak> model_modes = reference_modes(d, B_ref, K, ref, smoothing, kWeakMode * o.min_prominence,
-                                                        stream_seed(o.seed, 0x919E), o.parallel);
-  // The joint's uncertainty: each replicate's prediction takes a joint drawn from it, and each
-  // window is at least 4 standard deviations of its mode's frequency over such joints wide.
-  const bool exact = d.g_noise.exact() && d.b_noise.exact();
-  std::vector<JointParameters> thetas;
-  if (covariance && !exact) thetas = sample_joints(joint, *covariance, o.replicates, stream_seed(o.seed, 0x7E7A));
-  auto stiffness_of = [&](const JointParameters& p) {
-    std::vector<Block> k(n);
-    for (std::size_t i = 0; i < n; ++i) k[i] = p.stiffness(f[i]);
-    return k;
-  };
-  std::vector<Window> win = windows_of(ref, model_modes);
-  if (!thetas.empty()) {
-    // Each mode followed as the highest peak between its valleys (noise ripple on its flanks is
-    // lower), over up to 40 of the drawn joints.
-    std::vector<std::vector<double>> fm(win.size());
-    for (std::size_t r = 0; r < std::min<std::size_t>(thetas.size(), 40); ++r) {
-      const std::vector<Peak> pk = find_peaks(smoothed_h(f, predicted(d, B_ref.blocks, stiffness_of(thetas[r])), smoothing),
-                                              PeakOptions{o.min_prominence});
-      for (std::size_t m = 0; m < win.size(); ++m) {
-        const Peak* best = nullptr;
-        for (const Peak& p : pk)
-          if (p.frequency_hz >= win[m].valley_lo_hz && p.frequency_hz <= win[m].valley_hi_hz &&
-              (!best || p.magnitude > best->magnitude))
-            best = &p;
-        if (best) fm[m].push_back(best->frequency_hz);
-      }
-    }
+  std::vector<std::vector<double>> fm(win.size());
+  for (std::size_t r = 0; r < std::min<std::size_t>(thetas.size(), 40); ++r) {
+    const std::vector<Peak> pk = find_peaks(smoothed_h(f, predicted(d, B_ref.blocks, stiffness_on(thetas[r], f)), smoothing),
+                                            PeakOptions{min_prominence});
     for (std::size_t m = 0; m < win.size(); ++m) {
-      const MeanSd ms = mean_sd(fm[m]);
-      if (!std::isfinite(ms.sd)) continue;
-      win[m].lo_hz = std::max(std::min(win[m].lo_hz, win[m].model_hz - 4.0 * ms.sd), win[m].valley_lo_hz);
-      win[m].hi_hz = std::min(std::max(win[m].hi_hz, win[m].model_hz + 4.0 * ms.sd), win[m].valley_hi_hz);
+      const Peak* best = nullptr;
+      for (const Peak& p : pk)
+        if (p.frequency_hz >= win[m].valley_lo_hz && p.frequency_hz <= win[m].valley_hi_hz &&
+            (!best || p.magnitude > best->magnitude))
+          best = &p;
+      if (best) fm[m].push_back(best->frequency_hz);
     }
   }
-
-  const Observation obs = observe(smoothed_h(f, d.G11.blocks, smoothing), smoothed_h(f, predicted(d, d.B11.blocks, K), smoothing),
-                                  win, o.min_prominence);
-
-  ForwardCheck out;
-  out.label = label;
-  out.false_alarm = o.false_alarm;
-  std::vector<Observation> reps;
-  if (!exact) {
-    out.replicates = o.replicates;
-    reps.resize(static_cast<std::size_t>(o.replicates));
-    parallel_for(reps.size(), o.parallel, [&](std::size_t r) {
-      const std::uint64_t base = stream_seed(o.seed, r);
-      const bool shared = o.shared_calibration;
-      // The world's truth: the joint is the identified one give or take its uncertainty (θ* drawn),
-      // so the data may show the modes where such joints put them; the prediction is made with
-      // the identified joint, as for the measured data.
-      BlockSeries truth;
-      if (!thetas.empty()) {
-        truth.frequency_hz = f;
-        truth.blocks = predicted(d, B_ref.blocks, stiffness_of(thetas[r]));
-      }
-      BlockSeries Bs = draw_block_noise(B_ref, d.b_noise, stream_seed(base, 1), !shared);
-      BlockSeries Gs = draw_block_noise(thetas.empty() ? G_ref : truth, d.g_noise, stream_seed(base, 2), !shared);
-      if (shared) {
-        const double sigma = std::max(d.b_noise.calibration, d.g_noise.calibration);
-        const double scale = 1.0 + sigma * calibration_normal(stream_seed(base, 3));
-        for (Block& x : Bs.blocks) x *= scale;
-        for (Block& x : Gs.blocks) x *= scale;
-      }
-      reps[r] = observe(smoothed_h(f, Gs.blocks, smoothing), smoothed_h(f, predicted(d, Bs.blocks, K), smoothing), win,
-                        o.min_prominence);
-    });
+  for (std::size_t m = 0; m < win.size(); ++m) {
+    const MeanSd ms = mean_sd(fm[m]);
+    if (!std::isfinite(ms.sd)) continue;
+    win[m].lo_hz = std::max(std::min(win[m].lo_hz, win[m].model_hz - 4.0 * ms.sd), win[m].valley_lo_hz);
+    win[m].hi_hz = std::min(std::max(win[m].hi_hz, win[m].model_hz + 4.0 * ms.sd), win[m].valley_hi_hz);
   }
+}
 
-  // Per mode: the replicates' statistics, then the observed errors against them.
+// The replicates: data drawn around the reference world (B̄11 and G_ref, or G from a drawn joint),
+// each observed as the measured data are (o.replicates of them, in parallel, identical for any
+// thread count).
+std::vector<Observation> replicate_observations(const JointFitData& d, const BlockSeries& B_ref, const BlockSeries& G_ref,
+                                                const std::vector<Block>& K, const std::vector<JointParameters>& thetas,
+                                                const std::vector<Window>& win, const std::optional<SavgolOptions>& smoothing,
+                                                const ForwardCheckOptions& o) {
+  const std::vector<double>& f = d.G11.frequency_hz;
+  std::vector<Observation> reps(static_cast<std::size_t>(o.replicates));
+  parallel_for(reps.size(), o.parallel, [&](std::size_t r) {
+    const std::uint64_t base = stream_seed(o.seed, r);
+    const bool shared = o.shared_calibration;
+    // The world's truth: the joint is the identified one give or take its uncertainty (θ* drawn),
+    // so the data may show the modes where such joints put them; the prediction is made with
+    // the identified joint, as for the measured data.
+    BlockSeries truth;
+    if (!thetas.empty()) {
+      truth.frequency_hz = f;
+      truth.blocks = predicted(d, B_ref.blocks, stiffness_on(thetas[r], f));
+    }
+    BlockSeries Bs = draw_block_noise(B_ref, d.b_noise, stream_seed(base, 1), !shared);
+    BlockSeries Gs = draw_block_noise(thetas.empty() ? G_ref : truth, d.g_noise, stream_seed(base, 2), !shared);
+    if (shared) {
+      const double sigma = std::max(d.b_noise.calibration, d.g_noise.calibration);
+      const double scale = 1.0 + sigma * calibration_normal(stream_seed(base, 3));
+      for (Block& x : Bs.blocks) x *= scale;
+      for (Block& x : Gs.blocks) x *= scale;
+    }
+    reps[r] = observe(smoothed_h(f, Gs.blocks, smoothing), smoothed_h(f, predicted(d, Bs.blocks, K), smoothing), win,
+                      o.min_prominence);
+  });
+  return reps;
+}
+
+// Each mode's ModeCheck from the observation and the replicates' statistics, into out.modes;
+// returns the number of z-tests they will take (two per mode seen, one per mode that may be missing).
+int tally_modes(ForwardCheck& out, const std::vector<Window>& win, const Observation& obs, const std::vector<Observation>& reps,
+                bool exact) {
   const std::size_t M = win.size();
   int tests = 0;
   for (std::size_t m = 0; m < M; ++m) {
@@ -328,10 +308,15 @@ ForwardCheck check_forward(const JointFitData& d, const JointParameters& joint, 
     }
     out.modes.push_back(c);
   }
-  // Bonferroni: half the false alarm to the z-tests, split evenly, two-sided.
-  const double alpha = 0.5 * o.false_alarm / std::max(1, tests);
-  out.z = normal_quantile(1.0 - 0.5 * alpha);
-  for (std::size_t m = 0; m < M; ++m) {
+  return tests;
+}
+
+// Each mode judged: a frequency or peak error beyond what the noise makes (|z| > out.z) and beyond
+// the tolerances fails, within them is a note; a mode the noise would hardly hide (probability <
+// alpha) that the data lack is missing.
+void judge_modes(ForwardCheck& out, const Observation& obs, const std::vector<Observation>& reps, bool exact, double alpha,
+                 const ForwardCheckOptions& o) {
+  for (std::size_t m = 0; m < out.modes.size(); ++m) {
     ModeCheck& c = out.modes[m];
     const std::string where = fmt::format("the mode at {:.1f} Hz", c.model_hz);
     if (c.agreement == ModeAgreement::Agrees) {
@@ -391,8 +376,12 @@ ForwardCheck check_forward(const JointFitData& d, const JointParameters& joint, 
       }
     }
   }
-  // Peaks of the data no mode of the model explains, against the most prominent unexplained peak
-  // of each replicate.
+}
+
+// Peaks of the data no mode of the model explains, against the most prominent unexplained peak of
+// each replicate (a rank test at half the false-alarm probability).
+void judge_extra_peaks(ForwardCheck& out, const Observation& obs, const std::vector<Observation>& reps, bool exact,
+                       double false_alarm) {
   for (const Peak& p : obs.extra) {
     ExtraPeak e;
     e.frequency_hz = p.frequency_hz;
@@ -404,7 +393,7 @@ ForwardCheck check_forward(const JointFitData& d, const JointParameters& joint, 
       std::size_t count = 0;
       for (const Observation& r : reps) count += r.max_extra >= p.prominence;
       e.p_value = (1.0 + static_cast<double>(count)) / (1.0 + static_cast<double>(reps.size()));
-      e.significant = e.p_value <= 0.5 * o.false_alarm;
+      e.significant = e.p_value <= 0.5 * false_alarm;
     }
     if (e.significant)
       out.failures.push_back(
@@ -414,6 +403,61 @@ ForwardCheck check_forward(const JointFitData& d, const JointParameters& joint, 
                       exact ? "" : fmt::format(" and the noise does not make (p = {:.2g})", e.p_value)));
     out.extra.push_back(e);
   }
+}
+
+}  // namespace
+
+ForwardCheck check_forward(const JointFitData& d, const JointParameters& joint, const ForwardCheckOptions& o,
+                           const std::optional<Eigen::Matrix<double, 8, 8>>& covariance) {
+  o.check();
+  const std::string label = d.label.empty() ? "set-up" : d.label;
+  validate(d.G11, label + ": " + (d.g_name.empty() ? "G11" : d.g_name), 3);
+  validate(d.B11, label + ": " + (d.b_name.empty() ? "B11" : d.b_name), 3);
+  require_same_grid(d.B11.frequency_hz, d.b_name.empty() ? "B11" : d.b_name, d.G11.frequency_hz,
+                    d.g_name.empty() ? "G11" : d.g_name);
+  if (d.A.size() != d.G11.size())
+    throw InputError(fmt::format("{}: {} model component blocks for {} frequencies", label, d.A.size(), d.G11.size()));
+  const std::vector<double>& f = d.G11.frequency_hz;
+  const std::size_t n = f.size();
+  const SavgolOptions s = o.smoothing.value_or(SavgolOptions{15, 3});
+  const std::optional<SavgolOptions> smoothing = n >= static_cast<std::size_t>(s.window) ? std::optional(s) : std::nullopt;
+
+  const std::vector<Block> K = stiffness_on(joint, f);
+  // The world the check assumes: the identified joint and B11 with its noise smoothed away.
+  const BlockSeries B_ref = noise_free_estimate(d.B11, d.b_noise, d.b_name.empty() ? "B11" : d.b_name);
+  BlockSeries G_ref;
+  G_ref.frequency_hz = f;
+  G_ref.blocks = predicted(d, B_ref.blocks, K);
+  const FrfSeries ref = smoothed_h(f, G_ref.blocks, smoothing);
+  const std::vector<Peak> model_modes = reference_modes(d, B_ref, K, ref, smoothing, kWeakMode * o.min_prominence,
+                                                        stream_seed(o.seed, 0x919E), o.parallel);
+  // The joint's uncertainty: each replicate's prediction takes a joint drawn from it, and each
+  // window is at least 4 standard deviations of its mode's frequency over such joints wide.
+  const bool exact = d.g_noise.exact() && d.b_noise.exact();
+  std::vector<JointParameters> thetas;
+  if (covariance && !exact) thetas = sample_joints(joint, *covariance, o.replicates, stream_seed(o.seed, 0x7E7A));
+  std::vector<Window> win = windows_of(ref, model_modes);
+  if (!thetas.empty()) widen_windows(win, d, B_ref, thetas, smoothing, o.min_prominence);
+
+  const Observation obs = observe(smoothed_h(f, d.G11.blocks, smoothing), smoothed_h(f, predicted(d, d.B11.blocks, K), smoothing),
+                                  win, o.min_prominence);
+
+  ForwardCheck out;
+  out.label = label;
+  out.false_alarm = o.false_alarm;
+  std::vector<Observation> reps;
+  if (!exact) {
+    out.replicates = o.replicates;
+    reps = replicate_observations(d, B_ref, G_ref, K, thetas, win, smoothing, o);
+  }
+
+  // Per mode: the replicates' statistics, then the observed errors against them.
+  const int tests = tally_modes(out, win, obs, reps, exact);
+  // Bonferroni: half the false alarm to the z-tests, split evenly, two-sided.
+  const double alpha = 0.5 * o.false_alarm / std::max(1, tests);
+  out.z = normal_quantile(1.0 - 0.5 * alpha);
+  judge_modes(out, obs, reps, exact, alpha, o);
+  judge_extra_peaks(out, obs, reps, exact, o.false_alarm);
   if (model_modes.empty()) out.notes.push_back("the identified model has no mode in the band: nothing to compare");
   return out;
 }

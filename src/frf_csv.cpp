@@ -21,8 +21,9 @@
 #include <fmt/format.h>
 
 #include "text.hpp"
+#include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/io.hpp"
+#include "toolpoint/io/io.hpp"
 
 namespace toolpoint {
 
@@ -660,7 +661,7 @@ class CsvReader {
                "db-phase");
         const double mag = db ? std::pow(10.0, a / 20.0) : a;
         if (!std::isfinite(mag)) fail(line, fmt::format("{} = {} dB overflows", column_text(a_), a));
-        h = std::polar(mag, deg ? b * std::numbers::pi / 180.0 : b);
+        h = std::polar(mag, deg ? radians_of(b) : b);
         largest_phase = std::max(largest_phase, std::abs(b));
       }
       table_.single.frequency_hz.push_back(f);

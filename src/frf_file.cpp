@@ -1,5 +1,5 @@
 // toolpoint: measured FRF files in any supported format (see frf_file.hpp).
-#include "toolpoint/frf_file.hpp"
+#include "toolpoint/io/frf_file.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -12,7 +12,7 @@
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/plausibility.hpp"
-#include "toolpoint/io.hpp"
+#include "toolpoint/io/io.hpp"
 #include "text.hpp"
 
 namespace toolpoint {

@@ -1,11 +1,11 @@
 // toolpoint: closed-form joint identification (seed Eq. 5 → 6, 15, 18), read-out, mode choice.
-#include "toolpoint/identify.hpp"
+#include "toolpoint/identify/identify.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
 
-#include "toolpoint/coupling.hpp"
+#include "toolpoint/model/coupling.hpp"
 #include "complex_pairs.hpp"
 #include "toolpoint/error.hpp"
 

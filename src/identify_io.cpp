@@ -1,5 +1,5 @@
 // toolpoint: identification results as tables (identify_io.hpp). Units: SI, frequency in Hz.
-#include "toolpoint/identify_io.hpp"
+#include "toolpoint/io/identify_io.hpp"
 
 namespace toolpoint {
 

@@ -1,5 +1,5 @@
 // toolpoint: whole-file I/O, atomic writes, FRF CSV.
-#include "toolpoint/io.hpp"
+#include "toolpoint/io/io.hpp"
 
 #include <algorithm>
 #include <cerrno>

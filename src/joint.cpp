@@ -1,5 +1,5 @@
 // toolpoint: joint parameters and K(ω) (seed Eq. 8).
-#include "toolpoint/joint.hpp"
+#include "toolpoint/model/joint.hpp"
 
 #include <cmath>
 #include <fmt/format.h>

@@ -1,15 +1,13 @@
 // toolpoint: joint files (joint_file.hpp).
-#include "toolpoint/joint_file.hpp"
+#include "toolpoint/io/joint_file.hpp"
 
 #include <Eigen/Eigenvalues>
 #include <fmt/format.h>
 
-#include "toolpoint/io.hpp"
+#include "toolpoint/io/io.hpp"
 #include "toml_reader.hpp"
 
 namespace toolpoint {
-
-const char* to_string(JointInterface i) { return i == JointInterface::HolderTool ? "holder_tool" : "spindle_holder"; }
 
 namespace {
 
@@ -156,27 +154,6 @@ JointFile parse_joint_file(const std::string& text, const std::string& source) {
 }
 
 JointFile load_joint_file(const std::string& path) { return parse_joint_file(read_text_file(path), path); }
-
-std::vector<std::string> joint_file_warnings(const JointFile& file) {
-  std::vector<std::string> w;
-  for (const auto& [key, value] : file.identification) {
-    if (key != "verdict" || value == "pass") continue;
-    w.push_back(
-        fmt::format("{}: the identification of this {} joint was judged '{}' ([identification] verdict){}: every "
-                    "result computed with it carries that doubt",
-                    file.source.empty() ? "joint file" : file.source, to_string(file.interface), value,
-                    value == "fail" ? ", and the file was written all the same" : ""));
-  }
-  return w;
-}
-
-Assembly with_joint(const Assembly& assembly, const JointFile& file) {
-  Assembly a = assembly;
-  Joint j = Joint::make_elastic(file.parameters);
-  j.warnings = joint_file_warnings(file);
-  (file.interface == JointInterface::HolderTool ? a.holder_tool : a.spindle_holder) = std::move(j);
-  return a;
-}
 
 LoadedAssembly with_joint(LoadedAssembly loaded, const JointFile& file) {
   const std::string replaced = assembly_joint_name(loaded.source, to_string(file.interface)) + ": ";

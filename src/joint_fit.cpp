@@ -1,6 +1,6 @@
 // toolpoint: joint constants fitted over a band, with bootstrap or linearised intervals
 // (joint_fit.hpp).
-#include "toolpoint/joint_fit.hpp"
+#include "toolpoint/identify/joint_fit.hpp"
 
 #include <algorithm>
 #include <cstdlib>
@@ -912,6 +912,18 @@ JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<Join
     for (const auto& v : good) mean += v;
     return VectorXd(mean / static_cast<double>(good.size()));
   };
+  // The second world's correction of `bias` (from N replicates in the first), where B11 enters
+  // smoothed; false when it does not apply or too few replicates could be refitted.
+  auto correct_in_second_world = [&](std::size_t N) {
+    if (!smoothed_world) return false;
+    const std::vector<VectorXd> second = replicates(N, {}, second_world(), N);
+    if (second.size() < N / 2) return false;
+    extrapolation = bias - (mean_of(second) - q);
+    bias += extrapolation;
+    estimate = q - bias;
+    bias_mc = 5.0;
+    return true;
+  };
   auto from_replicates = [&](const std::vector<VectorXd>& good) {
     const VectorXd mean = mean_of(good);
     MatrixXd c = MatrixXd::Zero(p, p);
@@ -935,16 +947,7 @@ JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<Join
       warnings.push_back(
           fmt::format("{} of {} bootstrap replicates could not be refitted and were left out", N - good.size(), N));
     from_replicates(good);
-    if (smoothed_world) {
-      const std::vector<VectorXd> second = replicates(N, {}, second_world(), N);
-      if (second.size() >= N / 2) {
-        extrapolation = bias - (mean_of(second) - q);
-        bias += extrapolation;
-        estimate = q - bias;
-        bias_mc = 5.0;
-        cov_q *= 1.0 + bias_mc / static_cast<double>(good.size());
-      }
-    }
+    if (correct_in_second_world(N)) cov_q *= 1.0 + bias_mc / static_cast<double>(good.size());
     out.bootstrap_samples = static_cast<int>(good.size());
     out.method_description = fmt::format(
         "parametric bootstrap on the fitted model, {} replicates, bias-corrected; ±{:.3g} standard errors "
@@ -965,15 +968,7 @@ JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<Join
       if (good.size() >= kLinearisationCheck / 2) {
         const MatrixXd saved = cov_q;
         MatrixXd c = from_replicates(good);
-        if (smoothed_world) {
-          const std::vector<VectorXd> second = replicates(kLinearisationCheck, {}, second_world(), kLinearisationCheck);
-          if (second.size() >= kLinearisationCheck / 2) {
-            extrapolation = bias - (mean_of(second) - q);
-            bias += extrapolation;
-            estimate = q - bias;
-            bias_mc = 5.0;
-          }
-        }
+        correct_in_second_world(kLinearisationCheck);
         std::vector<std::string> off;
         double worst = 1.0;
         for (int k = 0; k < p; ++k) {

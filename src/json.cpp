@@ -6,6 +6,8 @@
 #include <fmt/format.h>
 #include <limits>
 
+#include "toolpoint/conventions.hpp"
+
 namespace toolpoint {
 
 namespace {
@@ -698,7 +700,7 @@ void to_json(nlohmann::json& j, const BeamStudy& s) {
 
 void to_json(nlohmann::json& j, const WhirlFrequencies& w) {
   j = {{"spin_rad_s", w.spin_rad_s},
-       {"speed_rpm", w.spin_rad_s * 60.0 / (2.0 * kPi)},
+       {"speed_rpm", rpm_of_rad_s(w.spin_rad_s)},
        {"forward_hz", w.forward_hz},
        {"backward_hz", w.backward_hz},
        {"conical_hz", std::isfinite(w.conical_hz) ? nlohmann::json(w.conical_hz) : nlohmann::json(nullptr)}};

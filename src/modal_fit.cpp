@@ -1,7 +1,7 @@
 // toolpoint: modal models and their identification from a point FRF (peak picking, linear least
 // squares for residues, Levenberg–Marquardt on everything). Units: kg, N, m, s; Hz at interfaces.
-#include "toolpoint/modal_fit.hpp"
-#include "toolpoint/peaks.hpp"
+#include "toolpoint/stability/modal_fit.hpp"
+#include "toolpoint/measured/peaks.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>

@@ -1,5 +1,5 @@
 // toolpoint: noise of measured FRF blocks (noise.hpp).
-#include "toolpoint/noise.hpp"
+#include "toolpoint/measured/noise.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -12,6 +12,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
+#include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/statistics.hpp"
 
@@ -444,7 +445,7 @@ BlockNoise stated_block_noise(const BlockSeries& data, const StatedNoise& stated
     out.additive.assign(data.size(), a);
   }
   out.source = fmt::format("stated: relative magnitude σ = {:g} %, phase σ = {:g}°{} on every entry",
-                           100 * stated.magnitude_sigma, stated.phase_sigma_rad * 180.0 / std::numbers::pi,
+                           100 * stated.magnitude_sigma, degrees_of(stated.phase_sigma_rad),
                            stated.floor > 0.0 ? fmt::format(", a floor of {:g} % of each entry's peak", 100 * stated.floor)
                                               : std::string());
   out.residual_correlation = std::numeric_limits<double>::quiet_NaN();
@@ -527,7 +528,7 @@ BlockSeries draw_block_noise(const BlockSeries& truth, const BlockNoise& noise, 
 std::string BlockNoise::summary() const {
   if (exact()) return source;
   std::string s = fmt::format("magnitude σ {:.3g} % (H) … {:.3g} % (P), phase σ {:.3g}° (H)", 100 * magnitude_sigma[0],
-                              100 * magnitude_sigma[3], phase_sigma_rad[0] * 180 / std::numbers::pi);
+                              100 * magnitude_sigma[3], degrees_of(phase_sigma_rad[0]));
   if (has_floor())
     s += fmt::format("; floor {:.3g} % (H) … {:.3g} % (P) of each entry's peak", 100 * floor_relative[0],
                      100 * floor_relative[3]);

@@ -1,5 +1,5 @@
 // toolpoint: peak picking on FRF magnitudes.
-#include "toolpoint/peaks.hpp"
+#include "toolpoint/measured/peaks.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -3,7 +3,7 @@
 // that does not depend on the gain. Applying the map is in periodic_delay_run.cpp, its dominant
 // multiplier in periodic_delay_dominant.cpp (three files: one took 1.7 GB and 35 s to compile).
 // Units: time in s; the rest as the caller's.
-#include "toolpoint/periodic_delay.hpp"
+#include "toolpoint/stability/periodic_delay.hpp"
 
 #include <Eigen/Dense>
 #include <Eigen/Eigenvalues>

@@ -8,7 +8,7 @@
 #include <fmt/format.h>
 
 #include "toolpoint/error.hpp"
-#include "toolpoint/periodic_delay.hpp"
+#include "toolpoint/stability/periodic_delay.hpp"
 
 // Spectra (Debian libspectra-dev, header-only): restarted Arnoldi for the dominant multipliers.
 // GCC 12 flags a use-after-free inside Eigen's storage as inlined into Spectra's Hessenberg

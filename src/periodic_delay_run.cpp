@@ -7,7 +7,7 @@
 #include <fmt/format.h>
 
 #include "toolpoint/error.hpp"
-#include "toolpoint/periodic_delay.hpp"
+#include "toolpoint/stability/periodic_delay.hpp"
 
 namespace toolpoint {
 

@@ -12,7 +12,7 @@
 #include <fmt/format.h>
 
 #include "toolpoint/error.hpp"
-#include "toolpoint/plot.hpp"
+#include "toolpoint/plot/plot.hpp"
 
 namespace toolpoint::plot::detail {
 

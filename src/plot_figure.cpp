@@ -1,5 +1,5 @@
 // toolpoint: the figure model — formats, verbatim text and Figure::check (plot.hpp).
-#include "toolpoint/plot.hpp"
+#include "toolpoint/plot/plot.hpp"
 
 #include <algorithm>
 #include <cstring>

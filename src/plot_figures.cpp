@@ -1,5 +1,5 @@
 // toolpoint: the ready-made figures of toolpoint's results (FRFs, joints, overhangs, lobes) (plot.hpp).
-#include "toolpoint/plot.hpp"
+#include "toolpoint/plot/plot.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -10,7 +10,7 @@
 #include <fmt/format.h>
 
 #include "toolpoint/conventions.hpp"
-#include "toolpoint/peaks.hpp"
+#include "toolpoint/measured/peaks.hpp"
 #include "plot_detail.hpp"
 
 namespace toolpoint::plot {
@@ -53,7 +53,7 @@ std::string hz_text(double f) { return f >= 100.0 ? fmt::format("{:.0f} Hz", f) 
 // Phase in degrees with a break (NaN point) wherever it wraps, so no vertical jump is drawn.
 void phase_curve(const FrfSeries& s, std::vector<double>& x, std::vector<double>& y) {
   for (std::size_t k = 0; k < s.size(); ++k) {
-    const double deg = std::arg(s.values[k]) * 180.0 / kPi;
+    const double deg = degrees_of(std::arg(s.values[k]));
     if (!y.empty() && std::abs(deg - y.back()) > 180.0) {
       x.push_back(kNaN);
       y.push_back(kNaN);

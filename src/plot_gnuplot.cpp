@@ -1,5 +1,5 @@
 // toolpoint: the gnuplot process — a script in, a picture renamed over the target (plot.hpp).
-#include "toolpoint/plot.hpp"
+#include "toolpoint/plot/plot.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -18,7 +18,7 @@
 
 #include <fmt/format.h>
 
-#include "toolpoint/io.hpp"
+#include "toolpoint/io/io.hpp"
 #include "plot_detail.hpp"
 #include "text.hpp"
 

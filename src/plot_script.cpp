@@ -1,5 +1,5 @@
 // toolpoint: a Figure as one gnuplot script, data inline (plot.hpp).
-#include "toolpoint/plot.hpp"
+#include "toolpoint/plot/plot.hpp"
 
 #include <algorithm>
 #include <cmath>

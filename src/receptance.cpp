@@ -1,5 +1,5 @@
 // toolpoint: receptance series helpers.
-#include "toolpoint/receptance.hpp"
+#include "toolpoint/model/receptance.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,5 @@
 // toolpoint: cropping and interpolating FRFs onto another frequency grid (resample.hpp).
-#include "toolpoint/resample.hpp"
+#include "toolpoint/measured/resample.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,8 +1,8 @@
 // toolpoint: Savitzky–Golay smoothing, simulated measurement noise, finite-difference rotational
 // FRFs. Units: Hz, m, and the FRFs' own units (see signal.hpp).
-#include "toolpoint/signal.hpp"
+#include "toolpoint/measured/signal.hpp"
 
-#include "toolpoint/noise.hpp"
+#include "toolpoint/measured/noise.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -15,7 +15,7 @@
 
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/peaks.hpp"
+#include "toolpoint/measured/peaks.hpp"
 
 namespace toolpoint {
 

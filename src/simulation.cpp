@@ -1,5 +1,5 @@
 // toolpoint: the time-domain milling simulation (simulation.hpp). Units: SI, rpm, Hz.
-#include "toolpoint/simulation.hpp"
+#include "toolpoint/stability/simulation.hpp"
 
 #include <unistd.h>
 
@@ -229,15 +229,15 @@ void Cutter::check() const {
   if (std::abs(sum - kTwoPi) > 1e-6)
     throw InvalidArgument(fmt::format("Cutter::pitch_rad: the teeth's spacings sum to {:.9g} rad ({:.6g}°), not a revolution "
                                       "(2π rad, 360°)",
-                                      sum, sum * 180.0 / kPi),
+                                      sum, degrees_of(sum)),
                           "give the angle from each tooth to the next, all of them, summing to 360°");
-  if (!finite(helix_rad) || helix_rad < 0.0 || helix_rad > 80.0 * kPi / 180.0)
+  if (!finite(helix_rad) || helix_rad < 0.0 || helix_rad > radians_of(80.0))
     throw InvalidArgument(fmt::format("Cutter::helix_rad = {} rad must lie in [0, 80°]", helix_rad));
   if (!tooth_helix_rad.empty() && tooth_helix_rad.size() != pitch_rad.size())
     throw InvalidArgument(fmt::format("Cutter::tooth_helix_rad has {} angles for {} teeth: one per tooth, or none",
                                       tooth_helix_rad.size(), pitch_rad.size()));
   for (std::size_t j = 0; j < tooth_helix_rad.size(); ++j)
-    if (!finite(tooth_helix_rad[j]) || tooth_helix_rad[j] < 0.0 || tooth_helix_rad[j] > 80.0 * kPi / 180.0)
+    if (!finite(tooth_helix_rad[j]) || tooth_helix_rad[j] < 0.0 || tooth_helix_rad[j] > radians_of(80.0))
       throw InvalidArgument(fmt::format("Cutter::tooth_helix_rad[{}] = {} rad must lie in [0, 80°]", j, tooth_helix_rad[j]));
   if (!runout_m.empty() && runout_m.size() != pitch_rad.size())
     throw InvalidArgument(
@@ -362,6 +362,126 @@ std::vector<double> wall_profile(const Wall& wall, int slice, double radius_m, c
   return out;
 }
 
+namespace {
+
+// The once-per-period samples of a simulated cut judged: the growth per revolution, exp of the
+// log-linear least-squares slope of the state's change from one period to the next (from sample
+// p0 on; changes below 1e-7 of the state are rounding, left out), and the chatter metric, the RMS
+// change of the displacement from one period to the next over the RMS of the analysed displacement
+// (ax, ay) about its mean. `fitted`: how many changes the growth was fitted to (< 3: none, growth 0).
+struct PeriodGrowth {
+  double growth = 0.0;
+  double chatter_metric = 0.0;
+  std::size_t fitted = 0;
+};
+
+PeriodGrowth period_growth(const std::vector<std::vector<double>>& states, const std::vector<double>& period_x,
+                           const std::vector<double>& period_y, std::size_t p0, const std::vector<double>& ax,
+                           const std::vector<double>& ay, int M, int period) {
+  PeriodGrowth out;
+  // Differences below 1e-7 of the state are rounding (and the scheme's O(h³) asymmetries between
+  // teeth): the motion has become periodic, and their logarithm is noise (flat), not growth.
+  double scale2 = 0.0;
+  for (std::size_t i = p0; i < states.size(); ++i) {
+    double n2 = 0.0;
+    for (double c : states[i]) n2 += c * c;
+    scale2 = std::max(scale2, n2);
+  }
+  std::vector<double> logs, idx;
+  double diff2 = 0.0;
+  std::size_t ndiff = 0;
+  for (std::size_t i = p0; i + 1 < states.size(); ++i) {
+    double d = 0.0;
+    for (std::size_t c = 0; c < states[i].size(); ++c) d += (states[i + 1][c] - states[i][c]) * (states[i + 1][c] - states[i][c]);
+    if (d > 1e-14 * scale2) {
+      logs.push_back(0.5 * std::log(d));
+      idx.push_back(static_cast<double>(i));
+    }
+    diff2 += (period_x[i + 1] - period_x[i]) * (period_x[i + 1] - period_x[i]) +
+             (period_y[i + 1] - period_y[i]) * (period_y[i + 1] - period_y[i]);
+    ++ndiff;
+  }
+  out.growth = 0.0;
+  if (logs.size() >= 3) {
+    double mx = 0.0, my = 0.0;
+    for (std::size_t i = 0; i < logs.size(); ++i) {
+      mx += idx[i];
+      my += logs[i];
+    }
+    mx /= static_cast<double>(logs.size());
+    my /= static_cast<double>(logs.size());
+    double sxy = 0.0, sxx = 0.0;
+    for (std::size_t i = 0; i < logs.size(); ++i) {
+      sxy += (idx[i] - mx) * (logs[i] - my);
+      sxx += (idx[i] - mx) * (idx[i] - mx);
+    }
+    out.growth = std::exp(sxy / sxx * (static_cast<double>(M) / period));
+  }
+  double mean_x = 0.0, mean_y = 0.0;
+  for (std::size_t i = 0; i < ax.size(); ++i) {
+    mean_x += ax[i];
+    mean_y += ay[i];
+  }
+  const double na = static_cast<double>(std::max<std::size_t>(1, ax.size()));
+  mean_x /= na;
+  mean_y /= na;
+  double var = 0.0;
+  for (std::size_t i = 0; i < ax.size(); ++i) var += (ax[i] - mean_x) * (ax[i] - mean_x) + (ay[i] - mean_y) * (ay[i] - mean_y);
+  var /= na;
+  out.chatter_metric = var > 0.0 && ndiff > 0 ? std::sqrt(diff2 / static_cast<double>(ndiff) / var) : 0.0;
+  out.fitted = logs.size();
+  return out;
+}
+
+// The chatter frequency [Hz]: the spectrum of what the average over the whole analysed revolutions
+// (M steps of h seconds each) leaves of the displacement (ax, ay) (Hann window), its highest peak
+// refined by a parabola through the log power. NaN with fewer than two revolutions or nothing left.
+double chatter_frequency(const std::vector<double>& ax, const std::vector<double>& ay, int M, double fmax, double h) {
+  const int an_revs = static_cast<int>(ax.size() / static_cast<std::size_t>(M));  // whole analysed revolutions
+  if (an_revs < 2) return kNaN;
+  const std::size_t n = static_cast<std::size_t>(an_revs) * M;
+  std::vector<double> avgx(static_cast<std::size_t>(M), 0.0), avgy(static_cast<std::size_t>(M), 0.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    avgx[i % M] += ax[i] / an_revs;
+    avgy[i % M] += ay[i] / an_revs;
+  }
+  // Every `every`-th sample (at least 8 per period of the highest mode: the chatter lies near a mode, and
+  // little is left above four times it), x + iy as one complex signal (the power at ±f together is
+  // |X|² + |Y|²), zero-padded to a power of two: a fraction of the cost of two real transforms
+  // of awkward lengths (M = N m need not factor well).
+  const std::size_t every = std::max<std::size_t>(1, static_cast<std::size_t>(std::floor(1.0 / (8.0 * fmax * h))));
+  const std::size_t nd = n / every;
+  std::size_t nfft = 1;
+  while (nfft < nd) nfft <<= 1;
+  std::vector<Complex> zin(nfft, Complex(0.0, 0.0)), zout;
+  double rest = 0.0;
+  for (std::size_t i = 0; i < nd; ++i) {
+    const std::size_t at = i * every;
+    const double w = 0.5 - 0.5 * std::cos(kTwoPi * static_cast<double>(i) / static_cast<double>(nd));
+    zin[i] = Complex(w * (ax[at] - avgx[at % M]), w * (ay[at] - avgy[at % M]));
+    rest += std::norm(zin[i]);
+  }
+  if (rest > 0.0) {
+    Eigen::FFT<double> fft;
+    fft.fwd(zout, zin);
+    std::vector<double> power(nfft / 2 + 1);
+    for (std::size_t i = 0; i < power.size(); ++i) power[i] = std::norm(zout[i]) + std::norm(zout[(nfft - i) % nfft]);
+    std::size_t best = 1;
+    for (std::size_t i = 2; i + 1 < power.size(); ++i)
+      if (power[i] > power[best]) best = i;
+    double shift = 0.0;
+    if (best > 0 && best + 1 < power.size() && power[best - 1] > 0.0 && power[best + 1] > 0.0) {
+      const double a = std::log(power[best - 1]), b = std::log(power[best]), c = std::log(power[best + 1]);
+      const double den = a - 2.0 * b + c;
+      if (den < 0.0) shift = std::clamp(0.5 * (a - c) / den, -0.5, 0.5);
+    }
+    return (static_cast<double>(best) + shift) / (static_cast<double>(nfft * every) * h);
+  }
+  return kNaN;
+}
+
+}  // namespace
+
 // ---- The simulation -----------------------------------------------------------------------------
 
 SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cutter, const ForceLaw& law, const MillingCut& cut,
@@ -382,7 +502,7 @@ SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cu
 
   SimulationResult res;
   const int teeth = cutter.teeth();
-  const double spin = kTwoPi * cut.speed_rpm / 60.0;  // Ω [rad/s]
+  const double spin = rad_s_of_rpm(cut.speed_rpm);  // Ω [rad/s]
   const double tau = 60.0 / (teeth * cut.speed_rpm);
   const int m = options.steps_per_tooth > 0 ? options.steps_per_tooth : automatic_steps_per_tooth(dynamics, teeth, cut.speed_rpm);
   const double fmax = dynamics.highest_frequency_hz();
@@ -899,107 +1019,19 @@ SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cu
   // Growth and metric from the once-per-period samples of the analysed revolutions.
   // (Stopped early: the last half of the periods simulated.)
   const std::size_t p0 = analysed_done > 0 ? static_cast<std::size_t>(first_step / period) : states.size() / 2;
-  // Differences below 1e-7 of the state are rounding (and the scheme's O(h³) asymmetries between
-  // teeth): the motion has become periodic, and their logarithm is noise (flat), not growth.
-  double scale2 = 0.0;
-  for (std::size_t i = p0; i < states.size(); ++i) {
-    double n2 = 0.0;
-    for (double c : states[i]) n2 += c * c;
-    scale2 = std::max(scale2, n2);
-  }
-  std::vector<double> logs, idx;
-  double diff2 = 0.0;
-  std::size_t ndiff = 0;
-  for (std::size_t i = p0; i + 1 < states.size(); ++i) {
-    double d = 0.0;
-    for (std::size_t c = 0; c < states[i].size(); ++c) d += (states[i + 1][c] - states[i][c]) * (states[i + 1][c] - states[i][c]);
-    if (d > 1e-14 * scale2) {
-      logs.push_back(0.5 * std::log(d));
-      idx.push_back(static_cast<double>(i));
-    }
-    diff2 += (period_x[i + 1] - period_x[i]) * (period_x[i + 1] - period_x[i]) +
-             (period_y[i + 1] - period_y[i]) * (period_y[i + 1] - period_y[i]);
-    ++ndiff;
-  }
-  res.growth = 0.0;
-  if (logs.size() >= 3) {
-    double mx = 0.0, my = 0.0;
-    for (std::size_t i = 0; i < logs.size(); ++i) {
-      mx += idx[i];
-      my += logs[i];
-    }
-    mx /= static_cast<double>(logs.size());
-    my /= static_cast<double>(logs.size());
-    double sxy = 0.0, sxx = 0.0;
-    for (std::size_t i = 0; i < logs.size(); ++i) {
-      sxy += (idx[i] - mx) * (logs[i] - my);
-      sxx += (idx[i] - mx) * (idx[i] - mx);
-    }
-    res.growth = std::exp(sxy / sxx * (static_cast<double>(M) / period));
-  }
-  double mean_x = 0.0, mean_y = 0.0;
-  for (std::size_t i = 0; i < ax.size(); ++i) {
-    mean_x += ax[i];
-    mean_y += ay[i];
-  }
-  const double na = static_cast<double>(std::max<std::size_t>(1, ax.size()));
-  mean_x /= na;
-  mean_y /= na;
-  double var = 0.0;
-  for (std::size_t i = 0; i < ax.size(); ++i) var += (ax[i] - mean_x) * (ax[i] - mean_x) + (ay[i] - mean_y) * (ay[i] - mean_y);
-  var /= na;
-  res.chatter_metric = var > 0.0 && ndiff > 0 ? std::sqrt(diff2 / static_cast<double>(ndiff) / var) : 0.0;
+  const PeriodGrowth g = period_growth(states, period_x, period_y, p0, ax, ay, M, period);
+  res.growth = g.growth;
+  res.chatter_metric = g.chatter_metric;
   // Decaying, and either small by now or still linear (the teeth stay in the cut): a saturated
   // chatter (teeth jumping out of the cut) has a flat, noisy growth near 1 that must not pass.
   if (diverged) {
-    if (logs.size() < 3) res.growth = std::numeric_limits<double>::infinity();  // too short to fit: it blew up
-    res.chatter_metric = std::numeric_limits<double>::infinity();               // beyond any periodic motion
+    if (g.fitted < 3) res.growth = std::numeric_limits<double>::infinity();  // too short to fit: it blew up
+    res.chatter_metric = std::numeric_limits<double>::infinity();            // beyond any periodic motion
   }
   res.stable = !diverged && res.growth < 1.0 && (res.chatter_metric < kChatterMetricLimit || res.out_of_cut_fraction < 1e-3);
 
   // Chatter frequency: the spectrum of what the average over the revolutions leaves (Hann window).
-  res.chatter_hz = kNaN;
-  const int an_revs = static_cast<int>(ax.size() / static_cast<std::size_t>(M));  // whole analysed revolutions
-  if (nm > 0 && an_revs >= 2) {
-    const std::size_t n = static_cast<std::size_t>(an_revs) * M;
-    std::vector<double> avgx(static_cast<std::size_t>(M), 0.0), avgy(static_cast<std::size_t>(M), 0.0);
-    for (std::size_t i = 0; i < n; ++i) {
-      avgx[i % M] += ax[i] / an_revs;
-      avgy[i % M] += ay[i] / an_revs;
-    }
-    // Every `every`-th sample (at least 8 per period of the highest mode: the chatter lies near a mode, and
-    // little is left above four times it), x + iy as one complex signal (the power at ±f together is
-    // |X|² + |Y|²), zero-padded to a power of two: a fraction of the cost of two real transforms
-    // of awkward lengths (M = N m need not factor well).
-    const std::size_t every = std::max<std::size_t>(1, static_cast<std::size_t>(std::floor(1.0 / (8.0 * fmax * h))));
-    const std::size_t nd = n / every;
-    std::size_t nfft = 1;
-    while (nfft < nd) nfft <<= 1;
-    std::vector<Complex> zin(nfft, Complex(0.0, 0.0)), zout;
-    double rest = 0.0;
-    for (std::size_t i = 0; i < nd; ++i) {
-      const std::size_t at = i * every;
-      const double w = 0.5 - 0.5 * std::cos(kTwoPi * static_cast<double>(i) / static_cast<double>(nd));
-      zin[i] = Complex(w * (ax[at] - avgx[at % M]), w * (ay[at] - avgy[at % M]));
-      rest += std::norm(zin[i]);
-    }
-    if (rest > 0.0) {
-      Eigen::FFT<double> fft;
-      fft.fwd(zout, zin);
-      std::vector<double> power(nfft / 2 + 1);
-      for (std::size_t i = 0; i < power.size(); ++i) power[i] = std::norm(zout[i]) + std::norm(zout[(nfft - i) % nfft]);
-      std::size_t best = 1;
-      for (std::size_t i = 2; i + 1 < power.size(); ++i)
-        if (power[i] > power[best]) best = i;
-      double shift = 0.0;
-      if (best > 0 && best + 1 < power.size() && power[best - 1] > 0.0 && power[best + 1] > 0.0) {
-        const double a = std::log(power[best - 1]), b = std::log(power[best]), c = std::log(power[best + 1]);
-        const double den = a - 2.0 * b + c;
-        if (den < 0.0) shift = std::clamp(0.5 * (a - c) / den, -0.5, 0.5);
-      }
-      res.chatter_hz = (static_cast<double>(best) + shift) / (static_cast<double>(nfft * every) * h);
-    }
-  }
+  res.chatter_hz = nm > 0 ? chatter_frequency(ax, ay, M, fmax, h) : kNaN;
 
   if (!res.stable && res.out_of_cut_fraction > 0.0)
     res.warnings.push_back(

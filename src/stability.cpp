@@ -1,7 +1,7 @@
 // toolpoint: milling stability lobes — zero-order approximation from FRFs and semi-discretization
 // of a modal model. Units: SI (m, kg, N, s, rad), frequencies in Hz, spindle speeds in rpm;
 // conventions in stability.hpp.
-#include "toolpoint/stability.hpp"
+#include "toolpoint/stability/stability.hpp"
 
 #include <Eigen/Dense>
 #include <Eigen/Eigenvalues>
@@ -16,7 +16,7 @@
 
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/peaks.hpp"
+#include "toolpoint/measured/peaks.hpp"
 
 namespace toolpoint {
 

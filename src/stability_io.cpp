@@ -1,5 +1,5 @@
 // toolpoint: stability results as CSV text (stability_io.hpp). Units: rpm, mm, Hz.
-#include "toolpoint/stability_io.hpp"
+#include "toolpoint/io/stability_io.hpp"
 
 #include <algorithm>
 #include <cmath>

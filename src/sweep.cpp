@@ -20,7 +20,7 @@
 #include <optional>
 
 #include "lanes.hpp"
-#include "toolpoint/assembly.hpp"
+#include "toolpoint/model/assembly.hpp"
 #include "toolpoint/conventions.hpp"
 
 namespace toolpoint {

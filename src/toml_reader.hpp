@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "toolpoint/error.hpp"
-#include "toolpoint/joint.hpp"
+#include "toolpoint/model/joint.hpp"
 #include "toolpoint/plausibility.hpp"
 #include "toml_input.hpp"
 

@@ -1,5 +1,5 @@
 // toolpoint: Universal File Format dataset 58/58b reader and writer (see uff.hpp for the layout).
-#include "toolpoint/uff.hpp"
+#include "toolpoint/io/uff.hpp"
 
 #include <algorithm>
 #include <bit>
@@ -13,7 +13,7 @@
 #include <fmt/format.h>
 
 #include "toolpoint/error.hpp"
-#include "toolpoint/io.hpp"
+#include "toolpoint/io/io.hpp"
 #include "text.hpp"
 
 namespace toolpoint {

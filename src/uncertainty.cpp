@@ -1,5 +1,5 @@
 // toolpoint: a joint's uncertainty carried to the tool point FRF and to stability (uncertainty.hpp).
-#include "toolpoint/uncertainty.hpp"
+#include "toolpoint/uncertainty/uncertainty.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,8 +9,8 @@
 #include <Eigen/Eigenvalues>
 
 #include "toolpoint/error.hpp"
-#include "toolpoint/noise.hpp"
-#include "toolpoint/signal.hpp"
+#include "toolpoint/measured/noise.hpp"
+#include "toolpoint/measured/signal.hpp"
 
 namespace toolpoint {
 

@@ -1,6 +1,6 @@
 // toolpoint: uncertainty results as tables and figure data (uncertainty_io.hpp).
 // Units: Hz, m/N, degrees, rpm, mm.
-#include "toolpoint/uncertainty_io.hpp"
+#include "toolpoint/io/uncertainty_io.hpp"
 
 #include <cmath>
 #include <complex>
@@ -18,7 +18,7 @@ Table band_table(const FrfBand& b) {
   for (std::size_t i = 0; i < b.frequency_hz.size(); ++i) {
     std::vector<double> row{b.frequency_hz[i]};
     for (const auto& m : b.magnitude) row.push_back(m[i]);
-    for (const auto& p : b.phase_rad) row.push_back(p[i] * 180.0 / kPi);
+    for (const auto& p : b.phase_rad) row.push_back(degrees_of(p[i]));
     t.rows.push_back(std::move(row));
   }
   return t;

@@ -4,9 +4,9 @@
 
 #include <regex>
 
-#include "toolpoint/assembly_file.hpp"
+#include "toolpoint/io/assembly_file.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/io.hpp"
+#include "toolpoint/io/io.hpp"
 
 using namespace toolpoint;
 

@@ -12,12 +12,12 @@
 #include "support/example_fe.hpp"
 #include "support/fe_beam.hpp"
 #include "support/test_util.hpp"
-#include "toolpoint/assembly.hpp"
-#include "toolpoint/assembly_file.hpp"
+#include "toolpoint/model/assembly.hpp"
+#include "toolpoint/io/assembly_file.hpp"
 #include "toolpoint/conventions.hpp"
-#include "toolpoint/coupling.hpp"
+#include "toolpoint/model/coupling.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/signal.hpp"
+#include "toolpoint/measured/signal.hpp"
 
 using namespace toolpoint;
 using namespace toolpoint::test;

@@ -7,7 +7,7 @@
 #include <cmath>
 
 #include "support/fe_beam.hpp"
-#include "toolpoint/beam.hpp"
+#include "toolpoint/model/beam.hpp"
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
 

@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "toolpoint/assembly_file.hpp"
+#include "toolpoint/io/assembly_file.hpp"
 #include "toolpoint/studies/case_study.hpp"
 #include "toolpoint/error.hpp"
 

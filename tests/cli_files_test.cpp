@@ -12,9 +12,9 @@
 
 #include <fmt/format.h>
 
-#include "toolpoint/frf_file.hpp"
-#include "toolpoint/io.hpp"
-#include "toolpoint/uff.hpp"
+#include "toolpoint/io/frf_file.hpp"
+#include "toolpoint/io/io.hpp"
+#include "toolpoint/io/uff.hpp"
 #include "support/scratch.hpp"
 #include "support/variants.hpp"
 

@@ -3,7 +3,7 @@
 
 #include "parse.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/uff.hpp"
+#include "toolpoint/io/uff.hpp"
 
 using namespace toolpoint;
 using toolpoint::cli::parse_frequency_grid;

@@ -9,7 +9,7 @@
 #include <sys/wait.h>
 #include <utility>
 
-#include "toolpoint/io.hpp"
+#include "toolpoint/io/io.hpp"
 #include "support/scratch.hpp"
 
 using namespace toolpoint;

@@ -10,8 +10,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "toolpoint/io.hpp"
-#include "toolpoint/signal.hpp"
+#include "toolpoint/io/io.hpp"
+#include "toolpoint/measured/signal.hpp"
 #include "support/test_util.hpp"
 
 using namespace toolpoint;

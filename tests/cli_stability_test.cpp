@@ -12,8 +12,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "toolpoint/io.hpp"
-#include "toolpoint/stability.hpp"
+#include "toolpoint/io/io.hpp"
+#include "toolpoint/stability/stability.hpp"
 
 using namespace toolpoint;
 

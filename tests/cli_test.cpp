@@ -28,12 +28,12 @@
 
 #include "support/scratch.hpp"
 
-#include "toolpoint/assembly_file.hpp"
-#include "toolpoint/frf_file.hpp"
-#include "toolpoint/io.hpp"
-#include "toolpoint/joint_file.hpp"
-#include "toolpoint/modal_fit.hpp"
-#include "toolpoint/uff.hpp"
+#include "toolpoint/io/assembly_file.hpp"
+#include "toolpoint/io/frf_file.hpp"
+#include "toolpoint/io/io.hpp"
+#include "toolpoint/io/joint_file.hpp"
+#include "toolpoint/stability/modal_fit.hpp"
+#include "toolpoint/io/uff.hpp"
 
 namespace {
 

@@ -6,9 +6,9 @@
 #include <Eigen/Dense>
 
 #include "support/test_util.hpp"
-#include "toolpoint/assembly.hpp"
+#include "toolpoint/model/assembly.hpp"
 #include "toolpoint/conventions.hpp"
-#include "toolpoint/coupling.hpp"
+#include "toolpoint/model/coupling.hpp"
 #include "toolpoint/error.hpp"
 
 using namespace toolpoint;

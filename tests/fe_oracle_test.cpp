@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "support/fe_beam.hpp"
-#include "toolpoint/beam.hpp"
+#include "toolpoint/model/beam.hpp"
 
 using fe_oracle::Complex;
 using fe_oracle::FeModel;

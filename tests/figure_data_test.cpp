@@ -12,9 +12,9 @@
 #include "support/joint_data.hpp"
 #include "toolpoint/studies/case_study.hpp"
 #include "toolpoint/conventions.hpp"
-#include "toolpoint/modal_fit.hpp"
+#include "toolpoint/stability/modal_fit.hpp"
 #include "toolpoint/studies/modal_fit.hpp"
-#include "toolpoint/plot.hpp"
+#include "toolpoint/plot/plot.hpp"
 #include "toolpoint/studies/identification.hpp"
 
 using namespace toolpoint;

@@ -14,8 +14,8 @@
 
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/frf_file.hpp"
-#include "toolpoint/io.hpp"
+#include "toolpoint/io/frf_file.hpp"
+#include "toolpoint/io/io.hpp"
 #include "support/scratch.hpp"
 
 using namespace toolpoint;

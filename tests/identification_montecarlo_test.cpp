@@ -30,7 +30,7 @@
 #include "support/joint_data.hpp"
 #include "support/test_util.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/forward_check.hpp"
+#include "toolpoint/identify/forward_check.hpp"
 #include "toolpoint/parallel.hpp"
 #include "toolpoint/statistics.hpp"
 #include "toolpoint/studies/identification.hpp"

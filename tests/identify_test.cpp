@@ -7,10 +7,10 @@
 #include <tuple>
 
 #include "support/test_util.hpp"
-#include "toolpoint/assembly_file.hpp"
-#include "toolpoint/coupling.hpp"
+#include "toolpoint/io/assembly_file.hpp"
+#include "toolpoint/model/coupling.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/identify.hpp"
+#include "toolpoint/identify/identify.hpp"
 
 using namespace toolpoint;
 using namespace toolpoint::test;

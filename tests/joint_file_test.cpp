@@ -4,7 +4,7 @@
 
 #include "support/joint_data.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/joint_file.hpp"
+#include "toolpoint/io/joint_file.hpp"
 
 using namespace toolpoint;
 using namespace toolpoint::test;

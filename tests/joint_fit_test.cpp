@@ -14,8 +14,8 @@
 #include "support/joint_data.hpp"
 #include "support/test_util.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/identify.hpp"
-#include "toolpoint/joint_fit.hpp"
+#include "toolpoint/identify/identify.hpp"
+#include "toolpoint/identify/joint_fit.hpp"
 
 using namespace toolpoint;
 using namespace toolpoint::test;

@@ -15,9 +15,9 @@
 #include <nlohmann/json.hpp>
 
 #include "support/joint_data.hpp"
-#include "toolpoint/assembly_file.hpp"
+#include "toolpoint/io/assembly_file.hpp"
 #include "toolpoint/json.hpp"
-#include "toolpoint/joint_file.hpp"
+#include "toolpoint/io/joint_file.hpp"
 #include "toolpoint/studies/lobes.hpp"
 #include "toolpoint/studies/overhang.hpp"
 #include "toolpoint/studies/plan.hpp"

@@ -16,7 +16,7 @@
 #include <string_view>
 #include <vector>
 
-#include "toolpoint/io.hpp"
+#include "toolpoint/io/io.hpp"
 
 namespace {
 

@@ -12,12 +12,12 @@
 #include <string>
 #include <vector>
 
-#include "toolpoint/assembly.hpp"
-#include "toolpoint/assembly_file.hpp"
+#include "toolpoint/model/assembly.hpp"
+#include "toolpoint/io/assembly_file.hpp"
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/simulation.hpp"
-#include "toolpoint/stability.hpp"
+#include "toolpoint/stability/simulation.hpp"
+#include "toolpoint/stability/stability.hpp"
 #include "toolpoint/studies/lobes.hpp"
 
 using namespace toolpoint;

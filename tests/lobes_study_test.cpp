@@ -12,7 +12,7 @@
 #include "toolpoint/error.hpp"
 #include "toolpoint/json.hpp"
 #include "toolpoint/studies/lobes.hpp"
-#include "toolpoint/uncertainty_io.hpp"
+#include "toolpoint/io/uncertainty_io.hpp"
 
 using namespace toolpoint;
 

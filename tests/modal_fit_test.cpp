@@ -8,7 +8,7 @@
 
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/modal_fit.hpp"
+#include "toolpoint/stability/modal_fit.hpp"
 #include "toolpoint/studies/modal_fit.hpp"
 
 using namespace toolpoint;

@@ -7,8 +7,8 @@
 
 #include "support/joint_data.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/noise.hpp"
-#include "toolpoint/signal.hpp"
+#include "toolpoint/measured/noise.hpp"
+#include "toolpoint/measured/signal.hpp"
 #include "toolpoint/studies/tap_test.hpp"
 
 using namespace toolpoint;

@@ -13,7 +13,7 @@
 #include <unistd.h>
 
 #include "toolpoint/error.hpp"
-#include "toolpoint/io.hpp"
+#include "toolpoint/io/io.hpp"
 
 namespace {
 

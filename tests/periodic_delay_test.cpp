@@ -11,8 +11,8 @@
 
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/periodic_delay.hpp"
-#include "toolpoint/stability.hpp"
+#include "toolpoint/stability/periodic_delay.hpp"
+#include "toolpoint/stability/stability.hpp"
 
 using namespace toolpoint;
 

@@ -20,15 +20,15 @@
 #include <Eigen/Eigenvalues>
 #include <nlohmann/json.hpp>
 
-#include "toolpoint/assembly_file.hpp"
+#include "toolpoint/io/assembly_file.hpp"
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/json.hpp"
-#include "toolpoint/peaks.hpp"
+#include "toolpoint/measured/peaks.hpp"
 #include "toolpoint/studies/plan.hpp"
 #include "toolpoint/studies/plan_io.hpp"
 #include "toolpoint/studies/predict.hpp"
-#include "toolpoint/uncertainty.hpp"
+#include "toolpoint/uncertainty/uncertainty.hpp"
 
 using namespace toolpoint;
 

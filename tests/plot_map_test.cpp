@@ -10,8 +10,8 @@
 #include <unistd.h>
 
 #include "toolpoint/error.hpp"
-#include "toolpoint/io.hpp"
-#include "toolpoint/plot.hpp"
+#include "toolpoint/io/io.hpp"
+#include "toolpoint/plot/plot.hpp"
 
 using namespace toolpoint;
 

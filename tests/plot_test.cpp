@@ -18,8 +18,8 @@
 
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/io.hpp"
-#include "toolpoint/plot.hpp"
+#include "toolpoint/io/io.hpp"
+#include "toolpoint/plot/plot.hpp"
 #include "support/scratch.hpp"
 
 using namespace toolpoint;

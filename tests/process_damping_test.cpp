@@ -11,9 +11,9 @@
 
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/periodic_delay.hpp"
-#include "toolpoint/simulation.hpp"
-#include "toolpoint/stability.hpp"
+#include "toolpoint/stability/periodic_delay.hpp"
+#include "toolpoint/stability/simulation.hpp"
+#include "toolpoint/stability/stability.hpp"
 #include "support/stability_util.hpp"
 #include "support/test_util.hpp"
 

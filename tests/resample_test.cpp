@@ -10,9 +10,9 @@
 #include <numbers>
 
 #include "toolpoint/error.hpp"
-#include "toolpoint/frf_file.hpp"
-#include "toolpoint/io.hpp"
-#include "toolpoint/resample.hpp"
+#include "toolpoint/io/frf_file.hpp"
+#include "toolpoint/io/io.hpp"
+#include "toolpoint/measured/resample.hpp"
 #include "toolpoint/studies/resample.hpp"
 #include "support/scratch.hpp"
 #include "support/variants.hpp"

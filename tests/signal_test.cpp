@@ -18,9 +18,9 @@
 
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/io.hpp"
-#include "toolpoint/noise.hpp"
-#include "toolpoint/signal.hpp"
+#include "toolpoint/io/io.hpp"
+#include "toolpoint/measured/noise.hpp"
+#include "toolpoint/measured/signal.hpp"
 #include "support/test_util.hpp"
 
 using namespace toolpoint;

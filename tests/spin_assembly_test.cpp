@@ -12,10 +12,10 @@
 #include <vector>
 
 #include "support/fe_rotor.hpp"
-#include "toolpoint/assembly.hpp"
-#include "toolpoint/assembly_file.hpp"
+#include "toolpoint/model/assembly.hpp"
+#include "toolpoint/io/assembly_file.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/io.hpp"
+#include "toolpoint/io/io.hpp"
 #include "toolpoint/studies/predict.hpp"
 
 namespace {

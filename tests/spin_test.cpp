@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "support/fe_rotor.hpp"
-#include "toolpoint/beam.hpp"
+#include "toolpoint/model/beam.hpp"
 #include "toolpoint/error.hpp"
 
 namespace {

@@ -23,9 +23,9 @@
 
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/io.hpp"
-#include "toolpoint/stability.hpp"
-#include "toolpoint/stability_io.hpp"
+#include "toolpoint/io/io.hpp"
+#include "toolpoint/stability/stability.hpp"
+#include "toolpoint/io/stability_io.hpp"
 #include "toolpoint/studies/plan.hpp"
 #include "toolpoint/studies/rotational.hpp"
 #include "toolpoint/studies/tap_test.hpp"

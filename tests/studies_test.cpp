@@ -18,14 +18,14 @@
 #include "support/fe_beam.hpp"
 #include "support/joint_data.hpp"
 #include "support/test_util.hpp"
-#include "toolpoint/assembly_file.hpp"
+#include "toolpoint/io/assembly_file.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/json.hpp"
-#include "toolpoint/signal.hpp"
+#include "toolpoint/measured/signal.hpp"
 #include "toolpoint/studies/overhang.hpp"
 #include "toolpoint/studies/predict.hpp"
 #include "toolpoint/studies/tap_test.hpp"
-#include "toolpoint/uncertainty.hpp"
+#include "toolpoint/uncertainty/uncertainty.hpp"
 
 using namespace toolpoint;
 using namespace toolpoint::test;

@@ -10,10 +10,10 @@
 #include <vector>
 
 #include "../src/toml_input.hpp"
-#include "toolpoint/assembly_file.hpp"
+#include "toolpoint/io/assembly_file.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/io.hpp"
-#include "toolpoint/joint_file.hpp"
+#include "toolpoint/io/io.hpp"
+#include "toolpoint/io/joint_file.hpp"
 
 using namespace toolpoint;
 

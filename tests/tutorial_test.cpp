@@ -25,10 +25,10 @@
 
 #include "support/joint_data.hpp"
 #include "support/scratch.hpp"
-#include "toolpoint/assembly.hpp"
-#include "toolpoint/io.hpp"
-#include "toolpoint/joint_file.hpp"
-#include "toolpoint/peaks.hpp"
+#include "toolpoint/model/assembly.hpp"
+#include "toolpoint/io/io.hpp"
+#include "toolpoint/io/joint_file.hpp"
+#include "toolpoint/measured/peaks.hpp"
 
 using namespace toolpoint;
 namespace fs = std::filesystem;

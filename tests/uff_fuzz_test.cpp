@@ -11,8 +11,8 @@
 #include <typeinfo>
 
 #include "toolpoint/error.hpp"
-#include "toolpoint/frf_file.hpp"
-#include "toolpoint/uff.hpp"
+#include "toolpoint/io/frf_file.hpp"
+#include "toolpoint/io/uff.hpp"
 
 using namespace toolpoint;
 

@@ -15,7 +15,7 @@
 #include <sstream>
 
 #include "toolpoint/error.hpp"
-#include "toolpoint/uff.hpp"
+#include "toolpoint/io/uff.hpp"
 #include "support/scratch.hpp"
 
 using namespace toolpoint;

@@ -9,8 +9,8 @@
 
 #include "support/joint_data.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/uncertainty.hpp"
-#include "toolpoint/uncertainty_io.hpp"
+#include "toolpoint/uncertainty/uncertainty.hpp"
+#include "toolpoint/io/uncertainty_io.hpp"
 
 using namespace toolpoint;
 using namespace toolpoint::test;

@@ -18,7 +18,7 @@
 #include <fmt/format.h>
 
 #include "parse.hpp"
-#include "toolpoint/assembly_file.hpp"
+#include "toolpoint/io/assembly_file.hpp"
 #include <cstddef>
 #include <functional>
 #include <initializer_list>
@@ -28,16 +28,16 @@
 #include <vector>
 
 #include "toolpoint/error.hpp"
-#include "toolpoint/frf_file.hpp"
-#include "toolpoint/io.hpp"
+#include "toolpoint/io/frf_file.hpp"
+#include "toolpoint/io/io.hpp"
 #include "toolpoint/plausibility.hpp"
-#include "toolpoint/identify.hpp"
-#include "toolpoint/joint_file.hpp"
-#include "toolpoint/uncertainty.hpp"
-#include "toolpoint/joint_fit.hpp"
-#include "toolpoint/plot.hpp"
-#include "toolpoint/receptance.hpp"
-#include "toolpoint/stability.hpp"
+#include "toolpoint/identify/identify.hpp"
+#include "toolpoint/io/joint_file.hpp"
+#include "toolpoint/uncertainty/uncertainty.hpp"
+#include "toolpoint/identify/joint_fit.hpp"
+#include "toolpoint/plot/plot.hpp"
+#include "toolpoint/model/receptance.hpp"
+#include "toolpoint/stability/stability.hpp"
 #include "toolpoint/studies/lobes.hpp"
 #include "toolpoint/studies/shards.hpp"
 

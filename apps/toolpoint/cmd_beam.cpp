@@ -8,12 +8,12 @@
 #include <nlohmann/json.hpp>
 
 #include "cli.hpp"
-#include "toolpoint/beam.hpp"
+#include "toolpoint/model/beam.hpp"
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/io.hpp"
+#include "toolpoint/io/io.hpp"
 #include "toolpoint/json.hpp"
-#include "toolpoint/plot.hpp"
+#include "toolpoint/plot/plot.hpp"
 #include "toolpoint/studies/beam.hpp"
 
 namespace toolpoint::cli {

@@ -10,10 +10,10 @@
 
 #include "cli.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/frf_file.hpp"
+#include "toolpoint/io/frf_file.hpp"
 #include "toolpoint/json.hpp"
-#include "toolpoint/plot.hpp"
-#include "toolpoint/uff.hpp"
+#include "toolpoint/plot/plot.hpp"
+#include "toolpoint/io/uff.hpp"
 
 namespace toolpoint::cli {
 

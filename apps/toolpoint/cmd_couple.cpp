@@ -12,13 +12,13 @@
 #include <nlohmann/json.hpp>
 
 #include "cli.hpp"
-#include "toolpoint/assembly_file.hpp"
+#include "toolpoint/io/assembly_file.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/io.hpp"
+#include "toolpoint/io/io.hpp"
 #include "toolpoint/json.hpp"
-#include "toolpoint/plot.hpp"
+#include "toolpoint/plot/plot.hpp"
 #include "toolpoint/studies/overhang.hpp"
-#include "toolpoint/uncertainty_io.hpp"
+#include "toolpoint/io/uncertainty_io.hpp"
 #include "progress.hpp"
 
 namespace toolpoint::cli {

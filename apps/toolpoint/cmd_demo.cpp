@@ -9,12 +9,12 @@
 #include <nlohmann/json.hpp>
 
 #include "cli.hpp"
-#include "toolpoint/assembly_file.hpp"
+#include "toolpoint/io/assembly_file.hpp"
 #include "toolpoint/studies/case_study.hpp"
-#include "toolpoint/identify_io.hpp"
-#include "toolpoint/io.hpp"
+#include "toolpoint/io/identify_io.hpp"
+#include "toolpoint/io/io.hpp"
 #include "toolpoint/json.hpp"
-#include "toolpoint/plot.hpp"
+#include "toolpoint/plot/plot.hpp"
 #include "progress.hpp"
 
 namespace toolpoint::cli {

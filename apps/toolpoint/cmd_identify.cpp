@@ -13,10 +13,11 @@
 
 #include "cli.hpp"
 #include "progress.hpp"
+#include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/identify_io.hpp"
-#include "toolpoint/io.hpp"
-#include "toolpoint/joint_file.hpp"
+#include "toolpoint/io/identify_io.hpp"
+#include "toolpoint/io/io.hpp"
+#include "toolpoint/io/joint_file.hpp"
 #include "toolpoint/json.hpp"
 #include "toolpoint/studies/identification.hpp"
 
@@ -96,7 +97,7 @@ void run_identify(const IdentifyOptions& o, const Globals& g) {
     io.noise.phase_sigma_rad = o.phase_sigma_deg.value_or(0.0) * kPi / 180.0;
     io.noise.floor = o.floor.value_or(0.0);
     // The phase in the flag's unit, degrees (NoiseSpec::check speaks radians).
-    if (o.phase_sigma_deg && *o.phase_sigma_deg > 0.5 * 180.0 / kPi)
+    if (o.phase_sigma_deg && *o.phase_sigma_deg > degrees_of(0.5))
       throw InvalidArgument(fmt::format("--phase-sigma {}° is implausible for a measured FRF (above 28.6°)", *o.phase_sigma_deg),
                             "the phase noise is in degrees, e.g. --phase-sigma 1");
   }
@@ -267,7 +268,9 @@ void print_report(const IdentifyOptions& o, const Identification& id) {
                                sd(c.magnitude_sd), to_string(c.agreement));
     for (const ExtraPeak& e : fc.extra)
       std::cout << fmt::format("  a peak of the data at {:.1f} Hz (prominence {:.2g}) in no mode's window: {}\n", e.frequency_hz,
-                               e.prominence, e.significant ? "not made by the noise" : fmt::format("the noise makes such peaks (p = {:.2g})", e.p_value));
+                               e.prominence,
+                               e.significant ? "not made by the noise"
+                                             : fmt::format("the noise makes such peaks (p = {:.2g})", e.p_value));
     for (const auto& n : fc.notes) std::cout << "  note: " << n << "\n";
   }
   std::cout << fmt::format("\nverdict: {}\n", to_string(id.verdict.verdict));
@@ -332,9 +335,9 @@ void add_identify_command(CLI::App& app, Globals& g) {
                 "entry's peak |value| [-] (0.01 = 1 %; default: estimated from the data with the rest)")
       ->check(plausible_value(plausible::kRelativeNoise, "--floor"));
   c->add_option_function<std::string>(
-       "--calibration", [o](const std::string& v) { o->calibration = parse_fraction(v, "--calibration"); },
-       "Standard uncertainty (1 σ) of each measured FRF's sensitivity, as 2% or 0.02 (1–3 % is usual; refused above "
-       "10 %): a scale error no data reveal, carried into every interval and written into --joint-output (default: 0)");
+      "--calibration", [o](const std::string& v) { o->calibration = parse_fraction(v, "--calibration"); },
+      "Standard uncertainty (1 σ) of each measured FRF's sensitivity, as 2% or 0.02 (1–3 % is usual; refused above "
+      "10 %): a scale error no data reveal, carried into every interval and written into --joint-output (default: 0)");
   c->add_flag("--calibration-shared", o->calibration_shared,
               "One sensor chain (hammer and response sensor) for every measured FRF: one calibration factor for all of "
               "them (default: one per file)");

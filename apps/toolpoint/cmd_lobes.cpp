@@ -16,12 +16,12 @@
 #include "progress.hpp"
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/io.hpp"
+#include "toolpoint/io/io.hpp"
 #include "toolpoint/json.hpp"
-#include "toolpoint/stability_io.hpp"
+#include "toolpoint/io/stability_io.hpp"
 #include "toolpoint/studies/lobes.hpp"
-#include "toolpoint/uncertainty_io.hpp"
-#include "toolpoint/uncertainty.hpp"
+#include "toolpoint/io/uncertainty_io.hpp"
+#include "toolpoint/uncertainty/uncertainty.hpp"
 
 namespace toolpoint::cli {
 

@@ -9,11 +9,11 @@
 
 #include "cli.hpp"
 #include "toolpoint/conventions.hpp"
-#include "toolpoint/io.hpp"
+#include "toolpoint/io/io.hpp"
 #include "toolpoint/json.hpp"
-#include "toolpoint/modal_fit.hpp"
+#include "toolpoint/stability/modal_fit.hpp"
 #include "toolpoint/studies/modal_fit.hpp"
-#include "toolpoint/plot.hpp"
+#include "toolpoint/plot/plot.hpp"
 
 namespace toolpoint::cli {
 

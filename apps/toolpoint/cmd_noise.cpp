@@ -9,7 +9,7 @@
 
 #include "cli.hpp"
 #include "parse.hpp"
-#include "toolpoint/signal.hpp"
+#include "toolpoint/measured/signal.hpp"
 
 namespace toolpoint::cli {
 

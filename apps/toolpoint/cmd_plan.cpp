@@ -12,7 +12,7 @@
 #include "cli.hpp"
 #include "progress.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/io.hpp"
+#include "toolpoint/io/io.hpp"
 #include "toolpoint/json.hpp"
 #include "toolpoint/studies/plan.hpp"
 #include "toolpoint/studies/plan_io.hpp"

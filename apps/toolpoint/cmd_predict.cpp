@@ -9,12 +9,12 @@
 
 #include "cli.hpp"
 #include "progress.hpp"
-#include "toolpoint/assembly_file.hpp"
-#include "toolpoint/io.hpp"
+#include "toolpoint/io/assembly_file.hpp"
+#include "toolpoint/io/io.hpp"
 #include "toolpoint/json.hpp"
-#include "toolpoint/plot.hpp"
+#include "toolpoint/plot/plot.hpp"
 #include "toolpoint/studies/predict.hpp"
-#include "toolpoint/uncertainty_io.hpp"
+#include "toolpoint/io/uncertainty_io.hpp"
 
 namespace toolpoint::cli {
 

@@ -7,7 +7,7 @@
 #include "cli.hpp"
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/resample.hpp"
+#include "toolpoint/measured/resample.hpp"
 #include "toolpoint/studies/resample.hpp"
 
 namespace toolpoint::cli {

@@ -7,12 +7,12 @@
 
 #include "cli.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/frf_file.hpp"
-#include "toolpoint/uff.hpp"
-#include "toolpoint/io.hpp"
-#include "toolpoint/plot.hpp"
-#include "toolpoint/signal.hpp"
-#include "toolpoint/assembly_file.hpp"
+#include "toolpoint/io/frf_file.hpp"
+#include "toolpoint/io/uff.hpp"
+#include "toolpoint/io/io.hpp"
+#include "toolpoint/plot/plot.hpp"
+#include "toolpoint/measured/signal.hpp"
+#include "toolpoint/io/assembly_file.hpp"
 #include "toolpoint/studies/rotational.hpp"
 
 namespace toolpoint::cli {

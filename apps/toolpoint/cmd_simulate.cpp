@@ -14,7 +14,7 @@
 #include "progress.hpp"
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/io.hpp"
+#include "toolpoint/io/io.hpp"
 #include "toolpoint/json.hpp"
 #include "toolpoint/studies/simulation.hpp"
 #include "toolpoint/studies/simulation_io.hpp"
@@ -62,7 +62,7 @@ PlanarMode parse_planar_mode(const std::string& text) {
     throw InvalidArgument(fmt::format("--mode '{}': the angle '{}' is not a number", text, text.substr(last + 1)),
                           "write MASS_KG,DAMPING_RATIO,FREQUENCY_HZ,ANGLE_DEG, e.g. 0.04,0.011,922,30");
   }
-  return planar_mode(m, angle * kPi / 180.0);
+  return planar_mode(m, radians_of(angle));
 }
 
 SimulationInput simulation_input(const SimulateArgs& o, const Globals& g) {
@@ -164,8 +164,8 @@ void print_cut(const SimulationStudyResult& r) {
   std::cout << fmt::format("  mean force Fx {:.4g} N, Fy {:.4g} N; peak |F| {:.4g} N; torque {:.4g} N m, power {:.4g} kW\n",
                            s.mean_force_x_n, s.mean_force_y_n, s.peak_force_n, s.mean_torque_nm, 1e-3 * s.power_w);
   for (const Wall& w : s.walls)
-    std::cout << fmt::format("  wall at {:.0f}°: surface location error {:.3f} µm (+: material left)\n",
-                             w.angle_rad * 180.0 / kPi, 1e6 * w.mean_sle_m);
+    std::cout << fmt::format("  wall at {:.0f}°: surface location error {:.3f} µm (+: material left)\n", degrees_of(w.angle_rad),
+                             1e6 * w.mean_sle_m);
 }
 
 void run_cut(const SimulateArgs& o, const Globals& g) {

@@ -9,11 +9,11 @@
 #include "cli.hpp"
 #include "parse.hpp"
 #include "progress.hpp"
-#include "toolpoint/assembly_file.hpp"
+#include "toolpoint/io/assembly_file.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/studies/tap_test.hpp"
-#include "toolpoint/frf_file.hpp"
-#include "toolpoint/uff.hpp"
+#include "toolpoint/io/frf_file.hpp"
+#include "toolpoint/io/uff.hpp"
 
 namespace toolpoint::cli {
 

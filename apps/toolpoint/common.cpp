@@ -9,12 +9,11 @@
 #include <fmt/format.h>
 #include <iostream>
 
-#include "../../src/text.hpp"
 #include "cli.hpp"
 #include "progress.hpp"
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/io.hpp"
+#include "toolpoint/io/io.hpp"
 
 namespace toolpoint::cli {
 
@@ -487,7 +486,7 @@ const char* const kBlockCsvOutput = "the 2×2 receptance block as FRF CSV (.csv;
 void check_output_extension(const std::string& path, const std::string& option, std::initializer_list<const char*> extensions,
                             const std::string& formats) {
   if (path.empty()) return;
-  const std::string ext = text::lower(std::filesystem::path(path).extension().string());
+  const std::string ext = option_word(std::filesystem::path(path).extension().string());
   std::string listed;
   for (const char* e : extensions) {
     if (ext == e) return;
@@ -619,7 +618,7 @@ Engagement cut_engagement(const CutArgs& o) {
                     "radians",
                     o.entry_deg, o.exit_deg, o.exit_deg - o.entry_deg),
         fmt::format("give degrees: --entry {:g} --exit {:g}; for so light a cut, give --immersion a/D with --milling",
-                    o.entry_deg * 180.0 / kPi, o.exit_deg * 180.0 / kPi));
+                    degrees_of(o.entry_deg), degrees_of(o.exit_deg)));
   return engagement_from_degrees(o.entry_deg, o.exit_deg);
 }
 
@@ -641,7 +640,7 @@ std::vector<double> pitch_radians(const std::vector<double>& pitch_deg, int teet
     throw InvalidArgument(fmt::format("--teeth {} but --pitch gives {} spacings", teeth, pitch_deg.size()),
                           "give one spacing per tooth, or drop --teeth");
   std::vector<double> rad;
-  for (double p : pitch_deg) rad.push_back(p * kPi / 180.0);
+  for (double p : pitch_deg) rad.push_back(radians_of(p));
   return rad;
 }
 
@@ -652,7 +651,7 @@ std::vector<double> helix_radians(const std::vector<double>& helix_deg) {
                                       fmt::join(helix_deg, ",")),
                           fmt::format("give degrees, e.g. --helix {:g}", helix_deg.front() * 180.0 / kPi));
   std::vector<double> rad;
-  for (double b : helix_deg) rad.push_back(b * kPi / 180.0);
+  for (double b : helix_deg) rad.push_back(radians_of(b));
   return rad;
 }
 

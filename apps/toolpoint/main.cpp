@@ -7,7 +7,7 @@
 
 #include "cli.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/io.hpp"
+#include "toolpoint/io/io.hpp"
 #include "toolpoint/version.hpp"
 
 namespace {

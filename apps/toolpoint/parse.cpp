@@ -9,16 +9,12 @@
 #include <utility>
 #include <vector>
 
-#include "../../src/text.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/studies/shards.hpp"
 
 namespace toolpoint::cli {
 
 namespace {
-
-using text::lower;
-using text::trim;
 
 double parse_number(const std::string& text, const std::string& option, const std::string& whole) {
   double v = 0.0;
@@ -48,13 +44,23 @@ std::vector<std::string> split_colon(const std::string& text) {
 template <class E>
 E parse_name(const std::string& text, const std::string& option, std::initializer_list<std::pair<std::string_view, E>> names,
              const char* what, const char* hint) {
-  const std::string s = lower(trim(text));
+  const std::string s = option_word(text);
   for (const auto& [name, value] : names)
     if (s == name) return value;
   throw InvalidArgument(fmt::format("{} '{}' is not {}", option, text, what), hint);
 }
 
 }  // namespace
+
+std::string option_word(std::string_view text) {
+  const auto blank = [](char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; };
+  while (!text.empty() && blank(text.front())) text.remove_prefix(1);
+  while (!text.empty() && blank(text.back())) text.remove_suffix(1);
+  std::string out(text);
+  for (char& c : out)
+    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+  return out;
+}
 
 FrequencyGrid parse_frequency_grid(const std::string& text, const std::string& option) {
   const auto parts = split_colon(text);
@@ -92,7 +98,8 @@ double parse_fraction(const std::string& text, const std::string& option) {
   }
   while (used < t.size() && std::isspace(static_cast<unsigned char>(t[used]))) ++used;
   if (t.empty() || used != t.size() || !std::isfinite(v) || v < 0.0)
-    throw InvalidArgument(fmt::format("{} '{}' is not a fraction ≥ 0", option, text), fmt::format("write e.g. {} 2% or {} 0.02", option, option));
+    throw InvalidArgument(fmt::format("{} '{}' is not a fraction ≥ 0", option, text),
+                          fmt::format("write e.g. {} 2% or {} 0.02", option, option));
   return percent ? v / 100.0 : v;
 }
 
@@ -179,7 +186,7 @@ Interpolation parse_interpolation(const std::string& text, const std::string& op
 }
 
 int parse_uff_direction(const std::string& text, const std::string& option) {
-  std::string s = lower(trim(text));
+  std::string s = option_word(text);
   // A code: an integer with an optional sign.
   const char* first = s.data() + (!s.empty() && s.front() == '+' ? 1 : 0);
   const char* last = s.data() + s.size();

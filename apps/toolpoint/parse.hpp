@@ -4,14 +4,20 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <utility>
 
 #include "toolpoint/conventions.hpp"
-#include "toolpoint/frf_file.hpp"
-#include "toolpoint/io.hpp"
-#include "toolpoint/resample.hpp"
+#include "toolpoint/io/frf_file.hpp"
+#include "toolpoint/io/io.hpp"
+#include "toolpoint/measured/resample.hpp"
 
 namespace toolpoint::cli {
+
+// Option text as the parsers compare it: surrounding blanks (space, tab, CR, FF, VT) removed and
+// ASCII letters in lower case (other bytes unchanged: values may hold UTF-8). The CLI's own, so it
+// needs none of the library's private headers.
+std::string option_word(std::string_view text);
 
 // Parses "START:STOP:STEP" (Hz) into a checked FrequencyGrid. Throws InvalidArgument naming
 // `option` on malformed text or an invalid grid (FrequencyGrid::check's message after it).

@@ -1,4 +1,4 @@
-% The time-domain milling simulation of toolpoint (include/toolpoint/simulation.hpp), written
+% The time-domain milling simulation of toolpoint (include/toolpoint/stability/simulation.hpp), written
 % out in GNU Octave / MATLAB for a side-by-side comparison of speed (docs/simulation.md,
 % "Performance"): the same model and the same scheme, step for step, for straight teeth (one axial
 % slice) and a linear force law, so that both give the same numbers.

@@ -13,9 +13,9 @@
 // check and the verdict come with it.
 #include <cstdio>
 
-#include <toolpoint/assembly_file.hpp>
+#include <toolpoint/io/assembly_file.hpp>
 #include <toolpoint/error.hpp>
-#include <toolpoint/io.hpp>
+#include <toolpoint/io/io.hpp>
 #include <toolpoint/studies/identification.hpp>
 
 int main(int argc, char** argv) {

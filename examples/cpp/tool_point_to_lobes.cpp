@@ -9,9 +9,9 @@
 // is taken as symmetric (G_yy = G_xx, no cross terms).
 #include <cstdio>
 
-#include <toolpoint/assembly_file.hpp>
+#include <toolpoint/io/assembly_file.hpp>
 #include <toolpoint/error.hpp>
-#include <toolpoint/stability.hpp>
+#include <toolpoint/stability/stability.hpp>
 #include <toolpoint/studies/predict.hpp>
 #include <toolpoint/version.hpp>
 

@@ -37,6 +37,16 @@ inline constexpr double kPi = std::numbers::pi;
 // Ω = 2πf: rad/s from Hz.
 inline double omega_of(double frequency_hz) { return 2.0 * kPi * frequency_hz; }
 
+// A spindle speed: Ω = 2πn/60 in rad/s from n in rpm (spindle speeds are in rpm at every
+// interface, in rad/s inside the spinning-rotor formulas), and back. The one place it is written.
+inline constexpr double rad_s_of_rpm(double rpm) { return rpm * 2.0 * kPi / 60.0; }
+inline constexpr double rpm_of_rad_s(double rad_s) { return rad_s * 60.0 / (2.0 * kPi); }
+
+// An angle: degrees from radians and back (angles are in rad in the library and its files; the CLI
+// and the figures show degrees).
+inline constexpr double degrees_of(double rad) { return rad * 180.0 / kPi; }
+inline constexpr double radians_of(double deg) { return deg * kPi / 180.0; }
+
 // An evenly spaced frequency grid START:STOP:STEP in Hz (both ends included when STOP is on the
 // grid).
 struct FrequencyGrid {

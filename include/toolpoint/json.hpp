@@ -24,18 +24,18 @@
 
 #include <nlohmann/json.hpp>
 
-#include "toolpoint/beam.hpp"
+#include "toolpoint/model/beam.hpp"
 #include "toolpoint/studies/case_study.hpp"
-#include "toolpoint/frf_file.hpp"
-#include "toolpoint/identify.hpp"
-#include "toolpoint/joint_fit.hpp"
-#include "toolpoint/modal_fit.hpp"
+#include "toolpoint/io/frf_file.hpp"
+#include "toolpoint/identify/identify.hpp"
+#include "toolpoint/identify/joint_fit.hpp"
+#include "toolpoint/stability/modal_fit.hpp"
 #include "toolpoint/studies/modal_fit.hpp"
-#include "toolpoint/noise.hpp"
-#include "toolpoint/peaks.hpp"
-#include "toolpoint/signal.hpp"
-#include "toolpoint/simulation.hpp"
-#include "toolpoint/stability.hpp"
+#include "toolpoint/measured/noise.hpp"
+#include "toolpoint/measured/peaks.hpp"
+#include "toolpoint/measured/signal.hpp"
+#include "toolpoint/stability/simulation.hpp"
+#include "toolpoint/stability/stability.hpp"
 #include "toolpoint/studies/beam.hpp"
 #include "toolpoint/studies/fd_correction.hpp"
 #include "toolpoint/studies/filter.hpp"
@@ -48,8 +48,8 @@
 #include "toolpoint/studies/rotational.hpp"
 #include "toolpoint/studies/simulation.hpp"
 #include "toolpoint/studies/tap_test.hpp"
-#include "toolpoint/uff.hpp"
-#include "toolpoint/uncertainty.hpp"
+#include "toolpoint/io/uff.hpp"
+#include "toolpoint/uncertainty/uncertainty.hpp"
 
 namespace toolpoint {
 

@@ -6,14 +6,14 @@
 
 #include "common.hpp"
 #include "toolpoint/studies/case_study.hpp"
-#include "toolpoint/identify.hpp"
-#include "toolpoint/joint_file.hpp"
-#include "toolpoint/joint_fit.hpp"
+#include "toolpoint/identify/identify.hpp"
+#include "toolpoint/io/joint_file.hpp"
+#include "toolpoint/identify/joint_fit.hpp"
 #include "toolpoint/json.hpp"
-#include "toolpoint/noise.hpp"
+#include "toolpoint/measured/noise.hpp"
 #include "toolpoint/studies/identification.hpp"
 #include "toolpoint/studies/precision.hpp"
-#include "toolpoint/uncertainty.hpp"
+#include "toolpoint/uncertainty/uncertainty.hpp"
 
 namespace toolpoint::python {
 
@@ -102,8 +102,10 @@ UncertaintyOptions uncertainty_options(int samples, std::uint64_t seed, std::vec
   return o;
 }
 
-void bind_identify(py::module_& m) {
-  // ---- Closed form per frequency (seed Eq. 6, 15, 18) ----------------------------------------------
+namespace {
+
+// The closed form per frequency (seed Eq. 6, 15, 18), the band read-out, the effect analysis.
+void bind_closed_form(py::module_& m) {
   py::class_<JointSeries>(m, "JointSeries",
                           "K(ω) by the closed form over a grid, with k = Re K, c = Im K/ω per frequency and the conditioning.")
       .def_property_readonly("frequency_hz", [](const JointSeries& s) { return python::array_of(s.frequency_hz); })
@@ -247,8 +249,10 @@ void bind_identify(py::module_& m) {
       .def(
           "to_dict", [](const ModeComparison& c) { return dict_of(c); },
           "The result as plain data (dicts, lists, floats, str, bool, None; the CLI's --json keys, SI units).");
+}
 
-  // ---- Noise ---------------------------------------------------------------------------------------
+// The noise of measured FRFs: estimated, stated, drawn.
+void bind_noise(py::module_& m) {
   py::class_<BlockNoise>(
       m, "BlockNoise",
       "The noise of a measured block series: C(f), the 8×8 covariance of the relative errors (Re, Im of ε/x for H, L, N, P).")
@@ -341,8 +345,10 @@ void bind_identify(py::module_& m) {
       "frequency_hz"_a, "truth"_a, "noise"_a, "seed"_a,
       "One reproducible draw (1 + δ)(truth + ε): ε Gaussian with the noise's covariance (multiplicative and floor), δ its "
       "calibration factor's.");
+}
 
-  // ---- Joint files ---------------------------------------------------------------------------------
+// Joint files.
+void bind_joint_files(py::module_& m) {
   py::class_<JointUncertainty>(m, "JointUncertainty", "A joint file's [uncertainty]: intervals and the 8×8 covariance (SI).")
       .def(py::init<>())
       .def_readwrite("confidence", &JointUncertainty::confidence)
@@ -383,8 +389,10 @@ void bind_identify(py::module_& m) {
         "Parses joint file TOML text; `source` names it in errors.");
   m.def("format_joint_file", &format_joint_file, "joint"_a, "The joint file's TOML text (shortest round-trip numbers).");
   m.def("write_joint_file", &write_joint_file, "path"_a, "joint"_a, "Writes a joint file whole or not at all.");
+}
 
-  // ---- The band fit and the identification study ---------------------------------------------------
+// The band fit's result.
+void bind_joint_fit(py::module_& m) {
   py::class_<JointFit>(m, "JointFit",
                        "The band fit of a joint's constants (output error) with intervals; arrays (8,) per field, SI.")
       .def_readonly("parameters", &JointFit::parameters, "the estimates")
@@ -439,6 +447,12 @@ void bind_identify(py::module_& m) {
           "to_dict", [](const JointFit& f) { return dict_of(f); },
           "The result as plain data (dicts, lists, floats, str, bool, None; the CLI's --json keys, SI units).");
 
+  m.def("weighted_median_parameters", &weighted_median_parameters, "series"_a, "lo_hz"_a, "hi_hz"_a,
+        "The median of each parameter over [lo, hi] Hz, each point weighted by 1/gain²: the fit's starting values.");
+}
+
+// The identification study: the measured data in, the identification out.
+void bind_identification_study(py::module_& m) {
   py::class_<IdentificationData>(
       m, "IdentificationData",
       "One measured set-up: G11 (SHT11 for Eq. 6/18, SH11 for Eq. 15) and B11 (SH11 for Eq. 6; S11 for Eq. 15/18, "
@@ -546,6 +560,10 @@ void bind_identify(py::module_& m) {
       "and floor (relative to each entry's peak) are stated; calibration: σ of each measured FRF's sensitivity (one factor "
       "for all with calibration_shared); averages: behind the data's coherence (IdentificationData g_coherence). Six parameters "
       "(reciprocal) or eight. threads: the bootstrap's (0: every core; results identical for any count).");
+}
+
+// The precision study: how tight the joint will be before the tap test.
+void bind_precision(py::module_& m) {
   py::class_<PrecisionStudy>(m, "PrecisionStudy",
                              "run_precision_study's result: each joint parameter's expected interval before the tap test.")
       .def_property_readonly("route", [](const PrecisionStudy& r) { return name_of(r.route, kRoutes); })
@@ -606,10 +624,10 @@ void bind_identify(py::module_& m) {
       "'tip'), one hit's variation sigma (0.01 = 1 %) and floor (relative to each FRF's peak), `averages` hits per FRF, each "
       "test's calibration σ; the expected half-width of each parameter's interval at `confidence` (the linearised band fit on "
       "the model's exact FRFs), and the averages a relative half-width `target` (0.05 = ±5 %) needs.");
-  m.def("weighted_median_parameters", &weighted_median_parameters, "series"_a, "lo_hz"_a, "hi_hz"_a,
-        "The median of each parameter over [lo, hi] Hz, each point weighted by 1/gain²: the fit's starting values.");
+}
 
-  // ---- Uncertainty carried forward ------------------------------------------------------------------
+// The joint's uncertainty carried forward: tool point bands, sampled joints, quantiles.
+void bind_uncertainty(py::module_& m) {
   py::class_<FrfBand>(m, "FrfBand", "The tool point FRF H with the joint uncertain: quantiles per frequency.")
       .def_property_readonly("frequency_hz", [](const FrfBand& b) { return python::array_of(b.frequency_hz); })
       .def_property_readonly("levels", [](const FrfBand& b) { return python::array_of(b.levels); })
@@ -640,6 +658,16 @@ void bind_identify(py::module_& m) {
       "the "
       "tool point FRF's |H| and phase per frequency [Hz]. Threads: 0 every core; results identical for any count.");
   m.def(
+      "tool_point_band",
+      [](Assembly a, JointFile joint, const RealArray& f, UncertaintyOptions options, const py::object& progress) {
+        const std::vector<double> grid = vector_of(f, "frequency_hz");
+        options.progress = progress_of(progress);
+        py::gil_scoped_release nogil;
+        return tool_point_band(a, joint, grid, options);
+      },
+      "assembly"_a, "joint"_a, "frequency_hz"_a, "options"_a, py::kw_only(), "progress"_a = py::none(),
+      "tool_point_band with its options as one UncertaintyOptions (the same as the keyword form above).");
+  m.def(
       "sample_joints",
       [](const JointParameters& mean, const RealArray& covariance, int count, std::uint64_t seed) {
         return sample_joints(mean, matrix8_of(covariance, "covariance"), count, seed);
@@ -647,9 +675,10 @@ void bind_identify(py::module_& m) {
       "mean"_a, "covariance"_a, "count"_a, "seed"_a,
       "`count` JointParameters drawn from N(mean, covariance) (8×8, SI), reproducibly from `seed`.");
   m.def("quantile", &quantile, "values"_a, "p"_a, "Type-7 quantile (numpy's default) at level p of values (NaN left out).");
+}
 
-  // ---- Stability with the joint uncertain ------------------------------------------------------------
-  // ---- The seed's case study ------------------------------------------------------------------------
+// The seed's case study.
+void bind_case_study(py::module_& m) {
   py::class_<CaseStudy>(m, "CaseStudy", "run_case_study's result (the seed's Section 3 and the band fit; toolpoint demo).")
       .def_readonly("assembly", &CaseStudy::assembly)
       .def_readonly("reference", &CaseStudy::reference, "the holder–tool joint put in (Table 1 in the example)")
@@ -718,6 +747,19 @@ void bind_identify(py::module_& m) {
       "(SH11 seed, SHT11 seed + 1), Savitzky–Golay filter (window, order), read at the tool mode ± band_width; and the band fit "
       "to the "
       "raw noisy data (bootstrap seed fit_seed; the CLI passes its --seed for both).");
+}
+
+}  // namespace
+
+void bind_identify(py::module_& m) {
+  bind_closed_form(m);
+  bind_noise(m);
+  bind_joint_files(m);
+  bind_joint_fit(m);
+  bind_identification_study(m);
+  bind_precision(m);
+  bind_uncertainty(m);
+  bind_case_study(m);
 }
 
 }  // namespace toolpoint::python

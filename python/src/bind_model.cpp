@@ -2,12 +2,12 @@
 // (beam.hpp, assembly.hpp, assembly_file.hpp, joint.hpp, studies/predict.hpp, overhang.hpp,
 // tap_test.hpp). Units SI; frequencies in Hz.
 #include "common.hpp"
-#include "toolpoint/assembly.hpp"
-#include "toolpoint/assembly_file.hpp"
-#include "toolpoint/beam.hpp"
-#include "toolpoint/coupling.hpp"
-#include "toolpoint/joint.hpp"
-#include "toolpoint/joint_file.hpp"
+#include "toolpoint/model/assembly.hpp"
+#include "toolpoint/io/assembly_file.hpp"
+#include "toolpoint/model/beam.hpp"
+#include "toolpoint/model/coupling.hpp"
+#include "toolpoint/model/joint.hpp"
+#include "toolpoint/io/joint_file.hpp"
 #include "toolpoint/json.hpp"
 #include "toolpoint/studies/beam.hpp"
 #include "toolpoint/studies/fd_correction.hpp"
@@ -82,9 +82,8 @@ int parameter_index(const py::object& key) {
   return k;
 }
 
-}  // namespace
-
-void bind_model(py::module_& m) {
+// Joints: the eight parameters, K(ω), the seed's Table 1.
+void bind_joints(py::module_& m) {
   // ---- Joints ------------------------------------------------------------------------------------
   py::class_<JointParameters>(m, "JointParameters",
                               "The eight contact parameters of a joint (seed Eq. 8): K(ω) = [[k_yf + iωc_yf, k_ym + iωc_ym], "
@@ -163,7 +162,10 @@ void bind_model(py::module_& m) {
   m.def("seed_table1_joint", &seed_table1_joint, "The seed's Table 1 holder–tool joint (Özşahin et al. 2009), SI units.");
   m.def("joint_warnings", &joint_warnings, "parameters"_a, "name"_a = "joint",
         "Warnings about a legal but indefinite joint (negative stiffness or damping motions), labelled with `name`.");
+}
 
+// Materials, sections and segments: free–free receptances, exact and modal, spinning; the beam study.
+void bind_segments(py::module_& m) {
   // ---- Materials and segments ---------------------------------------------------------------------
   py::class_<Material>(m, "Material",
                        "An isotropic material. E and G in Pa, density in kg/m³, ν and loss factor η dimensionless.")
@@ -361,7 +363,10 @@ void bind_model(py::module_& m) {
       "`frequency_hz` [Hz], the end block '11' (end 1 = the outer end), '12', '21' or '22' by the 'exact' closed form or "
       "'modal' summation over `modal_terms` modes; spinning at `speed_rpm` [rpm] the natural frequencies of each whirl "
       "(BeamStudy.whirl) and the block's x–x part; `campbell_rpm` [rpm] the Campbell diagram (BeamStudy.campbell).");
+}
 
+// The assembly, its file and its model (the forward model of Eq. 1–5).
+void bind_assembly(py::module_& m) {
   // ---- Assembly -----------------------------------------------------------------------------------
   py::class_<Bearing>(m, "Bearing", "Springs and dampers to ground at `position` m from the spindle nose.")
       .def(py::init([](double position, double k, double c, double kr, double cr, std::string name, std::optional<double> ky,
@@ -571,8 +576,24 @@ void bind_model(py::module_& m) {
       "assembly"_a, "frequency_hz"_a, "sh11"_a, "name"_a = "SH11",
       "SHT11 from a measured SH11 (n, 2, 2) and the model's tool through the holder–tool joint (seed Eq. 5, Schmitz's RCSA), on "
       "SH11's grid.");
+}
 
+// The prediction study (with the Monte Carlo's options it holds).
+void bind_prediction(py::module_& m) {
   // ---- Studies: prediction, overhangs, tap test ----------------------------------------------------
+  // The Monte Carlo's options, bound here because the prediction and overhang studies hold them.
+  options_class<UncertaintyOptions>(
+      m, "UncertaintyOptions",
+      "The Monte Carlo over an uncertain joint (uncertainty.hpp): tool_point_band's options, and the band's in "
+      "PredictOptions and OverhangStudyOptions. Progress is the function's `progress` argument.",
+      {"samples", "seed", "levels", "threads"})
+      .def_readwrite("samples", &UncertaintyOptions::samples, "joints drawn, 10…1000000")
+      .def_readwrite("seed", &UncertaintyOptions::seed, "sample i draws from stream_seed(seed, i)")
+      .def_readwrite("levels", &UncertaintyOptions::levels, "quantile levels, increasing in (0, 1)")
+      .def_property(
+          "threads", [](const UncertaintyOptions& o) { return o.parallel.threads; },
+          [](UncertaintyOptions& o, int threads) { o.parallel.threads = threads; },
+          "samples run on this many threads (0: every core); results identical for any count");
   py::class_<Peak>(m, "Peak", "A resonance peak of |H|: grid index, refined frequency [Hz] and magnitude, prominence (relative).")
       .def_readonly("index", &Peak::index)
       .def_readonly("frequency_hz", &Peak::frequency_hz)
@@ -612,6 +633,21 @@ void bind_model(py::module_& m) {
       .def(
           "to_dict", [](const Prediction& p) { return dict_of(p); },
           "{'receptance', 'modes', 'warnings'} (toolpoint predict --json's keys).");
+  options_class<PredictOptions>(m, "PredictOptions", "run_prediction's options (studies/predict.hpp; toolpoint predict's).",
+                                {"receptance", "peaks", "uncertain_joint", "band", "speed_rpm", "extrapolate_bearings"})
+      .def_property(
+          "receptance", [](const PredictOptions& o) { return std::string(name_of(o.receptance, kPredicted)); },
+          [](PredictOptions& o, const std::string& v) { o.receptance = enum_of(v, kPredicted, "PredictOptions::receptance"); },
+          "'SHT11' (the tool point) or 'SH11' (the holder tip)")
+      .def_readwrite("peaks", &PredictOptions::peaks, "PeakOptions: which local maxima of |H| count as modes")
+      .def_readwrite("uncertain_joint", &PredictOptions::uncertain_joint,
+                     "a JointFile with [uncertainty] (put in place, and the band of the tool point FRF over joints drawn "
+                     "from it), or None")
+      .def_readwrite("band", &PredictOptions::band, "UncertaintyOptions: the band's samples, seed, levels and threads")
+      .def_readwrite("speed_rpm", &PredictOptions::speed_rpm,
+                     "spindle speed [rpm] ≥ 0: > 0 gives the tool point in two planes (docs/spindle-at-speed.md)")
+      .def_readwrite("extrapolate_bearings", &PredictOptions::extrapolate_bearings,
+                     "extend a bearing's speed table beyond its rows (default: refuse)");
   m.def(
       "run_prediction",
       [](Assembly a, const std::string& receptance, double min_prominence, std::optional<JointFile> joint, int samples,
@@ -638,6 +674,19 @@ void bind_model(py::module_& m) {
       "progress(fraction) is called as it goes. At `speed_rpm` > 0 (or with anisotropic bearings) the tool point in two "
       "planes: Prediction.two_plane (n, 4, 4) on (w_x, ψ_x, w_y, ψ_y), its x–x block the FRF (docs/spindle-at-speed.md).");
 
+  m.def(
+      "run_prediction",
+      [](Assembly a, const PredictOptions& options, const py::object& progress) {
+        const ProgressCallback cb = progress_of(progress);
+        py::gil_scoped_release nogil;
+        return run_prediction(a, options, cb);
+      },
+      "assembly"_a, "options"_a, py::kw_only(), "progress"_a = py::none(),
+      "The prediction study with its options as one PredictOptions (the same as the keyword form above).");
+}
+
+// The overhang study.
+void bind_overhang_study(py::module_& m) {
   py::class_<OverhangFrf>(m, "OverhangFrf", "One overhang of the overhang study.")
       .def_readonly("overhang_m", &OverhangFrf::overhang_m)
       .def_property_readonly(
@@ -664,6 +713,20 @@ void bind_model(py::module_& m) {
       .def(
           "to_dict", [](const OverhangStudy& s) { return dict_of(s); },
           "The result as plain data (dicts, lists, floats, str, bool, None; the CLI's --json keys, SI units).");
+  options_class<OverhangStudyOptions>(m, "OverhangStudyOptions",
+                                      "run_overhang_study's options (studies/overhang.hpp; toolpoint couple's).",
+                                      {"overhangs_m", "peaks", "tracking_tolerance", "threads", "sh11_name", "uncertain_joint",
+                                       "band"})
+      .def_readwrite("overhangs_m", &OverhangStudyOptions::overhangs_m,
+                     "tool overhangs [m], strictly increasing; empty: the assembly's own")
+      .def_readwrite("peaks", &OverhangStudyOptions::peaks, "PeakOptions: which local maxima of |H| count as modes")
+      .def_readwrite("tracking_tolerance", &OverhangStudyOptions::tracking_tolerance,
+                     "a mode moves at most this fraction of its frequency per step")
+      .def_readwrite("threads", &OverhangStudyOptions::threads, "overhangs in parallel on this many threads (0: every core)")
+      .def_readwrite("sh11_name", &OverhangStudyOptions::sh11_name, "names the measured SH11 in messages")
+      .def_readwrite("uncertain_joint", &OverhangStudyOptions::uncertain_joint,
+                     "a holder–tool JointFile with [uncertainty] (one overhang: the band of the coupled FRF), or None")
+      .def_readwrite("band", &OverhangStudyOptions::band, "UncertaintyOptions: the band's samples, seed, levels and threads");
   m.def(
       "run_overhang_study",
       [](Assembly a, const RealArray& f, const ComplexArray& sh11, std::vector<double> overhangs_m, double min_prominence,
@@ -690,10 +753,25 @@ void bind_model(py::module_& m) {
       "from the assembly's own overhang (Fig. 10). With `joint` (a holder–tool JointFile with [uncertainty]; one overhang): "
       "also the band of the coupled tool point FRF over `samples` joints drawn from its covariance (coupled_tool_point_band). "
       "Overhangs and samples run on `threads` threads (0: every core); results identical for any count.");
+  m.def(
+      "run_overhang_study",
+      [](Assembly a, const RealArray& f, const ComplexArray& sh11, const OverhangStudyOptions& options,
+         const py::object& progress) {
+        const BlockSeries s = block_series(f, sh11, options.sh11_name);
+        judge_receptance(s, options.sh11_name);
+        const ProgressCallback cb = progress_of(progress);
+        py::gil_scoped_release nogil;
+        return run_overhang_study(a, s, options, cb);
+      },
+      "assembly"_a, "frequency_hz"_a, "sh11"_a, "options"_a, py::kw_only(), "progress"_a = py::none(),
+      "The overhang study with its options as one OverhangStudyOptions (the same as the keyword form above).");
   m.def("overhang_sweep", &overhang_sweep, "start_m"_a, "stop_m"_a, "step_m"_a,
         "The overhangs [m] of a sweep START:STOP:STEP as toolpoint couple --overhang makes them: start + i·step up to stop, each "
         "rounded to a nanometre.");
+}
 
+// The virtual tap test, and the rotational FRFs taken from one with the model's correction.
+void bind_tap_test(py::module_& m) {
   py::class_<TapTestFrf>(m, "TapTestFrf", "One FRF of the tap test: H_ij = w_i/f_j [m/N], point 0 the tip.")
       .def_readonly("response", &TapTestFrf::response)
       .def_readonly("hammer", &TapTestFrf::hammer)
@@ -721,6 +799,23 @@ void bind_model(py::module_& m) {
       .def(
           "to_dict", [](const TapTest& t) { return dict_of(t); },
           "The result as plain data (dicts, lists, floats, str, bool, None; the CLI's --json keys, SI units).");
+  options_class<TapTestOptions>(m, "TapTestOptions", "run_tap_test's options (studies/tap_test.hpp; toolpoint taptest's).",
+                                {"side", "spacing_m", "points", "hammer", "sigma", "seed", "floor", "averages", "calibration"})
+      .def_property(
+          "side", [](const TapTestOptions& o) { return std::string(name_of(o.side, kSides)); },
+          [](TapTestOptions& o, const std::string& v) { o.side = enum_of(v, kSides, "TapTestOptions::side"); },
+          "'tool' or 'holder' (the holder without the tool outside)")
+      .def_readwrite("spacing_m", &TapTestOptions::spacing_m, "s > 0 [m] between neighbouring points (no default)")
+      .def_readwrite("points", &TapTestOptions::points, "2 (first-order differences) or 3 (second order)")
+      .def_property(
+          "hammer", [](const TapTestOptions& o) { return std::string(name_of(o.hammer, kHammers)); },
+          [](TapTestOptions& o, const std::string& v) { o.hammer = enum_of(v, kHammers, "TapTestOptions::hammer"); },
+          "'roving' (a hit at every point) or 'tip'")
+      .def_readwrite("sigma", &TapTestOptions::sigma, "σ of the multiplicative noise, [0, 1) (0.02 = 2 %; 0: exact)")
+      .def_readwrite("seed", &TapTestOptions::seed, "FRF k draws from seed + k")
+      .def_readwrite("floor", &TapTestOptions::floor, "an additive noise floor relative to each FRF's peak")
+      .def_readwrite("averages", &TapTestOptions::averages, "hits averaged per FRF (each varying by sigma); 0: one")
+      .def_readwrite("calibration", &TapTestOptions::calibration, "σ of one calibration factor for the whole test");
   m.def(
       "run_tap_test",
       [](Assembly a, double spacing_m, const std::string& side, int points, const std::string& hammer, double sigma,
@@ -743,6 +838,17 @@ void bind_model(py::module_& m) {
       "holder without the tool outside ('holder'), hammer at every point ('roving') or the tip ('tip'), multiplicative noise "
       "sigma "
       "(0.005 = 0.5 %; FRF k draws from seed + k), on assembly.grid.");
+
+  m.def(
+      "run_tap_test",
+      [](Assembly a, const TapTestOptions& options, const py::object& progress) {
+        const ProgressCallback cb = progress_of(progress);
+        py::gil_scoped_release nogil;
+        return run_tap_test(a, options, cb);
+      },
+      "assembly"_a, "options"_a, py::kw_only(), "progress"_a = py::none(),
+      "The virtual tap test with its options as one TapTestOptions (the same as the keyword form above; besides, the "
+      "noise floor, averages and calibration).");
 
   py::class_<FiniteDifferenceError>(
       m, "FiniteDifferenceError", "The finite-difference error of a tap test estimated on the model (studies/fd_correction.hpp).")
@@ -827,6 +933,17 @@ void bind_model(py::module_& m) {
       "[m/N]} at points 0 (tip), 1, 2 spaced options.spacing m inwards (RotationalOptions, as rotational_frfs), and with `model` "
       "(an Assembly) the differences' truncation error estimated on it at the same points on "
       "the 'tool' or the 'holder' and removed (finite_difference_error).");
+}
+
+}  // namespace
+
+void bind_model(py::module_& m) {
+  bind_joints(m);
+  bind_segments(m);
+  bind_assembly(m);
+  bind_prediction(m);
+  bind_overhang_study(m);
+  bind_tap_test(m);
 }
 
 }  // namespace toolpoint::python

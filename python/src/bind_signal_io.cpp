@@ -1,16 +1,16 @@
 // toolpoint Python bindings: signal processing (signal.hpp), peaks (peaks.hpp) and files (io.hpp,
 // frf_file.hpp, uff.hpp). Frequencies in Hz; FRF values in their own units (receptance m/N).
 #include "common.hpp"
-#include "toolpoint/frf_file.hpp"
-#include "toolpoint/io.hpp"
+#include "toolpoint/io/frf_file.hpp"
+#include "toolpoint/io/io.hpp"
 #include "toolpoint/json.hpp"
-#include "toolpoint/peaks.hpp"
-#include "toolpoint/resample.hpp"
+#include "toolpoint/measured/peaks.hpp"
+#include "toolpoint/measured/resample.hpp"
 #include "toolpoint/studies/resample.hpp"
-#include "toolpoint/signal.hpp"
+#include "toolpoint/measured/signal.hpp"
 #include "toolpoint/studies/filter.hpp"
 #include "toolpoint/studies/rotational.hpp"
-#include "toolpoint/uff.hpp"
+#include "toolpoint/io/uff.hpp"
 
 namespace toolpoint::python {
 
@@ -135,8 +135,10 @@ py::dict point_frfs_dict(const PointFrfs& frfs) {
   return H;
 }
 
-void bind_signal_io(py::module_& m) {
-  // ---- Savitzky–Golay, noise, rotational FRFs ------------------------------------------------------
+namespace {
+
+// Savitzky–Golay, the seed's noise, rotational FRFs by finite differences.
+void bind_signal(py::module_& m) {
   m.def(
       "savgol_coefficients",
       [](int window, int order) {
@@ -275,8 +277,10 @@ void bind_signal_io(py::module_& m) {
       "(n,) [m/N]} of "
       "the "
       "translational FRFs at points 0 (tip), 1, 2 spaced options.spacing m inwards (options: RotationalOptions).");
+}
 
-  // ---- Peaks --------------------------------------------------------------------------------------
+// Peaks and mode tracking.
+void bind_peaks(py::module_& m) {
   options_class<PeakOptions>(m, "PeakOptions", "Which local maxima of |H| find_peaks counts as peaks (peaks.hpp).",
                              {"min_prominence"})
       .def_readwrite("min_prominence", &PeakOptions::min_prominence,
@@ -305,8 +309,10 @@ void bind_signal_io(py::module_& m) {
       "family"_a, "reference"_a, "tolerance"_a = 0.15, "ordered"_a = true,
       "Modes (the peaks of family[reference]) followed through a family of peak lists: (modes, members) frequencies [Hz], NaN "
       "where lost.");
+}
 
-  // ---- Files --------------------------------------------------------------------------------------
+// FRF files (one reader for every format, the writer) and resampling.
+void bind_files(py::module_& m) {
   py::class_<FrfFileData>(m, "FrfFile", "An FRF file read: receptance [m/N] against frequency [Hz], and where it came from.")
       .def_property_readonly("frequency_hz",
                              [](const FrfFileData& d) {
@@ -402,7 +408,10 @@ void bind_signal_io(py::module_& m) {
       "block "
       "(n, 2, 2) as FRF CSV only. Written whole or not at all. dof: UFF record 6 labels {'response_node', 'response_direction', "
       "'reference_node', 'reference_direction'}. Returns what the format lost (list of str).");
+}
 
+// Universal files: datasets 58/58b, units, a tap test picked from one file.
+void bind_uff(py::module_& m) {
   py::class_<UffAxis>(m, "UffAxis", "UFF records 8–11: data characteristics of one axis.")
       .def(py::init<>())
       .def_readwrite("data_type", &UffAxis::data_type,
@@ -528,6 +537,15 @@ void bind_signal_io(py::module_& m) {
       "Writes datasets 58 (ASCII) or 58b (binary=True; byte_order 1 little, 2 big endian), whole or not at all. Returns what "
       "ASCII "
       "rounding lost (list of str).");
+}
+
+}  // namespace
+
+void bind_signal_io(py::module_& m) {
+  bind_signal(m);
+  bind_peaks(m);
+  bind_files(m);
+  bind_uff(m);
 }
 
 }  // namespace toolpoint::python

@@ -3,7 +3,7 @@
 // diameters in m, angles in rad), spindle speeds in rpm, frequencies in Hz; histories as arrays.
 #include "common.hpp"
 #include "toolpoint/json.hpp"
-#include "toolpoint/simulation.hpp"
+#include "toolpoint/stability/simulation.hpp"
 #include "toolpoint/studies/simulation.hpp"
 #include "toolpoint/studies/simulation_io.hpp"
 
@@ -110,9 +110,8 @@ SimulatedMapOptions map_options(const CuttingConditions& cutting, const std::tup
   return o;
 }
 
-}  // namespace
-
-void bind_simulation(py::module_& m) {
+// One simulated cut: planar modes, simulate_milling and its result.
+void bind_simulated_cut(py::module_& m) {
   py::class_<PlanarMode>(m, "PlanarMode",
                          "A mode of the tool point in the x-y plane: frequency [Hz], damping ratio, mass-normalised shape "
                          "(shape_x, shape_y) [kg^-1/2].")
@@ -199,7 +198,10 @@ void bind_simulation(py::module_& m) {
       "One cut in the time domain (toolpoint simulate): the teeth, K_t, K_r and the engagement from `cutting` (pitch_rad "
       "overrides the even spacing), the dynamics from x_modes/y_modes (y_modes empty: the x modes, unless rigid_y) and "
       "planar modes, or a rigid tool. Returns a SimulationResult.");
+}
 
+// The simulated stability map over speed × depth, its parts and their merge.
+void bind_simulated_map(py::module_& m) {
   py::class_<SimulatedMap>(m, "SimulatedMap", "A simulated stability map (toolpoint simulate map).")
       .def_property_readonly(
           "table", [](const SimulatedMap& s) { return table_dict(simulated_map_table(s)); },
@@ -274,6 +276,13 @@ void bind_simulation(py::module_& m) {
       },
       "texts"_a, "names"_a = std::vector<std::string>{},
       "The map from its parts' texts (any order): the same as the unsharded map, bit for bit (toolpoint simulate merge).");
+}
+
+}  // namespace
+
+void bind_simulation(py::module_& m) {
+  bind_simulated_cut(m);
+  bind_simulated_map(m);
 }
 
 }  // namespace toolpoint::python

@@ -3,11 +3,11 @@
 // spindle speeds in rpm; tables come back as dicts of arrays.
 #include "common.hpp"
 #include "toolpoint/json.hpp"
-#include "toolpoint/modal_fit.hpp"
+#include "toolpoint/stability/modal_fit.hpp"
 #include "toolpoint/studies/modal_fit.hpp"
-#include "toolpoint/stability.hpp"
+#include "toolpoint/stability/stability.hpp"
 #include "toolpoint/studies/lobes.hpp"
-#include "toolpoint/uncertainty.hpp"
+#include "toolpoint/uncertainty/uncertainty.hpp"
 
 namespace toolpoint::python {
 

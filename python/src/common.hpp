@@ -24,9 +24,9 @@
 #include <vector>
 
 #include "toolpoint/plausibility.hpp"
-#include "toolpoint/receptance.hpp"
-#include "toolpoint/signal.hpp"
-#include "toolpoint/stability.hpp"
+#include "toolpoint/model/receptance.hpp"
+#include "toolpoint/measured/signal.hpp"
+#include "toolpoint/stability/stability.hpp"
 #include "toolpoint/studies/study.hpp"
 #include "toolpoint/studies/tap_test.hpp"
 

@@ -2,7 +2,7 @@
 #include <memory>
 
 #include "common.hpp"
-#include "toolpoint/frf_file.hpp"
+#include "toolpoint/io/frf_file.hpp"
 #include "toolpoint/version.hpp"
 
 namespace toolpoint::python {

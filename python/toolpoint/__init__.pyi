@@ -680,6 +680,17 @@ class OverhangStudy:
     @property
     def warnings(self) -> List[str]: ...
 
+class OverhangStudyOptions:
+    def __init__(self, *, overhangs_m: List[float] = ..., peaks: PeakOptions = ..., tracking_tolerance: float = ..., threads: int = ..., sh11_name: str = ..., uncertain_joint: Optional[JointFile] = ..., band: UncertaintyOptions = ...) -> None: ...
+    band: UncertaintyOptions
+    def check(self) -> None: ...
+    overhangs_m: List[float]
+    peaks: PeakOptions
+    sh11_name: str
+    threads: int
+    tracking_tolerance: float
+    uncertain_joint: Optional[JointFile]
+
 class Peak:
     @property
     def frequency_hz(self) -> float: ...
@@ -728,6 +739,16 @@ class PrecisionStudy:
     def values(self) -> numpy.typing.NDArray[numpy.float64]: ...
     @property
     def warnings(self) -> List[str]: ...
+
+class PredictOptions:
+    def __init__(self, *, receptance: str = ..., peaks: PeakOptions = ..., uncertain_joint: Optional[JointFile] = ..., band: UncertaintyOptions = ..., speed_rpm: float = ..., extrapolate_bearings: bool = ...) -> None: ...
+    band: UncertaintyOptions
+    def check(self) -> None: ...
+    extrapolate_bearings: bool
+    peaks: PeakOptions
+    receptance: str
+    speed_rpm: float
+    uncertain_joint: Optional[JointFile]
 
 class Prediction:
     @property
@@ -920,6 +941,19 @@ class TapTestFrf:
     @property
     def values(self) -> numpy.typing.NDArray[numpy.complex128]: ...
 
+class TapTestOptions:
+    def __init__(self, *, side: str = ..., spacing_m: float = ..., points: int = ..., hammer: str = ..., sigma: float = ..., seed: int = ..., floor: float = ..., averages: int = ..., calibration: float = ...) -> None: ...
+    averages: int
+    calibration: float
+    def check(self) -> None: ...
+    floor: float
+    hammer: str
+    points: int
+    seed: int
+    side: str
+    sigma: float
+    spacing_m: float
+
 class Tool:
     def __init__(self, material: Material, length: float, overhang: float, diameter: float, shank_diameter: float = ..., flute_length: float = ..., flute_diameter_ratio: float = ..., shear_coefficient: Optional[float] = ...) -> None: ...
     diameter: float
@@ -1005,6 +1039,14 @@ class UffUnits:
     def length_factor(self) -> float: ...
     @property
     def temperature_factor(self) -> float: ...
+
+class UncertaintyOptions:
+    def __init__(self, *, samples: int = ..., seed: int = ..., levels: List[float] = ..., threads: int = ...) -> None: ...
+    def check(self) -> None: ...
+    levels: List[float]
+    samples: int
+    seed: int
+    threads: int
 
 class VerdictFailure(Error):
     ...
@@ -1099,15 +1141,24 @@ def run_lobes_study(cutting: CuttingConditions, speeds: Tuple[float, float, int]
 
 def run_modal_fit_study(frequency_hz: numpy.typing.NDArray[numpy.float64], values: numpy.typing.NDArray[numpy.complex128], *, options: Optional[ModalFitOptions] = ..., what: str = ...) -> ModalFitStudy: ...
 
+@overload
 def run_overhang_study(assembly: Assembly, frequency_hz: numpy.typing.NDArray[numpy.float64], sh11: numpy.typing.NDArray[numpy.complex128], overhangs_m: List[float] = ..., min_prominence: float = ..., tracking_tolerance: float = ..., threads: int = ..., sh11_name: str = ..., joint: Optional[JointFile] = ..., samples: int = ..., seed: int = ..., levels: List[float] = ..., progress: object = ...) -> OverhangStudy: ...
+@overload
+def run_overhang_study(assembly: Assembly, frequency_hz: numpy.typing.NDArray[numpy.float64], sh11: numpy.typing.NDArray[numpy.complex128], options: OverhangStudyOptions, *, progress: object = ...) -> OverhangStudy: ...
 
 def run_precision_study(assembly: Assembly, route: str = ..., tool_spacing_m: Optional[float] = ..., holder_spacing_m: Optional[float] = ..., points: int = ..., hammer: str = ..., sigma: float = ..., floor: float = ..., averages: int = ..., calibration: float = ..., calibration_shared: bool = ..., reciprocal: bool = ..., confidence: float = ..., target: Optional[float] = ..., progress: object = ...) -> PrecisionStudy: ...
 
+@overload
 def run_prediction(assembly: Assembly, receptance: str = ..., min_prominence: float = ..., joint: Optional[JointFile] = ..., samples: int = ..., seed: int = ..., levels: List[float] = ..., threads: int = ..., progress: object = ..., speed_rpm: float = ..., extrapolate_bearings: bool = ...) -> Prediction: ...
+@overload
+def run_prediction(assembly: Assembly, options: PredictOptions, *, progress: object = ...) -> Prediction: ...
 
 def run_rotational_study(frequency_hz: numpy.typing.NDArray[numpy.float64], H: dict, options: RotationalOptions, model: Optional[Assembly] = ..., side: str = ..., model_name: str = ..., progress: object = ...) -> RotationalStudy: ...
 
+@overload
 def run_tap_test(assembly: Assembly, spacing_m: float, side: str = ..., points: int = ..., hammer: str = ..., sigma: float = ..., seed: int = ..., progress: object = ...) -> TapTest: ...
+@overload
+def run_tap_test(assembly: Assembly, options: TapTestOptions, *, progress: object = ...) -> TapTest: ...
 
 def sample_joints(mean: JointParameters, covariance: numpy.typing.NDArray[numpy.float64], count: int, seed: int) -> List[JointParameters]: ...
 
@@ -1135,7 +1186,10 @@ def stated_block_noise(frequency_hz: numpy.typing.NDArray[numpy.float64], blocks
 
 def tap_test_frfs(file: UffFile, nodes: List[int] = ..., direction: Optional[int] = ..., order: int = ..., ordinate: Optional[str] = ...) -> TapTestFileFrfs: ...
 
+@overload
 def tool_point_band(assembly: Assembly, joint: JointFile, frequency_hz: numpy.typing.NDArray[numpy.float64], samples: int = ..., seed: int = ..., levels: List[float] = ..., threads: int = ..., progress: object = ...) -> FrfBand: ...
+@overload
+def tool_point_band(assembly: Assembly, joint: JointFile, frequency_hz: numpy.typing.NDArray[numpy.float64], options: UncertaintyOptions, *, progress: object = ...) -> FrfBand: ...
 
 def track_modes(family: List[List[Peak]], reference: int, tolerance: float = ..., ordered: bool = ...) -> numpy.typing.NDArray[numpy.float64]: ...
 

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <fmt/format.h>
 
-#include "toolpoint/assembly.hpp"
+#include "toolpoint/model/assembly.hpp"
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/plausibility.hpp"
@@ -47,8 +47,6 @@ void BeamStudyOptions::check() const {
     throw InvalidArgument("BeamStudyOptions::modes must be ≥ 1 with a speed or a Campbell diagram",
                           "the whirls' natural frequencies listed");
 }
-
-double rad_s_of_rpm(double rpm) { return rpm * 2.0 * kPi / 60.0; }
 
 BeamStudy run_beam_study(const BeamStudyOptions& options) {
   options.check();
@@ -124,7 +122,7 @@ plot::Figure campbell_figure(const BeamStudy& study, const std::string& title) {
   p.legend = plot::Legend::Outside;
   p.y.label = "Natural frequency [Hz]";
   std::vector<double> rpm;
-  for (const WhirlFrequencies& w : c) rpm.push_back(w.spin_rad_s * 60.0 / (2.0 * kPi));
+  for (const WhirlFrequencies& w : c) rpm.push_back(rpm_of_rad_s(w.spin_rad_s));
   const std::size_t modes = c.front().forward_hz.size();
   for (std::size_t m = 0; m < modes; ++m) {
     std::vector<double> fwd, bwd;

@@ -7,9 +7,9 @@
 #include <cstring>
 #include <numeric>
 
-#include "toolpoint/coupling.hpp"
+#include "toolpoint/model/coupling.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/peaks.hpp"
+#include "toolpoint/measured/peaks.hpp"
 #include "toolpoint/statistics.hpp"
 #include "toolpoint/version.hpp"
 
@@ -287,6 +287,163 @@ void judge(Identification& r, const IdentificationOptions& o, bool same_data) {
   r.verdict.reasons.insert(r.verdict.reasons.end(), doubt.begin(), doubt.end());
 }
 
+// Each set-up's assembly (at its overhang), label, the model's A per frequency of its G11 and its B
+// (measured, or the model's spindle nose); the model's own remarks, once, into `warnings`.
+std::vector<SetupModel> setup_models(const Assembly& assembly, const std::vector<IdentificationData>& data,
+                                     const IdentificationOptions& o, std::vector<std::string>& warnings) {
+  const bool ht = o.route == Route::HolderTool;
+  std::vector<SetupModel> setups;
+  for (std::size_t s = 0; s < data.size(); ++s) {
+    const IdentificationData& d = data[s];
+    SetupModel u;
+    u.assembly = d.overhang_m ? with_overhang(assembly, *d.overhang_m) : assembly;
+    u.label = !d.label.empty() ? d.label : fmt::format("overhang {:.1f} mm", 1000 * u.assembly.tool.overhang);
+    const std::string gname = d.g_name.empty() ? (ht || o.route == Route::SpindleHolderFromSHT ? "SHT11" : "SH11") : d.g_name;
+    validate(d.G11, gname, 3);
+    const AssemblyModel m(u.assembly);
+    // The model's own remarks (a piece computed exactly, …), once: they are the assembly's.
+    if (s == 0) {
+      const std::vector<std::string> w = m.warnings();  // by value: one vector for both iterators
+      warnings.insert(warnings.end(), w.begin(), w.end());
+    }
+    if (d.B11) {
+      validate(*d.B11, d.b_name.empty() ? "B11" : d.b_name, 3);
+      require_same_grid(d.B11->frequency_hz, d.b_name.empty() ? "B11" : d.b_name, d.G11.frequency_hz, gname);
+      u.B = *d.B11;
+    } else if (ht) {
+      throw InputError(fmt::format("{}: Eq. (6) needs the measured SH11 (holder tip, tool outside removed) as well as SHT11",
+                                   u.label),
+                       "give SH11 with SHT11");
+    } else {
+      u.B = block_series(d.G11.frequency_hz, [&](double f) { return m.spindle_nose(f); });
+      u.b_measured = false;
+    }
+    for (double f : d.G11.frequency_hz)
+      u.A.push_back(ht ? m.tool(f) : o.route == Route::SpindleHolderFromSH ? m.holder(f) : m.holder_tool(f));
+    setups.push_back(std::move(u));
+  }
+  return setups;
+}
+
+// The band the joint is read in (and fitted in, without band_hz): given, or around a frequency
+// given, the mode that moves most with the overhang, or the model's dominant mode (effect analysis)
+// moved to the nearest peak of the smoothed G11.
+ModeChoice choose_mode(const IdentificationOptions& o, const Assembly& assembly, const std::vector<double>& frequency_hz,
+                       const BlockSeries& G0s, const std::string& g0, std::vector<std::string>& warnings) {
+  ModeChoice mc;
+  if (o.band_hz) {
+    mc.method = "band given";
+    mc.lo_hz = o.band_hz->first;
+    mc.hi_hz = o.band_hz->second;
+    mc.center_hz = 0.5 * (mc.lo_hz + mc.hi_hz);
+  } else {
+    if (o.at_hz) {
+      mc.method = "frequency given";
+      mc.center_hz = *o.at_hz;
+    } else if (!o.overhang_frfs.empty()) {
+      std::vector<FrfSeries> frfs{entry(G0s, 0)};
+      frfs.insert(frfs.end(), o.overhang_frfs.begin(), o.overhang_frfs.end());
+      mc.overhang = overhang_mode(frfs, 0);
+      mc.method = "mode that moves most with the overhang";
+      mc.center_hz = mc.overhang->reference_peaks[mc.overhang->dominant].frequency_hz;
+    } else {
+      mc.effect = effect_analysis(assembly, o.route, frequency_hz);
+      mc.method = "effect analysis on the model";
+      const double model_f = mc.effect->modes[mc.effect->dominant].frequency_hz;
+      const auto peaks = find_peaks(entry(G0s, 0), PeakOptions{0.1});
+      mc.center_hz = model_f;
+      if (peaks.empty())
+        warnings.push_back(
+            fmt::format("{}: no resonance peak in |H|: the band is centred on the model's mode at {:.1f} Hz", g0, model_f));
+      else
+        mc.center_hz = std::min_element(peaks.begin(), peaks.end(), [&](const Peak& x, const Peak& y) {
+                         return std::abs(x.frequency_hz - model_f) < std::abs(y.frequency_hz - model_f);
+                       })->frequency_hz;
+    }
+    mc.lo_hz = mc.center_hz * (1.0 - o.width);
+    mc.hi_hz = mc.center_hz * (1.0 + o.width);
+  }
+  return mc;
+}
+
+// Every set-up on all its frequencies with its noise, as the forward check sees it.
+std::vector<JointFitData> fit_data(const std::vector<SetupModel>& setups, const std::vector<IdentificationData>& data,
+                                   const std::vector<BlockNoise>& g_noise, const std::vector<BlockNoise>& b_noise) {
+  std::vector<JointFitData> full;
+  for (std::size_t s = 0; s < setups.size(); ++s) {
+    JointFitData x;
+    x.label = setups[s].label;
+    x.A = setups[s].A;
+    x.G11 = data[s].G11;
+    x.B11 = setups[s].B;
+    x.g_name = data[s].g_name.empty() ? "G11" : data[s].g_name;
+    x.b_name = data[s].b_name.empty() ? (setups[s].b_measured ? "B11" : "S11 (model)") : data[s].b_name;
+    x.g_noise = g_noise[s];
+    x.b_noise = b_noise[s];
+    full.push_back(std::move(x));
+  }
+  return full;
+}
+
+// The band fit (joint_fit.hpp) on each set-up's band, from the seed's read-out, the closed form's
+// weighted medians and the assembly's joint (the finite ones): r.fit_band_hz, r.fit, r.identified.
+void fit_in_band(Identification& r, const Assembly& assembly, const std::vector<SetupModel>& setups,
+                 const std::vector<JointFitData>& full, const IdentificationOptions& o, bool have_closed_form,
+                 const ProgressCallback& report) {
+  const bool ht = o.route == Route::HolderTool;
+  double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
+  std::vector<JointFitData> fd;
+  for (std::size_t s = 0; s < setups.size(); ++s) {
+    const auto& f = full[s].G11.frequency_hz;
+    if (!o.band_hz) {
+      fd.push_back(full[s]);
+    } else {
+      const auto idx = in_band(f, o.band_hz->first, o.band_hz->second);
+      if (idx.empty())
+        throw InvalidArgument(fmt::format("{}: the band {}–{} Hz holds none of the data's frequencies ({}–{} Hz)",
+                                          setups[s].label, o.band_hz->first, o.band_hz->second, f.front(), f.back()),
+                              "choose a band inside the data's frequency range");
+      JointFitData x = full[s];
+      x.G11 = subset(full[s].G11, idx);
+      x.B11 = subset(full[s].B11, idx);
+      x.A.clear();
+      for (std::size_t i : idx) x.A.push_back(full[s].A[i]);
+      x.g_noise = full[s].g_noise.subset(idx);
+      x.b_noise = full[s].b_noise.subset(idx);
+      fd.push_back(std::move(x));
+    }
+    lo = std::min(lo, fd.back().G11.frequency_hz.front());
+    hi = std::max(hi, fd.back().G11.frequency_hz.back());
+  }
+  r.fit_band_hz = {lo, hi};
+  std::vector<JointParameters> starts;
+  auto finite = [](const JointParameters& p) {
+    for (int k = 0; k < 8; ++k)
+      if (!std::isfinite(p[k])) return false;
+    return p.k_yf != 0.0 || p.k_tm != 0.0;
+  };
+  if (have_closed_form) {
+    starts.push_back(r.seed.medians());
+    starts.push_back(weighted_median_parameters(r.closed_form, lo, hi));
+  }
+  const Joint& trial = ht ? assembly.holder_tool : assembly.spindle_holder;
+  if (!trial.rigid) starts.push_back(trial.parameters);
+  starts.erase(std::remove_if(starts.begin(), starts.end(), [&](const JointParameters& p) { return !finite(p); }), starts.end());
+  if (starts.empty())
+    throw InvalidArgument(
+        fmt::format("the fit has no starting values: the closed form failed and joints.{} is rigid in the assembly",
+                    ht ? "holder_tool" : "spindle_holder"),
+        "give the joint trial values in the assembly file");
+  JointFitOptions fo = o.fit;
+  fo.filter = o.filter;
+  fo.shared_calibration = o.noise.calibration_shared;
+  if (report) fo.progress = [&](double x) { report(0.3 + 0.6 * x); };  // the fit is 30–90 % of the study
+  r.fit = fit_joint(fd, starts, fo);
+  r.identified = r.fit->parameters;
+  for (const auto& w : r.fit->warnings)
+    if (std::find(r.warnings.begin(), r.warnings.end(), w) == r.warnings.end()) r.warnings.push_back(w);
+}
+
 }  // namespace
 
 Identification identify_joint_from_frfs(const Assembly& assembly, const std::vector<IdentificationData>& data,
@@ -306,36 +463,7 @@ Identification identify_joint_from_frfs(const Assembly& assembly, const std::vec
                    : "Eq. (18): A = HT (holder + tool through the assembly's K_ht, model), B11 = S11, G11 = SHT11";
 
   // Each set-up's model and data.
-  std::vector<SetupModel> setups;
-  for (std::size_t s = 0; s < data.size(); ++s) {
-    const IdentificationData& d = data[s];
-    SetupModel u;
-    u.assembly = d.overhang_m ? with_overhang(assembly, *d.overhang_m) : assembly;
-    u.label = !d.label.empty() ? d.label : fmt::format("overhang {:.1f} mm", 1000 * u.assembly.tool.overhang);
-    const std::string gname = d.g_name.empty() ? (ht || o.route == Route::SpindleHolderFromSHT ? "SHT11" : "SH11") : d.g_name;
-    validate(d.G11, gname, 3);
-    const AssemblyModel m(u.assembly);
-    // The model's own remarks (a piece computed exactly, …), once: they are the assembly's.
-    if (s == 0) {
-      const std::vector<std::string> w = m.warnings();  // by value: one vector for both iterators
-      r.warnings.insert(r.warnings.end(), w.begin(), w.end());
-    }
-    if (d.B11) {
-      validate(*d.B11, d.b_name.empty() ? "B11" : d.b_name, 3);
-      require_same_grid(d.B11->frequency_hz, d.b_name.empty() ? "B11" : d.b_name, d.G11.frequency_hz, gname);
-      u.B = *d.B11;
-    } else if (ht) {
-      throw InputError(fmt::format("{}: Eq. (6) needs the measured SH11 (holder tip, tool outside removed) as well as SHT11",
-                                   u.label),
-                       "give SH11 with SHT11");
-    } else {
-      u.B = block_series(d.G11.frequency_hz, [&](double f) { return m.spindle_nose(f); });
-      u.b_measured = false;
-    }
-    for (double f : d.G11.frequency_hz)
-      u.A.push_back(ht ? m.tool(f) : o.route == Route::SpindleHolderFromSH ? m.holder(f) : m.holder_tool(f));
-    setups.push_back(std::move(u));
-  }
+  const std::vector<SetupModel> setups = setup_models(assembly, data, o, r.warnings);
   progress(0.05);
   const IdentificationData& d0 = data.front();
   const SetupModel& s0 = setups.front();
@@ -360,41 +488,7 @@ Identification identify_joint_from_frfs(const Assembly& assembly, const std::vec
   }
   progress(0.15);
   const BlockSeries G0s = smoothed(d0.G11, o.filter);
-  {
-    ModeChoice& mc = r.mode;
-    if (o.band_hz) {
-      mc.method = "band given";
-      mc.lo_hz = o.band_hz->first;
-      mc.hi_hz = o.band_hz->second;
-      mc.center_hz = 0.5 * (mc.lo_hz + mc.hi_hz);
-    } else {
-      if (o.at_hz) {
-        mc.method = "frequency given";
-        mc.center_hz = *o.at_hz;
-      } else if (!o.overhang_frfs.empty()) {
-        std::vector<FrfSeries> frfs{entry(G0s, 0)};
-        frfs.insert(frfs.end(), o.overhang_frfs.begin(), o.overhang_frfs.end());
-        mc.overhang = overhang_mode(frfs, 0);
-        mc.method = "mode that moves most with the overhang";
-        mc.center_hz = mc.overhang->reference_peaks[mc.overhang->dominant].frequency_hz;
-      } else {
-        mc.effect = effect_analysis(s0.assembly, o.route, d0.G11.frequency_hz);
-        mc.method = "effect analysis on the model";
-        const double model_f = mc.effect->modes[mc.effect->dominant].frequency_hz;
-        const auto peaks = find_peaks(entry(G0s, 0), PeakOptions{0.1});
-        mc.center_hz = model_f;
-        if (peaks.empty())
-          r.warnings.push_back(
-              fmt::format("{}: no resonance peak in |H|: the band is centred on the model's mode at {:.1f} Hz", g0, model_f));
-        else
-          mc.center_hz = std::min_element(peaks.begin(), peaks.end(), [&](const Peak& x, const Peak& y) {
-                           return std::abs(x.frequency_hz - model_f) < std::abs(y.frequency_hz - model_f);
-                         })->frequency_hz;
-      }
-      mc.lo_hz = mc.center_hz * (1.0 - o.width);
-      mc.hi_hz = mc.center_hz * (1.0 + o.width);
-    }
-  }
+  r.mode = choose_mode(o, s0.assembly, d0.G11.frequency_hz, G0s, g0, r.warnings);
   if (have_closed_form) {
     r.seed = band_readout(r.closed_form, r.mode.lo_hz, r.mode.hi_hz, o.readout);
     for (const auto& w : r.seed.warnings) r.warnings.push_back("seed read-out: " + w);
@@ -413,76 +507,10 @@ Identification identify_joint_from_frfs(const Assembly& assembly, const std::vec
     for (const BlockNoise& n : *v) r.warnings.insert(r.warnings.end(), n.warnings.begin(), n.warnings.end());
 
   // Every set-up on all its frequencies, as the forward check sees it; the fit takes the band.
-  std::vector<JointFitData> full;
-  for (std::size_t s = 0; s < setups.size(); ++s) {
-    JointFitData x;
-    x.label = setups[s].label;
-    x.A = setups[s].A;
-    x.G11 = data[s].G11;
-    x.B11 = setups[s].B;
-    x.g_name = data[s].g_name.empty() ? "G11" : data[s].g_name;
-    x.b_name = data[s].b_name.empty() ? (setups[s].b_measured ? "B11" : "S11 (model)") : data[s].b_name;
-    x.g_noise = r.g_noise[s];
-    x.b_noise = r.b_noise[s];
-    full.push_back(std::move(x));
-  }
+  const std::vector<JointFitData> full = fit_data(setups, data, r.g_noise, r.b_noise);
 
-  if (o.method == IdentificationMethod::Fit) {
-    double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
-    std::vector<JointFitData> fd;
-    for (std::size_t s = 0; s < setups.size(); ++s) {
-      const auto& f = data[s].G11.frequency_hz;
-      if (!o.band_hz) {
-        fd.push_back(full[s]);
-      } else {
-        const auto idx = in_band(f, o.band_hz->first, o.band_hz->second);
-        if (idx.empty())
-          throw InvalidArgument(fmt::format("{}: the band {}–{} Hz holds none of the data's frequencies ({}–{} Hz)",
-                                            setups[s].label, o.band_hz->first, o.band_hz->second, f.front(), f.back()),
-                                "choose a band inside the data's frequency range");
-        JointFitData x = full[s];
-        x.G11 = subset(full[s].G11, idx);
-        x.B11 = subset(full[s].B11, idx);
-        x.A.clear();
-        for (std::size_t i : idx) x.A.push_back(full[s].A[i]);
-        x.g_noise = full[s].g_noise.subset(idx);
-        x.b_noise = full[s].b_noise.subset(idx);
-        fd.push_back(std::move(x));
-      }
-      lo = std::min(lo, fd.back().G11.frequency_hz.front());
-      hi = std::max(hi, fd.back().G11.frequency_hz.back());
-    }
-    r.fit_band_hz = {lo, hi};
-    std::vector<JointParameters> starts;
-    auto finite = [](const JointParameters& p) {
-      for (int k = 0; k < 8; ++k)
-        if (!std::isfinite(p[k])) return false;
-      return p.k_yf != 0.0 || p.k_tm != 0.0;
-    };
-    if (have_closed_form) {
-      starts.push_back(r.seed.medians());
-      starts.push_back(weighted_median_parameters(r.closed_form, lo, hi));
-    }
-    const Joint& trial = ht ? assembly.holder_tool : assembly.spindle_holder;
-    if (!trial.rigid) starts.push_back(trial.parameters);
-    starts.erase(std::remove_if(starts.begin(), starts.end(), [&](const JointParameters& p) { return !finite(p); }),
-                 starts.end());
-    if (starts.empty())
-      throw InvalidArgument(
-          fmt::format("the fit has no starting values: the closed form failed and joints.{} is rigid in the assembly",
-                      ht ? "holder_tool" : "spindle_holder"),
-          "give the joint trial values in the assembly file");
-    JointFitOptions fo = o.fit;
-    fo.filter = o.filter;
-    fo.shared_calibration = o.noise.calibration_shared;
-    if (report) fo.progress = [&](double x) { progress(0.3 + 0.6 * x); };
-    r.fit = fit_joint(fd, starts, fo);
-    r.identified = r.fit->parameters;
-    for (const auto& w : r.fit->warnings)
-      if (std::find(r.warnings.begin(), r.warnings.end(), w) == r.warnings.end()) r.warnings.push_back(w);
-  } else {
-    r.identified = r.seed.medians();
-  }
+  if (o.method == IdentificationMethod::Fit) fit_in_band(r, assembly, setups, full, o, have_closed_form, report);
+  else r.identified = r.seed.medians();
   progress(0.9);
 
   // Forward check of every set-up: the same smoothing on data and prediction, judged against the noise.

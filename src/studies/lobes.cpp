@@ -9,7 +9,7 @@
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/plausibility.hpp"
-#include "toolpoint/uncertainty_io.hpp"
+#include "toolpoint/io/uncertainty_io.hpp"
 
 namespace toolpoint {
 

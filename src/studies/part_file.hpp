@@ -22,7 +22,7 @@
 #include <vector>
 
 #include "toolpoint/error.hpp"
-#include "toolpoint/io.hpp"
+#include "toolpoint/io/io.hpp"
 #include "toolpoint/studies/shards.hpp"
 
 namespace toolpoint::part_file {

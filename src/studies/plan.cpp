@@ -10,8 +10,8 @@
 
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/peaks.hpp"
-#include "toolpoint/uncertainty.hpp"
+#include "toolpoint/measured/peaks.hpp"
+#include "toolpoint/uncertainty/uncertainty.hpp"
 #include "part_file.hpp"
 
 namespace toolpoint {

@@ -9,13 +9,13 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 
-#include "toolpoint/assembly_file.hpp"
+#include "toolpoint/io/assembly_file.hpp"
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
-#include "toolpoint/io.hpp"
+#include "toolpoint/io/io.hpp"
 #include "toolpoint/studies/overhang.hpp"
 #include "toolpoint/studies/plan.hpp"
-#include "toolpoint/stability_io.hpp"
+#include "toolpoint/io/stability_io.hpp"
 #include "toolpoint/studies/plan_io.hpp"
 #include "part_file.hpp"
 #include "toml_reader.hpp"

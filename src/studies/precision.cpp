@@ -7,7 +7,7 @@
 #include <limits>
 
 #include "toolpoint/error.hpp"
-#include "toolpoint/joint_fit.hpp"
+#include "toolpoint/identify/joint_fit.hpp"
 #include "toolpoint/statistics.hpp"
 
 namespace toolpoint {

@@ -51,7 +51,7 @@ Assembly bearings_at_speed(const Assembly& a, const PredictOptions& options) {
 // the FRF, its modes refined on the model's x–x part.
 Prediction two_plane_prediction(const AssemblyModel& model, const std::vector<double>& grid, const PredictOptions& options,
                                 const ProgressCallback& progress) {
-  const double spin = options.speed_rpm * 2.0 * kPi / 60.0;
+  const double spin = rad_s_of_rpm(options.speed_rpm);
   Prediction p;
   p.receptance = PredictedFrf::ToolPoint;
   p.warnings = model.warnings();

@@ -187,7 +187,7 @@ plot::Figure simulation_surface_figure(const SimulationStudyResult& r) {
   const int points = std::min(20000, std::max(200, 40 * r.cutter.teeth() * (s.revolutions - s.analysed_from)));
   for (int i = 0; i <= points; ++i) xs.push_back(x0 + (x1 - x0) * i / points);
   plot::Figure fig;
-  fig.title = fmt::format("Machined wall at φ = {:.0f}° (material left, +: undercut): {}", wall.angle_rad * 180.0 / kPi,
+  fig.title = fmt::format("Machined wall at φ = {:.0f}° (material left, +: undercut): {}", degrees_of(wall.angle_rad),
                           cut_title(r));
   fig.x.label = "Position along the feed [mm]";
   plot::Panel p;
@@ -218,8 +218,8 @@ plot::Figure simulated_map_figure(const SimulatedMap& m) {
   if (m.rows.empty()) throw InvalidArgument("simulated map figure: the map has no speeds");
   plot::Figure fig;
   fig.title = fmt::format("Simulated stability: {} teeth, a/D from φ {:.0f}°–{:.0f}°, {} revolutions per cell",
-                          h.options.cutter.teeth(), h.options.cut.engagement.entry_rad * 180.0 / kPi,
-                          h.options.cut.engagement.exit_rad * 180.0 / kPi, h.options.simulation.revolutions);
+                          h.options.cutter.teeth(), degrees_of(h.options.cut.engagement.entry_rad),
+                          degrees_of(h.options.cut.engagement.exit_rad), h.options.simulation.revolutions);
   fig.x.label = "Spindle speed [rpm]";
   fig.width_px = 1200;
   plot::Panel p;

@@ -62,7 +62,7 @@ Table simulation_wall_table(const SimulationResult& s) {
   t.may_be_empty = {"sle_m"};
   for (const Wall& w : s.walls)
     for (std::size_t l = 0; l < w.sle_m.size(); ++l)
-      t.rows.push_back({w.angle_rad * 180.0 / kPi, static_cast<double>(l), w.slice_height_m[l], finite_or_empty(w.sle_m[l])});
+      t.rows.push_back({degrees_of(w.angle_rad), static_cast<double>(l), w.slice_height_m[l], finite_or_empty(w.sle_m[l])});
   return t;
 }
 

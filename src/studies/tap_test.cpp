@@ -1,7 +1,7 @@
 // toolpoint: the virtual tap test (studies/tap_test.hpp).
 #include "toolpoint/studies/tap_test.hpp"
 
-#include "toolpoint/noise.hpp"
+#include "toolpoint/measured/noise.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@
 #include <limits>
 
 #include "toolpoint/error.hpp"
-#include "toolpoint/signal.hpp"
+#include "toolpoint/measured/signal.hpp"
 
 namespace toolpoint {
 

@@ -64,7 +64,7 @@ foreach(list pc_files config_files archives)
 endforeach()
 get_filename_component(config_dir ${config_files} DIRECTORY)
 foreach(f ${config_dir}/toolpointConfigVersion.cmake ${config_dir}/toolpointTargets.cmake
-          ${prefix}/bin/toolpoint ${prefix}/include/toolpoint/version.hpp ${prefix}/include/toolpoint/assembly.hpp
+          ${prefix}/bin/toolpoint ${prefix}/include/toolpoint/version.hpp ${prefix}/include/toolpoint/model/assembly.hpp
           ${prefix}/include/toolpoint/json.hpp ${prefix}/include/toolpoint/studies/overhang.hpp
           ${prefix}/share/toolpoint/bt40_shrinkfit_16mm.toml ${prefix}/share/doc/toolpoint/LICENSE)
   if(NOT EXISTS ${f})

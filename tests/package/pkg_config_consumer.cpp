@@ -3,7 +3,7 @@
 // (SLEEF), so every library the static libtoolpoint needs must be on the link line.
 #include <cstdio>
 
-#include <toolpoint/assembly_file.hpp>
+#include <toolpoint/io/assembly_file.hpp>
 #include <toolpoint/error.hpp>
 #include <toolpoint/version.hpp>
 

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "support/fe_beam.hpp"
-#include "toolpoint/assembly.hpp"
+#include "toolpoint/model/assembly.hpp"
 
 namespace toolpoint::test {
 

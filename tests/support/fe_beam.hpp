@@ -76,7 +76,7 @@
 #include <memory>
 #include <vector>
 
-#include "toolpoint/receptance.hpp"
+#include "toolpoint/model/receptance.hpp"
 
 namespace fe_oracle {
 

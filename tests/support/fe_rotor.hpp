@@ -12,7 +12,7 @@
 #include <Eigen/Dense>
 
 #include "support/fe_beam.hpp"
-#include "toolpoint/beam.hpp"
+#include "toolpoint/model/beam.hpp"
 
 namespace fe_oracle {
 

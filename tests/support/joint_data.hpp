@@ -6,11 +6,11 @@
 #include <string>
 #include <vector>
 
-#include "toolpoint/assembly_file.hpp"
-#include "toolpoint/identify.hpp"
-#include "toolpoint/joint_file.hpp"
-#include "toolpoint/joint_fit.hpp"
-#include "toolpoint/signal.hpp"
+#include "toolpoint/io/assembly_file.hpp"
+#include "toolpoint/identify/identify.hpp"
+#include "toolpoint/io/joint_file.hpp"
+#include "toolpoint/identify/joint_fit.hpp"
+#include "toolpoint/measured/signal.hpp"
 
 namespace toolpoint::test {
 

@@ -16,7 +16,7 @@
 #include <utility>
 #include <vector>
 
-#include "toolpoint/io.hpp"
+#include "toolpoint/io/io.hpp"
 
 namespace toolpoint::test {
 

@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "toolpoint/conventions.hpp"
-#include "toolpoint/stability.hpp"
+#include "toolpoint/stability/stability.hpp"
 
 namespace toolpoint::test {
 

@@ -10,8 +10,8 @@
 #include <utility>
 #include <vector>
 
-#include "toolpoint/beam.hpp"
-#include "toolpoint/receptance.hpp"
+#include "toolpoint/model/beam.hpp"
+#include "toolpoint/model/receptance.hpp"
 
 namespace toolpoint::test {
 

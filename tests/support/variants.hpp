@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "toolpoint/frf_file.hpp"
+#include "toolpoint/io/frf_file.hpp"
 
 namespace toolpoint::test {
 

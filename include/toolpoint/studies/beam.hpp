@@ -14,8 +14,9 @@
 #include <string>
 #include <vector>
 
-#include "toolpoint/beam.hpp"
-#include "toolpoint/plot.hpp"
+#include "toolpoint/model/beam.hpp"
+#include "toolpoint/conventions.hpp"
+#include "toolpoint/plot/plot.hpp"
 
 namespace toolpoint {
 
@@ -79,9 +80,6 @@ struct BeamStudy {
 // Runs the study. Throws InvalidArgument (options, the segment: Segment::check()),
 // NumericalError (the exact receptance at an undamped natural frequency).
 BeamStudy run_beam_study(const BeamStudyOptions& options);
-
-// rpm → rad/s (2π/60).
-double rad_s_of_rpm(double rpm);
 
 // The Campbell diagram of a study with BeamStudyOptions::campbell_rpm: natural frequency [Hz]
 // against speed [rpm], each elastic mode's forward whirl (solid) and backward whirl (dashed) in

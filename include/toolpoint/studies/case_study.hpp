@@ -16,10 +16,10 @@
 #include <cstdint>
 #include <vector>
 
-#include "toolpoint/assembly.hpp"
-#include "toolpoint/identify.hpp"
-#include "toolpoint/plot.hpp"
-#include "toolpoint/signal.hpp"
+#include "toolpoint/model/assembly.hpp"
+#include "toolpoint/identify/identify.hpp"
+#include "toolpoint/plot/plot.hpp"
+#include "toolpoint/measured/signal.hpp"
 #include "toolpoint/studies/identification.hpp"
 
 namespace toolpoint {

@@ -21,8 +21,8 @@
 #include <array>
 #include <vector>
 
-#include "toolpoint/assembly.hpp"
-#include "toolpoint/signal.hpp"
+#include "toolpoint/model/assembly.hpp"
+#include "toolpoint/measured/signal.hpp"
 #include "toolpoint/studies/tap_test.hpp"
 
 namespace toolpoint {

@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "toolpoint/receptance.hpp"
-#include "toolpoint/signal.hpp"
+#include "toolpoint/model/receptance.hpp"
+#include "toolpoint/measured/signal.hpp"
 
 namespace toolpoint {
 

@@ -32,14 +32,14 @@
 #include <utility>
 #include <vector>
 
-#include "toolpoint/assembly.hpp"
-#include "toolpoint/forward_check.hpp"
-#include "toolpoint/identify.hpp"
-#include "toolpoint/joint_file.hpp"
-#include "toolpoint/joint_fit.hpp"
-#include "toolpoint/noise.hpp"
-#include "toolpoint/plot.hpp"
-#include "toolpoint/signal.hpp"
+#include "toolpoint/model/assembly.hpp"
+#include "toolpoint/identify/forward_check.hpp"
+#include "toolpoint/identify/identify.hpp"
+#include "toolpoint/io/joint_file.hpp"
+#include "toolpoint/identify/joint_fit.hpp"
+#include "toolpoint/measured/noise.hpp"
+#include "toolpoint/plot/plot.hpp"
+#include "toolpoint/measured/signal.hpp"
 #include "toolpoint/studies/study.hpp"
 
 namespace toolpoint {

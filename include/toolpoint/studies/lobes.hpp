@@ -14,14 +14,14 @@
 #include <string>
 #include <vector>
 
-#include "toolpoint/assembly.hpp"
-#include "toolpoint/joint_file.hpp"
-#include "toolpoint/modal_fit.hpp"
+#include "toolpoint/model/assembly.hpp"
+#include "toolpoint/io/joint_file.hpp"
+#include "toolpoint/stability/modal_fit.hpp"
 #include "toolpoint/parallel.hpp"
-#include "toolpoint/plot.hpp"
-#include "toolpoint/stability.hpp"
+#include "toolpoint/plot/plot.hpp"
+#include "toolpoint/stability/stability.hpp"
 #include "toolpoint/studies/study.hpp"
-#include "toolpoint/uncertainty.hpp"
+#include "toolpoint/uncertainty/uncertainty.hpp"
 
 namespace toolpoint {
 

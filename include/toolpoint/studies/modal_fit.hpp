@@ -4,8 +4,8 @@
 #include <string>
 #include <vector>
 
-#include "toolpoint/modal_fit.hpp"
-#include "toolpoint/plot.hpp"
+#include "toolpoint/stability/modal_fit.hpp"
+#include "toolpoint/plot/plot.hpp"
 
 namespace toolpoint {
 

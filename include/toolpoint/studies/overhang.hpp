@@ -18,14 +18,14 @@
 #include <string>
 #include <vector>
 
-#include "toolpoint/assembly.hpp"
-#include "toolpoint/io.hpp"
-#include "toolpoint/joint_file.hpp"
-#include "toolpoint/peaks.hpp"
-#include "toolpoint/plot.hpp"
-#include "toolpoint/receptance.hpp"
+#include "toolpoint/model/assembly.hpp"
+#include "toolpoint/io/io.hpp"
+#include "toolpoint/io/joint_file.hpp"
+#include "toolpoint/measured/peaks.hpp"
+#include "toolpoint/plot/plot.hpp"
+#include "toolpoint/model/receptance.hpp"
 #include "toolpoint/studies/study.hpp"
-#include "toolpoint/uncertainty.hpp"
+#include "toolpoint/uncertainty/uncertainty.hpp"
 
 namespace toolpoint {
 

@@ -44,12 +44,12 @@
 #include <string>
 #include <vector>
 
-#include "toolpoint/assembly.hpp"
-#include "toolpoint/joint_file.hpp"
+#include "toolpoint/model/assembly.hpp"
+#include "toolpoint/io/joint_file.hpp"
 #include "toolpoint/parallel.hpp"
-#include "toolpoint/plot.hpp"
-#include "toolpoint/receptance.hpp"
-#include "toolpoint/stability.hpp"
+#include "toolpoint/plot/plot.hpp"
+#include "toolpoint/model/receptance.hpp"
+#include "toolpoint/stability/stability.hpp"
 #include "toolpoint/studies/lobes.hpp"
 #include "toolpoint/studies/shards.hpp"
 #include "toolpoint/studies/study.hpp"

@@ -30,11 +30,11 @@
 #include <string>
 #include <vector>
 
-#include "toolpoint/assembly.hpp"
-#include "toolpoint/identify.hpp"
-#include "toolpoint/joint.hpp"
-#include "toolpoint/noise.hpp"
-#include "toolpoint/signal.hpp"
+#include "toolpoint/model/assembly.hpp"
+#include "toolpoint/identify/identify.hpp"
+#include "toolpoint/model/joint.hpp"
+#include "toolpoint/measured/noise.hpp"
+#include "toolpoint/measured/signal.hpp"
 #include "toolpoint/studies/study.hpp"
 #include "toolpoint/studies/tap_test.hpp"
 

@@ -9,8 +9,8 @@
 #include <utility>
 #include <vector>
 
-#include "toolpoint/frf_file.hpp"
-#include "toolpoint/resample.hpp"
+#include "toolpoint/io/frf_file.hpp"
+#include "toolpoint/measured/resample.hpp"
 
 namespace toolpoint {
 

@@ -13,14 +13,14 @@
 #include <string>
 #include <vector>
 
-#include "toolpoint/assembly.hpp"
-#include "toolpoint/frf_file.hpp"
-#include "toolpoint/plot.hpp"
-#include "toolpoint/signal.hpp"
+#include "toolpoint/model/assembly.hpp"
+#include "toolpoint/io/frf_file.hpp"
+#include "toolpoint/plot/plot.hpp"
+#include "toolpoint/measured/signal.hpp"
 #include "toolpoint/studies/fd_correction.hpp"
 #include "toolpoint/studies/study.hpp"
 #include "toolpoint/studies/tap_test.hpp"
-#include "toolpoint/uff.hpp"
+#include "toolpoint/io/uff.hpp"
 
 namespace toolpoint {
 

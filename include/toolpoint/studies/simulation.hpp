@@ -12,9 +12,9 @@
 #include <vector>
 
 #include "toolpoint/parallel.hpp"
-#include "toolpoint/plot.hpp"
-#include "toolpoint/simulation.hpp"
-#include "toolpoint/stability.hpp"
+#include "toolpoint/plot/plot.hpp"
+#include "toolpoint/stability/simulation.hpp"
+#include "toolpoint/stability/stability.hpp"
 #include "toolpoint/studies/lobes.hpp"
 #include "toolpoint/studies/shards.hpp"
 #include "toolpoint/studies/study.hpp"

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "toolpoint/io.hpp"
+#include "toolpoint/io/io.hpp"
 #include "toolpoint/studies/simulation.hpp"
 
 namespace toolpoint {

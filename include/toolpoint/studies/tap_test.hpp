@@ -17,8 +17,8 @@
 #include <string>
 #include <vector>
 
-#include "toolpoint/assembly.hpp"
-#include "toolpoint/receptance.hpp"
+#include "toolpoint/model/assembly.hpp"
+#include "toolpoint/model/receptance.hpp"
 #include "toolpoint/studies/study.hpp"
 
 namespace toolpoint {

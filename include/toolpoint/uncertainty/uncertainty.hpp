@@ -1,7 +1,7 @@
 // toolpoint: a joint's uncertainty carried forward — to the tool point FRF (a band) and to the
 // chatter stability of a cut (quantile envelopes and the probability that a depth is stable).
 //
-// Method: Monte Carlo over the joint (the identified constants with their covariance, joint_file.hpp
+// Method: Monte Carlo over the joint (the identified constants with their covariance, identified_joint.hpp
 // / joint_fit.hpp): N joints drawn from the multivariate normal N(θ̂, C) — x = θ̂ + V √Λ z with
 // C = V Λ Vᵀ (negative rounding eigenvalues taken as 0: a reciprocal fit's covariance is singular by
 // construction, k_θf ≡ k_ym), z from standard_normals with seed stream_seed(seed, i) for sample i —
@@ -20,13 +20,13 @@
 
 #include <Eigen/Core>
 
-#include "toolpoint/assembly.hpp"
-#include "toolpoint/joint.hpp"
-#include "toolpoint/joint_file.hpp"
+#include "toolpoint/model/assembly.hpp"
+#include "toolpoint/model/joint.hpp"
+#include "toolpoint/identify/identified_joint.hpp"
 #include "toolpoint/parallel.hpp"
 #include "toolpoint/statistics.hpp"
-#include "toolpoint/receptance.hpp"
-#include "toolpoint/stability.hpp"
+#include "toolpoint/model/receptance.hpp"
+#include "toolpoint/stability/stability.hpp"
 
 namespace toolpoint {
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "toolpoint/stability.hpp"
+#include "toolpoint/stability/stability.hpp"
 
 namespace toolpoint {
 

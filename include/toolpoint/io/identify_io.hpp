@@ -4,8 +4,8 @@
 // Units (in the column names): SI — k_yf N/m, c_yf N·s/m, …, as joint.hpp; frequency in Hz.
 #pragma once
 
-#include "toolpoint/identify.hpp"
-#include "toolpoint/io.hpp"
+#include "toolpoint/identify/identify.hpp"
+#include "toolpoint/io/io.hpp"
 
 namespace toolpoint {
 

@@ -97,11 +97,11 @@
 
 #include <Eigen/Core>
 
-#include "toolpoint/joint.hpp"
-#include "toolpoint/noise.hpp"
+#include "toolpoint/model/joint.hpp"
+#include "toolpoint/measured/noise.hpp"
 #include "toolpoint/parallel.hpp"
-#include "toolpoint/receptance.hpp"
-#include "toolpoint/signal.hpp"
+#include "toolpoint/model/receptance.hpp"
+#include "toolpoint/measured/signal.hpp"
 
 namespace toolpoint {
 

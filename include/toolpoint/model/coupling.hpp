@@ -7,8 +7,8 @@
 
 #include <Eigen/Core>
 
-#include "toolpoint/joint.hpp"
-#include "toolpoint/receptance.hpp"
+#include "toolpoint/model/joint.hpp"
+#include "toolpoint/model/receptance.hpp"
 
 namespace toolpoint {
 

@@ -61,8 +61,8 @@
 
 #include <Eigen/Core>
 
-#include "toolpoint/receptance.hpp"
-#include "toolpoint/signal.hpp"
+#include "toolpoint/model/receptance.hpp"
+#include "toolpoint/measured/signal.hpp"
 
 namespace toolpoint {
 

@@ -37,7 +37,7 @@
 #include <string_view>
 #include <vector>
 
-#include "toolpoint/receptance.hpp"
+#include "toolpoint/model/receptance.hpp"
 
 namespace toolpoint {
 

@@ -29,10 +29,10 @@
 #include <string>
 #include <vector>
 
-#include "toolpoint/modal_fit.hpp"
+#include "toolpoint/stability/modal_fit.hpp"
 #include "toolpoint/parallel.hpp"
-#include "toolpoint/periodic_delay.hpp"
-#include "toolpoint/receptance.hpp"
+#include "toolpoint/stability/periodic_delay.hpp"
+#include "toolpoint/model/receptance.hpp"
 
 namespace toolpoint {
 

@@ -39,11 +39,11 @@
 #include <string>
 #include <vector>
 
-#include "toolpoint/joint.hpp"
-#include "toolpoint/joint_fit.hpp"
-#include "toolpoint/noise.hpp"
+#include "toolpoint/model/joint.hpp"
+#include "toolpoint/identify/joint_fit.hpp"
+#include "toolpoint/measured/noise.hpp"
 #include "toolpoint/parallel.hpp"
-#include "toolpoint/signal.hpp"
+#include "toolpoint/measured/signal.hpp"
 
 namespace toolpoint {
 

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "toolpoint/assembly.hpp"
+#include "toolpoint/model/assembly.hpp"
 
 namespace toolpoint {
 

@@ -24,30 +24,10 @@
 
 #include <Eigen/Core>
 
-#include "toolpoint/assembly.hpp"
-#include "toolpoint/assembly_file.hpp"
-#include "toolpoint/joint.hpp"
+#include "toolpoint/io/assembly_file.hpp"
+#include "toolpoint/identify/identified_joint.hpp"
 
 namespace toolpoint {
-
-enum class JointInterface { HolderTool, SpindleHolder };
-const char* to_string(JointInterface i);  // "holder_tool", "spindle_holder"
-
-struct JointUncertainty {
-  double confidence = 0.95;
-  std::array<double, 8> lower{}, upper{};
-  std::array<bool, 8> determined{};
-  Eigen::Matrix<double, 8, 8> covariance = Eigen::Matrix<double, 8, 8>::Zero();
-};
-
-struct JointFile {
-  JointInterface interface = JointInterface::HolderTool;
-  JointParameters parameters;
-  std::optional<JointUncertainty> uncertainty;
-  // [identification]: key and value as written (strings, or numbers in shortest round-trip form).
-  std::vector<std::pair<std::string, std::string>> identification;
-  std::string source;  // the path it was read from (messages)
-};
 
 // TOML text of the file (shortest round-trip numbers: reading it back gives the same doubles).
 std::string format_joint_file(const JointFile& file);
@@ -60,16 +40,7 @@ void write_joint_file(const std::string& path, const JointFile& file);
 JointFile parse_joint_file(const std::string& text, const std::string& source);
 JointFile load_joint_file(const std::string& path);
 
-// What a joint file says against its own use: an [identification] verdict other than "pass" (an
-// identification judged doubtful, or one judged fail and written all the same). One message each,
-// naming the file.
-std::vector<std::string> joint_file_warnings(const JointFile& file);
-
-// The assembly with the file's joint in place of the one at its interface, carrying the file's
-// warnings (Joint::warnings = joint_file_warnings), so every result computed with it repeats them.
-Assembly with_joint(const Assembly& assembly, const JointFile& file);
-
-// The same for an assembly read from its file; besides, what the file's notes said of the
+// with_joint (identified_joint.hpp) for an assembly read from its file; besides, what the file's notes said of the
 // replaced joint (an indefinite stiffness or damping matrix, joint_warnings) gives way to what is
 // true of the joint put in, named by the joint file.
 LoadedAssembly with_joint(LoadedAssembly loaded, const JointFile& file);

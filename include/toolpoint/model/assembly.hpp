@@ -24,10 +24,10 @@
 
 #include <Eigen/Core>
 
-#include "toolpoint/beam.hpp"
+#include "toolpoint/model/beam.hpp"
 #include "toolpoint/conventions.hpp"
-#include "toolpoint/joint.hpp"
-#include "toolpoint/receptance.hpp"
+#include "toolpoint/model/joint.hpp"
+#include "toolpoint/model/receptance.hpp"
 
 namespace toolpoint {
 

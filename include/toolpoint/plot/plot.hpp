@@ -28,7 +28,7 @@
 #include <vector>
 
 #include "toolpoint/error.hpp"
-#include "toolpoint/receptance.hpp"
+#include "toolpoint/model/receptance.hpp"
 
 namespace toolpoint::plot {
 

@@ -21,10 +21,10 @@
 #include <string>
 #include <vector>
 
-#include "toolpoint/assembly.hpp"
-#include "toolpoint/joint.hpp"
-#include "toolpoint/peaks.hpp"
-#include "toolpoint/receptance.hpp"
+#include "toolpoint/model/assembly.hpp"
+#include "toolpoint/model/joint.hpp"
+#include "toolpoint/measured/peaks.hpp"
+#include "toolpoint/model/receptance.hpp"
 
 namespace toolpoint {
 

@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "toolpoint/io.hpp"
-#include "toolpoint/plot.hpp"
-#include "toolpoint/uncertainty.hpp"
+#include "toolpoint/io/io.hpp"
+#include "toolpoint/plot/plot.hpp"
+#include "toolpoint/uncertainty/uncertainty.hpp"
 
 namespace toolpoint {
 

@@ -55,8 +55,8 @@
 #include <string>
 #include <vector>
 
-#include "toolpoint/modal_fit.hpp"
-#include "toolpoint/stability.hpp"
+#include "toolpoint/stability/modal_fit.hpp"
+#include "toolpoint/stability/stability.hpp"
 
 namespace toolpoint {
 

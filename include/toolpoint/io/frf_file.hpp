@@ -43,9 +43,9 @@
 #include <string_view>
 #include <vector>
 
-#include "toolpoint/io.hpp"
-#include "toolpoint/receptance.hpp"
-#include "toolpoint/uff.hpp"
+#include "toolpoint/io/io.hpp"
+#include "toolpoint/model/receptance.hpp"
+#include "toolpoint/io/uff.hpp"
 
 namespace toolpoint {
 

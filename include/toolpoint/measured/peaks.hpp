@@ -6,7 +6,7 @@
 #include <functional>
 #include <vector>
 
-#include "toolpoint/receptance.hpp"
+#include "toolpoint/model/receptance.hpp"
 
 namespace toolpoint {
 

@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "toolpoint/receptance.hpp"
+#include "toolpoint/model/receptance.hpp"
 
 namespace toolpoint {
 
