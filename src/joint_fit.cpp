@@ -3,7 +3,6 @@
 #include "toolpoint/identify/joint_fit.hpp"
 
 #include <algorithm>
-#include <cstdlib>
 #include <cmath>
 #include <fmt/format.h>
 #include <limits>
@@ -150,7 +149,7 @@ struct Setup {
   std::vector<Cov8> W;                     // whitening per frequency (W Σ_w Wᵀ = I)
   std::vector<Cov8> sigma;                 // noise covariance of the fitted residual at i (filtered: S's diagonal block)
   std::vector<Cov8> sigma_raw;             // Σ_G + J_B Σ_B' J_Bᵀ per frequency, before any filter (Σ_B' of B as it enters)
-  std::vector<Cov8> sigma_g, sigma_b, jb;  // Σ_G, the raw B11's Σ_B and J_B = ∂G11/∂B11 per frequency
+  std::vector<Cov8> sigma_g, sigma_b, jb;  // with b_rows: Σ_G, the raw B11's Σ_B, J_B = ∂G11/∂B11 per frequency
   std::size_t b_group = 0;                 // set-ups with the same B11 data share its calibration factor
 };
 
@@ -284,42 +283,42 @@ void accumulate(const Setup& s, const BlockSeries& B, const BlockSeries& G, cons
   }
 }
 
-// Weights at θ: Σ_raw,i = Σ_G(G_ref) + J_B Σ_B(B_base) J_Bᵀ around the model's values, filtered
-// to S's diagonal blocks when filtering, then floored (kWeightFloor within each entry, 1e-12 of
-// |G_ref|² on each part) and whitened.
+// Weights at θ: Σ_raw,i = Σ_G(G_ref) + J_B Σ_B(B_base) J_Bᵀ around the model's values (Σ_B the
+// smoother's variance of it where B11 enters smoothed), filtered to S's diagonal blocks when
+// filtering, then floored (kWeightFloor within each entry, 1e-12 of |G_ref|² on each part) and
+// whitened.
 void update_weights(Setup& s, const Parametrization& par, const VectorXd& q) {
   const JointParameters p = par.params(q);
   const std::size_t n = s.f.size();
   s.sigma_raw.resize(n);
-  s.sigma_g.resize(n);
-  s.sigma_b.assign(n, Cov8::Zero());
-  s.jb.assign(n, Cov8::Zero());
+  // With B11 smoothed, the parts are kept: the smoothed variance needs the neighbours' Σ_B, and
+  // linearise the parts apart. Raw, Σ_G + J_B Σ_B J_Bᵀ is all there is to keep.
+  const bool keep_parts = s.b_rows.has_value();
+  s.sigma_g.resize(keep_parts ? n : 0);
+  s.sigma_b.resize(keep_parts ? n : 0);
+  s.jb.resize(keep_parts ? n : 0);
   std::vector<Block> gref(n);
   for (std::size_t i = 0; i < n; ++i) {
     const Block K = p.stiffness(s.f[i]);
     gref[i] = forward_g11(s.A[i], s.B_base.blocks[i], K);
-    s.sigma_g[i] = s.g_noise->absolute(i, gref[i]);
-    if (!s.b_noise->exact()) {
+    Cov8 sig = s.g_noise->absolute(i, gref[i]);
+    if (keep_parts) {
+      s.sigma_g[i] = sig;
       s.jb[i] = b11_jacobian(s.A[i], s.B_base.blocks[i], K);
       s.sigma_b[i] = s.b_noise->absolute(i, s.B_base.blocks[i]);
-    }
-  }
-  for (std::size_t i = 0; i < n; ++i) {
-    Cov8 sig = s.sigma_g[i];
-    if (!s.b_noise->exact()) {
-      // B11 as it enters: raw, or smoothed (the smoother's variance at i, Σ_k S_ik² Σ_B,k; its
-      // correlation between neighbours enters the sandwich in linearise).
-      Cov8 sb = Cov8::Zero();
-      if (s.b_rows) {
-        const auto& w = s.b_rows->weight[i];
-        for (std::size_t k = 0; k < w.size(); ++k) sb += (w[k] * w[k]) * s.sigma_b[s.b_rows->start[i] + k];
-      } else {
-        sb = s.sigma_b[i];
-      }
-      sig.noalias() += s.jb[i].lazyProduct(sb).lazyProduct(s.jb[i].transpose());
+    } else if (!s.b_noise->exact()) {
+      const Cov8 jb = b11_jacobian(s.A[i], s.B_base.blocks[i], K);
+      sig.noalias() += jb.lazyProduct(s.b_noise->absolute(i, s.B_base.blocks[i])).lazyProduct(jb.transpose());
     }
     s.sigma_raw[i] = sig;
   }
+  if (keep_parts)  // the smoothed B11's variance at i: Σ_k S_ik² Σ_B,k (its correlation: linearise)
+    for (std::size_t i = 0; i < n; ++i) {
+      Cov8 sb = Cov8::Zero();
+      const auto& w = s.b_rows->weight[i];
+      for (std::size_t k = 0; k < w.size(); ++k) sb += (w[k] * w[k]) * s.sigma_b[s.b_rows->start[i] + k];
+      s.sigma_raw[i].noalias() += s.jb[i].lazyProduct(sb).lazyProduct(s.jb[i].transpose());
+    }
   s.sigma = s.sigma_raw;
   if (s.rows) {
     for (std::size_t i = 0; i < n; ++i) {

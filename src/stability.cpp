@@ -30,7 +30,7 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 void Engagement::check() const {
   if (!std::isfinite(entry_rad) || !std::isfinite(exit_rad) || entry_rad < 0.0 || exit_rad > kPi || !(entry_rad < exit_rad))
     throw InvalidArgument(fmt::format("entry/exit angles {:.6g}°/{:.6g}° must satisfy 0 ≤ entry < exit ≤ 180°",
-                                      entry_rad * 180.0 / kPi, exit_rad * 180.0 / kPi),
+                                      degrees_of(entry_rad), degrees_of(exit_rad)),
                           "angles are measured clockwise from the normal (y) direction; up-milling starts at 0°, "
                           "down-milling ends at 180°");
 }
@@ -44,7 +44,7 @@ Engagement engagement_from_immersion(double radial_immersion, MillingDirection d
 }
 
 Engagement engagement_from_degrees(double entry_deg, double exit_deg) {
-  Engagement e{entry_deg * kPi / 180.0, exit_deg * kPi / 180.0};
+  Engagement e{radians_of(entry_deg), radians_of(exit_deg)};
   e.check();
   return e;
 }
@@ -58,7 +58,7 @@ static void check_helix(const CuttingConditions& c) {
   for (std::size_t j = 0; j < c.helix_rad.size(); ++j)
     if (!std::isfinite(c.helix_rad[j]) || c.helix_rad[j] < 0.0 || c.helix_rad[j] > kMaxHelixRad)
       throw InvalidArgument(fmt::format("CuttingConditions::helix_rad[{}] = {:.6g}° must lie in 0…80°", j,
-                                        c.helix_rad[j] * 180.0 / kPi),
+                                        degrees_of(c.helix_rad[j])),
                             c.helix_rad[j] < 0.0 ? "give the helix angle's size, ≥ 0: the edge lags the tip as the height "
                                                    "grows (a right-hand helix on a clockwise cutter)"
                                                  : "end mills have helix angles of 0…60° (0…1.05 rad): check the unit");
@@ -120,12 +120,12 @@ void CuttingConditions::check() const {
   for (std::size_t j = 0; j < pitch_rad.size(); ++j) {
     if (!std::isfinite(pitch_rad[j]) || !(pitch_rad[j] > 0.0))
       throw InvalidArgument(
-          fmt::format("CuttingConditions::pitch_rad[{}] = {:.6g}° must be positive", j, pitch_rad[j] * 180.0 / kPi));
+          fmt::format("CuttingConditions::pitch_rad[{}] = {:.6g}° must be positive", j, degrees_of(pitch_rad[j])));
     sum += pitch_rad[j];
   }
   if (std::abs(sum - 2.0 * kPi) > 1e-6)
     throw InvalidArgument(fmt::format("CuttingConditions::pitch_rad adds up to {:.6g}°, not a revolution (360°)",
-                                      sum * 180.0 / kPi),
+                                      degrees_of(sum)),
                           "the pitch angles are the spacings between successive teeth round the tool");
 }
 
@@ -982,7 +982,7 @@ std::vector<double> cut_changes(const ToothGeometry& g, int j, const Engagement&
 void add_revolution_terms(PeriodicDelaySystem& sys, const CuttingConditions& cutting, double speed_rpm, double feed_per_tooth_m,
                           int d) {
   const int teeth = cutting.teeth;
-  const double spin = 2.0 * kPi * speed_rpm / 60.0;
+  const double spin = rad_s_of_rpm(speed_rpm);
   sys.period = 60.0 / speed_rpm;
   sys.regenerative = false;
   const ToothGeometry g = tooth_geometry(cutting, feed_per_tooth_m);
@@ -1084,7 +1084,7 @@ static PeriodicDelaySystem cutting_forces_system(const ModalModel& model, const 
     return sys;
   }
   const int teeth = cutting.teeth;
-  const double spin = 2.0 * kPi * speed_rpm / 60.0, pitch = 2.0 * kPi / teeth;  // Ω [rad/s], tooth pitch [rad]
+  const double spin = rad_s_of_rpm(speed_rpm), pitch = 2.0 * kPi / teeth;  // Ω [rad/s], tooth pitch [rad]
   sys.period = 60.0 / (teeth * speed_rpm);
   sys.regenerative = true;
   const double kt = cutting.tangential_coefficient, kr = cutting.radial_ratio;
@@ -1139,7 +1139,7 @@ PeriodicDelaySystem milling_delay_system(const ModalModel& model, const CuttingC
   std::vector<double> lag(static_cast<std::size_t>(teeth), 0.0);
   for (std::size_t j = 1; j < lag.size(); ++j)
     lag[j] = lag[j - 1] + (cutting.pitch_rad.empty() ? 2.0 * kPi / teeth : cutting.pitch_rad[j - 1]);
-  const double spin = 2.0 * kPi * speed_rpm / 60.0, speed = cutting_speed(cutting, speed_rpm);
+  const double spin = rad_s_of_rpm(speed_rpm), speed = cutting_speed(cutting, speed_rpm);
   const Engagement e = cutting.engagement;
   return with_velocity_feedback(sys, velocity, [=](double t, Eigen::MatrixXd& out) {
     Eigen::Matrix2d sum = Eigen::Matrix2d::Zero();
@@ -1256,7 +1256,7 @@ struct HelixCut {
 HelixCut helix_cut(const CuttingConditions& cutting, double speed_rpm, double depth_m, double feed_per_tooth_m) {
   HelixCut h;
   h.teeth = cutting.teeth;
-  h.spin = 2.0 * kPi * speed_rpm / 60.0;
+  h.spin = rad_s_of_rpm(speed_rpm);
   h.e = cutting.engagement;
   const double radius = 0.5 * cutting.diameter_m;
   for (int j = 0; j < h.teeth; ++j) h.kappa.push_back(std::tan(cutting.helix_of(j)) / radius);
@@ -1276,7 +1276,7 @@ HelixCut helix_cut(const CuttingConditions& cutting, double speed_rpm, double de
           throw InvalidArgument(
               fmt::format("CuttingConditions::helix_rad: at {:.4g} mm above the tip tooth {} lies {:.4g}° behind tooth {} "
                           "(outside 0…360°): the helix angles differ too much for this depth",
-                          z * 1e3, j, back * 180.0 / kPi, (j - q + h.teeth) % h.teeth),
+                          z * 1e3, j, degrees_of(back), (j - q + h.teeth) % h.teeth),
               "give helix angles closer to each other, or a smaller depth");
       }
     std::vector<double> sw;

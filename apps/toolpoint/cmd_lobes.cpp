@@ -208,8 +208,8 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
   const std::optional<StabilityUncertainty>& su = r.uncertainty;
   std::vector<std::string> comments = {fmt::format("teeth {}, K_t {} N/m^2, K_r {}, entry {:.4f} deg, exit {:.4f} deg",
                                                    so.cutting.teeth, so.cutting.tangential_coefficient, so.cutting.radial_ratio,
-                                                   so.cutting.engagement.entry_rad * 180.0 / kPi,
-                                                   so.cutting.engagement.exit_rad * 180.0 / kPi),
+                                                   degrees_of(so.cutting.engagement.entry_rad),
+                                                   degrees_of(so.cutting.engagement.exit_rad)),
                                        has_frf ? fmt::format("tool point FRF {}", input.frf_name)
                                                : std::string("modal model from --mode-x/--mode-y")};
   if (const std::string tool = tool_geometry_text(so.cutting); !tool.empty()) comments.insert(comments.begin() + 1, tool);

@@ -165,7 +165,7 @@ SpeedDependentFrfs milling_frfs_at_speeds(const Assembly& assembly, const std::v
   const bool tables = has_speed_tables(assembly);
   parallel_for(speeds_rpm.size(), parallel, [&](std::size_t j) {
     const AssemblyModel model(tables ? at_speed(assembly, speeds_rpm[j], extrapolate_bearings) : assembly);
-    const BlockSeries4 b = model.tool_point_two_plane(frequency_hz, spin ? speeds_rpm[j] * 2.0 * kPi / 60.0 : 0.0);
+    const BlockSeries4 b = model.tool_point_two_plane(frequency_hz, spin ? rad_s_of_rpm(speeds_rpm[j]) : 0.0);
     const auto part = [&](int r, int c) {
       FrfSeries f;
       f.frequency_hz = frequency_hz;

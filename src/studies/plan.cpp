@@ -154,7 +154,7 @@ double torque_per_depth(const CuttingConditions& cutting, double diameter_m, dou
 
 double power_per_depth(const CuttingConditions& cutting, double diameter_m, double feed_per_tooth_m, double edge_n_per_m,
                        double speed_rpm) {
-  return torque_per_depth(cutting, diameter_m, feed_per_tooth_m, edge_n_per_m) * 2.0 * kPi * speed_rpm / 60.0;
+  return torque_per_depth(cutting, diameter_m, feed_per_tooth_m, edge_n_per_m) * rad_s_of_rpm(speed_rpm);
 }
 
 // ---- Options ------------------------------------------------------------------------------------
@@ -398,7 +398,7 @@ void derive_depths(PlanJob& job, const PlanHeader& h) {
       limit = DepthLimit::Torque;
     }
     if (o.machine.power_w > 0.0) {
-      const double a_power = o.machine.power_w / (t1 * 2.0 * kPi * n / 60.0);
+      const double a_power = o.machine.power_w / (t1 * rad_s_of_rpm(n));
       if (a_power < a) {
         a = a_power;
         limit = DepthLimit::Power;
@@ -488,7 +488,7 @@ PlanSetup setup_at(const PlanJob& job, const PlanHeader& h, std::size_t job_inde
   s.safe_depth_m = job.safe_depth_m[k];
   s.mrr_m3_per_s = job.mrr_m3_per_s[k];
   s.torque_nm = s.depth_m * torque_per_depth(o.lobes.cutting, d, o.feed_per_tooth_m, o.edge_coefficient_n_per_m);
-  s.power_w = s.torque_nm * 2.0 * kPi * s.speed_rpm / 60.0;
+  s.power_w = s.torque_nm * rad_s_of_rpm(s.speed_rpm);
   s.limit = job.limit[k];
   s.depth_margin = s.stable_depth_m / s.depth_m - 1.0;
   s.probability = job.probability.empty() ? kNaN : job.probability[k];
@@ -666,7 +666,7 @@ Envelope speed_envelope(const Assembly& a, const std::string& name, const LobesS
 }  // namespace
 
 FrfSeries resolved_tool_point(const AssemblyModel& model, const std::vector<double>& grid) {
-  constexpr double kMaxTurn = 0.25 * kPi / 180.0;
+  constexpr double kMaxTurn = radians_of(0.25);
   FrfSeries g = entry(model.tool_point(grid), 0);
   for (int level = 0; level < 4; ++level) {
     const std::size_t n = g.size();
