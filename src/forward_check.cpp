@@ -291,6 +291,14 @@ int tally_modes(ForwardCheck& out, const std::vector<Window>& win, const Observa
         ep.push_back(relative(r.predicted[m]->magnitude, r.measured[m]->magnitude));
       }
     const MeanSd sf = mean_sd(ef), sp = mean_sd(ep);
+    auto rank_p = [](const std::vector<double>& e, double mean, double x) {
+      if (e.empty() || !std::isfinite(x)) return kNaN;
+      const double d = std::abs(x - mean);
+      const auto count = std::count_if(e.begin(), e.end(), [&](double v) { return std::abs(v - mean) >= d; });
+      return (1.0 + static_cast<double>(count)) / (1.0 + static_cast<double>(e.size()));
+    };
+    c.frequency_rank_p = rank_p(ef, sf.mean, c.frequency_error);
+    c.magnitude_rank_p = rank_p(ep, sp.mean, c.magnitude_error);
     c.frequency_mean = sf.mean;
     c.frequency_sd = sf.sd;
     c.magnitude_mean = sp.mean;
@@ -327,9 +335,12 @@ void judge_modes(ForwardCheck& out, const Observation& obs, const std::vector<Ob
       if (!exact) {
         c.frequency_z = std::abs(c.frequency_error - c.frequency_mean) / c.frequency_sd;
         c.magnitude_z = std::abs(c.magnitude_error - c.magnitude_mean) / c.magnitude_sd;
-        // A spread of zero (every replicate alike): any difference is beyond it.
-        f_beyond = !(c.frequency_z <= out.z);
-        p_beyond = !(c.magnitude_z <= out.z);
+        // A spread of zero (every replicate alike): any difference is beyond it. Beyond also
+        // needs the data's error to be more extreme than every replicate's (heavy tails).
+        const double resolved = std::round(c.resolved_fraction * static_cast<double>(reps.size()));
+        const double most_extreme = 1.0 / (1.0 + resolved);
+        f_beyond = !(c.frequency_z <= out.z) && !(c.frequency_rank_p > most_extreme);
+        p_beyond = !(c.magnitude_z <= out.z) && !(c.magnitude_rank_p > most_extreme);
       }
       const std::string what =
           fmt::format("{} comes back at {:.1f} Hz against {:.1f} Hz measured ({:+.2g} %) with its peak {:+.2g} %", where,

@@ -904,7 +904,8 @@ JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<Join
   };
   double bias_mc = 1.0;  // the bias's Monte Carlo variance, in the replicates' variance over N
   // The second world's step b₁ − b₂: the correction extrapolates by it once, and is taken to be
-  // uncertain by as much (a systematic term added to the covariance).
+  // uncertain by kExtrapolationUncertainty times as much (a systematic term added to the
+  // covariance).
   VectorXd extrapolation = VectorXd::Zero(p);
   auto mean_of = [&](const std::vector<VectorXd>& good) {
     VectorXd mean = VectorXd::Zero(p);
@@ -1000,7 +1001,7 @@ JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<Join
     }
   }
   if (bias_mc > 1.0) {
-    cov_q += extrapolation * extrapolation.transpose();
+    cov_q += kExtrapolationUncertainty * kExtrapolationUncertainty * extrapolation * extrapolation.transpose();
     out.method_description += "; the bias corrected once more from a second bootstrap world (2 b₁ − b₂, uncertain by b₁ − b₂)";
   }
   if (!smoothed_b.empty())
@@ -1028,7 +1029,7 @@ JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<Join
     iv.std_error = std::sqrt(std::max(0.0, out.covariance(j, j)));
     iv.lower = iv.estimate - z * iv.std_error;
     iv.upper = iv.estimate + z * iv.std_error;
-    iv.determined = (iv.lower > 0.0 || iv.upper < 0.0) && (iv.upper - iv.lower) < std::abs(iv.estimate);
+    iv.determined = iv.lower > 0.0 ? iv.upper < 2.0 * iv.lower : iv.upper < 0.0 && iv.lower > 2.0 * iv.upper;
     iv.free = !par.tied(j);
   }
 

@@ -76,6 +76,8 @@ void to_json(nlohmann::json& j, const ModeCheck& c) {
        {"resolved_fraction", number(c.resolved_fraction)},
        {"frequency_z", number(c.frequency_z)},
        {"magnitude_z", number(c.magnitude_z)},
+       {"frequency_rank_p", number(c.frequency_rank_p)},
+       {"magnitude_rank_p", number(c.magnitude_rank_p)},
        {"agreement", to_string(c.agreement)}};
 }
 

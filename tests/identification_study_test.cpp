@@ -5,6 +5,7 @@
 
 #include "support/joint_data.hpp"
 #include "toolpoint/error.hpp"
+#include "toolpoint/io/assembly_file.hpp"
 #include "toolpoint/json.hpp"
 #include "toolpoint/studies/identification.hpp"
 
@@ -127,6 +128,31 @@ TEST(IdentificationStudy, VerdictFailsWhereTheResultCannotBeRight) {
   id = identify_joint_from_frfs(a, {swapped}, quick(Route::HolderTool));
   EXPECT_EQ(id.verdict.verdict, Verdict::Fail) << reasons(id);
   std::printf("swapped SH11/SHT11: %s", reasons(id).c_str());
+}
+
+// A weak mode under an additive floor (the second assembly's 2.9 kHz mode, its peak 1.6 % of
+// SH11's, under a floor of 1 % of that peak) is sometimes taken for a noise peak near its window's
+// edge. The replicates make that error too, rarely, so a z-score against their spread (set by the
+// usual case) put this data set, made from the true joint, at z = 3.6 > 3.42 and failed it; the
+// rank condition (the data's error more extreme than every replicate's) lets it pass, as data
+// from the true joint should. (Seed 1000 + 7·99 of IdentificationMonteCarlo's (b) row: one of the
+// 5 false alarms of 200 it had.)
+TEST(IdentificationStudy, AWeakModeTakenForANoisePeakIsNoFalseAlarm) {
+  const Assembly a = load_assembly(std::string(TOOLPOINT_SOURCE_DIR) + "/examples/hsk63_hydraulic_12mm.toml").assembly;
+  const RouteData d = route_data(a, Route::SpindleHolderFromSH, a.grid.values());
+  IdentificationData m;
+  m.G11 = draw_block_noise(d.G, stated_block_noise(d.G, StatedNoise{0.01, 0.0, 0.01}), 1693);
+  m.g_name = "sh11.csv";
+  const Identification id = identify_joint_from_frfs(a, {m}, quick(Route::SpindleHolderFromSH));
+  ASSERT_EQ(id.forward_checks.size(), 1u);
+  const ForwardCheck& fc = id.forward_checks[0];
+  const ModeCheck* weak = nullptr;
+  for (const ModeCheck& c : fc.modes)
+    if (std::abs(c.model_hz - 2908.0) < 20.0) weak = &c;
+  ASSERT_NE(weak, nullptr);
+  EXPECT_GT(weak->frequency_z, fc.z);  // the z-test alone would fail it
+  EXPECT_GT(weak->frequency_rank_p, 1.0 / (1.0 + fc.replicates));
+  EXPECT_NE(id.verdict.verdict, Verdict::Fail);
 }
 
 // The spindle–holder joint by Eq. (18), S11 from the model: a pass, stiffnesses covered.
