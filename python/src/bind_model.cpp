@@ -182,6 +182,13 @@ void bind_segments(py::module_& m) {
       .def_readwrite("loss_factor", &Material::loss_factor, "η ≥ 0, applied to E and G")
       .def("G", &Material::G, "The shear modulus used [Pa].")
       .def("check", &Material::check, "Raises InvalidArgument naming a value out of range.")
+      .def(
+          "__eq__",
+          [](const Material& a, const Material& b) {
+            return a.name == b.name && a.youngs_modulus == b.youngs_modulus && a.poisson == b.poisson &&
+                   a.shear_modulus == b.shear_modulus && a.density == b.density && a.loss_factor == b.loss_factor;
+          },
+          py::is_operator())
       .def("__repr__", [](const Material& x) {
         return fmt::format(
             "Material(name='{}', youngs_modulus={:g}, poisson={:g}, shear_modulus={:g}, density={:g}, loss_factor={:g})", x.name,
@@ -301,6 +308,66 @@ void bind_segments(py::module_& m) {
           "The elastic modes' undamped natural frequencies [Hz].")
       .def_property_readonly("loss_factor", &ModalBeam::loss_factor);
 
+}
+
+// The beam study from Python (both forms): the section and material judged as the CLI's --length,
+// --diameter, --inner-diameter, --youngs-modulus, --density, --shear-modulus, --loss-factor and
+// --shear-coefficient (plausibility.hpp), then the library's checks.
+BeamStudy beam_from_python(const BeamStudyOptions& o) {
+  const char* const metres = "give lengths and diameters in m (16 mm = 0.016)";
+  check_plausible(plausible::kSegmentLength, o.length, "BeamStudyOptions::length", metres);
+  check_plausible(plausible::kOuterDiameter, o.outer_diameter, "BeamStudyOptions::outer_diameter", metres);
+  if (o.inner_diameter > 0.0)
+    check_plausible(plausible::kInnerDiameter, o.inner_diameter, "BeamStudyOptions::inner_diameter", metres);
+  check_plausible(plausible::kYoungsModulus, o.material.youngs_modulus, "Material::youngs_modulus",
+                  "give E in Pa (steel 2.1e11)");
+  check_plausible(plausible::kDensity, o.material.density, "Material::density", "give ρ in kg/m³ (steel 7800)");
+  if (o.material.shear_modulus > 0.0)
+    check_plausible(plausible::kShearModulus, o.material.shear_modulus, "Material::shear_modulus",
+                    "give G in Pa (steel 8e10)");
+  check_plausible(plausible::kLossFactor, o.material.loss_factor, "Material::loss_factor", "give η as a fraction (0.01)");
+  if (o.shear_coefficient)
+    check_plausible(plausible::kShearCoefficient, *o.shear_coefficient, "BeamStudyOptions::shear_coefficient",
+                    "κ is about 0.9 for a solid round section");
+  py::gil_scoped_release nogil;
+  return run_beam_study(o);
+}
+
+// The beam study: a segment's section, natural frequencies and end block.
+void bind_beam_study(py::module_& m) {
+  options_class<ModalOptions>(m, "ModalOptions", "Modal summation's options (beam.hpp; BeamStudyOptions.modal).",
+                              {"modes", "static_residual"})
+      .def_readwrite("modes", &ModalOptions::modes, "elastic free–free modes kept, ≥ 1")
+      .def_readwrite("static_residual", &ModalOptions::static_residual, "add the truncated modes' quasi-static part");
+  options_class<BeamStudyOptions>(m, "BeamStudyOptions", "run_beam_study's options (studies/beam.hpp; toolpoint beam's).",
+                                  {"length", "outer_diameter", "inner_diameter", "material", "shear_coefficient",
+                                   "shear_model", "modes", "frequency_hz", "block", "method", "modal", "speed_rpm",
+                                   "campbell_rpm"})
+      .def_readwrite("length", &BeamStudyOptions::length, "L [m], > 0 (no default)")
+      .def_readwrite("outer_diameter", &BeamStudyOptions::outer_diameter, "D [m], > 0 (no default)")
+      .def_readwrite("inner_diameter", &BeamStudyOptions::inner_diameter, "d [m]; 0: a solid section")
+      .def_readwrite("material", &BeamStudyOptions::material, "Material (default steel, undamped)")
+      .def_readwrite("shear_coefficient", &BeamStudyOptions::shear_coefficient,
+                     "κ, or None: from shear_model, ν and the diameters")
+      .def_property(
+          "shear_model", [](const BeamStudyOptions& o) { return std::string(name_of(o.shear_model, kShearModels)); },
+          [](BeamStudyOptions& o, const std::string& v) {
+            o.shear_model = enum_of(v, kShearModels, "BeamStudyOptions::shear_model");
+          },
+          "'hutchinson' or 'cowper'")
+      .def_readwrite("modes", &BeamStudyOptions::modes, "free–free natural frequencies listed, ≥ 0")
+      .def_readwrite("frequency_hz", &BeamStudyOptions::frequency_hz, "the receptance's grid [Hz]; []: no receptance")
+      .def_property(
+          "block", [](const BeamStudyOptions& o) { return std::string(name_of(o.block, kEndBlocks)); },
+          [](BeamStudyOptions& o, const std::string& v) { o.block = enum_of(v, kEndBlocks, "BeamStudyOptions::block"); },
+          "which end block: '11' (end 1 = the outer end), '12', '21' or '22'")
+      .def_property(
+          "method", [](const BeamStudyOptions& o) { return std::string(name_of(o.method, kBeamMethods)); },
+          [](BeamStudyOptions& o, const std::string& v) { o.method = enum_of(v, kBeamMethods, "BeamStudyOptions::method"); },
+          "'exact' (closed form) or 'modal' (summation over `modal`'s modes)")
+      .def_readwrite("modal", &BeamStudyOptions::modal, "ModalOptions of the 'modal' method")
+      .def_readwrite("speed_rpm", &BeamStudyOptions::speed_rpm, "spin about the axis [rpm], ≥ 0 (exact method only)")
+      .def_readwrite("campbell_rpm", &BeamStudyOptions::campbell_rpm, "speeds [rpm] of the Campbell diagram; []: none");
   py::class_<BeamStudy>(m, "BeamStudy", "run_beam_study's result (studies/beam.hpp).")
       .def_readonly("segment", &BeamStudy::segment, "the Segment built from the options")
       .def_readonly("properties", &BeamStudy::properties, "SectionProperties: EI, κGA (complex, with η), ρA, ρI")
@@ -351,8 +418,7 @@ void bind_segments(py::module_& m) {
         o.modal = {modal_terms, static_residual};
         o.speed_rpm = speed_rpm;
         if (!campbell_rpm.is_none()) o.campbell_rpm = vector_of(campbell_rpm.cast<RealArray>(), "campbell_rpm");
-        py::gil_scoped_release nogil;
-        return run_beam_study(o);
+        return beam_from_python(o);
       },
       "length"_a, "outer_diameter"_a, "inner_diameter"_a = 0.0, "material"_a = Material{"beam", 2.0e11, 0.3, 0.0, 7800.0, 0.0},
       "shear_coefficient"_a = py::none(), "shear_model"_a = "hutchinson", "modes"_a = 5, "frequency_hz"_a = py::none(),
@@ -363,9 +429,12 @@ void bind_segments(py::module_& m) {
       "`frequency_hz` [Hz], the end block '11' (end 1 = the outer end), '12', '21' or '22' by the 'exact' closed form or "
       "'modal' summation over `modal_terms` modes; spinning at `speed_rpm` [rpm] the natural frequencies of each whirl "
       "(BeamStudy.whirl) and the block's x–x part; `campbell_rpm` [rpm] the Campbell diagram (BeamStudy.campbell).");
+  m.def(
+      "run_beam_study", [](const BeamStudyOptions& options) { return beam_from_python(options); }, "options"_a,
+      "The beam study with its options as one BeamStudyOptions (the same as the keyword form above).");
 }
 
-// The assembly, its file and its model (the forward model of Eq. 1–5).
+// The assembly and its file.
 void bind_assembly(py::module_& m) {
   // ---- Assembly -----------------------------------------------------------------------------------
   py::class_<Bearing>(m, "Bearing", "Springs and dampers to ground at `position` m from the spindle nose.")
@@ -487,6 +556,10 @@ void bind_assembly(py::module_& m) {
   m.def("parse_assembly", &parse_assembly, "text"_a, "source"_a = "<string>",
         "Parses assembly TOML text; `source` names it in errors.");
 
+}
+
+// The assembly's model: the forward model of Eq. 1–5 over the components and joints.
+void bind_assembly_model(py::module_& m) {
   py::class_<AssemblyModel, std::shared_ptr<AssemblyModel>>(
       m, "AssemblyModel",
       "An assembly's components built once. Blocks are complex (n, 2, 2) [[H, L], [N, P]] (m/N, 1/N, rad/N, rad/(N·m)); "
@@ -770,7 +843,7 @@ void bind_overhang_study(py::module_& m) {
         "rounded to a nanometre.");
 }
 
-// The virtual tap test, and the rotational FRFs taken from one with the model's correction.
+// The virtual tap test.
 void bind_tap_test(py::module_& m) {
   py::class_<TapTestFrf>(m, "TapTestFrf", "One FRF of the tap test: H_ij = w_i/f_j [m/N], point 0 the tip.")
       .def_readonly("response", &TapTestFrf::response)
@@ -849,7 +922,10 @@ void bind_tap_test(py::module_& m) {
       "assembly"_a, "options"_a, py::kw_only(), "progress"_a = py::none(),
       "The virtual tap test with its options as one TapTestOptions (the same as the keyword form above; besides, the "
       "noise floor, averages and calibration).");
+}
 
+// The rotational FRFs from a tap test: the finite-difference error estimated on the model, the study.
+void bind_fd_correction(py::module_& m) {
   py::class_<FiniteDifferenceError>(
       m, "FiniteDifferenceError", "The finite-difference error of a tap test estimated on the model (studies/fd_correction.hpp).")
       .def_property_readonly(
@@ -940,10 +1016,13 @@ void bind_tap_test(py::module_& m) {
 void bind_model(py::module_& m) {
   bind_joints(m);
   bind_segments(m);
+  bind_beam_study(m);
   bind_assembly(m);
+  bind_assembly_model(m);
   bind_prediction(m);
   bind_overhang_study(m);
   bind_tap_test(m);
+  bind_fd_correction(m);
 }
 
 }  // namespace toolpoint::python

@@ -75,6 +75,23 @@ class BeamStudy:
     @property
     def whirl(self) -> object: ...
 
+class BeamStudyOptions:
+    def __init__(self, *, length: float = ..., outer_diameter: float = ..., inner_diameter: float = ..., material: Material = ..., shear_coefficient: Optional[float] = ..., shear_model: str = ..., modes: int = ..., frequency_hz: List[float] = ..., block: str = ..., method: str = ..., modal: ModalOptions = ..., speed_rpm: float = ..., campbell_rpm: List[float] = ...) -> None: ...
+    block: str
+    campbell_rpm: List[float]
+    def check(self) -> None: ...
+    frequency_hz: List[float]
+    inner_diameter: float
+    length: float
+    material: Material
+    method: str
+    modal: ModalOptions
+    modes: int
+    outer_diameter: float
+    shear_coefficient: Optional[float]
+    shear_model: str
+    speed_rpm: float
+
 class Bearing:
     def __init__(self, position: float, stiffness: float, damping: float = ..., rotational_stiffness: float = ..., rotational_damping: float = ..., name: str = ..., stiffness_y: Optional[float] = ..., damping_y: Optional[float] = ...) -> None: ...
     damping: float
@@ -193,6 +210,17 @@ class CaseStudy:
     @property
     def warnings(self) -> List[str]: ...
 
+class CaseStudyOptions:
+    def __init__(self, *, noise_sigma: float = ..., seed: int = ..., filter: SavgolOptions = ..., apply_filter: bool = ..., band_width: float = ..., fit: bool = ..., fit_options: JointFitOptions = ...) -> None: ...
+    apply_filter: bool
+    band_width: float
+    def check(self) -> None: ...
+    filter: SavgolOptions
+    fit: bool
+    fit_options: JointFitOptions
+    noise_sigma: float
+    seed: int
+
 class CuttingConditions:
     def __init__(self, teeth: int, tangential_coefficient: float, radial_ratio: float, immersion: Optional[float] = ..., milling: str = ..., entry_rad: Optional[float] = ..., exit_rad: Optional[float] = ..., pitch_rad: List[float] = ..., runout_m: List[float] = ..., feed_per_tooth_m: float = ..., diameter_m: float = ..., process_damping_n_per_m: float = ..., helix_rad: List[float] = ..., helix_slices: int = ...) -> None: ...
     @property
@@ -264,6 +292,19 @@ class FiniteDifferenceError:
     @property
     def warnings(self) -> List[str]: ...
 
+class ForwardCheckOptions:
+    def __init__(self, *, smoothing: Optional[SavgolOptions] = ..., min_prominence: float = ..., replicates: int = ..., false_alarm: float = ..., frequency_tolerance: float = ..., peak_tolerance: float = ..., seed: int = ..., shared_calibration: bool = ..., threads: int = ...) -> None: ...
+    def check(self) -> None: ...
+    false_alarm: float
+    frequency_tolerance: float
+    min_prominence: float
+    peak_tolerance: float
+    replicates: int
+    seed: int
+    shared_calibration: bool
+    smoothing: Optional[SavgolOptions]
+    threads: int
+
 class FrfBand:
     @property
     def frequency_hz(self) -> numpy.typing.NDArray[numpy.float64]: ...
@@ -299,6 +340,20 @@ class FrfFile:
     @property
     def warnings(self) -> List[str]: ...
 
+class FrfReadOptions:
+    def __init__(self, *, format: str = ..., dataset: Optional[int] = ..., response_node: Optional[int] = ..., response_direction: Optional[int] = ..., reference_node: Optional[int] = ..., reference_direction: Optional[int] = ..., ordinate: Optional[str] = ..., units: Optional[str] = ..., value_format: Optional[str] = ..., columns: List[str] = ...) -> None: ...
+    def check(self) -> None: ...
+    columns: List[str]
+    dataset: Optional[int]
+    format: str
+    ordinate: Optional[str]
+    reference_direction: Optional[int]
+    reference_node: Optional[int]
+    response_direction: Optional[int]
+    response_node: Optional[int]
+    units: Optional[str]
+    value_format: Optional[str]
+
 class FrfResampled:
     @property
     def coherence(self) -> numpy.typing.NDArray[numpy.float64]: ...
@@ -308,6 +363,14 @@ class FrfResampled:
     def file(self) -> FrfFile: ...
     @property
     def warnings(self) -> List[str]: ...
+
+class FrfWriteOptions:
+    def __init__(self, *, format: str = ..., description: str = ..., comments: List[str] = ..., dof: object = ..., coherence: List[float] = ...) -> None: ...
+    coherence: List[float]
+    comments: List[str]
+    description: str
+    dof: object
+    format: str
 
 class FullDiscretization:
     def __init__(self, x_modes: List[Mode], y_modes: List[Mode], cutting: CuttingConditions, steps: int = ..., degree: int = ...) -> None: ...
@@ -355,6 +418,20 @@ class Identification:
 
 class IdentificationData:
     def __init__(self, frequency_hz: numpy.typing.NDArray[numpy.float64], G11: numpy.typing.NDArray[numpy.complex128], B11: Optional[numpy.typing.NDArray[numpy.complex128]] = ..., overhang_m: Optional[float] = ..., label: str = ..., g_name: str = ..., b_name: str = ..., g_coherence: List[float] = ..., b_coherence: List[float] = ...) -> None: ...
+
+class IdentificationOptions:
+    def __init__(self, *, route: str = ..., method: str = ..., band_hz: Optional[Tuple[float, float]] = ..., at_hz: Optional[float] = ..., width: float = ..., filter: Optional[SavgolOptions] = ..., noise: NoiseSpec = ..., fit: JointFitOptions = ..., readout: ReadoutOptions = ..., verdict: VerdictOptions = ...) -> None: ...
+    at_hz: Optional[float]
+    band_hz: Optional[Tuple[float, float]]
+    def check(self) -> None: ...
+    filter: Optional[SavgolOptions]
+    fit: JointFitOptions
+    method: str
+    noise: NoiseSpec
+    readout: ReadoutOptions
+    route: str
+    verdict: VerdictOptions
+    width: float
 
 class InputError(Error):
     ...
@@ -428,6 +505,20 @@ class JointFit:
     def upper(self) -> numpy.typing.NDArray[numpy.float64]: ...
     @property
     def warnings(self) -> List[str]: ...
+
+class JointFitOptions:
+    def __init__(self, *, reciprocal: bool = ..., filter: Optional[SavgolOptions] = ..., uncertainty: str = ..., bootstrap_samples: int = ..., seed: int = ..., shared_calibration: bool = ..., check_linearisation: bool = ..., confidence: float = ..., max_iterations: int = ..., threads: int = ...) -> None: ...
+    bootstrap_samples: int
+    def check(self) -> None: ...
+    check_linearisation: bool
+    confidence: float
+    filter: Optional[SavgolOptions]
+    max_iterations: int
+    reciprocal: bool
+    seed: int
+    shared_calibration: bool
+    threads: int
+    uncertainty: str
 
 class JointParameters:
     def __init__(self, k_yf: float = ..., c_yf: float = ..., k_ym: float = ..., c_ym: float = ..., k_tf: object = ..., c_tf: object = ..., k_tm: float = ..., c_tm: float = ...) -> None: ...
@@ -630,6 +721,12 @@ class ModalFitSummary:
     @property
     def what(self) -> str: ...
 
+class ModalOptions:
+    def __init__(self, *, modes: int = ..., static_residual: bool = ...) -> None: ...
+    def check(self) -> None: ...
+    modes: int
+    static_residual: bool
+
 class Mode:
     def __init__(self, mass_kg: float, damping_ratio: float, frequency_hz: float) -> None: ...
     def check(self) -> None: ...
@@ -653,6 +750,25 @@ class ModeComparison:
     @property
     def predicted_peak(self) -> float: ...
     def to_dict(self) -> object: ...
+
+class NoiseEstimateOptions:
+    def __init__(self, *, local: SavgolOptions = ..., window: int = ..., floor: bool = ...) -> None: ...
+    def check(self) -> None: ...
+    floor: bool
+    local: SavgolOptions
+    window: int
+
+class NoiseSpec:
+    def __init__(self, *, source: str = ..., estimate: NoiseEstimateOptions = ..., magnitude_sigma: float = ..., phase_sigma_rad: float = ..., floor: float = ..., calibration: float = ..., calibration_shared: bool = ..., averages: int = ...) -> None: ...
+    averages: int
+    calibration: float
+    calibration_shared: bool
+    def check(self) -> None: ...
+    estimate: NoiseEstimateOptions
+    floor: float
+    magnitude_sigma: float
+    phase_sigma_rad: float
+    source: str
 
 class NumericalError(Error):
     ...
@@ -719,6 +835,17 @@ class PlanarMode:
     def shape_y(self) -> float: ...
     def to_dict(self) -> object: ...
 
+class PrecisionOptions:
+    def __init__(self, *, route: str = ..., tool: TapTestOptions = ..., holder: TapTestOptions = ..., noise: TapNoise = ..., reciprocal: bool = ..., confidence: float = ..., target: Optional[float] = ...) -> None: ...
+    def check(self) -> None: ...
+    confidence: float
+    holder: TapTestOptions
+    noise: TapNoise
+    reciprocal: bool
+    route: str
+    target: Optional[float]
+    tool: TapTestOptions
+
 class PrecisionStudy:
     @property
     def averages(self) -> int: ...
@@ -769,6 +896,13 @@ class Prediction:
     @property
     def warnings(self) -> List[str]: ...
 
+class ReadoutOptions:
+    def __init__(self, *, cond_warning: float = ..., reciprocity_warning: float = ..., gain_warning: float = ...) -> None: ...
+    def check(self) -> None: ...
+    cond_warning: float
+    gain_warning: float
+    reciprocity_warning: float
+
 class RotationalOptions:
     def __init__(self, *, spacing: float = ..., order: int = ..., symmetrise: bool = ..., p_method: str = ..., shear_stiffness: Optional[float] = ..., assume_reciprocity: bool = ...) -> None: ...
     assume_reciprocity: bool
@@ -816,6 +950,12 @@ class RotationalStudy:
     def to_dict(self) -> object: ...
     @property
     def warnings(self) -> List[str]: ...
+
+class SavgolOptions:
+    def __init__(self, *, window: int = ..., order: int = ...) -> None: ...
+    def check(self) -> None: ...
+    order: int
+    window: int
 
 class SectionProperties:
     @property
@@ -904,6 +1044,15 @@ class StabilityUncertainty:
     @property
     def speed_rpm(self) -> numpy.typing.NDArray[numpy.float64]: ...
     def to_dict(self) -> object: ...
+
+class TapNoise:
+    def __init__(self, *, sigma: float = ..., floor: float = ..., averages: int = ..., calibration: float = ..., shared_calibration: bool = ...) -> None: ...
+    averages: int
+    calibration: float
+    def check(self) -> None: ...
+    floor: float
+    shared_calibration: bool
+    sigma: float
 
 class TapTest:
     @property
@@ -1051,6 +1200,13 @@ class UncertaintyOptions:
 class VerdictFailure(Error):
     ...
 
+class VerdictOptions:
+    def __init__(self, *, forward: ForwardCheckOptions = ..., residual_doubt: float = ..., residual_fail: float = ...) -> None: ...
+    def check(self) -> None: ...
+    forward: ForwardCheckOptions
+    residual_doubt: float
+    residual_fail: float
+
 class Warning(UserWarning):
     ...
 
@@ -1081,6 +1237,9 @@ def draw_block_noise(frequency_hz: numpy.typing.NDArray[numpy.float64], truth: n
 
 def effect_analysis(assembly: Assembly, route: str, frequency_hz: numpy.typing.NDArray[numpy.float64], step: float = ...) -> EffectAnalysis: ...
 
+@overload
+def estimate_block_noise(frequency_hz: numpy.typing.NDArray[numpy.float64], blocks: numpy.typing.NDArray[numpy.complex128], options: NoiseEstimateOptions, *, what: str = ...) -> BlockNoise: ...
+@overload
 def estimate_block_noise(frequency_hz: numpy.typing.NDArray[numpy.float64], blocks: numpy.typing.NDArray[numpy.complex128], local_window: int = ..., local_order: int = ..., window: int = ..., what: str = ..., floor: bool = ...) -> BlockNoise: ...
 
 def exact_receptance(segment: Segment, frequency_hz: numpy.typing.NDArray[numpy.float64]) -> numpy.typing.NDArray[numpy.complex128]: ...
@@ -1097,6 +1256,9 @@ def free_free_frequencies(segment: Segment, count: int) -> numpy.typing.NDArray[
 
 def h1_relative_variance(coherence: float, averages: int) -> float: ...
 
+@overload
+def identify_joint_from_frfs(assembly: Assembly, data: List[IdentificationData], options: IdentificationOptions, *, overhang_frfs: List[Tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.complex128]]] = ..., progress: object = ...) -> Identification: ...
+@overload
 def identify_joint_from_frfs(assembly: Assembly, data: List[IdentificationData], route: str = ..., method: str = ..., band_hz: Optional[Tuple[float, float]] = ..., at_hz: Optional[float] = ..., width: float = ..., overhang_frfs: List[Tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.complex128]]] = ..., filter: Optional[Tuple[int, int]] = ..., magnitude_sigma: Optional[float] = ..., phase_sigma_rad: float = ..., floor: Optional[float] = ..., calibration: float = ..., calibration_shared: bool = ..., averages: int = ..., reciprocal: bool = ..., uncertainty: str = ..., bootstrap_samples: int = ..., seed: int = ..., confidence: float = ..., threads: int = ..., progress: object = ...) -> Identification: ...
 
 def identify_series(frequency_hz: numpy.typing.NDArray[numpy.float64], A: numpy.typing.NDArray[numpy.complex128], B11: numpy.typing.NDArray[numpy.complex128], G11: numpy.typing.NDArray[numpy.complex128], b_name: str = ..., g_name: str = ...) -> JointSeries: ...
@@ -1123,7 +1285,10 @@ def planar_mode(mode: Mode, direction_rad: float) -> PlanarMode: ...
 
 def quantile(values: List[float], p: float) -> float: ...
 
+@overload
 def read_frf_file(path: str, format: str = ..., ordinate: Optional[str] = ..., dataset: Optional[int] = ..., response_node: Optional[int] = ..., response_direction: Optional[int] = ..., reference_node: Optional[int] = ..., reference_direction: Optional[int] = ...) -> FrfFile: ...
+@overload
+def read_frf_file(path: str, options: FrfReadOptions) -> FrfFile: ...
 
 def read_uff(path: str) -> UffFile: ...
 
@@ -1131,8 +1296,14 @@ def resample_frf(file: FrfFile, band_hz: Optional[Tuple[float, float]] = ..., ta
 
 def rotational_frfs(frequency_hz: numpy.typing.NDArray[numpy.float64], H: dict, options: RotationalOptions) -> RotationalResult: ...
 
+@overload
 def run_beam_study(length: float, outer_diameter: float, inner_diameter: float = ..., material: Material = ..., shear_coefficient: Optional[float] = ..., shear_model: str = ..., modes: int = ..., frequency_hz: object = ..., block: str = ..., method: str = ..., modal_terms: int = ..., static_residual: bool = ..., speed_rpm: float = ..., campbell_rpm: object = ...) -> BeamStudy: ...
+@overload
+def run_beam_study(options: BeamStudyOptions) -> BeamStudy: ...
 
+@overload
+def run_case_study(assembly: Assembly, options: CaseStudyOptions, *, progress: object = ...) -> CaseStudy: ...
+@overload
 def run_case_study(assembly: Assembly, noise_sigma: float = ..., seed: int = ..., filter: Tuple[int, int] = ..., apply_filter: bool = ..., band_width: float = ..., fit: bool = ..., uncertainty: str = ..., bootstrap_samples: int = ..., fit_seed: int = ..., threads: int = ..., progress: object = ...) -> CaseStudy: ...
 
 def run_filter_study(frequency_hz: numpy.typing.NDArray[numpy.float64], values: numpy.typing.NDArray[numpy.complex128], window: int, order: int, min_prominence: float = ..., min_height: float = ..., warn_above: float = ..., noise_prominence: float = ..., what: str = ...) -> object: ...
@@ -1146,6 +1317,9 @@ def run_overhang_study(assembly: Assembly, frequency_hz: numpy.typing.NDArray[nu
 @overload
 def run_overhang_study(assembly: Assembly, frequency_hz: numpy.typing.NDArray[numpy.float64], sh11: numpy.typing.NDArray[numpy.complex128], options: OverhangStudyOptions, *, progress: object = ...) -> OverhangStudy: ...
 
+@overload
+def run_precision_study(assembly: Assembly, options: PrecisionOptions, *, progress: object = ...) -> PrecisionStudy: ...
+@overload
 def run_precision_study(assembly: Assembly, route: str = ..., tool_spacing_m: Optional[float] = ..., holder_spacing_m: Optional[float] = ..., points: int = ..., hammer: str = ..., sigma: float = ..., floor: float = ..., averages: int = ..., calibration: float = ..., calibration_shared: bool = ..., reciprocal: bool = ..., confidence: float = ..., target: Optional[float] = ..., progress: object = ...) -> PrecisionStudy: ...
 
 @overload
@@ -1162,9 +1336,15 @@ def run_tap_test(assembly: Assembly, options: TapTestOptions, *, progress: objec
 
 def sample_joints(mean: JointParameters, covariance: numpy.typing.NDArray[numpy.float64], count: int, seed: int) -> List[JointParameters]: ...
 
+@overload
 def savgol_coefficients(window: int = ..., order: int = ...) -> numpy.typing.NDArray[numpy.float64]: ...
+@overload
+def savgol_coefficients(options: SavgolOptions) -> numpy.typing.NDArray[numpy.float64]: ...
 
+@overload
 def savgol_filter(values: numpy.ndarray, window: int = ..., order: int = ..., frequency_hz: object = ...) -> numpy.ndarray: ...
+@overload
+def savgol_filter(values: numpy.ndarray, options: SavgolOptions, *, frequency_hz: object = ...) -> numpy.ndarray: ...
 
 def seed_table1_joint() -> JointParameters: ...
 
@@ -1197,7 +1377,10 @@ def weighted_median_parameters(series: JointSeries, lo_hz: float, hi_hz: float) 
 
 def whirl_frequencies(segment: Segment, speed_rpm: float, count: int) -> object: ...
 
+@overload
 def write_frf_file(path: str, frequency_hz: numpy.typing.NDArray[numpy.float64], values: numpy.ndarray, format: str = ..., description: str = ..., comments: List[str] = ..., dof: object = ...) -> List[str]: ...
+@overload
+def write_frf_file(path: str, frequency_hz: numpy.typing.NDArray[numpy.float64], values: numpy.ndarray, options: FrfWriteOptions) -> List[str]: ...
 
 def write_joint_file(path: str, joint: JointFile) -> None: ...
 
