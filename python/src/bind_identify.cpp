@@ -552,7 +552,7 @@ void bind_identification_options(py::module_& m) {
       .def_readwrite("averages", &NoiseSpec::averages, "averages behind a coherence column (0: the coherence is not used)");
   options_class<IdentificationOptions>(
       m, "IdentificationOptions",
-      "identify_joint_from_frfs' options (studies/identification.hpp; toolpoint identify's). The overhang FRFs (arrays) and "
+      "run_identification_study' options (studies/identification.hpp; toolpoint identify's). The overhang FRFs (arrays) and "
       "progress stay the function's arguments.",
       {"route", "method", "band_hz", "at_hz", "width", "filter", "noise", "fit", "readout", "verdict"})
       .def_property(
@@ -595,7 +595,7 @@ Identification identify_from_python(const Assembly& a, const std::vector<Identif
   }
   const ProgressCallback cb = progress_of(progress);
   py::gil_scoped_release nogil;
-  return identify_joint_from_frfs(a, data, o, cb);
+  return run_identification_study(a, data, o, cb);
 }
 
 // The identification study: the measured data in, the identification out.
@@ -628,7 +628,7 @@ void bind_identification_study(py::module_& m) {
 
   py::class_<Identification>(
       m, "Identification",
-      "identify_joint_from_frfs' result: the seed's read-out and the band fit side by side, the mode choice, a forward "
+      "run_identification_study' result: the seed's read-out and the band fit side by side, the mode choice, a forward "
       "check and a verdict. identified: the chosen method's JointParameters.")
       .def_property_readonly("route", [](const Identification& i) { return name_of(i.route, kRoutes); })
       .def_property_readonly("method", [](const Identification& i) { return to_string(i.method); })
@@ -655,7 +655,7 @@ void bind_identification_study(py::module_& m) {
       .def(
           "to_dict", [](const Identification& i) { return dict_of(i); }, "toolpoint identify --json's keys.");
   m.def(
-      "identify_joint_from_frfs",
+      "run_identification_study",
       [](Assembly a, const std::vector<IdentificationData>& data, IdentificationOptions options,
          const std::vector<std::pair<RealArray, ComplexArray>>& overhang_frfs, const py::object& progress) {
         return identify_from_python(a, data, std::move(options), overhang_frfs, progress);
@@ -665,7 +665,7 @@ void bind_identification_study(py::module_& m) {
       "The identification study with its options as one IdentificationOptions (the same as the keyword form below; "
       "besides, the read-out's warning levels and the verdict's).");
   m.def(
-      "identify_joint_from_frfs",
+      "run_identification_study",
       [](Assembly a, const std::vector<IdentificationData>& data, const std::string& route, const std::string& method,
          std::optional<std::pair<double, double>> band_hz, std::optional<double> at_hz, double width,
          const std::vector<std::pair<RealArray, ComplexArray>>& overhang_frfs, std::optional<std::pair<int, int>> filter,
@@ -928,10 +928,10 @@ void bind_case_study(py::module_& m) {
       .def_readwrite("fit_options", &CaseStudyOptions::fit_options, "JointFitOptions: its intervals, threads, seed");
   m.def(
       "run_case_study",
-      [](Assembly a, CaseStudyOptions options, const py::object& progress) {
-        options.fit_options.progress = progress_of(progress);
+      [](Assembly a, const CaseStudyOptions& options, const py::object& progress) {
+        const ProgressCallback cb = progress_of(progress);
         py::gil_scoped_release nogil;
-        return run_case_study(a, options);
+        return run_case_study(a, options, cb);
       },
       "assembly"_a, "options"_a, py::kw_only(), "progress"_a = py::none(),
       "The case study with its options as one CaseStudyOptions (the same as the keyword form below).");
@@ -951,9 +951,9 @@ void bind_case_study(py::module_& m) {
         o.fit_options.bootstrap_samples = bootstrap_samples;
         o.fit_options.seed = fit_seed;
         o.fit_options.parallel.threads = threads;
-        o.fit_options.progress = progress_of(progress);
+        const ProgressCallback cb = progress_of(progress);
         py::gil_scoped_release nogil;
-        return run_case_study(a, o);
+        return run_case_study(a, o, cb);
       },
       "assembly"_a, "noise_sigma"_a = 0.05, "seed"_a = 1, "filter"_a = std::make_pair(81, 2), "apply_filter"_a = true,
       "band_width"_a = 0.02, "fit"_a = true, "uncertainty"_a = "bootstrap", "bootstrap_samples"_a = 200, "fit_seed"_a = 1,

@@ -461,7 +461,8 @@ void bind_assembly(py::module_& m) {
             b.speed_table.clear();
             for (const auto& r : t) b.speed_table.push_back({std::get<0>(r), std::get<1>(r), std::get<2>(r)});
           },
-          "[(speed_rpm, stiffness N/m, damping N·s/m), …] by increasing speed; [] none (read by run_prediction's speed_rpm)");
+          "[(speed_rpm, stiffness N/m, damping N·s/m), …] by increasing speed; [] none (read by run_prediction_study's "
+          "speed_rpm)");
 
   py::class_<Spindle>(m, "Spindle", "Segments from the nose to the rear, and bearings (lists are copied in and out).")
       .def(py::init([](std::vector<Segment> s, std::vector<Bearing> b) {
@@ -680,7 +681,7 @@ void bind_prediction(py::module_& m) {
                            p.prominence);
       });
 
-  py::class_<Prediction>(m, "Prediction", "run_prediction's result: the block series on the assembly's grid and its modes.")
+  py::class_<Prediction>(m, "Prediction", "run_prediction_study's result: the block series on the assembly's grid and its modes.")
       .def_property_readonly(
           "receptance", [](const Prediction& p) { return predicted_frf_name(p.receptance); }, "'SHT11' or 'SH11'")
       .def_property_readonly(
@@ -706,7 +707,7 @@ void bind_prediction(py::module_& m) {
       .def(
           "to_dict", [](const Prediction& p) { return dict_of(p); },
           "{'receptance', 'modes', 'warnings'} (toolpoint predict --json's keys).");
-  options_class<PredictOptions>(m, "PredictOptions", "run_prediction's options (studies/predict.hpp; toolpoint predict's).",
+  options_class<PredictOptions>(m, "PredictOptions", "run_prediction_study's options (studies/predict.hpp; toolpoint predict's).",
                                 {"receptance", "peaks", "uncertain_joint", "band", "speed_rpm", "extrapolate_bearings"})
       .def_property(
           "receptance", [](const PredictOptions& o) { return std::string(name_of(o.receptance, kPredicted)); },
@@ -722,7 +723,7 @@ void bind_prediction(py::module_& m) {
       .def_readwrite("extrapolate_bearings", &PredictOptions::extrapolate_bearings,
                      "extend a bearing's speed table beyond its rows (default: refuse)");
   m.def(
-      "run_prediction",
+      "run_prediction_study",
       [](Assembly a, const std::string& receptance, double min_prominence, std::optional<JointFile> joint, int samples,
          std::uint64_t seed, std::vector<double> levels, int threads, const py::object& progress, double speed_rpm,
          bool extrapolate_bearings) {
@@ -735,7 +736,7 @@ void bind_prediction(py::module_& m) {
         o.band = uncertainty_options(samples, seed, std::move(levels), threads, py::none());
         const ProgressCallback cb = progress_of(progress);
         py::gil_scoped_release nogil;
-        return run_prediction(a, o, cb);
+        return run_prediction_study(a, o, cb);
       },
       "assembly"_a, "receptance"_a = "SHT11", "min_prominence"_a = 0.02, "joint"_a = py::none(), "samples"_a = 200, "seed"_a = 1,
       "levels"_a = std::vector<double>{0.05, 0.5, 0.95}, "threads"_a = 0, "progress"_a = py::none(), "speed_rpm"_a = 0.0,
@@ -748,11 +749,11 @@ void bind_prediction(py::module_& m) {
       "planes: Prediction.two_plane (n, 4, 4) on (w_x, ψ_x, w_y, ψ_y), its x–x block the FRF (docs/spindle-at-speed.md).");
 
   m.def(
-      "run_prediction",
+      "run_prediction_study",
       [](Assembly a, const PredictOptions& options, const py::object& progress) {
         const ProgressCallback cb = progress_of(progress);
         py::gil_scoped_release nogil;
-        return run_prediction(a, options, cb);
+        return run_prediction_study(a, options, cb);
       },
       "assembly"_a, "options"_a, py::kw_only(), "progress"_a = py::none(),
       "The prediction study with its options as one PredictOptions (the same as the keyword form above).");
@@ -851,7 +852,7 @@ void bind_tap_test(py::module_& m) {
       .def_property_readonly("frequency_hz", [](const TapTestFrf& r) { return array_of(r.frf.frequency_hz); })
       .def_property_readonly(
           "values", [](const TapTestFrf& r) { return array_of(r.frf.values); }, "complex (n,) m/N");
-  py::class_<TapTest>(m, "TapTest", "run_tap_test's result.")
+  py::class_<TapTest>(m, "TapTest", "run_tap_test_study's result.")
       .def_property_readonly("side", [](const TapTest& t) { return tap_side_name(t.side); })
       .def_property_readonly(
           "distance_m", [](const TapTest& t) { return array_of(t.distance_m); }, "each point's distance from the tip [m]")
@@ -872,7 +873,7 @@ void bind_tap_test(py::module_& m) {
       .def(
           "to_dict", [](const TapTest& t) { return dict_of(t); },
           "The result as plain data (dicts, lists, floats, str, bool, None; the CLI's --json keys, SI units).");
-  options_class<TapTestOptions>(m, "TapTestOptions", "run_tap_test's options (studies/tap_test.hpp; toolpoint taptest's).",
+  options_class<TapTestOptions>(m, "TapTestOptions", "run_tap_test_study's options (studies/tap_test.hpp; toolpoint taptest's).",
                                 {"side", "spacing_m", "points", "hammer", "sigma", "seed", "floor", "averages", "calibration"})
       .def_property(
           "side", [](const TapTestOptions& o) { return std::string(name_of(o.side, kSides)); },
@@ -890,7 +891,7 @@ void bind_tap_test(py::module_& m) {
       .def_readwrite("averages", &TapTestOptions::averages, "hits averaged per FRF (each varying by sigma); 0: one")
       .def_readwrite("calibration", &TapTestOptions::calibration, "σ of one calibration factor for the whole test");
   m.def(
-      "run_tap_test",
+      "run_tap_test_study",
       [](Assembly a, double spacing_m, const std::string& side, int points, const std::string& hammer, double sigma,
          std::uint64_t seed, const py::object& progress) {
         TapTestOptions o;
@@ -902,7 +903,7 @@ void bind_tap_test(py::module_& m) {
         o.seed = seed;
         const ProgressCallback cb = progress_of(progress);
         py::gil_scoped_release nogil;
-        return run_tap_test(a, o, cb);
+        return run_tap_test_study(a, o, cb);
       },
       "assembly"_a, "spacing_m"_a, "side"_a = "tool", "points"_a = 3, "hammer"_a = "roving", "sigma"_a = 0.0, "seed"_a = 1,
       "progress"_a = py::none(),
@@ -913,11 +914,11 @@ void bind_tap_test(py::module_& m) {
       "(0.005 = 0.5 %; FRF k draws from seed + k), on assembly.grid.");
 
   m.def(
-      "run_tap_test",
+      "run_tap_test_study",
       [](Assembly a, const TapTestOptions& options, const py::object& progress) {
         const ProgressCallback cb = progress_of(progress);
         py::gil_scoped_release nogil;
-        return run_tap_test(a, options, cb);
+        return run_tap_test_study(a, options, cb);
       },
       "assembly"_a, "options"_a, py::kw_only(), "progress"_a = py::none(),
       "The virtual tap test with its options as one TapTestOptions (the same as the keyword form above; besides, the "

@@ -490,14 +490,14 @@ void bind_files(py::module_& m) {
       },
       "path"_a, "options"_a, "read_frf_file with its options as one FrfReadOptions (the same as the keyword form above; "
       "besides, the units and a CSV's columns and value format).");
-  py::class_<FrfResampled>(m, "FrfResampled", "resample_frf's result (resample.hpp).")
+  py::class_<FrfResampled>(m, "FrfResampled", "run_resample_study's result (resample.hpp).")
       .def_readonly("file", &FrfResampled::data, "FrfFile: the FRF on the new grid, in the input's form")
       .def_property_readonly(
           "coherence", [](const FrfResampled& r) { return array_of(r.data.coherence); }, "(n,) or empty")
       .def_readonly("description", &FrfResampled::description, "what was done (the CLI's comment line)")
       .def_readonly("warnings", &FrfResampled::warnings);
   m.def(
-      "resample_frf",
+      "run_resample_study",
       [](const FrfFileData& file, std::optional<std::pair<double, double>> band_hz, const py::object& target_hz,
          const std::string& target_name, const std::string& method, const std::string& what) {
         FrfResampleOptions o;
@@ -506,7 +506,7 @@ void bind_files(py::module_& m) {
         o.target_name = target_name;
         o.method = enum_of(method, kInterpolations, "method");
         py::gil_scoped_release nogil;
-        return resample_frf(file, o, what);
+        return run_resample_study(file, o, what);
       },
       "file"_a, "band_hz"_a = py::none(), "target_hz"_a = py::none(), "target_name"_a = "the target grid", "method"_a = "linear",
       "what"_a = "FRF",

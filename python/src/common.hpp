@@ -74,7 +74,7 @@ void check_plausible(const PlausibleRange& range, double value, const std::strin
 // (min_rpm, max_rpm, points) as a SpeedRange; speeds judged as the CLI's --rpm (rpm, not rad/s or Hz).
 SpeedRange speed_range(const std::tuple<double, double, int>& s);
 
-// A tap test's hammer plan by name (run_tap_test, run_precision_study).
+// A tap test's hammer plan by name (run_tap_test_study, run_precision_study).
 inline const std::vector<std::pair<const char*, HammerPlan>> kHammers{{"roving", HammerPlan::Roving}, {"tip", HammerPlan::Tip}};
 
 // RotationalOptions as given from Python, judged as the CLI's --spacing and --shear-stiffness

@@ -88,7 +88,7 @@ def test_study_options_name_a_wrong_field_and_value():
     with pytest.raises(tp.InvalidArgument, match=r"UncertaintyOptions::samples = 5"):
         tp.UncertaintyOptions(samples=5).check()
     with pytest.raises(tp.InvalidArgument, match=r"TapTestOptions::points"):
-        tp.run_tap_test(tp.load_assembly(str(EXAMPLE)).assembly, tp.TapTestOptions(spacing_m=0.015, points=4))
+        tp.run_tap_test_study(tp.load_assembly(str(EXAMPLE)).assembly, tp.TapTestOptions(spacing_m=0.015, points=4))
 
 
 def test_study_options_repr_reads_back():
@@ -110,12 +110,12 @@ def test_study_options_repr_reads_back():
 
 def test_study_options_forms_are_the_keyword_forms(example, prediction):
     # Identical doubles: both forms must fill the same C++ options.
-    p = tp.run_prediction(example, tp.PredictOptions(receptance="SH11", peaks=tp.PeakOptions(min_prominence=0.05)))
-    q = tp.run_prediction(example, receptance="SH11", min_prominence=0.05)
+    p = tp.run_prediction_study(example, tp.PredictOptions(receptance="SH11", peaks=tp.PeakOptions(min_prominence=0.05)))
+    q = tp.run_prediction_study(example, receptance="SH11", min_prominence=0.05)
     assert p.receptance == "SH11" and np.array_equal(p.frf, q.frf) and p.to_dict() == q.to_dict()
-    assert np.array_equal(tp.run_prediction(example, options=tp.PredictOptions()).frf, prediction.frf)
-    t = tp.run_tap_test(example, tp.TapTestOptions(spacing_m=0.015, sigma=0.005, seed=11))
-    k = tp.run_tap_test(example, spacing_m=0.015, sigma=0.005, seed=11)
+    assert np.array_equal(tp.run_prediction_study(example, options=tp.PredictOptions()).frf, prediction.frf)
+    t = tp.run_tap_test_study(example, tp.TapTestOptions(spacing_m=0.015, sigma=0.005, seed=11))
+    k = tp.run_tap_test_study(example, spacing_m=0.015, sigma=0.005, seed=11)
     assert all(np.array_equal(a.values, b.values) for a, b in zip(t.frfs, k.frfs)) and len(t.frfs) == 9
     f = example.frequency_hz[::20]
     sh11 = tp.AssemblyModel(example).holder_tip(f)
@@ -132,14 +132,14 @@ def test_tap_test_options_reach_what_the_keywords_do_not(tmp_path, example):
     # floor, averages and calibration exist only in TapTestOptions: the same test as the CLI's
     # (the same library call; binary 58b keeps the doubles exactly).
     o = tp.TapTestOptions(spacing_m=0.015, sigma=0.01, seed=5, floor=0.002, averages=4, calibration=0.02)
-    t = tp.run_tap_test(example, o)
+    t = tp.run_tap_test_study(example, o)
     run_cli("taptest", EXAMPLE, "--at", "tool", "--spacing", 0.015, "--sigma", 0.01, "--seed", 5, "--floor", 0.002,
             "--averages", 4, "--calibration", 0.02, "--binary", "--output", tmp_path / "tap.uff")
     frfs = [d for d in tp.read_uff(str(tmp_path / "tap.uff")).functions if d.function_type == 4]  # 6: their coherences
     assert len(frfs) == len(t.frfs) == 9
     for d in frfs:
         assert np.array_equal(d.y, t.frf(d.response_node - 1, d.reference_node - 1))
-    plain = tp.run_tap_test(example, spacing_m=0.015, sigma=0.01, seed=5)
+    plain = tp.run_tap_test_study(example, spacing_m=0.015, sigma=0.01, seed=5)
     assert not np.array_equal(plain.frfs[0].values, t.frfs[0].values)  # the extra noise is there
 
 
@@ -326,16 +326,16 @@ def test_identification_and_case_study_options_forms_are_the_keyword_forms(examp
     o = tp.IdentificationOptions(method="seed", filter=tp.SavgolOptions(window=41, order=2),
                                  fit=tp.JointFitOptions(uncertainty="linearised", threads=1),
                                  verdict=tp.VerdictOptions(forward=tp.ForwardCheckOptions(replicates=60, false_alarm=0.05)))
-    ours = tp.identify_joint_from_frfs(example, data, o)
+    ours = tp.run_identification_study(example, data, o)
     assert ours.method == "seed" and ours.to_dict() != {}
-    k = tp.identify_joint_from_frfs(example, data, method="seed", filter=(41, 2), uncertainty="linearised", threads=1)
+    k = tp.run_identification_study(example, data, method="seed", filter=(41, 2), uncertainty="linearised", threads=1)
     # The keyword form has no verdict options: the same identification bar the forward check's replicates.
     assert ours.identified == k.identified and ours.to_dict()["seed"] == k.to_dict()["seed"]
     o.verdict = tp.VerdictOptions()
-    assert tp.identify_joint_from_frfs(example, data, o).to_dict() == k.to_dict()
+    assert tp.run_identification_study(example, data, o).to_dict() == k.to_dict()
     # The stated noise judged as the CLI's --sigma: 5 (% meant) refused naming the field.
     with pytest.raises(tp.InvalidArgument, match=r"NoiseSpec::magnitude_sigma = 5 is so far outside"):
-        tp.identify_joint_from_frfs(example, data, tp.IdentificationOptions(noise=tp.NoiseSpec(source="stated",
+        tp.run_identification_study(example, data, tp.IdentificationOptions(noise=tp.NoiseSpec(source="stated",
                                                                                                magnitude_sigma=5.0)))
     c = tp.run_case_study(example, tp.CaseStudyOptions(fit=False, noise_sigma=0.02, seed=4))
     assert c.fitted is None and c.to_dict() == tp.run_case_study(example, fit=False, noise_sigma=0.02, seed=4).to_dict()
