@@ -844,6 +844,18 @@ void bind_overhang_study(py::module_& m) {
         "rounded to a nanometre.");
 }
 
+// The tap test from Python (both forms): the spacing and the floor judged as the CLI's --spacing and
+// --floor (plausibility.hpp), then the library's checks.
+TapTest tap_test_from_python(const Assembly& a, const TapTestOptions& o, const py::object& progress) {
+  if (o.spacing_m > 0.0)
+    check_plausible(plausible::kPointSpacing, o.spacing_m, "TapTestOptions::spacing_m", "give the spacing in m (15 mm = 0.015)");
+  if (o.floor > 0.0)
+    check_plausible(plausible::kRelativeNoise, o.floor, "TapTestOptions::floor", "give the floor as a fraction (1 % = 0.01)");
+  const ProgressCallback cb = progress_of(progress);
+  py::gil_scoped_release nogil;
+  return run_tap_test_study(a, o, cb);
+}
+
 // The virtual tap test.
 void bind_tap_test(py::module_& m) {
   py::class_<TapTestFrf>(m, "TapTestFrf", "One FRF of the tap test: H_ij = w_i/f_j [m/N], point 0 the tip.")
@@ -901,9 +913,7 @@ void bind_tap_test(py::module_& m) {
         o.hammer = enum_of(hammer, kHammers, "hammer");
         o.sigma = sigma;
         o.seed = seed;
-        const ProgressCallback cb = progress_of(progress);
-        py::gil_scoped_release nogil;
-        return run_tap_test_study(a, o, cb);
+        return tap_test_from_python(a, o, progress);
       },
       "assembly"_a, "spacing_m"_a, "side"_a = "tool", "points"_a = 3, "hammer"_a = "roving", "sigma"_a = 0.0, "seed"_a = 1,
       "progress"_a = py::none(),
@@ -916,9 +926,7 @@ void bind_tap_test(py::module_& m) {
   m.def(
       "run_tap_test_study",
       [](Assembly a, const TapTestOptions& options, const py::object& progress) {
-        const ProgressCallback cb = progress_of(progress);
-        py::gil_scoped_release nogil;
-        return run_tap_test_study(a, options, cb);
+        return tap_test_from_python(a, options, progress);
       },
       "assembly"_a, "options"_a, py::kw_only(), "progress"_a = py::none(),
       "The virtual tap test with its options as one TapTestOptions (the same as the keyword form above; besides, the "

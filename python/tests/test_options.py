@@ -318,6 +318,15 @@ def test_precision_options_form_and_the_clis_plausibility(example):
         tp.run_precision_study(example, tool_spacing_m=0.015, holder_spacing_m=0.02, sigma=5.0)
 
 
+def test_tap_test_judges_what_the_cli_judges(example):
+    # 15 (mm meant) against the usual 1e-3…0.1 m, as the CLI's --spacing 15; a floor of 2 (% meant)
+    # against the usual 1e-4…0.2, as its --floor 2: refused in both forms, naming the field.
+    with pytest.raises(tp.InvalidArgument, match=r"TapTestOptions::spacing_m = 15 is so far outside"):
+        tp.run_tap_test_study(example, spacing_m=15.0)
+    with pytest.raises(tp.InvalidArgument, match=r"TapTestOptions::floor = 2 is so far outside"):
+        tp.run_tap_test_study(example, tp.TapTestOptions(spacing_m=0.015, floor=2.0))
+
+
 def test_identification_and_case_study_options_forms_are_the_keyword_forms(example, model):
     f = example.frequency_hz
     sh = tp.add_measurement_noise(f, model.holder_tip(f), sigma=0.05, seed=1)
