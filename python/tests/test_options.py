@@ -204,28 +204,29 @@ def test_more_options_name_a_wrong_field_and_value():
         tp.SavgolOptions(windw=7)
     with pytest.raises(TypeError):
         tp.SavgolOptions(7, 3)  # keyword-only
-    with pytest.raises(tp.InvalidArgument, match=r"IdentificationOptions::route 'tool_holder' is not one of"):
-        tp.IdentificationOptions(route="tool_holder")
-    with pytest.raises(tp.InvalidArgument, match=r"JointFitOptions::uncertainty 'jackknife' is not one of"):
-        tp.JointFitOptions(uncertainty="jackknife")
-    with pytest.raises(tp.InvalidArgument, match=r"NoiseSpec::source 'guessed'"):
-        tp.NoiseSpec(source="guessed")
-    with pytest.raises(tp.InvalidArgument, match=r"FrfReadOptions::units 'furlongs' is not a unit"):
-        tp.FrfReadOptions(units="furlongs")
-    with pytest.raises(tp.InvalidArgument, match=r"FrfCsvOptions::format 'mag-phase' is not one of"):
-        tp.FrfReadOptions(value_format="mag-phase")
-    with pytest.raises(tp.InvalidArgument, match=r"BeamStudyOptions::block '13' is not one of"):
-        tp.BeamStudyOptions(block="13")
+    # A name that is not one of the enumeration's (or not a unit): the library's message, naming the field.
+    for cls, kwargs, message in (
+            (tp.IdentificationOptions, {"route": "tool_holder"}, "IdentificationOptions::route 'tool_holder' is not one of"),
+            (tp.JointFitOptions, {"uncertainty": "jackknife"}, "JointFitOptions::uncertainty 'jackknife' is not one of"),
+            (tp.NoiseSpec, {"source": "guessed"}, "NoiseSpec::source 'guessed'"),
+            (tp.FrfReadOptions, {"units": "furlongs"}, "FrfReadOptions::units 'furlongs' is not a unit"),
+            (tp.FrfReadOptions, {"value_format": "mag-phase"}, "FrfCsvOptions::format 'mag-phase' is not one of"),
+            (tp.BeamStudyOptions, {"block": "13"}, "BeamStudyOptions::block '13' is not one of")):
+        with pytest.raises(tp.InvalidArgument, match=message):
+            cls(**kwargs)
     # check(): the library's own messages, naming the field.
-    for o, field in ((tp.SavgolOptions(window=4), "window"), (tp.NoiseEstimateOptions(window=11), "NoiseEstimateOptions::window"),
-                     (tp.ModalOptions(modes=0), "ModalOptions::modes = 0"), (tp.BeamStudyOptions(length=0.1, outer_diameter=0.01, modes=-1),
-                                                                 "BeamStudyOptions::modes"),
-                     (tp.TapNoise(sigma=-0.1), "TapNoise::sigma"), (tp.PrecisionOptions(tool=tp.TapTestOptions(spacing_m=0.015), holder=tp.TapTestOptions(side="holder", spacing_m=0.02),
-                                           confidence=1.5), "PrecisionOptions::confidence"),
-                     (tp.JointFitOptions(bootstrap_samples=5), "JointFitOptions::bootstrap_samples"),
-                     (tp.ForwardCheckOptions(replicates=10), "ForwardCheckOptions::replicates"),
-                     (tp.IdentificationOptions(width=-1.0), "IdentificationOptions::width"),
-                     (tp.CaseStudyOptions(noise_sigma=-0.05), "CaseStudyOptions::noise_sigma")):
+    taps = dict(tool=tp.TapTestOptions(spacing_m=0.015), holder=tp.TapTestOptions(side="holder", spacing_m=0.02))
+    for o, field in (
+            (tp.SavgolOptions(window=4), "window"),
+            (tp.NoiseEstimateOptions(window=11), "NoiseEstimateOptions::window"),
+            (tp.ModalOptions(modes=0), "ModalOptions::modes = 0"),
+            (tp.BeamStudyOptions(length=0.1, outer_diameter=0.01, modes=-1), "BeamStudyOptions::modes"),
+            (tp.TapNoise(sigma=-0.1), "TapNoise::sigma"),
+            (tp.PrecisionOptions(**taps, confidence=1.5), "PrecisionOptions::confidence"),
+            (tp.JointFitOptions(bootstrap_samples=5), "JointFitOptions::bootstrap_samples"),
+            (tp.ForwardCheckOptions(replicates=10), "ForwardCheckOptions::replicates"),
+            (tp.IdentificationOptions(width=-1.0), "IdentificationOptions::width"),
+            (tp.CaseStudyOptions(noise_sigma=-0.05), "CaseStudyOptions::noise_sigma")):
         with pytest.raises(tp.InvalidArgument, match=field):
             o.check()
     assert not hasattr(tp.FrfWriteOptions(), "check")  # the writer judges its options (no check() in C++)
