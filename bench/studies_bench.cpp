@@ -25,7 +25,7 @@ const Assembly& example() {
 void BM_OverhangStudy(benchmark::State& state) {
   PredictOptions holder;
   holder.receptance = PredictedFrf::HolderTip;
-  const BlockSeries sh = run_prediction(example(), holder).frf;
+  const BlockSeries sh = run_prediction_study(example(), holder).frf;
   OverhangStudyOptions o;
   for (int k = 0; k <= 10; ++k) o.overhangs_m.push_back(0.040 + 0.002 * k);
   o.threads = static_cast<int>(state.range(0));
@@ -37,7 +37,7 @@ BENCHMARK(BM_OverhangStudy)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseR
 // The prediction study: SHT11 on the example's grid (4991 frequencies) and its modes refined on
 // the model.
 void BM_PredictionStudy(benchmark::State& state) {
-  for (auto _ : state) benchmark::DoNotOptimize(run_prediction(example()));
+  for (auto _ : state) benchmark::DoNotOptimize(run_prediction_study(example()));
 }
 BENCHMARK(BM_PredictionStudy)->Unit(benchmark::kMillisecond);
 

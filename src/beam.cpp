@@ -492,7 +492,9 @@ BlockSeries exact_receptance(const SectionProperties& section, double length, co
 // ---- Modal summation ----------------------------------------------------------------------------
 
 void ModalOptions::check() const {
-  if (modes < 1 || modes > 20000) throw InvalidArgument(fmt::format("modal method: modes = {} must lie in 1..20000", modes));
+  if (modes < 1 || modes > 20000)
+    throw InvalidArgument(fmt::format("ModalOptions::modes = {} must lie in 1..20000", modes),
+                          "give 1 to 20000 elastic modes (default 100)");
 }
 
 namespace {

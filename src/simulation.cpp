@@ -484,8 +484,21 @@ double chatter_frequency(const std::vector<double>& ax, const std::vector<double
 
 // ---- The simulation -----------------------------------------------------------------------------
 
-SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cutter, const ForceLaw& law, const MillingCut& cut,
-                                  const SimulationOptions& options, const std::function<void(double)>& progress) {
+namespace {
+
+// The step grid of a simulation: the step h (m per tooth period, M per revolution), the axial
+// slices, the revolutions analysed, the walls judged; checked against the cut and the memory.
+struct StepGrid {
+  int teeth = 0, m = 0, M = 0, slices = 0, edges_n = 0, analysed_revs = 0, first_rev = 0;
+  double spin = 0.0;  // Ω [rad/s]
+  double fmax = 0.0, h = 0.0, dphi = 0.0, radius = 0.0, dz = 0.0;
+  long total = 0, first_step = 0;
+  std::vector<double> walls_at;  // φ = 0 when the engagement starts there, π when it ends there
+};
+
+// The inputs checked against each other, the grid, and the memory the run needs (before any is taken).
+StepGrid step_grid(const ToolDynamics& dynamics, const Cutter& cutter, const ForceLaw& law, const MillingCut& cut,
+                   const SimulationOptions& options) {
   dynamics.check();
   cutter.check();
   law.check();
@@ -500,13 +513,14 @@ SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cu
     throw InvalidArgument(fmt::format("SimulationOptions::initial_state has {} values: need 2 per mode (q, q̇), {} in all",
                                       options.initial_state.size(), 2 * nm));
 
-  SimulationResult res;
-  const int teeth = cutter.teeth();
-  const double spin = rad_s_of_rpm(cut.speed_rpm);  // Ω [rad/s]
+  StepGrid g;
+  const int teeth = g.teeth = cutter.teeth();
+  g.spin = rad_s_of_rpm(cut.speed_rpm);
   const double tau = 60.0 / (teeth * cut.speed_rpm);
-  const int m = options.steps_per_tooth > 0 ? options.steps_per_tooth : automatic_steps_per_tooth(dynamics, teeth, cut.speed_rpm);
-  const double fmax = dynamics.highest_frequency_hz();
-  const double h = tau / m;
+  const int m = g.m =
+      options.steps_per_tooth > 0 ? options.steps_per_tooth : automatic_steps_per_tooth(dynamics, teeth, cut.speed_rpm);
+  const double fmax = g.fmax = dynamics.highest_frequency_hz();
+  const double h = g.h = tau / m;
   if (fmax > 0.0 && h > 0.25 / fmax)
     throw InvalidArgument(fmt::format("SimulationOptions::steps_per_tooth = {} gives a step of {:.4g} s, more than a quarter "
                                       "period of the highest mode ({:g} Hz)",
@@ -516,123 +530,110 @@ SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cu
   if (static_cast<double>(m) * teeth > 2e7)
     throw InvalidArgument(
         fmt::format("SimulationOptions::steps_per_tooth = {} × {} teeth: more than 2e7 steps per revolution", m, teeth));
-  const int M = m * teeth;  // steps per revolution
-  const double dphi = kTwoPi / M;
-  const double radius = 0.5 * cutter.diameter_m;
+  const int M = g.M = m * teeth;  // steps per revolution
+  const double dphi = g.dphi = kTwoPi / M;
+  const double radius = g.radius = 0.5 * cutter.diameter_m;
   // Axial slices: one per step angle of helix lag over the depth (≤ 200), 1 for straight flutes.
   double total_lag = 0.0;
   for (int j = 0; j < teeth; ++j) total_lag = std::max(total_lag, cut.depth_m * std::tan(cutter.helix_of(j)) / radius);
   int slices = options.slices;
   if (slices == 0) slices = total_lag > 0.0 ? static_cast<int>(std::clamp(std::ceil(total_lag / dphi), 1.0, 200.0)) : 1;
-  const double dz = cut.depth_m / slices;
+  g.slices = slices;
+  g.dz = cut.depth_m / slices;
   for (std::size_t j = 0; j < cutter.pitch_rad.size(); ++j)
     if (cutter.pitch_rad[j] < 2.0 * dphi)
       throw InvalidArgument(fmt::format("Cutter::pitch_rad[{}] = {:.4g} rad is less than two steps ({:.4g} rad) of "
                                         "SimulationOptions::steps_per_tooth = {}",
                                         j, cutter.pitch_rad[j], 2.0 * dphi, m),
                             "give more steps per tooth period");
-  const long total = static_cast<long>(options.revolutions) * M;
-  const int analysed_revs = std::max(1, static_cast<int>(std::lround(options.analysed_fraction * options.revolutions)));
-  const int first_rev = options.revolutions - analysed_revs;
-  const long first_step = static_cast<long>(first_rev) * M;
-  const int edges_n = teeth * slices;
-  const std::vector<double> walls_at = [&] {
-    std::vector<double> w;
-    if (cut.engagement.entry_rad == 0.0) w.push_back(0.0);
-    if (cut.engagement.exit_rad == kPi) w.push_back(kPi);
-    return w;
-  }();
+  const long total = g.total = static_cast<long>(options.revolutions) * M;
+  const int analysed_revs = g.analysed_revs =
+      std::max(1, static_cast<int>(std::lround(options.analysed_fraction * options.revolutions)));
+  g.first_rev = options.revolutions - analysed_revs;
+  g.first_step = static_cast<long>(g.first_rev) * M;
+  const int edges_n = g.edges_n = teeth * slices;
+  if (cut.engagement.entry_rad == 0.0) g.walls_at.push_back(0.0);
+  if (cut.engagement.exit_rad == kPi) g.walls_at.push_back(kPi);
 
   // Memory: histories, wall passes, the analysed displacements (and their spectra), the surfaces
   // and the step schedule.
-  {
-    const double rec = options.record
-                           ? static_cast<double>(total + 1) * (8.0 + teeth) * 8.0 +
-                                 static_cast<double>(walls_at.size()) * options.revolutions * edges_n * sizeof(WallPass)
-                           : 0.0;
-    const double need = rec + static_cast<double>(analysed_revs) * M * 8.0 * 8.0 +
-                        static_cast<double>(edges_n) * M * 8.0 * (2.0 + options.memory_revolutions) +
-                        static_cast<double>(options.revolutions) * (teeth + 1) * sizeof(MotionSample) * 2.0;
-    const double limit = options.memory_limit_bytes > 0.0 ? options.memory_limit_bytes : physical_memory_bytes();
-    if (limit > 0.0 && need > limit)
-      throw InvalidArgument(fmt::format("the simulation needs about {} of memory ({} revolutions × {} steps × {} edges{}), "
-                                        "more than {} ({})",
-                                        bytes_text(need), options.revolutions, M, edges_n,
-                                        options.record ? ", histories recorded" : "", bytes_text(limit),
-                                        options.memory_limit_bytes > 0.0 ? "SimulationOptions::memory_limit_bytes"
-                                                                         : "the machine's physical memory"),
-                            options.record ? "simulate fewer SimulationOptions::revolutions or fewer steps per tooth, or keep no "
-                                             "histories (SimulationOptions::record = false)"
-                                           : "simulate fewer SimulationOptions::revolutions or fewer steps per tooth");
-  }
+  const double rec = options.record
+                         ? static_cast<double>(total + 1) * (8.0 + teeth) * 8.0 +
+                               static_cast<double>(g.walls_at.size()) * options.revolutions * edges_n * sizeof(WallPass)
+                         : 0.0;
+  const double need = rec + static_cast<double>(analysed_revs) * M * 8.0 * 8.0 +
+                      static_cast<double>(edges_n) * M * 8.0 * (2.0 + options.memory_revolutions) +
+                      static_cast<double>(options.revolutions) * (teeth + 1) * sizeof(MotionSample) * 2.0;
+  const double limit = options.memory_limit_bytes > 0.0 ? options.memory_limit_bytes : physical_memory_bytes();
+  if (limit > 0.0 && need > limit)
+    throw InvalidArgument(fmt::format("the simulation needs about {} of memory ({} revolutions × {} steps × {} edges{}), "
+                                      "more than {} ({})",
+                                      bytes_text(need), options.revolutions, M, edges_n,
+                                      options.record ? ", histories recorded" : "", bytes_text(limit),
+                                      options.memory_limit_bytes > 0.0 ? "SimulationOptions::memory_limit_bytes"
+                                                                       : "the machine's physical memory"),
+                          options.record ? "simulate fewer SimulationOptions::revolutions or fewer steps per tooth, or keep no "
+                                           "histories (SimulationOptions::record = false)"
+                                         : "simulate fewer SimulationOptions::revolutions or fewer steps per tooth");
+  return g;
+}
 
-  res.step_s = h;
-  res.steps_per_tooth = m;
-  res.steps_per_revolution = M;
-  res.slices = slices;
-  res.revolutions = options.revolutions;
-  res.steps = total;
-  res.analysed_from = first_rev;
-
-  // Modes.
-  std::vector<ModeStep> modes;
-  for (const PlanarMode& pm : dynamics.modes) modes.push_back(mode_step(pm, h));
-  std::vector<double> q(static_cast<std::size_t>(nm), 0.0), v(static_cast<std::size_t>(nm), 0.0);
-  for (int r = 0; r < nm && !options.initial_state.empty(); ++r) {
-    q[static_cast<std::size_t>(r)] = options.initial_state[static_cast<std::size_t>(2 * r)];
-    v[static_cast<std::size_t>(r)] = options.initial_state[static_cast<std::size_t>(2 * r + 1)];
-  }
-  auto tip = [&](const std::vector<double>& a, double& x, double& y) {
-    x = 0.0;
-    y = 0.0;
-    for (int r = 0; r < nm; ++r) {
-      x += modes[static_cast<std::size_t>(r)].sx * a[static_cast<std::size_t>(r)];
-      y += modes[static_cast<std::size_t>(r)].sy * a[static_cast<std::size_t>(r)];
-    }
-  };
-
-  // Edges: tooth j at slice l; θ_{j+1} = θ_j − p_j; the tooth ahead of j is j − 1, pitch p_{j−1}.
-  std::vector<Edge> edges(static_cast<std::size_t>(edges_n));
-  const int memory = options.memory_revolutions;
-  {
-    double theta = 0.0;
-    for (int j = 0; j < teeth; ++j) {
-      for (int l = 0; l < slices; ++l) {
-        Edge& e = edges[static_cast<std::size_t>(j * slices + l)];
-        e.tooth = j;
-        e.slice = l;
-        const double z = (l + 0.5) * dz;
-        const double lag = z * std::tan(cutter.helix_of(j)) / radius;
-        e.offset = in_steps(theta - lag, dphi);
-        e.radius = radius + (cutter.runout_m.empty() ? 0.0 : cutter.runout_m[static_cast<std::size_t>(j)]);
-        double gap = 0.0;  // the angle back to the earlier tooth, at the tip
-        for (int back = 1; back <= memory * teeth; ++back) {
-          const int ahead = ((j - back) % teeth + teeth) % teeth;
-          gap += cutter.pitch_rad[static_cast<std::size_t>(ahead)];
-          // At height z (a variable helix): the earlier tooth lags by its own angle.
-          const double at_z = gap + lag - z * std::tan(cutter.helix_of(ahead)) / radius;
-          if (!(at_z >= 2.0 * dphi))
-            throw InvalidArgument(
-                fmt::format("Cutter::tooth_helix_rad: at {:.4g} mm above the tip tooth {} is less than two "
-                            "steps behind tooth {}: the helix angles differ too much for this depth",
-                            z * 1e3, j, ahead));
-          const double d = in_steps(at_z, dphi), whole = std::floor(d);
-          e.behind.push_back(
-              {ahead * slices + l, static_cast<long>(whole), d - whole, teeth * cut.feed_per_tooth_m * at_z / kTwoPi});
-        }
+// Edges: tooth j at slice l; θ_{j+1} = θ_j − p_j; the tooth ahead of j is j − 1, pitch p_{j−1}.
+// Each with the earlier passes at its angle and slice over `memory` revolutions (a variable helix:
+// the earlier tooth lags by its own angle at that height).
+std::vector<Edge> cutting_edges(const Cutter& cutter, const MillingCut& cut, const StepGrid& g, int memory) {
+  const int teeth = g.teeth, slices = g.slices;
+  std::vector<Edge> edges(static_cast<std::size_t>(g.edges_n));
+  double theta = 0.0;
+  for (int j = 0; j < teeth; ++j) {
+    for (int l = 0; l < slices; ++l) {
+      Edge& e = edges[static_cast<std::size_t>(j * slices + l)];
+      e.tooth = j;
+      e.slice = l;
+      const double z = (l + 0.5) * g.dz;
+      const double lag = z * std::tan(cutter.helix_of(j)) / g.radius;
+      e.offset = in_steps(theta - lag, g.dphi);
+      e.radius = g.radius + (cutter.runout_m.empty() ? 0.0 : cutter.runout_m[static_cast<std::size_t>(j)]);
+      double gap = 0.0;  // the angle back to the earlier tooth, at the tip
+      for (int back = 1; back <= memory * teeth; ++back) {
+        const int ahead = ((j - back) % teeth + teeth) % teeth;
+        gap += cutter.pitch_rad[static_cast<std::size_t>(ahead)];
+        // At height z (a variable helix): the earlier tooth lags by its own angle.
+        const double at_z = gap + lag - z * std::tan(cutter.helix_of(ahead)) / g.radius;
+        if (!(at_z >= 2.0 * g.dphi))
+          throw InvalidArgument(fmt::format("Cutter::tooth_helix_rad: at {:.4g} mm above the tip tooth {} is less than two "
+                                            "steps behind tooth {}: the helix angles differ too much for this depth",
+                                            z * 1e3, j, ahead));
+        const double d = in_steps(at_z, g.dphi), whole = std::floor(d);
+        e.behind.push_back(
+            {ahead * slices + l, static_cast<long>(whole), d - whole, teeth * cut.feed_per_tooth_m * at_z / kTwoPi});
       }
-      theta -= cutter.pitch_rad[static_cast<std::size_t>(j)];
     }
+    theta -= cutter.pitch_rad[static_cast<std::size_t>(j)];
   }
+  return edges;
+}
 
-  // The schedule of one revolution.
+// The schedule of one revolution, per step: the edges cutting within it, those whose surface is
+// updated at its end, the tips passing φ = 0 and the edges passing a wall.
+struct Schedule {
+  std::vector<std::vector<CutEntry>> cuts;
+  std::vector<std::vector<EndEntry>> ends;
+  std::vector<std::vector<Pass>> tip_passes, wall_passes;
+};
+
+Schedule revolution_schedule(const std::vector<Edge>& edges, const Cutter& cutter, const MillingCut& cut, const StepGrid& g) {
+  const int M = g.M;
+  const double dphi = g.dphi;
   const double st = cut.engagement.entry_rad, ex = cut.engagement.exit_rad;
   const double margin = 3.0 * dphi;  // surfaces kept this far outside the engagement (interpolation reads them)
-  std::vector<std::vector<CutEntry>> cuts(static_cast<std::size_t>(M));
-  std::vector<std::vector<EndEntry>> ends(static_cast<std::size_t>(M));
-  std::vector<std::vector<Pass>> tip_passes(static_cast<std::size_t>(M)), wall_passes(static_cast<std::size_t>(M));
+  Schedule r;
+  r.cuts.resize(static_cast<std::size_t>(M));
+  r.ends.resize(static_cast<std::size_t>(M));
+  r.tip_passes.resize(static_cast<std::size_t>(M));
+  r.wall_passes.resize(static_cast<std::size_t>(M));
   const bool cutting = cut.depth_m > 0.0;
-  for (int e = 0; e < edges_n && cutting; ++e) {
+  for (int e = 0; e < g.edges_n && cutting; ++e) {
     const Edge& E = edges[static_cast<std::size_t>(e)];
     for (int s = 0; s < M; ++s) {
       const double p0 = dphi * wrap_steps(E.offset + s, M);
@@ -649,120 +650,89 @@ SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cu
           c.ca = std::cos(p0 + a * dphi);
           c.sb = std::sin(p0 + b * dphi);
           c.cb = std::cos(p0 + b * dphi);
-          cuts[static_cast<std::size_t>(s)].push_back(c);
+          r.cuts[static_cast<std::size_t>(s)].push_back(c);
         }
       }
       const double p1 = dphi * wrap_steps(E.offset + s + 1, M);
       const bool near = (p1 >= st - margin && p1 <= ex + margin) || p1 - kTwoPi >= st - margin || p1 + kTwoPi <= ex + margin;
       if (near)
-        ends[static_cast<std::size_t>(s)].push_back(
+        r.ends[static_cast<std::size_t>(s)].push_back(
             {e, std::sin(p1), std::cos(p1), p1 >= st && p1 <= ex, p1 > st + 1e-9 && p1 < ex - 1e-9});
     }
   }
-  for (int j = 0; j < teeth; ++j) {
+  for (int j = 0; j < g.teeth; ++j) {
     double theta = 0.0;
     for (int i = 0; i < j; ++i) theta -= cutter.pitch_rad[static_cast<std::size_t>(i)];
     const auto [s, f] = crossing(in_steps(theta, dphi), 0.0, M);
-    tip_passes[static_cast<std::size_t>(s)].push_back({j, 0, f});
+    r.tip_passes[static_cast<std::size_t>(s)].push_back({j, 0, f});
   }
-  for (std::size_t w = 0; w < walls_at.size() && cutting; ++w)
-    for (int e = 0; e < edges_n; ++e) {
-      const auto [s, f] = crossing(edges[static_cast<std::size_t>(e)].offset, walls_at[w] == 0.0 ? 0.0 : 0.5 * M, M);
-      wall_passes[static_cast<std::size_t>(s)].push_back({e, static_cast<int>(w), f});
+  for (std::size_t w = 0; w < g.walls_at.size() && cutting; ++w)
+    for (int e = 0; e < g.edges_n; ++e) {
+      const auto [s, f] = crossing(edges[static_cast<std::size_t>(e)].offset, g.walls_at[w] == 0.0 ? 0.0 : 0.5 * M, M);
+      r.wall_passes[static_cast<std::size_t>(s)].push_back({e, static_cast<int>(w), f});
     }
+  return r;
+}
+
+// The time stepping: the modal state, the surfaces every edge left (a ring over the last
+// memory_revolutions), the force of each step (predictor, then corrector linear over each cutting
+// piece), what is recorded, and the samples the chatter analysis and the surface location error read.
+class MillingRun {
+ public:
+  MillingRun(const ToolDynamics& dynamics, const Cutter& cutter, const ForceLaw& law, const MillingCut& cut,
+             const SimulationOptions& options, const StepGrid& grid, SimulationResult& result);
+  // Steps until the end or a vibration beyond the chip model (then a warning); progress per revolution.
+  void run(const std::function<void(double)>& progress);
+  // The summary over the analysed revolutions: mean forces, power, SLE, growth, stability, chatter frequency.
+  void summarise();
+
+ private:
+  void tip(const std::vector<double>& a, double& x, double& y) const;
+  double surface(const Edge& E, long slot1, double f, double sn) const;
+  double force(double chip, double s, double c, double vn, double& fx, double& fy) const;
+  void close_revolution();
+  void push_state();
+  void finish(long k1, long slot1, int s);
+  void advance(long k, int s);
+  void sample_passes(long k, int s, double x0, double y0, double vx0, double vy0);
+  bool end_of_step(long k1, const std::function<void(double)>& progress);
+  void stopped_early();
+
+  const MillingCut& cut;
+  const SimulationOptions& options;
+  const StepGrid& g;
+  SimulationResult& res;
+  const int nm, teeth, slices, M, memory;
+  const double h, dphi, radius, dz, fmax;
+  const long total, first_step;
+  const std::vector<Edge> edges;
+  const Schedule schedule;
+  std::vector<ModeStep> modes;
+  std::vector<double> q, v, qp, qn, vn;
 
   // Where each edge passed, u·r + R + ρ_j at its own angle, at the steps of the last
   // memory_revolutions (a ring), at rest before t = 0.
-  const long ring_n = static_cast<long>(memory) * M + 2;
-  std::vector<double> passed(static_cast<std::size_t>(edges_n) * static_cast<std::size_t>(ring_n));
-  for (int e = 0; e < edges_n; ++e)
-    std::fill_n(passed.begin() + static_cast<std::ptrdiff_t>(e) * ring_n, ring_n, edges[static_cast<std::size_t>(e)].radius);
-  // The ring is read at step k + f − delay (f in [0, 1], k's slot `slot` = k mod ring_n): whole and
-  // fractional parts of the delay kept apart, so that no division is needed.
-  auto surface = [&](const Edge& E, long slot, double f, double sn) {
-    double w = -std::numeric_limits<double>::infinity();
-    for (const Behind& b : E.behind) {
-      double g = f - b.part;
-      long base = slot - b.whole;
-      if (g < 0.0) {
-        g += 1.0;
-        --base;
-      }
-      if (base < 0) base += ring_n;
-      const double* ring = passed.data() + static_cast<std::ptrdiff_t>(b.edge) * ring_n;
-      double p = ring[base];
-      if (g > 0.0) p += g * (ring[base + 1 == ring_n ? 0 : base + 1] - p);
-      w = std::max(w, p - sn * b.feed);
-    }
-    return w;
-  };
+  const long ring_n;
+  std::vector<double> passed;
 
-  // The force law.
-  const double kt = law.tangential_coefficient, kr = law.radial_ratio * kt, kte = law.tangential_edge, kre = law.radial_edge;
-  const bool linear = law.exponent == 1.0;
-  const double h0 = law.reference_chip_m, xp = law.exponent;
-  // Process damping (ForceLaw::process_damping_n_per_m): −C_i dz (u·ṙ)/V u on a slice in the cut,
-  // V = πDn/60; `vn` = u·ṙ.
-  const double damping = law.process_damping_n_per_m / (kPi * cutter.diameter_m * cut.speed_rpm / 60.0);
-  auto force = [&](double chip, double s, double c, double vn, double& fx, double& fy) {  // per slice; returns F_t
-    const double hc = linear ? chip : h0 * std::pow(chip / h0, xp);
-    const double ft = dz * (kte + kt * hc), fr = dz * (kre + kr * hc), fd = dz * damping * vn;
-    fx = -ft * c - fr * s - fd * s;
-    fy = ft * s - fr * c - fd * c;
-    return ft;
-  };
+  // The force law. Process damping (ForceLaw::process_damping_n_per_m): −C_i dz (u·ṙ)/V u on a
+  // slice in the cut, V = πDn/60.
+  const double kt, kr, kte, kre, h0, xp, damping;
+  const bool linear;
 
-  // Records.
-  const bool rec = options.record;
-  const std::size_t nrec = rec ? static_cast<std::size_t>(total + 1) : 0;
-  if (rec) {
-    for (auto* v2 :
-         {&res.time_s, &res.force_x_n, &res.force_y_n, &res.x_m, &res.y_m, &res.vx_m_per_s, &res.vy_m_per_s, &res.torque_nm})
-      v2->resize(nrec);
-    res.tooth_force_n.assign(static_cast<std::size_t>(teeth), std::vector<double>(nrec, 0.0));
-  }
-  res.walls.resize(walls_at.size());
-  for (std::size_t w = 0; w < walls_at.size(); ++w) {
-    res.walls[w].angle_rad = walls_at[w];
-    for (int l = 0; l < slices; ++l) res.walls[w].slice_height_m.push_back((l + 0.5) * dz);
-  }
+  const bool rec;
   // Per wall and slice: the deepest δ of the current revolution, and the sum of those over the analysed ones.
-  std::vector<std::vector<double>> deepest(walls_at.size(), std::vector<double>(static_cast<std::size_t>(slices),
-                                                                                -std::numeric_limits<double>::infinity()));
-  std::vector<std::vector<double>> deepest_sum(walls_at.size(), std::vector<double>(static_cast<std::size_t>(slices), 0.0));
-  std::vector<std::vector<int>> deepest_revs(walls_at.size(), std::vector<int>(static_cast<std::size_t>(slices), 0));
+  std::vector<std::vector<double>> deepest, deepest_sum;
+  std::vector<std::vector<int>> deepest_revs;
   int current_rev = 0;
-  auto close_revolution = [&] {
-    for (std::size_t w = 0; w < walls_at.size(); ++w)
-      for (int l = 0; l < slices; ++l) {
-        double& d = deepest[w][static_cast<std::size_t>(l)];
-        if (current_rev >= first_rev && std::isfinite(d)) {
-          deepest_sum[w][static_cast<std::size_t>(l)] += d;
-          ++deepest_revs[w][static_cast<std::size_t>(l)];
-        }
-        d = -std::numeric_limits<double>::infinity();
-      }
-  };
 
   // The chatter analysis: the modal state once per cut period, the displacement in the analysed revolutions.
-  const int period = cutter.uniform() ? m : M;
+  const int period;
   std::vector<std::vector<double>> states;
   std::vector<double> ax, ay;
-  ax.reserve(static_cast<std::size_t>(analysed_revs) * M);
-  ay.reserve(static_cast<std::size_t>(analysed_revs) * M);
-  auto push_state = [&] {
-    std::vector<double> s(2 * static_cast<std::size_t>(nm));
-    for (int r = 0; r < nm; ++r) {
-      s[2 * static_cast<std::size_t>(r)] = modes[static_cast<std::size_t>(r)].omega * q[static_cast<std::size_t>(r)];
-      s[2 * static_cast<std::size_t>(r) + 1] = v[static_cast<std::size_t>(r)];
-    }
-    states.push_back(std::move(s));
-  };
   std::vector<double> period_x, period_y;  // the displacement at the same samples
 
   double rx = 0.0, ry = 0.0, vx = 0.0, vy = 0.0;
-  tip(q, rx, ry);
-  tip(v, vx, vy);
   double fx_k = 0.0, fy_k = 0.0;  // the force at the current step (final displacement): the record
   // The predictor's force: the previous step's corrector's at its end. Not the recorded one: where a
   // chip is exactly 0 (an edge at φ = 0 or π meets its own surface), rounding decides whether an
@@ -772,239 +742,387 @@ SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cu
   long inside = 0, out_of_cut = 0;
   double peak = 0.0;
 
-  // Surfaces and force at the end of step s (time index k1), with the final displacement.
-  auto finish = [&](long k1, long slot1, int s) {
-    fx_k = 0.0;
-    fy_k = 0.0;
-    double torque = 0.0;
-    const bool analysed = k1 > first_step;
-    for (const EndEntry& en : ends[static_cast<std::size_t>(s)]) {
-      const Edge& E = edges[static_cast<std::size_t>(en.edge)];
-      const double ur = en.s * rx + en.c * ry + E.radius;
-      const double w = surface(E, slot1, 0.0, en.s);
-      passed[static_cast<std::size_t>(en.edge) * static_cast<std::size_t>(ring_n) + static_cast<std::size_t>(slot1)] = ur;
-      if (!en.inside) continue;
-      const double chip = ur - w;
-      if (analysed && en.interior) {
-        ++inside;
-        out_of_cut += chip <= 0.0;
-      }
-      if (chip <= 0.0) continue;
-      double fx, fy;
-      const double ft = force(chip, en.s, en.c, en.s * vx + en.c * vy, fx, fy);
-      fx_k += fx;
-      fy_k += fy;
-      torque += ft * E.radius;
-      if (rec) res.tooth_force_n[static_cast<std::size_t>(E.tooth)][static_cast<std::size_t>(k1)] += ft;
-    }
-    if (analysed) peak = std::max(peak, fx_k * fx_k + fy_k * fy_k);  // squared; the root at the end
-    if (rec) {
-      const auto i = static_cast<std::size_t>(k1);
-      res.time_s[i] = static_cast<double>(k1) * h;
-      res.force_x_n[i] = fx_k;
-      res.force_y_n[i] = fy_k;
-      res.x_m[i] = rx;
-      res.y_m[i] = ry;
-      res.vx_m_per_s[i] = vx;
-      res.vy_m_per_s[i] = vy;
-      res.torque_nm[i] = torque;
-    }
-  };
+  // The chip model is that of small vibrations (the tooth's path a circle about the nominal centre,
+  // the engagement's angles fixed). A cut whose vibration amplitude grows beyond 5 % of the radius
+  // (a strongly unstable cut of a tool flexible in x and y: the cutting force can feed a whirl
+  // without bound) has left it: the simulation stops there and says so.
+  const double limit;
+  double lo_x = 0.0, hi_x = 0.0, lo_y = 0.0, hi_y = 0.0;  // this revolution's range of the displacement
+  bool diverged = false;
+  double vibration = 0.0;
+  long slot = 0;  // k mod ring_n
+};
 
+MillingRun::MillingRun(const ToolDynamics& dynamics, const Cutter& cutter, const ForceLaw& law, const MillingCut& cut_,
+                       const SimulationOptions& options_, const StepGrid& grid, SimulationResult& result)
+    : cut(cut_),
+      options(options_),
+      g(grid),
+      res(result),
+      nm(static_cast<int>(dynamics.modes.size())),
+      teeth(grid.teeth),
+      slices(grid.slices),
+      M(grid.M),
+      memory(options_.memory_revolutions),
+      h(grid.h),
+      dphi(grid.dphi),
+      radius(grid.radius),
+      dz(grid.dz),
+      fmax(grid.fmax),
+      total(grid.total),
+      first_step(grid.first_step),
+      edges(cutting_edges(cutter, cut_, grid, options_.memory_revolutions)),
+      schedule(revolution_schedule(edges, cutter, cut_, grid)),
+      q(static_cast<std::size_t>(nm), 0.0),
+      v(static_cast<std::size_t>(nm), 0.0),
+      qp(static_cast<std::size_t>(nm)),
+      qn(static_cast<std::size_t>(nm)),
+      vn(static_cast<std::size_t>(nm)),
+      ring_n(static_cast<long>(memory) * M + 2),
+      passed(static_cast<std::size_t>(grid.edges_n) * static_cast<std::size_t>(ring_n)),
+      kt(law.tangential_coefficient),
+      kr(law.radial_ratio * law.tangential_coefficient),
+      kte(law.tangential_edge),
+      kre(law.radial_edge),
+      h0(law.reference_chip_m),
+      xp(law.exponent),
+      damping(law.process_damping_n_per_m / (kPi * cutter.diameter_m * cut_.speed_rpm / 60.0)),
+      linear(law.exponent == 1.0),
+      rec(options_.record),
+      deepest(grid.walls_at.size(),
+              std::vector<double>(static_cast<std::size_t>(slices), -std::numeric_limits<double>::infinity())),
+      deepest_sum(grid.walls_at.size(), std::vector<double>(static_cast<std::size_t>(slices), 0.0)),
+      deepest_revs(grid.walls_at.size(), std::vector<int>(static_cast<std::size_t>(slices), 0)),
+      period(cutter.uniform() ? grid.m : grid.M),
+      limit(0.05 * grid.radius) {
+  for (const PlanarMode& pm : dynamics.modes) modes.push_back(mode_step(pm, h));
+  for (int r = 0; r < nm && !options.initial_state.empty(); ++r) {
+    q[static_cast<std::size_t>(r)] = options.initial_state[static_cast<std::size_t>(2 * r)];
+    v[static_cast<std::size_t>(r)] = options.initial_state[static_cast<std::size_t>(2 * r + 1)];
+  }
+  for (int e = 0; e < g.edges_n; ++e)
+    std::fill_n(passed.begin() + static_cast<std::ptrdiff_t>(e) * ring_n, ring_n, edges[static_cast<std::size_t>(e)].radius);
+
+  // Records.
+  const std::size_t nrec = rec ? static_cast<std::size_t>(total + 1) : 0;
+  if (rec) {
+    for (auto* v2 :
+         {&res.time_s, &res.force_x_n, &res.force_y_n, &res.x_m, &res.y_m, &res.vx_m_per_s, &res.vy_m_per_s, &res.torque_nm})
+      v2->resize(nrec);
+    res.tooth_force_n.assign(static_cast<std::size_t>(teeth), std::vector<double>(nrec, 0.0));
+  }
+  res.walls.resize(g.walls_at.size());
+  for (std::size_t w = 0; w < g.walls_at.size(); ++w) {
+    res.walls[w].angle_rad = g.walls_at[w];
+    for (int l = 0; l < slices; ++l) res.walls[w].slice_height_m.push_back((l + 0.5) * dz);
+  }
+  ax.reserve(static_cast<std::size_t>(g.analysed_revs) * M);
+  ay.reserve(static_cast<std::size_t>(g.analysed_revs) * M);
+}
+
+void MillingRun::tip(const std::vector<double>& a, double& x, double& y) const {
+  x = 0.0;
+  y = 0.0;
+  for (int r = 0; r < nm; ++r) {
+    x += modes[static_cast<std::size_t>(r)].sx * a[static_cast<std::size_t>(r)];
+    y += modes[static_cast<std::size_t>(r)].sy * a[static_cast<std::size_t>(r)];
+  }
+}
+
+// The ring is read at step k + f − delay (f in [0, 1], k's slot `slot1` = k mod ring_n): whole and
+// fractional parts of the delay kept apart, so that no division is needed.
+double MillingRun::surface(const Edge& E, long slot1, double f, double sn) const {
+  double w = -std::numeric_limits<double>::infinity();
+  for (const Behind& b : E.behind) {
+    double gf = f - b.part;
+    long base = slot1 - b.whole;
+    if (gf < 0.0) {
+      gf += 1.0;
+      --base;
+    }
+    if (base < 0) base += ring_n;
+    const double* ring = passed.data() + static_cast<std::ptrdiff_t>(b.edge) * ring_n;
+    double p = ring[base];
+    if (gf > 0.0) p += gf * (ring[base + 1 == ring_n ? 0 : base + 1] - p);
+    w = std::max(w, p - sn * b.feed);
+  }
+  return w;
+}
+
+// The force on one slice (fx, fy) for a chip `chip`, at sin/cos (s, c) of the edge's angle, `vn` = u·ṙ; returns F_t.
+double MillingRun::force(double chip, double s, double c, double vn_, double& fx, double& fy) const {
+  const double hc = linear ? chip : h0 * std::pow(chip / h0, xp);
+  const double ft = dz * (kte + kt * hc), fr = dz * (kre + kr * hc), fd = dz * damping * vn_;
+  fx = -ft * c - fr * s - fd * s;
+  fy = ft * s - fr * c - fd * c;
+  return ft;
+}
+
+void MillingRun::close_revolution() {
+  for (std::size_t w = 0; w < g.walls_at.size(); ++w)
+    for (int l = 0; l < slices; ++l) {
+      double& d = deepest[w][static_cast<std::size_t>(l)];
+      if (current_rev >= g.first_rev && std::isfinite(d)) {
+        deepest_sum[w][static_cast<std::size_t>(l)] += d;
+        ++deepest_revs[w][static_cast<std::size_t>(l)];
+      }
+      d = -std::numeric_limits<double>::infinity();
+    }
+}
+
+void MillingRun::push_state() {
+  std::vector<double> s(2 * static_cast<std::size_t>(nm));
+  for (int r = 0; r < nm; ++r) {
+    s[2 * static_cast<std::size_t>(r)] = modes[static_cast<std::size_t>(r)].omega * q[static_cast<std::size_t>(r)];
+    s[2 * static_cast<std::size_t>(r) + 1] = v[static_cast<std::size_t>(r)];
+  }
+  states.push_back(std::move(s));
+}
+
+// Surfaces and force at the end of step s (time index k1), with the final displacement.
+void MillingRun::finish(long k1, long slot1, int s) {
+  fx_k = 0.0;
+  fy_k = 0.0;
+  double torque = 0.0;
+  const bool analysed = k1 > first_step;
+  for (const EndEntry& en : schedule.ends[static_cast<std::size_t>(s)]) {
+    const Edge& E = edges[static_cast<std::size_t>(en.edge)];
+    const double ur = en.s * rx + en.c * ry + E.radius;
+    const double w = surface(E, slot1, 0.0, en.s);
+    passed[static_cast<std::size_t>(en.edge) * static_cast<std::size_t>(ring_n) + static_cast<std::size_t>(slot1)] = ur;
+    if (!en.inside) continue;
+    const double chip = ur - w;
+    if (analysed && en.interior) {
+      ++inside;
+      out_of_cut += chip <= 0.0;
+    }
+    if (chip <= 0.0) continue;
+    double fx, fy;
+    const double ft = force(chip, en.s, en.c, en.s * vx + en.c * vy, fx, fy);
+    fx_k += fx;
+    fy_k += fy;
+    torque += ft * E.radius;
+    if (rec) res.tooth_force_n[static_cast<std::size_t>(E.tooth)][static_cast<std::size_t>(k1)] += ft;
+  }
+  if (analysed) peak = std::max(peak, fx_k * fx_k + fy_k * fy_k);  // squared; the root at the end
+  if (rec) {
+    const auto i = static_cast<std::size_t>(k1);
+    res.time_s[i] = static_cast<double>(k1) * h;
+    res.force_x_n[i] = fx_k;
+    res.force_y_n[i] = fy_k;
+    res.x_m[i] = rx;
+    res.y_m[i] = ry;
+    res.vx_m_per_s[i] = vx;
+    res.vy_m_per_s[i] = vy;
+    res.torque_nm[i] = torque;
+  }
+}
+
+// Step k (step s of its revolution): the predictor (the force of step k held over the step), the
+// corrector (the force linear over each cutting piece, at the predicted end), the new state, and
+// the surfaces and force at its end.
+void MillingRun::advance(long k, int s) {
+  double rxp = 0.0, ryp = 0.0, vxp = 0.0, vyp = 0.0;
+  for (int r = 0; r < nm; ++r) {
+    const ModeStep& md = modes[static_cast<std::size_t>(r)];
+    const auto ri = static_cast<std::size_t>(r);
+    const double p = md.sx * px + md.sy * py;
+    qn[ri] = md.p00 * q[ri] + md.p01 * v[ri];
+    vn[ri] = md.p10 * q[ri] + md.p11 * v[ri];
+    qp[ri] = qn[ri] + md.j0q * p;
+    rxp += md.sx * qp[ri];
+    ryp += md.sy * qp[ri];
+    if (damping > 0.0) {
+      const double vpr = vn[ri] + md.j0v * p;
+      vxp += md.sx * vpr;
+      vyp += md.sy * vpr;
+    }
+  }
+  // The tip velocity along u at fraction f of the step (linear between the ends, as the displacement).
+  auto normal_velocity = [&](double f, double sn, double cs) {
+    return damping > 0.0 ? sn * (vx + f * (vxp - vx)) + cs * (vy + f * (vyp - vy)) : 0.0;
+  };
+  double gax = 0.0, gay = 0.0, gbx = 0.0, gby = 0.0;  // whole-step pieces, summed
+  double endx = 0.0, endy = 0.0;                      // every piece's force at the step's end
+  const bool analysed = k >= first_step;
+  for (const CutEntry& c : schedule.cuts[static_cast<std::size_t>(s)]) {
+    const Edge& E = edges[static_cast<std::size_t>(c.edge)];
+    auto chip_at = [&](double f, double sn, double cs) {
+      const double x = rx + f * (rxp - rx), y = ry + f * (ryp - ry);
+      return sn * x + cs * y + E.radius - surface(E, slot, f, sn);
+    };
+    const double ha = chip_at(c.wa, c.sa, c.ca), hb = chip_at(c.wb, c.sb, c.cb);
+    if (ha <= 0.0 && hb <= 0.0) continue;
+    double fa = c.wa, fb = c.wb, sa = c.sa, ca = c.ca, sb = c.sb, cb = c.cb, cha = ha, chb = hb;
+    if (ha <= 0.0 || hb <= 0.0) {  // the tooth leaves or re-enters the cut within the piece: h = 0 located linearly
+      const double fc = c.wa + (c.wb - c.wa) * ha / (ha - hb);
+      const double sc = std::sin(c.phi0 + fc * dphi), cc = std::cos(c.phi0 + fc * dphi);
+      if (ha > 0.0) {
+        fb = fc;
+        sb = sc;
+        cb = cc;
+        chb = 0.0;
+      } else {
+        fa = fc;
+        sa = sc;
+        ca = cc;
+        cha = 0.0;
+      }
+      if (!(fb > fa)) continue;
+    }
+    double fxa, fya, fxb, fyb;
+    const double fta = force(cha, sa, ca, normal_velocity(fa, sa, ca), fxa, fya),
+                 ftb = force(chb, sb, cb, normal_velocity(fb, sb, cb), fxb, fyb);
+    if (analysed) {
+      const double len = (fb - fa) * h * 0.5;
+      imp_x += len * (fxa + fxb);
+      imp_y += len * (fya + fyb);
+      imp_t += len * (fta + ftb) * E.radius;
+    }
+    if (fb == 1.0) {
+      endx += fxb;
+      endy += fyb;
+    }
+    if (fa == 0.0 && fb == 1.0) {
+      gax += fxa;
+      gay += fya;
+      gbx += fxb;
+      gby += fyb;
+      continue;
+    }
+    for (int r = 0; r < nm; ++r) {
+      const ModeStep& md = modes[static_cast<std::size_t>(r)];
+      double a0q, a0v, a1q, a1v;
+      md.integrals(h, fa * h, fb * h, a0q, a0v, a1q, a1v);
+      const double pa = md.sx * fxa + md.sy * fya, pb = md.sx * fxb + md.sy * fyb;
+      qn[static_cast<std::size_t>(r)] += a0q * pa + a1q * (pb - pa);
+      vn[static_cast<std::size_t>(r)] += a0v * pa + a1v * (pb - pa);
+    }
+  }
+  for (int r = 0; r < nm; ++r) {
+    const ModeStep& md = modes[static_cast<std::size_t>(r)];
+    const auto ri = static_cast<std::size_t>(r);
+    const double pa = md.sx * gax + md.sy * gay, pb = md.sx * gbx + md.sy * gby;
+    q[ri] = qn[ri] + md.j0q * pa + md.j1q * (pb - pa);
+    v[ri] = vn[ri] + md.j0v * pa + md.j1v * (pb - pa);
+  }
+  tip(q, rx, ry);
+  tip(v, vx, vy);
+  px = endx;
+  py = endy;
+  slot = slot + 1 == ring_n ? 0 : slot + 1;
+  finish(k + 1, slot, s);
+}
+
+// Samples between the steps k and k + 1 (from (x0, y0) at velocity (vx0, vy0)): cubic Hermite with
+// the velocities, at the tips passing φ = 0 and the edges passing a wall.
+void MillingRun::sample_passes(long k, int s, double x0, double y0, double vx0, double vy0) {
+  for (const Pass& p : schedule.tip_passes[static_cast<std::size_t>(s)]) {
+    const double t = (static_cast<double>(k) + p.f) * h;
+    // Velocities linearly (their slopes, the accelerations, are not kept).
+    res.per_tooth.push_back({t, hermite(x0, vx0 * h, rx, vx * h, p.f), hermite(y0, vy0 * h, ry, vy * h, p.f),
+                             vx0 + p.f * (vx - vx0), vy0 + p.f * (vy - vy0), p.edge});
+  }
+  for (const Pass& p : schedule.wall_passes[static_cast<std::size_t>(s)]) {
+    const Edge& E = edges[static_cast<std::size_t>(p.edge)];
+    const double phi = g.walls_at[static_cast<std::size_t>(p.wall)];
+    const double x = hermite(x0, vx0 * h, rx, vx * h, p.f), y = hermite(y0, vy0 * h, ry, vy * h, p.f);
+    const double delta = std::sin(phi) * x + std::cos(phi) * y + (E.radius - radius);
+    const double t = (static_cast<double>(k) + p.f) * h;
+    double& d = deepest[static_cast<std::size_t>(p.wall)][static_cast<std::size_t>(E.slice)];
+    d = std::max(d, delta);
+    if (rec)
+      res.walls[static_cast<std::size_t>(p.wall)].passes.push_back(
+          {current_rev, E.tooth, E.slice, t, teeth * cut.feed_per_tooth_m * cut.speed_rpm / 60.0 * t, delta});
+  }
+}
+
+// After step k1 − 1: the analysed and once-per-period samples, and at a revolution's end its
+// bookkeeping and the divergence check. False: the vibration left the chip model (stop).
+bool MillingRun::end_of_step(long k1, const std::function<void(double)>& progress) {
+  if (k1 > first_step) {
+    ax.push_back(rx);
+    ay.push_back(ry);
+  }
+  if (k1 % period == 0) {
+    push_state();
+    period_x.push_back(rx);
+    period_y.push_back(ry);
+  }
+  lo_x = std::min(lo_x, rx);
+  hi_x = std::max(hi_x, rx);
+  lo_y = std::min(lo_y, ry);
+  hi_y = std::max(hi_y, ry);
+  if (k1 % M != 0) return true;
+  close_revolution();
+  ++current_rev;
+  res.per_revolution.push_back({static_cast<double>(k1) * h, rx, ry, vx, vy, -1});
+  if (progress) progress(static_cast<double>(current_rev) / options.revolutions);
+  const double amplitude = 0.5 * std::max(hi_x - lo_x, hi_y - lo_y);
+  if (!std::isfinite(amplitude))
+    throw NumericalError(fmt::format("the simulated tool displacement overflowed at {:.4g} s, revolution {}",
+                                     static_cast<double>(k1) * h, current_rev),
+                         "check the modes' units (kg, Hz) and the cutting coefficients (N/m²)");
+  if (amplitude > limit) {
+    diverged = true;
+    vibration = amplitude;
+    return false;
+  }
+  lo_x = hi_x = rx;
+  lo_y = hi_y = ry;
+  return true;
+}
+
+void MillingRun::run(const std::function<void(double)>& progress) {
+  tip(q, rx, ry);
+  tip(v, vx, vy);
   finish(0, 0, M - 1);
   res.per_revolution.push_back({0.0, rx, ry, vx, vy, -1});
   push_state();
   period_x.push_back(rx);
   period_y.push_back(ry);
-
-  std::vector<double> qp(static_cast<std::size_t>(nm)), vp(static_cast<std::size_t>(nm));
-  std::vector<double> qn(static_cast<std::size_t>(nm)), vn(static_cast<std::size_t>(nm));
-  // The chip model is that of small vibrations (the tooth's path a circle about the nominal centre,
-  // the engagement's angles fixed). A cut whose vibration amplitude grows beyond 5 % of the radius
-  // (a strongly unstable cut of a tool flexible in x and y: the cutting force can feed a whirl
-  // without bound) has left it: the simulation stops there and says so.
-  const double limit = 0.05 * radius;
-  double lo_x = rx, hi_x = rx, lo_y = ry, hi_y = ry;  // this revolution's range of the displacement
-  bool diverged = false;
-  double vibration = 0.0;
-  long slot = 0;  // k mod ring_n
+  lo_x = hi_x = rx;
+  lo_y = hi_y = ry;
   for (long k = 0; k < total; ++k) {
     const int s = static_cast<int>(k % M);
-    // Predictor: the force of step k held over the step.
-    double rxp = 0.0, ryp = 0.0, vxp = 0.0, vyp = 0.0;
-    for (int r = 0; r < nm; ++r) {
-      const ModeStep& md = modes[static_cast<std::size_t>(r)];
-      const auto ri = static_cast<std::size_t>(r);
-      const double p = md.sx * px + md.sy * py;
-      qn[ri] = md.p00 * q[ri] + md.p01 * v[ri];
-      vn[ri] = md.p10 * q[ri] + md.p11 * v[ri];
-      qp[ri] = qn[ri] + md.j0q * p;
-      rxp += md.sx * qp[ri];
-      ryp += md.sy * qp[ri];
-      if (damping > 0.0) {
-        const double vpr = vn[ri] + md.j0v * p;
-        vxp += md.sx * vpr;
-        vyp += md.sy * vpr;
-      }
-    }
-    // The tip velocity along u at fraction f of the step (linear between the ends, as the displacement).
-    auto normal_velocity = [&](double f, double sn, double cs) {
-      return damping > 0.0 ? sn * (vx + f * (vxp - vx)) + cs * (vy + f * (vyp - vy)) : 0.0;
-    };
-    // Corrector: the force linear over each cutting piece of the step, at the predicted end.
-    double gax = 0.0, gay = 0.0, gbx = 0.0, gby = 0.0;  // whole-step pieces, summed
-    double endx = 0.0, endy = 0.0;                      // every piece's force at the step's end
-    const bool analysed = k >= first_step;
-    for (const CutEntry& c : cuts[static_cast<std::size_t>(s)]) {
-      const Edge& E = edges[static_cast<std::size_t>(c.edge)];
-      auto chip_at = [&](double f, double sn, double cs) {
-        const double x = rx + f * (rxp - rx), y = ry + f * (ryp - ry);
-        return sn * x + cs * y + E.radius - surface(E, slot, f, sn);
-      };
-      const double ha = chip_at(c.wa, c.sa, c.ca), hb = chip_at(c.wb, c.sb, c.cb);
-      if (ha <= 0.0 && hb <= 0.0) continue;
-      double fa = c.wa, fb = c.wb, sa = c.sa, ca = c.ca, sb = c.sb, cb = c.cb, cha = ha, chb = hb;
-      if (ha <= 0.0 || hb <= 0.0) {  // the tooth leaves or re-enters the cut within the piece: h = 0 located linearly
-        const double fc = c.wa + (c.wb - c.wa) * ha / (ha - hb);
-        const double sc = std::sin(c.phi0 + fc * dphi), cc = std::cos(c.phi0 + fc * dphi);
-        if (ha > 0.0) {
-          fb = fc;
-          sb = sc;
-          cb = cc;
-          chb = 0.0;
-        } else {
-          fa = fc;
-          sa = sc;
-          ca = cc;
-          cha = 0.0;
-        }
-        if (!(fb > fa)) continue;
-      }
-      double fxa, fya, fxb, fyb;
-      const double fta = force(cha, sa, ca, normal_velocity(fa, sa, ca), fxa, fya),
-                   ftb = force(chb, sb, cb, normal_velocity(fb, sb, cb), fxb, fyb);
-      if (analysed) {
-        const double len = (fb - fa) * h * 0.5;
-        imp_x += len * (fxa + fxb);
-        imp_y += len * (fya + fyb);
-        imp_t += len * (fta + ftb) * E.radius;
-      }
-      if (fb == 1.0) {
-        endx += fxb;
-        endy += fyb;
-      }
-      if (fa == 0.0 && fb == 1.0) {
-        gax += fxa;
-        gay += fya;
-        gbx += fxb;
-        gby += fyb;
-        continue;
-      }
-      for (int r = 0; r < nm; ++r) {
-        const ModeStep& md = modes[static_cast<std::size_t>(r)];
-        double a0q, a0v, a1q, a1v;
-        md.integrals(h, fa * h, fb * h, a0q, a0v, a1q, a1v);
-        const double pa = md.sx * fxa + md.sy * fya, pb = md.sx * fxb + md.sy * fyb;
-        qn[static_cast<std::size_t>(r)] += a0q * pa + a1q * (pb - pa);
-        vn[static_cast<std::size_t>(r)] += a0v * pa + a1v * (pb - pa);
-      }
-    }
     const double x0 = rx, y0 = ry, vx0 = vx, vy0 = vy;
-    for (int r = 0; r < nm; ++r) {
-      const ModeStep& md = modes[static_cast<std::size_t>(r)];
-      const auto ri = static_cast<std::size_t>(r);
-      const double pa = md.sx * gax + md.sy * gay, pb = md.sx * gbx + md.sy * gby;
-      q[ri] = qn[ri] + md.j0q * pa + md.j1q * (pb - pa);
-      v[ri] = vn[ri] + md.j0v * pa + md.j1v * (pb - pa);
-    }
-    tip(q, rx, ry);
-    tip(v, vx, vy);
-    px = endx;
-    py = endy;
-    const long k1 = k + 1;
-    slot = slot + 1 == ring_n ? 0 : slot + 1;
-    finish(k1, slot, s);
-
-    // Samples between the steps: cubic Hermite with the velocities.
-    for (const Pass& p : tip_passes[static_cast<std::size_t>(s)]) {
-      const double t = (static_cast<double>(k) + p.f) * h;
-      // Velocities linearly (their slopes, the accelerations, are not kept).
-      res.per_tooth.push_back({t, hermite(x0, vx0 * h, rx, vx * h, p.f), hermite(y0, vy0 * h, ry, vy * h, p.f),
-                               vx0 + p.f * (vx - vx0), vy0 + p.f * (vy - vy0), p.edge});
-    }
-    for (const Pass& p : wall_passes[static_cast<std::size_t>(s)]) {
-      const Edge& E = edges[static_cast<std::size_t>(p.edge)];
-      const double phi = walls_at[static_cast<std::size_t>(p.wall)];
-      const double x = hermite(x0, vx0 * h, rx, vx * h, p.f), y = hermite(y0, vy0 * h, ry, vy * h, p.f);
-      const double delta = std::sin(phi) * x + std::cos(phi) * y + (E.radius - radius);
-      const double t = (static_cast<double>(k) + p.f) * h;
-      double& d = deepest[static_cast<std::size_t>(p.wall)][static_cast<std::size_t>(E.slice)];
-      d = std::max(d, delta);
-      if (rec)
-        res.walls[static_cast<std::size_t>(p.wall)].passes.push_back(
-            {current_rev, E.tooth, E.slice, t, teeth * cut.feed_per_tooth_m * cut.speed_rpm / 60.0 * t, delta});
-    }
-    if (k1 > first_step) {
-      ax.push_back(rx);
-      ay.push_back(ry);
-    }
-    if (k1 % period == 0) {
-      push_state();
-      period_x.push_back(rx);
-      period_y.push_back(ry);
-    }
-    lo_x = std::min(lo_x, rx);
-    hi_x = std::max(hi_x, rx);
-    lo_y = std::min(lo_y, ry);
-    hi_y = std::max(hi_y, ry);
-    if (k1 % M == 0) {
-      close_revolution();
-      ++current_rev;
-      res.per_revolution.push_back({static_cast<double>(k1) * h, rx, ry, vx, vy, -1});
-      if (progress) progress(static_cast<double>(current_rev) / options.revolutions);
-      const double amplitude = 0.5 * std::max(hi_x - lo_x, hi_y - lo_y);
-      if (!std::isfinite(amplitude))
-        throw NumericalError(fmt::format("the simulated tool displacement overflowed at {:.4g} s, revolution {}",
-                                         static_cast<double>(k1) * h, current_rev),
-                             "check the modes' units (kg, Hz) and the cutting coefficients (N/m²)");
-      if (amplitude > limit) {
-        diverged = true;
-        vibration = amplitude;
-        break;
-      }
-      lo_x = hi_x = rx;
-      lo_y = hi_y = ry;
-    }
+    advance(k, s);
+    sample_passes(k, s, x0, y0, vx0, vy0);
+    if (!end_of_step(k + 1, progress)) break;
   }
   res.diverged = diverged;
-  if (diverged) {
-    res.revolutions = current_rev;
-    res.steps = static_cast<long>(current_rev) * M;
-    res.analysed_from = std::min(first_rev, current_rev - 1);
-    if (rec) {
-      for (auto* v2 :
-           {&res.time_s, &res.force_x_n, &res.force_y_n, &res.x_m, &res.y_m, &res.vx_m_per_s, &res.vy_m_per_s, &res.torque_nm})
-        v2->resize(static_cast<std::size_t>(res.steps + 1));
-      for (auto& f : res.tooth_force_n) f.resize(static_cast<std::size_t>(res.steps + 1));
-    }
-    res.warnings.push_back(fmt::format(
-        "the vibration grew beyond 5 % of the tool radius (an amplitude of {:.3g} mm) in revolution {}: the cut chatters "
-        "violently, and the simulation stopped there (the chip model holds for small vibrations only); its summary covers "
-        "what was simulated",
-        1e3 * vibration, current_rev));
-  }
-  const int done_revs = res.revolutions;
-  const int analysed_done = std::max(0, done_revs - first_rev);
+  if (diverged) stopped_early();
+}
 
-  // ---- Summary over the analysed revolutions ----------------------------------------------------
+// The result cut to the revolutions simulated, and why.
+void MillingRun::stopped_early() {
+  res.revolutions = current_rev;
+  res.steps = static_cast<long>(current_rev) * M;
+  res.analysed_from = std::min(g.first_rev, current_rev - 1);
+  if (rec) {
+    for (auto* v2 :
+         {&res.time_s, &res.force_x_n, &res.force_y_n, &res.x_m, &res.y_m, &res.vx_m_per_s, &res.vy_m_per_s, &res.torque_nm})
+      v2->resize(static_cast<std::size_t>(res.steps + 1));
+    for (auto& f : res.tooth_force_n) f.resize(static_cast<std::size_t>(res.steps + 1));
+  }
+  res.warnings.push_back(fmt::format(
+      "the vibration grew beyond 5 % of the tool radius (an amplitude of {:.3g} mm) in revolution {}: the cut chatters "
+      "violently, and the simulation stopped there (the chip model holds for small vibrations only); its summary covers "
+      "what was simulated",
+      1e3 * vibration, current_rev));
+}
+
+void MillingRun::summarise() {
+  const int done_revs = res.revolutions;
+  const int analysed_done = std::max(0, done_revs - g.first_rev);
   const double t_an = analysed_done * 60.0 / cut.speed_rpm;  // 0 when stopped before the analysed revolutions
   res.mean_force_x_n = analysed_done > 0 ? imp_x / t_an : kNaN;
   res.mean_force_y_n = analysed_done > 0 ? imp_y / t_an : kNaN;
   res.mean_torque_nm = analysed_done > 0 ? imp_t / t_an : kNaN;
-  res.power_w = res.mean_torque_nm * spin;
+  res.power_w = res.mean_torque_nm * g.spin;
   res.peak_force_n = std::sqrt(peak);
   res.out_of_cut_fraction = inside > 0 ? static_cast<double>(out_of_cut) / static_cast<double>(inside) : 0.0;
-  for (std::size_t w = 0; w < walls_at.size(); ++w) {
+  for (std::size_t w = 0; w < g.walls_at.size(); ++w) {
     Wall& wl = res.walls[w];
     double sum = 0.0;
     for (int l = 0; l < slices; ++l) {
@@ -1019,14 +1137,14 @@ SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cu
   // Growth and metric from the once-per-period samples of the analysed revolutions.
   // (Stopped early: the last half of the periods simulated.)
   const std::size_t p0 = analysed_done > 0 ? static_cast<std::size_t>(first_step / period) : states.size() / 2;
-  const PeriodGrowth g = period_growth(states, period_x, period_y, p0, ax, ay, M, period);
-  res.growth = g.growth;
-  res.chatter_metric = g.chatter_metric;
+  const PeriodGrowth gr = period_growth(states, period_x, period_y, p0, ax, ay, M, period);
+  res.growth = gr.growth;
+  res.chatter_metric = gr.chatter_metric;
   // Decaying, and either small by now or still linear (the teeth stay in the cut): a saturated
   // chatter (teeth jumping out of the cut) has a flat, noisy growth near 1 that must not pass.
   if (diverged) {
-    if (g.fitted < 3) res.growth = std::numeric_limits<double>::infinity();  // too short to fit: it blew up
-    res.chatter_metric = std::numeric_limits<double>::infinity();            // beyond any periodic motion
+    if (gr.fitted < 3) res.growth = std::numeric_limits<double>::infinity();  // too short to fit: it blew up
+    res.chatter_metric = std::numeric_limits<double>::infinity();             // beyond any periodic motion
   }
   res.stable = !diverged && res.growth < 1.0 && (res.chatter_metric < kChatterMetricLimit || res.out_of_cut_fraction < 1e-3);
 
@@ -1038,11 +1156,29 @@ SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cu
         fmt::format("the cut chatters: the teeth leave the cut in {:.1f} % of the engaged samples (the "
                     "amplitude is bounded by that, not by the linear model)",
                     100.0 * res.out_of_cut_fraction));
-  if (nm > 0 && analysed_revs < 5)
+  if (nm > 0 && g.analysed_revs < 5)
     res.warnings.push_back(
         fmt::format("only {} revolution(s) analysed: the growth estimate and the chatter decision are "
                     "rough; simulate more revolutions",
-                    analysed_revs));
+                    g.analysed_revs));
+}
+
+}  // namespace
+
+SimulationResult simulate_milling(const ToolDynamics& dynamics, const Cutter& cutter, const ForceLaw& law, const MillingCut& cut,
+                                  const SimulationOptions& options, const std::function<void(double)>& progress) {
+  const StepGrid g = step_grid(dynamics, cutter, law, cut, options);
+  SimulationResult res;
+  res.step_s = g.h;
+  res.steps_per_tooth = g.m;
+  res.steps_per_revolution = g.M;
+  res.slices = g.slices;
+  res.revolutions = options.revolutions;
+  res.steps = g.total;
+  res.analysed_from = g.first_rev;
+  MillingRun run(dynamics, cutter, law, cut, options, g, res);
+  run.run(progress);
+  run.summarise();
   return res;
 }
 

@@ -20,7 +20,7 @@ std::pair<BlockSeries, PointFrfs> measured_block(const Assembly& real, TapSide s
   t.side = side;
   t.spacing_m = ro.spacing;
   t.points = ro.order + 1;
-  const TapTest tap = run_tap_test(real, t);
+  const TapTest tap = run_tap_test_study(real, t);
   PointFrfs p;
   for (const TapTestFrf& h : tap.frfs) p.set(h.response, h.hammer, h.frf);
   return {rotational_frfs(p, ro).block, p};
@@ -52,7 +52,7 @@ TEST(FdCorrection, RemovesMostOfTheTruncationErrorWithAnImperfectModel) {
     o.fit.uncertainty = UncertaintyMethod::Linearised;
     o.noise.source = NoiseSpec::Source::Stated;
     o.noise.magnitude_sigma = 0.005;  // the weights of a laser vibrometer's 0.5 %
-    return identify_joint_from_frfs(real, {IdentificationData{"", std::nullopt, g, "SHT11", b, "SH11", {}, {}}}, o).identified;
+    return run_identification_study(real, {IdentificationData{"", std::nullopt, g, "SHT11", b, "SH11", {}, {}}}, o).identified;
   };
   const JointParameters truth = real.holder_tool.parameters;
   const JointParameters raw = identify(sh, sht);

@@ -68,7 +68,7 @@ TEST(FigureData, IdentificationFigureHoldsTheClosedFormAndTheResult) {
   const JointFitData x = noisy_fit_data(d, 0.02, 3);
   IdentificationOptions o;
   o.fit.uncertainty = UncertaintyMethod::Linearised;
-  const Identification id = identify_joint_from_frfs(a, {IdentificationData{"", std::nullopt, x.G11, "SHT11", x.B11, "SH11", {}, {}}}, o);
+  const Identification id = run_identification_study(a, {IdentificationData{"", std::nullopt, x.G11, "SHT11", x.B11, "SH11", {}, {}}}, o);
   ASSERT_TRUE(id.fit);
   const plot::Figure fig = identification_figure(id);
   EXPECT_TRUE(contains(fig.title, "Holder–tool joint, Eq. (6)")) << fig.title;

@@ -139,7 +139,7 @@ Tally run(int seeds, const Assembly& model, const IdentificationOptions& o, cons
   std::vector<char> refused(static_cast<std::size_t>(seeds), 0);
   parallel_for(static_cast<std::size_t>(seeds), par, [&](std::size_t s) {
     try {
-      results[s] = identify_joint_from_frfs(model, {make(1000 + 7 * s)}, o);
+      results[s] = run_identification_study(model, {make(1000 + 7 * s)}, o);
     } catch (const Error&) {
       refused[s] = 1;
     }

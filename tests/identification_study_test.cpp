@@ -46,7 +46,7 @@ bool covers(const ParameterInterval& iv, double truth) { return iv.lower <= trut
 TEST(IdentificationStudy, HolderToolEndToEnd) {
   const Assembly a = example_assembly();
   const RouteData d = route_data(a, Route::HolderTool, grid());
-  const Identification id = identify_joint_from_frfs(a, {measured(d, 0.02, 3)}, quick(Route::HolderTool));
+  const Identification id = run_identification_study(a, {measured(d, 0.02, 3)}, quick(Route::HolderTool));
   EXPECT_EQ(id.verdict.verdict, Verdict::Pass) << (id.verdict.reasons.empty() ? "" : id.verdict.reasons.front());
   ASSERT_TRUE(id.fit);
   for (int k : {0, 2, 6})
@@ -92,7 +92,7 @@ TEST(IdentificationStudy, SeedMethod) {
   IdentificationOptions o = quick(Route::HolderTool);
   o.method = IdentificationMethod::Seed;
   o.filter = SavgolOptions{21, 2};
-  const Identification id = identify_joint_from_frfs(a, {measured(d, 0.01, 5)}, o);
+  const Identification id = run_identification_study(a, {measured(d, 0.01, 5)}, o);
   EXPECT_FALSE(id.fit);
   EXPECT_EQ(id.identified.k_yf, id.seed.parameters[0].median);
   const nlohmann::json j = id;
@@ -119,13 +119,13 @@ TEST(IdentificationStudy, VerdictFailsWhereTheResultCannotBeRight) {
   };
   // Refusing outright (a NumericalError) would do as well as a failed verdict; what may not happen
   // is a pass. Both give a verdict today.
-  Identification id = identify_joint_from_frfs(a, {same}, quick(Route::HolderTool));
+  Identification id = run_identification_study(a, {same}, quick(Route::HolderTool));
   EXPECT_EQ(id.verdict.verdict, Verdict::Fail);
   EXPECT_NE(reasons(id).find("same data"), std::string::npos) << reasons(id);
   IdentificationData swapped = good;
   swapped.G11 = *good.B11;
   swapped.B11 = good.G11;
-  id = identify_joint_from_frfs(a, {swapped}, quick(Route::HolderTool));
+  id = run_identification_study(a, {swapped}, quick(Route::HolderTool));
   EXPECT_EQ(id.verdict.verdict, Verdict::Fail) << reasons(id);
   std::printf("swapped SH11/SHT11: %s", reasons(id).c_str());
 }
@@ -159,7 +159,7 @@ TEST(IdentificationStudy, AWeakModeTakenForANoisePeakIsNoFalseAlarm) {
 TEST(IdentificationStudy, SpindleHolderFromTheToolPoint) {
   const Assembly a = example_assembly();
   const RouteData d = route_data(a, Route::SpindleHolderFromSHT, grid());
-  const Identification id = identify_joint_from_frfs(a, {measured(d, 0.02, 9)}, quick(Route::SpindleHolderFromSHT));
+  const Identification id = run_identification_study(a, {measured(d, 0.02, 9)}, quick(Route::SpindleHolderFromSHT));
   EXPECT_NE(id.verdict.verdict, Verdict::Fail);
   for (int k : {0, 6})
     EXPECT_TRUE(covers(id.fit->intervals[static_cast<std::size_t>(k)], d.truth[k])) << JointParameters::name(k);
@@ -172,7 +172,7 @@ TEST(IdentificationStudy, SeveralOverhangs) {
   IdentificationData m49 = measured(route_data(a, Route::HolderTool, grid()), 0.02, 11);
   IdentificationData m60 = measured(route_data(with_overhang(a, 0.060), Route::HolderTool, grid()), 0.02, 13);
   m60.overhang_m = 0.060;
-  const Identification id = identify_joint_from_frfs(a, {m49, m60}, quick(Route::HolderTool));
+  const Identification id = run_identification_study(a, {m49, m60}, quick(Route::HolderTool));
   ASSERT_EQ(id.fit->setups.size(), 2u);
   EXPECT_EQ(id.fit->setups[1].label, "overhang 60.0 mm");
   EXPECT_TRUE(id.fit->transfers);
@@ -184,10 +184,10 @@ TEST(IdentificationStudy, BadInput) {
   const RouteData d = route_data(a, Route::HolderTool, grid());
   IdentificationData no_sh = measured(d, 0.02, 1);
   no_sh.B11.reset();
-  EXPECT_THROW(identify_joint_from_frfs(a, {no_sh}, quick(Route::HolderTool)), InputError);
+  EXPECT_THROW(run_identification_study(a, {no_sh}, quick(Route::HolderTool)), InputError);
   IdentificationOptions o = quick(Route::HolderTool);
   o.band_hz = std::make_pair(8000.0, 9000.0);
-  EXPECT_THROW(identify_joint_from_frfs(a, {measured(d, 0.02, 1)}, o), InvalidArgument);
+  EXPECT_THROW(run_identification_study(a, {measured(d, 0.02, 1)}, o), InvalidArgument);
   o = quick(Route::HolderTool);
   o.band_hz = std::make_pair(100.0, 200.0);
   o.at_hz = 150.0;
@@ -196,7 +196,7 @@ TEST(IdentificationStudy, BadInput) {
   o.noise.source = NoiseSpec::Source::Stated;
   o.noise.magnitude_sigma = 5.0;  // per cent meant
   EXPECT_THROW(o.check(), InvalidArgument);
-  EXPECT_THROW(identify_joint_from_frfs(a, {}, quick(Route::HolderTool)), InvalidArgument);
+  EXPECT_THROW(run_identification_study(a, {}, quick(Route::HolderTool)), InvalidArgument);
 }
 
 // The weighted median: values 1, 2, 3 with noise gains 1, 10, 1/√3 (weights 1, 0.01, 3): half the

@@ -69,8 +69,8 @@ TEST(JointInUse, ASampledJointFileIsTheNominalOfThePrediction) {
   PredictOptions o;
   o.uncertain_joint = j;
   o.band.samples = 10;
-  const Prediction p = run_prediction(a, o);
-  const Prediction by_hand = run_prediction(with_joint(a, j));
+  const Prediction p = run_prediction_study(a, o);
+  const Prediction by_hand = run_prediction_study(with_joint(a, j));
   ASSERT_EQ(p.frf.size(), by_hand.frf.size());
   for (std::size_t i = 0; i < p.frf.size(); ++i) ASSERT_EQ(p.frf.blocks[i], by_hand.frf.blocks[i]) << i;
   ASSERT_EQ(p.modes.size(), by_hand.modes.size());
@@ -78,7 +78,7 @@ TEST(JointInUse, ASampledJointFileIsTheNominalOfThePrediction) {
   ASSERT_TRUE(p.band);
   for (std::size_t i = 0; i < p.frf.size(); ++i) ASSERT_EQ(p.band->nominal.values[i], H_of(p.frf.blocks[i])) << i;
   // The assembly's own joint gives another FRF: the test can tell the two apart.
-  EXPECT_NE(H_of(run_prediction(a).frf.blocks[500]), H_of(p.frf.blocks[500]));
+  EXPECT_NE(H_of(run_prediction_study(a).frf.blocks[500]), H_of(p.frf.blocks[500]));
 }
 
 TEST(JointInUse, ASampledJointFileIsTheNominalOfTheCoupledFrf) {
@@ -156,7 +156,7 @@ TEST(JointInUse, AJointFileJudgedDoubtfulOrFailSaysSoInEveryResult) {
   const Assembly a = with_joint(coarse_example(), doubtful);
   EXPECT_EQ(a.holder_tool.warnings, w);
   EXPECT_TRUE(any_contains(AssemblyModel(a).warnings(), "judged 'doubtful'"));
-  EXPECT_TRUE(any_contains(run_prediction(a).warnings, "judged 'doubtful'"));
+  EXPECT_TRUE(any_contains(run_prediction_study(a).warnings, "judged 'doubtful'"));
   LobesInput in;
   in.assembly = a;
   const LobesStudyResult lobes = run_lobes_study(in, cutting_options());

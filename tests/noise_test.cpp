@@ -119,7 +119,7 @@ TEST(BlockNoise, SharpPeaksAtLowNoiseAreNotTakenForSmoothing) {
   t.spacing_m = 0.015;
   t.sigma = 0.005;
   t.seed = 11;
-  const TapTest tap = run_tap_test(a, t);
+  const TapTest tap = run_tap_test_study(a, t);
   PointFrfs p;
   for (const TapTestFrf& h : tap.frfs) p.set(h.response, h.hammer, h.frf);
   RotationalOptions r;

@@ -164,7 +164,7 @@ TEST(PlanStudyFile, MeasuredHolderAndJointFiles) {
   const Assembly a = load_assembly(kExample).assembly;
   PredictOptions holder;
   holder.receptance = PredictedFrf::HolderTip;
-  write_frf_csv((dir / "sh11.csv").string(), run_prediction(a, holder).frf);
+  write_frf_csv((dir / "sh11.csv").string(), run_prediction_study(a, holder).frf);
   JointFile j;
   j.parameters = a.holder_tool.parameters;
   j.parameters.k_yf *= 1.1;

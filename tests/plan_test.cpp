@@ -358,7 +358,7 @@ TEST(Plan, ShardsMergedEqualTheSingleRunBitForBit) {
   PredictOptions holder;
   holder.receptance = PredictedFrf::HolderTip;
   PlanCandidate measured = example_candidate({0.050, 0.060, 0.070}, "measured holder");
-  measured.sh11 = run_prediction(example(), holder).frf;
+  measured.sh11 = run_prediction_study(example(), holder).frf;
   measured.sh11_name = "sh11.csv";
   const std::vector<PlanCandidate> c = {example_candidate({0.045, 0.055, 0.065, 0.075}), measured};
   PlanOptions o = cut_options(5000.0, 15000.0, 300);

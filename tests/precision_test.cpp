@@ -38,7 +38,7 @@ Station station(const Assembly& a, TapSide side, double spacing) {
   TapTestOptions t;
   t.side = side;
   t.spacing_m = spacing;
-  const TapTest tap = run_tap_test(a, t);
+  const TapTest tap = run_tap_test_study(a, t);
   Station s;
   for (const TapTestFrf& h : tap.frfs) s.exact.set(h.response, h.hammer, h.frf);
   s.fd.order = 2;
@@ -48,7 +48,7 @@ Station station(const Assembly& a, TapSide side, double spacing) {
 }
 
 // The block of one noisy tap test: each H_ij an averaged test of its own (seed + k), as
-// run_tap_test makes them.
+// run_tap_test_study makes them.
 BlockSeries noisy_block(const Station& s, const TapNoise& n, std::uint64_t seed) {
   PointFrfs p;
   std::uint64_t k = 0;
@@ -126,7 +126,7 @@ TEST(Precision, ExpectedWidthsMatchMonteCarlo) {
     d.B11 = remove_finite_difference_error(noisy_block(holder, po.noise, 90000 + 100 * s), holder_error);
     d.g_name = "SHT11";
     d.b_name = "SH11";
-    const Identification id = identify_joint_from_frfs(a, {d}, io);
+    const Identification id = run_identification_study(a, {d}, io);
     for (int k = 0; k < 8; ++k) fitted[s][k] = id.fit->intervals[static_cast<std::size_t>(k)].fitted;
   });
   std::vector<double> ratios;

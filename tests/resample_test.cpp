@@ -114,7 +114,7 @@ TEST(Resample, NeverExtrapolatesAndCropsInclusively) {
   EXPECT_EQ(resample_values({1.0, 2.0, 4.0}, {0.5, 1.0, 0.0}, {1.5, 3.0}, "coh"), (std::vector<double>{0.75, 0.5}));
 }
 
-// resample_frf (a file's FRF on another grid, one call) against closed forms and the lower-level
+// run_resample_study (a file's FRF on another grid, one call) against closed forms and the lower-level
 // calls: a straight line H = a + b·f and a linear coherence interpolate exactly (1e-14 relative:
 // a few roundings per value), the target first cropped to the band; the same values as resample()
 // and resample_values() on the cropped grid called directly; crop as crop(); the band named in
@@ -134,7 +134,7 @@ TEST(ResampleFrf, TargetCroppedToTheBandThenInterpolated) {
   o.target_hz = std::vector<double>{};
   for (int i = 0; i <= 404; ++i) o.target_hz->push_back(995.0 + 2.5 * i);  // 995…2005 Hz: beyond the data at both ends
   o.target_name = "the frequencies of t.csv";
-  const FrfResampled r = resample_frf(in, o, "line.csv");
+  const FrfResampled r = run_resample_study(in, o, "line.csv");
   const std::vector<double>& f = r.data.single.frequency_hz;
   ASSERT_EQ(f.size(), 401u);  // 1000…2000 Hz
   EXPECT_EQ(f.front(), 1000.0);
@@ -153,7 +153,7 @@ TEST(ResampleFrf, TargetCroppedToTheBandThenInterpolated) {
   // Without the band the target reaches outside the data: refused, the fix naming the band.
   o.band_hz.reset();
   try {
-    resample_frf(in, o, "line.csv");
+    run_resample_study(in, o, "line.csv");
     ADD_FAILURE() << "no exception";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("target frequency 995 Hz"), std::string::npos) << e.what();
@@ -162,7 +162,7 @@ TEST(ResampleFrf, TargetCroppedToTheBandThenInterpolated) {
   // A band that misses the target entirely names both.
   o.band_hz = std::make_pair(3000.0, 4000.0);
   try {
-    resample_frf(in, o, "line.csv");
+    run_resample_study(in, o, "line.csv");
     ADD_FAILURE() << "no exception";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("FrfResampleOptions::band_hz 3000:4000"), std::string::npos) << e.what();
@@ -172,14 +172,14 @@ TEST(ResampleFrf, TargetCroppedToTheBandThenInterpolated) {
   // No target: cropped, as crop() and crop_values() give it.
   o.target_hz.reset();
   o.band_hz = std::make_pair(1200.0, 1500.0);
-  const FrfResampled c = resample_frf(in, o, "line.csv");
+  const FrfResampled c = run_resample_study(in, o, "line.csv");
   EXPECT_EQ(c.data.single.values, crop(in.single, 1200.0, 1500.0, "line.csv").values);
   EXPECT_EQ(c.data.coherence, crop_values(in.single.frequency_hz, in.coherence, 1200.0, 1500.0));
   EXPECT_EQ(c.data.single.size(), 31u);
   EXPECT_EQ(c.description, "cropped to 1200–1500 Hz");
 
   o.band_hz.reset();
-  EXPECT_THROW(resample_frf(in, o, "line.csv"), InvalidArgument);  // neither a band nor a target
+  EXPECT_THROW(run_resample_study(in, o, "line.csv"), InvalidArgument);  // neither a band nor a target
 }
 
 // A block: every entry, as resample() of the block gives it.
@@ -192,7 +192,7 @@ TEST(ResampleFrf, Block) {
   FrfResampleOptions o;
   o.target_hz = std::vector<double>{1001.0, 1500.5, 1999.0};
   o.method = Interpolation::Cubic;
-  const FrfResampled r = resample_frf(in, o, "block.csv");
+  const FrfResampled r = run_resample_study(in, o, "block.csv");
   ASSERT_TRUE(r.data.is_block);
   const BlockSeries direct = resample(in.block, *o.target_hz, Interpolation::Cubic, "block.csv");
   ASSERT_EQ(r.data.block.size(), 3u);

@@ -113,7 +113,7 @@ TEST(RotationalStudy, TheModelsCorrectionIsTheCorrectionCalledDirectly) {
   TapTestOptions t;
   t.side = TapSide::Holder;
   t.spacing_m = 0.02;
-  const TapTest tap = run_tap_test(a, t);
+  const TapTest tap = run_tap_test_study(a, t);
   RotationalInput in;
   for (const TapTestFrf& h : tap.frfs) in.frfs.set(h.response, h.hammer, h.frf);
   in.model = a;

@@ -181,7 +181,7 @@ TEST(SpinAssembly, PredictionAtSpeed) {
   a.grid = toolpoint::FrequencyGrid{100.0, 3000.0, 10.0};
   toolpoint::PredictOptions o;
   o.speed_rpm = 18000.0;
-  const toolpoint::Prediction p = toolpoint::run_prediction(a, o);
+  const toolpoint::Prediction p = toolpoint::run_prediction_study(a, o);
   const toolpoint::AssemblyModel m(a);
   const toolpoint::BlockSeries4 two = m.tool_point_two_plane(a.grid.values(), spin_of(18000.0));
   ASSERT_EQ(p.frf.size(), two.size());
@@ -191,13 +191,13 @@ TEST(SpinAssembly, PredictionAtSpeed) {
   EXPECT_FALSE(p.modes.empty());
   const std::string csv = toolpoint::cross_receptance_csv(p.two_plane);
   EXPECT_EQ(csv.rfind("frequency_hz,Hxx_re,Hxx_im,Hxy_re,Hxy_im,Hyx_re,Hyx_im,Hyy_re,Hyy_im\n", 0), 0u);
-  const toolpoint::Prediction still = toolpoint::run_prediction(a, {});
+  const toolpoint::Prediction still = toolpoint::run_prediction_study(a, {});
   const toolpoint::BlockSeries today = m.tool_point(a.grid.values());
   for (std::size_t i = 0; i < today.size(); ++i) EXPECT_EQ(still.frf.blocks[i], today.blocks[i]);
   EXPECT_EQ(still.two_plane.size(), 0u);
   auto message = [&](const toolpoint::PredictOptions& x) {
     try {
-      toolpoint::run_prediction(a, x);
+      toolpoint::run_prediction_study(a, x);
     } catch (const toolpoint::InvalidArgument& e) {
       return std::string(e.what());
     }
@@ -224,7 +224,7 @@ TEST(SpinAssembly, AnisotropicBearingsInTheFile) {
   EXPECT_NE(negative.find("bad.toml:"), std::string::npos) << negative;
   toolpoint::Assembly a = la.assembly;
   a.grid = toolpoint::FrequencyGrid{100.0, 2000.0, 50.0};
-  const toolpoint::Prediction p = toolpoint::run_prediction(a, {});
+  const toolpoint::Prediction p = toolpoint::run_prediction_study(a, {});
   EXPECT_EQ(p.two_plane.size(), p.frf.size());
 }
 
@@ -247,11 +247,11 @@ TEST(SpinAssembly, BearingSpeedTables) {
   toolpoint::PredictOptions o;
   for (double rpm : {0.0, 12000.0}) {
     o.speed_rpm = rpm;
-    const toolpoint::Prediction pf = toolpoint::run_prediction(flat, o), p0 = toolpoint::run_prediction(a, o);
+    const toolpoint::Prediction pf = toolpoint::run_prediction_study(flat, o), p0 = toolpoint::run_prediction_study(a, o);
     for (std::size_t i = 0; i < p0.frf.size(); ++i) EXPECT_EQ(pf.frf.blocks[i], p0.frf.blocks[i]) << rpm;
   }
   o.speed_rpm = 10000.0;
-  const toolpoint::Prediction ps = toolpoint::run_prediction(sloped, o), pc = toolpoint::run_prediction(constant, o);
+  const toolpoint::Prediction ps = toolpoint::run_prediction_study(sloped, o), pc = toolpoint::run_prediction_study(constant, o);
   for (std::size_t i = 0; i < pc.frf.size(); ++i) EXPECT_EQ(ps.frf.blocks[i], pc.frf.blocks[i]);
 
   auto message = [](const auto& call) {
@@ -270,7 +270,7 @@ TEST(SpinAssembly, BearingSpeedTables) {
   EXPECT_NE(negative.find("speed_table row 2 (20000 rpm): stiffness = -"), std::string::npos) << negative;
   EXPECT_NE(negative.find("N/m must be ≥ 0"), std::string::npos) << negative;
   o.speed_rpm = 30000.0;
-  const std::string outside = message([&] { toolpoint::run_prediction(sloped, o); });
+  const std::string outside = message([&] { toolpoint::run_prediction_study(sloped, o); });
   EXPECT_NE(outside.find("PredictOptions::speed_rpm"), std::string::npos) << outside;
   EXPECT_NE(outside.find("speed_table covers 0–20000 rpm; 30000 rpm lies outside"), std::string::npos) << outside;
   const toolpoint::Assembly ex = toolpoint::at_speed(sloped, 30000.0, true);

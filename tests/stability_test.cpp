@@ -191,7 +191,7 @@ TEST(Stability, NoiseOnAMeasuredHolderIsNotNegativeDamping) {
   t.side = TapSide::Holder;
   t.spacing_m = 0.02;
   t.sigma = 0.005;
-  const TapTest tap = run_tap_test(a, t);
+  const TapTest tap = run_tap_test_study(a, t);
   RotationalInput in;
   for (const TapTestFrf& x : tap.frfs) in.frfs.set(x.response, x.hammer, x.frf);
   in.model = a;

@@ -58,7 +58,7 @@ std::string invalid_argument_message(F&& run) {
 BlockSeries model_sh11(const Assembly& a) {
   PredictOptions holder;
   holder.receptance = PredictedFrf::HolderTip;
-  return run_prediction(a, holder).frf;
+  return run_prediction_study(a, holder).frf;
 }
 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
@@ -89,7 +89,7 @@ TEST(PredictStudy, ModesAreTheModelsPeaksFoundIndependently) {
     std::vector<double> fractions;
     PredictOptions o;
     o.receptance = which;
-    const Prediction p = run_prediction(a, o, [&](double x) { fractions.push_back(x); });
+    const Prediction p = run_prediction_study(a, o, [&](double x) { fractions.push_back(x); });
     const auto magnitude = [&](double f) { return std::abs((tool ? model.tool_point(f) : model.holder_tip(f))(0, 0)); };
     const std::vector<double> ref = model_peaks(magnitude, 10.0, 5000.0, 1.0);
     ASSERT_EQ(p.modes.size(), ref.size()) << predicted_frf_name(which);
@@ -110,7 +110,7 @@ TEST(PredictStudy, ModesAreTheModelsPeaksFoundIndependently) {
   EXPECT_TRUE(contains(invalid_argument_message([&] {
                          PredictOptions o;
                          o.peaks.min_prominence = 1.5;
-                         run_prediction(a, o);
+                         run_prediction_study(a, o);
                        }),
                        "PredictOptions::peaks"));
 }
@@ -127,7 +127,7 @@ TEST(PredictStudy, TheBandIsToolPointBandOnThePredictionsGrid) {
   o.band.samples = 20;
   o.band.seed = 4;
   std::vector<double> fractions;
-  const Prediction p = run_prediction(a, o, [&](double x) { fractions.push_back(x); });
+  const Prediction p = run_prediction_study(a, o, [&](double x) { fractions.push_back(x); });
   ASSERT_TRUE(p.band);
   UncertaintyOptions direct;
   direct.samples = 20;
@@ -137,18 +137,18 @@ TEST(PredictStudy, TheBandIsToolPointBandOnThePredictionsGrid) {
   EXPECT_EQ(p.band->phase_rad, b.phase_rad);
   EXPECT_EQ(p.band->samples, 20);
   EXPECT_EQ(p.band->nominal.values, entry(p.frf, 0).values);
-  EXPECT_EQ(p.frf.blocks, run_prediction(a).frf.blocks);
+  EXPECT_EQ(p.frf.blocks, run_prediction_study(a).frf.blocks);
   ASSERT_FALSE(fractions.empty());
   EXPECT_TRUE(std::is_sorted(fractions.begin(), fractions.end()));
   EXPECT_DOUBLE_EQ(fractions.back(), 1.0);
   EXPECT_LE(fractions.front(), 1.0 / 21.0 + 1e-12);  // the prediction is one of 21 units of work
   EXPECT_TRUE(nlohmann::json(p).contains("band"));
-  EXPECT_FALSE(run_prediction(a).band);
+  EXPECT_FALSE(run_prediction_study(a).band);
   o.receptance = PredictedFrf::HolderTip;
-  EXPECT_TRUE(contains(invalid_argument_message([&] { run_prediction(a, o); }), "PredictOptions::uncertain_joint"));
+  EXPECT_TRUE(contains(invalid_argument_message([&] { run_prediction_study(a, o); }), "PredictOptions::uncertain_joint"));
   o.receptance = PredictedFrf::ToolPoint;
   o.band.samples = 5;
-  EXPECT_TRUE(contains(invalid_argument_message([&] { run_prediction(a, o); }), "UncertaintyOptions::samples"));
+  EXPECT_TRUE(contains(invalid_argument_message([&] { run_prediction_study(a, o); }), "UncertaintyOptions::samples"));
 }
 
 // ---- Overhang study -------------------------------------------------------------------------------
@@ -159,7 +159,7 @@ TEST(PredictStudy, TheBandIsToolPointBandOnThePredictionsGrid) {
 // Eq. 1 and 5, the per-frequency Eq. 5 on the given SH11).
 TEST(OverhangStudy, AtTheFilesOverhangItIsThePredictedToolPointFrf) {
   const Assembly a = example({500.0, 3500.0, 2.0});
-  const BlockSeries sh = model_sh11(a), sht = run_prediction(a).frf;
+  const BlockSeries sh = model_sh11(a), sht = run_prediction_study(a).frf;
   const OverhangStudy s = run_overhang_study(a, sh);
   ASSERT_EQ(s.overhangs.size(), 1u);
   EXPECT_EQ(s.overhangs[0].overhang_m, a.tool.overhang);
@@ -374,7 +374,7 @@ TEST(TapTestStudy, ToolStationsMatchTheFiniteElementModel) {
   TapTestOptions o;
   o.spacing_m = 0.01;
   std::vector<double> fractions;
-  const TapTest t = run_tap_test(a, o, [&](double x) { fractions.push_back(x); });
+  const TapTest t = run_tap_test_study(a, o, [&](double x) { fractions.push_back(x); });
   EXPECT_EQ(fractions.back(), 1.0);
   ASSERT_EQ(t.frfs.size(), 9u);
   EXPECT_EQ(t.distance_m, (std::vector<double>{0.0, 0.01, 0.02}));
@@ -417,7 +417,7 @@ TEST(TapTestStudy, HolderStationsMatchTheFiniteElementSubassembly) {
   o.side = TapSide::Holder;
   o.spacing_m = 0.02;
   o.hammer = HammerPlan::Tip;
-  const TapTest t = run_tap_test(a, o);
+  const TapTest t = run_tap_test_study(a, o);
   ASSERT_EQ(t.frfs.size(), 3u);
   const AssemblyModel model(a);
   fe_oracle::FeModel fem;
@@ -454,10 +454,10 @@ TEST(TapTestStudy, NoiseHasTheSeedsStatistics) {
   o.spacing_m = 0.015;
   o.points = 2;
   o.hammer = HammerPlan::Tip;
-  const TapTest exact = run_tap_test(a, o);
+  const TapTest exact = run_tap_test_study(a, o);
   o.sigma = 0.05;
   o.seed = 11;
-  const TapTest noisy = run_tap_test(a, o);
+  const TapTest noisy = run_tap_test_study(a, o);
   ASSERT_EQ(noisy.frfs.size(), 2u);
   const double n = static_cast<double>(a.grid.values().size());
   std::vector<std::vector<double>> z(2);
@@ -481,9 +481,9 @@ TEST(TapTestStudy, NoiseHasTheSeedsStatistics) {
   double c = 0.0;
   for (std::size_t i = 0; i < z[0].size(); ++i) c += z[0][i] * z[1][i];
   EXPECT_LT(std::abs(c / (n * 0.05 * 0.05)), 4.0 / std::sqrt(n));
-  EXPECT_EQ(run_tap_test(a, o).frfs[1].frf.values, noisy.frfs[1].frf.values);
+  EXPECT_EQ(run_tap_test_study(a, o).frfs[1].frf.values, noisy.frfs[1].frf.values);
   o.seed = 12;
-  EXPECT_NE(run_tap_test(a, o).frfs[0].frf.values, noisy.frfs[0].frf.values);
+  EXPECT_NE(run_tap_test_study(a, o).frfs[0].frf.values, noisy.frfs[0].frf.values);
 }
 
 // κGA under the points, the closed form: the fluted part is a solid carbide circle of
@@ -496,18 +496,18 @@ TEST(TapTestStudy, ShearStiffnessUnderThePointsIsTheClosedForm) {
   const double kga = 6.0 * (1 + nu) * (1 + nu) / (7 + 12 * nu + 4 * nu * nu) * E / (2 * (1 + nu)) * kPi * d * d / 4;
   TapTestOptions o;
   o.spacing_m = 0.01;
-  TapTest t = run_tap_test(a, o);
+  TapTest t = run_tap_test_study(a, o);
   EXPECT_NEAR(t.shear_stiffness_n, kga, 1e-12 * kga);
   EXPECT_FALSE(t.crosses_step);
   o.spacing_m = 0.02;
-  t = run_tap_test(a, o);
+  t = run_tap_test_study(a, o);
   EXPECT_NEAR(t.shear_stiffness_n, kga, 1e-12 * kga);
   EXPECT_TRUE(t.crosses_step);
 }
 
 TEST(TapTestStudy, BadOptionsNameTheField) {
   const Assembly a = example({500.0, 1000.0, 50.0});
-  const auto message = [&](const TapTestOptions& o) { return invalid_argument_message([&] { run_tap_test(a, o); }); };
+  const auto message = [&](const TapTestOptions& o) { return invalid_argument_message([&] { run_tap_test_study(a, o); }); };
   TapTestOptions o;
   EXPECT_TRUE(contains(message(o), "TapTestOptions::spacing_m = 0 m must be > 0"));
   o.spacing_m = 0.03;  // the third point 60 mm from the tip of a 49 mm overhang

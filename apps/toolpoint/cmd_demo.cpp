@@ -55,8 +55,7 @@ void run_demo(const DemoOptions& o, const Globals& g) {
   info(g, "toolpoint demo: running the seed's analytical case study (Özşahin et al. 2009, Section 3)…");
   // The stages and the share of the run each takes (the figures dominate).
   Progress progress(g, "demo: case study");
-  co.fit_options.progress = progress.part(0.0, 0.15);
-  const CaseStudy cs = run_case_study(loaded.assembly, co);
+  const CaseStudy cs = run_case_study(loaded.assembly, co, progress.part(0.0, 0.15));
   progress.stage("demo: writing data", 0.15);
   const auto& f = cs.sht_true.frequency_hz;
   const std::string dir = o.output;

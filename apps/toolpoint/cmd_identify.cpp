@@ -1,6 +1,6 @@
 // toolpoint identify: a joint's stiffness and damping from measured FRFs — the band fit with
 // intervals (default) or the seed's closed form read at the mode (Eq. 6, 15, 18), with a forward
-// check and a verdict. Thin: options → identify_joint_from_frfs (studies/identification.hpp) → report.
+// check and a verdict. Thin: options → run_identification_study (studies/identification.hpp) → report.
 // Units: SI (k in N/m, N, N/rad, N·m/rad; c in N·s/m, N·s, N·s/rad, N·m·s/rad); frequencies in
 // Hz; the stated phase noise in degrees (said in its help). --plot draws k(f) and c(f) of the
 // closed form (the seed's Fig. 11–12) with the identified values and their intervals.
@@ -169,7 +169,7 @@ void run_identify(const IdentifyOptions& o, const Globals& g) {
 
   Progress progress(g, "identify");
   const LoadedAssembly loaded = load_assembly_on_grid(g, o.assembly);
-  const Identification id = identify_joint_from_frfs(loaded.assembly, data, io, progress.part(0.05, 0.95));
+  const Identification id = run_identification_study(loaded.assembly, data, io, progress.part(0.05, 0.95));
   progress.done();
   warn_all(id.warnings);
 

@@ -57,7 +57,7 @@ void run_predict(const PredictArgs& o, const Globals& g) {
   options.speed_rpm = o.speed;
   options.extrapolate_bearings = o.extrapolate_bearings;
   Progress progress(g, "predict");
-  const Prediction p = run_prediction(loaded.assembly, options, progress.part());
+  const Prediction p = run_prediction_study(loaded.assembly, options, progress.part());
   progress.done();
   // Before any file is written: the cross receptances exist only in the two-plane model.
   if (!o.cross_output.empty() && p.two_plane.size() == 0)

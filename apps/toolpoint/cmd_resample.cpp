@@ -45,7 +45,7 @@ void run_resample(const ResampleOptions& o, const Globals& g) {
 
   const FrfFileData in = read_frf_input(g, o.input, o.dataset);
   check_frf_output(o.output, format, in.is_block);
-  FrfResampled r = resample_frf(in, ro, o.input);
+  FrfResampled r = run_resample_study(in, ro, o.input);
   FrfFileData& out = r.data;
   out.format = format;
   const std::string comment = fmt::format("{} {}", o.input, r.description);

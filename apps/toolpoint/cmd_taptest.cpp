@@ -48,7 +48,7 @@ void run_taptest(const TapTestArgs& o, const Globals& g) {
   options.calibration = o.calibration;
   Progress progress(g, "taptest");
   TapTest t;
-  t = run_tap_test(loaded.assembly, options, progress.part());
+  t = run_tap_test_study(loaded.assembly, options, progress.part());
   progress.done();
   const bool tool = options.side == TapSide::Tool;
   std::vector<UffDataset58> sets;

@@ -326,6 +326,7 @@ std::string with_flags(std::string text) {
       {"FrfResampleOptions::band_hz", "--band"},
       {"FrfResampleOptions::target_hz", "--onto or --grid"},
       {"BeamStudyOptions::modal.modes", "--modal-terms"},
+      {"ModalOptions::modes", "--modal-terms"},
       {"BeamStudyOptions::modes", "--modes"},
       {"BeamStudyOptions::shear_coefficient", "--shear-coefficient"},
       {"BeamStudyOptions::frequency_hz", "--frequencies"},

@@ -33,7 +33,7 @@ int main(int argc, char** argv) {
     toolpoint::IdentificationOptions options;
     options.route = toolpoint::Route::HolderTool;
     options.method = toolpoint::IdentificationMethod::Seed;
-    const toolpoint::Identification id = toolpoint::identify_joint_from_frfs(assembly, {data}, options);
+    const toolpoint::Identification id = toolpoint::run_identification_study(assembly, {data}, options);
 
     const toolpoint::JointReadout& r = id.seed;
     std::printf("holder-tool joint read at %.1f Hz, %s (%zu points, %.1f to %.1f Hz)\n", id.mode.center_hz,

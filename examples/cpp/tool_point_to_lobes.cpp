@@ -25,7 +25,7 @@ int main(int argc, char** argv) {
     for (const std::string& w : loaded.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
 
     // SHT11 on the file's [analysis] grid, with its modes; its H entry (w/f, m/N) is G_xx.
-    const toolpoint::Prediction sht = toolpoint::run_prediction(loaded.assembly);
+    const toolpoint::Prediction sht = toolpoint::run_prediction_study(loaded.assembly);
     for (const std::string& w : sht.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
     toolpoint::MillingFrfs frfs;
     frfs.xx = toolpoint::entry(sht.frf, 0);

@@ -21,13 +21,13 @@ EXAMPLE = Path(__file__).resolve().parents[1] / "bt40_shrinkfit_16mm.toml"
 def run(args):
     # 1. The assembly, checked with a prediction (toolpoint predict).
     assembly = tp.load_assembly(args.assembly).assembly
-    prediction = tp.run_prediction(assembly)
+    prediction = tp.run_prediction_study(assembly)
     f = prediction.frequency_hz
     print("1. model modes [Hz]:", ", ".join(f"{m.frequency_hz:.1f}" for m in prediction.modes))
 
     # 2. Tap tests with the hammer at every point, 0.5 % noise (toolpoint taptest --at holder/tool).
-    holder = tp.run_tap_test(assembly, spacing_m=0.02, side="holder", sigma=0.005)
-    tool = tp.run_tap_test(assembly, spacing_m=0.015, side="tool", sigma=0.005, seed=11)
+    holder = tp.run_tap_test_study(assembly, spacing_m=0.02, side="holder", sigma=0.005)
+    tool = tp.run_tap_test_study(assembly, spacing_m=0.015, side="tool", sigma=0.005, seed=11)
     print(f"2. tap tests: {len(holder.frfs)} FRFs on the holder, {len(tool.frfs)} on the tool; "
           f"κGA under the points {holder.shear_stiffness_n:.4g} N and {tool.shear_stiffness_n:.4g} N")
 
@@ -45,7 +45,7 @@ def run(args):
 
     # 4. The holder–tool joint (Eq. 6) from the raw data: the band fit with intervals, the seed's
     # read-out beside it (toolpoint identify).
-    ident = tp.identify_joint_from_frfs(assembly, [tp.IdentificationData(f, sht11, B11=sh11)],
+    ident = tp.run_identification_study(assembly, [tp.IdentificationData(f, sht11, B11=sh11)],
                                         bootstrap_samples=args.bootstrap, threads=args.threads)
     print(f"4. holder–tool joint ({ident.equation}), verdict {ident.verdict}" +
           "".join(f"\n   - {r}" for r in ident.verdict_reasons) + ":")

@@ -28,6 +28,8 @@ const std::vector<std::pair<const char*, IdentificationMethod>> kIdMethods{{"fit
                                                                            {"seed", IdentificationMethod::Seed}};
 const std::vector<std::pair<const char*, UncertaintyMethod>> kUncertainty{{"bootstrap", UncertaintyMethod::Bootstrap},
                                                                           {"linearised", UncertaintyMethod::Linearised}};
+const std::vector<std::pair<const char*, NoiseSpec::Source>> kNoiseSources{{"estimated", NoiseSpec::Source::Estimated},
+                                                                           {"stated", NoiseSpec::Source::Stated}};
 const std::vector<std::pair<const char*, JointInterface>> kInterfaces{{"holder_tool", JointInterface::HolderTool},
                                                                       {"spindle_holder", JointInterface::SpindleHolder}};
 
@@ -298,6 +300,23 @@ void bind_noise(py::module_& m) {
       .def(
           "to_dict", [](const BlockNoise& n) { return dict_of(n); },
           "The result as plain data (dicts, lists, floats, str, bool, None; the CLI's --json keys, SI units).");
+  options_class<NoiseEstimateOptions>(m, "NoiseEstimateOptions",
+                                      "estimate_block_noise's options (noise.hpp; how the identification estimates the noise "
+                                      "of measured data).",
+                                      {"local", "window", "floor"})
+      .def_readwrite("local", &NoiseEstimateOptions::local,
+                     "SavgolOptions: the local polynomial the residuals are taken about (default 7 points, cubic)")
+      .def_readwrite("window", &NoiseEstimateOptions::window, "frequency points over which C is averaged (odd, ≥ 21)")
+      .def_readwrite("floor", &NoiseEstimateOptions::floor, "estimate an additive floor beside the multiplicative noise");
+  m.def(
+      "estimate_block_noise",
+      [](const RealArray& f, const ComplexArray& blocks, const NoiseEstimateOptions& options, const std::string& what) {
+        const BlockSeries s = block_series(f, blocks, what);
+        py::gil_scoped_release nogil;
+        return estimate_block_noise(s, options, what);
+      },
+      "frequency_hz"_a, "blocks"_a, "options"_a, py::kw_only(), "what"_a = "data",
+      "estimate_block_noise with its options as one NoiseEstimateOptions (the same as the keyword form below).");
   m.def(
       "estimate_block_noise",
       [](const RealArray& f, const ComplexArray& blocks, int local_window, int local_order, int window, const std::string& what,
@@ -447,8 +466,136 @@ void bind_joint_fit(py::module_& m) {
           "to_dict", [](const JointFit& f) { return dict_of(f); },
           "The result as plain data (dicts, lists, floats, str, bool, None; the CLI's --json keys, SI units).");
 
+  options_class<JointFitOptions>(m, "JointFitOptions",
+                                 "The band fit's options (joint_fit.hpp; IdentificationOptions.fit, CaseStudyOptions.fit_options). "
+                                 "Progress is the function's `progress` argument.",
+                                 {"reciprocal", "filter", "uncertainty", "bootstrap_samples", "seed", "shared_calibration",
+                                  "check_linearisation", "confidence", "max_iterations", "threads"})
+      .def_readwrite("reciprocal", &JointFitOptions::reciprocal, "six parameters (k_θf = k_ym, c_θf = c_ym); False: all eight")
+      .def_readwrite("filter", &JointFitOptions::filter,
+                     "SavgolOptions: fit filtered data (the model filtered alike), or None: raw (the identification sets it "
+                     "from its own filter)")
+      .def_property(
+          "uncertainty", [](const JointFitOptions& o) { return std::string(name_of(o.uncertainty, kUncertainty)); },
+          [](JointFitOptions& o, const std::string& v) {
+            o.uncertainty = enum_of(v, kUncertainty, "JointFitOptions::uncertainty");
+          },
+          "the intervals: 'bootstrap' or 'linearised'")
+      .def_readwrite("bootstrap_samples", &JointFitOptions::bootstrap_samples, "replicates, ≥ 20")
+      .def_readwrite("seed", &JointFitOptions::seed, "of the bootstrap's noise draws (replicate b: stream_seed(seed, b))")
+      .def_readwrite("shared_calibration", &JointFitOptions::shared_calibration,
+                     "one calibration factor for every measured series (one sensor chain)")
+      .def_readwrite("check_linearisation", &JointFitOptions::check_linearisation,
+                     "linearised intervals with a measured B11 checked by a few bootstrap replicates")
+      .def_readwrite("confidence", &JointFitOptions::confidence, "of the intervals, in (0.5, 1)")
+      .def_readwrite("max_iterations", &JointFitOptions::max_iterations, "Levenberg–Marquardt iterations per pass")
+      .def_property(
+          "threads", [](const JointFitOptions& o) { return o.parallel.threads; },
+          [](JointFitOptions& o, int threads) { o.parallel.threads = threads; },
+          "bootstrap replicates on this many threads (0: every core); results identical for any count");
+
   m.def("weighted_median_parameters", &weighted_median_parameters, "series"_a, "lo_hz"_a, "hi_hz"_a,
         "The median of each parameter over [lo, hi] Hz, each point weighted by 1/gain²: the fit's starting values.");
+}
+
+// The identification study's options: the read-out's and the verdict's levels, the noise, the study's.
+void bind_identification_options(py::module_& m) {
+  options_class<ReadoutOptions>(m, "ReadoutOptions", "The seed's read-out's warning levels (identify.hpp).",
+                                {"cond_warning", "reciprocity_warning", "gain_warning"})
+      .def_readwrite("cond_warning", &ReadoutOptions::cond_warning, "warn when cond(A11 − G11) exceeds this in the band")
+      .def_readwrite("reciprocity_warning", &ReadoutOptions::reciprocity_warning,
+                     "warn when k_ym and k_θf (or c) differ by more than this fraction")
+      .def_readwrite("gain_warning", &ReadoutOptions::gain_warning, "warn when a parameter's noise gain exceeds this");
+  options_class<ForwardCheckOptions>(m, "ForwardCheckOptions",
+                                     "The forward check's options (forward_check.hpp; IdentificationOptions.verdict.forward).",
+                                     {"smoothing", "min_prominence", "replicates", "false_alarm", "frequency_tolerance",
+                                      "peak_tolerance", "seed", "shared_calibration", "threads"})
+      .def_readwrite("smoothing", &ForwardCheckOptions::smoothing,
+                     "SavgolOptions applied to measured and predicted alike, or None: (15, 3)")
+      .def_readwrite("min_prominence", &ForwardCheckOptions::min_prominence,
+                     "a peak counts when it stands this fraction above its valleys")
+      .def_readwrite("replicates", &ForwardCheckOptions::replicates, "Monte Carlo replicates of the noise (≥ 50)")
+      .def_readwrite("false_alarm", &ForwardCheckOptions::false_alarm,
+                     "P(fail) for data made by the identified model with the stated noise")
+      .def_readwrite("frequency_tolerance", &ForwardCheckOptions::frequency_tolerance,
+                     "relative natural-frequency error that matters")
+      .def_readwrite("peak_tolerance", &ForwardCheckOptions::peak_tolerance, "relative peak-height error that matters")
+      .def_readwrite("seed", &ForwardCheckOptions::seed, "replicate r draws from stream_seed(seed, r)")
+      .def_readwrite("shared_calibration", &ForwardCheckOptions::shared_calibration,
+                     "B11 and G11 share one calibration factor (one sensor chain)")
+      .def_property(
+          "threads", [](const ForwardCheckOptions& o) { return o.parallel.threads; },
+          [](ForwardCheckOptions& o, int threads) { o.parallel.threads = threads; },
+          "replicates on this many threads (0: every core); results identical for any count");
+  options_class<VerdictOptions>(m, "VerdictOptions", "How the identification's verdict is reached (studies/identification.hpp).",
+                                {"forward", "residual_doubt", "residual_fail"})
+      .def_readwrite("forward", &VerdictOptions::forward,
+                     "ForwardCheckOptions (its smoothing, seed and threads are the study's: filter, fit)")
+      .def_readwrite("residual_doubt", &VerdictOptions::residual_doubt, "the fit's residual ratio above which it is doubtful")
+      .def_readwrite("residual_fail", &VerdictOptions::residual_fail, "… and above which it fails");
+  options_class<NoiseSpec>(m, "NoiseSpec",
+                           "The noise of the measured series (studies/identification.hpp): estimated from the data or "
+                           "stated; the calibration always stated.",
+                           {"source", "estimate", "magnitude_sigma", "phase_sigma_rad", "floor", "calibration",
+                            "calibration_shared", "averages"})
+      .def_property(
+          "source", [](const NoiseSpec& o) { return std::string(name_of(o.source, kNoiseSources)); },
+          [](NoiseSpec& o, const std::string& v) { o.source = enum_of(v, kNoiseSources, "NoiseSpec::source"); },
+          "'estimated' (from the data, by `estimate`) or 'stated' (the σ's and floor below)")
+      .def_readwrite("estimate", &NoiseSpec::estimate, "NoiseEstimateOptions: how, when estimated")
+      .def_readwrite("magnitude_sigma", &NoiseSpec::magnitude_sigma, "stated: relative magnitude σ (0.05 = 5 %)")
+      .def_readwrite("phase_sigma_rad", &NoiseSpec::phase_sigma_rad, "stated: phase σ [rad]")
+      .def_readwrite("floor", &NoiseSpec::floor, "stated: additive floor, σ per part relative to each entry's peak")
+      .def_readwrite("calibration", &NoiseSpec::calibration, "σ of each measured FRF's calibration factor (0.02 = 2 %)")
+      .def_readwrite("calibration_shared", &NoiseSpec::calibration_shared,
+                     "one sensor chain for every measured FRF: one factor for all")
+      .def_readwrite("averages", &NoiseSpec::averages, "averages behind a coherence column (0: the coherence is not used)");
+  options_class<IdentificationOptions>(
+      m, "IdentificationOptions",
+      "run_identification_study' options (studies/identification.hpp; toolpoint identify's). The overhang FRFs (arrays) and "
+      "progress stay the function's arguments.",
+      {"route", "method", "band_hz", "at_hz", "width", "filter", "noise", "fit", "readout", "verdict"})
+      .def_property(
+          "route", [](const IdentificationOptions& o) { return std::string(name_of(o.route, kRoutes)); },
+          [](IdentificationOptions& o, const std::string& v) { o.route = enum_of(v, kRoutes, "IdentificationOptions::route"); },
+          "'holder_tool' (Eq. 6), 'spindle_holder_sh' (Eq. 15) or 'spindle_holder_sht' (Eq. 18)")
+      .def_property(
+          "method", [](const IdentificationOptions& o) { return std::string(to_string(o.method)); },
+          [](IdentificationOptions& o, const std::string& v) {
+            o.method = enum_of(v, kIdMethods, "IdentificationOptions::method");
+          },
+          "which result is `identified`: 'fit' (the band fit) or 'seed' (the read-out's medians)")
+      .def_readwrite("band_hz", &IdentificationOptions::band_hz, "the read-out band (lo, hi) [Hz], also bounding the fit; or None")
+      .def_readwrite("at_hz", &IdentificationOptions::at_hz, "the mode [Hz] read ± width around, or None")
+      .def_readwrite("width", &IdentificationOptions::width, "± relative around the mode (0.02 = ±2 %)")
+      .def_readwrite("filter", &IdentificationOptions::filter,
+                     "SavgolOptions: the read-out reads filtered data and the fit filters G11 and its model alike; None: raw")
+      .def_readwrite("noise", &IdentificationOptions::noise, "NoiseSpec of every measured series")
+      .def_readwrite("fit", &IdentificationOptions::fit, "JointFitOptions (its filter is set from `filter`)")
+      .def_readwrite("readout", &IdentificationOptions::readout, "ReadoutOptions")
+      .def_readwrite("verdict", &IdentificationOptions::verdict, "VerdictOptions");
+}
+
+// The identification study from Python (both forms): the overhang FRFs judged as the CLI's files, the
+// stated noise as its --sigma and --floor (plausibility.hpp), then the library's checks.
+Identification identify_from_python(const Assembly& a, const std::vector<IdentificationData>& data, IdentificationOptions o,
+                                    const std::vector<std::pair<RealArray, ComplexArray>>& overhang_frfs,
+                                    const py::object& progress) {
+  for (std::size_t k = 0; k < overhang_frfs.size(); ++k) {
+    const std::string name = fmt::format("overhang_frfs[{}]", k);
+    o.overhang_frfs.push_back(frf_series(overhang_frfs[k].first, overhang_frfs[k].second, name));
+    judge_receptance(o.overhang_frfs.back(), name);
+  }
+  if (o.noise.source == NoiseSpec::Source::Stated) {
+    if (o.noise.magnitude_sigma > 0.0)
+      check_plausible(plausible::kRelativeNoise, o.noise.magnitude_sigma, "NoiseSpec::magnitude_sigma",
+                      "give σ as a fraction (5 % = 0.05)");
+    if (o.noise.floor > 0.0)
+      check_plausible(plausible::kRelativeNoise, o.noise.floor, "NoiseSpec::floor", "give the floor as a fraction (1 % = 0.01)");
+  }
+  const ProgressCallback cb = progress_of(progress);
+  py::gil_scoped_release nogil;
+  return run_identification_study(a, data, o, cb);
 }
 
 // The identification study: the measured data in, the identification out.
@@ -481,7 +628,7 @@ void bind_identification_study(py::module_& m) {
 
   py::class_<Identification>(
       m, "Identification",
-      "identify_joint_from_frfs' result: the seed's read-out and the band fit side by side, the mode choice, a forward "
+      "run_identification_study' result: the seed's read-out and the band fit side by side, the mode choice, a forward "
       "check and a verdict. identified: the chosen method's JointParameters.")
       .def_property_readonly("route", [](const Identification& i) { return name_of(i.route, kRoutes); })
       .def_property_readonly("method", [](const Identification& i) { return to_string(i.method); })
@@ -508,7 +655,17 @@ void bind_identification_study(py::module_& m) {
       .def(
           "to_dict", [](const Identification& i) { return dict_of(i); }, "toolpoint identify --json's keys.");
   m.def(
-      "identify_joint_from_frfs",
+      "run_identification_study",
+      [](Assembly a, const std::vector<IdentificationData>& data, IdentificationOptions options,
+         const std::vector<std::pair<RealArray, ComplexArray>>& overhang_frfs, const py::object& progress) {
+        return identify_from_python(a, data, std::move(options), overhang_frfs, progress);
+      },
+      "assembly"_a, "data"_a, "options"_a, py::kw_only(),
+      "overhang_frfs"_a = std::vector<std::pair<RealArray, ComplexArray>>{}, "progress"_a = py::none(),
+      "The identification study with its options as one IdentificationOptions (the same as the keyword form below; "
+      "besides, the read-out's warning levels and the verdict's).");
+  m.def(
+      "run_identification_study",
       [](Assembly a, const std::vector<IdentificationData>& data, const std::string& route, const std::string& method,
          std::optional<std::pair<double, double>> band_hz, std::optional<double> at_hz, double width,
          const std::vector<std::pair<RealArray, ComplexArray>>& overhang_frfs, std::optional<std::pair<int, int>> filter,
@@ -521,11 +678,6 @@ void bind_identification_study(py::module_& m) {
         o.band_hz = band_hz;
         o.at_hz = at_hz;
         o.width = width;
-        for (std::size_t k = 0; k < overhang_frfs.size(); ++k) {
-          const std::string name = fmt::format("overhang_frfs[{}]", k);
-          o.overhang_frfs.push_back(frf_series(overhang_frfs[k].first, overhang_frfs[k].second, name));
-          judge_receptance(o.overhang_frfs.back(), name);
-        }
         if (filter) o.filter = SavgolOptions{filter->first, filter->second};
         if (magnitude_sigma || floor) {
           o.noise.source = NoiseSpec::Source::Stated;
@@ -542,9 +694,7 @@ void bind_identification_study(py::module_& m) {
         o.fit.seed = seed;
         o.fit.confidence = confidence;
         o.fit.parallel.threads = threads;
-        const ProgressCallback cb = progress_of(progress);
-        py::gil_scoped_release nogil;
-        return identify_joint_from_frfs(a, data, o, cb);
+        return identify_from_python(a, data, std::move(o), overhang_frfs, progress);
       },
       "assembly"_a, "data"_a, "route"_a = "holder_tool", "method"_a = "fit", "band_hz"_a = py::none(), "at_hz"_a = py::none(),
       "width"_a = 0.02, "overhang_frfs"_a = std::vector<std::pair<RealArray, ComplexArray>>{}, "filter"_a = py::none(),
@@ -560,6 +710,24 @@ void bind_identification_study(py::module_& m) {
       "and floor (relative to each entry's peak) are stated; calibration: σ of each measured FRF's sensitivity (one factor "
       "for all with calibration_shared); averages: behind the data's coherence (IdentificationData g_coherence). Six parameters "
       "(reciprocal) or eight. threads: the bootstrap's (0: every core; results identical for any count).");
+}
+
+// The precision study from Python (both forms): the spacings, σ and floor judged as the CLI's
+// --tool-spacing, --holder-spacing, --sigma and --floor (plausibility.hpp), then the library's checks.
+PrecisionStudy precision_from_python(const Assembly& a, const PrecisionOptions& o, const py::object& progress) {
+  if (o.tool.spacing_m > 0.0)
+    check_plausible(plausible::kPointSpacing, o.tool.spacing_m, "PrecisionOptions::tool.spacing_m",
+                    "give the spacing in m (15 mm = 0.015)");
+  if (o.holder.spacing_m > 0.0)
+    check_plausible(plausible::kPointSpacing, o.holder.spacing_m, "PrecisionOptions::holder.spacing_m",
+                    "give the spacing in m (15 mm = 0.015)");
+  if (o.noise.sigma > 0.0)
+    check_plausible(plausible::kRelativeNoise, o.noise.sigma, "TapNoise::sigma", "give σ as a fraction (1 % = 0.01)");
+  if (o.noise.floor > 0.0)
+    check_plausible(plausible::kRelativeNoise, o.noise.floor, "TapNoise::floor", "give the floor as a fraction (1 % = 0.01)");
+  const ProgressCallback cb = progress_of(progress);
+  py::gil_scoped_release nogil;
+  return run_precision_study(a, o, cb);
 }
 
 // The precision study: how tight the joint will be before the tap test.
@@ -590,6 +758,38 @@ void bind_precision(py::module_& m) {
       .def_readonly("warnings", &PrecisionStudy::warnings)
       .def(
           "to_dict", [](const PrecisionStudy& r) { return dict_of(r); }, "toolpoint precision --json's keys.");
+  options_class<TapNoise>(m, "TapNoise", "The noise of the tap tests being planned (studies/precision.hpp).",
+                          {"sigma", "floor", "averages", "calibration", "shared_calibration"})
+      .def_readwrite("sigma", &TapNoise::sigma, "one hit's variation, relative, magnitude and phase alike (0.01 = 1 %)")
+      .def_readwrite("floor", &TapNoise::floor, "one hit's additive floor, σ per part relative to each FRF's peak")
+      .def_readwrite("averages", &TapNoise::averages, "hits averaged per FRF")
+      .def_readwrite("calibration", &TapNoise::calibration, "σ of each tap test's calibration factor")
+      .def_readwrite("shared_calibration", &TapNoise::shared_calibration,
+                     "one sensor chain for both tap tests: one factor for both");
+  options_class<PrecisionOptions>(m, "PrecisionOptions",
+                                  "run_precision_study's options (studies/precision.hpp; toolpoint precision's).",
+                                  {"route", "tool", "holder", "noise", "reciprocal", "confidence", "target"})
+      .def_property(
+          "route", [](const PrecisionOptions& o) { return std::string(name_of(o.route, kRoutes)); },
+          [](PrecisionOptions& o, const std::string& v) { o.route = enum_of(v, kRoutes, "PrecisionOptions::route"); },
+          "'holder_tool', 'spindle_holder_sh' or 'spindle_holder_sht'")
+      .def_readwrite("tool", &PrecisionOptions::tool,
+                     "TapTestOptions of the tool's tap test (spacing_m required when the route measures SHT11)")
+      .def_readwrite("holder", &PrecisionOptions::holder,
+                     "TapTestOptions of the holder's tap test (spacing_m required when the route measures SH11)")
+      .def_readwrite("noise", &PrecisionOptions::noise, "TapNoise: one hit's variation, floor, averages, calibration")
+      .def_readwrite("reciprocal", &PrecisionOptions::reciprocal, "six parameters, as the identification's default")
+      .def_readwrite("confidence", &PrecisionOptions::confidence, "of the expected intervals")
+      .def_readwrite("target", &PrecisionOptions::target,
+                     "a relative half-width wanted for each parameter (0.01 = ±1 %), or None");
+  m.def(
+      "run_precision_study",
+      [](Assembly a, const PrecisionOptions& options, const py::object& progress) {
+        return precision_from_python(a, options, progress);
+      },
+      "assembly"_a, "options"_a, py::kw_only(), "progress"_a = py::none(),
+      "The precision study with its options as one PrecisionOptions (the same as the keyword form below; besides, a "
+      "different point count or hammer per tap test).");
   m.def(
       "run_precision_study",
       [](Assembly a, const std::string& route, std::optional<double> tool_spacing_m, std::optional<double> holder_spacing_m,
@@ -611,9 +811,7 @@ void bind_precision(py::module_& m) {
         o.reciprocal = reciprocal;
         o.confidence = confidence;
         o.target = target;
-        const ProgressCallback cb = progress_of(progress);
-        py::gil_scoped_release nogil;
-        return run_precision_study(a, o, cb);
+        return precision_from_python(a, o, progress);
       },
       "assembly"_a, "route"_a = "holder_tool", "tool_spacing_m"_a = py::none(), "holder_spacing_m"_a = py::none(), "points"_a = 3,
       "hammer"_a = "roving", "sigma"_a = 0.01, "floor"_a = 0.0, "averages"_a = 1, "calibration"_a = 0.0,
@@ -719,6 +917,24 @@ void bind_case_study(py::module_& m) {
       .def(
           "to_dict", [](const CaseStudy& c) { return dict_of(c); },
           "The result as plain data, the series left out (toolpoint demo --json's keys, less what the CLI adds; SI units).");
+  options_class<CaseStudyOptions>(m, "CaseStudyOptions", "run_case_study's options (studies/case_study.hpp; toolpoint demo's).",
+                                  {"noise_sigma", "seed", "filter", "apply_filter", "band_width", "fit", "fit_options"})
+      .def_readwrite("noise_sigma", &CaseStudyOptions::noise_sigma, "σ of the multiplicative noise (0.05 = 5 %, the seed's)")
+      .def_readwrite("seed", &CaseStudyOptions::seed, "SH11 draws from `seed`, SHT11 from `seed + 1`")
+      .def_readwrite("filter", &CaseStudyOptions::filter, "SavgolOptions (window in frequency points, order)")
+      .def_readwrite("apply_filter", &CaseStudyOptions::apply_filter, "filter the noisy data before the read-out")
+      .def_readwrite("band_width", &CaseStudyOptions::band_width, "read-out band: tool mode × (1 ± band_width)")
+      .def_readwrite("fit", &CaseStudyOptions::fit, "also fit the joint to the raw noisy data (the band fit)")
+      .def_readwrite("fit_options", &CaseStudyOptions::fit_options, "JointFitOptions: its intervals, threads, seed");
+  m.def(
+      "run_case_study",
+      [](Assembly a, const CaseStudyOptions& options, const py::object& progress) {
+        const ProgressCallback cb = progress_of(progress);
+        py::gil_scoped_release nogil;
+        return run_case_study(a, options, cb);
+      },
+      "assembly"_a, "options"_a, py::kw_only(), "progress"_a = py::none(),
+      "The case study with its options as one CaseStudyOptions (the same as the keyword form below).");
   m.def(
       "run_case_study",
       [](Assembly a, double noise_sigma, std::uint64_t seed, std::pair<int, int> filter, bool apply_filter, double band_width,
@@ -735,9 +951,9 @@ void bind_case_study(py::module_& m) {
         o.fit_options.bootstrap_samples = bootstrap_samples;
         o.fit_options.seed = fit_seed;
         o.fit_options.parallel.threads = threads;
-        o.fit_options.progress = progress_of(progress);
+        const ProgressCallback cb = progress_of(progress);
         py::gil_scoped_release nogil;
-        return run_case_study(a, o);
+        return run_case_study(a, o, cb);
       },
       "assembly"_a, "noise_sigma"_a = 0.05, "seed"_a = 1, "filter"_a = std::make_pair(81, 2), "apply_filter"_a = true,
       "band_width"_a = 0.02, "fit"_a = true, "uncertainty"_a = "bootstrap", "bootstrap_samples"_a = 200, "fit_seed"_a = 1,
@@ -756,6 +972,7 @@ void bind_identify(py::module_& m) {
   bind_noise(m);
   bind_joint_files(m);
   bind_joint_fit(m);
+  bind_identification_options(m);
   bind_identification_study(m);
   bind_precision(m);
   bind_uncertainty(m);

@@ -182,6 +182,13 @@ void bind_segments(py::module_& m) {
       .def_readwrite("loss_factor", &Material::loss_factor, "η ≥ 0, applied to E and G")
       .def("G", &Material::G, "The shear modulus used [Pa].")
       .def("check", &Material::check, "Raises InvalidArgument naming a value out of range.")
+      .def(
+          "__eq__",
+          [](const Material& a, const Material& b) {
+            return a.name == b.name && a.youngs_modulus == b.youngs_modulus && a.poisson == b.poisson &&
+                   a.shear_modulus == b.shear_modulus && a.density == b.density && a.loss_factor == b.loss_factor;
+          },
+          py::is_operator())
       .def("__repr__", [](const Material& x) {
         return fmt::format(
             "Material(name='{}', youngs_modulus={:g}, poisson={:g}, shear_modulus={:g}, density={:g}, loss_factor={:g})", x.name,
@@ -301,6 +308,66 @@ void bind_segments(py::module_& m) {
           "The elastic modes' undamped natural frequencies [Hz].")
       .def_property_readonly("loss_factor", &ModalBeam::loss_factor);
 
+}
+
+// The beam study from Python (both forms): the section and material judged as the CLI's --length,
+// --diameter, --inner-diameter, --youngs-modulus, --density, --shear-modulus, --loss-factor and
+// --shear-coefficient (plausibility.hpp), then the library's checks.
+BeamStudy beam_from_python(const BeamStudyOptions& o) {
+  const char* const metres = "give lengths and diameters in m (16 mm = 0.016)";
+  check_plausible(plausible::kSegmentLength, o.length, "BeamStudyOptions::length", metres);
+  check_plausible(plausible::kOuterDiameter, o.outer_diameter, "BeamStudyOptions::outer_diameter", metres);
+  if (o.inner_diameter > 0.0)
+    check_plausible(plausible::kInnerDiameter, o.inner_diameter, "BeamStudyOptions::inner_diameter", metres);
+  check_plausible(plausible::kYoungsModulus, o.material.youngs_modulus, "Material::youngs_modulus",
+                  "give E in Pa (steel 2.1e11)");
+  check_plausible(plausible::kDensity, o.material.density, "Material::density", "give ρ in kg/m³ (steel 7800)");
+  if (o.material.shear_modulus > 0.0)
+    check_plausible(plausible::kShearModulus, o.material.shear_modulus, "Material::shear_modulus",
+                    "give G in Pa (steel 8e10)");
+  check_plausible(plausible::kLossFactor, o.material.loss_factor, "Material::loss_factor", "give η as a fraction (0.01)");
+  if (o.shear_coefficient)
+    check_plausible(plausible::kShearCoefficient, *o.shear_coefficient, "BeamStudyOptions::shear_coefficient",
+                    "κ is about 0.9 for a solid round section");
+  py::gil_scoped_release nogil;
+  return run_beam_study(o);
+}
+
+// The beam study: a segment's section, natural frequencies and end block.
+void bind_beam_study(py::module_& m) {
+  options_class<ModalOptions>(m, "ModalOptions", "Modal summation's options (beam.hpp; BeamStudyOptions.modal).",
+                              {"modes", "static_residual"})
+      .def_readwrite("modes", &ModalOptions::modes, "elastic free–free modes kept, ≥ 1")
+      .def_readwrite("static_residual", &ModalOptions::static_residual, "add the truncated modes' quasi-static part");
+  options_class<BeamStudyOptions>(m, "BeamStudyOptions", "run_beam_study's options (studies/beam.hpp; toolpoint beam's).",
+                                  {"length", "outer_diameter", "inner_diameter", "material", "shear_coefficient",
+                                   "shear_model", "modes", "frequency_hz", "block", "method", "modal", "speed_rpm",
+                                   "campbell_rpm"})
+      .def_readwrite("length", &BeamStudyOptions::length, "L [m], > 0 (no default)")
+      .def_readwrite("outer_diameter", &BeamStudyOptions::outer_diameter, "D [m], > 0 (no default)")
+      .def_readwrite("inner_diameter", &BeamStudyOptions::inner_diameter, "d [m]; 0: a solid section")
+      .def_readwrite("material", &BeamStudyOptions::material, "Material (default steel, undamped)")
+      .def_readwrite("shear_coefficient", &BeamStudyOptions::shear_coefficient,
+                     "κ, or None: from shear_model, ν and the diameters")
+      .def_property(
+          "shear_model", [](const BeamStudyOptions& o) { return std::string(name_of(o.shear_model, kShearModels)); },
+          [](BeamStudyOptions& o, const std::string& v) {
+            o.shear_model = enum_of(v, kShearModels, "BeamStudyOptions::shear_model");
+          },
+          "'hutchinson' or 'cowper'")
+      .def_readwrite("modes", &BeamStudyOptions::modes, "free–free natural frequencies listed, ≥ 0")
+      .def_readwrite("frequency_hz", &BeamStudyOptions::frequency_hz, "the receptance's grid [Hz]; []: no receptance")
+      .def_property(
+          "block", [](const BeamStudyOptions& o) { return std::string(name_of(o.block, kEndBlocks)); },
+          [](BeamStudyOptions& o, const std::string& v) { o.block = enum_of(v, kEndBlocks, "BeamStudyOptions::block"); },
+          "which end block: '11' (end 1 = the outer end), '12', '21' or '22'")
+      .def_property(
+          "method", [](const BeamStudyOptions& o) { return std::string(name_of(o.method, kBeamMethods)); },
+          [](BeamStudyOptions& o, const std::string& v) { o.method = enum_of(v, kBeamMethods, "BeamStudyOptions::method"); },
+          "'exact' (closed form) or 'modal' (summation over `modal`'s modes)")
+      .def_readwrite("modal", &BeamStudyOptions::modal, "ModalOptions of the 'modal' method")
+      .def_readwrite("speed_rpm", &BeamStudyOptions::speed_rpm, "spin about the axis [rpm], ≥ 0 (exact method only)")
+      .def_readwrite("campbell_rpm", &BeamStudyOptions::campbell_rpm, "speeds [rpm] of the Campbell diagram; []: none");
   py::class_<BeamStudy>(m, "BeamStudy", "run_beam_study's result (studies/beam.hpp).")
       .def_readonly("segment", &BeamStudy::segment, "the Segment built from the options")
       .def_readonly("properties", &BeamStudy::properties, "SectionProperties: EI, κGA (complex, with η), ρA, ρI")
@@ -351,8 +418,7 @@ void bind_segments(py::module_& m) {
         o.modal = {modal_terms, static_residual};
         o.speed_rpm = speed_rpm;
         if (!campbell_rpm.is_none()) o.campbell_rpm = vector_of(campbell_rpm.cast<RealArray>(), "campbell_rpm");
-        py::gil_scoped_release nogil;
-        return run_beam_study(o);
+        return beam_from_python(o);
       },
       "length"_a, "outer_diameter"_a, "inner_diameter"_a = 0.0, "material"_a = Material{"beam", 2.0e11, 0.3, 0.0, 7800.0, 0.0},
       "shear_coefficient"_a = py::none(), "shear_model"_a = "hutchinson", "modes"_a = 5, "frequency_hz"_a = py::none(),
@@ -363,9 +429,12 @@ void bind_segments(py::module_& m) {
       "`frequency_hz` [Hz], the end block '11' (end 1 = the outer end), '12', '21' or '22' by the 'exact' closed form or "
       "'modal' summation over `modal_terms` modes; spinning at `speed_rpm` [rpm] the natural frequencies of each whirl "
       "(BeamStudy.whirl) and the block's x–x part; `campbell_rpm` [rpm] the Campbell diagram (BeamStudy.campbell).");
+  m.def(
+      "run_beam_study", [](const BeamStudyOptions& options) { return beam_from_python(options); }, "options"_a,
+      "The beam study with its options as one BeamStudyOptions (the same as the keyword form above).");
 }
 
-// The assembly, its file and its model (the forward model of Eq. 1–5).
+// The assembly and its file.
 void bind_assembly(py::module_& m) {
   // ---- Assembly -----------------------------------------------------------------------------------
   py::class_<Bearing>(m, "Bearing", "Springs and dampers to ground at `position` m from the spindle nose.")
@@ -392,7 +461,8 @@ void bind_assembly(py::module_& m) {
             b.speed_table.clear();
             for (const auto& r : t) b.speed_table.push_back({std::get<0>(r), std::get<1>(r), std::get<2>(r)});
           },
-          "[(speed_rpm, stiffness N/m, damping N·s/m), …] by increasing speed; [] none (read by run_prediction's speed_rpm)");
+          "[(speed_rpm, stiffness N/m, damping N·s/m), …] by increasing speed; [] none (read by run_prediction_study's "
+          "speed_rpm)");
 
   py::class_<Spindle>(m, "Spindle", "Segments from the nose to the rear, and bearings (lists are copied in and out).")
       .def(py::init([](std::vector<Segment> s, std::vector<Bearing> b) {
@@ -487,6 +557,10 @@ void bind_assembly(py::module_& m) {
   m.def("parse_assembly", &parse_assembly, "text"_a, "source"_a = "<string>",
         "Parses assembly TOML text; `source` names it in errors.");
 
+}
+
+// The assembly's model: the forward model of Eq. 1–5 over the components and joints.
+void bind_assembly_model(py::module_& m) {
   py::class_<AssemblyModel, std::shared_ptr<AssemblyModel>>(
       m, "AssemblyModel",
       "An assembly's components built once. Blocks are complex (n, 2, 2) [[H, L], [N, P]] (m/N, 1/N, rad/N, rad/(N·m)); "
@@ -607,7 +681,7 @@ void bind_prediction(py::module_& m) {
                            p.prominence);
       });
 
-  py::class_<Prediction>(m, "Prediction", "run_prediction's result: the block series on the assembly's grid and its modes.")
+  py::class_<Prediction>(m, "Prediction", "run_prediction_study's result: the block series on the assembly's grid and its modes.")
       .def_property_readonly(
           "receptance", [](const Prediction& p) { return predicted_frf_name(p.receptance); }, "'SHT11' or 'SH11'")
       .def_property_readonly(
@@ -633,7 +707,7 @@ void bind_prediction(py::module_& m) {
       .def(
           "to_dict", [](const Prediction& p) { return dict_of(p); },
           "{'receptance', 'modes', 'warnings'} (toolpoint predict --json's keys).");
-  options_class<PredictOptions>(m, "PredictOptions", "run_prediction's options (studies/predict.hpp; toolpoint predict's).",
+  options_class<PredictOptions>(m, "PredictOptions", "run_prediction_study's options (studies/predict.hpp; toolpoint predict's).",
                                 {"receptance", "peaks", "uncertain_joint", "band", "speed_rpm", "extrapolate_bearings"})
       .def_property(
           "receptance", [](const PredictOptions& o) { return std::string(name_of(o.receptance, kPredicted)); },
@@ -649,7 +723,7 @@ void bind_prediction(py::module_& m) {
       .def_readwrite("extrapolate_bearings", &PredictOptions::extrapolate_bearings,
                      "extend a bearing's speed table beyond its rows (default: refuse)");
   m.def(
-      "run_prediction",
+      "run_prediction_study",
       [](Assembly a, const std::string& receptance, double min_prominence, std::optional<JointFile> joint, int samples,
          std::uint64_t seed, std::vector<double> levels, int threads, const py::object& progress, double speed_rpm,
          bool extrapolate_bearings) {
@@ -662,7 +736,7 @@ void bind_prediction(py::module_& m) {
         o.band = uncertainty_options(samples, seed, std::move(levels), threads, py::none());
         const ProgressCallback cb = progress_of(progress);
         py::gil_scoped_release nogil;
-        return run_prediction(a, o, cb);
+        return run_prediction_study(a, o, cb);
       },
       "assembly"_a, "receptance"_a = "SHT11", "min_prominence"_a = 0.02, "joint"_a = py::none(), "samples"_a = 200, "seed"_a = 1,
       "levels"_a = std::vector<double>{0.05, 0.5, 0.95}, "threads"_a = 0, "progress"_a = py::none(), "speed_rpm"_a = 0.0,
@@ -675,11 +749,11 @@ void bind_prediction(py::module_& m) {
       "planes: Prediction.two_plane (n, 4, 4) on (w_x, ψ_x, w_y, ψ_y), its x–x block the FRF (docs/spindle-at-speed.md).");
 
   m.def(
-      "run_prediction",
+      "run_prediction_study",
       [](Assembly a, const PredictOptions& options, const py::object& progress) {
         const ProgressCallback cb = progress_of(progress);
         py::gil_scoped_release nogil;
-        return run_prediction(a, options, cb);
+        return run_prediction_study(a, options, cb);
       },
       "assembly"_a, "options"_a, py::kw_only(), "progress"_a = py::none(),
       "The prediction study with its options as one PredictOptions (the same as the keyword form above).");
@@ -770,7 +844,19 @@ void bind_overhang_study(py::module_& m) {
         "rounded to a nanometre.");
 }
 
-// The virtual tap test, and the rotational FRFs taken from one with the model's correction.
+// The tap test from Python (both forms): the spacing and the floor judged as the CLI's --spacing and
+// --floor (plausibility.hpp), then the library's checks.
+TapTest tap_test_from_python(const Assembly& a, const TapTestOptions& o, const py::object& progress) {
+  if (o.spacing_m > 0.0)
+    check_plausible(plausible::kPointSpacing, o.spacing_m, "TapTestOptions::spacing_m", "give the spacing in m (15 mm = 0.015)");
+  if (o.floor > 0.0)
+    check_plausible(plausible::kRelativeNoise, o.floor, "TapTestOptions::floor", "give the floor as a fraction (1 % = 0.01)");
+  const ProgressCallback cb = progress_of(progress);
+  py::gil_scoped_release nogil;
+  return run_tap_test_study(a, o, cb);
+}
+
+// The virtual tap test.
 void bind_tap_test(py::module_& m) {
   py::class_<TapTestFrf>(m, "TapTestFrf", "One FRF of the tap test: H_ij = w_i/f_j [m/N], point 0 the tip.")
       .def_readonly("response", &TapTestFrf::response)
@@ -778,7 +864,7 @@ void bind_tap_test(py::module_& m) {
       .def_property_readonly("frequency_hz", [](const TapTestFrf& r) { return array_of(r.frf.frequency_hz); })
       .def_property_readonly(
           "values", [](const TapTestFrf& r) { return array_of(r.frf.values); }, "complex (n,) m/N");
-  py::class_<TapTest>(m, "TapTest", "run_tap_test's result.")
+  py::class_<TapTest>(m, "TapTest", "run_tap_test_study's result.")
       .def_property_readonly("side", [](const TapTest& t) { return tap_side_name(t.side); })
       .def_property_readonly(
           "distance_m", [](const TapTest& t) { return array_of(t.distance_m); }, "each point's distance from the tip [m]")
@@ -799,7 +885,7 @@ void bind_tap_test(py::module_& m) {
       .def(
           "to_dict", [](const TapTest& t) { return dict_of(t); },
           "The result as plain data (dicts, lists, floats, str, bool, None; the CLI's --json keys, SI units).");
-  options_class<TapTestOptions>(m, "TapTestOptions", "run_tap_test's options (studies/tap_test.hpp; toolpoint taptest's).",
+  options_class<TapTestOptions>(m, "TapTestOptions", "run_tap_test_study's options (studies/tap_test.hpp; toolpoint taptest's).",
                                 {"side", "spacing_m", "points", "hammer", "sigma", "seed", "floor", "averages", "calibration"})
       .def_property(
           "side", [](const TapTestOptions& o) { return std::string(name_of(o.side, kSides)); },
@@ -817,7 +903,7 @@ void bind_tap_test(py::module_& m) {
       .def_readwrite("averages", &TapTestOptions::averages, "hits averaged per FRF (each varying by sigma); 0: one")
       .def_readwrite("calibration", &TapTestOptions::calibration, "σ of one calibration factor for the whole test");
   m.def(
-      "run_tap_test",
+      "run_tap_test_study",
       [](Assembly a, double spacing_m, const std::string& side, int points, const std::string& hammer, double sigma,
          std::uint64_t seed, const py::object& progress) {
         TapTestOptions o;
@@ -827,9 +913,7 @@ void bind_tap_test(py::module_& m) {
         o.hammer = enum_of(hammer, kHammers, "hammer");
         o.sigma = sigma;
         o.seed = seed;
-        const ProgressCallback cb = progress_of(progress);
-        py::gil_scoped_release nogil;
-        return run_tap_test(a, o, cb);
+        return tap_test_from_python(a, o, progress);
       },
       "assembly"_a, "spacing_m"_a, "side"_a = "tool", "points"_a = 3, "hammer"_a = "roving", "sigma"_a = 0.0, "seed"_a = 1,
       "progress"_a = py::none(),
@@ -840,16 +924,17 @@ void bind_tap_test(py::module_& m) {
       "(0.005 = 0.5 %; FRF k draws from seed + k), on assembly.grid.");
 
   m.def(
-      "run_tap_test",
+      "run_tap_test_study",
       [](Assembly a, const TapTestOptions& options, const py::object& progress) {
-        const ProgressCallback cb = progress_of(progress);
-        py::gil_scoped_release nogil;
-        return run_tap_test(a, options, cb);
+        return tap_test_from_python(a, options, progress);
       },
       "assembly"_a, "options"_a, py::kw_only(), "progress"_a = py::none(),
       "The virtual tap test with its options as one TapTestOptions (the same as the keyword form above; besides, the "
       "noise floor, averages and calibration).");
+}
 
+// The rotational FRFs from a tap test: the finite-difference error estimated on the model, the study.
+void bind_fd_correction(py::module_& m) {
   py::class_<FiniteDifferenceError>(
       m, "FiniteDifferenceError", "The finite-difference error of a tap test estimated on the model (studies/fd_correction.hpp).")
       .def_property_readonly(
@@ -940,10 +1025,13 @@ void bind_tap_test(py::module_& m) {
 void bind_model(py::module_& m) {
   bind_joints(m);
   bind_segments(m);
+  bind_beam_study(m);
   bind_assembly(m);
+  bind_assembly_model(m);
   bind_prediction(m);
   bind_overhang_study(m);
   bind_tap_test(m);
+  bind_fd_correction(m);
 }
 
 }  // namespace toolpoint::python

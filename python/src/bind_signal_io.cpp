@@ -30,6 +30,12 @@ const std::vector<std::pair<const char*, FrfOrdinate>> kOrdinates{{"receptance",
                                                                   {"mobility", FrfOrdinate::Mobility},
                                                                   {"accelerance", FrfOrdinate::Accelerance}};
 
+const std::vector<std::pair<const char*, FrfValueFormat>> kValueFormats{{"re-im", FrfValueFormat::ReIm},
+                                                                        {"mag-phase-deg", FrfValueFormat::MagPhaseDeg},
+                                                                        {"mag-phase-rad", FrfValueFormat::MagPhaseRad},
+                                                                        {"db-phase", FrfValueFormat::DbPhaseDeg},
+                                                                        {"db-phase-rad", FrfValueFormat::DbPhaseRad}};
+
 const std::vector<std::pair<const char*, Interpolation>> kInterpolations{{"linear", Interpolation::Linear},
                                                                          {"cubic", Interpolation::Cubic}};
 
@@ -137,8 +143,34 @@ py::dict point_frfs_dict(const PointFrfs& frfs) {
 
 namespace {
 
+// savgol_filter on a real (n,), complex (n,) or block (n, 2, 2) array (both forms of the binding).
+py::array savgol_filter_array(const py::array& values, const SavgolOptions& o, const py::object& frequency_hz) {
+  const bool is_complex = values.dtype().kind() == 'c';
+  if (!is_complex && values.ndim() == 1 && frequency_hz.is_none()) {
+    const std::vector<double> x = vector_of(values.cast<RealArray>(), "values");
+    std::vector<double> y;
+    {
+      py::gil_scoped_release nogil;
+      y = savgol_filter(std::span<const double>(x), o, "values");
+    }
+    return array_of(y);
+  }
+  const std::size_t n = values.ndim() > 0 ? static_cast<std::size_t>(values.shape(0)) : 0;
+  const std::vector<double> f = frequency_hz.is_none() ? index_grid(n)
+                                                       : vector_of(frequency_hz.cast<RealArray>(), "frequency_hz");
+  return series_apply(
+      values, f, "values", [&](const FrfSeries& s) { return savgol_filter(s, o, "values"); },
+      [&](const BlockSeries& s) { return savgol_filter(s, o, "values"); });
+}
+
 // Savitzky–Golay, the seed's noise, rotational FRFs by finite differences.
 void bind_signal(py::module_& m) {
+  options_class<SavgolOptions>(m, "SavgolOptions",
+                               "A Savitzky–Golay filter (signal.hpp; toolpoint filter's --window, --order): window and "
+                               "polynomial order.",
+                               {"window", "order"})
+      .def_readwrite("window", &SavgolOptions::window, "points in the fitting window: odd, > order")
+      .def_readwrite("order", &SavgolOptions::order, "polynomial degree p ≥ 0");
   m.def(
       "savgol_coefficients",
       [](int window, int order) {
@@ -147,31 +179,25 @@ void bind_signal(py::module_& m) {
       "window"_a = 5, "order"_a = 2,
       "The Savitzky–Golay interior weights c_{−m..m} (left to right) for an odd `window` [points] and polynomial `order`.");
   m.def(
+      "savgol_coefficients", [](const SavgolOptions& options) { return array_of(savgol_coefficients(options)); },
+      "options"_a, "savgol_coefficients with its options as one SavgolOptions (the same as the keyword form above).");
+  m.def(
       "savgol_filter",
-      [](const py::array& values, int window, int order, const py::object& frequency_hz) -> py::array {
-        const SavgolOptions o{window, order};
-        const bool is_complex = values.dtype().kind() == 'c';
-        if (!is_complex && values.ndim() == 1 && frequency_hz.is_none()) {
-          const std::vector<double> x = vector_of(values.cast<RealArray>(), "values");
-          std::vector<double> y;
-          {
-            py::gil_scoped_release nogil;
-            y = savgol_filter(std::span<const double>(x), o, "values");
-          }
-          return array_of(y);
-        }
-        const std::size_t n = values.ndim() > 0 ? static_cast<std::size_t>(values.shape(0)) : 0;
-        const std::vector<double> f = frequency_hz.is_none() ? index_grid(n)
-                                                             : vector_of(frequency_hz.cast<RealArray>(), "frequency_hz");
-        return series_apply(
-            values, f, "values", [&](const FrfSeries& s) { return savgol_filter(s, o, "values"); },
-            [&](const BlockSeries& s) { return savgol_filter(s, o, "values"); });
+      [](const py::array& values, int window, int order, const py::object& frequency_hz) {
+        return savgol_filter_array(values, SavgolOptions{window, order}, frequency_hz);
       },
       "values"_a, "window"_a = 5, "order"_a = 2, "frequency_hz"_a = py::none(),
       "Savitzky–Golay smoothing (seed Section 4; matches scipy.signal.savgol_filter(mode='interp')) along the first axis: real "
       "(n,), "
       "complex (n,) or a block series (n, 2, 2) (real and imaginary parts separately). `window` in points (odd), `order` the "
       "polynomial degree. With frequency_hz [Hz] an uneven grid is flagged (toolpoint.Warning).");
+  m.def(
+      "savgol_filter",
+      [](const py::array& values, const SavgolOptions& options, const py::object& frequency_hz) {
+        return savgol_filter_array(values, options, frequency_hz);
+      },
+      "values"_a, "options"_a, py::kw_only(), "frequency_hz"_a = py::none(),
+      "savgol_filter with its options as one SavgolOptions (the same as the keyword form above).");
   bind_filter_study<FrfSeries>(m, "FilterStudy", [](const FrfSeries& x) { return array_of(x.values); });
   bind_filter_study<BlockSeries>(m, "BlockFilterStudy", [](const BlockSeries& x) { return blocks_array(x.blocks); });
   m.def(
@@ -311,6 +337,104 @@ void bind_peaks(py::module_& m) {
       "where lost.");
 }
 
+// write_frf_file on a complex (n,) or block (n, 2, 2) array (both forms of the binding); what the format lost.
+std::vector<std::string> write_frf_array(const std::string& path, const RealArray& f, const py::array& values,
+                                         const FrfWriteOptions& o) {
+  if (values.ndim() == 3) {
+    const BlockSeries s = block_series(f, values.cast<ComplexArray>(), "values");
+    py::gil_scoped_release nogil;
+    return write_frf_file(path, s, o);
+  }
+  const FrfSeries s = frf_series(f, values.cast<ComplexArray>(), "values");
+  py::gil_scoped_release nogil;
+  return write_frf_file(path, s, o);
+}
+
+// The FRF file reader's and writer's options.
+void bind_frf_file_options(py::module_& m) {
+  options_class<FrfReadOptions>(m, "FrfReadOptions",
+                                "read_frf_file's options (frf_file.hpp; the CLI's --format, --dataset, --ordinate, --units, "
+                                "--columns of every command reading an FRF).",
+                                {"format", "dataset", "response_node", "response_direction", "reference_node",
+                                 "reference_direction", "ordinate", "units", "value_format", "columns"})
+      .def_property(
+          "format", [](const FrfReadOptions& o) { return std::string(name_of(o.format, kFormats)); },
+          [](FrfReadOptions& o, const std::string& v) { o.format = enum_of(v, kFormats, "FrfReadOptions::format"); },
+          "'auto' (by extension), 'csv', 'uff', 'uffb' or 'frf'")
+      .def_property(
+          "dataset", [](const FrfReadOptions& o) { return o.uff.index; },
+          [](FrfReadOptions& o, std::optional<std::size_t> v) { o.uff.index = v; },
+          "UFF: the index of the dataset 58 among the file's datasets 58 (None: chosen by the codes, or the only one)")
+      .def_property(
+          "response_node", [](const FrfReadOptions& o) { return o.uff.response_node; },
+          [](FrfReadOptions& o, std::optional<int> v) { o.uff.response_node = v; }, "UFF: record 6's response node, or None")
+      .def_property(
+          "response_direction", [](const FrfReadOptions& o) { return o.uff.response_direction; },
+          [](FrfReadOptions& o, std::optional<int> v) { o.uff.response_direction = v; },
+          "UFF: record 6's response direction code, or None")
+      .def_property(
+          "reference_node", [](const FrfReadOptions& o) { return o.uff.reference_node; },
+          [](FrfReadOptions& o, std::optional<int> v) { o.uff.reference_node = v; }, "UFF: record 6's reference node, or None")
+      .def_property(
+          "reference_direction", [](const FrfReadOptions& o) { return o.uff.reference_direction; },
+          [](FrfReadOptions& o, std::optional<int> v) { o.uff.reference_direction = v; },
+          "UFF: record 6's reference direction code, or None")
+      .def_property(
+          "ordinate",
+          [](const FrfReadOptions& o) {
+            return o.ordinate ? std::optional<std::string>(name_of(*o.ordinate, kOrdinates)) : std::nullopt;
+          },
+          [](FrfReadOptions& o, const std::optional<std::string>& v) {
+            o.ordinate = v ? std::optional(enum_of(*v, kOrdinates, "FrfReadOptions::ordinate")) : std::nullopt;
+          },
+          "'receptance', 'mobility' or 'accelerance' (None: the file's units or codes, else receptance)")
+      .def_property(
+          "units", [](const FrfReadOptions& o) { return o.units ? std::optional<std::string>(o.units->label) : std::nullopt; },
+          [](FrfReadOptions& o, const std::optional<std::string>& v) {
+            if (!v) {
+              o.units.reset();
+              return;
+            }
+            o.units = parse_frf_units(*v);
+            if (!o.units)
+              throw InvalidArgument(fmt::format("FrfReadOptions::units '{}' is not a unit of an FRF", *v),
+                                    "give e.g. 'm/N', 'mm/N', 'um/N', 'm/s/N', 'g/N' (None: the file's)");
+            o.units->label = *v;
+          },
+          "the values' units ('mm/N', 'um/N', 'm/s/N', 'g/N', …; they imply the ordinate), or None: the file's, else SI")
+      .def_property(
+          "value_format",
+          [](const FrfReadOptions& o) {
+            return o.csv.format ? std::optional<std::string>(name_of(*o.csv.format, kValueFormats)) : std::nullopt;
+          },
+          [](FrfReadOptions& o, const std::optional<std::string>& v) {
+            o.csv.format = v ? std::optional(enum_of(*v, kValueFormats, "FrfCsvOptions::format")) : std::nullopt;
+          },
+          "CSV: the value columns' meaning, 're-im', 'mag-phase-deg', 'mag-phase-rad', 'db-phase' or 'db-phase-rad' (None: "
+          "from the header)")
+      .def_property(
+          "columns", [](const FrfReadOptions& o) { return o.csv.columns; },
+          [](FrfReadOptions& o, std::vector<std::string> v) { o.csv.columns = std::move(v); },
+          "CSV: the frequency, two value and optionally coherence columns, each a 1-based number or a header cell's text "
+          "([]: by the header's names)");
+  options_class<FrfWriteOptions>(m, "FrfWriteOptions",
+                                 "write_frf_file's options (frf_file.hpp; toolpoint's --output of an FRF). The file's "
+                                 "writer judges them (a coherence of another length, out of [0, 1]).",
+                                 {"format", "description", "comments", "dof", "coherence"})
+      .def_property(
+          "format", [](const FrfWriteOptions& o) { return std::string(name_of(o.format, kFormats)); },
+          [](FrfWriteOptions& o, const std::string& v) { o.format = enum_of(v, kFormats, "FrfWriteOptions::format"); },
+          "'auto' (by extension), 'csv', 'uff' (ASCII 58), 'uffb' (binary 58b) or 'frf'")
+      .def_readwrite("description", &FrfWriteOptions::description, "UFF ID line 1; a CSV comment line")
+      .def_readwrite("comments", &FrfWriteOptions::comments, "CSV comment lines")
+      .def_property(
+          "dof", [](const FrfWriteOptions& o) { return dict_of(o.dof); },
+          [](FrfWriteOptions& o, const py::object& v) { o.dof = dof_of(v); },
+          "UFF record 6 labels {'response_node', 'response_direction', 'reference_node', 'reference_direction'}")
+      .def_readwrite("coherence", &FrfWriteOptions::coherence,
+                     "γ² per frequency, or []: a CSV column (UFF and .frf cannot hold it: said in what is returned)");
+}
+
 // FRF files (one reader for every format, the writer) and resampling.
 void bind_files(py::module_& m) {
   py::class_<FrfFileData>(m, "FrfFile", "An FRF file read: receptance [m/N] against frequency [Hz], and where it came from.")
@@ -358,14 +482,22 @@ void bind_files(py::module_& m) {
       "accelerance (from the UFF codes, or ordinate='mobility'/'accelerance') is converted to receptance [m/N]. Raises "
       "InputError "
       "naming file, line or dataset; IoError.");
-  py::class_<FrfResampled>(m, "FrfResampled", "resample_frf's result (resample.hpp).")
+  m.def(
+      "read_frf_file",
+      [](const std::string& path, const FrfReadOptions& options) {
+        py::gil_scoped_release nogil;
+        return read_frf_file(path, options);
+      },
+      "path"_a, "options"_a, "read_frf_file with its options as one FrfReadOptions (the same as the keyword form above; "
+      "besides, the units and a CSV's columns and value format).");
+  py::class_<FrfResampled>(m, "FrfResampled", "run_resample_study's result (resample.hpp).")
       .def_readonly("file", &FrfResampled::data, "FrfFile: the FRF on the new grid, in the input's form")
       .def_property_readonly(
           "coherence", [](const FrfResampled& r) { return array_of(r.data.coherence); }, "(n,) or empty")
       .def_readonly("description", &FrfResampled::description, "what was done (the CLI's comment line)")
       .def_readonly("warnings", &FrfResampled::warnings);
   m.def(
-      "resample_frf",
+      "run_resample_study",
       [](const FrfFileData& file, std::optional<std::pair<double, double>> band_hz, const py::object& target_hz,
          const std::string& target_name, const std::string& method, const std::string& what) {
         FrfResampleOptions o;
@@ -374,7 +506,7 @@ void bind_files(py::module_& m) {
         o.target_name = target_name;
         o.method = enum_of(method, kInterpolations, "method");
         py::gil_scoped_release nogil;
-        return resample_frf(file, o, what);
+        return run_resample_study(file, o, what);
       },
       "file"_a, "band_hz"_a = py::none(), "target_hz"_a = py::none(), "target_name"_a = "the target grid", "method"_a = "linear",
       "what"_a = "FRF",
@@ -390,17 +522,7 @@ void bind_files(py::module_& m) {
         o.description = description;
         o.comments = comments;
         o.dof = dof_of(dof);
-        std::vector<std::string> lost;
-        if (values.ndim() == 3) {
-          const BlockSeries s = block_series(f, values.cast<ComplexArray>(), "values");
-          py::gil_scoped_release nogil;
-          lost = write_frf_file(path, s, o);
-        } else {
-          const FrfSeries s = frf_series(f, values.cast<ComplexArray>(), "values");
-          py::gil_scoped_release nogil;
-          lost = write_frf_file(path, s, o);
-        }
-        return lost;
+        return write_frf_array(path, f, values, o);
       },
       "path"_a, "frequency_hz"_a, "values"_a, "format"_a = "auto", "description"_a = "",
       "comments"_a = std::vector<std::string>{}, "dof"_a = py::none(),
@@ -408,6 +530,14 @@ void bind_files(py::module_& m) {
       "block "
       "(n, 2, 2) as FRF CSV only. Written whole or not at all. dof: UFF record 6 labels {'response_node', 'response_direction', "
       "'reference_node', 'reference_direction'}. Returns what the format lost (list of str).");
+  m.def(
+      "write_frf_file",
+      [](const std::string& path, const RealArray& f, const py::array& values, const FrfWriteOptions& options) {
+        return write_frf_array(path, f, values, options);
+      },
+      "path"_a, "frequency_hz"_a, "values"_a, "options"_a,
+      "write_frf_file with its options as one FrfWriteOptions (the same as the keyword form above; besides, a coherence "
+      "column).");
 }
 
 // Universal files: datasets 58/58b, units, a tap test picked from one file.
@@ -544,6 +674,7 @@ void bind_uff(py::module_& m) {
 void bind_signal_io(py::module_& m) {
   bind_signal(m);
   bind_peaks(m);
+  bind_frf_file_options(m);
   bind_files(m);
   bind_uff(m);
 }

@@ -96,9 +96,8 @@ LobesStudyOptions lobes_study_options(const CuttingConditions& cutting, const st
   return o;
 }
 
-}  // namespace
-
-void bind_stability(py::module_& m) {
+// Modal models: modes, their fit to a measured FRF, the modal fit study.
+void bind_modal_models(py::module_& m) {
   options_class<ModalFitOptions>(m, "ModalFitOptions",
                                  "How fit_modes fits modes to a point receptance (modal_fit.hpp; toolpoint modes' options).",
                                  {"max_modes", "band_hz", "min_prominence_db", "residual_terms", "max_evaluations"})
@@ -197,7 +196,6 @@ void bind_stability(py::module_& m) {
       "residual "
       "terms) at once.");
 
-  // ---- Cutting and zero-order lobes -------------------------------------------------------------------
   py::class_<ModalFitStudy>(m, "ModalFitStudy", "run_modal_fit_study's result (modal_fit.hpp).")
       .def_readonly("fit", &ModalFitStudy::fit, "ModalFitResult")
       .def_property_readonly(
@@ -225,7 +223,10 @@ void bind_stability(py::module_& m) {
       "options: ModalFitOptions (None: the defaults). The modal fit study (toolpoint modes): fit_modes on a point receptance "
       "[m/N] against frequency_hz [Hz], the fitted "
       "receptance on the band's measured frequencies, and the modal model of the fitted resonances.");
+}
 
+// Cutting conditions and the zero-order lobes (Altintas & Budak 1995).
+void bind_zero_order(py::module_& m) {
   py::class_<CuttingConditions>(
       m, "CuttingConditions",
       "Milling: teeth N, tangential coefficient K_t [N/m²], radial ratio K_r = K_n/K_t, engagement from "
@@ -334,8 +335,10 @@ void bind_stability(py::module_& m) {
       "Zero-order stability lobes from the tool point FRFs [m/N] on frequency_hz [Hz] (G_yy default G_xx: a symmetric tool; "
       "cross FRFs "
       "both or neither). speeds = (min_rpm, max_rpm, points) for the envelope; lobes k = 0…lobes (−1: enough); depths in m.");
+}
 
-  // ---- Time domain: full-discretization ---------------------------------------------------------------
+// The time domain: full-discretization (Insperger & Stépán) and its stability boundary.
+void bind_time_domain(py::module_& m) {
   py::class_<BoundaryResult>(m, "BoundaryResult", "The time-domain stability boundary with its error estimate.")
       .def_property_readonly(
           "boundary", [](const BoundaryResult& r) { return boundary_dict(r.boundary); },
@@ -419,8 +422,10 @@ void bind_stability(py::module_& m) {
           "speed_rpm"_a, "depth_m"_a, "ρ with the critical multiplier, its kind (hopf/flip/fold) and the chatter frequency [Hz].")
       .def_property_readonly("steps", &FullDiscretization::steps)
       .def_property_readonly("degree", &FullDiscretization::degree);
+}
 
-  // ---- The lobes study ----------------------------------------------------------------------------------
+// The lobes study: the modal fits it made, its result, the best speeds.
+void bind_lobes_study(py::module_& m) {
   py::class_<ModalFitSummary>(m, "ModalFitSummary", "How a modal model was fitted to one FRF for the time domain.")
       .def_readonly("what", &ModalFitSummary::what)
       .def_readonly("modes", &ModalFitSummary::modes)
@@ -536,8 +541,10 @@ void bind_stability(py::module_& m) {
       },
       "envelope"_a, "count"_a = 5, "min_prominence"_a = 0.02,
       "The best spindle speeds of an envelope dict: maxima rising min_prominence above their valleys.");
+}
 
-  // ---- Stability with the joint uncertain ------------------------------------------------------------
+// Stability with the joint uncertain.
+void bind_stability_uncertainty(py::module_& m) {
   py::class_<StabilityUncertainty>(m, "StabilityUncertainty",
                                    "Quantiles of the stable depth per speed and the probability of stability.")
       .def_property_readonly(
@@ -581,6 +588,16 @@ void bind_stability(py::module_& m) {
       "sampled joint's tool point FRF on frequency_hz [Hz] through the lobes study (method 'zoa' or 'fd', its options as in "
       "run_lobes_study); per speed the quantiles of the stable depth [m], and on depth_grid_m [m] the probability of stability. "
       "threads: 0 every core; results identical for any count.");
+}
+
+}  // namespace
+
+void bind_stability(py::module_& m) {
+  bind_modal_models(m);
+  bind_zero_order(m);
+  bind_time_domain(m);
+  bind_lobes_study(m);
+  bind_stability_uncertainty(m);
 }
 
 }  // namespace toolpoint::python

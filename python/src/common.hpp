@@ -74,7 +74,7 @@ void check_plausible(const PlausibleRange& range, double value, const std::strin
 // (min_rpm, max_rpm, points) as a SpeedRange; speeds judged as the CLI's --rpm (rpm, not rad/s or Hz).
 SpeedRange speed_range(const std::tuple<double, double, int>& s);
 
-// A tap test's hammer plan by name (run_tap_test, run_precision_study).
+// A tap test's hammer plan by name (run_tap_test_study, run_precision_study).
 inline const std::vector<std::pair<const char*, HammerPlan>> kHammers{{"roving", HammerPlan::Roving}, {"tip", HammerPlan::Tip}};
 
 // RotationalOptions as given from Python, judged as the CLI's --spacing and --shear-stiffness
@@ -119,11 +119,13 @@ E enum_of(const std::string& text, const std::vector<std::pair<const char*, E>>&
 template <class T>
 py::class_<T> options_class(py::module_& m, const char* name, const char* doc, std::initializer_list<const char*> fields) {
   py::class_<T> c(m, name, doc);
-  c.def(py::init<>())
-      .def(
-          "check", [](const T& o) { o.check(); },
-          "Raises InvalidArgument naming Options::field for a value out of range (the functions taking the options "
-          "check them too).");
+  c.def(py::init<>());
+  // An options struct without a check() (every value valid, or judged by the function: FrfWriteOptions) has none.
+  if constexpr (requires(const T& o) { o.check(); })
+    c.def(
+        "check", [](const T& o) { o.check(); },
+        "Raises InvalidArgument naming Options::field for a value out of range (the functions taking the options "
+        "check them too).");
   py::tuple names(fields.size());
   std::size_t i = 0;
   for (const char* f : fields) names[i++] = py::str(f);

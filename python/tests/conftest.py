@@ -60,7 +60,7 @@ def model(example):
 
 @pytest.fixture(scope="session")
 def prediction(example):
-    return tp.run_prediction(example)
+    return tp.run_prediction_study(example)
 
 
 @pytest.fixture

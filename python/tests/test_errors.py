@@ -19,7 +19,7 @@ def test_one_class_per_error_type_all_derived_from_error():
 def test_message_and_hint_are_the_library_ones(example):
     # The message and hint of TapTestOptions::check (src/studies/tap_test.cpp), as the CLI prints them.
     with pytest.raises(tp.InvalidArgument) as e:
-        tp.run_tap_test(example, spacing_m=-1.0)
+        tp.run_tap_test_study(example, spacing_m=-1.0)
     assert str(e.value) == "TapTestOptions::spacing_m = -1 m must be > 0"
     assert e.value.hint == "e.g. 0.01 for 10 mm"
     shown = "".join(traceback.format_exception(e.value))
@@ -41,7 +41,7 @@ def test_each_error_type_is_raised_where_the_library_raises_it(tmp_path):
     with pytest.raises(tp.InputError, match=r"frequency_hz: an array of shape \(2, 2\)"):
         tp.AssemblyModel(_example()).tool_point(np.ones((2, 2)))
     with pytest.raises(tp.InvalidArgument, match="side"):
-        tp.run_tap_test(_example(), spacing_m=0.01, side="spindle")
+        tp.run_tap_test_study(_example(), spacing_m=0.01, side="spindle")
     with pytest.raises(tp.InvalidArgument, match="not > 0|> 0"):
         tp.AssemblyModel(_example()).tool_point([0.0])
 
@@ -56,16 +56,16 @@ def test_a_failing_progress_callback_does_not_break_the_computation(example):
     def bad(fraction):
         raise RuntimeError("callback failed")
 
-    p = tp.run_prediction(example, progress=bad)  # reported as unraisable, ignored
+    p = tp.run_prediction_study(example, progress=bad)  # reported as unraisable, ignored
     assert p.frf.shape == (4991, 2, 2)
     with pytest.raises(tp.InvalidArgument):
-        tp.run_prediction(example, progress=3)
+        tp.run_prediction_study(example, progress=3)
 
 
 def test_results_are_plain_data(example, prediction):
     d = prediction.to_dict()
     assert json.loads(json.dumps(d)) == d  # only dict, list, str, float, int, bool, None
-    t = tp.run_tap_test(example, spacing_m=0.01, points=2, hammer="tip")
+    t = tp.run_tap_test_study(example, spacing_m=0.01, points=2, hammer="tip")
     assert json.loads(json.dumps(t.to_dict())) == t.to_dict()
     assert tp.seed_table1_joint().to_dict()["c_tm"] == 1.0
 

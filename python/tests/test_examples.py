@@ -46,10 +46,10 @@ def test_tap_test_to_lobes_follows_the_cli_tutorial(tmp_path):
     run_cli("taptest", EXAMPLE, "--at", "holder", "--spacing", 0.02, "--sigma", 0.005, "--binary", "--output", "tap_holder.uff", cwd=tmp_path)
     run_cli("taptest", EXAMPLE, "--at", "tool", "--spacing", 0.015, "--sigma", 0.005, "--seed", 11, "--binary", "--output", "tap_tool.uff",
             cwd=tmp_path)
-    from toolpoint import run_tap_test, load_assembly
+    from toolpoint import run_tap_test_study, load_assembly
     a = load_assembly(str(EXAMPLE)).assembly
-    k_h = run_tap_test(a, spacing_m=0.02, side="holder").shear_stiffness_n
-    k_t = run_tap_test(a, spacing_m=0.015).shear_stiffness_n
+    k_h = run_tap_test_study(a, spacing_m=0.02, side="holder").shear_stiffness_n
+    k_t = run_tap_test_study(a, spacing_m=0.015).shear_stiffness_n
     run_cli("rotational", "--uff", "tap_holder.uff", "--spacing", 0.02, "--order", 2, "--shear-stiffness", repr(k_h),
             "--model", EXAMPLE, "--at", "holder", "--output", "sh11.csv", cwd=tmp_path)
     run_cli("rotational", "--uff", "tap_tool.uff", "--spacing", 0.015, "--order", 2, "--shear-stiffness", repr(k_t),

@@ -39,7 +39,7 @@ def test_identification_study_is_the_cli_one(measured, example):
         cli = run_cli_json("identify", "--assembly", EXAMPLE, "--sh", sh_path, "--sht", sht_path, "--method", method,
                            "--bootstrap", 20, "--threads", 2, "--accept")
         data = tp.IdentificationData(f, sht, B11=sh, g_name=sht_path, b_name=sh_path)
-        ours = tp.identify_joint_from_frfs(example, [data], method=method, bootstrap_samples=20, threads=1)
+        ours = tp.run_identification_study(example, [data], method=method, bootstrap_samples=20, threads=1)
         j = ours.to_dict()
         for key in ("parameters", "verdict", "mode", "seed", "forward_checks", "g_noise", "b_noise", "warnings"):
             assert j[key] == cli[key], (method, key)
@@ -65,7 +65,7 @@ def test_case_study_is_the_cli_demo(tmp_path, example):
 
 def test_joint_file_round_trip_and_band(tmp_path, measured, example, prediction):
     f, sh, sht, _ = measured
-    id_ = tp.identify_joint_from_frfs(example, [tp.IdentificationData(f, sht, B11=sh)], uncertainty="linearised")
+    id_ = tp.run_identification_study(example, [tp.IdentificationData(f, sht, B11=sh)], uncertainty="linearised")
     jf = id_.joint_file(["sh11.csv", "sht11.csv"])
     tp.write_joint_file(str(tmp_path / "kht.toml"), jf)
     back = tp.load_joint_file(str(tmp_path / "kht.toml"))
@@ -84,9 +84,9 @@ def test_joint_file_round_trip_and_band(tmp_path, measured, example, prediction)
     cli = read_csv(tmp_path / "band.csv")  # frequency, |H| q5, q50, q95 [m/N], phase q5, q50, q95 [deg]
     assert np.array_equal(cli[:, 0], full.frequency_hz) and np.array_equal(cli[:, 1:4].T, full.magnitude)
     # The prediction study with the joint carries the same band (predict --samples is that one call).
-    p = tp.run_prediction(with_file, joint=back, samples=20, seed=1)
+    p = tp.run_prediction_study(with_file, joint=back, samples=20, seed=1)
     assert np.array_equal(p.band.magnitude, full.magnitude) and np.array_equal(p.band.phase_rad, full.phase_rad)
-    assert tp.run_prediction(with_file).band is None
+    assert tp.run_prediction_study(with_file).band is None
 
 
 def test_bad_identification_input_raises():
@@ -95,9 +95,9 @@ def test_bad_identification_input_raises():
     with pytest.raises(tp.InputError, match=r"\(n, 2, 2\)"):
         tp.IdentificationData(f, np.zeros((10, 2)))
     with pytest.raises(tp.InvalidArgument, match="route"):
-        tp.identify_joint_from_frfs(a, [tp.IdentificationData(f, np.ones((10, 2, 2)))], route="tool_holder")
+        tp.run_identification_study(a, [tp.IdentificationData(f, np.ones((10, 2, 2)))], route="tool_holder")
     with pytest.raises(tp.InputError):  # no SH11 for Eq. 6
-        tp.identify_joint_from_frfs(a, [tp.IdentificationData(f, np.ones((10, 2, 2)))])
+        tp.run_identification_study(a, [tp.IdentificationData(f, np.ones((10, 2, 2)))])
 
 
 def test_precision_study_is_the_cli_one(example):

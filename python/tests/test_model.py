@@ -19,7 +19,7 @@ def test_prediction_is_the_cli_prediction_to_the_bit(tmp_path, prediction):
 
 
 def test_holder_tip_prediction_is_the_cli_one(tmp_path, example):
-    p = tp.run_prediction(example, receptance="SH11")
+    p = tp.run_prediction_study(example, receptance="SH11")
     run_cli("predict", EXAMPLE, "--at", "holder", "--output", tmp_path / "sh11.csv")
     f, blocks = read_block_csv(tmp_path / "sh11.csv")
     assert p.receptance == "SH11"
@@ -79,7 +79,7 @@ def test_an_assembly_built_from_python_objects_is_the_file_one(example, predicti
         spindle_holder=tp.JointParameters.from_array(example.spindle_holder.to_array()),
         holder_tool=tp.JointParameters(**example.holder_tool.to_dict()),
         grid=example.grid)
-    assert np.array_equal(tp.run_prediction(a).frf, prediction.frf)
+    assert np.array_equal(tp.run_prediction_study(a).frf, prediction.frf)
     # A rigid joint is None; a changed joint changes the FRF.
     a.holder_tool = None
     assert a.holder_tool is None
@@ -167,7 +167,7 @@ def test_couple_and_overhang_study_are_the_cli_ones(tmp_path, example, model):
 
 
 def test_tap_test_is_the_cli_one(tmp_path, example):
-    t = tp.run_tap_test(example, spacing_m=0.015, sigma=0.005, seed=11)
+    t = tp.run_tap_test_study(example, spacing_m=0.015, sigma=0.005, seed=11)
     run_cli("taptest", EXAMPLE, "--at", "tool", "--spacing", 0.015, "--sigma", 0.005, "--seed", 11, "--binary",
             "--output", tmp_path / "tap.uff")
     u = tp.read_uff(str(tmp_path / "tap.uff"))
@@ -181,7 +181,7 @@ def test_tap_test_is_the_cli_one(tmp_path, example):
 
 def test_progress_is_reported(example):
     seen = []
-    tp.run_prediction(example, progress=seen.append)
+    tp.run_prediction_study(example, progress=seen.append)
     assert seen and seen[-1] == pytest.approx(1.0) and all(0 < x <= 1 for x in seen)
 
 
@@ -195,7 +195,7 @@ def test_progress_from_worker_threads_and_concurrent_calls(example, prediction):
     # Python threads may call the library at once (the GIL is released): the same results as alone.
     from concurrent.futures import ThreadPoolExecutor
     with ThreadPoolExecutor(2) as pool:
-        runs = list(pool.map(lambda _: tp.run_prediction(example).frf, range(3)))
+        runs = list(pool.map(lambda _: tp.run_prediction_study(example).frf, range(3)))
     assert all(np.array_equal(r, prediction.frf) for r in runs)
     again = tp.run_overhang_study(example, f, sh11, overhangs_m=[0.045, 0.05, 0.055, 0.06], threads=1)
     assert all(np.array_equal(a.sht11, b.sht11) for a, b in zip(one.overhangs, again.overhangs))
@@ -226,16 +226,16 @@ def test_spinning_beam_is_the_cli_one_and_its_blocks_are_gyroscopic():
 
 
 def test_prediction_at_speed_has_the_skew_cross_receptance():
-    """run_prediction(speed_rpm=): the two-plane block's cross
+    """run_prediction_study(speed_rpm=): the two-plane block's cross
     terms are skew (isotropic bearings: H_yx = −H_xy) and its x–x block is the FRF."""
     a = tp.load_assembly(str(EXAMPLE)).assembly
     a.grid = (200.0, 3000.0, 20.0)
-    p = tp.run_prediction(a, speed_rpm=20000.0)
+    p = tp.run_prediction_study(a, speed_rpm=20000.0)
     assert p.two_plane.shape == (p.frf.shape[0], 4, 4)
     assert np.array_equal(p.two_plane[:, 0:2, 0:2], p.frf)
     assert np.allclose(p.two_plane[:, 2, 0], -p.two_plane[:, 0, 2], rtol=1e-12, atol=0.0)
     assert np.abs(p.two_plane[:, 0, 2]).max() > 0.0
-    still = tp.run_prediction(a)
+    still = tp.run_prediction_study(a)
     assert still.two_plane.shape[0] == 0
 
 

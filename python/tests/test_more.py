@@ -61,7 +61,7 @@ def test_stability_uncertainty_is_the_cli_one(tmp_path, example):
     f = example.frequency_hz
     sh = tp.add_measurement_noise(f, tp.AssemblyModel(example).holder_tip(f), sigma=0.02, seed=1)
     sht = tp.add_measurement_noise(f, tp.AssemblyModel(example).tool_point(f), sigma=0.02, seed=2)
-    jf = tp.identify_joint_from_frfs(example, [tp.IdentificationData(f, sht, B11=sh)], uncertainty="linearised").joint_file()
+    jf = tp.run_identification_study(example, [tp.IdentificationData(f, sht, B11=sh)], uncertainty="linearised").joint_file()
     tp.write_joint_file(str(tmp_path / "kht.toml"), jf)
     jf = tp.load_joint_file(str(tmp_path / "kht.toml"))
     cli = run_cli_json("lobes", "--assembly", EXAMPLE, "--joint", f"holder-tool={tmp_path / 'kht.toml'}", "--samples", 20, "--teeth", 4,
@@ -92,7 +92,7 @@ def test_best_speeds_of_an_envelope(example, model):
 
 def test_results_have_a_short_repr(example):
     # Every result type with to_dict() gets a one-line summary built from it (its scalars first).
-    p = tp.run_prediction(example)
+    p = tp.run_prediction_study(example)
     r = repr(p)
     assert r.startswith(type(p).__name__ + "(") and len(r) < 600 and "\n" not in r
     study = tp.run_precision_study(example, tool_spacing_m=0.015, holder_spacing_m=0.02, sigma=0.005)

@@ -56,7 +56,7 @@ def test_filter_study_is_the_cli_one(tmp_path, prediction):
 
 
 def test_resample_frf_is_the_cli_one(tmp_path, prediction):
-    """resample_frf gives what `toolpoint resample` writes: interpolated onto a grid cropped to a band,
+    """run_resample_study gives what `toolpoint resample` writes: interpolated onto a grid cropped to a band,
     or cropped, the coherence carried (CSV: shortest round-trip doubles, so equality is exact)."""
     f, h = prediction.frequency_hz[::10], prediction.frf[::10, 0, 0]
     coh = np.linspace(0.5, 1.0, len(f))
@@ -65,20 +65,20 @@ def test_resample_frf_is_the_cli_one(tmp_path, prediction):
     data = tp.read_frf_file(str(tmp_path / "h.csv"))
     run_cli("resample", tmp_path / "h.csv", tmp_path / "g.csv", "--grid", "1:5000:4", "--band", "300:4000",
             "--method", "cubic")
-    r = tp.resample_frf(data, band_hz=(300.0, 4000.0), target_hz=np.arange(1.0, 5000.0, 4.0), method="cubic",
-                        target_name="--grid 1:5000:4", what=str(tmp_path / "h.csv"))
+    r = tp.run_resample_study(data, band_hz=(300.0, 4000.0), target_hz=np.arange(1.0, 5000.0, 4.0), method="cubic",
+                              target_name="--grid 1:5000:4", what=str(tmp_path / "h.csv"))
     d = read_csv(tmp_path / "g.csv")
     assert np.array_equal(r.file.frequency_hz, d[:, 0]) and np.array_equal(r.file.values, d[:, 1] + 1j * d[:, 2])
     assert np.array_equal(r.coherence, d[:, 3])
     assert f"h.csv {r.description}" in (tmp_path / "g.csv").read_text() and r.warnings == []
     assert r.description == "cubic interpolation of real and imaginary parts onto --grid 1:5000:4, within 300–4000 Hz"
     run_cli("resample", tmp_path / "h.csv", tmp_path / "c.csv", "--band", "300:4000")
-    r = tp.resample_frf(data, band_hz=(300.0, 4000.0))
+    r = tp.run_resample_study(data, band_hz=(300.0, 4000.0))
     d = read_csv(tmp_path / "c.csv")
     assert np.array_equal(r.file.values, d[:, 1] + 1j * d[:, 2]) and np.array_equal(r.coherence, d[:, 3])
     assert r.description == "cropped to 300–4000 Hz"
     with pytest.raises(tp.InputError, match="FrfResampleOptions::band_hz"):
-        tp.resample_frf(data, band_hz=(1.0, 2.0), target_hz=[5000.0, 6000.0])
+        tp.run_resample_study(data, band_hz=(1.0, 2.0), target_hz=[5000.0, 6000.0])
 
 
 def test_noise_is_the_cli_noise(tmp_path, prediction):
@@ -96,7 +96,7 @@ def test_noise_is_the_cli_noise(tmp_path, prediction):
 
 def test_rotational_frfs_are_the_cli_ones(tmp_path, example):
     run_cli("taptest", EXAMPLE, "--at", "tool", "--spacing", 0.015, "--binary", "--output", tmp_path / "tap.uff")
-    t = tp.run_tap_test(example, spacing_m=0.015)
+    t = tp.run_tap_test_study(example, spacing_m=0.015)
     run_cli("rotational", "--uff", tmp_path / "tap.uff", "--spacing", 0.015, "--order", 2, "--shear-stiffness",
             repr(t.shear_stiffness_n), "--output", tmp_path / "sht11.csv")
     _, cli = read_block_csv(tmp_path / "sht11.csv")
@@ -184,7 +184,7 @@ def test_finite_difference_correction_restores_the_model_block():
     # above 300 Hz, 1e-8 below 100 Hz).
     a = tp.load_assembly(str(EXAMPLE)).assembly  # a fresh copy: the grid is changed below
     a.grid = (10.0, 5000.0, 20.0)
-    t = tp.run_tap_test(a, spacing_m=0.015)
+    t = tp.run_tap_test_study(a, spacing_m=0.015)
     H = {(r.response, r.hammer): r.values for r in t.frfs}
     measured = tp.rotational_frfs(t.frfs[0].frequency_hz, H, tp.RotationalOptions(spacing=0.015, shear_stiffness=t.shear_stiffness_n)).block
     e = tp.finite_difference_error(a, t.frfs[0].frequency_hz, list(H), tp.RotationalOptions(spacing=0.015, shear_stiffness=t.shear_stiffness_n))

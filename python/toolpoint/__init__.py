@@ -22,7 +22,7 @@ Example::
 
     import toolpoint as tp
     a = tp.load_assembly("examples/bt40_shrinkfit_16mm.toml").assembly
-    p = tp.run_prediction(a)                      # SHT11 on the assembly's grid
+    p = tp.run_prediction_study(a)                # SHT11 on the assembly's grid
     H = p.frf[:, 0, 0]                            # tool point H [m/N], complex (n,)
     print([round(m.frequency_hz, 1) for m in p.modes])
 """

@@ -19,7 +19,7 @@ void CaseStudyOptions::check() const {
   fit_options.check();
 }
 
-CaseStudy run_case_study(const Assembly& assembly, const CaseStudyOptions& o) {
+CaseStudy run_case_study(const Assembly& assembly, const CaseStudyOptions& o, const ProgressCallback& progress) {
   o.check();
   if (assembly.holder_tool.rigid)
     throw InvalidArgument("the case study needs an elastic holder–tool joint to identify (joints.holder_tool is rigid)",
@@ -92,7 +92,7 @@ CaseStudy run_case_study(const Assembly& assembly, const CaseStudyOptions& o) {
   measured.g_name = "SHT11 (noisy)";
   measured.B11 = cs.sh_noisy;
   measured.b_name = "SH11 (noisy)";
-  cs.seed = identify_joint_from_frfs(assembly, {measured}, io);
+  cs.seed = run_identification_study(assembly, {measured}, io);
   cs.filtered = cs.seed.closed_form;
   cs.effect = *cs.seed.mode.effect;
   cs.mode_hz = cs.seed.mode.center_hz;
@@ -117,7 +117,7 @@ CaseStudy run_case_study(const Assembly& assembly, const CaseStudyOptions& o) {
     fo.width = o.band_width;
     fo.at_hz = cs.mode_hz;  // the same read-out band as the seed's; the fit uses every frequency
     fo.fit = o.fit_options;
-    cs.fitted = identify_joint_from_frfs(assembly, {measured}, fo);
+    cs.fitted = run_identification_study(assembly, {measured}, fo, progress);
     cs.fit_verification = couple_back(cs.fitted->identified, cs.sht_fitted);
   }
   // Every warning in one list: the identifications' too (the fit's own, since it repeats the

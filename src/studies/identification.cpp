@@ -446,7 +446,7 @@ void fit_in_band(Identification& r, const Assembly& assembly, const std::vector<
 
 }  // namespace
 
-Identification identify_joint_from_frfs(const Assembly& assembly, const std::vector<IdentificationData>& data,
+Identification run_identification_study(const Assembly& assembly, const std::vector<IdentificationData>& data,
                                         const IdentificationOptions& o, const ProgressCallback& report) {
   o.check();
   if (data.empty()) throw InvalidArgument("identification: no measured FRFs given");

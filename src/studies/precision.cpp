@@ -126,7 +126,7 @@ PlannedTest planned(const Assembly& assembly, const TapTestOptions& t, const cha
   exact.floor = 0.0;
   exact.averages = 0;
   exact.calibration = 0.0;
-  const TapTest tap = run_tap_test(assembly, exact);
+  const TapTest tap = run_tap_test_study(assembly, exact);
   PlannedTest p;
   for (const TapTestFrf& h : tap.frfs) p.frfs.set(h.response, h.hammer, h.frf);
   p.fd.order = t.points - 1;

@@ -115,7 +115,7 @@ std::string cross_receptance_csv(const BlockSeries4& s) {
   return out;
 }
 
-Prediction run_prediction(const Assembly& given, const PredictOptions& options, const ProgressCallback& progress) {
+Prediction run_prediction_study(const Assembly& given, const PredictOptions& options, const ProgressCallback& progress) {
   options.check();
   // A sampled joint file's joint is the nominal one, so the prediction and the band describe the
   // same joint (the samples replace the assembly's joint too).

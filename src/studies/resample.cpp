@@ -19,7 +19,7 @@ void FrfResampleOptions::check() const {
     throw InvalidArgument(fmt::format("FrfResampleOptions::target_hz ({}) holds no frequency", target_name));
 }
 
-FrfResampled resample_frf(const FrfFileData& in, const FrfResampleOptions& options, const std::string& what) {
+FrfResampled run_resample_study(const FrfFileData& in, const FrfResampleOptions& options, const std::string& what) {
   options.check();
   const auto& band = options.band_hz;
   // The target cropped to the band first: a band narrower than the measurement is how a caller

@@ -36,7 +36,7 @@ void TapTestOptions::check() const {
   }
 }
 
-TapTest run_tap_test(const Assembly& assembly, const TapTestOptions& options, const ProgressCallback& progress) {
+TapTest run_tap_test_study(const Assembly& assembly, const TapTestOptions& options, const ProgressCallback& progress) {
   options.check();
   const AssemblyModel model(assembly);
   const bool tool = options.side == TapSide::Tool;

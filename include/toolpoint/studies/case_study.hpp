@@ -7,7 +7,7 @@
 // standard deviation σ, as the seed did) → Savitzky–Golay filter → read the parameters at the
 // tool mode found by effect analysis (the seed's Fig. 5), and fit the joint's constants to the
 // raw noisy data with intervals (joint_fit.hpp) → couple each result back (Eq. 5) and compare
-// with the true tool point FRF. Both identifications go through identify_joint_from_frfs
+// with the true tool point FRF. Both identifications go through run_identification_study
 // (studies/identification.hpp): one rule for the band, one verdict.
 // Units: SI; frequencies in Hz.
 #pragma once
@@ -54,8 +54,9 @@ struct CaseStudy {
 };
 
 // Runs the case study on `assembly` (its holder–tool joint must be elastic: it is the reference).
-// Throws InvalidArgument for a rigid reference joint or bad options.
-CaseStudy run_case_study(const Assembly& assembly, const CaseStudyOptions& options = {});
+// `progress` follows the band fit's identification (the study's long part; none without
+// options.fit). Throws InvalidArgument for a rigid reference joint or bad options.
+CaseStudy run_case_study(const Assembly& assembly, const CaseStudyOptions& options = {}, const ProgressCallback& progress = {});
 
 // The case study's figures (plot.hpp): frequency in Hz, FRFs in m/N, the joint's parameters in
 // their SI units (JointParameters::unit). `options` as the study ran (its noise level is in the

@@ -144,7 +144,7 @@ struct Identification {
 // Runs the study. Throws InvalidArgument (options; a rigid trial joint where effect analysis needs
 // values; a band without data), InputError (data: grids, NaN, too few points, a missing B11 for
 // Eq. 6), NumericalError (a singular inversion, a parameter the data do not determine at all).
-Identification identify_joint_from_frfs(const Assembly& assembly, const std::vector<IdentificationData>& data,
+Identification run_identification_study(const Assembly& assembly, const std::vector<IdentificationData>& data,
                                         const IdentificationOptions& options = {}, const ProgressCallback& progress = {});
 
 // The identified joint as a joint file: the method's constants, the fit's uncertainty (a band fit

@@ -82,6 +82,7 @@ plot::Figure speed_frf_figure(const Assembly& assembly, const std::vector<double
 // frequencies, then per joint sample of the band. Throws InvalidArgument (the assembly or options,
 // a joint file without [uncertainty]), NumericalError naming the frequency where a coupling is
 // singular.
-Prediction run_prediction(const Assembly& assembly, const PredictOptions& options = {}, const ProgressCallback& progress = {});
+Prediction run_prediction_study(const Assembly& assembly, const PredictOptions& options = {},
+                                const ProgressCallback& progress = {});
 
 }  // namespace toolpoint

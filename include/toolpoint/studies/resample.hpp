@@ -39,6 +39,6 @@ struct FrfResampled {
 // InvalidArgument (options), InputError (no target frequency in the band, naming both; a target
 // frequency outside the measured range, the hint naming FrfResampleOptions::band_hz; no input
 // point in the band).
-FrfResampled resample_frf(const FrfFileData& input, const FrfResampleOptions& options, const std::string& what);
+FrfResampled run_resample_study(const FrfFileData& input, const FrfResampleOptions& options, const std::string& what);
 
 }  // namespace toolpoint

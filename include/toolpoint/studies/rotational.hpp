@@ -30,7 +30,7 @@ namespace toolpoint {
 // (`nodes`, tip first), in one direction (`direction`, or any when there is one per pair of
 // points). Anything ambiguous is refused, naming the datasets.
 struct TapTestFileOptions {
-  std::vector<int> nodes{1, 2, 3};      // UFF node numbers of points 0 (the tip), 1, 2 (what run_tap_test's file holds)
+  std::vector<int> nodes{1, 2, 3};      // UFF node numbers of points 0 (the tip), 1, 2 (what run_tap_test_study's file holds)
   std::optional<int> direction;         // response and reference direction, record 6 code −6…6 (+Y = 2); unset: any
   int order = 2;                        // the finite-difference order: points 0…order are read
   std::optional<FrfOrdinate> ordinate;  // what the values are (frf_file.hpp); default: the datasets' codes

@@ -74,6 +74,6 @@ struct TapTest {
 // The tap test on `assembly` over `assembly.grid`. Throws InvalidArgument (options; points that do
 // not fit on the tool's overhang or the holder, naming TapTestOptions::spacing_m), NumericalError
 // naming the frequency.
-TapTest run_tap_test(const Assembly& assembly, const TapTestOptions& options, const ProgressCallback& progress = {});
+TapTest run_tap_test_study(const Assembly& assembly, const TapTestOptions& options, const ProgressCallback& progress = {});
 
 }  // namespace toolpoint
