@@ -269,7 +269,7 @@ def test_lobes_at_speed_follow_the_bearing_table():
 def test_time_domain_lobes_at_speed():
     """run_lobes_study(method='fd') with the spindle spinning: a modal model with x–y pole-residue terms
     fitted at each speed, its residuals stated (result and to_dict), and the boundary within 3 % of the
-    zero-order lobes of the same FRFs in a 4-tooth slot (tests/fd_at_speed_test.cpp: 1.5 % seen)."""
+    zero-order lobes of the same FRFs in a 4-tooth slot (tests/lobes_at_speed_test.cpp: 1.5 % seen)."""
     a = tp.load_assembly(str(EXAMPLE)).assembly
     a.grid = (200.0, 5000.0, 4.0)
     cut = tp.CuttingConditions(4, 6e8, 0.3, immersion=1.0, milling="down")
