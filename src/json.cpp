@@ -410,7 +410,7 @@ void to_json(nlohmann::json& j, const ModalModel& m) {
                  {"pole_im", t.pole.imag()},
                  {"residue_re", t.residue.real()},
                  {"residue_im", t.residue.imag()}});
-  j["cross"] = c;
+  j["terms"] = c;
 }
 
 void to_json(nlohmann::json& j, const ModalFitSummary& s) {
