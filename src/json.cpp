@@ -401,7 +401,19 @@ void to_json(nlohmann::json& j, const ModalFitResult& r) {
 
 void to_json(nlohmann::json& j, const ModalFitStudy& s) { j = {{"fit", s.fit}, {"model", s.model}, {"warnings", s.warnings}}; }
 
-void to_json(nlohmann::json& j, const ModalModel& m) { j = {{"x", m.x}, {"y", m.y}}; }
+void to_json(nlohmann::json& j, const ModalModel& m) {
+  j = {{"x", m.x}, {"y", m.y}};
+  if (m.terms.empty()) return;
+  nlohmann::json c = nlohmann::json::array();
+  for (const ResidueTerm& t : m.terms)
+    c.push_back({{"to", t.to == 0 ? "x" : "y"},
+                 {"from", t.from == 0 ? "x" : "y"},
+                 {"pole_re", t.pole.real()},
+                 {"pole_im", t.pole.imag()},
+                 {"residue_re", t.residue.real()},
+                 {"residue_im", t.residue.imag()}});
+  j["terms"] = c;
+}
 
 void to_json(nlohmann::json& j, const ModalFitSummary& s) {
   j = {{"what", s.what},
@@ -488,6 +500,10 @@ void to_json(nlohmann::json& j, const LobesStudyResult& r) {
     j["frf_speeds_rpm"] = r.frf_speeds_rpm;
     j["frf_interpolation_error"] = number(r.frf_interpolation_error);
     j["envelope_interpolation_error"] = number(r.envelope_interpolation_error);
+    if (r.boundary) {  // the time domain at speed: the modal fits' largest residuals over the speeds
+      j["fit_residual"] = number(r.fit_residual);
+      j["block_fit_residual"] = number(r.block_fit_residual);
+    }
   }
   if (r.uncertainty) {
     j["uncertainty"] = *r.uncertainty;

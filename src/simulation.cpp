@@ -195,6 +195,9 @@ Eigen::Matrix2cd ToolDynamics::receptance(double frequency_hz) const {
 }
 
 ToolDynamics tool_dynamics(const ModalModel& model) {
+  if (!model.terms.empty())
+    throw InvalidArgument("ModalModel::terms: the simulation's modes are real planar modes, which cannot carry complex residues",
+                          "give the coupled modes as PlanarMode (ToolDynamics::modes), or drop the terms");
   ToolDynamics d;
   for (const Mode& m : model.x) d.modes.push_back(planar_mode(m, 0.0));
   for (const Mode& m : model.y) d.modes.push_back(planar_mode(m, kPi / 2));

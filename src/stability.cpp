@@ -875,6 +875,20 @@ void ModalModel::check() const {
       throw InvalidArgument(fmt::format("{}: damping ratio 0 (undamped): every depth is at best marginally stable", what),
                             "give the measured or fitted damping ratio (> 0)");
   }
+  for (std::size_t i = 0; i < terms.size(); ++i) {
+    const ResidueTerm& c = terms[i];
+    const std::string what = fmt::format("ModalModel::terms[{}]", i);
+    if (c.to < 0 || c.to > 1 || c.from < 0 || c.from > 1)
+      throw InvalidArgument(fmt::format("{}: to {} and from {} must each be 0 (x) or 1 (y)", what, c.to, c.from));
+    if (y.empty() && (c.to == 1 || c.from == 1))
+      throw InvalidArgument(what + ": the term reads or drives y, but ModalModel::y is empty (rigid in y)",
+                            "give the y modes, or drop the term");
+    if (!std::isfinite(c.pole.real()) || !std::isfinite(c.pole.imag()) || !(c.pole.real() < 0.0))
+      throw InvalidArgument(fmt::format("{}: pole {}{:+}i rad/s must be finite with a negative real part (a damped mode)", what,
+                                        c.pole.real(), c.pole.imag()));
+    if (!std::isfinite(c.residue.real()) || !std::isfinite(c.residue.imag()))
+      throw InvalidArgument(fmt::format("{}: residue must be finite", what));
+  }
 }
 
 const char* to_string(BoundaryKind kind) {
@@ -1053,6 +1067,28 @@ void add_revolution_terms(PeriodicDelaySystem& sys, const CuttingConditions& cut
 }  // namespace
 
 // The milling equation without process damping (milling_delay_system's header comment).
+// The residue terms of a ModalModel as further blocks of A₀ (after the 2n_q modal states): z = u + iv,
+// ż = λz + F_from gives [u̇; v̇] = [[Re λ, −Im λ], [Im λ, Re λ]] [u; v] + [F_from; 0], and the tip
+// displacement y_to += 2 Re(R z) = 2 (Re R u − Im R v) (stability.hpp, ResidueTerm).
+static void add_residue_terms(PeriodicDelaySystem& sys, const ModalModel& model) {
+  if (model.terms.empty()) return;
+  const Eigen::Index n0 = sys.input.rows(), n = n0 + 2 * static_cast<Eigen::Index>(model.terms.size());
+  sys.input.conservativeResize(n, Eigen::NoChange);
+  sys.output.conservativeResize(Eigen::NoChange, n);
+  sys.input.bottomRows(n - n0).setZero();
+  sys.output.rightCols(n - n0).setZero();
+  for (std::size_t i = 0; i < model.terms.size(); ++i) {
+    const ResidueTerm& c = model.terms[i];
+    const Eigen::Index k = n0 + 2 * static_cast<Eigen::Index>(i);
+    Eigen::MatrixXd block(2, 2);
+    block << c.pole.real(), -c.pole.imag(), c.pole.imag(), c.pole.real();
+    sys.a0_blocks.push_back(block);
+    sys.input(k, c.from) = 1.0;
+    sys.output(c.to, k) = 2.0 * c.residue.real();
+    sys.output(c.to, k + 1) = -2.0 * c.residue.imag();
+  }
+}
+
 static PeriodicDelaySystem cutting_forces_system(const ModalModel& model, const CuttingConditions& cutting, double speed_rpm,
                                                  double feed_per_tooth_m) {
   if (!std::isfinite(feed_per_tooth_m) || feed_per_tooth_m < 0.0)
@@ -1075,6 +1111,7 @@ static PeriodicDelaySystem cutting_forces_system(const ModalModel& model, const 
     sys.input(2 * r + 1, r < nx ? 0 : 1) = 1.0 / m.mass_kg;
     sys.output(r < nx ? 0 : 1, 2 * r) = 1.0;
   }
+  add_residue_terms(sys, model);
   if (!cutting.uniform()) {
     if (!cutting.runout_m.empty() && feed_per_tooth_m > 0.0 && std::abs(feed_per_tooth_m - cutting.feed_per_tooth_m) > 1e-12)
       throw InvalidArgument(
@@ -1409,6 +1446,17 @@ Eigen::MatrixXd velocity_output(const ModalModel& model) {
   const int nx = static_cast<int>(model.x.size()), nq = nx + static_cast<int>(model.y.size());
   Eigen::MatrixXd c = Eigen::MatrixXd::Zero(model.y.empty() ? 1 : 2, 2 * nq);
   for (int r = 0; r < nq; ++r) c(r < nx ? 0 : 1, 2 * r + 1) = 1.0;
+  if (model.terms.empty()) return c;
+  // A residue term's velocity 2 Re(Rλ z) (ResidueTerm: without the direct term).
+  c.conservativeResize(Eigen::NoChange, 2 * nq + 2 * static_cast<Eigen::Index>(model.terms.size()));
+  c.rightCols(2 * static_cast<Eigen::Index>(model.terms.size())).setZero();
+  for (std::size_t i = 0; i < model.terms.size(); ++i) {
+    const ResidueTerm& t = model.terms[i];
+    const Complex rl = t.residue * t.pole;
+    const Eigen::Index k = 2 * nq + 2 * static_cast<Eigen::Index>(i);
+    c(t.to, k) = 2.0 * rl.real();
+    c(t.to, k + 1) = -2.0 * rl.imag();
+  }
   return c;
 }
 
@@ -1797,27 +1845,13 @@ SpeedOutcome boundary_at(const ModalModel& model, const CuttingConditions& cutti
 
 }  // namespace
 
-BoundaryResult stability_boundary(const ModalModel& model, const CuttingConditions& cutting, const BoundaryOptions& options) {
-  options.check();
-  model.check();
-  cutting.check();
-  BoundaryResult res;
-  res.tolerance = options.tolerance;
-  res.degree = options.degree;
-  // The zero-order lobes of the modal model on the same speed grid: starting guesses, and the
-  // default ceiling.
-  std::vector<Mode> all = model.x;
-  all.insert(all.end(), model.y.begin(), model.y.end());
-  ZeroOrderOptions zo;
-  zo.speeds = options.speeds;
-  CuttingConditions even = cutting;  // variable pitch, runout: the even tool's zero-order lobes as the guesses
-  even.pitch_rad.clear();
-  even.runout_m.clear();
-  even.process_damping_n_per_m = 0.0;  // guesses below the damped limit: the search scans up from them
-  even.helix_rad.clear();              // the zero-order method averages a helix out
-  const ZeroOrderResult zero = zero_order_lobes(modal_milling_frfs(model.x, model.y, modal_frequency_grid(all)), even, zo);
-  res.max_depth_m = options.max_depth_m > 0.0 ? options.max_depth_m : 10.0 * zero.floor_depth_m;
+namespace {
 
+// The boundary at every speed of options.speeds, speed i from model_of(i) (a reference valid for the
+// call), starting from the zero-order guesses `zero` (on the same grid); res has max_depth_m set.
+template <typename ModelOf>
+void boundary_over_speeds(const ModelOf& model_of, const ZeroOrderResult& zero, const CuttingConditions& cutting,
+                          const BoundaryOptions& options, BoundaryResult& res) {
   const std::vector<double> speeds = options.speeds.values();
   // Blocks of 8 neighbouring speeds, each walked in order from the zero-order guess: the work of
   // one block depends on nothing outside it, so any thread count gives the same result.
@@ -1835,7 +1869,7 @@ BoundaryResult stability_boundary(const ModalModel& model, const CuttingConditio
         guess = std::isfinite(z.depth_m) ? Guess{z.depth_m, z.chatter_hz, 0.35}
                                          : Guess{zero.floor_depth_m, zero.floor_chatter_hz, 0.35};
       else guess = {outcomes[i - 1].point.depth_m, outcomes[i - 1].point.chatter_hz, 0.7};
-      outcomes[i] = boundary_at(model, cutting, speeds[i], guess, res.max_depth_m, options);
+      outcomes[i] = boundary_at(model_of(i), cutting, speeds[i], guess, res.max_depth_m, options);
       if (options.progress) {
         std::lock_guard<std::mutex> hold(progress_lock);
         options.progress(static_cast<double>(++done) / static_cast<double>(speeds.size()));
@@ -1863,6 +1897,52 @@ BoundaryResult stability_boundary(const ModalModel& model, const CuttingConditio
         fmt::format("at {} speed(s) the chatter period spans fewer than 4 steps: the boundary and chatter "
                     "frequency there are at the discretization's limit (raise BoundaryOptions::steps)",
                     aliased));
+}
+
+}  // namespace
+
+BoundaryResult stability_boundary(const ModalModel& model, const CuttingConditions& cutting, const BoundaryOptions& options) {
+  options.check();
+  model.check();
+  cutting.check();
+  BoundaryResult res;
+  res.tolerance = options.tolerance;
+  res.degree = options.degree;
+  // The zero-order lobes of the modal model on the same speed grid: starting guesses, and the
+  // default ceiling.
+  std::vector<Mode> all = model.x;
+  all.insert(all.end(), model.y.begin(), model.y.end());
+  ZeroOrderOptions zo;
+  zo.speeds = options.speeds;
+  CuttingConditions even = cutting;  // variable pitch, runout: the even tool's zero-order lobes as the guesses
+  even.pitch_rad.clear();
+  even.runout_m.clear();
+  even.process_damping_n_per_m = 0.0;  // guesses below the damped limit: the search scans up from them
+  even.helix_rad.clear();              // the zero-order method averages a helix out
+  const ZeroOrderResult zero = zero_order_lobes(modal_milling_frfs(model.x, model.y, modal_frequency_grid(all)), even, zo);
+  res.max_depth_m = options.max_depth_m > 0.0 ? options.max_depth_m : 10.0 * zero.floor_depth_m;
+  boundary_over_speeds([&](std::size_t) -> const ModalModel& { return model; }, zero, cutting, options, res);
+  return res;
+}
+
+BoundaryResult stability_boundary(const std::vector<ModalModel>& models, const ZeroOrderResult& guesses,
+                                  const CuttingConditions& cutting, const BoundaryOptions& options) {
+  options.check();
+  cutting.check();
+  const std::size_t count = options.speeds.values().size();
+  if (models.size() != count)
+    throw InvalidArgument(fmt::format("{} modal models for the {} speeds of BoundaryOptions::speeds: one per speed is needed",
+                                      models.size(), count));
+  if (guesses.envelope.size() != count)
+    throw InvalidArgument(
+        fmt::format("the zero-order guesses have {} speeds, BoundaryOptions::speeds {}: give them on the same grid",
+                    guesses.envelope.size(), count));
+  for (const ModalModel& m : models) m.check();
+  BoundaryResult res;
+  res.tolerance = options.tolerance;
+  res.degree = options.degree;
+  res.max_depth_m = options.max_depth_m > 0.0 ? options.max_depth_m : 10.0 * guesses.floor_depth_m;
+  boundary_over_speeds([&](std::size_t i) -> const ModalModel& { return models[i]; }, guesses, cutting, options, res);
   return res;
 }
 

@@ -397,3 +397,34 @@ TEST(PlanStudyFile, ToolGeometryKeys) {
   // The helix reaches the stability: the job's stable depths differ from the straight tool's.
   EXPECT_NE(part.jobs.front().stable_depth_m, run_plan_part(plain.candidates, plain.options, 0, 3).jobs.front().stable_depth_m);
 }
+
+// The speed model keys of [lobes], as `lobes --speed-model/--speed-nodes/--extrapolate-bearings`
+// (LobesStudyOptions): read into the options, carried through a part file (and into its
+// fingerprint: a plan at speed is another study than the default one), mistakes named at their line.
+TEST(PlanStudyFile, SpeedModelKeys) {
+  const std::string keys = "factor = 1.25\n[lobes]\nspeed_model = \"bearings\"\nspeed_nodes = 9\nextrapolate_bearings = true\n";
+  const PlanStudy s = parse_plan_study(study("factor = 1.25\n", keys), "study.toml", "");
+  EXPECT_EQ(s.options.lobes.speed_model, SpeedModel::Bearings);
+  EXPECT_EQ(s.options.lobes.speed_nodes, 9);
+  EXPECT_TRUE(s.options.lobes.extrapolate_bearings);
+  const PlanStudy d = parse_plan_study(study(), "study.toml", "");
+  EXPECT_EQ(d.options.lobes.speed_model, SpeedModel::Automatic);  // the defaults
+  EXPECT_EQ(d.options.lobes.speed_nodes, 0);
+  EXPECT_FALSE(d.options.lobes.extrapolate_bearings);
+  const PlanHeader h = plan_header(s.candidates, s.options);
+  EXPECT_NE(h.fingerprint, plan_header(d.candidates, d.options).fingerprint);
+  PlanPart part;
+  part.header = h;
+  const PlanPart back = parse_plan_part(format_plan_part(part), "p.json");
+  EXPECT_EQ(back.header.options.lobes.speed_model, SpeedModel::Bearings);
+  EXPECT_EQ(back.header.options.lobes.speed_nodes, 9);
+  EXPECT_TRUE(back.header.options.lobes.extrapolate_bearings);
+  EXPECT_EQ(back.header.fingerprint, h.fingerprint);
+
+  expect_refused<InputError>(study("factor = 1.25\n", "factor = 1.25\n[lobes]\nspeed_model = \"fast\"\n"),
+                             {"study.toml:23", "lobes.speed_model = \"fast\"", "\"spinning\""});
+  expect_refused<InputError>(study("factor = 1.25\n", "factor = 1.25\n[lobes]\nspeed_nodes = 1\n"),
+                             {"study.toml:23", "lobes.speed_nodes = 1", "2…1000"});
+  expect_refused<InputError>(study("factor = 1.25\n", "factor = 1.25\n[lobes]\nextrapolate_bearings = 1\n"),
+                             {"study.toml:23", "lobes.extrapolate_bearings", "true or false"});
+}

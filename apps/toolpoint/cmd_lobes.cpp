@@ -64,6 +64,15 @@ void print_summary(const LobesStudyResult& r) {
   for (const ModalFitSummary& s : r.fits)
     std::cout << fmt::format("modal model of {}: {} mode(s), {:.2f} % residual over {:g}–{:g} Hz{}\n", s.what, s.modes,
                              100.0 * s.residual, s.band_low_hz, s.band_high_hz, s.target_met ? "" : " (above the target)");
+  if (!r.frf_speeds_rpm.empty())
+    std::cout << fmt::format(
+        "  at speed ({}): a modal model with x-y pole-residue terms fitted at each speed to the x-y tool point FRF at {} "
+        "speeds, {:g}-{:g} rpm, interpolated between them; largest fit residual {:.2g} % (real modes), {:.2g} % (the "
+        "whole model against the x-y block); "
+        "estimated interpolation error {:.2g} % of the FRF, {:.2g} % of the zero-order stable depth\n",
+        to_string(r.speed_model), r.frf_speeds_rpm.size(), r.frf_speeds_rpm.front(), r.frf_speeds_rpm.back(),
+        100.0 * r.fit_residual, 100.0 * r.block_fit_residual, 100.0 * r.frf_interpolation_error,
+        100.0 * r.envelope_interpolation_error);
   const BoundaryResult& b = *r.boundary;
   const auto lowest = std::min_element(b.boundary.begin(), b.boundary.end(),
                                        [](const BoundaryPoint& x, const BoundaryPoint& y) { return x.depth_m < y.depth_m; });
@@ -148,10 +157,7 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
   so.fit_target = o.dyn.fit_target_pct / 100.0;
   so.pocket_prominence = o.prominence_pct / 100.0;
   so.parallel.threads = o.threads;
-  so.speed_model = o.speed_model == "standstill" ? SpeedModel::Standstill
-                   : o.speed_model == "bearings" ? SpeedModel::Bearings
-                   : o.speed_model == "spinning" ? SpeedModel::Spinning
-                                                 : SpeedModel::Automatic;
+  so.speed_model = speed_model_from(o.speed_model).value_or(SpeedModel::Automatic);  // the option's values are checked
   so.speed_nodes = o.speed_nodes;
   so.extrapolate_bearings = o.extrapolate_bearings;
   if (o.dyn.assembly.empty() && (o.speed_model != "auto" || o.speed_nodes != 0 || o.extrapolate_bearings))
@@ -178,7 +184,7 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
     so.uncertainty = uncertainty_options(so_threads);
   }
   DynamicsArgs dyn = o.dyn;
-  dyn.speed_model = so.method == LobesMethod::ZeroOrder && !uncertain ? so.speed_model : SpeedModel::Standstill;
+  dyn.speed_model = !uncertain ? so.speed_model : SpeedModel::Standstill;
   fill_dynamics_input(dyn, g, joints, input);
   const bool has_frf = input.frfs || input.assembly;
   if (so.method == LobesMethod::ZeroOrder && !has_frf)
@@ -327,8 +333,9 @@ void add_lobes_command(CLI::App& app, Globals& g) {
                 "With --assembly: the tool point dynamics. auto: spinning when the bearings carry speed tables or differ in x "
                 "and y, else standstill; standstill: the single-plane FRF at rest (bearing constants, x values); bearings: "
                 "at each speed the x-y FRF (H_xx, H_xy, H_yx, H_yy) with the bearings at that speed; spinning: the same with "
-                "the spindle spinning (gyroscopic moments). At speed: zoa only, the FRF evaluated at --speed-nodes speeds and "
-                "midway between them, interpolated in speed, its error estimated and printed")
+                "the spindle spinning (gyroscopic moments). At speed (zoa or fd; fd fits a modal model with x-y pole-residue "
+                "terms at each speed): the FRF evaluated at --speed-nodes speeds and midway between them, interpolated in "
+                "speed, its error (and fd's fit residuals) estimated and printed")
       ->check(CLI::IsMember({"auto", "standstill", "bearings", "spinning"}))
       ->capture_default_str();
   c->add_option("--speed-nodes", o->speed_nodes,

@@ -368,7 +368,7 @@ void bind_time_domain(py::module_& m) {
         o.max_depth_m = max_depth_m;
         o.parallel.threads = threads;
         o.progress = progress_of(progress);
-        const ModalModel model{x_modes, y_modes};
+        const ModalModel model{x_modes, y_modes, {}};
         py::gil_scoped_release nogil;
         return stability_boundary(model, cutting, o);
       },
@@ -384,7 +384,7 @@ void bind_time_domain(py::module_& m) {
       "The milling equation's period map at a fixed number of steps per tooth period (degree-p interpolation).")
       .def(py::init(
                [](const std::vector<Mode>& x, const std::vector<Mode>& y, const CuttingConditions& c, int steps, int degree) {
-                 return std::make_shared<FullDiscretization>(ModalModel{x, y}, c, steps, degree);
+                 return std::make_shared<FullDiscretization>(ModalModel{x, y, {}}, c, steps, degree);
                }),
            "x_modes"_a, "y_modes"_a, "cutting"_a, "steps"_a = 40, "degree"_a = 2)
       .def(
@@ -457,6 +457,11 @@ void bind_lobes_study(py::module_& m) {
                     "at speed: the largest relative error of the FRF interpolated between nodes, at the midpoints (NaN otherwise)")
       .def_readonly("envelope_interpolation_error", &LobesStudyResult::envelope_interpolation_error,
                     "at speed: the largest relative change of the envelope's depth, nodes alone against nodes and midpoints")
+      .def_readonly("fit_residual", &LobesStudyResult::fit_residual,
+                    "fd at speed: the largest residual of the direct modal fits over the speeds (NaN otherwise)")
+      .def_readonly("block_fit_residual", &LobesStudyResult::block_fit_residual,
+                    "fd at speed: the largest residual of the whole model against the x-y block, relative to the direct FRFs "
+                    "(NaN otherwise)")
       .def_readonly("warnings", &LobesStudyResult::warnings)
       .def(
           "to_dict", [](const LobesStudyResult& r) { return dict_of(r); },
@@ -513,7 +518,8 @@ void bind_lobes_study(py::module_& m) {
       "(result.uncertainty, as toolpoint lobes --samples). With `assembly` and no FRFs, speed_model ('auto', 'standstill', "
       "'bearings', 'spinning'; toolpoint lobes --speed-model) chooses the dynamics: at speed the x-y FRF at speed_nodes "
       "speeds (0: 17) and midway, interpolated in speed, its error in result.frf_interpolation_error and "
-      "envelope_interpolation_error; a speed outside a bearing's table is refused unless extrapolate_bearings.");
+      "envelope_interpolation_error (method 'fd': a modal model with x-y pole-residue terms fitted at each speed, "
+      "result.fit_residual, block_fit_residual); a speed outside a bearing's table is refused unless extrapolate_bearings.");
   m.def(
       "milling_frfs",
       [](const AssemblyModel& md, const RealArray& f, bool rigid_y) {

@@ -264,3 +264,20 @@ def test_lobes_at_speed_follow_the_bearing_table():
     assert not np.allclose(still.envelope["depth_m"], r.envelope["depth_m"])
     with pytest.raises(tp.InvalidArgument, match="speed_table"):
         tp.run_lobes_study(cut, (5000.0, 35000.0, 50), assembly=a)
+
+
+def test_time_domain_lobes_at_speed():
+    """run_lobes_study(method='fd') with the spindle spinning: a modal model with x–y pole-residue terms
+    fitted at each speed, its residuals stated (result and to_dict), and the boundary within 3 % of the
+    zero-order lobes of the same FRFs in a 4-tooth slot (tests/lobes_at_speed_test.cpp: 1.5 % seen)."""
+    a = tp.load_assembly(str(EXAMPLE)).assembly
+    a.grid = (200.0, 5000.0, 4.0)
+    cut = tp.CuttingConditions(4, 6e8, 0.3, immersion=1.0, milling="down")
+    speeds = (40000.0, 44000.0, 3)
+    fd = tp.run_lobes_study(cut, speeds, method="fd", assembly=a, speed_model="spinning", speed_nodes=3)
+    zoa = tp.run_lobes_study(cut, speeds, assembly=a, speed_model="spinning", speed_nodes=3)
+    assert fd.speed_model == "spinning" and fd.method == "fd"
+    assert 0.0 < fd.block_fit_residual < 0.03 and 0.0 < fd.fit_residual < 0.1
+    d = fd.to_dict()
+    assert d["block_fit_residual"] == pytest.approx(fd.block_fit_residual)
+    assert np.allclose(fd.envelope["depth_m"], zoa.envelope["depth_m"], rtol=0.03, atol=0.0)

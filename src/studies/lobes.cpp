@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <Eigen/QR>
 #include <fmt/format.h>
 #include <limits>
 
@@ -147,6 +148,12 @@ const char* to_string(SpeedModel m) {
     case SpeedModel::Spinning: return "spinning";
     default: return "auto";
   }
+}
+
+std::optional<SpeedModel> speed_model_from(const std::string& name) {
+  for (SpeedModel m : {SpeedModel::Automatic, SpeedModel::Standstill, SpeedModel::Bearings, SpeedModel::Spinning})
+    if (name == to_string(m)) return m;
+  return std::nullopt;
 }
 
 bool lobes_at_speed(const Assembly& assembly, SpeedModel model) {
@@ -326,6 +333,78 @@ ModalModel time_domain_modes(const LobesInput& input, const ModalFitOptions& fit
   return modes;
 }
 
+std::vector<ResidueTerm> fit_residue_terms(const MillingFrfs& frfs, const ModalModel& modes, const std::vector<Mode>& pole_modes,
+                                           double band_low_hz, double band_high_hz, double& residual) {
+  residual = 0.0;
+  std::vector<ResidueTerm> terms;
+  const bool two = frfs.yy && !frfs.rigid_y && !modes.y.empty();
+  std::vector<Complex> poles;
+  for (const Mode& m : pole_modes) {
+    const double w = omega_of(m.frequency_hz), z = m.damping_ratio;
+    const Complex pole(-z * w, w * std::sqrt(std::max(0.0, 1.0 - z * z)));
+    // One pole per mode seen in several FRFs (a symmetric tool's x and y, a whirl's): poles within a
+    // tenth of the half-power half-width ζω are one, as a near-repeated column would leave the
+    // residues all but undetermined.
+    if (std::none_of(poles.begin(), poles.end(), [&](Complex p) { return std::abs(p - pole) <= 0.1 * std::abs(pole.real()); }))
+      poles.push_back(pole);
+  }
+  std::vector<std::size_t> rows;
+  for (std::size_t i = 0; i < frfs.xx.size(); ++i) {
+    const double f = frfs.xx.frequency_hz[i];
+    if (f > 0.0 && f >= band_low_hz && f <= band_high_hz) rows.push_back(i);
+  }
+  double direct = 0.0;  // ‖G_xx‖² (+ ‖G_yy‖²) over the band
+  for (std::size_t i : rows) direct += std::norm(frfs.xx.values[i]) + (two ? std::norm(frfs.yy->values[i]) : 0.0);
+  if (rows.empty() || poles.empty() || !(direct > 0.0)) return terms;
+  const Eigen::Index m = static_cast<Eigen::Index>(rows.size()), np = static_cast<Eigen::Index>(poles.size());
+  const auto at = [&](Eigen::Index r) { return Complex(0.0, omega_of(frfs.xx.frequency_hz[rows[static_cast<std::size_t>(r)]])); };
+  // Columns: Re R and Im R of each pole, R/(iω − λ) + R̄/(iω − λ̄) = Re R (e + ē') + Im R i(e − ē'),
+  // e = 1/(iω − λ), ē' = 1/(iω − λ̄); real and imaginary parts of the FRF stacked as rows.
+  Eigen::MatrixXd a(2 * m, 2 * np);
+  for (Eigen::Index r = 0; r < m; ++r)
+    for (Eigen::Index k = 0; k < np; ++k) {
+      const Complex pole = poles[static_cast<std::size_t>(k)];
+      const Complex e = 1.0 / (at(r) - pole), eb = 1.0 / (at(r) - std::conj(pole));
+      const Complex re = e + eb, im = Complex(0.0, 1.0) * (e - eb);
+      a(r, 2 * k) = re.real();
+      a(m + r, 2 * k) = re.imag();
+      a(r, 2 * k + 1) = im.real();
+      a(m + r, 2 * k + 1) = im.imag();
+    }
+  const Eigen::VectorXd scale = a.colwise().norm().transpose().cwiseMax(std::numeric_limits<double>::min());
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(a * scale.cwiseInverse().asDiagonal());
+  // What the real modes leave of a direct FRF: G − Σ 1/(m_r(ω_r² − ω² + 2iζ_rω_rω)) (Mode).
+  const auto modal = [&](const std::vector<Mode>& list, Complex s) {
+    Complex g = 0.0;
+    for (const Mode& q : list) {
+      const double w = omega_of(q.frequency_hz);
+      g += 1.0 / (q.mass_kg * (s * s + 2.0 * q.damping_ratio * w * s + w * w));
+    }
+    return g;
+  };
+  double misfit = 0.0;
+  for (int entry = 0; entry < (two ? 4 : 1); ++entry) {  // xx, yy, xy, yx
+    const int to = entry == 0 || entry == 2 ? 0 : 1, from = entry == 0 || entry == 3 ? 0 : 1;
+    const std::optional<FrfSeries>& cross = entry == 2 ? frfs.xy : frfs.yx;
+    const FrfSeries* g = entry == 0 ? &frfs.xx : entry == 1 ? &*frfs.yy : cross ? &*cross : nullptr;
+    if (!g) continue;
+    Eigen::VectorXd b(2 * m);
+    for (Eigen::Index r = 0; r < m; ++r) {
+      Complex v = g->values[rows[static_cast<std::size_t>(r)]];
+      if (to == from) v -= modal(to == 0 ? modes.x : modes.y, at(r));
+      b(r) = v.real();
+      b(m + r) = v.imag();
+    }
+    if (b.isZero(0.0)) continue;  // nothing left to fit (no coupling this way): no terms
+    const Eigen::VectorXd x = scale.cwiseInverse().asDiagonal() * qr.solve(b);
+    misfit += (a * x - b).squaredNorm();
+    for (Eigen::Index k = 0; k < np; ++k)
+      terms.push_back({to, from, poles[static_cast<std::size_t>(k)], Complex(x(2 * k), x(2 * k + 1))});
+  }
+  residual = std::sqrt(misfit / direct);
+  return terms;
+}
+
 namespace {
 
 // A lowest stable depth beyond any cutting edge (plausibility.hpp's kDepth) is not a result but
@@ -362,6 +441,166 @@ void finish_zero_order(LobesStudyResult& res, const LobesStudyOptions& options) 
   judge_lowest_depth(res);
 }
 
+BoundaryOptions boundary_options(const LobesStudyOptions& options, const SpeedRange& speeds, const ProgressCallback& progress) {
+  BoundaryOptions bo;
+  bo.speeds = speeds;
+  bo.tolerance = options.tolerance;
+  bo.steps = options.steps;
+  bo.degree = options.degree;
+  bo.max_depth_m = options.max_depth_m;
+  bo.parallel = options.parallel;
+  if (progress) bo.progress = progress;
+  return bo;
+}
+
+// The time-domain result's warnings, envelope, best speeds (with their error estimates), figure
+// and depth judgement.
+void finish_boundary(LobesStudyResult& res, const LobesStudyOptions& options) {
+  res.warnings.insert(res.warnings.end(), res.boundary->warnings.begin(), res.boundary->warnings.end());
+  res.envelope = boundary_envelope(*res.boundary);
+  // Speeds stable up to the ceiling form a plateau at the ceiling: a pocket at least that deep
+  // (lobe −1, reported as "≥").
+  res.pockets = stability_pockets(res.envelope, options.pockets, options.pocket_prominence);
+  for (const EnvelopePoint& p : res.pockets) {
+    double error = kNaN;
+    if (p.lobe >= 0)
+      for (const BoundaryPoint& b : res.boundary->boundary)
+        if (b.speed_rpm == p.speed_rpm) error = b.depth_error_m;
+    res.pocket_depth_error_m.push_back(error);
+  }
+  res.figure = boundary_figure(*res.boundary);
+  set_depth_axis(res.figure, depth_axis(res.envelope));
+  judge_lowest_depth(res);
+}
+
+bool same_frfs(const MillingFrfs& a, const MillingFrfs& b) {
+  const auto same = [](const std::optional<FrfSeries>& p, const std::optional<FrfSeries>& q) {
+    return p.has_value() == q.has_value() && (!p || p->values == q->values);
+  };
+  return a.xx.values == b.xx.values && same(a.yy, b.yy) && same(a.xy, b.xy) && same(a.yx, b.yx);
+}
+
+// One speed's modal model for the time domain: the x and y modes fitted to G_xx and G_yy as
+// time_domain_modes does and, where x and y are coupled, residue terms (fit_residue_terms) for the
+// whole block over the fits' bands.
+struct SpeedModes {
+  ModalModel model;
+  std::vector<ModalFitSummary> fits;
+  std::vector<std::string> warnings;
+  double residual = 0.0;        // the direct real-mode fits' largest residual
+  double block_residual = 0.0;  // the whole model's against the block (fit_residue_terms'; uncoupled: `residual`)
+};
+
+SpeedModes speed_modes(const MillingFrfs& g, const LobesStudyOptions& options, const std::string& name) {
+  SpeedModes out;
+  LobesInput in;
+  in.frfs = g;
+  in.frf_name = name + " x–x";
+  in.frf_y_name = name + " y–y";
+  out.model = time_domain_modes(in, options.fit, options.fit_target, out.fits, out.warnings, true);
+  double low = std::numeric_limits<double>::infinity(), high = 0.0;
+  for (const ModalFitSummary& f : out.fits) {
+    out.residual = std::max(out.residual, f.residual);
+    low = std::min(low, f.band_low_hz);
+    high = std::max(high, f.band_high_hz);
+  }
+  const bool coupled = g.xy && g.yx && g.yy && !g.rigid_y &&
+                       (std::any_of(g.xy->values.begin(), g.xy->values.end(), [](Complex v) { return v != 0.0; }) ||
+                        std::any_of(g.yx->values.begin(), g.yx->values.end(), [](Complex v) { return v != 0.0; }));
+  out.block_residual = out.residual;
+  if (!coupled) return out;
+  // The poles: the whirls' first. A forward and a backward whirl closer than their damping look like
+  // one mode in G_xx and G_yy, but the cross FRF is their difference, which one pole cannot give;
+  // G_± = ½(G_xx + G_yy) ± ½i(G_xy − G_yx) hold one whirl each (exactly so for an axisymmetric
+  // spindle, where G_xy = −G_yx = ∓½i(G_f − G_b)), so their fitted modes separate them.
+  std::vector<Mode> poles;
+  for (const double sign : {1.0, -1.0}) {
+    FrfSeries whirl = g.xx;
+    for (std::size_t i = 0; i < whirl.size(); ++i)
+      whirl.values[i] = 0.5 * (g.xx.values[i] + g.yy->values[i]) +
+                        sign * 0.5 * Complex(0.0, 1.0) * (g.xy->values[i] - g.yx->values[i]);
+    try {
+      ModalFitSummary s;
+      std::vector<std::string> ignored;  // the whirl fits only place poles: the residues are fitted below
+      const std::vector<Mode> m = fit_milling_modes(whirl, name + (sign > 0 ? " G+" : " G-"), options.fit, options.fit_target, s,
+                                                    ignored);
+      poles.insert(poles.end(), m.begin(), m.end());
+    } catch (const InputError&) {
+      // not a passive whirl FRF (strongly anisotropic): the direct modes' poles alone
+    } catch (const NumericalError&) {}
+  }
+  poles.insert(poles.end(), out.model.x.begin(), out.model.x.end());
+  poles.insert(poles.end(), out.model.y.begin(), out.model.y.end());
+  out.model.terms = fit_residue_terms(g, out.model, poles, low, high, out.block_residual);
+  // The real modes' shortfall is what the terms complete: judged on the whole model instead.
+  out.warnings.erase(std::remove_if(out.warnings.begin(), out.warnings.end(),
+                                    [](const std::string& w) {
+                                      return w.find("fitted poorly") != std::string::npos ||
+                                             w.find("the best modal model represents") != std::string::npos;
+                                    }),
+                     out.warnings.end());
+  if (out.block_residual > options.fit_target)
+    out.warnings.push_back(fmt::format(
+        "{}: the modal model with its pole-residue terms represents the x–y block within {:.1f} % over {:g}–{:g} Hz, not "
+        "the {:.3g} % aimed at. The lobes are those of this model. Narrow the fitted band to the modes that matter "
+        "(LobesStudyOptions::fit)",
+        name, 100.0 * out.block_residual, low, high, 100.0 * options.fit_target));
+  return out;
+}
+
+// The time-domain boundary with speed-dependent FRFs: at each speed n of the grid a modal model
+// fitted to G(·; n) (SpeedDependentFrfs::at; speed_modes: real modes and pole-residue terms), the
+// boundary from each speed's own model (stability_boundary of models per speed), the starting guesses
+// from the zero-order lobes of the same FRFs. FRFs that do not change with speed are fitted once,
+// and without terms the boundary is stability_boundary of that one model (today's).
+void speed_dependent_boundary(LobesStudyResult& res, const SpeedDependentFrfs& frfs, const LobesStudyOptions& options,
+                              const std::string& name, const ProgressCallback& progress) {
+  const std::vector<double> speeds = res.speeds.values();
+  bool constant = true;
+  for (const MillingFrfs& g : frfs.frfs) constant = constant && same_frfs(g, frfs.frfs.front());
+  std::vector<SpeedModes> fitted(constant ? 1 : speeds.size());
+  parallel_for(fitted.size(), options.parallel,
+               [&](std::size_t i) { fitted[i] = speed_modes(frfs.at(speeds[i]), options, name); });
+  if (progress) progress(0.1);
+  std::size_t worst = 0, worst_block = 0;
+  for (std::size_t i = 0; i < fitted.size(); ++i) {
+    if (fitted[i].residual > fitted[worst].residual) worst = i;
+    if (fitted[i].block_residual > fitted[worst_block].block_residual) worst_block = i;
+  }
+  const std::string where = constant ? "" : fmt::format(" at {:.0f} rpm", speeds[worst]);
+  for (const std::string& w : fitted[worst].warnings) res.warnings.push_back(w + where);
+  res.modes = fitted[worst].model;
+  res.fits = fitted[worst].fits;
+  res.fit_residual = fitted[worst].residual;
+  res.block_fit_residual = fitted[worst_block].block_residual;
+  res.warnings.push_back(fmt::format(
+      "the time-domain model at speed: {} modal model(s) fitted to the x–y tool point FRF{} (real modes to G_xx and G_yy, "
+      "and where x and y couple, pole-residue terms with complex residues to the whole 2×2 block); largest residual of the "
+      "real modes {:.2g} % of the direct FRF{}, of the whole model against the block {:.2g} % of the direct FRFs{}",
+      fitted.size(), constant ? " (the same at every speed)" : ", one per speed of the grid", 100.0 * res.fit_residual, where,
+      100.0 * res.block_fit_residual, constant ? "" : fmt::format(" at {:.0f} rpm", speeds[worst_block])));
+  const ProgressCallback rest = [&](double f) {
+    if (progress) progress(0.1 + 0.9 * f);
+  };
+  if (constant && fitted.front().model.terms.empty()) {
+    res.boundary = stability_boundary(fitted.front().model, options.cutting, boundary_options(options, res.speeds, rest));
+  } else {
+    std::vector<ModalModel> models;
+    models.reserve(speeds.size());
+    for (std::size_t i = 0; i < speeds.size(); ++i) models.push_back(fitted[constant ? 0 : i].model);
+    CuttingConditions even = options.cutting;  // the guesses: the even tool's zero-order lobes (stability_boundary)
+    even.pitch_rad.clear();
+    even.runout_m.clear();
+    even.process_damping_n_per_m = 0.0;
+    even.helix_rad.clear();
+    ZeroOrderOptions zo;
+    zo.speeds = res.speeds;
+    const ZeroOrderResult guesses = zero_order_lobes(frfs, even, zo, options.parallel);
+    res.boundary = stability_boundary(models, guesses, options.cutting, boundary_options(options, res.speeds, rest));
+  }
+  finish_boundary(res, options);
+}
+
 // The largest |G − G_interpolated| of the midpoints' FRFs (odd indices of `fine`) against the
 // interpolation of `coarse` (its even indices), relative to the largest |G| of the midpoint.
 double frf_interpolation_error(const SpeedDependentFrfs& fine, const SpeedDependentFrfs& coarse) {
@@ -394,7 +633,8 @@ LobesStudyResult at_speed_lobes_study(const LobesInput& input, const LobesStudyO
   res.method = options.method;
   res.cutting = options.cutting;
   res.speeds = options.speeds;
-  if (res.speeds.points == 0) res.speeds.points = 2000;
+  const bool fd = options.method == LobesMethod::FullDiscretization;
+  if (res.speeds.points == 0) res.speeds.points = fd ? 200 : 2000;
   res.speed_model = model;
   const Assembly& a = *input.assembly;
   const int nodes = options.speed_nodes > 0 ? options.speed_nodes : 17;
@@ -412,37 +652,56 @@ LobesStudyResult at_speed_lobes_study(const LobesInput& input, const LobesStudyO
                                 "LobesStudyOptions::extrapolate_bearings"
                               : e.hint());
   }
-  if (report) report(0.8);
+  if (report) report(fd ? 0.2 : 0.8);
   SpeedDependentFrfs coarse;
   for (std::size_t j = 0; j < fine.size(); j += 2) {
     coarse.speed_rpm.push_back(all.speed_rpm[j]);
     coarse.frfs.push_back(all.frfs[j]);
   }
-  const ZeroOrderOptions zo = zero_order_options(options, res.speeds);
-  res.zero_order = zero_order_lobes(all, options.cutting, zo, options.parallel);
-  const ZeroOrderResult from_nodes = zero_order_lobes(coarse, options.cutting, zo, options.parallel);
+  // The time domain: the envelope error of the interpolation estimated from the zero-order lobes of
+  // the same FRFs (its sensitivity to the FRF is the same cut's; a second boundary would double the
+  // work), with the even tool's cut (zero_order_lobes takes no pitch, runout, helix or process damping).
+  CuttingConditions cut = options.cutting;
+  if (fd) {
+    cut.pitch_rad.clear();
+    cut.runout_m.clear();
+    cut.process_damping_n_per_m = 0.0;
+    cut.helix_rad.clear();
+  }
+  // (On the zero-order method's fine grid: the boundary's few speeds may all be nodes, where the
+  // interpolation has no error to show.)
+  const ZeroOrderOptions zo = zero_order_options(options, fd ? SpeedRange{lo, hi, 2000} : res.speeds);
+  const ZeroOrderResult from_all = zero_order_lobes(all, cut, zo, options.parallel);
+  const ZeroOrderResult from_nodes = zero_order_lobes(coarse, cut, zo, options.parallel);
   res.frf_speeds_rpm = all.speed_rpm;
   res.frf_interpolation_error = frf_interpolation_error(all, coarse);
   res.envelope_interpolation_error = 0.0;
-  for (std::size_t j = 0; j < res.zero_order->envelope.size(); ++j) {
-    const double d = res.zero_order->envelope[j].depth_m, c = from_nodes.envelope[j].depth_m;
+  for (std::size_t j = 0; j < from_all.envelope.size(); ++j) {
+    const double d = from_all.envelope[j].depth_m, c = from_nodes.envelope[j].depth_m;
     if (std::isfinite(d) && std::isfinite(c) && d > 0.0)
       res.envelope_interpolation_error = std::max(res.envelope_interpolation_error, std::abs(d - c) / d);
   }
+  if (!fd) res.zero_order = from_all;
   const AssemblyModel first(has_speed_tables(a) ? at_speed(a, lo, true) : a);
   res.warnings = first.warnings();
   res.warnings.push_back(fmt::format(
       "the lobes use the tool point FRF at each spindle speed ({}): in x and y (H_xx, H_xy, H_yx, H_yy){}{}, evaluated at {} "
       "speeds over {:g}–{:g} rpm and interpolated linearly in speed between them; interpolation error estimated at {:.2g} % "
-      "of the FRF and {:.2g} % of the stable depth (the lobes from every other of these speeds against all of them)",
+      "of the FRF and {:.2g} % of the stable depth (the {}lobes from every other of these speeds against all of them)",
       to_string(model), model == SpeedModel::Spinning ? ", the spindle spinning (gyroscopic moments)" : ", at rest",
       has_speed_tables(a) ? ", the bearings' speed tables read at each speed" : "", fine.size(), lo, hi,
-      100.0 * res.frf_interpolation_error, 100.0 * res.envelope_interpolation_error));
+      100.0 * res.frf_interpolation_error, 100.0 * res.envelope_interpolation_error, fd ? "zero-order " : ""));
   if (res.envelope_interpolation_error > 0.01)
     res.warnings.push_back(fmt::format(
         "the stable depth changes by up to {:.2g} % between the lobes from every other speed and from all: the FRF changes "
         "fast with speed; raise LobesStudyOptions::speed_nodes (now {}) for a smaller error",
         100.0 * res.envelope_interpolation_error, nodes));
+  if (fd) {
+    speed_dependent_boundary(res, all, options, input.frf_name, [&](double f) {
+      if (report) report(0.2 + 0.8 * f);
+    });
+    return res;
+  }
   finish_zero_order(res, options);
   if (report) report(1.0);
   return res;
@@ -460,6 +719,20 @@ LobesStudyResult nominal_lobes_study(const LobesInput& input, const LobesStudyOp
     if (report) report(f);
   };
 
+  if (options.method == LobesMethod::FullDiscretization && input.speed_frfs) {
+    if (!input.x_modes.empty() || !input.y_modes.empty())
+      throw InvalidArgument("LobesInput::speed_frfs and modes given (LobesInput::x_modes, y_modes) contradict each other",
+                            "drop the modes (they are fitted at each speed), or the FRFs at several speeds");
+    res.speed_model = SpeedModel::Bearings;
+    res.frf_speeds_rpm = input.speed_frfs->speed_rpm;
+    input.speed_frfs->check(input.frf_name);
+    res.warnings.push_back(
+        fmt::format("the lobes use the tool point FRFs given at {} speeds, interpolated linearly in speed "
+                    "between them (LobesInput::speed_frfs)",
+                    res.frf_speeds_rpm.size()));
+    speed_dependent_boundary(res, *input.speed_frfs, options, input.frf_name, progress);
+    return res;
+  }
   if (options.method == LobesMethod::ZeroOrder && input.speed_frfs) {
     if (!input.x_modes.empty() || !input.y_modes.empty())
       res.warnings.push_back("the modes given are used by the time-domain method only");
@@ -491,30 +764,9 @@ LobesStudyResult nominal_lobes_study(const LobesInput& input, const LobesStudyOp
   // The time domain: modes given or fitted (20 % of the progress), then the boundary.
   res.modes = time_domain_modes(input, options.fit, options.fit_target, res.fits, res.warnings);
   progress(0.2);
-  BoundaryOptions bo;
-  bo.speeds = res.speeds;
-  bo.tolerance = options.tolerance;
-  bo.steps = options.steps;
-  bo.degree = options.degree;
-  bo.max_depth_m = options.max_depth_m;
-  bo.parallel = options.parallel;
-  bo.progress = [&](double f) { progress(0.2 + 0.8 * f); };
-  res.boundary = stability_boundary(res.modes, options.cutting, bo);
-  res.warnings.insert(res.warnings.end(), res.boundary->warnings.begin(), res.boundary->warnings.end());
-  res.envelope = boundary_envelope(*res.boundary);
-  // Speeds stable up to the ceiling form a plateau at the ceiling: a pocket at least that deep
-  // (lobe −1, reported as "≥").
-  res.pockets = stability_pockets(res.envelope, options.pockets, options.pocket_prominence);
-  for (const EnvelopePoint& p : res.pockets) {
-    double error = kNaN;
-    if (p.lobe >= 0)
-      for (const BoundaryPoint& b : res.boundary->boundary)
-        if (b.speed_rpm == p.speed_rpm) error = b.depth_error_m;
-    res.pocket_depth_error_m.push_back(error);
-  }
-  res.figure = boundary_figure(*res.boundary);
-  set_depth_axis(res.figure, depth_axis(res.envelope));
-  judge_lowest_depth(res);
+  res.boundary = stability_boundary(res.modes, options.cutting,
+                                    boundary_options(options, res.speeds, [&](double f) { progress(0.2 + 0.8 * f); }));
+  finish_boundary(res, options);
   return res;
 }
 
@@ -530,20 +782,19 @@ LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOption
                                       "LobesInput::assembly",
                                       to_string(options.speed_model)),
                           "give the assembly, or SpeedModel::Automatic / Standstill for the FRFs given");
-  if (input.speed_frfs && (input.uncertain_joint || options.method != LobesMethod::ZeroOrder))
-    throw InvalidArgument(
-        "LobesInput::speed_frfs (FRFs at several speeds) are for the zero-order method without an uncertain joint",
-        "use LobesMethod::ZeroOrder, or give one FRF (LobesInput::frfs)");
+  if (input.speed_frfs && input.uncertain_joint)
+    throw InvalidArgument("LobesInput::speed_frfs (FRFs at several speeds) are not for an uncertain joint",
+                          "give one FRF (LobesInput::frfs), or drop LobesInput::uncertain_joint");
   if (!input.frfs && !input.speed_frfs && input.assembly && lobes_at_speed(*input.assembly, options.speed_model)) {
     const SpeedModel model = options.speed_model == SpeedModel::Automatic ? SpeedModel::Spinning : options.speed_model;
     const bool asked = options.speed_model != SpeedModel::Automatic;
-    if (options.method != LobesMethod::ZeroOrder || input.uncertain_joint) {
-      const std::string what = options.method != LobesMethod::ZeroOrder ? "the time-domain method" : "an uncertain joint";
+    if (input.uncertain_joint) {
+      const std::string what = "an uncertain joint";
       if (asked)
-        throw InvalidArgument(fmt::format("LobesStudyOptions::speed_model {}: the lobes at speed are computed by the "
-                                          "zero-order method without an uncertain joint, not with {}",
+        throw InvalidArgument(fmt::format("LobesStudyOptions::speed_model {}: the lobes at speed are computed without an "
+                                          "uncertain joint, not with {}",
                                           to_string(model), what),
-                              "use LobesMethod::ZeroOrder (without LobesInput::uncertain_joint), or SpeedModel::Standstill");
+                              "drop LobesInput::uncertain_joint, or use SpeedModel::Standstill");
       // Automatic: the standstill model, said (the assembly's own note names the bearings).
       LobesInput standstill = input;
       LobesStudyOptions o = options;
@@ -551,7 +802,7 @@ LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOption
       LobesStudyResult r = run_lobes_study(standstill, o, progress);
       r.warnings.push_back(
           fmt::format("{} uses the standstill single-plane FRF (the bearings' constants and x values): the "
-                      "lobes at speed are computed by the zero-order method without an uncertain joint",
+                      "lobes at speed are computed without an uncertain joint",
                       what));
       return r;
     }

@@ -341,6 +341,12 @@ std::uint64_t plan_fingerprint(const PlanHeader& h) {
   f.add(l.fit_target);
   f.add(l.pocket_prominence);
   f.add(l.pockets);
+  if (l.speed_model != SpeedModel::Automatic || l.speed_nodes != 0 || l.extrapolate_bearings) {
+    // Only when set: plans with the defaults keep the fingerprints they had.
+    f.add(static_cast<int>(l.speed_model));
+    f.add(l.speed_nodes);
+    f.add(l.extrapolate_bearings);
+  }
   f.add(o.feed_per_tooth_m);
   f.add(o.edge_coefficient_n_per_m);
   f.add(o.max_depth_m);
@@ -732,10 +738,10 @@ PlanJob compute_job(const PlanCandidate& cand, const PlanHeader& h, std::size_t 
   lobes.cutting = plan_cutting(h.options, cs.tool_diameter_m);
   if (lobes.method == LobesMethod::FullDiscretization && lobes.max_depth_m == 0.0)
     lobes.max_depth_m = std::max(cs.flute_length_m, h.options.max_depth_m);
-  // At speed (the assembly's bearings, or LobesStudyOptions::speed_model): the zero-order lobes of
-  // the x–y FRF at each speed; a measured SH11 or the time domain keep the standstill FRF, said.
+  // At speed (the assembly's bearings, or LobesStudyOptions::speed_model): the lobes (either
+  // method) of the x–y FRF at each speed; a measured SH11 keeps the standstill FRF, said.
   const bool wants_speed = lobes_at_speed(a, lobes.speed_model);
-  const bool at_speed = wants_speed && !cand.sh11 && lobes.method == LobesMethod::ZeroOrder;
+  const bool at_speed = wants_speed && !cand.sh11;
   const auto envelope_of = [&](const Assembly& x) {
     return at_speed ? speed_envelope(x, frf_name, lobes) : stable_envelope(tool_point_frf(cand, x), frf_name, lobes);
   };
@@ -757,10 +763,9 @@ PlanJob compute_job(const PlanCandidate& cand, const PlanHeader& h, std::size_t 
   for (const std::string& w : nominal.warnings)
     if (std::find(job.warnings.begin(), job.warnings.end(), w) == job.warnings.end()) job.warnings.push_back(w);
   if (wants_speed && !at_speed)
-    job.warnings.push_back(cand.sh11 ? "the tool point FRF from the measured SH11 is the standstill one: the lobes do not "
-                                       "follow the bearings' speed tables or x–y values"
-                                     : "the time-domain method uses the standstill single-plane FRF: the lobes at speed are "
-                                       "computed by the zero-order method");
+    job.warnings.push_back(
+        "the tool point FRF from the measured SH11 is the standstill one: the lobes do not follow the bearings' speed "
+        "tables or x–y values");
   if (std::none_of(job.stable_depth_m.begin(), job.stable_depth_m.end(), [](double d) { return std::isfinite(d); }))
     throw NumericalError(fmt::format("{}: no lobe reaches any speed of {}–{} rpm", where, h.speeds_rpm.front(),
                                      h.speeds_rpm.back()),

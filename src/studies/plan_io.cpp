@@ -64,6 +64,9 @@ nlohmann::json header_json(const PlanHeader& h) {
                         {"fit_target", hex(l.fit_target)},
                         {"pocket_prominence", hex(l.pocket_prominence)},
                         {"pockets", l.pockets},
+                        {"speed_model", to_string(l.speed_model)},
+                        {"speed_nodes", l.speed_nodes},
+                        {"extrapolate_bearings", l.extrapolate_bearings},
                         {"feed_per_tooth_m", hex(o.feed_per_tooth_m)},
                         {"edge_coefficient_n_per_m", hex(o.edge_coefficient_n_per_m)},
                         {"max_depth_m", hex(o.max_depth_m)},
@@ -130,6 +133,15 @@ PlanHeader parse_header(const PartReader& r, const nlohmann::json& j) {
   l.fit_target = r.number(o, "fit_target", p);
   l.pocket_prominence = r.number(o, "pocket_prominence", p);
   l.pockets = r.get<int>(o, "pockets", p);
+  // The speed model (keys absent in older part files, whose plans took the default).
+  if (o.contains("speed_model")) {
+    const std::string m = r.get<std::string>(o, "speed_model", p);
+    const std::optional<SpeedModel> model = speed_model_from(m);
+    if (!model) r.fail(fmt::format("options.speed_model '{}' is none of auto, standstill, bearings, spinning", m));
+    l.speed_model = *model;
+  }
+  if (o.contains("speed_nodes")) l.speed_nodes = r.get<int>(o, "speed_nodes", p);
+  if (o.contains("extrapolate_bearings")) l.extrapolate_bearings = r.get<bool>(o, "extrapolate_bearings", p);
   opt.feed_per_tooth_m = r.number(o, "feed_per_tooth_m", p);
   opt.edge_coefficient_n_per_m = r.number(o, "edge_coefficient_n_per_m", p);
   opt.max_depth_m = r.number(o, "max_depth_m", p);
@@ -585,7 +597,9 @@ PlanStudy parse_plan_study(const std::string& text, const std::string& source, c
   }
 
   if (const toml::table* t = r.table(root, "lobes", "", false)) {
-    r.only(*t, "lobes", {"lobes", "tolerance", "max_modes", "fit_target", "pocket_prominence"});
+    r.only(*t, "lobes",
+           {"lobes", "tolerance", "max_modes", "fit_target", "pocket_prominence", "speed_model", "speed_nodes",
+            "extrapolate_bearings"});
     l.lobes = integer(r, *t, "lobes", "lobes", 0, 5000, -1);
     l.tolerance = checked(
         r, *t, "tolerance", "lobes", "(fraction)", false, l.tolerance, [](double v) { return v > 0.0 && v < 0.5; },
@@ -597,6 +611,22 @@ PlanStudy parse_plan_study(const std::string& text, const std::string& source, c
     l.pocket_prominence = checked(
         r, *t, "pocket_prominence", "lobes", "(fraction)", false, l.pocket_prominence,
         [](double v) { return v >= 0.0 && v < 1.0; }, "must lie in [0, 1): a fraction of the depth");
+    // The speed model, as `lobes --speed-model/--speed-nodes/--extrapolate-bearings` (LobesStudyOptions).
+    if (const auto m = r.string(*t, "speed_model", "lobes")) {
+      const std::optional<SpeedModel> model = speed_model_from(*m);
+      if (!model)
+        r.fail(*t->get("speed_model"),
+               fmt::format("lobes.speed_model = \"{}\": expected \"auto\", \"standstill\", \"bearings\" or \"spinning\"", *m),
+               "auto: the x–y FRF at each speed where a bearing has a speed table or differs in x and y");
+      l.speed_model = *model;
+    }
+    if (t->contains("speed_nodes")) l.speed_nodes = integer(r, *t, "speed_nodes", "lobes", 2, 1000, 0);
+    if (const toml::node* e = t->get("extrapolate_bearings")) {
+      if (!e->is_boolean())
+        r.fail(*e, "lobes.extrapolate_bearings must be true or false",
+               "true extends a bearing's speed table beyond its end rows (else a speed outside it is refused)");
+      l.extrapolate_bearings = e->as_boolean()->get();
+    }
   }
 
   const toml::node* cn = root.get("candidate");

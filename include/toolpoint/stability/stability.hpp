@@ -23,6 +23,7 @@
 
 #include <Eigen/Core>
 #include <cmath>
+#include <complex>
 #include <functional>
 #include <optional>
 #include <utility>
@@ -307,13 +308,34 @@ ZeroOrderResult zero_order_lobes(const SpeedDependentFrfs& frfs, const CuttingCo
 // Only the tip displacement is delayed: the map acts on the 2n_q modal states and 1 (rigid y) or 2
 // tip values per step that the cut reads.
 
+// One pole-residue pair of the tool point receptance block, added to the real modes' block:
+//     G_{to,from}(iω) += R/(iω − λ) + R̄/(iω − λ̄).
+// A complex residue carries what real modes cannot: the skew (gyroscopic) part of G_xy, whose
+// forward and backward whirls enter with opposite signs, and (to = from) the shape of a direct
+// FRF whose two whirls lie closer than their damping. In the milling equation it is a state
+// z ∈ ℂ (two real states u + iv): ż = λz + F_from, and the tip displacement in `to` gains
+// 2 Re(R z) (so its Laplace transform is the term above). Its velocity output is 2 Re(Rλz): the
+// direct term 2 Re(R)F is left out, as a receptance has none (relative degree 2; in a fit it is
+// the fit's error).
+struct ResidueTerm {
+  int to = 0;                    // 0: the x displacement, 1: y
+  int from = 0;                  // 0: the x force, 1: y
+  std::complex<double> pole;     // λ [rad/s], Re λ < 0
+  std::complex<double> residue;  // R [m/(N s)]
+};
+
 // Modes of the tool point in x and in y (uncoupled; each a 1-DOF oscillator seen at the tool
-// point, see Mode). An empty y list means the tool is rigid in y (the 1-DOF milling model).
+// point, see Mode), and optional pole-residue terms added to them (coupling x and y, or reshaping
+// a direct FRF). An empty y list means the tool is rigid in y (the 1-DOF milling model; terms then
+// only from x to x).
 struct ModalModel {
   std::vector<Mode> x;
   std::vector<Mode> y;
+  std::vector<ResidueTerm> terms;  // empty: the real modes alone
   // Throws InvalidArgument: no x mode, a bad mode, or ζ = 0 (undamped: zero depth is already
-  // marginal, there is no stable region to bound).
+  // marginal, there is no stable region to bound); a term reading or driving y without y modes,
+  // a direction other than 0 or 1, a pole not in the left half-plane or a non-finite residue
+  // (naming ModalModel::terms[i]).
   void check() const;
 };
 
@@ -466,6 +488,15 @@ struct BoundaryResult {
 // much as its spectral radius), so ρ(a) is the same continuous function the root finder expects.
 // Throws InvalidArgument (bad model, conditions or options), NumericalError.
 BoundaryResult stability_boundary(const ModalModel& model, const CuttingConditions& cutting, const BoundaryOptions& options);
+
+// The boundary with a modal model per speed (a structure that changes with the spindle speed):
+// models[i] at options.speeds.values()[i], each speed's limit from its own model exactly as above.
+// The starting guesses and the default ceiling (10 × guesses.floor_depth_m) come from `guesses`,
+// zero-order lobes on the same speed grid (e.g. of the FRFs the models were fitted to). Throws
+// InvalidArgument (a count of models other than the speeds', bad models, conditions or options,
+// guesses on another grid), NumericalError.
+BoundaryResult stability_boundary(const std::vector<ModalModel>& models, const ZeroOrderResult& guesses,
+                                  const CuttingConditions& cutting, const BoundaryOptions& options);
 
 // ---- Results for people ---------------------------------------------------------------------
 

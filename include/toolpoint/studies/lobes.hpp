@@ -37,6 +37,8 @@ enum class SpeedModel {
   Spinning,    // as Bearings, with the spindle spinning at that speed (gyroscopic moments: whirl, H_xy)
 };
 const char* to_string(SpeedModel m);  // "auto", "standstill", "bearings", "spinning" (the CLI's --speed-model)
+// The model named by to_string's name; nullopt for any other name.
+std::optional<SpeedModel> speed_model_from(const std::string& name);
 
 // Whether the lobes of `assembly` under `model` use the FRF at each speed (SpeedDependentFrfs):
 // Bearings and Spinning always, Automatic with speed tables or bearings that differ in x and y.
@@ -74,8 +76,9 @@ struct LobesInput {
   // nominal one, in place of the assembly's (given `frfs` must be the FRFs of that assembly).
   std::optional<Assembly> assembly;
   std::optional<JointFile> uncertain_joint;
-  // FRFs at several speeds (measured or computed; zero-order method): used in place of `frfs` and
-  // of the assembly's FRF, interpolated between their speeds (zero_order_lobes).
+  // FRFs at several speeds (measured or computed): used in place of `frfs` and of the assembly's
+  // FRF, interpolated between their speeds (zero_order_lobes; the time domain fits a modal model
+  // (and pole-residue terms) at each speed of the grid, LobesStudyResult::fit_residual).
   std::optional<SpeedDependentFrfs> speed_frfs;
   // Rigid in y: said here, or by the FRFs (MillingFrfs::rigid_y).
   bool rigid_in_y() const { return rigid_y || (frfs && frfs->rigid_y); }
@@ -168,6 +171,15 @@ struct LobesStudyResult {
   std::vector<double> frf_speeds_rpm;
   double frf_interpolation_error = std::numeric_limits<double>::quiet_NaN();
   double envelope_interpolation_error = std::numeric_limits<double>::quiet_NaN();
+  // The time domain at speed: a modal model per speed fitted to the FRF at that speed (real modes to
+  // G_xx and G_yy; where x and y couple, pole-residue terms for the whole block, fit_residue_terms);
+  // `modes` and `fits` are those of the speed with the largest real-mode fit residual. The largest
+  // residuals over the speeds: of the real-mode fits (ModalFitSummary::residual) and of the whole
+  // model against the 2×2 block relative to the direct FRFs (fit_residue_terms; without coupling,
+  // the former). NaN otherwise. (envelope_interpolation_error is then estimated from the zero-order
+  // lobes of the same FRFs.)
+  double fit_residual = std::numeric_limits<double>::quiet_NaN();
+  double block_fit_residual = std::numeric_limits<double>::quiet_NaN();
   std::vector<std::string> warnings;
 };
 
@@ -196,6 +208,18 @@ StabilityUncertainty stability_uncertainty(const Assembly& assembly, const Joint
 // modes), InputError (bad FRFs, nothing to fit).
 ModalModel time_domain_modes(const LobesInput& input, const ModalFitOptions& fit, double fit_target,
                              std::vector<ModalFitSummary>& fits, std::vector<std::string>& warnings, bool uses_cross = false);
+
+// Pole-residue terms (ResidueTerm) that complete the real modes of `modes` to the 2×2 block of
+// `frfs`: with the poles of `pole_modes` (λ = ω(−ζ + i√(1 − ζ²)); poles within 0.1 ζω of an earlier
+// one dropped), the complex residues R_k of
+//     G_ij(iω) − G_ij,modes(iω) ≈ Σ_k R_k/(iω − λ_k) + R̄_k/(iω − λ̄_k)
+// per entry (G_xx less the x modes' FRF, G_yy less the y modes', G_xy and G_yx whole; x alone when
+// rigid in y or without y modes) by linear least squares over the frequencies in [band_low_hz,
+// band_high_hz] (real and imaginary parts; columns scaled to unit norm; column-pivoting QR). An
+// entry with nothing left (a cross FRF absent or exactly zero) gets no terms. `residual`: the
+// misfit of all entries over the band relative to ‖G_xx‖ (+ ‖G_yy‖) there.
+std::vector<ResidueTerm> fit_residue_terms(const MillingFrfs& frfs, const ModalModel& modes, const std::vector<Mode>& pole_modes,
+                                           double band_low_hz, double band_high_hz, double& residual);
 
 // The modal model of one point FRF for the time-domain method: 1, 2, … modes (up to
 // options.max_modes) until the modes alone represent it within `target`; the best one otherwise,
