@@ -5,15 +5,14 @@
 // Run: build/toolpoint_bench --benchmark_filter=Pitch
 #include <benchmark/benchmark.h>
 
+#include "example_modes.hpp"
+
 #include "toolpoint/stability/pitch.hpp"
 
 using namespace toolpoint;
 
 static void BM_Pitch_ChooseExampleAssembly(benchmark::State& state) {
-  const std::vector<Mode> modes = {{0.576061, 0.0117496, 916.596},
-                                   {0.0674606, 0.0450853, 2592.11},
-                                   {0.159563, 0.0405189, 3603.0},
-                                   {0.196928, 0.035962, 4525.41}};
+  const std::vector<Mode> modes = bench::example_modes();
   const CuttingConditions cut{4, 6e8, 0.3, engagement_from_immersion(0.5, MillingDirection::Down)};
   PitchChoiceOptions o;
   o.speed_rpm = 5000.0;

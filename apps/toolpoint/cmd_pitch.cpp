@@ -64,13 +64,15 @@ void run_pitch(const PitchOptions& o, const Globals& g) {
   so.cutting = cutting_conditions(o.cut);
   apply_tool_geometry(o.tool, so.cutting);
   check_plausible(plausible::kSpindleSpeedRpm, o.rpm, "--rpm", "give the target spindle speed in rpm, e.g. --rpm 5000");
-  for (const auto& [deg, flag] : {std::pair{o.min_pitch_deg, "--min-pitch"}, std::pair{o.max_pitch_deg, "--max-pitch"}})
+  // Below 2π: most likely radians (an even pitch that small needs over 57 teeth).
+  for (const auto& [deg, flag] : {std::pair{o.min_pitch_deg, "--min-pitch"}, std::pair{o.max_pitch_deg, "--max-pitch"}}) {
     if (!(deg >= 0.0 && deg < 360.0))
       throw InvalidArgument(fmt::format("{} {} must lie in [0, 360) degrees (0: automatic)", flag, deg),
                             "give pitch angles in degrees, e.g. --min-pitch 70 --max-pitch 110 for 4 teeth");
-  if (o.min_pitch_deg > 0.0 && o.max_pitch_deg > 0.0 && o.max_pitch_deg < 6.3)
-    throw InvalidArgument(fmt::format("--max-pitch {}: that is a pitch angle under 6.3°, most likely radians", o.max_pitch_deg),
-                          "give degrees, e.g. --max-pitch 110");
+    if (deg > 0.0 && deg < 2.0 * kPi && o.cut.teeth <= 57)
+      throw InvalidArgument(fmt::format("{} {}: a pitch angle under 6.3°, most likely radians", flag, deg),
+                            "give degrees, e.g. --min-pitch 70 --max-pitch 110 for 4 teeth");
+  }
   if (!(o.robustness_pct >= 0.0 && o.robustness_pct <= 20.0))
     throw InvalidArgument(fmt::format("--robustness {} % must lie in 0…20 (%)", o.robustness_pct), "e.g. 2 (%)");
   PitchChoiceOptions& c = so.choice;

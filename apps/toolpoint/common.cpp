@@ -272,6 +272,7 @@ std::string with_flags(std::string text) {
       {"rotational_frfs", "`toolpoint rotational`"},
       {"write_joint_file", "`toolpoint identify --joint-output FILE.toml`"},
       {"run_plan_part", "`toolpoint plan --shard I/N`"},
+      {"choose_pitch", "`toolpoint pitch`"},
       {"format_plan_part", "`toolpoint plan --shard I/N --part FILE`"},
       {"run_simulated_map_part", "`toolpoint simulate map --shard I/N`"},
       {"format_simulated_map_part", "`toolpoint simulate map --shard I/N --part FILE`"},

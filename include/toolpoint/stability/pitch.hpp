@@ -92,6 +92,7 @@ struct PitchChoice {
   double speed_rpm = 0.0;
   double chatter_hz = 0.0;         // the frequency Budak's rule aimed at [Hz]
   double max_variation_rad = 0.0;  // the largest ΔP the limits allow
+  // Budak's ΔP_0 (alternating) or ΔP_1 (linear) [rad]; the largest allowed when it is over the limits (a warning says so).
   double closed_form_variation_rad = 0.0;
   std::vector<double> closed_form_pitch_rad;
   double closed_form_depth_m = 0.0;         // its limit at the search's discretization [m]
