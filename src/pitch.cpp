@@ -208,7 +208,7 @@ PitchChoice choose_pitch(const ModalModel& model, const CuttingConditions& cutti
     }
     res.evaluations += static_cast<long>(limits.size());
   };
-  const double v0 = std::max(0.0, centre - half), v1 = std::min(res.max_variation_rad, centre + half);
+  double v0 = std::max(0.0, centre - half), v1 = std::min(res.max_variation_rad, centre + half);
   std::vector<double> grid;
   for (int i = 0; i < o.search_points; ++i) grid.push_back(v0 + (v1 - v0) * i / (o.search_points - 1));
   grid.push_back(res.closed_form_variation_rad);
@@ -221,6 +221,18 @@ PitchChoice choose_pitch(const ModalModel& model, const CuttingConditions& cutti
   res.closed_form_depth_m = res.samples.back().depth_m;
   res.closed_form_robust_depth_m = res.samples.back().robust_depth_m;
   double step = (v1 - v0) / (o.search_points - 1);
+  // The best at an edge of the window: extend it there by half as many points, up to 3 times (within the limits).
+  for (int extension = 0; extension < 3; ++extension) {
+    const double best = deepest().variation_rad;
+    const int sign = best >= v1 - 1e-12 && v1 < res.max_variation_rad ? 1 : best <= v0 + 1e-12 && v0 > 0.0 ? -1 : 0;
+    if (sign == 0) break;
+    std::vector<double> more;
+    for (int i = 1; i <= std::max(1, o.search_points / 2); ++i)
+      if (const double v = best + sign * i * step; v >= 0.0 && v <= res.max_variation_rad) more.push_back(v);
+    if (more.empty()) break;
+    evaluate(more);
+    (sign > 0 ? v1 : v0) = more.back();
+  }
   for (int round = 0; round < 2; ++round) {  // ±1 step around the best in quarter steps (its ends already known)
     const double best = deepest().variation_rad;
     std::vector<double> finer;

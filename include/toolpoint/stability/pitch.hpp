@@ -54,7 +54,8 @@ struct PitchChoiceOptions {
   // (its full-discretization limit's; the zero-order floor's when it is stable to the ceiling).
   double chatter_hz = 0.0;
   // The search: ΔP over (1 ± window) × the closed-form ΔP (within the limits) at `search_points`
-  // evenly spaced values, then twice refined around the best (±1 step, 5 points each). 0 < window ≤ 1.
+  // evenly spaced values (extended by half as many steps beyond an edge where the best lies, up to 3
+  // times, within the limits), then twice refined around the best (±1 step in quarter steps). 0 < window ≤ 1.
   double window = 0.5;
   int search_points = 11;  // 3…201
   // What is maximised: the lowest of the limits at ΔP and ΔP(1 ± robustness) (0…0.2). The limit can
