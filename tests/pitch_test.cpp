@@ -65,7 +65,7 @@ TEST(PitchChoice, ClosedFormCancelsTheRegenerativeSum) {
 //  * The chosen (refined) pattern maximises the lowest limit over ΔP(1 ± 2 %): it agrees with the
 //    brute-force argmax of the same quantity within the grid step (0.5°), and reaches its value
 //    within 2 % (the search's finer points can land off the grid).
-//  * The closed form itself is the start: measured, it lies 1.0–1.4° (7–9 %) below the brute-force
+//  * The closed form itself is the start: measured, it lies 1.3–1.4° (7–9 %) below the brute-force
 //    optimum, on the same plateau of the limit, because the chatter frequency moves with the pitch
 //    (the rule keeps the even tool's). Asserted: within 12 % of the optimum's ΔP, and its limit
 //    at least 0.9 of the brute-force best.
