@@ -5,6 +5,8 @@
 // Run: build/toolpoint_bench --benchmark_filter=Stability
 #include <benchmark/benchmark.h>
 
+#include "example_modes.hpp"
+
 #include "toolpoint/stability/stability.hpp"
 
 using namespace toolpoint;
@@ -80,10 +82,7 @@ BENCHMARK(BM_Stability_Boundary)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)-
 // With `pitch_deg`, the same cutter at that pitch.
 static void example_assembly_boundary(benchmark::State& state, const std::vector<double>& pitch_deg,
                                       const std::vector<double>& helix_deg = {}) {
-  const std::vector<Mode> modes = {{0.576061, 0.0117496, 916.596},
-                                   {0.0674606, 0.0450853, 2592.11},
-                                   {0.159563, 0.0405189, 3603.0},
-                                   {0.196928, 0.035962, 4525.41}};
+  const std::vector<Mode> modes = bench::example_modes();
   CuttingConditions cut{4, 6e8, 0.3, engagement_from_immersion(0.5, MillingDirection::Down)};
   for (double p : pitch_deg) cut.pitch_rad.push_back(p * 3.14159265358979323846 / 180.0);
   for (double b : helix_deg) cut.helix_rad.push_back(b * 3.14159265358979323846 / 180.0);

@@ -482,6 +482,37 @@ void to_json(nlohmann::json& j, const BoundaryResult& r) {
   if (lowest != r.boundary.end()) j["lowest_boundary"] = *lowest;
 }
 
+void to_json(nlohmann::json& j, const PitchSample& s) {
+  j = {{"variation_rad", s.variation_rad},        {"depth_m", number(s.depth_m)}, {"robust_depth_m", number(s.robust_depth_m)},
+       {"chatter_hz", number(s.chatter_hz)}, {"kind", to_string(s.kind)}};
+}
+
+void to_json(nlohmann::json& j, const PitchChoice& c) {
+  j = {{"pattern", to_string(c.pattern)},
+       {"teeth", c.teeth},
+       {"speed_rpm", c.speed_rpm},
+       {"chatter_hz", number(c.chatter_hz)},
+       {"max_variation_rad", c.max_variation_rad},
+       {"closed_form_variation_rad", c.closed_form_variation_rad},
+       {"closed_form_pitch_rad", c.closed_form_pitch_rad},
+       {"closed_form_depth_m", number(c.closed_form_depth_m)},
+       {"closed_form_robust_depth_m", number(c.closed_form_robust_depth_m)},
+       {"variation_rad", c.variation_rad},
+       {"pitch_rad", c.pitch_rad},
+       {"chosen", c.chosen},
+       {"uniform", c.uniform},
+       {"gain", number(c.gain)},
+       {"max_depth_m", c.max_depth_m},
+       {"steps", c.steps},
+       {"samples", c.samples},
+       {"evaluations", c.evaluations},
+       {"warnings", c.warnings}};
+}
+
+void to_json(nlohmann::json& j, const PitchStudyResult& r) {
+  j = {{"choice", r.choice}, {"modes", r.modes}, {"fits", r.fits}, {"warnings", r.warnings}};
+}
+
 void to_json(nlohmann::json& j, const LobesStudyResult& r) {
   j = {{"method", to_string(r.method)},
        {"cutting", r.cutting},

@@ -232,3 +232,27 @@ TEST(LobesCommand, AtSpeedFromABearingTable) {
   EXPECT_NE(no_assembly.code, 0);
   EXPECT_NE(no_assembly.out.find("need --assembly"), std::string::npos) << no_assembly.out;
 }
+
+// toolpoint pitch: degrees on the command line, the library's choice in the report (its numbers are
+// tests/pitch_test.cpp's), and bad input — limits that admit no pattern, angles given in radians, an
+// alternating pitch on an odd tooth count — refused with exit code 2, naming the flag.
+TEST(PitchCommand, ChoosesAPitchAndRefusesBadLimits) {
+  const std::string cut = "--mode-x 0.03993,0.011,922 --rigid-y --kt 6e8 --kr 0.3 --immersion 0.5 --milling down --rpm 4130 ";
+  const CliRun ok = run_cli("pitch " + cut + "--teeth 4 --min-pitch 60 --max-pitch 120");
+  EXPECT_EQ(ok.code, 0) << ok.out;
+  EXPECT_NE(ok.out.find("chosen (searched):"), std::string::npos) << ok.out;
+  EXPECT_NE(ok.out.find("8.51× the even tool"), std::string::npos) << ok.out;
+  const CliRun none = run_cli("pitch " + cut + "--teeth 4 --min-pitch 95 --max-pitch 120");
+  EXPECT_EQ(none.code, 2);
+  EXPECT_NE(none.out.find("--min-pitch"), std::string::npos) << none.out;
+  EXPECT_NE(none.out.find("no variable pitch fits"), std::string::npos) << none.out;
+  const CliRun radians = run_cli("pitch " + cut + "--teeth 4 --min-pitch 1.2 --max-pitch 1.9");
+  EXPECT_EQ(radians.code, 2);
+  EXPECT_NE(radians.out.find("most likely radians"), std::string::npos) << radians.out;
+  const CliRun odd = run_cli("pitch " + cut + "--teeth 3");
+  EXPECT_EQ(odd.code, 2);
+  EXPECT_NE(odd.out.find("--pattern"), std::string::npos) << odd.out;
+  const CliRun given = run_cli("pitch " + cut + "--teeth 4 --pitch 80,100,80,100");
+  EXPECT_EQ(given.code, 2);
+  EXPECT_NE(given.out.find("--pitch"), std::string::npos) << given.out;
+}

@@ -380,6 +380,7 @@ void add_noise_command(CLI::App& app, Globals& g);
 void add_rotational_command(CLI::App& app, Globals& g);
 void add_convert_command(CLI::App& app, Globals& g);
 void add_lobes_command(CLI::App& app, Globals& g);
+void add_pitch_command(CLI::App& app, Globals& g);
 void add_modes_command(CLI::App& app, Globals& g);
 void add_resample_command(CLI::App& app, Globals& g);
 void add_plan_command(CLI::App& app, Globals& g);

@@ -67,6 +67,7 @@ int main(int argc, char** argv) {
   add_rotational_command(app, globals);
   add_convert_command(app, globals);
   add_lobes_command(app, globals);
+  add_pitch_command(app, globals);
   add_modes_command(app, globals);
   add_resample_command(app, globals);
   add_plan_command(app, globals);

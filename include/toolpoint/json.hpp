@@ -42,6 +42,7 @@
 #include "toolpoint/studies/identification.hpp"
 #include "toolpoint/studies/lobes.hpp"
 #include "toolpoint/studies/overhang.hpp"
+#include "toolpoint/studies/pitch.hpp"
 #include "toolpoint/studies/plan.hpp"
 #include "toolpoint/studies/precision.hpp"
 #include "toolpoint/studies/predict.hpp"
@@ -197,6 +198,15 @@ void to_json(nlohmann::json& j, const BoundaryResult& r);
 // "boundary", "modes", "fits" and "pocket_depth_error_m" (method fd); "uncertainty" (StabilityUncertainty),
 // "uncertain_joint", "pocket_quantiles" and "worst_speed" when the joint was uncertain.
 void to_json(nlohmann::json& j, const LobesStudyResult& r);
+// {"variation_rad", "depth_m", "robust_depth_m", "chatter_hz", "kind"}
+void to_json(nlohmann::json& j, const PitchSample& s);
+// {"pattern", "teeth", "speed_rpm", "chatter_hz", "max_variation_rad",
+//  "closed_form_variation_rad", "closed_form_pitch_rad", "closed_form_depth_m", "closed_form_robust_depth_m",
+//  "variation_rad", "pitch_rad", "chosen", "uniform" (BoundaryPoint), "gain", "max_depth_m", "steps",
+//  "samples", "evaluations", "warnings"}
+void to_json(nlohmann::json& j, const PitchChoice& c);
+// {"choice", "modes", "fits", "warnings"}
+void to_json(nlohmann::json& j, const PitchStudyResult& r);
 // {"speed_rpm", "nominal_depth_m", "depth_m": per level}
 void to_json(nlohmann::json& j, const SpeedQuantiles& q);
 

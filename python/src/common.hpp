@@ -140,6 +140,7 @@ void bind_signal_io(py::module_& m);
 void bind_identify(py::module_& m);
 void bind_stability(py::module_& m);
 void bind_simulation(py::module_& m);
+void bind_pitch(py::module_& m);
 
 }  // namespace toolpoint::python
 

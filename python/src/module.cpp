@@ -268,4 +268,5 @@ PYBIND11_MODULE(_toolpoint, m) {
   bind_identify(m);
   bind_stability(m);
   bind_simulation(m);
+  bind_pitch(m);
 }

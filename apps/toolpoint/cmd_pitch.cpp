@@ -1,0 +1,159 @@
+// toolpoint pitch: the variable pitch that maximises the stable axial depth at one spindle speed —
+// Budak's closed form as the start, the multi-delay full-discretization limit over a bounded search
+// to confirm — against the evenly spaced tool, by the library's pitch study (studies/pitch.hpp).
+// Angles in degrees here, radians in the library.
+#include <fmt/format.h>
+
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "cli.hpp"
+#include "progress.hpp"
+#include "toolpoint/conventions.hpp"
+#include "toolpoint/error.hpp"
+#include "toolpoint/io/stability_io.hpp"
+#include "toolpoint/json.hpp"
+#include "toolpoint/studies/pitch.hpp"
+
+namespace toolpoint::cli {
+
+namespace {
+
+struct PitchOptions {
+  DynamicsArgs dyn;
+  ToolGeometryArgs tool;
+  CutArgs cut;
+  double rpm = 0.0, min_pitch_deg = 0.0, max_pitch_deg = 0.0, chatter_hz = 0.0, window = 0.5, robustness_pct = 2.0;
+  double max_depth_mm = 0.0;
+  std::string pattern = "alternating";
+  int search_points = 11, intervals = 0, depth_steps = 60, threads = 0;
+  bool json = false;
+};
+
+std::string angles_text(const std::vector<double>& rad) {
+  std::string s;
+  for (double p : rad) s += fmt::format("{}{:.2f}", s.empty() ? "" : "/", degrees_of(p));
+  return s;
+}
+
+void print_choice(const PitchStudyResult& r) {
+  for (const ModalFitSummary& s : r.fits)
+    std::cout << fmt::format("modal model of {}: {} mode(s), {:.2f} % residual over {:g}–{:g} Hz\n", s.what, s.modes,
+                             100.0 * s.residual, s.band_low_hz, s.band_high_hz);
+  const PitchChoice& c = r.choice;
+  std::cout << fmt::format("pitch choice at {:g} rpm, {} teeth, {} pattern (ΔP up to {:.2f}° within the limits):\n", c.speed_rpm,
+                           c.teeth, to_string(c.pattern), degrees_of(c.max_variation_rad));
+  std::cout << fmt::format("  evenly spaced:          limit {} mm, chatter {:.1f} Hz ({})\n",
+                           depth_text_mm(c.uniform.depth_m * 1e3, c.uniform.depth_error_m * 1e3), c.uniform.chatter_hz,
+                           to_string(c.uniform.kind));
+  std::cout << fmt::format("  Budak's closed form:    ΔP {:.2f}° (pitch {}°) for chatter at {:.1f} Hz: limit {:.4f} mm\n",
+                           degrees_of(c.closed_form_variation_rad), angles_text(c.closed_form_pitch_rad), c.chatter_hz,
+                           c.closed_form_depth_m * 1e3);
+  std::cout << fmt::format(
+      "  chosen (searched):      ΔP {:.2f}° (pitch {}°): limit {} mm, chatter {:.1f} Hz ({}), {:.2f}× the even tool\n",
+      degrees_of(c.variation_rad), angles_text(c.pitch_rad), depth_text_mm(c.chosen.depth_m * 1e3, c.chosen.depth_error_m * 1e3),
+      c.chosen.chatter_hz, to_string(c.chosen.kind), c.gain);
+  std::cout << fmt::format("  ({} limits computed at {} steps per tooth period; depths searched up to {:.4g} mm)\n",
+                           c.evaluations, c.steps, c.max_depth_m * 1e3);
+}
+
+void run_pitch(const PitchOptions& o, const Globals& g) {
+  check_paths(dynamics_paths(o.dyn), {});
+  PitchStudyOptions so;
+  so.cutting = cutting_conditions(o.cut);
+  apply_tool_geometry(o.tool, so.cutting);
+  check_plausible(plausible::kSpindleSpeedRpm, o.rpm, "--rpm", "give the target spindle speed in rpm, e.g. --rpm 5000");
+  // Below 2π: most likely radians (an even pitch that small needs over 57 teeth).
+  for (const auto& [deg, flag] : {std::pair{o.min_pitch_deg, "--min-pitch"}, std::pair{o.max_pitch_deg, "--max-pitch"}}) {
+    if (!(deg >= 0.0 && deg < 360.0))
+      throw InvalidArgument(fmt::format("{} {} must lie in [0, 360) degrees (0: automatic)", flag, deg),
+                            "give pitch angles in degrees, e.g. --min-pitch 70 --max-pitch 110 for 4 teeth");
+    if (deg > 0.0 && deg < 2.0 * kPi && o.cut.teeth <= 57)
+      throw InvalidArgument(fmt::format("{} {}: a pitch angle under 6.3°, most likely radians", flag, deg),
+                            "give degrees, e.g. --min-pitch 70 --max-pitch 110 for 4 teeth");
+  }
+  if (!(o.robustness_pct >= 0.0 && o.robustness_pct <= 20.0))
+    throw InvalidArgument(fmt::format("--robustness {} % must lie in 0…20 (%)", o.robustness_pct), "e.g. 2 (%)");
+  PitchChoiceOptions& c = so.choice;
+  c.speed_rpm = o.rpm;
+  c.pattern = o.pattern == "linear" ? PitchPattern::Linear : PitchPattern::Alternating;
+  c.min_pitch_rad = radians_of(o.min_pitch_deg);
+  c.max_pitch_rad = radians_of(o.max_pitch_deg);
+  c.chatter_hz = o.chatter_hz;
+  c.window = o.window;
+  c.search_points = o.search_points;
+  c.robustness = o.robustness_pct / 100.0;
+  c.steps = o.intervals;
+  c.max_depth_m = o.max_depth_mm * 1e-3;
+  c.depth_steps = o.depth_steps;
+  c.parallel.threads = o.threads;
+  so.fit = dynamics_fit_options(o.dyn);
+  so.fit_target = o.dyn.fit_target_pct / 100.0;
+  LobesInput input;
+  fill_dynamics_input(o.dyn, g, read_joint_options(g, o.dyn.joints), input);
+  if (input.x_modes.empty() && !input.frfs && !input.assembly)
+    throw InvalidArgument("pitch needs modes: --mode-x MASS,ZETA,FN (repeatable) or --frf to fit them from",
+                          "e.g. --mode-x 0.04,0.011,922 --rigid-y, or --frf tool_point.csv");
+  Progress progress(g, "pitch: full-discretization search");
+  PitchStudyResult r;
+  try {
+    r = run_pitch_study(input, so);
+  } catch (const InvalidArgument& e) {
+    throw InvalidArgument(with_flags(e.what()), with_flags(e.hint()));
+  }
+  progress.done();
+  for (std::string& w : r.warnings) w = with_flags(w);
+  if (o.json) {
+    nlohmann::json out = r;
+    out["units"] = "SI: depths m, speeds rpm, frequencies Hz, angles rad";
+    std::cout << out.dump(2) << '\n';
+  } else {
+    print_choice(r);
+    std::cout << std::flush;
+  }
+  warn_all(r.warnings);
+}
+
+}  // namespace
+
+void add_pitch_command(CLI::App& app, Globals& g) {
+  auto o = std::make_shared<PitchOptions>();
+  CLI::App* c = app.add_subcommand(
+      "pitch", "The variable pitch that maximises the stable depth at one speed: Budak's rule, confirmed by full-discretization");
+  add_dynamics_options(c, o->dyn, g, "");
+  add_cut_options(c, o->cut, "Number of teeth N [-], ≥ 2 (the pitch is chosen: no --pitch) (required)");
+  add_tool_geometry_options(c, o->tool);
+  c->add_option("--rpm", o->rpm, "Target spindle speed [rpm] (required)")->required();
+  c->add_option(
+       "--pattern", o->pattern,
+       "alternating (P1/P2/P1/…, an even number of teeth) or linear (P, P+ΔP, P+2ΔP, …: N angles, e.g. three for 3 teeth)")
+      ->check(CLI::IsMember({"alternating", "linear"}))
+      ->capture_default_str();
+  c->add_option("--min-pitch", o->min_pitch_deg, "Smallest pitch angle allowed [degrees] (default 0: half the even pitch 360/N)");
+  c->add_option("--max-pitch", o->max_pitch_deg, "Largest pitch angle allowed [degrees] (default 0: 1.5 × the even pitch 360/N)");
+  c->add_option("--chatter", o->chatter_hz,
+                "Chatter frequency Budak's rule aims at [Hz] (default 0: the evenly spaced tool's at --rpm)");
+  c->add_option("--window", o->window, "Search ΔP over (1 ± WINDOW) × the closed form's, 0 < WINDOW ≤ 1 [-]")
+      ->capture_default_str();
+  c->add_option("--search-points", o->search_points, "Points of the first search grid [-], 3…201")->capture_default_str();
+  c->add_option("--robustness", o->robustness_pct,
+                "Maximise the lowest limit of ΔP and ΔP ± this [% of ΔP, as a speed off by as much], 0…20")
+      ->capture_default_str();
+  c->add_option("--intervals", o->intervals, "Steps per tooth period [-], 4…2000 (default 0: 12 per chatter wave)")
+      ->capture_default_str();
+  c->add_option("--max-depth", o->max_depth_mm, "Depths searched up to this [mm] (default 0: 20 × the zero-order floor)")
+      ->check(plausible_value(kDepthMm, "--max-depth"));
+  c->add_option("--depth-steps", o->depth_steps, "Equal depth steps of the search up to --max-depth [-], 4…10000")
+      ->capture_default_str();
+  c->add_option("--threads", o->threads, "Worker threads [-] (default 0: every core); results are identical for any number")
+      ->capture_default_str();
+  c->add_flag("--json", o->json, "Machine-readable result on stdout (angles in radians)");
+  c->footer(
+      "Example:\n"
+      "  toolpoint pitch --mode-x 0.03993,0.011,922 --rigid-y --teeth 4 --kt 6e8 --kr 0.3 --immersion 0.5 \\\n"
+      "      --milling down --rpm 5000 --min-pitch 60 --max-pitch 120");
+  c->callback([o, &g] { run_pitch(*o, g); });
+}
+
+}  // namespace toolpoint::cli

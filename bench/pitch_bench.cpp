@@ -1,0 +1,28 @@
+// Benchmark of the pitch choice (stability/pitch.hpp): the example assembly's 4 modes per direction
+// (as stability_bench.cpp's example), 4 teeth, K_t 6e8 N/m², K_r 0.3, a/D 0.5 down-milling, an
+// alternating pitch chosen at 5000 rpm with the default search (≈ 80 limits at fixed steps);
+// argument: threads. No aim set by the issue; a command-line answer should take seconds, not minutes.
+// Run: build/toolpoint_bench --benchmark_filter=Pitch
+#include <benchmark/benchmark.h>
+
+#include "example_modes.hpp"
+
+#include "toolpoint/stability/pitch.hpp"
+
+using namespace toolpoint;
+
+static void BM_Pitch_ChooseExampleAssembly(benchmark::State& state) {
+  const std::vector<Mode> modes = bench::example_modes();
+  const CuttingConditions cut{4, 6e8, 0.3, engagement_from_immersion(0.5, MillingDirection::Down)};
+  PitchChoiceOptions o;
+  o.speed_rpm = 5000.0;
+  o.parallel.threads = static_cast<int>(state.range(0));
+  long evaluations = 0;
+  for (auto _ : state) {
+    const PitchChoice r = choose_pitch(ModalModel{modes, modes}, cut, o);
+    evaluations = r.evaluations;
+    benchmark::DoNotOptimize(r.pitch_rad.data());
+  }
+  state.counters["limits"] = static_cast<double>(evaluations);
+}
+BENCHMARK(BM_Pitch_ChooseExampleAssembly)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
