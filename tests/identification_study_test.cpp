@@ -143,7 +143,7 @@ TEST(IdentificationStudy, AWeakModeTakenForANoisePeakIsNoFalseAlarm) {
   IdentificationData m;
   m.G11 = draw_block_noise(d.G, stated_block_noise(d.G, StatedNoise{0.01, 0.0, 0.01}), 1693);
   m.g_name = "sh11.csv";
-  const Identification id = identify_joint_from_frfs(a, {m}, quick(Route::SpindleHolderFromSH));
+  const Identification id = run_identification_study(a, {m}, quick(Route::SpindleHolderFromSH));
   ASSERT_EQ(id.forward_checks.size(), 1u);
   const ForwardCheck& fc = id.forward_checks[0];
   const ModeCheck* weak = nullptr;
