@@ -117,6 +117,34 @@ void PitchChoiceOptions::check() const {
   parallel.check();
 }
 
+namespace {
+
+// The chosen pattern's extrapolated limit, its gain over the even tool, and a warning where the
+// limit collapses next to the chosen variation: a pitch ground a little off, or a speed a little
+// off (ΔP scales with Ω), loses the gain. `res.samples` sorted by variation.
+void judge_choice(PitchChoice& res, const PitchSample& best, const ModalModel& model, const CuttingConditions& cutting,
+                  const PitchChoiceOptions& o) {
+  CuttingConditions chosen = cutting;
+  chosen.pitch_rad = res.pitch_rad;
+  res.chosen = extrapolated_limit(model, chosen, o, res.steps, res.max_depth_m);
+  res.evaluations += 2;
+  res.gain = res.chosen.depth_m / res.uniform.depth_m;
+  const auto at = std::find_if(res.samples.begin(), res.samples.end(),
+                               [&](const PitchSample& s) { return s.variation_rad == best.variation_rad; });
+  for (const auto side : {at - (at != res.samples.begin() ? 1 : 0), at + (at + 1 != res.samples.end() ? 1 : 0)})
+    if (side != at && side->depth_m < 0.7 * best.depth_m) {
+      res.warnings.push_back(fmt::format(
+          "the limit falls steeply beside the chosen variation: {:.4g} mm at {:.4g}° against {:.4g} mm at {:.4g}° (a pitch or "
+          "speed off by {:.2g} % loses it; Budak's closed form {:.4g}° gives {:.4g} mm)",
+          side->depth_m * 1e3, degrees_of(side->variation_rad), best.depth_m * 1e3, degrees_of(best.variation_rad),
+          100.0 * std::abs(side->variation_rad - best.variation_rad) / best.variation_rad,
+          degrees_of(res.closed_form_variation_rad), res.closed_form_depth_m * 1e3));
+      break;
+    }
+}
+
+}  // namespace
+
 PitchChoice choose_pitch(const ModalModel& model, const CuttingConditions& cutting, const PitchChoiceOptions& o) {
   o.check();
   model.check();
@@ -257,25 +285,7 @@ PitchChoice choose_pitch(const ModalModel& model, const CuttingConditions& cutti
                     "PitchChoiceOptions::window",
                     degrees_of(res.variation_rad), degrees_of(v0), degrees_of(v1)));
 
-  CuttingConditions chosen = cutting;
-  chosen.pitch_rad = res.pitch_rad;
-  res.chosen = extrapolated_limit(model, chosen, o, res.steps, res.max_depth_m);
-  res.evaluations += 2;
-  res.gain = res.chosen.depth_m / res.uniform.depth_m;
-  // A limit that collapses next to the chosen variation: a pitch ground a little off, or a speed a
-  // little off (ΔP scales with Ω), loses the gain.
-  const auto at = std::find_if(res.samples.begin(), res.samples.end(),
-                               [&](const PitchSample& s) { return s.variation_rad == best.variation_rad; });
-  for (const auto side : {at - (at != res.samples.begin() ? 1 : 0), at + (at + 1 != res.samples.end() ? 1 : 0)})
-    if (side != at && side->depth_m < 0.7 * best.depth_m) {
-      res.warnings.push_back(fmt::format(
-          "the limit falls steeply beside the chosen variation: {:.4g} mm at {:.4g}° against {:.4g} mm at {:.4g}° (a pitch or "
-          "speed off by {:.2g} % loses it; Budak's closed form {:.4g}° gives {:.4g} mm)",
-          side->depth_m * 1e3, degrees_of(side->variation_rad), best.depth_m * 1e3, degrees_of(best.variation_rad),
-          100.0 * std::abs(side->variation_rad - best.variation_rad) / best.variation_rad,
-          degrees_of(res.closed_form_variation_rad), res.closed_form_depth_m * 1e3));
-      break;
-    }
+  judge_choice(res, best, model, cutting, o);
   return res;
 }
 
