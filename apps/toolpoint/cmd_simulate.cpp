@@ -313,7 +313,8 @@ void run_map(const SimulateArgs& o, const Globals& g, const std::string& study) 
   warn_all(warnings);
   Progress progress(g, o.shard.empty() ? "simulate map: cells" : fmt::format("simulate map: shard {}/{}", index, count));
   if (!o.shard.empty()) {
-    SimulatedMapPart part = with_cli_names([&] { return run_simulated_map_part(dyn, mo, index, count, progress.part()); });
+    SimulatedMapPart part = with_cli_names(
+        [&, index = index, count = count] { return run_simulated_map_part(dyn, mo, index, count, progress.part()); });
     progress.done();
     part.study = study;
     write_text_file(o.part, format_simulated_map_part(part));
