@@ -823,17 +823,17 @@ JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<Join
   // replicate that converged, in replicate order.
   std::vector<BlockSeries> world(setups.size());
   for (std::size_t s = 0; s < setups.size(); ++s) world[s] = setups[s].B_base;
-  auto replicates = [&](std::size_t N, const std::function<void(double)>& progress, const std::vector<BlockSeries>& world,
+  auto replicates = [&](std::size_t N, const std::function<void(double)>& progress, const std::vector<BlockSeries>& b11_world,
                         std::uint64_t stream) {
     std::vector<VectorXd> rep(N);
     std::vector<char> ok(N, 0);
-    // The bootstrap world: θ̂ and the smoothed B11 (`world`), data drawn from the noise models.
+    // The bootstrap world: θ̂ and the smoothed B11 (`b11_world`), data drawn from the noise models.
     const JointParameters theta = par.params(q);
     std::vector<BlockSeries> truth_g(setups.size());
     for (std::size_t s = 0; s < setups.size(); ++s) {
       truth_g[s].frequency_hz = setups[s].f;
       for (std::size_t i = 0; i < setups[s].f.size(); ++i)
-        truth_g[s].blocks.push_back(forward_g11(setups[s].A[i], world[s].blocks[i], theta.stiffness(setups[s].f[i])));
+        truth_g[s].blocks.push_back(forward_g11(setups[s].A[i], b11_world[s].blocks[i], theta.stiffness(setups[s].f[i])));
     }
     parallel_for(
         N, options.parallel,
@@ -854,7 +854,7 @@ JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<Join
           }
           for (std::size_t s = 0; s < setups.size(); ++s) {
             const std::uint64_t base = stream_seed(options.seed, (stream + b) * 1000 + s);
-            Bb[s] = draw_block_noise(world[s], *setups[s].b_noise, stream_seed(base, 1), false);
+            Bb[s] = draw_block_noise(b11_world[s], *setups[s].b_noise, stream_seed(base, 1), false);
             Gb[s] = draw_block_noise(truth_g[s], *setups[s].g_noise, stream_seed(base, 2), false);
             for (Block& x : Bb[s].blocks) x *= b_scale[s];
             for (Block& x : Gb[s].blocks) x *= g_scale[s];
