@@ -69,7 +69,7 @@ TEST(LobesCommand, WritesLobesAndRejectsBadInputWithExitCodes) {
   EXPECT_NE(read_text_file(dir + "/e.csv").find("\nspindle_speed_rpm,axial_depth_mm,chatter_frequency_hz,lobe\n"),
             std::string::npos);
 
-  const CliRun sd = run_cli(base + " --immersion 0.05 --method sd --rigid-y --speeds 9 --max-depth 10 --output " + dir +
+  const CliRun sd = run_cli(base + " --immersion 0.05 --method fd --rigid-y --speeds 9 --max-depth 10 --output " + dir +
                             "/s.csv");
   ASSERT_EQ(sd.code, 0) << sd.out;
   EXPECT_NE(read_text_file(dir + "/s.csv")
@@ -137,7 +137,7 @@ TEST(ModesCommand, FitsAnFrfAndRejectsACoarseOne) {
   EXPECT_EQ(bad_band.code, 2) << bad_band.out;
   // An sd run from explicit modes, and a malformed mode.
   const std::string sd =
-      "lobes --method sd --teeth 2 --kt 6e8 --kn 2e8 --immersion 0.05 --milling down --rpm 17000:18000 --speeds 2 --rigid-y";
+      "lobes --method fd --teeth 2 --kt 6e8 --kn 2e8 --immersion 0.05 --milling down --rpm 17000:18000 --speeds 2 --rigid-y";
   const CliRun modes_given = run_cli(sd + " --mode-x 0.03993,0.011,922 --max-depth 10 --json");
   ASSERT_EQ(modes_given.code, 0) << modes_given.out;
   EXPECT_NE(modes_given.out.find("\"kind\": \"flip\""), std::string::npos) << modes_given.out;

@@ -144,6 +144,12 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
   if (!(o.tolerance_pct >= 1e-4 && o.tolerance_pct <= 50.0))
     throw InvalidArgument(fmt::format("--tolerance {} % must lie in 1e-4…50 (%)", o.tolerance_pct), "e.g. 1 (%)");
   so.speeds = {min_rpm, max_rpm, o.speeds};
+  if (o.method == "sd")  // an old spelling: running fd under sd's name would pass one method off as another
+    throw InvalidArgument(
+        "--method sd: semi-discretization is not implemented; full-discretization (fd) replaced it "
+        "(docs/stability.md says why: the same lobes, to a stated error, without a matrix exponential "
+        "per depth)",
+        "use --method fd");
   if (o.method == "zoa") so.method = LobesMethod::ZeroOrder;
   else so.method = LobesMethod::FullDiscretization;
   so.max_depth_m = o.max_depth_mm * 1e-3;
@@ -286,7 +292,7 @@ void add_lobes_command(CLI::App& app, Globals& g) {
   c->add_option("--lobes", o->lobes, "zoa: lobes k = 0…K [-] (default: enough to cover MIN rpm)");
   c->add_option("--method", o->method,
                 "zoa (zero-order, from the FRF) or fd (full-discretization of a modal model in the time domain: flip lobes, "
-                "low immersion); sd is accepted for fd")
+                "low immersion, several delays)")
       ->check(CLI::IsMember({"zoa", "fd", "sd"}))
       ->capture_default_str();
   c->add_option("--tolerance", o->tolerance_pct,

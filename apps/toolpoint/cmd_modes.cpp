@@ -75,7 +75,7 @@ void run_modes(const ModesOptions& o, const Globals& g) {
     std::string as_options;
     for (const Mode& m : study.model)  // the modes lobes accepts
       as_options += fmt::format(" --mode-x {:.6g},{:.6g},{:.6g}", m.mass_kg, m.damping_ratio, m.frequency_hz);
-    if (!as_options.empty()) std::cout << "for `toolpoint lobes --method sd`:" << as_options << '\n';
+    if (!as_options.empty()) std::cout << "for `toolpoint lobes --method fd`:" << as_options << '\n';
     std::cout << std::flush;
   }
   warn_all(study.warnings);

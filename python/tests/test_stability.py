@@ -91,7 +91,7 @@ def test_modal_fit_study_is_the_cli_one(tmp_path, prediction):
     d = read_csv(tmp_path / "fit.csv")
     assert np.array_equal(study.frequency_hz, d[:, 0]) and np.array_equal(study.fitted, d[:, 1] + 1j * d[:, 2])
     text = run_cli("modes", path, "--band", "300:3000")
-    line = next(x for x in text.splitlines() if x.startswith("for `toolpoint lobes --method sd`:"))
+    line = next(x for x in text.splitlines() if x.startswith("for `toolpoint lobes --method fd`:"))
     assert line.split(":", 1)[1].split() == [
         w for m in study.model for w in ("--mode-x", f"{m.mass_kg:.6g},{m.damping_ratio:.6g},{m.frequency_hz:.6g}")]
     assert len(study.model) >= 1 and study.warnings == study.fit.warnings
