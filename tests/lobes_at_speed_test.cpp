@@ -24,6 +24,8 @@
 #include "toolpoint/stability/simulation.hpp"
 #include "toolpoint/stability/stability.hpp"
 #include "toolpoint/studies/lobes.hpp"
+#include "toolpoint/uncertainty/uncertainty.hpp"
+#include "support/joint_data.hpp"
 
 using namespace toolpoint;
 
@@ -278,6 +280,65 @@ TEST(LobesAtSpeed, SpinningSpindleWithABearingTable) {
 // 1.15 a* (the zero-order method against the time domain in slotting: within a few per cent; ±15 %
 // leaves room). At each of those speeds the standstill lobes (the 0 rpm mode) give a depth more
 // than 20 % away from a*, so the check tells the two apart.
+// The joint uncertain on a spinning spindle with a bearing table: every sample's envelope is the
+// lobes at speed too (before, the samples fell back to the standstill FRF with a warning). Checked
+// through another route: envelope_uncertainty with each sample's envelope from the public study
+// without uncertainty (run_lobes_study on the sampled assembly) gives the same quantiles draw for
+// draw; the nominal is the at-speed study of the file's joint; and speed matters here (the median
+// envelope at speed differs from the standstill one's by more than 5 % somewhere).
+TEST(LobesAtSpeed, TheJointUncertainAtSpeed) {
+  const JointFile joint = toolpoint::test::uncertain_joint(0.05);
+  Assembly a = with_joint(example(), joint);
+  for (Bearing& b : a.spindle.bearings)
+    b.speed_table = {{0.0, b.stiffness, b.damping}, {30000.0, 0.6 * b.stiffness, 1.2 * b.damping}};
+  LobesStudyOptions o = options(SpeedModel::Spinning, 5000.0, 30000.0);
+  o.speeds.points = 120;
+  LobesInput in;
+  in.assembly = a;
+  LobesStudyOptions plain = o;
+  const LobesStudyResult nominal = run_lobes_study(in, plain);
+  in.uncertain_joint = joint;
+  o.uncertainty.samples = 10;
+  o.uncertainty.seed = 3;
+  const LobesStudyResult r = run_lobes_study(in, o);
+  ASSERT_TRUE(r.uncertainty);
+  EXPECT_FALSE(says(r.warnings, "standstill"));
+  ASSERT_EQ(r.envelope.size(), nominal.envelope.size());
+  for (std::size_t i = 0; i < r.envelope.size(); ++i) ASSERT_EQ(r.envelope[i].depth_m, nominal.envelope[i].depth_m) << i;
+
+  const auto envelope = [&](const Assembly& sample) {
+    LobesInput one;
+    one.assembly = sample;
+    LobesStudyOptions single = plain;
+    single.parallel.threads = 1;
+    const LobesStudyResult e = run_lobes_study(one, single);
+    StabilityEnvelope out;
+    for (const EnvelopePoint& p : e.envelope) {
+      out.first.push_back(p.speed_rpm);
+      out.second.push_back(p.depth_m);
+    }
+    return out;
+  };
+  UncertaintyOptions uo;
+  uo.samples = 10;
+  uo.seed = 3;
+  const StabilityUncertainty direct = envelope_uncertainty(a, joint, envelope, r.uncertainty->depth_grid_m, uo);
+  EXPECT_EQ(r.uncertainty->speed_rpm, direct.speed_rpm);
+  EXPECT_EQ(r.uncertainty->depth_m, direct.depth_m);
+  EXPECT_EQ(r.uncertainty->probability, direct.probability);
+
+  LobesStudyOptions still = o;
+  still.speed_model = SpeedModel::Standstill;
+  const LobesStudyResult s = run_lobes_study(in, still);
+  ASSERT_TRUE(s.uncertainty);
+  const auto& at_speed = r.uncertainty->depth_m[1];  // the median
+  const auto& standstill = s.uncertainty->depth_m[1];
+  ASSERT_EQ(at_speed.size(), standstill.size());
+  double most = 0.0;
+  for (std::size_t i = 0; i < at_speed.size(); ++i) most = std::max(most, std::abs(at_speed[i] / standstill[i] - 1.0));
+  EXPECT_GT(most, 0.05);
+}
+
 TEST(LobesAtSpeed, SpeedDependentLobesAgainstTheSimulation) {
   const auto mode_at = [](double n) { return Mode{0.05, 0.03, 900.0 * (1.0 - 0.3 * n / 30000.0)}; };
   std::vector<double> f;

@@ -770,62 +770,38 @@ LobesStudyResult nominal_lobes_study(const LobesInput& input, const LobesStudyOp
   return res;
 }
 
-}  // namespace
+// A study's envelope as the uncertainty module takes it.
+StabilityEnvelope envelope_of(const LobesStudyResult& r) {
+  StabilityEnvelope e;  // speeds [rpm], depths [m]
+  for (const EnvelopePoint& p : r.envelope) {
+    e.first.push_back(p.speed_rpm);
+    e.second.push_back(p.depth_m);
+  }
+  return e;
+}
 
-LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOptions& options, const ProgressCallback& progress) {
-  options.check();
-  if (input.uncertain_joint && !input.assembly)
-    throw InvalidArgument("LobesInput::uncertain_joint needs LobesInput::assembly (the joint is sampled inside the model)",
-                          "give the assembly whose tool point FRF LobesInput::frfs is");
-  if (!input.assembly && (options.speed_model == SpeedModel::Bearings || options.speed_model == SpeedModel::Spinning))
-    throw InvalidArgument(fmt::format("LobesStudyOptions::speed_model {} evaluates an assembly at each speed: it needs "
-                                      "LobesInput::assembly",
-                                      to_string(options.speed_model)),
-                          "give the assembly, or SpeedModel::Automatic / Standstill for the FRFs given");
-  if (input.speed_frfs && input.uncertain_joint)
-    throw InvalidArgument("LobesInput::speed_frfs (FRFs at several speeds) are not for an uncertain joint",
-                          "give one FRF (LobesInput::frfs), or drop LobesInput::uncertain_joint");
-  if (!input.frfs && !input.speed_frfs && input.assembly && lobes_at_speed(*input.assembly, options.speed_model)) {
-    const SpeedModel model = options.speed_model == SpeedModel::Automatic ? SpeedModel::Spinning : options.speed_model;
-    const bool asked = options.speed_model != SpeedModel::Automatic;
-    if (input.uncertain_joint) {
-      const std::string what = "an uncertain joint";
-      if (asked)
-        throw InvalidArgument(fmt::format("LobesStudyOptions::speed_model {}: the lobes at speed are computed without an "
-                                          "uncertain joint, not with {}",
-                                          to_string(model), what),
-                              "drop LobesInput::uncertain_joint, or use SpeedModel::Standstill");
-      // Automatic: the standstill model, said (the assembly's own note names the bearings).
-      LobesInput standstill = input;
-      LobesStudyOptions o = options;
-      o.speed_model = SpeedModel::Standstill;
-      LobesStudyResult r = run_lobes_study(standstill, o, progress);
-      r.warnings.push_back(
-          fmt::format("{} uses the standstill single-plane FRF (the bearings' constants and x values): the "
-                      "lobes at speed are computed without an uncertain joint",
-                      what));
-      return r;
-    }
-    return at_speed_lobes_study(input, options, model, progress);
-  }
-  if (!input.frfs && input.assembly) {
-    LobesInput with_frfs = input;
-    // A sampled joint file's joint is the nominal one, so the nominal envelope and the samples'
-    // describe the same joint (each sample replaces the assembly's joint too).
-    const AssemblyModel model(input.uncertain_joint ? with_joint(*input.assembly, *input.uncertain_joint) : *input.assembly);
-    with_frfs.frfs = milling_frfs(model, input.assembly->grid.values(), input.rigid_y);
-    LobesStudyResult r = run_lobes_study(with_frfs, options, progress);
-    const std::vector<std::string> w = model.warnings();  // by value: one vector for both iterators
-    r.warnings.insert(r.warnings.begin(), w.begin(), w.end());
-    return r;
-  }
-  if (!input.uncertain_joint) return nominal_lobes_study(input, options, progress);
+// The study with the joint drawn from `input.uncertain_joint` (needs `input.assembly`): the nominal
+// study (the file's joint in place of the assembly's), then each sample's envelope on the same
+// speeds (envelope_uncertainty), their quantile envelopes, the probability map and the pockets'
+// quantiles. With `at_speed`, every envelope is the lobes at speed (at_speed_lobes_study: the
+// assembly with the sample's joint evaluated at each speed node), as the nominal's.
+LobesStudyResult sampled_lobes_study(const LobesInput& input, const LobesStudyOptions& options,
+                                     std::optional<SpeedModel> at_speed, const ProgressCallback& progress) {
   options.uncertainty.check();
   // Each joint sample is one more study like the nominal one.
   const double share = 1.0 / (1.0 + options.uncertainty.samples);
   ProgressCallback nominal;
   if (progress) nominal = [&](double f) { progress(share * f); };
-  LobesStudyResult res = nominal_lobes_study(input, options, nominal);
+  LobesStudyResult res;
+  if (at_speed) {
+    // The file's joint is the nominal one (as milling_frfs' model below for the standstill).
+    LobesInput n = input;
+    n.assembly = with_joint(*input.assembly, *input.uncertain_joint);
+    n.uncertain_joint.reset();
+    res = at_speed_lobes_study(n, options, *at_speed, nominal);
+  } else {
+    res = nominal_lobes_study(input, options, nominal);
+  }
 
   double top = 0.0;
   for (const EnvelopePoint& p : res.envelope)
@@ -835,8 +811,20 @@ LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOption
   UncertaintyOptions draws = options.uncertainty;
   draws.progress = {};
   if (progress) draws.progress = [&](double f) { progress(share + (1.0 - share) * f); };
-  res.uncertainty = stability_uncertainty(*input.assembly, *input.uncertain_joint, input.assembly->grid.values(), options, depths,
-                                          draws, input.rigid_in_y());
+  if (at_speed) {
+    LobesStudyOptions inner = options;
+    inner.parallel.threads = 1;  // the samples run on the threads
+    const auto envelope = [&](const Assembly& a) {
+      LobesInput in;
+      in.assembly = a;
+      in.rigid_y = input.rigid_y;
+      return envelope_of(at_speed_lobes_study(in, inner, *at_speed, {}));
+    };
+    res.uncertainty = envelope_uncertainty(*input.assembly, *input.uncertain_joint, envelope, depths, draws);
+  } else {
+    res.uncertainty = stability_uncertainty(*input.assembly, *input.uncertain_joint, input.assembly->grid.values(), options,
+                                            depths, draws, input.rigid_in_y());
+  }
   res.uncertain_joint = input.uncertain_joint->source;
   const auto quantiles = quantile_envelopes(*res.uncertainty);
   res.figure.other_envelopes.insert(res.figure.other_envelopes.end(), quantiles.begin(), quantiles.end());
@@ -859,6 +847,41 @@ LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOption
   return res;
 }
 
+}  // namespace
+
+LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOptions& options, const ProgressCallback& progress) {
+  options.check();
+  if (input.uncertain_joint && !input.assembly)
+    throw InvalidArgument("LobesInput::uncertain_joint needs LobesInput::assembly (the joint is sampled inside the model)",
+                          "give the assembly whose tool point FRF LobesInput::frfs is");
+  if (!input.assembly && (options.speed_model == SpeedModel::Bearings || options.speed_model == SpeedModel::Spinning))
+    throw InvalidArgument(fmt::format("LobesStudyOptions::speed_model {} evaluates an assembly at each speed: it needs "
+                                      "LobesInput::assembly",
+                                      to_string(options.speed_model)),
+                          "give the assembly, or SpeedModel::Automatic / Standstill for the FRFs given");
+  if (input.speed_frfs && input.uncertain_joint)
+    throw InvalidArgument("LobesInput::speed_frfs (FRFs at several speeds) are not for an uncertain joint",
+                          "give one FRF (LobesInput::frfs), or drop LobesInput::uncertain_joint");
+  if (!input.frfs && !input.speed_frfs && input.assembly && lobes_at_speed(*input.assembly, options.speed_model)) {
+    const SpeedModel model = options.speed_model == SpeedModel::Automatic ? SpeedModel::Spinning : options.speed_model;
+    if (input.uncertain_joint) return sampled_lobes_study(input, options, model, progress);
+    return at_speed_lobes_study(input, options, model, progress);
+  }
+  if (!input.frfs && input.assembly) {
+    LobesInput with_frfs = input;
+    // A sampled joint file's joint is the nominal one, so the nominal envelope and the samples'
+    // describe the same joint (each sample replaces the assembly's joint too).
+    const AssemblyModel model(input.uncertain_joint ? with_joint(*input.assembly, *input.uncertain_joint) : *input.assembly);
+    with_frfs.frfs = milling_frfs(model, input.assembly->grid.values(), input.rigid_y);
+    LobesStudyResult r = run_lobes_study(with_frfs, options, progress);
+    const std::vector<std::string> w = model.warnings();  // by value: one vector for both iterators
+    r.warnings.insert(r.warnings.begin(), w.begin(), w.end());
+    return r;
+  }
+  if (!input.uncertain_joint) return nominal_lobes_study(input, options, progress);
+  return sampled_lobes_study(input, options, std::nullopt, progress);
+}
+
 StabilityUncertainty stability_uncertainty(const Assembly& assembly, const JointFile& joint,
                                            const std::vector<double>& frequency_hz, const LobesStudyOptions& lobes,
                                            const std::vector<double>& depth_grid_m, const UncertaintyOptions& o, bool rigid_y) {
@@ -869,13 +892,7 @@ StabilityUncertainty stability_uncertainty(const Assembly& assembly, const Joint
   const auto envelope = [&](const Assembly& a) {
     LobesInput in;
     in.frfs = milling_frfs(AssemblyModel(a), frequency_hz, rigid_y);
-    const LobesStudyResult r = nominal_lobes_study(in, inner, {});
-    std::vector<double> speeds, d;
-    for (const EnvelopePoint& p : r.envelope) {
-      speeds.push_back(p.speed_rpm);
-      d.push_back(p.depth_m);
-    }
-    return StabilityEnvelope{speeds, d};
+    return envelope_of(nominal_lobes_study(in, inner, {}));
   };
   return envelope_uncertainty(assembly, joint, envelope, depth_grid_m, o);
 }

@@ -185,7 +185,8 @@ struct LobesStudyResult {
 
 // Runs the study. Throws InvalidArgument (bad options, no FRF for the zero-order method, no modes
 // and no FRF, an uncertain joint without its assembly), InputError (bad FRFs, nothing to fit),
-// NumericalError. Progress: the nominal study, then each joint sample.
+// NumericalError. Progress: the nominal study, then each joint sample. At speed, each joint sample
+// is evaluated at speed too (the sampled assembly at each speed node, as the nominal).
 LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOptions& options,
                                  const ProgressCallback& progress = {});
 
