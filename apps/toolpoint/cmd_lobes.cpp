@@ -122,6 +122,17 @@ void report_uncertain_lobes(const LobesStudyResult& r) {
                              1e3 * r.worst_speed->depth_m[0], r.worst_speed->speed_rpm);
 }
 
+// --method as the library's method. sd, an old spelling, is refused: running fd under its name
+// would pass one method off as another.
+LobesMethod lobes_method(const std::string& method) {
+  if (method == "sd")
+    throw InvalidArgument("--method sd: semi-discretization is not implemented; full-discretization (fd) replaced it "
+                          "(docs/stability.md says why: the same lobes, to a stated error, without a matrix exponential "
+                          "per depth)",
+                          "use --method fd");
+  return method == "zoa" ? LobesMethod::ZeroOrder : LobesMethod::FullDiscretization;
+}
+
 void run_lobes(const LobesOptions& o, const Globals& g) {
   check_plot_path(o.plot);
   check_paths(dynamics_paths(o.dyn), {{o.output, "--output"},
@@ -144,14 +155,7 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
   if (!(o.tolerance_pct >= 1e-4 && o.tolerance_pct <= 50.0))
     throw InvalidArgument(fmt::format("--tolerance {} % must lie in 1e-4…50 (%)", o.tolerance_pct), "e.g. 1 (%)");
   so.speeds = {min_rpm, max_rpm, o.speeds};
-  if (o.method == "sd")  // an old spelling: running fd under sd's name would pass one method off as another
-    throw InvalidArgument(
-        "--method sd: semi-discretization is not implemented; full-discretization (fd) replaced it "
-        "(docs/stability.md says why: the same lobes, to a stated error, without a matrix exponential "
-        "per depth)",
-        "use --method fd");
-  if (o.method == "zoa") so.method = LobesMethod::ZeroOrder;
-  else so.method = LobesMethod::FullDiscretization;
+  so.method = lobes_method(o.method);
   so.max_depth_m = o.max_depth_mm * 1e-3;
   if (!std::isfinite(so.max_depth_m) || so.max_depth_m < 0.0)
     throw InvalidArgument(fmt::format("--max-depth {} mm must be ≥ 0", o.max_depth_mm),

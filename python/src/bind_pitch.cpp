@@ -63,7 +63,7 @@ void bind_pitch(py::module_& m) {
         PitchChoice r;
         {
           py::gil_scoped_release nogil;
-          r = choose_pitch(ModalModel{x_modes, y_modes}, cutting, o);
+          r = choose_pitch(ModalModel{x_modes, y_modes, {}}, cutting, o);
         }
         warn_all(r.warnings);
         return r;
