@@ -74,6 +74,7 @@ void to_json(nlohmann::json& j, const ModeCheck& c) {
        {"magnitude_mean", number(c.magnitude_mean)},
        {"magnitude_sd", number(c.magnitude_sd)},
        {"resolved_fraction", number(c.resolved_fraction)},
+       {"clearance", number(c.clearance)},
        {"frequency_z", number(c.frequency_z)},
        {"magnitude_z", number(c.magnitude_z)},
        {"frequency_rank_p", number(c.frequency_rank_p)},

@@ -5,6 +5,8 @@
 
 #include "support/joint_data.hpp"
 #include "toolpoint/error.hpp"
+#include "toolpoint/identify/forward_check.hpp"
+#include "toolpoint/measured/peaks.hpp"
 #include "toolpoint/io/assembly_file.hpp"
 #include "toolpoint/json.hpp"
 #include "toolpoint/studies/identification.hpp"
@@ -131,28 +133,82 @@ TEST(IdentificationStudy, VerdictFailsWhereTheResultCannotBeRight) {
 }
 
 // A weak mode under an additive floor (the second assembly's 2.9 kHz mode, its peak 1.6 % of
-// SH11's, under a floor of 1 % of that peak) is sometimes taken for a noise peak near its window's
-// edge. The replicates make that error too, rarely, so a z-score against their spread (set by the
-// usual case) put this data set, made from the true joint, at z = 3.6 > 3.42 and failed it; the
-// rank condition (the data's error more extreme than every replicate's) lets it pass, as data
-// from the true joint should. (Seed 1000 + 7·99 of IdentificationMonteCarlo's (b) row: one of the
-// 5 false alarms of 200 it had.)
-TEST(IdentificationStudy, AWeakModeTakenForANoisePeakIsNoFalseAlarm) {
+// SH11's, under a floor of 1 % of that peak) stands about 2.3 noise σ above its valley: the highest
+// peak in its window is as often a noise peak as the mode. Two data sets made from the true joint
+// (seeds 1000 + 7·99 and 1000 + 7·27 of IdentificationMonteCarlo's (b) row, two of its false
+// alarms) "found" it 8–11 % off, at its window's edge — frequency errors 5 and more standard
+// deviations of the replicates' — and failed. Under the clearance (ModeCheck::clearance < 5) the
+// mode is not judged; the data pass, as data from the true joint should.
+TEST(IdentificationStudy, AModeUnderTheNoiseIsNotJudged) {
   const Assembly a = load_assembly(std::string(TOOLPOINT_SOURCE_DIR) + "/examples/hsk63_hydraulic_12mm.toml").assembly;
   const RouteData d = route_data(a, Route::SpindleHolderFromSH, a.grid.values());
-  IdentificationData m;
-  m.G11 = draw_block_noise(d.G, stated_block_noise(d.G, StatedNoise{0.01, 0.0, 0.01}), 1693);
-  m.g_name = "sh11.csv";
-  const Identification id = run_identification_study(a, {m}, quick(Route::SpindleHolderFromSH));
-  ASSERT_EQ(id.forward_checks.size(), 1u);
-  const ForwardCheck& fc = id.forward_checks[0];
-  const ModeCheck* weak = nullptr;
-  for (const ModeCheck& c : fc.modes)
-    if (std::abs(c.model_hz - 2908.0) < 20.0) weak = &c;
-  ASSERT_NE(weak, nullptr);
-  EXPECT_GT(weak->frequency_z, fc.z);  // the z-test alone would fail it
-  EXPECT_GT(weak->frequency_rank_p, 1.0 / (1.0 + fc.replicates));
-  EXPECT_NE(id.verdict.verdict, Verdict::Fail);
+  for (std::uint64_t seed : {1693u, 1189u}) {
+    IdentificationData m;
+    m.G11 = draw_block_noise(d.G, stated_block_noise(d.G, StatedNoise{0.01, 0.0, 0.01}), seed);
+    m.g_name = "sh11.csv";
+    const Identification id = run_identification_study(a, {m}, quick(Route::SpindleHolderFromSH));
+    ASSERT_EQ(id.forward_checks.size(), 1u);
+    const ForwardCheck& fc = id.forward_checks[0];
+    const ModeCheck* weak = nullptr;
+    for (const ModeCheck& c : fc.modes)
+      if (std::abs(c.model_hz - 2908.0) < 20.0) weak = &c;
+    ASSERT_NE(weak, nullptr) << seed;
+    EXPECT_GT(std::abs(weak->frequency_error - weak->frequency_mean), 3.0 * weak->frequency_sd) << seed;
+    EXPECT_GT(weak->clearance, 1.5) << seed;
+    EXPECT_LT(weak->clearance, 4.0) << seed;
+    EXPECT_EQ(weak->agreement, ModeAgreement::NotResolved) << seed;
+    EXPECT_TRUE(std::isnan(weak->frequency_z)) << seed;
+    EXPECT_NE(id.verdict.verdict, Verdict::Fail) << seed;
+    // The main mode stands far clear and is judged.
+    EXPECT_EQ(fc.modes.front().agreement, ModeAgreement::Agrees) << seed;
+    EXPECT_GT(fc.modes.front().clearance, 50.0) << seed;
+  }
+}
+
+// ModeCheck::clearance takes σ from the stated noise through the smoother's weights, the noise
+// taken white. Against Monte Carlo: 400 draws of that noise, smoothed as the check smooths (15-point
+// cubic), their spread at the weak mode's peak. Tolerance 10 %: 400 draws leave ~3.5 % on σ, and
+// the floor's variance changes little over the window.
+TEST(IdentificationStudy, AModesClearanceAgainstMonteCarlo) {
+  const Assembly a = load_assembly(std::string(TOOLPOINT_SOURCE_DIR) + "/examples/hsk63_hydraulic_12mm.toml").assembly;
+  const RouteData d = route_data(a, Route::SpindleHolderFromSH, a.grid.values());
+  JointFitData x;
+  x.label = "test";
+  x.A = d.A;
+  x.B11 = d.B;
+  x.b_noise = exact_block_noise();
+  x.g_noise = stated_block_noise(d.G, StatedNoise{0.01, 0.0, 0.01});
+  x.G11 = draw_block_noise(d.G, x.g_noise, 7);
+  const ForwardCheck fc = check_forward(x, d.truth, ForwardCheckOptions{});
+  const SavgolOptions smooth{15, 3};
+  auto h_of = [](const BlockSeries& g) {
+    FrfSeries h;
+    h.frequency_hz = g.frequency_hz;
+    for (const Block& b : g.blocks) h.values.push_back(b(0, 0));
+    return h;
+  };
+  const FrfSeries ref = savgol_filter(h_of(d.G), smooth, "truth").series;
+  std::vector<double> mag;
+  for (const Complex& v : ref.values) mag.push_back(std::abs(v));
+  int checked = 0;
+  for (const ModeCheck& c : fc.modes) {
+    const Peak* pk = nullptr;
+    const std::vector<Peak> peaks = find_peaks(mag, 0.0);
+    for (const Peak& p : peaks)
+      if (std::abs(ref.frequency_hz[p.index] - c.model_hz) < 5.0) pk = &p;
+    ASSERT_NE(pk, nullptr) << c.model_hz;
+    double ms = 0.0;
+    constexpr int kDraws = 400;
+    for (int r = 0; r < kDraws; ++r) {
+      const FrfSeries h = savgol_filter(h_of(draw_block_noise(d.G, x.g_noise, 1000 + r)), smooth, "draw").series;
+      ms += std::norm(h.values[pk->index] - ref.values[pk->index]);
+    }
+    const double sigma = std::sqrt(ms / kDraws / 2.0);
+    const double expected = pk->prominence * mag[pk->index] / (std::sqrt(2.0) * sigma);
+    EXPECT_NEAR(c.clearance / expected, 1.0, 0.10) << c.model_hz;
+    ++checked;
+  }
+  EXPECT_GE(checked, 3);
 }
 
 // The spindle–holder joint by Eq. (18), S11 from the model: a pass, stiffnesses covered.

@@ -62,8 +62,9 @@ void to_json(nlohmann::json& j, const ModeComparison& c);
 // A mode of a forward check (forward_check.hpp): {"model_hz", "lo_hz", "hi_hz", "measured_hz",
 // "predicted_hz", "measured_peak", "predicted_peak", "frequency_error", "magnitude_error",
 // "frequency_mean", "frequency_sd", "magnitude_mean", "magnitude_sd", "resolved_fraction",
-// "frequency_z", "magnitude_z", "agreement" ("agrees" | "within tolerance" | "differs" |
-// "not resolved" | "missing")}; NaN (not found, not judged) is null.
+// "clearance", "frequency_z", "magnitude_z", "frequency_rank_p", "magnitude_rank_p", "agreement"
+// ("agrees" | "within tolerance" | "differs" | "not resolved" | "missing")}; NaN (not found, not
+// judged) and an infinite clearance (exact data) are null.
 void to_json(nlohmann::json& j, const ModeCheck& c);
 // {"frequency_hz", "prominence", "p_value", "significant"}
 void to_json(nlohmann::json& j, const ExtraPeak& e);

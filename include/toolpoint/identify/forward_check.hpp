@@ -90,6 +90,11 @@ struct ModeCheck {
   // the data's: (1 + count)/(1 + replicates), its least value when the data's is the most extreme
   // (NaN when not resolved).
   double frequency_rank_p = 0.0, magnitude_rank_p = 0.0;
+  // The mode's height above its higher valley in G_ref over √2 times the standard deviation G11's
+  // own noise leaves there after the check's smoothing (infinite for exact data). Under
+  // kModeClearance (5) a noise peak elsewhere in the window is as likely to be the highest: the
+  // mode is not resolved and not judged.
+  double clearance = 0.0;
   ModeAgreement agreement = ModeAgreement::Agrees;
 };
 
