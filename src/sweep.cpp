@@ -11,6 +11,8 @@
 // written once more in lanes. Same association, same formulas: the two paths differ only in
 // rounding (SLEEF's exp/sin/cos against libm's, a reciprocal for a Smith division), and a lane
 // that meets a near-singular inverse goes to the per-frequency function, which meets the same one.
+// The two-plane tool point (tool_point_two_plane) goes through the same lanes: once per whirl with
+// isotropic bearings, and in the whirl basis with anisotropic ones (batch_two_plane).
 // (Walking the holder and tool as point receptances too is cheaper, but it cancels the rigid-body
 // part of each light piece separately and loses 20× more at 10 Hz against an 80-digit reference.)
 // Units: SI, frequencies in Hz.
