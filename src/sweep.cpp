@@ -416,6 +416,24 @@ unsigned batch_two_plane(const Plans& plans, const Assembly& a, const double* f_
 #pragma GCC pop_options
 #endif  // TOOLPOINT_LANES
 
+// Walks `frequency_hz` kWidth at a time: `run(f)` evaluates a batch (a short last batch repeats its
+// last frequency) and returns the lanes to recompute, bit i for lane i; those go to `one(index)`,
+// the others to `take(index, lane)`.
+template <class Run, class Take, class One>
+void for_each_batch(const std::vector<double>& frequency_hz, Run run, Take take, One one) {
+  const std::size_t n = frequency_hz.size(), width = kWidth;
+  for (std::size_t start = 0; start < n; start += width) {
+    const std::size_t m = std::min(width, n - start);
+    double f[kWidth];
+    for (std::size_t i = 0; i < width; ++i) f[i] = frequency_hz[start + std::min(i, m - 1)];
+    const unsigned bad = run(f);
+    for (std::size_t i = 0; i < m; ++i) {
+      if (bad >> i & 1u) one(start + i);
+      else take(start + i, i);
+    }
+  }
+}
+
 // The series over `frequency_hz`, through the lanes when every chain is exact, with `at` (the
 // per-frequency function) for the lanes they cannot certify or for modal chains.
 BlockSeries sweep(const Plans* plans, const Assembly& a, const std::vector<double>& frequency_hz,
@@ -430,23 +448,15 @@ BlockSeries sweep(const Plans* plans, const Assembly& a, const std::vector<doubl
   };
 #if TOOLPOINT_LANES
   if (plans) {
-    const std::size_t n = frequency_hz.size(), width = kWidth;
-    for (std::size_t start = 0; start < n; start += width) {
-      const std::size_t m = std::min(width, n - start);
-      double f[kWidth];
-      for (std::size_t i = 0; i < width; ++i) f[i] = frequency_hz[start + std::min(i, m - 1)];  // a short batch repeats its last
-      double out[8][kWidth];
-      const unsigned bad = batch(*plans, a, f, out, whirl_spin);
-      for (std::size_t i = 0; i < m; ++i) {
-        if (bad >> i & 1u) {
-          one(start + i);
-        } else {
-          s.blocks[start + i] = make_block({out[0][i], out[4][i]}, {out[1][i], out[5][i]}, {out[2][i], out[6][i]},
-                                           {out[3][i], out[7][i]});
+    double out[8][kWidth];
+    for_each_batch(
+        frequency_hz, [&](const double* f) { return batch(*plans, a, f, out, whirl_spin); },
+        [&](std::size_t k, std::size_t i) {
+          s.blocks[k] = make_block({out[0][i], out[4][i]}, {out[1][i], out[5][i]}, {out[2][i], out[6][i]},
+                                   {out[3][i], out[7][i]});
           ++count.simd;
-        }
-      }
-    }
+        },
+        one);
     if (diagnostics) *diagnostics = count;
     return s;
   }
@@ -505,23 +515,14 @@ BlockSeries4 AssemblyModel::tool_point_two_plane(const std::vector<double>& freq
     const std::optional<Plans> plans = plans_for(spindle_, holder_, &tool_);
 #if TOOLPOINT_LANES
     if (plans) {
-      const std::size_t n = frequency_hz.size(), width = kWidth;
-      for (std::size_t start = 0; start < n; start += width) {
-        const std::size_t m = std::min(width, n - start);
-        double f[kWidth];
-        for (std::size_t i = 0; i < width; ++i) f[i] = frequency_hz[start + std::min(i, m - 1)];  // as sweep()
-        double b[32][kWidth];
-        const unsigned bad = batch_two_plane(*plans, assembly_, f, b, spin_rad_s);
-        for (std::size_t i = 0; i < m; ++i) {
-          if (bad >> i & 1u) {
-            one(start + i);
-            continue;
-          }
-          Block4& x = out.blocks[start + i];
-          for (int e = 0; e < 16; ++e) x(e / 4, e % 4) = Complex(b[2 * e][i], b[2 * e + 1][i]);
-          ++count.simd;
-        }
-      }
+      double b[32][kWidth];
+      for_each_batch(
+          frequency_hz, [&](const double* f) { return batch_two_plane(*plans, assembly_, f, b, spin_rad_s); },
+          [&](std::size_t k, std::size_t i) {
+            for (int e = 0; e < 16; ++e) out.blocks[k](e / 4, e % 4) = Complex(b[2 * e][i], b[2 * e + 1][i]);
+            ++count.simd;
+          },
+          one);
       if (diagnostics) *diagnostics = count;
       return out;
     }
