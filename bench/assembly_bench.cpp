@@ -49,7 +49,7 @@ BENCHMARK_CAPTURE(BM_Sweep, ExampleToolPointSHT11_10k, &AssemblyModel::tool_poin
 
 // The tool point in two planes at 24 000 rpm (issue 28's aim: ≤ 4× ExampleToolPointSHT11_10k):
 // isotropic bearings (the example: one sweep per whirl through the lanes), and the bearings made
-// anisotropic (k_y = 0.7 k_x: the spindle walked in 4×4, one frequency at a time).
+// anisotropic (k_y = 0.7 k_x: the spindle walked in 4×4 in the whirl basis, through the lanes).
 void BM_TwoPlane(benchmark::State& state, bool anisotropic) {
   Assembly a = example_model().assembly();
   if (anisotropic)

@@ -46,7 +46,7 @@ BENCHMARK(BM_PredictionStudy)->Unit(benchmark::kMillisecond);
 // Spinning), the FRF on the file's grid (4991 frequencies) at the default 17 nodes and their 16
 // midpoints, the lobes from all 33 and from the 17 (the error estimate). Arg 0: isotropic bearings
 // (one lane sweep per whirl); Arg 1: the front bearings 30 % softer in y, the rear ones with a speed
-// table (the 4×4 spindle route, one frequency at a time). Range(1): threads.
+// table (the spindle in 4×4: the whirl-basis lanes). Range(1): threads.
 void BM_LobesAtSpeed(benchmark::State& state) {
   LobesInput in;
   in.assembly = example();

@@ -11,6 +11,8 @@
 // written once more in lanes. Same association, same formulas: the two paths differ only in
 // rounding (SLEEF's exp/sin/cos against libm's, a reciprocal for a Smith division), and a lane
 // that meets a near-singular inverse goes to the per-frequency function, which meets the same one.
+// The two-plane tool point (tool_point_two_plane) goes through the same lanes: once per whirl with
+// isotropic bearings, and in the whirl basis with anisotropic ones (batch_two_plane).
 // (Walking the holder and tool as point receptances too is cheaper, but it cancels the rigid-body
 // part of each light piece separately and loses 20× more at 10 Hz against an 80-digit reference.)
 // Units: SI, frequencies in Hz.
@@ -244,9 +246,193 @@ unsigned batch(const Plans& plans, const Assembly& a, const double* f_in, double
   return static_cast<unsigned>(_mm256_movemask_pd((__m256d)bad));
 }
 
+// ---- Two planes with anisotropic bearings, in the whirl basis (docs/reference.md §10) -------------
+//
+// With u = Q q, Q = [[I, iI], [I, −iI]] on q = (w_x, ψ_x, w_y, ψ_y) (u = forward r = w_x + i w_y,
+// backward w_x − i w_y, and likewise for the loads), a two-plane receptance G becomes
+// Q G Q⁻¹ and a dynamic stiffness D becomes Q D Q⁻¹. An axisymmetric piece is then
+// diag(F, B), its whirls' planar blocks (receptance.hpp's two_plane is Q⁻¹ diag(F, B) Q), and
+// a bearing diag(D_x, D_y) becomes [[D_s, D_d], [D_d, D_s]] with D_s = (D_x + D_y)/2,
+// D_d = (D_x − D_y)/2: only the bearings couple the whirls. Coupling and modification are
+// similarity-invariant, so Chain::point_two_plane's and couple_point's algebra applies as
+// written, the pieces' blocks computed per whirl by the planar lanes above (exact, no 4×4 piece)
+// and every 4×4 inverse by blocks (Schur complement on the forward block). Q/√2 is unitary: the
+// basis change costs no conditioning. The lanes' singularity tests are those of the 2×2 blocks
+// (the forward block and its Schur complement); a lane failing one goes to the per-frequency
+// path (plane basis, complete pivoting), which handles it or throws.
+
+// A 4×4 block in the whirl basis as 2×2 blocks [[ff, fb], [bf, bb]].
+struct W4 {
+  B ff, fb, bf, bb;
+};
+[[gnu::always_inline]] inline W4 operator*(const W4& x, const W4& y) {
+  return {x.ff * y.ff + x.fb * y.bf, x.ff * y.fb + x.fb * y.bb, x.bf * y.ff + x.bb * y.bf, x.bf * y.fb + x.bb * y.bb};
+}
+[[gnu::always_inline]] inline B operator*(double k, const B& x) { return {k * x.a, k * x.b, k * x.c, k * x.d}; }
+// M⁻¹ by the Schur complement of the forward block: with P⁻¹ = ff⁻¹ and S = bb − bf P⁻¹ fb,
+// M⁻¹ = [[P⁻¹ + P⁻¹ fb S⁻¹ bf P⁻¹, −P⁻¹ fb S⁻¹], [−S⁻¹ bf P⁻¹, S⁻¹]].
+[[gnu::always_inline]] inline W4 inverse(const W4& m, Mask& bad) {
+  const B pi = lanes::inverse(m.ff, bad);
+  const B pi_fb = pi * m.fb, bf_pi = m.bf * pi;
+  const B si = lanes::inverse(m.bb - m.bf * pi_fb, bad);
+  const B bf_out = -1.0 * (si * bf_pi);
+  return {pi - pi_fb * bf_out, -1.0 * (pi_fb * si), bf_out, si};
+}
+[[gnu::always_inline]] inline W4 identity_plus(W4 m) {
+  m.ff = lanes::identity_plus(m.ff);
+  m.bb = lanes::identity_plus(m.bb);
+  return m;
+}
+// A pair of whirls' two-ports: the piece diag(F, B) in the whirl basis.
+struct Port2 {
+  Port f, b;
+};
+// G11 = A11 − A12 X A21 for a block-diagonal A (its whirls) and a full X.
+[[gnu::always_inline]] inline W4 through(const Port2& a, const W4& X) {
+  return {a.f.b11 - a.f.b12 * X.ff * a.f.b21, -1.0 * (a.f.b12 * X.fb * a.b.b21), -1.0 * (a.b.b12 * X.bf * a.f.b21),
+          a.b.b11 - a.b.b12 * X.bb * a.b.b21};
+}
+// A22 + g.
+[[gnu::always_inline]] inline W4 plus22(const Port2& a, const W4& g) { return {a.f.b22 + g.ff, g.fb, g.bf, a.b.b22 + g.bb}; }
+// couple_rigid_point (X = (A22 + g)⁻¹) and couple_elastic_point (X = K (I + (A22 + g) K)⁻¹, K
+// any 4×4 in the whirl basis: a joint's diag(K, K), a bearing's [[D_s, D_d], [D_d, D_s]]).
+[[gnu::always_inline]] inline W4 couple_rigid_point(const Port2& a, const W4& g, Mask& bad) {
+  return through(a, inverse(plus22(a, g), bad));
+}
+[[gnu::always_inline]] inline W4 couple_elastic_point(const Port2& a, const W4& g, const W4& K, Mask& bad) {
+  return through(a, K * inverse(identity_plus(plus22(a, g) * K), bad));
+}
+// ground_point: g (I + D g)⁻¹.
+[[gnu::always_inline]] inline W4 ground_point(const W4& g, const W4& D, Mask& bad) {
+  return g * inverse(identity_plus(D * g), bad);
+}
+W4 whirl_diagonal(const B& f, const B& b) {
+  const C zero = lanes::cplx(0.0, 0.0);
+  const B z{zero, zero, zero, zero};
+  return {f, z, z, b};
+}
+
+// The bearings at one node in the whirl basis: [[D_s, D_d], [D_d, D_s]] (above), the x values
+// from Bearing::stiffness/damping, the y values from stiffness_y/damping_y (unset: as x).
+W4 ground_stiffness_whirls(const std::vector<Bearing>& node, V w) {
+  double kx = 0.0, cx = 0.0, ky = 0.0, cy = 0.0, kt = 0.0, ct = 0.0;
+  for (const Bearing& b : node) {
+    kx += b.stiffness;
+    cx += b.damping;
+    ky += b.stiffness_y.value_or(b.stiffness);
+    cy += b.damping_y.value_or(b.damping);
+    kt += b.rotational_stiffness;
+    ct += b.rotational_damping;
+  }
+  const C zero = lanes::cplx(0.0, 0.0);
+  const B s{{lanes::splat(0.5 * (kx + ky)), (0.5 * (cx + cy)) * w}, zero, zero, {lanes::splat(kt), ct * w}};
+  const B d{{lanes::splat(0.5 * (kx - ky)), (0.5 * (cx - cy)) * w}, zero, zero, zero};
+  return {s, d, d, s};
+}
+
+// Chain::point_two_plane in lanes, in the whirl basis: the spindle walked from its rear end, each
+// piece's whirls from `fwd` and `bwd` (the same object at standstill: one evaluation serves both).
+W4 chain_point_whirls(const ChainPlan& chain, V w, Pieces& fwd, Pieces& bwd, bool standstill, Mask& bad) {
+  const std::size_t n = chain.pieces.size();
+  auto piece = [&](std::size_t i) {
+    Port2 p;
+    p.f = fwd(i);
+    p.b = standstill ? p.f : bwd(i);
+    return p;
+  };
+  const Port2 last = piece(n - 1);
+  W4 g = whirl_diagonal(last.f.b11, last.b.b11);
+  if (!chain.grounds[n]->empty()) {
+    // ground_end2_point: a joint D to a body of zero receptance (as chain_point above).
+    const C zero = lanes::cplx(0.0, 0.0);
+    const B z{zero, zero, zero, zero};
+    g = couple_elastic_point(last, W4{z, z, z, z}, ground_stiffness_whirls(*chain.grounds[n], w), bad);
+  }
+  for (std::size_t k = n - 1; k-- > 0;) {
+    if (!chain.grounds[k + 1]->empty()) g = ground_point(g, ground_stiffness_whirls(*chain.grounds[k + 1], w), bad);
+    g = couple_rigid_point(piece(k), g, bad);
+  }
+  if (!chain.grounds[0]->empty()) g = ground_point(g, ground_stiffness_whirls(*chain.grounds[0], w), bad);
+  return g;
+}
+
+// couple_point through a joint (both planes alike: diag(K, K) in either basis) in the whirl basis.
+W4 couple_point_whirls(const Port2& a, const W4& g, const Joint& joint, V w, Mask& bad) {
+  if (joint.rigid) return couple_rigid_point(a, g, bad);
+  const B K = joint_stiffness(joint.parameters, w);
+  return couple_elastic_point(a, g, whirl_diagonal(K, K), bad);
+}
+
+// AssemblyModel::tool_point_two_plane at the kWidth frequencies f_in [Hz], the spindle spinning
+// at `spin_rad_s`: entry (r, c) of the 4×4 block of lane i in out[2 (4r + c)][i] (real part) and
+// out[2 (4r + c) + 1][i] (imaginary part). Returns the lanes to recompute one at a time.
+unsigned batch_two_plane(const Plans& plans, const Assembly& a, const double* f_in, double (*out)[kWidth], double spin_rad_s) {
+  Mask bad{};
+  V f;
+  for (int i = 0; i < kWidth; ++i) f[i] = f_in[i];
+  bad |= ~lanes::within(f, 0.0, std::numeric_limits<double>::infinity());
+  const V w = (2.0 * kPi) * f, w2 = w * w;
+  const bool standstill = spin_rad_s == 0.0;
+  // batch()'s gyro: forward −Ω_spin, backward +Ω_spin.
+  const V gyro_f = (-2.0 * spin_rad_s) * w, gyro_b = (2.0 * spin_rad_s) * w;
+  const V* gf = standstill ? nullptr : &gyro_f;
+  const V* gb = standstill ? nullptr : &gyro_b;
+  auto whirls = [&](const ChainPlan& chain) {
+    Port2 p;
+    p.f = chain_two_port(chain, w2, gf, bad);
+    p.b = standstill ? p.f : chain_two_port(chain, w2, gb, bad);
+    return p;
+  };
+  Pieces sf(plans.spindle, w2, gf, bad), sb(plans.spindle, w2, gb, bad);
+  const W4 s11 = chain_point_whirls(plans.spindle, w, sf, sb, standstill, bad);
+  const W4 sh11 = couple_point_whirls(whirls(plans.holder), s11, a.spindle_holder, w, bad);
+  const W4 g = couple_point_whirls(whirls(*plans.tool), sh11, a.holder_tool, w, bad);
+  // Back to the planes, G = Q⁻¹ G_w Q: xx = (ff + bf + fb + bb)/2, xy = i (ff + bf − fb − bb)/2,
+  // yx = −i (ff − bf + fb − bb)/2, yy = (ff − bf − fb + bb)/2.
+  const B sum_f = g.ff + g.bf, dif_f = g.ff - g.bf, sum_b = g.fb + g.bb, dif_b = g.fb - g.bb;
+  const B xx = 0.5 * (sum_f + sum_b), yy = 0.5 * (dif_f - dif_b);
+  const B xy_i = 0.5 * (sum_f - sum_b), yx_mi = 0.5 * (dif_f + dif_b);  // xy / i, yx / (−i)
+  auto put = [&](int r, int c, C z) {
+    for (int i = 0; i < kWidth; ++i) {
+      out[2 * (4 * r + c)][i] = z.re[i];
+      out[2 * (4 * r + c) + 1][i] = z.im[i];
+    }
+  };
+  auto put_block = [&](int r0, int c0, const B& b, int rot) {  // b × i^rot (rot: 0, 1, −1)
+    const C e[4] = {b.a, b.b, b.c, b.d};
+    for (int k = 0; k < 4; ++k) {
+      const C z = rot == 0 ? e[k] : rot == 1 ? C{-e[k].im, e[k].re} : C{e[k].im, -e[k].re};
+      put(r0 + k / 2, c0 + k % 2, z);
+    }
+  };
+  put_block(0, 0, xx, 0);
+  put_block(0, 2, xy_i, 1);
+  put_block(2, 0, yx_mi, -1);
+  put_block(2, 2, yy, 0);
+  return static_cast<unsigned>(_mm256_movemask_pd((__m256d)bad));
+}
+
 #pragma GCC diagnostic pop
 #pragma GCC pop_options
 #endif  // TOOLPOINT_LANES
+
+// Walks `frequency_hz` kWidth at a time: `run(f)` evaluates a batch (a short last batch repeats its
+// last frequency) and returns the lanes to recompute, bit i for lane i; those go to `one(index)`,
+// the others to `take(index, lane)`.
+template <class Run, class Take, class One>
+void for_each_batch(const std::vector<double>& frequency_hz, Run run, Take take, One one) {
+  const std::size_t n = frequency_hz.size(), width = kWidth;
+  for (std::size_t start = 0; start < n; start += width) {
+    const std::size_t m = std::min(width, n - start);
+    double f[kWidth];
+    for (std::size_t i = 0; i < width; ++i) f[i] = frequency_hz[start + std::min(i, m - 1)];
+    const unsigned bad = run(f);
+    for (std::size_t i = 0; i < m; ++i) {
+      if (bad >> i & 1u) one(start + i);
+      else take(start + i, i);
+    }
+  }
+}
 
 // The series over `frequency_hz`, through the lanes when every chain is exact, with `at` (the
 // per-frequency function) for the lanes they cannot certify or for modal chains.
@@ -262,23 +448,15 @@ BlockSeries sweep(const Plans* plans, const Assembly& a, const std::vector<doubl
   };
 #if TOOLPOINT_LANES
   if (plans) {
-    const std::size_t n = frequency_hz.size(), width = kWidth;
-    for (std::size_t start = 0; start < n; start += width) {
-      const std::size_t m = std::min(width, n - start);
-      double f[kWidth];
-      for (std::size_t i = 0; i < width; ++i) f[i] = frequency_hz[start + std::min(i, m - 1)];  // a short batch repeats its last
-      double out[8][kWidth];
-      const unsigned bad = batch(*plans, a, f, out, whirl_spin);
-      for (std::size_t i = 0; i < m; ++i) {
-        if (bad >> i & 1u) {
-          one(start + i);
-        } else {
-          s.blocks[start + i] = make_block({out[0][i], out[4][i]}, {out[1][i], out[5][i]}, {out[2][i], out[6][i]},
-                                           {out[3][i], out[7][i]});
+    double out[8][kWidth];
+    for_each_batch(
+        frequency_hz, [&](const double* f) { return batch(*plans, a, f, out, whirl_spin); },
+        [&](std::size_t k, std::size_t i) {
+          s.blocks[k] = make_block({out[0][i], out[4][i]}, {out[1][i], out[5][i]}, {out[2][i], out[6][i]},
+                                   {out[3][i], out[7][i]});
           ++count.simd;
-        }
-      }
-    }
+        },
+        one);
     if (diagnostics) *diagnostics = count;
     return s;
   }
@@ -316,22 +494,42 @@ BlockSeries AssemblyModel::tool_point(const std::vector<double>& frequency_hz, S
       plans ? &*plans : nullptr, assembly_, frequency_hz, [this](double f) { return tool_point(f); }, diagnostics);
 }
 
-BlockSeries4 AssemblyModel::tool_point_two_plane(const std::vector<double>& frequency_hz, double spin_rad_s) const {
+BlockSeries4 AssemblyModel::tool_point_two_plane(const std::vector<double>& frequency_hz, double spin_rad_s,
+                                                 SweepDiagnostics* diagnostics) const {
   BlockSeries4 out;
   out.frequency_hz = frequency_hz;
   out.blocks.resize(frequency_hz.size());
   if (!isotropic()) {
-    for (std::size_t i = 0; i < frequency_hz.size(); ++i) {
-      const double f = frequency_hz[i];
-      Block4 b;
+    // The spindle in 4×4: through the lanes in the whirl basis, the lanes they cannot certify
+    // (and every frequency without lanes) one at a time in the planes.
+    SweepDiagnostics count;
+    auto one = [&](std::size_t i) {
+      ++count.per_frequency;
       block_at(
           [&](double x) {
-            b = tool_point_two_plane(x, spin_rad_s);
+            out.blocks[i] = tool_point_two_plane(x, spin_rad_s);
             return Block();
           },
-          f);
-      out.blocks[i] = b;
+          frequency_hz[i]);
+    };
+    const std::optional<Plans> plans = plans_for(spindle_, holder_, &tool_);
+#if TOOLPOINT_LANES
+    if (plans) {
+      double b[32][kWidth];
+      for_each_batch(
+          frequency_hz, [&](const double* f) { return batch_two_plane(*plans, assembly_, f, b, spin_rad_s); },
+          [&](std::size_t k, std::size_t i) {
+            for (int e = 0; e < 16; ++e) out.blocks[k](e / 4, e % 4) = Complex(b[2 * e][i], b[2 * e + 1][i]);
+            ++count.simd;
+          },
+          one);
+      if (diagnostics) *diagnostics = count;
+      return out;
     }
+#endif
+    (void)plans;
+    for (std::size_t i = 0; i < frequency_hz.size(); ++i) one(i);
+    if (diagnostics) *diagnostics = count;
     return out;
   }
   if (spin_rad_s == 0.0) {

@@ -205,8 +205,13 @@ class AssemblyModel {
   // Anisotropic bearings: the spindle in 4×4 (Chain::point_two_plane). `spin_rad_s` [rad/s].
   // Throws InvalidArgument for a spinning modal assembly (exact only), NumericalError as tool_point.
   Block4 tool_point_two_plane(double frequency_hz, double spin_rad_s) const;
-  // Over a grid [Hz]: isotropic bearings through the SIMD lanes, once per whirl (sweep.cpp).
-  BlockSeries4 tool_point_two_plane(const std::vector<double>& frequency_hz, double spin_rad_s) const;
+  // Over a grid [Hz], through the SIMD lanes (sweep.cpp): isotropic bearings once per whirl;
+  // anisotropic ones with the spindle walked in the whirl basis (forward, backward), where only the
+  // bearings couple the whirls, every 4×4 inverse by 2×2 blocks. Same values as the per-frequency
+  // function but for rounding; frequencies the lanes cannot certify go through it. `diagnostics`,
+  // if given, counts where the frequencies went (for the anisotropic walk).
+  BlockSeries4 tool_point_two_plane(const std::vector<double>& frequency_hz, double spin_rad_s,
+                                    SweepDiagnostics* diagnostics = nullptr) const;
   // One whirl's single-plane tool point (isotropic bearings; see Chain::point with a whirl).
   Block tool_point(double frequency_hz, double spin_rad_s, Whirl whirl) const;
   // Every bearing isotropic (Bearing::isotropic).
