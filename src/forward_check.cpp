@@ -124,7 +124,6 @@ Observation observe(const FrfSeries& meas, const FrfSeries& pred, const std::vec
 // (not resolved, not judged). Without its window, noisy data that happened to show it more
 // prominently than any replicate failed the rank test below: 4 of 400 data sets from the true
 // joint at 5 % noise (twice the rate the test allows), none with it (docs/noise-and-verdict.md).
-constexpr double kModeClearance = 5.0;
 constexpr double kWeakMode = 0.2;
 constexpr std::size_t kRippleReplicates = 50;
 

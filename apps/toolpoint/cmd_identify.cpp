@@ -262,10 +262,17 @@ void print_report(const IdentifyOptions& o, const Identification& id) {
     auto pct = [](double x) { return std::isfinite(x) ? fmt::format("{:+.2g} %", 100 * x) : std::string("-"); };
     auto sd = [](double x) { return std::isfinite(x) ? fmt::format("± {:.2g} %", 100 * x) : std::string(""); };
     auto hz = [](double x) { return std::isfinite(x) ? fmt::format("{:.1f}", x) : std::string("-"); };
+    // A mode under the noise says how far under.
+    auto agreement = [&](const ModeCheck& c) {
+      return c.agreement == ModeAgreement::NotResolved && fc.replicates > 0 && c.clearance < kModeClearance
+                 ? fmt::format("{} (stands {:.2g} noise σ clear, {:g} needed)", to_string(c.agreement), c.clearance,
+                               kModeClearance)
+                 : std::string(to_string(c.agreement));
+    };
     for (const ModeCheck& c : fc.modes)
       std::cout << fmt::format("  {:8.1f}  {:>11}  {:>12}  {:>10} {:<12}  {:>10} {:<12}  {}\n", c.model_hz, hz(c.measured_hz),
                                hz(c.predicted_hz), pct(c.frequency_error), sd(c.frequency_sd), pct(c.magnitude_error),
-                               sd(c.magnitude_sd), to_string(c.agreement));
+                               sd(c.magnitude_sd), agreement(c));
     for (const ExtraPeak& e : fc.extra)
       std::cout << fmt::format("  a peak of the data at {:.1f} Hz (prominence {:.2g}) in no mode's window: {}\n", e.frequency_hz,
                                e.prominence,

@@ -66,6 +66,11 @@ struct ForwardCheckOptions {
   void check() const;
 };
 
+// A mode counts where it stands this many times √2 σ above its higher valley: σ the ripple B11's
+// noise leaves in the prediction (which modes the model has), or G11's own noise after the
+// check's smoothing (whether the data can show it; ModeCheck::clearance).
+inline constexpr double kModeClearance = 5.0;
+
 enum class ModeAgreement {
   Agrees,           // within what the noise allows
   WithinTolerance,  // beyond the noise, within the tolerances: noted
@@ -92,7 +97,7 @@ struct ModeCheck {
   double frequency_rank_p = 0.0, magnitude_rank_p = 0.0;
   // The mode's height above its higher valley in G_ref over √2 times the standard deviation G11's
   // own noise leaves there after the check's smoothing (infinite for exact data). Under
-  // kModeClearance (5) a noise peak elsewhere in the window is as likely to be the highest: the
+  // kModeClearance a noise peak elsewhere in the window is as likely to be the highest: the
   // mode is not resolved and not judged.
   double clearance = 0.0;
   ModeAgreement agreement = ModeAgreement::Agrees;
