@@ -609,21 +609,11 @@ void read_safety_table(Reader& r, const toml::table& root, PlanOptions& o) {
 // [lobes]: the lobes' numerics and speed model (LobesStudyOptions).
 void read_lobes_table(Reader& r, const toml::table& root, LobesStudyOptions& l) {
   if (const toml::table* t = r.table(root, "lobes", "", false)) {
-    r.only(*t, "lobes",
-           {"lobes", "tolerance", "max_modes", "fit_target", "pocket_prominence", "speed_model", "speed_nodes",
-            "extrapolate_bearings"});
-    l.lobes = integer(r, *t, "lobes", "lobes", 0, 5000, -1);
-    l.tolerance = checked(
-        r, *t, "tolerance", "lobes", "(fraction)", false, l.tolerance, [](double v) { return v > 0.0 && v < 0.5; },
-        "must lie in (0, 0.5): the time domain's error target as a fraction of the depth", "e.g. 0.01 (1 %)");
-    l.fit.max_modes = integer(r, *t, "max_modes", "lobes", 1, 20, l.fit.max_modes);
-    l.fit_target = checked(
-        r, *t, "fit_target", "lobes", "(fraction)", false, l.fit_target, [](double v) { return v > 0.0 && v < 1.0; },
-        "must lie in (0, 1): a fraction of the FRF");
-    l.pocket_prominence = checked(
-        r, *t, "pocket_prominence", "lobes", "(fraction)", false, l.pocket_prominence,
-        [](double v) { return v >= 0.0 && v < 1.0; }, "must lie in [0, 1): a fraction of the depth");
-    // The speed model, as `lobes --speed-model/--speed-nodes/--extrapolate-bearings` (LobesStudyOptions).
+    std::vector<const char*> keys = field_keys(lobes_study_fields());
+    keys.push_back("speed_model");
+    r.only(*t, "lobes", keys);
+    read_fields(r, *t, "lobes", lobes_study_fields(), l);
+    // The speed model, as `lobes --speed-model` (LobesStudyOptions).
     if (const auto m = r.string(*t, "speed_model", "lobes")) {
       const std::optional<SpeedModel> model = speed_model_from(*m);
       if (!model)
@@ -631,13 +621,6 @@ void read_lobes_table(Reader& r, const toml::table& root, LobesStudyOptions& l) 
                fmt::format("lobes.speed_model = \"{}\": expected \"auto\", \"standstill\", \"bearings\" or \"spinning\"", *m),
                "auto: the x–y FRF at each speed where a bearing has a speed table or differs in x and y");
       l.speed_model = *model;
-    }
-    if (t->contains("speed_nodes")) l.speed_nodes = integer(r, *t, "speed_nodes", "lobes", 2, 1000, 0);
-    if (const toml::node* e = t->get("extrapolate_bearings")) {
-      if (!e->is_boolean())
-        r.fail(*e, "lobes.extrapolate_bearings must be true or false",
-               "true extends a bearing's speed table beyond its end rows (else a speed outside it is refused)");
-      l.extrapolate_bearings = e->as_boolean()->get();
     }
   }
 }
