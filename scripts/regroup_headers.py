@@ -46,9 +46,10 @@ STAGES = {
     "io": ["io", "uff", "frf_file", "assembly_file", "joint_file", "identify_io", "stability_io", "uncertainty_io"],
 }
 # Stay in include/toolpoint/: used by every stage (units and conventions, errors, threads,
-# plausible ranges, quantiles), or above all of them (json: every result type), or generated
-# (version.hpp, by CMake). include/toolpoint/studies/ is already its own stage, after io.
-KEEP = {"conventions", "error", "parallel", "plausibility", "statistics", "json", "version"}
+# plausible ranges, quantiles, the option fields' definitions), or above all of them (json: every
+# result type), or generated (version.hpp, by CMake). include/toolpoint/studies/ is already its own
+# stage, after io.
+KEEP = {"conventions", "error", "parallel", "plausibility", "statistics", "option_fields", "json", "version"}
 # Layer order for the include check: the KEEP headers used by every stage first, json last.
 ORDER = ["(top)"] + list(STAGES) + ["studies", "json"]
 

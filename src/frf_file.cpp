@@ -781,7 +781,22 @@ std::vector<std::string> coherence_lost(const std::vector<double>& coherence, co
 
 }  // namespace
 
+void FrfWriteOptions::check() const {
+  const auto one_line = [](const std::string& text, const std::string& field) {
+    if (text.find_first_of("\r\n") != std::string::npos)
+      throw InvalidArgument(fmt::format("{} has more than one line: '{}'", field, text),
+                            "give each line as its own entry of FrfWriteOptions::comments");
+  };
+  one_line(description, "FrfWriteOptions::description");
+  for (std::size_t i = 0; i < comments.size(); ++i) one_line(comments[i], fmt::format("FrfWriteOptions::comments[{}]", i));
+  for (std::size_t i = 0; i < coherence.size(); ++i)
+    if (!(coherence[i] >= 0.0 && coherence[i] <= 1.0))
+      throw InvalidArgument(fmt::format("FrfWriteOptions::coherence[{}] is {}; a coherence γ² lies in [0, 1]", i, coherence[i]),
+                            "give the magnitude-squared coherence, one value per frequency");
+}
+
 std::vector<std::string> write_frf_file(const std::string& path, const FrfSeries& h, const FrfWriteOptions& o) {
+  o.check();
   const FrfFormat format = o.format == FrfFormat::Auto ? frf_format_of_path(path) : o.format;
   require_finite_output(h, path);
   validate(h, "the series to write to " + path);
@@ -807,6 +822,7 @@ std::vector<std::string> write_frf_file(const std::string& path, const FrfSeries
 }
 
 std::vector<std::string> write_frf_file(const std::string& path, const BlockSeries& b, const FrfWriteOptions& o) {
+  o.check();
   const FrfFormat format = o.format == FrfFormat::Auto ? frf_format_of_path(path) : o.format;
   if (format != FrfFormat::Csv)
     throw InvalidArgument(fmt::format("{}: a 2×2 receptance block can only be written as FRF CSV, not {}", path,

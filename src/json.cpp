@@ -515,7 +515,8 @@ void to_json(nlohmann::json& j, const PitchStudyResult& r) {
 }
 
 void to_json(nlohmann::json& j, const LobesStudyResult& r) {
-  j = {{"method", to_string(r.method)},
+  j = {{"options", fields_json(lobes_study_fields(), r.options)},
+       {"method", to_string(r.method)},
        {"cutting", r.cutting},
        {"speeds", r.speeds},
        {"pockets", r.pockets},
@@ -590,6 +591,7 @@ void to_json(nlohmann::json& j, const PlanResult& r) {
       {"method", to_string(o.lobes.method)},
       {"cutting", o.lobes.cutting},
       {"speeds", o.lobes.speeds},
+      {"lobes", fields_json(lobes_study_fields(), o.lobes)},
       {"feed_per_tooth_m", o.feed_per_tooth_m},
       {"edge_coefficient_n_per_m", o.edge_coefficient_n_per_m},
       {"max_depth_m", o.max_depth_m},

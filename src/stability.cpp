@@ -650,50 +650,58 @@ struct SpeedFrfPoint {
   }
 };
 
-}  // namespace
-
-ZeroOrderResult zero_order_lobes(const SpeedDependentFrfs& frfs, const CuttingConditions& cutting,
-                                 const ZeroOrderOptions& options, const ParallelOptions& parallel) {
-  options.check();
-  check_zero_order_conditions(cutting);
-  frfs.check();
-  // One scale for every node, so that the points of all speeds are computed alike.
+// The floor of speed-dependent FRFs: each node's lobe table (on one scale 2^g_exp for every node,
+// so that the points of all speeds are computed alike) and the node whose floor is lowest.
+struct NodeTables {
   int g_exp = std::numeric_limits<int>::min();
-  for (const MillingFrfs& f : frfs.frfs) g_exp = std::max(g_exp, frf_scale_exponent(f));
   std::vector<LobeTable> tables;
-  std::vector<const LobeTable*> table_ptrs;
-  Floor fl;
+  Floor floor;
   std::size_t floor_node = 0;
+};
+
+NodeTables node_tables(const SpeedDependentFrfs& frfs, const CuttingConditions& cutting) {
+  NodeTables nt;
+  for (const MillingFrfs& f : frfs.frfs) nt.g_exp = std::max(nt.g_exp, frf_scale_exponent(f));
   for (std::size_t j = 0; j < frfs.frfs.size(); ++j) {
-    tables.push_back(zero_order_roots(frfs.frfs[j], cutting, g_exp));
+    nt.tables.push_back(zero_order_roots(frfs.frfs[j], cutting, nt.g_exp));
     bool any = false;
     for (int r = 0; r < 2; ++r)
-      for (double d : tables.back().depth_m[r]) any = any || std::isfinite(d);
+      for (double d : nt.tables.back().depth_m[r]) any = any || std::isfinite(d);
     if (!any) continue;
-    const Floor f = find_floor(tables.back());
-    if (f.depth < fl.depth) {
-      fl = f;
-      floor_node = j;
+    const Floor f = find_floor(nt.tables.back());
+    if (f.depth < nt.floor.depth) {
+      nt.floor = f;
+      nt.floor_node = j;
     }
   }
-  for (const LobeTable& t : tables) table_ptrs.push_back(&t);
-  if (!std::isfinite(fl.depth)) find_floor(tables.front());  // throws: no positive depth anywhere
-  ZeroOrderResult res;
-  frame_zero_order(res, table_ptrs, tables[floor_node], fl, cutting, options);
-  res.table = tables.front();
-  const LobeTable& t0 = res.table;
-  const Eigen::Matrix2d a = res.alpha;
-  const double nkt = cutting.teeth * cutting.tangential_coefficient;
-  const double n_min = options.speeds.min_rpm, n_max = options.speeds.max_rpm;
-  const double dn = res.envelope[1].speed_rpm - res.envelope[0].speed_rpm;
-  const SpeedFrfPoint frf_at{frfs, g_exp};
-  const std::vector<double>& nodes = frfs.speed_rpm;
-  const std::size_t nn = nodes.size(), nf = t0.chatter_hz.size();
-  // The roots at every node and frequency, labelled continuously: along the frequencies at the
-  // first node (zero_order_lobes' labels), then along the nodes at each frequency; their phases.
-  std::vector<Complex> mu(nn * nf * 2);
-  std::vector<double> node_phase(nn * nf * 2, kNaN);
-  {
+  if (!std::isfinite(nt.floor.depth)) find_floor(nt.tables.front());  // throws: no positive depth anywhere
+  return nt;
+}
+
+// The roots at every node and frequency, labelled continuously: along the frequencies at the
+// first node (zero_order_lobes' labels), then along the nodes at each frequency; their phases.
+// evaluate() gives root r at frequency i and speed n (between nodes j and j + 1, or at j): its
+// depth and the speed its phase gives, sf/(φ + k). False where it gives no depth.
+struct NodeRoots {
+  SpeedFrfPoint frf_at;
+  const LobeTable& t0;
+  const std::vector<double>& nodes;
+  Eigen::Matrix2d a;
+  double nkt;
+  std::size_t nn, nf;
+  std::vector<Complex> mu;
+  std::vector<double> phase;
+
+  NodeRoots(const SpeedDependentFrfs& frfs, int g_exp, const LobeTable& table, const Eigen::Matrix2d& alpha, double nkt_)
+      : frf_at{frfs, g_exp},
+        t0(table),
+        nodes(frfs.speed_rpm),
+        a(alpha),
+        nkt(nkt_),
+        nn(nodes.size()),
+        nf(t0.chatter_hz.size()),
+        mu(nn * nf * 2),
+        phase(nn * nf * 2, kNaN) {
     Complex g[4];
     for (std::size_t j = 0; j < nn; ++j)
       for (std::size_t i = 0; i < nf; ++i) {
@@ -705,23 +713,102 @@ ZeroOrderResult zero_order_lobes(const SpeedDependentFrfs& frfs, const CuttingCo
         bool out_of_range = false;
         for (int r = 0; r < 2; ++r) {
           double d = kNaN;
-          root_depth(m[r], scale2, nkt, g_exp, d, node_phase[(j * nf + i) * 2 + r], out_of_range);
+          root_depth(m[r], scale2, nkt, frf_at.g_exp, d, phase[(j * nf + i) * 2 + r], out_of_range);
         }
       }
   }
-  // Root r at frequency i and speed n (between nodes j and j + 1, or at j): its depth and the
-  // speed its phase gives, sf/(φ + k). False where it gives no depth.
-  const auto evaluate = [&](std::size_t i, int r, std::size_t j, double n, int k, double& depth, double& speed_out) {
+
+  bool evaluate(std::size_t i, int r, std::size_t j, double n, int k, double& depth, double& speed_out) const {
     Complex g[4], m[2];
     frf_at(i, n, g);
     milling_eigenvalues(a, g[0], g[1], g[2], g[3], &mu[(j * nf + i) * 2], m);
     const double scale2 = std::max(std::norm(m[0]), std::norm(m[1]));
     double ph = kNaN;
     bool out_of_range = false;
-    if (!root_depth(m[r], scale2, nkt, g_exp, depth, ph, out_of_range)) return false;
+    if (!root_depth(m[r], scale2, nkt, frf_at.g_exp, depth, ph, out_of_range)) return false;
     speed_out = t0.speed_factor[i] / (ph + k);
     return true;
+  }
+};
+
+// The points of lobe k, root r at frequency i: the zeros of F(n) = sf/(φ(n) + k) − n; at the
+// nodes from their phases, beyond the end nodes linear (the FRF held there). Zeros bracketed by a
+// sign change (0 counts as negative) between nodes where the root gives a depth. add(n, depth) takes
+// each point, slowest first; `unsettled` counts the brackets whose speed did not settle.
+template <class Add>
+void lobe_points_at(const NodeRoots& nr, std::size_t i, int r, int k, Add&& add, std::size_t& unsettled) {
+  const std::vector<double>& nodes = nr.nodes;
+  const std::size_t nn = nr.nn, nf = nr.nf;
+  const double sf = nr.t0.speed_factor[i];
+  const auto F = [&](std::size_t j) {
+    const double ph = nr.phase[(j * nf + i) * 2 + r];
+    return sf / (ph + k) - nodes[j];
   };
+  const auto evaluate = [&](std::size_t j, double n, double& depth, double& speed_out) {
+    return nr.evaluate(i, r, j, n, k, depth, speed_out);
+  };
+  double d = kNaN, n_out = kNaN;
+  const double f0 = F(0);
+  if (std::isfinite(f0) && !(f0 > 0.0) && evaluate(0, nodes[0] + f0, d, n_out)) add(n_out, d);
+  for (std::size_t j = 0; j + 1 < nn; ++j) {
+    double fa = F(j), fb = F(j + 1), lo = nodes[j], hi = nodes[j + 1];
+    if (std::isfinite(fa) != std::isfinite(fb)) {
+      // The root gains (or loses) its depth between the nodes: the bracket starts where it
+      // has one, found by bisection (to 1e-9 of the interval).
+      double with = std::isfinite(fa) ? lo : hi, without = std::isfinite(fa) ? hi : lo, fw = std::isfinite(fa) ? fa : fb;
+      for (int it = 0; it < 30; ++it) {
+        const double mid = 0.5 * (with + without);
+        if (evaluate(j, mid, d, n_out)) {
+          with = mid;
+          fw = n_out - mid;
+        } else {
+          without = mid;
+        }
+      }
+      if (std::isfinite(fa)) {
+        hi = with;
+        fb = fw;
+      } else {
+        lo = with;
+        fa = fw;
+      }
+    }
+    if (!std::isfinite(fa) || !std::isfinite(fb) || (fa > 0.0) == (fb > 0.0)) continue;
+    // Regula falsi (Illinois) in [lo, hi] on F with the interpolated FRF.
+    double flo = fa, fhi = fb;
+    bool settled = false;
+    int side = 0;
+    for (int it = 0; it < 60; ++it) {
+      const double n = flo == fhi ? 0.5 * (lo + hi) : lo - flo * (hi - lo) / (fhi - flo);
+      if (!evaluate(j, n, d, n_out)) break;  // the root loses its depth inside: no point
+      const double fn = n_out - n;
+      if (std::abs(fn) <= 1e-10 * n || hi - lo <= 1e-12 * hi) {
+        settled = true;
+        break;
+      }
+      if ((fn > 0.0) == (flo > 0.0)) {
+        lo = n;
+        flo = fn;
+        if (side == -1) fhi *= 0.5;
+        side = -1;
+      } else {
+        hi = n;
+        fhi = fn;
+        if (side == 1) flo *= 0.5;
+        side = 1;
+      }
+    }
+    if (settled) add(n_out, d);
+    else ++unsettled;
+  }
+  const double f_last = F(nn - 1);
+  if (std::isfinite(f_last) && f_last > 0.0 && evaluate(nn - 1, nodes[nn - 1] + f_last, d, n_out)) add(n_out, d);
+}
+
+// Every lobe's points into res.solved_points (by lobe, root, sheet, frequency), with warnings for
+// the points that did not settle or fold back in speed more than the sheets hold.
+void solve_lobe_points(const NodeRoots& nr, int teeth, double n_min, double n_max, ZeroOrderResult& res) {
+  const LobeTable& t0 = nr.t0;
   constexpr int kSheets = 4;  // solutions per lobe, root and frequency kept (a lobe folding back in speed)
   std::size_t unsettled = 0, dropped = 0;
   std::vector<double> speed[2][kSheets], depth[2][kSheets];
@@ -729,7 +816,7 @@ ZeroOrderResult zero_order_lobes(const SpeedDependentFrfs& frfs, const CuttingCo
   for (int k = 0; k <= res.lobes; ++k) {
     // Lobe k's window: its speed factor bounds it (phase in (0, 1)) whatever the node.
     // (Not a structured binding: the lambdas below use the bounds, which clang 14 cannot capture.)
-    const std::pair<std::size_t, std::size_t> window = lobe_window(t0, cutting.teeth, k, n_min, n_max);
+    const std::pair<std::size_t, std::size_t> window = lobe_window(t0, teeth, k, n_min, n_max);
     const std::size_t i0 = window.first, i1 = window.second;
     for (int r = 0; r < 2; ++r) {
       for (int q = 0; q < kSheets; ++q) {
@@ -738,16 +825,8 @@ ZeroOrderResult zero_order_lobes(const SpeedDependentFrfs& frfs, const CuttingCo
       }
       count[r].assign(i1 - i0, 0);
     }
-    for (std::size_t i = i0; i < i1; ++i) {
-      const double sf = t0.speed_factor[i];
+    for (std::size_t i = i0; i < i1; ++i)
       for (int r = 0; r < 2; ++r) {
-        // F(n) = sf/(φ(n) + k) − n, whose zeros are the lobe points; at the nodes from their
-        // phases, beyond the end nodes linear (the FRF held there). Zeros bracketed by a sign
-        // change (0 counts as negative) between nodes where the root gives a depth.
-        const auto F = [&](std::size_t j) {
-          const double ph = node_phase[(j * nf + i) * 2 + r];
-          return sf / (ph + k) - nodes[j];
-        };
         auto add = [&](double n, double d) {
           int& c = count[r][i - i0];
           if (c < kSheets) {
@@ -758,73 +837,32 @@ ZeroOrderResult zero_order_lobes(const SpeedDependentFrfs& frfs, const CuttingCo
           }
           ++c;
         };
-        double d = kNaN, n_out = kNaN;
-        const double f0 = F(0);
-        if (std::isfinite(f0) && !(f0 > 0.0) && evaluate(i, r, 0, nodes[0] + f0, k, d, n_out)) add(n_out, d);
-        for (std::size_t j = 0; j + 1 < nn; ++j) {
-          double fa = F(j), fb = F(j + 1), lo = nodes[j], hi = nodes[j + 1];
-          if (std::isfinite(fa) != std::isfinite(fb)) {
-            // The root gains (or loses) its depth between the nodes: the bracket starts where it
-            // has one, found by bisection (to 1e-9 of the interval).
-            double with = std::isfinite(fa) ? lo : hi, without = std::isfinite(fa) ? hi : lo, fw = std::isfinite(fa) ? fa : fb;
-            for (int it = 0; it < 30; ++it) {
-              const double mid = 0.5 * (with + without);
-              if (evaluate(i, r, j, mid, k, d, n_out)) {
-                with = mid;
-                fw = n_out - mid;
-              } else {
-                without = mid;
-              }
-            }
-            if (std::isfinite(fa)) {
-              hi = with;
-              fb = fw;
-            } else {
-              lo = with;
-              fa = fw;
-            }
-          }
-          if (!std::isfinite(fa) || !std::isfinite(fb) || (fa > 0.0) == (fb > 0.0)) continue;
-          // Regula falsi (Illinois) in [lo, hi] on F with the interpolated FRF.
-          double flo = fa, fhi = fb;
-          bool settled = false;
-          int side = 0;
-          for (int it = 0; it < 60; ++it) {
-            const double n = flo == fhi ? 0.5 * (lo + hi) : lo - flo * (hi - lo) / (fhi - flo);
-            if (!evaluate(i, r, j, n, k, d, n_out)) break;  // the root loses its depth inside: no point
-            const double fn = n_out - n;
-            if (std::abs(fn) <= 1e-10 * n || hi - lo <= 1e-12 * hi) {
-              settled = true;
-              break;
-            }
-            if ((fn > 0.0) == (flo > 0.0)) {
-              lo = n;
-              flo = fn;
-              if (side == -1) fhi *= 0.5;
-              side = -1;
-            } else {
-              hi = n;
-              fhi = fn;
-              if (side == 1) flo *= 0.5;
-              side = 1;
-            }
-          }
-          if (settled) add(n_out, d);
-          else ++unsettled;
-        }
-        const double f_last = F(nn - 1);
-        if (std::isfinite(f_last) && f_last > 0.0 && evaluate(i, r, nn - 1, nodes[nn - 1] + f_last, k, d, n_out)) add(n_out, d);
+        lobe_points_at(nr, i, r, k, add, unsettled);
       }
-    }
     for (int r = 0; r < 2; ++r)
       for (int q = 0; q < kSheets; ++q)
         for (std::size_t i = i0; i < i1; ++i)
           if (std::isfinite(speed[r][q][i - i0]))
             res.solved_points.push_back(LobePoint{k, r, speed[r][q][i - i0], depth[r][q][i - i0], t0.chatter_hz[i]});
   }
-  // The envelope at each speed n: the lobes of the FRF at n (interpolated), read at n, as
-  // zero_order_lobes reads the lobes of its one FRF. The floor: the lowest of those FRFs' and
-  // the nodes'.
+  if (unsettled > 0)
+    res.warnings.push_back(fmt::format(
+        "{} lobe point(s) left out: the speed of each point (where the FRF at that speed gives its phase) did not settle "
+        "in 60 steps between two speeds of the FRFs",
+        unsettled));
+  if (dropped > 0)
+    res.warnings.push_back(
+        fmt::format("{} lobe point(s) left out: a lobe folds back in speed more than {} times at one "
+                    "chatter frequency (only the {} slowest points are kept)",
+                    dropped, kSheets, kSheets));
+}
+
+// The envelope at each speed n: the lobes of the FRF at n (interpolated), read at n, as
+// zero_order_lobes reads the lobes of its one FRF. The floor: the lowest of those FRFs' and
+// the nodes'.
+void speed_dependent_envelope(const SpeedDependentFrfs& frfs, const CuttingConditions& cutting, int g_exp,
+                              const ParallelOptions& parallel, ZeroOrderResult& res) {
+  const double dn = res.envelope[1].speed_rpm - res.envelope[0].speed_rpm;
   std::vector<Floor> floors(res.envelope.size());
   parallel_for(res.envelope.size(), parallel, [&](std::size_t e) {
     const double n = res.envelope[e].speed_rpm;
@@ -846,16 +884,24 @@ ZeroOrderResult zero_order_lobes(const SpeedDependentFrfs& frfs, const CuttingCo
       res.floor_depth_m = f.depth;
       res.floor_chatter_hz = f.chatter_hz;
     }
-  if (unsettled > 0)
-    res.warnings.push_back(fmt::format(
-        "{} lobe point(s) left out: the speed of each point (where the FRF at that speed gives its phase) did not settle "
-        "in 60 steps between two speeds of the FRFs",
-        unsettled));
-  if (dropped > 0)
-    res.warnings.push_back(
-        fmt::format("{} lobe point(s) left out: a lobe folds back in speed more than {} times at one "
-                    "chatter frequency (only the {} slowest points are kept)",
-                    dropped, kSheets, kSheets));
+}
+
+}  // namespace
+
+ZeroOrderResult zero_order_lobes(const SpeedDependentFrfs& frfs, const CuttingConditions& cutting,
+                                 const ZeroOrderOptions& options, const ParallelOptions& parallel) {
+  options.check();
+  check_zero_order_conditions(cutting);
+  frfs.check();
+  const NodeTables nt = node_tables(frfs, cutting);
+  std::vector<const LobeTable*> table_ptrs;
+  for (const LobeTable& t : nt.tables) table_ptrs.push_back(&t);
+  ZeroOrderResult res;
+  frame_zero_order(res, table_ptrs, nt.tables[nt.floor_node], nt.floor, cutting, options);
+  res.table = nt.tables.front();
+  const NodeRoots roots(frfs, nt.g_exp, res.table, res.alpha, cutting.teeth * cutting.tangential_coefficient);
+  solve_lobe_points(roots, cutting.teeth, options.speeds.min_rpm, options.speeds.max_rpm, res);
+  speed_dependent_envelope(frfs, cutting, nt.g_exp, parallel, res);
   warn_uncovered(res);
   return res;
 }

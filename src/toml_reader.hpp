@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <fmt/format.h>
 #include <optional>
 #include <string>
@@ -13,6 +14,7 @@
 
 #include "toolpoint/error.hpp"
 #include "toolpoint/model/joint.hpp"
+#include "toolpoint/option_fields.hpp"
 #include "toolpoint/plausibility.hpp"
 #include "toml_input.hpp"
 
@@ -49,6 +51,9 @@ class Reader {
 
   // Only `allowed` keys may appear in `t`; anything else is an error with the nearest valid key.
   void only(const toml::table& t, const std::string& path, std::initializer_list<const char*> allowed) const {
+    only(t, path, std::vector<const char*>(allowed));
+  }
+  void only(const toml::table& t, const std::string& path, const std::vector<const char*>& allowed) const {
     for (auto&& [k, v] : t) {
       const std::string key(k.str());
       if (std::find_if(allowed.begin(), allowed.end(), [&](const char* a) { return key == a; }) != allowed.end()) continue;
@@ -159,5 +164,45 @@ class Reader {
 // reciprocal joint needs six). `t` null: rigid (the table is absent). A joint file's [joint]
 // (`joint_file`) has the key `interface` and no `rigid`.
 Joint read_joint_table(Reader& r, const toml::table* t, const std::string& path, bool joint_file = false);
+
+// The keys of a table that are option fields (option_fields.hpp: each field's plan_key, in the
+// table's order), for Reader::only.
+template <class Options>
+std::vector<const char*> field_keys(const std::vector<OptionField<Options>>& fields) {
+  std::vector<const char*> keys;
+  for (const OptionField<Options>& f : fields)
+    if (f.spec.plan_key) keys.push_back(f.spec.plan_key);
+  return keys;
+}
+
+// Each option field whose plan_key `t` holds, read into `o`: a flag true or false, a number in the
+// field's unit and range (an integer a whole number; the automatic value is the key's absence),
+// failing at the key with the range and the field's help.
+template <class Options>
+void read_fields(const Reader& r, const toml::table& t, const std::string& path, const std::vector<OptionField<Options>>& fields,
+                 Options& o) {
+  for (const OptionField<Options>& f : fields) {
+    const FieldSpec& s = f.spec;
+    const toml::node* n = s.plan_key ? t.get(s.plan_key) : nullptr;
+    if (!n) continue;
+    const std::string key = Reader::join(path, s.plan_key);
+    if (s.kind == FieldKind::Flag) {
+      if (!n->is_boolean()) r.fail(*n, fmt::format("{} must be true or false", key), fmt::format("{}: {}", key, s.help));
+      f.set(o, n->as_boolean()->get() ? 1.0 : 0.0);
+      continue;
+    }
+    const bool integer = s.kind == FieldKind::Integer;
+    const double v = *r.number(t, s.plan_key, path, *s.unit ? s.unit : integer ? "(count)" : "(fraction)");
+    FieldSpec range = s;
+    range.automatic = std::numeric_limits<double>::quiet_NaN();  // not written in a file: the key left out
+    if (!field_value_valid(range, v))
+      r.fail(*n,
+             fmt::format("{} = {:g} {}{}", key, v,
+                         integer ? "must be an integer in " + field_range_text(s) : field_range_phrase(s),
+                         *s.unit ? fmt::format(" {}", s.unit) : std::string()),
+             fmt::format("{}: {}", key, s.help));
+    f.set(o, v);
+  }
+}
 
 }  // namespace toolpoint

@@ -339,3 +339,40 @@ TEST(FrfFile, EvenGridDetection) {
   for (int i = 0; i < 5; ++i) h.frequency_hz[static_cast<std::size_t>(i)] = 1.0 + i / 3.0;
   EXPECT_FALSE(uff_from_receptance(h, {}, "grid").even);
 }
+
+// FrfWriteOptions::check names the field at fault, and write_frf_file refuses before writing: a
+// comment with a line break would end the CSV comment and leave an unreadable data line; a
+// coherence γ² outside [0, 1] (or NaN) cannot be a coherence. No file may be left behind.
+TEST(FrfFile, WriteOptionsCheckNamesTheField) {
+  TempDir dir;
+  FrfSeries h;
+  for (int i = 1; i <= 5; ++i) {
+    h.frequency_hz.push_back(100.0 * i);
+    h.values.push_back(sdof_receptance(100.0 * i));
+  }
+  const auto refused = [&](const FrfWriteOptions& w, const std::string& field) {
+    SCOPED_TRACE(field);
+    const std::string path = dir / "refused.csv";
+    try {
+      write_frf_file(path, h, w);
+      ADD_FAILURE() << "accepted";
+    } catch (const InvalidArgument& e) {
+      EXPECT_TRUE(contains(e.what(), field)) << e.what();
+    }
+    EXPECT_FALSE(fs::exists(path));
+  };
+  FrfWriteOptions w;
+  EXPECT_NO_THROW(w.check());
+  w.description = "one\nline too many";
+  refused(w, "FrfWriteOptions::description");
+  w = {};
+  w.comments = {"fine", "second\r\nline"};
+  refused(w, "FrfWriteOptions::comments[1]");
+  w = {};
+  w.coherence = {0.5, 1.0, 0.0, 1.0000001, 0.9};
+  refused(w, "FrfWriteOptions::coherence[3]");
+  w.coherence = {0.5, 1.0, std::nan(""), 1.0, 0.9};
+  refused(w, "FrfWriteOptions::coherence[2]");
+  w.coherence = {0.5, 1.0, 0.0, 1.0, 0.9};  // the edges are valid
+  EXPECT_NO_THROW(write_frf_file(dir / "ok.csv", h, w));
+}

@@ -6,7 +6,9 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fmt/format.h>
 #include <initializer_list>
+#include <set>
 #include <string>
 #include <unistd.h>
 
@@ -17,6 +19,8 @@
 #include "toolpoint/studies/predict.hpp"
 #include "toolpoint/studies/plan.hpp"
 #include "toolpoint/studies/plan_io.hpp"
+#include "toolpoint/option_fields.hpp"
+#include "toolpoint/studies/lobes.hpp"
 
 using namespace toolpoint;
 
@@ -427,4 +431,36 @@ TEST(PlanStudyFile, SpeedModelKeys) {
                              {"study.toml:23", "lobes.speed_nodes = 1", "2…1000"});
   expect_refused<InputError>(study("factor = 1.25\n", "factor = 1.25\n[lobes]\nextrapolate_bearings = 1\n"),
                              {"study.toml:23", "lobes.extrapolate_bearings", "true or false"});
+}
+
+// The [lobes] keys derive from lobes_study_fields (option_fields.hpp): every field with a plan key
+// is read into the field its table names (compared with the value written, exactly: 17 digits give
+// the double back), and a value just outside its range is refused at its line, naming the key and
+// the range. Independent of the table: the keys the plan file documents (examples/plan_bt40.toml).
+TEST(PlanStudyFile, OptionFieldsAreItsLobesKeys) {
+  std::set<std::string> keys;
+  std::string table = "factor = 1.25\n[lobes]\n";
+  LobesStudyOptions expected;
+  for (const auto& f : lobes_study_fields()) {
+    const FieldSpec& s = f.spec;
+    if (!s.plan_key) continue;
+    keys.insert(s.plan_key);
+    double v = s.kind == FieldKind::Flag ? 1.0 - f.get(expected) : s.min + (s.max - s.min) / 3.0;
+    if (s.kind == FieldKind::Integer) v = std::floor(v);
+    table += s.kind == FieldKind::Flag      ? fmt::format("{} = {}\n", s.plan_key, v != 0.0)
+             : s.kind == FieldKind::Integer ? fmt::format("{} = {}\n", s.plan_key, static_cast<int>(v))
+                                            : fmt::format("{} = {:.17g}\n", s.plan_key, v);
+    f.set(expected, v);
+    // Out of range: refused at line 23 (the key's, the only one in [lobes]).
+    if (s.kind == FieldKind::Flag) continue;
+    const double bad = s.kind == FieldKind::Integer ? s.max + 1.0 : s.max_open ? s.max : s.max * 1.5;
+    expect_refused<InputError>(study("factor = 1.25\n", fmt::format("factor = 1.25\n[lobes]\n{} = {}\n", s.plan_key, bad)),
+                               {"study.toml:23", fmt::format("lobes.{} = {:g}", s.plan_key, bad), field_range_text(s)});
+  }
+  EXPECT_EQ(keys, (std::set<std::string>{"lobes", "tolerance", "max_modes", "fit_target", "pocket_prominence", "speed_nodes",
+                                         "extrapolate_bearings"}));
+  const PlanStudy s = parse_plan_study(study("factor = 1.25\n", table), "study.toml", "");
+  for (const auto& f : lobes_study_fields()) EXPECT_EQ(f.get(s.options.lobes), f.get(expected)) << f.spec.name;
+  EXPECT_EQ(s.options.lobes.fit.max_modes, 7);  // 1 + 19/3, rounded down: read directly
+  EXPECT_TRUE(s.options.lobes.extrapolate_bearings);
 }

@@ -20,6 +20,7 @@
 #include "parse.hpp"
 #include "toolpoint/io/assembly_file.hpp"
 #include <cstddef>
+#include <deque>
 #include <functional>
 #include <initializer_list>
 #include <limits>
@@ -30,6 +31,7 @@
 #include "toolpoint/error.hpp"
 #include "toolpoint/io/frf_file.hpp"
 #include "toolpoint/io/io.hpp"
+#include "toolpoint/option_fields.hpp"
 #include "toolpoint/plausibility.hpp"
 #include "toolpoint/identify/identify.hpp"
 #include "toolpoint/io/joint_file.hpp"
@@ -386,5 +388,64 @@ void add_resample_command(CLI::App& app, Globals& g);
 void add_plan_command(CLI::App& app, Globals& g);
 void add_simulate_command(CLI::App& app, Globals& g);
 void add_precision_command(CLI::App& app, Globals& g);
+
+// ---- Option fields as flags (option_fields.hpp) ------------------------------------------------
+
+// A field's --help text: its help, its unit as the CLI takes it, its range in that unit and what
+// its automatic value means, e.g. "Best speeds: … [%], [0, 100)".
+std::string field_help(const FieldSpec& spec);
+// InvalidArgument naming the flag, the value in the CLI's unit and the range in it.
+[[noreturn]] void field_flag_refused(const FieldSpec& spec, double typed);
+
+// The named field of a table (a logic_error if the table has none: a programming error).
+template <class Options>
+const OptionField<Options>& option_field(const std::vector<OptionField<Options>>& fields, std::string_view name) {
+  for (const OptionField<Options>& f : fields)
+    if (name == f.spec.name) return f;
+  throw std::logic_error(fmt::format("no option field '{}'", name));
+}
+
+// The flags of option fields, derived from their table: add() registers a field's flag (its name,
+// help and default, in the CLI's unit) where the command wants it in its --help; apply() sets the
+// flags given into the library's options, converted to SI, range-checked (field_flag_refused).
+template <class Options>
+class FieldFlags {
+ public:
+  CLI::Option* add(CLI::App* c, const OptionField<Options>& f) {
+    const FieldSpec& s = f.spec;
+    Slot& slot = slots_.emplace_back(Slot{&f, f.get(Options{}) * s.cli_per_unit});
+    slot.integer = static_cast<int>(slot.real);
+    slot.flag = slot.real != 0.0;
+    const std::string help = field_help(s);
+    switch (s.kind) {
+      case FieldKind::Flag: return slot.option = c->add_flag(field_flag(s), slot.flag, help);
+      case FieldKind::Integer: return slot.option = c->add_option(field_flag(s), slot.integer, help)->capture_default_str();
+      case FieldKind::Real: break;
+    }
+    return slot.option = c->add_option(field_flag(s), slot.real, help)->capture_default_str();
+  }
+  void apply(Options& o) const {
+    for (const Slot& slot : slots_) {
+      if (slot.option->count() == 0) continue;
+      const FieldSpec& s = slot.field->spec;
+      const double typed = s.kind == FieldKind::Flag      ? (slot.flag ? 1.0 : 0.0)
+                           : s.kind == FieldKind::Integer ? static_cast<double>(slot.integer)
+                                                          : slot.real;
+      const double value = typed / s.cli_per_unit;  // 1 mm = 1/1000 m: correctly rounded
+      if (!field_value_valid(s, value)) field_flag_refused(s, typed);
+      slot.field->set(o, value);
+    }
+  }
+
+ private:
+  struct Slot {
+    const OptionField<Options>* field;
+    double real = 0.0;
+    int integer = 0;
+    bool flag = false;
+    CLI::Option* option = nullptr;
+  };
+  std::deque<Slot> slots_;  // a deque: CLI11 keeps the addresses of the values
+};
 
 }  // namespace toolpoint::cli

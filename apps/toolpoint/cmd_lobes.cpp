@@ -33,16 +33,16 @@ struct LobesOptions {
   CutArgs cut;
   // Speeds and method.
   std::string rpm, method = "zoa";
-  int speeds = 0, lobes = -1, intervals = 0, depth_steps = 0, threads = 0;
-  double max_depth_mm = 0.0, tolerance_pct = 1.0, prominence_pct = 2.0;
+  int speeds = 0, depth_steps = 0, threads = 0;
+  // --lobes, --tolerance, --intervals, --max-depth, --pocket-prominence, --speed-nodes,
+  // --extrapolate-bearings: from their definitions (lobes_study_fields).
+  FieldFlags<LobesStudyOptions> fields;
   std::string output, envelope, plot;
   // The joint uncertain (--assembly with a --joint file carrying a covariance).
   SamplingOptions sampling;
   std::string probability_output;
   // The dynamics at speed (--assembly).
   std::string speed_model = "auto";
-  int speed_nodes = 0;
-  bool extrapolate_bearings = false;
   bool json = false;
 };
 
@@ -150,27 +150,14 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
   const auto [min_rpm, max_rpm] = parse_range(o.rpm, "--rpm");
   for (double n : {min_rpm, max_rpm})
     check_plausible(plausible::kSpindleSpeedRpm, n, "--rpm", "give spindle speeds in rpm, e.g. --rpm 2000:20000");
-  if (!(o.prominence_pct >= 0.0 && o.prominence_pct < 100.0))
-    throw InvalidArgument(fmt::format("--pocket-prominence {} % must lie in [0, 100)", o.prominence_pct), "e.g. 2 (%)");
-  if (!(o.tolerance_pct >= 1e-4 && o.tolerance_pct <= 50.0))
-    throw InvalidArgument(fmt::format("--tolerance {} % must lie in 1e-4…50 (%)", o.tolerance_pct), "e.g. 1 (%)");
   so.speeds = {min_rpm, max_rpm, o.speeds};
   so.method = lobes_method(o.method);
-  so.max_depth_m = o.max_depth_mm * 1e-3;
-  if (!std::isfinite(so.max_depth_m) || so.max_depth_m < 0.0)
-    throw InvalidArgument(fmt::format("--max-depth {} mm must be ≥ 0", o.max_depth_mm),
-                          "e.g. --max-depth 10, or 0 for automatic");
-  so.lobes = o.lobes;
-  so.tolerance = o.tolerance_pct / 100.0;
-  so.steps = o.intervals;
   so.fit = dynamics_fit_options(o.dyn);
   so.fit_target = o.dyn.fit_target_pct / 100.0;
-  so.pocket_prominence = o.prominence_pct / 100.0;
   so.parallel.threads = o.threads;
   so.speed_model = speed_model_from(o.speed_model).value_or(SpeedModel::Automatic);  // the option's values are checked
-  so.speed_nodes = o.speed_nodes;
-  so.extrapolate_bearings = o.extrapolate_bearings;
-  if (o.dyn.assembly.empty() && (o.speed_model != "auto" || o.speed_nodes != 0 || o.extrapolate_bearings))
+  o.fields.apply(so);
+  if (o.dyn.assembly.empty() && (o.speed_model != "auto" || so.speed_nodes != 0 || so.extrapolate_bearings))
     throw InvalidArgument(
         "--speed-model, --speed-nodes and --extrapolate-bearings need --assembly (the model is evaluated at "
         "each speed)",
@@ -215,7 +202,7 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
   }
   progress.done();
   for (std::string& w : r.warnings) w = with_flags(w);
-  if (so.method != LobesMethod::ZeroOrder && o.lobes >= 0)
+  if (so.method != LobesMethod::ZeroOrder && so.lobes >= 0)
     r.warnings.push_back("--lobes is used by --method zoa only (fd derives lobe numbers)");
   if (o.depth_steps > 0)
     r.warnings.push_back(
@@ -293,30 +280,21 @@ void add_lobes_command(CLI::App& app, Globals& g) {
   c->add_option("--speeds", o->speeds,
                 "Points of the speed grid [-], ≥ 2, for the envelope (zoa) or the boundary (fd) (default: 2000 zoa, 200 fd)")
       ->check(CLI::Range(2, 1000000));
-  c->add_option("--lobes", o->lobes, "zoa: lobes k = 0…K [-] (default: enough to cover MIN rpm)");
+  const auto& fields = lobes_study_fields();
+  o->fields.add(c, option_field(fields, "lobes"));
   c->add_option("--method", o->method,
                 "zoa (zero-order, from the FRF) or fd (full-discretization of a modal model in the time domain: flip lobes, "
                 "low immersion, several delays)")
       ->check(CLI::IsMember({"zoa", "fd", "sd"}))
       ->capture_default_str();
-  c->add_option("--tolerance", o->tolerance_pct,
-                "fd: target for the estimated discretization error of each depth [% of the depth], 1e-4…50; the steps per tooth "
-                "period are doubled until it is met")
-      ->capture_default_str();
-  c->add_option("--intervals", o->intervals,
-                "fd: steps per tooth period at the first of the two levels compared [-], 4…2000 (default 0: 12 per chatter wave)")
-      ->capture_default_str();
+  o->fields.add(c, option_field(fields, "tolerance"));
+  o->fields.add(c, option_field(fields, "steps"));
   c->add_option("--depth-steps", o->depth_steps, "No longer used (kept so old scripts run; a warning says so)");
   c->add_option("--threads", o->threads,
                 "fd: worker threads [-], 0…1024 (default 0: every core); results are identical for any number")
       ->capture_default_str();
-  c->add_option("--max-depth", o->max_depth_mm,
-                "Largest axial depth [mm]: zoa drops deeper lobe points, fd searches up to it "
-                "(default: zoa all, fd 10 × the zero-order floor)")
-      ->check(plausible_value(kDepthMm, "--max-depth"));
-  c->add_option("--pocket-prominence", o->prominence_pct,
-                "Best speeds: envelope maxima rising at least this [% of their depth] above the valleys beside them")
-      ->capture_default_str();
+  o->fields.add(c, option_field(fields, "max_depth_m"))->check(plausible_value(kDepthMm, "--max-depth"));
+  o->fields.add(c, option_field(fields, "pocket_prominence"));
   c->add_option("--output", o->output,
                 "Write the lobes (zoa) or the boundary (fd) here: CSV lobe,spindle_speed_rpm,axial_depth_mm,"
                 "chatter_frequency_hz,root (zoa) or ...,kind,axial_depth_error_mm,steps (fd) (default: none)");
@@ -348,12 +326,8 @@ void add_lobes_command(CLI::App& app, Globals& g) {
                 "speed, its error (and fd's fit residuals) estimated and printed")
       ->check(CLI::IsMember({"auto", "standstill", "bearings", "spinning"}))
       ->capture_default_str();
-  c->add_option("--speed-nodes", o->speed_nodes,
-                "With --speed-model at speed: speeds [-] over the --rpm range where the FRF is evaluated, 2…1000, plus the "
-                "midpoints between them (default 0: 17)")
-      ->check(CLI::Range(0, 1000));
-  c->add_flag("--extrapolate-bearings", o->extrapolate_bearings,
-              "At speed: extend a bearing's speed table beyond its rows (linearly) instead of refusing a speed outside it");
+  o->fields.add(c, option_field(fields, "speed_nodes"));
+  o->fields.add(c, option_field(fields, "extrapolate_bearings"));
   c->add_flag("--json", o->json, "Machine-readable summary on stdout");
   c->footer(std::string(kFigureFooter) +
             "Examples:\n"

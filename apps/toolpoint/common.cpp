@@ -261,6 +261,22 @@ void add_frf_read_options(CLI::App* command, Globals& g) {
       ->expected(3, 4);
 }
 
+std::string field_help(const FieldSpec& s) {
+  std::string help = s.help;
+  if (!help.empty()) help[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(help[0])));
+  if (s.kind == FieldKind::Flag) return help;
+  const char* unit = s.cli_unit ? s.cli_unit : *s.unit ? s.unit : "-";
+  return fmt::format("{} [{}], {}{}", help, unit, field_range_text(s, s.cli_per_unit),
+                     *s.note ? fmt::format(" ({})", s.note) : std::string());
+}
+
+void field_flag_refused(const FieldSpec& s, double typed) {
+  const char* unit = s.cli_unit ? s.cli_unit : s.unit;
+  throw InvalidArgument(fmt::format("{} {:g}{} {}{}", field_flag(s), typed, *unit ? fmt::format(" {}", unit) : "",
+                                    field_range_phrase(s, s.cli_per_unit), *s.note ? fmt::format(" ({})", s.note) : ""),
+                        fmt::format("{}: {}", field_flag(s), s.help));
+}
+
 std::string with_flags(std::string text) {
   // Field → flag, for every command (a field's flag is the same wherever it appears); a library
   // function → the command that does it. In order: a longer name before a name it starts with.
@@ -365,22 +381,15 @@ std::string with_flags(std::string text) {
       {"PitchChoiceOptions::steps", "--intervals"},
       {"PitchChoiceOptions::max_depth_m", "--max-depth"},
       {"PitchChoiceOptions::depth_steps", "--depth-steps"},
-      {"LobesStudyOptions::tolerance", "--tolerance"},
       {"BoundaryOptions::tolerance", "--tolerance"},
       {"BoundaryOptions::steps", "--intervals"},
       {"BoundaryOptions::max_steps", "--intervals"},
-      {"LobesStudyOptions::max_depth_m", "--max-depth"},
       {"LobesStudyOptions::speed_model", "--speed-model"},
-      {"LobesStudyOptions::speed_nodes", "--speed-nodes"},
-      {"LobesStudyOptions::extrapolate_bearings", "--extrapolate-bearings"},
       {"LobesStudyOptions::speeds", "--rpm"},
       {"LobesMethod::ZeroOrder", "--method zoa"},
       {"SpeedModel::Standstill", "--speed-model standstill"},
       {"LobesInput::uncertain_joint", "--samples"},
       {"BoundaryOptions::max_depth_m", "--max-depth"},
-      {"LobesStudyOptions::lobes", "--lobes"},
-      {"LobesStudyOptions::fit_target", "--fit-target"},
-      {"LobesStudyOptions::pocket_prominence", "--pocket-prominence"},
       {"ParallelOptions::threads", "--threads"},
       {"ModalFitOptions::max_modes", "--max-modes"},
       {"ModalFitOptions::band_hz", "--band"},
@@ -399,9 +408,14 @@ std::string with_flags(std::string text) {
       {"CuttingConditions::feed_per_tooth_m", "--feed"},
       {"CuttingConditions::diameter_m", "--diameter"},
       {"CuttingConditions::process_damping_n_per_m", "--process-damping"}};
-  for (const auto& [field, flag] : kFlags)
+  const auto replace = [&text](std::string_view field, std::string_view flag) {
     for (std::size_t at = text.find(field); at != std::string::npos; at = text.find(field, at + flag.size()))
       text.replace(at, field.size(), flag);
+  };
+  // The option fields defined once (option_fields.hpp): Options::name → its flag.
+  for (const auto& f : lobes_study_fields())
+    if (f.spec.cli_name) replace(fmt::format("LobesStudyOptions::{}", f.spec.name), field_flag(f.spec));
+  for (const auto& [field, flag] : kFlags) replace(field, flag);
   return text;
 }
 

@@ -25,6 +25,7 @@
 #include <nlohmann/json.hpp>
 
 #include "toolpoint/model/beam.hpp"
+#include "toolpoint/option_fields.hpp"
 #include "toolpoint/studies/case_study.hpp"
 #include "toolpoint/io/frf_file.hpp"
 #include "toolpoint/identify/identify.hpp"
@@ -195,7 +196,8 @@ void to_json(nlohmann::json& j, const ZeroOrderResult& r);
 // {"max_depth_m", "tolerance", "degree", "evaluations", "worst_relative_error", "warnings"} and, derived from
 // the boundary (which goes to CSV), "lowest_boundary" (BoundaryPoint) and "flip_speeds" (how many are flips).
 void to_json(nlohmann::json& j, const BoundaryResult& r);
-// {"method", "cutting", "speeds", "pockets": [EnvelopePoint…], "warnings"} and "zero_order" (method zoa), or
+// {"options" (fields_json of lobes_study_fields), "method", "cutting", "speeds", "pockets": [EnvelopePoint…],
+// "warnings"} and "zero_order" (method zoa), or
 // "boundary", "modes", "fits" and "pocket_depth_error_m" (method fd); "uncertainty" (StabilityUncertainty),
 // "uncertain_joint", "pocket_quantiles" and "worst_speed" when the joint was uncertain.
 void to_json(nlohmann::json& j, const LobesStudyResult& r);
@@ -285,5 +287,22 @@ void to_json(nlohmann::json& j, const UffDataset58& d);
 void to_json(nlohmann::json& j, const UffDatasetEntry& e);
 // {"source", "datasets", "functions", "warnings", "skipped", "file_warnings"}
 void to_json(nlohmann::json& j, const UffFile& f);
+
+/// \brief The echo of an Options type's scalar fields (option_fields.hpp): {name: value} in the
+/// fields' units (integers as integers, flags as booleans).
+/// \param fields the Options type's table
+/// \param o the options echoed
+/// \return the JSON object
+template <class Options>
+nlohmann::json fields_json(const std::vector<OptionField<Options>>& fields, const Options& o) {
+  nlohmann::json j = nlohmann::json::object();
+  Options& m = const_cast<Options&>(o);  // the accessors are shared by reading and writing
+  for (const OptionField<Options>& f : fields) {
+    if (f.integer) j[f.spec.name] = f.integer(m);
+    else if (f.flag) j[f.spec.name] = f.flag(m);
+    else j[f.spec.name] = f.real(m);
+  }
+  return j;
+}
 
 }  // namespace toolpoint

@@ -76,6 +76,48 @@ MillingFrfs milling_of(const RealArray& f, const ComplexArray& xx, const std::op
   return m;
 }
 
+// A docstring followed by its option fields' definitions (option_fields.hpp): the keyword, its unit
+// and range, what its automatic value means, its help and the `toolpoint lobes` flag. A static
+// string: pybind11 copies a docstring, but the caller's must outlive m.def.
+template <class Options>
+const std::string& fields_doc(const std::vector<OptionField<Options>>& fields, const char* doc) {
+  static std::string text;
+  text = doc;
+  text += " Keywords defined with the lobes study's options (LobesStudyOptions):";
+  for (const OptionField<Options>& f : fields) {
+    const FieldSpec& s = f.spec;
+    text += fmt::format(" {}{}", s.name, *s.unit ? fmt::format(" [{}]", s.unit) : std::string());
+    if (s.kind != FieldKind::Flag) text += fmt::format(", {}", field_range_text(s));
+    if (*s.note) text += fmt::format(" ({})", s.note);
+    text += fmt::format(": {}{}.", s.help, s.cli_name ? fmt::format(" (toolpoint lobes {})", field_flag(s)) : std::string());
+  }
+  return text;
+}
+
+// An option table as data (toolpoint._option_fields): what python/tests check the keywords against.
+template <class Options>
+py::list fields_data(const std::vector<OptionField<Options>>& fields) {
+  py::list out;
+  const Options defaults{};
+  for (const OptionField<Options>& f : fields) {
+    const FieldSpec& s = f.spec;
+    py::dict d;
+    d["name"] = s.name;
+    d["kind"] = s.kind == FieldKind::Real ? "real" : s.kind == FieldKind::Integer ? "integer" : "flag";
+    d["unit"] = s.unit;
+    d["min"] = s.min;
+    d["max"] = s.max;
+    d["default"] = f.get(defaults);
+    d["flag"] = s.cli_name ? py::object(py::str(field_flag(s))) : py::object(py::none());
+    d["cli_unit"] = s.cli_unit ? s.cli_unit : s.unit;
+    d["cli_per_unit"] = s.cli_per_unit;
+    d["plan_key"] = s.plan_key ? py::object(py::str(s.plan_key)) : py::object(py::none());
+    d["help"] = s.help;
+    out.append(d);
+  }
+  return out;
+}
+
 // The lobes study's options from keyword arguments (run_lobes_study, stability_uncertainty).
 LobesStudyOptions lobes_study_options(const CuttingConditions& cutting, const std::tuple<double, double, int>& speeds,
                                       const std::string& method, double max_depth_m, int lobes, double tolerance, int steps,
@@ -507,19 +549,23 @@ void bind_lobes_study(py::module_& m) {
       "pocket_prominence"_a = 0.02, "pockets"_a = 5, "threads"_a = 0, "assembly"_a = py::none(), "joint"_a = py::none(),
       "samples"_a = 200, "seed"_a = 1, "levels"_a = std::vector<double>{0.05, 0.5, 0.95}, "speed_model"_a = "auto",
       "speed_nodes"_a = 0, "extrapolate_bearings"_a = false, "progress"_a = py::none(),
-      "The lobes study (toolpoint lobes): method 'zoa' (zero-order, from the FRFs xx[, yy, xy, yx] [m/N] on frequency_hz [Hz]) "
-      "or 'fd' "
-      "(time-domain boundary of x_modes/y_modes, or of modes fitted to the FRFs: at most max_modes, the fewest within "
-      "fit_target). "
-      "speeds = (min_rpm, max_rpm, points; 0 points: 2000 zoa, 200 fd). Depths in m. The best speeds rise pocket_prominence "
-      "above "
-      "their valleys. With `assembly` (whose tool point FRF xx is) and `joint` (a JointFile with [uncertainty]): also the "
-      "stable depth's quantiles and the probability of stability over `samples` joints drawn from its covariance "
-      "(result.uncertainty, as toolpoint lobes --samples). With `assembly` and no FRFs, speed_model ('auto', 'standstill', "
-      "'bearings', 'spinning'; toolpoint lobes --speed-model) chooses the dynamics: at speed the x-y FRF at speed_nodes "
-      "speeds (0: 17) and midway, interpolated in speed, its error in result.frf_interpolation_error and "
-      "envelope_interpolation_error (method 'fd': a modal model with x-y pole-residue terms fitted at each speed, "
-      "result.fit_residual, block_fit_residual); a speed outside a bearing's table is refused unless extrapolate_bearings.");
+      fields_doc(
+          lobes_study_fields(),
+          "The lobes study (toolpoint lobes): method 'zoa' (zero-order, from the FRFs xx[, yy, xy, yx] [m/N] on frequency_hz "
+          "[Hz]) "
+          "or 'fd' "
+          "(time-domain boundary of x_modes/y_modes, or of modes fitted to the FRFs: at most max_modes, the fewest within "
+          "fit_target). "
+          "speeds = (min_rpm, max_rpm, points; 0 points: 2000 zoa, 200 fd). Depths in m. The best speeds rise pocket_prominence "
+          "above "
+          "their valleys. With `assembly` (whose tool point FRF xx is) and `joint` (a JointFile with [uncertainty]): also the "
+          "stable depth's quantiles and the probability of stability over `samples` joints drawn from its covariance "
+          "(result.uncertainty, as toolpoint lobes --samples). With `assembly` and no FRFs, speed_model ('auto', 'standstill', "
+          "'bearings', 'spinning'; toolpoint lobes --speed-model) chooses the dynamics: at speed the x-y FRF at speed_nodes "
+          "speeds (0: 17) and midway, interpolated in speed, its error in result.frf_interpolation_error and "
+          "envelope_interpolation_error (method 'fd': a modal model with x-y pole-residue terms fitted at each speed, "
+          "result.fit_residual, block_fit_residual); a speed outside a bearing's table is refused unless extrapolate_bearings.")
+          .c_str());
   m.def(
       "milling_frfs",
       [](const AssemblyModel& md, const RealArray& f, bool rigid_y) {
@@ -599,6 +645,9 @@ void bind_stability_uncertainty(py::module_& m) {
 }  // namespace
 
 void bind_stability(py::module_& m) {
+  py::dict tables;
+  tables["LobesStudyOptions"] = fields_data(lobes_study_fields());
+  m.attr("_option_fields") = tables;
   bind_modal_models(m);
   bind_zero_order(m);
   bind_time_domain(m);

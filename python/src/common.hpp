@@ -120,7 +120,7 @@ template <class T>
 py::class_<T> options_class(py::module_& m, const char* name, const char* doc, std::initializer_list<const char*> fields) {
   py::class_<T> c(m, name, doc);
   c.def(py::init<>());
-  // An options struct without a check() (every value valid, or judged by the function: FrfWriteOptions) has none.
+  // An options struct without a check() (every value valid) has none.
   if constexpr (requires(const T& o) { o.check(); })
     c.def(
         "check", [](const T& o) { o.check(); },

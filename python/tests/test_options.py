@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import toolpoint as tp
-from conftest import EXAMPLE, read_csv, run_cli
+from conftest import EXAMPLE, read_csv, run_cli, run_cli_json
 
 
 def test_defaults_are_the_headers():
@@ -226,10 +226,11 @@ def test_more_options_name_a_wrong_field_and_value():
             (tp.JointFitOptions(bootstrap_samples=5), "JointFitOptions::bootstrap_samples"),
             (tp.ForwardCheckOptions(replicates=10), "ForwardCheckOptions::replicates"),
             (tp.IdentificationOptions(width=-1.0), "IdentificationOptions::width"),
-            (tp.CaseStudyOptions(noise_sigma=-0.05), "CaseStudyOptions::noise_sigma")):
+            (tp.CaseStudyOptions(noise_sigma=-0.05), "CaseStudyOptions::noise_sigma"),
+            (tp.FrfWriteOptions(comments=["two\nlines"]), r"FrfWriteOptions::comments\[0\]"),
+            (tp.FrfWriteOptions(coherence=[0.5, 1.5]), r"FrfWriteOptions::coherence\[1\]")):
         with pytest.raises(tp.InvalidArgument, match=field):
             o.check()
-    assert not hasattr(tp.FrfWriteOptions(), "check")  # the writer judges its options (no check() in C++)
 
 
 def test_more_options_repr_reads_back():
@@ -349,3 +350,51 @@ def test_identification_and_case_study_options_forms_are_the_keyword_forms(examp
                                                                                                magnitude_sigma=5.0)))
     c = tp.run_case_study(example, tp.CaseStudyOptions(fit=False, noise_sigma=0.02, seed=4))
     assert c.fitted is None and c.to_dict() == tp.run_case_study(example, fit=False, noise_sigma=0.02, seed=4).to_dict()
+
+
+def test_lobes_options_are_defined_once(example, model):
+    """run_lobes_study's option keywords and `toolpoint lobes`' flags derive from one table
+    (lobes_study_fields, include/toolpoint/option_fields.hpp): each field is a keyword whose default
+    is the C++ one and whose docstring gives its help; set through the keywords and through the flags
+    (in their CLI units: %, mm), the options echoed by to_dict() and --json under the field names are
+    the values given (to 1e-14 relative: the CLI's unit and back cost an ulp or two)."""
+    import re
+
+    fields = tp._toolpoint._option_fields["LobesStudyOptions"]
+    # Independent of the table: the keywords run_lobes_study has had since before it.
+    assert {f["name"] for f in fields} == {"max_depth_m", "lobes", "tolerance", "steps", "degree", "max_modes", "fit_target",
+                                           "pocket_prominence", "pockets", "speed_nodes", "extrapolate_bearings"}
+    doc = tp.run_lobes_study.__doc__
+    signature = doc.splitlines()[0]
+    values, kwargs, flags, switched = {}, {}, [], []
+    for f in fields:
+        m = re.search(r"\b%s: \w+ = ([\w.\-]+)" % f["name"], signature)
+        assert m, f["name"]
+        default = {"True": 1.0, "False": 0.0}.get(m.group(1))
+        assert (default if default is not None else float(m.group(1))) == f["default"], f["name"]
+        assert f["help"] in doc, f["name"]
+        # A valid value other than the default, a thousandth of the way into the range.
+        v = f["min"] + (f["max"] - f["min"]) * 0.001 if np.isfinite(f["max"]) else f["min"] + 0.001
+        if f["kind"] == "flag":
+            switched.append(f["name"])
+            kwargs[f["name"]] = True
+            flags.append(f["flag"])
+            continue
+        if f["kind"] == "integer":
+            v = float(np.floor(v))
+        assert v != f["default"], f["name"]
+        values[f["name"]] = v
+        kwargs[f["name"]] = int(v) if f["kind"] == "integer" else v
+        if f["flag"]:
+            flags += [f["flag"], repr(kwargs[f["name"]] * f["cli_per_unit"] if f["kind"] == "real" else kwargs[f["name"]])]
+    f = example.frequency_hz
+    cut = tp.CuttingConditions(4, 6e8, 0.3, immersion=0.5, milling="down")
+    py = tp.run_lobes_study(cut, (5000.0, 15000.0, 50), frequency_hz=f, xx=tp.milling_frfs(model, f), **kwargs).to_dict()
+    assert {k: py["options"][k] for k in values} == pytest.approx(values, rel=1e-14)
+    assert all(py["options"][k] is True for k in switched)
+    cli = run_cli_json("lobes", "--assembly", EXAMPLE, "--teeth", 4, "--kt", 6e8, "--kr", 0.3, "--immersion", 0.5, "--milling",
+                       "down", "--rpm", "5000:15000", "--speeds", 50, "--speed-model", "standstill", *flags)
+    expected = {k: v for k, v in values.items() if k not in ("degree", "pockets")}  # no flags: the defaults
+    assert {k: cli["options"][k] for k in expected} == pytest.approx(expected, rel=1e-14)
+    assert all(cli["options"][k] is True for k in switched)
+    assert (cli["options"]["degree"], cli["options"]["pockets"]) == (2, 5)

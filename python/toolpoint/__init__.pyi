@@ -366,6 +366,7 @@ class FrfResampled:
 
 class FrfWriteOptions:
     def __init__(self, *, format: str = ..., description: str = ..., comments: List[str] = ..., dof: object = ..., coherence: List[float] = ...) -> None: ...
+    def check(self) -> None: ...
     coherence: List[float]
     comments: List[str]
     description: str

@@ -196,21 +196,8 @@ void LobesStudyOptions::check() const {
   cutting.check();
   if (speeds.points != 0) speeds.check();
   else SpeedRange{speeds.min_rpm, speeds.max_rpm, 2}.check();
-  if (!std::isfinite(max_depth_m) || max_depth_m < 0.0)
-    throw InvalidArgument(fmt::format("LobesStudyOptions::max_depth_m {} m must be ≥ 0 (0: automatic)", max_depth_m));
-  if (lobes < -1 || lobes > 5000)
-    throw InvalidArgument(fmt::format("LobesStudyOptions::lobes {} must lie in 0…5000 (−1: automatic)", lobes));
-  if (!std::isfinite(fit_target) || !(fit_target > 0.0) || fit_target >= 1.0)
-    throw InvalidArgument(fmt::format("LobesStudyOptions::fit_target {} must lie in (0, 1) (a fraction of the FRF)", fit_target));
-  if (!std::isfinite(pocket_prominence) || pocket_prominence < 0.0 || pocket_prominence >= 1.0)
-    throw InvalidArgument(
-        fmt::format("LobesStudyOptions::pocket_prominence {} must lie in [0, 1) (a fraction of the depth)", pocket_prominence));
-  if (pockets < 0 || pockets > 1000)
-    throw InvalidArgument(fmt::format("LobesStudyOptions::pockets {} must lie in 0…1000", pockets));
   fit.check();
   parallel.check();
-  if (speed_nodes != 0 && (speed_nodes < 2 || speed_nodes > 1000))
-    throw InvalidArgument(fmt::format("LobesStudyOptions::speed_nodes {} must lie in 2…1000 (0: automatic)", speed_nodes));
   if (method == LobesMethod::FullDiscretization) {
     BoundaryOptions b;
     b.tolerance = tolerance;
@@ -219,6 +206,122 @@ void LobesStudyOptions::check() const {
     b.speeds = {speeds.min_rpm, speeds.max_rpm, 200};
     b.check();
   }
+  // The scalar fields' ranges (lobes_study_fields); tolerance, steps and degree whatever the method.
+  check_fields(lobes_study_fields(), *this, "LobesStudyOptions");
+}
+
+const std::vector<OptionField<LobesStudyOptions>>& lobes_study_fields() {
+  using O = LobesStudyOptions;
+  using K = FieldKind;
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  // The ranges are those of the functions the fields go to (BoundaryOptions, ModalFitOptions).
+  static const std::vector<OptionField<O>> fields = {
+      {{.name = "max_depth_m",
+        .kind = K::Real,
+        .unit = "m",
+        .min = 0.0,
+        .max = kInf,
+        .note = "0: zero-order all, time domain 10 × the zero-order floor",
+        .help = "largest axial depth: the zero-order method drops deeper lobe points, the time domain searches up to it",
+        .cli_name = "max-depth",
+        .cli_unit = "mm",
+        .cli_per_unit = 1e3},
+       [](O& o) -> double& { return o.max_depth_m; }},
+      {{.name = "lobes",
+        .kind = K::Integer,
+        .min = 0.0,
+        .max = 5000.0,
+        .automatic = -1.0,
+        .note = "−1: enough to cover the lowest speed",
+        .help = "zero-order: lobes k = 0…K",
+        .cli_name = "lobes",
+        .plan_key = "lobes"},
+       nullptr,
+       [](O& o) -> int& { return o.lobes; }},
+      {{.name = "tolerance",
+        .kind = K::Real,
+        .min = 1e-6,
+        .max = 0.5,
+        .help = "time domain: target for the estimated discretization error of each depth, relative to the depth (the "
+                "steps per tooth period are doubled until it is met)",
+        .cli_name = "tolerance",
+        .cli_unit = "%",
+        .cli_per_unit = 100.0,
+        .plan_key = "tolerance"},
+       [](O& o) -> double& { return o.tolerance; }},
+      {{.name = "steps",
+        .kind = K::Integer,
+        .min = 4.0,
+        .max = 2000.0,
+        .automatic = 0.0,
+        .note = "0: 12 per chatter wave",
+        .help = "time domain: steps per tooth period at the first of the two levels compared",
+        .cli_name = "intervals"},
+       nullptr,
+       [](O& o) -> int& { return o.steps; }},
+      {{.name = "degree",
+        .kind = K::Integer,
+        .min = 1.0,
+        .max = 3.0,
+        .help = "time domain: degree of the polynomial the delayed state is interpolated with"},
+       nullptr,
+       [](O& o) -> int& { return o.degree; }},
+      {{.name = "max_modes",
+        .kind = K::Integer,
+        .min = 1.0,
+        .max = 20.0,
+        .help = "time domain, modes fitted: at most this many modes per FRF (the fewest that meet fit_target are used)",
+        .cli_name = "max-modes",
+        .plan_key = "max_modes"},
+       nullptr,
+       [](O& o) -> int& { return o.fit.max_modes; }},
+      {{.name = "fit_target",
+        .kind = K::Real,
+        .min = 0.0,
+        .max = 1.0,
+        .min_open = true,
+        .max_open = true,
+        .help = "time domain, modes fitted: the modal model's misfit to the FRF aimed at, relative to the FRF",
+        .cli_name = "fit-target",
+        .cli_unit = "%",
+        .cli_per_unit = 100.0,
+        .plan_key = "fit_target"},
+       [](O& o) -> double& { return o.fit_target; }},
+      {{.name = "pocket_prominence",
+        .kind = K::Real,
+        .min = 0.0,
+        .max = 1.0,
+        .max_open = true,
+        .help = "best speeds: envelope maxima rising at least this much (relative to their depth) above the valleys beside them",
+        .cli_name = "pocket-prominence",
+        .cli_unit = "%",
+        .cli_per_unit = 100.0,
+        .plan_key = "pocket_prominence"},
+       [](O& o) -> double& { return o.pocket_prominence; }},
+      {{.name = "pockets", .kind = K::Integer, .min = 0.0, .max = 1000.0, .help = "best speeds: at most this many"},
+       nullptr,
+       [](O& o) -> int& { return o.pockets; }},
+      {{.name = "speed_nodes",
+        .kind = K::Integer,
+        .min = 2.0,
+        .max = 1000.0,
+        .automatic = 0.0,
+        .note = "0: 17",
+        .help = "at speed: speeds over the speed range where the FRF is evaluated, plus the midpoints between them",
+        .cli_name = "speed-nodes",
+        .plan_key = "speed_nodes"},
+       nullptr,
+       [](O& o) -> int& { return o.speed_nodes; }},
+      {{.name = "extrapolate_bearings",
+        .kind = K::Flag,
+        .help = "at speed: extend a bearing's speed table beyond its rows (linearly) instead of refusing a speed outside it",
+        .cli_name = "extrapolate-bearings",
+        .plan_key = "extrapolate_bearings"},
+       nullptr,
+       nullptr,
+       [](O& o) -> bool& { return o.extrapolate_bearings; }},
+  };
+  return fields;
 }
 
 std::vector<Mode> fit_milling_modes(const FrfSeries& frf, const std::string& what, const ModalFitOptions& options, double target,
@@ -849,7 +952,10 @@ LobesStudyResult sampled_lobes_study(const LobesInput& input, const LobesStudyOp
 
 }  // namespace
 
-LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOptions& options, const ProgressCallback& progress) {
+namespace {
+
+// run_lobes_study but for the echo of its options.
+LobesStudyResult lobes_study_of(const LobesInput& input, const LobesStudyOptions& options, const ProgressCallback& progress) {
   options.check();
   if (input.uncertain_joint && !input.assembly)
     throw InvalidArgument("LobesInput::uncertain_joint needs LobesInput::assembly (the joint is sampled inside the model)",
@@ -880,6 +986,14 @@ LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOption
   }
   if (!input.uncertain_joint) return nominal_lobes_study(input, options, progress);
   return sampled_lobes_study(input, options, std::nullopt, progress);
+}
+
+}  // namespace
+
+LobesStudyResult run_lobes_study(const LobesInput& input, const LobesStudyOptions& options, const ProgressCallback& progress) {
+  LobesStudyResult r = lobes_study_of(input, options, progress);
+  r.options = options;
+  return r;
 }
 
 StabilityUncertainty stability_uncertainty(const Assembly& assembly, const JointFile& joint,

@@ -485,15 +485,13 @@ void read_tool_geometry(const Reader& r, const toml::table& cut, CuttingConditio
 
 }  // namespace
 
-PlanStudy parse_plan_study(const std::string& text, const std::string& source, const std::string& directory) {
-  const toml::table root = parse_toml(text, source, kStudyHint);
-  Reader r(source);
-  r.only(root, "", {"study", "candidate", "cut", "machine", "safety", "lobes"});
-  PlanStudy s;
-  s.inputs.push_back(source);
+// The plan file's tables, one phase each (parse_plan_study): the keys, their units and checks.
+namespace {
+
+// [study]: the name and the lobes' method.
+void read_study_table(Reader& r, const toml::table& root, PlanStudy& s) {
   PlanOptions& o = s.options;
   LobesStudyOptions& l = o.lobes;
-
   if (const toml::table* t = r.table(root, "study", "", false)) {
     r.only(*t, "study", {"name", "description", "method"});
     s.name = r.string(*t, "name", "study").value_or("");
@@ -507,7 +505,11 @@ PlanStudy parse_plan_study(const std::string& text, const std::string& source, c
                "zoa is fast and exact where the cut is time-invariant; fd finds the flip lobes of low immersion");
     }
   }
+}
 
+// [cut]: the cutting conditions, the feed and the depth limit.
+void read_cut_table(Reader& r, const toml::table& root, PlanOptions& o) {
+  LobesStudyOptions& l = o.lobes;
   const toml::table& cut = *r.table(root, "cut", "", true);
   r.only(cut, "cut",
          {"teeth", "tangential_coefficient", "radial_ratio", "normal_coefficient", "edge_coefficient", "radial_immersion",
@@ -547,7 +549,11 @@ PlanStudy parse_plan_study(const std::string& text, const std::string& source, c
   o.max_depth_m = checked(r, cut, "max_depth", "cut", "m", false, 0.0, non_negative, "m must be ≥ 0");
   r.plausible(cut, "max_depth", "cut", o.max_depth_m, plausible::kDepth);
   read_tool_geometry(r, cut, l.cutting);
+}
 
+// [machine]: the speed range and the spindle's limits.
+void read_machine_table(Reader& r, const toml::table& root, PlanOptions& o) {
+  LobesStudyOptions& l = o.lobes;
   const toml::table& mach = *r.table(root, "machine", "", true);
   r.only(mach, "machine", {"speed_min", "speed_max", "speed_points", "power", "torque", "min_overhang"});
   l.speeds.min_rpm = checked(r, mach, "speed_min", "machine", "rpm", true, 0.0, positive, "rpm must be > 0");
@@ -570,7 +576,10 @@ PlanStudy parse_plan_study(const std::string& text, const std::string& source, c
     r.fail(*mach.get("min_overhang"),
            fmt::format("machine.min_overhang = {} m is over 1 m: millimetres?", o.machine.min_overhang_m),
            fmt::format("overhangs are in metres: {} mm is {:g} m", o.machine.min_overhang_m, o.machine.min_overhang_m / 1000.0));
+}
 
+// [safety]: the rule that turns a stable depth into a safe one.
+void read_safety_table(Reader& r, const toml::table& root, PlanOptions& o) {
   if (const toml::table* t = r.table(root, "safety", "", false)) {
     r.only(*t, "safety", {"factor", "probability", "samples", "seed"});
     const auto f = r.number(*t, "factor", "safety", "(dimensionless)");
@@ -595,23 +604,16 @@ PlanStudy parse_plan_study(const std::string& text, const std::string& source, c
     o.safety.samples = integer(r, *t, "samples", "safety", 20, 100000, o.safety.samples);
     o.safety.seed = static_cast<std::uint64_t>(integer(r, *t, "seed", "safety", 0, std::numeric_limits<int>::max(), 1));
   }
+}
 
+// [lobes]: the lobes' numerics and speed model (LobesStudyOptions).
+void read_lobes_table(Reader& r, const toml::table& root, LobesStudyOptions& l) {
   if (const toml::table* t = r.table(root, "lobes", "", false)) {
-    r.only(*t, "lobes",
-           {"lobes", "tolerance", "max_modes", "fit_target", "pocket_prominence", "speed_model", "speed_nodes",
-            "extrapolate_bearings"});
-    l.lobes = integer(r, *t, "lobes", "lobes", 0, 5000, -1);
-    l.tolerance = checked(
-        r, *t, "tolerance", "lobes", "(fraction)", false, l.tolerance, [](double v) { return v > 0.0 && v < 0.5; },
-        "must lie in (0, 0.5): the time domain's error target as a fraction of the depth", "e.g. 0.01 (1 %)");
-    l.fit.max_modes = integer(r, *t, "max_modes", "lobes", 1, 20, l.fit.max_modes);
-    l.fit_target = checked(
-        r, *t, "fit_target", "lobes", "(fraction)", false, l.fit_target, [](double v) { return v > 0.0 && v < 1.0; },
-        "must lie in (0, 1): a fraction of the FRF");
-    l.pocket_prominence = checked(
-        r, *t, "pocket_prominence", "lobes", "(fraction)", false, l.pocket_prominence,
-        [](double v) { return v >= 0.0 && v < 1.0; }, "must lie in [0, 1): a fraction of the depth");
-    // The speed model, as `lobes --speed-model/--speed-nodes/--extrapolate-bearings` (LobesStudyOptions).
+    std::vector<const char*> keys = field_keys(lobes_study_fields());
+    keys.push_back("speed_model");
+    r.only(*t, "lobes", keys);
+    read_fields(r, *t, "lobes", lobes_study_fields(), l);
+    // The speed model, as `lobes --speed-model` (LobesStudyOptions).
     if (const auto m = r.string(*t, "speed_model", "lobes")) {
       const std::optional<SpeedModel> model = speed_model_from(*m);
       if (!model)
@@ -620,15 +622,12 @@ PlanStudy parse_plan_study(const std::string& text, const std::string& source, c
                "auto: the x–y FRF at each speed where a bearing has a speed table or differs in x and y");
       l.speed_model = *model;
     }
-    if (t->contains("speed_nodes")) l.speed_nodes = integer(r, *t, "speed_nodes", "lobes", 2, 1000, 0);
-    if (const toml::node* e = t->get("extrapolate_bearings")) {
-      if (!e->is_boolean())
-        r.fail(*e, "lobes.extrapolate_bearings must be true or false",
-               "true extends a bearing's speed table beyond its end rows (else a speed outside it is refused)");
-      l.extrapolate_bearings = e->as_boolean()->get();
-    }
   }
+}
 
+// [[candidate]]: each candidate (read_candidate), distinct names, a sampled joint where the rule needs one.
+void read_candidates(Reader& r, const toml::table& root, const std::string& directory, PlanStudy& s) {
+  const PlanOptions& o = s.options;
   const toml::node* cn = root.get("candidate");
   if (!cn) r.fail(root, "the study has no [[candidate]]", "add a [[candidate]] table with name, assembly and the overhangs");
   const toml::array* arr = cn->as_array();
@@ -653,6 +652,23 @@ PlanStudy parse_plan_study(const std::string& text, const std::string& source, c
                            a + 1, s.candidates[a].name),
                "write a band-fitted joint to kht.toml (write_joint_file) and add joints = [\"kht.toml\"], or use "
                "safety.factor");
+}
+
+}  // namespace
+
+PlanStudy parse_plan_study(const std::string& text, const std::string& source, const std::string& directory) {
+  const toml::table root = parse_toml(text, source, kStudyHint);
+  Reader r(source);
+  r.only(root, "", {"study", "candidate", "cut", "machine", "safety", "lobes"});
+  PlanStudy s;
+  s.inputs.push_back(source);
+  PlanOptions& o = s.options;
+  read_study_table(r, root, s);
+  read_cut_table(r, root, o);
+  read_machine_table(r, root, o);
+  read_safety_table(r, root, o);
+  read_lobes_table(r, root, o.lobes);
+  read_candidates(r, root, directory, s);
   try {
     o.check();
     plan_header(s.candidates, o);

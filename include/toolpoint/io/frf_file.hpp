@@ -191,6 +191,10 @@ struct FrfWriteOptions {
   std::string description;             // UFF ID line 1; CSV comment line
   std::vector<std::string> comments;   // CSV comment lines
   std::vector<double> coherence;       // per frequency, or empty: a CSV column; UFF and .frf cannot hold it
+  // Throws InvalidArgument naming the field: a description or comment of more than one line (it
+  // would end the CSV comment and corrupt the file), a coherence value outside [0, 1] or not finite.
+  // (The coherence's length is checked against the series by write_frf_file.)
+  void check() const;
 };
 
 // Writes a receptance series (validated first). Returns what the format lost (ASCII UFF rounds

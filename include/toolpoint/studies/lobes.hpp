@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "toolpoint/option_fields.hpp"
 #include "toolpoint/model/assembly.hpp"
 #include "toolpoint/io/joint_file.hpp"
 #include "toolpoint/stability/modal_fit.hpp"
@@ -122,6 +123,13 @@ struct LobesStudyOptions {
   void check() const;                 // throws InvalidArgument naming the field
 };
 
+/// \brief The scalar fields of LobesStudyOptions, defined once (option_fields.hpp): their units,
+/// ranges and help, the `toolpoint lobes` flags, the plan file's [lobes] keys, the JSON echo and
+/// the keywords of Python's run_lobes_study derive from this table (method, cutting, speeds,
+/// speed_model, parallel and uncertainty have their own definitions).
+/// \return the table, in the order of the fields
+const std::vector<OptionField<LobesStudyOptions>>& lobes_study_fields();
+
 // How a modal model was fitted to one FRF.
 struct ModalFitSummary {
   std::string what;  // the FRF's name
@@ -140,6 +148,7 @@ struct SpeedQuantiles {
 };
 
 struct LobesStudyResult {
+  LobesStudyOptions options;  // as given (the JSON echoes their scalar fields: lobes_study_fields)
   LobesMethod method = LobesMethod::ZeroOrder;
   CuttingConditions cutting;
   SpeedRange speeds;

@@ -1,0 +1,42 @@
+// One definition per option field (option_fields.hpp): the checks and texts every surface shares.
+#include "toolpoint/option_fields.hpp"
+
+#include <cmath>
+#include <fmt/format.h>
+
+#include "toolpoint/error.hpp"
+
+namespace toolpoint {
+
+std::string field_flag(const FieldSpec& s) { return s.cli_name ? fmt::format("--{}", s.cli_name) : std::string(); }
+
+bool field_value_valid(const FieldSpec& s, double v) {
+  if (!std::isnan(s.automatic) && v == s.automatic) return true;
+  if (!std::isfinite(v)) return false;
+  if (s.kind == FieldKind::Flag) return v == 0.0 || v == 1.0;
+  if (s.kind == FieldKind::Integer && v != std::floor(v)) return false;
+  const bool above = s.min_open ? v > s.min : v >= s.min;
+  const bool below = s.max_open ? v < s.max : v <= s.max;
+  return above && below;
+}
+
+std::string field_range_text(const FieldSpec& s, double scale) {
+  const double lo = s.min * scale, hi = s.max * scale;
+  if (!std::isfinite(hi)) return fmt::format("{} {:g}", s.min_open ? ">" : "≥", lo);
+  if (s.min_open || s.max_open) return fmt::format("{}{:g}, {:g}{}", s.min_open ? "(" : "[", lo, hi, s.max_open ? ")" : "]");
+  return fmt::format("{:g}…{:g}", lo, hi);
+}
+
+std::string field_range_phrase(const FieldSpec& s, double scale) {
+  return fmt::format("must {} {}", std::isfinite(s.max) ? "lie in" : "be", field_range_text(s, scale));
+}
+
+void check_field(const FieldSpec& s, double v, std::string_view options) {
+  if (field_value_valid(s, v)) return;
+  const std::string unit = *s.unit ? fmt::format(" {}", s.unit) : std::string();
+  throw InvalidArgument(fmt::format("{}::{} {:g}{} {}{}", options, s.name, v, unit, field_range_phrase(s),
+                                    *s.note ? fmt::format(" ({})", s.note) : std::string()),
+                        fmt::format("{}::{}: {}", options, s.name, s.help));
+}
+
+}  // namespace toolpoint
