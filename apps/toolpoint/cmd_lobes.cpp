@@ -122,16 +122,8 @@ void report_uncertain_lobes(const LobesStudyResult& r) {
                              1e3 * r.worst_speed->depth_m[0], r.worst_speed->speed_rpm);
 }
 
-// --method as the library's method. sd, an old spelling, is refused: running fd under its name
-// would pass one method off as another.
-LobesMethod lobes_method(const std::string& method) {
-  if (method == "sd")
-    throw InvalidArgument("--method sd: semi-discretization is not implemented; full-discretization (fd) replaced it "
-                          "(docs/stability.md says why: the same lobes, to a stated error, without a matrix exponential "
-                          "per depth)",
-                          "use --method fd");
-  return method == "zoa" ? LobesMethod::ZeroOrder : LobesMethod::FullDiscretization;
-}
+// --method as the library's method (CLI11 has checked the name).
+LobesMethod lobes_method(const std::string& method) { return lobes_method_from(method).value_or(LobesMethod::ZeroOrder); }
 
 void run_lobes(const LobesOptions& o, const Globals& g) {
   check_plot_path(o.plot);
@@ -295,8 +287,9 @@ void add_lobes_command(CLI::App& app, Globals& g) {
       ->check(CLI::Range(2, 1000000));
   c->add_option("--lobes", o->lobes, "zoa: lobes k = 0…K [-] (default: enough to cover MIN rpm)");
   c->add_option("--method", o->method,
-                "zoa (zero-order, from the FRF) or fd (full-discretization of a modal model in the time domain: flip lobes, "
-                "low immersion, several delays)")
+                "zoa (zero-order, from the FRF), fd (full-discretization of a modal model in the time domain: flip lobes, "
+                "low immersion, several delays) or sd (first-order semi-discretization of the same equation: a cross-check "
+                "of fd, slower)")
       ->check(CLI::IsMember({"zoa", "fd", "sd"}))
       ->capture_default_str();
   c->add_option("--tolerance", o->tolerance_pct,

@@ -14,7 +14,15 @@
 
 namespace toolpoint {
 
-const char* to_string(LobesMethod m) { return m == LobesMethod::ZeroOrder ? "zoa" : "fd"; }
+const char* to_string(LobesMethod m) {
+  return m == LobesMethod::ZeroOrder ? "zoa" : m == LobesMethod::FullDiscretization ? "fd" : "sd";
+}
+
+std::optional<LobesMethod> lobes_method_from(const std::string& name) {
+  for (LobesMethod m : {LobesMethod::ZeroOrder, LobesMethod::FullDiscretization, LobesMethod::SemiDiscretization})
+    if (name == to_string(m)) return m;
+  return std::nullopt;
+}
 
 namespace {
 
@@ -127,9 +135,12 @@ plot::LobesFigureData boundary_figure(const BoundaryResult& r) {
     }
     d.lobes.push_back(std::move(l));
   }
-  d.title = fmt::format("Stability boundary, full-discretization (error ≤ {:.2g} % estimated)", 100.0 * r.worst_relative_error());
+  d.title = fmt::format("Stability boundary, {}-discretization (error ≤ {:.2g} % estimated)",
+                        r.scheme == Discretization::Semi ? "semi" : "full", 100.0 * r.worst_relative_error());
   return d;
 }
+
+BoundaryOptions boundary_options(const LobesStudyOptions& options, const SpeedRange& speeds, const ProgressCallback& progress);
 
 }  // namespace
 
@@ -211,12 +222,13 @@ void LobesStudyOptions::check() const {
   parallel.check();
   if (speed_nodes != 0 && (speed_nodes < 2 || speed_nodes > 1000))
     throw InvalidArgument(fmt::format("LobesStudyOptions::speed_nodes {} must lie in 2…1000 (0: automatic)", speed_nodes));
-  if (method == LobesMethod::FullDiscretization) {
-    BoundaryOptions b;
-    b.tolerance = tolerance;
-    b.steps = steps;
-    b.degree = degree;
-    b.speeds = {speeds.min_rpm, speeds.max_rpm, 200};
+  if (degree < 0 || (degree == 0 && method != LobesMethod::SemiDiscretization))
+    throw InvalidArgument(
+        fmt::format("LobesStudyOptions::degree {} must be 1, 2 or 3 (0 or more with the semi-discretization "
+                    "method: 0 its zeroth order, else the first)",
+                    degree));
+  if (time_domain(method)) {
+    BoundaryOptions b = boundary_options(*this, {speeds.min_rpm, speeds.max_rpm, 200}, {});
     b.check();
   }
 }
@@ -447,6 +459,10 @@ BoundaryOptions boundary_options(const LobesStudyOptions& options, const SpeedRa
   bo.tolerance = options.tolerance;
   bo.steps = options.steps;
   bo.degree = options.degree;
+  if (options.method == LobesMethod::SemiDiscretization) {  // its order: 0 or 1 (LobesStudyOptions::degree)
+    bo.scheme = Discretization::Semi;
+    bo.degree = std::min(options.degree, 1);
+  }
   bo.max_depth_m = options.max_depth_m;
   bo.parallel = options.parallel;
   if (progress) bo.progress = progress;
@@ -633,7 +649,7 @@ LobesStudyResult at_speed_lobes_study(const LobesInput& input, const LobesStudyO
   res.method = options.method;
   res.cutting = options.cutting;
   res.speeds = options.speeds;
-  const bool fd = options.method == LobesMethod::FullDiscretization;
+  const bool fd = time_domain(options.method);
   if (res.speeds.points == 0) res.speeds.points = fd ? 200 : 2000;
   res.speed_model = model;
   const Assembly& a = *input.assembly;
@@ -719,7 +735,7 @@ LobesStudyResult nominal_lobes_study(const LobesInput& input, const LobesStudyOp
     if (report) report(f);
   };
 
-  if (options.method == LobesMethod::FullDiscretization && input.speed_frfs) {
+  if (time_domain(options.method) && input.speed_frfs) {
     if (!input.x_modes.empty() || !input.y_modes.empty())
       throw InvalidArgument("LobesInput::speed_frfs and modes given (LobesInput::x_modes, y_modes) contradict each other",
                             "drop the modes (they are fitted at each speed), or the FRFs at several speeds");
