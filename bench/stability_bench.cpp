@@ -61,10 +61,12 @@ BENCHMARK(BM_Stability_FullDiscretizationGrid)->Unit(benchmark::kMillisecond);
 // What `toolpoint lobes --method fd` does for the benchmark: the boundary at 200 speeds with the
 // default 1 % error target (two levels per speed, refined where needed), ceiling 10 mm; argument:
 // threads. Aim ≤ 20 ms on one thread.
-static void BM_Stability_Boundary(benchmark::State& state) {
+static void benchmark_boundary(benchmark::State& state, Discretization scheme) {
   BoundaryOptions o;
   o.speeds = {5000.0, 25000.0, 200};
   o.max_depth_m = 1e-2;
+  o.scheme = scheme;
+  if (scheme == Discretization::Semi) o.degree = 1;
   o.parallel.threads = static_cast<int>(state.range(0));
   long evaluations = 0;
   for (auto _ : state) {
@@ -74,25 +76,12 @@ static void BM_Stability_Boundary(benchmark::State& state) {
   }
   state.counters["evaluations"] = static_cast<double>(evaluations);
 }
+static void BM_Stability_Boundary(benchmark::State& state) { benchmark_boundary(state, Discretization::Full); }
 BENCHMARK(BM_Stability_Boundary)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // The same by first-order semi-discretization (`lobes --method sd`): a matrix exponential per step
 // in the cut per depth evaluated; argument: threads.
-static void BM_Stability_SemiDiscretizationBoundary(benchmark::State& state) {
-  BoundaryOptions o;
-  o.speeds = {5000.0, 25000.0, 200};
-  o.max_depth_m = 1e-2;
-  o.scheme = Discretization::Semi;
-  o.degree = 1;
-  o.parallel.threads = static_cast<int>(state.range(0));
-  long evaluations = 0;
-  for (auto _ : state) {
-    const BoundaryResult r = stability_boundary(ModalModel{{kBench}, {}}, benchmark_cut(0.05), o);
-    evaluations = r.evaluations;
-    benchmark::DoNotOptimize(r.boundary.data());
-  }
-  state.counters["evaluations"] = static_cast<double>(evaluations);
-}
+static void BM_Stability_SemiDiscretizationBoundary(benchmark::State& state) { benchmark_boundary(state, Discretization::Semi); }
 BENCHMARK(BM_Stability_SemiDiscretizationBoundary)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // The example assembly's case (issue 16's command): 4 modes per direction fitted to the example's

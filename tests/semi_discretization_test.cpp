@@ -26,18 +26,9 @@ using namespace toolpoint;
 
 namespace {
 
-using namespace test::benchmark;
+using test::hayes;
 
-// Hayes: ẋ = a x + b x(t − 1), A₀ = a, B = C = 1, Q = b, period 1.
-PeriodicDelaySystem hayes(double a, double b) {
-  PeriodicDelaySystem s;
-  s.a0_blocks = {Eigen::MatrixXd::Constant(1, 1, a)};
-  s.input = Eigen::MatrixXd::Ones(1, 1);
-  s.output = Eigen::MatrixXd::Ones(1, 1);
-  s.period = 1.0;
-  s.delayed = [b](double, Eigen::MatrixXd& out) { out(0, 0) = b; };
-  return s;
-}
+using namespace test::benchmark;
 
 CuttingConditions half_immersion(std::vector<double> pitch_deg) {
   CuttingConditions c{4, kKt, kKn / kKt, engagement_from_immersion(0.5, MillingDirection::Down)};

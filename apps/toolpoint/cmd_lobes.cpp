@@ -197,8 +197,9 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
                           "e.g. --mode-x 0.04,0.011,922, or --frf tool_point.csv");
 
   Progress progress(g, uncertain ? fmt::format("lobes: zero-order, nominal and {} joint samples", so.uncertainty.samples)
-                       : so.method == LobesMethod::ZeroOrder ? "lobes: zero-order"
-                                                             : "lobes: full-discretization boundary");
+                       : so.method == LobesMethod::ZeroOrder          ? "lobes: zero-order"
+                       : so.method == LobesMethod::SemiDiscretization ? "lobes: semi-discretization boundary"
+                                                                      : "lobes: full-discretization boundary");
   LobesStudyResult r;
   try {
     r = run_lobes_study(input, so, progress.part());
