@@ -61,10 +61,12 @@ BENCHMARK(BM_Stability_FullDiscretizationGrid)->Unit(benchmark::kMillisecond);
 // What `toolpoint lobes --method fd` does for the benchmark: the boundary at 200 speeds with the
 // default 1 % error target (two levels per speed, refined where needed), ceiling 10 mm; argument:
 // threads. Aim ≤ 20 ms on one thread.
-static void BM_Stability_Boundary(benchmark::State& state) {
+static void benchmark_boundary(benchmark::State& state, Discretization scheme) {
   BoundaryOptions o;
   o.speeds = {5000.0, 25000.0, 200};
   o.max_depth_m = 1e-2;
+  o.scheme = scheme;
+  if (scheme == Discretization::Semi) o.degree = 1;
   o.parallel.threads = static_cast<int>(state.range(0));
   long evaluations = 0;
   for (auto _ : state) {
@@ -74,21 +76,30 @@ static void BM_Stability_Boundary(benchmark::State& state) {
   }
   state.counters["evaluations"] = static_cast<double>(evaluations);
 }
+static void BM_Stability_Boundary(benchmark::State& state) { benchmark_boundary(state, Discretization::Full); }
 BENCHMARK(BM_Stability_Boundary)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The same by first-order semi-discretization (`lobes --method sd`): a matrix exponential per step
+// in the cut per depth evaluated; argument: threads.
+static void BM_Stability_SemiDiscretizationBoundary(benchmark::State& state) { benchmark_boundary(state, Discretization::Semi); }
+BENCHMARK(BM_Stability_SemiDiscretizationBoundary)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // The example assembly's case (issue 16's command): 4 modes per direction fitted to the example's
 // tool point FRF (`toolpoint modes`), 4 teeth, K_t 6e8 N/m², K_r 0.3, a/D 0.5 down-milling,
 // 200 speeds 2000–20 000 rpm, 1 % error target; argument: threads. Aim ≤ 1 s on one, ≤ 0.6 s on two.
 // With `pitch_deg`, the same cutter at that pitch.
 static void example_assembly_boundary(benchmark::State& state, const std::vector<double>& pitch_deg,
-                                      const std::vector<double>& helix_deg = {}) {
+                                      const std::vector<double>& helix_deg = {}, Discretization scheme = Discretization::Full,
+                                      int speeds = 200) {
   const std::vector<Mode> modes = bench::example_modes();
   CuttingConditions cut{4, 6e8, 0.3, engagement_from_immersion(0.5, MillingDirection::Down)};
   for (double p : pitch_deg) cut.pitch_rad.push_back(p * 3.14159265358979323846 / 180.0);
   for (double b : helix_deg) cut.helix_rad.push_back(b * 3.14159265358979323846 / 180.0);
   cut.diameter_m = 0.016;  // the example's 16 mm end mill (read only with a helix)
   BoundaryOptions o;
-  o.speeds = {2000.0, 20000.0, 200};
+  o.speeds = {2000.0, 20000.0, speeds};
+  o.scheme = scheme;
+  if (scheme == Discretization::Semi) o.degree = 1;
   o.parallel.threads = static_cast<int>(state.range(0));
   long evaluations = 0;
   for (auto _ : state) {
@@ -107,6 +118,12 @@ static void BM_Stability_ExampleAssemblyVariablePitchBoundary(benchmark::State& 
   example_assembly_boundary(state, {70.0, 110.0, 70.0, 110.0});
 }
 BENCHMARK(BM_Stability_ExampleAssemblyVariablePitchBoundary)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+// The same by first-order semi-discretization at 20 of the speeds (a 48 × 48 matrix exponential per
+// step in the cut per depth: about two orders of magnitude slower than fd); argument: threads.
+static void BM_Stability_ExampleAssemblyVariablePitchSemi20(benchmark::State& state) {
+  example_assembly_boundary(state, {70.0, 110.0, 70.0, 110.0}, {}, Discretization::Semi, 20);
+}
+BENCHMARK(BM_Stability_ExampleAssemblyVariablePitchSemi20)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // The same case with a 30° helix (the map rebuilt at every depth the search evaluates; tooth
 // period), and with a 30°/35° variable helix (a revolution, 8 axial slices, a delay per slice and

@@ -135,13 +135,18 @@ PeriodicDelaySystem with_velocity_feedback(const PeriodicDelaySystem& system, co
   return out;
 }
 
-PeriodMap::PeriodMap(const PeriodicDelaySystem& sys, int steps, int degree) {
+PeriodMap::PeriodMap(const PeriodicDelaySystem& sys, int steps, int degree, Discretization scheme) {
   sys.check();
+  const bool semi = scheme == Discretization::Semi;
   if (steps < 2 || steps > 100000) throw InvalidArgument(fmt::format("{} discretization steps per period: need 2…100000", steps));
-  if (degree < 1 || degree > 3) throw InvalidArgument(fmt::format("interpolation degree {}: need 1, 2 or 3", degree));
+  if (semi && (degree < 0 || degree > 1)) throw InvalidArgument(fmt::format("semi-discretization order {}: need 0 or 1", degree));
+  if (!semi && (degree < 1 || degree > 3)) throw InvalidArgument(fmt::format("interpolation degree {}: need 1, 2 or 3", degree));
   if (steps < degree) throw InvalidArgument(fmt::format("{} steps are too few for degree {}", steps, degree));
   m_ = steps;
-  p_ = degree;
+  // Semi-discretization reads the delayed outputs at the nodes of degree 1 (y_{k−i}, y_{k+1−i}):
+  // the full-discretization set-up at p = 1 gives its buffer, active steps and jumps.
+  p_ = semi ? 1 : degree;
+  semi_order_ = degree;
   d_ = static_cast<int>(sys.input.cols());
   regenerative_ = sys.regenerative;
   c_ = sys.output;
@@ -388,6 +393,48 @@ PeriodMap::PeriodMap(const PeriodicDelaySystem& sys, int steps, int degree) {
       }
     }
     k += std::max(len, 1);
+  }
+  if (semi) build_semi(sys, h, whole_steps, fraction);
+}
+
+void PeriodMap::build_semi(const PeriodicDelaySystem& sys, double h, const std::vector<int>& whole_steps,
+                           const std::vector<double>& fraction) {
+  h_ = h;
+  a0_ = Eigen::MatrixXd::Zero(n_, n_);
+  for (std::size_t b = 0; b < sys.a0_blocks.size(); ++b)
+    a0_.block(block_start_[b], block_start_[b], block_size_[b], block_size_[b]) = sys.a0_blocks[b];
+  b_ = sys.input;
+  semi_cache_ = std::make_shared<SemiCache>();
+  std::vector<double> cuts = sys.breakpoints;
+  std::sort(cuts.begin(), cuts.end());
+  // (1/h)∫ f over step k: Gauss on each piece between breakpoints (f is smooth within a piece).
+  Eigen::MatrixXd coef(d_, d_);
+  auto average = [&](const std::function<void(double, Eigen::MatrixXd&)>& f, int k) {
+    Eigen::MatrixXd sum = Eigen::MatrixXd::Zero(d_, d_);
+    const double t0 = k * h;
+    std::vector<double> ends{t0};
+    for (double t : cuts)
+      if (t > t0 + 1e-12 * h && t < t0 + h - 1e-12 * h) ends.push_back(t);
+    ends.push_back(t0 + h);
+    for (std::size_t j = 0; j + 1 < ends.size(); ++j)
+      for (int g = 0; g < kGauss; ++g) {
+        coef.setZero();
+        f(ends[j] + kGaussNode[g] * (ends[j + 1] - ends[j]), coef);
+        sum += kGaussWeight[g] * (ends[j + 1] - ends[j]) * coef;
+      }
+    return Eigen::MatrixXd(sum / h);
+  };
+  semi_.assign(static_cast<std::size_t>(m_), SemiStep{});
+  for (int k = 0; k < m_; ++k) {
+    if (!active_[static_cast<std::size_t>(k)]) continue;
+    SemiStep& st = semi_[static_cast<std::size_t>(k)];
+    st.p = sys.current ? average(sys.current, k) : Eigen::MatrixXd::Zero(d_, d_);
+    if (regenerative_) st.delays.push_back({m_, 0.0, -st.p});
+    else if (sys.delayed) st.delays.push_back({m_, 0.0, average(sys.delayed, k)});
+    for (std::size_t j = 0; j < sys.delays.size(); ++j) {
+      Eigen::MatrixXd q = average(sys.delays[j].coefficient, k);
+      if (!q.isZero(0.0)) st.delays.push_back({whole_steps[j], fraction[j], std::move(q)});
+    }
   }
 }
 

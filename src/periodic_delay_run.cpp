@@ -13,6 +13,40 @@ namespace toolpoint {
 
 using Complex = std::complex<double>;
 
+// Step k (in the cut) by semi-discretization for nc columns in run()'s layout (nc = 1: run_one's):
+// z = e^{A_k h} y + σ Σ_j Σ_{o=0,1} W_jo y_{k+o−i_j} (periodic_delay.hpp), `sample(j)` the outputs y_j.
+template <typename S, typename Sample>
+void PeriodMap::semi_step(const SemiMatrices& sm, int k, double sigma, std::size_t nc, const S* y, S* z,
+                          const Sample& sample) const {
+  const int n = n_, d = d_;
+  const auto kk = static_cast<std::size_t>(k);
+  const Eigen::MatrixXd& ph = sm.phi[kk];
+  for (int i = 0; i < n; ++i) {
+    S* zi = z + i * nc;
+    std::fill(zi, zi + nc, S(0.0));
+    for (int j = 0; j < n; ++j) {
+      const double e = ph(i, j);
+      if (e == 0.0) continue;
+      const S* yj = y + j * nc;
+      for (std::size_t q = 0; q < nc; ++q) zi[q] += e * yj[q];
+    }
+  }
+  const std::vector<SemiDelay>& dl = semi_[kk].delays;
+  for (std::size_t j = 0; j < dl.size(); ++j)
+    for (int o = 0; o <= 1; ++o) {
+      const double* w = sm.w[kk][2 * j + static_cast<std::size_t>(o)].data();  // n × d, column-major
+      const S* x = sample(k + o - dl[j].whole_steps);
+      for (int c = 0; c < d; ++c)
+        for (int i = 0; i < n; ++i) {
+          const double wi = sigma * w[c * n + i];
+          if (wi == 0.0) continue;
+          S* zi = z + i * nc;
+          const S* xc = x + c * nc;
+          for (std::size_t q = 0; q < nc; ++q) zi[q] += wi * xc[q];
+        }
+    }
+}
+
 // One state at a time: the path Arnoldi takes (plain loops, no column dimension).
 template <typename S>
 void PeriodMap::run_one(double sigma, const S* u, S* v, S* out, bool forced) const {
@@ -49,6 +83,14 @@ void PeriodMap::run_one(double sigma, const S* u, S* v, S* out, bool forced) con
       ph += bs * bs;
     }
   };
+  auto add = [&](const double* w, const S* x, double f) {  // z += f W x, W n × d column-major
+    for (int c = 0; c < d; ++c) {
+      const S xc = f * x[c];
+      const double* col = w + c * n;
+      for (int i = 0; i < n; ++i) z[static_cast<std::size_t>(i)] += col[i] * xc;
+    }
+  };
+  const std::shared_ptr<const SemiMatrices> semi = semi_.empty() ? nullptr : semi_matrices(sigma);
   outputs_of(y, r.data());
   for (int k = 0; k < m; ++k) {
     const auto kk = static_cast<std::size_t>(k);
@@ -59,8 +101,14 @@ void PeriodMap::run_one(double sigma, const S* u, S* v, S* out, bool forced) con
       outputs_of(y, r.data() + (k + 1) * d);
       continue;
     }
-    propagate(phi_.data());
     S* rk1 = r.data() + (k + 1) * d;
+    if (semi && active_[kk]) {
+      semi_step(*semi, k, sigma, 1, y.data(), z.data(), sample);
+      outputs_of(z, rk1);
+      y.swap(z);
+      continue;
+    }
+    propagate(phi_.data());
     if (!active_[kk]) {
       y.swap(z);
       outputs_of(y, rk1);
@@ -68,13 +116,6 @@ void PeriodMap::run_one(double sigma, const S* u, S* v, S* out, bool forced) con
     }
     const double* wp = wp_[kk].data();
     const double* wq = regenerative_ || wq_[kk].empty() ? nullptr : wq_[kk].data();
-    auto add = [&](const double* w, const S* x, double f) {  // z += f W x, W n × d column-major
-      for (int c = 0; c < d; ++c) {
-        const S xc = f * x[c];
-        const double* col = w + c * n;
-        for (int i = 0; i < n; ++i) z[static_cast<std::size_t>(i)] += col[i] * xc;
-      }
-    };
     for (int o = 0; o <= p; ++o) {
       const int cur = k + 1 - p + o;
       const S* del = sample(cur - m);
@@ -190,6 +231,7 @@ void PeriodMap::run(double sigma, int cols, const S* u, S* v, S* out) const {
       ph += bs * bs;
     }
   };
+  const std::shared_ptr<const SemiMatrices> semi = semi_.empty() ? nullptr : semi_matrices(sigma);
   outputs_of(y, r);
   for (int k = 0; k < m; ++k) {
     const auto kk = static_cast<std::size_t>(k);
@@ -200,8 +242,14 @@ void PeriodMap::run(double sigma, int cols, const S* u, S* v, S* out) const {
       outputs_of(y, r + static_cast<std::size_t>((k + 1) * d) * nc);
       continue;
     }
-    propagate(phi_.data());
     S* rk1 = r + static_cast<std::size_t>((k + 1) * d) * nc;
+    if (semi && active_[kk]) {
+      semi_step(*semi, k, sigma, nc, y, z, sample);
+      outputs_of(z, rk1);
+      std::swap(y, z);
+      continue;
+    }
+    propagate(phi_.data());
     if (!active_[kk]) {
       std::swap(y, z);
       outputs_of(y, rk1);
@@ -287,6 +335,9 @@ Eigen::MatrixXd PeriodMap::matrix(double sigma) const {
 
 PeriodMap::PeriodicSolution PeriodMap::periodic_solution(double sigma) const {
   if (wf_.empty()) throw InvalidArgument("PeriodMap::periodic_solution: the system has no PeriodicDelaySystem::forcing");
+  if (!semi_.empty())
+    throw InvalidArgument("PeriodMap::periodic_solution is not implemented for Discretization::Semi",
+                          "build the map with Discretization::Full");
   if (!std::isfinite(sigma)) throw InvalidArgument(fmt::format("PeriodMap: gain {} is not finite", sigma));
   const int n = size();
   const Eigen::VectorXd rest = Eigen::VectorXd::Zero(n);

@@ -1570,14 +1570,15 @@ struct Root {
 // σ), or with a helix one built for each depth asked (the last one kept).
 class MapAtDepth {
  public:
-  MapAtDepth(const ModalModel& model, const CuttingConditions& cutting, double speed_rpm, int steps, int degree)
-      : model_(model), cutting_(cutting), speed_rpm_(speed_rpm), steps_(steps), degree_(degree) {
-    if (!cutting.helical()) map_.emplace(milling_delay_system(model, cutting, speed_rpm), steps, degree);
+  MapAtDepth(const ModalModel& model, const CuttingConditions& cutting, double speed_rpm, int steps, int degree,
+             Discretization scheme)
+      : model_(model), cutting_(cutting), speed_rpm_(speed_rpm), steps_(steps), degree_(degree), scheme_(scheme) {
+    if (!cutting.helical()) map_.emplace(milling_delay_system(model, cutting, speed_rpm), steps, degree, scheme);
   }
   const PeriodMap& operator()(double depth_m) const {
     if (cutting_.helical() && (!map_ || depth_m != depth_m_)) {
       map_.reset();
-      map_.emplace(milling_delay_system_at_depth(model_, cutting_, speed_rpm_, depth_m), steps_, degree_);
+      map_.emplace(milling_delay_system_at_depth(model_, cutting_, speed_rpm_, depth_m), steps_, degree_, scheme_);
       depth_m_ = depth_m;
     }
     return *map_;
@@ -1588,6 +1589,7 @@ class MapAtDepth {
   const CuttingConditions& cutting_;
   double speed_rpm_;
   int steps_, degree_;
+  Discretization scheme_;
   mutable std::optional<PeriodMap> map_;
   mutable double depth_m_ = kNaN;
 };
@@ -1708,23 +1710,28 @@ std::optional<Root> root_near(const RadiusCounter& rho, double near, double slop
 
 }  // namespace
 
-FullDiscretization::FullDiscretization(ModalModel model, CuttingConditions cutting, int steps, int degree)
-    : model_(std::move(model)), cutting_(cutting), steps_(steps), degree_(degree) {
+int boundary_error_order(Discretization scheme, int degree) { return scheme == Discretization::Semi ? 2 : degree + 1; }
+
+FullDiscretization::FullDiscretization(ModalModel model, CuttingConditions cutting, int steps, int degree, Discretization scheme)
+    : model_(std::move(model)), cutting_(cutting), steps_(steps), degree_(degree), scheme_(scheme) {
   model_.check();
   cutting_.check();
   if (steps_ < 4 || steps_ > 20000)
     throw InvalidArgument(fmt::format("{} discretization steps per tooth period: need 4…20000", steps_),
                           "40 is usual; more for chatter frequencies far above the tooth passing frequency");
-  if (degree_ < 1 || degree_ > 3) throw InvalidArgument(fmt::format("interpolation degree {}: need 1, 2 or 3", degree_));
+  if (scheme_ == Discretization::Semi && (degree_ < 0 || degree_ > 1))
+    throw InvalidArgument(fmt::format("semi-discretization order {}: need 0 or 1", degree_));
+  if (scheme_ == Discretization::Full && (degree_ < 1 || degree_ > 3))
+    throw InvalidArgument(fmt::format("interpolation degree {}: need 1, 2 or 3", degree_));
 }
 
 PeriodMap FullDiscretization::period_map(double speed_rpm) const {
-  return PeriodMap(milling_delay_system(model_, cutting_, speed_rpm), steps_ * cutting_.teeth_per_period(), degree_);
+  return PeriodMap(milling_delay_system(model_, cutting_, speed_rpm), steps_ * cutting_.teeth_per_period(), degree_, scheme_);
 }
 
 PeriodMap FullDiscretization::period_map(double speed_rpm, double depth_m) const {
   return PeriodMap(milling_delay_system_at_depth(model_, cutting_, speed_rpm, depth_m), steps_ * cutting_.teeth_per_period(),
-                   degree_);
+                   degree_, scheme_);
 }
 
 double FullDiscretization::spectral_radius(double speed_rpm, double depth_m) const {
@@ -1746,7 +1753,7 @@ Eigen::MatrixXd FullDiscretization::spectral_radius_map(const std::vector<double
     if (!std::isfinite(a) || a < 0.0) throw InvalidArgument(fmt::format("axial depth {} m must be ≥ 0", a));
   Eigen::MatrixXd rho(static_cast<Eigen::Index>(speeds_rpm.size()), static_cast<Eigen::Index>(depths_m.size()));
   parallel_for(speeds_rpm.size(), parallel, [&](std::size_t i) {
-    const MapAtDepth map(model_, cutting_, speeds_rpm[i], steps_ * cutting_.teeth_per_period(), degree_);
+    const MapAtDepth map(model_, cutting_, speeds_rpm[i], steps_ * cutting_.teeth_per_period(), degree_, scheme_);
     for (std::size_t j = 0; j < depths_m.size(); ++j)
       rho(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = map(depths_m[j]).spectral_radius(depths_m[j]);
   });
@@ -1759,7 +1766,7 @@ BoundaryPoint FullDiscretization::boundary(double speed_rpm, double max_depth_m,
   if (depth_steps < 1 || depth_steps > 100000) throw InvalidArgument(fmt::format("{} depth steps: need 1…100000", depth_steps));
   if (!std::isfinite(tolerance) || !(tolerance > 0.0) || tolerance >= 1.0)
     throw InvalidArgument(fmt::format("depth tolerance {} must lie in (0, 1)", tolerance));
-  const MapAtDepth map(model_, cutting_, speed_rpm, steps_ * cutting_.teeth_per_period(), degree_);
+  const MapAtDepth map(model_, cutting_, speed_rpm, steps_ * cutting_.teeth_per_period(), degree_, scheme_);
   long evaluations = 0;
   const RadiusCounter rho{map, &evaluations};
   BoundaryPoint bp;
@@ -1805,7 +1812,13 @@ void BoundaryOptions::check() const {
     throw InvalidArgument(fmt::format("BoundaryOptions::steps {} leaves no room for the finer level below max_steps {}", steps,
                                       max_steps),
                           "the error estimate compares m with 2m steps: keep steps ≤ max_steps/2");
-  if (degree < 1 || degree > 3) throw InvalidArgument(fmt::format("BoundaryOptions::degree {} must be 1, 2 or 3", degree));
+  if (scheme == Discretization::Semi && (degree < 0 || degree > 1))
+    throw InvalidArgument(
+        fmt::format("BoundaryOptions::degree {} must be 0 or 1 with Discretization::Semi (the order of "
+                    "semi-discretization)",
+                    degree));
+  if (scheme == Discretization::Full && (degree < 1 || degree > 3))
+    throw InvalidArgument(fmt::format("BoundaryOptions::degree {} must be 1, 2 or 3", degree));
   if (!std::isfinite(max_depth_m) || max_depth_m < 0.0)
     throw InvalidArgument(fmt::format("BoundaryOptions::max_depth_m {} m must be ≥ 0 (0: automatic)", max_depth_m));
   parallel.check();
@@ -1846,7 +1859,7 @@ SpeedOutcome boundary_at(const ModalModel& model, const CuttingConditions& cutti
   // Roots to brackets of 0.1 (finer level) and 0.3 (coarser) of the error target: the reported
   // a₂ + (a₂ − a₁)/7 then carries at most (0.05·8/7 + 0.15/7) ≈ 0.08 of the target from the roots.
   const double root_tolerance = std::clamp(1e-1 * o.tolerance, 1e-10, 1e-3);
-  const MapAtDepth coarse(model, cutting, speed_rpm, m * per, o.degree);
+  const MapAtDepth coarse(model, cutting, speed_rpm, m * per, o.degree, o.scheme);
   std::optional<Root> r1 = lowest_root({coarse, &out.evaluations}, guess.start * guess.depth_m, guess.depth_m, 1.15, max_depth_m,
                                        3.0 * root_tolerance);
   if (!r1) {
@@ -1855,10 +1868,11 @@ SpeedOutcome boundary_at(const ModalModel& model, const CuttingConditions& cutti
     bp.chatter_hz = kNaN;
     return out;
   }
-  const double factor = std::pow(2.0, o.degree + 1) - 1.0;  // Richardson: error of a_{2m} = (a_{2m} − a_m)/(2^{p+1} − 1)
+  // Richardson: error of a_{2m} = (a_{2m} − a_m)/(2^q − 1), q = p + 1 for full-discretization.
+  const double factor = std::pow(2.0, boundary_error_order(o.scheme, o.degree)) - 1.0;
   double a1 = r1->depth_m, slope = r1->slope;
   for (;;) {
-    const MapAtDepth fine(model, cutting, speed_rpm, 2 * m * per, o.degree);
+    const MapAtDepth fine(model, cutting, speed_rpm, 2 * m * per, o.degree, o.scheme);
     const std::optional<Root> r2 = root_near({fine, &out.evaluations}, a1, slope, max_depth_m, root_tolerance);
     if (!r2) {  // the finer (more accurate) level is stable up to the ceiling
       bp.depth_m = max_depth_m;
@@ -1954,6 +1968,7 @@ BoundaryResult stability_boundary(const ModalModel& model, const CuttingConditio
   BoundaryResult res;
   res.tolerance = options.tolerance;
   res.degree = options.degree;
+  res.scheme = options.scheme;
   // The zero-order lobes of the modal model on the same speed grid: starting guesses, and the
   // default ceiling.
   std::vector<Mode> all = model.x;
@@ -1987,6 +2002,7 @@ BoundaryResult stability_boundary(const std::vector<ModalModel>& models, const Z
   BoundaryResult res;
   res.tolerance = options.tolerance;
   res.degree = options.degree;
+  res.scheme = options.scheme;
   res.max_depth_m = options.max_depth_m > 0.0 ? options.max_depth_m : 10.0 * guesses.floor_depth_m;
   boundary_over_speeds([&](std::size_t i) -> const ModalModel& { return models[i]; }, guesses, cutting, options, res);
   return res;

@@ -7,10 +7,13 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <cctype>
 #include <iterator>
 #include <map>
 #include <cmath>
 #include <fmt/format.h>
+#include <sstream>
+#include <vector>
 #include <string>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -81,6 +84,29 @@ TEST(LobesCommand, WritesLobesAndRejectsBadInputWithExitCodes) {
   EXPECT_NE(read_text_file(dir + "/s.csv")
                 .find("\nlobe,spindle_speed_rpm,axial_depth_mm,chatter_frequency_hz,kind,axial_depth_error_mm,steps\n"),
             std::string::npos);
+  // The same by semi-discretization (issue 27): the same columns, and depths within 2 % of fd's
+  // (each method's estimated error is under its 1 % target).
+  const CliRun semi = run_cli(base + " --immersion 0.05 --method sd --rigid-y --speeds 9 --max-depth 10 --output " + dir +
+                              "/sd.csv");
+  ASSERT_EQ(semi.code, 0) << semi.out;
+  auto depths = [](const std::string& text) {
+    std::vector<double> out;
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);) {
+      if (line.empty() || !(std::isdigit(static_cast<unsigned char>(line[0])) || line[0] == '-')) continue;
+      std::istringstream fields(line);
+      std::string lobe, speed, depth;
+      std::getline(fields, lobe, ',');
+      std::getline(fields, speed, ',');
+      std::getline(fields, depth, ',');
+      out.push_back(std::stod(depth));
+    }
+    return out;
+  };
+  const std::vector<double> fd_depth = depths(read_text_file(dir + "/s.csv")), sd_depth = depths(read_text_file(dir + "/sd.csv"));
+  ASSERT_EQ(sd_depth.size(), fd_depth.size());
+  ASSERT_GE(fd_depth.size(), 9u);
+  for (std::size_t i = 0; i < fd_depth.size(); ++i) EXPECT_NEAR(sd_depth[i], fd_depth[i], 0.02 * fd_depth[i]) << i;
 
   // The modal fit's warnings name the FRF they are about (the assembly's tool point FRF), never an
   // empty name; the library's field names reach the user as the options' spellings.

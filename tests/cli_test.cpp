@@ -778,10 +778,9 @@ TEST_F(Cli, BadValuesAreUsageErrors) {
   expect_error(run("couple --sh h.csv --assembly '" + kExample + "' --overhang 0.04:0.09:0.00001 --output d"), 2,
                {"gives 5001 overhangs; at most 1000"});
   expect_error(run("lobes --frf h.csv --teeth 2 --kt 6e8 --kr 0.3 --immersion 1.5 --milling up --rpm 1:2"), 2, {"immersion"});
-  // Semi-discretization is not implemented: its old spelling is refused, not run as fd under its name.
-  expect_error(run("lobes --method sd --mode-x 0.03993,0.011,922 --rigid-y --teeth 2 --kt 6e8 --kn 2e8 --immersion 0.05 "
+  expect_error(run("lobes --method xd --mode-x 0.03993,0.011,922 --rigid-y --teeth 2 --kt 6e8 --kn 2e8 --immersion 0.05 "
                    "--milling down --rpm 5000:25000"),
-               2, {"--method sd", "semi-discretization", "--method fd"});
+               2, {"--method", "xd"});
   expect_error(run("modes h.csv --dataset 1"), 2, {"h.csv", "dataset 1"});  // a CSV has no datasets
   expect_error(run("filter h.csv out.xyz --window 1 --order 0"), 2, {"out.xyz"});
   EXPECT_FALSE(exists("tip.csv"));

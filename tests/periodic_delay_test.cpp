@@ -13,21 +13,13 @@
 #include "toolpoint/error.hpp"
 #include "toolpoint/stability/periodic_delay.hpp"
 #include "toolpoint/stability/stability.hpp"
+#include "support/stability_util.hpp"
 
 using namespace toolpoint;
 
 namespace {
 
-// Hayes: ẋ = a x + b x(t − 1), written as A₀ = a, B = C = 1, Q = b, period 1.
-PeriodicDelaySystem hayes(double a, double b) {
-  PeriodicDelaySystem s;
-  s.a0_blocks = {Eigen::MatrixXd::Constant(1, 1, a)};
-  s.input = Eigen::MatrixXd::Ones(1, 1);
-  s.output = Eigen::MatrixXd::Ones(1, 1);
-  s.period = 1.0;
-  s.delayed = [b](double, Eigen::MatrixXd& out) { out(0, 0) = b; };
-  return s;
-}
+using test::hayes;
 
 // Delayed Mathieu: ẍ + a₁ẋ + (δ + ε cos t) x = b₀ x(t − 2π); A₀ carries δ and a₁, the periodic
 // part −ε cos t acts on the current x, b₀ on the delayed x.

@@ -122,16 +122,8 @@ void report_uncertain_lobes(const LobesStudyResult& r) {
                              1e3 * r.worst_speed->depth_m[0], r.worst_speed->speed_rpm);
 }
 
-// --method as the library's method. sd, an old spelling, is refused: running fd under its name
-// would pass one method off as another.
-LobesMethod lobes_method(const std::string& method) {
-  if (method == "sd")
-    throw InvalidArgument("--method sd: semi-discretization is not implemented; full-discretization (fd) replaced it "
-                          "(docs/stability.md says why: the same lobes, to a stated error, without a matrix exponential "
-                          "per depth)",
-                          "use --method fd");
-  return method == "zoa" ? LobesMethod::ZeroOrder : LobesMethod::FullDiscretization;
-}
+// --method as the library's method (CLI11 has checked the name).
+LobesMethod lobes_method(const std::string& method) { return lobes_method_from(method).value_or(LobesMethod::ZeroOrder); }
 
 void run_lobes(const LobesOptions& o, const Globals& g) {
   check_plot_path(o.plot);
@@ -192,8 +184,9 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
                           "e.g. --mode-x 0.04,0.011,922, or --frf tool_point.csv");
 
   Progress progress(g, uncertain ? fmt::format("lobes: zero-order, nominal and {} joint samples", so.uncertainty.samples)
-                       : so.method == LobesMethod::ZeroOrder ? "lobes: zero-order"
-                                                             : "lobes: full-discretization boundary");
+                       : so.method == LobesMethod::ZeroOrder          ? "lobes: zero-order"
+                       : so.method == LobesMethod::SemiDiscretization ? "lobes: semi-discretization boundary"
+                                                                      : "lobes: full-discretization boundary");
   LobesStudyResult r;
   try {
     r = run_lobes_study(input, so, progress.part());
@@ -283,8 +276,9 @@ void add_lobes_command(CLI::App& app, Globals& g) {
   const auto& fields = lobes_study_fields();
   o->fields.add(c, option_field(fields, "lobes"));
   c->add_option("--method", o->method,
-                "zoa (zero-order, from the FRF) or fd (full-discretization of a modal model in the time domain: flip lobes, "
-                "low immersion, several delays)")
+                "zoa (zero-order, from the FRF), fd (full-discretization of a modal model in the time domain: flip lobes, "
+                "low immersion, several delays) or sd (first-order semi-discretization of the same equation: a cross-check "
+                "of fd, slower)")
       ->check(CLI::IsMember({"zoa", "fd", "sd"}))
       ->capture_default_str();
   o->fields.add(c, option_field(fields, "tolerance"));

@@ -61,7 +61,10 @@ void print_report(const PlanResult& r) {
   std::cout << fmt::format(
       "plan{}: {} candidate(s), {} set-ups (overhangs) x {} spindle speeds {:g}-{:g} rpm, {}; depth used: {}{}\n",
       name.empty() ? "" : " '" + name + "'", h.candidates.size(), h.jobs, h.speeds_rpm.size(), h.speeds_rpm.front(),
-      h.speeds_rpm.back(), o.lobes.method == LobesMethod::ZeroOrder ? "zero-order lobes" : "full-discretization boundary",
+      h.speeds_rpm.back(),
+      o.lobes.method == LobesMethod::ZeroOrder            ? "zero-order lobes"
+      : o.lobes.method == LobesMethod::SemiDiscretization ? "semi-discretization boundary"
+                                                          : "full-discretization boundary",
       safety_rule_text(o.safety), limits);
   std::cout << "best set-ups, most metal removed first:\n"
                "  rank  candidate                 overhang_mm  speed_rpm  depth_mm  mrr_cm3_per_min  limit      margin_%  "
@@ -128,7 +131,7 @@ void run_plan_command(const PlanArgs& o, const Globals& g) {
   check_outputs(o, study.inputs);
   check_output_extension(o.part, "--part", {".json"}, "a plan part as JSON (.json)");
   if (o.method == "zoa") study.options.lobes.method = LobesMethod::ZeroOrder;
-  else if (o.method == "fd") study.options.lobes.method = LobesMethod::FullDiscretization;
+  else if (!o.method.empty()) study.options.lobes.method = lobes_method_from(o.method).value_or(LobesMethod::FullDiscretization);
   override_tool(o.tool, study.options.lobes.cutting);
   study.options.parallel.threads = o.threads;
 
@@ -191,8 +194,9 @@ void add_plan_command(CLI::App& app, Globals& g) {
       "study", o->study,
       "Study file (TOML, SI units, spindle speeds in rpm): candidates (assemblies and their overhang ranges, or a measured "
       "SH11 + the model's tool), the cut, the machine's speeds and limits, the safety rule; see examples/plan_bt40.toml");
-  c->add_option("--method", o->method, "Override the study's method: zoa (zero-order lobes) or fd (full-discretization)")
-      ->check(CLI::IsMember({"zoa", "fd"}));
+  c->add_option("--method", o->method,
+                "Override the study's method: zoa (zero-order lobes), fd (full-discretization) or sd (semi-discretization)")
+      ->check(CLI::IsMember({"zoa", "fd", "sd"}));
   add_tool_geometry_options(c, o->tool, false);
   c->add_option("--threads", o->threads, "Worker threads (0: every core; the same result for any number)")->capture_default_str();
   c->add_option("--shard", o->shard,

@@ -18,7 +18,10 @@ using namespace pybind11::literals;
 const std::vector<std::pair<const char*, MillingDirection>> kMilling{{"up", MillingDirection::Up},
                                                                      {"down", MillingDirection::Down}};
 const std::vector<std::pair<const char*, LobesMethod>> kLobesMethods{{"zoa", LobesMethod::ZeroOrder},
-                                                                     {"fd", LobesMethod::FullDiscretization}};
+                                                                     {"fd", LobesMethod::FullDiscretization},
+                                                                     {"sd", LobesMethod::SemiDiscretization}};
+// The time-domain schemes by the lobes methods' names.
+const std::vector<std::pair<const char*, Discretization>> kSchemes{{"fd", Discretization::Full}, {"sd", Discretization::Semi}};
 const std::vector<std::pair<const char*, SpeedModel>> kSpeedModels{{"auto", SpeedModel::Automatic},
                                                                    {"standstill", SpeedModel::Standstill},
                                                                    {"bearings", SpeedModel::Bearings},
@@ -389,6 +392,9 @@ void bind_time_domain(py::module_& m) {
       .def_readonly("max_depth_m", &BoundaryResult::max_depth_m)
       .def_readonly("tolerance", &BoundaryResult::tolerance)
       .def_readonly("degree", &BoundaryResult::degree)
+      .def_property_readonly(
+          "scheme", [](const BoundaryResult& r) { return name_of(r.scheme, kSchemes); },
+          "'fd' (full-discretization) or 'sd' (semi-discretization)")
       .def_readonly("evaluations", &BoundaryResult::evaluations, "spectral radii computed")
       .def_readonly("warnings", &BoundaryResult::warnings)
       .def("worst_relative_error", &BoundaryResult::worst_relative_error,
@@ -400,8 +406,9 @@ void bind_time_domain(py::module_& m) {
       "stability_boundary",
       [](const std::vector<Mode>& x_modes, const std::vector<Mode>& y_modes, const CuttingConditions& cutting,
          std::tuple<double, double, int> speeds, double tolerance, int steps, int max_steps, int degree, double max_depth_m,
-         int threads, const py::object& progress) {
+         int threads, const py::object& progress, const std::string& scheme) {
         BoundaryOptions o;
+        o.scheme = enum_of(scheme, kSchemes, "scheme");
         o.speeds = speed_range(speeds);
         o.tolerance = tolerance;
         o.steps = steps;
@@ -415,8 +422,9 @@ void bind_time_domain(py::module_& m) {
         return stability_boundary(model, cutting, o);
       },
       "x_modes"_a, "y_modes"_a, "cutting"_a, "speeds"_a, "tolerance"_a = 0.01, "steps"_a = 0, "max_steps"_a = 4000,
-      "degree"_a = 2, "max_depth_m"_a = 0.0, "threads"_a = 0, "progress"_a = py::none(),
-      "The milling stability boundary in the time domain (full-discretization, Ding et al. 2010) of a modal model (y_modes "
+      "degree"_a = 2, "max_depth_m"_a = 0.0, "threads"_a = 0, "progress"_a = py::none(), "scheme"_a = "fd",
+      "The milling stability boundary in the time domain (scheme 'fd': full-discretization, Ding et al. 2010, degree 1-3; "
+      "'sd': semi-discretization, Insperger & Stepan, degree the order 0 or 1) of a modal model (y_modes "
       "empty: rigid "
       "in y) at each speed of speeds = (min_rpm, max_rpm, points), each depth [m] with its Richardson error estimate meeting "
       "`tolerance` "
@@ -424,11 +432,13 @@ void bind_time_domain(py::module_& m) {
   py::class_<FullDiscretization, std::shared_ptr<FullDiscretization>>(
       m, "FullDiscretization",
       "The milling equation's period map at a fixed number of steps per tooth period (degree-p interpolation).")
-      .def(py::init(
-               [](const std::vector<Mode>& x, const std::vector<Mode>& y, const CuttingConditions& c, int steps, int degree) {
-                 return std::make_shared<FullDiscretization>(ModalModel{x, y, {}}, c, steps, degree);
-               }),
-           "x_modes"_a, "y_modes"_a, "cutting"_a, "steps"_a = 40, "degree"_a = 2)
+      .def(py::init([](const std::vector<Mode>& x, const std::vector<Mode>& y, const CuttingConditions& c, int steps, int degree,
+                       const std::string& scheme) {
+             return std::make_shared<FullDiscretization>(ModalModel{x, y, {}}, c, steps, degree,
+                                                         enum_of(scheme, kSchemes, "scheme"));
+           }),
+           "x_modes"_a, "y_modes"_a, "cutting"_a, "steps"_a = 40, "degree"_a = 2, "scheme"_a = "fd",
+           "scheme 'fd' (degree 1-3) or 'sd' (semi-discretization, degree its order 0 or 1)")
       .def(
           "spectral_radius",
           [](const FullDiscretization& fd, double rpm, double depth) {
@@ -481,7 +491,7 @@ void bind_lobes_study(py::module_& m) {
       .def_property_readonly("method", [](const LobesStudyResult& r) { return name_of(r.method, kLobesMethods); })
       .def_readonly("cutting", &LobesStudyResult::cutting)
       .def_readonly("zero_order", &LobesStudyResult::zero_order, "ZeroOrderResult (method 'zoa') or None")
-      .def_readonly("boundary", &LobesStudyResult::boundary, "BoundaryResult (method 'fd') or None")
+      .def_readonly("boundary", &LobesStudyResult::boundary, "BoundaryResult (method 'fd' or 'sd') or None")
       .def_property_readonly("x_modes", [](const LobesStudyResult& r) { return r.modes.x; })
       .def_property_readonly("y_modes", [](const LobesStudyResult& r) { return r.modes.y; })
       .def_readonly("fits", &LobesStudyResult::fits)
@@ -495,8 +505,9 @@ void bind_lobes_study(py::module_& m) {
           "the dynamics used: 'standstill', or at speed 'bearings' / 'spinning'")
       .def_readonly("frf_speeds_rpm", &LobesStudyResult::frf_speeds_rpm,
                     "at speed: the speeds [rpm] where the x-y FRF was evaluated (nodes and midpoints); [] otherwise")
-      .def_readonly("frf_interpolation_error", &LobesStudyResult::frf_interpolation_error,
-                    "at speed: the largest relative error of the FRF interpolated between nodes, at the midpoints (NaN otherwise)")
+      .def_readonly(
+          "frf_interpolation_error", &LobesStudyResult::frf_interpolation_error,
+          "at speed: the largest relative error of the FRF interpolated between nodes, at the midpoints (NaN otherwise)")
       .def_readonly("envelope_interpolation_error", &LobesStudyResult::envelope_interpolation_error,
                     "at speed: the largest relative change of the envelope's depth, nodes alone against nodes and midpoints")
       .def_readonly("fit_residual", &LobesStudyResult::fit_residual,
@@ -553,9 +564,8 @@ void bind_lobes_study(py::module_& m) {
           lobes_study_fields(),
           "The lobes study (toolpoint lobes): method 'zoa' (zero-order, from the FRFs xx[, yy, xy, yx] [m/N] on frequency_hz "
           "[Hz]) "
-          "or 'fd' "
-          "(time-domain boundary of x_modes/y_modes, or of modes fitted to the FRFs: at most max_modes, the fewest within "
-          "fit_target). "
+          "or 'fd' / 'sd' (time-domain boundary by full- / semi-discretization of x_modes/y_modes, or of modes fitted to "
+          "the FRFs: at most max_modes, the fewest within fit_target). "
           "speeds = (min_rpm, max_rpm, points; 0 points: 2000 zoa, 200 fd). Depths in m. The best speeds rise pocket_prominence "
           "above "
           "their valleys. With `assembly` (whose tool point FRF xx is) and `joint` (a JointFile with [uncertainty]): also the "

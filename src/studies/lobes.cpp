@@ -14,7 +14,15 @@
 
 namespace toolpoint {
 
-const char* to_string(LobesMethod m) { return m == LobesMethod::ZeroOrder ? "zoa" : "fd"; }
+const char* to_string(LobesMethod m) {
+  return m == LobesMethod::ZeroOrder ? "zoa" : m == LobesMethod::FullDiscretization ? "fd" : "sd";
+}
+
+std::optional<LobesMethod> lobes_method_from(const std::string& name) {
+  for (LobesMethod m : {LobesMethod::ZeroOrder, LobesMethod::FullDiscretization, LobesMethod::SemiDiscretization})
+    if (name == to_string(m)) return m;
+  return std::nullopt;
+}
 
 namespace {
 
@@ -127,9 +135,12 @@ plot::LobesFigureData boundary_figure(const BoundaryResult& r) {
     }
     d.lobes.push_back(std::move(l));
   }
-  d.title = fmt::format("Stability boundary, full-discretization (error ≤ {:.2g} % estimated)", 100.0 * r.worst_relative_error());
+  d.title = fmt::format("Stability boundary, {}-discretization (error ≤ {:.2g} % estimated)",
+                        r.scheme == Discretization::Semi ? "semi" : "full", 100.0 * r.worst_relative_error());
   return d;
 }
+
+BoundaryOptions boundary_options(const LobesStudyOptions& options, const SpeedRange& speeds, const ProgressCallback& progress);
 
 }  // namespace
 
@@ -198,12 +209,15 @@ void LobesStudyOptions::check() const {
   else SpeedRange{speeds.min_rpm, speeds.max_rpm, 2}.check();
   fit.check();
   parallel.check();
-  if (method == LobesMethod::FullDiscretization) {
-    BoundaryOptions b;
-    b.tolerance = tolerance;
-    b.steps = steps;
-    b.degree = degree;
-    b.speeds = {speeds.min_rpm, speeds.max_rpm, 200};
+  // Degree 0 means something only to the semi-discretization (its zeroth order); the fields' range
+  // below admits it for every method.
+  if (degree == 0 && method != LobesMethod::SemiDiscretization)
+    throw InvalidArgument(
+        fmt::format("LobesStudyOptions::degree {} must be 1, 2 or 3 (0 or more with the semi-discretization "
+                    "method: 0 its zeroth order, else the first)",
+                    degree));
+  if (time_domain(method)) {
+    BoundaryOptions b = boundary_options(*this, {speeds.min_rpm, speeds.max_rpm, 200}, {});
     b.check();
   }
   // The scalar fields' ranges (lobes_study_fields); tolerance, steps and degree whatever the method.
@@ -261,9 +275,10 @@ const std::vector<OptionField<LobesStudyOptions>>& lobes_study_fields() {
        [](O& o) -> int& { return o.steps; }},
       {{.name = "degree",
         .kind = K::Integer,
-        .min = 1.0,
+        .min = 0.0,
         .max = 3.0,
-        .help = "time domain: degree of the polynomial the delayed state is interpolated with"},
+        .help = "time domain: degree of the polynomial the delayed state is interpolated with (full discretization: "
+                "1–3; semi-discretization: 0 its zeroth order, else the first)"},
        nullptr,
        [](O& o) -> int& { return o.degree; }},
       {{.name = "max_modes",
@@ -550,6 +565,10 @@ BoundaryOptions boundary_options(const LobesStudyOptions& options, const SpeedRa
   bo.tolerance = options.tolerance;
   bo.steps = options.steps;
   bo.degree = options.degree;
+  if (options.method == LobesMethod::SemiDiscretization) {  // its order: 0 or 1 (LobesStudyOptions::degree)
+    bo.scheme = Discretization::Semi;
+    bo.degree = std::min(options.degree, 1);
+  }
   bo.max_depth_m = options.max_depth_m;
   bo.parallel = options.parallel;
   if (progress) bo.progress = progress;
@@ -736,7 +755,7 @@ LobesStudyResult at_speed_lobes_study(const LobesInput& input, const LobesStudyO
   res.method = options.method;
   res.cutting = options.cutting;
   res.speeds = options.speeds;
-  const bool fd = options.method == LobesMethod::FullDiscretization;
+  const bool fd = time_domain(options.method);
   if (res.speeds.points == 0) res.speeds.points = fd ? 200 : 2000;
   res.speed_model = model;
   const Assembly& a = *input.assembly;
@@ -822,7 +841,7 @@ LobesStudyResult nominal_lobes_study(const LobesInput& input, const LobesStudyOp
     if (report) report(f);
   };
 
-  if (options.method == LobesMethod::FullDiscretization && input.speed_frfs) {
+  if (time_domain(options.method) && input.speed_frfs) {
     if (!input.x_modes.empty() || !input.y_modes.empty())
       throw InvalidArgument("LobesInput::speed_frfs and modes given (LobesInput::x_modes, y_modes) contradict each other",
                             "drop the modes (they are fitted at each speed), or the FRFs at several speeds");

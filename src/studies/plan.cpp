@@ -736,7 +736,7 @@ PlanJob compute_job(const PlanCandidate& cand, const PlanHeader& h, std::size_t 
   // (the flute length or the depth cap), not its own guess, so no usable pocket is cut off.
   LobesStudyOptions lobes = h.options.lobes;
   lobes.cutting = plan_cutting(h.options, cs.tool_diameter_m);
-  if (lobes.method == LobesMethod::FullDiscretization && lobes.max_depth_m == 0.0)
+  if (time_domain(lobes.method) && lobes.max_depth_m == 0.0)
     lobes.max_depth_m = std::max(cs.flute_length_m, h.options.max_depth_m);
   // At speed (the assembly's bearings, or LobesStudyOptions::speed_model): the lobes (either
   // method) of the x–y FRF at each speed; a measured SH11 keeps the standstill FRF, said.

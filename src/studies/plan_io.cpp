@@ -100,8 +100,9 @@ PlanHeader parse_header(const PartReader& r, const nlohmann::json& j) {
   LobesStudyOptions& l = opt.lobes;
   opt.name = r.get<std::string>(o, "name", p);
   const std::string method = r.get<std::string>(o, "method", p);
-  if (method != "zoa" && method != "fd") r.fail(fmt::format("options.method '{}' is neither zoa nor fd", method));
-  l.method = method == "zoa" ? LobesMethod::ZeroOrder : LobesMethod::FullDiscretization;
+  const std::optional<LobesMethod> m = lobes_method_from(method);
+  if (!m) r.fail(fmt::format("options.method '{}' is none of zoa, fd, sd", method));
+  l.method = *m;
   l.cutting.teeth = r.get<int>(o, "teeth", p);
   l.cutting.tangential_coefficient = r.number(o, "tangential_coefficient", p);
   l.cutting.radial_ratio = r.number(o, "radial_ratio", p);
@@ -497,11 +498,12 @@ void read_study_table(Reader& r, const toml::table& root, PlanStudy& s) {
     s.name = r.string(*t, "name", "study").value_or("");
     o.name = s.name;
     if (const auto m = r.string(*t, "method", "study")) {
-      if (*m == "zoa") l.method = LobesMethod::ZeroOrder;
-      else if (*m == "fd") l.method = LobesMethod::FullDiscretization;
+      if (const std::optional<LobesMethod> lm = lobes_method_from(*m)) l.method = *lm;
       else
         r.fail(*t->get("method"),
-               fmt::format("study.method = \"{}\": expected \"zoa\" (zero-order) or \"fd\" (full-discretization)", *m),
+               fmt::format("study.method = \"{}\": expected \"zoa\" (zero-order), \"fd\" (full-discretization) or \"sd\" "
+                           "(semi-discretization)",
+                           *m),
                "zoa is fast and exact where the cut is time-invariant; fd finds the flip lobes of low immersion");
     }
   }

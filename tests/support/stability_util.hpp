@@ -16,6 +16,17 @@ inline const Mode kBench{0.03993, 0.011, 922.0};
 inline constexpr double kKt = 6e8, kKn = 2e8, kDiameter = 0.02;
 }  // namespace benchmark
 
+// Hayes: ẋ = a x + b x(t − 1), written as A₀ = a, B = C = 1, Q = b, period 1.
+inline PeriodicDelaySystem hayes(double a, double b) {
+  PeriodicDelaySystem s;
+  s.a0_blocks = {Eigen::MatrixXd::Constant(1, 1, a)};
+  s.input = Eigen::MatrixXd::Ones(1, 1);
+  s.output = Eigen::MatrixXd::Ones(1, 1);
+  s.period = 1.0;
+  s.delayed = [b](double, Eigen::MatrixXd& out) { out(0, 0) = b; };
+  return s;
+}
+
 // The converged full-discretization limit at one speed [m] (estimated error ≤ 0.1 %, checked).
 inline double converged_limit(const ModalModel& model, const CuttingConditions& cutting, double speed_rpm) {
   BoundaryOptions o;

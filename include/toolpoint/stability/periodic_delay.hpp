@@ -36,11 +36,27 @@
 // Only outputs are delayed: the map over one period acts on x₀ and the d-vectors y_{−1} …
 // y_{−(m+p−1)}, and of those only the samples some step reads with a non-zero weight (at low
 // radial immersion most steps are out of the cut). Dropped samples are exactly zero multipliers.
+//
+// Semi-discretization (Discretization::Semi; Insperger & Stépán, IJNME 55 (2002) 503–518 and
+// 61 (2004) 117–141; first order: Insperger, Stépán & Turi, JSV 313 (2008) 334–341; docs/reference.md
+// §13): the same steps, samples and buffer, but over step k the coefficients are their averages
+// P̄_k = (1/h)∫ P, Q̄_k = (1/h)∫ Q, Q̄_jk, and the current term is exponentiated with A₀:
+//     x_{k+1} = e^{A_k h} x_k + σ Σ_j Σ_{o=0,1} W_{jo} y_{k+o−i_j},   A_k = A₀ + σ B P̄_k C,
+// the delayed output y(t_k + s − τ_j) replaced by the line through y_{k−i_j}, y_{k+1−i_j} taken at
+// s − f_j h (first order) or at the step's midpoint h/2 − f_j h (zeroth order, constant over the
+// step): with Γ₀ = ∫₀ʰ e^{A_k(h−s)} ds, Γ₁ = ∫₀ʰ e^{A_k(h−s)} s ds,
+//     first:  W_{j0} = ((1 + f_j)Γ₀ − Γ₁/h) B Q̄_jk,  W_{j1} = (Γ₁/h − f_j Γ₀) B Q̄_jk;
+//     zeroth: W_{j0} = (½ + f_j) Γ₀ B Q̄_jk,          W_{j1} = (½ − f_j) Γ₀ B Q̄_jk
+// (the regenerative delay τ = T: i = m, f = 0, Q̄ = −P̄). e^{A_k h}, Γ₀, Γ₁ come from one matrix
+// exponential of [[A_k, I, 0], [0, 0, I], [0, 0, 0]] h (Van Loan). They depend on σ: they are
+// computed for the σ of the latest call and kept (one set per map, shared safely between threads).
 #pragma once
 
 #include <Eigen/Core>
 #include <complex>
 #include <functional>
+#include <memory>
+#include <mutex>
 #include <vector>
 
 namespace toolpoint {
@@ -91,17 +107,25 @@ struct DominantMultiplier {
   bool krylov = false;      // found by the Arnoldi iteration (else: dense eigen-decomposition)
 };
 
+// How each step's transition is built (see the header comment).
+enum class Discretization {
+  Full,  // full-discretization: only A₀ exponentiated, outputs interpolated (degree 1…3)
+  Semi,  // semi-discretization: averaged coefficients, A₀ + σBP̄C exponentiated (order 0 or 1)
+};
+
 // The discretized period map of a PeriodicDelaySystem at m steps and degree p. Construction does
 // every σ-independent piece of work (e^{A₀h}, the weights ∫ e^{A₀(h−s)} B P ℓ_j ds); applying the
 // map at a gain σ is O(m n d) per vector.
 class PeriodMap {
  public:
-  // Throws InvalidArgument (bad system, steps outside 2…100000, degree outside 1…3).
-  PeriodMap(const PeriodicDelaySystem& system, int steps, int degree = 2);
+  // Throws InvalidArgument (bad system, steps outside 2…100000, degree outside 1…3 (Full) or 0…1
+  // (Semi: the order of the delayed term's approximation)).
+  PeriodMap(const PeriodicDelaySystem& system, int steps, int degree = 2, Discretization scheme = Discretization::Full);
 
   int size() const { return static_cast<int>(n_ + d_ * read_.size()); }  // the reduced state
   int steps() const { return m_; }
-  int degree() const { return p_; }
+  int degree() const { return semi_.empty() ? p_ : semi_order_; }
+  Discretization scheme() const { return semi_.empty() ? Discretization::Full : Discretization::Semi; }
 
   // v = Φ(σ) u for the reduced state (sizes: size()). Scalar: double or std::complex<double>.
   void apply(double sigma, const double* u, double* v) const;
@@ -112,8 +136,8 @@ class PeriodMap {
   Eigen::MatrixXd matrix(double sigma) const;
   // With PeriodicDelaySystem::forcing: the periodic solution, the fixed point u* = (I − Φ(σ))⁻¹ q(σ)
   // of the affine map (q: one period from rest under the forcing), and its outputs y_0 … y_m over
-  // the period (d × (m + 1)). Throws InvalidArgument without forcing, NumericalError when I − Φ is
-  // singular (a multiplier at 1).
+  // the period (d × (m + 1)). Throws InvalidArgument without forcing or with Discretization::Semi
+  // (not implemented there), NumericalError when I − Φ is singular (a multiplier at 1).
   struct PeriodicSolution {
     Eigen::VectorXd state;
     Eigen::MatrixXd outputs;
@@ -154,6 +178,37 @@ class PeriodMap {
   std::vector<int> slot_;                      // slot_[i]: position of y_{−i} in the reduced state, or −1
   std::vector<int> jump_;                      // jump_[k] ≥ 2: steps k… are free motion with no output read
   std::vector<std::vector<double>> jump_phi_;  // e^{A₀ jump_[k] h} blocks for such k
+
+  // Semi-discretization (empty when Full): per step the averaged coefficients of each delayed term
+  // (the period's first when read, then the further delays), P̄_k, and the step matrices at a σ.
+  struct SemiDelay {
+    int whole_steps = 0;
+    double fraction = 0.0;
+    Eigen::MatrixXd q;  // Q̄_jk (d × d)
+  };
+  struct SemiStep {
+    Eigen::MatrixXd p;  // P̄_k (d × d)
+    std::vector<SemiDelay> delays;
+  };
+  struct SemiMatrices {
+    double sigma = 0.0;
+    std::vector<Eigen::MatrixXd> phi;             // per active step: e^{A_k h} (n × n)
+    std::vector<std::vector<Eigen::MatrixXd>> w;  // per active step: W_{j0}, W_{j1} per delay (n × d)
+  };
+  struct SemiCache {  // the matrices at the latest σ
+    std::mutex mutex;
+    std::shared_ptr<const SemiMatrices> latest;
+  };
+  std::shared_ptr<const SemiMatrices> semi_matrices(double sigma) const;
+  template <typename S, typename Sample>
+  void semi_step(const SemiMatrices& sm, int k, double sigma, std::size_t nc, const S* y, S* z, const Sample& sample) const;
+  void build_semi(const PeriodicDelaySystem& sys, double h, const std::vector<int>& whole_steps,
+                  const std::vector<double>& fraction);
+  std::vector<SemiStep> semi_;
+  int semi_order_ = 1;
+  Eigen::MatrixXd a0_, b_;  // A₀ (n × n), B (n × d)
+  double h_ = 0.0;          // the step [s]
+  std::shared_ptr<SemiCache> semi_cache_;
 };
 
 }  // namespace toolpoint

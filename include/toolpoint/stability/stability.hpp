@@ -417,8 +417,10 @@ Eigen::MatrixXd velocity_output(const ModalModel& model);
 // Steps per tooth period m: the map is built with m · cutting.teeth_per_period() steps per period.
 class FullDiscretization {
  public:
-  // Throws InvalidArgument (bad model or conditions, steps outside 4…20000, degree outside 1…3).
-  FullDiscretization(ModalModel model, CuttingConditions cutting, int steps = 40, int degree = 2);
+  // Throws InvalidArgument (bad model or conditions, steps outside 4…20000, degree outside 1…3, or
+  // with Discretization::Semi the order outside 0…1).
+  FullDiscretization(ModalModel model, CuttingConditions cutting, int steps = 40, int degree = 2,
+                     Discretization scheme = Discretization::Full);
 
   // Throws InvalidArgument with a helix (the map depends on the depth: the overload below).
   PeriodMap period_map(double speed_rpm) const;
@@ -444,21 +446,31 @@ class FullDiscretization {
   const CuttingConditions& cutting() const { return cutting_; }
   int steps() const { return steps_; }
   int degree() const { return degree_; }
+  Discretization scheme() const { return scheme_; }
 
  private:
   ModalModel model_;
   CuttingConditions cutting_;
   int steps_, degree_;
+  Discretization scheme_;
 };
+
+// The order q of the boundary's discretization error (it falls like m^−q): p + 1 for
+// full-discretization of degree p; 2 for semi-discretization of either order, whose averaged
+// coefficients (midpoint rule, jumps at entry and exit smeared over a step) limit it — measured in
+// tests/semi_discretization_test.cpp. Richardson's extrapolation of stability_boundary uses it.
+int boundary_error_order(Discretization scheme, int degree);
 
 struct BoundaryOptions {
   SpeedRange speeds{0.0, 0.0, 200};
   // Target for the estimated discretization error of each depth, relative to it (0.01: 1 %). The
   // steps per tooth period are doubled until the estimate meets it (or max_steps is reached).
   double tolerance = 0.01;
-  int steps = 0;             // steps m of the first level; 0: 12 per chatter wave per tooth period, ≥ 16
-  int max_steps = 4000;      // no level finer than this
-  int degree = 2;            // interpolation degree p (1…3); the error falls like m^−(p+1)
+  int steps = 0;         // steps m of the first level; 0: 12 per chatter wave per tooth period, ≥ 16
+  int max_steps = 4000;  // no level finer than this
+  int degree = 2;        // interpolation degree p (1…3); the error falls like m^−(p+1)
+  // Full-discretization, or semi-discretization with `degree` the order (0 or 1) of its delayed term.
+  Discretization scheme = Discretization::Full;
   double max_depth_m = 0.0;  // depths searched up to this [m]; 0: 10 × the zero-order floor of the model
   ParallelOptions parallel;  // speeds on this many threads; results identical for any count
   // Called with the fraction of speeds done (0…1], one call at a time (the library never prints).
@@ -471,6 +483,7 @@ struct BoundaryResult {
   double max_depth_m = 0.0;             // the ceiling searched
   double tolerance = 0.0;               // the error target (relative)
   int degree = 0;
+  Discretization scheme = Discretization::Full;
   long evaluations = 0;  // spectral radii computed
   std::vector<std::string> warnings;
   // The largest depth_error_m/depth_m over the speeds with a boundary (0 if none).

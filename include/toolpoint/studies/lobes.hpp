@@ -58,8 +58,13 @@ SpeedDependentFrfs milling_frfs_at_speeds(const Assembly& assembly, const std::v
 enum class LobesMethod {
   ZeroOrder,           // Altintas & Budak 1995, directly from the FRFs
   FullDiscretization,  // the time-domain boundary of a modal model (stability_boundary)
+  SemiDiscretization,  // the same boundary by semi-discretization (Discretization::Semi)
 };
-const char* to_string(LobesMethod m);  // "zoa", "fd" (as the CLI's --method and a study file's options.method)
+const char* to_string(LobesMethod m);  // "zoa", "fd", "sd" (as the CLI's --method and a study file's options.method)
+// The method a name gives ("zoa", "fd", "sd"); nullopt for any other name.
+std::optional<LobesMethod> lobes_method_from(const std::string& name);
+// The time-domain methods (fd, sd) use a modal model and stability_boundary.
+inline bool time_domain(LobesMethod m) { return m != LobesMethod::ZeroOrder; }
 
 // Where the dynamics come from. The zero-order method needs `frfs` (or `assembly`, whose tool point
 // FRF milling_frfs gives on its grid when `frfs` is empty); the time-domain method takes the modes
@@ -91,7 +96,9 @@ struct LobesStudyOptions {
   SpeedRange speeds{0.0, 0.0, 0};  // points 0: 2000 (zero-order envelope) or 200 (time domain)
   double max_depth_m = 0.0;        // zero-order: lobe points deeper are left out; time domain: search ceiling (0: automatic)
   int lobes = -1;                  // zero-order: lobes 0…K (−1: enough to cover speeds.min_rpm)
-  // Time domain: the error target and discretization (BoundaryOptions).
+  // Time domain: the error target and discretization (BoundaryOptions). `degree`: fd's interpolation
+  // degree 1…3; sd runs first-order semi-discretization for any degree ≥ 1 (the default 2 included)
+  // and the zeroth order for 0.
   double tolerance = 0.01;
   int steps = 0;
   int degree = 2;
@@ -153,7 +160,7 @@ struct LobesStudyResult {
   CuttingConditions cutting;
   SpeedRange speeds;
   std::optional<ZeroOrderResult> zero_order;  // method ZeroOrder
-  std::optional<BoundaryResult> boundary;     // method FullDiscretization
+  std::optional<BoundaryResult> boundary;     // methods FullDiscretization, SemiDiscretization
   ModalModel modes;                           // time domain: the modal model used
   std::vector<ModalFitSummary> fits;          // time domain: one per fitted FRF
   std::vector<EnvelopePoint> envelope;        // the stable envelope over speeds
