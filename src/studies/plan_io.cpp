@@ -136,9 +136,9 @@ PlanHeader parse_header(const PartReader& r, const nlohmann::json& j) {
   l.pockets = r.get<int>(o, "pockets", p);
   // The speed model (keys absent in older part files, whose plans took the default).
   if (o.contains("speed_model")) {
-    const std::string m = r.get<std::string>(o, "speed_model", p);
-    const std::optional<SpeedModel> model = speed_model_from(m);
-    if (!model) r.fail(fmt::format("options.speed_model '{}' is none of auto, standstill, bearings, spinning", m));
+    const std::string name = r.get<std::string>(o, "speed_model", p);
+    const std::optional<SpeedModel> model = speed_model_from(name);
+    if (!model) r.fail(fmt::format("options.speed_model '{}' is none of auto, standstill, bearings, spinning", name));
     l.speed_model = *model;
   }
   if (o.contains("speed_nodes")) l.speed_nodes = r.get<int>(o, "speed_nodes", p);
