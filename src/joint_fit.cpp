@@ -1001,8 +1001,12 @@ JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<Join
     }
   }
   if (bias_mc > 1.0) {
-    cov_q += kExtrapolationUncertainty * kExtrapolationUncertainty * extrapolation * extrapolation.transpose();
-    out.method_description += "; the bias corrected once more from a second bootstrap world (2 b₁ − b₂, uncertain by b₁ − b₂)";
+    cov_q += kExtrapolationUncertainty * kExtrapolationUncertainty * extrapolation * extrapolation.transpose() +
+             kCorrectionUncertainty * kCorrectionUncertainty * bias * bias.transpose();
+    out.method_description += fmt::format(
+        "; the bias corrected once more from a second bootstrap world (2 b₁ − b₂, uncertain by {:g} (b₁ − b₂) and by {:g} of "
+        "the whole correction)",
+        kExtrapolationUncertainty, kCorrectionUncertainty);
   }
   if (!smoothed_b.empty())
     out.method_description += fmt::format(
