@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "toolpoint/model/coupling.hpp"
+#include "whirl_pole.hpp"
 #include "toolpoint/error.hpp"
 
 namespace toolpoint {
@@ -473,28 +474,34 @@ bool whirl_has_poles(double spin_rad_s, Whirl whirl) {
 }
 
 // WhirlPole::window from the direct coupling `at` (a block of the tool point) near the pole fc:
-// the largest relative change over one- and two-ulp steps at fc (1 ± 1e-3) gives C = jitter d²
-// (d = 1e-3), and the window sqrt(C / kWhirlPoleTolerance), capped.
+// the largest relative change over one-, two- and three-ulp steps at fc (1 + 1e-3) gives
+// C = jitter d² (d = 1e-3), and the window sqrt(C / kWhirlPoleTolerance), capped.
 template <class At>
 double whirl_pole_window_of(double fc, At at) {
   constexpr double d = 1e-3;
-  double jitter = 0.0;
-  for (double side : {-1.0, 1.0}) {
-    const double x = fc * (1.0 + side * d);
-    const auto g = at(x);
-    const double scale = g.norm();
-    const double x1 = std::nextafter(x, 2.0 * x), x2 = std::nextafter(x1, 2.0 * x);
-    for (double y : {x1, x2}) jitter = std::max(jitter, (at(y) - g).norm() / scale);
+  const double x = fc * (1.0 + d);
+  const auto g = at(x);
+  double jitter = 0.0, y = x;
+  for (int k = 0; k < 3; ++k) {
+    y = std::nextafter(y, 2.0 * x);
+    jitter = std::max(jitter, (at(y) - g).norm() / g.norm());
   }
   return std::min(kWhirlPoleMaxWindow, std::sqrt(jitter * d * d / kWhirlPoleTolerance));
 }
 
-// The stencil about f for the window W (assembly.hpp), summed in its order (as the sweep does).
+// The stencil about f for the window W (whirl_pole.hpp), else `at` at f.
 template <class M, class At>
-M whirl_pole_stencil(double f, double W, At at) {
-  M sum = kWhirlPoleWeights[0] * at(f * (1.0 + kWhirlPoleOffsets[0] * W));
-  for (int k = 1; k < 4; ++k) sum += kWhirlPoleWeights[k] * at(f * (1.0 + kWhirlPoleOffsets[k] * W));
-  return sum;
+M whirl_pole_value(double f, double W, At at) {
+  M value;
+  if (detail::whirl_pole_stencil<M>(
+          f, W,
+          [&](const double* x, M* g) {
+            for (int k = 0; k < 4; ++k) g[k] = at(x[k]);
+            return true;
+          },
+          value))
+    return value;
+  return at(f);
 }
 
 }  // namespace
@@ -510,10 +517,9 @@ std::vector<WhirlPole> AssemblyModel::whirl_poles(double spin_rad_s, double f_lo
       if (1.25 * f0 < f_lo || f0 > 1.25 * f_hi) continue;
       const double fc = conical_whirl_hz(p, length, spin_rad_s);
       if (!(fc > 0.0) || fc * (1.0 + kWhirlPoleMaxWindow) < f_lo || fc * (1.0 - kWhirlPoleMaxWindow) > f_hi) continue;
-      const double w = isotropic()
-                           ? whirl_pole_window_of(fc, [&](double x) { return whirl_tool_point_direct(x, spin_rad_s, whirl); })
-                           : whirl_pole_window_of(fc, [&](double x) { return tool_point_two_plane_direct(x, spin_rad_s); });
-      poles.push_back({fc, w});
+      // The window from the single-plane whirl (the bearings' x values, for anisotropic ones too:
+      // the pole is the free piece's, its conditioning hardly the bearings'): one window per pole.
+      poles.push_back({fc, whirl_pole_window_of(fc, [&](double x) { return whirl_tool_point_direct(x, spin_rad_s, whirl); })});
     }
   return poles;
 }
@@ -532,14 +538,14 @@ Block AssemblyModel::tool_point(double f, double spin_rad_s, Whirl whirl) const 
         "use tool_point_two_plane, which couples the planes");
   if (whirl_has_poles(spin_rad_s, whirl))
     if (const double W = whirl_pole_window(f, whirl_poles(spin_rad_s, f, f)); W > 0.0)
-      return whirl_pole_stencil<Block>(f, W, [&](double x) { return whirl_tool_point_direct(x, spin_rad_s, whirl); });
+      return whirl_pole_value<Block>(f, W, [&](double x) { return whirl_tool_point_direct(x, spin_rad_s, whirl); });
   return whirl_tool_point_direct(f, spin_rad_s, whirl);
 }
 
 Block4 AssemblyModel::tool_point_two_plane(double f, double spin_rad_s) const {
   if (!isotropic())
     if (const double W = whirl_pole_window(f, whirl_poles(spin_rad_s, f, f)); W > 0.0)
-      return whirl_pole_stencil<Block4>(f, W, [&](double x) { return tool_point_two_plane_direct(x, spin_rad_s); });
+      return whirl_pole_value<Block4>(f, W, [&](double x) { return tool_point_two_plane_direct(x, spin_rad_s); });
   return tool_point_two_plane_direct(f, spin_rad_s);
 }
 

@@ -17,12 +17,12 @@
 // part of each light piece separately and loses 20× more at 10 Hz against an 80-digit reference.)
 // Units: SI, frequencies in Hz.
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <functional>
 #include <optional>
 
 #include "lanes.hpp"
+#include "whirl_pole.hpp"
 #include "toolpoint/model/assembly.hpp"
 #include "toolpoint/conventions.hpp"
 
@@ -417,20 +417,7 @@ unsigned batch_two_plane(const Plans& plans, const Assembly& a, const double* f_
 #pragma GCC pop_options
 #endif  // TOOLPOINT_LANES
 
-// The four points of the whirl-pole stencil about f for the window W (assembly.hpp; one batch:
-// kWidth = 4), and their weighted sum from lane(i), in AssemblyModel::tool_point's order.
-static_assert(kWidth == 4, "the whirl-pole stencil fills one batch");
-[[maybe_unused]] std::array<double, kWidth> whirl_pole_points(double f, double W) {
-  std::array<double, kWidth> x;
-  for (int k = 0; k < 4; ++k) x[static_cast<std::size_t>(k)] = f * (1.0 + kWhirlPoleOffsets[k] * W);
-  return x;
-}
-template <class M, class Lane>
-M whirl_pole_sum(Lane lane) {
-  M sum = kWhirlPoleWeights[0] * lane(0);
-  for (int k = 1; k < 4; ++k) sum += kWhirlPoleWeights[k] * lane(static_cast<std::size_t>(k));
-  return sum;
-}
+static_assert(kWidth == 4, "the whirl-pole stencil (whirl_pole.hpp) fills one batch");
 
 // Walks `frequency_hz` kWidth at a time: `run(f)` evaluates a batch (a short last batch repeats its
 // last frequency) and returns the lanes to recompute, bit i for lane i; those go to `one(index)`,
@@ -481,11 +468,20 @@ BlockSeries sweep(const Plans* plans, const Assembly& a, const std::vector<doubl
         one);
     for (std::size_t k : near) {  // the per-frequency function's stencil, its four points in one batch
       const double f = frequency_hz[k];
-      if (batch(*plans, a, whirl_pole_points(f, whirl_pole_window(f, poles)).data(), out, whirl_spin) != 0u) {
+      Block v;
+      const bool ok = detail::whirl_pole_stencil<Block>(
+          f, whirl_pole_window(f, poles),
+          [&](const double* x, Block* g) {
+            if (batch(*plans, a, x, out, whirl_spin) != 0u) return false;
+            for (std::size_t i = 0; i < 4; ++i) g[i] = lane(i);
+            return true;
+          },
+          v);
+      if (!ok) {
         one(k);
         continue;
       }
-      s.blocks[k] = whirl_pole_sum<Block>(lane);
+      s.blocks[k] = v;
       ++count.simd;
     }
     if (diagnostics) *diagnostics = count;
@@ -569,12 +565,21 @@ BlockSeries4 AssemblyModel::tool_point_two_plane(const std::vector<double>& freq
           },
           one);
       for (std::size_t k : near) {  // as sweep() above
-        const double f = frequency_hz[k], W = whirl_pole_window(f, poles);
-        if (batch_two_plane(*plans, assembly_, whirl_pole_points(f, W).data(), b, spin_rad_s) != 0u) {
+        const double f = frequency_hz[k];
+        Block4 v;
+        const bool ok = detail::whirl_pole_stencil<Block4>(
+            f, whirl_pole_window(f, poles),
+            [&](const double* x, Block4* g) {
+              if (batch_two_plane(*plans, assembly_, x, b, spin_rad_s) != 0u) return false;
+              for (std::size_t i = 0; i < 4; ++i) g[i] = lane(i);
+              return true;
+            },
+            v);
+        if (!ok) {
           one(k);
           continue;
         }
-        out.blocks[k] = whirl_pole_sum<Block4>(lane);
+        out.blocks[k] = v;
         ++count.simd;
       }
       if (diagnostics) *diagnostics = count;

@@ -166,7 +166,7 @@ class Chain {
 // grows as C/d², d the relative distance to the pole (the pole's rank-one residue, ∝ 1/d, enters
 // squared; on the example's fluted piece C ≈ 3e-13 of |H|: 3e-9 at d = 1e-2, 2e-3 at 1e-5, 8 % at
 // 1e-6). C is estimated per pole from the rounding jitter of the direct coupling at
-// d = 1e-3 (the largest change of the block over one- and two-ulp steps of f at fc(1 ± 1e-3),
+// d = 1e-3 (the largest change of the block over one- to three-ulp steps of f at fc(1 + 1e-3),
 // relative to the block), and window = sqrt(C / kWhirlPoleTolerance), at most kWhirlPoleMaxWindow.
 struct WhirlPole {
   double frequency_hz = 0.0;  // conical_whirl_hz [Hz]
@@ -177,7 +177,8 @@ inline constexpr double kWhirlPoleMaxWindow = 2e-2;
 // The stencil about f for a window W: G(f) ≈ Σ_k w_k G(f (1 + x_k W)), x = 2, −2, 4, −4,
 // w = 2/3, 2/3, −1/6, −1/6: Richardson's (4 A(δ) − A(2δ))/3 of the symmetric means
 // A(h) = (G(f(1+h)) + G(f(1−h)))/2, δ = 2W, which is G(f) + O(δ⁴) for a G smooth on the stencil;
-// each point lies at least W from the pole that put f in its window.
+// each point lies at least W from the pole that put f in its window. Where the stencil's
+// curvature says an assembly resonance is within its reach, W is halved (src/whirl_pole.hpp).
 inline constexpr double kWhirlPoleOffsets[4] = {2.0, -2.0, 4.0, -4.0};
 inline constexpr double kWhirlPoleWeights[4] = {2.0 / 3.0, 2.0 / 3.0, -1.0 / 6.0, -1.0 / 6.0};
 // The window W of the pole whose window holds `frequency_hz` (the widest if several), else 0.
