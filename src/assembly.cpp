@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "toolpoint/model/coupling.hpp"
+#include "whirl_pole.hpp"
 #include "toolpoint/error.hpp"
 
 namespace toolpoint {
@@ -458,18 +459,97 @@ bool AssemblyModel::isotropic() const {
                      [](const Bearing& b) { return b.isotropic(); });
 }
 
+double whirl_pole_window(double f, const std::vector<WhirlPole>& poles) {
+  double w = 0.0;
+  for (const WhirlPole& p : poles)
+    if (std::abs(f - p.frequency_hz) <= p.window * p.frequency_hz) w = std::max(w, p.window);
+  return w;
+}
+
+namespace {
+
+// The whirl in which a spin's conical poles lie: ρI (1 − 2|Ω|/ω) (beam.hpp, conical_whirl_hz).
+bool whirl_has_poles(double spin_rad_s, Whirl whirl) {
+  return spin_rad_s != 0.0 && (whirl == Whirl::Forward) == (spin_rad_s > 0.0);
+}
+
+// WhirlPole::window from the direct coupling `at` (a block of the tool point) near the pole fc:
+// the largest relative change over one-, two- and three-ulp steps at fc (1 + 1e-3) gives
+// C = jitter d² (d = 1e-3), and the window sqrt(C / kWhirlPoleTolerance), capped.
+template <class At>
+double whirl_pole_window_of(double fc, At at) {
+  constexpr double d = 1e-3;
+  const double x = fc * (1.0 + d);
+  const auto g = at(x);
+  double jitter = 0.0, y = x;
+  for (int k = 0; k < 3; ++k) {
+    y = std::nextafter(y, 2.0 * x);
+    jitter = std::max(jitter, (at(y) - g).norm() / g.norm());
+  }
+  return std::min(kWhirlPoleMaxWindow, std::sqrt(jitter * d * d / kWhirlPoleTolerance));
+}
+
+// The stencil about f for the window W (whirl_pole.hpp), else `at` at f.
+template <class M, class At>
+M whirl_pole_value(double f, double W, At at) {
+  M value;
+  if (detail::whirl_pole_stencil<M>(
+          f, W,
+          [&](const double* x, M* g) {
+            for (int k = 0; k < 4; ++k) g[k] = at(x[k]);
+            return true;
+          },
+          value))
+    return value;
+  return at(f);
+}
+
+}  // namespace
+
+std::vector<WhirlPole> AssemblyModel::whirl_poles(double spin_rad_s, double f_lo, double f_hi) const {
+  std::vector<WhirlPole> poles;
+  if (spin_rad_s == 0.0) return poles;
+  const Whirl whirl = spin_rad_s > 0.0 ? Whirl::Forward : Whirl::Backward;
+  for (const Chain* c : {&spindle_, &holder_, &tool_})
+    for (std::size_t i = 0; i < c->size(); ++i) {
+      const SectionProperties& p = c->properties()[i];
+      const double length = c->segments()[i].length, f0 = conical_whirl_estimate_hz(p, length, spin_rad_s);
+      if (1.25 * f0 < f_lo || f0 > 1.25 * f_hi) continue;
+      const double fc = conical_whirl_hz(p, length, spin_rad_s);
+      if (!(fc > 0.0) || fc * (1.0 + kWhirlPoleMaxWindow) < f_lo || fc * (1.0 - kWhirlPoleMaxWindow) > f_hi) continue;
+      // The window from the single-plane whirl (the bearings' x values, for anisotropic ones too:
+      // the pole is the free piece's, its conditioning hardly the bearings'): one window per pole.
+      poles.push_back({fc, whirl_pole_window_of(fc, [&](double x) { return whirl_tool_point_direct(x, spin_rad_s, whirl); })});
+    }
+  return poles;
+}
+
+Block AssemblyModel::whirl_tool_point_direct(double f, double spin_rad_s, Whirl whirl) const {
+  const Block sh = couple_point(holder_.two_port(f, spin_rad_s, whirl), spindle_.point(f, spin_rad_s, whirl),
+                                assembly_.spindle_holder, f);
+  return couple_point(tool_.two_port(f, spin_rad_s, whirl), sh, assembly_.holder_tool, f);
+}
+
 Block AssemblyModel::tool_point(double f, double spin_rad_s, Whirl whirl) const {
   if (!isotropic())
     throw InvalidArgument(
         "AssemblyModel::tool_point for one whirl needs isotropic bearings (Bearing::stiffness_y, damping_y "
         "unset or equal to x)",
         "use tool_point_two_plane, which couples the planes");
-  const Block sh = couple_point(holder_.two_port(f, spin_rad_s, whirl), spindle_.point(f, spin_rad_s, whirl),
-                                assembly_.spindle_holder, f);
-  return couple_point(tool_.two_port(f, spin_rad_s, whirl), sh, assembly_.holder_tool, f);
+  if (whirl_has_poles(spin_rad_s, whirl))
+    if (const double W = whirl_pole_window(f, whirl_poles(spin_rad_s, f, f)); W > 0.0)
+      return whirl_pole_value<Block>(f, W, [&](double x) { return whirl_tool_point_direct(x, spin_rad_s, whirl); });
+  return whirl_tool_point_direct(f, spin_rad_s, whirl);
 }
 
 Block4 AssemblyModel::tool_point_two_plane(double f, double spin_rad_s) const {
+  if (!isotropic())
+    if (const double W = whirl_pole_window(f, whirl_poles(spin_rad_s, f, f)); W > 0.0)
+      return whirl_pole_value<Block4>(f, W, [&](double x) { return tool_point_two_plane_direct(x, spin_rad_s); });
+  return tool_point_two_plane_direct(f, spin_rad_s);
+}
+
+Block4 AssemblyModel::tool_point_two_plane_direct(double f, double spin_rad_s) const {
   if (isotropic()) {
     if (spin_rad_s == 0.0) return two_plane(tool_point(f));
     return two_plane(tool_point(f, spin_rad_s, Whirl::Forward), tool_point(f, spin_rad_s, Whirl::Backward));

@@ -460,6 +460,33 @@ WhirlFrequencies whirl_frequencies(const SectionProperties& sp, double length, d
   return out;
 }
 
+double conical_whirl_estimate_hz(const SectionProperties& sp, double length, double spin_rad_s) {
+  const double jd = sp.rhoA * length * length * length / 12.0 + sp.rhoI * length;  // J_d [kg·m²]
+  return 2.0 * sp.rhoI * length * std::abs(spin_rad_s) / jd / (2.0 * kPi);         // ρI_p = 2ρI
+}
+
+double conical_whirl_hz(const SectionProperties& sp, double length, double spin_rad_s) {
+  if (!std::isfinite(spin_rad_s)) throw InvalidArgument(fmt::format("conical_whirl_hz: spin {} rad/s is not finite", spin_rad_s));
+  if (!(length > 0.0) || !std::isfinite(length)) throw InvalidArgument(fmt::format("segment length {} m must be > 0", length));
+  if (spin_rad_s == 0.0) return 0.0;
+  SectionProperties undamped = sp;
+  undamped.EI = sp.EI.real();
+  undamped.kGA = sp.kGA.real();
+  const double spin = std::abs(spin_rad_s);  // its whirl: forward with |Ω| (beam.hpp)
+  const double f0 = conical_whirl_estimate_hz(sp, length, spin);
+  auto det = [&](double f) { return free_free_determinants(section_waves(undamped, f, spin, Whirl::Forward), length)[0]; };
+  double lo = f0 / 1.25, hi = 1.25 * f0, dlo = det(lo);
+  if (dlo == 0.0) return lo;
+  if ((dlo < 0.0) == (det(hi) < 0.0)) return whirl_frequencies(sp, length, spin, 1).conical_hz;
+  while (hi - lo > 1e-13 * hi) {
+    const double mid = 0.5 * (lo + hi), dm = det(mid);
+    if (dm == 0.0) return mid;
+    if ((dm < 0.0) == (dlo < 0.0)) lo = mid, dlo = dm;
+    else hi = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
 const Block& end_block(const TwoPort& ports, EndBlock block) {
   switch (block) {
     case EndBlock::T11: return ports.b11;

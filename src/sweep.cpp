@@ -22,6 +22,7 @@
 #include <optional>
 
 #include "lanes.hpp"
+#include "whirl_pole.hpp"
 #include "toolpoint/model/assembly.hpp"
 #include "toolpoint/conventions.hpp"
 
@@ -416,6 +417,8 @@ unsigned batch_two_plane(const Plans& plans, const Assembly& a, const double* f_
 #pragma GCC pop_options
 #endif  // TOOLPOINT_LANES
 
+static_assert(kWidth == 4, "the whirl-pole stencil (whirl_pole.hpp) fills one batch");
+
 // Walks `frequency_hz` kWidth at a time: `run(f)` evaluates a batch (a short last batch repeats its
 // last frequency) and returns the lanes to recompute, bit i for lane i; those go to `one(index)`,
 // the others to `take(index, lane)`.
@@ -435,9 +438,11 @@ void for_each_batch(const std::vector<double>& frequency_hz, Run run, Take take,
 }
 
 // The series over `frequency_hz`, through the lanes when every chain is exact, with `at` (the
-// per-frequency function) for the lanes they cannot certify or for modal chains.
+// per-frequency function) for the lanes they cannot certify, for modal chains and for the
+// frequencies in one of the windows of `poles` (their stencil's four points in one batch).
 BlockSeries sweep(const Plans* plans, const Assembly& a, const std::vector<double>& frequency_hz,
-                  const std::function<Block(double)>& at, AssemblyModel::SweepDiagnostics* diagnostics, double whirl_spin = 0.0) {
+                  const std::function<Block(double)>& at, AssemblyModel::SweepDiagnostics* diagnostics, double whirl_spin = 0.0,
+                  const std::vector<WhirlPole>& poles = {}) {
   AssemblyModel::SweepDiagnostics count;
   BlockSeries s;
   s.frequency_hz = frequency_hz;
@@ -449,14 +454,36 @@ BlockSeries sweep(const Plans* plans, const Assembly& a, const std::vector<doubl
 #if TOOLPOINT_LANES
   if (plans) {
     double out[8][kWidth];
+    auto lane = [&](std::size_t i) {
+      return make_block({out[0][i], out[4][i]}, {out[1][i], out[5][i]}, {out[2][i], out[6][i]}, {out[3][i], out[7][i]});
+    };
+    std::vector<std::size_t> near;
     for_each_batch(
         frequency_hz, [&](const double* f) { return batch(*plans, a, f, out, whirl_spin); },
         [&](std::size_t k, std::size_t i) {
-          s.blocks[k] = make_block({out[0][i], out[4][i]}, {out[1][i], out[5][i]}, {out[2][i], out[6][i]},
-                                   {out[3][i], out[7][i]});
+          if (whirl_pole_window(frequency_hz[k], poles) > 0.0) return near.push_back(k);
+          s.blocks[k] = lane(i);
           ++count.simd;
         },
         one);
+    for (std::size_t k : near) {  // the per-frequency function's stencil, its four points in one batch
+      const double f = frequency_hz[k];
+      Block v;
+      const bool ok = detail::whirl_pole_stencil<Block>(
+          f, whirl_pole_window(f, poles),
+          [&](const double* x, Block* g) {
+            if (batch(*plans, a, x, out, whirl_spin) != 0u) return false;
+            for (std::size_t i = 0; i < 4; ++i) g[i] = lane(i);
+            return true;
+          },
+          v);
+      if (!ok) {
+        one(k);
+        continue;
+      }
+      s.blocks[k] = v;
+      ++count.simd;
+    }
     if (diagnostics) *diagnostics = count;
     return s;
   }
@@ -479,6 +506,12 @@ std::optional<Plans> plans_for(const Chain& spindle, const Chain& holder, const 
   if (!lanes::available() || spindle.has_modal_pieces() || holder.has_modal_pieces() || (tool && tool->has_modal_pieces()))
     return std::nullopt;
   return Plans{ChainPlan(spindle), ChainPlan(holder), tool ? std::optional<ChainPlan>(ChainPlan(*tool)) : std::nullopt};
+}
+// The free pieces' conical whirl poles over the span of a grid.
+std::vector<WhirlPole> grid_whirl_poles(const AssemblyModel& m, const std::vector<double>& frequency_hz, double spin_rad_s) {
+  if (frequency_hz.empty()) return {};
+  const auto [lo, hi] = std::minmax_element(frequency_hz.begin(), frequency_hz.end());
+  return m.whirl_poles(spin_rad_s, *lo, *hi);
 }
 }  // namespace
 
@@ -516,13 +549,39 @@ BlockSeries4 AssemblyModel::tool_point_two_plane(const std::vector<double>& freq
 #if TOOLPOINT_LANES
     if (plans) {
       double b[32][kWidth];
+      const std::vector<WhirlPole> poles = grid_whirl_poles(*this, frequency_hz, spin_rad_s);
+      auto lane = [&](std::size_t i) {
+        Block4 x;
+        for (int e = 0; e < 16; ++e) x(e / 4, e % 4) = Complex(b[2 * e][i], b[2 * e + 1][i]);
+        return x;
+      };
+      std::vector<std::size_t> near;
       for_each_batch(
           frequency_hz, [&](const double* f) { return batch_two_plane(*plans, assembly_, f, b, spin_rad_s); },
           [&](std::size_t k, std::size_t i) {
-            for (int e = 0; e < 16; ++e) out.blocks[k](e / 4, e % 4) = Complex(b[2 * e][i], b[2 * e + 1][i]);
+            if (whirl_pole_window(frequency_hz[k], poles) > 0.0) return near.push_back(k);
+            out.blocks[k] = lane(i);
             ++count.simd;
           },
           one);
+      for (std::size_t k : near) {  // as sweep() above
+        const double f = frequency_hz[k];
+        Block4 v;
+        const bool ok = detail::whirl_pole_stencil<Block4>(
+            f, whirl_pole_window(f, poles),
+            [&](const double* x, Block4* g) {
+              if (batch_two_plane(*plans, assembly_, x, b, spin_rad_s) != 0u) return false;
+              for (std::size_t i = 0; i < 4; ++i) g[i] = lane(i);
+              return true;
+            },
+            v);
+        if (!ok) {
+          one(k);
+          continue;
+        }
+        out.blocks[k] = v;
+        ++count.simd;
+      }
       if (diagnostics) *diagnostics = count;
       return out;
     }
@@ -540,10 +599,14 @@ BlockSeries4 AssemblyModel::tool_point_two_plane(const std::vector<double>& freq
   // The whirls decouple (isotropic bearings): one sweep each, −Ω and +Ω in the lanes.
   const std::optional<Plans> plans = plans_for(spindle_, holder_, &tool_);
   const Plans* p = plans ? &*plans : nullptr;
+  // The conical poles lie in the forward whirl for a positive spin, in the backward for a negative.
+  const std::vector<WhirlPole> poles = grid_whirl_poles(*this, frequency_hz, spin_rad_s), none;
   const BlockSeries fwd = sweep(
-      p, assembly_, frequency_hz, [&](double f) { return tool_point(f, spin_rad_s, Whirl::Forward); }, nullptr, -spin_rad_s);
+      p, assembly_, frequency_hz, [&](double f) { return tool_point(f, spin_rad_s, Whirl::Forward); }, nullptr, -spin_rad_s,
+      spin_rad_s > 0.0 ? poles : none);
   const BlockSeries bwd = sweep(
-      p, assembly_, frequency_hz, [&](double f) { return tool_point(f, spin_rad_s, Whirl::Backward); }, nullptr, spin_rad_s);
+      p, assembly_, frequency_hz, [&](double f) { return tool_point(f, spin_rad_s, Whirl::Backward); }, nullptr, spin_rad_s,
+      spin_rad_s < 0.0 ? poles : none);
   for (std::size_t i = 0; i < fwd.size(); ++i) out.blocks[i] = two_plane(fwd.blocks[i], bwd.blocks[i]);
   return out;
 }

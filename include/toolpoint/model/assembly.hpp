@@ -160,6 +160,30 @@ class Chain {
   std::vector<std::string> warnings_;
 };
 
+// A free piece's conical whirl pole in the assembly (AssemblyModel::whirl_poles): its frequency and
+// the relative half-width of the window around it inside which the spinning tool point is taken
+// from a stencil (AssemblyModel::tool_point with a whirl). The direct coupling's rounding error
+// grows as C/d², d the relative distance to the pole (the pole's rank-one residue, ∝ 1/d, enters
+// squared; on the example's fluted piece C ≈ 3e-13 of |H|: 3e-9 at d = 1e-2, 2e-3 at 1e-5, 8 % at
+// 1e-6). C is estimated per pole from the rounding jitter of the direct coupling at
+// d = 1e-3 (the largest change of the block over one- to three-ulp steps of f at fc(1 + 1e-3),
+// relative to the block), and window = sqrt(C / kWhirlPoleTolerance), at most kWhirlPoleMaxWindow.
+struct WhirlPole {
+  double frequency_hz = 0.0;  // conical_whirl_hz [Hz]
+  double window = 0.0;        // relative half-width (0: the direct coupling is precise enough)
+};
+inline constexpr double kWhirlPoleTolerance = 1e-9;
+inline constexpr double kWhirlPoleMaxWindow = 2e-2;
+// The stencil about f for a window W: G(f) ≈ Σ_k w_k G(f (1 + x_k W)), x = 2, −2, 4, −4,
+// w = 2/3, 2/3, −1/6, −1/6: Richardson's (4 A(δ) − A(2δ))/3 of the symmetric means
+// A(h) = (G(f(1+h)) + G(f(1−h)))/2, δ = 2W, which is G(f) + O(δ⁴) for a G smooth on the stencil;
+// each point lies at least W from the pole that put f in its window. Where the stencil's
+// curvature says an assembly resonance is within its reach, W is halved (src/whirl_pole.hpp).
+inline constexpr double kWhirlPoleOffsets[4] = {2.0, -2.0, 4.0, -4.0};
+inline constexpr double kWhirlPoleWeights[4] = {2.0 / 3.0, 2.0 / 3.0, -1.0 / 6.0, -1.0 / 6.0};
+// The window W of the pole whose window holds `frequency_hz` (the widest if several), else 0.
+double whirl_pole_window(double frequency_hz, const std::vector<WhirlPole>& poles);
+
 // Splits a chain listed from end 1 at `distance` from end 1: (outer part, inner part).
 std::pair<std::vector<Segment>, std::vector<Segment>> split_segments(const std::vector<Segment>& segments, double distance);
 
@@ -213,7 +237,16 @@ class AssemblyModel {
   BlockSeries4 tool_point_two_plane(const std::vector<double>& frequency_hz, double spin_rad_s,
                                     SweepDiagnostics* diagnostics = nullptr) const;
   // One whirl's single-plane tool point (isotropic bearings; see Chain::point with a whirl).
+  // Near a free piece's conical whirl pole (conical_whirl_hz; within its WhirlPole::window) the
+  // piece's receptance is nearly unbounded and the coupling cancels most digits, though the
+  // assembly is smooth there: this and tool_point_two_plane (one frequency or a grid) then take
+  // the value from the symmetric stencil of kWhirlPoleOffsets, combined by Richardson to O(δ⁴)
+  // (docs/spindle-at-speed.md).
   Block tool_point(double frequency_hz, double spin_rad_s, Whirl whirl) const;
+  // The conical whirl poles of the free pieces of the three chains spinning at `spin_rad_s` whose
+  // rigid-body estimate lies within a factor 1.25 of [f_lo, f_hi] (none at spin 0), with their
+  // windows (WhirlPole).
+  std::vector<WhirlPole> whirl_poles(double spin_rad_s, double f_lo, double f_hi) const;
   // Every bearing isotropic (Bearing::isotropic).
   bool isotropic() const;
   Block spindle_nose(double frequency_hz) const;   // S11
@@ -237,6 +270,11 @@ class AssemblyModel {
   const Chain& tool_chain() const { return tool_; }
 
  private:
+  // tool_point_two_plane and tool_point with a whirl at one frequency without the stencil near the
+  // whirl poles.
+  Block4 tool_point_two_plane_direct(double frequency_hz, double spin_rad_s) const;
+  Block whirl_tool_point_direct(double frequency_hz, double spin_rad_s, Whirl whirl) const;
+
   Assembly assembly_;
   Chain spindle_, holder_, tool_;
 };

@@ -185,6 +185,16 @@ struct WhirlFrequencies {
 // (undamped: Re EI, Re κGA), bracketed on a grid finer than 1/32 of the standstill modes' least
 // spacing and refined by bisection to 1e-13 relative. `count` ≥ 1. Throws InvalidArgument.
 WhirlFrequencies whirl_frequencies(const SectionProperties& section, double length, double spin_rad_s, int count);
+// The conical whirl's undamped frequency [Hz] alone (WhirlFrequencies::conical_hz, the same root
+// of the same free–free determinant): bisected to 1e-13 relative in [f₀/1.25, 1.25 f₀] around the
+// rigid body's f₀ = ρI_p L |Ω| / (2π J_d), J_d = ρAL³/12 + ρIL (the elastic shift is (f₀/f₁)²
+// small), else from whirl_frequencies. It lies in the whirl with ρI (1 − 2|Ω|/ω): forward for
+// Ω > 0, backward for Ω < 0. Hysteretic damping hardly damps it (it is the rigid tilt, whose
+// gyroscopic moment cancels its inertia), so the free–free receptance is nearly unbounded there.
+// 0 at Ω = 0. Throws InvalidArgument for a non-finite spin or length ≤ 0.
+double conical_whirl_hz(const SectionProperties& section, double length, double spin_rad_s);
+// The rigid body's estimate f₀ = ρI_p L |Ω| / (2π J_d) [Hz] of the above (0 at Ω = 0).
+double conical_whirl_estimate_hz(const SectionProperties& section, double length, double spin_rad_s);
 
 // ---- Modal summation (seed Eq. 11–14) ---------------------------------------------------------
 
