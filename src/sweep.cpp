@@ -437,6 +437,41 @@ void for_each_batch(const std::vector<double>& frequency_hz, Run run, Take take,
   }
 }
 
+// for_each_batch with the whirl poles' windows (whirl_pole.hpp): a frequency inside one gets the
+// stencil, its four points in one batch (`lane(i)` reads lane i after `run`), else the lane; a
+// stencil the lanes cannot certify goes to `one(index)`. Results into `blocks`, counted.
+template <class B, class Run, class Lane, class One>
+void for_each_batch_with_poles(const std::vector<double>& frequency_hz, const std::vector<WhirlPole>& poles, Run run, Lane lane,
+                               One one, std::vector<B>& blocks, AssemblyModel::SweepDiagnostics& count) {
+  std::vector<std::size_t> near;
+  for_each_batch(
+      frequency_hz, run,
+      [&](std::size_t k, std::size_t i) {
+        if (whirl_pole_window(frequency_hz[k], poles) > 0.0) return near.push_back(k);
+        blocks[k] = lane(i);
+        ++count.simd;
+      },
+      one);
+  for (std::size_t k : near) {
+    const double f = frequency_hz[k];
+    B v;
+    const bool ok = detail::whirl_pole_stencil<B>(
+        f, whirl_pole_window(f, poles),
+        [&](const double* x, B* g) {
+          if (run(x) != 0u) return false;
+          for (std::size_t i = 0; i < 4; ++i) g[i] = lane(i);
+          return true;
+        },
+        v);
+    if (!ok) {
+      one(k);
+      continue;
+    }
+    blocks[k] = v;
+    ++count.simd;
+  }
+}
+
 // The series over `frequency_hz`, through the lanes when every chain is exact, with `at` (the
 // per-frequency function) for the lanes they cannot certify, for modal chains and for the
 // frequencies in one of the windows of `poles` (their stencil's four points in one batch).
@@ -457,33 +492,8 @@ BlockSeries sweep(const Plans* plans, const Assembly& a, const std::vector<doubl
     auto lane = [&](std::size_t i) {
       return make_block({out[0][i], out[4][i]}, {out[1][i], out[5][i]}, {out[2][i], out[6][i]}, {out[3][i], out[7][i]});
     };
-    std::vector<std::size_t> near;
-    for_each_batch(
-        frequency_hz, [&](const double* f) { return batch(*plans, a, f, out, whirl_spin); },
-        [&](std::size_t k, std::size_t i) {
-          if (whirl_pole_window(frequency_hz[k], poles) > 0.0) return near.push_back(k);
-          s.blocks[k] = lane(i);
-          ++count.simd;
-        },
-        one);
-    for (std::size_t k : near) {  // the per-frequency function's stencil, its four points in one batch
-      const double f = frequency_hz[k];
-      Block v;
-      const bool ok = detail::whirl_pole_stencil<Block>(
-          f, whirl_pole_window(f, poles),
-          [&](const double* x, Block* g) {
-            if (batch(*plans, a, x, out, whirl_spin) != 0u) return false;
-            for (std::size_t i = 0; i < 4; ++i) g[i] = lane(i);
-            return true;
-          },
-          v);
-      if (!ok) {
-        one(k);
-        continue;
-      }
-      s.blocks[k] = v;
-      ++count.simd;
-    }
+    for_each_batch_with_poles(
+        frequency_hz, poles, [&](const double* f) { return batch(*plans, a, f, out, whirl_spin); }, lane, one, s.blocks, count);
     if (diagnostics) *diagnostics = count;
     return s;
   }
@@ -555,33 +565,9 @@ BlockSeries4 AssemblyModel::tool_point_two_plane(const std::vector<double>& freq
         for (int e = 0; e < 16; ++e) x(e / 4, e % 4) = Complex(b[2 * e][i], b[2 * e + 1][i]);
         return x;
       };
-      std::vector<std::size_t> near;
-      for_each_batch(
-          frequency_hz, [&](const double* f) { return batch_two_plane(*plans, assembly_, f, b, spin_rad_s); },
-          [&](std::size_t k, std::size_t i) {
-            if (whirl_pole_window(frequency_hz[k], poles) > 0.0) return near.push_back(k);
-            out.blocks[k] = lane(i);
-            ++count.simd;
-          },
-          one);
-      for (std::size_t k : near) {  // as sweep() above
-        const double f = frequency_hz[k];
-        Block4 v;
-        const bool ok = detail::whirl_pole_stencil<Block4>(
-            f, whirl_pole_window(f, poles),
-            [&](const double* x, Block4* g) {
-              if (batch_two_plane(*plans, assembly_, x, b, spin_rad_s) != 0u) return false;
-              for (std::size_t i = 0; i < 4; ++i) g[i] = lane(i);
-              return true;
-            },
-            v);
-        if (!ok) {
-          one(k);
-          continue;
-        }
-        out.blocks[k] = v;
-        ++count.simd;
-      }
+      for_each_batch_with_poles(
+          frequency_hz, poles, [&](const double* f) { return batch_two_plane(*plans, assembly_, f, b, spin_rad_s); }, lane, one,
+          out.blocks, count);
       if (diagnostics) *diagnostics = count;
       return out;
     }
