@@ -18,7 +18,8 @@
 // when a rate is clearly off; the README's table comes from the long run:
 //   TOOLPOINT_MC_SEEDS=200 TOOLPOINT_MC_BOOTSTRAP=200 build/toolpoint_tests --gtest_filter='IdentificationMonteCarlo*'
 // (TOOLPOINT_MC_BOOTSTRAP=0, the default here, gives linearised intervals; TOOLPOINT_MC_THREADS
-// the threads over seeds.)
+// the threads over seeds; TOOLPOINT_MC_CASE="example, holder–tool (Table 1), Eq. 6, (b)" runs only
+// the cases whose title contains the text.)
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -197,9 +198,11 @@ IdentificationData data_of(const BlockSeries& G, const std::optional<BlockSeries
 // coverage fewer happen with probability 0.06 %).
 TEST(IdentificationMonteCarlo, FalseAlarmsAndCoverage) {
   const int seeds = env_int("TOOLPOINT_MC_SEEDS", 8), bootstrap = env_int("TOOLPOINT_MC_BOOTSTRAP", 0);
+  const char* only = std::getenv("TOOLPOINT_MC_CASE");  // run only the cases whose title contains it
   for (const Setting& st : settings()) {
     const RouteData d = route_data(st.assembly, st.route, st.grid);
     for (const Noise& n : noise_models()) {
+      if (only && fmt::format("{}, {}", st.name, n.name).find(only) == std::string::npos) continue;
       const Tally t = run(seeds, st.assembly, options_for(st.route, n, bootstrap), d.truth, [&](std::uint64_t seed) {
         return data_of(measure(d.G, n, seed), d.b_measured ? std::optional(measure(d.B, n, seed + 1)) : std::nullopt);
       });
