@@ -159,6 +159,7 @@ double relative(double predicted, double measured) { return (predicted - measure
 // mode must clear each.
 std::vector<double> clearances(const JointFitData& d, const BlockSeries& G_ref, const FrfSeries& ref,
                                const std::vector<Peak>& modes, const std::optional<SavgolOptions>& smoothing) {
+  if (d.g_noise.exact()) return std::vector<double>(modes.size(), std::numeric_limits<double>::infinity());
   double gain = 1.0;
   if (smoothing) {
     gain = 0.0;
@@ -166,10 +167,6 @@ std::vector<double> clearances(const JointFitData& d, const BlockSeries& G_ref, 
   }
   std::vector<double> out;
   for (const Peak& p : modes) {
-    if (d.g_noise.exact()) {
-      out.push_back(std::numeric_limits<double>::infinity());
-      continue;
-    }
     // H is the block's first entry: the real and imaginary parts are the first two of the eight.
     const Cov8 S = d.g_noise.absolute(p.index, G_ref.blocks[p.index]);
     const double sigma = std::sqrt(0.5 * (S(0, 0) + S(1, 1)) * gain);

@@ -36,6 +36,16 @@ Complex sdof_receptance(double f) {
   return 1.0 / Complex(8e6 - 2.0 * w * w, 150.0 * w);
 }
 
+// The one-mode receptance sampled at n points, step `step_hz` apart from `step_hz`.
+FrfSeries sdof_series(int n, double step_hz) {
+  FrfSeries h;
+  for (int i = 1; i <= n; ++i) {
+    h.frequency_hz.push_back(step_hz * i);
+    h.values.push_back(sdof_receptance(step_hz * i));
+  }
+  return h;
+}
+
 // The same oscillator's mobility Y = iωH and accelerance A = −ω²H as a UFF FRF dataset with the
 // given record 9 code (8, 11 or 12), from 0 Hz in 2.5 Hz steps.
 UffDataset58 sdof_dataset(int numerator_code, std::size_t n = 400) {
@@ -225,11 +235,7 @@ TEST(FrfFile, CutProTextWrittenStrictly) {
 // 13 or more significant digits (5e-13).
 TEST(FrfFile, ReadAndWriteEveryFormat) {
   TempDir dir;
-  FrfSeries h;
-  for (int i = 1; i <= 50; ++i) {
-    h.frequency_hz.push_back(10.0 * i);
-    h.values.push_back(sdof_receptance(10.0 * i));
-  }
+  FrfSeries h = sdof_series(50, 10.0);
   for (const char* name : {"a.csv", "a.frf", "a.uff", "a.unv", "a.UF", "b.uff"}) {
     SCOPED_TRACE(name);
     const std::string path = dir / name;
@@ -345,11 +351,7 @@ TEST(FrfFile, EvenGridDetection) {
 // coherence γ² outside [0, 1] (or NaN) cannot be a coherence. No file may be left behind.
 TEST(FrfFile, WriteOptionsCheckNamesTheField) {
   TempDir dir;
-  FrfSeries h;
-  for (int i = 1; i <= 5; ++i) {
-    h.frequency_hz.push_back(100.0 * i);
-    h.values.push_back(sdof_receptance(100.0 * i));
-  }
+  FrfSeries h = sdof_series(5, 100.0);
   const auto refused = [&](const FrfWriteOptions& w, const std::string& field) {
     SCOPED_TRACE(field);
     const std::string path = dir / "refused.csv";
