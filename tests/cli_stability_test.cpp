@@ -13,6 +13,7 @@
 #include <cmath>
 #include <fmt/format.h>
 #include <sstream>
+#include <tuple>
 #include <vector>
 #include <string>
 #include <sys/wait.h>
@@ -107,6 +108,20 @@ TEST(LobesCommand, WritesLobesAndRejectsBadInputWithExitCodes) {
   ASSERT_EQ(sd_depth.size(), fd_depth.size());
   ASSERT_GE(fd_depth.size(), 9u);
   for (std::size_t i = 0; i < fd_depth.size(); ++i) EXPECT_NEAR(sd_depth[i], fd_depth[i], 0.02 * fd_depth[i]) << i;
+
+  // The JSON names the scheme that made the boundary and its degree (fd: the default interpolation
+  // degree 2; sd: its first order, LobesStudyOptions::degree 2 capped at 1, boundary_options), so
+  // two runs' boundaries are never confused; independent of the text output.
+  for (const auto& [method, scheme, degree] : {std::tuple{"fd", "fd", 2}, std::tuple{"sd", "sd", 1}}) {
+    const CliRun js = run_cli(base + " --immersion 0.05 --rigid-y --speeds 3 --max-depth 10 --json --method " + method);
+    ASSERT_EQ(js.code, 0) << js.out;
+    const std::size_t open = js.out.find("{\n"), close = js.out.rfind("\n}");
+    ASSERT_NE(open, std::string::npos) << js.out;
+    const nlohmann::json boundary = nlohmann::json::parse(js.out.substr(open, close + 2 - open)).at("boundary");
+    ASSERT_TRUE(boundary.contains("scheme")) << boundary.dump();
+    EXPECT_EQ(boundary["scheme"], scheme) << method;
+    EXPECT_EQ(boundary["degree"], degree) << method;
+  }
 
   // The modal fit's warnings name the FRF they are about (the assembly's tool point FRF), never an
   // empty name; the library's field names reach the user as the options' spellings.
