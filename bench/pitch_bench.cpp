@@ -26,3 +26,22 @@ static void BM_Pitch_ChooseExampleAssembly(benchmark::State& state) {
   state.counters["limits"] = static_cast<double>(evaluations);
 }
 BENCHMARK(BM_Pitch_ChooseExampleAssembly)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The three-angle pattern on the same modes: 6 teeth (P₀/P₁/P₂ twice) at 5000 rpm, the default
+// 11 × 11 grid of (u, v) and the pattern search (a few hundred limits); argument: threads.
+static void BM_Pitch_ChooseThreeAngleExampleAssembly(benchmark::State& state) {
+  const std::vector<Mode> modes = bench::example_modes();
+  const CuttingConditions cut{6, 6e8, 0.3, engagement_from_immersion(0.5, MillingDirection::Down)};
+  PitchChoiceOptions o;
+  o.speed_rpm = 5000.0;
+  o.pattern = PitchPattern::ThreeAngle;
+  o.parallel.threads = static_cast<int>(state.range(0));
+  long evaluations = 0;
+  for (auto _ : state) {
+    const PitchChoice r = choose_pitch(ModalModel{modes, modes}, cut, o);
+    evaluations = r.evaluations;
+    benchmark::DoNotOptimize(r.pitch_rad.data());
+  }
+  state.counters["limits"] = static_cast<double>(evaluations);
+}
+BENCHMARK(BM_Pitch_ChooseThreeAngleExampleAssembly)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
