@@ -405,16 +405,19 @@ void search_three_angle(PitchChoice& res, const ModalModel& model, const Cutting
     });
   };
   // New points within the limits, not evaluated yet (to rounding), then evaluated.
+  const auto same = [&](double u, double v, double a, double b) {
+    return std::abs(a - u) < 1e-9 * q && std::abs(b - v) < 1e-9 * q;
+  };
+  const auto evaluated = [&](double u, double v) {
+    return std::any_of(res.samples.begin(), res.samples.end(),
+                       [&](const PitchSample& s) { return same(u, v, s.variation_rad, s.second_variation_rad); });
+  };
   const auto evaluate_new = [&](const std::vector<std::pair<double, double>>& points) {
     std::vector<std::pair<double, double>> fresh;
-    const auto known = [&](double u, double v) {
-      const auto near = [&](double a, double b) { return std::abs(a - u) < 1e-9 * q && std::abs(b - v) < 1e-9 * q; };
-      return std::any_of(res.samples.begin(), res.samples.end(),
-                         [&](const PitchSample& s) { return near(s.variation_rad, s.second_variation_rad); }) ||
-             std::any_of(fresh.begin(), fresh.end(), [&](const auto& p) { return near(p.first, p.second); });
-    };
     for (const auto& [u, v] : points)
-      if (within(u, v) && !known(u, v)) fresh.emplace_back(u, v);
+      if (within(u, v) && !evaluated(u, v) &&
+          std::none_of(fresh.begin(), fresh.end(), [&, u = u, v = v](const auto& p) { return same(u, v, p.first, p.second); }))
+        fresh.emplace_back(u, v);
     if (!fresh.empty()) evaluate_patterns(res, fresh, angles, model, cutting, o);
     return fresh.size();
   };
@@ -439,10 +442,7 @@ void search_three_angle(PitchChoice& res, const ModalModel& model, const Cutting
     const std::size_t before = res.samples.size();
     at_edge = false;
     for (const auto& [u, v] : block(best.variation_rad, best.second_variation_rad, step, 1))
-      if (within(u, v) && std::none_of(res.samples.begin(), res.samples.end(), [&](const PitchSample& s) {
-            return std::abs(s.variation_rad - u) < 1e-9 * q && std::abs(s.second_variation_rad - v) < 1e-9 * q;
-          }))
-        at_edge = true;
+      if (within(u, v) && !evaluated(u, v)) at_edge = true;
     if (!at_edge || extension == 3) break;
     evaluate_new(block(best.variation_rad, best.second_variation_rad, step, std::max(1, o.search_points / 4)));
     if (res.samples.size() == before) break;

@@ -302,6 +302,14 @@ TEST(PitchCommand, ChoosesAPitchAndRefusesBadLimits) {
   const CliRun given = run_cli("pitch " + cut + "--teeth 4 --pitch 80,100,80,100");
   EXPECT_EQ(given.code, 2);
   EXPECT_NE(given.out.find("--pitch"), std::string::npos) << given.out;
+  // Three angles: two parameters reported; a tooth count not a multiple of 3 refused naming the flag.
+  const CliRun three = run_cli("pitch " + cut + "--teeth 3 --pattern three-angle --search-points 5");
+  EXPECT_EQ(three.code, 0) << three.out;
+  EXPECT_NE(three.out.find("three-angle pattern"), std::string::npos) << three.out;
+  EXPECT_NE(three.out.find("chosen (searched):      u "), std::string::npos) << three.out;
+  const CliRun four = run_cli("pitch " + cut + "--teeth 4 --pattern three-angle");
+  EXPECT_EQ(four.code, 2);
+  EXPECT_NE(four.out.find("--pattern three-angle needs a multiple of 3 teeth"), std::string::npos) << four.out;
 }
 
 // The flags of LobesStudyOptions' fields derive from lobes_study_fields (option_fields.hpp): every
