@@ -470,8 +470,11 @@ void to_json(nlohmann::json& j, const ZeroOrderResult& r) {
 }
 
 void to_json(nlohmann::json& j, const BoundaryResult& r) {
+  // The scheme named with its degree (fd: interpolation degree 1…3; sd: the delayed term's order 0…1),
+  // so the JSON alone says which method the boundary is.
   j = {{"max_depth_m", r.max_depth_m},
        {"tolerance", r.tolerance},
+       {"scheme", r.scheme == Discretization::Semi ? "sd" : "fd"},
        {"degree", r.degree},
        {"evaluations", r.evaluations},
        {"worst_relative_error", number(r.worst_relative_error())},
@@ -484,7 +487,8 @@ void to_json(nlohmann::json& j, const BoundaryResult& r) {
 }
 
 void to_json(nlohmann::json& j, const PitchSample& s) {
-  j = {{"variation_rad", s.variation_rad},        {"depth_m", number(s.depth_m)}, {"robust_depth_m", number(s.robust_depth_m)},
+  j = {{"variation_rad", s.variation_rad},   {"second_variation_rad", s.second_variation_rad},
+       {"depth_m", number(s.depth_m)},       {"robust_depth_m", number(s.robust_depth_m)},
        {"chatter_hz", number(s.chatter_hz)}, {"kind", to_string(s.kind)}};
 }
 
@@ -495,10 +499,12 @@ void to_json(nlohmann::json& j, const PitchChoice& c) {
        {"chatter_hz", number(c.chatter_hz)},
        {"max_variation_rad", c.max_variation_rad},
        {"closed_form_variation_rad", c.closed_form_variation_rad},
+       {"closed_form_second_variation_rad", c.closed_form_second_variation_rad},
        {"closed_form_pitch_rad", c.closed_form_pitch_rad},
        {"closed_form_depth_m", number(c.closed_form_depth_m)},
        {"closed_form_robust_depth_m", number(c.closed_form_robust_depth_m)},
        {"variation_rad", c.variation_rad},
+       {"second_variation_rad", c.second_variation_rad},
        {"pitch_rad", c.pitch_rad},
        {"chosen", c.chosen},
        {"uniform", c.uniform},

@@ -135,6 +135,273 @@ PeriodicDelaySystem with_velocity_feedback(const PeriodicDelaySystem& system, co
   return out;
 }
 
+namespace {
+
+// Further delays: τ_j = (i_j + f_j) h, snapped to whole steps within 1e-9 (see the header): the
+// whole steps i_j (at most m) and the fractions f_j.
+struct DelaySteps {
+  std::vector<int> whole;
+  std::vector<double> fraction;
+};
+
+DelaySteps delay_steps(const PeriodicDelaySystem& sys, double h, int m) {
+  DelaySteps out;
+  for (std::size_t j = 0; j < sys.delays.size(); ++j) {
+    const double steps_back = sys.delays[j].delay / h;
+    const double snapped = std::round(steps_back);
+    const double exact = std::abs(steps_back - snapped) < 1e-9 ? snapped : steps_back;
+    const int whole = static_cast<int>(std::floor(exact));
+    if (whole < 1)
+      throw InvalidArgument(fmt::format("PeriodicDelaySystem::delays[{}].delay {} s is shorter than a step ({} s)", j,
+                                        sys.delays[j].delay, h),
+                            "use more steps per period");
+    out.whole.push_back(std::min(whole, m));
+    out.fraction.push_back(whole >= m ? 0.0 : exact - whole);
+  }
+  return out;
+}
+
+// The quadrature of one step's weights ∫ e^{A₀(h−s)} B P(t_k + s) ℓ_o(s) ds (and the same for Q, the
+// further delays and the forcing): the set-up that is the same for every step, and scratch reused
+// across steps (a map is built per speed, and allocations were half its cost).
+class StepQuadrature {
+ public:
+  struct Point {
+    double s, w;
+  };
+
+  StepQuadrature(const PeriodicDelaySystem& sys, const std::vector<EigenBlock>& eig, const std::vector<int>& block_start,
+                 const std::vector<int>& block_size, double rate, double h, int p, const DelaySteps& delays)
+      : sys_(sys),
+        eig_(eig),
+        block_start_(block_start),
+        block_size_(block_size),
+        rate_(rate),
+        h_(h),
+        p_(p),
+        n_(static_cast<int>(sys.input.rows())),
+        d_(static_cast<int>(sys.input.cols())),
+        delays_(delays) {
+    // Sample nodes of step k at s_o = (o − p + 1) h, o = 0…p (o = p: the implicit newest sample).
+    node_.resize(static_cast<std::size_t>(p_ + 1));
+    for (int o = 0; o <= p_; ++o) node_[static_cast<std::size_t>(o)] = (o - p_ + 1) * h_;
+    // A whole step has the same points and the same e^{A₀(h−s)}B at them: computed once.
+    whole_ = points(0.0, h_);
+    for (const Point& pt : whole_) whole_eb_.push_back(exp_b(h_ - pt.s));
+    for (const auto& e : whole_eb_) whole_eb_ptr_.push_back(&e);
+    cuts_ = sys.breakpoints;
+    std::sort(cuts_.begin(), cuts_.end());
+    coef_.resize(d_, d_);
+    g_.resize(n_, d_);
+    force_.resize(d_);
+    wd.resize(sys.delays.size());
+    wd_any.resize(sys.delays.size());
+  }
+
+  // Step k's weights into wp, wq (P and Q), wd[j] where wd_any[j] (the further delays) and, with
+  // forcing, adds its integral to *wf. False when the step has no non-zero weight (and no forcing).
+  bool build(int k, Eigen::VectorXd* wf);
+
+  std::vector<double> wp, wq;
+  std::vector<std::vector<double>> wd;
+  std::vector<char> wd_any;
+
+ private:
+  // e^{A₀t} B, block by block.
+  Eigen::MatrixXd exp_b(double t) const {
+    Eigen::MatrixXd out(n_, d_);
+    for (std::size_t b = 0; b < eig_.size(); ++b)
+      out.middleRows(block_start_[b], block_size_[b]) = block_exp(eig_[b], t) *
+                                                        sys_.input.middleRows(block_start_[b], block_size_[b]);
+    return out;
+  }
+  double lagrange(int o, double s) const {
+    double l = 1.0;
+    for (int q = 0; q <= p_; ++q)
+      if (q != o)
+        l *= (s - node_[static_cast<std::size_t>(q)]) / (node_[static_cast<std::size_t>(o)] - node_[static_cast<std::size_t>(q)]);
+    return l;
+  }
+  // Quadrature points of [a, b] ⊂ [0, h]: panels no longer than 2/|λ|max, Gauss on each.
+  std::vector<Point> points(double a, double b) const {
+    std::vector<Point> pts;
+    const int panels = std::max(1, static_cast<int>(std::ceil(rate_ * (b - a) / 2.0)));
+    const double len = (b - a) / panels;
+    for (int j = 0; j < panels; ++j)
+      for (int g = 0; g < kGauss; ++g) pts.push_back({a + (j + kGaussNode[g]) * len, kGaussWeight[g] * len});
+    return pts;
+  }
+  // w += Σ_o ℓ_o(s) g at node blocks o (each n × d, column-major).
+  void accumulate(std::vector<double>& w, double s) const {
+    const int nd = n_ * d_;
+    for (int o = 0; o <= p_; ++o) {
+      const double l = lagrange(o, s);
+      double* dst = w.data() + o * nd;
+      for (int c = 0; c < d_; ++c)
+        for (int r = 0; r < n_; ++r) dst[c * n_ + r] += l * g_(r, c);
+    }
+  }
+  void start_weights() {
+    wp.assign(static_cast<std::size_t>((p_ + 1) * n_ * d_), 0.0);
+    wq.assign(sys_.regenerative || !sys_.delayed ? 0 : wp.size(), 0.0);  // no Q: no weights
+  }
+
+  const PeriodicDelaySystem& sys_;
+  const std::vector<EigenBlock>& eig_;
+  const std::vector<int>&block_start_, &block_size_;
+  double rate_, h_;
+  int p_, n_, d_;
+  const DelaySteps& delays_;
+  std::vector<double> node_, cuts_;
+  std::vector<Point> whole_;
+  std::vector<Eigen::MatrixXd> whole_eb_;
+  std::vector<const Eigen::MatrixXd*> whole_eb_ptr_;
+  // Scratch.
+  std::vector<double> ends_;
+  std::vector<Point> pts_;
+  std::vector<const Eigen::MatrixXd*> eb_;
+  std::vector<Eigen::MatrixXd> local_;
+  Eigen::MatrixXd coef_, g_;
+  Eigen::VectorXd force_;
+};
+
+bool StepQuadrature::build(int k, Eigen::VectorXd* wf) {
+  const double h = h_, t0 = k * h;
+  std::fill(wd_any.begin(), wd_any.end(), 0);
+  // Pieces of the step between breakpoints (a breakpoint within 1e-12 h of an end is the end).
+  ends_.assign(1, 0.0);
+  for (double t : cuts_)
+    if (t > t0 + 1e-12 * h && t < t0 + h - 1e-12 * h) ends_.push_back(t - t0);
+  ends_.push_back(h);
+  const std::vector<Point>* step_points = &whole_;
+  const Eigen::MatrixXd* const* step_eb = whole_eb_ptr_.data();
+  if (ends_.size() > 2) {
+    pts_.clear();
+    for (std::size_t j = 0; j + 1 < ends_.size(); ++j)
+      for (const Point& pt : points(ends_[j], ends_[j + 1])) pts_.push_back(pt);
+    local_.clear();
+    for (const Point& pt : pts_) local_.push_back(exp_b(h - pt.s));
+    eb_.clear();
+    for (const auto& e : local_) eb_.push_back(&e);
+    step_points = &pts_;
+    step_eb = eb_.data();
+  }
+  const bool regenerative = sys_.regenerative;
+  bool any = false;
+  for (std::size_t q = 0; q < step_points->size(); ++q) {
+    const Point& pt = (*step_points)[q];
+    const double t = t0 + pt.s;
+    if (wf) {
+      force_.setZero();
+      sys_.forcing(t, force_);
+      if (force_.size() != d_ || !force_.allFinite())
+        throw InvalidArgument(fmt::format("PeriodicDelaySystem::forcing({} s) must be a finite {}-vector", t, d_));
+      wf->noalias() += pt.w * (*step_eb[q]) * force_;
+    }
+    for (int pass = 0; pass < (regenerative ? 1 : 2); ++pass) {
+      const auto& f = pass == 0 ? sys_.current : sys_.delayed;
+      if (!f) continue;
+      coef_.setZero();
+      f(t, coef_);
+      if (coef_.rows() != d_ || coef_.cols() != d_ || !coef_.allFinite())
+        throw InvalidArgument(fmt::format("PeriodicDelaySystem::{}({} s) must be a finite {}×{} matrix (is {}×{})",
+                                          pass == 0 ? "current" : "delayed", t, d_, d_, coef_.rows(), coef_.cols()));
+      if (coef_.isZero(0.0)) continue;
+      if (!any) {  // the first non-zero coefficient of this step: its weights start from zero
+        start_weights();
+        any = true;
+      }
+      g_.noalias() = pt.w * (*step_eb[q]) * coef_;  // n × d
+      accumulate(pass == 0 ? wp : wq, pt.s);
+    }
+  }
+  // The further delays: Q_j(t) y(t − τ_j) with y through the nodes around t_k − i_j h, evaluated at
+  // s − f_j h.
+  for (std::size_t j = 0; j < sys_.delays.size(); ++j)
+    for (std::size_t q = 0; q < step_points->size(); ++q) {
+      const Point& pt = (*step_points)[q];
+      const double t = t0 + pt.s;
+      coef_.setZero();
+      sys_.delays[j].coefficient(t, coef_);
+      if (coef_.rows() != d_ || coef_.cols() != d_ || !coef_.allFinite())
+        throw InvalidArgument(
+            fmt::format("PeriodicDelaySystem::delays[{}].coefficient({} s) must be a finite {}×{} matrix", j, t, d_, d_));
+      if (coef_.isZero(0.0)) continue;
+      if (!wd_any[j]) {
+        wd[j].assign(static_cast<std::size_t>((p_ + 1) * n_ * d_), 0.0);
+        wd_any[j] = 1;
+      }
+      g_.noalias() = pt.w * (*step_eb[q]) * coef_;
+      accumulate(wd[j], pt.s - delays_.fraction[j] * h);
+    }
+  const bool delayed_any = std::find(wd_any.begin(), wd_any.end(), 1) != wd_any.end();
+  // A further delay read, or forced but no feedback: zero weights.
+  if (!any && (delayed_any || (wf && !wf->isZero(0.0)))) {
+    start_weights();
+    any = true;
+  }
+  return any;
+}
+
+// The buffer samples y_{−i}, i = 1…m+p−1, that an active step reads (`reads_period[k]`: step k
+// reads y(t − T); `delay_reads[k]`: the whole steps i_j of the further delays it reads); a sample
+// that a later period needs (i > m becomes i − m) is kept as well. Everything else is dropped exactly.
+std::vector<int> buffer_samples_read(int m, int p, const std::vector<char>& active, const std::vector<char>& reads_period,
+                                     const std::vector<std::vector<int>>& delay_reads) {
+  const int buffer = m + p - 1;
+  std::vector<char> needed(static_cast<std::size_t>(buffer + 1), 0);
+  for (int k = 0; k < m; ++k) {
+    if (!active[static_cast<std::size_t>(k)]) continue;
+    for (int o = 0; o <= p; ++o) {
+      const int cur = k + 1 - p + o, del = cur - m;
+      if (cur < 0 && o < p) needed[static_cast<std::size_t>(-cur)] = 1;
+      if (reads_period[static_cast<std::size_t>(k)] && del < 0) needed[static_cast<std::size_t>(-del)] = 1;
+      for (int whole : delay_reads[static_cast<std::size_t>(k)]) {
+        const int at = cur - whole;
+        if (at < 0) needed[static_cast<std::size_t>(-at)] = 1;
+      }
+    }
+  }
+  for (int i = buffer; i > m; --i)
+    if (needed[static_cast<std::size_t>(i)]) needed[static_cast<std::size_t>(i - m)] = 1;
+  std::vector<int> read;
+  for (int i = 1; i <= buffer; ++i)
+    if (needed[static_cast<std::size_t>(i)]) read.push_back(i);
+  return read;
+}
+
+// Jumps over steps out of the cut: there the state only evolves freely, so when no output in
+// between is read (by a later step of this period or as a delayed sample of the next), k steps
+// are one multiplication by e^{A₀kh}. At low radial immersion most of the period is skipped.
+// Per step: the length of the jump that starts there (≥ 2), or 0.
+std::vector<int> free_motion_jumps(int m, int p, const std::vector<char>& active,
+                                   const std::vector<std::vector<int>>& delay_reads, const std::vector<int>& read) {
+  std::vector<char> read_output(static_cast<std::size_t>(m + 1), 0);  // r_j = y_j, j = 0…m, is read
+  for (int k = 0; k < m; ++k)
+    if (active[static_cast<std::size_t>(k)]) {
+      for (int j = std::max(0, k + 1 - p); j <= k; ++j) read_output[static_cast<std::size_t>(j)] = 1;
+      for (int whole : delay_reads[static_cast<std::size_t>(k)])
+        for (int o = 0; o <= p; ++o) {
+          const int at = k + 1 - p + o - whole;
+          if (at >= 0) read_output[static_cast<std::size_t>(at)] = 1;
+        }
+    }
+  for (int i : read)
+    if (i <= m) read_output[static_cast<std::size_t>(m - i)] = 1;
+  std::vector<int> jump(static_cast<std::size_t>(m), 0);
+  for (int k = 0; k < m;) {
+    int len = 0;
+    while (k + len < m && !active[static_cast<std::size_t>(k + len)] &&
+           (len == 0 || !read_output[static_cast<std::size_t>(k + len)]))
+      ++len;
+    if (len >= 2) jump[static_cast<std::size_t>(k)] = len;
+    k += std::max(len, 1);
+  }
+  return jump;
+}
+
+}  // namespace
+
 PeriodMap::PeriodMap(const PeriodicDelaySystem& sys, int steps, int degree, Discretization scheme) {
   sys.check();
   const bool semi = scheme == Discretization::Semi;
@@ -164,237 +431,49 @@ PeriodMap::PeriodMap(const PeriodicDelaySystem& sys, int steps, int degree, Disc
     for (Eigen::Index r = 0; r < e.rows(); ++r)
       for (Eigen::Index c = 0; c < e.cols(); ++c) phi_.push_back(e(r, c));
   }
-  // e^{A₀t} B, block by block.
-  auto exp_b = [&](double t) {
-    Eigen::MatrixXd out(n_, d_);
-    for (std::size_t b = 0; b < eig.size(); ++b)
-      out.middleRows(block_start_[b], block_size_[b]) = block_exp(eig[b], t) *
-                                                        sys.input.middleRows(block_start_[b], block_size_[b]);
-    return out;
-  };
+  const DelaySteps delays = delay_steps(sys, h, m_);
 
-  // Sample nodes of step k at s_o = (o − p + 1) h, o = 0…p (o = p: the implicit newest sample).
-  std::vector<double> node(static_cast<std::size_t>(p_ + 1));
-  for (int o = 0; o <= p_; ++o) node[static_cast<std::size_t>(o)] = (o - p_ + 1) * h;
-  // Further delays: τ_j = (i_j + f_j) h, snapped to whole steps within 1e-9 (see the header).
-  std::vector<int> whole_steps;
-  std::vector<double> fraction;
-  for (std::size_t j = 0; j < sys.delays.size(); ++j) {
-    const double steps_back = sys.delays[j].delay / h;
-    const double snapped = std::round(steps_back);
-    const double exact = std::abs(steps_back - snapped) < 1e-9 ? snapped : steps_back;
-    const int whole = static_cast<int>(std::floor(exact));
-    if (whole < 1)
-      throw InvalidArgument(fmt::format("PeriodicDelaySystem::delays[{}].delay {} s is shorter than a step ({} s)", j,
-                                        sys.delays[j].delay, h),
-                            "use more steps per period");
-    whole_steps.push_back(std::min(whole, m_));
-    fraction.push_back(whole >= m_ ? 0.0 : exact - whole);
-  }
-  auto lagrange = [&](int o, double s) {
-    double l = 1.0;
-    for (int q = 0; q <= p_; ++q)
-      if (q != o)
-        l *= (s - node[static_cast<std::size_t>(q)]) / (node[static_cast<std::size_t>(o)] - node[static_cast<std::size_t>(q)]);
-    return l;
-  };
-  // Quadrature points of [a, b] ⊂ [0, h]: panels no longer than 2/|λ|max, Gauss on each.
-  struct Point {
-    double s, w;
-  };
-  auto points = [&](double a, double b) {
-    std::vector<Point> pts;
-    const int panels = std::max(1, static_cast<int>(std::ceil(rate * (b - a) / 2.0)));
-    const double len = (b - a) / panels;
-    for (int j = 0; j < panels; ++j)
-      for (int g = 0; g < kGauss; ++g) pts.push_back({a + (j + kGaussNode[g]) * len, kGaussWeight[g] * len});
-    return pts;
-  };
-  // A whole step has the same points and the same e^{A₀(h−s)}B at them: computed once.
-  const std::vector<Point> whole = points(0.0, h);
-  std::vector<Eigen::MatrixXd> whole_eb;
-  for (const Point& pt : whole) whole_eb.push_back(exp_b(h - pt.s));
-  std::vector<const Eigen::MatrixXd*> whole_eb_ptr;
-  for (const auto& e : whole_eb) whole_eb_ptr.push_back(&e);
-
-  std::vector<double> cuts = sys.breakpoints;
-  std::sort(cuts.begin(), cuts.end());
+  // The weights, step by step.
   active_.assign(static_cast<std::size_t>(m_), 0);
   wp_.resize(static_cast<std::size_t>(m_));
   wq_.resize(static_cast<std::size_t>(m_));
   cwp_.resize(static_cast<std::size_t>(m_));
   wd_.resize(static_cast<std::size_t>(m_));
   if (sys.forcing) wf_.assign(static_cast<std::size_t>(m_), Eigen::VectorXd::Zero(n_));
+  StepQuadrature quad(sys, eig, block_start_, block_size_, rate, h, p_, delays);
   const int nd = n_ * d_;
-  // Scratch reused across steps: a map is built per speed, and allocations were half its cost.
-  std::vector<double> ends, wp, wq;
-  std::vector<Point> pts;
-  std::vector<const Eigen::MatrixXd*> eb;
-  std::vector<Eigen::MatrixXd> local;
-  Eigen::MatrixXd coef(d_, d_), g(n_, d_);
-  Eigen::VectorXd force(d_);
-  std::vector<std::vector<double>> wd(sys.delays.size());
-  std::vector<char> wd_any(sys.delays.size());
   for (int k = 0; k < m_; ++k) {
-    const double t0 = k * h;
-    std::fill(wd_any.begin(), wd_any.end(), 0);
-    // Pieces of the step between breakpoints (a breakpoint within 1e-12 h of an end is the end).
-    ends.assign(1, 0.0);
-    for (double t : cuts)
-      if (t > t0 + 1e-12 * h && t < t0 + h - 1e-12 * h) ends.push_back(t - t0);
-    ends.push_back(h);
-    const std::vector<Point>* step_points = &whole;
-    const Eigen::MatrixXd* const* step_eb = whole_eb_ptr.data();
-    if (ends.size() > 2) {
-      pts.clear();
-      for (std::size_t j = 0; j + 1 < ends.size(); ++j)
-        for (const Point& pt : points(ends[j], ends[j + 1])) pts.push_back(pt);
-      local.clear();
-      for (const Point& pt : pts) local.push_back(exp_b(h - pt.s));
-      eb.clear();
-      for (const auto& e : local) eb.push_back(&e);
-      step_points = &pts;
-      step_eb = eb.data();
-    }
-    bool any = false;
-    for (std::size_t q = 0; q < step_points->size(); ++q) {
-      const Point& pt = (*step_points)[q];
-      const double t = t0 + pt.s;
-      if (sys.forcing) {
-        force.setZero();
-        sys.forcing(t, force);
-        if (force.size() != d_ || !force.allFinite())
-          throw InvalidArgument(fmt::format("PeriodicDelaySystem::forcing({} s) must be a finite {}-vector", t, d_));
-        wf_[static_cast<std::size_t>(k)].noalias() += pt.w * (*step_eb[q]) * force;
-      }
-      for (int pass = 0; pass < (regenerative_ ? 1 : 2); ++pass) {
-        const auto& f = pass == 0 ? sys.current : sys.delayed;
-        if (!f) continue;
-        coef.setZero();
-        f(t, coef);
-        if (coef.rows() != d_ || coef.cols() != d_ || !coef.allFinite())
-          throw InvalidArgument(fmt::format("PeriodicDelaySystem::{}({} s) must be a finite {}×{} matrix (is {}×{})",
-                                            pass == 0 ? "current" : "delayed", t, d_, d_, coef.rows(), coef.cols()));
-        if (coef.isZero(0.0)) continue;
-        if (!any) {  // the first non-zero coefficient of this step: its weights start from zero
-          wp.assign(static_cast<std::size_t>((p_ + 1) * nd), 0.0);
-          wq.assign(regenerative_ || !sys.delayed ? 0 : wp.size(), 0.0);  // no Q: no weights
-          any = true;
-        }
-        g.noalias() = pt.w * (*step_eb[q]) * coef;  // n × d
-        std::vector<double>& w = pass == 0 ? wp : wq;
-        for (int o = 0; o <= p_; ++o) {
-          const double l = lagrange(o, pt.s);
-          double* dst = w.data() + o * nd;
-          for (int c = 0; c < d_; ++c)
-            for (int r = 0; r < n_; ++r) dst[c * n_ + r] += l * g(r, c);
-        }
-      }
-    }
-    // The further delays: Q_j(t) y(t − τ_j) with y through the nodes around t_k − i_j h, evaluated at
-    // s − f_j h.
-    for (std::size_t j = 0; j < sys.delays.size(); ++j)
-      for (std::size_t q = 0; q < step_points->size(); ++q) {
-        const Point& pt = (*step_points)[q];
-        const double t = t0 + pt.s;
-        coef.setZero();
-        sys.delays[j].coefficient(t, coef);
-        if (coef.rows() != d_ || coef.cols() != d_ || !coef.allFinite())
-          throw InvalidArgument(
-              fmt::format("PeriodicDelaySystem::delays[{}].coefficient({} s) must be a finite {}×{} matrix", j, t, d_, d_));
-        if (coef.isZero(0.0)) continue;
-        if (!wd_any[j]) {
-          wd[j].assign(static_cast<std::size_t>((p_ + 1) * nd), 0.0);
-          wd_any[j] = 1;
-        }
-        g.noalias() = pt.w * (*step_eb[q]) * coef;
-        for (int o = 0; o <= p_; ++o) {
-          const double l = lagrange(o, pt.s - fraction[j] * h);
-          double* dst = wd[j].data() + o * nd;
-          for (int c = 0; c < d_; ++c)
-            for (int r = 0; r < n_; ++r) dst[c * n_ + r] += l * g(r, c);
-        }
-      }
-    const bool delayed_any = std::find(wd_any.begin(), wd_any.end(), 1) != wd_any.end();
-    if (delayed_any && !any) {
-      wp.assign(static_cast<std::size_t>((p_ + 1) * nd), 0.0);
-      wq.assign(regenerative_ || !sys.delayed ? 0 : wp.size(), 0.0);  // no Q: no weights
-      any = true;
-    }
     const auto kk = static_cast<std::size_t>(k);
+    const bool any = quad.build(k, sys.forcing ? &wf_[kk] : nullptr);
     for (std::size_t j = 0; j < sys.delays.size(); ++j)
-      if (wd_any[j]) wd_[kk].push_back({whole_steps[j], wd[j]});
-    if (!any && sys.forcing && !wf_[kk].isZero(0.0)) {  // forced but no feedback: zero weights
-      wp.assign(static_cast<std::size_t>((p_ + 1) * nd), 0.0);
-      wq.assign(regenerative_ || !sys.delayed ? 0 : wp.size(), 0.0);  // no Q: no weights
-      any = true;
-    }
+      if (quad.wd_any[j]) wd_[kk].push_back({delays.whole[j], quad.wd[j]});
     if (!any) continue;
     active_[kk] = 1;
-    cwp_[kk] = c_ * Eigen::Map<const Eigen::MatrixXd>(wp.data() + p_ * nd, n_, d_);
-    wp_[kk] = wp;
-    wq_[kk] = wq;
+    cwp_[kk] = c_ * Eigen::Map<const Eigen::MatrixXd>(quad.wp.data() + p_ * nd, n_, d_);
+    wp_[kk] = quad.wp;
+    wq_[kk] = quad.wq;
   }
 
-  // Buffer samples y_{−i}, i = 1…m+p−1, that an active step reads; a sample that a later period
-  // needs (i > m becomes i − m) is kept as well. Everything else is dropped exactly.
-  const int buffer = m_ + p_ - 1;
-  std::vector<char> needed(static_cast<std::size_t>(buffer + 1), 0);
-  for (int k = 0; k < m_; ++k) {
-    if (!active_[static_cast<std::size_t>(k)]) continue;
-    for (int o = 0; o <= p_; ++o) {
-      const int cur = k + 1 - p_ + o, del = cur - m_;
-      if (cur < 0 && o < p_) needed[static_cast<std::size_t>(-cur)] = 1;
-      const bool reads_period = regenerative_ || !wq_[static_cast<std::size_t>(k)].empty();  // y(t − T) is read
-      if (reads_period && del < 0) needed[static_cast<std::size_t>(-del)] = 1;
-      for (const DelayWeights& dw : wd_[static_cast<std::size_t>(k)]) {
-        const int at = cur - dw.whole_steps;
-        if (at < 0) needed[static_cast<std::size_t>(-at)] = 1;
-      }
-    }
+  // The reduced state's buffer, then the free-motion jumps.
+  std::vector<char> reads_period(static_cast<std::size_t>(m_));
+  std::vector<std::vector<int>> delay_reads(static_cast<std::size_t>(m_));
+  for (std::size_t k = 0; k < reads_period.size(); ++k) {
+    reads_period[k] = regenerative_ || !wq_[k].empty();  // y(t − T) is read
+    for (const DelayWeights& dw : wd_[k]) delay_reads[k].push_back(dw.whole_steps);
   }
-  for (int i = buffer; i > m_; --i)
-    if (needed[static_cast<std::size_t>(i)]) needed[static_cast<std::size_t>(i - m_)] = 1;
-  slot_.assign(static_cast<std::size_t>(buffer + 1), -1);
-  for (int i = 1; i <= buffer; ++i)
-    if (needed[static_cast<std::size_t>(i)]) {
-      slot_[static_cast<std::size_t>(i)] = n_ + d_ * static_cast<int>(read_.size());
-      read_.push_back(i);
-    }
-
-  // Jumps over steps out of the cut: there the state only evolves freely, so when no output in
-  // between is read (by a later step of this period or as a delayed sample of the next), k steps
-  // are one multiplication by e^{A₀kh}. At low radial immersion most of the period is skipped.
-  std::vector<char> read_output(static_cast<std::size_t>(m_ + 1), 0);  // r_j = y_j, j = 0…m, is read
-  for (int k = 0; k < m_; ++k)
-    if (active_[static_cast<std::size_t>(k)]) {
-      for (int j = std::max(0, k + 1 - p_); j <= k; ++j) read_output[static_cast<std::size_t>(j)] = 1;
-      for (const DelayWeights& dw : wd_[static_cast<std::size_t>(k)])
-        for (int o = 0; o <= p_; ++o) {
-          const int at = k + 1 - p_ + o - dw.whole_steps;
-          if (at >= 0) read_output[static_cast<std::size_t>(at)] = 1;
-        }
-    }
-  for (int i : read_)
-    if (i <= m_) read_output[static_cast<std::size_t>(m_ - i)] = 1;
-  jump_.assign(static_cast<std::size_t>(m_), 0);
+  read_ = buffer_samples_read(m_, p_, active_, reads_period, delay_reads);
+  slot_.assign(static_cast<std::size_t>(m_ + p_), -1);
+  for (std::size_t r = 0; r < read_.size(); ++r) slot_[static_cast<std::size_t>(read_[r])] = n_ + d_ * static_cast<int>(r);
+  jump_ = free_motion_jumps(m_, p_, active_, delay_reads, read_);
   jump_phi_.resize(static_cast<std::size_t>(m_));
-  for (int k = 0; k < m_;) {
-    int len = 0;
-    while (k + len < m_ && !active_[static_cast<std::size_t>(k + len)] &&
-           (len == 0 || !read_output[static_cast<std::size_t>(k + len)]))
-      ++len;
-    if (len >= 2) {
-      jump_[static_cast<std::size_t>(k)] = len;
+  for (int k = 0; k < m_; ++k)
+    if (jump_[static_cast<std::size_t>(k)] >= 2)
       for (const EigenBlock& b : eig) {
-        const Eigen::MatrixXd e = block_exp(b, len * h);
+        const Eigen::MatrixXd e = block_exp(b, jump_[static_cast<std::size_t>(k)] * h);
         for (Eigen::Index r = 0; r < e.rows(); ++r)
           for (Eigen::Index c = 0; c < e.cols(); ++c) jump_phi_[static_cast<std::size_t>(k)].push_back(e(r, c));
       }
-    }
-    k += std::max(len, 1);
-  }
-  if (semi) build_semi(sys, h, whole_steps, fraction);
+  if (semi) build_semi(sys, h, delays.whole, delays.fraction);
 }
 
 void PeriodMap::build_semi(const PeriodicDelaySystem& sys, double h, const std::vector<int>& whole_steps,

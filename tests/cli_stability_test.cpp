@@ -13,6 +13,7 @@
 #include <cmath>
 #include <fmt/format.h>
 #include <sstream>
+#include <tuple>
 #include <vector>
 #include <string>
 #include <sys/wait.h>
@@ -107,6 +108,20 @@ TEST(LobesCommand, WritesLobesAndRejectsBadInputWithExitCodes) {
   ASSERT_EQ(sd_depth.size(), fd_depth.size());
   ASSERT_GE(fd_depth.size(), 9u);
   for (std::size_t i = 0; i < fd_depth.size(); ++i) EXPECT_NEAR(sd_depth[i], fd_depth[i], 0.02 * fd_depth[i]) << i;
+
+  // The JSON names the scheme that made the boundary and its degree (fd: the default interpolation
+  // degree 2; sd: its first order, LobesStudyOptions::degree 2 capped at 1, boundary_options), so
+  // two runs' boundaries are never confused; independent of the text output.
+  for (const auto& [method, scheme, degree] : {std::tuple{"fd", "fd", 2}, std::tuple{"sd", "sd", 1}}) {
+    const CliRun js = run_cli(base + " --immersion 0.05 --rigid-y --speeds 3 --max-depth 10 --json --method " + method);
+    ASSERT_EQ(js.code, 0) << js.out;
+    const std::size_t open = js.out.find("{\n"), close = js.out.rfind("\n}");
+    ASSERT_NE(open, std::string::npos) << js.out;
+    const nlohmann::json boundary = nlohmann::json::parse(js.out.substr(open, close + 2 - open)).at("boundary");
+    ASSERT_TRUE(boundary.contains("scheme")) << boundary.dump();
+    EXPECT_EQ(boundary["scheme"], scheme) << method;
+    EXPECT_EQ(boundary["degree"], degree) << method;
+  }
 
   // The modal fit's warnings name the FRF they are about (the assembly's tool point FRF), never an
   // empty name; the library's field names reach the user as the options' spellings.
@@ -267,26 +282,30 @@ TEST(LobesCommand, AtSpeedFromABearingTable) {
 
 // toolpoint pitch: degrees on the command line, the library's choice in the report (its numbers are
 // tests/pitch_test.cpp's), and bad input — limits that admit no pattern, angles given in radians, an
-// alternating pitch on an odd tooth count — refused with exit code 2, naming the flag.
+// alternating pitch on an odd tooth count, a three-angle pitch on 4 teeth — refused with exit code 2,
+// naming the flag.
 TEST(PitchCommand, ChoosesAPitchAndRefusesBadLimits) {
   const std::string cut = "--mode-x 0.03993,0.011,922 --rigid-y --kt 6e8 --kr 0.3 --immersion 0.5 --milling down --rpm 4130 ";
   const CliRun ok = run_cli("pitch " + cut + "--teeth 4 --min-pitch 60 --max-pitch 120");
   EXPECT_EQ(ok.code, 0) << ok.out;
   EXPECT_NE(ok.out.find("chosen (searched):"), std::string::npos) << ok.out;
   EXPECT_NE(ok.out.find("8.51× the even tool"), std::string::npos) << ok.out;
-  const CliRun none = run_cli("pitch " + cut + "--teeth 4 --min-pitch 95 --max-pitch 120");
-  EXPECT_EQ(none.code, 2);
-  EXPECT_NE(none.out.find("--min-pitch"), std::string::npos) << none.out;
-  EXPECT_NE(none.out.find("no variable pitch fits"), std::string::npos) << none.out;
-  const CliRun radians = run_cli("pitch " + cut + "--teeth 4 --min-pitch 1.2 --max-pitch 1.9");
-  EXPECT_EQ(radians.code, 2);
-  EXPECT_NE(radians.out.find("most likely radians"), std::string::npos) << radians.out;
-  const CliRun odd = run_cli("pitch " + cut + "--teeth 3");
-  EXPECT_EQ(odd.code, 2);
-  EXPECT_NE(odd.out.find("--pattern"), std::string::npos) << odd.out;
-  const CliRun given = run_cli("pitch " + cut + "--teeth 4 --pitch 80,100,80,100");
-  EXPECT_EQ(given.code, 2);
-  EXPECT_NE(given.out.find("--pitch"), std::string::npos) << given.out;
+  // Three angles: two parameters reported.
+  const CliRun three = run_cli("pitch " + cut + "--teeth 3 --pattern three-angle --search-points 5");
+  EXPECT_EQ(three.code, 0) << three.out;
+  EXPECT_NE(three.out.find("three-angle pattern"), std::string::npos) << three.out;
+  EXPECT_NE(three.out.find("chosen (searched):      u "), std::string::npos) << three.out;
+  // Refused (exit 2), each naming what to fix: {arguments, what the message must say}.
+  for (const auto& [args, says] : std::vector<std::pair<std::string, std::vector<std::string>>>{
+           {"--teeth 4 --min-pitch 95 --max-pitch 120", {"--min-pitch", "no variable pitch fits"}},
+           {"--teeth 4 --min-pitch 1.2 --max-pitch 1.9", {"most likely radians"}},
+           {"--teeth 3", {"--pattern"}},
+           {"--teeth 4 --pitch 80,100,80,100", {"--pitch"}},
+           {"--teeth 4 --pattern three-angle", {"--pattern three-angle needs a multiple of 3 teeth"}}}) {
+    const CliRun refused = run_cli("pitch " + cut + args);
+    EXPECT_EQ(refused.code, 2) << args;
+    for (const std::string& text : says) EXPECT_NE(refused.out.find(text), std::string::npos) << args << ": " << refused.out;
+  }
 }
 
 // The flags of LobesStudyOptions' fields derive from lobes_study_fields (option_fields.hpp): every

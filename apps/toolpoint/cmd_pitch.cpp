@@ -37,23 +37,30 @@ std::string angles_text(const std::vector<double>& rad) {
   return s;
 }
 
+// The pattern's parameters: ΔP, or u and v for the three-angle pattern [degrees].
+std::string variation_text(PitchPattern pattern, double u, double v) {
+  return pattern == PitchPattern::ThreeAngle ? fmt::format("u {:.2f}°, v {:.2f}°", degrees_of(u), degrees_of(v))
+                                             : fmt::format("ΔP {:.2f}°", degrees_of(u));
+}
+
 void print_choice(const PitchStudyResult& r) {
   for (const ModalFitSummary& s : r.fits)
     std::cout << fmt::format("modal model of {}: {} mode(s), {:.2f} % residual over {:g}–{:g} Hz\n", s.what, s.modes,
                              100.0 * s.residual, s.band_low_hz, s.band_high_hz);
   const PitchChoice& c = r.choice;
-  std::cout << fmt::format("pitch choice at {:g} rpm, {} teeth, {} pattern (ΔP up to {:.2f}° within the limits):\n", c.speed_rpm,
-                           c.teeth, to_string(c.pattern), degrees_of(c.max_variation_rad));
+  std::cout << fmt::format("pitch choice at {:g} rpm, {} teeth, {} pattern ({} up to {:.2f}° within the limits):\n", c.speed_rpm,
+                           c.teeth, to_string(c.pattern), c.pattern == PitchPattern::ThreeAngle ? "closed-form step" : "ΔP",
+                           degrees_of(c.max_variation_rad));
   std::cout << fmt::format("  evenly spaced:          limit {} mm, chatter {:.1f} Hz ({})\n",
                            depth_text_mm(c.uniform.depth_m * 1e3, c.uniform.depth_error_m * 1e3), c.uniform.chatter_hz,
                            to_string(c.uniform.kind));
-  std::cout << fmt::format("  Budak's closed form:    ΔP {:.2f}° (pitch {}°) for chatter at {:.1f} Hz: limit {:.4f} mm\n",
-                           degrees_of(c.closed_form_variation_rad), angles_text(c.closed_form_pitch_rad), c.chatter_hz,
-                           c.closed_form_depth_m * 1e3);
+  std::cout << fmt::format("  Budak's closed form:    {} (pitch {}°) for chatter at {:.1f} Hz: limit {:.4f} mm\n",
+                           variation_text(c.pattern, c.closed_form_variation_rad, c.closed_form_second_variation_rad),
+                           angles_text(c.closed_form_pitch_rad), c.chatter_hz, c.closed_form_depth_m * 1e3);
   std::cout << fmt::format(
-      "  chosen (searched):      ΔP {:.2f}° (pitch {}°): limit {} mm, chatter {:.1f} Hz ({}), {:.2f}× the even tool\n",
-      degrees_of(c.variation_rad), angles_text(c.pitch_rad), depth_text_mm(c.chosen.depth_m * 1e3, c.chosen.depth_error_m * 1e3),
-      c.chosen.chatter_hz, to_string(c.chosen.kind), c.gain);
+      "  chosen (searched):      {} (pitch {}°): limit {} mm, chatter {:.1f} Hz ({}), {:.2f}× the even tool\n",
+      variation_text(c.pattern, c.variation_rad, c.second_variation_rad), angles_text(c.pitch_rad),
+      depth_text_mm(c.chosen.depth_m * 1e3, c.chosen.depth_error_m * 1e3), c.chosen.chatter_hz, to_string(c.chosen.kind), c.gain);
   std::cout << fmt::format("  ({} limits computed at {} steps per tooth period; depths searched up to {:.4g} mm)\n",
                            c.evaluations, c.steps, c.max_depth_m * 1e3);
 }
@@ -77,7 +84,9 @@ void run_pitch(const PitchOptions& o, const Globals& g) {
     throw InvalidArgument(fmt::format("--robustness {} % must lie in 0…20 (%)", o.robustness_pct), "e.g. 2 (%)");
   PitchChoiceOptions& c = so.choice;
   c.speed_rpm = o.rpm;
-  c.pattern = o.pattern == "linear" ? PitchPattern::Linear : PitchPattern::Alternating;
+  c.pattern = o.pattern == "linear"        ? PitchPattern::Linear
+              : o.pattern == "three-angle" ? PitchPattern::ThreeAngle
+                                           : PitchPattern::Alternating;
   c.min_pitch_rad = radians_of(o.min_pitch_deg);
   c.max_pitch_rad = radians_of(o.max_pitch_deg);
   c.chatter_hz = o.chatter_hz;
@@ -125,10 +134,10 @@ void add_pitch_command(CLI::App& app, Globals& g) {
   add_cut_options(c, o->cut, "Number of teeth N [-], ≥ 2 (the pitch is chosen: no --pitch) (required)");
   add_tool_geometry_options(c, o->tool);
   c->add_option("--rpm", o->rpm, "Target spindle speed [rpm] (required)")->required();
-  c->add_option(
-       "--pattern", o->pattern,
-       "alternating (P1/P2/P1/…, an even number of teeth) or linear (P, P+ΔP, P+2ΔP, …: N angles, e.g. three for 3 teeth)")
-      ->check(CLI::IsMember({"alternating", "linear"}))
+  c->add_option("--pattern", o->pattern,
+                "alternating (P1/P2/P1/…, an even number of teeth), linear (P, P+ΔP, P+2ΔP, …: N angles, e.g. three for 3 teeth) "
+                "or three-angle (P0/P1/P2/P0/…, a multiple of 3 teeth: two parameters, searched in 2-D)")
+      ->check(CLI::IsMember({"alternating", "linear", "three-angle"}))
       ->capture_default_str();
   c->add_option("--min-pitch", o->min_pitch_deg, "Smallest pitch angle allowed [degrees] (default 0: half the even pitch 360/N)");
   c->add_option("--max-pitch", o->max_pitch_deg, "Largest pitch angle allowed [degrees] (default 0: 1.5 × the even pitch 360/N)");
@@ -136,7 +145,9 @@ void add_pitch_command(CLI::App& app, Globals& g) {
                 "Chatter frequency Budak's rule aims at [Hz] (default 0: the evenly spaced tool's at --rpm)");
   c->add_option("--window", o->window, "Search ΔP over (1 ± WINDOW) × the closed form's, 0 < WINDOW ≤ 1 [-]")
       ->capture_default_str();
-  c->add_option("--search-points", o->search_points, "Points of the first search grid [-], 3…201")->capture_default_str();
+  c->add_option("--search-points", o->search_points,
+                "Points of the first search grid [-], 3…201 (three-angle: per parameter, a square grid)")
+      ->capture_default_str();
   c->add_option("--robustness", o->robustness_pct,
                 "Maximise the lowest limit of ΔP and ΔP ± this [% of ΔP, as a speed off by as much], 0…20")
       ->capture_default_str();

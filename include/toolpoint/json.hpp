@@ -193,7 +193,8 @@ void to_json(nlohmann::json& j, const BoundaryPoint& b);
 // {"alpha" (2×2), "floor_depth_m", "floor_chatter_hz", "lobes", "teeth", "speeds", "max_depth_m", "warnings"} and,
 // derived, "lobe_points": how many lobe points there are (the points themselves go to CSV).
 void to_json(nlohmann::json& j, const ZeroOrderResult& r);
-// {"max_depth_m", "tolerance", "degree", "evaluations", "worst_relative_error", "warnings"} and, derived from
+// {"max_depth_m", "tolerance", "scheme" ("fd" full- or "sd" semi-discretization), "degree" (fd: the
+// interpolation degree; sd: the delayed term's order), "evaluations", "worst_relative_error", "warnings"} and, derived from
 // the boundary (which goes to CSV), "lowest_boundary" (BoundaryPoint) and "flip_speeds" (how many are flips).
 void to_json(nlohmann::json& j, const BoundaryResult& r);
 // {"options" (fields_json of lobes_study_fields), "method", "cutting", "speeds", "pockets": [EnvelopePoint…],
@@ -201,12 +202,12 @@ void to_json(nlohmann::json& j, const BoundaryResult& r);
 // "boundary", "modes", "fits" and "pocket_depth_error_m" (method fd); "uncertainty" (StabilityUncertainty),
 // "uncertain_joint", "pocket_quantiles" and "worst_speed" when the joint was uncertain.
 void to_json(nlohmann::json& j, const LobesStudyResult& r);
-// {"variation_rad", "depth_m", "robust_depth_m", "chatter_hz", "kind"}
+// {"variation_rad", "second_variation_rad" (three-angle: v; else 0), "depth_m", "robust_depth_m", "chatter_hz", "kind"}
 void to_json(nlohmann::json& j, const PitchSample& s);
 // {"pattern", "teeth", "speed_rpm", "chatter_hz", "max_variation_rad",
-//  "closed_form_variation_rad", "closed_form_pitch_rad", "closed_form_depth_m", "closed_form_robust_depth_m",
-//  "variation_rad", "pitch_rad", "chosen", "uniform" (BoundaryPoint), "gain", "max_depth_m", "steps",
-//  "samples", "evaluations", "warnings"}
+//  "closed_form_variation_rad", "closed_form_second_variation_rad", "closed_form_pitch_rad", "closed_form_depth_m",
+//  "closed_form_robust_depth_m", "variation_rad", "second_variation_rad", "pitch_rad", "chosen", "uniform" (BoundaryPoint),
+//  "gain", "max_depth_m", "steps", "samples", "evaluations", "warnings"}
 void to_json(nlohmann::json& j, const PitchChoice& c);
 // {"choice", "modes", "fits", "warnings"}
 void to_json(nlohmann::json& j, const PitchStudyResult& r);

@@ -9,7 +9,8 @@ namespace toolpoint::python {
 namespace {
 using namespace pybind11::literals;
 const std::vector<std::pair<const char*, PitchPattern>> kPatterns{{"alternating", PitchPattern::Alternating},
-                                                                  {"linear", PitchPattern::Linear}};
+                                                                  {"linear", PitchPattern::Linear},
+                                                                  {"three-angle", PitchPattern::ThreeAngle}};
 }  // namespace
 
 void bind_pitch(py::module_& m) {
@@ -20,7 +21,8 @@ void bind_pitch(py::module_& m) {
       .def_property(
           "pattern", [](const PitchChoiceOptions& o) { return std::string(to_string(o.pattern)); },
           [](PitchChoiceOptions& o, const std::string& s) { o.pattern = enum_of(s, kPatterns, "pattern"); },
-          "'alternating' (P1/P2/…, even teeth) or 'linear' (P, P+ΔP, P+2ΔP, …)")
+          "'alternating' (P1/P2/…, even teeth), 'linear' (P, P+ΔP, P+2ΔP, …) or 'three-angle' (P0/P1/P2/…, a multiple of "
+          "3 teeth, two parameters u and v)")
       .def_readwrite("min_pitch_rad", &PitchChoiceOptions::min_pitch_rad, "smallest pitch angle [rad] (0: half the even pitch)")
       .def_readwrite("max_pitch_rad", &PitchChoiceOptions::max_pitch_rad, "largest pitch angle [rad] (0: 1.5 × the even pitch)")
       .def_readwrite("chatter_hz", &PitchChoiceOptions::chatter_hz,
@@ -40,10 +42,13 @@ void bind_pitch(py::module_& m) {
       .def_readonly("speed_rpm", &PitchChoice::speed_rpm)
       .def_readonly("chatter_hz", &PitchChoice::chatter_hz, "the frequency Budak's rule aimed at [Hz]")
       .def_readonly("max_variation_rad", &PitchChoice::max_variation_rad, "the largest ΔP the limits allow [rad]")
-      .def_readonly("closed_form_variation_rad", &PitchChoice::closed_form_variation_rad, "Budak's ΔP [rad]")
+      .def_readonly("closed_form_variation_rad", &PitchChoice::closed_form_variation_rad, "Budak's ΔP (three-angle: u) [rad]")
+      .def_readonly("closed_form_second_variation_rad", &PitchChoice::closed_form_second_variation_rad,
+                    "Budak's v (three-angle; else 0) [rad]")
       .def_readonly("closed_form_pitch_rad", &PitchChoice::closed_form_pitch_rad)
       .def_readonly("closed_form_depth_m", &PitchChoice::closed_form_depth_m)
-      .def_readonly("variation_rad", &PitchChoice::variation_rad, "the chosen ΔP [rad]")
+      .def_readonly("variation_rad", &PitchChoice::variation_rad, "the chosen ΔP (three-angle: u) [rad]")
+      .def_readonly("second_variation_rad", &PitchChoice::second_variation_rad, "the chosen v (three-angle; else 0) [rad]")
       .def_readonly("pitch_rad", &PitchChoice::pitch_rad, "the chosen pitch angles [rad]")
       .def_property_readonly("chosen_depth_m", [](const PitchChoice& c) { return c.chosen.depth_m; })
       .def_property_readonly("chosen_depth_error_m", [](const PitchChoice& c) { return c.chosen.depth_error_m; })
