@@ -17,8 +17,11 @@
 #include "toolpoint/json.hpp"
 #include "toolpoint/option_fields.hpp"
 #include "toolpoint/studies/lobes.hpp"
+#include "toolpoint/studies/plan.hpp"
+#include "support/expected_fields.hpp"
 
 using namespace toolpoint;
+using toolpoint::testing::ExpectedField;
 
 namespace {
 
@@ -160,3 +163,60 @@ TEST(OptionFields, RangeTextAndValidity) {
   EXPECT_FALSE(field_value_valid(s, 2.5));  // not a whole number
   EXPECT_TRUE(field_value_valid(s, 3.0));
 }
+
+// ---- PlanOptions, MachineLimits, SafetyRule (plan_fields, machine_limits_fields, safety_rule_fields)
+
+namespace {
+
+// 4 teeth, K_t 6e8 N/m², K_r 0.3, half immersion down-milling, 0.1 mm per tooth: what check() accepts.
+PlanOptions valid_plan_options() {
+  PlanOptions o;
+  o.lobes.cutting = {4, 6e8, 0.3, engagement_from_immersion(0.5, MillingDirection::Down)};
+  o.lobes.speeds = {5000.0, 15000.0, 100};
+  o.feed_per_tooth_m = 1e-4;
+  return o;
+}
+
+PlanOptions& whole(PlanOptions& o) { return o; }
+MachineLimits& machine_of(PlanOptions& o) { return o.machine; }
+SafetyRule& safety_of(PlanOptions& o) { return o.safety; }
+
+}  // namespace
+
+// The three tables hold exactly the fields the hand-written checks judged, with the plan keys the
+// plan file read (docs/planning.md), each accessor reaching its member.
+TEST(OptionFields, PlanTablesAreTheExpectedFields) {
+  const auto expected = toolpoint::testing::plan_expected_fields();
+  toolpoint::testing::expect_table(plan_fields(), expected, "PlanOptions", &whole);
+  toolpoint::testing::expect_table(machine_limits_fields(), expected, "MachineLimits", &machine_of);
+  toolpoint::testing::expect_table(safety_rule_fields(), expected, "SafetyRule", &safety_of);
+}
+
+// PlanOptions::check accepts each field at a closed edge of the range the hand-written checks had,
+// and refuses it at an open edge and one double (or one) past either, naming `Type::field`.
+TEST(OptionFields, PlanCheckJudgesEachEdgeByName) {
+  toolpoint::testing::expect_edges(toolpoint::testing::plan_expected_fields(), valid_plan_options());
+}
+
+// The plan's JSON echoes every field under its name where it echoed them before the tables
+// (options.feed_per_tooth_m, options.machine.power_w, options.safety.factor …), the kind and the
+// seed beside them.
+TEST(OptionFields, PlanJsonEchoesEachField) {
+  PlanResult r;
+  PlanOptions& o = r.header.options;
+  o = valid_plan_options();
+  o.safety.seed = 7;
+  const auto expected = toolpoint::testing::plan_expected_fields();
+  for (const auto& e : expected) e.set(o, e.typical);
+  const nlohmann::json j = nlohmann::json(r).at("options");
+  for (const auto& e : expected) {
+    const nlohmann::json& at = e.type == "PlanOptions" ? j : j.at(e.type == "MachineLimits" ? "machine" : "safety");
+    ASSERT_TRUE(at.contains(e.name)) << e.name;
+    EXPECT_EQ(at[e.name].get<double>(), e.typical) << e.name;
+  }
+  EXPECT_EQ(j.at("safety").at("seed"), 7);
+  EXPECT_EQ(j.at("safety").at("kind"), "factor");
+  EXPECT_EQ(j.at("machine").size(), 3u);
+  EXPECT_EQ(j.at("safety").size(), 5u);  // factor, probability, samples, kind, seed
+}
+

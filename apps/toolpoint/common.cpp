@@ -272,8 +272,9 @@ std::string field_help(const FieldSpec& s) {
 
 void field_flag_refused(const FieldSpec& s, double typed) {
   const char* unit = s.cli_unit ? s.cli_unit : s.unit;
-  throw InvalidArgument(fmt::format("{} {:g}{} {}{}", field_flag(s), typed, *unit ? fmt::format(" {}", unit) : "",
-                                    field_range_phrase(s, s.cli_per_unit), *s.note ? fmt::format(" ({})", s.note) : ""),
+  throw InvalidArgument(fmt::format("{} {}{} {}{}", field_flag(s), field_value_text(s, typed),
+                                    *unit ? fmt::format(" {}", unit) : "", field_range_phrase(s, s.cli_per_unit),
+                                    *s.note ? fmt::format(" ({})", s.note) : ""),
                         fmt::format("{}: {}", field_flag(s), s.help));
 }
 
