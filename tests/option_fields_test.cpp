@@ -17,6 +17,7 @@
 #include "toolpoint/json.hpp"
 #include "toolpoint/option_fields.hpp"
 #include "toolpoint/studies/lobes.hpp"
+#include "toolpoint/studies/pitch.hpp"
 #include "toolpoint/studies/plan.hpp"
 #include "support/expected_fields.hpp"
 
@@ -218,5 +219,30 @@ TEST(OptionFields, PlanJsonEchoesEachField) {
   EXPECT_EQ(j.at("safety").at("kind"), "factor");
   EXPECT_EQ(j.at("machine").size(), 3u);
   EXPECT_EQ(j.at("safety").size(), 5u);  // factor, probability, samples, kind, seed
+}
+
+// ---- PitchChoiceOptions (pitch_choice_fields) ---------------------------------------------------
+
+namespace {
+template <class O>
+O& self(O& o) {
+  return o;
+}
+}  // namespace
+
+// The pitch table holds the fields PitchChoiceOptions::check judges (written by hand: the table's
+// ranges and the check's are held to one expectation here), with the flags `toolpoint pitch` had.
+TEST(OptionFields, PitchChoiceTableAndCheckAgreeWithTheExpectation) {
+  const auto expected = toolpoint::testing::pitch_expected_fields();
+  toolpoint::testing::expect_table(pitch_choice_fields(), expected, "PitchChoiceOptions", &self<PitchChoiceOptions>);
+  PitchChoiceOptions valid;
+  valid.speed_rpm = 5000.0;
+  toolpoint::testing::expect_edges(expected, valid);
+  for (const auto& f : pitch_choice_fields()) {
+    if (std::isnan(f.spec.automatic)) continue;
+    PitchChoiceOptions o = valid;
+    f.set(o, f.spec.automatic);
+    EXPECT_NO_THROW(o.check()) << f.spec.name;  // steps 0: automatic
+  }
 }
 

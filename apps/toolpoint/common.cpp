@@ -14,6 +14,7 @@
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/io/io.hpp"
+#include "toolpoint/studies/pitch.hpp"
 
 namespace toolpoint::cli {
 
@@ -414,8 +415,12 @@ std::string with_flags(std::string text) {
       text.replace(at, field.size(), flag);
   };
   // The option fields defined once (option_fields.hpp): Options::name → its flag.
-  for (const auto& f : lobes_study_fields())
-    if (f.spec.cli_name) replace(fmt::format("LobesStudyOptions::{}", f.spec.name), field_flag(f.spec));
+  const auto fields = [&replace](const auto& table, std::string_view options) {
+    for (const auto& f : table)
+      if (f.spec.cli_name) replace(fmt::format("{}::{}", options, f.spec.name), field_flag(f.spec));
+  };
+  fields(lobes_study_fields(), "LobesStudyOptions");
+  fields(pitch_choice_fields(), "PitchChoiceOptions");
   for (const auto& [field, flag] : kFlags) replace(field, flag);
   return text;
 }

@@ -17,6 +17,7 @@
 
 #include "toolpoint/error.hpp"
 #include "toolpoint/option_fields.hpp"
+#include "toolpoint/stability/pitch.hpp"
 #include "toolpoint/studies/plan.hpp"
 
 namespace toolpoint::testing {
@@ -167,6 +168,37 @@ inline std::vector<ExpectedField<PlanOptions>> plan_expected_fields() {
        TOOLPOINT_MEMBER(P, safety.probability)},
       {"SafetyRule", "samples", true, 20.0, 100000.0, false, false, 50.0, "", "", 1.0, "safety.samples",
        TOOLPOINT_MEMBER(P, safety.samples)},
+  };
+}
+
+/// PitchChoiceOptions' numeric fields as the hand-written PitchChoiceOptions::check has them and
+/// `toolpoint pitch` had its flags (degrees for the angles, % for the robustness, mm for the depth).
+inline std::vector<ExpectedField<PitchChoiceOptions>> pitch_expected_fields() {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  constexpr double kTwoPi = 6.283185307179586;  // 2π, the angles' open upper edge
+  constexpr double kDeg = 57.295779513082323;   // degrees per radian
+  using P = PitchChoiceOptions;
+  return {
+      {"PitchChoiceOptions", "speed_rpm", false, 0.0, kInf, true, false, 5000.0, "--rpm", "rpm", 1.0, "",
+       TOOLPOINT_MEMBER(P, speed_rpm)},
+      {"PitchChoiceOptions", "min_pitch_rad", false, 0.0, kTwoPi, false, true, 1.4, "--min-pitch", "degrees", kDeg, "",
+       TOOLPOINT_MEMBER(P, min_pitch_rad)},
+      {"PitchChoiceOptions", "max_pitch_rad", false, 0.0, kTwoPi, false, true, 1.8, "--max-pitch", "degrees", kDeg, "",
+       TOOLPOINT_MEMBER(P, max_pitch_rad)},
+      {"PitchChoiceOptions", "chatter_hz", false, 0.0, kInf, false, false, 900.0, "--chatter", "Hz", 1.0, "",
+       TOOLPOINT_MEMBER(P, chatter_hz)},
+      {"PitchChoiceOptions", "window", false, 0.0, 1.0, true, false, 0.3, "--window", "-", 1.0, "", TOOLPOINT_MEMBER(P, window)},
+      {"PitchChoiceOptions", "search_points", true, 3.0, 201.0, false, false, 21.0, "--search-points", "-", 1.0, "",
+       TOOLPOINT_MEMBER(P, search_points)},
+      {"PitchChoiceOptions", "robustness", false, 0.0, 0.2, false, false, 0.05, "--robustness", "% of ΔP", 100.0, "",
+       TOOLPOINT_MEMBER(P, robustness)},
+      {"PitchChoiceOptions", "steps", true, 4.0, 2000.0, false, false, 100.0, "--intervals", "-", 1.0, "",
+       TOOLPOINT_MEMBER(P, steps)},
+      {"PitchChoiceOptions", "degree", true, 1.0, 3.0, false, false, 1.0, "", "", 1.0, "", TOOLPOINT_MEMBER(P, degree)},
+      {"PitchChoiceOptions", "max_depth_m", false, 0.0, kInf, false, false, 0.005, "--max-depth", "mm", 1e3, "",
+       TOOLPOINT_MEMBER(P, max_depth_m)},
+      {"PitchChoiceOptions", "depth_steps", true, 4.0, 10000.0, false, false, 100.0, "--depth-steps", "-", 1.0, "",
+       TOOLPOINT_MEMBER(P, depth_steps)},
   };
 }
 
