@@ -647,9 +647,7 @@ void to_json(nlohmann::json& j, const MillingCut& c) {
 }
 
 void to_json(nlohmann::json& j, const SimulationOptions& o) {
-  j = {{"revolutions", o.revolutions}, {"steps_per_tooth", o.steps_per_tooth},
-       {"slices", o.slices},           {"analysed_fraction", o.analysed_fraction},
-       {"record", o.record},           {"memory_revolutions", o.memory_revolutions}};
+  j = fields_json(simulation_fields(), o);  // the scalar fields (simulation_fields)
 }
 
 void to_json(nlohmann::json& j, const Wall& w) {

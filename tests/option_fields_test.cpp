@@ -221,7 +221,7 @@ TEST(OptionFields, PlanJsonEchoesEachField) {
   EXPECT_EQ(j.at("safety").size(), 5u);  // factor, probability, samples, kind, seed
 }
 
-// ---- PitchChoiceOptions (pitch_choice_fields) ---------------------------------------------------
+// ---- PitchChoiceOptions (pitch_choice_fields), SimulationOptions (simulation_fields) ---------------
 
 namespace {
 template <class O>
@@ -243,6 +243,26 @@ TEST(OptionFields, PitchChoiceTableAndCheckAgreeWithTheExpectation) {
     PitchChoiceOptions o = valid;
     f.set(o, f.spec.automatic);
     EXPECT_NO_THROW(o.check()) << f.spec.name;  // steps 0: automatic
+  }
+}
+
+// The simulation table: check() derived from it judges each edge as the hand-written check did,
+// naming SimulationOptions::field; the automatic values (steps_per_tooth, slices 0) pass; the JSON
+// echo holds every field.
+TEST(OptionFields, SimulationTableCheckAndJson) {
+  const auto expected = toolpoint::testing::simulation_expected_fields();
+  toolpoint::testing::expect_table(simulation_fields(), expected, "SimulationOptions", &self<SimulationOptions>);
+  toolpoint::testing::expect_edges(expected, SimulationOptions{});
+  SimulationOptions o;
+  o.steps_per_tooth = 0;
+  o.slices = 0;
+  EXPECT_NO_THROW(o.check());
+  for (const auto& e : expected) e.set(o, e.typical);
+  const nlohmann::json j = nlohmann::json(o);
+  EXPECT_EQ(j.size(), expected.size());
+  for (const auto& e : expected) {
+    ASSERT_TRUE(j.contains(e.name)) << e.name;
+    EXPECT_EQ(j[e.name].is_boolean() ? double(j[e.name].get<bool>()) : j[e.name].get<double>(), e.typical) << e.name;
   }
 }
 

@@ -14,6 +14,7 @@
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/io/io.hpp"
+#include "toolpoint/stability/simulation.hpp"
 #include "toolpoint/studies/pitch.hpp"
 
 namespace toolpoint::cli {
@@ -311,11 +312,6 @@ std::string with_flags(std::string text) {
       {"MillingCut::depth_m", "--depth"},
       {"MillingCut::feed_per_tooth_m", "--feed"},
       {"MillingCut::engagement", "--immersion or --entry/--exit"},
-      {"SimulationOptions::revolutions", "--revolutions"},
-      {"SimulationOptions::steps_per_tooth", "--steps"},
-      {"SimulationOptions::slices", "--slices"},
-      {"SimulationOptions::memory_revolutions", "--memory-revolutions"},
-      {"SimulationOptions::analysed_fraction", "--analysed"},
       {"SimulatedMapOptions::depths", "--depth"},
       {"SimulationInput::rigid", "--rigid-tool"},
       {"(SimulationOptions::record = false)", "(`toolpoint simulate map` keeps none)"},
@@ -421,6 +417,7 @@ std::string with_flags(std::string text) {
   };
   fields(lobes_study_fields(), "LobesStudyOptions");
   fields(pitch_choice_fields(), "PitchChoiceOptions");
+  fields(simulation_fields(), "SimulationOptions");
   for (const auto& [field, flag] : kFlags) replace(field, flag);
   return text;
 }

@@ -18,6 +18,7 @@
 #include "toolpoint/error.hpp"
 #include "toolpoint/option_fields.hpp"
 #include "toolpoint/stability/pitch.hpp"
+#include "toolpoint/stability/simulation.hpp"
 #include "toolpoint/studies/plan.hpp"
 
 namespace toolpoint::testing {
@@ -199,6 +200,26 @@ inline std::vector<ExpectedField<PitchChoiceOptions>> pitch_expected_fields() {
        TOOLPOINT_MEMBER(P, max_depth_m)},
       {"PitchChoiceOptions", "depth_steps", true, 4.0, 10000.0, false, false, 100.0, "--depth-steps", "-", 1.0, "",
        TOOLPOINT_MEMBER(P, depth_steps)},
+  };
+}
+
+/// SimulationOptions' scalar fields (but the memory limit) as the hand-written
+/// SimulationOptions::check had them and `toolpoint simulate` had its flags.
+inline std::vector<ExpectedField<SimulationOptions>> simulation_expected_fields() {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  using S = SimulationOptions;
+  return {
+      {"SimulationOptions", "revolutions", true, 2.0, 1e6, false, false, 60.0, "--revolutions", "-", 1.0, "",
+       TOOLPOINT_MEMBER(S, revolutions)},
+      {"SimulationOptions", "steps_per_tooth", true, 4.0, 1e6, false, false, 80.0, "--steps", "-", 1.0, "",
+       TOOLPOINT_MEMBER(S, steps_per_tooth)},
+      {"SimulationOptions", "slices", true, 0.0, 1000.0, false, false, 5.0, "--slices", "-", 1.0, "",
+       TOOLPOINT_MEMBER(S, slices)},
+      {"SimulationOptions", "analysed_fraction", false, 0.0, 1.0, true, false, 0.25, "--analysed", "-", 1.0, "",
+       TOOLPOINT_MEMBER(S, analysed_fraction)},
+      {"SimulationOptions", "record", false, -kInf, kInf, false, false, 0.0, "", "", 1.0, "", TOOLPOINT_MEMBER(S, record)},
+      {"SimulationOptions", "memory_revolutions", true, 1.0, 10.0, false, false, 2.0, "--memory-revolutions", "-", 1.0, "",
+       TOOLPOINT_MEMBER(S, memory_revolutions)},
   };
 }
 
