@@ -1335,6 +1335,20 @@ TEST_F(PlanCli, ErrorsNameTheOptionOrFileAndLeaveNothingBehind) {
 
 }  // namespace
 
+// identify --width derives from identification_fields; against the expectation written by hand
+// (support/expected_fields.hpp): in --help with its unit, and a value at the open edge refused with
+// exit code 2 naming the flag, before any file is read.
+TEST_F(Cli, IdentifyWidthFromItsField) {
+  const std::string help = ok("identify --help").out;
+  for (const auto& e : toolpoint::testing::identification_expected_fields()) {
+    SCOPED_TRACE(e.flag);
+    EXPECT_NE(toolpoint::testing::help_line(help, e.flag).find("[" + e.cli_unit + "]"), std::string::npos) << help;
+    const std::string bad = toolpoint::testing::cli_text(e, toolpoint::testing::outside(e));
+    expect_error(run("identify --assembly '" + kExample + "' --sh none.csv --sht none.csv " + e.flag + " " + bad), 2,
+                 {e.flag + " " + bad});
+  }
+}
+
 // ---- simulate -----------------------------------------------------------------------------------
 
 class SimulateCli : public Cli {

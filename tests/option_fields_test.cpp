@@ -17,6 +17,9 @@
 #include "toolpoint/json.hpp"
 #include "toolpoint/option_fields.hpp"
 #include "toolpoint/studies/lobes.hpp"
+#include "toolpoint/identify/forward_check.hpp"
+#include "toolpoint/identify/joint_fit.hpp"
+#include "toolpoint/studies/identification.hpp"
 #include "toolpoint/studies/pitch.hpp"
 #include "toolpoint/studies/plan.hpp"
 #include "support/expected_fields.hpp"
@@ -266,3 +269,32 @@ TEST(OptionFields, SimulationTableCheckAndJson) {
   }
 }
 
+// ---- JointFitOptions, ForwardCheckOptions, IdentificationOptions -----------------------------------
+
+// Each identification table holds the fields its hand-written check judged, and check() derived
+// from it judges each edge as that check did, naming `Type::field`. ForwardCheckOptions: on
+// options whose false_alarm (0.04) lets 50 replicates meet the rank test's floor 1/(1 + R) ≤
+// false_alarm/2, which stays a check of its own. JointFitOptions: bootstrap_samples is judged only
+// for the bootstrap (a linearised fit takes any).
+TEST(OptionFields, IdentificationTablesAndChecks) {
+  const auto fit = toolpoint::testing::joint_fit_expected_fields();
+  toolpoint::testing::expect_table(joint_fit_fields(), fit, "JointFitOptions", &self<JointFitOptions>);
+  toolpoint::testing::expect_edges(fit, JointFitOptions{});
+  JointFitOptions linearised;
+  linearised.uncertainty = UncertaintyMethod::Linearised;
+  linearised.bootstrap_samples = 5;
+  EXPECT_NO_THROW(linearised.check());
+
+  const auto forward = toolpoint::testing::forward_check_expected_fields();
+  toolpoint::testing::expect_table(forward_check_fields(), forward, "ForwardCheckOptions", &self<ForwardCheckOptions>);
+  ForwardCheckOptions loose;
+  loose.false_alarm = 0.04;
+  toolpoint::testing::expect_edges(forward, loose);
+  ForwardCheckOptions few;
+  few.replicates = 50;  // 1/51 > 0.01/2: too few for the default false alarm
+  EXPECT_THROW(few.check(), InvalidArgument);
+
+  const auto id = toolpoint::testing::identification_expected_fields();
+  toolpoint::testing::expect_table(identification_fields(), id, "IdentificationOptions", &self<IdentificationOptions>);
+  toolpoint::testing::expect_edges(id, IdentificationOptions{});
+}

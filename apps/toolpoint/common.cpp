@@ -15,6 +15,7 @@
 #include "toolpoint/error.hpp"
 #include "toolpoint/io/io.hpp"
 #include "toolpoint/stability/simulation.hpp"
+#include "toolpoint/studies/identification.hpp"
 #include "toolpoint/studies/pitch.hpp"
 
 namespace toolpoint::cli {
@@ -393,7 +394,6 @@ std::string with_flags(std::string text) {
       {"ModalFitOptions::band_hz", "--band"},
       {"IdentificationOptions::band_hz", "--band"},
       {"IdentificationOptions::at_hz", "--at"},
-      {"IdentificationOptions::width", "--width"},
       {"LobesInput::x_modes", "--mode-x"},
       {"LobesInput::frfs", "--frf"},
       {"LobesInput: rigid_y and y modes", "--rigid-y and --mode-y"},
@@ -418,6 +418,7 @@ std::string with_flags(std::string text) {
   fields(lobes_study_fields(), "LobesStudyOptions");
   fields(pitch_choice_fields(), "PitchChoiceOptions");
   fields(simulation_fields(), "SimulationOptions");
+  fields(identification_fields(), "IdentificationOptions");
   for (const auto& [field, flag] : kFlags) replace(field, flag);
   return text;
 }

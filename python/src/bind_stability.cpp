@@ -6,8 +6,11 @@
 #include "toolpoint/stability/modal_fit.hpp"
 #include "toolpoint/studies/modal_fit.hpp"
 #include "toolpoint/stability/stability.hpp"
+#include "toolpoint/identify/forward_check.hpp"
+#include "toolpoint/identify/joint_fit.hpp"
 #include "toolpoint/stability/simulation.hpp"
 #include "toolpoint/studies/lobes.hpp"
+#include "toolpoint/studies/identification.hpp"
 #include "toolpoint/studies/pitch.hpp"
 #include "toolpoint/uncertainty/uncertainty.hpp"
 
@@ -618,6 +621,9 @@ void bind_stability(py::module_& m) {
   tables["LobesStudyOptions"] = fields_data(lobes_study_fields());
   tables["SimulationOptions"] = fields_data(simulation_fields());
   tables["PitchChoiceOptions"] = fields_data(pitch_choice_fields());
+  tables["JointFitOptions"] = fields_data(joint_fit_fields());
+  tables["ForwardCheckOptions"] = fields_data(forward_check_fields());
+  tables["IdentificationOptions"] = fields_data(identification_fields());
   m.attr("_option_fields") = tables;
   bind_modal_models(m);
   bind_zero_order(m);

@@ -429,3 +429,25 @@ def test_simulation_and_pitch_options_are_defined_once():
         assert f["name"] in tp.PitchChoiceOptions._fields
         assert getattr(o, f["name"]) == f["default"], f["name"]
 
+
+def test_identification_options_are_defined_once():
+    """JointFitOptions, ForwardCheckOptions and IdentificationOptions against their tables
+    (joint_fit_fields, forward_check_fields, identification_fields): independent of the tables, the
+    names written here; each is an attribute of the class whose default is the table's, and the
+    class docstring gives each field's help."""
+    expected = {
+        "JointFitOptions": {"reciprocal", "bootstrap_samples", "shared_calibration", "check_linearisation", "confidence",
+                            "max_iterations"},
+        "ForwardCheckOptions": {"min_prominence", "replicates", "false_alarm", "frequency_tolerance", "peak_tolerance",
+                                "shared_calibration"},
+        "IdentificationOptions": {"width"},
+    }
+    for name, names in expected.items():
+        fields = tp._toolpoint._option_fields[name]
+        assert {f["name"] for f in fields} == names, name
+        cls = getattr(tp, name)
+        o = cls()
+        for f in fields:
+            assert f["name"] in cls._fields, (name, f["name"])
+            assert float(getattr(o, f["name"])) == f["default"], (name, f["name"])
+            assert f["help"] in cls.__doc__, (name, f["name"])

@@ -17,8 +17,11 @@
 
 #include "toolpoint/error.hpp"
 #include "toolpoint/option_fields.hpp"
+#include "toolpoint/identify/forward_check.hpp"
+#include "toolpoint/identify/joint_fit.hpp"
 #include "toolpoint/stability/pitch.hpp"
 #include "toolpoint/stability/simulation.hpp"
+#include "toolpoint/studies/identification.hpp"
 #include "toolpoint/studies/plan.hpp"
 
 namespace toolpoint::testing {
@@ -221,6 +224,51 @@ inline std::vector<ExpectedField<SimulationOptions>> simulation_expected_fields(
       {"SimulationOptions", "memory_revolutions", true, 1.0, 10.0, false, false, 2.0, "--memory-revolutions", "-", 1.0, "",
        TOOLPOINT_MEMBER(S, memory_revolutions)},
   };
+}
+
+/// The identification's scalar fields as the hand-written checks had them: JointFitOptions::check,
+/// ForwardCheckOptions::check (on options whose false_alarm lets 50 replicates pass the rank
+/// test's floor), IdentificationOptions::check, and `toolpoint identify --width`.
+inline std::vector<ExpectedField<JointFitOptions>> joint_fit_expected_fields() {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  using J = JointFitOptions;
+  return {
+      {"JointFitOptions", "reciprocal", false, -kInf, kInf, false, false, 0.0, "", "", 1.0, "", TOOLPOINT_MEMBER(J, reciprocal)},
+      {"JointFitOptions", "bootstrap_samples", true, 20.0, 100000.0, false, false, 50.0, "", "", 1.0, "",
+       TOOLPOINT_MEMBER(J, bootstrap_samples)},
+      {"JointFitOptions", "shared_calibration", false, -kInf, kInf, false, false, 1.0, "", "", 1.0, "",
+       TOOLPOINT_MEMBER(J, shared_calibration)},
+      {"JointFitOptions", "check_linearisation", false, -kInf, kInf, false, false, 0.0, "", "", 1.0, "",
+       TOOLPOINT_MEMBER(J, check_linearisation)},
+      {"JointFitOptions", "confidence", false, 0.5, 1.0, true, true, 0.9, "", "", 1.0, "", TOOLPOINT_MEMBER(J, confidence)},
+      {"JointFitOptions", "max_iterations", true, 1.0, 100000.0, false, false, 50.0, "", "", 1.0, "",
+       TOOLPOINT_MEMBER(J, max_iterations)},
+  };
+}
+
+inline std::vector<ExpectedField<ForwardCheckOptions>> forward_check_expected_fields() {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  using F = ForwardCheckOptions;
+  return {
+      {"ForwardCheckOptions", "min_prominence", false, 0.0, 1.0, true, true, 0.2, "", "", 1.0, "",
+       TOOLPOINT_MEMBER(F, min_prominence)},
+      {"ForwardCheckOptions", "replicates", true, 50.0, 100000.0, false, false, 100.0, "", "", 1.0, "",
+       TOOLPOINT_MEMBER(F, replicates)},
+      {"ForwardCheckOptions", "false_alarm", false, 0.0, 0.5, true, true, 0.05, "", "", 1.0, "",
+       TOOLPOINT_MEMBER(F, false_alarm)},
+      {"ForwardCheckOptions", "frequency_tolerance", false, 0.0, 1.0, true, true, 0.02, "", "", 1.0, "",
+       TOOLPOINT_MEMBER(F, frequency_tolerance)},
+      {"ForwardCheckOptions", "peak_tolerance", false, 0.0, 10.0, true, true, 0.3, "", "", 1.0, "",
+       TOOLPOINT_MEMBER(F, peak_tolerance)},
+      {"ForwardCheckOptions", "shared_calibration", false, -kInf, kInf, false, false, 1.0, "", "", 1.0, "",
+       TOOLPOINT_MEMBER(F, shared_calibration)},
+  };
+}
+
+inline std::vector<ExpectedField<IdentificationOptions>> identification_expected_fields() {
+  using I = IdentificationOptions;
+  return {
+      {"IdentificationOptions", "width", false, 0.0, 0.5, true, true, 0.05, "--width", "-", 1.0, "", TOOLPOINT_MEMBER(I, width)}};
 }
 
 }  // namespace toolpoint::testing
