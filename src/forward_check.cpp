@@ -196,26 +196,65 @@ void ForwardCheckOptions::check() const {
       throw InvalidArgument(fmt::format("ForwardCheckOptions::smoothing: {}", e.what()), e.hint());
     }
   }
-  if (!(min_prominence > 0.0 && min_prominence < 1.0))
-    throw InvalidArgument(fmt::format("ForwardCheckOptions::min_prominence = {} must lie in (0, 1)", min_prominence),
-                          "e.g. 0.1: a peak standing 10 % above its valleys");
-  if (!(false_alarm > 0.0 && false_alarm < 0.5))
-    throw InvalidArgument(fmt::format("ForwardCheckOptions::false_alarm = {} must lie in (0, 0.5)", false_alarm),
-                          "e.g. 0.01: one data set in a hundred made by a correct joint fails the check");
-  if (replicates < 50 || replicates > 100000)
-    throw InvalidArgument(fmt::format("ForwardCheckOptions::replicates = {} must lie in 50…100000", replicates));
+  check_fields(forward_check_fields(), *this, "ForwardCheckOptions");  // the scalar fields' ranges
   if (1.0 / (1.0 + replicates) > 0.5 * false_alarm)
     throw InvalidArgument(fmt::format("ForwardCheckOptions::replicates = {} are too few for a false-alarm probability of {}: "
                                       "the rank test needs 1/(1 + replicates) ≤ false_alarm/2",
                                       replicates, false_alarm),
                           fmt::format("use at least {} replicates", static_cast<int>(std::ceil(2.0 / false_alarm - 1.0))));
-  if (!(frequency_tolerance > 0.0 && frequency_tolerance < 1.0))
-    throw InvalidArgument(
-        fmt::format("ForwardCheckOptions::frequency_tolerance = {} must lie in (0, 1) (a fraction)", frequency_tolerance));
-  if (!(peak_tolerance > 0.0 && peak_tolerance < 10.0))
-    throw InvalidArgument(
-        fmt::format("ForwardCheckOptions::peak_tolerance = {} must lie in (0, 10) (a fraction)", peak_tolerance));
   parallel.check();
+}
+
+const std::vector<OptionField<ForwardCheckOptions>>& forward_check_fields() {
+  using O = ForwardCheckOptions;
+  static const std::vector<OptionField<O>> fields = {
+      {{.name = "min_prominence",
+        .kind = FieldKind::Real,
+        .min = 0.0,
+        .max = 1.0,
+        .min_open = true,
+        .max_open = true,
+        .help = "a peak counts when it stands this fraction above its valleys (0.1: 10 %)"},
+       [](O& o) -> double& { return o.min_prominence; }},
+      {{.name = "replicates",
+        .kind = FieldKind::Integer,
+        .min = 50.0,
+        .max = 100000.0,
+        .help = "Monte Carlo replicates of the noise (the rank test needs 1/(1 + replicates) ≤ false_alarm/2)"},
+       nullptr,
+       [](O& o) -> int& { return o.replicates; }},
+      {{.name = "false_alarm",
+        .kind = FieldKind::Real,
+        .min = 0.0,
+        .max = 0.5,
+        .min_open = true,
+        .max_open = true,
+        .help = "P(fail) for data made by the identified model with the stated noise (0.01: one data set in a hundred)"},
+       [](O& o) -> double& { return o.false_alarm; }},
+      {{.name = "frequency_tolerance",
+        .kind = FieldKind::Real,
+        .min = 0.0,
+        .max = 1.0,
+        .min_open = true,
+        .max_open = true,
+        .help = "relative natural-frequency error that matters (a fraction)"},
+       [](O& o) -> double& { return o.frequency_tolerance; }},
+      {{.name = "peak_tolerance",
+        .kind = FieldKind::Real,
+        .min = 0.0,
+        .max = 10.0,
+        .min_open = true,
+        .max_open = true,
+        .help = "relative peak-height error that matters (a fraction)"},
+       [](O& o) -> double& { return o.peak_tolerance; }},
+      {{.name = "shared_calibration",
+        .kind = FieldKind::Flag,
+        .help = "B11 and G11 share one calibration factor (one sensor chain)"},
+       nullptr,
+       nullptr,
+       [](O& o) -> bool& { return o.shared_calibration; }},
+  };
+  return fields;
 }
 
 namespace {

@@ -658,14 +658,56 @@ void JointFitOptions::check() const {
       throw InvalidArgument(fmt::format("JointFitOptions::filter: {}", e.what()), e.hint());
     }
   }
-  if (uncertainty == UncertaintyMethod::Bootstrap && (bootstrap_samples < 20 || bootstrap_samples > 100000))
-    throw InvalidArgument(fmt::format("JointFitOptions::bootstrap_samples = {} must lie in 20…100000", bootstrap_samples),
-                          "200 replicates give intervals whose own Monte Carlo error is about 5 %");
-  if (!(confidence > 0.5 && confidence < 1.0))
-    throw InvalidArgument(fmt::format("JointFitOptions::confidence = {} must lie in (0.5, 1)", confidence), "e.g. 0.95");
-  if (max_iterations < 1 || max_iterations > 100000)
-    throw InvalidArgument(fmt::format("JointFitOptions::max_iterations = {} must lie in 1…100000", max_iterations));
+  // The scalar fields' ranges (joint_fit_fields); the replicates only where they are drawn.
+  for (const OptionField<JointFitOptions>& f : joint_fit_fields())
+    if (uncertainty == UncertaintyMethod::Bootstrap || std::string_view(f.spec.name) != "bootstrap_samples")
+      check_field(f.spec, f.get(*this), "JointFitOptions");
   parallel.check();
+}
+
+const std::vector<OptionField<JointFitOptions>>& joint_fit_fields() {
+  using O = JointFitOptions;
+  static const std::vector<OptionField<O>> fields = {
+      {{.name = "reciprocal", .kind = FieldKind::Flag, .help = "six parameters (k_θf = k_ym, c_θf = c_ym); false: all eight"},
+       nullptr,
+       nullptr,
+       [](O& o) -> bool& { return o.reciprocal; }},
+      {{.name = "bootstrap_samples",
+        .kind = FieldKind::Integer,
+        .min = 20.0,
+        .max = 100000.0,
+        .help = "bootstrap replicates (200 give intervals whose own Monte Carlo error is about 5 %)"},
+       nullptr,
+       [](O& o) -> int& { return o.bootstrap_samples; }},
+      {{.name = "shared_calibration",
+        .kind = FieldKind::Flag,
+        .help = "the measured series' calibration is one factor for all of them (one sensor chain)"},
+       nullptr,
+       nullptr,
+       [](O& o) -> bool& { return o.shared_calibration; }},
+      {{.name = "check_linearisation",
+        .kind = FieldKind::Flag,
+        .help = "linearised intervals with a measured B11: checked by bootstrap replicates (off: the plain sandwich)"},
+       nullptr,
+       nullptr,
+       [](O& o) -> bool& { return o.check_linearisation; }},
+      {{.name = "confidence",
+        .kind = FieldKind::Real,
+        .min = 0.5,
+        .max = 1.0,
+        .min_open = true,
+        .max_open = true,
+        .help = "confidence of the intervals (e.g. 0.95)"},
+       [](O& o) -> double& { return o.confidence; }},
+      {{.name = "max_iterations",
+        .kind = FieldKind::Integer,
+        .min = 1.0,
+        .max = 100000.0,
+        .help = "Levenberg–Marquardt iterations per pass"},
+       nullptr,
+       [](O& o) -> int& { return o.max_iterations; }},
+  };
+  return fields;
 }
 
 double residual_limit(const JointFit& fit, double noise_limit, double probability) {

@@ -592,23 +592,17 @@ void to_json(nlohmann::json& j, const PlanJob& job) {
 void to_json(nlohmann::json& j, const PlanResult& r) {
   const PlanHeader& h = r.header;
   const PlanOptions& o = h.options;
-  const nlohmann::json options = {
-      {"name", o.name},
-      {"method", to_string(o.lobes.method)},
-      {"cutting", o.lobes.cutting},
-      {"speeds", o.lobes.speeds},
-      {"lobes", fields_json(lobes_study_fields(), o.lobes)},
-      {"feed_per_tooth_m", o.feed_per_tooth_m},
-      {"edge_coefficient_n_per_m", o.edge_coefficient_n_per_m},
-      {"max_depth_m", o.max_depth_m},
-      {"machine",
-       {{"power_w", o.machine.power_w}, {"torque_nm", o.machine.torque_nm}, {"min_overhang_m", o.machine.min_overhang_m}}},
-      {"safety",
-       {{"kind", o.safety.kind == SafetyRule::Kind::Factor ? "factor" : "probability"},
-        {"factor", o.safety.factor},
-        {"probability", o.safety.probability},
-        {"samples", o.safety.samples},
-        {"seed", o.safety.seed}}}};
+  // The scalar fields from their tables (plan_fields, machine_limits_fields, safety_rule_fields).
+  nlohmann::json options = fields_json(plan_fields(), o);
+  options.update({{"name", o.name},
+                  {"method", to_string(o.lobes.method)},
+                  {"cutting", o.lobes.cutting},
+                  {"speeds", o.lobes.speeds},
+                  {"lobes", fields_json(lobes_study_fields(), o.lobes)},
+                  {"machine", fields_json(machine_limits_fields(), o.machine)},
+                  {"safety", fields_json(safety_rule_fields(), o.safety)}});
+  options["safety"].update(
+      {{"kind", o.safety.kind == SafetyRule::Kind::Factor ? "factor" : "probability"}, {"seed", o.safety.seed}});
   nlohmann::json candidates = nlohmann::json::array();
   for (const PlanCandidateSummary& cs : h.candidates)
     candidates.push_back({{"name", cs.name},
@@ -659,9 +653,7 @@ void to_json(nlohmann::json& j, const MillingCut& c) {
 }
 
 void to_json(nlohmann::json& j, const SimulationOptions& o) {
-  j = {{"revolutions", o.revolutions}, {"steps_per_tooth", o.steps_per_tooth},
-       {"slices", o.slices},           {"analysed_fraction", o.analysed_fraction},
-       {"record", o.record},           {"memory_revolutions", o.memory_revolutions}};
+  j = fields_json(simulation_fields(), o);  // the scalar fields (simulation_fields)
 }
 
 void to_json(nlohmann::json& j, const Wall& w) {

@@ -20,11 +20,18 @@ bool field_value_valid(const FieldSpec& s, double v) {
   return above && below;
 }
 
+std::string field_value_text(const FieldSpec& s, double v) {
+  // An integer in full: {:g} would show 1000001 as 1e+06.
+  if (s.kind == FieldKind::Integer && std::isfinite(v) && v == std::floor(v) && std::abs(v) < 1e15)
+    return fmt::format("{}", static_cast<long long>(v));
+  return fmt::format("{:g}", v);
+}
+
 std::string field_range_text(const FieldSpec& s, double scale) {
-  const double lo = s.min * scale, hi = s.max * scale;
-  if (!std::isfinite(hi)) return fmt::format("{} {:g}", s.min_open ? ">" : "≥", lo);
-  if (s.min_open || s.max_open) return fmt::format("{}{:g}, {:g}{}", s.min_open ? "(" : "[", lo, hi, s.max_open ? ")" : "]");
-  return fmt::format("{:g}…{:g}", lo, hi);
+  const std::string lo = field_value_text(s, s.min * scale), hi = field_value_text(s, s.max * scale);
+  if (!std::isfinite(s.max)) return fmt::format("{} {}", s.min_open ? ">" : "≥", lo);
+  if (s.min_open || s.max_open) return fmt::format("{}{}, {}{}", s.min_open ? "(" : "[", lo, hi, s.max_open ? ")" : "]");
+  return fmt::format("{}…{}", lo, hi);
 }
 
 std::string field_range_phrase(const FieldSpec& s, double scale) {
@@ -34,7 +41,7 @@ std::string field_range_phrase(const FieldSpec& s, double scale) {
 void check_field(const FieldSpec& s, double v, std::string_view options) {
   if (field_value_valid(s, v)) return;
   const std::string unit = *s.unit ? fmt::format(" {}", s.unit) : std::string();
-  throw InvalidArgument(fmt::format("{}::{} {:g}{} {}{}", options, s.name, v, unit, field_range_phrase(s),
+  throw InvalidArgument(fmt::format("{}::{} {}{} {}{}", options, s.name, field_value_text(s, v), unit, field_range_phrase(s),
                                     *s.note ? fmt::format(" ({})", s.note) : std::string()),
                         fmt::format("{}::{}: {}", options, s.name, s.help));
 }

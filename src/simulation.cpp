@@ -316,21 +316,67 @@ void MillingCut::check() const {
 }
 
 void SimulationOptions::check() const {
-  if (revolutions < 2 || revolutions > 1000000)
-    throw InvalidArgument(fmt::format("SimulationOptions::revolutions = {}: need 2…1000000", revolutions));
-  if (steps_per_tooth != 0 && (steps_per_tooth < 4 || steps_per_tooth > 1000000))
-    throw InvalidArgument(
-        fmt::format("SimulationOptions::steps_per_tooth = {}: need 4…1000000, or 0 (automatic)", steps_per_tooth));
-  if (slices < 0 || slices > 1000)
-    throw InvalidArgument(fmt::format("SimulationOptions::slices = {}: need 1…1000, or 0 (automatic)", slices));
-  if (!finite(analysed_fraction) || !(analysed_fraction > 0.0) || analysed_fraction > 1.0)
-    throw InvalidArgument(fmt::format("SimulationOptions::analysed_fraction = {} must lie in (0, 1]", analysed_fraction));
+  // The scalar fields' ranges (simulation_fields); the initial state and the memory limit here.
+  check_fields(simulation_fields(), *this, "SimulationOptions");
   for (double v : initial_state)
     if (!finite(v)) throw InvalidArgument("SimulationOptions::initial_state holds a value that is not finite");
-  if (memory_revolutions < 1 || memory_revolutions > 10)
-    throw InvalidArgument(fmt::format("SimulationOptions::memory_revolutions = {}: need 1…10", memory_revolutions));
   if (!finite(memory_limit_bytes) || memory_limit_bytes < 0.0)
     throw InvalidArgument(fmt::format("SimulationOptions::memory_limit_bytes = {} must be ≥ 0", memory_limit_bytes));
+}
+
+const std::vector<OptionField<SimulationOptions>>& simulation_fields() {
+  using O = SimulationOptions;
+  static const std::vector<OptionField<O>> fields = {
+      {{.name = "revolutions",
+        .kind = FieldKind::Integer,
+        .min = 2.0,
+        .max = 1e6,
+        .help = "revolutions simulated",
+        .cli_name = "revolutions"},
+       nullptr,
+       [](O& o) -> int& { return o.revolutions; }},
+      {{.name = "steps_per_tooth",
+        .kind = FieldKind::Integer,
+        .min = 4.0,
+        .max = 1e6,
+        .automatic = 0.0,
+        .note = "0: automatic, 40 per period of the highest mode, at least 40",
+        .help = "steps per tooth period (refused where a step exceeds a quarter period of the highest mode)",
+        .cli_name = "steps"},
+       nullptr,
+       [](O& o) -> int& { return o.steps_per_tooth; }},
+      {{.name = "slices",
+        .kind = FieldKind::Integer,
+        .min = 1.0,
+        .max = 1000.0,
+        .automatic = 0.0,
+        .note = "0: 1 without helix, else one per step of helix lag, at most 200",
+        .help = "axial slices",
+        .cli_name = "slices"},
+       nullptr,
+       [](O& o) -> int& { return o.slices; }},
+      {{.name = "analysed_fraction",
+        .kind = FieldKind::Real,
+        .min = 0.0,
+        .max = 1.0,
+        .min_open = true,
+        .help = "the last fraction of the revolutions analysed (means, chatter, SLE), whole revolutions, at least one",
+        .cli_name = "analysed"},
+       [](O& o) -> double& { return o.analysed_fraction; }},
+      {{.name = "record", .kind = FieldKind::Flag, .help = "keep the time histories (a map keeps only the summary)"},
+       nullptr,
+       nullptr,
+       [](O& o) -> bool& { return o.record; }},
+      {{.name = "memory_revolutions",
+        .kind = FieldKind::Integer,
+        .min = 1.0,
+        .max = 10.0,
+        .help = "the surfaces of the teeth this many revolutions back are compared for the chip",
+        .cli_name = "memory-revolutions"},
+       nullptr,
+       [](O& o) -> int& { return o.memory_revolutions; }},
+  };
+  return fields;
 }
 
 int automatic_steps_per_tooth(const ToolDynamics& dynamics, int teeth, double speed_rpm) {

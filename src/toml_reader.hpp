@@ -177,9 +177,10 @@ std::vector<const char*> field_keys(const std::vector<OptionField<Options>>& fie
 
 // Each option field whose plan_key `t` holds, read into `o`: a flag true or false, a number in the
 // field's unit and range (an integer a whole number; the automatic value is the key's absence),
-// failing at the key with the range and the field's help.
+// failing at the key with the range and the field's help; then judged plausible (FieldSpec::
+// plausible: a warning, or refused at the key when it cannot be meant).
 template <class Options>
-void read_fields(const Reader& r, const toml::table& t, const std::string& path, const std::vector<OptionField<Options>>& fields,
+void read_fields(Reader& r, const toml::table& t, const std::string& path, const std::vector<OptionField<Options>>& fields,
                  Options& o) {
   for (const OptionField<Options>& f : fields) {
     const FieldSpec& s = f.spec;
@@ -197,10 +198,11 @@ void read_fields(const Reader& r, const toml::table& t, const std::string& path,
     range.automatic = std::numeric_limits<double>::quiet_NaN();  // not written in a file: the key left out
     if (!field_value_valid(range, v))
       r.fail(*n,
-             fmt::format("{} = {:g} {}{}", key, v,
+             fmt::format("{} = {} {}{}", key, field_value_text(s, v),
                          integer ? "must be an integer in " + field_range_text(s) : field_range_phrase(s),
                          *s.unit ? fmt::format(" {}", s.unit) : std::string()),
              fmt::format("{}: {}", key, s.help));
+    if (s.plausible) r.plausible(t, s.plan_key, path, v, *s.plausible);
     f.set(o, v);
   }
 }

@@ -24,6 +24,7 @@
 #include "toolpoint/json.hpp"
 #include "toolpoint/option_fields.hpp"
 #include "toolpoint/studies/lobes.hpp"
+#include "support/expected_fields.hpp"
 
 using namespace toolpoint;
 
@@ -348,4 +349,26 @@ TEST(LobesCommand, OptionFieldsAsFlags) {
     EXPECT_NEAR(echoed, v, 1e-14 * std::abs(v)) << name;
   }
   EXPECT_EQ(expected.size(), 9u);  // every flagged field: 7 from the table's flags, --max-modes and --fit-target
+}
+
+// The flags of PitchChoiceOptions' fields derive from pitch_choice_fields; against the expectation
+// written by hand (support/expected_fields.hpp): each flag is in `toolpoint pitch --help` with the
+// unit the CLI takes (degrees, %, mm), and a value just outside the expected range, in that unit,
+// is refused with exit code 2 naming the flag and the value typed.
+TEST(PitchCommand, OptionFieldsAsFlags) {
+  const std::string help = run_cli("pitch --help").out;
+  const std::string cut = "pitch --mode-x 0.03993,0.011,922 --rigid-y --kt 6e8 --kr 0.3 --immersion 0.5 --milling down --teeth 4";
+  int flags = 0;
+  for (const auto& e : toolpoint::testing::pitch_expected_fields()) {
+    if (e.flag.empty()) continue;
+    SCOPED_TRACE(e.flag);
+    ++flags;
+    const std::string line = toolpoint::testing::help_line(help, e.flag);
+    EXPECT_NE(line.find("[" + e.cli_unit + "]"), std::string::npos) << line;
+    const std::string bad = toolpoint::testing::cli_text(e, toolpoint::testing::outside(e));
+    const CliRun refused = run_cli(cut + (e.flag == "--rpm" ? "" : " --rpm 4130") + " " + e.flag + " " + bad);
+    EXPECT_EQ(refused.code, 2) << refused.out;
+    EXPECT_NE(refused.out.find(e.flag + " " + bad), std::string::npos) << refused.out;
+  }
+  EXPECT_EQ(flags, 10);
 }

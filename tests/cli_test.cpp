@@ -26,6 +26,7 @@
 #include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
+#include "support/expected_fields.hpp"
 #include "support/scratch.hpp"
 
 #include "toolpoint/io/assembly_file.hpp"
@@ -1334,6 +1335,20 @@ TEST_F(PlanCli, ErrorsNameTheOptionOrFileAndLeaveNothingBehind) {
 
 }  // namespace
 
+// identify --width derives from identification_fields; against the expectation written by hand
+// (support/expected_fields.hpp): in --help with its unit, and a value at the open edge refused with
+// exit code 2 naming the flag, before any file is read.
+TEST_F(Cli, IdentifyWidthFromItsField) {
+  const std::string help = ok("identify --help").out;
+  for (const auto& e : toolpoint::testing::identification_expected_fields()) {
+    SCOPED_TRACE(e.flag);
+    EXPECT_NE(toolpoint::testing::help_line(help, e.flag).find("[" + e.cli_unit + "]"), std::string::npos) << help;
+    const std::string bad = toolpoint::testing::cli_text(e, toolpoint::testing::outside(e));
+    expect_error(run("identify --assembly '" + kExample + "' --sh none.csv --sht none.csv " + e.flag + " " + bad), 2,
+                 {e.flag + " " + bad});
+  }
+}
+
 // ---- simulate -----------------------------------------------------------------------------------
 
 class SimulateCli : public Cli {
@@ -1393,6 +1408,30 @@ TEST_F(SimulateCli, MapShardsAndThreadsGiveTheSameMap) {
   ok("simulate merge parts/p0.json parts/p1.json parts/p2.json --output m3");
   EXPECT_EQ(read_text_file(path("m3/map.csv")), read_text_file(path("one/map.csv")));
   expect_error(run(map + " --shard 0/2"), 2, {"--shard needs --part"});
+}
+
+// The flags of SimulationOptions' fields derive from simulation_fields; against the expectation
+// written by hand (support/expected_fields.hpp): each flag is in `toolpoint simulate --help`, a
+// value just outside the expected range is refused with exit code 2 naming the flag and the value,
+// and the typical values given reach the simulation (its revolutions, steps, slices and the first
+// revolution analysed, 60 − 0.25 × 60 = 45, as --json reports them).
+TEST_F(SimulateCli, OptionFieldsAsFlags) {
+  const std::string help = ok("simulate --help").out;
+  const std::string cut = "simulate" + bench_ + " --rpm 10000 --depth 2";
+  std::string typical;
+  for (const auto& e : toolpoint::testing::simulation_expected_fields()) {
+    if (e.flag.empty()) continue;
+    SCOPED_TRACE(e.flag);
+    EXPECT_NE(toolpoint::testing::help_line(help, e.flag), "");
+    const std::string bad = toolpoint::testing::cli_text(e, toolpoint::testing::outside(e));
+    expect_error(run(cut + " " + e.flag + " " + bad), 2, {e.flag + " " + bad});
+    typical += " " + e.flag + " " + toolpoint::testing::cli_text(e, e.typical);
+  }
+  const nlohmann::json j = nlohmann::json::parse(ok(cut + typical + " --json").out).at("simulation");
+  EXPECT_EQ(j.at("revolutions"), 60);
+  EXPECT_EQ(j.at("steps_per_tooth"), 80);
+  EXPECT_EQ(j.at("slices"), 5);
+  EXPECT_EQ(j.at("analysed_from"), 45);
 }
 
 // Bad input: a clear error naming the option, nothing written.

@@ -17,8 +17,15 @@
 #include "toolpoint/json.hpp"
 #include "toolpoint/option_fields.hpp"
 #include "toolpoint/studies/lobes.hpp"
+#include "toolpoint/identify/forward_check.hpp"
+#include "toolpoint/identify/joint_fit.hpp"
+#include "toolpoint/studies/identification.hpp"
+#include "toolpoint/studies/pitch.hpp"
+#include "toolpoint/studies/plan.hpp"
+#include "support/expected_fields.hpp"
 
 using namespace toolpoint;
+using toolpoint::testing::ExpectedField;
 
 namespace {
 
@@ -159,4 +166,135 @@ TEST(OptionFields, RangeTextAndValidity) {
   EXPECT_FALSE(field_value_valid(s, -2.0));
   EXPECT_FALSE(field_value_valid(s, 2.5));  // not a whole number
   EXPECT_TRUE(field_value_valid(s, 3.0));
+}
+
+// ---- PlanOptions, MachineLimits, SafetyRule (plan_fields, machine_limits_fields, safety_rule_fields)
+
+namespace {
+
+// 4 teeth, K_t 6e8 N/m², K_r 0.3, half immersion down-milling, 0.1 mm per tooth: what check() accepts.
+PlanOptions valid_plan_options() {
+  PlanOptions o;
+  o.lobes.cutting = {4, 6e8, 0.3, engagement_from_immersion(0.5, MillingDirection::Down)};
+  o.lobes.speeds = {5000.0, 15000.0, 100};
+  o.feed_per_tooth_m = 1e-4;
+  return o;
+}
+
+PlanOptions& whole(PlanOptions& o) { return o; }
+MachineLimits& machine_of(PlanOptions& o) { return o.machine; }
+SafetyRule& safety_of(PlanOptions& o) { return o.safety; }
+
+}  // namespace
+
+// The three tables hold exactly the fields the hand-written checks judged, with the plan keys the
+// plan file read (docs/planning.md), each accessor reaching its member.
+TEST(OptionFields, PlanTablesAreTheExpectedFields) {
+  const auto expected = toolpoint::testing::plan_expected_fields();
+  toolpoint::testing::expect_table(plan_fields(), expected, "PlanOptions", &whole);
+  toolpoint::testing::expect_table(machine_limits_fields(), expected, "MachineLimits", &machine_of);
+  toolpoint::testing::expect_table(safety_rule_fields(), expected, "SafetyRule", &safety_of);
+}
+
+// PlanOptions::check accepts each field at a closed edge of the range the hand-written checks had,
+// and refuses it at an open edge and one double (or one) past either, naming `Type::field`.
+TEST(OptionFields, PlanCheckJudgesEachEdgeByName) {
+  toolpoint::testing::expect_edges(toolpoint::testing::plan_expected_fields(), valid_plan_options());
+}
+
+// The plan's JSON echoes every field under its name where it echoed them before the tables
+// (options.feed_per_tooth_m, options.machine.power_w, options.safety.factor …), the kind and the
+// seed beside them.
+TEST(OptionFields, PlanJsonEchoesEachField) {
+  PlanResult r;
+  PlanOptions& o = r.header.options;
+  o = valid_plan_options();
+  o.safety.seed = 7;
+  const auto expected = toolpoint::testing::plan_expected_fields();
+  for (const auto& e : expected) e.set(o, e.typical);
+  const nlohmann::json j = nlohmann::json(r).at("options");
+  for (const auto& e : expected) {
+    const nlohmann::json& at = e.type == "PlanOptions" ? j : j.at(e.type == "MachineLimits" ? "machine" : "safety");
+    ASSERT_TRUE(at.contains(e.name)) << e.name;
+    EXPECT_EQ(at[e.name].get<double>(), e.typical) << e.name;
+  }
+  EXPECT_EQ(j.at("safety").at("seed"), 7);
+  EXPECT_EQ(j.at("safety").at("kind"), "factor");
+  EXPECT_EQ(j.at("machine").size(), 3u);
+  EXPECT_EQ(j.at("safety").size(), 5u);  // factor, probability, samples, kind, seed
+}
+
+// ---- PitchChoiceOptions (pitch_choice_fields), SimulationOptions (simulation_fields) ---------------
+
+namespace {
+template <class O>
+O& self(O& o) {
+  return o;
+}
+}  // namespace
+
+// The pitch table holds the fields PitchChoiceOptions::check judges (written by hand: the table's
+// ranges and the check's are held to one expectation here), with the flags `toolpoint pitch` had.
+TEST(OptionFields, PitchChoiceTableAndCheckAgreeWithTheExpectation) {
+  const auto expected = toolpoint::testing::pitch_expected_fields();
+  toolpoint::testing::expect_table(pitch_choice_fields(), expected, "PitchChoiceOptions", &self<PitchChoiceOptions>);
+  PitchChoiceOptions valid;
+  valid.speed_rpm = 5000.0;
+  toolpoint::testing::expect_edges(expected, valid);
+  for (const auto& f : pitch_choice_fields()) {
+    if (std::isnan(f.spec.automatic)) continue;
+    PitchChoiceOptions o = valid;
+    f.set(o, f.spec.automatic);
+    EXPECT_NO_THROW(o.check()) << f.spec.name;  // steps 0: automatic
+  }
+}
+
+// The simulation table: check() derived from it judges each edge as the hand-written check did,
+// naming SimulationOptions::field; the automatic values (steps_per_tooth, slices 0) pass; the JSON
+// echo holds every field.
+TEST(OptionFields, SimulationTableCheckAndJson) {
+  const auto expected = toolpoint::testing::simulation_expected_fields();
+  toolpoint::testing::expect_table(simulation_fields(), expected, "SimulationOptions", &self<SimulationOptions>);
+  toolpoint::testing::expect_edges(expected, SimulationOptions{});
+  SimulationOptions o;
+  o.steps_per_tooth = 0;
+  o.slices = 0;
+  EXPECT_NO_THROW(o.check());
+  for (const auto& e : expected) e.set(o, e.typical);
+  const nlohmann::json j = nlohmann::json(o);
+  EXPECT_EQ(j.size(), expected.size());
+  for (const auto& e : expected) {
+    ASSERT_TRUE(j.contains(e.name)) << e.name;
+    EXPECT_EQ(j[e.name].is_boolean() ? double(j[e.name].get<bool>()) : j[e.name].get<double>(), e.typical) << e.name;
+  }
+}
+
+// ---- JointFitOptions, ForwardCheckOptions, IdentificationOptions -----------------------------------
+
+// Each identification table holds the fields its hand-written check judged, and check() derived
+// from it judges each edge as that check did, naming `Type::field`. ForwardCheckOptions: on
+// options whose false_alarm (0.04) lets 50 replicates meet the rank test's floor 1/(1 + R) ≤
+// false_alarm/2, which stays a check of its own. JointFitOptions: bootstrap_samples is judged only
+// for the bootstrap (a linearised fit takes any).
+TEST(OptionFields, IdentificationTablesAndChecks) {
+  const auto fit = toolpoint::testing::joint_fit_expected_fields();
+  toolpoint::testing::expect_table(joint_fit_fields(), fit, "JointFitOptions", &self<JointFitOptions>);
+  toolpoint::testing::expect_edges(fit, JointFitOptions{});
+  JointFitOptions linearised;
+  linearised.uncertainty = UncertaintyMethod::Linearised;
+  linearised.bootstrap_samples = 5;
+  EXPECT_NO_THROW(linearised.check());
+
+  const auto forward = toolpoint::testing::forward_check_expected_fields();
+  toolpoint::testing::expect_table(forward_check_fields(), forward, "ForwardCheckOptions", &self<ForwardCheckOptions>);
+  ForwardCheckOptions loose;
+  loose.false_alarm = 0.04;
+  toolpoint::testing::expect_edges(forward, loose);
+  ForwardCheckOptions few;
+  few.replicates = 50;  // 1/51 > 0.01/2: too few for the default false alarm
+  EXPECT_THROW(few.check(), InvalidArgument);
+
+  const auto id = toolpoint::testing::identification_expected_fields();
+  toolpoint::testing::expect_table(identification_fields(), id, "IdentificationOptions", &self<IdentificationOptions>);
+  toolpoint::testing::expect_edges(id, IdentificationOptions{});
 }

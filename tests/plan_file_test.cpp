@@ -4,6 +4,7 @@
 // Units: SI, spindle speeds in rpm.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fmt/format.h>
@@ -21,6 +22,7 @@
 #include "toolpoint/studies/plan_io.hpp"
 #include "toolpoint/option_fields.hpp"
 #include "toolpoint/studies/lobes.hpp"
+#include "support/expected_fields.hpp"
 
 using namespace toolpoint;
 
@@ -463,4 +465,54 @@ TEST(PlanStudyFile, OptionFieldsAreItsLobesKeys) {
   for (const auto& f : lobes_study_fields()) EXPECT_EQ(f.get(s.options.lobes), f.get(expected)) << f.spec.name;
   EXPECT_EQ(s.options.lobes.fit.max_modes, 7);  // 1 + 19/3, rounded down: read directly
   EXPECT_TRUE(s.options.lobes.extrapolate_bearings);
+}
+
+// The [cut], [machine] and [safety] keys of PlanOptions' fields (plan_fields, machine_limits_fields,
+// safety_rule_fields) against the expectation written by hand (support/expected_fields.hpp): each
+// key's typical value is read into its member (exactly: 17 digits give the double back), and a
+// value outside the expected range is refused at the key's line, naming the key and the value.
+// probability and samples are read with a candidate whose joint file has [uncertainty], as the
+// probability rule needs.
+TEST(PlanStudyFile, OptionFieldsAreItsCutMachineAndSafetyKeys) {
+  const fs::path dir = fs::temp_directory_path() / ("toolpoint_plan_keys_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const Assembly a = load_assembly(kExample).assembly;
+  JointFile j;
+  j.parameters = a.holder_tool.parameters;
+  JointUncertainty u;
+  for (int k = 0; k < 8; ++k) u.covariance(k, k) = std::pow(0.05 * j.parameters[k], 2);
+  j.uncertainty = u;
+  write_joint_file((dir / "kht.toml").string(), j);
+  const std::string with_joint = study("[cut]\n", "joints = [\"kht.toml\"]\n[cut]\n");
+  // `key = value` in [section]: the line replaced where the study has it, else added below the header.
+  const auto with_key = [](std::string text, const std::string& key, const std::string& value) {
+    const std::string section = "[" + key.substr(0, key.find('.')) + "]\n";
+    const std::string line = key.substr(key.find('.') + 1) + " = ";
+    const std::size_t at = text.find("\n" + line, text.find(section));
+    if (at != std::string::npos) text.replace(at + 1, text.find('\n', at + 1) - at - 1, line + value);
+    else text.insert(text.find(section) + section.size(), line + value + "\n");
+    return text;
+  };
+  for (const auto& e : toolpoint::testing::plan_expected_fields()) {
+    SCOPED_TRACE(e.plan_key);
+    const bool sampled = e.plan_key == "safety.probability" || e.plan_key == "safety.samples";
+    std::string base = study();
+    if (sampled) {
+      base = with_joint;
+      base.replace(base.find("factor = 1.25"), 13, "probability = 0.9");
+    }
+    const std::string text = with_key(base, e.plan_key, fmt::format("{:.17g}", e.typical));
+    const PlanStudy s = parse_plan_study(text, (dir / "study.toml").string(), dir.string());
+    EXPECT_EQ(e.get(s.options), e.typical);
+    // Just outside: the next integer, or 0.1 % of the range's scale past the edge.
+    const double bad = e.integer             ? e.hi + 1.0
+                       : std::isfinite(e.hi) ? (e.hi_open ? e.hi : e.hi * 1.001)
+                                             : (e.lo_open ? e.lo : e.lo - 1e-3);
+    const std::string refused = with_key(base, e.plan_key, fmt::format("{:.17g}", bad));
+    const std::size_t at = refused.find("\n" + e.plan_key.substr(e.plan_key.find('.') + 1) + " = ",
+                                        refused.find("[" + e.plan_key.substr(0, e.plan_key.find('.')) + "]"));
+    const std::size_t line = static_cast<std::size_t>(std::count(refused.begin(), refused.begin() + at + 1, '\n')) + 1;
+    expect_refused<InputError>(refused, {fmt::format("study.toml:{}", line), fmt::format("{} = {:g}", e.plan_key, bad)});
+  }
+  fs::remove_all(dir);
 }

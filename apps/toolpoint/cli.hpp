@@ -417,12 +417,12 @@ class FieldFlags {
     slot.integer = static_cast<int>(slot.real);
     slot.flag = slot.real != 0.0;
     const std::string help = field_help(s);
-    switch (s.kind) {
-      case FieldKind::Flag: return slot.option = c->add_flag(field_flag(s), slot.flag, help);
-      case FieldKind::Integer: return slot.option = c->add_option(field_flag(s), slot.integer, help)->capture_default_str();
-      case FieldKind::Real: break;
-    }
-    return slot.option = c->add_option(field_flag(s), slot.real, help)->capture_default_str();
+    if (s.kind == FieldKind::Flag) return slot.option = c->add_flag(field_flag(s), slot.flag, help);
+    slot.option = s.kind == FieldKind::Integer ? c->add_option(field_flag(s), slot.integer, help)
+                                               : c->add_option(field_flag(s), slot.real, help);
+    // A default check() refuses (a speed of 0 rpm, to be given) is not shown as one.
+    if (field_value_valid(s, f.get(Options{}))) slot.option->capture_default_str();
+    return slot.option;
   }
   void apply(Options& o) const {
     for (const Slot& slot : slots_) {

@@ -32,7 +32,7 @@ struct IdentifyOptions {
   double calibration = 0.0;
   bool calibration_shared = false;
   int averages = 0;
-  double width = 0.02;
+  FieldFlags<IdentificationOptions> fields;  // --width (identification_fields)
   int bootstrap = 200, parameters = 6, threads = 0;
   std::uint64_t seed = 1;
   std::vector<std::string> overhang_frfs;
@@ -87,7 +87,7 @@ void run_identify(const IdentifyOptions& o, const Globals& g) {
   // Options to the library's fields (errors name the flags).
   IdentificationOptions io;
   io.method = o.method == "seed" ? IdentificationMethod::Seed : IdentificationMethod::Fit;
-  io.width = o.width;
+  o.fields.apply(io);
   if (!o.band.empty()) io.band_hz = parse_range(o.band, "--band");
   io.at_hz = o.at;
   if (!o.filter.empty()) io.filter = parse_filter(o.filter);
@@ -319,8 +319,7 @@ void add_identify_command(CLI::App& app, Globals& g) {
   c->add_option(
       "--at", o->at,
       "Read the seed's parameters around this frequency [Hz] (default: the mode chosen by effect analysis or --overhang-frfs)");
-  c->add_option("--width", o->width, "Half-width of the read-out band around the mode, relative [-] (0.02 = ±2 %), in (0, 0.5)")
-      ->capture_default_str();
+  o->fields.add(c, option_field(identification_fields(), "width"));
   c->add_option("--overhang-frfs", o->overhang_frfs,
                 std::string("Tool point FRFs at other overhangs, comma-separated: choose the mode that moves most with the "
                             "overhang (seed Fig. 10). Each: ") +

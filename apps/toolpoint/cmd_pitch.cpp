@@ -24,10 +24,11 @@ struct PitchOptions {
   DynamicsArgs dyn;
   ToolGeometryArgs tool;
   CutArgs cut;
-  double rpm = 0.0, min_pitch_deg = 0.0, max_pitch_deg = 0.0, chatter_hz = 0.0, window = 0.5, robustness_pct = 2.0;
-  double max_depth_mm = 0.0;
+  // --rpm, --min-pitch, --max-pitch, --chatter, --window, --search-points, --robustness, --intervals,
+  // --max-depth, --depth-steps: from pitch_choice_fields.
+  FieldFlags<PitchChoiceOptions> fields;
   std::string pattern = "alternating";
-  int search_points = 11, intervals = 0, depth_steps = 60, threads = 0;
+  int threads = 0;
   bool json = false;
 };
 
@@ -70,32 +71,19 @@ void run_pitch(const PitchOptions& o, const Globals& g) {
   PitchStudyOptions so;
   so.cutting = cutting_conditions(o.cut);
   apply_tool_geometry(o.tool, so.cutting);
-  check_plausible(plausible::kSpindleSpeedRpm, o.rpm, "--rpm", "give the target spindle speed in rpm, e.g. --rpm 5000");
-  // Below 2π: most likely radians (an even pitch that small needs over 57 teeth).
-  for (const auto& [deg, flag] : {std::pair{o.min_pitch_deg, "--min-pitch"}, std::pair{o.max_pitch_deg, "--max-pitch"}}) {
-    if (!(deg >= 0.0 && deg < 360.0))
-      throw InvalidArgument(fmt::format("{} {} must lie in [0, 360) degrees (0: automatic)", flag, deg),
-                            "give pitch angles in degrees, e.g. --min-pitch 70 --max-pitch 110 for 4 teeth");
+  PitchChoiceOptions& c = so.choice;
+  o.fields.apply(c);
+  check_plausible(plausible::kSpindleSpeedRpm, c.speed_rpm, "--rpm", "give the target spindle speed in rpm, e.g. --rpm 5000");
+  // Below 2π degrees: most likely radians (an even pitch that small needs over 57 teeth).
+  for (const auto& [rad, flag] : {std::pair{c.min_pitch_rad, "--min-pitch"}, std::pair{c.max_pitch_rad, "--max-pitch"}}) {
+    const double deg = degrees_of(rad);
     if (deg > 0.0 && deg < 2.0 * kPi && o.cut.teeth <= 57)
-      throw InvalidArgument(fmt::format("{} {}: a pitch angle under 6.3°, most likely radians", flag, deg),
+      throw InvalidArgument(fmt::format("{} {:g}: a pitch angle under 6.3°, most likely radians", flag, deg),
                             "give degrees, e.g. --min-pitch 70 --max-pitch 110 for 4 teeth");
   }
-  if (!(o.robustness_pct >= 0.0 && o.robustness_pct <= 20.0))
-    throw InvalidArgument(fmt::format("--robustness {} % must lie in 0…20 (%)", o.robustness_pct), "e.g. 2 (%)");
-  PitchChoiceOptions& c = so.choice;
-  c.speed_rpm = o.rpm;
   c.pattern = o.pattern == "linear"        ? PitchPattern::Linear
               : o.pattern == "three-angle" ? PitchPattern::ThreeAngle
                                            : PitchPattern::Alternating;
-  c.min_pitch_rad = radians_of(o.min_pitch_deg);
-  c.max_pitch_rad = radians_of(o.max_pitch_deg);
-  c.chatter_hz = o.chatter_hz;
-  c.window = o.window;
-  c.search_points = o.search_points;
-  c.robustness = o.robustness_pct / 100.0;
-  c.steps = o.intervals;
-  c.max_depth_m = o.max_depth_mm * 1e-3;
-  c.depth_steps = o.depth_steps;
   c.parallel.threads = o.threads;
   so.fit = dynamics_fit_options(o.dyn);
   so.fit_target = o.dyn.fit_target_pct / 100.0;
@@ -133,30 +121,18 @@ void add_pitch_command(CLI::App& app, Globals& g) {
   add_dynamics_options(c, o->dyn, g, "");
   add_cut_options(c, o->cut, "Number of teeth N [-], ≥ 2 (the pitch is chosen: no --pitch) (required)");
   add_tool_geometry_options(c, o->tool);
-  c->add_option("--rpm", o->rpm, "Target spindle speed [rpm] (required)")->required();
-  c->add_option("--pattern", o->pattern,
-                "alternating (P1/P2/P1/…, an even number of teeth), linear (P, P+ΔP, P+2ΔP, …: N angles, e.g. three for 3 teeth) "
-                "or three-angle (P0/P1/P2/P0/…, a multiple of 3 teeth: two parameters, searched in 2-D)")
+  const auto& fields = pitch_choice_fields();
+  o->fields.add(c, option_field(fields, "speed_rpm"))->required();
+  c->add_option(
+       "--pattern", o->pattern,
+       "alternating (P1/P2/P1/…, an even number of teeth), linear (P, P+ΔP, P+2ΔP, …: N angles, e.g. three for 3 teeth) "
+       "or three-angle (P0/P1/P2/P0/…, a multiple of 3 teeth: two parameters, searched in 2-D)")
       ->check(CLI::IsMember({"alternating", "linear", "three-angle"}))
       ->capture_default_str();
-  c->add_option("--min-pitch", o->min_pitch_deg, "Smallest pitch angle allowed [degrees] (default 0: half the even pitch 360/N)");
-  c->add_option("--max-pitch", o->max_pitch_deg, "Largest pitch angle allowed [degrees] (default 0: 1.5 × the even pitch 360/N)");
-  c->add_option("--chatter", o->chatter_hz,
-                "Chatter frequency Budak's rule aims at [Hz] (default 0: the evenly spaced tool's at --rpm)");
-  c->add_option("--window", o->window, "Search ΔP over (1 ± WINDOW) × the closed form's, 0 < WINDOW ≤ 1 [-]")
-      ->capture_default_str();
-  c->add_option("--search-points", o->search_points,
-                "Points of the first search grid [-], 3…201 (three-angle: per parameter, a square grid)")
-      ->capture_default_str();
-  c->add_option("--robustness", o->robustness_pct,
-                "Maximise the lowest limit of ΔP and ΔP ± this [% of ΔP, as a speed off by as much], 0…20")
-      ->capture_default_str();
-  c->add_option("--intervals", o->intervals, "Steps per tooth period [-], 4…2000 (default 0: 12 per chatter wave)")
-      ->capture_default_str();
-  c->add_option("--max-depth", o->max_depth_mm, "Depths searched up to this [mm] (default 0: 20 × the zero-order floor)")
-      ->check(plausible_value(kDepthMm, "--max-depth"));
-  c->add_option("--depth-steps", o->depth_steps, "Equal depth steps of the search up to --max-depth [-], 4…10000")
-      ->capture_default_str();
+  for (const char* name : {"min_pitch_rad", "max_pitch_rad", "chatter_hz", "window", "search_points", "robustness", "steps"})
+    o->fields.add(c, option_field(fields, name));
+  o->fields.add(c, option_field(fields, "max_depth_m"))->check(plausible_value(kDepthMm, "--max-depth"));
+  o->fields.add(c, option_field(fields, "depth_steps"));
   c->add_option("--threads", o->threads, "Worker threads [-] (default 0: every core); results are identical for any number")
       ->capture_default_str();
   c->add_flag("--json", o->json, "Machine-readable result on stdout (angles in radians)");

@@ -35,8 +35,8 @@ struct SimulateArgs {
   double kte = 0.0, kre = 0.0, exponent = 1.0, reference_chip_mm = 0.1;
   std::string rpm, depth;
   double feed_mm = 0.0;
-  int revolutions = 40, steps = 0, slices = 0, memory_revolutions = 1;
-  double analysed = 0.5;
+  // --revolutions, --steps, --slices, --memory-revolutions, --analysed: from simulation_fields.
+  FieldFlags<SimulationOptions> simulation;
   // The map.
   int speeds = 200, depths = 100, threads = 0;
   std::string shard, part;
@@ -108,11 +108,7 @@ ForceLaw force_of(const SimulateArgs& o) {
 
 SimulationOptions simulation_of(const SimulateArgs& o) {
   SimulationOptions s;
-  s.revolutions = o.revolutions;
-  s.steps_per_tooth = o.steps;
-  s.slices = o.slices;
-  s.memory_revolutions = o.memory_revolutions;
-  s.analysed_fraction = o.analysed;
+  o.simulation.apply(s);
   return s;
 }
 
@@ -394,17 +390,8 @@ void add_common(CLI::App* c, SimulateArgs& o, Globals& g, bool map) {
       ->required(map);
   c->add_option("--depth", o.depth, map ? "Axial depth range MIN:MAX [mm] (required)" : "Axial depth of cut [mm] (required)")
       ->required(map);
-  c->add_option("--revolutions", o.revolutions, "Revolutions simulated [-], 2…1e6")->capture_default_str();
-  c->add_option("--steps", o.steps,
-                "Steps per tooth period [-] (default 0: automatic, 40 per period of the highest mode, at least 40)")
-      ->capture_default_str();
-  c->add_option("--slices", o.slices, "Axial slices [-] (default 0: 1 without helix, else one per step of helix lag)")
-      ->capture_default_str();
-  c->add_option("--memory-revolutions", o.memory_revolutions,
-                "The surfaces of the teeth this many revolutions back are compared for the chip [-], 1…10")
-      ->capture_default_str();
-  c->add_option("--analysed", o.analysed, "The last fraction of the revolutions analysed (means, chatter, SLE), (0, 1]")
-      ->capture_default_str();
+  for (const auto& f : simulation_fields())
+    if (f.spec.cli_name) o.simulation.add(c, f);
 }
 
 }  // namespace

@@ -14,6 +14,9 @@
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/io/io.hpp"
+#include "toolpoint/stability/simulation.hpp"
+#include "toolpoint/studies/identification.hpp"
+#include "toolpoint/studies/pitch.hpp"
 
 namespace toolpoint::cli {
 
@@ -272,8 +275,9 @@ std::string field_help(const FieldSpec& s) {
 
 void field_flag_refused(const FieldSpec& s, double typed) {
   const char* unit = s.cli_unit ? s.cli_unit : s.unit;
-  throw InvalidArgument(fmt::format("{} {:g}{} {}{}", field_flag(s), typed, *unit ? fmt::format(" {}", unit) : "",
-                                    field_range_phrase(s, s.cli_per_unit), *s.note ? fmt::format(" ({})", s.note) : ""),
+  throw InvalidArgument(fmt::format("{} {}{} {}{}", field_flag(s), field_value_text(s, typed),
+                                    *unit ? fmt::format(" {}", unit) : "", field_range_phrase(s, s.cli_per_unit),
+                                    *s.note ? fmt::format(" ({})", s.note) : ""),
                         fmt::format("{}: {}", field_flag(s), s.help));
 }
 
@@ -309,11 +313,6 @@ std::string with_flags(std::string text) {
       {"MillingCut::depth_m", "--depth"},
       {"MillingCut::feed_per_tooth_m", "--feed"},
       {"MillingCut::engagement", "--immersion or --entry/--exit"},
-      {"SimulationOptions::revolutions", "--revolutions"},
-      {"SimulationOptions::steps_per_tooth", "--steps"},
-      {"SimulationOptions::slices", "--slices"},
-      {"SimulationOptions::memory_revolutions", "--memory-revolutions"},
-      {"SimulationOptions::analysed_fraction", "--analysed"},
       {"SimulatedMapOptions::depths", "--depth"},
       {"SimulationInput::rigid", "--rigid-tool"},
       {"(SimulationOptions::record = false)", "(`toolpoint simulate map` keeps none)"},
@@ -395,7 +394,6 @@ std::string with_flags(std::string text) {
       {"ModalFitOptions::band_hz", "--band"},
       {"IdentificationOptions::band_hz", "--band"},
       {"IdentificationOptions::at_hz", "--at"},
-      {"IdentificationOptions::width", "--width"},
       {"LobesInput::x_modes", "--mode-x"},
       {"LobesInput::frfs", "--frf"},
       {"LobesInput: rigid_y and y modes", "--rigid-y and --mode-y"},
@@ -413,8 +411,14 @@ std::string with_flags(std::string text) {
       text.replace(at, field.size(), flag);
   };
   // The option fields defined once (option_fields.hpp): Options::name → its flag.
-  for (const auto& f : lobes_study_fields())
-    if (f.spec.cli_name) replace(fmt::format("LobesStudyOptions::{}", f.spec.name), field_flag(f.spec));
+  const auto fields = [&replace](const auto& table, std::string_view options) {
+    for (const auto& f : table)
+      if (f.spec.cli_name) replace(fmt::format("{}::{}", options, f.spec.name), field_flag(f.spec));
+  };
+  fields(lobes_study_fields(), "LobesStudyOptions");
+  fields(pitch_choice_fields(), "PitchChoiceOptions");
+  fields(simulation_fields(), "SimulationOptions");
+  fields(identification_fields(), "IdentificationOptions");
   for (const auto& [field, flag] : kFlags) replace(field, flag);
   return text;
 }

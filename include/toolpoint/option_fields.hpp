@@ -10,6 +10,8 @@
 #include <string_view>
 #include <vector>
 
+#include "toolpoint/plausibility.hpp"
+
 namespace toolpoint {
 
 /// \brief What kind of value an option field holds.
@@ -38,6 +40,10 @@ struct FieldSpec {
   const char* cli_unit = nullptr;  ///< the unit the CLI flag takes ("%", "mm"); nullptr: `unit`
   double cli_per_unit = 1.0;       ///< CLI value = field value × cli_per_unit (100 for %, 1000 for mm)
   const char* plan_key = nullptr;  ///< the key in the plan file's table of these options, or nullptr
+  /// Where a value in another unit is likely (a length in mm given as m): its plausible range in the
+  /// field's unit (plausibility.hpp), judged by the plan file after the range (a warning, or refused
+  /// at the key when it cannot be meant); nullptr: none.
+  const PlausibleRange* plausible = nullptr;
 };
 
 /// \brief One field of `Options`: its description and where it lives (exactly one accessor set,
@@ -78,6 +84,12 @@ std::string field_flag(const FieldSpec& spec);
 /// \param value the value [spec.unit]
 /// \return whether check() accepts it
 bool field_value_valid(const FieldSpec& spec, double value);
+
+/// \brief A value of the field as text: an integer field's in full, else as {:g}.
+/// \param spec the field
+/// \param value the value, in whatever unit it is shown
+/// \return the text
+std::string field_value_text(const FieldSpec& spec, double value);
 
 /// \brief The field's valid range as text, in the field's unit times `scale`: "0…5000" for
 /// integers or closed ranges, "(0, 1)" or "[0, 1)" with an open end, "≥ 0" without an upper end.

@@ -467,8 +467,9 @@ void bind_joint_fit(py::module_& m) {
           "The result as plain data (dicts, lists, floats, str, bool, None; the CLI's --json keys, SI units).");
 
   options_class<JointFitOptions>(m, "JointFitOptions",
-                                 "The band fit's options (joint_fit.hpp; IdentificationOptions.fit, CaseStudyOptions.fit_options). "
-                                 "Progress is the function's `progress` argument.",
+                                 fields_doc(joint_fit_fields(), "JointFitOptions", "toolpoint identify",
+                                            "The band fit's options (joint_fit.hpp; IdentificationOptions.fit, "
+                                            "CaseStudyOptions.fit_options). Progress is the function's `progress` argument."),
                                  {"reciprocal", "filter", "uncertainty", "bootstrap_samples", "seed", "shared_calibration",
                                   "check_linearisation", "confidence", "max_iterations", "threads"})
       .def_readwrite("reciprocal", &JointFitOptions::reciprocal, "six parameters (k_θf = k_ym, c_θf = c_ym); False: all eight")
@@ -507,7 +508,9 @@ void bind_identification_options(py::module_& m) {
                      "warn when k_ym and k_θf (or c) differ by more than this fraction")
       .def_readwrite("gain_warning", &ReadoutOptions::gain_warning, "warn when a parameter's noise gain exceeds this");
   options_class<ForwardCheckOptions>(m, "ForwardCheckOptions",
-                                     "The forward check's options (forward_check.hpp; IdentificationOptions.verdict.forward).",
+                                     fields_doc(forward_check_fields(), "ForwardCheckOptions", "toolpoint identify",
+                                                "The forward check's options (forward_check.hpp; "
+                                                "IdentificationOptions.verdict.forward)."),
                                      {"smoothing", "min_prominence", "replicates", "false_alarm", "frequency_tolerance",
                                       "peak_tolerance", "seed", "shared_calibration", "threads"})
       .def_readwrite("smoothing", &ForwardCheckOptions::smoothing,
@@ -552,8 +555,9 @@ void bind_identification_options(py::module_& m) {
       .def_readwrite("averages", &NoiseSpec::averages, "averages behind a coherence column (0: the coherence is not used)");
   options_class<IdentificationOptions>(
       m, "IdentificationOptions",
-      "run_identification_study' options (studies/identification.hpp; toolpoint identify's). The overhang FRFs (arrays) and "
-      "progress stay the function's arguments.",
+      fields_doc(identification_fields(), "IdentificationOptions", "toolpoint identify",
+                 "run_identification_study' options (studies/identification.hpp; toolpoint identify's). The overhang FRFs "
+                 "(arrays) and progress stay the function's arguments."),
       {"route", "method", "band_hz", "at_hz", "width", "filter", "noise", "fit", "readout", "verdict"})
       .def_property(
           "route", [](const IdentificationOptions& o) { return std::string(name_of(o.route, kRoutes)); },

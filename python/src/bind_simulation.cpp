@@ -195,9 +195,10 @@ void bind_simulated_cut(py::module_& m) {
       "tangential_edge"_a = 0.0, "radial_edge"_a = 0.0, "exponent"_a = 1.0, "reference_chip_m"_a = 1e-4, "revolutions"_a = 40,
       "steps_per_tooth"_a = 0, "slices"_a = 0, "analysed_fraction"_a = 0.5, "record"_a = true, "memory_revolutions"_a = 1,
       "initial_state"_a = py::none(), "progress"_a = py::none(),
-      "One cut in the time domain (toolpoint simulate): the teeth, K_t, K_r and the engagement from `cutting` (pitch_rad "
-      "overrides the even spacing), the dynamics from x_modes/y_modes (y_modes empty: the x modes, unless rigid_y) and "
-      "planar modes, or a rigid tool. Returns a SimulationResult.");
+      fields_doc(simulation_fields(), "SimulationOptions", "toolpoint simulate",
+                 "One cut in the time domain (toolpoint simulate): the teeth, K_t, K_r and the engagement from `cutting` "
+                 "(pitch_rad overrides the even spacing), the dynamics from x_modes/y_modes (y_modes empty: the x modes, "
+                 "unless rigid_y) and planar modes, or a rigid tool. Returns a SimulationResult."));
 }
 
 // The simulated stability map over speed × depth, its parts and their merge.

@@ -6,7 +6,12 @@
 #include "toolpoint/stability/modal_fit.hpp"
 #include "toolpoint/studies/modal_fit.hpp"
 #include "toolpoint/stability/stability.hpp"
+#include "toolpoint/identify/forward_check.hpp"
+#include "toolpoint/identify/joint_fit.hpp"
+#include "toolpoint/stability/simulation.hpp"
 #include "toolpoint/studies/lobes.hpp"
+#include "toolpoint/studies/identification.hpp"
+#include "toolpoint/studies/pitch.hpp"
 #include "toolpoint/uncertainty/uncertainty.hpp"
 
 namespace toolpoint::python {
@@ -77,48 +82,6 @@ MillingFrfs milling_of(const RealArray& f, const ComplexArray& xx, const std::op
   if (yx) m.yx = frf_series(f, *yx, "yx");
   m.rigid_y = rigid_y;
   return m;
-}
-
-// A docstring followed by its option fields' definitions (option_fields.hpp): the keyword, its unit
-// and range, what its automatic value means, its help and the `toolpoint lobes` flag. A static
-// string: pybind11 copies a docstring, but the caller's must outlive m.def.
-template <class Options>
-const std::string& fields_doc(const std::vector<OptionField<Options>>& fields, const char* doc) {
-  static std::string text;
-  text = doc;
-  text += " Keywords defined with the lobes study's options (LobesStudyOptions):";
-  for (const OptionField<Options>& f : fields) {
-    const FieldSpec& s = f.spec;
-    text += fmt::format(" {}{}", s.name, *s.unit ? fmt::format(" [{}]", s.unit) : std::string());
-    if (s.kind != FieldKind::Flag) text += fmt::format(", {}", field_range_text(s));
-    if (*s.note) text += fmt::format(" ({})", s.note);
-    text += fmt::format(": {}{}.", s.help, s.cli_name ? fmt::format(" (toolpoint lobes {})", field_flag(s)) : std::string());
-  }
-  return text;
-}
-
-// An option table as data (toolpoint._option_fields): what python/tests check the keywords against.
-template <class Options>
-py::list fields_data(const std::vector<OptionField<Options>>& fields) {
-  py::list out;
-  const Options defaults{};
-  for (const OptionField<Options>& f : fields) {
-    const FieldSpec& s = f.spec;
-    py::dict d;
-    d["name"] = s.name;
-    d["kind"] = s.kind == FieldKind::Real ? "real" : s.kind == FieldKind::Integer ? "integer" : "flag";
-    d["unit"] = s.unit;
-    d["min"] = s.min;
-    d["max"] = s.max;
-    d["default"] = f.get(defaults);
-    d["flag"] = s.cli_name ? py::object(py::str(field_flag(s))) : py::object(py::none());
-    d["cli_unit"] = s.cli_unit ? s.cli_unit : s.unit;
-    d["cli_per_unit"] = s.cli_per_unit;
-    d["plan_key"] = s.plan_key ? py::object(py::str(s.plan_key)) : py::object(py::none());
-    d["help"] = s.help;
-    out.append(d);
-  }
-  return out;
 }
 
 // The lobes study's options from keyword arguments (run_lobes_study, stability_uncertainty).
@@ -561,7 +524,7 @@ void bind_lobes_study(py::module_& m) {
       "samples"_a = 200, "seed"_a = 1, "levels"_a = std::vector<double>{0.05, 0.5, 0.95}, "speed_model"_a = "auto",
       "speed_nodes"_a = 0, "extrapolate_bearings"_a = false, "progress"_a = py::none(),
       fields_doc(
-          lobes_study_fields(),
+          lobes_study_fields(), "LobesStudyOptions", "toolpoint lobes",
           "The lobes study (toolpoint lobes): method 'zoa' (zero-order, from the FRFs xx[, yy, xy, yx] [m/N] on frequency_hz "
           "[Hz]) "
           "or 'fd' / 'sd' (time-domain boundary by full- / semi-discretization of x_modes/y_modes, or of modes fitted to "
@@ -574,8 +537,7 @@ void bind_lobes_study(py::module_& m) {
           "'bearings', 'spinning'; toolpoint lobes --speed-model) chooses the dynamics: at speed the x-y FRF at speed_nodes "
           "speeds (0: 17) and midway, interpolated in speed, its error in result.frf_interpolation_error and "
           "envelope_interpolation_error (method 'fd': a modal model with x-y pole-residue terms fitted at each speed, "
-          "result.fit_residual, block_fit_residual); a speed outside a bearing's table is refused unless extrapolate_bearings.")
-          .c_str());
+          "result.fit_residual, block_fit_residual); a speed outside a bearing's table is refused unless extrapolate_bearings."));
   m.def(
       "milling_frfs",
       [](const AssemblyModel& md, const RealArray& f, bool rigid_y) {
@@ -657,6 +619,11 @@ void bind_stability_uncertainty(py::module_& m) {
 void bind_stability(py::module_& m) {
   py::dict tables;
   tables["LobesStudyOptions"] = fields_data(lobes_study_fields());
+  tables["SimulationOptions"] = fields_data(simulation_fields());
+  tables["PitchChoiceOptions"] = fields_data(pitch_choice_fields());
+  tables["JointFitOptions"] = fields_data(joint_fit_fields());
+  tables["ForwardCheckOptions"] = fields_data(forward_check_fields());
+  tables["IdentificationOptions"] = fields_data(identification_fields());
   m.attr("_option_fields") = tables;
   bind_modal_models(m);
   bind_zero_order(m);

@@ -16,6 +16,7 @@
 
 #include <complex>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -23,6 +24,7 @@
 #include <utility>
 #include <vector>
 
+#include "toolpoint/option_fields.hpp"
 #include "toolpoint/plausibility.hpp"
 #include "toolpoint/model/receptance.hpp"
 #include "toolpoint/measured/signal.hpp"
@@ -133,6 +135,18 @@ py::class_<T> options_class(py::module_& m, const char* name, const char* doc, s
   return c;
 }
 
+// A docstring followed by its option fields' definitions (option_fields.hpp): each keyword, its
+// unit and range, what its automatic value means, its help and the CLI's flag (`command` FLAG).
+// The text lives in a static string per call site's Options type and doc: pybind11 copies a
+// docstring, but the one given must outlive m.def.
+template <class Options>
+const char* fields_doc(const std::vector<OptionField<Options>>& fields, const char* options, const char* command,
+                       const char* doc);
+
+// An option table as data (toolpoint._option_fields): what python/tests check the keywords against.
+template <class Options>
+py::list fields_data(const std::vector<OptionField<Options>>& fields);
+
 // Binding groups (one file each).
 void bind_errors(py::module_& m);
 void bind_model(py::module_& m);
@@ -167,6 +181,44 @@ const char* name_of(E value, const std::vector<std::pair<const char*, E>>& names
   for (const auto& [name, v] : names)
     if (v == value) return name;
   return "?";
+}
+
+template <class Options>
+const char* fields_doc(const std::vector<OptionField<Options>>& fields, const char* options, const char* command,
+                       const char* doc) {
+  static std::vector<std::unique_ptr<std::string>> texts;  // each docstring made, kept for the module's life
+  std::string text = fmt::format("{} Keywords defined with {}:", doc, options);
+  for (const OptionField<Options>& f : fields) {
+    const FieldSpec& s = f.spec;
+    text += fmt::format(" {}{}", s.name, *s.unit ? fmt::format(" [{}]", s.unit) : std::string());
+    if (s.kind != FieldKind::Flag) text += fmt::format(", {}", field_range_text(s));
+    if (*s.note) text += fmt::format(" ({})", s.note);
+    text += fmt::format(": {}{}.", s.help, s.cli_name ? fmt::format(" ({} {})", command, field_flag(s)) : std::string());
+  }
+  return texts.emplace_back(std::make_unique<std::string>(std::move(text)))->c_str();
+}
+
+template <class Options>
+py::list fields_data(const std::vector<OptionField<Options>>& fields) {
+  py::list out;
+  const Options defaults{};
+  for (const OptionField<Options>& f : fields) {
+    const FieldSpec& s = f.spec;
+    py::dict d;
+    d["name"] = s.name;
+    d["kind"] = s.kind == FieldKind::Real ? "real" : s.kind == FieldKind::Integer ? "integer" : "flag";
+    d["unit"] = s.unit;
+    d["min"] = s.min;
+    d["max"] = s.max;
+    d["default"] = f.get(defaults);
+    d["flag"] = s.cli_name ? py::object(py::str(field_flag(s))) : py::object(py::none());
+    d["cli_unit"] = s.cli_unit ? s.cli_unit : s.unit;
+    d["cli_per_unit"] = s.cli_per_unit;
+    d["plan_key"] = s.plan_key ? py::object(py::str(s.plan_key)) : py::object(py::none());
+    d["help"] = s.help;
+    out.append(d);
+  }
+  return out;
 }
 
 }  // namespace toolpoint::python

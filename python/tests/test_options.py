@@ -400,3 +400,54 @@ def test_lobes_options_are_defined_once(example, model):
     assert {k: cli["options"][k] for k in expected} == pytest.approx(expected, rel=1e-14)
     assert all(cli["options"][k] is True for k in switched)
     assert (cli["options"]["degree"], cli["options"]["pockets"]) == (2, 5)
+
+
+def test_simulation_and_pitch_options_are_defined_once():
+    """simulate_milling's SimulationOptions keywords (simulation_fields) and PitchChoiceOptions'
+    attributes (pitch_choice_fields) against their tables: independent of the tables, the names
+    written here (the keywords and attributes these had before); each keyword's default in the
+    signature and each attribute of a default PitchChoiceOptions is the table's C++ default, and the
+    docstring gives each field's help."""
+    import re
+
+    sim = tp._toolpoint._option_fields["SimulationOptions"]
+    assert [f["name"] for f in sim] == ["revolutions", "steps_per_tooth", "slices", "analysed_fraction", "record",
+                                        "memory_revolutions"]
+    doc = tp.simulate_milling.__doc__
+    signature = doc.splitlines()[0]
+    for f in sim:
+        m = re.search(r"\b%s: \w+ = ([\w.\-]+)" % f["name"], signature)
+        assert m, f["name"]
+        default = {"True": 1.0, "False": 0.0}.get(m.group(1))
+        assert (default if default is not None else float(m.group(1))) == f["default"], f["name"]
+        assert f["help"] in doc, f["name"]
+    pitch = tp._toolpoint._option_fields["PitchChoiceOptions"]
+    assert {f["name"] for f in pitch} == {"speed_rpm", "min_pitch_rad", "max_pitch_rad", "chatter_hz", "window",
+                                          "search_points", "robustness", "steps", "degree", "max_depth_m", "depth_steps"}
+    o = tp.PitchChoiceOptions()
+    for f in pitch:
+        assert f["name"] in tp.PitchChoiceOptions._fields
+        assert getattr(o, f["name"]) == f["default"], f["name"]
+
+
+def test_identification_options_are_defined_once():
+    """JointFitOptions, ForwardCheckOptions and IdentificationOptions against their tables
+    (joint_fit_fields, forward_check_fields, identification_fields): independent of the tables, the
+    names written here; each is an attribute of the class whose default is the table's, and the
+    class docstring gives each field's help."""
+    expected = {
+        "JointFitOptions": {"reciprocal", "bootstrap_samples", "shared_calibration", "check_linearisation", "confidence",
+                            "max_iterations"},
+        "ForwardCheckOptions": {"min_prominence", "replicates", "false_alarm", "frequency_tolerance", "peak_tolerance",
+                                "shared_calibration"},
+        "IdentificationOptions": {"width"},
+    }
+    for name, names in expected.items():
+        fields = tp._toolpoint._option_fields[name]
+        assert {f["name"] for f in fields} == names, name
+        cls = getattr(tp, name)
+        o = cls()
+        for f in fields:
+            assert f["name"] in cls._fields, (name, f["name"])
+            assert float(getattr(o, f["name"])) == f["default"], (name, f["name"])
+            assert f["help"] in cls.__doc__, (name, f["name"])

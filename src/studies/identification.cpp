@@ -70,6 +70,22 @@ void VerdictOptions::check() const {
                           "e.g. 1.5 and 3: the residual ratio is 1 when the model and the noise explain the data");
 }
 
+const std::vector<OptionField<IdentificationOptions>>& identification_fields() {
+  using O = IdentificationOptions;
+  static const std::vector<OptionField<O>> fields = {
+      {{.name = "width",
+        .kind = FieldKind::Real,
+        .min = 0.0,
+        .max = 0.5,
+        .min_open = true,
+        .max_open = true,
+        .help = "half-width of the read-out band around the mode, relative (0.02 = ±2 %)",
+        .cli_name = "width"},
+       [](O& o) -> double& { return o.width; }},
+  };
+  return fields;
+}
+
 void IdentificationOptions::check() const {
   if (band_hz && !(band_hz->first > 0.0 && band_hz->second > band_hz->first && std::isfinite(band_hz->second)))
     throw InvalidArgument(
@@ -84,9 +100,7 @@ void IdentificationOptions::check() const {
         "IdentificationOptions::at_hz and IdentificationOptions::band_hz both given: the band would ignore "
         "IdentificationOptions::at_hz",
         "give one of them");
-  if (!(width > 0.0 && width < 0.5))
-    throw InvalidArgument(fmt::format("IdentificationOptions::width {} must lie in (0, 0.5)", width),
-                          "e.g. IdentificationOptions::width 0.02 for ±2 % around the mode");
+  check_fields(identification_fields(), *this, "IdentificationOptions");  // width
   if (filter) filter->check();
   noise.check();
   JointFitOptions f = fit;

@@ -166,6 +166,111 @@ CuttingConditions plan_cutting(const PlanOptions& options, double tool_diameter_
   return c;
 }
 
+const std::vector<OptionField<PlanOptions>>& plan_fields() {
+  using O = PlanOptions;
+  // The plan file's [cut] holds these keys; the cap on c: no milling cutter takes a centimetre per
+  // tooth, so such a value is millimetres given as metres.
+  static const std::vector<OptionField<O>> fields = {
+      {{.name = "feed_per_tooth_m",
+        .kind = FieldKind::Real,
+        .unit = "m",
+        .min = 0.0,
+        .max = 0.01,
+        .min_open = true,
+        .help = "feed per tooth c, in metres (0.1 mm is 1e-4; no cutter takes over 10 mm per tooth: millimetres?)",
+        .plan_key = "feed_per_tooth",
+        .plausible = &plausible::kFeedPerTooth},
+       [](O& o) -> double& { return o.feed_per_tooth_m; }},
+      {{.name = "edge_coefficient_n_per_m",
+        .kind = FieldKind::Real,
+        .unit = "N/m",
+        .min = 0.0,
+        .help = "tangential edge force per unit depth K_te, in N/m (e.g. 2e4; 0: none), for the torque and power",
+        .plan_key = "edge_coefficient",
+        .plausible = &plausible::kEdgeCoefficient},
+       [](O& o) -> double& { return o.edge_coefficient_n_per_m; }},
+      {{.name = "max_depth_m",
+        .kind = FieldKind::Real,
+        .unit = "m",
+        .min = 0.0,
+        .max = 1.0,
+        .note = "0: no cap",
+        .help = "the deepest cut the feature allows, in metres (e.g. 0.02)",
+        .plan_key = "max_depth",
+        .plausible = &plausible::kDepth},
+       [](O& o) -> double& { return o.max_depth_m; }},
+  };
+  return fields;
+}
+
+const std::vector<OptionField<MachineLimits>>& machine_limits_fields() {
+  using O = MachineLimits;
+  static const std::vector<OptionField<O>> fields = {
+      {{.name = "power_w",
+        .kind = FieldKind::Real,
+        .unit = "W",
+        .min = 0.0,
+        .note = "0: no limit",
+        .help = "the cutting power available at the tool, in watts (e.g. 15e3)",
+        .plan_key = "power",
+        .plausible = &plausible::kPower},
+       [](O& o) -> double& { return o.power_w; }},
+      {{.name = "torque_nm",
+        .kind = FieldKind::Real,
+        .unit = "N·m",
+        .min = 0.0,
+        .note = "0: no limit",
+        .help = "the spindle torque, in N·m (e.g. 50)",
+        .plan_key = "torque",
+        .plausible = &plausible::kTorque},
+       [](O& o) -> double& { return o.torque_nm; }},
+      {{.name = "min_overhang_m",
+        .kind = FieldKind::Real,
+        .unit = "m",
+        .min = 0.0,
+        .max = 1.0,
+        .note = "0: none",
+        .help = "the reach the part needs: shorter overhangs are not planned, in metres (45 mm is 0.045)",
+        .plan_key = "min_overhang",
+        .plausible = &plausible::kOverhang},
+       [](O& o) -> double& { return o.min_overhang_m; }},
+  };
+  return fields;
+}
+
+const std::vector<OptionField<SafetyRule>>& safety_rule_fields() {
+  using O = SafetyRule;
+  // The seed (a 64-bit integer, [safety] seed) and the kind (which of factor and probability the
+  // file gives) are read by hand.
+  static const std::vector<OptionField<O>> fields = {
+      {{.name = "factor",
+        .kind = FieldKind::Real,
+        .min = 1.0,
+        .max = 100.0,
+        .help = "the depth used is the stable depth divided by it: 1 uses the limit itself, 1.25 keeps 20 % below",
+        .plan_key = "factor"},
+       [](O& o) -> double& { return o.factor; }},
+      {{.name = "probability",
+        .kind = FieldKind::Real,
+        .min = 0.5,
+        .max = 1.0,
+        .max_open = true,
+        .help = "the depth used is stable with at least this probability over the joints the identification allows "
+                "(e.g. 0.95, not 95)",
+        .plan_key = "probability"},
+       [](O& o) -> double& { return o.probability; }},
+      {{.name = "samples",
+        .kind = FieldKind::Integer,
+        .min = 20.0,
+        .max = 100000.0,
+        .help = "joints drawn for the probability rule (200 put the 5 % quantile within about ±1.5 % in probability)",
+        .plan_key = "samples"},
+       nullptr,
+       [](O& o) -> int& { return o.samples; }},
+  };
+  return fields;
+}
+
 void PlanOptions::check() const {
   {
     // The cut with a tool of any size (each candidate's is checked with the plan's header) and
@@ -183,38 +288,10 @@ void PlanOptions::check() const {
         "PlanOptions::lobes.cutting has a variable pitch, helix, runout or process damping, which the "
         "zero-order method (LobesStudyOptions::method) cannot take",
         "use the full-discretization method (fd)");
-  if (!finite_positive(feed_per_tooth_m))
-    throw InvalidArgument(fmt::format("PlanOptions::feed_per_tooth_m = {} m must be > 0", feed_per_tooth_m),
-                          "give the feed per tooth in metres, e.g. 1e-4 (0.1 mm)");
-  // No milling cutter takes a centimetre per tooth: such a value is millimetres given as metres.
-  if (feed_per_tooth_m > 0.01)
-    throw InvalidArgument(fmt::format("PlanOptions::feed_per_tooth_m = {} m is over 10 mm per tooth: millimetres?",
-                                      feed_per_tooth_m),
-                          fmt::format("the feed is in metres: {} mm is {:g} m", feed_per_tooth_m, feed_per_tooth_m / 1000.0));
-  if (!std::isfinite(edge_coefficient_n_per_m) || edge_coefficient_n_per_m < 0.0)
-    throw InvalidArgument(fmt::format("PlanOptions::edge_coefficient_n_per_m = {} N/m must be ≥ 0", edge_coefficient_n_per_m),
-                          "the tangential edge coefficient K_te in N/m (e.g. 2e4), or 0");
-  if (!std::isfinite(max_depth_m) || max_depth_m < 0.0 || max_depth_m > 1.0)
-    throw InvalidArgument(fmt::format("PlanOptions::max_depth_m = {} m must lie in [0, 1] (0: no cap)", max_depth_m),
-                          "the deepest cut the feature allows, in metres (e.g. 0.02)");
-  if (!std::isfinite(machine.power_w) || machine.power_w < 0.0)
-    throw InvalidArgument(fmt::format("MachineLimits::power_w = {} W must be ≥ 0 (0: no limit)", machine.power_w),
-                          "the cutting power available in watts, e.g. 15e3");
-  if (!std::isfinite(machine.torque_nm) || machine.torque_nm < 0.0)
-    throw InvalidArgument(fmt::format("MachineLimits::torque_nm = {} N·m must be ≥ 0 (0: no limit)", machine.torque_nm),
-                          "the spindle torque in N·m, e.g. 50");
-  if (!std::isfinite(machine.min_overhang_m) || machine.min_overhang_m < 0.0 || machine.min_overhang_m > 1.0)
-    throw InvalidArgument(fmt::format("MachineLimits::min_overhang_m = {} m must lie in [0, 1]", machine.min_overhang_m),
-                          "the reach the part needs in metres, e.g. 0.045 (45 mm), or 0");
-  if (!std::isfinite(safety.factor) || safety.factor < 1.0 || safety.factor > 100.0)
-    throw InvalidArgument(fmt::format("SafetyRule::factor = {} must lie in 1…100", safety.factor),
-                          "the depth used is the stable depth divided by it: 1 uses the limit itself, 1.25 keeps 20 % below");
-  if (!(safety.probability >= 0.5 && safety.probability < 1.0))
-    throw InvalidArgument(fmt::format("SafetyRule::probability = {} must lie in [0.5, 1)", safety.probability),
-                          "e.g. 0.95: the depth used is stable for 95 % of the joints the identification allows");
-  if (safety.samples < 20 || safety.samples > 100000)
-    throw InvalidArgument(fmt::format("SafetyRule::samples = {} must lie in 20…100000", safety.samples),
-                          "200 samples put the 5 % quantile within about ±1.5 % in probability");
+  // The scalar fields' ranges (plan_fields, machine_limits_fields, safety_rule_fields).
+  check_fields(plan_fields(), *this, "PlanOptions");
+  check_fields(machine_limits_fields(), machine, "MachineLimits");
+  check_fields(safety_rule_fields(), safety, "SafetyRule");
   parallel.check();
 }
 

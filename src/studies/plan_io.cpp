@@ -358,7 +358,6 @@ double checked(Reader& r, const toml::table& t, const char* key, const std::stri
 }
 
 bool positive(double v) { return v > 0.0; }
-bool non_negative(double v) { return v >= 0.0; }
 
 PlanCandidate read_candidate(Reader& r, const toml::table& t, const std::string& path, const std::string& directory,
                              PlanStudy& study, int number) {
@@ -513,9 +512,10 @@ void read_study_table(Reader& r, const toml::table& root, PlanStudy& s) {
 void read_cut_table(Reader& r, const toml::table& root, PlanOptions& o) {
   LobesStudyOptions& l = o.lobes;
   const toml::table& cut = *r.table(root, "cut", "", true);
-  r.only(cut, "cut",
-         {"teeth", "tangential_coefficient", "radial_ratio", "normal_coefficient", "edge_coefficient", "radial_immersion",
-          "milling", "feed_per_tooth", "max_depth", "pitch", "helix", "runout", "process_damping"});
+  std::vector<const char*> keys = field_keys(plan_fields());  // feed_per_tooth, edge_coefficient, max_depth
+  keys.insert(keys.end(), {"teeth", "tangential_coefficient", "radial_ratio", "normal_coefficient", "radial_immersion", "milling",
+                           "pitch", "helix", "runout", "process_damping"});
+  r.only(cut, "cut", keys);
   l.cutting.teeth = integer(r, cut, "teeth", "cut", 1, 1000, 0);
   if (!cut.contains("teeth")) r.fail(cut, "missing key cut.teeth (the number of teeth)", "e.g. teeth = 4");
   l.cutting.tangential_coefficient = checked(r, cut, "tangential_coefficient", "cut", "N/m^2", true, 0.0, positive,
@@ -532,8 +532,6 @@ void read_cut_table(Reader& r, const toml::table& root, PlanOptions& o) {
   if (!(l.cutting.radial_ratio >= 0.0))
     r.fail(*cut.get(kr ? "radial_ratio" : "normal_coefficient"),
            fmt::format("the radial force ratio K_n/K_t = {} must be ≥ 0", l.cutting.radial_ratio), "e.g. radial_ratio = 0.3");
-  o.edge_coefficient_n_per_m = checked(r, cut, "edge_coefficient", "cut", "N/m", false, 0.0, non_negative, "N/m must be ≥ 0");
-  r.plausible(cut, "edge_coefficient", "cut", o.edge_coefficient_n_per_m, plausible::kEdgeCoefficient);
   const double immersion = checked(
       r, cut, "radial_immersion", "cut", "(a/D)", true, 0.0, [](double v) { return v > 0.0 && v <= 1.0; },
       "must lie in (0, 1]: the radial depth over the tool diameter", "e.g. 0.5 for half immersion, 1 for a slot");
@@ -543,13 +541,8 @@ void read_cut_table(Reader& r, const toml::table& root, PlanOptions& o) {
     r.fail(*cut.get("milling"), fmt::format("cut.milling = \"{}\": expected \"up\" or \"down\"", *milling),
            "down: the tooth leaves the cut at the full chip (climb milling); up: it enters there (conventional)");
   l.cutting.engagement = engagement_from_immersion(immersion, *milling == "up" ? MillingDirection::Up : MillingDirection::Down);
-  o.feed_per_tooth_m = checked(
-      r, cut, "feed_per_tooth", "cut", "m", true, 0.0, [](double v) { return v > 0.0 && v <= 0.01; },
-      "m must lie in (0, 0.01]: no cutter takes more than 10 mm per tooth (millimetres?)",
-      "the feed per tooth is in metres: 0.1 mm is 1e-4");
-  r.plausible(cut, "feed_per_tooth", "cut", o.feed_per_tooth_m, plausible::kFeedPerTooth);
-  o.max_depth_m = checked(r, cut, "max_depth", "cut", "m", false, 0.0, non_negative, "m must be ≥ 0");
-  r.plausible(cut, "max_depth", "cut", o.max_depth_m, plausible::kDepth);
+  r.required_number(cut, "feed_per_tooth", "cut", "m");
+  read_fields(r, cut, "cut", plan_fields(), o);
   read_tool_geometry(r, cut, l.cutting);
 }
 
@@ -557,7 +550,9 @@ void read_cut_table(Reader& r, const toml::table& root, PlanOptions& o) {
 void read_machine_table(Reader& r, const toml::table& root, PlanOptions& o) {
   LobesStudyOptions& l = o.lobes;
   const toml::table& mach = *r.table(root, "machine", "", true);
-  r.only(mach, "machine", {"speed_min", "speed_max", "speed_points", "power", "torque", "min_overhang"});
+  std::vector<const char*> keys = field_keys(machine_limits_fields());  // power, torque, min_overhang
+  keys.insert(keys.end(), {"speed_min", "speed_max", "speed_points"});
+  r.only(mach, "machine", keys);
   l.speeds.min_rpm = checked(r, mach, "speed_min", "machine", "rpm", true, 0.0, positive, "rpm must be > 0");
   l.speeds.max_rpm = checked(r, mach, "speed_max", "machine", "rpm", true, 0.0, positive, "rpm must be > 0");
   if (!(l.speeds.max_rpm > l.speeds.min_rpm))
@@ -567,43 +562,24 @@ void read_machine_table(Reader& r, const toml::table& root, PlanOptions& o) {
   r.plausible(mach, "speed_min", "machine", l.speeds.min_rpm, plausible::kSpindleSpeedRpm);
   r.plausible(mach, "speed_max", "machine", l.speeds.max_rpm, plausible::kSpindleSpeedRpm);
   l.speeds.points = integer(r, mach, "speed_points", "machine", 2, 1000000, 0);
-  o.machine.power_w = checked(r, mach, "power", "machine", "W", false, 0.0, non_negative, "W must be ≥ 0 (absent: no limit)");
-  r.plausible(mach, "power", "machine", o.machine.power_w, plausible::kPower);
-  o.machine.torque_nm = checked(r, mach, "torque", "machine", "N m", false, 0.0, non_negative,
-                                "N m must be ≥ 0 (absent: no limit)");
-  r.plausible(mach, "torque", "machine", o.machine.torque_nm, plausible::kTorque);
-  o.machine.min_overhang_m = checked(r, mach, "min_overhang", "machine", "m", false, 0.0, non_negative, "m must be ≥ 0");
-  r.plausible(mach, "min_overhang", "machine", o.machine.min_overhang_m, plausible::kOverhang);
-  if (o.machine.min_overhang_m > 1.0)
-    r.fail(*mach.get("min_overhang"),
-           fmt::format("machine.min_overhang = {} m is over 1 m: millimetres?", o.machine.min_overhang_m),
-           fmt::format("overhangs are in metres: {} mm is {:g} m", o.machine.min_overhang_m, o.machine.min_overhang_m / 1000.0));
+  read_fields(r, mach, "machine", machine_limits_fields(), o.machine);
 }
 
 // [safety]: the rule that turns a stable depth into a safe one.
 void read_safety_table(Reader& r, const toml::table& root, PlanOptions& o) {
   if (const toml::table* t = r.table(root, "safety", "", false)) {
-    r.only(*t, "safety", {"factor", "probability", "samples", "seed"});
-    const auto f = r.number(*t, "factor", "safety", "(dimensionless)");
-    const auto p = r.number(*t, "probability", "safety", "(dimensionless)");
-    if (f && p)
+    std::vector<const char*> keys = field_keys(safety_rule_fields());  // factor, probability, samples
+    keys.push_back("seed");
+    r.only(*t, "safety", keys);
+    const bool probability = t->contains("probability");
+    if (probability && t->contains("factor"))
       r.fail(*t->get("probability"), "[safety] gives factor and probability: choose one rule",
              "keep factor (the stable depth divided by it) or probability (a joint file with [uncertainty] sampled)");
-    if (p) {
-      o.safety.kind = SafetyRule::Kind::Probability;
-      if (!(*p >= 0.5 && *p < 1.0))
-        r.fail(*t->get("probability"), fmt::format("safety.probability = {} must lie in [0.5, 1)", *p), "e.g. 0.95 (not 95)");
-      o.safety.probability = *p;
-    } else if (f) {
-      if (!(*f >= 1.0 && *f <= 100.0))
-        r.fail(*t->get("factor"), fmt::format("safety.factor = {} must lie in 1…100", *f),
-               "the depth used is the stable depth divided by it, e.g. 1.25");
-    }
-    if (f) o.safety.factor = *f;
-    if ((t->contains("samples") || t->contains("seed")) && !p)
+    read_fields(r, *t, "safety", safety_rule_fields(), o.safety);
+    if (probability) o.safety.kind = SafetyRule::Kind::Probability;
+    if ((t->contains("samples") || t->contains("seed")) && !probability)
       r.fail(*t, "safety.samples and safety.seed belong to the probability rule (safety.probability)",
              "drop them, or give safety.probability");
-    o.safety.samples = integer(r, *t, "samples", "safety", 20, 100000, o.safety.samples);
     o.safety.seed = static_cast<std::uint64_t>(integer(r, *t, "seed", "safety", 0, std::numeric_limits<int>::max(), 1));
   }
 }

@@ -66,6 +66,12 @@ struct ForwardCheckOptions {
   void check() const;
 };
 
+/// \brief ForwardCheckOptions' scalar fields but the seed, defined once (option_fields.hpp): their
+/// ranges and help, check() and the Python class's docstring derive from it (smoothing, seed and
+/// parallel have their own; the replicates' floor for the false-alarm probability is checked apart).
+/// \return the table, in the order of the fields
+const std::vector<OptionField<ForwardCheckOptions>>& forward_check_fields();
+
 // A mode counts where it stands this many times √2 σ above its higher valley: σ the ripple B11's
 // noise leaves in the prediction (which modes the model has), or G11's own noise after the
 // check's smoothing (whether the data can show it; ModeCheck::clearance).

@@ -104,6 +104,7 @@
 #include <Eigen/Core>
 
 #include "toolpoint/model/joint.hpp"
+#include "toolpoint/option_fields.hpp"
 #include "toolpoint/measured/noise.hpp"
 #include "toolpoint/parallel.hpp"
 #include "toolpoint/model/receptance.hpp"
@@ -169,6 +170,12 @@ struct JointFitOptions {
   // Throws InvalidArgument naming the JointFitOptions field.
   void check() const;
 };
+
+/// \brief JointFitOptions' scalar fields but the seed, defined once (option_fields.hpp): their
+/// ranges and help, check() (bootstrap_samples only for the bootstrap) and the Python class's
+/// docstring derive from it (filter, uncertainty, seed, parallel and progress have their own).
+/// \return the table, in the order of the fields
+const std::vector<OptionField<JointFitOptions>>& joint_fit_fields();
 
 struct ParameterInterval {
   double estimate = 0.0;            // reported value: bias-corrected (bootstrap) or the fit (linearised)

@@ -55,6 +55,7 @@
 #include <string>
 #include <vector>
 
+#include "toolpoint/option_fields.hpp"
 #include "toolpoint/stability/modal_fit.hpp"
 #include "toolpoint/stability/stability.hpp"
 
@@ -151,6 +152,13 @@ struct SimulationOptions {
   double memory_limit_bytes = 0.0;    // refuse runs needing more; 0: the machine's physical memory
   void check() const;                 // throws InvalidArgument naming `SimulationOptions::field`
 };
+
+/// \brief SimulationOptions' scalar fields but the memory limit, defined once (option_fields.hpp):
+/// their ranges and help, check(), the `toolpoint simulate` flags, the JSON echo and the keywords
+/// of Python's simulate_milling derive from it (initial_state and memory_limit_bytes are checked
+/// by hand).
+/// \return the table, in the order of the fields
+const std::vector<OptionField<SimulationOptions>>& simulation_fields();
 
 // A sample of the tool's motion.
 struct MotionSample {

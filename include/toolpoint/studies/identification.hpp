@@ -38,6 +38,7 @@
 #include "toolpoint/io/joint_file.hpp"
 #include "toolpoint/identify/joint_fit.hpp"
 #include "toolpoint/measured/noise.hpp"
+#include "toolpoint/option_fields.hpp"
 #include "toolpoint/plot/plot.hpp"
 #include "toolpoint/measured/signal.hpp"
 #include "toolpoint/studies/study.hpp"
@@ -107,6 +108,11 @@ struct IdentificationOptions {
   VerdictOptions verdict;
   void check() const;  // throws InvalidArgument naming the field
 };
+
+/// \brief IdentificationOptions' scalar field (width), defined once (option_fields.hpp): its range
+/// and help, check(), `toolpoint identify --width` and the Python class's docstring derive from it.
+/// \return the table
+const std::vector<OptionField<IdentificationOptions>>& identification_fields();
 
 // The band and how it was chosen.
 struct ModeChoice {

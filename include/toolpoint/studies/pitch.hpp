@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "toolpoint/option_fields.hpp"
 #include "toolpoint/stability/pitch.hpp"
 #include "toolpoint/studies/lobes.hpp"
 
@@ -37,5 +38,12 @@ struct PitchStudyResult {
 // The modal model (time_domain_modes), then choose_pitch. Throws as those (InvalidArgument,
 // InputError, NumericalError).
 PitchStudyResult run_pitch_study(const LobesInput& input, const PitchStudyOptions& options);
+
+/// \brief PitchChoiceOptions' numeric fields, defined once (option_fields.hpp): their units,
+/// ranges and help and the `toolpoint pitch` flags derive from it (the pattern and parallel have
+/// their own definitions; PitchChoiceOptions::check is written by hand, with the same ranges:
+/// tests/option_fields_test.cpp holds both to one expectation).
+/// \return the table, in the order of the fields
+const std::vector<OptionField<PitchChoiceOptions>>& pitch_choice_fields();
 
 }  // namespace toolpoint

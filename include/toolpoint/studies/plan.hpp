@@ -49,6 +49,7 @@
 #include "toolpoint/parallel.hpp"
 #include "toolpoint/plot/plot.hpp"
 #include "toolpoint/model/receptance.hpp"
+#include "toolpoint/option_fields.hpp"
 #include "toolpoint/stability/stability.hpp"
 #include "toolpoint/studies/lobes.hpp"
 #include "toolpoint/studies/shards.hpp"
@@ -110,6 +111,23 @@ struct PlanOptions {
   // Throws InvalidArgument naming `PlanOptions::<field>` (or the nested options' fields) and the value.
   void check() const;
 };
+
+/// \brief The scalar fields of PlanOptions, defined once (option_fields.hpp): feed_per_tooth_m,
+/// edge_coefficient_n_per_m and max_depth_m, their units, ranges and help, the plan file's [cut]
+/// keys (feed_per_tooth, edge_coefficient, max_depth) and the JSON echo derive from it.
+/// \return the table, in the order of the fields
+const std::vector<OptionField<PlanOptions>>& plan_fields();
+
+/// \brief MachineLimits' fields, defined once (option_fields.hpp): the plan file's [machine] keys
+/// (power, torque, min_overhang), the checks and the JSON echo derive from it.
+/// \return the table, in the order of the fields
+const std::vector<OptionField<MachineLimits>>& machine_limits_fields();
+
+/// \brief SafetyRule's numeric fields but the seed, defined once (option_fields.hpp): the plan
+/// file's [safety] keys (factor, probability, samples), the checks and the JSON echo derive from it
+/// (the kind and the 64-bit seed are read by hand).
+/// \return the table, in the order of the fields
+const std::vector<OptionField<SafetyRule>>& safety_rule_fields();
 
 // The cut of a candidate whose tool has diameter D [m]: PlanOptions::lobes.cutting with diameter_m
 // = D and feed_per_tooth_m = PlanOptions::feed_per_tooth_m (one definition of each: the helix's
