@@ -19,6 +19,7 @@
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/io/io.hpp"
+#include "toolpoint/io/frf_file.hpp"
 #include "toolpoint/measured/noise.hpp"
 #include "toolpoint/measured/signal.hpp"
 #include "support/test_util.hpp"
@@ -466,6 +467,26 @@ TEST(Noise, AveragedTestMatchesBendatAndPiersol) {
     from_coherence /= static_cast<double>(n);
     EXPECT_NEAR(scatter / want, 1.0, 5.0 * std::sqrt(2.0 / n)) << sigma << " " << floor << " " << averages;
     EXPECT_NEAR(from_coherence / want, 1.0, 0.05) << sigma << " " << floor << " " << averages;
+  }
+}
+
+// Noise-free hits (σ = 0, no floor) averaged: every hit is the value itself, so γ² = 1 exactly.
+// |Σh|²/(N Σ|h|²) computed in floating point passed 1 by an ulp at some values (N not a power of 2), and the coherence
+// was then refused when written (taptest --sigma 0 --averages 4 failed).
+TEST(Noise, NoiseFreeAveragedHitsHaveCoherenceOne) {
+  std::vector<Complex> v;
+  for (int i = 1; i <= 2000; ++i) v.emplace_back(std::cos(0.37 * i) * 1e-6 * i, std::sin(1.3 * i) * 3e-7);
+  for (int averages : {3, 5, 10}) {  // a power of two sums exactly; these did not (a third of the values)
+    NoiseOptions o;
+    o.sigma = 0.0;
+    o.averages = averages;
+    const auto r = add_measurement_noise(single(v, 1.0, 0.5), o);
+    ASSERT_EQ(r.coherence.size(), v.size());
+    for (double c : r.coherence) {
+      ASSERT_LE(c, 1.0) << averages;
+      ASSERT_GE(c, 1.0 - 1e-15) << averages;
+    }
+    EXPECT_NO_THROW(uff_coherence(r.series.frequency_hz, r.coherence, UffDof{}, "noise-free"));
   }
 }
 
