@@ -14,6 +14,9 @@
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/io/io.hpp"
+#include "toolpoint/measured/signal.hpp"
+#include "toolpoint/studies/precision.hpp"
+#include "toolpoint/studies/tap_test.hpp"
 
 namespace toolpoint::cli {
 
@@ -320,22 +323,9 @@ std::string with_flags(std::string text) {
       {"resample()", "`toolpoint resample IN OUT --onto OTHER`"},
       {"crop()", "`toolpoint resample IN OUT --band F1:F2`"},
       {"MillingFrfs::rigid_y", "--rigid-y"},
-      {"TapTestOptions::spacing_m", "--spacing"},
-      {"TapTestOptions::sigma", "--sigma"},
-      {"TapTestOptions::floor", "--floor"},
-      {"TapTestOptions::calibration", "--calibration"},
-      {"TapTestOptions::averages", "--averages"},
-      {"NoiseOptions::sigma", "--sigma"},
-      {"TapNoise::sigma", "--sigma"},
-      {"TapNoise::floor", "--floor"},
-      {"TapNoise::averages", "--averages"},
-      {"TapNoise::calibration", "--calibration"},
       {"PrecisionOptions::tool.spacing_m", "--tool-spacing"},
       {"PrecisionOptions::holder.spacing_m", "--holder-spacing"},
       {"PrecisionOptions::target", "--target"},
-      {"NoiseOptions::floor", "--floor"},
-      {"NoiseOptions::calibration", "--calibration"},
-      {"NoiseOptions::averages", "--averages"},
       {"OverhangStudyOptions::overhangs_m", "--overhang"},
       {"OverhangStudyOptions::peaks", "--prominence"},
       {"SavgolOptions::window", "--window"},
@@ -413,8 +403,14 @@ std::string with_flags(std::string text) {
       text.replace(at, field.size(), flag);
   };
   // The option fields defined once (option_fields.hpp): Options::name → its flag.
-  for (const auto& f : lobes_study_fields())
-    if (f.spec.cli_name) replace(fmt::format("LobesStudyOptions::{}", f.spec.name), field_flag(f.spec));
+  const auto replace_fields = [&replace](const auto& fields, std::string_view options) {
+    for (const auto& f : fields)
+      if (f.spec.cli_name) replace(fmt::format("{}::{}", options, f.spec.name), field_flag(f.spec));
+  };
+  replace_fields(lobes_study_fields(), "LobesStudyOptions");
+  replace_fields(tap_test_fields(), "TapTestOptions");
+  replace_fields(noise_fields(), "NoiseOptions");
+  replace_fields(tap_noise_fields(), "TapNoise");
   for (const auto& [field, flag] : kFlags) replace(field, flag);
   return text;
 }

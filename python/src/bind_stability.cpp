@@ -5,8 +5,11 @@
 #include "toolpoint/json.hpp"
 #include "toolpoint/stability/modal_fit.hpp"
 #include "toolpoint/studies/modal_fit.hpp"
+#include "toolpoint/measured/signal.hpp"
 #include "toolpoint/stability/stability.hpp"
 #include "toolpoint/studies/lobes.hpp"
+#include "toolpoint/studies/precision.hpp"
+#include "toolpoint/studies/tap_test.hpp"
 #include "toolpoint/uncertainty/uncertainty.hpp"
 
 namespace toolpoint::python {
@@ -77,48 +80,6 @@ MillingFrfs milling_of(const RealArray& f, const ComplexArray& xx, const std::op
   if (yx) m.yx = frf_series(f, *yx, "yx");
   m.rigid_y = rigid_y;
   return m;
-}
-
-// A docstring followed by its option fields' definitions (option_fields.hpp): the keyword, its unit
-// and range, what its automatic value means, its help and the `toolpoint lobes` flag. A static
-// string: pybind11 copies a docstring, but the caller's must outlive m.def.
-template <class Options>
-const std::string& fields_doc(const std::vector<OptionField<Options>>& fields, const char* doc) {
-  static std::string text;
-  text = doc;
-  text += " Keywords defined with the lobes study's options (LobesStudyOptions):";
-  for (const OptionField<Options>& f : fields) {
-    const FieldSpec& s = f.spec;
-    text += fmt::format(" {}{}", s.name, *s.unit ? fmt::format(" [{}]", s.unit) : std::string());
-    if (s.kind != FieldKind::Flag) text += fmt::format(", {}", field_range_text(s));
-    if (*s.note) text += fmt::format(" ({})", s.note);
-    text += fmt::format(": {}{}.", s.help, s.cli_name ? fmt::format(" (toolpoint lobes {})", field_flag(s)) : std::string());
-  }
-  return text;
-}
-
-// An option table as data (toolpoint._option_fields): what python/tests check the keywords against.
-template <class Options>
-py::list fields_data(const std::vector<OptionField<Options>>& fields) {
-  py::list out;
-  const Options defaults{};
-  for (const OptionField<Options>& f : fields) {
-    const FieldSpec& s = f.spec;
-    py::dict d;
-    d["name"] = s.name;
-    d["kind"] = s.kind == FieldKind::Real ? "real" : s.kind == FieldKind::Integer ? "integer" : "flag";
-    d["unit"] = s.unit;
-    d["min"] = s.min;
-    d["max"] = s.max;
-    d["default"] = f.get(defaults);
-    d["flag"] = s.cli_name ? py::object(py::str(field_flag(s))) : py::object(py::none());
-    d["cli_unit"] = s.cli_unit ? s.cli_unit : s.unit;
-    d["cli_per_unit"] = s.cli_per_unit;
-    d["plan_key"] = s.plan_key ? py::object(py::str(s.plan_key)) : py::object(py::none());
-    d["help"] = s.help;
-    out.append(d);
-  }
-  return out;
 }
 
 // The lobes study's options from keyword arguments (run_lobes_study, stability_uncertainty).
@@ -561,7 +522,7 @@ void bind_lobes_study(py::module_& m) {
       "samples"_a = 200, "seed"_a = 1, "levels"_a = std::vector<double>{0.05, 0.5, 0.95}, "speed_model"_a = "auto",
       "speed_nodes"_a = 0, "extrapolate_bearings"_a = false, "progress"_a = py::none(),
       fields_doc(
-          lobes_study_fields(),
+          lobes_study_fields(), "the lobes study's options (LobesStudyOptions)", "lobes",
           "The lobes study (toolpoint lobes): method 'zoa' (zero-order, from the FRFs xx[, yy, xy, yx] [m/N] on frequency_hz "
           "[Hz]) "
           "or 'fd' / 'sd' (time-domain boundary by full- / semi-discretization of x_modes/y_modes, or of modes fitted to "
@@ -657,6 +618,9 @@ void bind_stability_uncertainty(py::module_& m) {
 void bind_stability(py::module_& m) {
   py::dict tables;
   tables["LobesStudyOptions"] = fields_data(lobes_study_fields());
+  tables["TapTestOptions"] = fields_data(tap_test_fields());
+  tables["NoiseOptions"] = fields_data(noise_fields());
+  tables["TapNoise"] = fields_data(tap_noise_fields());
   m.attr("_option_fields") = tables;
   bind_modal_models(m);
   bind_zero_order(m);

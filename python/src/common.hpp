@@ -16,6 +16,7 @@
 
 #include <complex>
 #include <cstdint>
+#include <fmt/format.h>
 #include <optional>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -23,6 +24,7 @@
 #include <utility>
 #include <vector>
 
+#include "toolpoint/option_fields.hpp"
 #include "toolpoint/plausibility.hpp"
 #include "toolpoint/model/receptance.hpp"
 #include "toolpoint/measured/signal.hpp"
@@ -133,6 +135,84 @@ py::class_<T> options_class(py::module_& m, const char* name, const char* doc, s
   return c;
 }
 
+// A docstring followed by its option fields' definitions (option_fields.hpp): the keyword, its unit
+// and range, what its automatic value means, its help and the `toolpoint <command>` flag. `what`
+// names the options ("the lobes study's options (LobesStudyOptions)"). A static string: pybind11
+// copies a docstring, but the caller's must outlive m.def.
+template <class Options>
+const std::string& fields_doc(const std::vector<OptionField<Options>>& fields, const char* what, const char* command,
+                              const char* doc) {
+  static std::string text;
+  text = doc;
+  text += fmt::format(" Keywords defined with {}:", what);
+  for (const OptionField<Options>& f : fields) {
+    const FieldSpec& s = f.spec;
+    text += fmt::format(" {}{}", s.name, *s.unit ? fmt::format(" [{}]", s.unit) : std::string());
+    if (s.kind != FieldKind::Flag) text += fmt::format(", {}", field_range_text(s));
+    if (*s.note) text += fmt::format(" ({})", s.note);
+    text += fmt::format(": {}{}.", s.help,
+                        s.cli_name ? fmt::format(" (toolpoint {} {})", command, field_flag(s)) : std::string());
+  }
+  return text;
+}
+
+// An option table as data (toolpoint._option_fields): what python/tests check the keywords against.
+template <class Options>
+py::list fields_data(const std::vector<OptionField<Options>>& fields) {
+  py::list out;
+  const Options defaults{};
+  for (const OptionField<Options>& f : fields) {
+    const FieldSpec& s = f.spec;
+    py::dict d;
+    d["name"] = s.name;
+    d["kind"] = s.kind == FieldKind::Real ? "real" : s.kind == FieldKind::Integer ? "integer" : "flag";
+    d["unit"] = s.unit;
+    d["min"] = s.min;
+    d["max"] = s.max;
+    d["default"] = f.get(defaults);
+    d["flag"] = s.cli_name ? py::object(py::str(field_flag(s))) : py::object(py::none());
+    d["cli_unit"] = s.cli_unit ? s.cli_unit : s.unit;
+    d["cli_per_unit"] = s.cli_per_unit;
+    d["plan_key"] = s.plan_key ? py::object(py::str(s.plan_key)) : py::object(py::none());
+    d["help"] = s.help;
+    out.append(d);
+  }
+  return out;
+}
+
+// An options class's attributes from its option fields (option_fields.hpp): each field read/write
+// as its own type (float, int, bool), its docstring the field's unit, range, note and help, and the
+// `toolpoint <command>` flag that sets it.
+template <class Options>
+void def_option_fields(py::class_<Options>& c, const std::vector<OptionField<Options>>& fields, const char* command) {
+  for (const OptionField<Options>& f : fields) {
+    const FieldSpec& s = f.spec;
+    std::string doc = *s.unit ? fmt::format("[{}] ", s.unit) : std::string();
+    if (s.kind != FieldKind::Flag) doc += field_range_text(s);
+    if (*s.note) doc += fmt::format(" ({})", s.note);
+    doc += fmt::format(": {}", s.help);
+    if (s.cli_name) doc += fmt::format(" (toolpoint {} {})", command, field_flag(s));
+    const OptionField<Options>* field = &f;  // the table is static: the address outlives the module
+    switch (s.kind) {
+      case FieldKind::Real:
+        c.def_property(
+            s.name, [field](const Options& o) { return field->get(o); }, [field](Options& o, double v) { field->set(o, v); },
+            doc.c_str());
+        break;
+      case FieldKind::Integer:
+        c.def_property(
+            s.name, [field](const Options& o) { return static_cast<int>(field->get(o)); },
+            [field](Options& o, int v) { field->set(o, v); }, doc.c_str());
+        break;
+      case FieldKind::Flag:
+        c.def_property(
+            s.name, [field](const Options& o) { return field->get(o) != 0.0; },
+            [field](Options& o, bool v) { field->set(o, v ? 1.0 : 0.0); }, doc.c_str());
+        break;
+    }
+  }
+}
+
 // Binding groups (one file each).
 void bind_errors(py::module_& m);
 void bind_model(py::module_& m);
@@ -145,7 +225,6 @@ void bind_pitch(py::module_& m);
 }  // namespace toolpoint::python
 
 // ---- template definitions ----------------------------------------------------------------------
-#include <fmt/format.h>
 
 #include "toolpoint/error.hpp"
 
