@@ -348,19 +348,48 @@ PeakChangeReport peak_changes(const BlockSeries& raw, const BlockSeries& filtere
 
 // ---- Simulated measurement noise ------------------------------------------------------------
 
-void NoiseOptions::check() const {
-  if (!std::isfinite(sigma) || sigma < 0.0)
-    throw InvalidArgument(fmt::format("NoiseOptions::sigma {} must be a finite standard deviation ≥ 0", sigma),
-                          "give sigma as a fraction, e.g. 0.05 for 5 %");
-  if (!(floor >= 0.0 && floor <= 0.5))
-    throw InvalidArgument(fmt::format("NoiseOptions::floor {} must lie in [0, 0.5] (a fraction of each entry's peak)", floor),
-                          "e.g. 0.01 for a floor at 1 % of the peak");
-  if (!(calibration >= 0.0 && calibration <= 0.1))
-    throw InvalidArgument(fmt::format("NoiseOptions::calibration {} must lie in [0, 0.1] (a standard deviation)", calibration),
-                          "e.g. 0.02 for a 2 % sensitivity error; above 10 % a sensor is broken, not uncertain");
-  if (averages != 0 && (averages < 2 || averages > 10000))
-    throw InvalidArgument(fmt::format("NoiseOptions::averages {} must be 0 (one noisy copy) or 2…10000", averages),
-                          "an averaged test needs two hits at least for its coherence");
+void NoiseOptions::check() const { check_fields(noise_fields(), *this, "NoiseOptions"); }
+
+const std::vector<OptionField<NoiseOptions>>& noise_fields() {
+  using O = NoiseOptions;
+  using K = FieldKind;
+  // Fractions: a floor above half the peak buries the FRF; a calibration σ above 10 % is a broken
+  // sensor, not an uncertain one; an averaged test needs two hits for its coherence.
+  static const std::vector<OptionField<O>> fields = {
+      {{.name = "sigma",
+        .kind = K::Real,
+        .min = 0.0,
+        .help = "standard deviation of the multiplicative factor, or of each averaged hit's variation (0.05 = 5 %)",
+        .cli_name = "sigma"},
+       [](O& o) -> double& { return o.sigma; }},
+      {{.name = "floor",
+        .kind = K::Real,
+        .min = 0.0,
+        .max = 0.5,
+        .note = "0: none",
+        .help = "additive floor: σ of the real and imaginary parts relative to each entry's peak |value| (0.01 = 1 %)",
+        .cli_name = "floor"},
+       [](O& o) -> double& { return o.floor; }},
+      {{.name = "calibration",
+        .kind = K::Real,
+        .min = 0.0,
+        .max = 0.1,
+        .note = "0: none",
+        .help = "σ of one calibration factor scaling the whole series (a sensor's sensitivity error; 0.02 = 2 %)",
+        .cli_name = "calibration"},
+       [](O& o) -> double& { return o.calibration; }},
+      {{.name = "averages",
+        .kind = K::Integer,
+        .min = 2.0,
+        .max = 10000.0,
+        .automatic = 0.0,
+        .note = "0: one noisy copy, the seed's single factor",
+        .help = "hits of an averaged test (each varying by sigma in magnitude and phase, with the floor), whose coherence is "
+                "given",
+        .cli_name = "averages"},
+       nullptr,
+       [](O& o) -> int& { return o.averages; }}};
+  return fields;
 }
 
 std::vector<double> standard_normals(std::size_t count, std::uint64_t seed) {

@@ -1115,7 +1115,7 @@ TEST_F(Cli, UnguardedOptionsAreRefusedOrSaid) {
   // Library fields in messages are spelt as the command's flags (with_flags), one at fault named.
   expect_error(run("demo --sigma 2"), 2, {"--sigma 2 must lie in [0, 1)"});
   EXPECT_EQ(run("demo --sigma 2").err.find("--window"), std::string::npos);
-  expect_error(run("taptest '" + kExample + "' --spacing 0.015 --sigma 1.5 --output t.uff"), 2, {"--sigma = 1.5"});
+  expect_error(run("taptest '" + kExample + "' --spacing 0.015 --sigma 1.5 --output t.uff"), 2, {"--sigma 1.5"});
   expect_error(run("identify --joint holder-tool --assembly '" + kExample + "' --sh sh.csv --sht sht.csv --sigma 0"), 2,
                {"--sigma 0, --phase-sigma 0 rad and --floor 0: stated noise is not all zero"});
   expect_error(run("identify --joint holder-tool --assembly '" + kExample + "' --sh sh.csv --sht sht.csv --filter 4,2"), 2,

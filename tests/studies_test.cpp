@@ -509,14 +509,14 @@ TEST(TapTestStudy, BadOptionsNameTheField) {
   const Assembly a = example({500.0, 1000.0, 50.0});
   const auto message = [&](const TapTestOptions& o) { return invalid_argument_message([&] { run_tap_test_study(a, o); }); };
   TapTestOptions o;
-  EXPECT_TRUE(contains(message(o), "TapTestOptions::spacing_m = 0 m must be > 0"));
+  EXPECT_TRUE(contains(message(o), "TapTestOptions::spacing_m 0 m must be > 0"));
   o.spacing_m = 0.03;  // the third point 60 mm from the tip of a 49 mm overhang
   EXPECT_TRUE(contains(message(o), "TapTestOptions::spacing_m = 0.03 m puts point 2 0.06 m from the tool tip")) << message(o);
   o.spacing_m = 10.0;  // 10 mm given as metres
   EXPECT_TRUE(contains(message(o), "10 mm is 0.01"));
   o.spacing_m = 0.01;
   o.points = 4;
-  EXPECT_TRUE(contains(message(o), "TapTestOptions::points = 4"));
+  EXPECT_TRUE(contains(message(o), "TapTestOptions::points 4 must lie in 2…3"));
   o.points = 3;
   o.sigma = 1.5;
   EXPECT_TRUE(contains(message(o), "TapTestOptions::sigma"));

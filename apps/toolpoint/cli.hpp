@@ -397,14 +397,6 @@ std::string field_help(const FieldSpec& spec);
 // InvalidArgument naming the flag, the value in the CLI's unit and the range in it.
 [[noreturn]] void field_flag_refused(const FieldSpec& spec, double typed);
 
-// The named field of a table (a logic_error if the table has none: a programming error).
-template <class Options>
-const OptionField<Options>& option_field(const std::vector<OptionField<Options>>& fields, std::string_view name) {
-  for (const OptionField<Options>& f : fields)
-    if (name == f.spec.name) return f;
-  throw std::logic_error(fmt::format("no option field '{}'", name));
-}
-
 // The flags of option fields, derived from their table: add() registers a field's flag (its name,
 // help and default, in the CLI's unit) where the command wants it in its --help; apply() sets the
 // flags given into the library's options, converted to SI, range-checked (field_flag_refused).
@@ -423,6 +415,14 @@ class FieldFlags {
     // A default check() refuses (a speed of 0 rpm, to be given) is not shown as one.
     if (field_value_valid(s, f.get(Options{}))) slot.option->capture_default_str();
     return slot.option;
+  }
+  // A fraction field's flag taking "2%" or "0.02" alike (parse_fraction); range-checked by apply().
+  CLI::Option* add_fraction(CLI::App* c, const OptionField<Options>& f) {
+    Slot& slot = slots_.emplace_back(Slot{&f, f.get(Options{})});
+    const std::string flag = field_flag(f.spec);
+    return slot.option = c->add_option_function<std::string>(
+               flag, [&slot, flag](const std::string& v) { slot.real = parse_fraction(v, flag); },
+               field_help(f.spec) + ", as 2% or 0.02");
   }
   void apply(Options& o) const {
     for (const Slot& slot : slots_) {

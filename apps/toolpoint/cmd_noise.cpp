@@ -19,9 +19,12 @@ struct NoiseCliOptions {
   std::string input, output, plot;
   std::optional<std::size_t> dataset;
   NoiseOptions noise;
+  // --sigma, --floor, --calibration, --averages: from their definitions (noise_fields).
+  FieldFlags<NoiseOptions> fields;
 };
 
-void run_noise(const NoiseCliOptions& o, const Globals& g) {
+void run_noise(NoiseCliOptions& o, const Globals& g) {
+  o.fields.apply(o.noise);
   o.noise.check();
   const NoiseOptions& n = o.noise;
   std::string model =
@@ -55,20 +58,11 @@ void add_noise_command(CLI::App& app, Globals& g) {
       "Simulated measurement noise: every FRF entry times 1 + sigma·z (seed Section 3), or a tap test's: floor, averages "
       "with coherence, calibration; reproducibly");
   add_frf_file_arguments(c, g, o->input, o->output, o->dataset, "every entry distorted");
-  c->add_option("--sigma", o->noise.sigma, "Standard deviation of the factor [-] (0.05 = 5 %), ≥ 0")
-      ->capture_default_str()
-      ->check(plausible_value(plausible::kRelativeNoise, "--sigma"));
-  c->add_option("--floor", o->noise.floor,
-                "Additive floor: σ of the real and imaginary parts relative to each entry's peak |value| [-] (0.01 = 1 %; "
-                "default 0)")
-      ->check(plausible_value(plausible::kRelativeNoise, "--floor"));
-  c->add_option("--averages", o->noise.averages,
-                "Simulate an averaged test of this many hits (≥ 2; each varying by --sigma in magnitude and phase, with the "
-                "floor) and write its coherence column (CSV); default 0: the seed's single factor")
-      ->check(CLI::Range(0, 10000));
-  c->add_option_function<std::string>(
-      "--calibration", [o](const std::string& v) { o->noise.calibration = parse_fraction(v, "--calibration"); },
-      "σ of one calibration factor scaling the whole file (a sensor's sensitivity error), as 2% or 0.02 (≤ 10 %)");
+  const auto& fields = noise_fields();
+  o->fields.add(c, option_field(fields, "sigma"))->check(plausible_value(plausible::kRelativeNoise, "--sigma"));
+  o->fields.add(c, option_field(fields, "floor"))->check(plausible_value(plausible::kRelativeNoise, "--floor"));
+  o->fields.add(c, option_field(fields, "averages"));
+  o->fields.add_fraction(c, option_field(fields, "calibration"));
   c->add_option("--seed", o->noise.seed, "Random seed (mt19937_64); the same seed gives the same noise")->capture_default_str();
   add_plot_option(c, o->plot,
                   "the noisy (points) and the clean FRF (line), |H| [m/N] and phase [deg] against frequency [Hz] (the H "

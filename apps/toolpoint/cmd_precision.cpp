@@ -23,6 +23,9 @@ struct PrecisionArgs {
   double tool_spacing = 0.0, holder_spacing = 0.0;
   int tool_points = 3, holder_points = 3;
   PrecisionOptions options;
+  // --sigma, --floor, --averages, --calibration, --calibration-shared: from their definitions
+  // (tap_noise_fields).
+  FieldFlags<TapNoise> noise;
   bool json = false;
 };
 
@@ -42,6 +45,7 @@ void run_precision(PrecisionArgs o, const Globals& g) {
   p.holder.spacing_m = o.holder_spacing;
   p.holder.points = o.holder_points;
   p.holder.hammer = o.holder_hammer == "tip" ? HammerPlan::Tip : HammerPlan::Roving;
+  o.noise.apply(p.noise);
   p.check();
   const LoadedAssembly loaded = load_assembly_on_grid(g, o.assembly, o.frequencies);
   Progress progress(g, "precision");
@@ -112,20 +116,12 @@ void add_precision_command(CLI::App& app, Globals& g) {
   c->add_option("--holder-hammer", o->holder_hammer, "roving or tip")
       ->check(CLI::IsMember({"roving", "tip"}))
       ->capture_default_str();
-  c->add_option("--sigma", o->options.noise.sigma, "One hit's variation, relative, magnitude and phase alike [-] (0.01 = 1 %)")
-      ->capture_default_str()
-      ->check(plausible_value(plausible::kRelativeNoise, "--sigma"));
-  c->add_option("--floor", o->options.noise.floor,
-                "One hit's additive floor: σ of each part relative to each FRF's peak [-] (0.001 = 0.1 %; default 0)")
-      ->check(plausible_value(plausible::kRelativeNoise, "--floor"));
-  c->add_option("--averages", o->options.noise.averages, "Hits averaged per FRF")
-      ->capture_default_str()
-      ->check(CLI::Range(1, 100000));
-  c->add_option_function<std::string>(
-      "--calibration", [o](const std::string& v) { o->options.noise.calibration = parse_fraction(v, "--calibration"); },
-      "σ of each tap test's calibration factor, as 2% or 0.02 (≤ 10 %; default 0)");
-  c->add_flag("--calibration-shared", o->options.noise.shared_calibration,
-              "One sensor chain for both tap tests: one calibration factor for both");
+  const auto& noise = tap_noise_fields();
+  o->noise.add(c, option_field(noise, "sigma"))->check(plausible_value(plausible::kRelativeNoise, "--sigma"));
+  o->noise.add(c, option_field(noise, "floor"))->check(plausible_value(plausible::kRelativeNoise, "--floor"));
+  o->noise.add(c, option_field(noise, "averages"));
+  o->noise.add_fraction(c, option_field(noise, "calibration"));
+  o->noise.add(c, option_field(noise, "shared_calibration"));
   c->add_option_function<std::string>(
       "--target", [o](const std::string& v) { o->options.target = parse_fraction(v, "--target"); },
       "A relative half-width wanted for every parameter, as 1% or 0.01: the averages each needs");

@@ -22,8 +22,9 @@ namespace {
 struct TapTestArgs {
   std::string assembly, at = "tool", hammer = "roving", frequencies, output;
   std::vector<std::string> joints;
-  double spacing = 0.0, sigma = 0.0, floor = 0.0, calibration = 0.0;
-  int points = 3, averages = 0;
+  // --spacing, --points, --sigma, --floor, --averages, --calibration: from their definitions
+  // (tap_test_fields).
+  FieldFlags<TapTestOptions> fields;
   std::uint64_t seed = 1;
   bool binary = false;
 };
@@ -35,17 +36,12 @@ void run_taptest(const TapTestArgs& o, const Globals& g) {
     check_paths(inputs, {{o.output, "--output"}});
   }
   check_output_extension(o.output, "--output", {".uff", ".unv", ".uf"}, "universal file datasets 58 (.uff, .unv or .uf)");
-  const LoadedAssembly loaded = load_assembly_on_grid(g, o.assembly, o.frequencies, read_joint_options(g, o.joints));
   TapTestOptions options;
   options.side = o.at == "tool" ? TapSide::Tool : TapSide::Holder;
-  options.spacing_m = o.spacing;
-  options.points = o.points;
   options.hammer = o.hammer == "tip" ? HammerPlan::Tip : HammerPlan::Roving;
-  options.sigma = o.sigma;
   options.seed = o.seed;
-  options.floor = o.floor;
-  options.averages = o.averages;
-  options.calibration = o.calibration;
+  o.fields.apply(options);  // the flags refused before the assembly is read
+  const LoadedAssembly loaded = load_assembly_on_grid(g, o.assembly, o.frequencies, read_joint_options(g, o.joints));
   Progress progress(g, "taptest");
   TapTest t;
   t = run_tap_test_study(loaded.assembly, options, progress.part());
@@ -61,22 +57,22 @@ void run_taptest(const TapTestArgs& o, const Globals& g) {
     if (!r.coherence.empty())
       sets.push_back(uff_coherence(r.frf.frequency_hz, r.coherence, UffDof{r.response + 1, 2, r.hammer + 1, 2},
                                    fmt::format("toolpoint taptest coherence of H{}{} ({} averages)", r.response, r.hammer,
-                                               o.averages)));
+                                               options.averages)));
   UffWriteOptions wo;
   wo.binary = o.binary;
   const auto w = write_uff(o.output, sets, wo);
   warn_all(t.warnings);
   warn_all(w);
   const std::vector<double> f = loaded.assembly.grid.values();
-  std::cout << fmt::format("virtual tap test on the {} of {}: {} FRFs (receptance, m/N), {} frequencies {:g}–{:g} Hz{}\n",
-                           tool ? "tool (full assembly)" : "holder (tool outside removed)", o.assembly, sets.size(), f.size(),
-                           f.front(), f.back(),
-                           o.sigma > 0.0 || o.floor > 0.0
-                               ? fmt::format(", {:g} % {}noise{}{}{}", 100 * o.sigma, o.averages ? "hit-to-hit " : "",
-                                             o.floor > 0.0 ? fmt::format(", a floor at {:g} % of each FRF's peak", 100 * o.floor) : "",
-                                             o.averages ? fmt::format(", {} averages (coherence written)", o.averages) : "",
-                                             o.calibration > 0.0 ? fmt::format(", calibration σ {:g} %", 100 * o.calibration) : "")
-                               : "");
+  std::cout << fmt::format(
+      "virtual tap test on the {} of {}: {} FRFs (receptance, m/N), {} frequencies {:g}–{:g} Hz{}\n",
+      tool ? "tool (full assembly)" : "holder (tool outside removed)", o.assembly, sets.size(), f.size(), f.front(), f.back(),
+      options.sigma > 0.0 || options.floor > 0.0
+          ? fmt::format(", {:g} % {}noise{}{}{}", 100 * options.sigma, options.averages ? "hit-to-hit " : "",
+                        options.floor > 0.0 ? fmt::format(", a floor at {:g} % of each FRF's peak", 100 * options.floor) : "",
+                        options.averages ? fmt::format(", {} averages (coherence written)", options.averages) : "",
+                        options.calibration > 0.0 ? fmt::format(", calibration σ {:g} %", 100 * options.calibration) : "")
+          : "");
   std::cout << "points: ";
   for (std::size_t i = 0; i < t.distance_m.size(); ++i)
     std::cout << fmt::format("{}node {} at {:g} mm from the tip", i ? "; " : "", i + 1, 1000 * t.distance_m[i]);
@@ -98,29 +94,17 @@ void add_taptest_command(CLI::App& app, Globals& g) {
                 "tool: on the tool of the whole assembly (for SHT11); holder: on the holder, tool outside removed (for SH11)")
       ->check(CLI::IsMember({"tool", "holder"}))
       ->capture_default_str();
-  c->add_option("--spacing", o->spacing, "Distance s between neighbouring points [m]")
-      ->required()
-      ->check(plausible_value(plausible::kPointSpacing, "--spacing"));
-  c->add_option("--points", o->points, "Measurement points: 2 (first-order differences) or 3 (second order)")
-      ->check(CLI::IsMember({2, 3}))
-      ->capture_default_str();
+  const auto& fields = tap_test_fields();
+  o->fields.add(c, option_field(fields, "spacing_m"))->required()->check(plausible_value(plausible::kPointSpacing, "--spacing"));
+  o->fields.add(c, option_field(fields, "points"));
   c->add_option("--hammer", o->hammer,
                 "roving: the hammer at every point (all H_ij, for P by cross terms); tip: only at the tip (H_i0)")
       ->check(CLI::IsMember({"roving", "tip"}))
       ->capture_default_str();
-  c->add_option("--sigma", o->sigma, "Multiplicative noise on each FRF, standard deviation (0.02 = 2 %; default 0: exact)")
-      ->capture_default_str();
-  c->add_option("--floor", o->floor,
-                "Additive noise floor: σ of the real and imaginary parts relative to each FRF's peak |H| [-] (0.01 = 1 %; "
-                "default 0)")
-      ->check(plausible_value(plausible::kRelativeNoise, "--floor"));
-  c->add_option("--averages", o->averages,
-                "Average this many hits per FRF (≥ 2; each hit varies by --sigma in magnitude and phase, with the floor) and "
-                "write each FRF's coherence beside it (UFF function type 6); default 0: one noisy copy, no coherence")
-      ->check(CLI::Range(0, 10000));
-  c->add_option_function<std::string>(
-      "--calibration", [o](const std::string& v) { o->calibration = parse_fraction(v, "--calibration"); },
-      "σ of one calibration factor scaling every FRF of the test (one hammer, one sensor), as 2% or 0.02 (≤ 10 %)");
+  o->fields.add(c, option_field(fields, "sigma"));
+  o->fields.add(c, option_field(fields, "floor"))->check(plausible_value(plausible::kRelativeNoise, "--floor"));
+  o->fields.add(c, option_field(fields, "averages"));
+  o->fields.add_fraction(c, option_field(fields, "calibration"));
   c->add_option("--seed", o->seed, "Random seed of the noise (FRF k uses seed + k)")->capture_default_str();
   c->add_option("--frequencies", o->frequencies, "Override the file's [analysis] grid: START:STOP:STEP [Hz]");
   c->add_option("--output", o->output, "UFF file to write (.uff)")->required();

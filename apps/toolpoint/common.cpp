@@ -17,6 +17,9 @@
 #include "toolpoint/stability/simulation.hpp"
 #include "toolpoint/studies/identification.hpp"
 #include "toolpoint/studies/pitch.hpp"
+#include "toolpoint/measured/signal.hpp"
+#include "toolpoint/studies/precision.hpp"
+#include "toolpoint/studies/tap_test.hpp"
 
 namespace toolpoint::cli {
 
@@ -319,22 +322,9 @@ std::string with_flags(std::string text) {
       {"resample()", "`toolpoint resample IN OUT --onto OTHER`"},
       {"crop()", "`toolpoint resample IN OUT --band F1:F2`"},
       {"MillingFrfs::rigid_y", "--rigid-y"},
-      {"TapTestOptions::spacing_m", "--spacing"},
-      {"TapTestOptions::sigma", "--sigma"},
-      {"TapTestOptions::floor", "--floor"},
-      {"TapTestOptions::calibration", "--calibration"},
-      {"TapTestOptions::averages", "--averages"},
-      {"NoiseOptions::sigma", "--sigma"},
-      {"TapNoise::sigma", "--sigma"},
-      {"TapNoise::floor", "--floor"},
-      {"TapNoise::averages", "--averages"},
-      {"TapNoise::calibration", "--calibration"},
       {"PrecisionOptions::tool.spacing_m", "--tool-spacing"},
       {"PrecisionOptions::holder.spacing_m", "--holder-spacing"},
       {"PrecisionOptions::target", "--target"},
-      {"NoiseOptions::floor", "--floor"},
-      {"NoiseOptions::calibration", "--calibration"},
-      {"NoiseOptions::averages", "--averages"},
       {"OverhangStudyOptions::overhangs_m", "--overhang"},
       {"OverhangStudyOptions::peaks", "--prominence"},
       {"SavgolOptions::window", "--window"},
@@ -419,6 +409,9 @@ std::string with_flags(std::string text) {
   fields(pitch_choice_fields(), "PitchChoiceOptions");
   fields(simulation_fields(), "SimulationOptions");
   fields(identification_fields(), "IdentificationOptions");
+  fields(tap_test_fields(), "TapTestOptions");
+  fields(noise_fields(), "NoiseOptions");
+  fields(tap_noise_fields(), "TapNoise");
   for (const auto& [field, flag] : kFlags) replace(field, flag);
   return text;
 }

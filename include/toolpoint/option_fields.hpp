@@ -6,6 +6,7 @@
 #pragma once
 
 #include <limits>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -109,6 +110,27 @@ std::string field_range_phrase(const FieldSpec& spec, double scale = 1.0);
 /// \param value the value [spec.unit]
 /// \param options the Options type's name, e.g. "LobesStudyOptions"
 void check_field(const FieldSpec& spec, double value, std::string_view options);
+
+/// \brief The named field of a table.
+/// \param fields the Options type's table
+/// \param name the field's name (spec.name)
+/// \return the field; std::logic_error if the table has none (a programming error)
+template <class Options>
+const OptionField<Options>& option_field(const std::vector<OptionField<Options>>& fields, std::string_view name) {
+  for (const OptionField<Options>& f : fields)
+    if (name == f.spec.name) return f;
+  throw std::logic_error("no option field '" + std::string(name) + "'");
+}
+
+/// \brief A field's description under another help text: the same field (range, unit, flag) as
+/// another Options type's, described in this type's words.
+/// \param spec the field
+/// \param help the help text
+/// \return spec with `help`
+inline FieldSpec with_help(FieldSpec spec, const char* help) {
+  spec.help = help;
+  return spec;
+}
 
 /// \brief check_field for every field of `fields` in `o`, in the table's order.
 /// \param fields the Options type's table

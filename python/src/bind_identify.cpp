@@ -762,14 +762,9 @@ void bind_precision(py::module_& m) {
       .def_readonly("warnings", &PrecisionStudy::warnings)
       .def(
           "to_dict", [](const PrecisionStudy& r) { return dict_of(r); }, "toolpoint precision --json's keys.");
-  options_class<TapNoise>(m, "TapNoise", "The noise of the tap tests being planned (studies/precision.hpp).",
-                          {"sigma", "floor", "averages", "calibration", "shared_calibration"})
-      .def_readwrite("sigma", &TapNoise::sigma, "one hit's variation, relative, magnitude and phase alike (0.01 = 1 %)")
-      .def_readwrite("floor", &TapNoise::floor, "one hit's additive floor, σ per part relative to each FRF's peak")
-      .def_readwrite("averages", &TapNoise::averages, "hits averaged per FRF")
-      .def_readwrite("calibration", &TapNoise::calibration, "σ of each tap test's calibration factor")
-      .def_readwrite("shared_calibration", &TapNoise::shared_calibration,
-                     "one sensor chain for both tap tests: one factor for both");
+  auto tap_noise = options_class<TapNoise>(m, "TapNoise", "The noise of the tap tests being planned (studies/precision.hpp).",
+                                           {"sigma", "floor", "averages", "calibration", "shared_calibration"});
+  def_option_fields(tap_noise, tap_noise_fields(), "toolpoint precision");
   options_class<PrecisionOptions>(m, "PrecisionOptions",
                                   "run_precision_study's options (studies/precision.hpp; toolpoint precision's).",
                                   {"route", "tool", "holder", "noise", "reciprocal", "confidence", "target"})

@@ -885,23 +885,22 @@ void bind_tap_test(py::module_& m) {
       .def(
           "to_dict", [](const TapTest& t) { return dict_of(t); },
           "The result as plain data (dicts, lists, floats, str, bool, None; the CLI's --json keys, SI units).");
-  options_class<TapTestOptions>(m, "TapTestOptions", "run_tap_test_study's options (studies/tap_test.hpp; toolpoint taptest's).",
-                                {"side", "spacing_m", "points", "hammer", "sigma", "seed", "floor", "averages", "calibration"})
-      .def_property(
-          "side", [](const TapTestOptions& o) { return std::string(name_of(o.side, kSides)); },
-          [](TapTestOptions& o, const std::string& v) { o.side = enum_of(v, kSides, "TapTestOptions::side"); },
-          "'tool' or 'holder' (the holder without the tool outside)")
-      .def_readwrite("spacing_m", &TapTestOptions::spacing_m, "s > 0 [m] between neighbouring points (no default)")
-      .def_readwrite("points", &TapTestOptions::points, "2 (first-order differences) or 3 (second order)")
-      .def_property(
-          "hammer", [](const TapTestOptions& o) { return std::string(name_of(o.hammer, kHammers)); },
-          [](TapTestOptions& o, const std::string& v) { o.hammer = enum_of(v, kHammers, "TapTestOptions::hammer"); },
-          "'roving' (a hit at every point) or 'tip'")
-      .def_readwrite("sigma", &TapTestOptions::sigma, "σ of the multiplicative noise, [0, 1) (0.02 = 2 %; 0: exact)")
-      .def_readwrite("seed", &TapTestOptions::seed, "FRF k draws from seed + k")
-      .def_readwrite("floor", &TapTestOptions::floor, "an additive noise floor relative to each FRF's peak")
-      .def_readwrite("averages", &TapTestOptions::averages, "hits averaged per FRF (each varying by sigma); 0: one")
-      .def_readwrite("calibration", &TapTestOptions::calibration, "σ of one calibration factor for the whole test");
+  auto tap_options = options_class<TapTestOptions>(m, "TapTestOptions",
+                                                   "run_tap_test_study's options (studies/tap_test.hpp; toolpoint taptest's).",
+                                                   {"side", "spacing_m", "points", "hammer", "sigma", "seed", "floor", "averages",
+                                                    "calibration"})
+                         .def_property(
+                             "side", [](const TapTestOptions& o) { return std::string(name_of(o.side, kSides)); },
+                             [](TapTestOptions& o, const std::string& v) { o.side = enum_of(v, kSides, "TapTestOptions::side"); },
+                             "'tool' or 'holder' (the holder without the tool outside)")
+                         .def_property(
+                             "hammer", [](const TapTestOptions& o) { return std::string(name_of(o.hammer, kHammers)); },
+                             [](TapTestOptions& o, const std::string& v) {
+                               o.hammer = enum_of(v, kHammers, "TapTestOptions::hammer");
+                             },
+                             "'roving' (a hit at every point) or 'tip'")
+                         .def_readwrite("seed", &TapTestOptions::seed, "FRF k draws from seed + k");
+  def_option_fields(tap_options, tap_test_fields(), "toolpoint taptest");  // spacing_m, points, sigma, floor, averages, calibration
   m.def(
       "run_tap_test_study",
       [](Assembly a, double spacing_m, const std::string& side, int points, const std::string& hammer, double sigma,

@@ -253,11 +253,13 @@ void bind_signal(py::module_& m) {
       },
       "frequency_hz"_a, "values"_a, "sigma"_a = 0.05, "seed"_a = 1, py::kw_only(), "floor"_a = 0.0, "calibration"_a = 0.0,
       "averages"_a = 0, "with_coherence"_a = false,
-      "The seed's multiplicative noise (Section 3): every entry at every frequency times its own factor 1 + σz, z standard "
-      "normal (mt19937_64 + Box–Muller, reproducible from `seed`; order: frequency, then H, L, N, P); with floor an additive "
-      "floor relative to each entry's peak; with averages ≥ 2 an averaged test of that many hits (each varying by σ) instead; "
-      "with calibration one factor on the whole series. values: complex (n,) or (n, 2, 2). Returns the noisy values, or with "
-      "with_coherence=True (values, coherence γ² (n,) of H; empty without averages).");
+      fields_doc(noise_fields(), "NoiseOptions", "toolpoint noise",
+                 "The seed's multiplicative noise (Section 3): every entry at every frequency times its own factor 1 + σz, z "
+                 "standard normal (mt19937_64 + Box–Muller, reproducible from `seed`; order: frequency, then H, L, N, P); with "
+                 "floor an additive floor relative to each entry's peak; with averages ≥ 2 an averaged test of that many hits "
+                 "(each varying by σ) instead; with calibration one factor on the whole series. values: complex (n,) or (n, 2, "
+                 "2). Returns the noisy values, or with with_coherence=True (values, coherence γ² (n,) of H; empty without "
+                 "averages)."));
   m.def(
       "standard_normals", [](std::size_t count, std::uint64_t seed) { return array_of(standard_normals(count, seed)); },
       "count"_a, "seed"_a, "`count` standard normal numbers from `seed` (Box–Muller on mt19937_64; portable).");

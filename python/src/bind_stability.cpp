@@ -5,6 +5,7 @@
 #include "toolpoint/json.hpp"
 #include "toolpoint/stability/modal_fit.hpp"
 #include "toolpoint/studies/modal_fit.hpp"
+#include "toolpoint/measured/signal.hpp"
 #include "toolpoint/stability/stability.hpp"
 #include "toolpoint/identify/forward_check.hpp"
 #include "toolpoint/identify/joint_fit.hpp"
@@ -12,6 +13,8 @@
 #include "toolpoint/studies/lobes.hpp"
 #include "toolpoint/studies/identification.hpp"
 #include "toolpoint/studies/pitch.hpp"
+#include "toolpoint/studies/precision.hpp"
+#include "toolpoint/studies/tap_test.hpp"
 #include "toolpoint/uncertainty/uncertainty.hpp"
 
 namespace toolpoint::python {
@@ -624,6 +627,9 @@ void bind_stability(py::module_& m) {
   tables["JointFitOptions"] = fields_data(joint_fit_fields());
   tables["ForwardCheckOptions"] = fields_data(forward_check_fields());
   tables["IdentificationOptions"] = fields_data(identification_fields());
+  tables["TapTestOptions"] = fields_data(tap_test_fields());
+  tables["NoiseOptions"] = fields_data(noise_fields());
+  tables["TapNoise"] = fields_data(tap_noise_fields());
   m.attr("_option_fields") = tables;
   bind_modal_models(m);
   bind_zero_order(m);

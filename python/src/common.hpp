@@ -17,6 +17,7 @@
 #include <complex>
 #include <cstdint>
 #include <memory>
+#include <fmt/format.h>
 #include <optional>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -135,6 +136,7 @@ py::class_<T> options_class(py::module_& m, const char* name, const char* doc, s
   return c;
 }
 
+
 // A docstring followed by its option fields' definitions (option_fields.hpp): each keyword, its
 // unit and range, what its automatic value means, its help and the CLI's flag (`command` FLAG).
 // The text lives in a static string per call site's Options type and doc: pybind11 copies a
@@ -146,6 +148,12 @@ const char* fields_doc(const std::vector<OptionField<Options>>& fields, const ch
 // An option table as data (toolpoint._option_fields): what python/tests check the keywords against.
 template <class Options>
 py::list fields_data(const std::vector<OptionField<Options>>& fields);
+
+// An options class's attributes from its option fields (option_fields.hpp): each field read/write
+// as its own type (float, int, bool), its docstring the field's unit, range, note and help, and the
+// CLI's flag (`command` FLAG).
+template <class Options>
+void def_option_fields(py::class_<Options>& c, const std::vector<OptionField<Options>>& fields, const char* command);
 
 // Binding groups (one file each).
 void bind_errors(py::module_& m);
@@ -159,7 +167,6 @@ void bind_pitch(py::module_& m);
 }  // namespace toolpoint::python
 
 // ---- template definitions ----------------------------------------------------------------------
-#include <fmt/format.h>
 
 #include "toolpoint/error.hpp"
 
@@ -219,6 +226,36 @@ py::list fields_data(const std::vector<OptionField<Options>>& fields) {
     out.append(d);
   }
   return out;
+}
+
+template <class Options>
+void def_option_fields(py::class_<Options>& c, const std::vector<OptionField<Options>>& fields, const char* command) {
+  for (const OptionField<Options>& f : fields) {
+    const FieldSpec& s = f.spec;
+    std::string doc = *s.unit ? fmt::format("[{}] ", s.unit) : std::string();
+    if (s.kind != FieldKind::Flag) doc += field_range_text(s);
+    if (*s.note) doc += fmt::format(" ({})", s.note);
+    doc += fmt::format(": {}", s.help);
+    if (s.cli_name) doc += fmt::format(" ({} {})", command, field_flag(s));
+    const OptionField<Options>* field = &f;  // the table is static: the address outlives the module
+    switch (s.kind) {
+      case FieldKind::Real:
+        c.def_property(
+            s.name, [field](const Options& o) { return field->get(o); }, [field](Options& o, double v) { field->set(o, v); },
+            doc.c_str());
+        break;
+      case FieldKind::Integer:
+        c.def_property(
+            s.name, [field](const Options& o) { return static_cast<int>(field->get(o)); },
+            [field](Options& o, int v) { field->set(o, v); }, doc.c_str());
+        break;
+      case FieldKind::Flag:
+        c.def_property(
+            s.name, [field](const Options& o) { return field->get(o) != 0.0; },
+            [field](Options& o, bool v) { field->set(o, v ? 1.0 : 0.0); }, doc.c_str());
+        break;
+    }
+  }
 }
 
 }  // namespace toolpoint::python

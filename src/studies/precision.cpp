@@ -13,19 +13,46 @@
 namespace toolpoint {
 
 void TapNoise::check() const {
-  if (!(sigma >= 0.0 && sigma <= 0.5))
-    throw InvalidArgument(fmt::format("TapNoise::sigma = {} must lie in [0, 0.5] (a fraction)", sigma), "e.g. 0.01 for 1 %");
-  if (!(floor >= 0.0 && floor <= 0.5))
-    throw InvalidArgument(fmt::format("TapNoise::floor = {} must lie in [0, 0.5] (a fraction of each FRF's peak)", floor),
-                          "e.g. 0.001 for a floor at 0.1 % of the peak");
+  check_fields(tap_noise_fields(), *this, "TapNoise");
   if (sigma == 0.0 && floor == 0.0)
     throw InvalidArgument("TapNoise::sigma and TapNoise::floor are both 0: exact data leave no uncertainty to predict",
                           "state the noise of one hit, e.g. TapNoise::sigma 0.01");
-  if (averages < 1 || averages > 100000)
-    throw InvalidArgument(fmt::format("TapNoise::averages = {} must lie in 1…100000", averages));
-  if (!(calibration >= 0.0 && calibration <= 0.1))
-    throw InvalidArgument(fmt::format("TapNoise::calibration = {} must lie in [0, 0.1] (a standard deviation)", calibration),
-                          "e.g. 0.02 for 2 %; above 10 % a sensor is broken, not uncertain");
+}
+
+const std::vector<OptionField<TapNoise>>& tap_noise_fields() {
+  using O = TapNoise;
+  using K = FieldKind;
+  // The floor and the calibration are the measured-noise model's (NoiseOptions): their ranges, in a
+  // planned test's words.
+  const auto noise = [](const char* name, const char* help) { return with_help(option_field(noise_fields(), name).spec, help); };
+  static const std::vector<OptionField<O>> fields = {
+      {{.name = "sigma",
+        .kind = K::Real,
+        .min = 0.0,
+        .max = 0.5,
+        .help = "one hit's variation, relative, magnitude and phase alike (0.01 = 1 %)",
+        .cli_name = "sigma"},
+       [](O& o) -> double& { return o.sigma; }},
+      {noise("floor", "one hit's additive floor: σ of each part relative to each FRF's peak (0.001 = 0.1 %)"),
+       [](O& o) -> double& { return o.floor; }},
+      {{.name = "averages",
+        .kind = K::Integer,
+        .min = 1.0,
+        .max = 100000.0,
+        .help = "hits averaged per FRF",
+        .cli_name = "averages"},
+       nullptr,
+       [](O& o) -> int& { return o.averages; }},
+      {noise("calibration", "σ of each tap test's calibration factor (one hammer, one sensor; 0.02 = 2 %)"),
+       [](O& o) -> double& { return o.calibration; }},
+      {{.name = "shared_calibration",
+        .kind = K::Flag,
+        .help = "one sensor chain for both tap tests: one calibration factor for both",
+        .cli_name = "calibration-shared"},
+       nullptr,
+       nullptr,
+       [](O& o) -> bool& { return o.shared_calibration; }}};
+  return fields;
 }
 
 void PrecisionOptions::check() const {

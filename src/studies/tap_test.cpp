@@ -16,24 +16,49 @@ namespace toolpoint {
 const char* tap_side_name(TapSide side) { return side == TapSide::Tool ? "tool" : "holder"; }
 const char* hammer_plan_name(HammerPlan plan) { return plan == HammerPlan::Roving ? "roving" : "tip"; }
 
-void TapTestOptions::check() const {
-  if (!std::isfinite(spacing_m) || !(spacing_m > 0.0))
-    throw InvalidArgument(fmt::format("TapTestOptions::spacing_m = {} m must be > 0", spacing_m), "e.g. 0.01 for 10 mm");
-  if (points != 2 && points != 3)
-    throw InvalidArgument(fmt::format("TapTestOptions::points = {} must be 2 or 3", points),
-                          "2 for first-order finite differences, 3 for second order");
-  if (!(sigma >= 0.0 && sigma < 1.0))
-    throw InvalidArgument(fmt::format("TapTestOptions::sigma = {} must lie in [0, 1)", sigma), "e.g. 0.005 for 0.5 % noise");
-  try {
-    NoiseOptions{.sigma = sigma, .seed = seed, .floor = floor, .calibration = calibration, .averages = averages}.check();
-  } catch (const InvalidArgument& e) {
-    std::string what = e.what();
-    for (const char* field : {"floor", "calibration", "averages"}) {
-      const std::string from = std::string("NoiseOptions::") + field, to = std::string("TapTestOptions::") + field;
-      for (std::size_t at = what.find(from); at != std::string::npos; at = what.find(from)) what.replace(at, from.size(), to);
-    }
-    throw InvalidArgument(what, e.hint());
-  }
+void TapTestOptions::check() const { check_fields(tap_test_fields(), *this, "TapTestOptions"); }
+
+const std::vector<OptionField<TapTestOptions>>& tap_test_fields() {
+  using O = TapTestOptions;
+  using K = FieldKind;
+  // The noise beyond σ is the measured-noise model's (NoiseOptions): its range, in a tap test's words.
+  const auto noise = [](const char* name, const char* help) { return with_help(option_field(noise_fields(), name).spec, help); };
+  static const std::vector<OptionField<O>> fields = {
+      {{.name = "spacing_m",
+        .kind = K::Real,
+        .unit = "m",
+        .min = 0.0,
+        .min_open = true,
+        .help = "distance s between neighbouring points (0.01 for 10 mm); (points − 1)·s must fit on the tool's overhang "
+                "or the holder",
+        .cli_name = "spacing"},
+       [](O& o) -> double& { return o.spacing_m; }},
+      {{.name = "points",
+        .kind = K::Integer,
+        .min = 2.0,
+        .max = 3.0,
+        .help = "measurement points: 2 (first-order differences) or 3 (second order)",
+        .cli_name = "points"},
+       nullptr,
+       [](O& o) -> int& { return o.points; }},
+      {{.name = "sigma",
+        .kind = K::Real,
+        .min = 0.0,
+        .max = 1.0,
+        .max_open = true,
+        .note = "0: exact",
+        .help = "multiplicative noise on each FRF, standard deviation (0.02 = 2 %)",
+        .cli_name = "sigma"},
+       [](O& o) -> double& { return o.sigma; }},
+      {noise("floor", "additive noise floor: σ of the real and imaginary parts relative to each FRF's peak |H| (0.01 = 1 %)"),
+       [](O& o) -> double& { return o.floor; }},
+      {noise("averages",
+             "hits averaged per FRF (each varying by sigma in magnitude and phase, with the floor); each FRF's "
+             "coherence is given"),
+       nullptr, [](O& o) -> int& { return o.averages; }},
+      {noise("calibration", "σ of one calibration factor scaling every FRF of the test (one hammer, one sensor; 0.02 = 2 %)"),
+       [](O& o) -> double& { return o.calibration; }}};
+  return fields;
 }
 
 TapTest run_tap_test_study(const Assembly& assembly, const TapTestOptions& options, const ProgressCallback& progress) {

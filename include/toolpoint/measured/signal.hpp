@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "toolpoint/model/receptance.hpp"
+#include "toolpoint/option_fields.hpp"
 
 namespace toolpoint {
 
@@ -153,9 +154,16 @@ struct NoiseOptions {
 
   // Throws InvalidArgument naming `NoiseOptions::<field>`: σ, floor or calibration negative or not
   // finite, a floor above 0.5 or a calibration above 0.1 (per cent given as a number), averages
-  // of 1 or below 0 or above 10000.
+  // of 1 or below 0 or above 10000 (the ranges of noise_fields()).
   void check() const;
 };
+
+/// \brief NoiseOptions' scalar fields defined once (option_fields.hpp): check(), the flags of
+/// `toolpoint noise` and the keywords of Python's add_measurement_noise derive from this table
+/// (seed, a 64-bit integer, has its own definition). TapTestOptions' floor, averages and calibration
+/// take their ranges from it.
+/// \return the table, in the order of the fields
+const std::vector<OptionField<NoiseOptions>>& noise_fields();
 
 template <class Series>
 struct NoisyMeasurement {

@@ -33,6 +33,7 @@
 #include "toolpoint/model/assembly.hpp"
 #include "toolpoint/identify/identify.hpp"
 #include "toolpoint/model/joint.hpp"
+#include "toolpoint/option_fields.hpp"
 #include "toolpoint/measured/noise.hpp"
 #include "toolpoint/measured/signal.hpp"
 #include "toolpoint/studies/study.hpp"
@@ -49,6 +50,12 @@ struct TapNoise {
   bool shared_calibration = false;  // one sensor chain for both tap tests: one factor for both
   void check() const;               // throws InvalidArgument naming `TapNoise::<field>`
 };
+
+/// \brief TapNoise's fields defined once (option_fields.hpp): check(), the noise flags of
+/// `toolpoint precision` and Python's TapNoise attributes derive from this table (calibration takes
+/// noise_fields' range; sigma and floor both 0 is refused by check() beside it).
+/// \return the table, in the order of the fields
+const std::vector<OptionField<TapNoise>>& tap_noise_fields();
 
 struct PrecisionOptions {
   Route route = Route::HolderTool;

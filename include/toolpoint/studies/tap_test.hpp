@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "toolpoint/model/assembly.hpp"
+#include "toolpoint/option_fields.hpp"
 #include "toolpoint/model/receptance.hpp"
 #include "toolpoint/studies/study.hpp"
 
@@ -49,9 +50,15 @@ struct TapTestOptions {
   double floor = 0.0;
   int averages = 0;
   double calibration = 0.0;
-  // Throws InvalidArgument naming `TapTestOptions::<field>` and the value.
+  // Throws InvalidArgument naming `TapTestOptions::<field>` and the value (tap_test_fields' ranges).
   void check() const;
 };
+
+/// \brief TapTestOptions' scalar fields defined once (option_fields.hpp): check(), the flags of
+/// `toolpoint taptest` and Python's TapTestOptions attributes derive from this table (side, hammer
+/// and seed have their own definitions; floor, averages and calibration take noise_fields' ranges).
+/// \return the table, in the order of the fields
+const std::vector<OptionField<TapTestOptions>>& tap_test_fields();
 
 struct TapTestFrf {
   int response = 0;  // point index, 0 = tip (UFF node response + 1)
