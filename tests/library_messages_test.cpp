@@ -113,7 +113,7 @@ struct Allowed {
 };
 const Allowed kAllowed[] = {
     {"src/joint_file.cpp", "Use it with e.g. `toolpoint predict", "the comment written at the top of every joint file"},
-    {"src/studies/plan.cpp", "toolpoint plan 1", "the plan fingerprint's salt: changing it changes every fingerprint"},
+    {"src/studies/plan.cpp", "toolpoint plan 2", "the plan fingerprint's salt: changing it changes every fingerprint"},
     {"src/studies/plan_io.cpp", "toolpoint plan part", "the part files' format tag"},
     {"src/studies/plan_io.cpp", "# toolpoint plan: ", "the first comment line of the plan's CSV files"},
 };

@@ -23,6 +23,7 @@
 #include "toolpoint/option_fields.hpp"
 #include "toolpoint/studies/lobes.hpp"
 #include "support/expected_fields.hpp"
+#include "support/field_values.hpp"
 
 using namespace toolpoint;
 
@@ -515,4 +516,31 @@ TEST(PlanStudyFile, OptionFieldsAreItsCutMachineAndSafetyKeys) {
     expect_refused<InputError>(refused, {fmt::format("study.toml:{}", line), fmt::format("{} = {:g}", e.plan_key, bad)});
   }
   fs::remove_all(dir);
+}
+
+// A plan part file carries every field of the plan's option tables (option_fields.hpp: the lobes,
+// the cut, the machine, the safety rule), and each moves the plan's fingerprint: each field in
+// turn set to another valid value, written and read back exactly, with a fingerprint unlike the
+// defaults'. A field left out of the part file or the fingerprint fails here by name.
+TEST(PlanStudyFile, PartFileCarriesEveryTableField) {
+  const PlanStudy s = parse_plan_study(study(), "study.toml", "");
+  const std::uint64_t plain = plan_header(s.candidates, s.options).fingerprint;
+  auto each = [&](const auto& fields, auto member) {
+    for (const auto& f : fields) {
+      PlanOptions o = s.options;
+      const double v = test::other_valid_value(f.spec, f.get(member(o)));
+      ASSERT_FALSE(std::isnan(v)) << f.spec.name;
+      f.set(member(o), v);
+      PlanPart part;
+      part.header = plan_header(s.candidates, o);
+      EXPECT_NE(part.header.fingerprint, plain) << f.spec.name;
+      const PlanPart back = parse_plan_part(format_plan_part(part), "p.json");
+      EXPECT_EQ(f.get(member(back.header.options)), v) << f.spec.name;
+      EXPECT_EQ(back.header.fingerprint, part.header.fingerprint) << f.spec.name;
+    }
+  };
+  each(lobes_study_fields(), [](auto& o) -> auto& { return o.lobes; });
+  each(plan_fields(), [](auto& o) -> auto& { return o; });
+  each(machine_limits_fields(), [](auto& o) -> auto& { return o.machine; });
+  each(safety_rule_fields(), [](auto& o) -> auto& { return o.safety; });
 }

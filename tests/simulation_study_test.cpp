@@ -12,6 +12,7 @@
 #include "toolpoint/error.hpp"
 #include "toolpoint/studies/simulation.hpp"
 #include "toolpoint/studies/simulation_io.hpp"
+#include "support/field_values.hpp"
 
 using namespace toolpoint;
 
@@ -222,4 +223,25 @@ TEST(SimulationStudy, CrossFrfsCoupleTheFittedModes) {
   uncoupled.source.frfs->yx.reset();
   EXPECT_EQ(std::abs(simulation_dynamics(uncoupled, simulation_fit_options(), 0.02, fits, warnings).receptance(900.0)(0, 1)),
             0.0);
+}
+
+// A simulated map's part file carries every field of SimulationOptions' table but `record` (a map
+// keeps no histories: its header sets it false), each moving the map's fingerprint: each field in
+// turn set to another valid value, written and read back exactly.
+TEST(SimulatedMap, PartFileCarriesEveryTableField) {
+  const SimulatedMapOptions plain = bench_map(2, 2);
+  const std::uint64_t fingerprint = simulated_map_header(bench_dynamics(), plain).fingerprint;
+  for (const OptionField<SimulationOptions>& f : simulation_fields()) {
+    if (std::string(f.spec.name) == "record") continue;
+    SimulatedMapOptions o = plain;
+    const double v = test::other_valid_value(f.spec, f.get(o.simulation));
+    ASSERT_FALSE(std::isnan(v)) << f.spec.name;
+    f.set(o.simulation, v);
+    SimulatedMapPart part;
+    part.header = simulated_map_header(bench_dynamics(), o);
+    EXPECT_NE(part.header.fingerprint, fingerprint) << f.spec.name;
+    const SimulatedMapPart back = parse_simulated_map_part(format_simulated_map_part(part), "p.json");
+    EXPECT_EQ(f.get(back.header.options.simulation), v) << f.spec.name;
+    EXPECT_EQ(back.header.fingerprint, part.header.fingerprint) << f.spec.name;
+  }
 }

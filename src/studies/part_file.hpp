@@ -23,6 +23,7 @@
 
 #include "toolpoint/error.hpp"
 #include "toolpoint/io/io.hpp"
+#include "toolpoint/option_fields.hpp"
 #include "toolpoint/studies/shards.hpp"
 
 namespace toolpoint::part_file {
@@ -58,6 +59,30 @@ struct Fnv1a {
 
 // FNV-1a (64-bit) of text: the bytes alone (no length), as the checksum over the jobs.
 std::uint64_t text_hash(const std::string& text);
+
+// An options table's fields (option_fields.hpp) as exact JSON, keyed by the fields' names: reals as
+// hex(), integers and flags as such. What the table holds is written; what it does not (enums,
+// vectors, seeds) the study writes itself.
+template <class Options>
+nlohmann::json fields_json(const std::vector<OptionField<Options>>& fields, const Options& o) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const OptionField<Options>& f : fields) {
+    const double v = f.get(o);
+    switch (f.spec.kind) {
+      case FieldKind::Real: j[f.spec.name] = hex(v); break;
+      case FieldKind::Integer: j[f.spec.name] = static_cast<int>(v); break;
+      case FieldKind::Flag: j[f.spec.name] = v != 0.0; break;
+    }
+  }
+  return j;
+}
+
+// The fingerprint's share of an options table: every field's value, in the table's order (a field
+// added to the table changes every fingerprint, as it changes the study).
+template <class Options>
+void add_fields(Fnv1a& f, const std::vector<OptionField<Options>>& fields, const Options& o) {
+  for (const OptionField<Options>& field : fields) f.add(field.get(o));
+}
 
 // What the kind of part is: its "format" text, version, the library calls that compute a shard
 // and write its part (for the hints: "run_plan_part", "format_plan_part").
@@ -105,6 +130,18 @@ struct PartReader {
     }
   }
 };
+
+// Reads an options table's fields written by fields_json from `j` (at `path`, e.g. "options.lobes.")
+// into `o`; a key missing or of the wrong type refuses the part.
+template <class Options>
+void read_fields(const PartReader& r, const nlohmann::json& j, const std::string& path,
+                 const std::vector<OptionField<Options>>& fields, Options& o) {
+  for (const OptionField<Options>& f : fields) switch (f.spec.kind) {
+      case FieldKind::Real: f.set(o, r.number(j, f.spec.name, path)); break;
+      case FieldKind::Integer: f.set(o, r.get<int>(j, f.spec.name, path)); break;
+      case FieldKind::Flag: f.set(o, r.get<bool>(j, f.spec.name, path) ? 1.0 : 0.0); break;
+    }
+}
 
 // A study's part in memory (PlanPart, SimulatedMapPart) has its header (with its fingerprint), its
 // shard as index and count, and its study; label_of says what check_shard_set needs of it.

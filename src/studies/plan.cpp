@@ -383,7 +383,7 @@ PlanHeader plan_header(const std::vector<PlanCandidate>& candidates, const PlanO
 
 std::uint64_t plan_fingerprint(const PlanHeader& h) {
   Fnv f;
-  f.add(std::string("toolpoint plan 1"));
+  f.add(std::string("toolpoint plan 2"));
   const PlanOptions& o = h.options;
   f.add(o.name);
   const LobesStudyOptions& l = o.lobes;
@@ -401,12 +401,6 @@ std::uint64_t plan_fingerprint(const PlanHeader& h) {
   f.add(l.speeds.min_rpm);
   f.add(l.speeds.max_rpm);
   f.add(l.speeds.points);
-  f.add(l.max_depth_m);
-  f.add(l.lobes);
-  f.add(l.tolerance);
-  f.add(l.steps);
-  f.add(l.degree);
-  f.add(l.fit.max_modes);
   f.add(l.fit.band_hz.has_value());
   if (l.fit.band_hz) {
     f.add(l.fit.band_hz->first);
@@ -415,25 +409,12 @@ std::uint64_t plan_fingerprint(const PlanHeader& h) {
   f.add(l.fit.min_prominence_db);
   f.add(l.fit.residual_terms);
   f.add(l.fit.max_evaluations);
-  f.add(l.fit_target);
-  f.add(l.pocket_prominence);
-  f.add(l.pockets);
-  if (l.speed_model != SpeedModel::Automatic || l.speed_nodes != 0 || l.extrapolate_bearings) {
-    // Only when set: plans with the defaults keep the fingerprints they had.
-    f.add(static_cast<int>(l.speed_model));
-    f.add(l.speed_nodes);
-    f.add(l.extrapolate_bearings);
-  }
-  f.add(o.feed_per_tooth_m);
-  f.add(o.edge_coefficient_n_per_m);
-  f.add(o.max_depth_m);
-  f.add(o.machine.power_w);
-  f.add(o.machine.torque_nm);
-  f.add(o.machine.min_overhang_m);
+  f.add(static_cast<int>(l.speed_model));
+  part_file::add_fields(f, lobes_study_fields(), l);
+  part_file::add_fields(f, plan_fields(), o);
+  part_file::add_fields(f, machine_limits_fields(), o.machine);
   f.add(static_cast<int>(o.safety.kind));
-  f.add(o.safety.factor);
-  f.add(o.safety.probability);
-  f.add(o.safety.samples);
+  part_file::add_fields(f, safety_rule_fields(), o.safety);
   f.add(o.safety.seed);
   f.add(static_cast<std::uint64_t>(h.candidates.size()));
   for (const PlanCandidateSummary& c : h.candidates) {

@@ -26,12 +26,14 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // Version 2: the envelope of part_file.hpp (shard and study first, so a file cut short names its shard).
-constexpr part_file::PartKind kPlanPart{"toolpoint plan part", 2, "run_plan_part", "format_plan_part"};
+// Version 3: the options' scalar fields from their tables (lobes, cut, machine, safety_rule).
+constexpr part_file::PartKind kPlanPart{"toolpoint plan part", 3, "run_plan_part", "format_plan_part"};
 
 using part_file::hex;
 using part_file::hexes;
 using part_file::PartReader;
 
+// The options' scalar fields come from their tables (option_fields.hpp), the rest by hand.
 nlohmann::json header_json(const PlanHeader& h) {
   const PlanOptions& o = h.options;
   const LobesStudyOptions& l = o.lobes;
@@ -50,33 +52,17 @@ nlohmann::json header_json(const PlanHeader& h) {
                         {"speed_min_rpm", hex(l.speeds.min_rpm)},
                         {"speed_max_rpm", hex(l.speeds.max_rpm)},
                         {"speed_points", l.speeds.points},
-                        {"lobes_max_depth_m", hex(l.max_depth_m)},
-                        {"lobes", l.lobes},
-                        {"tolerance", hex(l.tolerance)},
-                        {"steps", l.steps},
-                        {"degree", l.degree},
-                        {"fit_max_modes", l.fit.max_modes},
                         {"fit_band_hz", l.fit.band_hz ? nlohmann::json{hex(l.fit.band_hz->first), hex(l.fit.band_hz->second)}
                                                       : nlohmann::json(nullptr)},
                         {"fit_min_prominence_db", hex(l.fit.min_prominence_db)},
                         {"fit_residual_terms", l.fit.residual_terms},
                         {"fit_max_evaluations", l.fit.max_evaluations},
-                        {"fit_target", hex(l.fit_target)},
-                        {"pocket_prominence", hex(l.pocket_prominence)},
-                        {"pockets", l.pockets},
                         {"speed_model", to_string(l.speed_model)},
-                        {"speed_nodes", l.speed_nodes},
-                        {"extrapolate_bearings", l.extrapolate_bearings},
-                        {"feed_per_tooth_m", hex(o.feed_per_tooth_m)},
-                        {"edge_coefficient_n_per_m", hex(o.edge_coefficient_n_per_m)},
-                        {"max_depth_m", hex(o.max_depth_m)},
-                        {"power_w", hex(o.machine.power_w)},
-                        {"torque_nm", hex(o.machine.torque_nm)},
-                        {"min_overhang_m", hex(o.machine.min_overhang_m)},
+                        {"lobes", part_file::fields_json(lobes_study_fields(), l)},
+                        {"cut", part_file::fields_json(plan_fields(), o)},
+                        {"machine", part_file::fields_json(machine_limits_fields(), o.machine)},
                         {"safety", o.safety.kind == SafetyRule::Kind::Factor ? "factor" : "probability"},
-                        {"factor", hex(o.safety.factor)},
-                        {"probability", hex(o.safety.probability)},
-                        {"samples", o.safety.samples},
+                        {"safety_rule", part_file::fields_json(safety_rule_fields(), o.safety)},
                         {"seed", std::to_string(o.safety.seed)}};
   nlohmann::json cands = nlohmann::json::array();
   for (const PlanCandidateSummary& c : h.candidates)
@@ -108,21 +94,14 @@ PlanHeader parse_header(const PartReader& r, const nlohmann::json& j) {
   l.cutting.radial_ratio = r.number(o, "radial_ratio", p);
   l.cutting.engagement.entry_rad = r.number(o, "entry_rad", p);
   l.cutting.engagement.exit_rad = r.number(o, "exit_rad", p);
-  // The tool beyond straight, even teeth (keys absent in older part files, whose plans had none).
-  if (o.contains("pitch_rad")) l.cutting.pitch_rad = r.numbers(o, "pitch_rad", p);
-  if (o.contains("helix_rad")) l.cutting.helix_rad = r.numbers(o, "helix_rad", p);
-  if (o.contains("helix_slices")) l.cutting.helix_slices = r.get<int>(o, "helix_slices", p);
-  if (o.contains("runout_m")) l.cutting.runout_m = r.numbers(o, "runout_m", p);
-  if (o.contains("process_damping_n_per_m")) l.cutting.process_damping_n_per_m = r.number(o, "process_damping_n_per_m", p);
+  l.cutting.pitch_rad = r.numbers(o, "pitch_rad", p);
+  l.cutting.helix_rad = r.numbers(o, "helix_rad", p);
+  l.cutting.helix_slices = r.get<int>(o, "helix_slices", p);
+  l.cutting.runout_m = r.numbers(o, "runout_m", p);
+  l.cutting.process_damping_n_per_m = r.number(o, "process_damping_n_per_m", p);
   l.speeds.min_rpm = r.number(o, "speed_min_rpm", p);
   l.speeds.max_rpm = r.number(o, "speed_max_rpm", p);
   l.speeds.points = r.get<int>(o, "speed_points", p);
-  l.max_depth_m = r.number(o, "lobes_max_depth_m", p);
-  l.lobes = r.get<int>(o, "lobes", p);
-  l.tolerance = r.number(o, "tolerance", p);
-  l.steps = r.get<int>(o, "steps", p);
-  l.degree = r.get<int>(o, "degree", p);
-  l.fit.max_modes = r.get<int>(o, "fit_max_modes", p);
   const nlohmann::json& band = r.at(o, "fit_band_hz", p);
   if (!band.is_null()) {
     if (!band.is_array() || band.size() != 2) r.fail("options.fit_band_hz is not a pair");
@@ -131,31 +110,18 @@ PlanHeader parse_header(const PartReader& r, const nlohmann::json& j) {
   l.fit.min_prominence_db = r.number(o, "fit_min_prominence_db", p);
   l.fit.residual_terms = r.get<bool>(o, "fit_residual_terms", p);
   l.fit.max_evaluations = r.get<int>(o, "fit_max_evaluations", p);
-  l.fit_target = r.number(o, "fit_target", p);
-  l.pocket_prominence = r.number(o, "pocket_prominence", p);
-  l.pockets = r.get<int>(o, "pockets", p);
-  // The speed model (keys absent in older part files, whose plans took the default).
-  if (o.contains("speed_model")) {
-    const std::string name = r.get<std::string>(o, "speed_model", p);
-    const std::optional<SpeedModel> model = speed_model_from(name);
-    if (!model) r.fail(fmt::format("options.speed_model '{}' is none of auto, standstill, bearings, spinning", name));
-    l.speed_model = *model;
-  }
-  if (o.contains("speed_nodes")) l.speed_nodes = r.get<int>(o, "speed_nodes", p);
-  if (o.contains("extrapolate_bearings")) l.extrapolate_bearings = r.get<bool>(o, "extrapolate_bearings", p);
-  opt.feed_per_tooth_m = r.number(o, "feed_per_tooth_m", p);
-  opt.edge_coefficient_n_per_m = r.number(o, "edge_coefficient_n_per_m", p);
-  opt.max_depth_m = r.number(o, "max_depth_m", p);
-  opt.machine.power_w = r.number(o, "power_w", p);
-  opt.machine.torque_nm = r.number(o, "torque_nm", p);
-  opt.machine.min_overhang_m = r.number(o, "min_overhang_m", p);
+  const std::string model_name = r.get<std::string>(o, "speed_model", p);
+  const std::optional<SpeedModel> model = speed_model_from(model_name);
+  if (!model) r.fail(fmt::format("options.speed_model '{}' is none of auto, standstill, bearings, spinning", model_name));
+  l.speed_model = *model;
+  part_file::read_fields(r, r.at(o, "lobes", p), p + "lobes.", lobes_study_fields(), l);
+  part_file::read_fields(r, r.at(o, "cut", p), p + "cut.", plan_fields(), opt);
+  part_file::read_fields(r, r.at(o, "machine", p), p + "machine.", machine_limits_fields(), opt.machine);
   const std::string safety = r.get<std::string>(o, "safety", p);
   if (safety != "factor" && safety != "probability")
     r.fail(fmt::format("options.safety '{}' is neither factor nor probability", safety));
   opt.safety.kind = safety == "factor" ? SafetyRule::Kind::Factor : SafetyRule::Kind::Probability;
-  opt.safety.factor = r.number(o, "factor", p);
-  opt.safety.probability = r.number(o, "probability", p);
-  opt.safety.samples = r.get<int>(o, "samples", p);
+  part_file::read_fields(r, r.at(o, "safety_rule", p), p + "safety_rule.", safety_rule_fields(), opt.safety);
   const std::string seed = r.get<std::string>(o, "seed", p);
   std::uint64_t sv = 0;
   if (std::from_chars(seed.data(), seed.data() + seed.size(), sv).ec != std::errc()) r.fail("options.seed is not a number");

@@ -175,7 +175,7 @@ SimulatedMapHeader simulated_map_header(const ToolDynamics& dynamics, const Simu
 
 std::uint64_t simulated_map_fingerprint(const SimulatedMapHeader& h) {
   part_file::Fnv1a f;
-  f.add(std::string("toolpoint simulated map 1"));
+  f.add(std::string("toolpoint simulated map 2"));
   f.add(static_cast<std::uint64_t>(h.dynamics.modes.size()));
   for (const PlanarMode& m : h.dynamics.modes) {
     f.add(m.frequency_hz);
@@ -198,11 +198,7 @@ std::uint64_t simulated_map_fingerprint(const SimulatedMapHeader& h) {
   f.add(o.cut.engagement.entry_rad);
   f.add(o.cut.engagement.exit_rad);
   const SimulationOptions& s = o.simulation;
-  f.add(s.revolutions);
-  f.add(s.steps_per_tooth);
-  f.add(s.slices);
-  f.add(s.analysed_fraction);
-  f.add(s.memory_revolutions);
+  part_file::add_fields(f, simulation_fields(), s);
   f.add(s.initial_state);
   f.add(h.speeds_rpm);
   f.add(h.depths_m);

@@ -17,8 +17,8 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // Version 2: the envelope of part_file.hpp, as the plan's part (shard and study first, so a file
-// cut short names its shard).
-constexpr part_file::PartKind kMapPart{"toolpoint simulated map part", 2, "run_simulated_map_part", "format_simulated_map_part"};
+// cut short names its shard). Version 3: the simulation's scalar fields from their table.
+constexpr part_file::PartKind kMapPart{"toolpoint simulated map part", 3, "run_simulated_map_part", "format_simulated_map_part"};
 
 using part_file::hex;
 using part_file::hexes;
@@ -91,6 +91,10 @@ nlohmann::json header_json(const SimulatedMapHeader& h) {
     modes.push_back({hex(m.frequency_hz), hex(m.damping_ratio), hex(m.shape_x), hex(m.shape_y)});
   const SimulatedMapOptions& o = h.options;
   const SimulationOptions& s = o.simulation;
+  // The simulation's scalar fields from their table (option_fields.hpp), the rest by hand.
+  nlohmann::json simulation = part_file::fields_json(simulation_fields(), s);
+  simulation["initial_state"] = hexes(s.initial_state);
+  simulation["memory_limit_bytes"] = hex(s.memory_limit_bytes);
   return {{"modes", modes},
           {"cutter",
            {{"diameter_m", hex(o.cutter.diameter_m)},
@@ -111,14 +115,7 @@ nlohmann::json header_json(const SimulatedMapHeader& h) {
            {{"feed_per_tooth_m", hex(o.cut.feed_per_tooth_m)},
             {"entry_rad", hex(o.cut.engagement.entry_rad)},
             {"exit_rad", hex(o.cut.engagement.exit_rad)}}},
-          {"simulation",
-           {{"revolutions", s.revolutions},
-            {"steps_per_tooth", s.steps_per_tooth},
-            {"slices", s.slices},
-            {"analysed_fraction", hex(s.analysed_fraction)},
-            {"memory_revolutions", s.memory_revolutions},
-            {"initial_state", hexes(s.initial_state)},
-            {"memory_limit_bytes", hex(s.memory_limit_bytes)}}},
+          {"simulation", simulation},
           {"speeds", {{"min_rpm", hex(o.speeds.min_rpm)}, {"max_rpm", hex(o.speeds.max_rpm)}, {"points", o.speeds.points}}},
           {"depths", {{"min_m", hex(o.depths.min_m)}, {"max_m", hex(o.depths.max_m)}, {"points", o.depths.points}}}};
 }
@@ -138,8 +135,7 @@ SimulatedMapHeader parse_header(const PartReader& r, const nlohmann::json& j) {
   o.cutter.diameter_m = r.number(c, "diameter_m", "cutter.");
   o.cutter.pitch_rad = r.numbers(c, "pitch_rad", "cutter.");
   o.cutter.helix_rad = r.number(c, "helix_rad", "cutter.");
-  // Keys added later (a variable helix, process damping): absent in older part files, whose runs had neither.
-  if (c.contains("tooth_helix_rad")) o.cutter.tooth_helix_rad = r.numbers(c, "tooth_helix_rad", "cutter.");
+  o.cutter.tooth_helix_rad = r.numbers(c, "tooth_helix_rad", "cutter.");
   o.cutter.runout_m = r.numbers(c, "runout_m", "cutter.");
   o.cutter.flute_length_m = r.number(c, "flute_length_m", "cutter.");
   const nlohmann::json& f = r.at(j, "force", "");
@@ -149,17 +145,13 @@ SimulatedMapHeader parse_header(const PartReader& r, const nlohmann::json& j) {
   o.force.radial_edge = r.number(f, "radial_edge", "force.");
   o.force.exponent = r.number(f, "exponent", "force.");
   o.force.reference_chip_m = r.number(f, "reference_chip_m", "force.");
-  if (f.contains("process_damping_n_per_m")) o.force.process_damping_n_per_m = r.number(f, "process_damping_n_per_m", "force.");
+  o.force.process_damping_n_per_m = r.number(f, "process_damping_n_per_m", "force.");
   const nlohmann::json& cut = r.at(j, "cut", "");
   o.cut.feed_per_tooth_m = r.number(cut, "feed_per_tooth_m", "cut.");
   o.cut.engagement.entry_rad = r.number(cut, "entry_rad", "cut.");
   o.cut.engagement.exit_rad = r.number(cut, "exit_rad", "cut.");
   const nlohmann::json& s = r.at(j, "simulation", "");
-  o.simulation.revolutions = r.get<int>(s, "revolutions", "simulation.");
-  o.simulation.steps_per_tooth = r.get<int>(s, "steps_per_tooth", "simulation.");
-  o.simulation.slices = r.get<int>(s, "slices", "simulation.");
-  o.simulation.analysed_fraction = r.number(s, "analysed_fraction", "simulation.");
-  o.simulation.memory_revolutions = r.get<int>(s, "memory_revolutions", "simulation.");
+  part_file::read_fields(r, s, "simulation.", simulation_fields(), o.simulation);
   o.simulation.initial_state = r.numbers(s, "initial_state", "simulation.");
   o.simulation.memory_limit_bytes = r.number(s, "memory_limit_bytes", "simulation.");
   o.simulation.record = false;
