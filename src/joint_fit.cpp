@@ -855,15 +855,31 @@ Setup replicate_setup(const Setup& u) {
   return r;
 }
 
+// The refitted q of each replicate of one bootstrap world, in replicate order; q[b] is valid where
+// ok[b] (the replicate converged).
+struct Replicates {
+  std::vector<VectorXd> q;
+  std::vector<char> ok;
+  // The converged replicates, in order.
+  std::vector<VectorXd> good() const {
+    std::vector<VectorXd> out;
+    for (std::size_t b = 0; b < q.size(); ++b)
+      if (ok[b]) out.push_back(q[b]);
+    return out;
+  }
+};
+
 // Parametric bootstrap replicates of the whole fit in the world θ̂ = q with B11 `b11_world`, data
-// drawn from the noise models: the refitted q of each of the `N` replicates that converged, in
-// replicate order. `stream` offsets the replicates' seeds (a second world draws other data).
-std::vector<VectorXd> bootstrap_replicates(const BootstrapContext& c, std::size_t N, const std::function<void(double)>& progress,
-                                           const std::vector<BlockSeries>& b11_world, std::uint64_t stream) {
+// drawn from the noise models: the first `N` replicates of the seed JointFitOptions::seed. Replicate
+// b draws the same noise in every world (common random numbers: a difference between two worlds
+// is then measured replicate by replicate, without the noise's own spread).
+Replicates bootstrap_replicates(const BootstrapContext& c, std::size_t N, const std::function<void(double)>& progress,
+                                const std::vector<BlockSeries>& b11_world) {
   const std::vector<Setup>& setups = c.setups;
   const JointFitOptions& options = c.options;
-  std::vector<VectorXd> rep(N);
-  std::vector<char> ok(N, 0);
+  Replicates out{std::vector<VectorXd>(N), std::vector<char>(N, 0)};
+  std::vector<VectorXd>& rep = out.q;
+  std::vector<char>& ok = out.ok;
   const JointParameters theta = c.par.params(c.q);
   std::vector<BlockSeries> truth_g(setups.size());
   for (std::size_t s = 0; s < setups.size(); ++s) {
@@ -885,12 +901,12 @@ std::vector<VectorXd> bootstrap_replicates(const BootstrapContext& c, std::size_
         std::vector<double> g_scale(setups.size(), 1.0), b_scale(setups.size(), 1.0);
         for (std::size_t k = 0; k < c.factors.size(); ++k) {
           const double scale = 1.0 +
-                               c.factors[k].sigma * calibration_normal(stream_seed(options.seed, (stream + b) * 1000 + 999 - k));
+                               c.factors[k].sigma * calibration_normal(stream_seed(options.seed, b * 1000 + 999 - k));
           for (std::size_t s : c.factors[k].g) g_scale[s] *= scale;
           for (std::size_t s : c.factors[k].b) b_scale[s] *= scale;
         }
         for (std::size_t s = 0; s < setups.size(); ++s) {
-          const std::uint64_t base = stream_seed(options.seed, (stream + b) * 1000 + s);
+          const std::uint64_t base = stream_seed(options.seed, b * 1000 + s);
           Bb[s] = draw_block_noise(b11_world[s], *setups[s].b_noise, stream_seed(base, 1), false);
           Gb[s] = draw_block_noise(truth_g[s], *setups[s].g_noise, stream_seed(base, 2), false);
           for (Block& x : Bb[s].blocks) x *= b_scale[s];
@@ -915,10 +931,7 @@ std::vector<VectorXd> bootstrap_replicates(const BootstrapContext& c, std::size_
         } catch (const NumericalError&) {}
       },
       progress);
-  std::vector<VectorXd> good;
-  for (std::size_t b = 0; b < N; ++b)
-    if (ok[b]) good.push_back(rep[b]);
-  return good;
+  return out;
 }
 
 VectorXd mean_of(const std::vector<VectorXd>& v) {
@@ -937,6 +950,7 @@ struct Uncertainty {
   // covariance).
   VectorXd extrapolation;
   double bias_mc = 1.0;  // the bias's Monte Carlo variance, in the replicates' variance over N
+  std::size_t second_world_pairs = 0;  // the bias corrected once more in a second world: its pairs
   int bootstrap_samples = 0;
   std::string description;
   std::vector<std::string> warnings;
@@ -968,24 +982,54 @@ struct Uncertainty {
   // itself, and the bias, set by B11's noise where B11 is small, comes out smaller there than at
   // the truth (the example with a 1 % floor: 0.77 of it). A second world, the smoothed B11 of one
   // draw in the first, shows by how much: the bias becomes 2 b₁ − b₂ (the iterated bootstrap's
-  // correction, Hall 1992 §3.11), whose Monte Carlo variance is 5 spread²/N instead of 1. False
-  // when it does not apply or too few of its N replicates could be refitted.
-  bool correct_in_second_world(const BootstrapContext& c, std::size_t N) {
+  // correction, Hall 1992 §3.11). The step b₁ − b₂ is measured in pairs: the second world's
+  // replicates draw the same noise as the first world's first M = kSecondWorldShare · N
+  // (common random numbers), so each pair's difference lacks part of the noise's own spread and M
+  // a quarter of N measures it about as well as N independent replicates did (joint_fit.hpp,
+  // second_world_samples; the pairs' scatter is measured: bias_mc). False when it does not apply
+  // or fewer than half of the pairs could be refitted in both worlds.
+  bool correct_in_second_world(const BootstrapContext& c, const Replicates& first) {
     if (std::none_of(c.setups.begin(), c.setups.end(), [](const Setup& u) { return u.b_rows.has_value(); })) return false;
-    std::vector<BlockSeries> second(c.setups.size());
+    std::vector<BlockSeries> world(c.setups.size());
     for (std::size_t s = 0; s < c.setups.size(); ++s) {
-      second[s] = c.setups[s].B_base;
+      world[s] = c.setups[s].B_base;
       if (c.setups[s].b_rows)
-        second[s] = noise_free_estimate(draw_block_noise(c.setups[s].B_base, *c.setups[s].b_noise,
-                                                         stream_seed(stream_seed(c.options.seed, 0x5ec0d), s), false),
-                                        *c.setups[s].b_noise, "bootstrap B11");
+        world[s] = noise_free_estimate(draw_block_noise(c.setups[s].B_base, *c.setups[s].b_noise,
+                                                        stream_seed(stream_seed(c.options.seed, 0x5ec0d), s), false),
+                                       *c.setups[s].b_noise, "bootstrap B11");
     }
-    const std::vector<VectorXd> good = bootstrap_replicates(c, N, {}, second, N);
-    if (good.size() < N / 2) return false;
-    extrapolation = bias - (mean_of(good) - c.q);
+    const std::size_t M = second_world_samples(first.q.size());
+    const Replicates second = bootstrap_replicates(c, M, {}, world);
+    std::vector<VectorXd> step, x;  // per pair: b₁ − b₂'s sample, and the first world's replicate
+    for (std::size_t b = 0; b < M; ++b)
+      if (first.ok[b] && second.ok[b]) {
+        step.push_back(first.q[b] - second.q[b]);
+        x.push_back(first.q[b]);
+      }
+    if (step.size() < 2 || 2 * step.size() < M) return false;
+    extrapolation = mean_of(step);
     bias += extrapolation;
     estimate = c.q - bias;
-    bias_mc = 5.0;
+    // The bias 2 b₁ − b₂ = b̂₁ + mean(step): its Monte Carlo variance, per parameter in units of
+    // the replicates' variance over N, is 1 + (N/P) var(step)/s² + 2 cov(x, step)/s² (P pairs;
+    // b̂₁'s replicates include the pairs' x); the largest over the parameters is kept.
+    const std::vector<VectorXd> all = first.good();
+    const VectorXd m_all = mean_of(all), m_x = mean_of(x);
+    const double n = static_cast<double>(all.size()), pairs = static_cast<double>(step.size());
+    bias_mc = 1.0;
+    for (Eigen::Index k = 0; k < c.q.size(); ++k) {
+      double s2 = 0.0, v = 0.0, cv = 0.0;
+      for (const VectorXd& r : all) s2 += (r(k) - m_all(k)) * (r(k) - m_all(k));
+      for (std::size_t j = 0; j < step.size(); ++j) {
+        v += (step[j](k) - extrapolation(k)) * (step[j](k) - extrapolation(k));
+        cv += (x[j](k) - m_x(k)) * (step[j](k) - extrapolation(k));
+      }
+      s2 /= n - 1.0;
+      v /= pairs - 1.0;
+      cv /= pairs - 1.0;
+      if (s2 > 0.0) bias_mc = std::max(bias_mc, 1.0 + (n / pairs) * v / s2 + 2.0 * cv / s2);
+    }
+    second_world_pairs = step.size();
     return true;
   }
 };
@@ -1001,7 +1045,8 @@ std::vector<BlockSeries> first_world(const std::vector<Setup>& setups) {
 Uncertainty bootstrap_uncertainty(const BootstrapContext& c, const Linearised& lin, double z) {
   Uncertainty u(c.q, lin.covariance);
   const auto N = static_cast<std::size_t>(c.options.bootstrap_samples);
-  const std::vector<VectorXd> good = bootstrap_replicates(c, N, c.options.progress, first_world(c.setups), 0);
+  const Replicates first = bootstrap_replicates(c, N, c.options.progress, first_world(c.setups));
+  const std::vector<VectorXd> good = first.good();
   if (good.size() < N / 2)
     throw NumericalError(fmt::format("the bootstrap failed: only {} of {} replicates could be refitted", good.size(), N),
                          "the fit is unstable under its own noise: fit a wider band, or use the linearised intervals");
@@ -1009,7 +1054,7 @@ Uncertainty bootstrap_uncertainty(const BootstrapContext& c, const Linearised& l
     u.warnings.push_back(
         fmt::format("{} of {} bootstrap replicates could not be refitted and were left out", N - good.size(), N));
   u.take_replicates(good, c.q, lin.covariance);
-  if (u.correct_in_second_world(c, N)) u.covariance *= 1.0 + u.bias_mc / static_cast<double>(good.size());
+  if (u.correct_in_second_world(c, first)) u.covariance *= 1.0 + u.bias_mc / static_cast<double>(good.size());
   u.bootstrap_samples = static_cast<int>(good.size());
   u.description = fmt::format(
       "parametric bootstrap on the fitted model, {} replicates, bias-corrected; ±{:.3g} standard errors "
@@ -1030,10 +1075,11 @@ Uncertainty linearised_uncertainty(const BootstrapContext& c, const Linearised& 
   const bool errors_in_variables = std::any_of(c.setups.begin(), c.setups.end(),
                                                [](const Setup& s) { return !s.b_noise->exact(); });
   if (!errors_in_variables || !c.options.check_linearisation) return u;
-  const std::vector<VectorXd> good = bootstrap_replicates(c, kLinearisationCheck, {}, first_world(c.setups), 0);
+  const Replicates first = bootstrap_replicates(c, kLinearisationCheck, {}, first_world(c.setups));
+  const std::vector<VectorXd> good = first.good();
   if (good.size() < kLinearisationCheck / 2) return u;
   const MatrixXd replicates = u.take_replicates(good, c.q, lin.covariance);
-  u.correct_in_second_world(c, kLinearisationCheck);
+  u.correct_in_second_world(c, first);
   const int p = static_cast<int>(c.q.size());
   std::vector<std::string> off;
   double worst = 1.0;
@@ -1182,13 +1228,13 @@ JointFit fit_joint(const std::vector<JointFitData>& data, const std::vector<Join
   out.bootstrap_samples = u.bootstrap_samples;
   out.method_description = u.description;
   warnings.insert(warnings.end(), u.warnings.begin(), u.warnings.end());
-  if (u.bias_mc > 1.0) {
+  if (u.second_world_pairs > 0) {
     u.covariance += kExtrapolationUncertainty * kExtrapolationUncertainty * u.extrapolation * u.extrapolation.transpose() +
                     kCorrectionUncertainty * kCorrectionUncertainty * u.bias * u.bias.transpose();
     out.method_description += fmt::format(
-        "; the bias corrected once more from a second bootstrap world (2 b₁ − b₂, uncertain by {:g} (b₁ − b₂) and by {:g} of "
-        "the whole correction)",
-        kExtrapolationUncertainty, kCorrectionUncertainty);
+        "; the bias corrected once more from a second bootstrap world (2 b₁ − b₂, b₁ − b₂ from {} replicates paired with the "
+        "first world's by their noise; uncertain by {:g} (b₁ − b₂) and by {:g} of the whole correction)",
+        u.second_world_pairs, kExtrapolationUncertainty, kCorrectionUncertainty);
   }
   if (!smoothed_b.empty())
     out.method_description += fmt::format(
