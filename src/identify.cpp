@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
+#include <limits>
 
 #include "toolpoint/model/coupling.hpp"
 #include "complex_pairs.hpp"
@@ -114,11 +115,37 @@ JointParameters JointReadout::medians() const {
   return p;
 }
 
-void ReadoutOptions::check() const {
-  if (!(cond_warning > 1.0)) throw InvalidArgument(fmt::format("condition-number warning level {} must be > 1", cond_warning));
-  if (!(gain_warning > 0.0)) throw InvalidArgument(fmt::format("noise-gain warning level {} must be > 0", gain_warning));
-  if (!(reciprocity_warning > 0.0))
-    throw InvalidArgument(fmt::format("reciprocity warning level {} must be > 0", reciprocity_warning));
+void ReadoutOptions::check() const { check_fields(readout_fields(), *this, "ReadoutOptions"); }
+
+const std::vector<OptionField<ReadoutOptions>>& readout_fields() {
+  using O = ReadoutOptions;
+  constexpr double kNever = std::numeric_limits<double>::infinity();  // a level never exceeded: no warning
+  static const std::vector<OptionField<O>> fields = {
+      {{.name = "cond_warning",
+        .kind = FieldKind::Real,
+        .min = 1.0,
+        .min_open = true,
+        .automatic = kNever,
+        .note = "inf: never warn",
+        .help = "warn when cond(A11 − G11) exceeds this in the band"},
+       [](O& o) -> double& { return o.cond_warning; }},
+      {{.name = "reciprocity_warning",
+        .kind = FieldKind::Real,
+        .min = 0.0,
+        .min_open = true,
+        .automatic = kNever,
+        .note = "inf: never warn",
+        .help = "warn when k_ym and k_θf (or c) differ by more than this fraction"},
+       [](O& o) -> double& { return o.reciprocity_warning; }},
+      {{.name = "gain_warning",
+        .kind = FieldKind::Real,
+        .min = 0.0,
+        .min_open = true,
+        .automatic = kNever,
+        .note = "inf: never warn",
+        .help = "warn when a parameter's noise gain exceeds this (20: a 5 % FRF error moves it by 100 %)"},
+       [](O& o) -> double& { return o.gain_warning; }}};
+  return fields;
 }
 
 namespace {

@@ -138,9 +138,26 @@ void NoiseEstimateOptions::check() const {
   } catch (const InvalidArgument& e) {
     throw InvalidArgument(fmt::format("NoiseEstimateOptions::local: {}", e.what()), e.hint());
   }
-  if (window < 21 || window % 2 == 0)
+  check_fields(noise_estimate_fields(), *this, "NoiseEstimateOptions");
+  if (window % 2 == 0)
     throw InvalidArgument(fmt::format("NoiseEstimateOptions::window = {} must be odd and ≥ 21 (frequency points)", window),
                           "e.g. 201: the noise is averaged over that many points");
+}
+
+const std::vector<OptionField<NoiseEstimateOptions>>& noise_estimate_fields() {
+  using O = NoiseEstimateOptions;
+  static const std::vector<OptionField<O>> fields = {
+      {{.name = "window",
+        .kind = FieldKind::Integer,
+        .min = 21.0,
+        .help = "frequency points over which C is averaged, odd (e.g. 201)"},
+       nullptr,
+       [](O& o) -> int& { return o.window; }},
+      {{.name = "floor", .kind = FieldKind::Flag, .help = "estimate an additive floor beside the multiplicative noise"},
+       nullptr,
+       nullptr,
+       [](O& o) -> bool& { return o.floor; }}};
+  return fields;
 }
 
 // The additive floor beside the multiplicative noise (noise.hpp). Per entry e, the residual u_i =

@@ -10,9 +10,20 @@
 
 namespace toolpoint {
 
-void PeakOptions::check() const {
-  if (!(min_prominence >= 0.0 && min_prominence < 1.0))
-    throw InvalidArgument(fmt::format("peak prominence {} must lie in [0, 1)", min_prominence));
+void PeakOptions::check() const { check_fields(peak_fields(), *this, "PeakOptions"); }
+
+const std::vector<OptionField<PeakOptions>>& peak_fields() {
+  using O = PeakOptions;
+  static const std::vector<OptionField<O>> fields = {
+      {{.name = "min_prominence",
+        .kind = FieldKind::Real,
+        .min = 0.0,
+        .max = 1.0,
+        .max_open = true,
+        .help = "fraction of its height a local maximum rises above the higher of its valleys to count as a peak (ripple "
+                "and noise on a flank are not modes)"},
+       [](O& o) -> double& { return o.min_prominence; }}};
+  return fields;
 }
 
 std::vector<Peak> find_peaks(const std::vector<double>& m, double min_prominence) {

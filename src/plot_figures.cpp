@@ -33,14 +33,31 @@ std::vector<std::size_t> peak_indices(const std::vector<double>& v, int max_peak
 }
 
 void FrfFigureOptions::check() const {
-  require(mode_labels >= 0, fmt::format("FrfFigureOptions::mode_labels {} must be ≥ 0", mode_labels));
-  require(min_peak_ratio > 1.0 && std::isfinite(min_peak_ratio),
-          fmt::format("FrfFigureOptions::min_peak_ratio {} must be > 1", min_peak_ratio));
+  check_fields(frf_figure_fields(), *this, "FrfFigureOptions");
   if (frequency_range_hz)
     require(std::isfinite(frequency_range_hz->first) && std::isfinite(frequency_range_hz->second) &&
                 frequency_range_hz->first < frequency_range_hz->second,
             fmt::format("FrfFigureOptions::frequency_range_hz [{}, {}] must be finite and increasing", frequency_range_hz->first,
                         frequency_range_hz->second));
+}
+
+const std::vector<OptionField<FrfFigureOptions>>& frf_figure_fields() {
+  using O = FrfFigureOptions;
+  static const std::vector<OptionField<O>> fields = {
+      {{.name = "mode_labels",
+        .kind = FieldKind::Integer,
+        .min = 0.0,
+        .note = "0: none",
+        .help = "label up to this many peaks (frequency in Hz) of trace peak_trace"},
+       nullptr,
+       [](O& o) -> int& { return o.mode_labels; }},
+      {{.name = "min_peak_ratio",
+        .kind = FieldKind::Real,
+        .min = 1.0,
+        .min_open = true,
+        .help = "how far a labelled peak stands above its surrounding valleys (2 = 6 dB)"},
+       [](O& o) -> double& { return o.min_peak_ratio; }}};
+  return fields;
 }
 
 namespace {

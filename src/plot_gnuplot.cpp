@@ -33,7 +33,19 @@ namespace fs = std::filesystem;
 
 void PlotOptions::check() const {
   require(!gnuplot.empty(), "PlotOptions::gnuplot is empty", "give the gnuplot program, e.g. \"gnuplot\"");
-  require(std::isfinite(timeout_s) && timeout_s > 0.0, fmt::format("PlotOptions::timeout_s {} must be > 0", timeout_s));
+  check_fields(plot_fields(), *this, "PlotOptions");
+}
+
+const std::vector<OptionField<PlotOptions>>& plot_fields() {
+  using O = PlotOptions;
+  static const std::vector<OptionField<O>> fields = {{{.name = "timeout_s",
+                                                       .kind = FieldKind::Real,
+                                                       .unit = "s",
+                                                       .min = 0.0,
+                                                       .min_open = true,
+                                                       .help = "gnuplot is killed after this many seconds"},
+                                                      [](O& o) -> double& { return o.timeout_s; }}};
+  return fields;
 }
 
 namespace {

@@ -22,14 +22,34 @@ namespace toolpoint {
 // ---- Savitzky–Golay ----------------------------------------------------------------------------
 
 void SavgolOptions::check() const {
-  if (window < 1 || window % 2 == 0)
+  check_fields(savgol_fields(), *this, "SavgolOptions");
+  if (window % 2 == 0)
     throw InvalidArgument(fmt::format("SavgolOptions::window {} must be a positive odd number of points", window),
                           "use an odd window such as 5, 11 or 21 points");
-  if (order < 0)
-    throw InvalidArgument(fmt::format("SavgolOptions::order {} must be ≥ 0", order), "use a polynomial order such as 2 or 3");
   if (order >= window)
     throw InvalidArgument(fmt::format("SavgolOptions::order {} must be less than SavgolOptions::window {} points", order, window),
                           "lower the order or widen the window (a window of w points fits at most degree w − 1)");
+}
+
+const std::vector<OptionField<SavgolOptions>>& savgol_fields() {
+  using O = SavgolOptions;
+  // The window also odd, the order below it: checked beside the table (check()).
+  static const std::vector<OptionField<O>> fields = {{{.name = "window",
+                                                       .kind = FieldKind::Integer,
+                                                       .min = 1.0,
+                                                       .help = "points in the fitting window: odd, > order (e.g. 5, 11 or 21)",
+                                                       .cli_name = "window",
+                                                       .cli_unit = "frequency points"},
+                                                      nullptr,
+                                                      [](O& o) -> int& { return o.window; }},
+                                                     {{.name = "order",
+                                                       .kind = FieldKind::Integer,
+                                                       .min = 0.0,
+                                                       .help = "polynomial degree p, < window (e.g. 2 or 3)",
+                                                       .cli_name = "order"},
+                                                      nullptr,
+                                                      [](O& o) -> int& { return o.order; }}};
+  return fields;
 }
 
 namespace {
@@ -194,18 +214,41 @@ SignalResult<BlockSeries> savgol_filter(const BlockSeries& series, const SavgolO
 
 // ---- What the filter did to the peaks -------------------------------------------------------
 
-void PeakChangeOptions::check() const {
-  const auto fraction = [](double v, const char* field) {
-    if (!(v > 0.0 && v < 1.0))
-      throw InvalidArgument(fmt::format("PeakChangeOptions::{} {} must be a fraction in (0, 1)", field, v), "e.g. 0.2");
-  };
-  fraction(min_prominence, "min_prominence");
-  fraction(min_height, "min_height");
-  if (!(warn_above > 0.0) || !std::isfinite(warn_above))
-    throw InvalidArgument(fmt::format("PeakChangeOptions::warn_above {} must be > 0", warn_above), "e.g. 0.02 for 2 %");
-  if (!(noise_prominence >= 0.0) || !std::isfinite(noise_prominence))
-    throw InvalidArgument(fmt::format("PeakChangeOptions::noise_prominence {} must be ≥ 0", noise_prominence),
-                          "e.g. 6 (noise σ); 0 to take every peak above min_prominence");
+void PeakChangeOptions::check() const { check_fields(peak_change_fields(), *this, "PeakChangeOptions"); }
+
+const std::vector<OptionField<PeakChangeOptions>>& peak_change_fields() {
+  using O = PeakChangeOptions;
+  using K = FieldKind;
+  static const std::vector<OptionField<O>> fields = {
+      {{.name = "min_prominence",
+        .kind = K::Real,
+        .min = 0.0,
+        .max = 1.0,
+        .min_open = true,
+        .max_open = true,
+        .help = "fraction of its height a peak rises above its higher valley (0.2: 25 % above it; noise ripple is not a mode)"},
+       [](O& o) -> double& { return o.min_prominence; }},
+      {{.name = "min_height",
+        .kind = K::Real,
+        .min = 0.0,
+        .max = 1.0,
+        .min_open = true,
+        .max_open = true,
+        .help = "fraction of the entry's highest peak below which a peak is not reported"},
+       [](O& o) -> double& { return o.min_height; }},
+      {{.name = "warn_above",
+        .kind = K::Real,
+        .min = 0.0,
+        .min_open = true,
+        .help = "|relative change| of a peak's height or frequency above which a warning is given (0.02 for 2 %)"},
+       [](O& o) -> double& { return o.warn_above; }},
+      {{.name = "noise_prominence",
+        .kind = K::Real,
+        .min = 0.0,
+        .note = "0: every peak above min_prominence",
+        .help = "noise σ a peak must also rise above its higher valley (e.g. 8)"},
+       [](O& o) -> double& { return o.noise_prominence; }}};
+  return fields;
 }
 
 namespace {
@@ -503,14 +546,48 @@ NoisyMeasurement<BlockSeries> add_measurement_noise(const BlockSeries& series, c
 // ---- Rotational FRFs by finite differences ----------------------------------------------------
 
 void RotationalOptions::check() const {
-  if (order != 1 && order != 2)
-    throw InvalidArgument(fmt::format("finite-difference order {} must be 1 or 2", order),
-                          "use order 2 (three points) or 1 (two points)");
-  if (!std::isfinite(spacing) || !(spacing > 0.0))
-    throw InvalidArgument(fmt::format("finite-difference spacing {} m must be a positive distance in metres", spacing),
-                          "give the distance between neighbouring measurement points, e.g. 0.01 for 10 mm");
+  check_fields(rotational_fields(), *this, "RotationalOptions");
   if (shear_stiffness && !(std::isfinite(*shear_stiffness) && *shear_stiffness > 0.0))
-    throw InvalidArgument(fmt::format("shear stiffness κGA = {} N must be > 0", *shear_stiffness));
+    throw InvalidArgument(fmt::format("RotationalOptions::shear_stiffness κGA = {} N must be > 0", *shear_stiffness),
+                          "the shear stiffness of the section under the points, or unset for the total slope");
+}
+
+const std::vector<OptionField<RotationalOptions>>& rotational_fields() {
+  using O = RotationalOptions;
+  using K = FieldKind;
+  static const std::vector<OptionField<O>> fields = {
+      {{.name = "order",
+        .kind = K::Integer,
+        .min = 1.0,
+        .max = 2.0,
+        .help = "finite-difference order: 1 (points 0, 1) or 2 (points 0, 1, 2)",
+        .cli_name = "order"},
+       nullptr,
+       [](O& o) -> int& { return o.order; }},
+      {{.name = "spacing",
+        .kind = K::Real,
+        .unit = "m",
+        .min = 0.0,
+        .min_open = true,
+        .help = "distance s between neighbouring points (e.g. 0.01 for 10 mm)",
+        .cli_name = "spacing"},
+       [](O& o) -> double& { return o.spacing; }},
+      {{.name = "symmetrise",
+        .kind = K::Flag,
+        .help = "replace L and N by their mean (reciprocity L = N); default keeps both",
+        .cli_name = "symmetrise"},
+       nullptr,
+       nullptr,
+       [](O& o) -> bool& { return o.symmetrise; }},
+      {{.name = "assume_reciprocity",
+        .kind = K::Flag,
+        .help = "fill a missing H_ij with H_ji (Maxwell–Betti), e.g. L from N when the hammer stayed at the tip; said in "
+                "the output file's header. Default: a missing H_0k or H_k0 is an error (nothing is invented)",
+        .cli_name = "assume-reciprocity"},
+       nullptr,
+       nullptr,
+       [](O& o) -> bool& { return o.assume_reciprocity; }}};
+  return fields;
 }
 
 void PointFrfs::set(int response, int force, FrfSeries series, std::string src) {

@@ -1216,9 +1216,23 @@ const UffDataset58& select_dataset58(const UffFile& file, const UffSelection& se
                    "choose one by index (UffSelection::index) or add node/direction criteria");
 }
 
-void UffWriteOptions::check() const {
-  if (byte_order != 1 && byte_order != 2)
-    throw InvalidArgument(fmt::format("UFF byte order {} is not 1 (little endian) or 2 (big endian)", byte_order));
+void UffWriteOptions::check() const { check_fields(uff_write_fields(), *this, "UffWriteOptions"); }
+
+const std::vector<OptionField<UffWriteOptions>>& uff_write_fields() {
+  using O = UffWriteOptions;
+  static const std::vector<OptionField<O>> fields = {
+      {{.name = "binary", .kind = FieldKind::Flag, .help = "write binary dataset 58b instead of ASCII", .cli_name = "binary"},
+       nullptr,
+       nullptr,
+       [](O& o) -> bool& { return o.binary; }},
+      {{.name = "byte_order",
+        .kind = FieldKind::Integer,
+        .min = 1.0,
+        .max = 2.0,
+        .help = "the binary data's byte order: 1 little endian, 2 big endian (binary only)"},
+       nullptr,
+       [](O& o) -> int& { return o.byte_order; }}};
+  return fields;
 }
 
 void UffDataset58::check() const {

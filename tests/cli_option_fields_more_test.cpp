@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "support/cli_help.hpp"
 #include "support/scratch.hpp"
 #include "toolpoint/io/io.hpp"
 #include "toolpoint/stability/modal_fit.hpp"
@@ -19,25 +20,6 @@ using namespace toolpoint;
 using namespace toolpoint::test;
 
 namespace {
-
-// The line of `help` that registers `flag` ("  --spacing FLOAT…"), or "" if none does.
-std::string help_line(const std::string& help, const std::string& flag) {
-  std::istringstream in(help);
-  for (std::string line; std::getline(in, line);)
-    if (line.rfind("  " + flag + " ", 0) == 0 || line == "  " + flag) return line;
-  return {};
-}
-
-// Every flag in `command --help` with its unit in brackets on its line.
-void expect_flags_in_help(const std::string& command, const std::vector<std::pair<std::string, std::string>>& flags) {
-  std::string help;
-  ASSERT_EQ(run_toolpoint(command + " --help", &help), 0) << help;
-  for (const auto& [flag, unit] : flags) {
-    const std::string line = help_line(help, flag);
-    EXPECT_NE(line, "") << flag << " missing from " << command << " --help";
-    EXPECT_NE(line.find("[" + unit + "]"), std::string::npos) << line;
-  }
-}
 
 // Each `flag value` added to `base` exits non-zero naming the flag.
 void expect_refused(const std::string& base, const std::vector<std::pair<std::string, std::string>>& bad) {
@@ -96,7 +78,7 @@ TEST(CliOptionFieldsMore, PrecisionNoiseFlags) {
   expect_flags_in_help("precision", {{"--sigma", "-"}, {"--floor", "-"}, {"--averages", "-"}, {"--calibration", "-"}});
   std::string help;
   ASSERT_EQ(run_toolpoint("precision --help", &help), 0);
-  EXPECT_NE(help_line(help, "--calibration-shared"), "") << help;
+  EXPECT_NE(flag_help_line(help, "--calibration-shared"), "") << help;
   const std::string base = "precision " + std::string(TOOLPOINT_SOURCE_DIR) +
                            "/examples/bt40_shrinkfit_16mm.toml --tool-spacing 0.015 --holder-spacing 0.02 "
                            "--frequencies 100:3000:20";

@@ -69,10 +69,13 @@ void add_filter_command(CLI::App& app, Globals& g) {
   CLI::App* c = app.add_subcommand(
       "filter", "Savitzky–Golay smoothing of an FRF (single FRF or 2×2 block, real and imaginary parts separately)");
   add_frf_file_arguments(c, g, o->input, o->output, o->dataset, "every entry filtered");
-  c->add_option("-w,--window", o->savgol.window,
-                "Window length [frequency points]: odd, > --order, ≤ the number of points (required, no default)")
+  // From savgol_fields(), by hand for their short names -w, -p; required, so no default shown.
+  const FieldSpec& window = option_field(savgol_fields(), "window").spec;
+  const FieldSpec& order = option_field(savgol_fields(), "order").spec;
+  c->add_option("-w," + field_flag(window), o->savgol.window,
+                field_help(window) + ", ≤ a quarter of the points (required, no default)")
       ->required();
-  c->add_option("-p,--order", o->savgol.order, "Polynomial order [-], ≥ 0 and < --window (required, no default)")->required();
+  c->add_option("-p," + field_flag(order), o->savgol.order, field_help(order) + " (required, no default)")->required();
   add_plot_option(c, o->plot,
                   "the input (points) and the filtered FRF (line), |H| [m/N] and phase [deg] against frequency [Hz]; a "
                   "block: |H|, |L|, |N|, |P| and the phase of H");

@@ -25,10 +25,12 @@ struct RotationalCliOptions {
   std::string output, p_method = "auto", plot, uff, direction;
   std::string model, at_site;  // --model A.toml --at tool|holder: the model-based correction
   std::vector<int> nodes;      // --nodes: UFF node numbers of points 0 (tip), 1, 2
-  RotationalOptions fd{2, 0.0, false, PMethod::Auto, std::nullopt, false};
+  RotationalOptions fd;
+  FieldFlags<RotationalOptions> fields;  // --order, --symmetrise, --assume-reciprocity (rotational_fields)
 };
 
 void run_rotational(RotationalCliOptions o, const Globals& g) {
+  o.fields.apply(o.fd);
   o.fd.p_method = o.p_method == "cross" ? PMethod::CrossTerms : o.p_method == "n2h" ? PMethod::SchmitzSmith : PMethod::Auto;
   o.fd.check();
   check_plot_path(o.plot);
@@ -134,16 +136,14 @@ void add_rotational_command(CLI::App& app, Globals& g) {
   c->add_option("--direction", o->direction,
                 "With --uff: use only datasets whose response and reference direction is this (+X, Y, -Z, code -6..6; "
                 "default: any, and two datasets for one pair of points are an error); write a minus as --direction=-Y");
-  c->add_flag("--assume-reciprocity", o->fd.assume_reciprocity,
-              "Fill a missing H_ij with H_ji (Maxwell–Betti), e.g. L from N when the hammer stayed at the tip; said in "
-              "the output file's header. Default: a missing H_0k or H_k0 is an error (nothing is invented)");
+  const auto& fields = rotational_fields();
+  o->fields.add(c, option_field(fields, "assume_reciprocity"));
   add_frf_read_options(c, g);
-  c->add_option("-s,--spacing", o->fd.spacing, "Distance s between neighbouring points [m], > 0 (required)")
+  const FieldSpec& spacing = option_field(fields, "spacing").spec;  // by hand: its short name -s
+  c->add_option("-s," + field_flag(spacing), o->fd.spacing, field_help(spacing) + " (required)")
       ->required()
       ->check(plausible_value(plausible::kPointSpacing, "--spacing"));
-  c->add_option("--order", o->fd.order, "Finite-difference order: 1 (points 0, 1) or 2 (points 0, 1, 2)")
-      ->check(CLI::IsMember({1, 2}))
-      ->capture_default_str();
+  o->fields.add(c, option_field(fields, "order"));
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) {
       const std::string where_i = i == 0 ? "the tip" : fmt::format("{}s inward", i == 1 ? "" : "2");
@@ -152,7 +152,7 @@ void add_rotational_command(CLI::App& app, Globals& g) {
                     fmt::format("H{}{} [m/N], response at {}, force at {}: a single FRF file, formats below{}", i, j, where_i,
                                 where_j, i == 0 && j == 0 ? " (required unless --uff)" : " (default: none)"));
     }
-  c->add_flag("--symmetrise", o->fd.symmetrise, "Replace L and N by their mean (reciprocity); default keeps both");
+  o->fields.add(c, option_field(fields, "symmetrise"));
   c->add_option("--shear-stiffness", o->shear_stiffness,
                 "κGA [N] of the section under the points: removes the shear strain from N, L (1/κGA) and P (c/(s κGA)), "
                 "giving the section rotation the coupling equations use; default: none (total slope dw/dx)")

@@ -26,7 +26,7 @@ struct TapTestArgs {
   // (tap_test_fields).
   FieldFlags<TapTestOptions> fields;
   std::uint64_t seed = 1;
-  bool binary = false;
+  FieldFlags<UffWriteOptions> write;  // --binary (uff_write_fields)
 };
 
 void run_taptest(const TapTestArgs& o, const Globals& g) {
@@ -59,7 +59,7 @@ void run_taptest(const TapTestArgs& o, const Globals& g) {
                                    fmt::format("toolpoint taptest coherence of H{}{} ({} averages)", r.response, r.hammer,
                                                options.averages)));
   UffWriteOptions wo;
-  wo.binary = o.binary;
+  o.write.apply(wo);
   const auto w = write_uff(o.output, sets, wo);
   warn_all(t.warnings);
   warn_all(w);
@@ -108,7 +108,7 @@ void add_taptest_command(CLI::App& app, Globals& g) {
   c->add_option("--seed", o->seed, "Random seed of the noise (FRF k uses seed + k)")->capture_default_str();
   c->add_option("--frequencies", o->frequencies, "Override the file's [analysis] grid: START:STOP:STEP [Hz]");
   c->add_option("--output", o->output, "UFF file to write (.uff)")->required();
-  c->add_flag("--binary", o->binary, "Write binary dataset 58b instead of ASCII");
+  o->write.add(c, option_field(uff_write_fields(), "binary"));
   add_joint_option(c, o->joints);
   c->footer(
       "Example:\n"

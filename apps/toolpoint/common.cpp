@@ -19,6 +19,7 @@
 #include "toolpoint/studies/pitch.hpp"
 #include "toolpoint/measured/signal.hpp"
 #include "toolpoint/studies/precision.hpp"
+#include "toolpoint/studies/rotational.hpp"
 #include "toolpoint/studies/tap_test.hpp"
 
 namespace toolpoint::cli {
@@ -327,8 +328,6 @@ std::string with_flags(std::string text) {
       {"PrecisionOptions::target", "--target"},
       {"OverhangStudyOptions::overhangs_m", "--overhang"},
       {"OverhangStudyOptions::peaks", "--prominence"},
-      {"SavgolOptions::window", "--window"},
-      {"SavgolOptions::order", "--order"},
       {"FrfResampleOptions::band_hz", "--band"},
       {"FrfResampleOptions::target_hz", "--onto or --grid"},
       {"BeamStudyOptions::modal.modes", "--modal-terms"},
@@ -354,11 +353,9 @@ std::string with_flags(std::string text) {
       {"FrfReadOptions::ordinate", "--ordinate"},
       {"FrfReadOptions::format", "--from"},
       {"UffSelection::index", "--dataset"},
-      {"RotationalOptions::assume_reciprocity", "--assume-reciprocity"},
       {"RotationalOptions::p_method SchmitzSmith", "--p-method n2h"},
       {"TapTestFileOptions::nodes", "--nodes"},
       {"TapTestFileOptions::direction", "--direction"},
-      {"TapTestFileOptions::order", "--order"},
       {"PitchChoiceOptions::speed_rpm", "--rpm"},
       {"PitchChoiceOptions::pattern", "--pattern"},
       {"PitchChoiceOptions::min_pitch_rad", "--min-pitch"},
@@ -412,6 +409,10 @@ std::string with_flags(std::string text) {
   fields(tap_test_fields(), "TapTestOptions");
   fields(noise_fields(), "NoiseOptions");
   fields(tap_noise_fields(), "TapNoise");
+  fields(savgol_fields(), "SavgolOptions");
+  fields(rotational_fields(), "RotationalOptions");
+  fields(tap_test_file_fields(), "TapTestFileOptions");
+  fields(uff_write_fields(), "UffWriteOptions");
   for (const auto& [field, flag] : kFlags) replace(field, flag);
   return text;
 }

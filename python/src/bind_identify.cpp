@@ -300,14 +300,14 @@ void bind_noise(py::module_& m) {
       .def(
           "to_dict", [](const BlockNoise& n) { return dict_of(n); },
           "The result as plain data (dicts, lists, floats, str, bool, None; the CLI's --json keys, SI units).");
-  options_class<NoiseEstimateOptions>(m, "NoiseEstimateOptions",
-                                      "estimate_block_noise's options (noise.hpp; how the identification estimates the noise "
-                                      "of measured data).",
-                                      {"local", "window", "floor"})
-      .def_readwrite("local", &NoiseEstimateOptions::local,
-                     "SavgolOptions: the local polynomial the residuals are taken about (default 7 points, cubic)")
-      .def_readwrite("window", &NoiseEstimateOptions::window, "frequency points over which C is averaged (odd, ≥ 21)")
-      .def_readwrite("floor", &NoiseEstimateOptions::floor, "estimate an additive floor beside the multiplicative noise");
+  auto noise_estimate =
+      options_class<NoiseEstimateOptions>(m, "NoiseEstimateOptions",
+                                          "estimate_block_noise's options (noise.hpp; how the identification estimates the noise "
+                                          "of measured data).",
+                                          {"local", "window", "floor"})
+          .def_readwrite("local", &NoiseEstimateOptions::local,
+                         "SavgolOptions: the local polynomial the residuals are taken about (default 7 points, cubic)");
+  def_option_fields(noise_estimate, noise_estimate_fields(), "");  // window, floor
   m.def(
       "estimate_block_noise",
       [](const RealArray& f, const ComplexArray& blocks, const NoiseEstimateOptions& options, const std::string& what) {
@@ -501,12 +501,9 @@ void bind_joint_fit(py::module_& m) {
 
 // The identification study's options: the read-out's and the verdict's levels, the noise, the study's.
 void bind_identification_options(py::module_& m) {
-  options_class<ReadoutOptions>(m, "ReadoutOptions", "The seed's read-out's warning levels (identify.hpp).",
-                                {"cond_warning", "reciprocity_warning", "gain_warning"})
-      .def_readwrite("cond_warning", &ReadoutOptions::cond_warning, "warn when cond(A11 − G11) exceeds this in the band")
-      .def_readwrite("reciprocity_warning", &ReadoutOptions::reciprocity_warning,
-                     "warn when k_ym and k_θf (or c) differ by more than this fraction")
-      .def_readwrite("gain_warning", &ReadoutOptions::gain_warning, "warn when a parameter's noise gain exceeds this");
+  auto readout = options_class<ReadoutOptions>(m, "ReadoutOptions", "The seed's read-out's warning levels (identify.hpp).",
+                                               {"cond_warning", "reciprocity_warning", "gain_warning"});
+  def_option_fields(readout, readout_fields(), "");
   options_class<ForwardCheckOptions>(m, "ForwardCheckOptions",
                                      fields_doc(forward_check_fields(), "ForwardCheckOptions", "toolpoint identify",
                                                 "The forward check's options (forward_check.hpp; "
@@ -530,12 +527,12 @@ void bind_identification_options(py::module_& m) {
           "threads", [](const ForwardCheckOptions& o) { return o.parallel.threads; },
           [](ForwardCheckOptions& o, int threads) { o.parallel.threads = threads; },
           "replicates on this many threads (0: every core); results identical for any count");
-  options_class<VerdictOptions>(m, "VerdictOptions", "How the identification's verdict is reached (studies/identification.hpp).",
-                                {"forward", "residual_doubt", "residual_fail"})
-      .def_readwrite("forward", &VerdictOptions::forward,
-                     "ForwardCheckOptions (its smoothing, seed and threads are the study's: filter, fit)")
-      .def_readwrite("residual_doubt", &VerdictOptions::residual_doubt, "the fit's residual ratio above which it is doubtful")
-      .def_readwrite("residual_fail", &VerdictOptions::residual_fail, "… and above which it fails");
+  auto verdict = options_class<VerdictOptions>(m, "VerdictOptions",
+                                               "How the identification's verdict is reached (studies/identification.hpp).",
+                                               {"forward", "residual_doubt", "residual_fail"})
+                     .def_readwrite("forward", &VerdictOptions::forward,
+                                    "ForwardCheckOptions (its smoothing, seed and threads are the study's: filter, fit)");
+  def_option_fields(verdict, verdict_fields(), "");
   options_class<NoiseSpec>(m, "NoiseSpec",
                            "The noise of the measured series (studies/identification.hpp): estimated from the data or "
                            "stated; the calibration always stated.",

@@ -165,19 +165,20 @@ py::array savgol_filter_array(const py::array& values, const SavgolOptions& o, c
 
 // Savitzky–Golay, the seed's noise, rotational FRFs by finite differences.
 void bind_signal(py::module_& m) {
-  options_class<SavgolOptions>(m, "SavgolOptions",
-                               "A Savitzky–Golay filter (signal.hpp; toolpoint filter's --window, --order): window and "
-                               "polynomial order.",
-                               {"window", "order"})
-      .def_readwrite("window", &SavgolOptions::window, "points in the fitting window: odd, > order")
-      .def_readwrite("order", &SavgolOptions::order, "polynomial degree p ≥ 0");
+  auto savgol = options_class<SavgolOptions>(m, "SavgolOptions",
+                                             "A Savitzky–Golay filter (signal.hpp; toolpoint filter's --window, --order): "
+                                             "window and polynomial order.",
+                                             {"window", "order"});
+  def_option_fields(savgol, savgol_fields(), "toolpoint filter");
   m.def(
       "savgol_coefficients",
       [](int window, int order) {
         return array_of(savgol_coefficients(SavgolOptions{window, order}));
       },
       "window"_a = 5, "order"_a = 2,
-      "The Savitzky–Golay interior weights c_{−m..m} (left to right) for an odd `window` [points] and polynomial `order`.");
+      fields_doc(savgol_fields(), "SavgolOptions", "toolpoint filter",
+                 "The Savitzky–Golay interior weights c_{−m..m} (left to right) for an odd `window` [points] and polynomial "
+                 "`order`."));
   m.def(
       "savgol_coefficients", [](const SavgolOptions& options) { return array_of(savgol_coefficients(options)); },
       "options"_a, "savgol_coefficients with its options as one SavgolOptions (the same as the keyword form above).");
@@ -264,23 +265,20 @@ void bind_signal(py::module_& m) {
       "standard_normals", [](std::size_t count, std::uint64_t seed) { return array_of(standard_normals(count, seed)); },
       "count"_a, "seed"_a, "`count` standard normal numbers from `seed` (Box–Muller on mt19937_64; portable).");
 
-  options_class<RotationalOptions>(
+  auto rotational = options_class<RotationalOptions>(
       m, "RotationalOptions",
       "How rotational_frfs, finite_difference_error and run_rotational_study take finite differences (signal.hpp; "
       "toolpoint rotational's options). spacing [m] has no default.",
-      {"spacing", "order", "symmetrise", "p_method", "shear_stiffness", "assume_reciprocity"})
-      .def_readwrite("spacing", &RotationalOptions::spacing, "s [m] between neighbouring points, > 0")
-      .def_readwrite("order", &RotationalOptions::order, "finite-difference order: 1 or 2")
-      .def_readwrite("symmetrise", &RotationalOptions::symmetrise, "replace L and N by their mean (reciprocity L = N)")
+      {"spacing", "order", "symmetrise", "p_method", "shear_stiffness", "assume_reciprocity"});
+  def_option_fields(rotational, rotational_fields(), "toolpoint rotational");  // order, spacing, symmetrise, assume_reciprocity
+  rotational
       .def_property(
           "p_method", [](const RotationalOptions& o) { return std::string(name_of(o.p_method, kPMethods)); },
           [](RotationalOptions& o, const std::string& v) { o.p_method = enum_of(v, kPMethods, "RotationalOptions::p_method"); },
           "'auto', 'cross_terms' or 'schmitz_smith'")
       .def_readwrite("shear_stiffness", &RotationalOptions::shear_stiffness,
                      "κGA [N] of the section the points lie on (pass TapTest.shear_stiffness_n): the shear strain removed; "
-                     "None: the total-slope quantities")
-      .def_readwrite("assume_reciprocity", &RotationalOptions::assume_reciprocity,
-                     "fill a missing H_ij with H_ji (default: refuse)");
+                     "None: the total-slope quantities");
 
   py::class_<RotationalResult>(m, "RotationalResult", "rotational_frfs' result.")
       .def_property_readonly("frequency_hz", [](const RotationalResult& r) { return array_of(r.block.frequency_hz); })
@@ -309,11 +307,9 @@ void bind_signal(py::module_& m) {
 
 // Peaks and mode tracking.
 void bind_peaks(py::module_& m) {
-  options_class<PeakOptions>(m, "PeakOptions", "Which local maxima of |H| find_peaks counts as peaks (peaks.hpp).",
-                             {"min_prominence"})
-      .def_readwrite("min_prominence", &PeakOptions::min_prominence,
-                     "a peak rises at least this fraction of its height above the higher of the minima separating it from "
-                     "its higher neighbours");
+  auto peaks = options_class<PeakOptions>(m, "PeakOptions", "Which local maxima of |H| find_peaks counts as peaks (peaks.hpp).",
+                                          {"min_prominence"});
+  def_option_fields(peaks, peak_fields(), "");
   m.def(
       "find_peaks",
       [](const RealArray& f, const ComplexArray& values, const std::optional<PeakOptions>& options) {
@@ -655,9 +651,11 @@ void bind_uff(py::module_& m) {
         return tap_test_frfs(file, o);
       },
       "file"_a, "nodes"_a = std::vector<int>{1, 2, 3}, "direction"_a = py::none(), "order"_a = 2, "ordinate"_a = py::none(),
-      "The tap test in one universal file (read_uff): H_ij is the dataset whose response node is nodes[i] and whose reference "
-      "node is nodes[j] (tip first), in `direction` (record 6 code, +Y = 2; None: any), for points 0…order, as receptance "
-      "[m/N]. Raises InputError for two datasets of one pair of points or none for the tip (listing the nodes present).");
+      fields_doc(tap_test_file_fields(), "TapTestFileOptions", "toolpoint rotational",
+                 "The tap test in one universal file (read_uff): H_ij is the dataset whose response node is nodes[i] and whose "
+                 "reference node is nodes[j] (tip first), in `direction` (record 6 code, +Y = 2; None: any), for points "
+                 "0…order, as receptance [m/N]. Raises InputError for two datasets of one pair of points or none for the tip "
+                 "(listing the nodes present)."));
   m.def(
       "write_uff",
       [](const std::string& path, const std::vector<UffDataset58>& sets, bool binary, int byte_order) {
@@ -666,9 +664,9 @@ void bind_uff(py::module_& m) {
         return write_uff(path, sets, o);
       },
       "path"_a, "datasets"_a, "binary"_a = false, "byte_order"_a = 1,
-      "Writes datasets 58 (ASCII) or 58b (binary=True; byte_order 1 little, 2 big endian), whole or not at all. Returns what "
-      "ASCII "
-      "rounding lost (list of str).");
+      fields_doc(uff_write_fields(), "UffWriteOptions", "toolpoint taptest",
+                 "Writes datasets 58 (ASCII) or 58b (binary=True; byte_order 1 little, 2 big endian), whole or not at all. "
+                 "Returns what ASCII rounding lost (list of str)."));
 }
 
 }  // namespace

@@ -5,7 +5,10 @@
 #include "toolpoint/json.hpp"
 #include "toolpoint/stability/modal_fit.hpp"
 #include "toolpoint/studies/modal_fit.hpp"
+#include "toolpoint/io/uff.hpp"
+#include "toolpoint/measured/peaks.hpp"
 #include "toolpoint/measured/signal.hpp"
+#include "toolpoint/plot/plot.hpp"
 #include "toolpoint/stability/stability.hpp"
 #include "toolpoint/identify/forward_check.hpp"
 #include "toolpoint/identify/joint_fit.hpp"
@@ -14,6 +17,7 @@
 #include "toolpoint/studies/identification.hpp"
 #include "toolpoint/studies/pitch.hpp"
 #include "toolpoint/studies/precision.hpp"
+#include "toolpoint/studies/rotational.hpp"
 #include "toolpoint/studies/tap_test.hpp"
 #include "toolpoint/uncertainty/uncertainty.hpp"
 
@@ -630,6 +634,17 @@ void bind_stability(py::module_& m) {
   tables["TapTestOptions"] = fields_data(tap_test_fields());
   tables["NoiseOptions"] = fields_data(noise_fields());
   tables["TapNoise"] = fields_data(tap_noise_fields());
+  tables["SavgolOptions"] = fields_data(savgol_fields());
+  tables["PeakChangeOptions"] = fields_data(peak_change_fields());
+  tables["RotationalOptions"] = fields_data(rotational_fields());
+  tables["PeakOptions"] = fields_data(peak_fields());
+  tables["NoiseEstimateOptions"] = fields_data(noise_estimate_fields());
+  tables["TapTestFileOptions"] = fields_data(tap_test_file_fields());
+  tables["ReadoutOptions"] = fields_data(readout_fields());
+  tables["VerdictOptions"] = fields_data(verdict_fields());
+  tables["UffWriteOptions"] = fields_data(uff_write_fields());
+  tables["PlotOptions"] = fields_data(plot::plot_fields());
+  tables["FrfFigureOptions"] = fields_data(plot::frf_figure_fields());
   m.attr("_option_fields") = tables;
   bind_modal_models(m);
   bind_zero_order(m);

@@ -63,11 +63,31 @@ void VerdictOptions::check() const {
   } catch (const InvalidArgument& e) {
     throw InvalidArgument(fmt::format("VerdictOptions::forward: {}", e.what()), e.hint());
   }
-  if (!(residual_doubt > 1.0 && residual_doubt <= residual_fail && std::isfinite(residual_fail)))
+  check_fields(verdict_fields(), *this, "VerdictOptions");
+  if (!(residual_doubt <= residual_fail))
     throw InvalidArgument(fmt::format("VerdictOptions::residual_doubt {} and VerdictOptions::residual_fail {} must satisfy "
                                       "1 < doubt ≤ fail",
                                       residual_doubt, residual_fail),
                           "e.g. 1.5 and 3: the residual ratio is 1 when the model and the noise explain the data");
+}
+
+const std::vector<OptionField<VerdictOptions>>& verdict_fields() {
+  using O = VerdictOptions;
+  // A residual ratio is 1 when the model and the noise explain the data: a level must lie above it.
+  static const std::vector<OptionField<O>> fields = {
+      {{.name = "residual_doubt",
+        .kind = FieldKind::Real,
+        .min = 1.0,
+        .min_open = true,
+        .help = "the band fit's residual ratio above which the verdict is doubtful, ≤ residual_fail (e.g. 1.5)"},
+       [](O& o) -> double& { return o.residual_doubt; }},
+      {{.name = "residual_fail",
+        .kind = FieldKind::Real,
+        .min = 1.0,
+        .min_open = true,
+        .help = "the band fit's residual ratio above which it fails: a model that does not describe the data (e.g. 3)"},
+       [](O& o) -> double& { return o.residual_fail; }}};
+  return fields;
 }
 
 const std::vector<OptionField<IdentificationOptions>>& identification_fields() {

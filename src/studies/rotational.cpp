@@ -11,9 +11,7 @@
 namespace toolpoint {
 
 void TapTestFileOptions::check() const {
-  if (order != 1 && order != 2)
-    throw InvalidArgument(fmt::format("TapTestFileOptions::order {} must be 1 or 2", order),
-                          "order 2 reads points 0, 1, 2; order 1 points 0, 1");
+  check_fields(tap_test_file_fields(), *this, "TapTestFileOptions");
   const std::size_t points = static_cast<std::size_t>(order) + 1;
   if (nodes.size() < points)
     throw InvalidArgument(fmt::format("TapTestFileOptions::nodes gives {} node(s); order-{} differences need {} (the tip first)",
@@ -25,6 +23,15 @@ void TapTestFileOptions::check() const {
   if (direction && (*direction < -6 || *direction > 6))
     throw InvalidArgument(fmt::format("TapTestFileOptions::direction {} is no UFF direction code (−6…6)", *direction),
                           "e.g. 2 for +Y, −3 for −Z");
+}
+
+const std::vector<OptionField<TapTestFileOptions>>& tap_test_file_fields() {
+  using O = TapTestFileOptions;
+  static const std::vector<OptionField<O>> fields = {
+      {with_help(option_field(rotational_fields(), "order").spec,
+                 "the finite-difference order: order 2 reads points 0, 1, 2; order 1 points 0, 1"),
+       nullptr, [](O& o) -> int& { return o.order; }}};
+  return fields;
 }
 
 TapTestFileFrfs tap_test_frfs(const UffFile& file, const TapTestFileOptions& options) {

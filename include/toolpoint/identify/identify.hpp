@@ -25,6 +25,7 @@
 #include "toolpoint/model/joint.hpp"
 #include "toolpoint/measured/peaks.hpp"
 #include "toolpoint/model/receptance.hpp"
+#include "toolpoint/option_fields.hpp"
 
 namespace toolpoint {
 
@@ -107,8 +108,15 @@ struct ReadoutOptions {
   double reciprocity_warning = 0.1;  // warn when k_ym and k_θf (or c) differ by more than this
   double gain_warning = 20.0;        // warn when a parameter's noise gain exceeds this (a 5 % FRF
                                      // error then moves it by 100 %)
+  // Throws InvalidArgument naming `ReadoutOptions::<field>` outside the ranges of readout_fields()
+  // (an infinite level: never warn).
   void check() const;
 };
+
+/// \brief ReadoutOptions' fields defined once (option_fields.hpp): check() and the attributes of
+/// Python's ReadoutOptions derive from this table.
+/// \return the table, in the order of the fields
+const std::vector<OptionField<ReadoutOptions>>& readout_fields();
 
 // Reads the parameters from the points with band_lo ≤ f ≤ band_hi. Warns (in the result) about
 // poor conditioning, broken reciprocity, any parameter whose noise gain is large or whose spread

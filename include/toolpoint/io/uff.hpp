@@ -38,6 +38,7 @@
 #include <vector>
 
 #include "toolpoint/model/receptance.hpp"
+#include "toolpoint/option_fields.hpp"
 
 namespace toolpoint {
 
@@ -156,8 +157,13 @@ const UffDataset58& select_dataset58(const UffFile& file, const UffSelection& se
 struct UffWriteOptions {
   bool binary = false;
   int byte_order = 1;  // 1 little endian, 2 big endian (binary only)
-  void check() const;  // throws InvalidArgument
+  void check() const;  // throws InvalidArgument naming `UffWriteOptions::byte_order` (uff_write_fields())
 };
+
+/// \brief UffWriteOptions' fields defined once (option_fields.hpp): check(), `toolpoint taptest
+/// --binary` and the keywords of Python's write_uff derive from this table.
+/// \return the table, in the order of the fields
+const std::vector<OptionField<UffWriteOptions>>& uff_write_fields();
 
 // Text (or bytes, for 58b) of a universal file holding `sets`, and what the writing lost.
 // ASCII numbers are right-aligned in the specification's field widths (13 for single precision

@@ -122,9 +122,16 @@ struct NoiseEstimateOptions {
   SavgolOptions local = kNoiseFreeSmoothing;  // the local polynomial the residuals are taken about
   int window = 201;                           // frequency points over which C is averaged (odd, ≥ 21)
   bool floor = true;                          // estimate an additive floor beside the multiplicative noise
-  // Throws InvalidArgument naming NoiseEstimateOptions::local or NoiseEstimateOptions::window.
+  // Throws InvalidArgument naming NoiseEstimateOptions::local or NoiseEstimateOptions::window (the
+  // range of noise_estimate_fields(), and odd).
   void check() const;
 };
+
+/// \brief NoiseEstimateOptions' scalar fields defined once (option_fields.hpp): check() and the
+/// attributes of Python's NoiseEstimateOptions derive from this table (`local`, a SavgolOptions,
+/// is checked by its own check(); the window's oddness beside the table).
+/// \return the table, in the order of the fields
+const std::vector<OptionField<NoiseEstimateOptions>>& noise_estimate_fields();
 
 // Estimates C(f) and the floor A from a measured block series (above). Throws InputError (naming
 // `what`) when the series is invalid or has fewer than window + local.window points, or when no

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "toolpoint/model/receptance.hpp"
+#include "toolpoint/option_fields.hpp"
 
 namespace toolpoint {
 
@@ -22,8 +23,13 @@ struct PeakOptions {
   // the higher of the minima separating it from its higher neighbours (so ripple and noise on a
   // flank are not modes).
   double min_prominence = 0.02;
-  void check() const;
+  void check() const;  // the range of peak_fields(); InvalidArgument naming `PeakOptions::min_prominence`
 };
+
+/// \brief PeakOptions' field defined once (option_fields.hpp): check() and the attribute of Python's
+/// PeakOptions derive from this table.
+/// \return the table
+const std::vector<OptionField<PeakOptions>>& peak_fields();
 
 // Local maxima of a sampled magnitude (≥ 0) with their prominence as defined in Peak, at least
 // `min_prominence`, in index order; frequency_hz and magnitude are left at 0 and m[i]. A maximum

@@ -43,9 +43,16 @@ struct SavgolOptions {
   int window = 5;  // points in the fitting window: odd, > order (the defaults are the docs/reference.md §6 oracle)
   int order = 2;   // polynomial degree p ≥ 0
 
-  // Throws InvalidArgument naming `window` or `order` (even window, order < 0 or ≥ window).
+  // Throws InvalidArgument naming `SavgolOptions::window` or `SavgolOptions::order`: outside the
+  // ranges of savgol_fields(), an even window, an order not below the window.
   void check() const;
 };
+
+/// \brief SavgolOptions' fields defined once (option_fields.hpp): check(), the flags of `toolpoint
+/// filter` and the attributes of Python's SavgolOptions derive from this table (the window's
+/// oddness and order < window are checked beside it).
+/// \return the table, in the order of the fields
+const std::vector<OptionField<SavgolOptions>>& savgol_fields();
 
 // The interior weights c_{−m..m} (left to right). From the least-squares problem on the
 // Vandermonde matrix V_kj = t_k^j, t_k = k/m (centred, scaled abscissa: keeps V well conditioned),
@@ -98,8 +105,14 @@ struct PeakChangeOptions {
   double min_height = 0.05;       // fraction of the entry's highest peak below which a peak is not reported
   double warn_above = 0.02;       // |relative change| above which a warning is given (2 %)
   double noise_prominence = 8.0;  // a peak must also rise this many noise σ above its higher valley
-  void check() const;             // fractions in (0, 1), warn_above > 0, noise_prominence ≥ 0; InvalidArgument naming the field
+  void check() const;             // the ranges of peak_change_fields(); InvalidArgument naming `PeakChangeOptions::<field>`
 };
+
+/// \brief PeakChangeOptions' fields defined once (option_fields.hpp): check() derives from this
+/// table (fractions in (0, 1), warn_above > 0, noise_prominence ≥ 0), and Python lists it in
+/// toolpoint._option_fields.
+/// \return the table, in the order of the fields
+const std::vector<OptionField<PeakChangeOptions>>& peak_change_fields();
 
 struct PeakChange {
   std::string entry;              // "H", "L", "N", "P" (a block) or "" (a single FRF)
@@ -234,9 +247,16 @@ struct RotationalOptions {
   std::optional<double> shear_stiffness;
   bool assume_reciprocity = false;  // fill a missing H_ij with H_ji (default: refuse, see above)
 
-  // Throws InvalidArgument naming `order`, `spacing` or `shear_stiffness`.
+  // Throws InvalidArgument naming `RotationalOptions::<field>`: order, spacing (the ranges of
+  // rotational_fields()) or shear_stiffness (> 0 when given).
   void check() const;
 };
+
+/// \brief RotationalOptions' scalar fields defined once (option_fields.hpp): check(), the flags of
+/// `toolpoint rotational` and the attributes of Python's RotationalOptions derive from this table
+/// (p_method, an enum, and shear_stiffness, optional, have their own definitions).
+/// \return the table, in the order of the fields
+const std::vector<OptionField<RotationalOptions>>& rotational_fields();
 
 // The translational FRFs measured on points 0, 1, 2. Unused slots stay empty.
 struct PointFrfs {

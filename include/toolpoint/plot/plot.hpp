@@ -29,6 +29,7 @@
 
 #include "toolpoint/error.hpp"
 #include "toolpoint/model/receptance.hpp"
+#include "toolpoint/option_fields.hpp"
 
 namespace toolpoint::plot {
 
@@ -167,8 +168,13 @@ std::string literal(std::string_view text);
 struct PlotOptions {
   std::string gnuplot = "gnuplot";  // program: a path, or a name looked up on PATH
   double timeout_s = 60.0;          // gnuplot is killed after this many seconds, > 0
-  void check() const;               // throws InvalidArgument
+  void check() const;               // throws InvalidArgument naming `PlotOptions::<field>`
 };
+
+/// \brief PlotOptions' scalar field defined once (option_fields.hpp): check() derives from this
+/// table (the program, a string, is checked beside it).
+/// \return the table
+const std::vector<OptionField<PlotOptions>>& plot_fields();
 
 struct RenderResult {
   std::string path;
@@ -228,8 +234,14 @@ struct FrfFigureOptions {
                         // sought within frequency_range_hz when given
   std::size_t peak_trace = 0;
   double min_peak_ratio = 2.0;  // see peak_indices(); 2 = 6 dB above the surrounding valleys
-  void check() const;           // throws InvalidArgument
+  void check() const;           // throws InvalidArgument naming `FrfFigureOptions::<field>`
 };
+
+/// \brief FrfFigureOptions' scalar fields defined once (option_fields.hpp): check() derives from
+/// this table (mode_labels, min_peak_ratio; the frequency range, a pair, is checked beside it, and
+/// peak_trace, an index, against the traces drawn).
+/// \return the table, in the order of the fields
+const std::vector<OptionField<FrfFigureOptions>>& frf_figure_fields();
 
 // Two panels (magnitude and phase, or real and imaginary) over frequency [Hz], every trace
 // overlaid, the legend in the upper panel. Mode labels: text at the peaks of |X|, or (real and

@@ -88,8 +88,16 @@ struct VerdictOptions {
   // The band fit's residual ratio (JointFit::residual_ratio) above which the verdict is doubtful,
   // and fail: residuals that far beyond the noise are a model that does not describe the data.
   double residual_doubt = 1.5, residual_fail = 3.0;
-  void check() const;  // throws InvalidArgument naming `VerdictOptions::<field>`
+  // Throws InvalidArgument naming `VerdictOptions::<field>`: the forward check's, the ranges of
+  // verdict_fields(), or residual_doubt above residual_fail.
+  void check() const;
 };
+
+/// \brief VerdictOptions' scalar fields defined once (option_fields.hpp): check() and the
+/// attributes of Python's VerdictOptions derive from this table (`forward` has its own check();
+/// residual_doubt ≤ residual_fail is checked beside the table).
+/// \return the table, in the order of the fields
+const std::vector<OptionField<VerdictOptions>>& verdict_fields();
 
 struct IdentificationOptions {
   Route route = Route::HolderTool;

@@ -36,9 +36,15 @@ struct TapTestFileOptions {
   std::optional<FrfOrdinate> ordinate;  // what the values are (frf_file.hpp); default: the datasets' codes
   std::optional<FrfUnits> units;        // the values' units; default: the file's
   // Throws InvalidArgument naming `TapTestFileOptions::<field>`: fewer nodes than points, a node
-  // named twice, a direction code outside −6…6, an order other than 1 or 2.
+  // named twice, a direction code outside −6…6, an order other than 1 or 2 (tap_test_file_fields()).
   void check() const;
 };
+
+/// \brief TapTestFileOptions' scalar field defined once (option_fields.hpp): check() and Python's
+/// tap_test_frfs keyword derive from this table (the nodes, the direction, the ordinate and the
+/// units are checked beside it).
+/// \return the table
+const std::vector<OptionField<TapTestFileOptions>>& tap_test_file_fields();
 
 struct TapTestFileFrfs {
   PointFrfs frfs;  // H_ij as receptance [m/N], sources "FILE dataset K (nodes a/b)"
