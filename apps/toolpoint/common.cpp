@@ -380,7 +380,6 @@ std::string with_flags(std::string text) {
       {"LobesInput::uncertain_joint", "--samples"},
       {"BoundaryOptions::max_depth_m", "--max-depth"},
       {"ParallelOptions::threads", "--threads"},
-      {"ModalFitOptions::max_modes", "--max-modes"},
       {"ModalFitOptions::band_hz", "--band"},
       {"IdentificationOptions::band_hz", "--band"},
       {"IdentificationOptions::at_hz", "--at"},
@@ -412,6 +411,7 @@ std::string with_flags(std::string text) {
   fields(tap_test_fields(), "TapTestOptions");
   fields(noise_fields(), "NoiseOptions");
   fields(tap_noise_fields(), "TapNoise");
+  fields(modal_fit_fields(), "ModalFitOptions");
   for (const auto& [field, flag] : kFlags) replace(field, flag);
   return text;
 }
@@ -733,13 +733,11 @@ void add_dynamics_options(CLI::App* c, DynamicsArgs& o, Globals& g, const std::s
                 prefix + "an x mode MASS_KG,DAMPING_RATIO,FREQUENCY_HZ (repeatable; default: fitted from --frf)");
   c->add_option("--mode-y", o.mode_y,
                 prefix + "a y mode MASS_KG,DAMPING_RATIO,FREQUENCY_HZ (repeatable; default: from --frf-y, else the x modes)");
-  c->add_option("--max-modes", o.max_modes,
-                prefix + "at most N modes [-] fitted per FRF, 1…20 (the fewest that meet --fit-target are used)")
-      ->capture_default_str();
-  c->add_option("--fit-target", o.fit_target_pct,
-                prefix +
-                    "the fitted modes alone must represent the FRF within this [% of ‖G‖] over the band; else a warning says why")
-      ->capture_default_str();
+  const auto& lobes = lobes_study_fields();
+  for (const char* name : {"max_modes", "fit_target"}) {
+    CLI::Option* flag = o.fit.add(c, option_field(lobes, name));
+    flag->description(prefix + flag->get_description());
+  }
   c->add_option("--band", o.band, prefix + "fit modes only in F1:F2 [Hz] (default: the whole FRF)");
 }
 
@@ -755,10 +753,18 @@ std::vector<RunPath> dynamics_paths(const DynamicsArgs& o) {
 }
 
 ModalFitOptions dynamics_fit_options(const DynamicsArgs& o) {
+  LobesStudyOptions typed;
+  o.fit.apply(typed);
   ModalFitOptions f;
-  f.max_modes = o.max_modes;
+  f.max_modes = typed.fit.max_modes;
   if (!o.band.empty()) f.band_hz = parse_range(o.band, "--band");
   return f;
+}
+
+double dynamics_fit_target(const DynamicsArgs& o) {
+  LobesStudyOptions typed;
+  o.fit.apply(typed);
+  return typed.fit_target;
 }
 
 Mode parse_mode(const std::string& text, const std::string& option) {

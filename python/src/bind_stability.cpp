@@ -109,15 +109,12 @@ LobesStudyOptions lobes_study_options(const CuttingConditions& cutting, const st
 
 // Modal models: modes, their fit to a measured FRF, the modal fit study.
 void bind_modal_models(py::module_& m) {
-  options_class<ModalFitOptions>(m, "ModalFitOptions",
-                                 "How fit_modes fits modes to a point receptance (modal_fit.hpp; toolpoint modes' options).",
-                                 {"max_modes", "band_hz", "min_prominence_db", "residual_terms", "max_evaluations"})
-      .def_readwrite("max_modes", &ModalFitOptions::max_modes, "at most this many modes, 1…20")
-      .def_readwrite("band_hz", &ModalFitOptions::band_hz, "(F1, F2): fit only F1 ≤ f ≤ F2 [Hz]; None: all points")
-      .def_readwrite("min_prominence_db", &ModalFitOptions::min_prominence_db,
-                     "a peak of |G| must rise this much [dB] above the valleys on both sides to count as a mode")
-      .def_readwrite("residual_terms", &ModalFitOptions::residual_terms, "fit L and U (out-of-band modes)")
-      .def_readwrite("max_evaluations", &ModalFitOptions::max_evaluations, "Levenberg–Marquardt function evaluations");
+  auto fit =
+      options_class<ModalFitOptions>(m, "ModalFitOptions",
+                                     "How fit_modes fits modes to a point receptance (modal_fit.hpp; toolpoint modes' options).",
+                                     {"max_modes", "band_hz", "min_prominence_db", "residual_terms", "max_evaluations"})
+          .def_readwrite("band_hz", &ModalFitOptions::band_hz, "(F1, F2): fit only F1 ≤ f ≤ F2 [Hz]; None: all points");
+  def_option_fields(fit, modal_fit_fields(), "modes");  // max_modes, min_prominence_db, residual_terms, max_evaluations
 
   // ---- Modal models ---------------------------------------------------------------------------------
   py::class_<Mode>(
@@ -630,6 +627,7 @@ void bind_stability(py::module_& m) {
   tables["TapTestOptions"] = fields_data(tap_test_fields());
   tables["NoiseOptions"] = fields_data(noise_fields());
   tables["TapNoise"] = fields_data(tap_noise_fields());
+  tables["ModalFitOptions"] = fields_data(modal_fit_fields());
   m.attr("_option_fields") = tables;
   bind_modal_models(m);
   bind_zero_order(m);
