@@ -110,3 +110,28 @@ TEST(OptionFieldsStability, PitchChoiceLimitsOrderBesideTheTable) {
   o.max_pitch_rad = 0.0;  // automatic: no order to keep
   EXPECT_NO_THROW(o.check());
 }
+
+// CaseStudyOptions and PrecisionOptions: the tables and check() against the expectation; the
+// nested options' checks and the precision target (optional, by hand) still refuse.
+TEST(OptionFieldsStability, CaseStudyAndPrecisionTablesAndChecks) {
+  const auto cases = case_study_expected_fields();
+  expect_table(case_study_fields(), cases, "CaseStudyOptions", &self<CaseStudyOptions>);
+  expect_edges(cases, CaseStudyOptions{});
+  CaseStudyOptions c;
+  c.noise_sigma = std::nan("");
+  EXPECT_THROW(c.check(), InvalidArgument);
+  c = {};
+  c.filter.window = 4;  // even: the Savitzky–Golay filter's own check
+  EXPECT_THROW(c.check(), InvalidArgument);
+
+  const auto precision = precision_expected_fields();
+  expect_table(precision_fields(), precision, "PrecisionOptions", &self<PrecisionOptions>);
+  PrecisionOptions p;
+  p.tool.spacing_m = 0.015;
+  p.holder.spacing_m = 0.02;
+  expect_edges(precision, p);
+  p.target = 1.0;
+  EXPECT_THROW(p.check(), InvalidArgument);
+  p.target = 0.01;
+  EXPECT_NO_THROW(p.check());
+}

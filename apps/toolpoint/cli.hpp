@@ -391,7 +391,7 @@ struct DynamicsArgs {
 };
 // Adds --assembly, --frf (and its reading options), --frf-y, --frf-xy, --frf-yx, --rigid-y, --mode-x,
 // --mode-y, --max-modes, --fit-target, --band; `prefix` starts the help of the options that only
-// some methods use ("fd: ").
+// some methods use ("fd: "; --max-modes and --fit-target say it in their table's help).
 void add_dynamics_options(CLI::App* command, DynamicsArgs& target, Globals& g, const std::string& prefix);
 // The inputs and outputs they name, for check_paths (joints included).
 std::vector<RunPath> dynamics_paths(const DynamicsArgs& typed);

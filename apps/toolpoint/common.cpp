@@ -15,6 +15,7 @@
 #include "toolpoint/error.hpp"
 #include "toolpoint/io/io.hpp"
 #include "toolpoint/stability/simulation.hpp"
+#include "toolpoint/studies/case_study.hpp"
 #include "toolpoint/studies/identification.hpp"
 #include "toolpoint/studies/pitch.hpp"
 #include "toolpoint/measured/signal.hpp"
@@ -341,8 +342,6 @@ std::string with_flags(std::string text) {
       {"PredictOptions::speed_rpm", "--speed"},
       {"BeamStudyOptions::campbell_rpm", "--campbell"},
       {"BeamStudyOptions::method", "--method"},
-      {"CaseStudyOptions::noise_sigma", "--sigma"},
-      {"CaseStudyOptions::band_width", "--width"},
       {"NoiseSpec::magnitude_sigma", "--sigma"},
       {"NoiseSpec::phase_sigma_rad", "--phase-sigma"},
       {"NoiseSpec::floor", "--floor"},
@@ -412,6 +411,7 @@ std::string with_flags(std::string text) {
   fields(noise_fields(), "NoiseOptions");
   fields(tap_noise_fields(), "TapNoise");
   fields(modal_fit_fields(), "ModalFitOptions");
+  fields(case_study_fields(), "CaseStudyOptions");
   for (const auto& [field, flag] : kFlags) replace(field, flag);
   return text;
 }
@@ -733,11 +733,9 @@ void add_dynamics_options(CLI::App* c, DynamicsArgs& o, Globals& g, const std::s
                 prefix + "an x mode MASS_KG,DAMPING_RATIO,FREQUENCY_HZ (repeatable; default: fitted from --frf)");
   c->add_option("--mode-y", o.mode_y,
                 prefix + "a y mode MASS_KG,DAMPING_RATIO,FREQUENCY_HZ (repeatable; default: from --frf-y, else the x modes)");
+  // (Their help says which methods use them: "Time domain, modes fitted: …".)
   const auto& lobes = lobes_study_fields();
-  for (const char* name : {"max_modes", "fit_target"}) {
-    CLI::Option* flag = o.fit.add(c, option_field(lobes, name));
-    flag->description(prefix + flag->get_description());
-  }
+  for (const char* name : {"max_modes", "fit_target"}) o.fit.add(c, option_field(lobes, name));
   c->add_option("--band", o.band, prefix + "fit modes only in F1:F2 [Hz] (default: the whole FRF)");
 }
 

@@ -10,6 +10,7 @@
 #include "toolpoint/identify/forward_check.hpp"
 #include "toolpoint/identify/joint_fit.hpp"
 #include "toolpoint/stability/simulation.hpp"
+#include "toolpoint/studies/case_study.hpp"
 #include "toolpoint/studies/lobes.hpp"
 #include "toolpoint/studies/identification.hpp"
 #include "toolpoint/studies/pitch.hpp"
@@ -114,7 +115,7 @@ void bind_modal_models(py::module_& m) {
                                      "How fit_modes fits modes to a point receptance (modal_fit.hpp; toolpoint modes' options).",
                                      {"max_modes", "band_hz", "min_prominence_db", "residual_terms", "max_evaluations"})
           .def_readwrite("band_hz", &ModalFitOptions::band_hz, "(F1, F2): fit only F1 ≤ f ≤ F2 [Hz]; None: all points");
-  def_option_fields(fit, modal_fit_fields(), "modes");  // max_modes, min_prominence_db, residual_terms, max_evaluations
+  def_option_fields(fit, modal_fit_fields(), "toolpoint modes");  // max_modes, min_prominence_db, residual_terms, max_evaluations
 
   // ---- Modal models ---------------------------------------------------------------------------------
   py::class_<Mode>(
@@ -628,6 +629,8 @@ void bind_stability(py::module_& m) {
   tables["NoiseOptions"] = fields_data(noise_fields());
   tables["TapNoise"] = fields_data(tap_noise_fields());
   tables["ModalFitOptions"] = fields_data(modal_fit_fields());
+  tables["CaseStudyOptions"] = fields_data(case_study_fields());
+  tables["PrecisionOptions"] = fields_data(precision_fields());
   m.attr("_option_fields") = tables;
   bind_modal_models(m);
   bind_zero_order(m);

@@ -233,7 +233,7 @@ const std::vector<OptionField<LobesStudyOptions>>& lobes_study_fields() {
   static const FieldSpec max_modes = [] {
     FieldSpec s =
         with_help(option_field(modal_fit_fields(), "max_modes").spec,
-                  "time domain, modes fitted: at most this many modes per FRF (the fewest that meet fit_target are used)");
+                  "time domain, modes fitted: at most this many modes per FRF (the fewest that meet the fit target are used)");
     s.plan_key = "max_modes";
     return s;
   }();
