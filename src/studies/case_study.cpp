@@ -40,7 +40,7 @@ const std::vector<OptionField<CaseStudyOptions>>& case_study_fields() {
         .max = 0.5,
         .min_open = true,
         .max_open = true,
-        .help = "read-out band half-width around the tool mode, relative: tool mode × (1 ± band_width) (0.02 = ±2 %)",
+        .help = "read-out band half-width around the tool mode, relative: tool mode × (1 ± width) (0.02 = ±2 %)",
         .cli_name = "width"},
        [](O& o) -> double& { return o.band_width; }},
       {{.name = "fit", .kind = K::Flag, .help = "also fit the joint to the raw noisy data (the band fit)"},

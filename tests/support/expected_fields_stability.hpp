@@ -42,7 +42,8 @@ inline std::vector<ExpectedField<ModalFitOptions>> modal_fit_expected_fields() {
 template <class Study>
 std::vector<ExpectedField<Study>> fitted_modes_expected_fields(const std::string& type) {
   return {
-      {type, "max_modes", true, 1.0, 20.0, false, false, 5.0, "--max-modes", "-", 1.0, "", TOOLPOINT_MEMBER(Study, fit.max_modes)},
+      {type, "max_modes", true, 1.0, 20.0, false, false, 5.0, "--max-modes", "-", 1.0, "",
+       TOOLPOINT_MEMBER(Study, fit.max_modes)},
       {type, "fit_target", false, 0.0, 1.0, true, true, 0.05, "--fit-target", "%", 100.0, "",
        TOOLPOINT_MEMBER(Study, fit_target)},
   };
