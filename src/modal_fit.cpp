@@ -55,17 +55,44 @@ FrfSeries modal_frf(const std::vector<Mode>& modes, const std::vector<double>& f
 }
 
 void ModalFitOptions::check() const {
-  if (max_modes < 1 || max_modes > 20)
-    throw InvalidArgument(fmt::format("ModalFitOptions::max_modes = {} must lie in 1…20", max_modes));
+  check_fields(modal_fit_fields(), *this, "ModalFitOptions");
   if (band_hz) {
     const auto [lo, hi] = *band_hz;
     if (!std::isfinite(lo) || !std::isfinite(hi) || !(lo >= 0.0) || !(hi > lo))
       throw InvalidArgument(fmt::format("ModalFitOptions::band_hz = {}:{} Hz must satisfy 0 ≤ F1 < F2", lo, hi), "e.g. 500:3000");
   }
-  if (!std::isfinite(min_prominence_db) || !(min_prominence_db > 0.0))
-    throw InvalidArgument(fmt::format("peak prominence {} dB must be positive", min_prominence_db));
-  if (max_evaluations < 10)
-    throw InvalidArgument(fmt::format("{} Levenberg–Marquardt evaluations are too few (at least 10)", max_evaluations));
+}
+
+const std::vector<OptionField<ModalFitOptions>>& modal_fit_fields() {
+  using O = ModalFitOptions;
+  using K = FieldKind;
+  // 20 modes: more than a tool point's band holds; 3 dB: a peak with a half-power band; 10
+  // evaluations: fewer cannot move the initial estimates.
+  static const std::vector<OptionField<O>> fields = {
+      {{.name = "max_modes",
+        .kind = K::Integer,
+        .min = 1.0,
+        .max = 20.0,
+        .help = "at most this many modes fitted (the most prominent peaks)",
+        .cli_name = "max-modes"},
+       nullptr,
+       [](O& o) -> int& { return o.max_modes; }},
+      {{.name = "min_prominence_db",
+        .kind = K::Real,
+        .unit = "dB",
+        .min = 0.0,
+        .min_open = true,
+        .help = "a peak of |G| must rise this much above the valleys on both sides to count as a mode",
+        .cli_name = "min-prominence"},
+       [](O& o) -> double& { return o.min_prominence_db; }},
+      {{.name = "residual_terms", .kind = K::Flag, .help = "fit the residual terms −L/ω² + U for out-of-band modes"},
+       nullptr,
+       nullptr,
+       [](O& o) -> bool& { return o.residual_terms; }},
+      {{.name = "max_evaluations", .kind = K::Integer, .min = 10.0, .help = "Levenberg–Marquardt function evaluations at most"},
+       nullptr,
+       [](O& o) -> int& { return o.max_evaluations; }}};
+  return fields;
 }
 
 namespace {

@@ -141,33 +141,121 @@ std::vector<std::pair<double, double>> budak_three_angle_variations(double speed
 }
 
 void PitchChoiceOptions::check() const {
-  if (!std::isfinite(speed_rpm) || !(speed_rpm > 0.0))
-    throw InvalidArgument(fmt::format("PitchChoiceOptions::speed_rpm {} must be > 0 (the target spindle speed)", speed_rpm));
-  for (const auto& [value, name] : {std::pair{min_pitch_rad, "min_pitch_rad"}, std::pair{max_pitch_rad, "max_pitch_rad"}})
-    if (!std::isfinite(value) || value < 0.0 || value >= 2.0 * kPi)
-      throw InvalidArgument(fmt::format("PitchChoiceOptions::{} {} rad must lie in [0, 2π) (0: automatic)", name, value));
+  check_fields(pitch_choice_fields(), *this, "PitchChoiceOptions");
   if (min_pitch_rad > 0.0 && max_pitch_rad > 0.0 && !(min_pitch_rad < max_pitch_rad))
     throw InvalidArgument(
         fmt::format("PitchChoiceOptions::min_pitch_rad {} rad must be below PitchChoiceOptions::max_pitch_rad {} rad",
                     min_pitch_rad, max_pitch_rad));
-  if (!std::isfinite(chatter_hz) || chatter_hz < 0.0)
-    throw InvalidArgument(fmt::format("PitchChoiceOptions::chatter_hz {} Hz must be ≥ 0 (0: the dominant mode's)", chatter_hz));
-  if (!(window > 0.0 && window <= 1.0))
-    throw InvalidArgument(fmt::format("PitchChoiceOptions::window {} must lie in (0, 1]", window),
-                          "0.5 searches 0.5…1.5 × the closed-form variation");
-  if (search_points < 3 || search_points > 201)
-    throw InvalidArgument(fmt::format("PitchChoiceOptions::search_points {} must lie in 3…201", search_points));
-  if (steps != 0 && (steps < 4 || steps > 2000))
-    throw InvalidArgument(fmt::format("PitchChoiceOptions::steps {} must be 0 (automatic) or lie in 4…2000", steps));
-  if (degree < 1 || degree > 3) throw InvalidArgument(fmt::format("PitchChoiceOptions::degree {} must be 1, 2 or 3", degree));
-  if (!(robustness >= 0.0 && robustness <= 0.2))
-    throw InvalidArgument(fmt::format("PitchChoiceOptions::robustness {} must lie in [0, 0.2]", robustness),
-                          "0.02 takes the worst limit of ΔP and ΔP ± 2 % (a speed ± 2 %)");
-  if (!std::isfinite(max_depth_m) || max_depth_m < 0.0)
-    throw InvalidArgument(fmt::format("PitchChoiceOptions::max_depth_m {} m must be ≥ 0 (0: automatic)", max_depth_m));
-  if (depth_steps < 4 || depth_steps > 10000)
-    throw InvalidArgument(fmt::format("PitchChoiceOptions::depth_steps {} must lie in 4…10000", depth_steps));
   parallel.check();
+}
+
+const std::vector<OptionField<PitchChoiceOptions>>& pitch_choice_fields() {
+  using O = PitchChoiceOptions;
+  constexpr double kDegreesPerRadian = 180.0 / kPi;  // the CLI's pitch angles are in degrees
+  static const std::vector<OptionField<O>> fields = {
+      {{.name = "speed_rpm",
+        .kind = FieldKind::Real,
+        .unit = "rpm",
+        .min = 0.0,
+        .min_open = true,
+        .help = "target spindle speed",
+        .cli_name = "rpm",
+        .plausible = &plausible::kSpindleSpeedRpm},
+       [](O& o) -> double& { return o.speed_rpm; }},
+      {{.name = "min_pitch_rad",
+        .kind = FieldKind::Real,
+        .unit = "rad",
+        .min = 0.0,
+        .max = 2.0 * kPi,
+        .max_open = true,
+        .note = "0: half the even pitch",
+        .help = "smallest pitch angle allowed",
+        .cli_name = "min-pitch",
+        .cli_unit = "degrees",
+        .cli_per_unit = kDegreesPerRadian},
+       [](O& o) -> double& { return o.min_pitch_rad; }},
+      {{.name = "max_pitch_rad",
+        .kind = FieldKind::Real,
+        .unit = "rad",
+        .min = 0.0,
+        .max = 2.0 * kPi,
+        .max_open = true,
+        .note = "0: 1.5 × the even pitch",
+        .help = "largest pitch angle allowed",
+        .cli_name = "max-pitch",
+        .cli_unit = "degrees",
+        .cli_per_unit = kDegreesPerRadian},
+       [](O& o) -> double& { return o.max_pitch_rad; }},
+      {{.name = "chatter_hz",
+        .kind = FieldKind::Real,
+        .unit = "Hz",
+        .min = 0.0,
+        .note = "0: the evenly spaced tool's at the target speed",
+        .help = "chatter frequency Budak's rule aims at",
+        .cli_name = "chatter"},
+       [](O& o) -> double& { return o.chatter_hz; }},
+      {{.name = "window",
+        .kind = FieldKind::Real,
+        .min = 0.0,
+        .max = 1.0,
+        .min_open = true,
+        .help = "search ΔP over (1 ± window) × the closed form's",
+        .cli_name = "window"},
+       [](O& o) -> double& { return o.window; }},
+      {{.name = "search_points",
+        .kind = FieldKind::Integer,
+        .min = 3.0,
+        .max = 201.0,
+        .help = "points of the first search grid (three-angle: per parameter, a square grid)",
+        .cli_name = "search-points"},
+       nullptr,
+       [](O& o) -> int& { return o.search_points; }},
+      {{.name = "robustness",
+        .kind = FieldKind::Real,
+        .min = 0.0,
+        .max = 0.2,
+        .help = "maximise the lowest limit of ΔP and ΔP(1 ± robustness), as a speed off by as much",
+        .cli_name = "robustness",
+        .cli_unit = "% of ΔP",
+        .cli_per_unit = 100.0},
+       [](O& o) -> double& { return o.robustness; }},
+      {{.name = "steps",
+        .kind = FieldKind::Integer,
+        .min = 4.0,
+        .max = 2000.0,
+        .automatic = 0.0,
+        .note = "0: 12 per chatter wave",
+        .help = "full-discretization: steps per tooth period",
+        .cli_name = "intervals"},
+       nullptr,
+       [](O& o) -> int& { return o.steps; }},
+      {{.name = "degree",
+        .kind = FieldKind::Integer,
+        .min = 1.0,
+        .max = 3.0,
+        .help = "full-discretization: degree of the polynomial the delayed state is interpolated with"},
+       nullptr,
+       [](O& o) -> int& { return o.degree; }},
+      {{.name = "max_depth_m",
+        .kind = FieldKind::Real,
+        .unit = "m",
+        .min = 0.0,
+        .note = "0: 20 × the even tool's zero-order floor",
+        .help = "depths searched up to this",
+        .cli_name = "max-depth",
+        .cli_unit = "mm",
+        .cli_per_unit = 1e3},
+       [](O& o) -> double& { return o.max_depth_m; }},
+      {{.name = "depth_steps",
+        .kind = FieldKind::Integer,
+        .min = 4.0,
+        .max = 10000.0,
+        .help = "equal depth steps of the search, up to the deepest depth searched",
+        .cli_name = "depth-steps"},
+       nullptr,
+       [](O& o) -> int& { return o.depth_steps; }},
+  };
+  return fields;
 }
 
 namespace {

@@ -317,78 +317,6 @@ std::vector<double> pitch_radians(const std::vector<double>& pitch_deg, int teet
 // read as radians (all within 0 < β ≤ 1.5, i.e. 86°) is refused: no end mill has a helix under 1.5°.
 std::vector<double> helix_radians(const std::vector<double>& helix_deg);
 
-// Where the tool point dynamics come from, as typed: FRF files or an assembly, modes, the fit.
-struct DynamicsArgs {
-  std::string frf, frf_y, frf_xy, frf_yx, assembly;
-  bool rigid_y = false;
-  std::vector<std::string> mode_x, mode_y;
-  int max_modes = 8;
-  double fit_target_pct = 2.0;
-  std::string band;
-  std::vector<std::string> joints;
-  // Set by the command: the lobes at speed (said when the assembly is read).
-  SpeedModel speed_model = SpeedModel::Standstill;
-};
-// Adds --assembly, --frf (and its reading options), --frf-y, --frf-xy, --frf-yx, --rigid-y, --mode-x,
-// --mode-y, --max-modes, --fit-target, --band; `prefix` starts the help of the options that only
-// some methods use ("fd: ").
-void add_dynamics_options(CLI::App* command, DynamicsArgs& target, Globals& g, const std::string& prefix);
-// The inputs and outputs they name, for check_paths (joints included).
-std::vector<RunPath> dynamics_paths(const DynamicsArgs& typed);
-// The library's input: input.frfs or input.assembly from the files (neither when no FRF is given),
-// the modes parsed (a mode given twice warned about), rigid_y. Throws InvalidArgument naming the flags.
-void fill_dynamics_input(const DynamicsArgs& typed, const Globals& g, const std::vector<JointFile>& joints, LobesInput& input);
-// The modal fit's options from --max-modes, --band (--fit-target separately, as a fraction).
-ModalFitOptions dynamics_fit_options(const DynamicsArgs& typed);
-
-// "MASS,ZETA,FN" → Mode, naming `option` in errors; plausible mass and frequency checked.
-Mode parse_mode(const std::string& text, const std::string& option);
-
-// ---- Sharded studies (plan, simulate map; shard_cli.cpp) -------------------------------------
-
-// --shard I/N and --part FILE of a sharded command: the shard (0 of 1 without --shard). `what`
-// names the result ("plan"), `merge` its merge command ("toolpoint plan merge"). Throws
-// InvalidArgument for --shard without --part, --part without --shard, and --shard with an output
-// of the whole result (`whole_outputs`: --output, --plot or --json given).
-ShardId shard_options(const std::string& shard, const std::string& part, bool whole_outputs, const std::string& what,
-                      const std::string& merge);
-
-// How a sharded command computes a shard again, for the commands a merge prints.
-struct ShardCommand {
-  std::string command;  // what comes before " --shard I/N --part FILE", e.g. "toolpoint plan study.toml"
-  // The Slurm array's re-run of the shards `list` ("2,5-7") of a split into `count`, their parts in `dir`.
-  std::function<std::string(const std::string& list, const std::string& dir, int count)> array;
-};
-
-// The commands that mend a set of parts (ShardSetError::check()): the parts to leave out, each
-// shard to run again (in a loop when there are many and the parts are named DIR/part-I.json, as
-// the scripts in scripts/slurm/ name them; then the Slurm array's re-run too), "then merge again".
-std::string mending_commands(const ShardSetCheck& check, const ShardCommand& rerun);
-
-// The options given to `commands` (each one's results, as --name=value, shell-quoted where needed),
-// those named in `leave_out` left out: the words that run the same study again.
-std::string given_options(const std::vector<const CLI::App*>& commands, std::initializer_list<const char*> leave_out);
-
-// ---- Subcommands ----------------------------------------------------------------------------
-// Each adds itself to `app` with its options, help (units, defaults, one example) and callback.
-void add_beam_command(CLI::App& app, Globals& g);
-void add_predict_command(CLI::App& app, Globals& g);
-void add_identify_command(CLI::App& app, Globals& g);
-void add_demo_command(CLI::App& app, Globals& g);
-void add_couple_command(CLI::App& app, Globals& g);
-void add_taptest_command(CLI::App& app, Globals& g);
-void add_filter_command(CLI::App& app, Globals& g);
-void add_noise_command(CLI::App& app, Globals& g);
-void add_rotational_command(CLI::App& app, Globals& g);
-void add_convert_command(CLI::App& app, Globals& g);
-void add_lobes_command(CLI::App& app, Globals& g);
-void add_pitch_command(CLI::App& app, Globals& g);
-void add_modes_command(CLI::App& app, Globals& g);
-void add_resample_command(CLI::App& app, Globals& g);
-void add_plan_command(CLI::App& app, Globals& g);
-void add_simulate_command(CLI::App& app, Globals& g);
-void add_precision_command(CLI::App& app, Globals& g);
-
 // ---- Option fields as flags (option_fields.hpp) ------------------------------------------------
 
 // A field's --help text: its help, its unit as the CLI takes it, its range in that unit and what
@@ -447,5 +375,80 @@ class FieldFlags {
   };
   std::deque<Slot> slots_;  // a deque: CLI11 keeps the addresses of the values
 };
+
+// Where the tool point dynamics come from, as typed: FRF files or an assembly, modes, the fit.
+struct DynamicsArgs {
+  std::string frf, frf_y, frf_xy, frf_yx, assembly;
+  bool rigid_y = false;
+  std::vector<std::string> mode_x, mode_y;
+  // --max-modes, --fit-target: from their definitions (lobes_study_fields, its max_modes
+  // ModalFitOptions' own), the same for lobes, pitch and simulate.
+  FieldFlags<LobesStudyOptions> fit;
+  std::string band;
+  std::vector<std::string> joints;
+  // Set by the command: the lobes at speed (said when the assembly is read).
+  SpeedModel speed_model = SpeedModel::Standstill;
+};
+// Adds --assembly, --frf (and its reading options), --frf-y, --frf-xy, --frf-yx, --rigid-y, --mode-x,
+// --mode-y, --max-modes, --fit-target, --band; `prefix` starts the help of the options that only
+// some methods use ("fd: "; --max-modes and --fit-target say it in their table's help).
+void add_dynamics_options(CLI::App* command, DynamicsArgs& target, Globals& g, const std::string& prefix);
+// The inputs and outputs they name, for check_paths (joints included).
+std::vector<RunPath> dynamics_paths(const DynamicsArgs& typed);
+// The library's input: input.frfs or input.assembly from the files (neither when no FRF is given),
+// the modes parsed (a mode given twice warned about), rigid_y. Throws InvalidArgument naming the flags.
+void fill_dynamics_input(const DynamicsArgs& typed, const Globals& g, const std::vector<JointFile>& joints, LobesInput& input);
+// The modal fit's options from --max-modes, --band (--fit-target separately, as a fraction:
+// dynamics_fit_target); a flag out of its range refused naming it.
+ModalFitOptions dynamics_fit_options(const DynamicsArgs& typed);
+double dynamics_fit_target(const DynamicsArgs& typed);
+
+// "MASS,ZETA,FN" → Mode, naming `option` in errors; plausible mass and frequency checked.
+Mode parse_mode(const std::string& text, const std::string& option);
+
+// ---- Sharded studies (plan, simulate map; shard_cli.cpp) -------------------------------------
+
+// --shard I/N and --part FILE of a sharded command: the shard (0 of 1 without --shard). `what`
+// names the result ("plan"), `merge` its merge command ("toolpoint plan merge"). Throws
+// InvalidArgument for --shard without --part, --part without --shard, and --shard with an output
+// of the whole result (`whole_outputs`: --output, --plot or --json given).
+ShardId shard_options(const std::string& shard, const std::string& part, bool whole_outputs, const std::string& what,
+                      const std::string& merge);
+
+// How a sharded command computes a shard again, for the commands a merge prints.
+struct ShardCommand {
+  std::string command;  // what comes before " --shard I/N --part FILE", e.g. "toolpoint plan study.toml"
+  // The Slurm array's re-run of the shards `list` ("2,5-7") of a split into `count`, their parts in `dir`.
+  std::function<std::string(const std::string& list, const std::string& dir, int count)> array;
+};
+
+// The commands that mend a set of parts (ShardSetError::check()): the parts to leave out, each
+// shard to run again (in a loop when there are many and the parts are named DIR/part-I.json, as
+// the scripts in scripts/slurm/ name them; then the Slurm array's re-run too), "then merge again".
+std::string mending_commands(const ShardSetCheck& check, const ShardCommand& rerun);
+
+// The options given to `commands` (each one's results, as --name=value, shell-quoted where needed),
+// those named in `leave_out` left out: the words that run the same study again.
+std::string given_options(const std::vector<const CLI::App*>& commands, std::initializer_list<const char*> leave_out);
+
+// ---- Subcommands ----------------------------------------------------------------------------
+// Each adds itself to `app` with its options, help (units, defaults, one example) and callback.
+void add_beam_command(CLI::App& app, Globals& g);
+void add_predict_command(CLI::App& app, Globals& g);
+void add_identify_command(CLI::App& app, Globals& g);
+void add_demo_command(CLI::App& app, Globals& g);
+void add_couple_command(CLI::App& app, Globals& g);
+void add_taptest_command(CLI::App& app, Globals& g);
+void add_filter_command(CLI::App& app, Globals& g);
+void add_noise_command(CLI::App& app, Globals& g);
+void add_rotational_command(CLI::App& app, Globals& g);
+void add_convert_command(CLI::App& app, Globals& g);
+void add_lobes_command(CLI::App& app, Globals& g);
+void add_pitch_command(CLI::App& app, Globals& g);
+void add_modes_command(CLI::App& app, Globals& g);
+void add_resample_command(CLI::App& app, Globals& g);
+void add_plan_command(CLI::App& app, Globals& g);
+void add_simulate_command(CLI::App& app, Globals& g);
+void add_precision_command(CLI::App& app, Globals& g);
 
 }  // namespace toolpoint::cli

@@ -24,7 +24,8 @@ namespace {
 struct DemoOptions {
   std::string assembly, output = "toolpoint-demo";
   std::vector<std::string> joints;
-  double sigma = 0.05, width = 0.02;
+  // --sigma, --width: from their definitions (case_study_fields).
+  FieldFlags<CaseStudyOptions> fields;
   std::uint64_t seed = 1;
   int window = 81, order = 2, bootstrap = 200, threads = 0;
   bool no_plots = false, json = false, no_fit = false;
@@ -32,7 +33,7 @@ struct DemoOptions {
 
 std::string pct(double x) { return fmt::format("{:+.2g} %", 100.0 * x); }
 
-void print_report(const DemoOptions& o, const LoadedAssembly& loaded, const CaseStudy& cs,
+void print_report(const DemoOptions& o, const CaseStudyOptions& co, const LoadedAssembly& loaded, const CaseStudy& cs,
                   const std::vector<std::string>& warnings, const std::vector<std::string>& files,
                   const std::vector<std::string>& figures);
 
@@ -42,10 +43,9 @@ void run_demo(const DemoOptions& o, const Globals& g) {
                                             read_joint_options(g, o.joints));
   report_loaded(g, loaded);
   CaseStudyOptions co;
-  co.noise_sigma = o.sigma;
+  o.fields.apply(co);
   co.seed = o.seed;
   co.filter = SavgolOptions{o.window, o.order};
-  co.band_width = o.width;
   co.fit = !o.no_fit;
   if (o.bootstrap == 0) co.fit_options.uncertainty = UncertaintyMethod::Linearised;
   else co.fit_options.bootstrap_samples = o.bootstrap;
@@ -70,9 +70,10 @@ void run_demo(const DemoOptions& o, const Globals& g) {
   };
   block_file("sh11_true.csv", cs.sh_true, "SH11, holder tip of spindle + holder (tool outside removed), noise-free model");
   block_file("sht11_true.csv", cs.sht_true, "SHT11, tool point, noise-free model");
-  block_file("sh11_noisy.csv", cs.sh_noisy, fmt::format("SH11 with {} % multiplicative noise, seed {}", 100 * o.sigma, o.seed));
+  block_file("sh11_noisy.csv", cs.sh_noisy,
+             fmt::format("SH11 with {} % multiplicative noise, seed {}", 100 * co.noise_sigma, o.seed));
   block_file("sht11_noisy.csv", cs.sht_noisy,
-             fmt::format("SHT11 with {} % multiplicative noise, seed {}", 100 * o.sigma, o.seed + 1));
+             fmt::format("SHT11 with {} % multiplicative noise, seed {}", 100 * co.noise_sigma, o.seed + 1));
   block_file("sh11_filtered.csv", cs.sh_filtered,
              fmt::format("SH11 noisy, Savitzky-Golay window {} points, order {}", o.window, o.order));
   block_file("sht11_filtered.csv", cs.sht_filtered,
@@ -95,7 +96,7 @@ void run_demo(const DemoOptions& o, const Globals& g) {
   j["units"] = "SI; frequencies in Hz";
   j["frequency_range_hz"] = {f.front(), f.back()};
   j["points"] = f.size();
-  j["noise"] = {{"sigma", o.sigma}, {"seed_sh11", o.seed}, {"seed_sht11", o.seed + 1}};
+  j["noise"] = {{"sigma", co.noise_sigma}, {"seed_sh11", o.seed}, {"seed_sht11", o.seed + 1}};
   j["filter"] = {{"method", "Savitzky-Golay"}, {"window_points", o.window}, {"order", o.order}};
   const std::vector<std::string>& warnings = cs.warnings;
 
@@ -131,7 +132,7 @@ void run_demo(const DemoOptions& o, const Globals& g) {
   if (o.json) {
     std::cout << j.dump(2) << '\n';
   } else {
-    print_report(o, loaded, cs, warnings, files, figures);
+    print_report(o, co, loaded, cs, warnings, files, figures);
   }
   if (figure_failure) {
     if (OutputSet* data = OutputSet::active()) data->commit();  // the data and summary.json stay (see the footer)
@@ -139,7 +140,7 @@ void run_demo(const DemoOptions& o, const Globals& g) {
   }
 }
 
-void print_report(const DemoOptions& o, const LoadedAssembly& loaded, const CaseStudy& cs,
+void print_report(const DemoOptions& o, const CaseStudyOptions& co, const LoadedAssembly& loaded, const CaseStudy& cs,
                   const std::vector<std::string>& warnings, const std::vector<std::string>& files,
                   const std::vector<std::string>& figures) {
   const auto& f = cs.sht_true.frequency_hz;
@@ -161,13 +162,13 @@ void print_report(const DemoOptions& o, const LoadedAssembly& loaded, const Case
   std::cout << fmt::format(
       "3. {:g} % noise on every entry of SH11 and SHT11 (seeds {}, {}); Savitzky-Golay filter,\n"
       "   window {} points ({:g} Hz), order {}.\n",
-      100 * o.sigma, o.seed, o.seed + 1, o.window, o.window * (f[1] - f[0]), o.order);
+      100 * co.noise_sigma, o.seed, o.seed + 1, o.window, o.window * (f[1] - f[0]), o.order);
   const auto& dm = cs.effect.modes[cs.effect.dominant];
   std::cout << fmt::format(
       "4. Effect analysis: the holder-tool joint controls the {:.1f} Hz mode (+10 % joint stiffness moves it\n"
       "   {}); read in {:.0f}–{:.0f} Hz (±{:g} % around {:.1f} Hz).\n\n",
-      dm.frequency_hz, pct(dm.stiffness_shift), cs.filtered_readout.band_lo_hz, cs.filtered_readout.band_hi_hz, 100 * o.width,
-      cs.mode_hz);
+      dm.frequency_hz, pct(dm.stiffness_shift), cs.filtered_readout.band_lo_hz, cs.filtered_readout.band_hi_hz,
+      100 * co.band_width, cs.mode_hz);
   std::cout << "parameter  unit         Table 1      noise-free  error      noisy       error      filtered    error      gain\n";
   for (int k = 0; k < 8; ++k) {
     const auto ks = static_cast<std::size_t>(k);
@@ -242,13 +243,12 @@ void add_demo_command(CLI::App& app, Globals& g) {
   c->add_option("--assembly", o->assembly,
                 "Assembly file (TOML, SI units; default: the built-in examples/bt40_shrinkfit_16mm.toml)");
   c->add_option("--output", o->output, "Folder for the CSV data, summary.json and figures")->capture_default_str();
-  c->add_option("--sigma", o->sigma, "Standard deviation of the multiplicative noise [-] (0.05 = 5 %, the seed's)")
-      ->capture_default_str();
+  const auto& fields = case_study_fields();
+  o->fields.add(c, option_field(fields, "noise_sigma"));
   c->add_option("--seed", o->seed, "Random seed (SH11 uses it, SHT11 seed + 1)")->capture_default_str();
   c->add_option("--window", o->window, "Savitzky-Golay window [frequency points, odd]")->capture_default_str();
   c->add_option("--order", o->order, "Savitzky-Golay polynomial order [-]")->capture_default_str();
-  c->add_option("--width", o->width, "Read-out band half-width around the tool mode, relative [-] (0.02 = ±2 %)")
-      ->capture_default_str();
+  o->fields.add(c, option_field(fields, "band_width"));
   c->add_option("--bootstrap", o->bootstrap, "Band fit intervals: bootstrap replicates (≥ 20), or 0 for linearised intervals")
       ->capture_default_str();
   c->add_option("--threads", o->threads, "Worker threads for the bootstrap (0: every core; the same result for any number)")

@@ -145,7 +145,7 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
   so.speeds = {min_rpm, max_rpm, o.speeds};
   so.method = lobes_method(o.method);
   so.fit = dynamics_fit_options(o.dyn);
-  so.fit_target = o.dyn.fit_target_pct / 100.0;
+  so.fit_target = dynamics_fit_target(o.dyn);
   so.parallel.threads = o.threads;
   so.speed_model = speed_model_from(o.speed_model).value_or(SpeedModel::Automatic);  // the option's values are checked
   o.fields.apply(so);

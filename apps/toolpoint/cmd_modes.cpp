@@ -22,15 +22,14 @@ namespace {
 struct ModesOptions {
   std::string file, band, output, plot;
   std::optional<std::size_t> dataset;
-  int max_modes = 3;
-  double min_prominence_db = 3.0;
+  // --max-modes, --min-prominence: from their definitions (modal_fit_fields).
+  FieldFlags<ModalFitOptions> fields;
   bool no_residuals = false, json = false;
 };
 
 void run_modes(const ModesOptions& o, const Globals& g) {
   ModalFitOptions fo;
-  fo.max_modes = o.max_modes;
-  fo.min_prominence_db = o.min_prominence_db;
+  o.fields.apply(fo);
   fo.residual_terms = !o.no_residuals;
   if (!o.band.empty()) fo.band_hz = parse_range(o.band, "--band");
   fo.check();
@@ -93,11 +92,10 @@ void add_modes_command(CLI::App& app, Globals& g) {
   c->add_option("frf", o->file, std::string("The point FRF to fit (required): ") + kPointFrfHelp)->required();
   add_dataset_option(c, o->dataset);
   add_frf_read_options(c, g);
-  c->add_option("--max-modes", o->max_modes, "Fit at most N modes (the most prominent peaks) [-], 1…20")->capture_default_str();
+  const auto& fields = modal_fit_fields();
+  o->fields.add(c, option_field(fields, "max_modes"));
   c->add_option("--band", o->band, "Fit only F1 ≤ f ≤ F2, as F1:F2 [Hz] (default: the whole FRF)");
-  c->add_option("--min-prominence", o->min_prominence_db,
-                "A peak must rise this much [dB] above its valleys on both sides to count as a mode")
-      ->capture_default_str();
+  o->fields.add(c, option_field(fields, "min_prominence_db"));
   c->add_flag("--no-residuals", o->no_residuals,
               "Do not fit the residual terms −L/ω² + U for out-of-band modes (default: fit them)");
   c->add_option("--output", o->output,

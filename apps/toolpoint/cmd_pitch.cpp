@@ -86,7 +86,7 @@ void run_pitch(const PitchOptions& o, const Globals& g) {
                                            : PitchPattern::Alternating;
   c.parallel.threads = o.threads;
   so.fit = dynamics_fit_options(o.dyn);
-  so.fit_target = o.dyn.fit_target_pct / 100.0;
+  so.fit_target = dynamics_fit_target(o.dyn);
   LobesInput input;
   fill_dynamics_input(o.dyn, g, read_joint_options(g, o.dyn.joints), input);
   if (input.x_modes.empty() && !input.frfs && !input.assembly)

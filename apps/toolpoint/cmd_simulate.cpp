@@ -185,7 +185,7 @@ void run_cut(const SimulateArgs& o, const Globals& g) {
   so.cut.depth_m = 1e-3 * depth_mm;
   so.simulation = simulation_of(o);
   so.fit = dynamics_fit_options(o.dyn);
-  so.fit_target = o.dyn.fit_target_pct / 100.0;
+  so.fit_target = dynamics_fit_target(o.dyn);
   const SimulationInput in = simulation_input(o, g);
   Progress progress(g, "simulate: revolutions");
   const SimulationStudyResult r = with_cli_names([&] { return run_simulation_study(in, so, progress.part()); });
@@ -305,7 +305,7 @@ void run_map(const SimulateArgs& o, const Globals& g, const std::string& study) 
   std::vector<std::string> warnings;
   const SimulationInput in = simulation_input(o, g);
   const ToolDynamics dyn = with_cli_names(
-      [&] { return simulation_dynamics(in, dynamics_fit_options(o.dyn), o.dyn.fit_target_pct / 100.0, fits, warnings); });
+      [&] { return simulation_dynamics(in, dynamics_fit_options(o.dyn), dynamics_fit_target(o.dyn), fits, warnings); });
   warn_all(warnings);
   Progress progress(g, o.shard.empty() ? "simulate map: cells" : fmt::format("simulate map: shard {}/{}", index, count));
   if (!o.shard.empty()) {

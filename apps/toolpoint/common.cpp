@@ -15,6 +15,7 @@
 #include "toolpoint/error.hpp"
 #include "toolpoint/io/io.hpp"
 #include "toolpoint/stability/simulation.hpp"
+#include "toolpoint/studies/case_study.hpp"
 #include "toolpoint/studies/identification.hpp"
 #include "toolpoint/studies/pitch.hpp"
 #include "toolpoint/measured/signal.hpp"
@@ -340,8 +341,6 @@ std::string with_flags(std::string text) {
       {"PredictOptions::speed_rpm", "--speed"},
       {"BeamStudyOptions::campbell_rpm", "--campbell"},
       {"BeamStudyOptions::method", "--method"},
-      {"CaseStudyOptions::noise_sigma", "--sigma"},
-      {"CaseStudyOptions::band_width", "--width"},
       {"NoiseSpec::magnitude_sigma", "--sigma"},
       {"NoiseSpec::phase_sigma_rad", "--phase-sigma"},
       {"NoiseSpec::floor", "--floor"},
@@ -377,7 +376,6 @@ std::string with_flags(std::string text) {
       {"LobesInput::uncertain_joint", "--samples"},
       {"BoundaryOptions::max_depth_m", "--max-depth"},
       {"ParallelOptions::threads", "--threads"},
-      {"ModalFitOptions::max_modes", "--max-modes"},
       {"ModalFitOptions::band_hz", "--band"},
       {"IdentificationOptions::band_hz", "--band"},
       {"IdentificationOptions::at_hz", "--at"},
@@ -413,6 +411,8 @@ std::string with_flags(std::string text) {
   fields(rotational_fields(), "RotationalOptions");
   fields(tap_test_file_fields(), "TapTestFileOptions");
   fields(uff_write_fields(), "UffWriteOptions");
+  fields(modal_fit_fields(), "ModalFitOptions");
+  fields(case_study_fields(), "CaseStudyOptions");
   for (const auto& [field, flag] : kFlags) replace(field, flag);
   return text;
 }
@@ -734,13 +734,9 @@ void add_dynamics_options(CLI::App* c, DynamicsArgs& o, Globals& g, const std::s
                 prefix + "an x mode MASS_KG,DAMPING_RATIO,FREQUENCY_HZ (repeatable; default: fitted from --frf)");
   c->add_option("--mode-y", o.mode_y,
                 prefix + "a y mode MASS_KG,DAMPING_RATIO,FREQUENCY_HZ (repeatable; default: from --frf-y, else the x modes)");
-  c->add_option("--max-modes", o.max_modes,
-                prefix + "at most N modes [-] fitted per FRF, 1…20 (the fewest that meet --fit-target are used)")
-      ->capture_default_str();
-  c->add_option("--fit-target", o.fit_target_pct,
-                prefix +
-                    "the fitted modes alone must represent the FRF within this [% of ‖G‖] over the band; else a warning says why")
-      ->capture_default_str();
+  // (Their help says which methods use them: "Time domain, modes fitted: …".)
+  const auto& lobes = lobes_study_fields();
+  for (const char* name : {"max_modes", "fit_target"}) o.fit.add(c, option_field(lobes, name));
   c->add_option("--band", o.band, prefix + "fit modes only in F1:F2 [Hz] (default: the whole FRF)");
 }
 
@@ -756,10 +752,18 @@ std::vector<RunPath> dynamics_paths(const DynamicsArgs& o) {
 }
 
 ModalFitOptions dynamics_fit_options(const DynamicsArgs& o) {
+  LobesStudyOptions typed;
+  o.fit.apply(typed);
   ModalFitOptions f;
-  f.max_modes = o.max_modes;
+  f.max_modes = typed.fit.max_modes;
   if (!o.band.empty()) f.band_hz = parse_range(o.band, "--band");
   return f;
+}
+
+double dynamics_fit_target(const DynamicsArgs& o) {
+  LobesStudyOptions typed;
+  o.fit.apply(typed);
+  return typed.fit_target;
 }
 
 Mode parse_mode(const std::string& text, const std::string& option) {

@@ -762,22 +762,22 @@ void bind_precision(py::module_& m) {
   auto tap_noise = options_class<TapNoise>(m, "TapNoise", "The noise of the tap tests being planned (studies/precision.hpp).",
                                            {"sigma", "floor", "averages", "calibration", "shared_calibration"});
   def_option_fields(tap_noise, tap_noise_fields(), "toolpoint precision");
-  options_class<PrecisionOptions>(m, "PrecisionOptions",
-                                  "run_precision_study's options (studies/precision.hpp; toolpoint precision's).",
-                                  {"route", "tool", "holder", "noise", "reciprocal", "confidence", "target"})
-      .def_property(
-          "route", [](const PrecisionOptions& o) { return std::string(name_of(o.route, kRoutes)); },
-          [](PrecisionOptions& o, const std::string& v) { o.route = enum_of(v, kRoutes, "PrecisionOptions::route"); },
-          "'holder_tool', 'spindle_holder_sh' or 'spindle_holder_sht'")
-      .def_readwrite("tool", &PrecisionOptions::tool,
-                     "TapTestOptions of the tool's tap test (spacing_m required when the route measures SHT11)")
-      .def_readwrite("holder", &PrecisionOptions::holder,
-                     "TapTestOptions of the holder's tap test (spacing_m required when the route measures SH11)")
-      .def_readwrite("noise", &PrecisionOptions::noise, "TapNoise: one hit's variation, floor, averages, calibration")
-      .def_readwrite("reciprocal", &PrecisionOptions::reciprocal, "six parameters, as the identification's default")
-      .def_readwrite("confidence", &PrecisionOptions::confidence, "of the expected intervals")
-      .def_readwrite("target", &PrecisionOptions::target,
-                     "a relative half-width wanted for each parameter (0.01 = ±1 %), or None");
+  auto precision =
+      options_class<PrecisionOptions>(m, "PrecisionOptions",
+                                      "run_precision_study's options (studies/precision.hpp; toolpoint precision's).",
+                                      {"route", "tool", "holder", "noise", "reciprocal", "confidence", "target"})
+          .def_property(
+              "route", [](const PrecisionOptions& o) { return std::string(name_of(o.route, kRoutes)); },
+              [](PrecisionOptions& o, const std::string& v) { o.route = enum_of(v, kRoutes, "PrecisionOptions::route"); },
+              "'holder_tool', 'spindle_holder_sh' or 'spindle_holder_sht'")
+          .def_readwrite("tool", &PrecisionOptions::tool,
+                         "TapTestOptions of the tool's tap test (spacing_m required when the route measures SHT11)")
+          .def_readwrite("holder", &PrecisionOptions::holder,
+                         "TapTestOptions of the holder's tap test (spacing_m required when the route measures SH11)")
+          .def_readwrite("noise", &PrecisionOptions::noise, "TapNoise: one hit's variation, floor, averages, calibration")
+          .def_readwrite("target", &PrecisionOptions::target,
+                         "a relative half-width wanted for each parameter (0.01 = ±1 %), or None");
+  def_option_fields(precision, precision_fields(), "toolpoint precision");  // reciprocal, confidence
   m.def(
       "run_precision_study",
       [](Assembly a, const PrecisionOptions& options, const py::object& progress) {
@@ -913,15 +913,15 @@ void bind_case_study(py::module_& m) {
       .def(
           "to_dict", [](const CaseStudy& c) { return dict_of(c); },
           "The result as plain data, the series left out (toolpoint demo --json's keys, less what the CLI adds; SI units).");
-  options_class<CaseStudyOptions>(m, "CaseStudyOptions", "run_case_study's options (studies/case_study.hpp; toolpoint demo's).",
-                                  {"noise_sigma", "seed", "filter", "apply_filter", "band_width", "fit", "fit_options"})
-      .def_readwrite("noise_sigma", &CaseStudyOptions::noise_sigma, "σ of the multiplicative noise (0.05 = 5 %, the seed's)")
-      .def_readwrite("seed", &CaseStudyOptions::seed, "SH11 draws from `seed`, SHT11 from `seed + 1`")
-      .def_readwrite("filter", &CaseStudyOptions::filter, "SavgolOptions (window in frequency points, order)")
-      .def_readwrite("apply_filter", &CaseStudyOptions::apply_filter, "filter the noisy data before the read-out")
-      .def_readwrite("band_width", &CaseStudyOptions::band_width, "read-out band: tool mode × (1 ± band_width)")
-      .def_readwrite("fit", &CaseStudyOptions::fit, "also fit the joint to the raw noisy data (the band fit)")
-      .def_readwrite("fit_options", &CaseStudyOptions::fit_options, "JointFitOptions: its intervals, threads, seed");
+  auto case_options = options_class<CaseStudyOptions>(m, "CaseStudyOptions",
+                                                      "run_case_study's options (studies/case_study.hpp; toolpoint demo's).",
+                                                      {"noise_sigma", "seed", "filter", "apply_filter", "band_width", "fit",
+                                                       "fit_options"})
+                          .def_readwrite("seed", &CaseStudyOptions::seed, "SH11 draws from `seed`, SHT11 from `seed + 1`")
+                          .def_readwrite("filter", &CaseStudyOptions::filter, "SavgolOptions (window in frequency points, order)")
+                          .def_readwrite("fit_options", &CaseStudyOptions::fit_options,
+                                         "JointFitOptions: its intervals, threads, seed");
+  def_option_fields(case_options, case_study_fields(), "toolpoint demo");  // noise_sigma, apply_filter, band_width, fit
   m.def(
       "run_case_study",
       [](Assembly a, const CaseStudyOptions& options, const py::object& progress) {

@@ -13,6 +13,7 @@
 #include "toolpoint/identify/forward_check.hpp"
 #include "toolpoint/identify/joint_fit.hpp"
 #include "toolpoint/stability/simulation.hpp"
+#include "toolpoint/studies/case_study.hpp"
 #include "toolpoint/studies/lobes.hpp"
 #include "toolpoint/studies/identification.hpp"
 #include "toolpoint/studies/pitch.hpp"
@@ -113,15 +114,12 @@ LobesStudyOptions lobes_study_options(const CuttingConditions& cutting, const st
 
 // Modal models: modes, their fit to a measured FRF, the modal fit study.
 void bind_modal_models(py::module_& m) {
-  options_class<ModalFitOptions>(m, "ModalFitOptions",
-                                 "How fit_modes fits modes to a point receptance (modal_fit.hpp; toolpoint modes' options).",
-                                 {"max_modes", "band_hz", "min_prominence_db", "residual_terms", "max_evaluations"})
-      .def_readwrite("max_modes", &ModalFitOptions::max_modes, "at most this many modes, 1…20")
-      .def_readwrite("band_hz", &ModalFitOptions::band_hz, "(F1, F2): fit only F1 ≤ f ≤ F2 [Hz]; None: all points")
-      .def_readwrite("min_prominence_db", &ModalFitOptions::min_prominence_db,
-                     "a peak of |G| must rise this much [dB] above the valleys on both sides to count as a mode")
-      .def_readwrite("residual_terms", &ModalFitOptions::residual_terms, "fit L and U (out-of-band modes)")
-      .def_readwrite("max_evaluations", &ModalFitOptions::max_evaluations, "Levenberg–Marquardt function evaluations");
+  auto fit =
+      options_class<ModalFitOptions>(m, "ModalFitOptions",
+                                     "How fit_modes fits modes to a point receptance (modal_fit.hpp; toolpoint modes' options).",
+                                     {"max_modes", "band_hz", "min_prominence_db", "residual_terms", "max_evaluations"})
+          .def_readwrite("band_hz", &ModalFitOptions::band_hz, "(F1, F2): fit only F1 ≤ f ≤ F2 [Hz]; None: all points");
+  def_option_fields(fit, modal_fit_fields(), "toolpoint modes");  // max_modes, min_prominence_db, residual_terms, max_evaluations
 
   // ---- Modal models ---------------------------------------------------------------------------------
   py::class_<Mode>(
@@ -645,6 +643,9 @@ void bind_stability(py::module_& m) {
   tables["UffWriteOptions"] = fields_data(uff_write_fields());
   tables["PlotOptions"] = fields_data(plot::plot_fields());
   tables["FrfFigureOptions"] = fields_data(plot::frf_figure_fields());
+  tables["ModalFitOptions"] = fields_data(modal_fit_fields());
+  tables["CaseStudyOptions"] = fields_data(case_study_fields());
+  tables["PrecisionOptions"] = fields_data(precision_fields());
   m.attr("_option_fields") = tables;
   bind_modal_models(m);
   bind_zero_order(m);

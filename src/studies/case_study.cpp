@@ -10,13 +10,44 @@
 namespace toolpoint {
 
 void CaseStudyOptions::check() const {
-  if (!(noise_sigma >= 0.0 && noise_sigma < 1.0))
-    throw InvalidArgument(
-        fmt::format("CaseStudyOptions::noise_sigma {} must lie in [0, 1) (a fraction: 0.05 = 5 %)", noise_sigma));
-  if (!(band_width > 0.0 && band_width < 0.5))
-    throw InvalidArgument(fmt::format("CaseStudyOptions::band_width {} must lie in (0, 0.5)", band_width));
+  check_fields(case_study_fields(), *this, "CaseStudyOptions");
   filter.check();
   fit_options.check();
+}
+
+const std::vector<OptionField<CaseStudyOptions>>& case_study_fields() {
+  using O = CaseStudyOptions;
+  using K = FieldKind;
+  // σ below 1: a factor 1 + σz of σ ≥ 1 flips the sign of a third of the entries; the read-out band
+  // below ±50 %: wider reaches the neighbouring modes.
+  static const std::vector<OptionField<O>> fields = {
+      {{.name = "noise_sigma",
+        .kind = K::Real,
+        .min = 0.0,
+        .max = 1.0,
+        .max_open = true,
+        .note = "0: exact data",
+        .help = "standard deviation of the multiplicative noise (0.05 = 5 %, the seed's)",
+        .cli_name = "sigma"},
+       [](O& o) -> double& { return o.noise_sigma; }},
+      {{.name = "apply_filter", .kind = K::Flag, .help = "filter the noisy data (Savitzky–Golay) before the read-out"},
+       nullptr,
+       nullptr,
+       [](O& o) -> bool& { return o.apply_filter; }},
+      {{.name = "band_width",
+        .kind = K::Real,
+        .min = 0.0,
+        .max = 0.5,
+        .min_open = true,
+        .max_open = true,
+        .help = "read-out band half-width around the tool mode, relative: tool mode × (1 ± width) (0.02 = ±2 %)",
+        .cli_name = "width"},
+       [](O& o) -> double& { return o.band_width; }},
+      {{.name = "fit", .kind = K::Flag, .help = "also fit the joint to the raw noisy data (the band fit)"},
+       nullptr,
+       nullptr,
+       [](O& o) -> bool& { return o.fit; }}};
+  return fields;
 }
 
 CaseStudy run_case_study(const Assembly& assembly, const CaseStudyOptions& o, const ProgressCallback& progress) {

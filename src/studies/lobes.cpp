@@ -228,7 +228,15 @@ const std::vector<OptionField<LobesStudyOptions>>& lobes_study_fields() {
   using O = LobesStudyOptions;
   using K = FieldKind;
   constexpr double kInf = std::numeric_limits<double>::infinity();
-  // The ranges are those of the functions the fields go to (BoundaryOptions, ModalFitOptions).
+  // The ranges are those of the functions the fields go to (BoundaryOptions, ModalFitOptions);
+  // max_modes is ModalFitOptions' own field (modal_fit_fields), in the study's words, with its key.
+  static const FieldSpec max_modes = [] {
+    FieldSpec s =
+        with_help(option_field(modal_fit_fields(), "max_modes").spec,
+                  "time domain, modes fitted: at most this many modes per FRF (the fewest that meet the fit target are used)");
+    s.plan_key = "max_modes";
+    return s;
+  }();
   static const std::vector<OptionField<O>> fields = {
       {{.name = "max_depth_m",
         .kind = K::Real,
@@ -281,15 +289,7 @@ const std::vector<OptionField<LobesStudyOptions>>& lobes_study_fields() {
                 "1–3; semi-discretization: 0 its zeroth order, else the first)"},
        nullptr,
        [](O& o) -> int& { return o.degree; }},
-      {{.name = "max_modes",
-        .kind = K::Integer,
-        .min = 1.0,
-        .max = 20.0,
-        .help = "time domain, modes fitted: at most this many modes per FRF (the fewest that meet fit_target are used)",
-        .cli_name = "max-modes",
-        .plan_key = "max_modes"},
-       nullptr,
-       [](O& o) -> int& { return o.fit.max_modes; }},
+      {max_modes, nullptr, [](O& o) -> int& { return o.fit.max_modes; }},
       {{.name = "fit_target",
         .kind = K::Real,
         .min = 0.0,
@@ -337,6 +337,12 @@ const std::vector<OptionField<LobesStudyOptions>>& lobes_study_fields() {
        [](O& o) -> bool& { return o.extrapolate_bearings; }},
   };
   return fields;
+}
+
+FieldSpec fitted_modes_field(const char* name) {
+  FieldSpec s = option_field(lobes_study_fields(), name).spec;
+  s.plan_key = nullptr;
+  return s;
 }
 
 std::vector<Mode> fit_milling_modes(const FrfSeries& frf, const std::string& what, const ModalFitOptions& options, double target,

@@ -75,11 +75,31 @@ void PrecisionOptions::check() const {
   };
   if (sht) test(tool, "tool");
   if (sh) test(holder, "holder");
-  if (!(confidence > 0.5 && confidence < 1.0))
-    throw InvalidArgument(fmt::format("PrecisionOptions::confidence = {} must lie in (0.5, 1)", confidence));
+  check_fields(precision_fields(), *this, "PrecisionOptions");
   if (target && !(*target > 0.0 && *target < 1.0))
     throw InvalidArgument(fmt::format("PrecisionOptions::target = {} must lie in (0, 1) (a relative half-width)", *target),
                           "e.g. 0.01 for ±1 %");
+}
+
+const std::vector<OptionField<PrecisionOptions>>& precision_fields() {
+  using O = PrecisionOptions;
+  using K = FieldKind;
+  static const std::vector<OptionField<O>> fields = {
+      {{.name = "reciprocal",
+        .kind = K::Flag,
+        .help = "six parameters (k_θf = k_ym, c_θf = c_ym), as the identification's default; else eight"},
+       nullptr,
+       nullptr,
+       [](O& o) -> bool& { return o.reciprocal; }},
+      {{.name = "confidence",
+        .kind = K::Real,
+        .min = 0.5,
+        .max = 1.0,
+        .min_open = true,
+        .max_open = true,
+        .help = "confidence level of the expected intervals"},
+       [](O& o) -> double& { return o.confidence; }}};
+  return fields;
 }
 
 BlockNoise tap_test_block_noise(const PointFrfs& frfs, const RotationalOptions& fd, const TapNoise& noise,

@@ -111,8 +111,16 @@ void SimulationStudyOptions::check() const {
   cut.check();
   simulation.check();
   fit.check();
-  if (!std::isfinite(fit_target) || !(fit_target > 0.0) || fit_target >= 1.0)
-    throw InvalidArgument(fmt::format("SimulationStudyOptions::fit_target = {} must lie in (0, 1)", fit_target));
+  check_fields(simulation_study_fields(), *this, "SimulationStudyOptions");
+}
+
+const std::vector<OptionField<SimulationStudyOptions>>& simulation_study_fields() {
+  using O = SimulationStudyOptions;
+  static const std::vector<OptionField<O>> fields = {{fitted_modes_field("max_modes"), nullptr,
+                                                      [](O& o) -> int& { return o.fit.max_modes; }},
+                                                     {fitted_modes_field("fit_target"),
+                                                      [](O& o) -> double& { return o.fit_target; }}};
+  return fields;
 }
 
 SimulationStudyResult run_simulation_study(const SimulationInput& input, const SimulationStudyOptions& options,

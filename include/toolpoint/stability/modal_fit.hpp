@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "toolpoint/model/receptance.hpp"
+#include "toolpoint/option_fields.hpp"
 
 namespace toolpoint {
 
@@ -43,10 +44,18 @@ struct ModalFitOptions {
   double min_prominence_db = 3.0;                    // a peak of |G| must rise this much [dB] above the valleys on both
                                                      // sides to count as a mode (3 dB: it has a half-power band)
   bool residual_terms = true;                        // fit L and U (out-of-band modes)
-  int max_evaluations = 2000;                        // Levenberg–Marquardt function evaluations
-  // Throws InvalidArgument naming the option and value.
+  int max_evaluations = 2000;                        // Levenberg–Marquardt function evaluations, ≥ 10
+  // Throws InvalidArgument naming `ModalFitOptions::<field>` and the value (modal_fit_fields' ranges;
+  // the band by hand).
   void check() const;
 };
+
+/// \brief ModalFitOptions' scalar fields defined once (option_fields.hpp): check(), the flags of
+/// `toolpoint modes` (`--max-modes`, `--min-prominence`) and Python's ModalFitOptions attributes
+/// derive from this table (band_hz has its own definition). The lobes, pitch and simulation
+/// studies' max_modes (the shared `--max-modes` of lobes, pitch, simulate) take its range.
+/// \return the table, in the order of the fields
+const std::vector<OptionField<ModalFitOptions>>& modal_fit_fields();
 
 struct FittedMode {
   Mode mode;                          // modal mass from the residue: m_r = 1/A_r (only meaningful for A_r > 0)

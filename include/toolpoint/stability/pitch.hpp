@@ -17,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "toolpoint/option_fields.hpp"
 #include "toolpoint/parallel.hpp"
 #include "toolpoint/stability/stability.hpp"
 
@@ -99,8 +100,16 @@ struct PitchChoiceOptions {
   double max_depth_m = 0.0;
   int depth_steps = 60;
   ParallelOptions parallel;  // the search's depths on this many threads (identical for any count)
-  void check() const;        // throws InvalidArgument naming the field
+  // Throws InvalidArgument naming the field: pitch_choice_fields' ranges, then the pitch limits'
+  // order (min_pitch_rad < max_pitch_rad where both are given) and parallel.
+  void check() const;
 };
+
+/// \brief PitchChoiceOptions' numeric fields, defined once (option_fields.hpp): check(), the
+/// `toolpoint pitch` flags (the angles in degrees) and `toolpoint._option_fields` derive from it
+/// (the pattern and parallel have their own definitions).
+/// \return the table, in the order of the fields
+const std::vector<OptionField<PitchChoiceOptions>>& pitch_choice_fields();
 
 // One evaluated pattern: its variation and the lowest unstable depth at the target speed.
 struct PitchSample {

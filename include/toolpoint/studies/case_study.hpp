@@ -20,6 +20,7 @@
 #include "toolpoint/identify/identify.hpp"
 #include "toolpoint/plot/plot.hpp"
 #include "toolpoint/measured/signal.hpp"
+#include "toolpoint/option_fields.hpp"
 #include "toolpoint/studies/identification.hpp"
 
 namespace toolpoint {
@@ -32,8 +33,16 @@ struct CaseStudyOptions {
   double band_width = 0.02;     // read-out band: tool mode × (1 ± band_width)
   bool fit = true;              // also fit the joint to the raw noisy data (the band fit)
   JointFitOptions fit_options;  // its intervals (bootstrap by default), threads, seed
+  // Throws InvalidArgument naming `CaseStudyOptions::<field>` (case_study_fields' ranges), then the
+  // filter's and the fit's checks.
   void check() const;
 };
+
+/// \brief CaseStudyOptions' scalar fields defined once (option_fields.hpp): check(), `toolpoint
+/// demo`'s `--sigma` and `--width` and Python's CaseStudyOptions attributes derive from this table
+/// (seed, filter and fit_options have their own definitions; `--no-fit` sets fit by hand).
+/// \return the table, in the order of the fields
+const std::vector<OptionField<CaseStudyOptions>>& case_study_fields();
 
 struct CaseStudy {
   Assembly assembly;

@@ -137,6 +137,13 @@ struct LobesStudyOptions {
 /// \return the table, in the order of the fields
 const std::vector<OptionField<LobesStudyOptions>>& lobes_study_fields();
 
+/// \brief The lobes study's modal-fit field `name` (max_modes or fit_target) for another study
+/// that fits modes as it does (pitch, simulation: time_domain_modes): the same range, unit, help
+/// and flag (`--max-modes`, `--fit-target`), without the plan file's key.
+/// \param name "max_modes" or "fit_target"
+/// \return the field's description
+FieldSpec fitted_modes_field(const char* name);
+
 // How a modal model was fitted to one FRF.
 struct ModalFitSummary {
   std::string what;  // the FRF's name

@@ -9,7 +9,6 @@
 #include <string>
 #include <vector>
 
-#include "toolpoint/option_fields.hpp"
 #include "toolpoint/stability/pitch.hpp"
 #include "toolpoint/studies/lobes.hpp"
 
@@ -26,7 +25,17 @@ struct PitchStudyOptions {
     return o;
   }();
   double fit_target = 0.02;
+  // Throws InvalidArgument naming the field: the choice's, the cut's and the fit's checks, then
+  // pitch_study_fields' ranges.
+  void check() const;
 };
+
+/// \brief PitchStudyOptions' own scalar fields defined once (option_fields.hpp): fit.max_modes and
+/// fit_target, the lobes study's fields (fitted_modes_field: range, unit, help,
+/// flag); check() derives from it, and `toolpoint pitch`'s `--max-modes` and `--fit-target` are the
+/// lobes study's flags. The choice's fields: pitch_choice_fields (stability/pitch.hpp).
+/// \return the table, in the order of the fields
+const std::vector<OptionField<PitchStudyOptions>>& pitch_study_fields();
 
 struct PitchStudyResult {
   PitchChoice choice;
@@ -35,15 +44,8 @@ struct PitchStudyResult {
   std::vector<std::string> warnings;  // the fits' and the choice's
 };
 
-// The modal model (time_domain_modes), then choose_pitch. Throws as those (InvalidArgument,
-// InputError, NumericalError).
+// The options checked, the modal model (time_domain_modes), then choose_pitch. Throws as those
+// (InvalidArgument, InputError, NumericalError).
 PitchStudyResult run_pitch_study(const LobesInput& input, const PitchStudyOptions& options);
-
-/// \brief PitchChoiceOptions' numeric fields, defined once (option_fields.hpp): their units,
-/// ranges and help and the `toolpoint pitch` flags derive from it (the pattern and parallel have
-/// their own definitions; PitchChoiceOptions::check is written by hand, with the same ranges:
-/// tests/option_fields_test.cpp holds both to one expectation).
-/// \return the table, in the order of the fields
-const std::vector<OptionField<PitchChoiceOptions>>& pitch_choice_fields();
 
 }  // namespace toolpoint

@@ -65,8 +65,17 @@ struct PrecisionOptions {
   bool reciprocal = true;  // six parameters, as the identification's default
   double confidence = 0.95;
   std::optional<double> target;  // a relative half-width wanted for each parameter (0.01 = ±1 %)
-  void check() const;            // throws InvalidArgument naming `PrecisionOptions::<field>`
+  // Throws InvalidArgument naming `PrecisionOptions::<field>`: the noise, each tap test the route
+  // measures, precision_fields' ranges, the target in (0, 1).
+  void check() const;
 };
+
+/// \brief PrecisionOptions' own scalar fields defined once (option_fields.hpp): check() and
+/// Python's PrecisionOptions attributes derive from this table (route, the tap tests, the noise and
+/// the optional target have their own definitions; `toolpoint precision --parameters 6|8` sets
+/// reciprocal by hand).
+/// \return the table, in the order of the fields
+const std::vector<OptionField<PrecisionOptions>>& precision_fields();
 
 struct ParameterPrecision {
   double value = 0.0;                      // the assembly's (the trial) value [SI]

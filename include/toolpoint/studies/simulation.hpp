@@ -48,8 +48,17 @@ struct SimulationStudyOptions {
   SimulationOptions simulation;
   ModalFitOptions fit = simulation_fit_options();
   double fit_target = 0.02;
-  void check() const;  // throws InvalidArgument naming the field
+  // Throws InvalidArgument naming the field (simulation_study_fields' ranges after the nested
+  // options' checks).
+  void check() const;
 };
+
+/// \brief SimulationStudyOptions' own scalar fields defined once (option_fields.hpp): fit.max_modes
+/// and fit_target, the lobes study's fields (fitted_modes_field: range, unit, help,
+/// flag); check() derives from it, and `toolpoint simulate`'s `--max-modes` and `--fit-target` are
+/// the lobes study's flags.
+/// \return the table, in the order of the fields
+const std::vector<OptionField<SimulationStudyOptions>>& simulation_study_fields();
 
 struct SimulationStudyResult {
   ToolDynamics dynamics;
