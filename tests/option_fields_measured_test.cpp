@@ -20,11 +20,6 @@ using namespace toolpoint::testing;
 
 namespace {
 
-template <class O>
-O& self(O& o) {
-  return o;
-}
-
 // check() throws InvalidArgument whose message holds `names`.
 template <class O>
 void expect_refused(const O& o, const std::string& names) {

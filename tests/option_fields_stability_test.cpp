@@ -21,11 +21,6 @@ using namespace toolpoint::testing;
 
 namespace {
 
-template <class O>
-O& self(O& o) {
-  return o;
-}
-
 // A cut every check accepts: 4 teeth at half immersion (pitch_test.cpp's).
 CuttingConditions four_teeth() { return CuttingConditions{4, 6e8, 0.3, engagement_from_immersion(0.5, MillingDirection::Down)}; }
 

@@ -226,12 +226,7 @@ TEST(OptionFields, PlanJsonEchoesEachField) {
 
 // ---- PitchChoiceOptions (pitch_choice_fields), SimulationOptions (simulation_fields) ---------------
 
-namespace {
-template <class O>
-O& self(O& o) {
-  return o;
-}
-}  // namespace
+using toolpoint::testing::self;
 
 // The pitch table holds the fields PitchChoiceOptions::check judges (written by hand: the table's
 // ranges and the check's are held to one expectation here), with the flags `toolpoint pitch` had.

@@ -519,7 +519,7 @@ TEST(PlanStudyFile, OptionFieldsAreItsCutMachineAndSafetyKeys) {
 }
 
 // A plan part file carries every field of the plan's option tables (option_fields.hpp: the lobes,
-// the cut, the machine, the safety rule), and each moves the plan's fingerprint: each field in
+// their modal fit, the cut, the machine, the safety rule), and each moves the plan's fingerprint: each field in
 // turn set to another valid value, written and read back exactly, with a fingerprint unlike the
 // defaults'. A field left out of the part file or the fingerprint fails here by name.
 TEST(PlanStudyFile, PartFileCarriesEveryTableField) {
@@ -540,6 +540,7 @@ TEST(PlanStudyFile, PartFileCarriesEveryTableField) {
     }
   };
   each(lobes_study_fields(), [](auto& o) -> auto& { return o.lobes; });
+  each(modal_fit_fields(), [](auto& o) -> auto& { return o.lobes.fit; });
   each(plan_fields(), [](auto& o) -> auto& { return o; });
   each(machine_limits_fields(), [](auto& o) -> auto& { return o.machine; });
   each(safety_rule_fields(), [](auto& o) -> auto& { return o.safety; });

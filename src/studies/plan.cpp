@@ -406,9 +406,7 @@ std::uint64_t plan_fingerprint(const PlanHeader& h) {
     f.add(l.fit.band_hz->first);
     f.add(l.fit.band_hz->second);
   }
-  f.add(l.fit.min_prominence_db);
-  f.add(l.fit.residual_terms);
-  f.add(l.fit.max_evaluations);
+  part_file::add_fields(f, modal_fit_fields(), l.fit);
   f.add(static_cast<int>(l.speed_model));
   part_file::add_fields(f, lobes_study_fields(), l);
   part_file::add_fields(f, plan_fields(), o);

@@ -26,7 +26,7 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // Version 2: the envelope of part_file.hpp (shard and study first, so a file cut short names its shard).
-// Version 3: the options' scalar fields from their tables (lobes, cut, machine, safety_rule).
+// Version 3: the options' scalar fields from their tables (fit, lobes, cut, machine, safety_rule).
 constexpr part_file::PartKind kPlanPart{"toolpoint plan part", 3, "run_plan_part", "format_plan_part"};
 
 using part_file::hex;
@@ -54,9 +54,7 @@ nlohmann::json header_json(const PlanHeader& h) {
                         {"speed_points", l.speeds.points},
                         {"fit_band_hz", l.fit.band_hz ? nlohmann::json{hex(l.fit.band_hz->first), hex(l.fit.band_hz->second)}
                                                       : nlohmann::json(nullptr)},
-                        {"fit_min_prominence_db", hex(l.fit.min_prominence_db)},
-                        {"fit_residual_terms", l.fit.residual_terms},
-                        {"fit_max_evaluations", l.fit.max_evaluations},
+                        {"fit", part_file::fields_json(modal_fit_fields(), l.fit)},
                         {"speed_model", to_string(l.speed_model)},
                         {"lobes", part_file::fields_json(lobes_study_fields(), l)},
                         {"cut", part_file::fields_json(plan_fields(), o)},
@@ -107,9 +105,7 @@ PlanHeader parse_header(const PartReader& r, const nlohmann::json& j) {
     if (!band.is_array() || band.size() != 2) r.fail("options.fit_band_hz is not a pair");
     l.fit.band_hz = std::pair{r.number(band[0], "options.fit_band_hz[0]"), r.number(band[1], "options.fit_band_hz[1]")};
   }
-  l.fit.min_prominence_db = r.number(o, "fit_min_prominence_db", p);
-  l.fit.residual_terms = r.get<bool>(o, "fit_residual_terms", p);
-  l.fit.max_evaluations = r.get<int>(o, "fit_max_evaluations", p);
+  part_file::read_fields(r, r.at(o, "fit", p), p + "fit.", modal_fit_fields(), l.fit);
   const std::string model_name = r.get<std::string>(o, "speed_model", p);
   const std::optional<SpeedModel> model = speed_model_from(model_name);
   if (!model) r.fail(fmt::format("options.speed_model '{}' is none of auto, standstill, bearings, spinning", model_name));

@@ -271,4 +271,10 @@ inline std::vector<ExpectedField<IdentificationOptions>> identification_expected
       {"IdentificationOptions", "width", false, 0.0, 0.5, true, true, 0.05, "--width", "-", 1.0, "", TOOLPOINT_MEMBER(I, width)}};
 }
 
+/// The options themselves: the member accessor of a table whose fields lie in the type itself.
+template <class O>
+O& self(O& o) {
+  return o;
+}
+
 }  // namespace toolpoint::testing

@@ -136,8 +136,9 @@ inline constexpr double kLinearisationLimit = 1.5;
 // correction varies with the data's B11, which no replicate of a fixed world sees). With the step
 // alone the stiffnesses were covered in 85–91 %; with both terms, refitted over 200 data sets,
 // 92.5 % each (linearised) and 90–94.5 % (bootstrap, 200 replicates), the dampings c_ym, c_θm
-// 91–93.5 % (docs/noise-and-verdict.md). The intervals hold by their width; their centre is still
-// low by about 0.6 of their standard error.
+// 91–93.5 %; with the second world paired (second_world_samples), 95.0–96.0 % and 94.4–95.5 %
+// (linearised), 91.5–95.5 % and 92.0–94.0 % (bootstrap) (docs/noise-and-verdict.md). The
+// intervals hold by their width; their centre is still low by about 0.6 of their standard error.
 inline constexpr double kExtrapolationUncertainty = 2.0;
 inline constexpr double kCorrectionUncertainty = 0.2;
 
