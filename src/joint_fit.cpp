@@ -950,6 +950,8 @@ struct Uncertainty {
   // covariance).
   VectorXd extrapolation;
   double bias_mc = 1.0;  // the bias's Monte Carlo variance, in the replicates' variance over N
+  MatrixXd spread;       // the first world's replicates' covariance (take_replicates)
+  std::size_t replicates = 0;  // their number
   std::size_t second_world_pairs = 0;  // the bias corrected once more in a second world: its pairs
   int bootstrap_samples = 0;
   std::string description;
@@ -961,9 +963,9 @@ struct Uncertainty {
   // From replicates: the bias (their mean minus q), subtracted, and the covariance with each
   // standard error the larger of the replicates' spread and the linearised one (the spread of N
   // replicates carries a Monte Carlo error of its own, ~1/√(2N): 5 % at 200, which the linearised
-  // error bounds from below; the correlations are the replicates'). Returns the replicates'
-  // covariance.
-  MatrixXd take_replicates(const std::vector<VectorXd>& good, const VectorXd& q, const MatrixXd& linearised) {
+  // error bounds from below; the correlations are the replicates'). The replicates' own covariance
+  // is kept in `spread`.
+  void take_replicates(const std::vector<VectorXd>& good, const VectorXd& q, const MatrixXd& linearised) {
     const int p = static_cast<int>(q.size());
     const VectorXd mean = mean_of(good);
     MatrixXd c = MatrixXd::Zero(p, p);
@@ -975,7 +977,8 @@ struct Uncertainty {
     for (int k = 0; k < p; ++k)
       if (c(k, k) > 0.0 && linearised(k, k) > c(k, k)) d(k) = std::sqrt(linearised(k, k) / c(k, k));
     covariance = d.asDiagonal() * c * d.asDiagonal();
-    return c;
+    spread = c;
+    replicates = good.size();
   }
 
   // Where B11 enters the model smoothed, the world's B11 (the smoothed data) carries smoothed noise
@@ -983,11 +986,12 @@ struct Uncertainty {
   // the truth (the example with a 1 % floor: 0.77 of it). A second world, the smoothed B11 of one
   // draw in the first, shows by how much: the bias becomes 2 b₁ − b₂ (the iterated bootstrap's
   // correction, Hall 1992 §3.11). The step b₁ − b₂ is measured in pairs: the second world's
-  // replicates draw the same noise as the first world's first M = kSecondWorldShare · N
-  // (common random numbers), so each pair's difference lacks part of the noise's own spread and M
-  // a quarter of N measures it about as well as N independent replicates did (joint_fit.hpp,
-  // second_world_samples; the pairs' scatter is measured: bias_mc). False when it does not apply
-  // or fewer than half of the pairs could be refitted in both worlds.
+  // replicates draw the same noise as the first world's first M = second_world_samples(N)
+  // (common random numbers), so each pair's difference lacks part of the noise's own spread and M,
+  // a quarter of N, measures it about as well as N independent replicates did (joint_fit.hpp; the
+  // pairs' scatter is measured: bias_mc). Called after take_replicates on the first world's good
+  // replicates. False when it does not apply or fewer than half of the pairs could be refitted in
+  // both worlds.
   bool correct_in_second_world(const BootstrapContext& c, const Replicates& first) {
     if (std::none_of(c.setups.begin(), c.setups.end(), [](const Setup& u) { return u.b_rows.has_value(); })) return false;
     std::vector<BlockSeries> world(c.setups.size());
@@ -1012,19 +1016,18 @@ struct Uncertainty {
     estimate = c.q - bias;
     // The bias 2 b₁ − b₂ = b̂₁ + mean(step): its Monte Carlo variance, per parameter in units of
     // the replicates' variance over N, is 1 + (N/P) var(step)/s² + 2 cov(x, step)/s² (P pairs;
-    // b̂₁'s replicates include the pairs' x); the largest over the parameters is kept.
-    const std::vector<VectorXd> all = first.good();
-    const VectorXd m_all = mean_of(all), m_x = mean_of(x);
-    const double n = static_cast<double>(all.size()), pairs = static_cast<double>(step.size());
+    // b̂₁'s replicates include the pairs' x; s² their spread, from take_replicates); the largest over
+    // the parameters is kept.
+    const VectorXd m_x = mean_of(x);
+    const double n = static_cast<double>(replicates), pairs = static_cast<double>(step.size());
     bias_mc = 1.0;
     for (Eigen::Index k = 0; k < c.q.size(); ++k) {
-      double s2 = 0.0, v = 0.0, cv = 0.0;
-      for (const VectorXd& r : all) s2 += (r(k) - m_all(k)) * (r(k) - m_all(k));
+      const double s2 = spread(k, k);
+      double v = 0.0, cv = 0.0;
       for (std::size_t j = 0; j < step.size(); ++j) {
         v += (step[j](k) - extrapolation(k)) * (step[j](k) - extrapolation(k));
         cv += (x[j](k) - m_x(k)) * (step[j](k) - extrapolation(k));
       }
-      s2 /= n - 1.0;
       v /= pairs - 1.0;
       cv /= pairs - 1.0;
       if (s2 > 0.0) bias_mc = std::max(bias_mc, 1.0 + (n / pairs) * v / s2 + 2.0 * cv / s2);
@@ -1078,13 +1081,13 @@ Uncertainty linearised_uncertainty(const BootstrapContext& c, const Linearised& 
   const Replicates first = bootstrap_replicates(c, kLinearisationCheck, {}, first_world(c.setups));
   const std::vector<VectorXd> good = first.good();
   if (good.size() < kLinearisationCheck / 2) return u;
-  const MatrixXd replicates = u.take_replicates(good, c.q, lin.covariance);
+  u.take_replicates(good, c.q, lin.covariance);
   u.correct_in_second_world(c, first);
   const int p = static_cast<int>(c.q.size());
   std::vector<std::string> off;
   double worst = 1.0;
   for (int k = 0; k < p; ++k) {
-    const double ratio = std::sqrt(replicates(k, k) / lin.covariance(k, k));
+    const double ratio = std::sqrt(u.spread(k, k) / lin.covariance(k, k));
     if (ratio > kLinearisationLimit) off.push_back(JointParameters::name(c.par.free[static_cast<std::size_t>(k)]));
     worst = std::max(worst, ratio);
   }
