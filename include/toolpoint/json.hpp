@@ -293,15 +293,18 @@ void to_json(nlohmann::json& j, const UffFile& f);
 /// fields' units (integers as integers, flags as booleans).
 /// \param fields the Options type's table
 /// \param o the options echoed
+/// \param real how a real value is written (nullptr: as a JSON number; a part file writes it as
+/// exact hexadecimal text)
 /// \return the JSON object
 template <class Options>
-nlohmann::json fields_json(const std::vector<OptionField<Options>>& fields, const Options& o) {
+nlohmann::json fields_json(const std::vector<OptionField<Options>>& fields, const Options& o,
+                           nlohmann::json (*real)(double) = nullptr) {
   nlohmann::json j = nlohmann::json::object();
   Options& m = const_cast<Options&>(o);  // the accessors are shared by reading and writing
   for (const OptionField<Options>& f : fields) {
     if (f.integer) j[f.spec.name] = f.integer(m);
     else if (f.flag) j[f.spec.name] = f.flag(m);
-    else j[f.spec.name] = f.real(m);
+    else j[f.spec.name] = real ? real(f.real(m)) : nlohmann::json(f.real(m));
   }
   return j;
 }

@@ -23,6 +23,7 @@
 
 #include "toolpoint/error.hpp"
 #include "toolpoint/io/io.hpp"
+#include "toolpoint/json.hpp"
 #include "toolpoint/option_fields.hpp"
 #include "toolpoint/studies/shards.hpp"
 
@@ -60,22 +61,9 @@ struct Fnv1a {
 // FNV-1a (64-bit) of text: the bytes alone (no length), as the checksum over the jobs.
 std::uint64_t text_hash(const std::string& text);
 
-// An options table's fields (option_fields.hpp) as exact JSON, keyed by the fields' names: reals as
-// hex(), integers and flags as such. What the table holds is written; what it does not (enums,
-// vectors, seeds) the study writes itself.
-template <class Options>
-nlohmann::json fields_json(const std::vector<OptionField<Options>>& fields, const Options& o) {
-  nlohmann::json j = nlohmann::json::object();
-  for (const OptionField<Options>& f : fields) {
-    const double v = f.get(o);
-    switch (f.spec.kind) {
-      case FieldKind::Real: j[f.spec.name] = hex(v); break;
-      case FieldKind::Integer: j[f.spec.name] = static_cast<int>(v); break;
-      case FieldKind::Flag: j[f.spec.name] = v != 0.0; break;
-    }
-  }
-  return j;
-}
+// A double as exact JSON (hex()): what toolpoint::fields_json (json.hpp) writes an options
+// table's reals with in a part file.
+inline nlohmann::json hex_json(double x) { return hex(x); }
 
 // The fingerprint's share of an options table: every field's value, in the table's order (a field
 // added to the table changes every fingerprint, as it changes the study).
@@ -131,7 +119,7 @@ struct PartReader {
   }
 };
 
-// Reads an options table's fields written by fields_json from `j` (at `path`, e.g. "options.lobes.")
+// Reads an options table's fields written by fields_json(…, hex_json) from `j` (at `path`, e.g. "options.lobes.")
 // into `o`; a key missing or of the wrong type refuses the part.
 template <class Options>
 void read_fields(const PartReader& r, const nlohmann::json& j, const std::string& path,

@@ -54,13 +54,13 @@ nlohmann::json header_json(const PlanHeader& h) {
                         {"speed_points", l.speeds.points},
                         {"fit_band_hz", l.fit.band_hz ? nlohmann::json{hex(l.fit.band_hz->first), hex(l.fit.band_hz->second)}
                                                       : nlohmann::json(nullptr)},
-                        {"fit", part_file::fields_json(modal_fit_fields(), l.fit)},
+                        {"fit", fields_json(modal_fit_fields(), l.fit, part_file::hex_json)},
                         {"speed_model", to_string(l.speed_model)},
-                        {"lobes", part_file::fields_json(lobes_study_fields(), l)},
-                        {"cut", part_file::fields_json(plan_fields(), o)},
-                        {"machine", part_file::fields_json(machine_limits_fields(), o.machine)},
+                        {"lobes", fields_json(lobes_study_fields(), l, part_file::hex_json)},
+                        {"cut", fields_json(plan_fields(), o, part_file::hex_json)},
+                        {"machine", fields_json(machine_limits_fields(), o.machine, part_file::hex_json)},
                         {"safety", o.safety.kind == SafetyRule::Kind::Factor ? "factor" : "probability"},
-                        {"safety_rule", part_file::fields_json(safety_rule_fields(), o.safety)},
+                        {"safety_rule", fields_json(safety_rule_fields(), o.safety, part_file::hex_json)},
                         {"seed", std::to_string(o.safety.seed)}};
   nlohmann::json cands = nlohmann::json::array();
   for (const PlanCandidateSummary& c : h.candidates)

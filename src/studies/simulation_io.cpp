@@ -92,7 +92,7 @@ nlohmann::json header_json(const SimulatedMapHeader& h) {
   const SimulatedMapOptions& o = h.options;
   const SimulationOptions& s = o.simulation;
   // The simulation's scalar fields from their table (option_fields.hpp), the rest by hand.
-  nlohmann::json simulation = part_file::fields_json(simulation_fields(), s);
+  nlohmann::json simulation = fields_json(simulation_fields(), s, part_file::hex_json);
   simulation["initial_state"] = hexes(s.initial_state);
   simulation["memory_limit_bytes"] = hex(s.memory_limit_bytes);
   return {{"modes", modes},
