@@ -190,6 +190,15 @@ const char* name_of(E value, const std::vector<std::pair<const char*, E>>& names
   return "?";
 }
 
+// A field's description after its unit and range, as both docstrings below write it:
+// " (note): help (command FLAG)".
+inline std::string field_doc_tail(const FieldSpec& s, const char* command) {
+  std::string t = *s.note ? fmt::format(" ({})", s.note) : std::string();
+  t += fmt::format(": {}", s.help);
+  if (s.cli_name) t += fmt::format(" ({} {})", command, field_flag(s));
+  return t;
+}
+
 template <class Options>
 const char* fields_doc(const std::vector<OptionField<Options>>& fields, const char* options, const char* command,
                        const char* doc) {
@@ -199,8 +208,7 @@ const char* fields_doc(const std::vector<OptionField<Options>>& fields, const ch
     const FieldSpec& s = f.spec;
     text += fmt::format(" {}{}", s.name, *s.unit ? fmt::format(" [{}]", s.unit) : std::string());
     if (s.kind != FieldKind::Flag) text += fmt::format(", {}", field_range_text(s));
-    if (*s.note) text += fmt::format(" ({})", s.note);
-    text += fmt::format(": {}{}.", s.help, s.cli_name ? fmt::format(" ({} {})", command, field_flag(s)) : std::string());
+    text += field_doc_tail(s, command) + ".";
   }
   return texts.emplace_back(std::make_unique<std::string>(std::move(text)))->c_str();
 }
@@ -234,9 +242,7 @@ void def_option_fields(py::class_<Options>& c, const std::vector<OptionField<Opt
     const FieldSpec& s = f.spec;
     std::string doc = *s.unit ? fmt::format("[{}] ", s.unit) : std::string();
     if (s.kind != FieldKind::Flag) doc += field_range_text(s);
-    if (*s.note) doc += fmt::format(" ({})", s.note);
-    doc += fmt::format(": {}", s.help);
-    if (s.cli_name) doc += fmt::format(" ({} {})", command, field_flag(s));
+    doc += field_doc_tail(s, command);
     const OptionField<Options>* field = &f;  // the table is static: the address outlives the module
     switch (s.kind) {
       case FieldKind::Real:
