@@ -518,10 +518,28 @@ BlockSeries exact_receptance(const SectionProperties& section, double length, co
 
 // ---- Modal summation ----------------------------------------------------------------------------
 
-void ModalOptions::check() const {
-  if (modes < 1 || modes > 20000)
-    throw InvalidArgument(fmt::format("ModalOptions::modes = {} must lie in 1..20000", modes),
-                          "give 1 to 20000 elastic modes (default 100)");
+void ModalOptions::check() const { check_fields(modal_fields(), *this, "ModalOptions"); }
+
+const std::vector<OptionField<ModalOptions>>& modal_fields() {
+  using O = ModalOptions;
+  static const std::vector<OptionField<O>> fields = {
+      {{.name = "modes",
+        .kind = FieldKind::Integer,
+        .min = 1.0,
+        .max = 20000.0,
+        .help = "elastic free–free modes summed by the modal method (P converges like 1/N, like 1/N³ with the static "
+                "residual)",
+        .cli_name = "modal-terms"},
+       nullptr,
+       [](O& o) -> int& { return o.modes; }},
+      {{.name = "static_residual",
+        .kind = FieldKind::Flag,
+        .help = "modal method: add the truncated modes' static flexibility",
+        .cli_name = "static-residual"},
+       nullptr,
+       nullptr,
+       [](O& o) -> bool& { return o.static_residual; }}};
+  return fields;
 }
 
 namespace {

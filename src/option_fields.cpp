@@ -39,7 +39,13 @@ std::string field_range_phrase(const FieldSpec& s, double scale) {
 }
 
 void check_field(const FieldSpec& s, double v, std::string_view options) {
-  if (field_value_valid(s, v)) return;
+  if (field_value_valid(s, v)) {
+    // The range says what the library can compute with; the plausible range what a user can mean.
+    // 0 and the automatic value are the field's own words ("none", "chosen"), not magnitudes.
+    if (s.plausible && v != 0.0 && v != s.automatic && judge(*s.plausible, v) == Plausibility::Impossible)
+      throw InvalidArgument(plausibility_message(*s.plausible, v, fmt::format("{}::{}", options, s.name)), s.plausible->hint);
+    return;
+  }
   const std::string unit = *s.unit ? fmt::format(" {}", s.unit) : std::string();
   throw InvalidArgument(fmt::format("{}::{} {}{} {}{}", options, s.name, field_value_text(s, v), unit, field_range_phrase(s),
                                     *s.note ? fmt::format(" ({})", s.note) : std::string()),

@@ -14,10 +14,21 @@
 
 namespace toolpoint {
 
-void ParallelOptions::check() const {
-  if (threads < 0 || threads > 1024)
-    throw InvalidArgument(fmt::format("ParallelOptions::threads = {} must lie in 0…1024 (0: every core)", threads),
-                          "give the number of worker threads, or 0 for every core");
+void ParallelOptions::check() const { check_fields(parallel_fields(), *this, "ParallelOptions"); }
+
+const std::vector<OptionField<ParallelOptions>>& parallel_fields() {
+  using O = ParallelOptions;
+  static const std::vector<OptionField<O>> fields = {
+      {{.name = "threads",
+        .kind = FieldKind::Integer,
+        .min = 0.0,
+        .max = 1024.0,
+        .note = "0: every core",
+        .help = "worker threads; results are identical for any number",
+        .cli_name = "threads"},
+       nullptr,
+       [](O& o) -> int& { return o.threads; }}};
+  return fields;
 }
 
 int ParallelOptions::resolved(std::size_t count) const {

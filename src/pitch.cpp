@@ -152,6 +152,18 @@ void PitchChoiceOptions::check() const {
 const std::vector<OptionField<PitchChoiceOptions>>& pitch_choice_fields() {
   using O = PitchChoiceOptions;
   constexpr double kDegreesPerRadian = 180.0 / kPi;  // the CLI's pitch angles are in degrees
+  // The boundary's own fields (boundary_fields()) in the pitch search's words: the steps capped as
+  // the lobes study's (half the default max_steps), the ceiling's default the even tool's.
+  static const FieldSpec steps = [] {
+    FieldSpec s = with_help(option_field(boundary_fields(), "steps").spec, "full-discretization: steps per tooth period");
+    s.max = BoundaryOptions{}.max_steps / 2;
+    return s;
+  }();
+  static const FieldSpec max_depth = [] {
+    FieldSpec s = option_field(boundary_fields(), "max_depth_m").spec;
+    s.note = "0: 20 × the even tool's zero-order floor";
+    return s;
+  }();
   static const std::vector<OptionField<O>> fields = {
       {{.name = "speed_rpm",
         .kind = FieldKind::Real,
@@ -219,16 +231,7 @@ const std::vector<OptionField<PitchChoiceOptions>>& pitch_choice_fields() {
         .cli_unit = "% of ΔP",
         .cli_per_unit = 100.0},
        [](O& o) -> double& { return o.robustness; }},
-      {{.name = "steps",
-        .kind = FieldKind::Integer,
-        .min = 4.0,
-        .max = 2000.0,
-        .automatic = 0.0,
-        .note = "0: 12 per chatter wave",
-        .help = "full-discretization: steps per tooth period",
-        .cli_name = "intervals"},
-       nullptr,
-       [](O& o) -> int& { return o.steps; }},
+      {steps, nullptr, [](O& o) -> int& { return o.steps; }},
       {{.name = "degree",
         .kind = FieldKind::Integer,
         .min = 1.0,
@@ -236,16 +239,7 @@ const std::vector<OptionField<PitchChoiceOptions>>& pitch_choice_fields() {
         .help = "full-discretization: degree of the polynomial the delayed state is interpolated with"},
        nullptr,
        [](O& o) -> int& { return o.degree; }},
-      {{.name = "max_depth_m",
-        .kind = FieldKind::Real,
-        .unit = "m",
-        .min = 0.0,
-        .note = "0: 20 × the even tool's zero-order floor",
-        .help = "depths searched up to this",
-        .cli_name = "max-depth",
-        .cli_unit = "mm",
-        .cli_per_unit = 1e3},
-       [](O& o) -> double& { return o.max_depth_m; }},
+      {max_depth, [](O& o) -> double& { return o.max_depth_m; }},
       {{.name = "depth_steps",
         .kind = FieldKind::Integer,
         .min = 4.0,

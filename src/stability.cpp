@@ -303,11 +303,34 @@ std::vector<double> modal_frequency_grid(const std::vector<Mode>& modes) {
 }
 
 void ZeroOrderOptions::check() const {
-  if (lobes < -1 || lobes > 5000)
-    throw InvalidArgument(fmt::format("ZeroOrderOptions::lobes {} must lie in 0…5000 (−1: automatic)", lobes));
+  check_fields(zero_order_fields(), *this, "ZeroOrderOptions");
   speeds.check();
-  if (!std::isfinite(max_depth_m) || max_depth_m < 0.0)
-    throw InvalidArgument(fmt::format("maximum depth {} m must be ≥ 0 (0: no limit)", max_depth_m));
+}
+
+const std::vector<OptionField<ZeroOrderOptions>>& zero_order_fields() {
+  using O = ZeroOrderOptions;
+  static const std::vector<OptionField<O>> fields = {
+      {{.name = "lobes",
+        .kind = FieldKind::Integer,
+        .min = 0.0,
+        .max = 5000.0,
+        .automatic = -1.0,
+        .note = "−1: enough to cover the lowest speed",
+        .help = "lobes k = 0…K",
+        .cli_name = "lobes"},
+       nullptr,
+       [](O& o) -> int& { return o.lobes; }},
+      {{.name = "max_depth_m",
+        .kind = FieldKind::Real,
+        .unit = "m",
+        .min = 0.0,
+        .note = "0: keep all",
+        .help = "lobe points deeper than this are left out",
+        .cli_name = "max-depth",
+        .cli_unit = "mm",
+        .cli_per_unit = 1e3},
+       [](O& o) -> double& { return o.max_depth_m; }}};
+  return fields;
 }
 
 namespace {
@@ -1801,27 +1824,66 @@ BoundaryPoint FullDiscretization::boundary(double speed_rpm, double max_depth_m,
 
 void BoundaryOptions::check() const {
   speeds.check();
-  if (!std::isfinite(tolerance) || !(tolerance >= 1e-6) || !(tolerance <= 0.5))
-    throw InvalidArgument(fmt::format("BoundaryOptions::tolerance {} must lie in 1e-6…0.5 (a fraction of the depth)", tolerance),
-                          "0.01 asks for an estimated discretization error below 1 % of each depth");
-  if (steps != 0 && (steps < 4 || steps > 20000))
-    throw InvalidArgument(fmt::format("BoundaryOptions::steps {} must be 0 (automatic) or lie in 4…20000", steps));
-  if (max_steps < 8 || max_steps > 20000)
-    throw InvalidArgument(fmt::format("BoundaryOptions::max_steps {} must lie in 8…20000", max_steps));
+  check_fields(boundary_fields(), *this, "BoundaryOptions");
   if (steps > max_steps / 2)
     throw InvalidArgument(fmt::format("BoundaryOptions::steps {} leaves no room for the finer level below max_steps {}", steps,
                                       max_steps),
                           "the error estimate compares m with 2m steps: keep steps ≤ max_steps/2");
-  if (scheme == Discretization::Semi && (degree < 0 || degree > 1))
+  if (scheme == Discretization::Semi && degree > 1)
     throw InvalidArgument(
         fmt::format("BoundaryOptions::degree {} must be 0 or 1 with Discretization::Semi (the order of "
                     "semi-discretization)",
                     degree));
-  if (scheme == Discretization::Full && (degree < 1 || degree > 3))
-    throw InvalidArgument(fmt::format("BoundaryOptions::degree {} must be 1, 2 or 3", degree));
-  if (!std::isfinite(max_depth_m) || max_depth_m < 0.0)
-    throw InvalidArgument(fmt::format("BoundaryOptions::max_depth_m {} m must be ≥ 0 (0: automatic)", max_depth_m));
-  parallel.check();
+  if (scheme == Discretization::Full && degree < 1)
+    throw InvalidArgument(fmt::format("BoundaryOptions::degree {} must be 1, 2 or 3 with Discretization::Full", degree));
+}
+
+const std::vector<OptionField<BoundaryOptions>>& boundary_fields() {
+  using O = BoundaryOptions;
+  static const std::vector<OptionField<O>> fields = {
+      {{.name = "tolerance",
+        .kind = FieldKind::Real,
+        .min = 1e-6,
+        .max = 0.5,
+        .help = "target for the estimated discretization error of each depth, relative to the depth (the steps per "
+                "tooth period are doubled until it is met)",
+        .cli_name = "tolerance",
+        .cli_unit = "%",
+        .cli_per_unit = 100.0},
+       [](O& o) -> double& { return o.tolerance; }},
+      {{.name = "steps",  // at most half max_steps' top: the error estimate compares m with 2m steps
+        .kind = FieldKind::Integer,
+        .min = 4.0,
+        .max = 10000.0,
+        .automatic = 0.0,
+        .note = "0: 12 per chatter wave",
+        .help = "steps per tooth period at the first of the two levels compared",
+        .cli_name = "intervals"},
+       nullptr,
+       [](O& o) -> int& { return o.steps; }},
+      {{.name = "max_steps", .kind = FieldKind::Integer, .min = 8.0, .max = 20000.0, .help = "no level finer than this"},
+       nullptr,
+       [](O& o) -> int& { return o.max_steps; }},
+      {{.name = "degree",
+        .kind = FieldKind::Integer,
+        .min = 0.0,
+        .max = 3.0,
+        .help = "degree of the polynomial the delayed state is interpolated with (full discretization: 1–3; "
+                "semi-discretization: 0 its zeroth order, else the first)"},
+       nullptr,
+       [](O& o) -> int& { return o.degree; }},
+      {{.name = "max_depth_m",
+        .kind = FieldKind::Real,
+        .unit = "m",
+        .min = 0.0,
+        .note = "0: 10 × the zero-order floor",
+        .help = "depths searched up to this",
+        .cli_name = "max-depth",
+        .cli_unit = "mm",
+        .cli_per_unit = 1e3},
+       [](O& o) -> double& { return o.max_depth_m; }},
+      {option_field(parallel_fields(), "threads").spec, nullptr, [](O& o) -> int& { return o.parallel.threads; }}};
+  return fields;
 }
 
 double BoundaryResult::worst_relative_error() const {

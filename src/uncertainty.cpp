@@ -47,15 +47,28 @@ std::vector<JointParameters> sample_joints(const JointParameters& mean, const Ei
 }
 
 void UncertaintyOptions::check() const {
-  if (samples < 10 || samples > 1000000)
-    throw InvalidArgument(fmt::format("UncertaintyOptions::samples = {} must lie in 10…1000000", samples),
-                          "200 samples put the 5 % and 95 % quantiles within about ±2 % in probability");
+  check_fields(uncertainty_fields(), *this, "UncertaintyOptions");
   if (levels.empty()) throw InvalidArgument("UncertaintyOptions::levels is empty");
   for (std::size_t i = 0; i < levels.size(); ++i)
     if (!(levels[i] > 0.0 && levels[i] < 1.0) || (i > 0 && !(levels[i] > levels[i - 1])))
       throw InvalidArgument(
           fmt::format("UncertaintyOptions::levels must increase within (0, 1); level {} is {}", i + 1, levels[i]));
-  parallel.check();
+}
+
+const std::vector<OptionField<UncertaintyOptions>>& uncertainty_fields() {
+  using O = UncertaintyOptions;
+  static const std::vector<OptionField<O>> fields = {
+      {{.name = "samples",
+        .kind = FieldKind::Integer,
+        .min = 10.0,
+        .max = 1e6,
+        .help = "joints drawn from the joint's covariance (200 put the 5 % and 95 % quantiles within about ±2 % in "
+                "probability)",
+        .cli_name = "samples"},
+       nullptr,
+       [](O& o) -> int& { return o.samples; }},
+      {option_field(parallel_fields(), "threads").spec, nullptr, [](O& o) -> int& { return o.parallel.threads; }}};
+  return fields;
 }
 
 namespace {

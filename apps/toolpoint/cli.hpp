@@ -92,6 +92,75 @@ struct LoadedModel {
 LoadedModel load_model(const Globals& g, const std::string& path, const std::string& frequencies = {},
                        const std::vector<JointFile>& joints = {});
 
+// ---- Option fields as flags (option_fields.hpp) ------------------------------------------------
+
+// A CLI11 check by plausibility.hpp's rule (the files' rule): a value that cannot be meant in the
+// option's unit is refused (exit 2, naming the option, the likely unit slip and the fix), an unusual
+// one is a warning (unless `warn_unusual` is false: the library's result says it); 0 is left to the
+// option's own rule.
+CLI::Validator plausible_value(const PlausibleRange& range, const std::string& option, bool warn_unusual = true);
+
+// A field's --help text: its help, its unit as the CLI takes it, its range in that unit and what
+// its automatic value means, e.g. "Best speeds: … [%], [0, 100)".
+std::string field_help(const FieldSpec& spec);
+// InvalidArgument naming the flag, the value in the CLI's unit and the range in it.
+[[noreturn]] void field_flag_refused(const FieldSpec& spec, double typed);
+
+// The flags of option fields, derived from their table: add() registers a field's flag (its name,
+// help and default, in the CLI's unit; a value its unit cannot mean refused where the flag takes
+// the field's unit) where the command wants it in its --help; apply() sets the flags given into the library's
+// options, converted to SI, range-checked (field_flag_refused).
+template <class Options>
+class FieldFlags {
+ public:
+  CLI::Option* add(CLI::App* c, const OptionField<Options>& f) {
+    const FieldSpec& s = f.spec;
+    Slot& slot = slots_.emplace_back(Slot{&f, f.get(Options{}) * s.cli_per_unit});
+    slot.integer = static_cast<int>(slot.real);
+    slot.flag = slot.real != 0.0;
+    const std::string help = field_help(s);
+    if (s.kind == FieldKind::Flag) return slot.option = c->add_flag(field_flag(s), slot.flag, help);
+    slot.option = s.kind == FieldKind::Integer ? c->add_option(field_flag(s), slot.integer, help)
+                                               : c->add_option(field_flag(s), slot.real, help);
+    // A default check() refuses (a speed of 0 rpm, to be given) is not shown as one.
+    if (field_value_valid(s, f.get(Options{}))) slot.option->capture_default_str();
+    // A value the flag's unit cannot mean is refused at the flag (check() would refuse it naming the
+    // field); an unusual one is the command's or the study's to warn about (BeamStudy::warnings).
+    if (s.plausible && s.cli_per_unit == 1.0) slot.option->check(plausible_value(*s.plausible, field_flag(s), false));
+    return slot.option;
+  }
+  // A fraction field's flag taking "2%" or "0.02" alike (parse_fraction); range-checked by apply().
+  CLI::Option* add_fraction(CLI::App* c, const OptionField<Options>& f) {
+    Slot& slot = slots_.emplace_back(Slot{&f, f.get(Options{})});
+    const std::string flag = field_flag(f.spec);
+    return slot.option = c->add_option_function<std::string>(
+               flag, [&slot, flag](const std::string& v) { slot.real = parse_fraction(v, flag); },
+               field_help(f.spec) + ", as 2% or 0.02");
+  }
+  void apply(Options& o) const {
+    for (const Slot& slot : slots_) {
+      if (slot.option->count() == 0) continue;
+      const FieldSpec& s = slot.field->spec;
+      const double typed = s.kind == FieldKind::Flag      ? (slot.flag ? 1.0 : 0.0)
+                           : s.kind == FieldKind::Integer ? static_cast<double>(slot.integer)
+                                                          : slot.real;
+      const double value = typed / s.cli_per_unit;  // 1 mm = 1/1000 m: correctly rounded
+      if (!field_value_valid(s, value)) field_flag_refused(s, typed);
+      slot.field->set(o, value);
+    }
+  }
+
+ private:
+  struct Slot {
+    const OptionField<Options>* field;
+    double real = 0.0;
+    int integer = 0;
+    bool flag = false;
+    CLI::Option* option = nullptr;
+  };
+  std::deque<Slot> slots_;  // a deque: CLI11 keeps the addresses of the values
+};
+
 // ---- Joint files -----------------------------------------------------------------------------
 
 // Adds `--joint INTERFACE=FILE.toml` (repeatable; INTERFACE holder-tool or spindle-holder, or just
@@ -110,14 +179,18 @@ LoadedAssembly with_joints(LoadedAssembly loaded, const std::vector<JointFile>& 
 // carry it forward. Adds the options; `sampled` picks the one --joint file with an [uncertainty]
 // (InvalidArgument when none or several have one).
 struct SamplingOptions {
-  int samples = 0;
+  int samples = 0;  // 0: none; else UncertaintyOptions::samples (checked by uncertainty_options)
   std::uint64_t seed = 1;
-  int threads = 0;
+  FieldFlags<ParallelOptions> parallel;  // --threads (parallel_fields), where the command has no other
 };
-// `threads_option` false: the command has its own --threads (SamplingOptions::threads unused).
+// `threads_option` false: the command has its own --threads (SamplingOptions::parallel unused).
 void add_sampling_options(CLI::App* command, SamplingOptions& target, const std::string& what, bool threads_option = true);
 const JointFile& sampled_joint(const std::vector<JointFile>& files);
+// The Monte Carlo's options from the flags (InvalidArgument naming --samples out of its range).
 UncertaintyOptions uncertainty_options(const SamplingOptions& s);
+// Adds --threads (parallel_fields()' threads) to `flags`: every command that runs on threads says
+// it the same way.
+CLI::Option* add_threads_option(CLI::App* command, FieldFlags<ParallelOptions>& flags);
 
 // The example assembly compiled into the binary (examples/bt40_shrinkfit_16mm.toml).
 const char* example_assembly_toml();
@@ -186,10 +259,6 @@ FrfReadOptions frf_read_options(const FrfInputOptions& typed);
 // set them (--format, …): library messages name library fields, the CLI its flags.
 std::string with_flags(std::string text);
 
-// A CLI11 check by plausibility.hpp's rule (the files' rule): a value that cannot be meant in the
-// option's unit is refused (exit 2, naming the option, the likely unit slip and the fix), an unusual
-// one is a warning; 0 is left to the option's own rule.
-CLI::Validator plausible_value(const PlausibleRange& range, const std::string& option);
 // The same rule for a value parsed by the command itself (a sweep, a list, a mode): throws
 // InvalidArgument naming `what` when it cannot be meant, with `fix`; warns when unusual.
 void check_plausible(const PlausibleRange& range, double value, const std::string& what, const std::string& fix);
@@ -316,65 +385,6 @@ std::vector<double> pitch_radians(const std::vector<double>& pitch_deg, int teet
 // --helix [°] in radians: one angle, or one per tooth (a variable helix). An angle whose degrees
 // read as radians (all within 0 < β ≤ 1.5, i.e. 86°) is refused: no end mill has a helix under 1.5°.
 std::vector<double> helix_radians(const std::vector<double>& helix_deg);
-
-// ---- Option fields as flags (option_fields.hpp) ------------------------------------------------
-
-// A field's --help text: its help, its unit as the CLI takes it, its range in that unit and what
-// its automatic value means, e.g. "Best speeds: … [%], [0, 100)".
-std::string field_help(const FieldSpec& spec);
-// InvalidArgument naming the flag, the value in the CLI's unit and the range in it.
-[[noreturn]] void field_flag_refused(const FieldSpec& spec, double typed);
-
-// The flags of option fields, derived from their table: add() registers a field's flag (its name,
-// help and default, in the CLI's unit) where the command wants it in its --help; apply() sets the
-// flags given into the library's options, converted to SI, range-checked (field_flag_refused).
-template <class Options>
-class FieldFlags {
- public:
-  CLI::Option* add(CLI::App* c, const OptionField<Options>& f) {
-    const FieldSpec& s = f.spec;
-    Slot& slot = slots_.emplace_back(Slot{&f, f.get(Options{}) * s.cli_per_unit});
-    slot.integer = static_cast<int>(slot.real);
-    slot.flag = slot.real != 0.0;
-    const std::string help = field_help(s);
-    if (s.kind == FieldKind::Flag) return slot.option = c->add_flag(field_flag(s), slot.flag, help);
-    slot.option = s.kind == FieldKind::Integer ? c->add_option(field_flag(s), slot.integer, help)
-                                               : c->add_option(field_flag(s), slot.real, help);
-    // A default check() refuses (a speed of 0 rpm, to be given) is not shown as one.
-    if (field_value_valid(s, f.get(Options{}))) slot.option->capture_default_str();
-    return slot.option;
-  }
-  // A fraction field's flag taking "2%" or "0.02" alike (parse_fraction); range-checked by apply().
-  CLI::Option* add_fraction(CLI::App* c, const OptionField<Options>& f) {
-    Slot& slot = slots_.emplace_back(Slot{&f, f.get(Options{})});
-    const std::string flag = field_flag(f.spec);
-    return slot.option = c->add_option_function<std::string>(
-               flag, [&slot, flag](const std::string& v) { slot.real = parse_fraction(v, flag); },
-               field_help(f.spec) + ", as 2% or 0.02");
-  }
-  void apply(Options& o) const {
-    for (const Slot& slot : slots_) {
-      if (slot.option->count() == 0) continue;
-      const FieldSpec& s = slot.field->spec;
-      const double typed = s.kind == FieldKind::Flag      ? (slot.flag ? 1.0 : 0.0)
-                           : s.kind == FieldKind::Integer ? static_cast<double>(slot.integer)
-                                                          : slot.real;
-      const double value = typed / s.cli_per_unit;  // 1 mm = 1/1000 m: correctly rounded
-      if (!field_value_valid(s, value)) field_flag_refused(s, typed);
-      slot.field->set(o, value);
-    }
-  }
-
- private:
-  struct Slot {
-    const OptionField<Options>* field;
-    double real = 0.0;
-    int integer = 0;
-    bool flag = false;
-    CLI::Option* option = nullptr;
-  };
-  std::deque<Slot> slots_;  // a deque: CLI11 keeps the addresses of the values
-};
 
 // Where the tool point dynamics come from, as typed: FRF files or an assembly, modes, the fit.
 struct DynamicsArgs {

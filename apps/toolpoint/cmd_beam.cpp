@@ -21,15 +21,15 @@ namespace toolpoint::cli {
 namespace {
 
 struct BeamOptions {
-  double length = 0.0, diameter = 0.0, inner_diameter = 0.0;
+  // --length, --diameter, --inner-diameter, --modes, --speed (beam_study_fields); --modal-terms,
+  // --static-residual (modal_fields).
+  FieldFlags<BeamStudyOptions> fields;
+  FieldFlags<ModalOptions> modal;
   double youngs_modulus = 2.0e11, density = 7800.0, poisson = 0.3, loss_factor = 0.0, shear_modulus = 0.0;
   double shear_coefficient = 0.0;
   std::string shear_model = "hutchinson";
-  int modes = 0;
   std::string frequencies, output, method = "exact", block = "11", plot;
-  int modal_terms = 100;
-  bool static_residual = false, json = false;
-  double speed = 0.0;
+  bool json = false;
   std::string campbell, campbell_plot;
 };
 
@@ -62,18 +62,15 @@ void run_beam(const BeamOptions& o, const Globals& g) {
   if (!o.frequencies.empty() && o.output.empty())
     throw InvalidArgument("--frequencies needs --output FILE.csv for the receptance", "add --output tip.csv");
   BeamStudyOptions so;
-  so.length = o.length;
-  so.outer_diameter = o.diameter;
-  so.inner_diameter = o.inner_diameter;
+  if (!o.frequencies.empty()) so.modes = 0;  // the receptance asked for: the modes only when --modes says so
+  o.fields.apply(so);
+  o.modal.apply(so.modal);
   so.material = {"beam", o.youngs_modulus, o.poisson, o.shear_modulus, o.density, o.loss_factor};
   if (o.shear_coefficient != 0.0) so.shear_coefficient = o.shear_coefficient;
   so.shear_model = o.shear_model == "cowper" ? ShearModel::Cowper : ShearModel::Hutchinson;
-  so.modes = o.modes > 0 ? o.modes : (o.frequencies.empty() ? 5 : 0);
   if (!o.frequencies.empty()) so.frequency_hz = parse_frequency_grid(o.frequencies, "--frequencies").values();
   so.block = o.block == "11" ? EndBlock::T11 : o.block == "12" ? EndBlock::T12 : o.block == "21" ? EndBlock::T21 : EndBlock::T22;
   so.method = o.method == "modal" ? BeamMethod::Modal : BeamMethod::Exact;
-  so.modal = {o.modal_terms, o.static_residual};
-  so.speed_rpm = o.speed;
   if (!o.campbell.empty()) so.campbell_rpm = parse_speed_grid(o.campbell);
   const BeamStudy r = run_beam_study(so);
   const double kappa = r.section.shear_coefficient;
@@ -87,7 +84,7 @@ void run_beam(const BeamOptions& o, const Globals& g) {
     out["modes"] = study["modes"];
     if (!o.json) {
       std::cout << fmt::format("free–free Timoshenko beam: L = {} m, D = {} m, d = {} m, κ = {:.6f}, cut-off {:.3f} Hz\n",
-                               o.length, o.diameter, o.inner_diameter, kappa, r.section.cutoff_frequency_hz);
+                               so.length, so.outer_diameter, so.inner_diameter, kappa, r.section.cutoff_frequency_hz);
       std::cout << "mode  frequency_hz  branch\n";
       int i = 1;
       for (const FreeMode& m : r.modes)
@@ -116,8 +113,8 @@ void run_beam(const BeamOptions& o, const Globals& g) {
     write_frf_csv(
         o.output, r.receptance,
         {fmt::format("free-free Timoshenko beam, block T{} (end 1 = x = L, the outer end), method {}", o.block, r.method),
-         fmt::format("L = {} m, D = {} m, d = {} m, E = {} Pa, nu = {}, rho = {} kg/m^3, eta = {}, kappa = {}", o.length,
-                     o.diameter, o.inner_diameter, o.youngs_modulus, o.poisson, o.density, o.loss_factor, kappa)});
+         fmt::format("L = {} m, D = {} m, d = {} m, E = {} Pa, nu = {}, rho = {} kg/m^3, eta = {}, kappa = {}", so.length,
+                     so.outer_diameter, so.inner_diameter, o.youngs_modulus, o.poisson, o.density, o.loss_factor, kappa)});
     out["output"] = o.output;
     out["points"] = r.receptance.size();
     info(g, fmt::format("wrote {} ({} frequencies, block T{})", o.output, r.receptance.size(), o.block));
@@ -128,14 +125,14 @@ void run_beam(const BeamOptions& o, const Globals& g) {
   if (!o.campbell_plot.empty())
     draw_figures(g,
                  {{campbell_figure(r,
-                                   fmt::format("Campbell diagram, free–free segment L = {} m, D = {} m", o.length, o.diameter)),
+                                   fmt::format("Campbell diagram, free–free segment L = {} m, D = {} m", so.length, so.outer_diameter)),
                    o.campbell_plot}},
                  {});
   if (!o.plot.empty())
     draw_figures(g,
                  {{plot::receptance_figure(r.receptance,
                                            fmt::format("Free–free Timoshenko beam, block T_{{{}}}: L = {} m, D = {} m", o.block,
-                                                       o.length, o.diameter),
+                                                       so.length, so.outer_diameter),
                                            o.block),
                    o.plot}},
                  {o.output});
@@ -146,15 +143,10 @@ void run_beam(const BeamOptions& o, const Globals& g) {
 void add_beam_command(CLI::App& app, Globals& g) {
   auto o = std::make_shared<BeamOptions>();
   CLI::App* c = app.add_subcommand("beam", "Free–free Timoshenko beam: natural frequencies and end receptances (seed Eq. 9–14)");
-  c->add_option("--length", o->length, "Segment length L [m], > 0 (required)")
-      ->required()
-      ->check(plausible_value(plausible::kSegmentLength, "--length"));
-  c->add_option("--diameter", o->diameter, "Outer diameter D [m], > 0 (required)")
-      ->required()
-      ->check(plausible_value(plausible::kOuterDiameter, "--diameter"));
-  c->add_option("--inner-diameter", o->inner_diameter, "Inner diameter d [m] (0: a solid section)")
-      ->capture_default_str()
-      ->check(plausible_value(plausible::kInnerDiameter, "--inner-diameter"));
+  const auto& fields = beam_study_fields();
+  o->fields.add(c, option_field(fields, "length"))->required();
+  o->fields.add(c, option_field(fields, "outer_diameter"))->required();
+  o->fields.add(c, option_field(fields, "inner_diameter"));
   c->add_option("--youngs-modulus", o->youngs_modulus, "Young's modulus E [Pa]")
       ->capture_default_str()
       ->check(plausible_value(plausible::kYoungsModulus, "--youngs-modulus"));
@@ -173,9 +165,9 @@ void add_beam_command(CLI::App& app, Globals& g) {
   c->add_option("--shear-model", o->shear_model, "κ formula for circular sections: hutchinson or cowper")
       ->check(CLI::IsMember({"hutchinson", "cowper"}))
       ->capture_default_str();
-  c->add_option("--modes", o->modes,
-                "Print the first N free–free natural frequencies [Hz], ≥ 1 (default: 5 without --frequencies, else none)")
-      ->check(CLI::PositiveNumber);
+  // 0 modes is the library's "none"; the command says it by leaving --modes out with --frequencies.
+  CLI::Option* modes = o->fields.add(c, option_field(fields, "modes"))->check(CLI::PositiveNumber);
+  modes->description(modes->get_description() + "; with --frequencies none unless given");
   c->add_option("--frequencies", o->frequencies,
                 "Frequency grid START:STOP:STEP [Hz] for the receptance output (needs --output)");
   c->add_option("--output", o->output, "Write the receptance block here (FRF CSV; H m/N, L 1/N, N rad/N, P rad/(N m))");
@@ -188,13 +180,8 @@ void add_beam_command(CLI::App& app, Globals& g) {
   c->add_option("--method", o->method, "Receptance method: exact (closed form) or modal (seed Eq. 11–14 summation)")
       ->check(CLI::IsMember({"exact", "modal"}))
       ->capture_default_str();
-  c->add_option("--modal-terms", o->modal_terms, "Elastic modes summed by --method modal [-]")->capture_default_str();
-  c->add_flag("--static-residual", o->static_residual, "--method modal: add the truncated modes' static flexibility");
-  c->add_option("--speed", o->speed,
-                "Spin about the axis [rpm], ≥ 0: the natural frequencies of the forward and backward whirl (JSON "
-                "forward_hz, backward_hz); with --output, the x–x block of the spinning segment (exact method only)")
-      ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+  for (const auto& f : modal_fields()) o->modal.add(c, f);
+  o->fields.add(c, option_field(fields, "speed_rpm"));
   c->add_option("--campbell", o->campbell,
                 "Speeds START:STOP:STEP [rpm] of a Campbell diagram: each whirl's natural frequencies against speed (JSON "
                 "campbell)");

@@ -86,6 +86,11 @@ void run_couple(const CoupleArgs& o, const Globals& g) {
   options.overhangs_m = parse_overhangs(o.overhang);
   options.peaks.min_prominence = o.prominence;
   options.sh11_name = o.sh;
+  {
+    ParallelOptions parallel;  // --threads: the overhangs' and the samples' alike
+    o.sampling.parallel.apply(parallel);
+    options.threads = parallel.threads;
+  }
   const bool sweep = options.overhangs_m.size() > 1 || o.overhang.find(':') != std::string::npos;
   if (sweep && o.output.empty())
     throw InvalidArgument("an overhang sweep needs --output DIR for its files", "add --output overhangs");

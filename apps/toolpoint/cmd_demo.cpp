@@ -27,7 +27,8 @@ struct DemoOptions {
   // --sigma, --width: from their definitions (case_study_fields).
   FieldFlags<CaseStudyOptions> fields;
   std::uint64_t seed = 1;
-  int window = 81, order = 2, bootstrap = 200, threads = 0;
+  int window = 81, order = 2, bootstrap = 200;
+  FieldFlags<ParallelOptions> parallel;  // --threads
   bool no_plots = false, json = false, no_fit = false;
 };
 
@@ -49,7 +50,7 @@ void run_demo(const DemoOptions& o, const Globals& g) {
   co.fit = !o.no_fit;
   if (o.bootstrap == 0) co.fit_options.uncertainty = UncertaintyMethod::Linearised;
   else co.fit_options.bootstrap_samples = o.bootstrap;
-  co.fit_options.parallel.threads = o.threads;
+  o.parallel.apply(co.fit_options.parallel);
   co.fit_options.seed = o.seed;
   co.check();
   info(g, "toolpoint demo: running the seed's analytical case study (Özşahin et al. 2009, Section 3)…");
@@ -251,8 +252,7 @@ void add_demo_command(CLI::App& app, Globals& g) {
   o->fields.add(c, option_field(fields, "band_width"));
   c->add_option("--bootstrap", o->bootstrap, "Band fit intervals: bootstrap replicates (≥ 20), or 0 for linearised intervals")
       ->capture_default_str();
-  c->add_option("--threads", o->threads, "Worker threads for the bootstrap (0: every core; the same result for any number)")
-      ->capture_default_str();
+  add_threads_option(c, o->parallel);
   c->add_flag("--no-fit", o->no_fit, "Only the seed's procedure, without the band fit");
   add_joint_option(c, o->joints)
       ->description(

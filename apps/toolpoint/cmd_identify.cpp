@@ -33,7 +33,8 @@ struct IdentifyOptions {
   bool calibration_shared = false;
   int averages = 0;
   FieldFlags<IdentificationOptions> fields;  // --width (identification_fields)
-  int bootstrap = 200, parameters = 6, threads = 0;
+  int bootstrap = 200, parameters = 6;
+  FieldFlags<ParallelOptions> parallel;  // --threads
   std::uint64_t seed = 1;
   std::vector<std::string> overhang_frfs;
   bool json = false, accept = false;
@@ -114,7 +115,7 @@ void run_identify(const IdentifyOptions& o, const Globals& g) {
   io.noise.averages = o.averages;
   io.fit.reciprocal = o.parameters == 6;
   io.fit.seed = o.seed;
-  io.fit.parallel.threads = o.threads;
+  o.parallel.apply(io.fit.parallel);
   io.check();  // before any work; its messages name the fields, spelt as the flags by with_flags
 
   // Inputs, and outputs that must not overwrite them.
@@ -357,8 +358,7 @@ void add_identify_command(CLI::App& app, Globals& g) {
       ->check(CLI::IsMember({6, 8}))
       ->capture_default_str();
   c->add_option("--seed", o->seed, "Random seed of the bootstrap")->capture_default_str();
-  c->add_option("--threads", o->threads, "Worker threads for the bootstrap (0: every core; results are the same for any number)")
-      ->capture_default_str();
+  add_threads_option(c, o->parallel);
   c->add_option("--output", o->output,
                 "Write the closed form's k(f), c(f) (SI units in the column names), condition numbers and noise gains per "
                 "frequency [Hz] here (CSV; default: none)");

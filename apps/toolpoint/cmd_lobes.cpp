@@ -33,7 +33,8 @@ struct LobesOptions {
   CutArgs cut;
   // Speeds and method.
   std::string rpm, method = "zoa";
-  int speeds = 0, depth_steps = 0, threads = 0;
+  int speeds = 0, depth_steps = 0;
+  FieldFlags<ParallelOptions> parallel;  // --threads
   // --lobes, --tolerance, --intervals, --max-depth, --pocket-prominence, --speed-nodes,
   // --extrapolate-bearings: from their definitions (lobes_study_fields).
   FieldFlags<LobesStudyOptions> fields;
@@ -146,7 +147,7 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
   so.method = lobes_method(o.method);
   so.fit = dynamics_fit_options(o.dyn);
   so.fit_target = dynamics_fit_target(o.dyn);
-  so.parallel.threads = o.threads;
+  o.parallel.apply(so.parallel);
   so.speed_model = speed_model_from(o.speed_model).value_or(SpeedModel::Automatic);  // the option's values are checked
   o.fields.apply(so);
   if (o.dyn.assembly.empty() && (o.speed_model != "auto" || so.speed_nodes != 0 || so.extrapolate_bearings))
@@ -168,9 +169,8 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
   LobesInput input;
   if (uncertain) {
     input.uncertain_joint = sampled_joint(joints);
-    SamplingOptions so_threads = o.sampling;
-    so_threads.threads = o.threads;
-    so.uncertainty = uncertainty_options(so_threads);
+    so.uncertainty = uncertainty_options(o.sampling);
+    o.parallel.apply(so.uncertainty.parallel);  // the command's one --threads
   }
   DynamicsArgs dyn = o.dyn;
   dyn.speed_model = !uncertain ? so.speed_model : SpeedModel::Standstill;
@@ -284,9 +284,7 @@ void add_lobes_command(CLI::App& app, Globals& g) {
   o->fields.add(c, option_field(fields, "tolerance"));
   o->fields.add(c, option_field(fields, "steps"));
   c->add_option("--depth-steps", o->depth_steps, "No longer used (kept so old scripts run; a warning says so)");
-  c->add_option("--threads", o->threads,
-                "fd: worker threads [-], 0…1024 (default 0: every core); results are identical for any number")
-      ->capture_default_str();
+  add_threads_option(c, o->parallel);
   o->fields.add(c, option_field(fields, "max_depth_m"))->check(plausible_value(kDepthMm, "--max-depth"));
   o->fields.add(c, option_field(fields, "pocket_prominence"));
   c->add_option("--output", o->output,

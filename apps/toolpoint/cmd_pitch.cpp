@@ -28,7 +28,7 @@ struct PitchOptions {
   // --max-depth, --depth-steps: from pitch_choice_fields.
   FieldFlags<PitchChoiceOptions> fields;
   std::string pattern = "alternating";
-  int threads = 0;
+  FieldFlags<ParallelOptions> parallel;  // --threads
   bool json = false;
 };
 
@@ -84,7 +84,7 @@ void run_pitch(const PitchOptions& o, const Globals& g) {
   c.pattern = o.pattern == "linear"        ? PitchPattern::Linear
               : o.pattern == "three-angle" ? PitchPattern::ThreeAngle
                                            : PitchPattern::Alternating;
-  c.parallel.threads = o.threads;
+  o.parallel.apply(c.parallel);
   so.fit = dynamics_fit_options(o.dyn);
   so.fit_target = dynamics_fit_target(o.dyn);
   LobesInput input;
@@ -133,8 +133,7 @@ void add_pitch_command(CLI::App& app, Globals& g) {
     o->fields.add(c, option_field(fields, name));
   o->fields.add(c, option_field(fields, "max_depth_m"))->check(plausible_value(kDepthMm, "--max-depth"));
   o->fields.add(c, option_field(fields, "depth_steps"));
-  c->add_option("--threads", o->threads, "Worker threads [-] (default 0: every core); results are identical for any number")
-      ->capture_default_str();
+  add_threads_option(c, o->parallel);
   c->add_flag("--json", o->json, "Machine-readable result on stdout (angles in radians)");
   c->footer(
       "Example:\n"

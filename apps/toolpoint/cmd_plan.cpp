@@ -24,7 +24,7 @@ namespace {
 struct PlanArgs {
   std::string study, method, output, plot, shard, part;
   ToolGeometryArgs tool;  // overrides of the study's [cut] pitch, helix, runout, process damping
-  int threads = 0;
+  FieldFlags<ParallelOptions> parallel;  // --threads
   bool json = false;
   std::vector<std::string> parts;  // plan merge
 };
@@ -133,7 +133,7 @@ void run_plan_command(const PlanArgs& o, const Globals& g) {
   if (o.method == "zoa") study.options.lobes.method = LobesMethod::ZeroOrder;
   else if (!o.method.empty()) study.options.lobes.method = lobes_method_from(o.method).value_or(LobesMethod::FullDiscretization);
   override_tool(o.tool, study.options.lobes.cutting);
-  study.options.parallel.threads = o.threads;
+  o.parallel.apply(study.options.parallel);
 
   Progress progress(g, o.shard.empty() ? "plan: set-ups" : fmt::format("plan: shard {}/{}", index, count));
   if (!o.shard.empty()) {
@@ -198,7 +198,7 @@ void add_plan_command(CLI::App& app, Globals& g) {
                 "Override the study's method: zoa (zero-order lobes), fd (full-discretization) or sd (semi-discretization)")
       ->check(CLI::IsMember({"zoa", "fd", "sd"}));
   add_tool_geometry_options(c, o->tool, false);
-  c->add_option("--threads", o->threads, "Worker threads (0: every core; the same result for any number)")->capture_default_str();
+  add_threads_option(c, o->parallel);
   c->add_option("--shard", o->shard,
                 "Compute only shard I of N (I = 0…N-1: the set-ups j with j mod N = I) and write it to --part; combine the parts "
                 "with `toolpoint plan merge`")

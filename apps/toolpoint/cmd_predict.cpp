@@ -22,9 +22,8 @@ namespace {
 
 struct PredictArgs {
   std::string assembly, at = "tool", output, frequencies, plot, band_output, cross_output;
-  double speed = 0.0;
-  std::vector<double> speeds;  // --speeds: the figure at several speeds
-  bool extrapolate_bearings = false;
+  FieldFlags<toolpoint::PredictOptions> fields;  // --speed, --extrapolate-bearings (predict_fields)
+  std::vector<double> speeds;                    // --speeds: the figure at several speeds
   std::vector<std::string> joints;
   SamplingOptions sampling;
   bool json = false;
@@ -54,8 +53,7 @@ void run_predict(const PredictArgs& o, const Globals& g) {
   const LoadedAssembly loaded = load_assembly_on_grid(g, o.assembly, o.frequencies, joints);
   const bool tool = o.at == "tool";
   options.receptance = tool ? PredictedFrf::ToolPoint : PredictedFrf::HolderTip;
-  options.speed_rpm = o.speed;
-  options.extrapolate_bearings = o.extrapolate_bearings;
+  o.fields.apply(options);
   Progress progress(g, "predict");
   const Prediction p = run_prediction_study(loaded.assembly, options, progress.part());
   progress.done();
@@ -120,7 +118,7 @@ void run_predict(const PredictArgs& o, const Globals& g) {
       if (n > 0.0) check_plausible(plausible::kSpinSpeedRpm, n, "--speeds", "give spindle speeds in rpm, e.g. 0,10000,20000");
     plot::Figure fig;
     try {
-      fig = speed_frf_figure(loaded.assembly, o.speeds, o.extrapolate_bearings);
+      fig = speed_frf_figure(loaded.assembly, o.speeds, options.extrapolate_bearings);
     } catch (const InvalidArgument& e) {
       throw InvalidArgument(with_flags(e.what()), with_flags(e.hint()));
     }
@@ -154,19 +152,13 @@ void add_predict_command(CLI::App& app, Globals& g) {
   c->add_option("--output", o->output,
                 "Write the 2×2 block [[H, L], [N, P]] per frequency here (FRF CSV; H m/N, L 1/N, N rad/N, P rad/(N m)); "
                 "default: only the table of modes on stdout");
-  c->add_option("--speed", o->speed,
-                "Spindle speed [rpm], ≥ 0: the spinning assembly in two planes (gyroscopic whirl, docs/spindle-at-speed.md); "
-                "--output and the modes are then its x–x block")
-      ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+  o->fields.add(c, option_field(predict_fields(), "speed_rpm"));
   c->add_option("--speeds", o->speeds,
                 "With --plot: the figure is instead the tool point FRF at these spindle speeds [rpm], comma-separated (e.g. "
                 "0,10000,20000,30000): |H_xx| and |H_xy| [m/N] against frequency [Hz], the spindle spinning and the bearings "
                 "at each speed")
       ->delimiter(',');
-  c->add_flag("--extrapolate-bearings", o->extrapolate_bearings,
-              "Bearings with a speed table (speed_rpm, stiffness_at_speed): extend the end rows' line beyond the table "
-              "(default: a speed outside it is an error)");
+  o->fields.add(c, option_field(predict_fields(), "extrapolate_bearings"));
   c->add_option("--cross-output", o->cross_output,
                 "Write the tool point's H_xx, H_xy, H_yx, H_yy [m/N] here (CSV; needs --speed or anisotropic bearings)")
       ->option_text("FILE");

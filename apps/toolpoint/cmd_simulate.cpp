@@ -38,7 +38,8 @@ struct SimulateArgs {
   // --revolutions, --steps, --slices, --memory-revolutions, --analysed: from simulation_fields.
   FieldFlags<SimulationOptions> simulation;
   // The map.
-  int speeds = 200, depths = 100, threads = 0;
+  int speeds = 200, depths = 100;
+  FieldFlags<ParallelOptions> parallel;  // --threads
   std::string shard, part;
   std::vector<std::string> parts;  // merge
   // Outputs.
@@ -300,7 +301,7 @@ void run_map(const SimulateArgs& o, const Globals& g, const std::string& study) 
   for (double d : {d0, d1}) check_plausible(kDepthMm, d, "--depth [mm]", "e.g. --depth 0.1:5");
   mo.depths = {1e-3 * d0, 1e-3 * d1, o.depths};
   mo.simulation = simulation_of(o);
-  mo.parallel.threads = o.threads;
+  o.parallel.apply(mo.parallel);
   std::vector<ModalFitSummary> fits;
   std::vector<std::string> warnings;
   const SimulationInput in = simulation_input(o, g);
@@ -428,7 +429,7 @@ void add_simulate_command(CLI::App& app, Globals& g) {
   add_common(m, *o, g, true);
   m->add_option("--speeds", o->speeds, "Points of the speed grid [-], 2…1e6")->capture_default_str();
   m->add_option("--depths", o->depths, "Points of the depth grid [-], 2…1e5")->capture_default_str();
-  m->add_option("--threads", o->threads, "Worker threads (0: every core; the same result for any number)")->capture_default_str();
+  add_threads_option(m, o->parallel);
   m->add_option("--shard", o->shard,
                 "Compute only shard I of N (I = 0…N-1: the speeds i with i mod N = I) and write it to --part; combine the parts "
                 "with `toolpoint simulate merge`")

@@ -21,6 +21,9 @@
 #include "toolpoint/measured/signal.hpp"
 #include "toolpoint/studies/precision.hpp"
 #include "toolpoint/studies/rotational.hpp"
+#include "toolpoint/studies/beam.hpp"
+#include "toolpoint/studies/overhang.hpp"
+#include "toolpoint/studies/predict.hpp"
 #include "toolpoint/studies/tap_test.hpp"
 
 namespace toolpoint::cli {
@@ -124,18 +127,18 @@ LoadedAssembly with_joints(LoadedAssembly loaded, const std::vector<JointFile>& 
 }
 
 void add_sampling_options(CLI::App* command, SamplingOptions& target, const std::string& what, bool threads_option) {
+  const FieldSpec& samples = option_field(uncertainty_fields(), "samples").spec;
   command
-      ->add_option("--samples", target.samples,
-                   "Carry the --joint file's uncertainty forward by this many Monte Carlo samples of the joint (≥ 10; 0: "
-                   "none): " +
-                       what)
+      ->add_option(field_flag(samples), target.samples,
+                   fmt::format("Carry the --joint file's uncertainty forward by Monte Carlo: {} [-], {} (0: none): {}",
+                               samples.help, field_range_text(samples), what))
       ->capture_default_str();
   command->add_option("--seed", target.seed, "Random seed of the joint samples")->capture_default_str();
-  if (threads_option)
-    command
-        ->add_option("--threads", target.threads,
-                     "Worker threads for the samples (0: every core; the same result for any number)")
-        ->capture_default_str();
+  if (threads_option) add_threads_option(command, target.parallel);
+}
+
+CLI::Option* add_threads_option(CLI::App* command, FieldFlags<ParallelOptions>& flags) {
+  return flags.add(command, option_field(parallel_fields(), "threads"));
 }
 
 const JointFile& sampled_joint(const std::vector<JointFile>& files) {
@@ -156,12 +159,11 @@ const JointFile& sampled_joint(const std::vector<JointFile>& files) {
 }
 
 UncertaintyOptions uncertainty_options(const SamplingOptions& s) {
-  if (s.samples < 10) throw InvalidArgument(fmt::format("--samples {}: at least 10 (200 is a good default)", s.samples));
-  if (s.threads < 0) throw InvalidArgument(fmt::format("--threads {} must be ≥ 0 (0: every core)", s.threads));
   UncertaintyOptions o;
   o.samples = s.samples;
   o.seed = s.seed;
-  o.parallel.threads = s.threads;
+  s.parallel.apply(o.parallel);
+  o.check();  // main names the flags (with_flags)
   return o;
 }
 
@@ -366,23 +368,18 @@ std::string with_flags(std::string text) {
       {"PitchChoiceOptions::steps", "--intervals"},
       {"PitchChoiceOptions::max_depth_m", "--max-depth"},
       {"PitchChoiceOptions::depth_steps", "--depth-steps"},
-      {"BoundaryOptions::tolerance", "--tolerance"},
-      {"BoundaryOptions::steps", "--intervals"},
       {"BoundaryOptions::max_steps", "--intervals"},
       {"LobesStudyOptions::speed_model", "--speed-model"},
       {"LobesStudyOptions::speeds", "--rpm"},
       {"LobesMethod::ZeroOrder", "--method zoa"},
       {"SpeedModel::Standstill", "--speed-model standstill"},
       {"LobesInput::uncertain_joint", "--samples"},
-      {"BoundaryOptions::max_depth_m", "--max-depth"},
-      {"ParallelOptions::threads", "--threads"},
       {"ModalFitOptions::band_hz", "--band"},
       {"IdentificationOptions::band_hz", "--band"},
       {"IdentificationOptions::at_hz", "--at"},
       {"LobesInput::x_modes", "--mode-x"},
       {"LobesInput::frfs", "--frf"},
       {"LobesInput: rigid_y and y modes", "--rigid-y and --mode-y"},
-      {"ZeroOrderOptions::lobes", "--lobes"},
       {"SpeedRange::min_rpm and max_rpm", "--rpm MIN:MAX"},
       {"CuttingConditions::radial_ratio", "--kr"},
       {"CuttingConditions::pitch_rad", "--pitch"},
@@ -413,6 +410,14 @@ std::string with_flags(std::string text) {
   fields(uff_write_fields(), "UffWriteOptions");
   fields(modal_fit_fields(), "ModalFitOptions");
   fields(case_study_fields(), "CaseStudyOptions");
+  fields(parallel_fields(), "ParallelOptions");
+  fields(uncertainty_fields(), "UncertaintyOptions");
+  fields(zero_order_fields(), "ZeroOrderOptions");
+  fields(boundary_fields(), "BoundaryOptions");
+  fields(modal_fields(), "ModalOptions");
+  fields(beam_study_fields(), "BeamStudyOptions");
+  fields(predict_fields(), "PredictOptions");
+  fields(overhang_study_fields(), "OverhangStudyOptions");
   for (const auto& [field, flag] : kFlags) replace(field, flag);
   return text;
 }
@@ -421,9 +426,9 @@ void check_plausible(const PlausibleRange& range, double value, const std::strin
   if (const std::string w = require_plausible(range, value, what, fix); !w.empty()) warn(w);
 }
 
-CLI::Validator plausible_value(const PlausibleRange& range, const std::string& option) {
+CLI::Validator plausible_value(const PlausibleRange& range, const std::string& option, bool warn_unusual) {
   return CLI::Validator(
-      [range, option](std::string& text) -> std::string {
+      [range, option, warn_unusual](std::string& text) -> std::string {
         double v = 0.0;
         try {
           v = std::stod(text);
@@ -433,7 +438,9 @@ CLI::Validator plausible_value(const PlausibleRange& range, const std::string& o
         if (v == 0.0) return {};
         switch (judge(range, v)) {
           case Plausibility::Usual: return {};
-          case Plausibility::Unusual: warn(plausibility_message(range, v, option)); return {};
+          case Plausibility::Unusual:
+            if (warn_unusual) warn(plausibility_message(range, v, option));
+            return {};
           case Plausibility::Impossible: break;
         }
         return plausibility_message(range, v, "the value");  // CLI11 puts the option's name first

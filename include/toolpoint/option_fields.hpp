@@ -42,8 +42,8 @@ struct FieldSpec {
   double cli_per_unit = 1.0;       ///< CLI value = field value × cli_per_unit (100 for %, 1000 for mm)
   const char* plan_key = nullptr;  ///< the key in the plan file's table of these options, or nullptr
   /// Where a value in another unit is likely (a length in mm given as m): its plausible range in the
-  /// field's unit (plausibility.hpp), judged by the plan file after the range (a warning, or refused
-  /// at the key when it cannot be meant); nullptr: none.
+  /// field's unit (plausibility.hpp). check_field refuses a nonzero value that cannot be meant; the
+  /// plan file and the CLI flag judge it too, and warn where it is only unusual. nullptr: none.
   const PlausibleRange* plausible = nullptr;
 };
 
@@ -105,7 +105,9 @@ std::string field_range_text(const FieldSpec& spec, double scale = 1.0);
 /// \return the phrase
 std::string field_range_phrase(const FieldSpec& spec, double scale = 1.0);
 
-/// \brief Throws InvalidArgument naming `Options::field` if `value` is not valid for the field.
+/// \brief Throws InvalidArgument naming `Options::field` if `value` is not valid for the field, or
+/// if it is nonzero, not the automatic value and cannot be meant in the field's unit (spec.plausible:
+/// a spin of 150 "rpm" that is rad/s, a power of 15 "W" that is kW).
 /// \param spec the field
 /// \param value the value [spec.unit]
 /// \param options the Options type's name, e.g. "LobesStudyOptions"
@@ -139,6 +141,25 @@ inline FieldSpec with_help(FieldSpec spec, const char* help) {
 template <class Options>
 void check_fields(const std::vector<OptionField<Options>>& fields, const Options& o, std::string_view options) {
   for (const OptionField<Options>& f : fields) check_field(f.spec, f.get(o), options);
+}
+
+/// \brief What the result says of `o`'s unusual values: for each field with a plausible range
+/// (spec.plausible) whose value is nonzero, not automatic and unusual in its unit, the message
+/// naming `Options::field` (a value that cannot be meant is check()'s to refuse).
+/// \param fields the Options type's table
+/// \param o the options judged
+/// \param options the Options type's name
+/// \return the warnings, in the table's order
+template <class Options>
+std::vector<std::string> field_plausibility_warnings(const std::vector<OptionField<Options>>& fields, const Options& o,
+                                                     std::string_view options) {
+  std::vector<std::string> warnings;
+  for (const OptionField<Options>& f : fields) {
+    const double v = f.get(o);
+    if (f.spec.plausible && v != 0.0 && v != f.spec.automatic && judge(*f.spec.plausible, v) == Plausibility::Unusual)
+      warnings.push_back(plausibility_message(*f.spec.plausible, v, std::string(options) + "::" + f.spec.name));
+  }
+  return warnings;
 }
 
 }  // namespace toolpoint

@@ -9,16 +9,23 @@
 
 #include <cstddef>
 #include <functional>
+#include <vector>
+
+#include "toolpoint/option_fields.hpp"
 
 namespace toolpoint {
 
 struct ParallelOptions {
   int threads = 0;  // worker threads; 0: every core (std::thread::hardware_concurrency), 1: none
-  // Throws InvalidArgument naming `threads` when negative or above 1024.
+  // Throws InvalidArgument naming `ParallelOptions::threads` outside parallel_fields()' 0…1024.
   void check() const;
   // The number of threads to use for `count` items: min(count, threads or the core count), ≥ 1.
   int resolved(std::size_t count) const;
 };
+
+// ParallelOptions' fields (option_fields.hpp): threads, 0…1024 (0: every core), flag --threads. The
+// Options types that run on threads take this field for theirs (UncertaintyOptions::parallel, …).
+const std::vector<OptionField<ParallelOptions>>& parallel_fields();
 
 // Runs body(i) for every i in [0, count), on ParallelOptions::resolved(count) threads (the
 // calling thread is one of them). Items are claimed one at a time in index order.

@@ -310,15 +310,11 @@ void bind_segments(py::module_& m) {
 
 }
 
-// The beam study from Python (both forms): the section and material judged as the CLI's --length,
-// --diameter, --inner-diameter, --youngs-modulus, --density, --shear-modulus, --loss-factor and
-// --shear-coefficient (plausibility.hpp), then the library's checks.
+// The beam study from Python (both forms): the section, speed and material judged as the CLI's
+// --length, --diameter, --inner-diameter, --speed (beam_study_fields), --youngs-modulus, --density,
+// --shear-modulus, --loss-factor and --shear-coefficient (plausibility.hpp), then the library's checks.
 BeamStudy beam_from_python(const BeamStudyOptions& o) {
-  const char* const metres = "give lengths and diameters in m (16 mm = 0.016)";
-  check_plausible(plausible::kSegmentLength, o.length, "BeamStudyOptions::length", metres);
-  check_plausible(plausible::kOuterDiameter, o.outer_diameter, "BeamStudyOptions::outer_diameter", metres);
-  if (o.inner_diameter > 0.0)
-    check_plausible(plausible::kInnerDiameter, o.inner_diameter, "BeamStudyOptions::inner_diameter", metres);
+  check_plausible_fields(beam_study_fields(), o, "BeamStudyOptions");  // the geometry and the speed
   check_plausible(plausible::kYoungsModulus, o.material.youngs_modulus, "Material::youngs_modulus",
                   "give E in Pa (steel 2.1e11)");
   check_plausible(plausible::kDensity, o.material.density, "Material::density", "give ρ in kg/m³ (steel 7800)");
@@ -335,18 +331,15 @@ BeamStudy beam_from_python(const BeamStudyOptions& o) {
 
 // The beam study: a segment's section, natural frequencies and end block.
 void bind_beam_study(py::module_& m) {
-  options_class<ModalOptions>(m, "ModalOptions", "Modal summation's options (beam.hpp; BeamStudyOptions.modal).",
-                              {"modes", "static_residual"})
-      .def_readwrite("modes", &ModalOptions::modes, "elastic free–free modes kept, ≥ 1")
-      .def_readwrite("static_residual", &ModalOptions::static_residual, "add the truncated modes' quasi-static part");
-  options_class<BeamStudyOptions>(m, "BeamStudyOptions", "run_beam_study's options (studies/beam.hpp; toolpoint beam's).",
-                                  {"length", "outer_diameter", "inner_diameter", "material", "shear_coefficient",
-                                   "shear_model", "modes", "frequency_hz", "block", "method", "modal", "speed_rpm",
-                                   "campbell_rpm"})
-      .def_readwrite("length", &BeamStudyOptions::length, "L [m], > 0 (no default)")
-      .def_readwrite("outer_diameter", &BeamStudyOptions::outer_diameter, "D [m], > 0 (no default)")
-      .def_readwrite("inner_diameter", &BeamStudyOptions::inner_diameter, "d [m]; 0: a solid section")
-      .def_readwrite("material", &BeamStudyOptions::material, "Material (default steel, undamped)")
+  auto modal = options_class<ModalOptions>(m, "ModalOptions", "Modal summation's options (beam.hpp; BeamStudyOptions.modal).",
+                                           {"modes", "static_residual"});
+  def_option_fields(modal, modal_fields(), "toolpoint beam");
+  auto beam = options_class<BeamStudyOptions>(m, "BeamStudyOptions", "run_beam_study's options (studies/beam.hpp; toolpoint beam's).",
+                                              {"length", "outer_diameter", "inner_diameter", "material", "shear_coefficient",
+                                               "shear_model", "modes", "frequency_hz", "block", "method", "modal", "speed_rpm",
+                                               "campbell_rpm"});
+  def_option_fields(beam, beam_study_fields(), "toolpoint beam");
+  beam.def_readwrite("material", &BeamStudyOptions::material, "Material (default steel, undamped)")
       .def_readwrite("shear_coefficient", &BeamStudyOptions::shear_coefficient,
                      "κ, or None: from shear_model, ν and the diameters")
       .def_property(
@@ -355,7 +348,6 @@ void bind_beam_study(py::module_& m) {
             o.shear_model = enum_of(v, kShearModels, "BeamStudyOptions::shear_model");
           },
           "'hutchinson' or 'cowper'")
-      .def_readwrite("modes", &BeamStudyOptions::modes, "free–free natural frequencies listed, ≥ 0")
       .def_readwrite("frequency_hz", &BeamStudyOptions::frequency_hz, "the receptance's grid [Hz]; []: no receptance")
       .def_property(
           "block", [](const BeamStudyOptions& o) { return std::string(name_of(o.block, kEndBlocks)); },
@@ -366,7 +358,6 @@ void bind_beam_study(py::module_& m) {
           [](BeamStudyOptions& o, const std::string& v) { o.method = enum_of(v, kBeamMethods, "BeamStudyOptions::method"); },
           "'exact' (closed form) or 'modal' (summation over `modal`'s modes)")
       .def_readwrite("modal", &BeamStudyOptions::modal, "ModalOptions of the 'modal' method")
-      .def_readwrite("speed_rpm", &BeamStudyOptions::speed_rpm, "spin about the axis [rpm], ≥ 0 (exact method only)")
       .def_readwrite("campbell_rpm", &BeamStudyOptions::campbell_rpm, "speeds [rpm] of the Campbell diagram; []: none");
   py::class_<BeamStudy>(m, "BeamStudy", "run_beam_study's result (studies/beam.hpp).")
       .def_readonly("segment", &BeamStudy::segment, "the Segment built from the options")
@@ -656,18 +647,14 @@ void bind_assembly_model(py::module_& m) {
 void bind_prediction(py::module_& m) {
   // ---- Studies: prediction, overhangs, tap test ----------------------------------------------------
   // The Monte Carlo's options, bound here because the prediction and overhang studies hold them.
-  options_class<UncertaintyOptions>(
+  auto uncertainty = options_class<UncertaintyOptions>(
       m, "UncertaintyOptions",
       "The Monte Carlo over an uncertain joint (uncertainty.hpp): tool_point_band's options, and the band's in "
       "PredictOptions and OverhangStudyOptions. Progress is the function's `progress` argument.",
-      {"samples", "seed", "levels", "threads"})
-      .def_readwrite("samples", &UncertaintyOptions::samples, "joints drawn, 10…1000000")
-      .def_readwrite("seed", &UncertaintyOptions::seed, "sample i draws from stream_seed(seed, i)")
-      .def_readwrite("levels", &UncertaintyOptions::levels, "quantile levels, increasing in (0, 1)")
-      .def_property(
-          "threads", [](const UncertaintyOptions& o) { return o.parallel.threads; },
-          [](UncertaintyOptions& o, int threads) { o.parallel.threads = threads; },
-          "samples run on this many threads (0: every core); results identical for any count");
+      {"samples", "seed", "levels", "threads"});
+  def_option_fields(uncertainty, uncertainty_fields(), "toolpoint predict");
+  uncertainty.def_readwrite("seed", &UncertaintyOptions::seed, "sample i draws from stream_seed(seed, i)")
+      .def_readwrite("levels", &UncertaintyOptions::levels, "quantile levels, increasing in (0, 1)");
   py::class_<Peak>(m, "Peak", "A resonance peak of |H|: grid index, refined frequency [Hz] and magnitude, prominence (relative).")
       .def_readonly("index", &Peak::index)
       .def_readonly("frequency_hz", &Peak::frequency_hz)
@@ -787,16 +774,14 @@ void bind_overhang_study(py::module_& m) {
       .def(
           "to_dict", [](const OverhangStudy& s) { return dict_of(s); },
           "The result as plain data (dicts, lists, floats, str, bool, None; the CLI's --json keys, SI units).");
-  options_class<OverhangStudyOptions>(m, "OverhangStudyOptions",
-                                      "run_overhang_study's options (studies/overhang.hpp; toolpoint couple's).",
-                                      {"overhangs_m", "peaks", "tracking_tolerance", "threads", "sh11_name", "uncertain_joint",
-                                       "band"})
-      .def_readwrite("overhangs_m", &OverhangStudyOptions::overhangs_m,
+  auto overhang = options_class<OverhangStudyOptions>(m, "OverhangStudyOptions",
+                                                      "run_overhang_study's options (studies/overhang.hpp; toolpoint couple's).",
+                                                      {"overhangs_m", "peaks", "tracking_tolerance", "threads", "sh11_name",
+                                                       "uncertain_joint", "band"});
+  def_option_fields(overhang, overhang_study_fields(), "toolpoint couple");
+  overhang.def_readwrite("overhangs_m", &OverhangStudyOptions::overhangs_m,
                      "tool overhangs [m], strictly increasing; empty: the assembly's own")
       .def_readwrite("peaks", &OverhangStudyOptions::peaks, "PeakOptions: which local maxima of |H| count as modes")
-      .def_readwrite("tracking_tolerance", &OverhangStudyOptions::tracking_tolerance,
-                     "a mode moves at most this fraction of its frequency per step")
-      .def_readwrite("threads", &OverhangStudyOptions::threads, "overhangs in parallel on this many threads (0: every core)")
       .def_readwrite("sh11_name", &OverhangStudyOptions::sh11_name, "names the measured SH11 in messages")
       .def_readwrite("uncertain_joint", &OverhangStudyOptions::uncertain_joint,
                      "a holder–tool JointFile with [uncertainty] (one overhang: the band of the coupled FRF), or None")

@@ -16,7 +16,10 @@
 #include "toolpoint/studies/case_study.hpp"
 #include "toolpoint/studies/lobes.hpp"
 #include "toolpoint/studies/identification.hpp"
+#include "toolpoint/studies/beam.hpp"
 #include "toolpoint/studies/pitch.hpp"
+#include "toolpoint/studies/overhang.hpp"
+#include "toolpoint/studies/predict.hpp"
 #include "toolpoint/studies/precision.hpp"
 #include "toolpoint/studies/rotational.hpp"
 #include "toolpoint/studies/tap_test.hpp"
@@ -345,9 +348,10 @@ void bind_zero_order(py::module_& m) {
       },
       "frequency_hz"_a, "xx"_a, "cutting"_a, "speeds"_a, "lobes"_a = -1, "max_depth_m"_a = 0.0, "yy"_a = py::none(),
       "xy"_a = py::none(), "yx"_a = py::none(), "rigid_y"_a = false,
-      "Zero-order stability lobes from the tool point FRFs [m/N] on frequency_hz [Hz] (G_yy default G_xx: a symmetric tool; "
-      "cross FRFs "
-      "both or neither). speeds = (min_rpm, max_rpm, points) for the envelope; lobes k = 0…lobes (−1: enough); depths in m.");
+      fields_doc(zero_order_fields(), "ZeroOrderOptions", "toolpoint lobes",
+                 "Zero-order stability lobes from the tool point FRFs [m/N] on frequency_hz [Hz] (G_yy default G_xx: a "
+                 "symmetric tool; cross FRFs both or neither). speeds = (min_rpm, max_rpm, points) for the envelope; depths "
+                 "in m."));
 }
 
 // The time domain: full-discretization (Insperger & Stépán) and its stability boundary.
@@ -391,12 +395,11 @@ void bind_time_domain(py::module_& m) {
       },
       "x_modes"_a, "y_modes"_a, "cutting"_a, "speeds"_a, "tolerance"_a = 0.01, "steps"_a = 0, "max_steps"_a = 4000,
       "degree"_a = 2, "max_depth_m"_a = 0.0, "threads"_a = 0, "progress"_a = py::none(), "scheme"_a = "fd",
-      "The milling stability boundary in the time domain (scheme 'fd': full-discretization, Ding et al. 2010, degree 1-3; "
-      "'sd': semi-discretization, Insperger & Stepan, degree the order 0 or 1) of a modal model (y_modes "
-      "empty: rigid "
-      "in y) at each speed of speeds = (min_rpm, max_rpm, points), each depth [m] with its Richardson error estimate meeting "
-      "`tolerance` "
-      "(relative). threads: 0 every core; results identical for any count.");
+      fields_doc(boundary_fields(), "BoundaryOptions", "toolpoint lobes",
+                 "The milling stability boundary in the time domain (scheme 'fd': full-discretization, Ding et al. 2010, "
+                 "degree 1-3; 'sd': semi-discretization, Insperger & Stepan, degree the order 0 or 1) of a modal model "
+                 "(y_modes empty: rigid in y) at each speed of speeds = (min_rpm, max_rpm, points), each depth [m] with its "
+                 "Richardson error estimate meeting `tolerance` (relative)."));
   py::class_<FullDiscretization, std::shared_ptr<FullDiscretization>>(
       m, "FullDiscretization",
       "The milling equation's period map at a fixed number of steps per tooth period (degree-p interpolation).")
@@ -646,6 +649,14 @@ void bind_stability(py::module_& m) {
   tables["ModalFitOptions"] = fields_data(modal_fit_fields());
   tables["CaseStudyOptions"] = fields_data(case_study_fields());
   tables["PrecisionOptions"] = fields_data(precision_fields());
+  tables["ParallelOptions"] = fields_data(parallel_fields());
+  tables["UncertaintyOptions"] = fields_data(uncertainty_fields());
+  tables["ZeroOrderOptions"] = fields_data(zero_order_fields());
+  tables["BoundaryOptions"] = fields_data(boundary_fields());
+  tables["ModalOptions"] = fields_data(modal_fields());
+  tables["BeamStudyOptions"] = fields_data(beam_study_fields());
+  tables["PredictOptions"] = fields_data(predict_fields());
+  tables["OverhangStudyOptions"] = fields_data(overhang_study_fields());
   m.attr("_option_fields") = tables;
   bind_modal_models(m);
   bind_zero_order(m);

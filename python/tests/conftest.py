@@ -66,3 +66,25 @@ def prediction(example):
 @pytest.fixture
 def python():
     return sys.executable
+
+
+def expect_table_attributes(name, defaults, command, bound=True):
+    """The option table `name` (toolpoint._option_fields) holds exactly the fields of `defaults`
+    ({field: default}, written out by the test from the headers) with those defaults; where the
+    type is `bound` as a class, each attribute has that default and type, and its docstring the
+    field's help and, for a field with a flag, `command` and the flag."""
+    fields = tp._toolpoint._option_fields[name]
+    assert [f["name"] for f in fields] == list(defaults)
+    for f in fields:
+        assert f["default"] == defaults[f["name"]], f["name"]
+    if not bound:
+        return
+    o = getattr(tp, name)()
+    for f in fields:
+        value = getattr(o, f["name"])
+        assert value == defaults[f["name"]], f["name"]
+        assert type(value) is type(defaults[f["name"]]), f["name"]
+        doc = getattr(getattr(tp, name), f["name"]).__doc__
+        assert f["help"] in doc, f["name"]
+        if command and f["flag"]:
+            assert f"{command} {f['flag']}" in doc, f["name"]

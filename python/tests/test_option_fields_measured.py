@@ -9,6 +9,7 @@ import math
 import pytest
 
 import toolpoint as tp
+from conftest import expect_table_attributes
 
 TABLES = tp._toolpoint._option_fields
 
@@ -35,21 +36,7 @@ NOT_CLASSES = {"PeakChangeOptions", "TapTestFileOptions", "UffWriteOptions", "Pl
 @pytest.mark.parametrize("name", sorted(EXPECTED))
 def test_tables_hold_the_fields_with_the_defaults(name):
     defaults, command = EXPECTED[name]
-    fields = TABLES[name]
-    assert [f["name"] for f in fields] == list(defaults)
-    for f in fields:
-        assert f["default"] == defaults[f["name"]], f["name"]
-    if name in NOT_CLASSES:
-        return
-    o = getattr(tp, name)()
-    for f in fields:
-        value = getattr(o, f["name"])
-        assert value == defaults[f["name"]], f["name"]
-        assert type(value) is type(defaults[f["name"]]), f["name"]
-        doc = getattr(getattr(tp, name), f["name"]).__doc__
-        assert f["help"] in doc, f["name"]
-        if command and f["flag"]:
-            assert f"{command} {f['flag']}" in doc, f["name"]
+    expect_table_attributes(name, defaults, command, bound=name not in NOT_CLASSES)
 
 
 def test_keywords_documented_from_their_tables():

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
+#include <string>
+#include <utility>
 
 #include "toolpoint/model/assembly.hpp"
 #include "toolpoint/conventions.hpp"
@@ -15,10 +17,7 @@ namespace toolpoint {
 const char* beam_method_name(BeamMethod method) { return method == BeamMethod::Modal ? "modal" : "exact"; }
 
 void BeamStudyOptions::check() const {
-  // ModalBeam's own limit (ModalOptions::check), said here under this option's name.
-  if (modes < 0 || modes > 20000)
-    throw InvalidArgument(fmt::format("BeamStudyOptions::modes {} must lie in 0..20000", modes),
-                          "the number of free–free natural frequencies to list");
+  check_fields(beam_study_fields(), *this, "BeamStudyOptions");
   if (shear_coefficient && !(std::isfinite(*shear_coefficient) && *shear_coefficient > 0.0))
     throw InvalidArgument(fmt::format("BeamStudyOptions::shear_coefficient {} must be > 0", *shear_coefficient),
                           "leave it unset for the shear model's value");
@@ -27,10 +26,6 @@ void BeamStudyOptions::check() const {
       throw InvalidArgument(fmt::format("BeamStudyOptions::frequency_hz holds {} Hz; each frequency must be > 0", f),
                             "a free–free segment has rigid-body modes: its receptance is unbounded at 0 Hz");
   if (method == BeamMethod::Modal) modal.check();
-  if (!(std::isfinite(speed_rpm) && speed_rpm >= 0.0) ||
-      (speed_rpm > 0.0 && judge(plausible::kSpinSpeedRpm, speed_rpm) == Plausibility::Impossible))
-    throw InvalidArgument(fmt::format("BeamStudyOptions::speed_rpm {} must be ≥ 0 and a spindle speed in rpm", speed_rpm),
-                          plausible::kSpinSpeedRpm.hint);
   if (speed_rpm > 0.0 && method == BeamMethod::Modal)
     throw InvalidArgument("BeamStudyOptions::speed_rpm > 0 needs BeamStudyOptions::method exact",
                           "the whirls' receptances are exact only; a modal sum at speed is not provided");
@@ -46,6 +41,57 @@ void BeamStudyOptions::check() const {
   if ((speed_rpm > 0.0 || !campbell_rpm.empty()) && modes < 1)
     throw InvalidArgument("BeamStudyOptions::modes must be ≥ 1 with a speed or a Campbell diagram",
                           "the whirls' natural frequencies listed");
+}
+
+const std::vector<OptionField<BeamStudyOptions>>& beam_study_fields() {
+  using O = BeamStudyOptions;
+  static const std::vector<OptionField<O>> fields = {
+      {{.name = "length",
+        .kind = FieldKind::Real,
+        .unit = "m",
+        .min = 0.0,
+        .min_open = true,
+        .help = "the segment's length L (no default)",
+        .cli_name = "length",
+        .plausible = &plausible::kSegmentLength},
+       [](O& o) -> double& { return o.length; }},
+      {{.name = "outer_diameter",
+        .kind = FieldKind::Real,
+        .unit = "m",
+        .min = 0.0,
+        .min_open = true,
+        .help = "the outer diameter D (no default)",
+        .cli_name = "diameter",
+        .plausible = &plausible::kOuterDiameter},
+       [](O& o) -> double& { return o.outer_diameter; }},
+      {{.name = "inner_diameter",
+        .kind = FieldKind::Real,
+        .unit = "m",
+        .min = 0.0,
+        .note = "0: a solid section",
+        .help = "the inner diameter d of a hollow section",
+        .cli_name = "inner-diameter",
+        .plausible = &plausible::kInnerDiameter},
+       [](O& o) -> double& { return o.inner_diameter; }},
+      {{.name = "modes",
+        .kind = FieldKind::Integer,
+        .min = 0.0,
+        .max = 20000.0,
+        .help = "free–free natural frequencies listed (with a speed or a Campbell diagram: of each whirl, ≥ 1)",
+        .cli_name = "modes"},
+       nullptr,
+       [](O& o) -> int& { return o.modes; }},
+      {{.name = "speed_rpm",
+        .kind = FieldKind::Real,
+        .unit = "rpm",
+        .min = 0.0,
+        .note = "0: standing",
+        .help = "spin about the axis: the natural frequencies of the forward and backward whirl, and the x–x block of "
+                "the spinning segment (exact method only)",
+        .cli_name = "speed",
+        .plausible = &plausible::kSpinSpeedRpm},
+       [](O& o) -> double& { return o.speed_rpm; }}};
+  return fields;
 }
 
 BeamStudy run_beam_study(const BeamStudyOptions& options) {
@@ -72,10 +118,11 @@ BeamStudy run_beam_study(const BeamStudyOptions& options) {
   if (options.modes > 0) r.modes = ModalBeam(r.properties, options.length, ModalOptions{options.modes, false}).modes();
 
   r.speed_rpm = options.speed_rpm;
+  // The geometry and the speed judged as the flags and the files judge them: unusual, said.
+  for (std::string& w : field_plausibility_warnings(beam_study_fields(), options, "BeamStudyOptions"))
+    r.warnings.push_back(std::move(w));
   if (options.speed_rpm > 0.0) {
     r.whirl = whirl_frequencies(r.properties, options.length, rad_s_of_rpm(options.speed_rpm), options.modes);
-    if (judge(plausible::kSpinSpeedRpm, options.speed_rpm) == Plausibility::Unusual)
-      r.warnings.push_back(plausibility_message(plausible::kSpinSpeedRpm, options.speed_rpm, "BeamStudyOptions::speed_rpm"));
   }
   for (double n : options.campbell_rpm)
     r.campbell.push_back(whirl_frequencies(r.properties, options.length, rad_s_of_rpm(n), options.modes));

@@ -6,6 +6,7 @@
 #include <Eigen/QR>
 #include <fmt/format.h>
 #include <limits>
+#include <string>
 
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
@@ -227,68 +228,41 @@ void LobesStudyOptions::check() const {
 const std::vector<OptionField<LobesStudyOptions>>& lobes_study_fields() {
   using O = LobesStudyOptions;
   using K = FieldKind;
-  constexpr double kInf = std::numeric_limits<double>::infinity();
-  // The ranges are those of the functions the fields go to (BoundaryOptions, ModalFitOptions);
-  // max_modes is ModalFitOptions' own field (modal_fit_fields), in the study's words, with its key.
-  static const FieldSpec max_modes = [] {
-    FieldSpec s =
-        with_help(option_field(modal_fit_fields(), "max_modes").spec,
-                  "time domain, modes fitted: at most this many modes per FRF (the fewest that meet the fit target are used)");
-    s.plan_key = "max_modes";
+  // The fields that go to the zero-order lobes (ZeroOrderOptions), the boundary (BoundaryOptions)
+  // and the modal fit (ModalFitOptions) are those types' own fields, in the study's words and with
+  // the plan file's keys.
+  const auto field = [](const auto& table, const char* name, const char* help, const char* plan_key = nullptr) {
+    FieldSpec s = with_help(option_field(table, name).spec, help);
+    s.plan_key = plan_key;
+    return s;
+  };
+  static const FieldSpec max_modes =
+      field(modal_fit_fields(), "max_modes",
+            "time domain, modes fitted: at most this many modes per FRF (the fewest that meet the fit target are used)",
+            "max_modes");
+  static const FieldSpec max_depth = [&] {
+    FieldSpec s = field(boundary_fields(), "max_depth_m",
+                        "largest axial depth: the zero-order method drops deeper lobe points, the time domain searches up "
+                        "to it");
+    s.note = "0: zero-order all, time domain 10 × the zero-order floor";
+    return s;
+  }();
+  // The time domain's fields say so first: "time domain: " and the boundary's own help.
+  static const std::string tolerance_help = std::string("time domain: ") + option_field(boundary_fields(), "tolerance").spec.help,
+                           steps_help = std::string("time domain: ") + option_field(boundary_fields(), "steps").spec.help,
+                           degree_help = std::string("time domain: ") + option_field(boundary_fields(), "degree").spec.help;
+  // The boundary compares m with 2m steps: the first level at most half the default finest.
+  static const FieldSpec steps = [&] {
+    FieldSpec s = field(boundary_fields(), "steps", steps_help.c_str());
+    s.max = BoundaryOptions{}.max_steps / 2;
     return s;
   }();
   static const std::vector<OptionField<O>> fields = {
-      {{.name = "max_depth_m",
-        .kind = K::Real,
-        .unit = "m",
-        .min = 0.0,
-        .max = kInf,
-        .note = "0: zero-order all, time domain 10 × the zero-order floor",
-        .help = "largest axial depth: the zero-order method drops deeper lobe points, the time domain searches up to it",
-        .cli_name = "max-depth",
-        .cli_unit = "mm",
-        .cli_per_unit = 1e3},
-       [](O& o) -> double& { return o.max_depth_m; }},
-      {{.name = "lobes",
-        .kind = K::Integer,
-        .min = 0.0,
-        .max = 5000.0,
-        .automatic = -1.0,
-        .note = "−1: enough to cover the lowest speed",
-        .help = "zero-order: lobes k = 0…K",
-        .cli_name = "lobes",
-        .plan_key = "lobes"},
-       nullptr,
-       [](O& o) -> int& { return o.lobes; }},
-      {{.name = "tolerance",
-        .kind = K::Real,
-        .min = 1e-6,
-        .max = 0.5,
-        .help = "time domain: target for the estimated discretization error of each depth, relative to the depth (the "
-                "steps per tooth period are doubled until it is met)",
-        .cli_name = "tolerance",
-        .cli_unit = "%",
-        .cli_per_unit = 100.0,
-        .plan_key = "tolerance"},
-       [](O& o) -> double& { return o.tolerance; }},
-      {{.name = "steps",
-        .kind = K::Integer,
-        .min = 4.0,
-        .max = 2000.0,
-        .automatic = 0.0,
-        .note = "0: 12 per chatter wave",
-        .help = "time domain: steps per tooth period at the first of the two levels compared",
-        .cli_name = "intervals"},
-       nullptr,
-       [](O& o) -> int& { return o.steps; }},
-      {{.name = "degree",
-        .kind = K::Integer,
-        .min = 0.0,
-        .max = 3.0,
-        .help = "time domain: degree of the polynomial the delayed state is interpolated with (full discretization: "
-                "1–3; semi-discretization: 0 its zeroth order, else the first)"},
-       nullptr,
-       [](O& o) -> int& { return o.degree; }},
+      {max_depth, [](O& o) -> double& { return o.max_depth_m; }},
+      {field(zero_order_fields(), "lobes", "zero-order: lobes k = 0…K", "lobes"), nullptr, [](O& o) -> int& { return o.lobes; }},
+      {field(boundary_fields(), "tolerance", tolerance_help.c_str(), "tolerance"), [](O& o) -> double& { return o.tolerance; }},
+      {steps, nullptr, [](O& o) -> int& { return o.steps; }},
+      {field(boundary_fields(), "degree", degree_help.c_str()), nullptr, [](O& o) -> int& { return o.degree; }},
       {max_modes, nullptr, [](O& o) -> int& { return o.fit.max_modes; }},
       {{.name = "fit_target",
         .kind = K::Real,

@@ -29,18 +29,28 @@ void OverhangStudyOptions::check() const {
   } catch (const InvalidArgument& e) {
     throw InvalidArgument(fmt::format("OverhangStudyOptions::peaks: {}", e.what()), e.hint());
   }
-  if (!(tracking_tolerance > 0.0 && tracking_tolerance < 1.0))
-    throw InvalidArgument(fmt::format("OverhangStudyOptions::tracking_tolerance = {} must lie in (0, 1)", tracking_tolerance),
-                          "e.g. 0.15: a mode moves at most 15 % of its frequency from one overhang to the next");
-  if (threads < 0 || threads > 1024)
-    throw InvalidArgument(fmt::format("OverhangStudyOptions::threads = {} must lie in 0…1024 (0: every core)", threads),
-                          "give the number of worker threads, or 0 for every core");
+  check_fields(overhang_study_fields(), *this, "OverhangStudyOptions");
   if (!uncertain_joint) return;
   if (overhangs_m.size() > 1)
     throw InvalidArgument(fmt::format("OverhangStudyOptions::uncertain_joint: the band is computed for one overhang, not {}",
                                       overhangs_m.size()),
                           "give one overhang, or leave uncertain_joint empty");
   band.check();
+}
+
+const std::vector<OptionField<OverhangStudyOptions>>& overhang_study_fields() {
+  using O = OverhangStudyOptions;
+  static const std::vector<OptionField<O>> fields = {
+      {{.name = "tracking_tolerance",
+        .kind = FieldKind::Real,
+        .min = 0.0,
+        .max = 1.0,
+        .min_open = true,
+        .max_open = true,
+        .help = "a mode moves at most this fraction of its frequency from one overhang to the next (e.g. 0.15)"},
+       [](O& o) -> double& { return o.tracking_tolerance; }},
+      {option_field(parallel_fields(), "threads").spec, nullptr, [](O& o) -> int& { return o.threads; }}};
+  return fields;
 }
 
 namespace {

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
+#include <string>
+#include <utility>
 
 #include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
@@ -20,10 +22,7 @@ void PredictOptions::check() const {
   } catch (const InvalidArgument& e) {
     throw InvalidArgument(fmt::format("PredictOptions::peaks: {}", e.what()), e.hint());
   }
-  if (!(std::isfinite(speed_rpm) && speed_rpm >= 0.0) ||
-      (speed_rpm > 0.0 && judge(plausible::kSpinSpeedRpm, speed_rpm) == Plausibility::Impossible))
-    throw InvalidArgument(fmt::format("PredictOptions::speed_rpm {} must be ≥ 0 and a spindle speed in rpm", speed_rpm),
-                          plausible::kSpinSpeedRpm.hint);
+  check_fields(predict_fields(), *this, "PredictOptions");
   if (speed_rpm > 0.0 && (receptance != PredictedFrf::ToolPoint || uncertain_joint))
     throw InvalidArgument("PredictOptions::speed_rpm > 0 is for the tool point without PredictOptions::uncertain_joint",
                           "drop the speed, or predict the tool point without the joint's band");
@@ -32,6 +31,30 @@ void PredictOptions::check() const {
     throw InvalidArgument("PredictOptions::uncertain_joint: the band is computed for the tool point, not the holder tip",
                           "set PredictOptions::receptance to ToolPoint, or leave uncertain_joint empty");
   band.check();
+}
+
+const std::vector<OptionField<PredictOptions>>& predict_fields() {
+  using O = PredictOptions;
+  static const std::vector<OptionField<O>> fields = {
+      {{.name = "speed_rpm",
+        .kind = FieldKind::Real,
+        .unit = "rpm",
+        .min = 0.0,
+        .note = "0: standing",
+        .help = "spindle speed: the spinning assembly in two planes (gyroscopic whirl, docs/spindle-at-speed.md); the "
+                "FRF and the modes are then its x–x block",
+        .cli_name = "speed",
+        .plausible = &plausible::kSpinSpeedRpm},
+       [](O& o) -> double& { return o.speed_rpm; }},
+      {{.name = "extrapolate_bearings",
+        .kind = FieldKind::Flag,
+        .help = "bearings with a speed table: extend the end rows' line beyond the table (else a speed outside it is an "
+                "error)",
+        .cli_name = "extrapolate-bearings"},
+       nullptr,
+       nullptr,
+       [](O& o) -> bool& { return o.extrapolate_bearings; }}};
+  return fields;
 }
 
 namespace {
@@ -55,8 +78,7 @@ Prediction two_plane_prediction(const AssemblyModel& model, const std::vector<do
   Prediction p;
   p.receptance = PredictedFrf::ToolPoint;
   p.warnings = model.warnings();
-  if (options.speed_rpm > 0.0 && judge(plausible::kSpinSpeedRpm, options.speed_rpm) == Plausibility::Unusual)
-    p.warnings.push_back(plausibility_message(plausible::kSpinSpeedRpm, options.speed_rpm, "PredictOptions::speed_rpm"));
+  for (std::string& w : field_plausibility_warnings(predict_fields(), options, "PredictOptions")) p.warnings.push_back(std::move(w));
   p.speed_rpm = options.speed_rpm;
   p.two_plane = model.tool_point_two_plane(grid, spin);
   p.frf.frequency_hz = grid;

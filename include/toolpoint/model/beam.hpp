@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "toolpoint/model/receptance.hpp"
+#include "toolpoint/option_fields.hpp"
 
 namespace toolpoint {
 
@@ -199,10 +200,13 @@ double conical_whirl_estimate_hz(const SectionProperties& section, double length
 // ---- Modal summation (seed Eq. 11–14) ---------------------------------------------------------
 
 struct ModalOptions {
-  int modes = 100;               // elastic free–free modes kept, N ≥ 1
+  int modes = 100;               // elastic free–free modes kept, N in 1…20000
   bool static_residual = false;  // add the truncated modes' quasi-static part (see below)
-  void check() const;
+  void check() const;            // the range of modal_fields(); InvalidArgument naming `ModalOptions::modes`
 };
+// ModalOptions' fields (option_fields.hpp): modes (flag --modal-terms), static_residual
+// (--static-residual).
+const std::vector<OptionField<ModalOptions>>& modal_fields();
 
 // A free–free mode, mass-normalised: ∫(ρA W² + ρI Ψ²) dx = 1. Values at the ends.
 struct FreeMode {

@@ -34,6 +34,7 @@
 #include "toolpoint/parallel.hpp"
 #include "toolpoint/stability/periodic_delay.hpp"
 #include "toolpoint/model/receptance.hpp"
+#include "toolpoint/option_fields.hpp"
 
 namespace toolpoint {
 
@@ -185,8 +186,13 @@ struct ZeroOrderOptions {
   int lobes = -1;                     // K: lobes k = 0…K; −1 chooses K so the lobes cover speeds.min_rpm
   SpeedRange speeds{0.0, 0.0, 2000};  // where lobe points are kept, and the envelope's grid
   double max_depth_m = 0.0;           // lobe points deeper than this are left out (0: keep all)
+  // Throws InvalidArgument naming `ZeroOrderOptions::<field>` (the ranges of zero_order_fields())
+  // or the speed range's.
   void check() const;
 };
+// ZeroOrderOptions' scalar fields (option_fields.hpp): lobes (−1: automatic; flag --lobes),
+// max_depth_m (--max-depth, in mm). The lobes study's `lobes` is this field.
+const std::vector<OptionField<ZeroOrderOptions>>& zero_order_fields();
 
 // What every lobe shares, per chatter frequency of the FRF grid and root of the quadratic: lobe k
 // has the same depth and chatter frequency at speed n_k = speed_factor / (phase + k), so the lobe
@@ -475,8 +481,15 @@ struct BoundaryOptions {
   ParallelOptions parallel;  // speeds on this many threads; results identical for any count
   // Called with the fraction of speeds done (0…1], one call at a time (the library never prints).
   std::function<void(double fraction)> progress;
-  void check() const;  // throws InvalidArgument naming the field
+  // Throws InvalidArgument naming `BoundaryOptions::<field>`: the ranges of boundary_fields(), steps
+  // above max_steps/2, a degree outside the scheme's (full 1…3, semi 0…1), the speed range's.
+  void check() const;
 };
+// BoundaryOptions' scalar fields (option_fields.hpp): tolerance (--tolerance, in %), steps
+// (0: automatic; --intervals), max_steps, degree (0…3; the scheme's range beside it), max_depth_m
+// (--max-depth, in mm), and parallel.threads (parallel_fields()). The lobes study's time-domain
+// fields are these.
+const std::vector<OptionField<BoundaryOptions>>& boundary_fields();
 
 struct BoundaryResult {
   std::vector<BoundaryPoint> boundary;  // one per speed of the grid

@@ -47,11 +47,19 @@ struct BeamStudyOptions {
   double speed_rpm = 0.0;
   // Speeds [rpm] of the Campbell diagram (each ≥ 0, increasing); empty: none.
   std::vector<double> campbell_rpm;
-  // Throws InvalidArgument naming `BeamStudyOptions::<field>` (modes < 0, a non-positive or
-  // non-finite frequency, shear_coefficient ≤ 0, modal out of range); the geometry and the
+  // Throws InvalidArgument naming `BeamStudyOptions::<field>`: the ranges and plausibility of
+  // beam_study_fields() (a length or diameter that cannot be metres, a speed that cannot be rpm),
+  // a non-positive or non-finite frequency, shear_coefficient ≤ 0, modal out of range, a speed with
+  // the modal method, Campbell speeds not increasing. The section's consistency (d < D) and the
   // material are checked by Segment::check() when the study builds the segment.
   void check() const;
 };
+
+// BeamStudyOptions' scalar fields (option_fields.hpp), with the `toolpoint beam` flags: length
+// (--length), outer_diameter (--diameter), inner_diameter (--inner-diameter), modes (--modes),
+// speed_rpm (--speed). The material, the shear model, the lists and `modal` (modal_fields()) are
+// beside it.
+const std::vector<OptionField<BeamStudyOptions>>& beam_study_fields();
 
 // The section's values under the names beam.hpp gives them (Annulus, SectionProperties).
 struct BeamSection {

@@ -44,9 +44,14 @@ struct OverhangStudyOptions {
   // is in place for the coupled FRFs themselves too (the band's nominal). None: no band.
   std::optional<JointFile> uncertain_joint;
   UncertaintyOptions band;  // the band's samples, seed, levels and threads (its progress: the study's)
-  // Throws InvalidArgument naming `OverhangStudyOptions::<field>` and the value.
+  // Throws InvalidArgument naming `OverhangStudyOptions::<field>` and the value (the ranges of
+  // overhang_study_fields(); the overhangs, the peaks, a band with several overhangs, the band's).
   void check() const;
 };
+
+// OverhangStudyOptions' scalar fields (option_fields.hpp): tracking_tolerance, and threads as
+// parallel_fields()' threads (`toolpoint couple --threads`).
+const std::vector<OptionField<OverhangStudyOptions>>& overhang_study_fields();
 
 // One overhang's result.
 struct OverhangFrf {

@@ -50,9 +50,14 @@ struct PredictOptions {
   // at 0 rpm too, whose row the table must then hold); a speed outside a table is refused unless
   // this is set (then the end rows' line is extended).
   bool extrapolate_bearings = false;
-  // Throws InvalidArgument naming `PredictOptions::<field>`.
+  // Throws InvalidArgument naming `PredictOptions::<field>`: the range and plausibility of
+  // predict_fields(), the peaks, a speed with the holder tip or the band, the band's options.
   void check() const;
 };
+
+// PredictOptions' scalar fields (option_fields.hpp), with the `toolpoint predict` flags: speed_rpm
+// (--speed; plausible::kSpinSpeedRpm), extrapolate_bearings (--extrapolate-bearings).
+const std::vector<OptionField<PredictOptions>>& predict_fields();
 
 struct Prediction {
   PredictedFrf receptance = PredictedFrf::ToolPoint;

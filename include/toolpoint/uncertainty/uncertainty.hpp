@@ -36,13 +36,19 @@ std::vector<JointParameters> sample_joints(const JointParameters& mean, const Ei
                                            std::uint64_t seed);
 
 struct UncertaintyOptions {
-  int samples = 200;  // Monte Carlo samples, ≥ 10
+  int samples = 200;  // Monte Carlo samples, 10…1000000
   std::uint64_t seed = 1;
   std::vector<double> levels{0.05, 0.5, 0.95};  // quantile levels, increasing in (0, 1)
   ParallelOptions parallel;
   std::function<void(double)> progress;  // fraction of the samples done
-  void check() const;                    // throws InvalidArgument naming the field
+  // Throws InvalidArgument naming `UncertaintyOptions::<field>` (the ranges of uncertainty_fields();
+  // levels not increasing within (0, 1)).
+  void check() const;
 };
+
+// UncertaintyOptions' fields (option_fields.hpp): samples (flag --samples), and parallel.threads
+// as parallel_fields()' threads. The seed (64 bits) and the levels (a list) are checked beside it.
+const std::vector<OptionField<UncertaintyOptions>>& uncertainty_fields();
 
 // The tool point FRF (H of SHT11) with the joint uncertain.
 struct FrfBand {

@@ -1,0 +1,94 @@
+// The flags of ParallelOptions (--threads of every command that runs on threads), UncertaintyOptions
+// (--samples), BeamStudyOptions and ModalOptions (`toolpoint beam`) and PredictOptions (`toolpoint
+// predict --speed`, `--extrapolate-bearings`), registered from their option tables (option_fields.hpp;
+// issue 26), through the command line: each flag is in its command's --help with its unit; a value
+// just outside the old range exits non-zero naming the flag, not the library field; a value the
+// flag's unit cannot mean (a length in mm, a spin in rad/s) is refused at the flag; the edges pass.
+// Flags, units and ranges written out here by hand, not read from the tables. The library's
+// check(): option_fields_core_test.cpp.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "support/cli_help.hpp"
+#include "support/scratch.hpp"
+
+using namespace toolpoint::test;
+
+namespace {
+
+const std::string kExample = std::string(TOOLPOINT_SOURCE_DIR) + "/examples/bt40_shrinkfit_16mm.toml";
+
+// `args` exits non-zero, its message holding `named` and no `Options::` of a library field.
+void expect_refused(const std::string& args, const std::string& named) {
+  std::string out;
+  EXPECT_NE(run_toolpoint(args, &out), 0) << args << ": " << out;
+  EXPECT_NE(out.find(named), std::string::npos) << args << ": " << out;
+  EXPECT_EQ(out.find("Options::"), std::string::npos) << args << ": " << out;  // the flag, not the field
+}
+
+}  // namespace
+
+// Every command that runs on threads takes --threads 0…1024 from the one table.
+TEST(CliOptionFieldsCore, ThreadsFlagEverywhere) {
+  for (const char* command : {"lobes", "pitch", "plan", "simulate map", "identify", "demo", "predict", "couple"})
+    expect_flags_in_help(command, {{"--threads", "-"}});
+  const std::string base =
+      "lobes --assembly " + kExample + " --teeth 2 --kt 6e8 --kn 2e8 --immersion 0.5 --milling down --rpm 5000:6000 --speeds 3";
+  expect_refused(base + " --threads 1025", "--threads");
+  expect_refused(base + " --threads -1", "--threads");
+  std::string out;
+  EXPECT_EQ(run_toolpoint(base + " --threads 1024", &out), 0) << out;
+}
+
+// --samples: 0 none, else 10…1000000 (UncertaintyOptions::samples), refused naming the flag.
+TEST(CliOptionFieldsCore, SamplesFlag) {
+  expect_flags_in_help("predict", {{"--samples", "-"}});
+  expect_refused("predict " + kExample + " --samples 9", "--samples");
+  expect_refused("predict " + kExample + " --samples 1000001", "--samples");
+}
+
+// toolpoint beam: --length, --diameter, --inner-diameter [m], --modes, --speed [rpm], --modal-terms,
+// --static-residual from their tables; old ranges: L, D > 0, d ≥ 0, modes ≥ 0 (CLI11's PositiveNumber
+// before), speed ≥ 0, modal terms 1…20000.
+TEST(CliOptionFieldsCore, BeamFlags) {
+  expect_flags_in_help("beam", {{"--length", "m"},
+                                {"--diameter", "m"},
+                                {"--inner-diameter", "m"},
+                                {"--modes", "-"},
+                                {"--speed", "rpm"},
+                                {"--modal-terms", "-"},
+                                {"--static-residual", ""}});
+  const std::string base = "beam --length 0.1 --diameter 0.02";
+  expect_refused("beam --length 0 --diameter 0.02", "--length");
+  expect_refused("beam --length 0.1 --diameter -0.02", "--diameter");
+  expect_refused(base + " --inner-diameter -0.01", "--inner-diameter");
+  expect_refused(base + " --modes -1", "--modes");
+  expect_refused(base + " --modes 20001", "--modes");
+  expect_refused(base + " --speed -1", "--speed");
+  expect_refused(base + " --method modal --modal-terms 0", "--modal-terms");
+  expect_refused(base + " --method modal --modal-terms 20001", "--modal-terms");
+  // A unit slip cannot pass: 100 "m" long, a spin of 20 "rpm".
+  expect_refused("beam --length 100 --diameter 0.02", "--length");
+  expect_refused(base + " --speed 20", "--speed");
+  std::string out;
+  EXPECT_EQ(run_toolpoint(base + " --modes 3 --inner-diameter 0.01 --speed 30000", &out), 0) << out;
+  EXPECT_NE(out.find("forward_hz"), std::string::npos) << out;
+  TempDir dir;
+  EXPECT_EQ(run_toolpoint(base + " --frequencies 100:1000:100 --output " + std::string(dir / "t.csv") +
+                              " --method modal --modal-terms 200 --static-residual",
+                          &out),
+            0)
+      << out;
+}
+
+// toolpoint predict: --speed [rpm] ≥ 0, a spin in rad/s refused; --extrapolate-bearings a switch.
+TEST(CliOptionFieldsCore, PredictFlags) {
+  expect_flags_in_help("predict", {{"--speed", "rpm"}, {"--extrapolate-bearings", ""}});
+  expect_refused("predict " + kExample + " --speed -5", "--speed");
+  expect_refused("predict " + kExample + " --speed 15", "--speed");
+  std::string out;
+  EXPECT_EQ(run_toolpoint("predict " + kExample + " --speed 0", &out), 0) << out;
+}

@@ -1,0 +1,124 @@
+// The option tables of the Options types every stage shares — ParallelOptions, UncertaintyOptions,
+// ZeroOrderOptions, BoundaryOptions, ModalOptions, BeamStudyOptions, PredictOptions,
+// OverhangStudyOptions (option_fields.hpp;
+// issue 26) — expected by hand: each field's range as the hand-written check() had it before its
+// table (parallel.cpp, uncertainty.cpp, stability.cpp, beam.cpp, studies/beam.cpp, studies/predict.cpp,
+// studies/overhang.cpp at b7606b0), and its flag and unit as `toolpoint lobes`, `beam`, `predict` and the commands with
+// --threads and --samples registered them — not read from the tables (expected_fields.hpp's
+// expect_edges and expect_table).
+#pragma once
+
+#include <limits>
+#include <vector>
+
+#include "support/expected_fields.hpp"
+#include "toolpoint/model/beam.hpp"
+#include "toolpoint/parallel.hpp"
+#include "toolpoint/stability/stability.hpp"
+#include "toolpoint/studies/beam.hpp"
+#include "toolpoint/studies/overhang.hpp"
+#include "toolpoint/studies/predict.hpp"
+#include "toolpoint/uncertainty/uncertainty.hpp"
+
+namespace toolpoint::testing {
+
+// Old ParallelOptions::check: threads < 0 or > 1024 refused. Every command's --threads.
+inline std::vector<ExpectedField<ParallelOptions>> parallel_expected_fields() {
+  using P = ParallelOptions;
+  return {{"ParallelOptions", "threads", true, 0.0, 1024.0, false, false, 2.0, "--threads", "-", 1.0, "",
+           TOOLPOINT_MEMBER(P, threads)}};
+}
+
+// Old UncertaintyOptions::check: samples outside 10…1000000 refused, then parallel.check() (named
+// ParallelOptions::threads then, UncertaintyOptions::threads now). --samples, --threads.
+inline std::vector<ExpectedField<UncertaintyOptions>> uncertainty_expected_fields() {
+  using U = UncertaintyOptions;
+  return {{"UncertaintyOptions", "samples", true, 10.0, 1e6, false, false, 50.0, "--samples", "-", 1.0, "",
+           TOOLPOINT_MEMBER(U, samples)},
+          {"UncertaintyOptions", "threads", true, 0.0, 1024.0, false, false, 3.0, "--threads", "-", 1.0, "",
+           TOOLPOINT_MEMBER(U, parallel.threads)}};
+}
+
+// Old ZeroOrderOptions::check: lobes below −1 (automatic) or above 5000 refused; max_depth_m < 0 or
+// not finite refused. `toolpoint lobes --lobes`, `--max-depth` [mm].
+inline std::vector<ExpectedField<ZeroOrderOptions>> zero_order_expected_fields() {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  using Z = ZeroOrderOptions;
+  return {{"ZeroOrderOptions", "lobes", true, -1.0, 5000.0, false, false, 20.0, "--lobes", "-", 1.0, "",
+           TOOLPOINT_MEMBER(Z, lobes)},
+          {"ZeroOrderOptions", "max_depth_m", false, 0.0, kInf, false, false, 0.005, "--max-depth", "mm", 1e3, "",
+           TOOLPOINT_MEMBER(Z, max_depth_m)}};
+}
+
+// Old BoundaryOptions::check, with Discretization::Full and max_steps 20000: tolerance outside
+// 1e-6…0.5 refused; steps 1…3 or above max_steps/2 = 10000 refused (0: automatic); max_steps
+// outside 8…20000 refused; degree outside 1…3 refused; max_depth_m < 0 refused; then
+// parallel.check(). `toolpoint lobes --tolerance` [%], `--intervals`, `--max-depth` [mm], `--threads`.
+inline std::vector<ExpectedField<BoundaryOptions>> boundary_expected_fields() {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  using B = BoundaryOptions;
+  return {{"BoundaryOptions", "tolerance", false, 1e-6, 0.5, false, false, 0.02, "--tolerance", "%", 100.0, "",
+           TOOLPOINT_MEMBER(B, tolerance)},
+          {"BoundaryOptions", "steps", true, 4.0, 10000.0, false, false, 40.0, "--intervals", "-", 1.0, "",
+           TOOLPOINT_MEMBER(B, steps)},
+          {"BoundaryOptions", "max_steps", true, 8.0, 20000.0, false, false, 1000.0, "", "", 1.0, "",
+           TOOLPOINT_MEMBER(B, max_steps)},
+          {"BoundaryOptions", "degree", true, 1.0, 3.0, false, false, 1.0, "", "", 1.0, "", TOOLPOINT_MEMBER(B, degree)},
+          {"BoundaryOptions", "max_depth_m", false, 0.0, kInf, false, false, 0.005, "--max-depth", "mm", 1e3, "",
+           TOOLPOINT_MEMBER(B, max_depth_m)},
+          {"BoundaryOptions", "threads", true, 0.0, 1024.0, false, false, 2.0, "--threads", "-", 1.0, "",
+           TOOLPOINT_MEMBER(B, parallel.threads)}};
+}
+
+// Old ModalOptions::check: modes outside 1…20000 refused. `toolpoint beam --modal-terms`,
+// `--static-residual`.
+inline std::vector<ExpectedField<ModalOptions>> modal_expected_fields() {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  using M = ModalOptions;
+  return {{"ModalOptions", "modes", true, 1.0, 20000.0, false, false, 50.0, "--modal-terms", "-", 1.0, "",
+           TOOLPOINT_MEMBER(M, modes)},
+          {"ModalOptions", "static_residual", false, -kInf, kInf, false, false, 1.0, "--static-residual", "-", 1.0, "",
+           TOOLPOINT_MEMBER(M, static_residual)}};
+}
+
+// Old: BeamStudyOptions::check refused modes outside 0…20000 and a speed < 0; Segment::check refused
+// a length or an outer diameter ≤ 0 and an inner diameter < 0. `toolpoint beam --length` [m],
+// `--diameter` [m], `--inner-diameter` [m], `--modes`, `--speed` [rpm].
+inline std::vector<ExpectedField<BeamStudyOptions>> beam_study_expected_fields() {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  using B = BeamStudyOptions;
+  return {{"BeamStudyOptions", "length", false, 0.0, kInf, true, false, 0.12, "--length", "m", 1.0, "",
+           TOOLPOINT_MEMBER(B, length)},
+          {"BeamStudyOptions", "outer_diameter", false, 0.0, kInf, true, false, 0.016, "--diameter", "m", 1.0, "",
+           TOOLPOINT_MEMBER(B, outer_diameter)},
+          {"BeamStudyOptions", "inner_diameter", false, 0.0, kInf, false, false, 0.008, "--inner-diameter", "m", 1.0, "",
+           TOOLPOINT_MEMBER(B, inner_diameter)},
+          {"BeamStudyOptions", "modes", true, 0.0, 20000.0, false, false, 8.0, "--modes", "-", 1.0, "",
+           TOOLPOINT_MEMBER(B, modes)},
+          {"BeamStudyOptions", "speed_rpm", false, 0.0, kInf, false, false, 20000.0, "--speed", "rpm", 1.0, "",
+           TOOLPOINT_MEMBER(B, speed_rpm)}};
+}
+
+// Old PredictOptions::check: speed_rpm < 0 or not finite refused (and one that cannot be rpm).
+// `toolpoint predict --speed` [rpm], `--extrapolate-bearings`.
+inline std::vector<ExpectedField<PredictOptions>> predict_expected_fields() {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  using P = PredictOptions;
+  return {{"PredictOptions", "speed_rpm", false, 0.0, kInf, false, false, 12000.0, "--speed", "rpm", 1.0, "",
+           TOOLPOINT_MEMBER(P, speed_rpm)},
+          {"PredictOptions", "extrapolate_bearings", false, -kInf, kInf, false, false, 1.0, "--extrapolate-bearings", "-",
+           1.0, "", TOOLPOINT_MEMBER(P, extrapolate_bearings)}};
+}
+
+// Old OverhangStudyOptions::check: tracking_tolerance outside (0, 1) refused, threads outside
+// 0…1024 refused. `toolpoint couple --threads` (the sweep's threads since the table; the samples'
+// before).
+inline std::vector<ExpectedField<OverhangStudyOptions>> overhang_study_expected_fields() {
+  using O = OverhangStudyOptions;
+  return {{"OverhangStudyOptions", "tracking_tolerance", false, 0.0, 1.0, true, true, 0.2, "", "", 1.0, "",
+           TOOLPOINT_MEMBER(O, tracking_tolerance)},
+          {"OverhangStudyOptions", "threads", true, 0.0, 1024.0, false, false, 2.0, "--threads", "-", 1.0, "",
+           TOOLPOINT_MEMBER(O, threads)}};
+}
+
+}  // namespace toolpoint::testing
