@@ -16,7 +16,6 @@ namespace toolpoint {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 struct Window {
   double model_hz = 0.0, lo_hz = 0.0, hi_hz = 0.0;

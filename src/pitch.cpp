@@ -16,7 +16,6 @@
 namespace toolpoint {
 
 namespace {
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // The even pitch's limits when the options leave them at 0.
 std::pair<double, double> pitch_limits(const PitchChoiceOptions& o, int teeth) {

@@ -11,12 +11,12 @@
 
 #include <fmt/format.h>
 
+#include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/plot/plot.hpp"
 
 namespace toolpoint::plot::detail {
 
-inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // House style: Okabe–Ito colours ordered so that neighbours also differ in lightness, with a dash
 // pattern and an open marker per series so that grayscale prints stay readable.

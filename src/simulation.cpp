@@ -17,7 +17,6 @@ namespace toolpoint {
 namespace {
 
 using Complex = std::complex<double>;
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kTwoPi = 2.0 * kPi;
 
 bool finite(double x) { return std::isfinite(x); }

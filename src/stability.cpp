@@ -21,8 +21,6 @@
 namespace toolpoint {
 
 namespace {
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kInf = std::numeric_limits<double>::infinity();
 }  // namespace
 
 // ---- Geometry -------------------------------------------------------------------------------

@@ -15,6 +15,7 @@
 
 #include "toolpoint/error.hpp"
 #include "toolpoint/measured/signal.hpp"
+#include "toolpoint/conventions.hpp"
 #include "toolpoint/option_fields.hpp"
 #include "toolpoint/studies/precision.hpp"
 #include "toolpoint/studies/tap_test.hpp"
@@ -22,9 +23,6 @@
 using namespace toolpoint;
 
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // One field's edges: the values check() accepts and refuses, each set on valid options.
 template <class Options>

@@ -27,12 +27,16 @@
 // inner body's end 1 to the force and moment (f, m) acting on the inner body.
 #pragma once
 
+#include <limits>
 #include <numbers>
 #include <vector>
 
 namespace toolpoint {
 
 inline constexpr double kPi = std::numbers::pi;
+// "No value" (a gap, a mode not found) and "no limit": the library's one spelling of each.
+inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+inline constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // Ω = 2πf: rad/s from Hz.
 inline double omega_of(double frequency_hz) { return 2.0 * kPi * frequency_hz; }

@@ -27,7 +27,6 @@ std::optional<LobesMethod> lobes_method_from(const std::string& name) {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // ‖Σ modes − G‖/‖G‖ over the FRF points inside `band` (all when none).
 double modal_residual(const FrfSeries& frf, const std::vector<Mode>& modes,

@@ -18,8 +18,6 @@ namespace toolpoint {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kInf = std::numeric_limits<double>::infinity();
 // Set-ups whose MRR lies within this fraction of the best are equally productive (a power-limited
 // plateau differs only by rounding): the larger stability margin decides between them.
 constexpr double kTie = 1e-9;

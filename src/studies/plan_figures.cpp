@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <limits>
 
+#include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/studies/plan.hpp"
 
@@ -12,7 +13,6 @@ namespace toolpoint {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // The reach in a title (shorter overhangs are not planned, so the axes start at or above it).
 std::string reach_text(const PlanOptions& o) {

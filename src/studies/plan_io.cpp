@@ -24,7 +24,6 @@ namespace toolpoint {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // Version 2: the envelope of part_file.hpp (shard and study first, so a file cut short names its shard).
 // Version 3: the options' scalar fields from their tables (fit, lobes, cut, machine, safety_rule).
 constexpr part_file::PartKind kPlanPart{"toolpoint plan part", 3, "run_plan_part", "format_plan_part"};

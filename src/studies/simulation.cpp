@@ -15,8 +15,6 @@ namespace toolpoint {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 bool has_source(const LobesInput& in) { return in.frfs || in.assembly || !in.x_modes.empty() || !in.y_modes.empty(); }
 

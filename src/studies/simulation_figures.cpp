@@ -15,7 +15,6 @@ namespace toolpoint {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 const SimulationResult& recorded(const SimulationStudyResult& r, const char* figure) {
   if (r.simulation.time_s.empty())

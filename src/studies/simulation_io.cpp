@@ -15,7 +15,6 @@ namespace toolpoint {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // Version 2: the envelope of part_file.hpp, as the plan's part (shard and study first, so a file
 // cut short names its shard). Version 3: the simulation's scalar fields from their table.
 constexpr part_file::PartKind kMapPart{"toolpoint simulated map part", 3, "run_simulated_map_part", "format_simulated_map_part"};

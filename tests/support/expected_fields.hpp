@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "toolpoint/error.hpp"
+#include "toolpoint/conventions.hpp"
 #include "toolpoint/option_fields.hpp"
 #include "toolpoint/identify/forward_check.hpp"
 #include "toolpoint/identify/joint_fit.hpp"
@@ -151,7 +152,6 @@ void expect_table(const std::vector<OptionField<Part>>& table, const std::vector
 /// PlanOptions' scalar fields, MachineLimits' and SafetyRule's as the hand-written PlanOptions::check
 /// and the plan file's readers had them (docs/planning.md's keys), before their tables.
 inline std::vector<ExpectedField<PlanOptions>> plan_expected_fields() {
-  constexpr double kInf = std::numeric_limits<double>::infinity();
   using P = PlanOptions;
   return {
       {"PlanOptions", "feed_per_tooth_m", false, 0.0, 0.01, true, false, 2e-4, "", "", 1.0, "cut.feed_per_tooth",
@@ -178,7 +178,6 @@ inline std::vector<ExpectedField<PlanOptions>> plan_expected_fields() {
 /// PitchChoiceOptions' numeric fields as the hand-written PitchChoiceOptions::check has them and
 /// `toolpoint pitch` had its flags (degrees for the angles, % for the robustness, mm for the depth).
 inline std::vector<ExpectedField<PitchChoiceOptions>> pitch_expected_fields() {
-  constexpr double kInf = std::numeric_limits<double>::infinity();
   constexpr double kTwoPi = 6.283185307179586;  // 2π, the angles' open upper edge
   constexpr double kDeg = 57.295779513082323;   // degrees per radian
   using P = PitchChoiceOptions;
@@ -209,7 +208,6 @@ inline std::vector<ExpectedField<PitchChoiceOptions>> pitch_expected_fields() {
 /// SimulationOptions' scalar fields (but the memory limit) as the hand-written
 /// SimulationOptions::check had them and `toolpoint simulate` had its flags.
 inline std::vector<ExpectedField<SimulationOptions>> simulation_expected_fields() {
-  constexpr double kInf = std::numeric_limits<double>::infinity();
   using S = SimulationOptions;
   return {
       {"SimulationOptions", "revolutions", true, 2.0, 1e6, false, false, 60.0, "--revolutions", "-", 1.0, "",
@@ -230,7 +228,6 @@ inline std::vector<ExpectedField<SimulationOptions>> simulation_expected_fields(
 /// ForwardCheckOptions::check (on options whose false_alarm lets 50 replicates pass the rank
 /// test's floor), IdentificationOptions::check, and `toolpoint identify --width`.
 inline std::vector<ExpectedField<JointFitOptions>> joint_fit_expected_fields() {
-  constexpr double kInf = std::numeric_limits<double>::infinity();
   using J = JointFitOptions;
   return {
       {"JointFitOptions", "reciprocal", false, -kInf, kInf, false, false, 0.0, "", "", 1.0, "", TOOLPOINT_MEMBER(J, reciprocal)},
@@ -247,7 +244,6 @@ inline std::vector<ExpectedField<JointFitOptions>> joint_fit_expected_fields() {
 }
 
 inline std::vector<ExpectedField<ForwardCheckOptions>> forward_check_expected_fields() {
-  constexpr double kInf = std::numeric_limits<double>::infinity();
   using F = ForwardCheckOptions;
   return {
       {"ForwardCheckOptions", "min_prominence", false, 0.0, 1.0, true, true, 0.2, "", "", 1.0, "",

@@ -42,7 +42,6 @@ inline std::vector<ExpectedField<UncertaintyOptions>> uncertainty_expected_field
 // Old ZeroOrderOptions::check: lobes below −1 (automatic) or above 5000 refused; max_depth_m < 0 or
 // not finite refused. `toolpoint lobes --lobes`, `--max-depth` [mm].
 inline std::vector<ExpectedField<ZeroOrderOptions>> zero_order_expected_fields() {
-  constexpr double kInf = std::numeric_limits<double>::infinity();
   using Z = ZeroOrderOptions;
   return {{"ZeroOrderOptions", "lobes", true, -1.0, 5000.0, false, false, 20.0, "--lobes", "-", 1.0, "",
            TOOLPOINT_MEMBER(Z, lobes)},
@@ -55,7 +54,6 @@ inline std::vector<ExpectedField<ZeroOrderOptions>> zero_order_expected_fields()
 // outside 8…20000 refused; degree outside 1…3 refused; max_depth_m < 0 refused; then
 // parallel.check(). `toolpoint lobes --tolerance` [%], `--intervals`, `--max-depth` [mm], `--threads`.
 inline std::vector<ExpectedField<BoundaryOptions>> boundary_expected_fields() {
-  constexpr double kInf = std::numeric_limits<double>::infinity();
   using B = BoundaryOptions;
   return {{"BoundaryOptions", "tolerance", false, 1e-6, 0.5, false, false, 0.02, "--tolerance", "%", 100.0, "",
            TOOLPOINT_MEMBER(B, tolerance)},
@@ -73,7 +71,6 @@ inline std::vector<ExpectedField<BoundaryOptions>> boundary_expected_fields() {
 // Old ModalOptions::check: modes outside 1…20000 refused. `toolpoint beam --modal-terms`,
 // `--static-residual`.
 inline std::vector<ExpectedField<ModalOptions>> modal_expected_fields() {
-  constexpr double kInf = std::numeric_limits<double>::infinity();
   using M = ModalOptions;
   return {{"ModalOptions", "modes", true, 1.0, 20000.0, false, false, 50.0, "--modal-terms", "-", 1.0, "",
            TOOLPOINT_MEMBER(M, modes)},
@@ -85,7 +82,6 @@ inline std::vector<ExpectedField<ModalOptions>> modal_expected_fields() {
 // a length or an outer diameter ≤ 0 and an inner diameter < 0. `toolpoint beam --length` [m],
 // `--diameter` [m], `--inner-diameter` [m], `--modes`, `--speed` [rpm].
 inline std::vector<ExpectedField<BeamStudyOptions>> beam_study_expected_fields() {
-  constexpr double kInf = std::numeric_limits<double>::infinity();
   using B = BeamStudyOptions;
   return {{"BeamStudyOptions", "length", false, 0.0, kInf, true, false, 0.12, "--length", "m", 1.0, "",
            TOOLPOINT_MEMBER(B, length)},
@@ -102,7 +98,6 @@ inline std::vector<ExpectedField<BeamStudyOptions>> beam_study_expected_fields()
 // Old PredictOptions::check: speed_rpm < 0 or not finite refused (and one that cannot be rpm).
 // `toolpoint predict --speed` [rpm], `--extrapolate-bearings`.
 inline std::vector<ExpectedField<PredictOptions>> predict_expected_fields() {
-  constexpr double kInf = std::numeric_limits<double>::infinity();
   using P = PredictOptions;
   return {{"PredictOptions", "speed_rpm", false, 0.0, kInf, false, false, 12000.0, "--speed", "rpm", 1.0, "",
            TOOLPOINT_MEMBER(P, speed_rpm)},

@@ -24,7 +24,6 @@ namespace toolpoint::testing {
 // Old SavgolOptions::check: window < 1 or even refused, order < 0 refused, order ≥ window refused.
 // The filter's flags: --window [frequency points], --order [-].
 inline std::vector<ExpectedField<SavgolOptions>> savgol_expected_fields() {
-  constexpr double kInf = std::numeric_limits<double>::infinity();
   using S = SavgolOptions;
   return {{"SavgolOptions", "window", true, 1.0, kInf, false, false, 11.0, "--window", "frequency points", 1.0, "",
            TOOLPOINT_MEMBER(S, window)},
@@ -34,7 +33,6 @@ inline std::vector<ExpectedField<SavgolOptions>> savgol_expected_fields() {
 // Old PeakChangeOptions::check: the fractions !(v > 0 && v < 1) refused; warn_above !(> 0) or not
 // finite refused; noise_prominence !(≥ 0) or not finite refused. No CLI flags.
 inline std::vector<ExpectedField<PeakChangeOptions>> peak_change_expected_fields() {
-  constexpr double kInf = std::numeric_limits<double>::infinity();
   using P = PeakChangeOptions;
   return {{"PeakChangeOptions", "min_prominence", false, 0.0, 1.0, true, true, 0.3, "", "", 1.0, "",
            TOOLPOINT_MEMBER(P, min_prominence)},
@@ -49,7 +47,6 @@ inline std::vector<ExpectedField<PeakChangeOptions>> peak_change_expected_fields
 // refused. `toolpoint rotational`: --order (IsMember 1, 2), --spacing [m], --symmetrise,
 // --assume-reciprocity.
 inline std::vector<ExpectedField<RotationalOptions>> rotational_expected_fields() {
-  constexpr double kInf = std::numeric_limits<double>::infinity();
   using R = RotationalOptions;
   return {{"RotationalOptions", "order", true, 1.0, 2.0, false, false, 1.0, "--order", "-", 1.0, "", TOOLPOINT_MEMBER(R, order)},
           {"RotationalOptions", "spacing", false, 0.0, kInf, true, false, 0.02, "--spacing", "m", 1.0, "",
@@ -78,7 +75,6 @@ inline std::vector<ExpectedField<PeakOptions>> peak_expected_fields() {
 // Old NoiseEstimateOptions::check: window < 21 or even refused (local by SavgolOptions::check);
 // floor either way.
 inline std::vector<ExpectedField<NoiseEstimateOptions>> noise_estimate_expected_fields() {
-  constexpr double kInf = std::numeric_limits<double>::infinity();
   using N = NoiseEstimateOptions;
   return {{"NoiseEstimateOptions", "window", true, 21.0, kInf, false, false, 101.0, "", "", 1.0, "", TOOLPOINT_MEMBER(N, window)},
           {"NoiseEstimateOptions", "floor", false, -kInf, kInf, false, false, 0.0, "", "", 1.0, "", TOOLPOINT_MEMBER(N, floor)}};
@@ -87,7 +83,6 @@ inline std::vector<ExpectedField<NoiseEstimateOptions>> noise_estimate_expected_
 // Old ReadoutOptions::check: !(cond_warning > 1), !(gain_warning > 0), !(reciprocity_warning > 0)
 // refused (so NaN refused, +∞ — never warn — accepted).
 inline std::vector<ExpectedField<ReadoutOptions>> readout_expected_fields() {
-  constexpr double kInf = std::numeric_limits<double>::infinity();
   using R = ReadoutOptions;
   return {{"ReadoutOptions", "cond_warning", false, 1.0, kInf, true, false, 1e4, "", "", 1.0, "",
            TOOLPOINT_MEMBER(R, cond_warning)},
@@ -100,7 +95,6 @@ inline std::vector<ExpectedField<ReadoutOptions>> readout_expected_fields() {
 // Old VerdictOptions::check: !(doubt > 1 && doubt ≤ fail && fail finite) refused, so each level
 // > 1 on its own (the order between them checked beside the table).
 inline std::vector<ExpectedField<VerdictOptions>> verdict_expected_fields() {
-  constexpr double kInf = std::numeric_limits<double>::infinity();
   using V = VerdictOptions;
   return {{"VerdictOptions", "residual_doubt", false, 1.0, kInf, true, false, 2.0, "", "", 1.0, "",
            TOOLPOINT_MEMBER(V, residual_doubt)},
@@ -111,7 +105,6 @@ inline std::vector<ExpectedField<VerdictOptions>> verdict_expected_fields() {
 // Old UffWriteOptions::check: byte order other than 1, 2 refused; binary either way (`toolpoint
 // taptest --binary`).
 inline std::vector<ExpectedField<UffWriteOptions>> uff_write_expected_fields() {
-  constexpr double kInf = std::numeric_limits<double>::infinity();
   using U = UffWriteOptions;
   return {{"UffWriteOptions", "binary", false, -kInf, kInf, false, false, 1.0, "--binary", "-", 1.0, "",
            TOOLPOINT_MEMBER(U, binary)},
@@ -120,14 +113,12 @@ inline std::vector<ExpectedField<UffWriteOptions>> uff_write_expected_fields() {
 
 // Old PlotOptions::check: timeout_s not finite or !(> 0) refused.
 inline std::vector<ExpectedField<plot::PlotOptions>> plot_expected_fields() {
-  constexpr double kInf = std::numeric_limits<double>::infinity();
   using P = plot::PlotOptions;
   return {{"PlotOptions", "timeout_s", false, 0.0, kInf, true, false, 10.0, "", "", 1.0, "", TOOLPOINT_MEMBER(P, timeout_s)}};
 }
 
 // Old FrfFigureOptions::check: mode_labels < 0 refused; min_peak_ratio !(> 1) or not finite refused.
 inline std::vector<ExpectedField<plot::FrfFigureOptions>> frf_figure_expected_fields() {
-  constexpr double kInf = std::numeric_limits<double>::infinity();
   using F = plot::FrfFigureOptions;
   return {{"FrfFigureOptions", "mode_labels", true, 0.0, kInf, false, false, 6.0, "", "", 1.0, "",
            TOOLPOINT_MEMBER(F, mode_labels)},

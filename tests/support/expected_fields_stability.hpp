@@ -23,7 +23,6 @@ namespace toolpoint::testing {
 /// ModalFitOptions' scalar fields as ModalFitOptions::check had them and `toolpoint modes` its
 /// flags (--max-modes, --min-prominence [dB]; residual_terms as --no-residuals, by hand).
 inline std::vector<ExpectedField<ModalFitOptions>> modal_fit_expected_fields() {
-  constexpr double kInf = std::numeric_limits<double>::infinity();
   using M = ModalFitOptions;
   return {
       {"ModalFitOptions", "max_modes", true, 1.0, 20.0, false, false, 5.0, "--max-modes", "-", 1.0, "",
@@ -52,7 +51,6 @@ std::vector<ExpectedField<Study>> fitted_modes_expected_fields(const std::string
 /// CaseStudyOptions' scalar fields as CaseStudyOptions::check had them and `toolpoint demo` its
 /// flags (apply_filter and fit: either value; `--no-fit` sets fit by hand).
 inline std::vector<ExpectedField<CaseStudyOptions>> case_study_expected_fields() {
-  constexpr double kInf = std::numeric_limits<double>::infinity();
   using C = CaseStudyOptions;
   return {
       {"CaseStudyOptions", "noise_sigma", false, 0.0, 1.0, false, true, 0.03, "--sigma", "-", 1.0, "",
@@ -68,7 +66,6 @@ inline std::vector<ExpectedField<CaseStudyOptions>> case_study_expected_fields()
 /// PrecisionOptions' own scalar fields as PrecisionOptions::check had them (no flags: `toolpoint
 /// precision --parameters 6|8` sets reciprocal by hand).
 inline std::vector<ExpectedField<PrecisionOptions>> precision_expected_fields() {
-  constexpr double kInf = std::numeric_limits<double>::infinity();
   using P = PrecisionOptions;
   return {
       {"PrecisionOptions", "reciprocal", false, -kInf, kInf, false, false, 0.0, "", "", 1.0, "", TOOLPOINT_MEMBER(P, reciprocal)},
