@@ -34,6 +34,10 @@ std::string field_range_text(const FieldSpec& s, double scale) {
   return fmt::format("{}…{}", lo, hi);
 }
 
+std::string field_range_value(const FieldSpec& s, double scale) {
+  return fmt::format("{}{}", std::isfinite(s.max) ? "in " : "", field_range_text(s, scale));
+}
+
 std::string field_range_phrase(const FieldSpec& s, double scale) {
   return fmt::format("must {} {}", std::isfinite(s.max) ? "lie in" : "be", field_range_text(s, scale));
 }
@@ -46,10 +50,10 @@ void check_field(const FieldSpec& s, double v, std::string_view options) {
       throw InvalidArgument(plausibility_message(*s.plausible, v, fmt::format("{}::{}", options, s.name)), s.plausible->hint);
     return;
   }
-  const std::string unit = *s.unit ? fmt::format(" {}", s.unit) : std::string();
-  throw InvalidArgument(fmt::format("{}::{} {}{} {}{}", options, s.name, field_value_text(s, v), unit, field_range_phrase(s),
-                                    *s.note ? fmt::format(" ({})", s.note) : std::string()),
-                        fmt::format("{}::{}: {}", options, s.name, s.help));
+  const std::string unit = *s.unit ? fmt::format(" {}", s.unit) : std::string(),
+                    note = *s.note ? fmt::format(" ({})", s.note) : std::string();
+  throw InvalidArgument(fmt::format("{}::{} {}{} {}{}", options, s.name, field_value_text(s, v), unit, field_range_phrase(s), note),
+                        fmt::format("give {}::{} a value {}{}{} ({})", options, s.name, field_range_value(s), unit, note, s.help));
 }
 
 }  // namespace toolpoint

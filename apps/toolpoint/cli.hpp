@@ -126,7 +126,19 @@ class FieldFlags {
     if (field_value_valid(s, f.get(Options{}))) slot.option->capture_default_str();
     // A value the flag's unit cannot mean is refused at the flag (check() would refuse it naming the
     // field); an unusual one is the command's or the study's to warn about (BeamStudy::warnings).
-    if (s.plausible && s.cli_per_unit == 1.0) slot.option->check(plausible_value(*s.plausible, field_flag(s), false));
+    // A value out of range is apply()'s to refuse, with the range.
+    if (s.plausible && s.cli_per_unit == 1.0)
+      slot.option->check(CLI::Validator(
+          [s, plausible = plausible_value(*s.plausible, field_flag(s), false)](std::string& text) mutable -> std::string {
+            double v = 0.0;
+            try {
+              v = std::stod(text);
+            } catch (const std::exception&) {
+              return {};  // not a number: the option's type check says so
+            }
+            return field_value_valid(s, v) ? plausible(text) : std::string();
+          },
+          "", "plausible"));
     return slot.option;
   }
   // A fraction field's flag taking "2%" or "0.02" alike (parse_fraction); range-checked by apply().

@@ -72,6 +72,9 @@ void run_beam(const BeamOptions& o, const Globals& g) {
   so.block = o.block == "11" ? EndBlock::T11 : o.block == "12" ? EndBlock::T12 : o.block == "21" ? EndBlock::T21 : EndBlock::T22;
   so.method = o.method == "modal" ? BeamMethod::Modal : BeamMethod::Exact;
   if (!o.campbell.empty()) so.campbell_rpm = parse_speed_grid(o.campbell);
+  if (so.modes == 0 && so.frequency_hz.empty())
+    throw InvalidArgument("--modes 0 without --frequencies: nothing to compute",
+                          "give --modes 1 or more, or --frequencies START:STOP:STEP --output FILE.csv for the receptance");
   const BeamStudy r = run_beam_study(so);
   const double kappa = r.section.shear_coefficient;
 
@@ -165,8 +168,7 @@ void add_beam_command(CLI::App& app, Globals& g) {
   c->add_option("--shear-model", o->shear_model, "κ formula for circular sections: hutchinson or cowper")
       ->check(CLI::IsMember({"hutchinson", "cowper"}))
       ->capture_default_str();
-  // 0 modes is the library's "none"; the command says it by leaving --modes out with --frequencies.
-  CLI::Option* modes = o->fields.add(c, option_field(fields, "modes"))->check(CLI::PositiveNumber);
+  CLI::Option* modes = o->fields.add(c, option_field(fields, "modes"));
   modes->description(modes->get_description() + "; with --frequencies none unless given");
   c->add_option("--frequencies", o->frequencies,
                 "Frequency grid START:STOP:STEP [Hz] for the receptance output (needs --output)");

@@ -44,6 +44,7 @@ void run_predict(const PredictArgs& o, const Globals& g) {
   check_output_extension(o.band_output, "--band-output", {".csv"}, "the quantile table as CSV (.csv)");
   const std::vector<JointFile> joints = read_joint_options(g, o.joints);
   toolpoint::PredictOptions options;
+  o.sampling.parallel.apply(options.band.parallel);  // --threads judged with or without --samples
   if (o.sampling.samples != 0 || !o.band_output.empty()) {
     if (o.at != "tool")
       throw InvalidArgument("--samples: the band is computed for the tool point (--at tool)", "drop --at holder");

@@ -276,16 +276,21 @@ std::string field_help(const FieldSpec& s) {
   if (!help.empty()) help[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(help[0])));
   if (s.kind == FieldKind::Flag) return help;
   const char* unit = s.cli_unit ? s.cli_unit : *s.unit ? s.unit : "-";
-  return fmt::format("{} [{}], {}{}", help, unit, field_range_text(s, s.cli_per_unit),
-                     *s.note ? fmt::format(" ({})", s.note) : std::string());
+  // Where the flag takes the field's unit and the field has a plausible range, the usual values
+  // too: a value far outside them is refused although the range admits it (a spin of 15 rpm).
+  const std::string usual = s.plausible && s.cli_per_unit == 1.0
+                                ? fmt::format("; usually {:g}…{:g}", s.plausible->low, s.plausible->high)
+                                : std::string();
+  return fmt::format("{} [{}], {}{}{}", help, unit, field_range_text(s, s.cli_per_unit),
+                     *s.note ? fmt::format(" ({})", s.note) : std::string(), usual);
 }
 
 void field_flag_refused(const FieldSpec& s, double typed) {
   const char* unit = s.cli_unit ? s.cli_unit : s.unit;
-  throw InvalidArgument(fmt::format("{} {}{} {}{}", field_flag(s), field_value_text(s, typed),
-                                    *unit ? fmt::format(" {}", unit) : "", field_range_phrase(s, s.cli_per_unit),
-                                    *s.note ? fmt::format(" ({})", s.note) : ""),
-                        fmt::format("{}: {}", field_flag(s), s.help));
+  const std::string in_unit = *unit ? fmt::format(" {}", unit) : "", note = *s.note ? fmt::format(" ({})", s.note) : "";
+  throw InvalidArgument(fmt::format("{} {}{} {}{}", field_flag(s), field_value_text(s, typed), in_unit,
+                                    field_range_phrase(s, s.cli_per_unit), note),
+                        fmt::format("give {} a value {}{}{}", field_flag(s), field_range_value(s, s.cli_per_unit), in_unit, note));
 }
 
 std::string with_flags(std::string text) {

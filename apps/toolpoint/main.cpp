@@ -36,7 +36,8 @@ int main(int argc, char** argv) {
       "toolpoint: spindle–holder–tool dynamics for machine tools.\n"
       "Tool point FRFs by receptance coupling of Timoshenko beams, closed-form identification of\n"
       "joint stiffness and damping, measured-FRF handling and chatter stability lobes.\n"
-      "Units: SI everywhere (m, kg, N, Pa, s, rad); frequencies in Hz.",
+      "Units: SI (m, kg, N, Pa, s, rad) in files and options; frequencies in Hz; where an option takes mm, rpm or "
+      "degrees its help says so in brackets ([mm], [rpm], [°]).",
       "toolpoint"};
   app.set_version_flag("--version", std::string("toolpoint ") + TOOLPOINT_VERSION);
   Globals globals;

@@ -99,6 +99,12 @@ std::string field_value_text(const FieldSpec& spec, double value);
 /// \return the range text
 std::string field_range_text(const FieldSpec& spec, double scale = 1.0);
 
+/// \brief A valid value, for a fix: "in 0…5000", "≥ 0" (after "give X a value").
+/// \param spec the field
+/// \param scale the factor to the unit shown
+/// \return the phrase
+std::string field_range_value(const FieldSpec& spec, double scale = 1.0);
+
 /// \brief What a valid value must be, for a message: "must lie in 0…5000", "must be ≥ 0".
 /// \param spec the field
 /// \param scale the factor to the unit shown

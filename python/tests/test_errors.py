@@ -22,7 +22,8 @@ def test_message_and_hint_are_the_library_ones(example):
         tp.run_tap_test_study(example, spacing_m=-1.0)
     # (The range and the hint from the field's definition, tap_test_fields: option_fields.hpp.)
     assert str(e.value) == "TapTestOptions::spacing_m -1 m must be > 0"
-    assert e.value.hint.startswith("TapTestOptions::spacing_m: distance s between neighbouring points (0.01 for 10 mm)")
+    assert e.value.hint.startswith("give TapTestOptions::spacing_m a value > 0 m (distance s between neighbouring points "
+                                   "(0.01 for 10 mm)")
     shown = "".join(traceback.format_exception(e.value))
     assert "fix: " + e.value.hint in shown  # the hint as a note under the message
 
