@@ -84,6 +84,28 @@ TEST(CliOptionFieldsCore, BeamFlags) {
       << out;
 }
 
+// Found by a newcomer's run: a nested or cross-field refusal names the flags; a flag the chosen
+// method does not use is said, not ignored in silence.
+TEST(CliOptionFieldsCore, NewcomerFindings) {
+  TempDir dir;
+  std::string out;
+  ASSERT_EQ(run_toolpoint("predict " + kExample + " --at holder --output " + std::string(dir / "sh.csv"), &out), 0) << out;
+  expect_refused("couple --sh " + std::string(dir / "sh.csv") + " --assembly " + kExample + " --prominence 5 --output " +
+                     std::string(dir / "c.csv"),
+                 "--prominence 5 must lie in [0, 1)");
+  expect_refused("beam --length 0.1 --diameter 0.05 --inner-diameter 0.06", "--inner-diameter 0.06 m must be below --diameter");
+  EXPECT_EQ(run_toolpoint("beam --length 0.1 --diameter 0.02 --modal-terms 50", &out), 0) << out;
+  EXPECT_NE(out.find("warning: --modal-terms and --static-residual are used by --method modal only"), std::string::npos)
+      << out;
+  EXPECT_EQ(run_toolpoint("lobes --assembly " + kExample + " --teeth 2 --kt 6e8 --kn 2e8 --immersion 0.5 --milling down "
+                              "--rpm 5000:6000 --speeds 3 --tolerance 5",
+                          &out),
+            0)
+      << out;
+  EXPECT_NE(out.find("warning: --tolerance and --intervals are used by the time-domain methods only"), std::string::npos)
+      << out;
+}
+
 // toolpoint predict: --speed [rpm] ≥ 0, a spin in rad/s refused; --extrapolate-bearings a switch.
 TEST(CliOptionFieldsCore, PredictFlags) {
   expect_flags_in_help("predict", {{"--speed", "rpm"}, {"--extrapolate-bearings", ""}});

@@ -75,6 +75,9 @@ void run_beam(const BeamOptions& o, const Globals& g) {
   if (so.modes == 0 && so.frequency_hz.empty())
     throw InvalidArgument("--modes 0 without --frequencies: nothing to compute",
                           "give --modes 1 or more, or --frequencies START:STOP:STEP --output FILE.csv for the receptance");
+  if (const ModalOptions defaults; so.method == BeamMethod::Exact &&
+                                   (so.modal.modes != defaults.modes || so.modal.static_residual != defaults.static_residual))
+    warn("--modal-terms and --static-residual are used by --method modal only: the exact receptance has no truncation");
   const BeamStudy r = run_beam_study(so);
   const double kappa = r.section.shear_coefficient;
 

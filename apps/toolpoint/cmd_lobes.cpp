@@ -197,6 +197,10 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
   for (std::string& w : r.warnings) w = with_flags(w);
   if (so.method != LobesMethod::ZeroOrder && so.lobes >= 0)
     r.warnings.push_back("--lobes is used by --method zoa only (fd derives lobe numbers)");
+  if (const LobesStudyOptions defaults; so.method == LobesMethod::ZeroOrder &&
+                                        (so.tolerance != defaults.tolerance || so.steps != defaults.steps))
+    r.warnings.push_back("--tolerance and --intervals are used by the time-domain methods only (--method fd or sd): "
+                         "the zero-order lobes have no discretization");
   if (o.depth_steps > 0)
     r.warnings.push_back(
         "--depth-steps is no longer used: the boundary is bracketed by a geometric scan from the neighbouring speed's limit");

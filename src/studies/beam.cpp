@@ -18,6 +18,10 @@ const char* beam_method_name(BeamMethod method) { return method == BeamMethod::M
 
 void BeamStudyOptions::check() const {
   check_fields(beam_study_fields(), *this, "BeamStudyOptions");
+  if (inner_diameter >= outer_diameter)
+    throw InvalidArgument(fmt::format("BeamStudyOptions::inner_diameter {} m must be below BeamStudyOptions::outer_diameter {} m",
+                                      inner_diameter, outer_diameter),
+                          "the inner diameter is the bore of a hollow section (0: solid)");
   if (shear_coefficient && !(std::isfinite(*shear_coefficient) && *shear_coefficient > 0.0))
     throw InvalidArgument(fmt::format("BeamStudyOptions::shear_coefficient {} must be > 0", *shear_coefficient),
                           "leave it unset for the shear model's value");

@@ -49,9 +49,9 @@ struct BeamStudyOptions {
   std::vector<double> campbell_rpm;
   // Throws InvalidArgument naming `BeamStudyOptions::<field>`: the ranges and plausibility of
   // beam_study_fields() (a length or diameter that cannot be metres, a speed that cannot be rpm),
-  // a non-positive or non-finite frequency, shear_coefficient ≤ 0, modal out of range, a speed with
-  // the modal method, Campbell speeds not increasing. The section's consistency (d < D) and the
-  // material are checked by Segment::check() when the study builds the segment.
+  // an inner diameter not below the outer, a non-positive or non-finite frequency,
+  // shear_coefficient ≤ 0, modal out of range, a speed with the modal method, Campbell speeds not
+  // increasing. The material is checked by Segment::check() when the study builds the segment.
   void check() const;
 };
 
