@@ -96,9 +96,10 @@ LoadedModel load_model(const Globals& g, const std::string& path, const std::str
 
 // A CLI11 check by plausibility.hpp's rule (the files' rule): a value that cannot be meant in the
 // option's unit is refused (exit 2, naming the option, the likely unit slip and the fix), an unusual
-// one is a warning (unless `warn_unusual` is false: the library's result says it); 0 is left to the
-// option's own rule.
-CLI::Validator plausible_value(const PlausibleRange& range, const std::string& option, bool warn_unusual = true);
+// one is a warning (unless `warn_unusual` is false: the library's result says it); 0, and a value
+// outside `field`'s range when given, are left to the option's own rule.
+CLI::Validator plausible_value(const PlausibleRange& range, const std::string& option, bool warn_unusual = true,
+                               const FieldSpec* field = nullptr);
 
 // A field's --help text: its help, its unit as the CLI takes it, its range in that unit and what
 // its automatic value means, e.g. "Best speeds: … [%], [0, 100)".
@@ -127,18 +128,7 @@ class FieldFlags {
     // A value the flag's unit cannot mean is refused at the flag (check() would refuse it naming the
     // field); an unusual one is the command's or the study's to warn about (BeamStudy::warnings).
     // A value out of range is apply()'s to refuse, with the range.
-    if (s.plausible && s.cli_per_unit == 1.0)
-      slot.option->check(CLI::Validator(
-          [s, plausible = plausible_value(*s.plausible, field_flag(s), false)](std::string& text) mutable -> std::string {
-            double v = 0.0;
-            try {
-              v = std::stod(text);
-            } catch (const std::exception&) {
-              return {};  // not a number: the option's type check says so
-            }
-            return field_value_valid(s, v) ? plausible(text) : std::string();
-          },
-          "", "plausible"));
+    if (s.plausible && s.cli_per_unit == 1.0) slot.option->check(plausible_value(*s.plausible, field_flag(s), false, &s));
     return slot.option;
   }
   // A fraction field's flag taking "2%" or "0.02" alike (parse_fraction); range-checked by apply().

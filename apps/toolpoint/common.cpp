@@ -433,16 +433,17 @@ void check_plausible(const PlausibleRange& range, double value, const std::strin
   if (const std::string w = require_plausible(range, value, what, fix); !w.empty()) warn(w);
 }
 
-CLI::Validator plausible_value(const PlausibleRange& range, const std::string& option, bool warn_unusual) {
+CLI::Validator plausible_value(const PlausibleRange& range, const std::string& option, bool warn_unusual,
+                               const FieldSpec* field) {
   return CLI::Validator(
-      [range, option, warn_unusual](std::string& text) -> std::string {
+      [range, option, warn_unusual, field](std::string& text) -> std::string {
         double v = 0.0;
         try {
           v = std::stod(text);
         } catch (const std::exception&) {
           return {};  // not a number: the option's type check says so
         }
-        if (v == 0.0) return {};
+        if (v == 0.0 || (field && !field_value_valid(*field, v))) return {};
         switch (judge(range, v)) {
           case Plausibility::Usual: return {};
           case Plausibility::Unusual:

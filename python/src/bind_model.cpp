@@ -314,7 +314,9 @@ void bind_segments(py::module_& m) {
 // --length, --diameter, --inner-diameter, --speed (beam_study_fields), --youngs-modulus, --density,
 // --shear-modulus, --loss-factor and --shear-coefficient (plausibility.hpp), then the library's checks.
 BeamStudy beam_from_python(const BeamStudyOptions& o) {
-  check_plausible_fields(beam_study_fields(), o, "BeamStudyOptions");  // the geometry and the speed
+  // The geometry and the speed: unusual ones warned about as the flags warn (a value that cannot
+  // be meant is refused by BeamStudyOptions::check, as at the flags).
+  warn_all(field_plausibility_warnings(beam_study_fields(), o, "BeamStudyOptions"));
   check_plausible(plausible::kYoungsModulus, o.material.youngs_modulus, "Material::youngs_modulus",
                   "give E in Pa (steel 2.1e11)");
   check_plausible(plausible::kDensity, o.material.density, "Material::density", "give ρ in kg/m³ (steel 7800)");

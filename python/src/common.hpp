@@ -155,16 +155,6 @@ py::list fields_data(const std::vector<OptionField<Options>>& fields);
 template <class Options>
 void def_option_fields(py::class_<Options>& c, const std::vector<OptionField<Options>>& fields, const char* command);
 
-// Each field of `o` with a plausible range (FieldSpec::plausible) and a nonzero value, judged as
-// the CLI's flag judges it: a Python warning when unusual; refused (InvalidArgument naming
-// `options::field`) when it cannot be meant, as check() refuses it.
-template <class Options>
-void check_plausible_fields(const std::vector<OptionField<Options>>& fields, const Options& o, const char* options) {
-  for (const OptionField<Options>& f : fields)
-    if (const double v = f.get(o); f.spec.plausible && v != 0.0)
-      check_plausible(*f.spec.plausible, v, fmt::format("{}::{}", options, f.spec.name), f.spec.plausible->hint);
-}
-
 // Binding groups (one file each).
 void bind_errors(py::module_& m);
 void bind_model(py::module_& m);
