@@ -428,22 +428,14 @@ void to_json(nlohmann::json& j, const ModalFitSummary& s) {
 void to_json(nlohmann::json& j, const Engagement& e) { j = {{"entry_rad", e.entry_rad}, {"exit_rad", e.exit_rad}}; }
 
 void to_json(nlohmann::json& j, const CuttingConditions& c) {
-  j = {{"teeth", c.teeth},
-       {"tangential_coefficient", c.tangential_coefficient},
-       {"radial_ratio", c.radial_ratio},
-       {"engagement", c.engagement},
-       {"pitch_rad", c.pitch_rad},
-       {"helix_rad", c.helix_rad},
-       {"helix_slices", c.helix_slices},
-       {"runout_m", c.runout_m},
-       {"feed_per_tooth_m", c.feed_per_tooth_m},
-       {"diameter_m", c.diameter_m},
-       {"process_damping_n_per_m", c.process_damping_n_per_m}};
+  j = fields_json(cutting_fields(), c);
+  j["engagement"] = c.engagement;
+  j["pitch_rad"] = c.pitch_rad;
+  j["helix_rad"] = c.helix_rad;
+  j["runout_m"] = c.runout_m;
 }
 
-void to_json(nlohmann::json& j, const SpeedRange& s) {
-  j = {{"min_rpm", s.min_rpm}, {"max_rpm", s.max_rpm}, {"points", s.points}};
-}
+void to_json(nlohmann::json& j, const SpeedRange& s) { j = fields_json(speed_range_fields(), s); }
 
 void to_json(nlohmann::json& j, const EnvelopePoint& p) {
   j = {{"speed_rpm", p.speed_rpm}, {"depth_m", number(p.depth_m)}, {"chatter_hz", number(p.chatter_hz)}, {"lobe", p.lobe}};

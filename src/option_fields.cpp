@@ -42,11 +42,15 @@ std::string field_range_phrase(const FieldSpec& s, double scale) {
   return fmt::format("must {} {}", std::isfinite(s.max) ? "lie in" : "be", field_range_text(s, scale));
 }
 
+Plausibility field_plausibility(const FieldSpec& s, double v) {
+  if (!s.plausible || v == 0.0 || v == s.automatic || !field_value_valid(s, v)) return Plausibility::Usual;
+  return judge(*s.plausible, v);
+}
+
 void check_field(const FieldSpec& s, double v, std::string_view options) {
   if (field_value_valid(s, v)) {
     // The range says what the library can compute with; the plausible range what a user can mean.
-    // 0 and the automatic value are the field's own words ("none", "chosen"), not magnitudes.
-    if (s.plausible && v != 0.0 && v != s.automatic && judge(*s.plausible, v) == Plausibility::Impossible)
+    if (field_plausibility(s, v) == Plausibility::Impossible)
       throw InvalidArgument(plausibility_message(*s.plausible, v, fmt::format("{}::{}", options, s.name)), s.plausible->hint);
     return;
   }

@@ -62,34 +62,13 @@ static void check_helix(const CuttingConditions& c) {
                                                  : "end mills have helix angles of 0…60° (0…1.05 rad): check the unit");
   if (c.helical() && !(c.diameter_m > 0.0))
     throw InvalidArgument("CuttingConditions::diameter_m must be given with a helix (the lag at height z is z·tan β/R)");
-  if (c.helix_slices < 0 || c.helix_slices > 200)
-    throw InvalidArgument(fmt::format("CuttingConditions::helix_slices {} must lie in 1…200 (0: automatic)", c.helix_slices));
 }
 
 void CuttingConditions::check() const {
-  if (teeth < 1 || teeth > 1000) throw InvalidArgument(fmt::format("number of teeth {} must lie in 1…1000", teeth));
-  if (!std::isfinite(tangential_coefficient) || !(tangential_coefficient > 0.0))
-    throw InvalidArgument(fmt::format("tangential cutting coefficient K_t = {} N/m² must be positive", tangential_coefficient),
-                          "K_t is a specific cutting pressure, e.g. 6e8 N/m² for aluminium, 2e9 N/m² for steel");
-  if (!std::isfinite(radial_ratio) || radial_ratio < 0.0)
-    throw InvalidArgument(fmt::format("radial cutting coefficient ratio K_r = K_n/K_t = {} must be ≥ 0", radial_ratio),
-                          "CuttingConditions::radial_ratio is K_n/K_t, typically 0.2…0.5");
+  check_fields(cutting_fields(), *this, "CuttingConditions");
   engagement.check();
-  if (!std::isfinite(diameter_m) || diameter_m < 0.0)
-    throw InvalidArgument(fmt::format("CuttingConditions::diameter_m {} m must be ≥ 0 (0: not given)", diameter_m));
-  if (!std::isfinite(process_damping_n_per_m) || process_damping_n_per_m < 0.0)
-    throw InvalidArgument(
-        fmt::format("CuttingConditions::process_damping_n_per_m {} N/m must be ≥ 0 (0: none)", process_damping_n_per_m));
-  if (process_damping_n_per_m > 0.0) {
-    if (process_damping_n_per_m < kProcessDampingMin || process_damping_n_per_m > kProcessDampingMax)
-      throw InvalidArgument(fmt::format("CuttingConditions::process_damping_n_per_m = {:.4g} N/m is implausible: the "
-                                        "indentation coefficient C_i lies within {:.0e}…{:.0e} N/m",
-                                        process_damping_n_per_m, kProcessDampingMin, kProcessDampingMax),
-                            "C_i is a force per metre of indentation per unit width and speed (the damping is C_i·b/V "
-                            "[N·s/m]); a value in N/m² or N/mm is a unit slip");
-    if (!(diameter_m > 0.0))
-      throw InvalidArgument("CuttingConditions::diameter_m must be given with process damping (the cutting speed is πDn/60)");
-  }
+  if (process_damping_n_per_m > 0.0 && !(diameter_m > 0.0))
+    throw InvalidArgument("CuttingConditions::diameter_m must be given with process damping (the cutting speed is πDn/60)");
   if (!runout_m.empty()) {
     if (static_cast<int>(runout_m.size()) != teeth)
       throw InvalidArgument(fmt::format("CuttingConditions::runout_m has {} offsets for {} teeth", runout_m.size(), teeth),
@@ -104,7 +83,7 @@ void CuttingConditions::check() const {
                                           runout_m[j] * 1e3),
                               "runout is a radius offset of a few µm to tens of µm; give it in metres");
     }
-    if (!std::isfinite(feed_per_tooth_m) || !(feed_per_tooth_m > 0.0))
+    if (!(feed_per_tooth_m > 0.0))
       throw InvalidArgument(fmt::format("CuttingConditions::feed_per_tooth_m {} m must be positive with runout",
                                         feed_per_tooth_m),
                             "with runout, which tooth cuts which surface depends on the feed");
@@ -161,11 +140,126 @@ Eigen::Matrix2d directional_factors(const CuttingConditions& cutting) {
   return directional_integral(cutting.radial_ratio, cutting.engagement.entry_rad, cutting.engagement.exit_rad);
 }
 
+const std::vector<OptionField<CuttingConditions>>& cutting_fields() {
+  using O = CuttingConditions;
+  static const std::vector<OptionField<O>> fields = {
+      {{.name = "teeth",
+        .kind = FieldKind::Integer,
+        .min = 1.0,
+        .max = 1000.0,
+        .help = "number of teeth N",
+        .cli_name = "teeth",
+        .plan_key = "teeth"},
+       nullptr,
+       [](O& o) -> int& { return o.teeth; }},
+      {{.name = "tangential_coefficient",
+        .kind = FieldKind::Real,
+        .unit = "N/m²",
+        .min = 0.0,
+        .min_open = true,
+        .help = "tangential cutting coefficient K_t, a specific cutting pressure (aluminium about 7e8, steel 2e9)",
+        .cli_name = "kt",
+        .plan_key = "tangential_coefficient",
+        .plausible = &plausible::kCuttingCoefficient},
+       [](O& o) -> double& { return o.tangential_coefficient; }},
+      {{.name = "radial_ratio",
+        .kind = FieldKind::Real,
+        .min = 0.0,
+        .help = "radial cutting coefficient as the ratio K_r = K_n/K_t (typically 0.2…0.6)",
+        .cli_name = "kr",
+        .plan_key = "radial_ratio",
+        .plausible = &plausible::kRadialRatio},
+       [](O& o) -> double& { return o.radial_ratio; }},
+      // No cutter takes a centimetre per tooth: the top, as PlanOptions::feed_per_tooth_m.
+      {{.name = "feed_per_tooth_m",
+        .kind = FieldKind::Real,
+        .unit = "m",
+        .min = 0.0,
+        .max = 0.01,
+        .note = "0: not given",
+        .help = "feed per tooth c, with runout (which tooth cuts which surface depends on it)",
+        .cli_name = "feed",
+        .cli_unit = "mm",
+        .cli_per_unit = 1e3,
+        .plausible = &plausible::kFeedPerTooth},
+       [](O& o) -> double& { return o.feed_per_tooth_m; }},
+      {{.name = "diameter_m",
+        .kind = FieldKind::Real,
+        .unit = "m",
+        .min = 0.0,
+        .note = "0: not given",
+        .help = "tool diameter D, needed with process damping and a helix; checks the runout",
+        .cli_name = "diameter",
+        .cli_unit = "mm",
+        .cli_per_unit = 1e3,
+        .plausible = &plausible::kToolDiameter},
+       [](O& o) -> double& { return o.diameter_m; }},
+      // The range is the indentation coefficient's (Budak & Tunç 2009): a value in N/m² or N/mm
+      // falls outside it.
+      {{.name = "process_damping_n_per_m",
+        .kind = FieldKind::Real,
+        .unit = "N/m",
+        .min = kProcessDampingMin,
+        .max = kProcessDampingMax,
+        .automatic = 0.0,
+        .note = "0: none",
+        .help = "process damping (indentation) coefficient C_i, not N/m² or N/mm: the flank adds damping C_i·b/V "
+                "(b the depth, V = πDn/60); needs the diameter",
+        .cli_name = "process-damping",
+        .plan_key = "process_damping"},
+       [](O& o) -> double& { return o.process_damping_n_per_m; }},
+      {{.name = "helix_slices",
+        .kind = FieldKind::Integer,
+        .min = 1.0,
+        .max = 200.0,
+        .automatic = 0.0,
+        .note = "0: 8",
+        .help = "axial slices of a variable helix, each with its mid-height delays"},
+       nullptr,
+       [](O& o) -> int& { return o.helix_slices; }}};
+  return fields;
+}
+
 void SpeedRange::check() const {
-  if (!std::isfinite(min_rpm) || !std::isfinite(max_rpm) || !(min_rpm > 0.0) || !(max_rpm > min_rpm))
-    throw InvalidArgument(fmt::format("spindle speed range {}:{} rpm is empty or not positive", min_rpm, max_rpm),
+  check_fields(speed_range_fields(), *this, "SpeedRange");
+  if (!(max_rpm > min_rpm))
+    throw InvalidArgument(fmt::format("the spindle speed range {}:{} rpm is empty (SpeedRange::min_rpm and max_rpm must "
+                                      "have min < max)",
+                                      min_rpm, max_rpm),
                           "give SpeedRange::min_rpm and max_rpm with 0 < min < max, e.g. 5000 and 25000 rpm");
-  if (points < 2 || points > 1000000) throw InvalidArgument(fmt::format("{} speed points: need 2…1000000", points));
+}
+
+const std::vector<OptionField<SpeedRange>>& speed_range_fields() {
+  using O = SpeedRange;
+  static const std::vector<OptionField<O>> fields = {
+      {{.name = "min_rpm",
+        .kind = FieldKind::Real,
+        .unit = "rpm",
+        .min = 0.0,
+        .min_open = true,
+        .help = "the lowest spindle speed",
+        .plan_key = "speed_min",
+        .plausible = &plausible::kSpindleSpeedRpm},
+       [](O& o) -> double& { return o.min_rpm; }},
+      {{.name = "max_rpm",
+        .kind = FieldKind::Real,
+        .unit = "rpm",
+        .min = 0.0,
+        .min_open = true,
+        .help = "the highest spindle speed",
+        .plan_key = "speed_max",
+        .plausible = &plausible::kSpindleSpeedRpm},
+       [](O& o) -> double& { return o.max_rpm; }},
+      {{.name = "points",
+        .kind = FieldKind::Integer,
+        .min = 2.0,
+        .max = 1e6,
+        .help = "spindle speeds on the grid, both ends included",
+        .cli_name = "speeds",
+        .plan_key = "speed_points"},
+       nullptr,
+       [](O& o) -> int& { return o.points; }}};
+  return fields;
 }
 
 std::vector<double> SpeedRange::values() const {

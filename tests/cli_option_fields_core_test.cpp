@@ -106,6 +106,41 @@ TEST(CliOptionFieldsCore, NewcomerFindings) {
       << out;
 }
 
+// The cut's flags from cutting_fields and --speeds from speed_range_fields: lobes, pitch and
+// simulate take --teeth, --kt [N/m²], --kr; lobes and pitch --feed and --diameter [mm] and
+// --process-damping [N/m]; lobes --speeds. Old ranges: teeth 1…1000, K_t > 0, K_r ≥ 0, C_i 1e3…1e8
+// (0: none), points 2…1000000; the feed's top 10 mm (PlanOptions'). A unit slip (K_t in MPa, a
+// diameter in metres on the mm flag, speeds in thousands of rpm) refused naming the flag and the unit.
+TEST(CliOptionFieldsCore, CutFlags) {
+  expect_flags_in_help("lobes", {{"--teeth", "-"},
+                                 {"--kt", "N/m²"},
+                                 {"--kr", "-"},
+                                 {"--feed", "mm"},
+                                 {"--diameter", "mm"},
+                                 {"--process-damping", "N/m"},
+                                 {"--speeds", "-"}});
+  expect_flags_in_help("pitch", {{"--teeth", "-"}, {"--kt", "N/m²"}, {"--kr", "-"}, {"--diameter", "mm"}});
+  expect_flags_in_help("simulate", {{"--teeth", "-"}, {"--kt", "N/m²"}, {"--kr", "-"}});
+  const std::string dyn = "lobes --assembly " + kExample + " --immersion 0.5 --milling down ";
+  const std::string base = dyn + "--teeth 2 --kt 6e8 --kr 0.3 --rpm 5000:6000 ";
+  expect_refused(dyn + "--teeth 0 --kt 6e8 --kr 0.3 --rpm 5000:6000", "--teeth 0 must lie in 1…1000");
+  expect_refused(dyn + "--teeth 1001 --kt 6e8 --kr 0.3 --rpm 5000:6000", "--teeth 1001");
+  expect_refused(dyn + "--teeth 2 --kt -1 --kr 0.3 --rpm 5000:6000", "--kt -1 N/m² must be > 0");
+  expect_refused(dyn + "--teeth 2 --kt 600 --kr 0.3 --rpm 5000:6000", "--kt");
+  expect_refused(dyn + "--teeth 2 --kt 6e8 --kr -0.1 --rpm 5000:6000", "--kr -0.1 must be ≥ 0");
+  expect_refused(base + "--method fd --diameter 0.016", "--diameter takes mm");
+  expect_refused(base + "--method fd --feed 20", "--feed 20 mm must lie in 0…10");
+  expect_refused(base + "--method fd --diameter 16 --process-damping 10", "--process-damping 10 N/m must lie in 1000…1e+08");
+  expect_refused(base + "--speeds 1", "--speeds 1 must lie in 2…1000000");
+  expect_refused(dyn + "--teeth 2 --kt 6e8 --kr 0.3 --rpm 0.5:20", "--rpm");
+  // An unusual K_t passes with a warning naming the flag; a good cut runs.
+  std::string out;
+  EXPECT_EQ(run_toolpoint(dyn + "--teeth 2 --kt 2e7 --kr 0.3 --rpm 5000:6000 --speeds 3", &out), 0) << out;
+  EXPECT_NE(out.find("warning: --kt = 2e+07 is outside the usual range"), std::string::npos) << out;
+  EXPECT_EQ(run_toolpoint(base + "--speeds 3", &out), 0) << out;
+  EXPECT_NE(out.find("best spindle speeds in 5000–6000 rpm"), std::string::npos) << out;
+}
+
 // toolpoint predict: --speed [rpm] ≥ 0, a spin in rad/s refused; --extrapolate-bearings a switch.
 TEST(CliOptionFieldsCore, PredictFlags) {
   expect_flags_in_help("predict", {{"--speed", "rpm"}, {"--extrapolate-bearings", ""}});

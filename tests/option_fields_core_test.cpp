@@ -6,7 +6,7 @@
 // (or integer) past each edge, naming `Options::field`. The checks kept beside the tables (the
 // boundary's steps against max_steps and its degree against the scheme, the beam's speed with the
 // modal method) and the plausibility every table field with a plausible range now has in check()
-// (a length in mm given as m, a spin in rad/s given as rpm, a power in kW given as W) are tested
+// (a length in mm given as m, a spin in rad/s given as rpm, a power in kW given as W, K_t in MPa) are tested
 // here too. The flags: cli_option_fields_core_test.cpp; Python: python/tests/test_option_fields_core.py.
 #include <gtest/gtest.h>
 
@@ -43,6 +43,14 @@ BoundaryOptions valid_boundary() {
   o.speeds = {1000.0, 5000.0, 10};
   o.max_steps = 20000;  // the steps' edge is max_steps/2
   return o;
+}
+
+// With a tool diameter and a feed, so that process damping and the diameter's edges are judged alone.
+CuttingConditions valid_cutting() {
+  CuttingConditions c{4, 6e8, 0.3, engagement_from_immersion(0.5, MillingDirection::Down)};
+  c.diameter_m = 0.02;
+  c.feed_per_tooth_m = 1e-4;
+  return c;
 }
 
 BeamStudyOptions valid_beam() {
@@ -120,6 +128,27 @@ TEST(OptionFieldsCore, PredictTableAndCheck) {
   expect_edges(expected, PredictOptions{});
 }
 
+TEST(OptionFieldsCore, CuttingTableAndCheck) {
+  const auto expected = cutting_expected_fields();
+  expect_table(cutting_fields(), expected, "CuttingConditions", &self<CuttingConditions>);
+  expect_edges(expected, valid_cutting());
+  // Beside the table: process damping needs the diameter; 0 means none (the automatic value).
+  CuttingConditions c = valid_cutting();
+  c.process_damping_n_per_m = 0.0;
+  EXPECT_NO_THROW(c.check());
+  c.process_damping_n_per_m = 2e5;
+  c.diameter_m = 0.0;
+  expect_refused(c, {"CuttingConditions::diameter_m", "process damping"});
+}
+
+TEST(OptionFieldsCore, SpeedRangeTableAndCheck) {
+  const auto expected = speed_range_expected_fields();
+  expect_table(speed_range_fields(), expected, "SpeedRange", &self<SpeedRange>);
+  expect_edges(expected, SpeedRange{5000.0, 25000.0, 100});
+  expect_refused(SpeedRange{15000.0, 5000.0, 100}, {"15000:5000 rpm is empty", "SpeedRange::min_rpm and max_rpm"});
+  expect_refused(SpeedRange{5000.0, 5000.0, 100}, {"is empty"});
+}
+
 TEST(OptionFieldsCore, OverhangStudyTableAndCheck) {
   const auto expected = overhang_study_expected_fields();
   expect_table(overhang_study_fields(), expected, "OverhangStudyOptions", &self<OverhangStudyOptions>);
@@ -189,4 +218,20 @@ TEST(OptionFieldsCore, CheckRefusesWhatTheUnitCannotMean) {
   EXPECT_NO_THROW(plan.check());
   plan.machine.power_w = 15e3;
   EXPECT_NO_THROW(plan.check());
+
+  // The cut: K_t in MPa (600 for 6e8 N/m²), a diameter in mm (16 for 0.016 m), a feed in mm
+  // (0.5 mm given as 0.5 m is over the 1 cm top: the range refuses it); speeds in thousands of rpm.
+  CuttingConditions cut = valid_cutting();
+  cut.tangential_coefficient = 600.0;
+  expect_refused(cut, {"CuttingConditions::tangential_coefficient", "cannot be meant", "N/m^2"});
+  cut = valid_cutting();
+  cut.diameter_m = 16.0;
+  expect_refused(cut, {"CuttingConditions::diameter_m", "cannot be meant", "metres"});
+  cut = valid_cutting();
+  cut.radial_ratio = 30.0;  // 30 % as 30
+  expect_refused(cut, {"CuttingConditions::radial_ratio", "cannot be meant"});
+  cut.radial_ratio = 2.0;  // unusual, possible: warned by the surfaces
+  EXPECT_NO_THROW(cut.check());
+  EXPECT_EQ(field_plausibility_warnings(cutting_fields(), cut, "CuttingConditions").size(), 1u);
+  expect_refused(SpeedRange{0.5, 20.0, 100}, {"SpeedRange::min_rpm", "cannot be meant"});
 }

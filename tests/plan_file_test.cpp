@@ -388,7 +388,7 @@ TEST(PlanStudyFile, ToolGeometryKeys) {
   expect_refused<InputError>(with("helix = 30\n"), {"study.toml:17", "cut.helix[0]", "must lie in 0…80°", "check the unit"});
   expect_refused<InputError>(with("pitch = [1.5, 1.5, 1.5, 1.5]\n"), {"study.toml:17", "cut.pitch adds up to"});
   expect_refused<InputError>(with("runout = [1e-5]\n"), {"study.toml:17", "cut.runout has 1 offsets for 4 teeth"});
-  expect_refused<InputError>(with("process_damping = 2e11\n"), {"study.toml:17", "cut.process_damping", "implausible"});
+  expect_refused<InputError>(with("process_damping = 2e11\n"), {"study.toml:17", "cut.process_damping", "must lie in 1000…1e+08 N/m"});
   expect_refused<InputError>(with("helix = [0.5, \"x\"]\n"), {"study.toml:17", "cut.helix must be a list of numbers"});
   expect_refused<InputError>(with("helix = 0.5\n", "zoa"), {"study.toml", "zero-order method"});
 

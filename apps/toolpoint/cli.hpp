@@ -96,10 +96,12 @@ LoadedModel load_model(const Globals& g, const std::string& path, const std::str
 
 // A CLI11 check by plausibility.hpp's rule (the files' rule): a value that cannot be meant in the
 // option's unit is refused (exit 2, naming the option, the likely unit slip and the fix), an unusual
-// one is a warning (unless `warn_unusual` is false: the library's result says it); 0, and a value
-// outside `field`'s range when given, are left to the option's own rule.
-CLI::Validator plausible_value(const PlausibleRange& range, const std::string& option, bool warn_unusual = true,
-                               const FieldSpec* field = nullptr);
+// one is a warning; 0 is left to the option's own rule.
+CLI::Validator plausible_value(const PlausibleRange& range, const std::string& option);
+// The same for a field's flag (field_plausibility on the value in SI: 0, the automatic value and a
+// value out of range are the field's own rules), in the flag's unit (a diameter in mm judged as
+// mm); an unusual value is warned about only where `warn_unusual` (else the library's result says it).
+CLI::Validator field_plausible_value(const FieldSpec& spec, bool warn_unusual);
 
 // A field's --help text: its help, its unit as the CLI takes it, its range in that unit and what
 // its automatic value means, e.g. "Best speeds: … [%], [0, 100)".
@@ -114,7 +116,9 @@ std::string field_help(const FieldSpec& spec);
 template <class Options>
 class FieldFlags {
  public:
-  CLI::Option* add(CLI::App* c, const OptionField<Options>& f) {
+  // `warn_unusual`: the flag warns about an unusual value itself (field_plausible_value), where no
+  // library result judges the field.
+  CLI::Option* add(CLI::App* c, const OptionField<Options>& f, bool warn_unusual = false) {
     const FieldSpec& s = f.spec;
     Slot& slot = slots_.emplace_back(Slot{&f, f.get(Options{}) * s.cli_per_unit});
     slot.integer = static_cast<int>(slot.real);
@@ -126,10 +130,16 @@ class FieldFlags {
     // A default check() refuses (a speed of 0 rpm, to be given) is not shown as one.
     if (field_value_valid(s, f.get(Options{}))) slot.option->capture_default_str();
     // A value the flag's unit cannot mean is refused at the flag (check() would refuse it naming the
-    // field); an unusual one is the command's or the study's to warn about (BeamStudy::warnings).
-    // A value out of range is apply()'s to refuse, with the range.
-    if (s.plausible && s.cli_per_unit == 1.0) slot.option->check(plausible_value(*s.plausible, field_flag(s), false, &s));
+    // field, in its SI unit); an unusual one is the command's or the study's to warn about
+    // (BeamStudy::warnings) unless `warn_unusual`. A value out of range is apply()'s to refuse.
+    if (s.plausible) slot.option->check(field_plausible_value(s, warn_unusual));
     return slot.option;
+  }
+  // Whether the field's flag was given (on the command line).
+  bool given(std::string_view name) const {
+    for (const Slot& slot : slots_)
+      if (name == slot.field->spec.name) return slot.option->count() > 0;
+    return false;
   }
   // A fraction field's flag taking "2%" or "0.02" alike (parse_fraction); range-checked by apply().
   CLI::Option* add_fraction(CLI::App* c, const OptionField<Options>& f) {
@@ -352,18 +362,18 @@ void draw_frf_overlay(const Globals& g, const std::vector<plot::FrfTrace>& trace
 
 // ---- Milling: the cut and the tool point dynamics (lobes, simulate) ---------------------------
 
-// The cut as typed: --teeth, --kt, --kr | --kn, --immersion with --milling | --entry/--exit.
-// NaN: not given (so a negative value reaches the library's check and its message).
+// The cut as typed: --teeth, --kt, --kr (cutting_fields) | --kn, --immersion with --milling |
+// --entry/--exit. NaN: not given (so a negative value reaches the library's check and its message).
 struct CutArgs {
-  int teeth = 0;
-  double kt = 0.0, kr = std::numeric_limits<double>::quiet_NaN(), kn = std::numeric_limits<double>::quiet_NaN();
+  FieldFlags<CuttingConditions> fields;  // teeth, tangential_coefficient, radial_ratio
+  double kn = std::numeric_limits<double>::quiet_NaN();
   double immersion = std::numeric_limits<double>::quiet_NaN(), entry_deg = std::numeric_limits<double>::quiet_NaN(),
          exit_deg = std::numeric_limits<double>::quiet_NaN();
   std::string milling;
 };
-// Adds the options; `teeth_help` says how the teeth are given (lobes: evenly spaced, straight);
-// whether --teeth and --kt are required (else the command checks them itself).
-void add_cut_options(CLI::App* command, CutArgs& target, const std::string& teeth_help, bool teeth_required = true,
+// Adds the options; `teeth_note` says how the teeth are given (lobes: "straight flutes; evenly
+// spaced unless --pitch"); whether --teeth and --kt are required (else the command checks them itself).
+void add_cut_options(CLI::App* command, CutArgs& target, const std::string& teeth_note, bool teeth_required = true,
                      bool kt_required = true);
 // The library's cutting conditions (InvalidArgument naming the flag: no radial coefficient, no
 // engagement, --immersion without --milling); angles both within π refused as radians.
@@ -371,16 +381,17 @@ CuttingConditions cutting_conditions(const CutArgs& typed);
 // --immersion/--milling or --entry/--exit alone (what cutting_conditions checks for the engagement).
 Engagement cut_engagement(const CutArgs& typed);
 
-// The tool beyond evenly spaced straight teeth, for the stability (as typed: degrees, mm, N/m).
+// The tool beyond evenly spaced straight teeth, for the stability: --pitch, --runout, --helix as
+// typed (degrees, mm), and --feed, --diameter, --process-damping from cutting_fields.
 struct ToolGeometryArgs {
   std::vector<double> pitch_deg, runout_mm, helix_deg;
-  double diameter_mm = 0.0, feed_mm = 0.0, process_damping = 0.0;
+  FieldFlags<CuttingConditions> fields;  // feed_per_tooth_m, diameter_m, process_damping_n_per_m
 };
 // Adds --pitch [°], --helix [°], --runout [mm], --process-damping [N/m] and, unless the command
 // has its own (`feed_and_diameter` false: plan's study file), --feed [mm] and --diameter [mm].
 void add_tool_geometry_options(CLI::App* command, ToolGeometryArgs& target, bool feed_and_diameter = true);
-// Into the cutting conditions (the library checks them: CuttingConditions::check, fields mapped to
-// flags); diameter and feed checked for plausibility here.
+// Into the cutting conditions, the flags given only (the library checks them: CuttingConditions::
+// check, fields mapped to flags).
 void apply_tool_geometry(const ToolGeometryArgs& typed, CuttingConditions& cutting);
 // --pitch [°] in radians, one per tooth (`teeth` 0: not given; else the count must match).
 std::vector<double> pitch_radians(const std::vector<double>& pitch_deg, int teeth);

@@ -33,7 +33,8 @@ struct LobesOptions {
   CutArgs cut;
   // Speeds and method.
   std::string rpm, method = "zoa";
-  int speeds = 0, depth_steps = 0;
+  FieldFlags<SpeedRange> speeds;  // --speeds (speed_range_fields' points; not given: the method's)
+  int depth_steps = 0;
   FieldFlags<ParallelOptions> parallel;  // --threads
   // --lobes, --tolerance, --intervals, --max-depth, --pocket-prominence, --speed-nodes,
   // --extrapolate-bearings: from their definitions (lobes_study_fields).
@@ -143,7 +144,8 @@ void run_lobes(const LobesOptions& o, const Globals& g) {
   const auto [min_rpm, max_rpm] = parse_range(o.rpm, "--rpm");
   for (double n : {min_rpm, max_rpm})
     check_plausible(plausible::kSpindleSpeedRpm, n, "--rpm", "give spindle speeds in rpm, e.g. --rpm 2000:20000");
-  so.speeds = {min_rpm, max_rpm, o.speeds};
+  so.speeds = {min_rpm, max_rpm, 0};
+  o.speeds.apply(so.speeds);
   so.method = lobes_method(o.method);
   so.fit = dynamics_fit_options(o.dyn);
   so.fit_target = dynamics_fit_target(o.dyn);
@@ -271,12 +273,12 @@ void add_lobes_command(CLI::App& app, Globals& g) {
   CLI::App* c = app.add_subcommand(
       "lobes", "Milling stability lobes from the tool point FRF: zero-order (zoa) or full-discretization (fd)");
   add_dynamics_options(c, o->dyn, g, "fd: ");
-  add_cut_options(c, o->cut, "Number of teeth N [-], ≥ 1 (straight flutes; evenly spaced unless --pitch) (required)");
+  add_cut_options(c, o->cut, "evenly spaced unless --pitch");
   add_tool_geometry_options(c, o->tool);
   c->add_option("--rpm", o->rpm, "Spindle speed range MIN:MAX [rpm] (required)")->required();
-  c->add_option("--speeds", o->speeds,
-                "Points of the speed grid [-], ≥ 2, for the envelope (zoa) or the boundary (fd) (default: 2000 zoa, 200 fd)")
-      ->check(CLI::Range(2, 1000000));
+  auto* speeds = o->speeds.add(c, option_field(speed_range_fields(), "points"));
+  speeds->description(speeds->get_description() + ": the envelope's (zoa) or the boundary's (fd); default 2000 zoa, 200 fd")
+      ->default_str("");
   const auto& fields = lobes_study_fields();
   o->fields.add(c, option_field(fields, "lobes"));
   c->add_option("--method", o->method,

@@ -77,7 +77,7 @@ void run_pitch(const PitchOptions& o, const Globals& g) {
   // Below 2π degrees: most likely radians (an even pitch that small needs over 57 teeth).
   for (const auto& [rad, flag] : {std::pair{c.min_pitch_rad, "--min-pitch"}, std::pair{c.max_pitch_rad, "--max-pitch"}}) {
     const double deg = degrees_of(rad);
-    if (deg > 0.0 && deg < 2.0 * kPi && o.cut.teeth <= 57)
+    if (deg > 0.0 && deg < 2.0 * kPi && so.cutting.teeth <= 57)
       throw InvalidArgument(fmt::format("{} {:g}: a pitch angle under 6.3°, most likely radians", flag, deg),
                             "give degrees, e.g. --min-pitch 70 --max-pitch 110 for 4 teeth");
   }
@@ -119,7 +119,7 @@ void add_pitch_command(CLI::App& app, Globals& g) {
   CLI::App* c = app.add_subcommand(
       "pitch", "The variable pitch that maximises the stable depth at one speed: Budak's rule, confirmed by full-discretization");
   add_dynamics_options(c, o->dyn, g, "");
-  add_cut_options(c, o->cut, "Number of teeth N [-], ≥ 2 (the pitch is chosen: no --pitch) (required)");
+  add_cut_options(c, o->cut, "≥ 2: the pitch is chosen, no --pitch");
   add_tool_geometry_options(c, o->tool);
   const auto& fields = pitch_choice_fields();
   o->fields.add(c, option_field(fields, "speed_rpm"))->required();

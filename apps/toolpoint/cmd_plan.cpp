@@ -116,7 +116,7 @@ void override_tool(const ToolGeometryArgs& t, CuttingConditions& c) {
     c.runout_m.clear();
     for (double r : t.runout_mm) c.runout_m.push_back(1e-3 * r);
   }
-  if (t.process_damping != 0.0) c.process_damping_n_per_m = t.process_damping;
+  t.fields.apply(c);  // --process-damping
 }
 
 void run_plan_command(const PlanArgs& o, const Globals& g) {

@@ -79,12 +79,12 @@ Cutter cutter_of(const SimulateArgs& o) {
   check_plausible(kDiameterMm, o.diameter_mm, "--diameter [mm]", "e.g. --diameter 16");
   Cutter c;
   c.diameter_m = 1e-3 * o.diameter_mm;
+  const int teeth = cutting_conditions(o.cut).teeth;  // 0: not given
   if (!o.pitch_deg.empty()) {
-    c.pitch_rad = pitch_radians(o.pitch_deg, o.cut.teeth);
+    c.pitch_rad = pitch_radians(o.pitch_deg, teeth);
   } else {
-    if (o.cut.teeth < 1)
-      throw InvalidArgument("give the teeth: --teeth N (evenly spaced) or --pitch DEG,DEG,...", "e.g. --teeth 4");
-    c = uniform_cutter(o.cut.teeth, c.diameter_m);
+    if (teeth < 1) throw InvalidArgument("give the teeth: --teeth N (evenly spaced) or --pitch DEG,DEG,...", "e.g. --teeth 4");
+    c = uniform_cutter(teeth, c.diameter_m);
   }
   const std::vector<double> helix = helix_radians(o.helix_deg);
   if (helix.size() == 1) c.helix_rad = helix.front();
@@ -95,9 +95,8 @@ Cutter cutter_of(const SimulateArgs& o) {
 }
 
 ForceLaw force_of(const SimulateArgs& o) {
-  CutArgs cut = o.cut;
-  cut.teeth = std::max(1, cut.teeth);
-  const CuttingConditions cc = cutting_conditions(cut);
+  CuttingConditions cc = cutting_conditions(o.cut);
+  cc.teeth = std::max(1, cc.teeth);  // the force law is per tooth: the count is the cutter's
   ForceLaw f = linear_force_law(cc);
   f.process_damping_n_per_m = o.process_damping;
   f.tangential_edge = o.kte;
@@ -361,7 +360,7 @@ void add_common(CLI::App* c, SimulateArgs& o, Globals& g, bool map) {
                 "A mode acting along a direction in the x-y plane, MASS_KG,DAMPING_RATIO,FREQUENCY_HZ,ANGLE_DEG (from x "
                 "towards y; 0 an x mode, 90 a y mode, between: x and y coupled); repeatable, added to the others");
   c->add_flag("--rigid-tool", o.rigid_tool, "A rigid tool (no modes): the cut's forces alone");
-  add_cut_options(c, o.cut, "Number of teeth N [-], evenly spaced (or give --pitch)", false, map);
+  add_cut_options(c, o.cut, "evenly spaced; or give --pitch", false, map);
   c->add_option("--pitch", o.pitch_deg,
                 "Variable pitch: the angle from each tooth to the next [°], one per tooth, summing to 360 (e.g. 85,95,85,95)")
       ->delimiter(',');

@@ -276,11 +276,11 @@ std::string field_help(const FieldSpec& s) {
   if (!help.empty()) help[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(help[0])));
   if (s.kind == FieldKind::Flag) return help;
   const char* unit = s.cli_unit ? s.cli_unit : *s.unit ? s.unit : "-";
-  // Where the flag takes the field's unit and the field has a plausible range, the usual values
-  // too: a value far outside them is refused although the range admits it (a spin of 15 rpm).
-  const std::string usual = s.plausible && s.cli_per_unit == 1.0
-                                ? fmt::format("; usually {:g}…{:g}", s.plausible->low, s.plausible->high)
-                                : std::string();
+  // Where the field has a plausible range, the usual values too, in the flag's unit: a value far
+  // outside them is refused although the range admits it (a spin of 15 rpm, a diameter of 0.016 mm).
+  const std::string usual = s.plausible ? fmt::format("; usually {:g}…{:g}", s.plausible->low * s.cli_per_unit,
+                                                      s.plausible->high * s.cli_per_unit)
+                                        : std::string();
   return fmt::format("{} [{}], {}{}{}", help, unit, field_range_text(s, s.cli_per_unit),
                      *s.note ? fmt::format(" ({})", s.note) : std::string(), usual);
 }
@@ -388,13 +388,11 @@ std::string with_flags(std::string text) {
       {"LobesInput::frfs", "--frf"},
       {"LobesInput: rigid_y and y modes", "--rigid-y and --mode-y"},
       {"SpeedRange::min_rpm and max_rpm", "--rpm MIN:MAX"},
-      {"CuttingConditions::radial_ratio", "--kr"},
+      {"SpeedRange::min_rpm", "--rpm MIN"},
+      {"SpeedRange::max_rpm", "--rpm MAX"},
       {"CuttingConditions::pitch_rad", "--pitch"},
       {"CuttingConditions::helix_rad", "--helix"},
-      {"CuttingConditions::runout_m", "--runout"},
-      {"CuttingConditions::feed_per_tooth_m", "--feed"},
-      {"CuttingConditions::diameter_m", "--diameter"},
-      {"CuttingConditions::process_damping_n_per_m", "--process-damping"}};
+      {"CuttingConditions::runout_m", "--runout"}};
   const auto replace = [&text](std::string_view field, std::string_view flag) {
     for (std::size_t at = text.find(field); at != std::string::npos; at = text.find(field, at + flag.size()))
       text.replace(at, field.size(), flag);
@@ -423,6 +421,8 @@ std::string with_flags(std::string text) {
   fields(boundary_fields(), "BoundaryOptions");
   fields(modal_fields(), "ModalOptions");
   fields(beam_study_fields(), "BeamStudyOptions");
+  fields(cutting_fields(), "CuttingConditions");
+  fields(speed_range_fields(), "SpeedRange");
   fields(predict_fields(), "PredictOptions");
   fields(overhang_study_fields(), "OverhangStudyOptions");
   for (const auto& [field, flag] : kFlags) replace(field, flag);
@@ -433,25 +433,48 @@ void check_plausible(const PlausibleRange& range, double value, const std::strin
   if (const std::string w = require_plausible(range, value, what, fix); !w.empty()) warn(w);
 }
 
-CLI::Validator plausible_value(const PlausibleRange& range, const std::string& option, bool warn_unusual,
-                               const FieldSpec* field) {
+// The number typed, or NaN where it is none (the option's type check says so).
+static double typed_number(const std::string& text) {
+  try {
+    return std::stod(text);
+  } catch (const std::exception&) {
+    return kNaN;
+  }
+}
+
+CLI::Validator plausible_value(const PlausibleRange& range, const std::string& option) {
   return CLI::Validator(
-      [range, option, warn_unusual, field](std::string& text) -> std::string {
-        double v = 0.0;
-        try {
-          v = std::stod(text);
-        } catch (const std::exception&) {
-          return {};  // not a number: the option's type check says so
-        }
-        if (v == 0.0 || (field && !field_value_valid(*field, v))) return {};
+      [range, option](std::string& text) -> std::string {
+        const double v = typed_number(text);
+        if (std::isnan(v) || v == 0.0) return {};
         switch (judge(range, v)) {
           case Plausibility::Usual: return {};
-          case Plausibility::Unusual:
-            if (warn_unusual) warn(plausibility_message(range, v, option));
-            return {};
+          case Plausibility::Unusual: warn(plausibility_message(range, v, option)); return {};
           case Plausibility::Impossible: break;
         }
         return plausibility_message(range, v, "the value");  // CLI11 puts the option's name first
+      },
+      "", "plausible");
+}
+
+CLI::Validator field_plausible_value(const FieldSpec& spec, bool warn_unusual) {
+  const FieldSpec* s = &spec;  // a table's: static
+  return CLI::Validator(
+      [s, warn_unusual](std::string& text) -> std::string {
+        const double v = typed_number(text);
+        if (std::isnan(v)) return {};
+        const Plausibility verdict = field_plausibility(*s, v / s->cli_per_unit);
+        if (verdict == Plausibility::Usual || (verdict == Plausibility::Unusual && !warn_unusual)) return {};
+        // In the flag's unit: the range scaled, and the unit it takes for the field's SI hint.
+        const PlausibleRange& r = *s->plausible;
+        const bool scaled = s->cli_per_unit != 1.0;
+        const PlausibleRange shown{r.low * s->cli_per_unit, r.high * s->cli_per_unit, r.slack, scaled ? "" : r.hint};
+        const std::string unit = scaled ? fmt::format("; {} takes {}", field_flag(*s), s->cli_unit) : std::string();
+        if (verdict == Plausibility::Unusual) {
+          warn(plausibility_message(shown, v, field_flag(*s)) + unit);
+          return {};
+        }
+        return plausibility_message(shown, v, "the value") + unit;  // CLI11 puts the option's name first
       },
       "", "plausible");
 }
@@ -614,17 +637,17 @@ void write_frf_output(const std::string& path, FrfFormat format, const FrfFileDa
 
 namespace toolpoint::cli {
 
-void add_cut_options(CLI::App* c, CutArgs& o, const std::string& teeth_help, bool teeth_required, bool kt_required) {
-  auto* teeth = c->add_option("--teeth", o.teeth, teeth_help);
-  if (teeth_required) teeth->required();
-  c->add_option("--kt", o.kt, "Tangential cutting coefficient K_t [N/m²], > 0 (required)")
-      ->required(kt_required)
-      ->check(plausible_value(plausible::kCuttingCoefficient, "--kt"));
-  auto* kr = c->add_option("--kr", o.kr,
-                           "Radial cutting coefficient as the ratio K_r = K_n/K_t [-], ≥ 0 (this or --kn required)");
-  auto* kn = c->add_option("--kn", o.kn, "Radial (normal) cutting coefficient K_n [N/m²], ≥ 0 (this or --kr required)");
+void add_cut_options(CLI::App* c, CutArgs& o, const std::string& teeth_note, bool teeth_required, bool kt_required) {
+  const auto& fields = cutting_fields();
+  auto* teeth = o.fields.add(c, option_field(fields, "teeth"));
+  teeth->description(teeth->get_description() + " (" + teeth_note + ")");
+  teeth->required(teeth_required);
+  o.fields.add(c, option_field(fields, "tangential_coefficient"), true)->required(kt_required);
+  auto* kr = o.fields.add(c, option_field(fields, "radial_ratio"), true);
+  kr->description(kr->get_description() + "; this or --kn required")->default_str("");
+  auto* kn = c->add_option("--kn", o.kn,
+                           "Radial (normal) cutting coefficient K_n = K_r·K_t [N/m²], ≥ 0 (this or --kr required)");
   kn->check(plausible_value(plausible::kCuttingCoefficient, "--kn"));
-  kr->check(plausible_value(plausible::kRadialRatio, "--kr"));
   kr->excludes(kn);
   auto* imm =
       c->add_option("--immersion", o.immersion,
@@ -664,13 +687,15 @@ Engagement cut_engagement(const CutArgs& o) {
 
 CuttingConditions cutting_conditions(const CutArgs& o) {
   CuttingConditions c;
-  c.teeth = o.teeth;
-  c.tangential_coefficient = o.kt;
-  if (std::isnan(o.kr) && std::isnan(o.kn))
+  o.fields.apply(c);
+  if (!o.fields.given("radial_ratio") && std::isnan(o.kn))
     throw InvalidArgument("give the radial cutting coefficient: --kr K_n/K_t or --kn [N/m²]", "e.g. --kr 0.3");
-  if (!std::isnan(o.kn) && !(o.kt > 0.0))
-    throw InvalidArgument(fmt::format("--kt {} N/m² must be positive", o.kt), "e.g. --kt 6e8 (N/m², a typical steel value)");
-  c.radial_ratio = std::isnan(o.kr) ? o.kn / o.kt : o.kr;
+  if (!std::isnan(o.kn)) {
+    if (!(c.tangential_coefficient > 0.0))
+      throw InvalidArgument("--kn needs --kt: the ratio K_r = K_n/K_t is what the model takes",
+                            "e.g. --kt 6e8 (N/m², a typical steel value)");
+    c.radial_ratio = o.kn / c.tangential_coefficient;
+  }
   c.engagement = cut_engagement(o);
   return c;
 }
@@ -708,29 +733,19 @@ void add_tool_geometry_options(CLI::App* c, ToolGeometryArgs& o, bool feed_and_d
                 "fd: radial runout per tooth [mm, not µm]: each tooth cuts at D/2 + its value (e.g. 0.01,0,-0.01,0; needs "
                 "--feed; default none)")
       ->delimiter(',');
+  const auto& fields = cutting_fields();
   if (feed_and_diameter) {
-    c->add_option("--feed", o.feed_mm, "fd with --runout: feed per tooth [mm] (which tooth cuts which surface depends on it)");
-    c->add_option("--diameter", o.diameter_mm,
-                  "Tool diameter D [mm] (needed with --process-damping and --helix; checks --runout)");
+    o.fields.add(c, option_field(fields, "feed_per_tooth_m"), true);
+    o.fields.add(c, option_field(fields, "diameter_m"), true);
   }
-  c->add_option("--process-damping", o.process_damping,
-                "fd: process damping (indentation) coefficient C_i [N/m, not N/m² or N/mm], plausible 1e3…1e8: the "
-                "flank adds damping C_i·b/V (b the depth, V = πDn/60); needs --diameter (default 0: none)");
+  o.fields.add(c, option_field(fields, "process_damping_n_per_m"));
 }
 
 void apply_tool_geometry(const ToolGeometryArgs& o, CuttingConditions& c) {
   if (!o.pitch_deg.empty()) c.pitch_rad = pitch_radians(o.pitch_deg, c.teeth);
   c.helix_rad = helix_radians(o.helix_deg);
   for (double r : o.runout_mm) c.runout_m.push_back(1e-3 * r);
-  if (o.diameter_mm != 0.0) {
-    check_plausible(kDiameterMm, o.diameter_mm, "--diameter [mm]", "e.g. --diameter 16");
-    c.diameter_m = 1e-3 * o.diameter_mm;
-  }
-  if (o.feed_mm != 0.0) {
-    check_plausible(plausible::kFeedPerTooth, 1e-3 * o.feed_mm, "--feed [mm]", "e.g. --feed 0.05 (mm per tooth)");
-    c.feed_per_tooth_m = 1e-3 * o.feed_mm;
-  }
-  c.process_damping_n_per_m = o.process_damping;
+  o.fields.apply(c);
 }
 
 void add_dynamics_options(CLI::App* c, DynamicsArgs& o, Globals& g, const std::string& prefix) {

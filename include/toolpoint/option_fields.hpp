@@ -111,6 +111,14 @@ std::string field_range_value(const FieldSpec& spec, double scale = 1.0);
 /// \return the phrase
 std::string field_range_phrase(const FieldSpec& spec, double scale = 1.0);
 
+/// \brief The plausibility of a valid value of the field in its unit (spec.plausible): Usual where
+/// the field has no plausible range, and for 0, the automatic value and values out of the field's
+/// range (those are the range check's), which are the field's own words, not magnitudes.
+/// \param spec the field
+/// \param value the value [spec.unit]
+/// \return the verdict check_field, the CLI's flags, the plan file and the warnings share
+Plausibility field_plausibility(const FieldSpec& spec, double value);
+
 /// \brief Throws InvalidArgument naming `Options::field` if `value` is not valid for the field, or
 /// if it is nonzero, not the automatic value and cannot be meant in the field's unit (spec.plausible:
 /// a spin of 150 "rpm" that is rad/s, a power of 15 "W" that is kW).
@@ -162,7 +170,7 @@ std::vector<std::string> field_plausibility_warnings(const std::vector<OptionFie
   std::vector<std::string> warnings;
   for (const OptionField<Options>& f : fields) {
     const double v = f.get(o);
-    if (f.spec.plausible && v != 0.0 && v != f.spec.automatic && judge(*f.spec.plausible, v) == Plausibility::Unusual)
+    if (field_plausibility(f.spec, v) == Plausibility::Unusual)
       warnings.push_back(plausibility_message(*f.spec.plausible, v, std::string(options) + "::" + f.spec.name));
   }
   return warnings;

@@ -259,12 +259,6 @@ void bind_zero_order(py::module_& m) {
              c.teeth = teeth;
              c.tangential_coefficient = kt;
              c.radial_ratio = kr;
-             // As the CLI's --kt, --kr: K_t in N/mm² (MPa) is refused, an unusual ratio said.
-             check_plausible(plausible::kCuttingCoefficient, kt, "CuttingConditions::tangential_coefficient",
-                             "give K_t in N/m² (600 MPa = 6e8)");
-             if (kr != 0.0)
-               check_plausible(plausible::kRadialRatio, kr, "CuttingConditions::radial_ratio",
-                               "give K_r = K_n/K_t as a ratio (30 % = 0.3)");
              c.pitch_rad = std::move(pitch_rad);
              c.runout_m = std::move(runout_m);
              c.feed_per_tooth_m = feed_per_tooth_m;
@@ -281,7 +275,10 @@ void bind_zero_order(py::module_& m) {
                throw InvalidArgument(
                    "CuttingConditions: give the radial immersion (with milling 'up' or 'down') or entry_rad and exit_rad",
                    "e.g. immersion=0.5, milling='down'");
+             // As the CLI's --kt, --kr, --diameter: a K_t in N/mm² (MPa) refused by check(), an
+             // unusual value said (cutting_fields' plausible ranges).
              c.check();
+             warn_all(field_plausibility_warnings(cutting_fields(), c, "CuttingConditions"));
              return c;
            }),
            "teeth"_a, "tangential_coefficient"_a, "radial_ratio"_a, "immersion"_a = py::none(), "milling"_a = "down",
@@ -627,6 +624,8 @@ void bind_stability_uncertainty(py::module_& m) {
 void bind_stability(py::module_& m) {
   py::dict tables;
   tables["LobesStudyOptions"] = fields_data(lobes_study_fields());
+  tables["CuttingConditions"] = fields_data(cutting_fields());
+  tables["SpeedRange"] = fields_data(speed_range_fields());
   tables["SimulationOptions"] = fields_data(simulation_fields());
   tables["PitchChoiceOptions"] = fields_data(pitch_choice_fields());
   tables["JointFitOptions"] = fields_data(joint_fit_fields());

@@ -270,6 +270,11 @@ const std::vector<OptionField<SafetyRule>>& safety_rule_fields() {
 }
 
 void PlanOptions::check() const {
+  // The scalar fields' ranges first (plan_fields, machine_limits_fields, safety_rule_fields): the
+  // plan's feed is the cut's, and a refusal names the field given.
+  check_fields(plan_fields(), *this, "PlanOptions");
+  check_fields(machine_limits_fields(), machine, "MachineLimits");
+  check_fields(safety_rule_fields(), safety, "SafetyRule");
   {
     // The cut with a tool of any size (each candidate's is checked with the plan's header) and
     // some feed (checked below).
@@ -286,10 +291,6 @@ void PlanOptions::check() const {
         "PlanOptions::lobes.cutting has a variable pitch, helix, runout or process damping, which the "
         "zero-order method (LobesStudyOptions::method) cannot take",
         "use the full-discretization method (fd)");
-  // The scalar fields' ranges (plan_fields, machine_limits_fields, safety_rule_fields).
-  check_fields(plan_fields(), *this, "PlanOptions");
-  check_fields(machine_limits_fields(), machine, "MachineLimits");
-  check_fields(safety_rule_fields(), safety, "SafetyRule");
   parallel.check();
 }
 
@@ -386,19 +387,13 @@ std::uint64_t plan_fingerprint(const PlanHeader& h) {
   f.add(o.name);
   const LobesStudyOptions& l = o.lobes;
   f.add(static_cast<int>(l.method));
-  f.add(l.cutting.teeth);
-  f.add(l.cutting.tangential_coefficient);
-  f.add(l.cutting.radial_ratio);
+  part_file::add_fields(f, cutting_fields(), l.cutting);
   f.add(l.cutting.engagement.entry_rad);
   f.add(l.cutting.engagement.exit_rad);
   f.add(l.cutting.pitch_rad);
   f.add(l.cutting.helix_rad);
-  f.add(l.cutting.helix_slices);
   f.add(l.cutting.runout_m);
-  f.add(l.cutting.process_damping_n_per_m);
-  f.add(l.speeds.min_rpm);
-  f.add(l.speeds.max_rpm);
-  f.add(l.speeds.points);
+  part_file::add_fields(f, speed_range_fields(), l.speeds);
   f.add(l.fit.band_hz.has_value());
   if (l.fit.band_hz) {
     f.add(l.fit.band_hz->first);

@@ -26,7 +26,8 @@ namespace {
 
 // Version 2: the envelope of part_file.hpp (shard and study first, so a file cut short names its shard).
 // Version 3: the options' scalar fields from their tables (fit, lobes, cut, machine, safety_rule).
-constexpr part_file::PartKind kPlanPart{"toolpoint plan part", 3, "run_plan_part", "format_plan_part"};
+// Version 4: the cutting conditions' and the speed range's too (cutting, speeds).
+constexpr part_file::PartKind kPlanPart{"toolpoint plan part", 4, "run_plan_part", "format_plan_part"};
 
 using part_file::hex;
 using part_file::hexes;
@@ -38,19 +39,13 @@ nlohmann::json header_json(const PlanHeader& h) {
   const LobesStudyOptions& l = o.lobes;
   nlohmann::json opt = {{"name", o.name},
                         {"method", to_string(l.method)},
-                        {"teeth", l.cutting.teeth},
-                        {"tangential_coefficient", hex(l.cutting.tangential_coefficient)},
-                        {"radial_ratio", hex(l.cutting.radial_ratio)},
+                        {"cutting", fields_json(cutting_fields(), l.cutting, part_file::hex_json)},
                         {"entry_rad", hex(l.cutting.engagement.entry_rad)},
                         {"exit_rad", hex(l.cutting.engagement.exit_rad)},
                         {"pitch_rad", hexes(l.cutting.pitch_rad)},
                         {"helix_rad", hexes(l.cutting.helix_rad)},
-                        {"helix_slices", l.cutting.helix_slices},
                         {"runout_m", hexes(l.cutting.runout_m)},
-                        {"process_damping_n_per_m", hex(l.cutting.process_damping_n_per_m)},
-                        {"speed_min_rpm", hex(l.speeds.min_rpm)},
-                        {"speed_max_rpm", hex(l.speeds.max_rpm)},
-                        {"speed_points", l.speeds.points},
+                        {"speeds", fields_json(speed_range_fields(), l.speeds, part_file::hex_json)},
                         {"fit_band_hz", l.fit.band_hz ? nlohmann::json{hex(l.fit.band_hz->first), hex(l.fit.band_hz->second)}
                                                       : nlohmann::json(nullptr)},
                         {"fit", fields_json(modal_fit_fields(), l.fit, part_file::hex_json)},
@@ -86,19 +81,13 @@ PlanHeader parse_header(const PartReader& r, const nlohmann::json& j) {
   const std::optional<LobesMethod> m = lobes_method_from(method);
   if (!m) r.fail(fmt::format("options.method '{}' is none of zoa, fd, sd", method));
   l.method = *m;
-  l.cutting.teeth = r.get<int>(o, "teeth", p);
-  l.cutting.tangential_coefficient = r.number(o, "tangential_coefficient", p);
-  l.cutting.radial_ratio = r.number(o, "radial_ratio", p);
+  part_file::read_fields(r, r.at(o, "cutting", p), p + "cutting.", cutting_fields(), l.cutting);
   l.cutting.engagement.entry_rad = r.number(o, "entry_rad", p);
   l.cutting.engagement.exit_rad = r.number(o, "exit_rad", p);
   l.cutting.pitch_rad = r.numbers(o, "pitch_rad", p);
   l.cutting.helix_rad = r.numbers(o, "helix_rad", p);
-  l.cutting.helix_slices = r.get<int>(o, "helix_slices", p);
   l.cutting.runout_m = r.numbers(o, "runout_m", p);
-  l.cutting.process_damping_n_per_m = r.number(o, "process_damping_n_per_m", p);
-  l.speeds.min_rpm = r.number(o, "speed_min_rpm", p);
-  l.speeds.max_rpm = r.number(o, "speed_max_rpm", p);
-  l.speeds.points = r.get<int>(o, "speed_points", p);
+  part_file::read_fields(r, r.at(o, "speeds", p), p + "speeds.", speed_range_fields(), l.speeds);
   const nlohmann::json& band = r.at(o, "fit_band_hz", p);
   if (!band.is_null()) {
     if (!band.is_array() || band.size() != 2) r.fail("options.fit_band_hz is not a pair");
@@ -318,8 +307,6 @@ double checked(Reader& r, const toml::table& t, const char* key, const std::stri
   return *v;
 }
 
-bool positive(double v) { return v > 0.0; }
-
 PlanCandidate read_candidate(Reader& r, const toml::table& t, const std::string& path, const std::string& directory,
                              PlanStudy& study, int number) {
   r.only(t, path,
@@ -417,13 +404,13 @@ PlanCandidate read_candidate(Reader& r, const toml::table& t, const std::string&
 }
 
 // [cut]'s tool beyond straight, even teeth (CuttingConditions; the time-domain method only): pitch
-// [rad] per tooth, helix [rad] (one, or one per tooth), runout [m] per tooth, process_damping C_i
-// [N/m]. Checked with the rest of the cut (CuttingConditions::check, the message naming the key).
+// [rad] per tooth, helix [rad] (one, or one per tooth), runout [m] per tooth; with process_damping
+// C_i [N/m] (read with cutting_fields), checked with the rest of the cut (CuttingConditions::check,
+// the message naming the key).
 void read_tool_geometry(const Reader& r, const toml::table& cut, CuttingConditions& c) {
   if (auto v = r.numbers(cut, "pitch", "cut", "rad")) c.pitch_rad = *v;
   if (auto v = r.numbers(cut, "helix", "cut", "rad")) c.helix_rad = *v;
   if (auto v = r.numbers(cut, "runout", "cut", "m")) c.runout_m = *v;
-  if (auto v = r.number(cut, "process_damping", "cut", "N/m")) c.process_damping_n_per_m = *v;
   CuttingConditions probe = c;
   probe.diameter_m = probe.helical() || probe.process_damping_n_per_m > 0.0 ? 1.0 : 0.0;  // the candidates' tools
   probe.feed_per_tooth_m = 1e-4;                                                          // the feed is read apart
@@ -474,25 +461,29 @@ void read_cut_table(Reader& r, const toml::table& root, PlanOptions& o) {
   LobesStudyOptions& l = o.lobes;
   const toml::table& cut = *r.table(root, "cut", "", true);
   std::vector<const char*> keys = field_keys(plan_fields());  // feed_per_tooth, edge_coefficient, max_depth
-  keys.insert(keys.end(), {"teeth", "tangential_coefficient", "radial_ratio", "normal_coefficient", "radial_immersion", "milling",
-                           "pitch", "helix", "runout", "process_damping"});
+  const std::vector<const char*> cutting_keys = field_keys(cutting_fields());  // teeth, K_t, K_r, process_damping
+  keys.insert(keys.end(), cutting_keys.begin(), cutting_keys.end());
+  keys.insert(keys.end(), {"normal_coefficient", "radial_immersion", "milling", "pitch", "helix", "runout"});
   r.only(cut, "cut", keys);
-  l.cutting.teeth = integer(r, cut, "teeth", "cut", 1, 1000, 0);
-  if (!cut.contains("teeth")) r.fail(cut, "missing key cut.teeth (the number of teeth)", "e.g. teeth = 4");
-  l.cutting.tangential_coefficient = checked(r, cut, "tangential_coefficient", "cut", "N/m^2", true, 0.0, positive,
-                                             "N/m^2 must be > 0", "K_t in N/m^2, e.g. 6e8");
-  r.plausible(cut, "tangential_coefficient", "cut", l.cutting.tangential_coefficient, plausible::kCuttingCoefficient);
-  const auto kr = r.number(cut, "radial_ratio", "cut", "(dimensionless)");
+  for (const char* key : {"teeth", "tangential_coefficient"})
+    if (!cut.contains(key))
+      r.fail(cut, fmt::format("missing key cut.{} ({})", key, option_field(cutting_fields(), key).spec.help),
+             key == std::string_view("teeth") ? "e.g. teeth = 4" : "e.g. tangential_coefficient = 6e8 (N/m^2)");
+  read_fields(r, cut, "cut", cutting_fields(), l.cutting);
+  // K_n = K_r·K_t: the radial coefficient's other form, as the CLI's --kn.
   const auto kn = r.number(cut, "normal_coefficient", "cut", "N/m^2");
-  if (kr && kn)
+  if (cut.contains("radial_ratio") && kn)
     r.fail(*cut.get("normal_coefficient"), "[cut] gives radial_ratio and normal_coefficient: choose one",
            "K_r = K_n/K_t: give one of them");
-  if (!kr && !kn)
+  if (!cut.contains("radial_ratio") && !kn)
     r.fail(cut, "missing key cut.radial_ratio (K_n/K_t) or cut.normal_coefficient (K_n, N/m^2)", "e.g. radial_ratio = 0.3");
-  l.cutting.radial_ratio = kr ? *kr : *kn / l.cutting.tangential_coefficient;
-  if (!(l.cutting.radial_ratio >= 0.0))
-    r.fail(*cut.get(kr ? "radial_ratio" : "normal_coefficient"),
-           fmt::format("the radial force ratio K_n/K_t = {} must be ≥ 0", l.cutting.radial_ratio), "e.g. radial_ratio = 0.3");
+  if (kn) {
+    if (!(*kn >= 0.0))
+      r.fail(*cut.get("normal_coefficient"), fmt::format("cut.normal_coefficient = {} N/m^2 must be ≥ 0", *kn),
+             "K_n in N/m^2, e.g. 2e8");
+    r.plausible(cut, "normal_coefficient", "cut", *kn, plausible::kCuttingCoefficient);
+    l.cutting.radial_ratio = *kn / l.cutting.tangential_coefficient;
+  }
   const double immersion = checked(
       r, cut, "radial_immersion", "cut", "(a/D)", true, 0.0, [](double v) { return v > 0.0 && v <= 1.0; },
       "must lie in (0, 1]: the radial depth over the tool diameter", "e.g. 0.5 for half immersion, 1 for a slot");
@@ -512,17 +503,16 @@ void read_machine_table(Reader& r, const toml::table& root, PlanOptions& o) {
   LobesStudyOptions& l = o.lobes;
   const toml::table& mach = *r.table(root, "machine", "", true);
   std::vector<const char*> keys = field_keys(machine_limits_fields());  // power, torque, min_overhang
-  keys.insert(keys.end(), {"speed_min", "speed_max", "speed_points"});
+  const std::vector<const char*> speed_keys = field_keys(speed_range_fields());  // speed_min, speed_max, speed_points
+  keys.insert(keys.end(), speed_keys.begin(), speed_keys.end());
   r.only(mach, "machine", keys);
-  l.speeds.min_rpm = checked(r, mach, "speed_min", "machine", "rpm", true, 0.0, positive, "rpm must be > 0");
-  l.speeds.max_rpm = checked(r, mach, "speed_max", "machine", "rpm", true, 0.0, positive, "rpm must be > 0");
+  r.required_number(mach, "speed_min", "machine", "rpm");
+  r.required_number(mach, "speed_max", "machine", "rpm");
+  read_fields(r, mach, "machine", speed_range_fields(), l.speeds);  // points absent: 0, the method's
   if (!(l.speeds.max_rpm > l.speeds.min_rpm))
     r.fail(*mach.get("speed_max"),
            fmt::format("machine.speed_max = {} rpm must exceed machine.speed_min = {} rpm", l.speeds.max_rpm, l.speeds.min_rpm),
            "give the spindle's speed range in rpm, e.g. speed_min = 2000, speed_max = 12000");
-  r.plausible(mach, "speed_min", "machine", l.speeds.min_rpm, plausible::kSpindleSpeedRpm);
-  r.plausible(mach, "speed_max", "machine", l.speeds.max_rpm, plausible::kSpindleSpeedRpm);
-  l.speeds.points = integer(r, mach, "speed_points", "machine", 2, 1000000, 0);
   read_fields(r, mach, "machine", machine_limits_fields(), o.machine);
 }
 

@@ -115,7 +115,7 @@ nlohmann::json header_json(const SimulatedMapHeader& h) {
             {"entry_rad", hex(o.cut.engagement.entry_rad)},
             {"exit_rad", hex(o.cut.engagement.exit_rad)}}},
           {"simulation", simulation},
-          {"speeds", {{"min_rpm", hex(o.speeds.min_rpm)}, {"max_rpm", hex(o.speeds.max_rpm)}, {"points", o.speeds.points}}},
+          {"speeds", fields_json(speed_range_fields(), o.speeds, part_file::hex_json)},
           {"depths", {{"min_m", hex(o.depths.min_m)}, {"max_m", hex(o.depths.max_m)}, {"points", o.depths.points}}}};
 }
 
@@ -155,7 +155,7 @@ SimulatedMapHeader parse_header(const PartReader& r, const nlohmann::json& j) {
   o.simulation.memory_limit_bytes = r.number(s, "memory_limit_bytes", "simulation.");
   o.simulation.record = false;
   const nlohmann::json& sp = r.at(j, "speeds", "");
-  o.speeds = {r.number(sp, "min_rpm", "speeds."), r.number(sp, "max_rpm", "speeds."), r.get<int>(sp, "points", "speeds.")};
+  part_file::read_fields(r, sp, "speeds.", speed_range_fields(), o.speeds);
   const nlohmann::json& dp = r.at(j, "depths", "");
   o.depths = {r.number(dp, "min_m", "depths."), r.number(dp, "max_m", "depths."), r.get<int>(dp, "points", "depths.")};
   try {

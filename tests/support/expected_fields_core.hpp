@@ -1,6 +1,6 @@
 // The option tables of the Options types every stage shares — ParallelOptions, UncertaintyOptions,
 // ZeroOrderOptions, BoundaryOptions, ModalOptions, BeamStudyOptions, PredictOptions,
-// OverhangStudyOptions (option_fields.hpp;
+// OverhangStudyOptions, CuttingConditions, SpeedRange (option_fields.hpp;
 // issue 26) — expected by hand: each field's range as the hand-written check() had it before its
 // table (parallel.cpp, uncertainty.cpp, stability.cpp, beam.cpp, studies/beam.cpp, studies/predict.cpp,
 // studies/overhang.cpp at b7606b0), and its flag and unit as `toolpoint lobes`, `beam`, `predict` and the commands with
@@ -114,6 +114,41 @@ inline std::vector<ExpectedField<OverhangStudyOptions>> overhang_study_expected_
            TOOLPOINT_MEMBER(O, tracking_tolerance)},
           {"OverhangStudyOptions", "threads", true, 0.0, 1024.0, false, false, 2.0, "--threads", "-", 1.0, "",
            TOOLPOINT_MEMBER(O, threads)}};
+}
+
+// Old CuttingConditions::check (stability.cpp at 0c87010): teeth outside 1…1000 refused; K_t ≤ 0
+// refused; K_r < 0 refused; diameter_m < 0 refused (0: not given); process damping < 0 or outside
+// 1e3…1e8 N/m refused (0: none); helix_slices outside 0…200 refused (0: 8). The feed per tooth was
+// judged only with runout (> 0); its range now is PlanOptions::feed_per_tooth_m's top 1 cm with 0
+// "not given". `toolpoint lobes --teeth`, `--kt` [N/m²], `--kr`, `--feed` [mm], `--diameter` [mm],
+// `--process-damping` [N/m]; the plan file's [cut] teeth, tangential_coefficient, radial_ratio,
+// process_damping (docs/planning.md).
+inline std::vector<ExpectedField<CuttingConditions>> cutting_expected_fields() {
+  using C = CuttingConditions;
+  const std::string t = "CuttingConditions";
+  return {{t, "teeth", true, 1.0, 1000.0, false, false, 3.0, "--teeth", "-", 1.0, "cut.teeth", TOOLPOINT_MEMBER(C, teeth)},
+          {t, "tangential_coefficient", false, 0.0, kInf, true, false, 2e9, "--kt", "N/m²", 1.0, "cut.tangential_coefficient",
+           TOOLPOINT_MEMBER(C, tangential_coefficient)},
+          {t, "radial_ratio", false, 0.0, kInf, false, false, 0.45, "--kr", "-", 1.0, "cut.radial_ratio",
+           TOOLPOINT_MEMBER(C, radial_ratio)},
+          {t, "feed_per_tooth_m", false, 0.0, 0.01, false, false, 2e-4, "--feed", "mm", 1e3, "",
+           TOOLPOINT_MEMBER(C, feed_per_tooth_m)},
+          {t, "diameter_m", false, 0.0, kInf, false, false, 0.016, "--diameter", "mm", 1e3, "", TOOLPOINT_MEMBER(C, diameter_m)},
+          {t, "process_damping_n_per_m", false, 1e3, 1e8, false, false, 2e5, "--process-damping", "N/m", 1.0,
+           "cut.process_damping", TOOLPOINT_MEMBER(C, process_damping_n_per_m)},
+          {t, "helix_slices", true, 0.0, 200.0, false, false, 12.0, "", "", 1.0, "", TOOLPOINT_MEMBER(C, helix_slices)}};
+}
+
+// Old SpeedRange::check: min ≤ 0, max ≤ min, either not finite, points outside 2…1000000 refused.
+// `toolpoint lobes --speeds`; the plan file's [machine] speed_min, speed_max, speed_points.
+inline std::vector<ExpectedField<SpeedRange>> speed_range_expected_fields() {
+  using S = SpeedRange;
+  return {{"SpeedRange", "min_rpm", false, 0.0, kInf, true, false, 6000.0, "", "", 1.0, "machine.speed_min",
+           TOOLPOINT_MEMBER(S, min_rpm)},
+          {"SpeedRange", "max_rpm", false, 0.0, kInf, true, false, 18000.0, "", "", 1.0, "machine.speed_max",
+           TOOLPOINT_MEMBER(S, max_rpm)},
+          {"SpeedRange", "points", true, 2.0, 1e6, false, false, 50.0, "--speeds", "-", 1.0, "machine.speed_points",
+           TOOLPOINT_MEMBER(S, points)}};
 }
 
 }  // namespace toolpoint::testing

@@ -92,9 +92,11 @@ struct CuttingConditions {
   // mid-height (a midpoint rule in z: error falling like 1/slices²). A uniform helix needs none:
   // every slice has the same delay, and its integral over z is exact.
   int helix_slices = 0;
-  // Throws InvalidArgument naming the parameter and value (negative coefficients, N < 1, pitch
+  // Throws InvalidArgument naming `CuttingConditions::<field>`: the ranges of cutting_fields() (a
+  // K_t in N/mm², a diameter in mm refused as cannot be meant), then what lies between fields (pitch
   // angles of the wrong count or not adding up to a revolution, runout beyond the radius or over
-  // 1 mm, runout without a feed, a helix angle negative or over 80°, …).
+  // 1 mm, runout without a feed, process damping or a helix without the diameter, a helix angle
+  // negative or over 80°, …).
   void check() const;
   // Every tooth cuts alike: evenly spaced teeth (pitch_rad empty, or all its angles equal within
   // 1e-12 rad), no runout (or the same on every tooth) and one helix angle. The principal period
@@ -108,6 +110,14 @@ struct CuttingConditions {
   // revolution) otherwise.
   int teeth_per_period() const { return uniform() ? 1 : teeth; }
 };
+// CuttingConditions' scalar fields (option_fields.hpp): teeth (--teeth; plan [cut] teeth),
+// tangential_coefficient (--kt; tangential_coefficient), radial_ratio (--kr; radial_ratio; the CLI's
+// --kn and the plan's normal_coefficient are the alternative K_n = K_r·K_t, converted beside the
+// table), feed_per_tooth_m (--feed, in mm; the plan's is PlanOptions'), diameter_m (--diameter, in
+// mm; the plan's each candidate's tool), process_damping_n_per_m (--process-damping;
+// process_damping; 0: none) and helix_slices (0: 8). The engagement and the per-tooth lists are
+// checked beside the table.
+const std::vector<OptionField<CuttingConditions>>& cutting_fields();
 
 // α(φ₁, φ₂) = ∫_{φ₁}^{φ₂} A(φ) dφ (docs/reference.md §7, Altintas & Budak 1995 Eq. 10), dimensionless:
 //   α_xx = ½[cos2φ − 2K_rφ + K_r sin2φ], α_xy = ½[−sin2φ − 2φ + K_r cos2φ],
@@ -121,9 +131,14 @@ struct SpeedRange {
   double min_rpm = 0.0;
   double max_rpm = 0.0;
   int points = 1000;
-  void check() const;  // throws InvalidArgument unless 0 < MIN < MAX and 2 ≤ points ≤ 1e6
+  // Throws InvalidArgument naming `SpeedRange::<field>`: the ranges of speed_range_fields() (a
+  // speed no spindle turns at refused as cannot be meant), then MIN < MAX.
+  void check() const;
   std::vector<double> values() const;
 };
+// SpeedRange's fields (option_fields.hpp): min_rpm, max_rpm (plan [machine] speed_min, speed_max;
+// the CLI's --rpm MIN:MAX is one pair, parsed beside the table) and points (--speeds; speed_points).
+const std::vector<OptionField<SpeedRange>>& speed_range_fields();
 
 // ---- Zero-order approximation (Altintas & Budak 1995; Budak & Altintas 1998) -------------------
 
