@@ -1,5 +1,5 @@
 """The option tables of ParallelOptions, UncertaintyOptions, ZeroOrderOptions, BoundaryOptions,
-ModalOptions, BeamStudyOptions, PredictOptions and OverhangStudyOptions
+ModalOptions, BeamStudyOptions, PredictOptions, OverhangStudyOptions, CuttingConditions and SpeedRange
 (include/toolpoint/option_fields.hpp; issue 26) as Python meets them: the tables' fields and
 defaults (written out here by hand from the headers, not read from the tables), the bound classes'
 attributes with their help and flag in the docstring, the keyword functions documented from their
@@ -7,6 +7,7 @@ tables, check() refusing a value just outside the old range by its field's name,
 unit cannot mean (a length in mm, a spin in rad/s) refused."""
 import warnings
 
+import numpy as np
 import pytest
 
 import toolpoint as tp
@@ -26,6 +27,9 @@ EXPECTED = {
     "BeamStudyOptions": {"length": 0.0, "outer_diameter": 0.0, "inner_diameter": 0.0, "modes": 5, "speed_rpm": 0.0},
     "PredictOptions": {"speed_rpm": 0.0, "extrapolate_bearings": False},
     "OverhangStudyOptions": {"tracking_tolerance": 0.15, "threads": 0},
+    "CuttingConditions": {"teeth": 0, "tangential_coefficient": 0.0, "radial_ratio": 0.0, "feed_per_tooth_m": 0.0,
+                          "diameter_m": 0.0, "process_damping_n_per_m": 0.0, "helix_slices": 0},
+    "SpeedRange": {"min_rpm": 0.0, "max_rpm": 0.0, "points": 1000},
 }
 # Bound as classes whose attributes are the table's fields, and the command whose flags they are.
 CLASSES = {"UncertaintyOptions": "toolpoint predict", "ModalOptions": "toolpoint beam",
@@ -77,3 +81,25 @@ def test_beam_study_judges_its_units():
     o = tp.BeamStudyOptions()
     o.length, o.outer_diameter, o.modes = 0.12, 0.016, 3
     assert len(tp.run_beam_study(o).mode_frequency_hz) == 3
+
+
+def test_the_cut_and_the_speeds_judge_their_units():
+    # K_t in MPa, a diameter in mm, speeds in thousands of rpm: refused naming the field (check(),
+    # cutting_fields and speed_range_fields); an unusual K_r warned about naming the field.
+    with pytest.raises(tp.InvalidArgument, match=r"CuttingConditions::tangential_coefficient = 600 .*cannot be meant"):
+        tp.CuttingConditions(4, 600.0, 0.3, immersion=0.5)
+    with pytest.raises(tp.InvalidArgument, match=r"CuttingConditions::diameter_m = 16 .*cannot be meant"):
+        tp.CuttingConditions(4, 6e8, 0.3, immersion=0.5, diameter_m=16.0)
+    with pytest.raises(tp.InvalidArgument, match=r"CuttingConditions::teeth 0 must lie in 1…1000"):
+        tp.CuttingConditions(0, 6e8, 0.3, immersion=0.5)
+    with pytest.raises(tp.InvalidArgument, match=r"CuttingConditions::process_damping_n_per_m 10 N/m must lie in"):
+        tp.CuttingConditions(4, 6e8, 0.3, immersion=0.5, diameter_m=0.02, process_damping_n_per_m=10.0)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        c = tp.CuttingConditions(4, 6e8, 2.0, immersion=0.5)
+    assert c.radial_ratio == 2.0
+    assert [str(w.message) for w in caught if "CuttingConditions::radial_ratio = 2" in str(w.message)]
+    f = np.linspace(10.0, 5000.0, 500)
+    H = tp.modal_frf([tp.Mode(0.04, 0.03, 900.0)], f)
+    with pytest.raises(tp.InvalidArgument, match=r"SpeedRange::max_rpm = 0.5 .*cannot be meant"):
+        tp.zero_order_lobes(f, H, c, (5000.0, 0.5, 50))
