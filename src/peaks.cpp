@@ -21,7 +21,8 @@ const std::vector<OptionField<PeakOptions>>& peak_fields() {
         .max = 1.0,
         .max_open = true,
         .help = "fraction of its height a local maximum rises above the higher of its valleys to count as a peak (ripple "
-                "and noise on a flank are not modes)"},
+                "and noise on a flank are not modes)",
+        .cli_name = "prominence"},
        [](O& o) -> double& { return o.min_prominence; }}};
   return fields;
 }

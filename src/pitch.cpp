@@ -153,11 +153,7 @@ const std::vector<OptionField<PitchChoiceOptions>>& pitch_choice_fields() {
   constexpr double kDegreesPerRadian = 180.0 / kPi;  // the CLI's pitch angles are in degrees
   // The boundary's own fields (boundary_fields()) in the pitch search's words: the steps capped as
   // the lobes study's (half the default max_steps), the ceiling's default the even tool's.
-  static const FieldSpec steps = [] {
-    FieldSpec s = with_help(option_field(boundary_fields(), "steps").spec, "full-discretization: steps per tooth period");
-    s.max = BoundaryOptions{}.max_steps / 2;
-    return s;
-  }();
+  static const FieldSpec steps = study_steps_field("full-discretization: steps per tooth period");
   static const FieldSpec max_depth = [] {
     FieldSpec s = option_field(boundary_fields(), "max_depth_m").spec;
     s.note = "0: 20 × the even tool's zero-order floor";

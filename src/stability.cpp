@@ -1930,6 +1930,12 @@ void BoundaryOptions::check() const {
     throw InvalidArgument(fmt::format("BoundaryOptions::degree {} must be 1, 2 or 3 with Discretization::Full", degree));
 }
 
+FieldSpec study_steps_field(const char* help) {
+  FieldSpec s = with_help(option_field(boundary_fields(), "steps").spec, help);
+  s.max = BoundaryOptions{}.max_steps / 2;
+  return s;
+}
+
 const std::vector<OptionField<BoundaryOptions>>& boundary_fields() {
   using O = BoundaryOptions;
   static const std::vector<OptionField<O>> fields = {

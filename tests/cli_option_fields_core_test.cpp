@@ -8,6 +8,7 @@
 // check(): option_fields_core_test.cpp.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <string>
 #include <utility>
 #include <vector>
@@ -139,6 +140,38 @@ TEST(CliOptionFieldsCore, CutFlags) {
   EXPECT_NE(out.find("warning: --kt = 2e+07 is outside the usual range"), std::string::npos) << out;
   EXPECT_EQ(run_toolpoint(base + "--speeds 3", &out), 0) << out;
   EXPECT_NE(out.find("best spindle speeds in 5000–6000 rpm"), std::string::npos) << out;
+}
+
+// A second newcomer's run: predict --speeds below 0 (or without --plot) refused before any file is
+// written, naming the flag; --extrapolate-bearings on bearings without a speed table said, not
+// ignored; a reversed couple --overhang sweep said in metres, not as a frequency grid; --rpm in
+// thousands (15:200) warned about; couple --prominence's help gives its range.
+TEST(CliOptionFieldsCore, SecondNewcomerFindings) {
+  TempDir dir;
+  const std::string csv = std::string(dir / "p.csv");
+  expect_refused("predict " + kExample + " --speeds -5 --output " + csv + " --plot " + std::string(dir / "p.png"),
+                 "--speeds -5 rpm: spindle speeds must be ≥ 0");
+  EXPECT_FALSE(std::filesystem::exists(csv));
+  expect_refused("predict " + kExample + " --speeds 0,10000 --output " + csv, "--speeds draws");
+  EXPECT_FALSE(std::filesystem::exists(csv));
+  std::string out;
+  EXPECT_EQ(run_toolpoint("predict " + kExample + " --extrapolate-bearings", &out), 0) << out;
+  EXPECT_NE(out.find("warning: --extrapolate-bearings changes nothing: no bearing of the assembly has a speed table"),
+            std::string::npos)
+      << out;
+  ASSERT_EQ(run_toolpoint("predict " + kExample + " --at holder --output " + std::string(dir / "sh.csv"), &out), 0) << out;
+  const std::string couple = "couple --sh " + std::string(dir / "sh.csv") + " --assembly " + kExample;
+  expect_refused(couple + " --overhang 0.06:0.04:0.002 --output " + std::string(dir / "sweep"),
+                 "--overhang 0.06:0.04:0.002: a sweep START:STOP:STEP [m] needs 0 < START < STOP");
+  expect_flags_in_help("couple", {{"--prominence", "-"}});
+  ASSERT_EQ(run_toolpoint("couple --help", &out), 0);
+  EXPECT_NE(flag_help_line(out, "--prominence").find("[0, 1)"), std::string::npos) << out;
+  EXPECT_EQ(run_toolpoint("lobes --assembly " + kExample + " --teeth 2 --kt 6e8 --kr 0.3 --immersion 0.5 --milling down "
+                              "--rpm 15:200 --speeds 3",
+                          &out),
+            0)
+      << out;
+  EXPECT_NE(out.find("warning: --rpm = 15 is outside the usual range [100, 200000]"), std::string::npos) << out;
 }
 
 // toolpoint predict: --speed [rpm] ≥ 0, a spin in rad/s refused; --extrapolate-bearings a switch.

@@ -153,7 +153,7 @@ TEST(LobesCommand, WritesLobesAndRejectsBadInputWithExitCodes) {
   const CliRun negative = run_cli(base + " --immersion 0.5 --kt -6e8");
   EXPECT_EQ(negative.code, 2) << negative.out;
   const CliRun missing = run_cli("lobes --frf " + dir +
-                                 "/nope.csv --teeth 2 --kt 6e8 --kr 0.3 --immersion 0.5 --milling up --rpm 1:2");
+                                 "/nope.csv --teeth 2 --kt 6e8 --kr 0.3 --immersion 0.5 --milling up --rpm 1000:2000");
   EXPECT_EQ(missing.code, 5) << missing.out;
   write_text_file(dir + "/broken.csv", "frequency_hz,re,im\n100,1e-6,-1e-7\n200,oops,0\n");
   const CliRun broken = run_cli("lobes --frf " + dir +

@@ -4,6 +4,7 @@
 // Units: overhangs in m (mm in file names and figures), receptances in SI (H m/N, …), Hz.
 // --plot: one overhang, the tool point FRF; a sweep, the FRFs overlaid in FILE and the natural
 // frequencies against overhang in FILE with "_frequencies" before the extension.
+#include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
 #include <iostream>
@@ -29,7 +30,7 @@ struct CoupleArgs {
   std::string sh, assembly, overhang, output, plot, band_output;
   SamplingOptions sampling;
   std::vector<std::string> joints;
-  double prominence = 0.1;
+  FieldFlags<PeakOptions> peaks;  // --prominence: peak_fields' min_prominence, here by default 0.1
   bool json = false;
 };
 
@@ -45,13 +46,16 @@ void check_overhang(double v) {
 std::vector<double> parse_overhangs(const std::string& text) {
   if (text.empty()) return {};
   if (text.find(':') != std::string::npos) {
-    // Reuse the grid parser's checks with its own wording.
-    FrequencyGrid sweep;
-    try {
-      sweep = parse_frequency_grid(text, "--overhang");
-    } catch (const InvalidArgument& e) {
-      throw InvalidArgument(std::string(e.what()) + " (here in metres, not Hz)", "e.g. --overhang 0.040:0.060:0.002");
-    }
+    // START:STOP:STEP in metres, in the sweep's own words (not a frequency grid's).
+    if (std::count(text.begin(), text.end(), ':') != 2)
+      throw InvalidArgument(fmt::format("--overhang '{}' is neither a length nor a sweep START:STOP:STEP [m]", text),
+                            "e.g. --overhang 0.050, or --overhang 0.040:0.060:0.002");
+    const auto [start, rest] = parse_range(text.substr(0, text.rfind(':')), "--overhang");
+    const FrequencyGrid sweep{start, rest, parse_value(text.substr(text.rfind(':') + 1), "--overhang")};
+    if (!(sweep.start_hz > 0.0) || !(sweep.stop_hz > sweep.start_hz) || !(sweep.step_hz > 0.0))
+      throw InvalidArgument(fmt::format("--overhang {}: a sweep START:STOP:STEP [m] needs 0 < START < STOP and STEP > 0",
+                                        text),
+                            "e.g. --overhang 0.040:0.060:0.002");
     std::size_t count = 0;
     try {
       count = overhang_sweep_size(sweep.start_hz, sweep.stop_hz, sweep.step_hz);
@@ -84,7 +88,8 @@ void run_couple(const CoupleArgs& o, const Globals& g) {
   check_plot_path(o.plot);
   OverhangStudyOptions options;
   options.overhangs_m = parse_overhangs(o.overhang);
-  options.peaks.min_prominence = o.prominence;
+  options.peaks.min_prominence = 0.1;  // SH11 is measured: noise on it must not make modes
+  o.peaks.apply(options.peaks);
   options.sh11_name = o.sh;
   {
     ParallelOptions parallel;  // --threads: the overhangs' and the samples' alike
@@ -209,10 +214,9 @@ void add_couple_command(CLI::App& app, Globals& g) {
       ->required();
   c->add_option("--assembly", o->assembly, "Assembly file (TOML, SI units): the tool and the holder–tool joint (required)")
       ->required();
-  c->add_option("--prominence", o->prominence,
-                "A peak counts as a mode when it rises this fraction of its height above the valleys around it "
-                "(0.1 = 10 %: keeps measurement noise in SH11 from making modes)")
-      ->capture_default_str();
+  auto* prominence = o->peaks.add(c, option_field(peak_fields(), "min_prominence"));
+  prominence->description(prominence->get_description() + "; 0.1 = 10 % keeps measurement noise in SH11 from making modes")
+      ->default_str("0.1");
   c->add_option("--overhang", o->overhang,
                 "Tool overhang [m], or a sweep START:STOP:STEP [m] (default: the file's tool.overhang). The length inside "
                 "the holder is kept");

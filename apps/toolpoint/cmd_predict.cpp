@@ -42,6 +42,17 @@ void run_predict(const PredictArgs& o, const Globals& g) {
   check_output_extension(o.cross_output, "--cross-output", {".csv"}, "H_xx, H_xy, H_yx, H_yy as CSV (.csv)");
   check_output_extension(o.output, "--output", {".csv"}, kBlockCsvOutput);
   check_output_extension(o.band_output, "--band-output", {".csv"}, "the quantile table as CSV (.csv)");
+  // --speeds before any work: it draws a figure, and speeds in rad/s or below 0 cannot be drawn.
+  if (!o.speeds.empty()) {
+    if (o.plot.empty())
+      throw InvalidArgument("--speeds draws the tool point FRF at those speeds: it needs --plot FILE", "add --plot FILE.png");
+    for (double n : o.speeds) {
+      if (!(n >= 0.0))
+        throw InvalidArgument(fmt::format("--speeds {:g} rpm: spindle speeds must be ≥ 0 (0: standing)", n),
+                              "e.g. --speeds 0,10000,20000,30000");
+      if (n > 0.0) check_plausible(plausible::kSpinSpeedRpm, n, "--speeds", "give spindle speeds in rpm, e.g. 0,10000,20000");
+    }
+  }
   const std::vector<JointFile> joints = read_joint_options(g, o.joints);
   toolpoint::PredictOptions options;
   o.sampling.parallel.apply(options.band.parallel);  // --threads judged with or without --samples
@@ -113,10 +124,6 @@ void run_predict(const PredictArgs& o, const Globals& g) {
     std::cout << std::flush;
   }
   if (!o.speeds.empty()) {
-    if (o.plot.empty())
-      throw InvalidArgument("--speeds draws the tool point FRF at those speeds: it needs --plot FILE", "add --plot FILE.png");
-    for (double n : o.speeds)
-      if (n > 0.0) check_plausible(plausible::kSpinSpeedRpm, n, "--speeds", "give spindle speeds in rpm, e.g. 0,10000,20000");
     plot::Figure fig;
     try {
       fig = speed_frf_figure(loaded.assembly, o.speeds, options.extrapolate_bearings);

@@ -335,9 +335,8 @@ std::string with_flags(std::string text) {
       {"PrecisionOptions::holder.spacing_m", "--holder-spacing"},
       {"PrecisionOptions::target", "--target"},
       {"OverhangStudyOptions::overhangs_m", "--overhang"},
-      {"OverhangStudyOptions::peaks: PeakOptions::min_prominence", "--prominence"},
+      {"OverhangStudyOptions::peaks: --prominence", "--prominence"},  // PeakOptions' field mapped first
       {"OverhangStudyOptions::peaks", "--prominence"},
-      {"PeakOptions::min_prominence", "--prominence"},
       {"FrfResampleOptions::band_hz", "--band"},
       {"FrfResampleOptions::target_hz", "--onto or --grid"},
       {"BeamStudyOptions::modal.modes", "--modal-terms"},
@@ -422,6 +421,7 @@ std::string with_flags(std::string text) {
   fields(modal_fields(), "ModalOptions");
   fields(beam_study_fields(), "BeamStudyOptions");
   fields(cutting_fields(), "CuttingConditions");
+  fields(peak_fields(), "PeakOptions");
   fields(speed_range_fields(), "SpeedRange");
   fields(predict_fields(), "PredictOptions");
   fields(overhang_study_fields(), "OverhangStudyOptions");

@@ -68,7 +68,8 @@ inline constexpr PlausibleRange kCuttingCoefficient{
     5e7, 1e10, 100.0, "cutting coefficients are in N/m^2 (aluminium about 7e8, steel 2e9), not N/mm^2 or MPa"};
 inline constexpr PlausibleRange kEdgeCoefficient{1e2, 1e6, 100.0, "K_te is in N/m (typically 1e4–5e4)"};
 // Machine
-inline constexpr PlausibleRange kSpindleSpeedRpm{10.0, 2e5, 10.0, "spindle speeds are in rpm"};
+// A milling spindle below 100 rpm is unusual (thousands of rpm given as krpm?), below 10 impossible.
+inline constexpr PlausibleRange kSpindleSpeedRpm{100.0, 2e5, 10.0, "spindle speeds are in rpm (12 000 rpm = 12000, not 12)"};
 // The spin of a rotating model [rpm]: below 1000 rpm gyroscopic effects are negligible and a value
 // there is more likely rad/s (15 000 rpm = 1571 rad/s) than meant.
 inline constexpr PlausibleRange kSpinSpeedRpm{1000.0, 1.5e5, 40.0,

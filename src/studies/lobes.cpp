@@ -250,12 +250,7 @@ const std::vector<OptionField<LobesStudyOptions>>& lobes_study_fields() {
   static const std::string tolerance_help = std::string("time domain: ") + option_field(boundary_fields(), "tolerance").spec.help,
                            steps_help = std::string("time domain: ") + option_field(boundary_fields(), "steps").spec.help,
                            degree_help = std::string("time domain: ") + option_field(boundary_fields(), "degree").spec.help;
-  // The boundary compares m with 2m steps: the first level at most half the default finest.
-  static const FieldSpec steps = [&] {
-    FieldSpec s = field(boundary_fields(), "steps", steps_help.c_str());
-    s.max = BoundaryOptions{}.max_steps / 2;
-    return s;
-  }();
+  static const FieldSpec steps = study_steps_field(steps_help.c_str());
   static const std::vector<OptionField<O>> fields = {
       {max_depth, [](O& o) -> double& { return o.max_depth_m; }},
       {field(zero_order_fields(), "lobes", "zero-order: lobes k = 0…K", "lobes"), nullptr, [](O& o) -> int& { return o.lobes; }},

@@ -144,10 +144,17 @@ Prediction run_prediction_study(const Assembly& given, const PredictOptions& opt
   const Assembly joined = options.uncertain_joint ? with_joint(given, *options.uncertain_joint) : given;
   // The bearings at the speed (their tables read there; PredictOptions::extrapolate_bearings).
   const Assembly assembly = has_speed_tables(joined) ? bearings_at_speed(joined, options) : joined;
+  // An option that changes nothing is said, not ignored.
+  const auto said = [&](Prediction p) {
+    if (options.extrapolate_bearings && !has_speed_tables(joined))
+      p.warnings.push_back(
+          "PredictOptions::extrapolate_bearings changes nothing: no bearing of the assembly has a speed table");
+    return p;
+  };
   const AssemblyModel model(assembly);
   const bool tool = options.receptance == PredictedFrf::ToolPoint;
   const std::vector<double> grid = assembly.grid.values();
-  if (tool && (options.speed_rpm > 0.0 || !model.isotropic())) return two_plane_prediction(model, grid, options, progress);
+  if (tool && (options.speed_rpm > 0.0 || !model.isotropic())) return said(two_plane_prediction(model, grid, options, progress));
   // With a band, the prediction is one unit of work and each joint sample another.
   const double share = options.uncertain_joint ? 1.0 / (options.band.samples + 1.0) : 1.0;
   Prediction p;
@@ -175,7 +182,7 @@ Prediction run_prediction_study(const Assembly& given, const PredictOptions& opt
     if (progress) band.progress = [&](double f) { progress(share + (1.0 - share) * f); };
     p.band = tool_point_band(assembly, *options.uncertain_joint, grid, band);
   }
-  return p;
+  return said(std::move(p));
 }
 
 }  // namespace toolpoint

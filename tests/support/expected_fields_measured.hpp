@@ -69,7 +69,9 @@ inline std::vector<ExpectedField<TapTestFileOptions>> tap_test_file_expected_fie
 inline std::vector<ExpectedField<PeakOptions>> peak_expected_fields() {
   using P = PeakOptions;
   return {
-      {"PeakOptions", "min_prominence", false, 0.0, 1.0, false, true, 0.1, "", "", 1.0, "", TOOLPOINT_MEMBER(P, min_prominence)}};
+      // `toolpoint couple --prominence` (its default 0.1, the field's 0.02).
+      {"PeakOptions", "min_prominence", false, 0.0, 1.0, false, true, 0.1, "--prominence", "-", 1.0, "",
+       TOOLPOINT_MEMBER(P, min_prominence)}};
 }
 
 // Old NoiseEstimateOptions::check: window < 21 or even refused (local by SavgolOptions::check);

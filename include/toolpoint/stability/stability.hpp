@@ -505,6 +505,10 @@ struct BoundaryOptions {
 // (--max-depth, in mm), and parallel.threads (parallel_fields()). The lobes study's time-domain
 // fields are these.
 const std::vector<OptionField<BoundaryOptions>>& boundary_fields();
+// BoundaryOptions::steps as a study that leaves max_steps at its default takes it (the lobes
+// study's, the pitch search's): the first level at most half the default max_steps (the error
+// estimate compares m with 2m steps), described by `help`.
+FieldSpec study_steps_field(const char* help);
 
 struct BoundaryResult {
   std::vector<BoundaryPoint> boundary;  // one per speed of the grid
