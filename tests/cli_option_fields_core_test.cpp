@@ -174,6 +174,23 @@ TEST(CliOptionFieldsCore, SecondNewcomerFindings) {
   EXPECT_NE(out.find("warning: --rpm = 15 is outside the usual range [100, 200000]"), std::string::npos) << out;
 }
 
+// identify's noise flags from noise_spec_fields: --sigma, --floor [-], --phase-sigma [degrees],
+// --calibration (2% or 0.02), --averages; old ranges σ, floor 0…0.5, phase 0…28.6° (0.5 rad),
+// calibration 0…10 %, averages 0…100000, each refused naming the flag before any file is read.
+TEST(CliOptionFieldsCore, IdentifyNoiseFlags) {
+  expect_flags_in_help("identify", {{"--sigma", "-"},
+                                    {"--phase-sigma", "degrees"},
+                                    {"--floor", "-"},
+                                    {"--calibration", "-"},
+                                    {"--averages", "-"}});
+  const std::string base = "identify --assembly " + kExample + " --sh nope_sh.csv --sht nope_sht.csv";
+  expect_refused(base + " --phase-sigma 30", "--phase-sigma 30 degrees must lie in 0…28.6479");
+  expect_refused(base + " --sigma 0.6", "--sigma 0.6 must lie in 0…0.5");
+  expect_refused(base + " --floor -0.01", "--floor -0.01 must lie in 0…0.5");
+  expect_refused(base + " --calibration 11%", "--calibration 0.11 must lie in 0…0.1");
+  expect_refused(base + " --averages 100001", "--averages 100001 must lie in 0…100000");
+}
+
 // toolpoint predict: --speed [rpm] ≥ 0, a spin in rad/s refused; --extrapolate-bearings a switch.
 TEST(CliOptionFieldsCore, PredictFlags) {
   expect_flags_in_help("predict", {{"--speed", "rpm"}, {"--extrapolate-bearings", ""}});

@@ -149,6 +149,23 @@ TEST(OptionFieldsCore, SpeedRangeTableAndCheck) {
   expect_refused(SpeedRange{5000.0, 5000.0, 100}, {"is empty"});
 }
 
+TEST(OptionFieldsCore, NoiseSpecTableAndCheck) {
+  const auto expected = noise_spec_expected_fields();
+  expect_table(noise_spec_fields(), expected, "NoiseSpec", &self<NoiseSpec>);
+  expect_edges(expected, NoiseSpec{});
+  // Beside the table: stated noise all zero; a σ in per cent (5) out of range; a tiny σ that
+  // cannot be meant as a fraction (1e-6 of a magnitude is no tap test's).
+  NoiseSpec n;
+  n.source = NoiseSpec::Source::Stated;
+  expect_refused(n, {"stated noise is not all zero"});
+  n.magnitude_sigma = 5.0;
+  expect_refused(n, {"NoiseSpec::magnitude_sigma 5 must lie in 0…0.5"});
+  n.magnitude_sigma = 1e-6;
+  expect_refused(n, {"NoiseSpec::magnitude_sigma", "cannot be meant"});
+  n.magnitude_sigma = 0.02;
+  EXPECT_NO_THROW(n.check());
+}
+
 TEST(OptionFieldsCore, OverhangStudyTableAndCheck) {
   const auto expected = overhang_study_expected_fields();
   expect_table(overhang_study_fields(), expected, "OverhangStudyOptions", &self<OverhangStudyOptions>);

@@ -28,10 +28,10 @@ namespace {
 struct IdentifyOptions {
   std::string joint = "holder-tool", method = "fit", assembly, sh, s, band, output, plot, filter, joint_output;
   std::vector<std::string> sht;
-  std::optional<double> at, sigma, phase_sigma_deg, floor;
-  double calibration = 0.0;
+  std::optional<double> at;
+  // --sigma, --phase-sigma [°], --floor, --calibration, --averages: noise_spec_fields.
+  FieldFlags<NoiseSpec> noise;
   bool calibration_shared = false;
-  int averages = 0;
   FieldFlags<IdentificationOptions> fields;  // --width (identification_fields)
   int bootstrap = 200, parameters = 6;
   FieldFlags<ParallelOptions> parallel;  // --threads
@@ -92,16 +92,10 @@ void run_identify(const IdentifyOptions& o, const Globals& g) {
   if (!o.band.empty()) io.band_hz = parse_range(o.band, "--band");
   io.at_hz = o.at;
   if (!o.filter.empty()) io.filter = parse_filter(o.filter);
-  if (o.sigma || o.phase_sigma_deg || o.floor) {
+  o.noise.apply(io.noise);
+  // Any σ or floor given states the noise; what is not stated is zero.
+  if (o.noise.given("magnitude_sigma") || o.noise.given("phase_sigma_rad") || o.noise.given("floor"))
     io.noise.source = NoiseSpec::Source::Stated;
-    io.noise.magnitude_sigma = o.sigma.value_or(0.0);
-    io.noise.phase_sigma_rad = o.phase_sigma_deg.value_or(0.0) * kPi / 180.0;
-    io.noise.floor = o.floor.value_or(0.0);
-    // The phase in the flag's unit, degrees (NoiseSpec::check speaks radians).
-    if (o.phase_sigma_deg && *o.phase_sigma_deg > degrees_of(0.5))
-      throw InvalidArgument(fmt::format("--phase-sigma {}° is implausible for a measured FRF (above 28.6°)", *o.phase_sigma_deg),
-                            "the phase noise is in degrees, e.g. --phase-sigma 1");
-  }
   if (o.bootstrap == 0) {
     io.fit.uncertainty = UncertaintyMethod::Linearised;
   } else if (o.bootstrap < 20) {
@@ -110,9 +104,7 @@ void run_identify(const IdentifyOptions& o, const Globals& g) {
   } else {
     io.fit.bootstrap_samples = o.bootstrap;
   }
-  io.noise.calibration = o.calibration;
   io.noise.calibration_shared = o.calibration_shared;
-  io.noise.averages = o.averages;
   io.fit.reciprocal = o.parameters == 6;
   io.fit.seed = o.seed;
   o.parallel.apply(io.fit.parallel);
@@ -330,28 +322,18 @@ void add_identify_command(CLI::App& app, Globals& g) {
       "--filter", o->filter,
       "Savitzky–Golay filter WINDOW,ORDER [frequency points, -] applied to the data (the seed's read-out) and, alike, to "
       "data and model in the fit (default: none; give raw data, the fit needs no filter)");
-  c->add_option("--sigma", o->sigma,
-                "State the noise: relative magnitude σ of every FRF entry [-] (0.02 = 2 %; default: estimated from the data). "
-                "Stated noise is the same on every entry, and what is not stated is zero: --sigma alone means no phase noise")
-      ->check(plausible_value(plausible::kRelativeNoise, "--sigma"));
-  c->add_option("--phase-sigma", o->phase_sigma_deg,
-                "State the noise: phase σ of every FRF entry [degrees] (default: estimated from the data); --phase-sigma "
-                "alone means no magnitude noise");
-  c->add_option("--floor", o->floor,
-                "State the noise: an additive floor, σ of the real and imaginary parts of every entry relative to that "
-                "entry's peak |value| [-] (0.01 = 1 %; default: estimated from the data with the rest)")
-      ->check(plausible_value(plausible::kRelativeNoise, "--floor"));
-  c->add_option_function<std::string>(
-      "--calibration", [o](const std::string& v) { o->calibration = parse_fraction(v, "--calibration"); },
-      "Standard uncertainty (1 σ) of each measured FRF's sensitivity, as 2% or 0.02 (1–3 % is usual; refused above "
-      "10 %): a scale error no data reveal, carried into every interval and written into --joint-output (default: 0)");
+  const auto& noise = noise_spec_fields();
+  const char* stated = "; stating --sigma, --phase-sigma or --floor states the noise, the others then zero (default: "
+                       "estimated from the data)";
+  for (const char* name : {"magnitude_sigma", "phase_sigma_rad", "floor"}) {
+    auto* flag = o->noise.add(c, option_field(noise, name), true);
+    flag->description(flag->get_description() + stated)->default_str("");
+  }
+  o->noise.add_fraction(c, option_field(noise, "calibration"));
   c->add_flag("--calibration-shared", o->calibration_shared,
               "One sensor chain (hammer and response sensor) for every measured FRF: one calibration factor for all of "
               "them (default: one per file)");
-  c->add_option("--averages", o->averages,
-                "Averages behind the files' coherence column: the variance of H from its coherence, (1 − γ²)/(2 n γ²) "
-                "(Bendat & Piersol), replaces the estimated one (default 0: the coherence is not used)")
-      ->check(CLI::Range(0, 100000));
+  o->noise.add(c, option_field(noise, "averages"));
   c->add_option("--bootstrap", o->bootstrap, "Fit intervals: bootstrap replicates (≥ 20), or 0 for linearised intervals")
       ->capture_default_str();
   c->add_option("--parameters", o->parameters, "6: k_tf = k_ym and c_tf = c_ym (reciprocity); 8: all eight free")

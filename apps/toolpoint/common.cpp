@@ -288,8 +288,13 @@ std::string field_help(const FieldSpec& s) {
 void field_flag_refused(const FieldSpec& s, double typed) {
   const char* unit = s.cli_unit ? s.cli_unit : s.unit;
   const std::string in_unit = *unit ? fmt::format(" {}", unit) : "", note = *s.note ? fmt::format(" ({})", s.note) : "";
-  throw InvalidArgument(fmt::format("{} {}{} {}{}", field_flag(s), field_value_text(s, typed), in_unit,
-                                    field_range_phrase(s, s.cli_per_unit), note),
+  // Out of range and, in the field's unit, a value no one can mean: the likely slip too (5 for 5 %).
+  const std::string slip = s.plausible && std::isfinite(typed) && typed != 0.0 &&
+                                   judge(*s.plausible, typed / s.cli_per_unit) == Plausibility::Impossible
+                               ? fmt::format("; {}", s.plausible->hint)
+                               : std::string();
+  throw InvalidArgument(fmt::format("{} {}{} {}{}{}", field_flag(s), field_value_text(s, typed), in_unit,
+                                    field_range_phrase(s, s.cli_per_unit), note, slip),
                         fmt::format("give {} a value {}{}{}", field_flag(s), field_range_value(s, s.cli_per_unit), in_unit, note));
 }
 
@@ -349,11 +354,6 @@ std::string with_flags(std::string text) {
       {"PredictOptions::speed_rpm", "--speed"},
       {"BeamStudyOptions::campbell_rpm", "--campbell"},
       {"BeamStudyOptions::method", "--method"},
-      {"NoiseSpec::magnitude_sigma", "--sigma"},
-      {"NoiseSpec::phase_sigma_rad", "--phase-sigma"},
-      {"NoiseSpec::floor", "--floor"},
-      {"NoiseSpec::calibration", "--calibration"},
-      {"NoiseSpec::averages", "--averages"},
       {"FrfCsvOptions::columns", "--columns"},
       {"FrfCsvOptions::format", "--format"},
       {"FrfReadOptions::units", "--units"},
@@ -422,6 +422,7 @@ std::string with_flags(std::string text) {
   fields(beam_study_fields(), "BeamStudyOptions");
   fields(cutting_fields(), "CuttingConditions");
   fields(peak_fields(), "PeakOptions");
+  fields(noise_spec_fields(), "NoiseSpec");
   fields(speed_range_fields(), "SpeedRange");
   fields(predict_fields(), "PredictOptions");
   fields(overhang_study_fields(), "OverhangStudyOptions");

@@ -533,7 +533,7 @@ void bind_identification_options(py::module_& m) {
                      .def_readwrite("forward", &VerdictOptions::forward,
                                     "ForwardCheckOptions (its smoothing, seed and threads are the study's: filter, fit)");
   def_option_fields(verdict, verdict_fields(), "");
-  options_class<NoiseSpec>(m, "NoiseSpec",
+  auto noise_spec = options_class<NoiseSpec>(m, "NoiseSpec",
                            "The noise of the measured series (studies/identification.hpp): estimated from the data or "
                            "stated; the calibration always stated.",
                            {"source", "estimate", "magnitude_sigma", "phase_sigma_rad", "floor", "calibration",
@@ -543,13 +543,10 @@ void bind_identification_options(py::module_& m) {
           [](NoiseSpec& o, const std::string& v) { o.source = enum_of(v, kNoiseSources, "NoiseSpec::source"); },
           "'estimated' (from the data, by `estimate`) or 'stated' (the σ's and floor below)")
       .def_readwrite("estimate", &NoiseSpec::estimate, "NoiseEstimateOptions: how, when estimated")
-      .def_readwrite("magnitude_sigma", &NoiseSpec::magnitude_sigma, "stated: relative magnitude σ (0.05 = 5 %)")
-      .def_readwrite("phase_sigma_rad", &NoiseSpec::phase_sigma_rad, "stated: phase σ [rad]")
-      .def_readwrite("floor", &NoiseSpec::floor, "stated: additive floor, σ per part relative to each entry's peak")
-      .def_readwrite("calibration", &NoiseSpec::calibration, "σ of each measured FRF's calibration factor (0.02 = 2 %)")
       .def_readwrite("calibration_shared", &NoiseSpec::calibration_shared,
-                     "one sensor chain for every measured FRF: one factor for all")
-      .def_readwrite("averages", &NoiseSpec::averages, "averages behind a coherence column (0: the coherence is not used)");
+                     "one sensor chain for every measured FRF: one factor for all");
+  // magnitude_sigma, phase_sigma_rad, floor, calibration, averages
+  def_option_fields(noise_spec, noise_spec_fields(), "toolpoint identify");
   options_class<IdentificationOptions>(
       m, "IdentificationOptions",
       fields_doc(identification_fields(), "IdentificationOptions", "toolpoint identify",
@@ -587,13 +584,9 @@ Identification identify_from_python(const Assembly& a, const std::vector<Identif
     o.overhang_frfs.push_back(frf_series(overhang_frfs[k].first, overhang_frfs[k].second, name));
     judge_receptance(o.overhang_frfs.back(), name);
   }
-  if (o.noise.source == NoiseSpec::Source::Stated) {
-    if (o.noise.magnitude_sigma > 0.0)
-      check_plausible(plausible::kRelativeNoise, o.noise.magnitude_sigma, "NoiseSpec::magnitude_sigma",
-                      "give σ as a fraction (5 % = 0.05)");
-    if (o.noise.floor > 0.0)
-      check_plausible(plausible::kRelativeNoise, o.noise.floor, "NoiseSpec::floor", "give the floor as a fraction (1 % = 0.01)");
-  }
+  // As the CLI's --sigma, --floor: a σ in per cent refused (check()), an unusual one said.
+  o.noise.check();
+  warn_all(field_plausibility_warnings(noise_spec_fields(), o.noise, "NoiseSpec"));
   const ProgressCallback cb = progress_of(progress);
   py::gil_scoped_release nogil;
   return run_identification_study(a, data, o, cb);

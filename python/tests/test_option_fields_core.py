@@ -1,5 +1,6 @@
 """The option tables of ParallelOptions, UncertaintyOptions, ZeroOrderOptions, BoundaryOptions,
-ModalOptions, BeamStudyOptions, PredictOptions, OverhangStudyOptions, CuttingConditions and SpeedRange
+ModalOptions, BeamStudyOptions, PredictOptions, OverhangStudyOptions, CuttingConditions, SpeedRange and
+NoiseSpec
 (include/toolpoint/option_fields.hpp; issue 26) as Python meets them: the tables' fields and
 defaults (written out here by hand from the headers, not read from the tables), the bound classes'
 attributes with their help and flag in the docstring, the keyword functions documented from their
@@ -30,10 +31,12 @@ EXPECTED = {
     "CuttingConditions": {"teeth": 0, "tangential_coefficient": 0.0, "radial_ratio": 0.0, "feed_per_tooth_m": 0.0,
                           "diameter_m": 0.0, "process_damping_n_per_m": 0.0, "helix_slices": 0},
     "SpeedRange": {"min_rpm": 0.0, "max_rpm": 0.0, "points": 1000},
+    "NoiseSpec": {"magnitude_sigma": 0.0, "phase_sigma_rad": 0.0, "floor": 0.0, "calibration": 0.0, "averages": 0},
 }
 # Bound as classes whose attributes are the table's fields, and the command whose flags they are.
 CLASSES = {"UncertaintyOptions": "toolpoint predict", "ModalOptions": "toolpoint beam",
-           "BeamStudyOptions": "toolpoint beam", "OverhangStudyOptions": "toolpoint couple"}
+           "BeamStudyOptions": "toolpoint beam", "OverhangStudyOptions": "toolpoint couple",
+           "NoiseSpec": "toolpoint identify"}
 
 
 @pytest.mark.parametrize("name", sorted(EXPECTED))
@@ -56,6 +59,8 @@ def test_keywords_documented_from_their_tables():
     ("ModalOptions", "modes", 0), ("ModalOptions", "modes", 20001),
     ("OverhangStudyOptions", "tracking_tolerance", 0.0), ("OverhangStudyOptions", "tracking_tolerance", 1.0),
     ("OverhangStudyOptions", "threads", -1),
+    ("NoiseSpec", "magnitude_sigma", 0.51), ("NoiseSpec", "phase_sigma_rad", 0.51), ("NoiseSpec", "floor", -0.01),
+    ("NoiseSpec", "calibration", 0.11), ("NoiseSpec", "averages", 100001),
 ])
 def test_check_names_the_field(name, field, bad):
     o = getattr(tp, name)()

@@ -344,8 +344,9 @@ def test_identification_and_case_study_options_forms_are_the_keyword_forms(examp
     assert ours.identified == k.identified and ours.to_dict()["seed"] == k.to_dict()["seed"]
     o.verdict = tp.VerdictOptions()
     assert tp.run_identification_study(example, data, o).to_dict() == k.to_dict()
-    # The stated noise judged as the CLI's --sigma: 5 (% meant) refused naming the field.
-    with pytest.raises(tp.InvalidArgument, match=r"NoiseSpec::magnitude_sigma = 5 is so far outside"):
+    # The stated noise judged as the CLI's --sigma: 5 (% meant) refused naming the field
+    # (noise_spec_fields: σ within 0…0.5).
+    with pytest.raises(tp.InvalidArgument, match=r"NoiseSpec::magnitude_sigma 5 must lie in 0…0.5"):
         tp.run_identification_study(example, data, tp.IdentificationOptions(noise=tp.NoiseSpec(source="stated",
                                                                                                magnitude_sigma=5.0)))
     c = tp.run_case_study(example, tp.CaseStudyOptions(fit=False, noise_sigma=0.02, seed=4))

@@ -4,12 +4,13 @@
 #include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
-#include <cstring>
 #include <numeric>
 
 #include "toolpoint/model/coupling.hpp"
+#include "toolpoint/conventions.hpp"
 #include "toolpoint/error.hpp"
 #include "toolpoint/measured/peaks.hpp"
+#include "toolpoint/measured/signal.hpp"
 #include "toolpoint/statistics.hpp"
 #include "toolpoint/version.hpp"
 
@@ -29,32 +30,65 @@ const char* to_string(Route r) {
 const char* to_string(Verdict v) { return v == Verdict::Pass ? "pass" : v == Verdict::Doubtful ? "doubtful" : "fail"; }
 
 void NoiseSpec::check() const {
+  check_fields(noise_spec_fields(), *this, "NoiseSpec");
   if (source == Source::Estimated) {
     estimate.check();
-  } else {
-    try {
-      stated().check();
-    } catch (const InvalidArgument& e) {
-      std::string what = e.what();
-      for (const auto& [from, to] : {std::pair{"StatedNoise::magnitude_sigma", "NoiseSpec::magnitude_sigma"},
-                                     {"StatedNoise::phase_sigma_rad", "NoiseSpec::phase_sigma_rad"},
-                                     {"StatedNoise::floor", "NoiseSpec::floor"}})
-        for (std::size_t at = what.find(from); at != std::string::npos; at = what.find(from, at + std::strlen(to)))
-          what.replace(at, std::strlen(from), to);
-      throw InvalidArgument(what, e.hint());
-    }
+  } else if (magnitude_sigma == 0.0 && phase_sigma_rad == 0.0 && floor == 0.0) {
+    throw InvalidArgument("NoiseSpec::magnitude_sigma 0, NoiseSpec::phase_sigma_rad 0 rad and NoiseSpec::floor 0: stated "
+                          "noise is not all zero",
+                          "state the noise the data have; for exact (model) data use no noise at all");
   }
-  if (!(calibration >= 0.0 && std::isfinite(calibration)))
-    throw InvalidArgument(fmt::format("NoiseSpec::calibration = {} must be finite and ≥ 0", calibration),
-                          "the standard uncertainty of the sensors' sensitivity, e.g. 0.02 for 2 %");
-  if (calibration > 0.1)
-    throw InvalidArgument(fmt::format("NoiseSpec::calibration = {} is above 0.1 (10 %): a sensor that far off is broken, not "
-                                      "uncertain",
-                                      calibration),
-                          "give the sensitivity's standard uncertainty as a fraction, e.g. 0.02 for 2 % (1–3 % is usual)");
-  if (averages < 0 || averages > 100000)
-    throw InvalidArgument(fmt::format("NoiseSpec::averages = {} must lie in 0…100000", averages),
-                          "the number of averages the measurement software used (0: do not use the coherence)");
+}
+
+const std::vector<OptionField<NoiseSpec>>& noise_spec_fields() {
+  using O = NoiseSpec;
+  // The floor and the calibration are the measured-noise model's (NoiseOptions), in the
+  // identification's words; the σ's top is StatedNoise's (no measured FRF is noisier).
+  const auto noise = [](const char* name, const char* help) { return with_help(option_field(noise_fields(), name).spec, help); };
+  static const FieldSpec floor = [&] {
+    FieldSpec s = noise("floor",
+                        "stated: an additive floor, σ of the real and imaginary parts of every entry relative to that entry's "
+                        "peak |value| (0.01 = 1 %)");
+    s.plausible = &plausible::kRelativeNoise;
+    return s;
+  }();
+  static const std::vector<OptionField<O>> fields = {
+      {{.name = "magnitude_sigma",
+        .kind = FieldKind::Real,
+        .min = 0.0,
+        .max = 0.5,
+        .note = "0: none stated",
+        .help = "stated: relative magnitude σ of every FRF entry (0.02 = 2 %)",
+        .cli_name = "sigma",
+        .plausible = &plausible::kRelativeNoise},
+       [](O& o) -> double& { return o.magnitude_sigma; }},
+      {{.name = "phase_sigma_rad",
+        .kind = FieldKind::Real,
+        .unit = "rad",
+        .min = 0.0,
+        .max = 0.5,
+        .note = "0: none stated",
+        .help = "stated: phase σ of every FRF entry",
+        .cli_name = "phase-sigma",
+        .cli_unit = "degrees",
+        .cli_per_unit = 180.0 / kPi},
+       [](O& o) -> double& { return o.phase_sigma_rad; }},
+      {floor, [](O& o) -> double& { return o.floor; }},
+      {noise("calibration",
+             "standard uncertainty (1 σ) of each measured FRF's sensitivity: a scale error no data reveal, carried into "
+             "every interval (0.02 = 2 %; 1–3 % is usual)"),
+       [](O& o) -> double& { return o.calibration; }},
+      {{.name = "averages",
+        .kind = FieldKind::Integer,
+        .min = 0.0,
+        .max = 100000.0,
+        .note = "0: the coherence is not used",
+        .help = "averages behind the files' coherence column: the variance of H from its coherence, (1 − γ²)/(2 n γ²) "
+                "(Bendat & Piersol), replaces the estimated one",
+        .cli_name = "averages"},
+       nullptr,
+       [](O& o) -> int& { return o.averages; }}};
+  return fields;
 }
 
 void VerdictOptions::check() const {

@@ -1,6 +1,6 @@
 // The option tables of the Options types every stage shares — ParallelOptions, UncertaintyOptions,
 // ZeroOrderOptions, BoundaryOptions, ModalOptions, BeamStudyOptions, PredictOptions,
-// OverhangStudyOptions, CuttingConditions, SpeedRange (option_fields.hpp;
+// OverhangStudyOptions, CuttingConditions, SpeedRange, NoiseSpec (option_fields.hpp;
 // issue 26) — expected by hand: each field's range as the hand-written check() had it before its
 // table (parallel.cpp, uncertainty.cpp, stability.cpp, beam.cpp, studies/beam.cpp, studies/predict.cpp,
 // studies/overhang.cpp at b7606b0), and its flag and unit as `toolpoint lobes`, `beam`, `predict` and the commands with
@@ -16,6 +16,7 @@
 #include "toolpoint/parallel.hpp"
 #include "toolpoint/stability/stability.hpp"
 #include "toolpoint/studies/beam.hpp"
+#include "toolpoint/studies/identification.hpp"
 #include "toolpoint/studies/overhang.hpp"
 #include "toolpoint/studies/predict.hpp"
 #include "toolpoint/uncertainty/uncertainty.hpp"
@@ -149,6 +150,24 @@ inline std::vector<ExpectedField<SpeedRange>> speed_range_expected_fields() {
            TOOLPOINT_MEMBER(S, max_rpm)},
           {"SpeedRange", "points", true, 2.0, 1e6, false, false, 50.0, "--speeds", "-", 1.0, "machine.speed_points",
            TOOLPOINT_MEMBER(S, points)}};
+}
+
+// Old NoiseSpec::check (studies/identification.cpp at ee078f9) and StatedNoise::check (noise.cpp):
+// the stated σ's and floor outside 0…0.5 refused, the calibration outside 0…0.1, the averages
+// outside 0…100000. `toolpoint identify --sigma`, `--phase-sigma` [degrees: the flag's old top
+// 28.6° is 0.5 rad], `--floor`, `--calibration`, `--averages`.
+inline std::vector<ExpectedField<NoiseSpec>> noise_spec_expected_fields() {
+  using N = NoiseSpec;
+  constexpr double kDeg = 57.295779513082323;  // degrees per radian
+  const std::string t = "NoiseSpec";
+  return {{t, "magnitude_sigma", false, 0.0, 0.5, false, false, 0.03, "--sigma", "-", 1.0, "",
+           TOOLPOINT_MEMBER(N, magnitude_sigma)},
+          {t, "phase_sigma_rad", false, 0.0, 0.5, false, false, 0.02, "--phase-sigma", "degrees", kDeg, "",
+           TOOLPOINT_MEMBER(N, phase_sigma_rad)},
+          {t, "floor", false, 0.0, 0.5, false, false, 0.01, "--floor", "-", 1.0, "", TOOLPOINT_MEMBER(N, floor)},
+          {t, "calibration", false, 0.0, 0.1, false, false, 0.02, "--calibration", "-", 1.0, "",
+           TOOLPOINT_MEMBER(N, calibration)},
+          {t, "averages", true, 0.0, 100000.0, false, false, 30.0, "--averages", "-", 1.0, "", TOOLPOINT_MEMBER(N, averages)}};
 }
 
 }  // namespace toolpoint::testing

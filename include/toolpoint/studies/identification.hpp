@@ -77,9 +77,15 @@ struct NoiseSpec {
   double calibration = 0.0;
   bool calibration_shared = false;  // one sensor chain for every measured FRF: one factor for all
   int averages = 0;                 // averages behind a coherence column (0: the coherence is not used)
-  void check() const;               // throws InvalidArgument naming `NoiseSpec::<field>`
+  // Throws InvalidArgument naming `NoiseSpec::<field>`: the ranges of noise_spec_fields() (a σ in
+  // per cent refused as cannot be meant), the estimate's options, stated noise all zero.
+  void check() const;
   StatedNoise stated() const { return {magnitude_sigma, phase_sigma_rad, floor}; }
 };
+// NoiseSpec's scalar fields (option_fields.hpp): magnitude_sigma (identify --sigma), phase_sigma_rad
+// (--phase-sigma, in degrees), floor (--floor; NoiseOptions' range), calibration (--calibration,
+// NoiseOptions'), averages (--averages). `source`, `estimate` and `calibration_shared` beside it.
+const std::vector<OptionField<NoiseSpec>>& noise_spec_fields();
 
 struct VerdictOptions {
   // The forward check: its false-alarm probability, material tolerances, replicates. Its smoothing,
