@@ -271,26 +271,56 @@ std::vector<double> offset_runout(const std::vector<double>& pitch_rad, double o
   return r;
 }
 
-void ForceLaw::check() const {
-  if (!finite(tangential_coefficient) || !(tangential_coefficient > 0.0))
-    throw InvalidArgument(fmt::format("ForceLaw::tangential_coefficient = {} N/m² must be positive", tangential_coefficient));
-  if (!finite(radial_ratio) || radial_ratio < 0.0)
-    throw InvalidArgument(fmt::format("ForceLaw::radial_ratio = {} must be ≥ 0", radial_ratio));
-  if (!finite(tangential_edge) || tangential_edge < 0.0)
-    throw InvalidArgument(fmt::format("ForceLaw::tangential_edge = {} N/m must be ≥ 0", tangential_edge));
-  if (!finite(radial_edge) || radial_edge < 0.0)
-    throw InvalidArgument(fmt::format("ForceLaw::radial_edge = {} N/m must be ≥ 0", radial_edge));
-  if (!finite(exponent) || !(exponent > 0.0) || exponent > 1.0)
-    throw InvalidArgument(fmt::format("ForceLaw::exponent = {} must lie in (0, 1] (1: the linear law)", exponent));
-  if (!finite(reference_chip_m) || !(reference_chip_m > 0.0))
-    throw InvalidArgument(fmt::format("ForceLaw::reference_chip_m = {} m must be positive", reference_chip_m));
-  if (!finite(process_damping_n_per_m) || process_damping_n_per_m < 0.0 ||
-      (process_damping_n_per_m > 0.0 &&
-       (process_damping_n_per_m < kProcessDampingMin || process_damping_n_per_m > kProcessDampingMax)))
-    throw InvalidArgument(fmt::format("ForceLaw::process_damping_n_per_m = {:.4g} N/m must be 0 or lie within {:.0e}…{:.0e} N/m",
-                                      process_damping_n_per_m, kProcessDampingMin, kProcessDampingMax),
-                          "C_i is a force per metre of indentation per unit width and speed; a value in N/m² or N/mm is "
-                          "a unit slip");
+void ForceLaw::check() const { check_fields(force_law_fields(), *this, "ForceLaw"); }
+
+const std::vector<OptionField<ForceLaw>>& force_law_fields() {
+  using O = ForceLaw;
+  // The cut's own fields, without the plan file's keys (no plan file holds a force law).
+  const auto cutting = [](const char* name) {
+    FieldSpec s = option_field(cutting_fields(), name).spec;
+    s.plan_key = nullptr;
+    return s;
+  };
+  static const std::vector<OptionField<O>> fields = {
+      {cutting("tangential_coefficient"), [](O& o) -> double& { return o.tangential_coefficient; }},
+      {cutting("radial_ratio"), [](O& o) -> double& { return o.radial_ratio; }},
+      {{.name = "tangential_edge",
+        .kind = FieldKind::Real,
+        .unit = "N/m",
+        .min = 0.0,
+        .help = "tangential edge coefficient K_te, a force per unit depth whatever the chip",
+        .cli_name = "kte",
+        .plausible = &plausible::kEdgeCoefficient},
+       [](O& o) -> double& { return o.tangential_edge; }},
+      {{.name = "radial_edge",
+        .kind = FieldKind::Real,
+        .unit = "N/m",
+        .min = 0.0,
+        .help = "radial edge coefficient K_re, a force per unit depth whatever the chip",
+        .cli_name = "kre",
+        .plausible = &plausible::kEdgeCoefficient},
+       [](O& o) -> double& { return o.radial_edge; }},
+      {{.name = "exponent",
+        .kind = FieldKind::Real,
+        .min = 0.0,
+        .max = 1.0,
+        .min_open = true,
+        .help = "the force law F = K h₀ (h/h₀)^x per unit depth: its exponent x (1: the linear law)",
+        .cli_name = "exponent"},
+       [](O& o) -> double& { return o.exponent; }},
+      {{.name = "reference_chip_m",
+        .kind = FieldKind::Real,
+        .unit = "m",
+        .min = 0.0,
+        .min_open = true,
+        .help = "reference chip h₀ of the exponential law, at which K is given",
+        .cli_name = "reference-chip",
+        .cli_unit = "mm",
+        .cli_per_unit = 1e3,
+        .plausible = &plausible::kFeedPerTooth},
+       [](O& o) -> double& { return o.reference_chip_m; }},
+      {cutting("process_damping_n_per_m"), [](O& o) -> double& { return o.process_damping_n_per_m; }}};
+  return fields;
 }
 
 ForceLaw linear_force_law(const CuttingConditions& cutting) {

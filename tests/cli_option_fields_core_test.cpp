@@ -191,6 +191,27 @@ TEST(CliOptionFieldsCore, IdentifyNoiseFlags) {
   expect_refused(base + " --averages 100001", "--averages 100001 must lie in 0…100000");
 }
 
+// simulate's force law from force_law_fields: --kte, --kre [N/m] ≥ 0, --exponent in (0, 1],
+// --reference-chip [mm] > 0, --process-damping 1e3…1e8 N/m (0: none), refused naming the flag.
+TEST(CliOptionFieldsCore, SimulateForceLawFlags) {
+  expect_flags_in_help("simulate", {{"--kte", "N/m"},
+                                    {"--kre", "N/m"},
+                                    {"--exponent", "-"},
+                                    {"--reference-chip", "mm"},
+                                    {"--process-damping", "N/m"}});
+  const std::string base = "simulate --mode-x 0.03993,0.011,922 --rigid-y --teeth 2 --diameter 20 --kt 6e8 --kn 2e8 "
+                           "--immersion 0.5 --milling down --feed 0.1 --rpm 10000 --depth 1 --revolutions 4";
+  expect_refused(base + " --kte -1", "--kte -1 N/m must be ≥ 0");
+  expect_refused(base + " --kre -1", "--kre -1 N/m must be ≥ 0");
+  expect_refused(base + " --exponent 1.2", "--exponent 1.2 must lie in (0, 1]");
+  expect_refused(base + " --exponent 0", "--exponent 0 must lie in (0, 1]");
+  expect_refused(base + " --reference-chip 0", "--reference-chip 0 mm must be > 0");
+  expect_refused(base + " --reference-chip 50", "--reference-chip");  // 50 mm: metres' slip the other way
+  expect_refused(base + " --process-damping 10", "--process-damping 10 N/m must lie in 1000…1e+08");
+  std::string out;
+  EXPECT_EQ(run_toolpoint(base + " --kte 2e4 --kre 1e4 --exponent 0.8 --reference-chip 0.05", &out), 0) << out;
+}
+
 // toolpoint predict: --speed [rpm] ≥ 0, a spin in rad/s refused; --extrapolate-bearings a switch.
 TEST(CliOptionFieldsCore, PredictFlags) {
   expect_flags_in_help("predict", {{"--speed", "rpm"}, {"--extrapolate-bearings", ""}});

@@ -166,6 +166,17 @@ TEST(OptionFieldsCore, NoiseSpecTableAndCheck) {
   EXPECT_NO_THROW(n.check());
 }
 
+TEST(OptionFieldsCore, ForceLawTableAndCheck) {
+  const auto expected = force_law_expected_fields();
+  expect_table(force_law_fields(), expected, "ForceLaw", &self<ForceLaw>);
+  ForceLaw valid;
+  valid.tangential_coefficient = 6e8;
+  valid.radial_ratio = 0.3;
+  expect_edges(expected, valid);
+  valid.tangential_coefficient = 600.0;  // MPa
+  expect_refused(valid, {"ForceLaw::tangential_coefficient", "cannot be meant"});
+}
+
 TEST(OptionFieldsCore, OverhangStudyTableAndCheck) {
   const auto expected = overhang_study_expected_fields();
   expect_table(overhang_study_fields(), expected, "OverhangStudyOptions", &self<OverhangStudyOptions>);

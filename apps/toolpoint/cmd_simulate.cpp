@@ -31,8 +31,9 @@ struct SimulateArgs {
   bool rigid_tool = false;
   CutArgs cut;
   std::vector<double> pitch_deg, runout_mm, helix_deg;
-  double diameter_mm = 0.0, flute_mm = 0.0, process_damping = 0.0;
-  double kte = 0.0, kre = 0.0, exponent = 1.0, reference_chip_mm = 0.1;
+  double diameter_mm = 0.0, flute_mm = 0.0;
+  // --kte, --kre, --exponent, --reference-chip [mm], --process-damping: force_law_fields.
+  FieldFlags<ForceLaw> force;
   std::string rpm, depth;
   double feed_mm = 0.0;
   // --revolutions, --steps, --slices, --memory-revolutions, --analysed: from simulation_fields.
@@ -98,11 +99,7 @@ ForceLaw force_of(const SimulateArgs& o) {
   CuttingConditions cc = cutting_conditions(o.cut);
   cc.teeth = std::max(1, cc.teeth);  // the force law is per tooth: the count is the cutter's
   ForceLaw f = linear_force_law(cc);
-  f.process_damping_n_per_m = o.process_damping;
-  f.tangential_edge = o.kte;
-  f.radial_edge = o.kre;
-  f.exponent = o.exponent;
-  f.reference_chip_m = 1e-3 * o.reference_chip_mm;
+  o.force.apply(f);
   return f;
 }
 
@@ -373,17 +370,11 @@ void add_common(CLI::App* c, SimulateArgs& o, Globals& g, bool map) {
                 "Radial runout per tooth [mm]: each tooth cuts at D/2 + its value (e.g. 0.01,0,0,-0.005; default none)")
       ->delimiter(',');
   c->add_option("--flute-length", o.flute_mm, "Flute length [mm]: deeper cuts are refused (default 0: not checked)");
-  c->add_option("--kte", o.kte, "Tangential edge coefficient K_te [N/m], ≥ 0 (default 0)")
-      ->check(plausible_value(plausible::kEdgeCoefficient, "--kte"));
-  c->add_option("--kre", o.kre, "Radial edge coefficient K_re [N/m], ≥ 0 (default 0)")
-      ->check(plausible_value(plausible::kEdgeCoefficient, "--kre"));
-  c->add_option("--process-damping", o.process_damping,
-                "Process damping (indentation) coefficient C_i [N/m, not N/m² or N/mm], plausible 1e3…1e8: each slice in "
-                "the cut adds damping C_i·dz/V normal to the surface (V = πDn/60) (default 0: none)");
-  c->add_option("--exponent", o.exponent,
-                "Force law F = K h0 (h/h0)^x per unit depth: the exponent x in (0, 1] (1: the linear law)")
-      ->capture_default_str();
-  c->add_option("--reference-chip", o.reference_chip_mm, "h0 of the exponential law [mm]")->capture_default_str();
+  const auto& force = force_law_fields();
+  for (const char* name : {"tangential_edge", "radial_edge"}) o.force.add(c, option_field(force, name), true);
+  o.force.add(c, option_field(force, "process_damping_n_per_m"));
+  o.force.add(c, option_field(force, "exponent"));
+  o.force.add(c, option_field(force, "reference_chip_m"));
   c->add_option("--feed", o.feed_mm, "Feed per tooth [mm] (the mean; variable pitch shares it by spacing) (required)")
       ->required(map);
   c->add_option("--rpm", o.rpm, map ? "Spindle speed range MIN:MAX [rpm] (required)" : "Spindle speed [rpm] (required)")

@@ -313,17 +313,10 @@ std::string with_flags(std::string text) {
       {"format_plan_part", "`toolpoint plan --shard I/N --part FILE`"},
       {"run_simulated_map_part", "`toolpoint simulate map --shard I/N`"},
       {"format_simulated_map_part", "`toolpoint simulate map --shard I/N --part FILE`"},
-      {"ForceLaw::tangential_coefficient", "--kt"},
-      {"ForceLaw::radial_ratio", "--kr"},
-      {"ForceLaw::tangential_edge", "--kte"},
-      {"ForceLaw::radial_edge", "--kre"},
-      {"ForceLaw::exponent", "--exponent"},
-      {"ForceLaw::reference_chip_m", "--reference-chip"},
       {"Cutter::diameter_m", "--diameter"},
       {"Cutter::pitch_rad", "--pitch"},
       {"Cutter::helix_rad", "--helix"},
       {"Cutter::tooth_helix_rad", "--helix"},
-      {"ForceLaw::process_damping_n_per_m", "--process-damping"},
       {"Cutter::runout_m", "--runout"},
       {"Cutter::flute_length_m", "--flute-length"},
       {"MillingCut::speed_rpm", "--rpm"},
@@ -423,6 +416,7 @@ std::string with_flags(std::string text) {
   fields(cutting_fields(), "CuttingConditions");
   fields(peak_fields(), "PeakOptions");
   fields(noise_spec_fields(), "NoiseSpec");
+  fields(force_law_fields(), "ForceLaw");
   fields(speed_range_fields(), "SpeedRange");
   fields(predict_fields(), "PredictOptions");
   fields(overhang_study_fields(), "OverhangStudyOptions");

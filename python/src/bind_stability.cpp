@@ -627,6 +627,7 @@ void bind_stability(py::module_& m) {
   tables["CuttingConditions"] = fields_data(cutting_fields());
   tables["SpeedRange"] = fields_data(speed_range_fields());
   tables["NoiseSpec"] = fields_data(noise_spec_fields());
+  tables["ForceLaw"] = fields_data(force_law_fields());
   tables["SimulationOptions"] = fields_data(simulation_fields());
   tables["PitchChoiceOptions"] = fields_data(pitch_choice_fields());
   tables["JointFitOptions"] = fields_data(joint_fit_fields());

@@ -1,6 +1,6 @@
 """The option tables of ParallelOptions, UncertaintyOptions, ZeroOrderOptions, BoundaryOptions,
-ModalOptions, BeamStudyOptions, PredictOptions, OverhangStudyOptions, CuttingConditions, SpeedRange and
-NoiseSpec
+ModalOptions, BeamStudyOptions, PredictOptions, OverhangStudyOptions, CuttingConditions, SpeedRange,
+NoiseSpec and ForceLaw
 (include/toolpoint/option_fields.hpp; issue 26) as Python meets them: the tables' fields and
 defaults (written out here by hand from the headers, not read from the tables), the bound classes'
 attributes with their help and flag in the docstring, the keyword functions documented from their
@@ -31,6 +31,8 @@ EXPECTED = {
     "CuttingConditions": {"teeth": 0, "tangential_coefficient": 0.0, "radial_ratio": 0.0, "feed_per_tooth_m": 0.0,
                           "diameter_m": 0.0, "process_damping_n_per_m": 0.0, "helix_slices": 0},
     "SpeedRange": {"min_rpm": 0.0, "max_rpm": 0.0, "points": 1000},
+    "ForceLaw": {"tangential_coefficient": 0.0, "radial_ratio": 0.0, "tangential_edge": 0.0, "radial_edge": 0.0,
+                 "exponent": 1.0, "reference_chip_m": 1e-4, "process_damping_n_per_m": 0.0},
     "NoiseSpec": {"magnitude_sigma": 0.0, "phase_sigma_rad": 0.0, "floor": 0.0, "calibration": 0.0, "averages": 0},
 }
 # Bound as classes whose attributes are the table's fields, and the command whose flags they are.

@@ -102,14 +102,7 @@ nlohmann::json header_json(const SimulatedMapHeader& h) {
             {"tooth_helix_rad", hexes(o.cutter.tooth_helix_rad)},
             {"runout_m", hexes(o.cutter.runout_m)},
             {"flute_length_m", hex(o.cutter.flute_length_m)}}},
-          {"force",
-           {{"tangential_coefficient", hex(o.force.tangential_coefficient)},
-            {"radial_ratio", hex(o.force.radial_ratio)},
-            {"tangential_edge", hex(o.force.tangential_edge)},
-            {"radial_edge", hex(o.force.radial_edge)},
-            {"exponent", hex(o.force.exponent)},
-            {"reference_chip_m", hex(o.force.reference_chip_m)},
-            {"process_damping_n_per_m", hex(o.force.process_damping_n_per_m)}}},
+          {"force", fields_json(force_law_fields(), o.force, part_file::hex_json)},
           {"cut",
            {{"feed_per_tooth_m", hex(o.cut.feed_per_tooth_m)},
             {"entry_rad", hex(o.cut.engagement.entry_rad)},
@@ -138,13 +131,7 @@ SimulatedMapHeader parse_header(const PartReader& r, const nlohmann::json& j) {
   o.cutter.runout_m = r.numbers(c, "runout_m", "cutter.");
   o.cutter.flute_length_m = r.number(c, "flute_length_m", "cutter.");
   const nlohmann::json& f = r.at(j, "force", "");
-  o.force.tangential_coefficient = r.number(f, "tangential_coefficient", "force.");
-  o.force.radial_ratio = r.number(f, "radial_ratio", "force.");
-  o.force.tangential_edge = r.number(f, "tangential_edge", "force.");
-  o.force.radial_edge = r.number(f, "radial_edge", "force.");
-  o.force.exponent = r.number(f, "exponent", "force.");
-  o.force.reference_chip_m = r.number(f, "reference_chip_m", "force.");
-  o.force.process_damping_n_per_m = r.number(f, "process_damping_n_per_m", "force.");
+  part_file::read_fields(r, f, "force.", force_law_fields(), o.force);
   const nlohmann::json& cut = r.at(j, "cut", "");
   o.cut.feed_per_tooth_m = r.number(cut, "feed_per_tooth_m", "cut.");
   o.cut.engagement.entry_rad = r.number(cut, "entry_rad", "cut.");

@@ -1,6 +1,6 @@
 // The option tables of the Options types every stage shares — ParallelOptions, UncertaintyOptions,
 // ZeroOrderOptions, BoundaryOptions, ModalOptions, BeamStudyOptions, PredictOptions,
-// OverhangStudyOptions, CuttingConditions, SpeedRange, NoiseSpec (option_fields.hpp;
+// OverhangStudyOptions, CuttingConditions, SpeedRange, NoiseSpec, ForceLaw (option_fields.hpp;
 // issue 26) — expected by hand: each field's range as the hand-written check() had it before its
 // table (parallel.cpp, uncertainty.cpp, stability.cpp, beam.cpp, studies/beam.cpp, studies/predict.cpp,
 // studies/overhang.cpp at b7606b0), and its flag and unit as `toolpoint lobes`, `beam`, `predict` and the commands with
@@ -14,6 +14,7 @@
 #include "support/expected_fields.hpp"
 #include "toolpoint/model/beam.hpp"
 #include "toolpoint/parallel.hpp"
+#include "toolpoint/stability/simulation.hpp"
 #include "toolpoint/stability/stability.hpp"
 #include "toolpoint/studies/beam.hpp"
 #include "toolpoint/studies/identification.hpp"
@@ -168,6 +169,25 @@ inline std::vector<ExpectedField<NoiseSpec>> noise_spec_expected_fields() {
           {t, "calibration", false, 0.0, 0.1, false, false, 0.02, "--calibration", "-", 1.0, "",
            TOOLPOINT_MEMBER(N, calibration)},
           {t, "averages", true, 0.0, 100000.0, false, false, 30.0, "--averages", "-", 1.0, "", TOOLPOINT_MEMBER(N, averages)}};
+}
+
+// Old ForceLaw::check (simulation.cpp at eeda478): K_t ≤ 0, K_r < 0, K_te < 0, K_re < 0, x outside
+// (0, 1], h₀ ≤ 0 refused; C_i 0 or within 1e3…1e8 N/m. `toolpoint simulate --kt`, `--kr`, `--kte`,
+// `--kre` [N/m], `--exponent`, `--reference-chip` [mm], `--process-damping` [N/m].
+inline std::vector<ExpectedField<ForceLaw>> force_law_expected_fields() {
+  using F = ForceLaw;
+  const std::string t = "ForceLaw";
+  return {{t, "tangential_coefficient", false, 0.0, kInf, true, false, 2e9, "--kt", "N/m²", 1.0, "",
+           TOOLPOINT_MEMBER(F, tangential_coefficient)},
+          {t, "radial_ratio", false, 0.0, kInf, false, false, 0.3, "--kr", "-", 1.0, "", TOOLPOINT_MEMBER(F, radial_ratio)},
+          {t, "tangential_edge", false, 0.0, kInf, false, false, 2e4, "--kte", "N/m", 1.0, "",
+           TOOLPOINT_MEMBER(F, tangential_edge)},
+          {t, "radial_edge", false, 0.0, kInf, false, false, 1e4, "--kre", "N/m", 1.0, "", TOOLPOINT_MEMBER(F, radial_edge)},
+          {t, "exponent", false, 0.0, 1.0, true, false, 0.7, "--exponent", "-", 1.0, "", TOOLPOINT_MEMBER(F, exponent)},
+          {t, "reference_chip_m", false, 0.0, kInf, true, false, 5e-5, "--reference-chip", "mm", 1e3, "",
+           TOOLPOINT_MEMBER(F, reference_chip_m)},
+          {t, "process_damping_n_per_m", false, 1e3, 1e8, false, false, 2e5, "--process-damping", "N/m", 1.0, "",
+           TOOLPOINT_MEMBER(F, process_damping_n_per_m)}};
 }
 
 }  // namespace toolpoint::testing

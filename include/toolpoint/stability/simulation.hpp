@@ -125,8 +125,15 @@ struct ForceLaw {
   // process_damping_n_per_m): each slice in the cut adds −C_i dz (u·ṙ)/V u, u = (sin φ, cos φ),
   // V = πDn/60. C_i [N/m] within kProcessDampingMin…kProcessDampingMax; 0: none.
   double process_damping_n_per_m = 0.0;
-  void check() const;  // throws InvalidArgument naming `ForceLaw::field`
+  // Throws InvalidArgument naming `ForceLaw::field`: the ranges of force_law_fields() (a K_t in
+  // N/mm² refused as cannot be meant).
+  void check() const;
 };
+// ForceLaw's fields (option_fields.hpp): tangential_coefficient, radial_ratio and
+// process_damping_n_per_m are CuttingConditions' (cutting_fields: --kt, --kr, --process-damping);
+// tangential_edge (simulate --kte), radial_edge (--kre), exponent (--exponent), reference_chip_m
+// (--reference-chip, in mm). The simulated map's part file writes and reads them by their names.
+const std::vector<OptionField<ForceLaw>>& force_law_fields();
 
 // The linear law of stability.hpp's cutting conditions (no edge forces; their process damping).
 ForceLaw linear_force_law(const CuttingConditions& cutting);
