@@ -218,8 +218,7 @@ bool Cutter::uniform() const {
 }
 
 void Cutter::check() const {
-  if (!finite(diameter_m) || !(diameter_m > 0.0))
-    throw InvalidArgument(fmt::format("Cutter::diameter_m = {} m must be positive", diameter_m));
+  check_fields(cutter_fields(), *this, "Cutter");
   if (pitch_rad.empty() || pitch_rad.size() > 100)
     throw InvalidArgument(fmt::format("Cutter::pitch_rad has {} teeth: need 1…100", pitch_rad.size()));
   double sum = 0.0;
@@ -233,8 +232,6 @@ void Cutter::check() const {
                                       "(2π rad, 360°)",
                                       sum, degrees_of(sum)),
                           "give the angle from each tooth to the next, all of them, summing to 360°");
-  if (!finite(helix_rad) || helix_rad < 0.0 || helix_rad > radians_of(80.0))
-    throw InvalidArgument(fmt::format("Cutter::helix_rad = {} rad must lie in [0, 80°]", helix_rad));
   if (!tooth_helix_rad.empty() && tooth_helix_rad.size() != pitch_rad.size())
     throw InvalidArgument(fmt::format("Cutter::tooth_helix_rad has {} angles for {} teeth: one per tooth, or none",
                                       tooth_helix_rad.size(), pitch_rad.size()));
@@ -249,8 +246,41 @@ void Cutter::check() const {
       throw InvalidArgument(fmt::format("Cutter::runout_m[{}] = {} m: a runout must be smaller than the radius {} m", j,
                                         runout_m[j], 0.5 * diameter_m),
                             "give the runout in metres (10 µm = 1e-5)");
-  if (!finite(flute_length_m) || flute_length_m < 0.0)
-    throw InvalidArgument(fmt::format("Cutter::flute_length_m = {} m must be ≥ 0 (0: not checked)", flute_length_m));
+}
+
+const std::vector<OptionField<Cutter>>& cutter_fields() {
+  using O = Cutter;
+  static const std::vector<OptionField<O>> fields = {
+      {{.name = "diameter_m",
+        .kind = FieldKind::Real,
+        .unit = "m",
+        .min = 0.0,
+        .min_open = true,
+        .help = "tool diameter D",
+        .cli_name = "diameter",
+        .cli_unit = "mm",
+        .cli_per_unit = 1e3,
+        .plausible = &plausible::kToolDiameter},
+       [](O& o) -> double& { return o.diameter_m; }},
+      {{.name = "helix_rad",
+        .kind = FieldKind::Real,
+        .unit = "rad",
+        .min = 0.0,
+        .max = radians_of(80.0),
+        .help = "helix angle β of every tooth (> 0 splits the cut into axial slices)"},
+       [](O& o) -> double& { return o.helix_rad; }},
+      {{.name = "flute_length_m",
+        .kind = FieldKind::Real,
+        .unit = "m",
+        .min = 0.0,
+        .note = "0: not checked",
+        .help = "flute length: deeper cuts are refused",
+        .cli_name = "flute-length",
+        .cli_unit = "mm",
+        .cli_per_unit = 1e3,
+        .plausible = &plausible::kToolLength},
+       [](O& o) -> double& { return o.flute_length_m; }}};
+  return fields;
 }
 
 Cutter uniform_cutter(int teeth, double diameter_m) {
@@ -331,12 +361,38 @@ ForceLaw linear_force_law(const CuttingConditions& cutting) {
   return f;
 }
 
+const std::vector<OptionField<MillingCut>>& milling_cut_fields() {
+  using O = MillingCut;
+  // The cut's feed (cutting_fields), where 0 is a cut without a static chip.
+  static const FieldSpec feed = [] {
+    FieldSpec s = with_help(option_field(cutting_fields(), "feed_per_tooth_m").spec,
+                            "mean feed per tooth c (variable pitch shares it by spacing)");
+    s.note = "0: no static chip, the regeneration alone";
+    return s;
+  }();
+  static const std::vector<OptionField<O>> fields = {
+      {{.name = "speed_rpm",
+        .kind = FieldKind::Real,
+        .unit = "rpm",
+        .min = 0.0,
+        .min_open = true,
+        .help = "spindle speed n",
+        .plausible = &plausible::kSpindleSpeedRpm},
+       [](O& o) -> double& { return o.speed_rpm; }},
+      {{.name = "depth_m",
+        .kind = FieldKind::Real,
+        .unit = "m",
+        .min = 0.0,
+        .note = "0: nothing is cut, the tool vibrates freely",
+        .help = "axial depth of cut a",
+        .plausible = &plausible::kDepth},
+       [](O& o) -> double& { return o.depth_m; }},
+      {feed, [](O& o) -> double& { return o.feed_per_tooth_m; }}};
+  return fields;
+}
+
 void MillingCut::check() const {
-  if (!finite(speed_rpm) || !(speed_rpm > 0.0))
-    throw InvalidArgument(fmt::format("MillingCut::speed_rpm = {} rpm must be positive", speed_rpm));
-  if (!finite(depth_m) || depth_m < 0.0) throw InvalidArgument(fmt::format("MillingCut::depth_m = {} m must be ≥ 0", depth_m));
-  if (!finite(feed_per_tooth_m) || feed_per_tooth_m < 0.0)
-    throw InvalidArgument(fmt::format("MillingCut::feed_per_tooth_m = {} m must be ≥ 0", feed_per_tooth_m));
+  check_fields(milling_cut_fields(), *this, "MillingCut");
   try {
     engagement.check();
   } catch (const InvalidArgument& e) {

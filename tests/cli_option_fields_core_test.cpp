@@ -210,6 +210,19 @@ TEST(CliOptionFieldsCore, SimulateForceLawFlags) {
   expect_refused(base + " --process-damping 10", "--process-damping 10 N/m must lie in 1000…1e+08");
   std::string out;
   EXPECT_EQ(run_toolpoint(base + " --kte 2e4 --kre 1e4 --exponent 0.8 --reference-chip 0.05", &out), 0) << out;
+  // The cutter and the cut (cutter_fields, milling_cut_fields) and the map's grid (depth_range_fields).
+  expect_flags_in_help("simulate", {{"--diameter", "mm"}, {"--flute-length", "mm"}, {"--feed", "mm"}});
+  expect_flags_in_help("simulate map", {{"--speeds", "-"}, {"--depths", "-"}});
+  const std::string cut = "simulate --mode-x 0.03993,0.011,922 --rigid-y --teeth 2 --kt 6e8 --kn 2e8 --immersion 0.5 "
+                          "--milling down --rpm 10000 --depth 1 --revolutions 4";
+  expect_refused(cut + " --feed 0.1 --diameter 0.016", "--diameter takes mm");
+  expect_refused(cut + " --feed 0.1 --diameter 0", "--diameter 0 mm must be > 0");
+  expect_refused(base + " --flute-length -1", "--flute-length -1 mm must be ≥ 0");
+  expect_refused(cut + " --diameter 20 --feed 20", "--feed 20 mm must lie in 0…10");
+  const std::string map = "simulate map --mode-x 0.03993,0.011,922 --rigid-y --teeth 2 --diameter 20 --kt 6e8 --kn 2e8 "
+                          "--immersion 0.5 --milling down --feed 0.1 --rpm 8000:12000 --depth 0.5:2 --revolutions 4";
+  expect_refused(map + " --depths 1", "--depths 1 must lie in 2…100000");
+  expect_refused(map + " --speeds 1", "--speeds 1 must lie in 2…1000000");
 }
 
 // toolpoint predict: --speed [rpm] ≥ 0, a spin in rad/s refused; --extrapolate-bearings a switch.

@@ -15,6 +15,7 @@
 #include "support/expected_fields_core.hpp"
 #include "toolpoint/studies/lobes.hpp"
 #include "toolpoint/studies/plan.hpp"
+#include "toolpoint/stability/simulation.hpp"
 
 using namespace toolpoint;
 using namespace toolpoint::testing;
@@ -175,6 +176,23 @@ TEST(OptionFieldsCore, ForceLawTableAndCheck) {
   expect_edges(expected, valid);
   valid.tangential_coefficient = 600.0;  // MPa
   expect_refused(valid, {"ForceLaw::tangential_coefficient", "cannot be meant"});
+}
+
+// The simulation's cutter, cut and depth grid. Depth and speed have no top in range: a depth of
+// 3 m or a speed of 3e6 rpm is refused as what cannot be meant, so the edges judged are the lower.
+TEST(OptionFieldsCore, SimulationInputTablesAndCheck) {
+  expect_table(cutter_fields(), cutter_expected_fields(), "Cutter", &self<Cutter>);
+  expect_edges(cutter_expected_fields(), uniform_cutter(4, 0.02));
+  MillingCut cut{10000.0, 0.001, 1e-4, engagement_from_immersion(0.5, MillingDirection::Down)};
+  expect_table(milling_cut_fields(), milling_cut_expected_fields(), "MillingCut", &self<MillingCut>);
+  expect_edges(milling_cut_expected_fields(), cut);
+  expect_table(depth_range_fields(), depth_range_expected_fields(), "DepthRange", &self<DepthRange>);
+  expect_edges(depth_range_expected_fields(), DepthRange{1e-4, 0.005, 20});
+  expect_refused(DepthRange{0.005, 0.001, 20}, {"is empty", "DepthRange::min_m and max_m"});
+  Cutter mm = uniform_cutter(4, 16.0);  // 16 mm given as metres
+  expect_refused(mm, {"Cutter::diameter_m", "cannot be meant"});
+  cut.depth_m = 20.0;  // 20 mm given as metres: no cutting edge is 20 m long
+  expect_refused(cut, {"MillingCut::depth_m", "cannot be meant"});
 }
 
 TEST(OptionFieldsCore, OverhangStudyTableAndCheck) {

@@ -276,7 +276,6 @@ std::string with_flags(std::string text);
 void check_plausible(const PlausibleRange& range, double value, const std::string& what, const std::string& fix);
 // Options in the CLI's own units (mm, rpm): their plausible ranges.
 inline constexpr PlausibleRange kDepthMm{0.1, 300.0, 10.0, "this depth is in mm (5 mm = 5, not 0.005)"};
-inline constexpr PlausibleRange kDiameterMm{0.2, 200.0, 10.0, "the diameter is in mm (16 mm = 16, not 0.016)"};
 
 // read_frf_file, its errors naming the command's flags where the library names its fields.
 FrfFileData read_frf_file_for_cli(const std::string& path, const FrfReadOptions& options);

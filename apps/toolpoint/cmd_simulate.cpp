@@ -23,7 +23,6 @@ namespace toolpoint::cli {
 
 namespace {
 
-constexpr PlausibleRange kFeedMm{1e-3, 2.0, 10.0, "the feed per tooth is in mm (0.1 mm = 0.1, not 1e-4)"};
 
 struct SimulateArgs {
   DynamicsArgs dyn;
@@ -31,15 +30,16 @@ struct SimulateArgs {
   bool rigid_tool = false;
   CutArgs cut;
   std::vector<double> pitch_deg, runout_mm, helix_deg;
-  double diameter_mm = 0.0, flute_mm = 0.0;
+  FieldFlags<Cutter> cutter;  // --diameter, --flute-length [mm]: cutter_fields
   // --kte, --kre, --exponent, --reference-chip [mm], --process-damping: force_law_fields.
   FieldFlags<ForceLaw> force;
   std::string rpm, depth;
-  double feed_mm = 0.0;
+  FieldFlags<MillingCut> feed;  // --feed [mm]: milling_cut_fields
   // --revolutions, --steps, --slices, --memory-revolutions, --analysed: from simulation_fields.
   FieldFlags<SimulationOptions> simulation;
   // The map.
-  int speeds = 200, depths = 100;
+  FieldFlags<SpeedRange> speeds;  // --speeds: speed_range_fields' points (the map's default 200)
+  FieldFlags<DepthRange> depths;  // --depths: depth_range_fields' points
   FieldFlags<ParallelOptions> parallel;  // --threads
   std::string shard, part;
   std::vector<std::string> parts;  // merge
@@ -77,21 +77,19 @@ SimulationInput simulation_input(const SimulateArgs& o, const Globals& g) {
 }
 
 Cutter cutter_of(const SimulateArgs& o) {
-  check_plausible(kDiameterMm, o.diameter_mm, "--diameter [mm]", "e.g. --diameter 16");
   Cutter c;
-  c.diameter_m = 1e-3 * o.diameter_mm;
   const int teeth = cutting_conditions(o.cut).teeth;  // 0: not given
   if (!o.pitch_deg.empty()) {
     c.pitch_rad = pitch_radians(o.pitch_deg, teeth);
   } else {
     if (teeth < 1) throw InvalidArgument("give the teeth: --teeth N (evenly spaced) or --pitch DEG,DEG,...", "e.g. --teeth 4");
-    c = uniform_cutter(teeth, c.diameter_m);
+    c.pitch_rad = uniform_cutter(teeth, 1.0).pitch_rad;  // even spacing (the diameter is the flag's)
   }
+  o.cutter.apply(c);
   const std::vector<double> helix = helix_radians(o.helix_deg);
   if (helix.size() == 1) c.helix_rad = helix.front();
   else c.tooth_helix_rad = helix;  // one per tooth (Cutter::check counts them)
   for (double r : o.runout_mm) c.runout_m.push_back(1e-3 * r);
-  c.flute_length_m = 1e-3 * o.flute_mm;
   return c;
 }
 
@@ -110,8 +108,9 @@ SimulationOptions simulation_of(const SimulateArgs& o) {
 }
 
 double feed_of(const SimulateArgs& o) {
-  check_plausible(kFeedMm, o.feed_mm, "--feed [mm per tooth]", "e.g. --feed 0.1");
-  return 1e-3 * o.feed_mm;
+  MillingCut cut;
+  o.feed.apply(cut);
+  return cut.feed_per_tooth_m;
 }
 
 // The library's messages name its fields; here they are the flags.
@@ -292,10 +291,12 @@ void run_map(const SimulateArgs& o, const Globals& g, const std::string& study) 
   const auto [n0, n1] = parse_range(o.rpm, "--rpm");
   for (double n : {n0, n1})
     check_plausible(plausible::kSpindleSpeedRpm, n, "--rpm", "give spindle speeds in rpm, e.g. --rpm 5000:25000");
-  mo.speeds = {n0, n1, o.speeds};
+  mo.speeds = {n0, n1, mo.speeds.points};
+  o.speeds.apply(mo.speeds);
   const auto [d0, d1] = parse_range(o.depth, "--depth");
   for (double d : {d0, d1}) check_plausible(kDepthMm, d, "--depth [mm]", "e.g. --depth 0.1:5");
-  mo.depths = {1e-3 * d0, 1e-3 * d1, o.depths};
+  mo.depths = {1e-3 * d0, 1e-3 * d1, mo.depths.points};
+  o.depths.apply(mo.depths);
   mo.simulation = simulation_of(o);
   o.parallel.apply(mo.parallel);
   std::vector<ModalFitSummary> fits;
@@ -361,7 +362,8 @@ void add_common(CLI::App* c, SimulateArgs& o, Globals& g, bool map) {
   c->add_option("--pitch", o.pitch_deg,
                 "Variable pitch: the angle from each tooth to the next [°], one per tooth, summing to 360 (e.g. 85,95,85,95)")
       ->delimiter(',');
-  c->add_option("--diameter", o.diameter_mm, "Tool diameter D [mm] (required)")->required(map);
+  const auto& cutter = cutter_fields();
+  o.cutter.add(c, option_field(cutter, "diameter_m"), true)->required(map);
   c->add_option("--helix", o.helix_deg,
                 "Helix angle [°, not rad], 0…80: one for every tooth, or one per tooth (a variable helix, e.g. 35,38,35,38) "
                 "(axial slices; default: straight flutes)")
@@ -369,14 +371,13 @@ void add_common(CLI::App* c, SimulateArgs& o, Globals& g, bool map) {
   c->add_option("--runout", o.runout_mm,
                 "Radial runout per tooth [mm]: each tooth cuts at D/2 + its value (e.g. 0.01,0,0,-0.005; default none)")
       ->delimiter(',');
-  c->add_option("--flute-length", o.flute_mm, "Flute length [mm]: deeper cuts are refused (default 0: not checked)");
+  o.cutter.add(c, option_field(cutter, "flute_length_m"), true);
   const auto& force = force_law_fields();
   for (const char* name : {"tangential_edge", "radial_edge"}) o.force.add(c, option_field(force, name), true);
   o.force.add(c, option_field(force, "process_damping_n_per_m"));
   o.force.add(c, option_field(force, "exponent"));
   o.force.add(c, option_field(force, "reference_chip_m"));
-  c->add_option("--feed", o.feed_mm, "Feed per tooth [mm] (the mean; variable pitch shares it by spacing) (required)")
-      ->required(map);
+  o.feed.add(c, option_field(milling_cut_fields(), "feed_per_tooth_m"), true)->required(map);
   c->add_option("--rpm", o.rpm, map ? "Spindle speed range MIN:MAX [rpm] (required)" : "Spindle speed [rpm] (required)")
       ->required(map);
   c->add_option("--depth", o.depth, map ? "Axial depth range MIN:MAX [mm] (required)" : "Axial depth of cut [mm] (required)")
@@ -417,8 +418,8 @@ void add_simulate_command(CLI::App& app, Globals& g) {
 
   CLI::App* m = c->add_subcommand("map", "Stable or not, and the SLE, over spindle speed x depth, on every core or in shards");
   add_common(m, *o, g, true);
-  m->add_option("--speeds", o->speeds, "Points of the speed grid [-], 2…1e6")->capture_default_str();
-  m->add_option("--depths", o->depths, "Points of the depth grid [-], 2…1e5")->capture_default_str();
+  o->speeds.add(m, option_field(speed_range_fields(), "points"))->default_str(std::to_string(SimulatedMapOptions{}.speeds.points));
+  o->depths.add(m, option_field(depth_range_fields(), "points"));
   add_threads_option(m, o->parallel);
   m->add_option("--shard", o->shard,
                 "Compute only shard I of N (I = 0…N-1: the speeds i with i mod N = I) and write it to --part; combine the parts "

@@ -313,15 +313,12 @@ std::string with_flags(std::string text) {
       {"format_plan_part", "`toolpoint plan --shard I/N --part FILE`"},
       {"run_simulated_map_part", "`toolpoint simulate map --shard I/N`"},
       {"format_simulated_map_part", "`toolpoint simulate map --shard I/N --part FILE`"},
-      {"Cutter::diameter_m", "--diameter"},
       {"Cutter::pitch_rad", "--pitch"},
       {"Cutter::helix_rad", "--helix"},
       {"Cutter::tooth_helix_rad", "--helix"},
       {"Cutter::runout_m", "--runout"},
-      {"Cutter::flute_length_m", "--flute-length"},
       {"MillingCut::speed_rpm", "--rpm"},
       {"MillingCut::depth_m", "--depth"},
-      {"MillingCut::feed_per_tooth_m", "--feed"},
       {"MillingCut::engagement", "--immersion or --entry/--exit"},
       {"SimulatedMapOptions::depths", "--depth"},
       {"SimulationInput::rigid", "--rigid-tool"},
@@ -417,6 +414,9 @@ std::string with_flags(std::string text) {
   fields(peak_fields(), "PeakOptions");
   fields(noise_spec_fields(), "NoiseSpec");
   fields(force_law_fields(), "ForceLaw");
+  fields(cutter_fields(), "Cutter");
+  fields(milling_cut_fields(), "MillingCut");
+  fields(depth_range_fields(), "DepthRange");
   fields(speed_range_fields(), "SpeedRange");
   fields(predict_fields(), "PredictOptions");
   fields(overhang_study_fields(), "OverhangStudyOptions");

@@ -137,9 +137,40 @@ SimulationStudyResult run_simulation_study(const SimulationInput& input, const S
 // ---- The map ------------------------------------------------------------------------------------
 
 void DepthRange::check() const {
-  if (!std::isfinite(min_m) || !std::isfinite(max_m) || !(min_m > 0.0) || !(max_m > min_m))
-    throw InvalidArgument(fmt::format("DepthRange {}…{} m: need 0 < MIN < MAX", min_m, max_m));
-  if (points < 2 || points > 100000) throw InvalidArgument(fmt::format("DepthRange::points = {}: need 2…100000", points));
+  check_fields(depth_range_fields(), *this, "DepthRange");
+  if (!(max_m > min_m))
+    throw InvalidArgument(fmt::format("the depth range {}…{} m is empty (DepthRange::min_m and max_m must have min < max)",
+                                      min_m, max_m));
+}
+
+const std::vector<OptionField<DepthRange>>& depth_range_fields() {
+  using O = DepthRange;
+  static const std::vector<OptionField<O>> fields = {
+      {{.name = "min_m",
+        .kind = FieldKind::Real,
+        .unit = "m",
+        .min = 0.0,
+        .min_open = true,
+        .help = "the shallowest axial depth",
+        .plausible = &plausible::kDepth},
+       [](O& o) -> double& { return o.min_m; }},
+      {{.name = "max_m",
+        .kind = FieldKind::Real,
+        .unit = "m",
+        .min = 0.0,
+        .min_open = true,
+        .help = "the deepest axial depth",
+        .plausible = &plausible::kDepth},
+       [](O& o) -> double& { return o.max_m; }},
+      {{.name = "points",
+        .kind = FieldKind::Integer,
+        .min = 2.0,
+        .max = 100000.0,
+        .help = "depths on the grid, both ends included",
+        .cli_name = "depths"},
+       nullptr,
+       [](O& o) -> int& { return o.points; }}};
+  return fields;
 }
 
 std::vector<double> DepthRange::values() const {
@@ -152,8 +183,7 @@ void SimulatedMapOptions::check() const {
   cutter.check();
   force.check();
   cut.engagement.check();
-  if (!std::isfinite(cut.feed_per_tooth_m) || cut.feed_per_tooth_m < 0.0)
-    throw InvalidArgument(fmt::format("MillingCut::feed_per_tooth_m = {} m must be ≥ 0", cut.feed_per_tooth_m));
+  check_field(option_field(milling_cut_fields(), "feed_per_tooth_m").spec, cut.feed_per_tooth_m, "MillingCut");
   simulation.check();
   speeds.check();
   depths.check();

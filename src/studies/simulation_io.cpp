@@ -109,7 +109,7 @@ nlohmann::json header_json(const SimulatedMapHeader& h) {
             {"exit_rad", hex(o.cut.engagement.exit_rad)}}},
           {"simulation", simulation},
           {"speeds", fields_json(speed_range_fields(), o.speeds, part_file::hex_json)},
-          {"depths", {{"min_m", hex(o.depths.min_m)}, {"max_m", hex(o.depths.max_m)}, {"points", o.depths.points}}}};
+          {"depths", fields_json(depth_range_fields(), o.depths, part_file::hex_json)}};
 }
 
 SimulatedMapHeader parse_header(const PartReader& r, const nlohmann::json& j) {
@@ -144,7 +144,7 @@ SimulatedMapHeader parse_header(const PartReader& r, const nlohmann::json& j) {
   const nlohmann::json& sp = r.at(j, "speeds", "");
   part_file::read_fields(r, sp, "speeds.", speed_range_fields(), o.speeds);
   const nlohmann::json& dp = r.at(j, "depths", "");
-  o.depths = {r.number(dp, "min_m", "depths."), r.number(dp, "max_m", "depths."), r.get<int>(dp, "points", "depths.")};
+  part_file::read_fields(r, dp, "depths.", depth_range_fields(), o.depths);
   try {
     h.dynamics.check();
     o.check();

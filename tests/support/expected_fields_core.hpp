@@ -1,6 +1,7 @@
 // The option tables of the Options types every stage shares — ParallelOptions, UncertaintyOptions,
 // ZeroOrderOptions, BoundaryOptions, ModalOptions, BeamStudyOptions, PredictOptions,
-// OverhangStudyOptions, CuttingConditions, SpeedRange, NoiseSpec, ForceLaw (option_fields.hpp;
+// OverhangStudyOptions, CuttingConditions, SpeedRange, NoiseSpec, ForceLaw, Cutter, MillingCut,
+// DepthRange (option_fields.hpp;
 // issue 26) — expected by hand: each field's range as the hand-written check() had it before its
 // table (parallel.cpp, uncertainty.cpp, stability.cpp, beam.cpp, studies/beam.cpp, studies/predict.cpp,
 // studies/overhang.cpp at b7606b0), and its flag and unit as `toolpoint lobes`, `beam`, `predict` and the commands with
@@ -20,6 +21,7 @@
 #include "toolpoint/studies/identification.hpp"
 #include "toolpoint/studies/overhang.hpp"
 #include "toolpoint/studies/predict.hpp"
+#include "toolpoint/studies/simulation.hpp"
 #include "toolpoint/uncertainty/uncertainty.hpp"
 
 namespace toolpoint::testing {
@@ -188,6 +190,37 @@ inline std::vector<ExpectedField<ForceLaw>> force_law_expected_fields() {
            TOOLPOINT_MEMBER(F, reference_chip_m)},
           {t, "process_damping_n_per_m", false, 1e3, 1e8, false, false, 2e5, "--process-damping", "N/m", 1.0, "",
            TOOLPOINT_MEMBER(F, process_damping_n_per_m)}};
+}
+
+// Old Cutter::check, MillingCut::check (simulation.cpp at 2ae8d46) and DepthRange::check
+// (studies/simulation.cpp): D ≤ 0 refused; helix outside 0…80° refused; flute length < 0 refused
+// (0: not checked); n ≤ 0, a < 0, c < 0 refused (c's top now the cut's 10 mm); depths 0 < MIN < MAX,
+// points 2…100000. `toolpoint simulate --diameter`, `--flute-length`, `--feed` [mm], `simulate map
+// --depths`.
+inline std::vector<ExpectedField<Cutter>> cutter_expected_fields() {
+  using C = Cutter;
+  constexpr double k80 = 80.0 * 3.14159265358979323846 / 180.0;  // 80° [rad]
+  return {{"Cutter", "diameter_m", false, 0.0, kInf, true, false, 0.016, "--diameter", "mm", 1e3, "",
+           TOOLPOINT_MEMBER(C, diameter_m)},
+          {"Cutter", "helix_rad", false, 0.0, k80, false, false, 0.5, "", "", 1.0, "", TOOLPOINT_MEMBER(C, helix_rad)},
+          {"Cutter", "flute_length_m", false, 0.0, kInf, false, false, 0.03, "--flute-length", "mm", 1e3, "",
+           TOOLPOINT_MEMBER(C, flute_length_m)}};
+}
+
+inline std::vector<ExpectedField<MillingCut>> milling_cut_expected_fields() {
+  using M = MillingCut;
+  return {{"MillingCut", "speed_rpm", false, 0.0, kInf, true, false, 12000.0, "", "", 1.0, "", TOOLPOINT_MEMBER(M, speed_rpm)},
+          {"MillingCut", "depth_m", false, 0.0, kInf, false, false, 0.002, "", "", 1.0, "", TOOLPOINT_MEMBER(M, depth_m)},
+          {"MillingCut", "feed_per_tooth_m", false, 0.0, 0.01, false, false, 1e-4, "--feed", "mm", 1e3, "",
+           TOOLPOINT_MEMBER(M, feed_per_tooth_m)}};
+}
+
+inline std::vector<ExpectedField<DepthRange>> depth_range_expected_fields() {
+  using D = DepthRange;
+  return {{"DepthRange", "min_m", false, 0.0, kInf, true, false, 5e-4, "", "", 1.0, "", TOOLPOINT_MEMBER(D, min_m)},
+          {"DepthRange", "max_m", false, 0.0, kInf, true, false, 0.004, "", "", 1.0, "", TOOLPOINT_MEMBER(D, max_m)},
+          {"DepthRange", "points", true, 2.0, 100000.0, false, false, 30.0, "--depths", "-", 1.0, "",
+           TOOLPOINT_MEMBER(D, points)}};
 }
 
 }  // namespace toolpoint::testing

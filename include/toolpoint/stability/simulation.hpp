@@ -105,8 +105,13 @@ struct Cutter {
   int teeth() const { return static_cast<int>(pitch_rad.size()); }
   double helix_of(int tooth) const;  // β_j [rad]
   bool uniform() const;              // even pitch, one helix and no runout: every tooth cuts alike
-  void check() const;                // throws InvalidArgument naming `Cutter::field`
+  // Throws InvalidArgument naming `Cutter::field`: the ranges of cutter_fields() (a diameter in mm
+  // refused as cannot be meant), then the per-tooth lists.
+  void check() const;
 };
+// Cutter's scalar fields (option_fields.hpp): diameter_m (simulate --diameter, in mm), helix_rad
+// (0…80°; the CLI's --helix list beside), flute_length_m (--flute-length, in mm; 0: not checked).
+const std::vector<OptionField<Cutter>>& cutter_fields();
 
 // N evenly spaced straight teeth.
 Cutter uniform_cutter(int teeth, double diameter_m);
@@ -143,8 +148,12 @@ struct MillingCut {
   double depth_m = 0.0;           // axial depth a ≥ 0 [m] (0: nothing is cut, the tool vibrates freely)
   double feed_per_tooth_m = 0.0;  // mean feed per tooth c ≥ 0 [m] (per revolution: N c)
   Engagement engagement;          // φ_st, φ_ex (engagement_from_immersion)
-  void check() const;             // throws InvalidArgument naming `MillingCut::field`
+  // Throws InvalidArgument naming `MillingCut::field`: the ranges of milling_cut_fields(), the engagement.
+  void check() const;
 };
+// MillingCut's scalar fields (option_fields.hpp): speed_rpm, depth_m (simulate's --rpm, --depth [mm],
+// a value or a map's MIN:MAX, parsed beside), feed_per_tooth_m (--feed [mm]; CuttingConditions').
+const std::vector<OptionField<MillingCut>>& milling_cut_fields();
 
 struct SimulationOptions {
   int revolutions = 40;  // simulated revolutions, 2…10^6

@@ -95,9 +95,14 @@ plot::Figure simulation_surface_figure(const SimulationStudyResult& r);
 struct DepthRange {
   double min_m = 0.0, max_m = 0.0;
   int points = 100;
-  void check() const;  // throws InvalidArgument unless 0 < MIN < MAX and 2 ≤ points ≤ 100000
+  // Throws InvalidArgument naming `DepthRange::<field>`: the ranges of depth_range_fields() (a depth
+  // in mm refused as cannot be meant), then MIN < MAX.
+  void check() const;
   std::vector<double> values() const;
 };
+// DepthRange's fields (option_fields.hpp): min_m, max_m (simulate map --depth MIN:MAX [mm], parsed
+// beside) and points (--depths).
+const std::vector<OptionField<DepthRange>>& depth_range_fields();
 
 struct SimulatedMapOptions {
   Cutter cutter;
