@@ -131,6 +131,8 @@ TEST(CliOptionFieldsCore, CutFlags) {
   expect_refused(dyn + "--teeth 2 --kt 6e8 --kr -0.1 --rpm 5000:6000", "--kr -0.1 must be ≥ 0");
   expect_refused(base + "--method fd --diameter 0.016", "--diameter takes mm");
   expect_refused(base + "--method fd --feed 20", "--feed 20 mm must lie in 0…10");
+  // Out of range and no feed in metres either: the slip in the flag's unit, not the field's SI hint.
+  expect_refused(base + "--method fd --feed 200", "--feed 200 mm must lie in 0…10 (0: not given); --feed takes mm");
   expect_refused(base + "--method fd --diameter 16 --process-damping 10", "--process-damping 10 N/m must lie in 1000…1e+08");
   expect_refused(base + "--speeds 1", "--speeds 1 must lie in 2…1000000");
   expect_refused(dyn + "--teeth 2 --kt 6e8 --kr 0.3 --rpm 0.5:20", "--rpm");

@@ -285,13 +285,20 @@ std::string field_help(const FieldSpec& s) {
                      *s.note ? fmt::format(" ({})", s.note) : std::string(), usual);
 }
 
+// The likely slip a flag's implausible value shows: the field's own hint where the flag takes the
+// field's unit, else the unit the flag takes (the field's hint speaks of its SI unit: "diameters
+// are in metres" is the wrong advice on a flag in mm).
+static std::string flag_slip_hint(const FieldSpec& s) {
+  return s.cli_per_unit == 1.0 ? std::string(s.plausible->hint) : fmt::format("{} takes {}", field_flag(s), s.cli_unit);
+}
+
 void field_flag_refused(const FieldSpec& s, double typed) {
   const char* unit = s.cli_unit ? s.cli_unit : s.unit;
   const std::string in_unit = *unit ? fmt::format(" {}", unit) : "", note = *s.note ? fmt::format(" ({})", s.note) : "";
   // Out of range and, in the field's unit, a value no one can mean: the likely slip too (5 for 5 %).
   const std::string slip = s.plausible && std::isfinite(typed) && typed != 0.0 &&
                                    judge(*s.plausible, typed / s.cli_per_unit) == Plausibility::Impossible
-                               ? fmt::format("; {}", s.plausible->hint)
+                               ? fmt::format("; {}", flag_slip_hint(s))
                                : std::string();
   throw InvalidArgument(fmt::format("{} {}{} {}{}{}", field_flag(s), field_value_text(s, typed), in_unit,
                                     field_range_phrase(s, s.cli_per_unit), note, slip),
@@ -460,16 +467,15 @@ CLI::Validator field_plausible_value(const FieldSpec& spec, bool warn_unusual) {
         if (std::isnan(v)) return {};
         const Plausibility verdict = field_plausibility(*s, v / s->cli_per_unit);
         if (verdict == Plausibility::Usual || (verdict == Plausibility::Unusual && !warn_unusual)) return {};
-        // In the flag's unit: the range scaled, and the unit it takes for the field's SI hint.
+        // In the flag's unit: the range scaled, and the slip said in the flag's words.
         const PlausibleRange& r = *s->plausible;
-        const bool scaled = s->cli_per_unit != 1.0;
-        const PlausibleRange shown{r.low * s->cli_per_unit, r.high * s->cli_per_unit, r.slack, scaled ? "" : r.hint};
-        const std::string unit = scaled ? fmt::format("; {} takes {}", field_flag(*s), s->cli_unit) : std::string();
+        const PlausibleRange shown{r.low * s->cli_per_unit, r.high * s->cli_per_unit, r.slack, ""};
+        const std::string slip = "; " + flag_slip_hint(*s);
         if (verdict == Plausibility::Unusual) {
-          warn(plausibility_message(shown, v, field_flag(*s)) + unit);
+          warn(plausibility_message(shown, v, field_flag(*s)) + slip);
           return {};
         }
-        return plausibility_message(shown, v, "the value") + unit;  // CLI11 puts the option's name first
+        return plausibility_message(shown, v, "the value") + slip;  // CLI11 puts the option's name first
       },
       "", "plausible");
 }
